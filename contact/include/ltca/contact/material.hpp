@@ -1,0 +1,20 @@
+#pragma once
+// Elastic constants of the two bodies (the [material] section of a deck). Units: MPa.
+
+namespace ltca::contact {
+
+struct Material {
+  double young_modulus = 206000.0;      ///< E_c of the cycloid, MPa.
+  double poisson_ratio = 0.3;           ///< nu_c of the cycloid.
+  double pin_young_modulus = 206000.0;  ///< E_p of the pins, MPa (deck default: = E_c).
+  double pin_poisson_ratio = 0.3;       ///< nu_p of the pins (deck default: = nu_c).
+
+  /// Equivalent modulus E* = E_c E_p / (E_p (1 - nu_c^2) + E_c (1 - nu_p^2)), Liu eq. 24, MPa.
+  double EquivalentModulus() const;
+
+  /// Throws std::invalid_argument naming the key for a non-positive modulus or a Poisson ratio
+  /// outside [0, 0.5).
+  void Validate() const;
+};
+
+}  // namespace ltca::contact

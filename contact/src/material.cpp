@@ -1,0 +1,40 @@
+#include "ltca/contact/material.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace ltca::contact {
+namespace {
+
+void CheckModulus(double value, const char* key) {
+  if (!std::isfinite(value) || value <= 0.0) {
+    throw std::invalid_argument(
+        fmt::format("[material] {} = {}: expected a finite positive modulus in MPa", key, value));
+  }
+}
+
+void CheckPoisson(double value, const char* key) {
+  if (!std::isfinite(value) || value < 0.0 || value >= 0.5) {
+    throw std::invalid_argument(
+        fmt::format("[material] {} = {}: expected a Poisson ratio in [0, 0.5)", key, value));
+  }
+}
+
+}  // namespace
+
+double Material::EquivalentModulus() const {
+  return young_modulus * pin_young_modulus /
+         (pin_young_modulus * (1.0 - poisson_ratio * poisson_ratio) +
+          young_modulus * (1.0 - pin_poisson_ratio * pin_poisson_ratio));
+}
+
+void Material::Validate() const {
+  CheckModulus(young_modulus, "young_modulus_mpa");
+  CheckPoisson(poisson_ratio, "poisson_ratio");
+  CheckModulus(pin_young_modulus, "pin_young_modulus_mpa");
+  CheckPoisson(pin_poisson_ratio, "pin_poisson_ratio");
+}
+
+}  // namespace ltca::contact

@@ -1,0 +1,59 @@
+#pragma once
+// Rigid-body kinematics of the pair (Liu 2021 eq. 14-15) and the meshing equation in the form
+// the contact layer needs. Conventions (docs/conventions.md):
+//  - Fixed frame O_f: origin at the pin-circle centre, pins fixed.
+//  - Pin j (0-based; printed as number j + 1) sits at angle psi_j = 2 pi j / z_p from +X_f.
+//  - The crank angle theta_f turns counterclockwise; the cycloid centre is at e (cos, sin)(theta_f).
+//  - The cycloid turns about its own centre by theta_c = -theta_f d / z_c (clockwise for d > 0):
+//    the transmission ratio crank/cycloid is I = -z_c / d.
+#include <Eigen/Core>
+
+#include "ltca/geometry/pair.hpp"
+
+namespace ltca::geometry {
+
+/// Placement of the cycloid body frame in the fixed frame: x_f = centre + Rot(rotation) x_b.
+struct Pose {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  ///< mm.
+  double rotation = 0.0;                             ///< rad, counterclockwise.
+
+  Eigen::Vector2d ToFixed(const Eigen::Vector2d& body) const;
+  Eigen::Vector2d ToBody(const Eigen::Vector2d& fixed) const;
+  Eigen::Vector2d DirectionToFixed(const Eigen::Vector2d& body) const;
+  /// The same pose rotated further about the cycloid's own centre by angle (Liu eq. 15).
+  Pose RotatedAboutCentre(double angle) const { return {centre, rotation + angle}; }
+};
+
+/// Where pin j meshes on the generating curve: tooth space and profile parameter.
+struct MeshSeed {
+  int tooth_space = 0;  ///< k in [0, z_c).
+  double u = 0.0;       ///< rad, wrapped into the lobe [-|d| pi / z_c, |d| pi / z_c).
+};
+
+class Kinematics {
+ public:
+  explicit Kinematics(const PairParameters& pair);
+
+  /// Nominal (unloaded, error-free) pose of the cycloid at crank angle theta_f, Liu eq. 14-15.
+  Pose CycloidPose(double crank) const;
+  /// Centre of pin j in the fixed frame (nominal, Liu eq. 5 without errors), mm.
+  Eigen::Vector2d PinCentre(int pin) const;
+  /// psi_j = 2 pi j / z_p.
+  double PinAngle(int pin) const;
+  /// Angle of pin j from the line of centres O_f -> O_c, wrapped into (-pi, pi].
+  double AngleFromLineOfCentres(int pin, double crank) const;
+  /// Crank rotation per cycloid rotation, I = -z_c / d (negative: opposite senses for d > 0).
+  double TransmissionRatio() const;
+  /// Crank angle after which the mesh repeats up to a rigid rotation and a relabelling of
+  /// pins and teeth: 2 pi / z_p (docs/conventions.md derives it).
+  double MeshPeriod() const;
+  /// The meshing equation solved for pin j: on the unmodified pair the pin centre at crank
+  /// theta_f is exactly PinCentreLocus(seed.u, seed.tooth_space) in the body frame.
+  MeshSeed Seed(int pin, double crank) const;
+
+ private:
+  PairParameters pair_;
+  int d_ = 0;
+};
+
+}  // namespace ltca::geometry

@@ -1,0 +1,74 @@
+#include "cli.hpp"
+
+#include <exception>
+#include <stdexcept>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "geometry_command.hpp"
+#include "ltca/solvers/deck.hpp"
+
+namespace ltca::cli {
+namespace {
+
+solvers::Deck ReadDeck(const std::string& path) {
+  return path.empty() ? solvers::DefaultDeck() : solvers::LoadDeck(path);
+}
+
+}  // namespace
+
+int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "ltca: loaded tooth contact analysis of cycloid-pin gear pairs.\n"
+      "Without a command, runs `ltca geometry` on the built-in default deck (Liu 2021 Table 1).\n"
+      "Decks are TOML files whose keys carry their unit; see docs/decks.md and cases/."};
+  app.name("ltca");
+
+  std::string deck_path;
+  GeometryOptions geometry_options;
+  CLI::App* geometry = app.add_subcommand(
+      "geometry",
+      "Derived geometry of the pair: K1, phi_max (Chen eq. 16), contact ratio (eq. 27), "
+      "theta_max (eq. 20), alpha_max (Liu eq. 2), minimum radius of curvature, undercut margin, "
+      "mesh period; optionally the profile as CSV and a drawing as SVG.");
+  geometry->add_option("deck", deck_path, "Case deck (TOML); default: the built-in Liu 2021 Table 1 deck");
+  geometry->add_option("--json", geometry_options.json_path,
+                       "Write the summary as JSON to FILE ('-' for standard output); keys k1, "
+                       "phi_max_deg, contact_ratio, theta_max_deg, alpha_max_deg, "
+                       "min_curvature_radius_mm, undercut_margin_mm, mesh_period_deg, "
+                       "transmission_ratio")
+      ->type_name("FILE|-");
+  geometry->add_option("--csv", geometry_options.csv_path,
+                       "Write the whole profile to FILE: tooth_space, u_deg, x_mm, y_mm, normal_x, "
+                       "normal_y, curvature_radius_mm (body frame)")
+      ->type_name("FILE|-");
+  geometry->add_option("--svg", geometry_options.svg_path,
+                       "Draw the cycloid and the pins at the crank angle --crank-deg to FILE")
+      ->type_name("FILE|-");
+  geometry->add_option("--crank-deg", geometry_options.crank_deg,
+                       "Crank angle of the drawing in degrees (default 0)");
+
+  std::vector<std::string> reversed(args.rbegin(), args.rend());
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e, out, err);
+  }
+
+  try {
+    if (geometry->parsed() || app.get_subcommands().empty()) {
+      RunGeometry(ReadDeck(deck_path), geometry_options, out);
+    }
+  } catch (const std::invalid_argument& e) {
+    fmt::print(err, "ltca: error: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(err, "ltca: internal error: {}\n", e.what());
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace ltca::cli

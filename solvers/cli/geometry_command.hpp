@@ -1,0 +1,20 @@
+#pragma once
+#include <ostream>
+#include <string>
+
+#include "ltca/solvers/deck.hpp"
+
+namespace ltca::cli {
+
+struct GeometryOptions {
+  std::string json_path;  ///< "" none, "-" stdout
+  std::string csv_path;
+  std::string svg_path;
+  double crank_deg = 0.0;
+  int samples_per_flank = 60;
+};
+
+/// `ltca geometry`: the derived geometry of the deck's pair, its profile and a drawing.
+void RunGeometry(const solvers::Deck& deck, const GeometryOptions& options, std::ostream& out);
+
+}  // namespace ltca::cli
