@@ -57,7 +57,10 @@ void WriteSvg(const CycloidProfile& profile, const Kinematics& kinematics, doubl
               int samples, std::ostream& os) {
   const auto& pair = profile.pair();
   const geometry::Pose pose = kinematics.CycloidPose(crank);
-  const double extent = pair.pin_circle_radius + pair.pin_radius + pair.eccentricity + 2.0;
+  // d < 0: the cycloid is the outer member (a ring); its material lies outside the profile.
+  const bool ring = profile.tooth_difference() < 0;
+  const double outer = pair.pin_circle_radius + pair.pin_radius + 2.0 * pair.eccentricity;
+  const double extent = (ring ? 1.15 * outer : outer) + 2.0;
   fmt::print(os,
              "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"{0} {0} {1} {1}\" "
              "width=\"800\" height=\"800\">\n",
@@ -65,7 +68,7 @@ void WriteSvg(const CycloidProfile& profile, const Kinematics& kinematics, doubl
   fmt::print(os, "<title>{}: crank {:.4g} deg</title>\n", "cycloid and pins", RadToDeg(crank));
   os << "<g transform=\"scale(1,-1)\" fill=\"none\" stroke-width=\"" << extent / 400.0 << "\">\n";
   fmt::print(os, "<circle cx=\"0\" cy=\"0\" r=\"{}\" stroke=\"#bbb\"/>\n", pair.pin_circle_radius);
-  os << "<path stroke=\"#c0392b\" fill=\"#f5d5d0\" d=\"";
+  os << "<path stroke=\"#c0392b\" fill=\"#f5d5d0\" fill-rule=\"evenodd\" d=\"";
   const double phi = profile.phi_max();
   for (int k = 0; k < pair.tooth_count; ++k) {
     for (int i = -samples; i <= samples; ++i) {
@@ -73,7 +76,13 @@ void WriteSvg(const CycloidProfile& profile, const Kinematics& kinematics, doubl
       fmt::print(os, "{}{:.5f},{:.5f} ", (k == 0 && i == -samples) ? "M" : "L", x.x(), x.y());
     }
   }
-  os << "Z\"/>\n";
+  os << "Z";
+  if (ring) {  // outer rim of the ring, so that the even-odd fill leaves the inside empty
+    const double rim = 1.1 * outer;
+    fmt::print(os, " M{0:.5f},{1:.5f} A{2},{2} 0 1,0 {3:.5f},{1:.5f} A{2},{2} 0 1,0 {0:.5f},{1:.5f} Z",
+               pose.centre.x() + rim, pose.centre.y(), rim, pose.centre.x() - rim);
+  }
+  os << "\"/>\n";
   for (int j = 0; j < pair.pin_count; ++j) {
     const Eigen::Vector2d c = kinematics.PinCentre(j);
     fmt::print(os, "<circle cx=\"{:.5f}\" cy=\"{:.5f}\" r=\"{}\" stroke=\"#2c3e50\" fill=\"#d6dde5\"/>\n",

@@ -1,1 +1,124 @@
+// The `ltca` command line, run in-process: outputs, keys and exit codes.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "ltca/geometry/kinematics.hpp"
+#include "ltca/geometry/profile.hpp"
+#include "ltca/geometry/units.hpp"
+#include "ltca/solvers/deck.hpp"
+
+namespace {
+
+struct Outcome {
+  int code;
+  std::string out, err;
+};
+
+Outcome RunCli(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  const int code = ltca::cli::Run(args, out, err);
+  return {code, out.str(), err.str()};
+}
+
+std::filesystem::path TempFile(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("ltca_cli_test_" + name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+
+}  // namespace
+
+TEST_CASE("cli: ltca geometry --json writes the keys of the issue with the library's values") {
+  for (const std::string& deck_path : {Case("liu2021_table1.toml"), Case("chen2008/d2.toml"), Case("chen2008/dm1.toml")}) {
+    CAPTURE(deck_path);
+    const auto r = RunCli({"geometry", deck_path, "--json", "-"});
+    REQUIRE(r.code == 0);
+    const auto json = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    const auto deck = ltca::solvers::LoadDeck(deck_path);
+    const ltca::geometry::CycloidProfile profile(deck.pair, deck.modification);
+    const ltca::geometry::Kinematics kin(deck.pair);
+    using ltca::units::RadToDeg;
+    CHECK(json.at("k1").get<double>() == profile.k1());
+    CHECK(json.at("phi_max_deg").get<double>() == RadToDeg(profile.phi_max()));
+    CHECK(json.at("contact_ratio").get<double>() == profile.contact_ratio());
+    CHECK(json.at("theta_max_deg").get<double>() == RadToDeg(profile.theta_max()));
+    CHECK(json.at("alpha_max_deg").get<double>() == RadToDeg(profile.alpha_max()));
+    CHECK(json.at("min_curvature_radius_mm").get<double>() == profile.min_curvature_radius());
+    CHECK(json.at("mesh_period_deg").get<double>() == doctest::Approx(360.0 / deck.pair.pin_count));
+    CHECK(json.contains("undercut_margin_mm"));
+  }
+}
+
+TEST_CASE("cli: ltca with no argument runs the built-in Liu 2021 Table 1 case") {
+  const auto r = RunCli({});
+  CHECK(r.code == 0);
+  CHECK(r.out.find("Liu 2021 Table 1") != std::string::npos);
+  CHECK(r.out.find("54.3409 deg") != std::string::npos);  // alpha_max = arcsin(0.8125)
+}
+
+TEST_CASE("cli: --csv writes the whole profile and --svg draws every pin") {
+  const auto csv = std::filesystem::temp_directory_path() / "ltca_cli_test_profile.csv";
+  const auto svg = std::filesystem::temp_directory_path() / "ltca_cli_test_pair.svg";
+  const auto r = RunCli({"geometry", Case("chen2008/d2.toml"), "--csv", csv.string(), "--svg", svg.string(), "--crank-deg", "3"});
+  REQUIRE(r.code == 0);
+  std::ifstream in(csv);
+  std::string line;
+  int rows = 0;
+  std::getline(in, line);
+  CHECK(line == "tooth_space,u_deg,x_mm,y_mm,normal_x,normal_y,curvature_radius_mm");
+  while (std::getline(in, line)) ++rows;
+  CHECK(rows == 22 * 121);  // z_c tooth spaces of 2 * 60 + 1 samples
+  std::ifstream svg_in(svg);
+  const std::string drawing((std::istreambuf_iterator<char>(svg_in)), std::istreambuf_iterator<char>());
+  std::size_t circles = 0;
+  for (auto pos = drawing.find("<circle"); pos != std::string::npos; pos = drawing.find("<circle", pos + 1)) ++circles;
+  CHECK(circles == 24 + 2);  // pins, pin circle, cycloid centre
+}
+
+TEST_CASE("cli: each class of bad input gives its named error and a non-zero exit") {
+  const auto deck = [](const std::string& pair_lines) {
+    return "[case]\ntitle = \"bad\"\n[pair]\n" + pair_lines + "\n";
+  };
+  const std::string base = "pin_count = 40\ntooth_count = 39\npin_circle_radius_mm = 64.0\neccentricity_mm = 1.3\nface_width_mm = 12.0\n";
+  struct Bad {
+    std::string name, text, expected;
+  };
+  const Bad bads[] = {
+      {"missing_key", deck(base), "missing required key 'pin_radius_mm'"},
+      {"unknown_key", deck(base + "pin_radius_mm = 3.0\ncolour = 1\n"), "unknown key 'colour'"},
+      {"wrong_sign", deck(base + "pin_radius_mm = -3.0\n"), "pin_radius_mm = -3"},
+      {"undercut", deck(base + "pin_radius_mm = 4.8\n"), "undercut"},
+      {"overlap", deck(base + "pin_radius_mm = 5.5\n"), "pins overlap"},
+      {"zero_difference", deck("pin_count = 40\ntooth_count = 40\npin_circle_radius_mm = 64.0\neccentricity_mm = 1.3\nface_width_mm = 12.0\npin_radius_mm = 3.0"), "tooth_count = 40"},
+  };
+  for (const Bad& bad : bads) {
+    CAPTURE(bad.name);
+    const auto r = RunCli({"geometry", TempFile(bad.name + ".toml", bad.text).string()});
+    CHECK(r.code != 0);
+    CHECK(r.err.find(bad.expected) != std::string::npos);
+    CHECK(r.err.find("ltca: error: deck '") != std::string::npos);
+  }
+  CHECK(RunCli({"geometry", "/no/such/deck.toml"}).code != 0);
+  CHECK(RunCli({"geometry", "--no-such-flag"}).code != 0);
+  CHECK(RunCli({"frobnicate"}).code != 0);
+}
+
+TEST_CASE("cli: --help describes the commands and the geometry outputs") {
+  auto r = RunCli({"--help"});
+  CHECK(r.code == 0);
+  CHECK(r.out.find("geometry") != std::string::npos);
+  r = RunCli({"geometry", "--help"});
+  CHECK(r.code == 0);
+  for (const char* word : {"--json", "--csv", "--svg", "--crank-deg", "phi_max_deg", "mesh_period_deg"}) {
+    CHECK(r.out.find(word) != std::string::npos);
+  }
+}
