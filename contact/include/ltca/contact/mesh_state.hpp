@@ -1,0 +1,86 @@
+#pragma once
+// The mesh state of the pair at one crank angle: for every pin its clearance, contact points,
+// common normal, moment arm and curvatures. Computed exactly from the analytic profile (closest
+// point by a safeguarded Newton iteration seeded from the meshing equation), once, and shared by
+// every load solver. Liu 2021 section 3 (eq. 14-15, 19, 27), Li eq. 1-2 and Fig. 4,
+// Jiang 2022 eq. 10.
+//
+// Loaded rotation psi: the cycloid's extra rotation about its own centre, in the load direction
+// (counterclockwise for d > 0, clockwise for d < 0; docs/conventions.md). A pin's approach is
+//   exact:       delta_i(psi) = -c_i(psi), the geometry re-evaluated at the rotated pose;
+//   linearised:  delta_i(psi) = L_i psi - c_i, with c_i and L_i of the unrotated pose.
+// The exact clearance has derivative dc_i/dpsi = -L_i(psi) (the contact normal's lever arm),
+// so the two agree to first order in psi.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ltca/geometry/errors.hpp"
+#include "ltca/geometry/kinematics.hpp"
+#include "ltca/geometry/pair.hpp"
+#include "ltca/geometry/profile.hpp"
+
+namespace ltca::contact {
+
+/// One pin at one pose.
+struct PinContact {
+  int pin = 0;                    ///< 0-based index (printed + 1).
+  double angle = 0.0;             ///< phi: angle from the line of centres, rad, (-pi, pi].
+  double clearance = 0.0;         ///< c_i: normal gap, mm; < 0 is overlap.
+  double arm = 0.0;               ///< L_i: lever arm of the contact normal about O_c, mm; > 0 when
+                                  ///< a rotation in the load direction closes the gap.
+  Eigen::Vector2d cycloid_point;  ///< contact point on the cycloid, fixed frame, mm.
+  Eigen::Vector2d pin_point;      ///< contact point on the pin, fixed frame, mm.
+  Eigen::Vector2d normal;         ///< unit common normal from the cycloid toward the pin, fixed frame.
+  double cycloid_curvature = 0.0; ///< 1/mm, signed: > 0 convex, < 0 concave (Liu eq. 8).
+  double pin_radius = 0.0;        ///< rho_p of Liu eq. 9, mm.
+  int tooth_space = 0;            ///< where on the cycloid
+  double u = 0.0;                 ///< profile parameter, rad, in [-phi_max, phi_max]
+  bool edge = false;              ///< the closest point is a tip corner (|d| >= 2): edge contact,
+                                  ///< to which the line-contact laws do not apply.
+};
+
+/// All pins at one pose.
+struct MeshState {
+  double crank = 0.0;             ///< theta_f, rad.
+  double loaded_rotation = 0.0;   ///< psi, rad, in the load direction.
+  std::vector<PinContact> pins;   ///< one per pin, in pin order.
+};
+
+/// The pair as the contact layer sees it: profile (with modifications and the profile layer),
+/// pins (with the pin-circle deviation) and kinematics.
+class MeshModel {
+ public:
+  MeshModel(const geometry::PairParameters& pair, const geometry::Modification& modification,
+            const geometry::ManufacturingErrors& errors = {});
+
+  const geometry::CycloidProfile& profile() const { return profile_; }
+  const geometry::Kinematics& kinematics() const { return kinematics_; }
+  const geometry::PairParameters& pair() const { return profile_.pair(); }
+  int pin_count() const { return profile_.pair().pin_count; }
+  /// +1 when the load turns the cycloid counterclockwise (d > 0), -1 otherwise.
+  double load_direction() const { return load_direction_; }
+
+  /// Centre of pin j with the pin-circle deviation, fixed frame, mm.
+  Eigen::Vector2d PinCentre(int pin) const;
+  /// Pose of the cycloid at crank theta_f turned by psi in the load direction (Liu eq. 14-15).
+  geometry::Pose CyclePose(double crank, double loaded_rotation) const;
+
+  /// Exact state of every pin at crank theta_f and loaded rotation psi.
+  MeshState Evaluate(double crank, double loaded_rotation = 0.0) const;
+  /// Exact state of one pin.
+  PinContact EvaluatePin(int pin, double crank, double loaded_rotation = 0.0) const;
+
+ private:
+  geometry::CycloidProfile profile_;
+  geometry::Kinematics kinematics_;
+  double pin_circle_radius_ = 0.0;  // with the deviation
+  double load_direction_ = 1.0;
+};
+
+/// Linearised approach of a pin at loaded rotation psi: L_i psi - c_i (mm).
+inline double LinearisedApproach(const PinContact& pin, double loaded_rotation) {
+  return pin.arm * loaded_rotation - pin.clearance;
+}
+
+}  // namespace ltca::contact

@@ -1,0 +1,43 @@
+#pragma once
+// Unloaded tooth contact analysis (Liu 2021 section 3, eq. 17; Li Fig. 4): rotate the cycloid
+// about its own centre both ways from the theoretical meshing position to first contact.
+#include <vector>
+
+#include "ltca/contact/mesh_state.hpp"
+
+namespace ltca::contact {
+
+/// How the contact geometry follows a rotation of the cycloid.
+enum class ContactKinematics {
+  kLinearised,  ///< c_i and L_i frozen at the unrotated pose: approach = L_i psi - c_i
+  kExact,       ///< the contact geometry re-evaluated at the rotated pose
+};
+
+struct UnloadedContact {
+  double crank = 0.0;      ///< rad
+  /// Rotation to first contact in the load direction, rad (>= 0 when there is clearance):
+  /// Liu's theta_c1 measured in the load direction.
+  double theta_c1 = 0.0;
+  /// Rotation to first contact against the load direction, rad (<= 0).
+  double theta_c2 = 0.0;
+  double backlash = 0.0;   ///< theta_c1 - theta_c2, rad (Liu eq. 17), >= 0.
+  int first_pin_c1 = -1;   ///< 0-based pin that touches first in the load direction
+  int first_pin_c2 = -1;   ///< and against it
+  /// Clearance of every pin at the theoretical position, mm.
+  std::vector<double> clearance;
+  /// Clearance of every pin after rotating to first contact in the load direction, mm (Li Fig. 4).
+  std::vector<double> clearance_at_c1;
+};
+
+/// Throws std::invalid_argument naming the pins and their overlap in um when the pair
+/// interferes (a clearance below -tolerance_mm at the theoretical position).
+UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank,
+                                ContactKinematics kinematics = ContactKinematics::kExact,
+                                double interference_tolerance_mm = 1e-9);
+
+/// Rotation (rad, signed, in the load direction) at which pin's gap closes, starting from its
+/// state at psi = 0: c/L linearised, or Newton on c(psi) = 0 with dc/dpsi = -L(psi) (exact).
+double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double crank,
+                       ContactKinematics kinematics);
+
+}  // namespace ltca::contact

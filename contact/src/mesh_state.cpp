@@ -1,0 +1,176 @@
+#include "ltca/contact/mesh_state.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "ltca/geometry/units.hpp"
+
+namespace ltca::contact {
+namespace {
+
+using geometry::CycloidProfile;
+using units::kPi;
+
+double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+geometry::CycloidProfile MakeProfile(const geometry::PairParameters& pair,
+                                     geometry::Modification modification,
+                                     const geometry::ManufacturingErrors& errors) {
+  errors.Validate();
+  // A uniform layer t on the profile moves the equidistant by t toward the pins: the same curve
+  // as generating it with the pin radius r_rp + dR_rp - t.
+  modification.pin_radius -= errors.profile_layer;
+  return geometry::CycloidProfile(pair, modification);
+}
+
+/// Closest point of body-frame point p on the arc u in [lo, hi] of tooth space k, by a
+/// safeguarded Newton iteration on g(u) = (x(u) - p) . x'(u) from the seed u0: the bracket
+/// [a, b] with g(a) < 0 < g(b) is kept, and a Newton step that leaves it is replaced by
+/// bisection. Returns the parameter; an end of the arc when the distance decreases up to it.
+double ClosestParameter(const CycloidProfile& profile, int k, const Eigen::Vector2d& p, double u0,
+                        double lo, double hi) {
+  const auto g = [&](double u, double* dg) {
+    const auto x = profile.Evaluate(u, k);
+    const Eigen::Vector2d r = x.position - p;
+    if (dg != nullptr) *dg = x.d1.squaredNorm() + r.dot(x.d2);
+    return r.dot(x.d1);
+  };
+  u0 = std::clamp(u0, lo, hi);
+  // Bracket the root around the seed, widening geometrically up to the arc ends.
+  double step = 1e-3 * (hi - lo);
+  double a = u0, b = u0;
+  double ga = g(a, nullptr), gb = ga;
+  while (ga > 0.0 && a > lo) {
+    b = a, gb = ga;
+    a = std::max(lo, a - step);
+    ga = g(a, nullptr);
+    step *= 4.0;
+  }
+  step = 1e-3 * (hi - lo);
+  while (gb < 0.0 && b < hi) {
+    a = b, ga = gb;
+    b = std::min(hi, b + step);
+    gb = g(b, nullptr);
+    step *= 4.0;
+  }
+  if (ga > 0.0) return a;  // distance increasing from the lower end: the end is closest
+  if (gb < 0.0) return b;  // distance decreasing up to the upper end
+  double u = (ga == 0.0) ? a : (gb == 0.0 ? b : 0.5 * (a + b));
+  if (u0 > a && u0 < b) u = u0;
+  for (int it = 0; it < 100; ++it) {
+    double dg = 0.0;
+    const double gu = g(u, &dg);
+    if (gu == 0.0) return u;
+    if (gu < 0.0) a = u; else b = u;
+    double next = (dg > 0.0) ? u - gu / dg : 0.5 * (a + b);
+    if (!(next > a && next < b)) next = 0.5 * (a + b);
+    const double tol = 4.0 * std::numeric_limits<double>::epsilon() * (std::abs(u) + 1e-3);
+    if (std::abs(next - u) <= tol || b - a <= tol) return next;
+    u = next;
+  }
+  return u;
+}
+
+}  // namespace
+
+MeshModel::MeshModel(const geometry::PairParameters& pair,
+                     const geometry::Modification& modification,
+                     const geometry::ManufacturingErrors& errors)
+    : profile_(MakeProfile(pair, modification, errors)),
+      kinematics_(pair),
+      pin_circle_radius_(pair.pin_circle_radius + errors.PinCircleRadiusChange()),
+      load_direction_(pair.ToothDifference() > 0 ? 1.0 : -1.0) {}
+
+Eigen::Vector2d MeshModel::PinCentre(int pin) const {
+  const double a = kinematics_.PinAngle(pin);
+  return pin_circle_radius_ * Eigen::Vector2d(std::cos(a), std::sin(a));
+}
+
+geometry::Pose MeshModel::CyclePose(double crank, double loaded_rotation) const {
+  return kinematics_.CycloidPose(crank).RotatedAboutCentre(load_direction_ * loaded_rotation);
+}
+
+PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation) const {
+  const geometry::Pose pose = CyclePose(crank, loaded_rotation);
+  const Eigen::Vector2d centre_fixed = PinCentre(pin);
+  const Eigen::Vector2d p = pose.ToBody(centre_fixed);
+  const double r_pin = pair().pin_radius;
+  const double phi_max = profile_.phi_max();
+  const int zc = pair().tooth_count;
+  const int d = profile_.tooth_difference();
+
+  // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation
+  // and the modifications move the foot point by little).
+  const geometry::MeshSeed seed = kinematics_.Seed(pin, crank);
+  int k = seed.tooth_space;
+  double u = seed.u;
+  bool edge = false;
+  if (std::abs(d) == 1) {
+    // The profile is smooth across the tips: search the generating curve of one pitch around
+    // the seed, then fold the result back into [-phi_max, phi_max] of its own tooth space.
+    const double pitch = profile_.tooth_pitch();
+    u = ClosestParameter(profile_, k, p, u, u - pitch, u + pitch);
+    const double lobe = 2.0 * kPi * d / zc;
+    const double m = std::round(u / lobe);
+    u -= m * lobe;
+    k = static_cast<int>(((k + static_cast<long>(m) * d) % zc + zc) % zc);
+  } else {
+    // |d| >= 2: arcs meet in sharp tip corners, and a pin far from mesh can face a space several
+    // lobes' worth from its meshing-equation seed. Search the arc of the tooth space the pin's
+    // polar angle falls in and both neighbours; the closest point may be a tip corner.
+    const double pitch = profile_.tooth_pitch();
+    const double polar = std::atan2(p.y(), p.x()) - profile_.ToothSpaceRotation(0);
+    const int k_polar = static_cast<int>(std::lround(polar / pitch));
+    double best = std::numeric_limits<double>::infinity();
+    for (int dk = -1; dk <= 1; ++dk) {
+      const int kk = (((k_polar + dk) % zc) + zc) % zc;
+      const double rel = std::remainder(polar - (k_polar + dk) * pitch, 2.0 * kPi);
+      const double start = kk == seed.tooth_space && std::abs(seed.u) <= phi_max
+                               ? seed.u
+                               : std::clamp(rel * phi_max / (0.5 * pitch), -phi_max, phi_max);
+      const double uu = ClosestParameter(profile_, kk, p, start, -phi_max, phi_max);
+      const double dist = (profile_.Position(uu, kk) - p).norm();
+      if (dist < best) best = dist, k = kk, u = uu;
+    }
+    edge = std::abs(u) >= phi_max;
+  }
+
+  const geometry::ProfilePoint x = profile_.Evaluate(u, k);
+  PinContact c;
+  c.pin = pin;
+  c.angle = kinematics_.AngleFromLineOfCentres(pin, crank);
+  c.tooth_space = k;
+  c.u = u;
+  c.edge = edge;
+  c.pin_radius = r_pin;
+  Eigen::Vector2d normal_body = x.normal;
+  double centre_gap = x.normal.dot(p - x.position);  // signed distance of the pin centre
+  if (edge) {  // distance to the corner; the normal is the line from the corner to the pin centre
+    normal_body = (p - x.position).normalized();
+    centre_gap = (p - x.position).norm();
+    c.cycloid_curvature = std::numeric_limits<double>::infinity();
+  } else {
+    c.cycloid_curvature = x.curvature;
+  }
+  c.clearance = centre_gap - r_pin;
+  c.cycloid_point = pose.ToFixed(x.position);
+  c.normal = pose.DirectionToFixed(normal_body);
+  c.pin_point = centre_fixed - r_pin * c.normal;
+  // Liu eq. 27: the lever arm of the normal about the cycloid centre, signed by the load direction.
+  c.arm = load_direction_ * Cross(c.cycloid_point - pose.centre, c.normal);
+  return c;
+}
+
+MeshState MeshModel::Evaluate(double crank, double loaded_rotation) const {
+  MeshState state;
+  state.crank = crank;
+  state.loaded_rotation = loaded_rotation;
+  state.pins.reserve(static_cast<std::size_t>(pin_count()));
+  for (int j = 0; j < pin_count(); ++j) state.pins.push_back(EvaluatePin(j, crank, loaded_rotation));
+  return state;
+}
+
+}  // namespace ltca::contact
