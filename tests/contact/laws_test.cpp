@@ -1,0 +1,157 @@
+// Contact laws: inverse, monotonicity, no NaN, derivatives, and the printed formulas.
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "ltca/contact/laws.hpp"
+#include "ltca/geometry/units.hpp"
+
+using ltca::contact::ContactLaw;
+using ltca::contact::ContactSettings;
+using ltca::contact::LawKind;
+using ltca::contact::Material;
+using ltca::contact::RhoConvention;
+using ltca::units::kPi;
+
+namespace {
+
+struct Geometry {
+  const char* name;
+  double curvature;  // cycloid, signed 1/mm
+};
+
+// Liu Table 1 contacts: convex flank, the conformal root (rho_c = -3.0714 mm with r = 3 mm),
+// a concave flank, the inflection point (rho_c infinite) and a nearly flat convex point.
+const Geometry kGeometries[] = {{"convex 5 mm", 1.0 / 5.0},        {"root, conformal", -1.0 / 3.0714},
+                                {"concave 12 mm", -1.0 / 12.0},    {"inflection", 0.0},
+                                {"nearly flat", 1e-9}};
+
+ContactSettings Settings(LawKind law, RhoConvention rho) {
+  ContactSettings s;
+  s.law = law;
+  s.rho_convention = rho;
+  s.stiffness_per_length = law == LawKind::kLinear ? 2e4 : 0.0;
+  return s;
+}
+
+std::vector<ContactLaw> AllLaws() {
+  std::vector<ContactLaw> laws;
+  const Material steel;  // 206 GPa, 0.3
+  for (const LawKind kind : {LawKind::kHertzLine, LawKind::kSagitta, LawKind::kLinear}) {
+    for (const RhoConvention rho : {RhoConvention::kSigned, RhoConvention::kAbsolute}) {
+      for (const Geometry& g : kGeometries) laws.emplace_back(Settings(kind, rho), steel, g.curvature, 3.0, 12.0, 64.0);
+    }
+  }
+  return laws;
+}
+
+}  // namespace
+
+TEST_CASE("contact: every law inverts, F(delta(F)) = F to 1e-12 over 1e-6 N .. 1e6 N, and is monotone") {
+  int index = 0;
+  for (const ContactLaw& law : AllLaws()) {
+    CAPTURE(index++);
+    double last_delta = 0.0;
+    for (double f = 1e-6; f <= 1e6 * 1.0001; f *= std::pow(10.0, 0.25)) {
+      if (f >= law.max_force()) break;
+      const double delta = law.Approach(f);
+      CHECK(std::isfinite(delta));
+      CHECK(delta > last_delta);
+      last_delta = delta;
+      CHECK(std::abs(law.Force(delta) - f) <= 1e-12 * f);
+    }
+    CHECK(law.Force(0.0) == 0.0);
+    CHECK(law.Force(-1e-3) == 0.0);
+    CHECK(law.Approach(0.0) == 0.0);
+    CHECK(law.Stiffness(-1.0) == 0.0);
+  }
+}
+
+TEST_CASE("contact: laws stay finite and non-negative for tiny and huge loads and at the inflection") {
+  int index = 0;
+  for (const ContactLaw& law : AllLaws()) {
+    CAPTURE(index++);
+    for (const double delta : {1e-300, 1e-12, 1e-6, 1e-3, 0.1, 10.0, 1e6}) {
+      const double f = law.Force(delta);
+      const double k = law.Stiffness(delta);
+      CHECK(std::isfinite(f));
+      CHECK(f >= 0.0);
+      CHECK(std::isfinite(k));
+      CHECK(k >= 0.0);
+      CHECK(std::isfinite(law.ComplementaryEnergy(f)));
+    }
+    for (const double f : {1e-300, 1e-6, 1e12}) {
+      CHECK(std::isfinite(law.Approach(f)));
+      CHECK(std::isfinite(law.MaxPressure(f)));
+    }
+  }
+}
+
+TEST_CASE("contact: stiffness and complementary energy agree with finite differences") {
+  // dF/d(delta) against a central difference of Force (1e-6 relative); d(energy)/dF = delta(F).
+  int index = 0;
+  for (const ContactLaw& law : AllLaws()) {
+    CAPTURE(index++);
+    for (const double f : {0.1, 10.0, 1000.0, 5e4}) {
+      if (f >= 0.5 * law.max_force()) continue;
+      const double delta = law.Approach(f), h = 1e-5 * delta;
+      const double fd = (law.Force(delta + h) - law.Force(delta - h)) / (2 * h);
+      CHECK(law.Stiffness(delta) == doctest::Approx(fd).epsilon(1e-6));
+      const double hf = 1e-5 * f;
+      const double de = (law.ComplementaryEnergy(f + hf) - law.ComplementaryEnergy(f - hf)) / (2 * hf);
+      CHECK(de == doctest::Approx(delta).epsilon(1e-6));
+    }
+  }
+}
+
+TEST_CASE("contact: hertz-line is Liu 2021 eq. 22-25 and sagitta is Li eq. 3-10 as printed") {
+  // Typed in from the papers: Liu eq. 22 K = F / delta with b of eq. 23, E* of eq. 24, rho* of
+  // eq. 25 (|rho_c| in the logarithm); Li eq. 3 (half-width), 4 (rho), 6-7 (sagittas), 8-10
+  // (series stiffness). 1e-12 relative: the same formula rearranged.
+  const double e = 206000.0, nu = 0.3, b_len = 12.0, r = 3.0;
+  const double c = (1 - nu * nu) / e;
+  const double e_star = e * e / (e * (1 - nu * nu) + e * (1 - nu * nu));
+  for (const double rho_c : {5.0, -3.0714, -12.0, 40.0}) {
+    for (const RhoConvention conv : {RhoConvention::kSigned, RhoConvention::kAbsolute}) {
+      const double rc = conv == RhoConvention::kSigned ? rho_c : std::abs(rho_c);
+      const double rho_star = rc * r / (rc + r);
+      const ContactLaw hertz(Settings(LawKind::kHertzLine, conv), Material{}, 1.0 / rho_c, r, b_len, 1e9);
+      const ContactLaw sag(Settings(LawKind::kSagitta, conv), Material{}, 1.0 / rho_c, r, b_len, 1e9);
+      for (const double f : {10.0, 500.0, 3000.0}) {
+        const double b = std::sqrt(4 * f * rho_star / (kPi * b_len * e_star));
+        const double k = kPi * b_len / (2 * (c * (std::log(4 * std::abs(rho_c) / b) - 0.5) + c * (std::log(4 * r / b) - 0.5)));
+        CHECK(hertz.Approach(f) == doctest::Approx(f / k).epsilon(1e-12));
+        CHECK(hertz.HalfWidth(f) == doctest::Approx(b).epsilon(1e-12));
+        CHECK(hertz.MaxPressure(f) == doctest::Approx(std::sqrt(f * e_star / (kPi * b_len * rho_star))).epsilon(1e-12));
+        const double a = std::sqrt(4 * f * rho_star / (kPi * b_len) * (c + c));
+        const double dc = std::abs(rho_c) - std::sqrt(rho_c * rho_c - a * a), dp = r - std::sqrt(r * r - a * a);
+        const double kc = f / dc, kp = f / dp, kn = kc * kp / (kc + kp);
+        CHECK(sag.Approach(f) == doctest::Approx(f / kn).epsilon(1e-9));  // sagittas computed here with cancellation
+      }
+    }
+  }
+}
+
+TEST_CASE("contact: the signed convention makes a concave contact conformal, the absolute one does not") {
+  // rho* = rho_c r / (rho_c + r): with rho_c = -3.0714 mm and r = 3 mm signed gives 131 mm
+  // (conformal: wide, low pressure), absolute 1.52 mm.
+  const ContactLaw signed_law(Settings(LawKind::kHertzLine, RhoConvention::kSigned), Material{}, -1 / 3.0714, 3.0, 12.0, 64.0);
+  const ContactLaw abs_law(Settings(LawKind::kHertzLine, RhoConvention::kAbsolute), Material{}, -1 / 3.0714, 3.0, 12.0, 64.0);
+  CHECK(signed_law.equivalent_radius() == doctest::Approx(3.0714 * 3 / 0.0714).epsilon(1e-9));
+  CHECK(abs_law.equivalent_radius() == doctest::Approx(3.0714 * 3 / 6.0714).epsilon(1e-9));
+  CHECK(signed_law.MaxPressure(1000.0) < 0.2 * abs_law.MaxPressure(1000.0));
+  // At the inflection the hertz-line stiffness is the smallest, but finite (radius capped at 64 mm).
+  const ContactLaw flat(Settings(LawKind::kHertzLine, RhoConvention::kSigned), Material{}, 0.0, 3.0, 12.0, 64.0);
+  const ContactLaw convex(Settings(LawKind::kHertzLine, RhoConvention::kSigned), Material{}, 0.2, 3.0, 12.0, 64.0);
+  CHECK(flat.Stiffness(flat.Approach(1000.0)) < convex.Stiffness(convex.Approach(1000.0)));
+  CHECK(flat.Stiffness(flat.Approach(1000.0)) > 0.0);
+}
+
+TEST_CASE("contact: a tip corner is not a line contact") {
+  CHECK_THROWS_AS(ContactLaw(Settings(LawKind::kHertzLine, RhoConvention::kSigned), Material{},
+                             std::numeric_limits<double>::infinity(), 3.0, 12.0, 64.0),
+                  std::invalid_argument);
+}
