@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "contact_commands.hpp"
 #include "geometry_command.hpp"
 #include "ltca/solvers/deck.hpp"
 
@@ -50,6 +51,31 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   geometry->add_option("--crank-deg", geometry_options.crank_deg,
                        "Crank angle of the drawing in degrees (default 0)");
 
+  BacklashOptions backlash_options;
+  std::string kinematics = "exact";
+  CLI::App* backlash = app.add_subcommand(
+      "backlash",
+      "Unloaded tooth contact analysis over the deck's sweep: rotation to first contact both "
+      "ways (theta_c1 in the load direction, theta_c2 against it), backlash = theta_c1 - "
+      "theta_c2 (Liu eq. 17), first-contact pin; summary keys mean_backlash_arcsec, "
+      "pp_backlash_arcsec. Interference is an error naming the pins.");
+  backlash->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
+  backlash->add_option("--json", backlash_options.json_path, "Write summary and positions as JSON ('-': stdout)")
+      ->type_name("FILE|-");
+  backlash->add_option("--csv", backlash_options.csv_path, "Write one row per position as CSV")
+      ->type_name("FILE|-");
+  backlash->add_option("--kinematics", kinematics, "exact (default) or linearised")
+      ->check(CLI::IsMember({"exact", "linearised"}));
+
+  MeshOptions mesh_options;
+  CLI::App* mesh = app.add_subcommand(
+      "mesh",
+      "Mesh state at one crank angle: per pin its angle from the line of centres, clearance c_i "
+      "(um), moment arm L_i (mm), radii of curvature, contact point, edge contact.");
+  mesh->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
+  mesh->add_option("--crank-deg", mesh_options.crank_deg, "Crank angle in degrees (default 0)");
+  mesh->add_option("--json", mesh_options.json_path, "Write the table as JSON ('-': stdout)")->type_name("FILE|-");
+
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
@@ -58,7 +84,12 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   }
 
   try {
-    if (geometry->parsed() || app.get_subcommands().empty()) {
+    if (backlash->parsed()) {
+      backlash_options.kinematics = ParseKinematics(kinematics);
+      RunBacklash(ReadDeck(deck_path), backlash_options, out);
+    } else if (mesh->parsed()) {
+      RunMesh(ReadDeck(deck_path), mesh_options, out);
+    } else {
       RunGeometry(ReadDeck(deck_path), geometry_options, out);
     }
   } catch (const std::invalid_argument& e) {

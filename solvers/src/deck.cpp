@@ -9,7 +9,7 @@
 #include <fmt/ranges.h>
 #include <toml.hpp>
 
-#include "ltca/geometry/profile.hpp"
+#include "ltca/contact/mesh_state.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::solvers {
@@ -131,6 +131,26 @@ geometry::Modification ReadModification(const Section& s, const geometry::PairPa
   return m;
 }
 
+geometry::ManufacturingErrors ReadErrors(const Section& s) {
+  geometry::ManufacturingErrors e;
+  e.pin_circle_deviation = s.Real("pin_circle_deviation_mm", 0.0, "pin-circle deviation delta_Rp of Liu eq. 5 in mm");
+  e.pin_circle_reading = geometry::ParsePinCircleReading(
+      s.String("pin_circle_reading", "radius", "how eq. 5 applies delta_Rp: radius | diameter"));
+  e.profile_layer = s.Real("cycloid_profile_layer_mm", 0.0, "uniform layer on the cycloid profile in mm");
+  e.Validate();
+  return e;
+}
+
+contact::ContactSettings ReadContact(const Section& s) {
+  contact::ContactSettings c;
+  c.law = contact::ParseLawKind(s.String("law", "hertz-line", "hertz-line | sagitta | linear"));
+  c.rho_convention = contact::ParseRhoConvention(s.String("rho_convention", "signed", "signed | absolute"));
+  c.stiffness_per_length = s.Real("stiffness_n_per_mm2", 0.0, "linear law: stiffness per mm of contact length");
+  c.log_radius_cap = s.Real("log_radius_cap_mm", 0.0, "largest cycloid radius in the hertz-line logarithm, mm");
+  c.Validate();
+  return c;
+}
+
 contact::Material ReadMaterial(const Section& s) {
   contact::Material m;
   m.young_modulus = s.Real("young_modulus_mpa", "Young's modulus of the cycloid in MPa");
@@ -221,8 +241,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
     std::istringstream stream{std::string(toml_text)};
     const toml::value root_value = toml::parse(stream, name);
     const toml::table& root = root_value.as_table();
-    const std::vector<std::string> sections = {"case",     "pair", "modification",
-                                               "material", "load", "sweep"};
+    const std::vector<std::string> sections = {"case", "pair",    "modification", "errors",
+                                               "contact", "material", "load",       "sweep"};
     for (const auto& [key, unused] : root) {
       if (std::find(sections.begin(), sections.end(), key) == sections.end()) {
         throw std::invalid_argument(fmt::format("unknown section or key '{}'; expected one of: {}",
@@ -238,6 +258,12 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
         Section(Find(root, "modification"), "modification",
                 {"pin_radius_mm", "pin_circle_radius_mm", "rotation_deg"}),
         deck.pair);
+    deck.errors = ReadErrors(Section(Find(root, "errors"), "errors",
+                                     {"pin_circle_deviation_mm", "pin_circle_reading",
+                                      "cycloid_profile_layer_mm"}));
+    deck.contact = ReadContact(Section(Find(root, "contact"), "contact",
+                                       {"law", "rho_convention", "stiffness_n_per_mm2",
+                                        "log_radius_cap_mm"}));
     const Section material(Find(root, "material"), "material",
                            {"young_modulus_mpa", "poisson_ratio", "pin_young_modulus_mpa",
                             "pin_poisson_ratio"});
@@ -247,8 +273,9 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
     deck.sweep = ReadSweep(
         Section(Find(root, "sweep"), "sweep", {"crank_start_deg", "crank_end_deg", "positions"}),
         deck.pair);
-    // The geometry must be realisable: this rejects undercut (looped) profiles.
-    const geometry::CycloidProfile profile(deck.pair, deck.modification);
+    // The geometry must be realisable: this rejects undercut (looped) profiles, also when the
+    // profile layer of [errors] is what makes them loop.
+    const contact::MeshModel model(deck.pair, deck.modification, deck.errors);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
   } catch (const std::exception& e) {  // TOML syntax errors and the like

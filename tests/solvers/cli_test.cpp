@@ -1,4 +1,5 @@
 // The `ltca` command line, run in-process: outputs, keys and exit codes.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -121,4 +122,43 @@ TEST_CASE("cli: --help describes the commands and the geometry outputs") {
   for (const char* word : {"--json", "--csv", "--svg", "--crank-deg", "phi_max_deg", "mesh_period_deg"}) {
     CHECK(r.out.find(word) != std::string::npos);
   }
+}
+
+TEST_CASE("cli: ltca backlash writes mean and peak-to-peak backlash and per-position rows") {
+  // Liu section 5.2 base modification: the first-order closed form 2 [dR_rp - dR_p sqrt(1 - K1^2)]
+  // / (e z_c) gives 48.1 arcsec; the mean of the exact TCA is within 1 % of it.
+  const auto r = RunCli({"backlash", Case("liu2021_sec52_base.toml"), "--json", "-"});
+  REQUIRE(r.code == 0);
+  const auto json = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+  const double k1 = 40 * 1.3 / (64 - 0.017);
+  const double closed = 2 * (-0.004 + 0.017 * std::sqrt(1 - k1 * k1)) / (1.3 * 39) * 180 / 3.14159265358979 * 3600;
+  CHECK(json.at("summary").at("mean_backlash_arcsec").get<double>() == doctest::Approx(closed).epsilon(0.01));
+  CHECK(json.at("summary").contains("pp_backlash_arcsec"));
+  REQUIRE(json.at("positions").size() == 91);
+  const auto& first = json.at("positions").at(0);
+  for (const char* key : {"crank_deg", "theta_c1_arcsec", "theta_c2_arcsec", "backlash_arcsec", "first_contact_pin"}) {
+    CHECK(first.contains(key));
+  }
+  CHECK(first.at("clearance_um").size() == 40);
+}
+
+TEST_CASE("cli: ltca backlash reports interference as an error naming the pins") {
+  const std::string deck = std::string(
+      "[case]\ntitle = \"interfering\"\n[pair]\npin_count = 40\ntooth_count = 39\npin_radius_mm = 3.0\n"
+      "pin_circle_radius_mm = 64.0\neccentricity_mm = 1.3\nface_width_mm = 12.0\n"
+      "[modification]\npin_radius_mm = -0.005\n");
+  const auto r = RunCli({"backlash", TempFile("interference.toml", deck).string()});
+  CHECK(r.code != 0);
+  CHECK(r.err.find("interference") != std::string::npos);
+  CHECK(r.err.find("pin 1 by 5") != std::string::npos);
+}
+
+TEST_CASE("cli: ltca mesh prints every pin with clearance and arm") {
+  const auto r = RunCli({"mesh", Case("li_table1.toml"), "--crank-deg", "0", "--json", "-"});
+  REQUIRE(r.code == 0);
+  const auto json = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+  REQUIRE(json.at("pins").size() == 40);
+  // Pin 1 sits in the root on the line of centres: clearance dR_rp - dR_p = 22 um, no arm.
+  CHECK(json.at("pins").at(0).at("clearance_um").get<double>() == doctest::Approx(22.0).epsilon(1e-3));
+  CHECK(std::abs(json.at("pins").at(0).at("arm_mm").get<double>()) < 1e-9);
 }

@@ -9,7 +9,9 @@
 #include <string_view>
 #include <vector>
 
+#include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
+#include "ltca/geometry/errors.hpp"
 #include "ltca/geometry/pair.hpp"
 
 namespace ltca::solvers {
@@ -41,6 +43,8 @@ struct Deck {
   CaseInfo info;
   geometry::PairParameters pair;
   geometry::Modification modification;
+  geometry::ManufacturingErrors errors;        ///< [errors], optional, default none
+  contact::ContactSettings contact;            ///< [contact], optional, default hertz-line / signed
   std::optional<contact::Material> material;  ///< required by the load commands
   std::optional<LoadCase> load;               ///< required by the load commands
   Sweep sweep;

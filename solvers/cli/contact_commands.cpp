@@ -1,0 +1,127 @@
+#include "contact_commands.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <nlohmann/json.hpp>
+
+#include "ltca/contact/mesh_state.hpp"
+#include "ltca/geometry/units.hpp"
+#include "output.hpp"
+
+namespace ltca::cli {
+namespace {
+
+using units::RadToArcsec;
+using units::RadToDeg;
+
+nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+}  // namespace
+
+contact::ContactKinematics ParseKinematics(const std::string& text) {
+  if (text == "exact") return contact::ContactKinematics::kExact;
+  if (text == "linearised") return contact::ContactKinematics::kLinearised;
+  throw std::invalid_argument(fmt::format("--kinematics {}: expected exact or linearised", text));
+}
+
+void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, std::ostream& out) {
+  const contact::MeshModel model(deck.pair, deck.modification, deck.errors);
+  std::vector<contact::UnloadedContact> rows;
+  for (const double crank : deck.sweep.CrankAngles()) {
+    rows.push_back(contact::AnalyseUnloaded(model, crank, options.kinematics));
+  }
+  double sum = 0, lo = INFINITY, hi = -INFINITY;
+  for (const auto& r : rows) {
+    sum += r.backlash;
+    lo = std::min(lo, r.backlash);
+    hi = std::max(hi, r.backlash);
+  }
+  const double mean = sum / static_cast<double>(rows.size());
+  fmt::print(out, "case      {}\n", deck.info.title);
+  fmt::print(out, "unloaded TCA, {} kinematics, {} positions from {:g} to {:g} deg crank\n",
+             options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
+             rows.size(), RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
+  fmt::print(out, "mean backlash           {:.4f} arcsec   (Liu eq. 17)\n", RadToArcsec(mean));
+  fmt::print(out, "peak-to-peak backlash   {:.4f} arcsec\n", RadToArcsec(hi - lo));
+  fmt::print(out, "{:>10} {:>14} {:>14} {:>14} {:>6}\n", "crank_deg", "theta_c1_as", "theta_c2_as",
+             "backlash_as", "pin");
+  const std::size_t step = std::max<std::size_t>(1, rows.size() / 10);
+  for (std::size_t i = 0; i < rows.size(); i += step) {
+    const auto& r = rows[i];
+    fmt::print(out, "{:>10.4f} {:>14.4f} {:>14.4f} {:>14.4f} {:>6}\n", RadToDeg(r.crank),
+               RadToArcsec(r.theta_c1), RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), r.first_pin_c1 + 1);
+  }
+  if (!options.json_path.empty()) {
+    WriteTo(options.json_path, out, [&](std::ostream& os) {
+      nlohmann::json positions = nlohmann::json::array();
+      for (const auto& r : rows) {
+        nlohmann::json clearance = nlohmann::json::array(), after = nlohmann::json::array();
+        for (const double c : r.clearance) clearance.push_back(units::MmToUm(c));
+        for (const double c : r.clearance_at_c1) after.push_back(units::MmToUm(c));
+        positions.push_back({{"crank_deg", RadToDeg(r.crank)},
+                             {"theta_c1_arcsec", Finite(RadToArcsec(r.theta_c1))},
+                             {"theta_c2_arcsec", Finite(RadToArcsec(r.theta_c2))},
+                             {"backlash_arcsec", Finite(RadToArcsec(r.backlash))},
+                             {"first_contact_pin", r.first_pin_c1 + 1},
+                             {"first_contact_pin_reverse", r.first_pin_c2 + 1},
+                             {"clearance_um", clearance},
+                             {"clearance_at_first_contact_um", after}});
+      }
+      const nlohmann::json doc = {
+          {"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
+          {"summary", {{"mean_backlash_arcsec", RadToArcsec(mean)}, {"pp_backlash_arcsec", RadToArcsec(hi - lo)}}},
+          {"positions", positions}};
+      os << doc.dump(2) << '\n';
+    });
+  }
+  if (!options.csv_path.empty()) {
+    WriteTo(options.csv_path, out, [&](std::ostream& os) {
+      os << "crank_deg,theta_c1_arcsec,theta_c2_arcsec,backlash_arcsec,first_contact_pin\n";
+      for (const auto& r : rows) {
+        fmt::print(os, "{:.9g},{:.9g},{:.9g},{:.9g},{}\n", RadToDeg(r.crank), RadToArcsec(r.theta_c1),
+                   RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), r.first_pin_c1 + 1);
+      }
+    });
+  }
+}
+
+void RunMesh(const solvers::Deck& deck, const MeshOptions& options, std::ostream& out) {
+  const contact::MeshModel model(deck.pair, deck.modification, deck.errors);
+  const double crank = units::DegToRad(options.crank_deg);
+  const contact::MeshState state = model.Evaluate(crank);
+  fmt::print(out, "case      {}\n", deck.info.title);
+  fmt::print(out, "mesh state at crank {:g} deg (unloaded pose)\n", options.crank_deg);
+  fmt::print(out, "{:>4} {:>9} {:>12} {:>10} {:>12} {:>8} {:>11} {:>11} {:>5}\n", "pin", "angle_deg",
+             "c_um", "L_mm", "rho_c_mm", "rho_p_mm", "x_mm", "y_mm", "edge");
+  for (const auto& c : state.pins) {
+    fmt::print(out, "{:>4} {:>9.3f} {:>12.4f} {:>10.4f} {:>12.4f} {:>8.4f} {:>11.5f} {:>11.5f} {:>5}\n",
+               c.pin + 1, RadToDeg(c.angle), units::MmToUm(c.clearance), c.arm,
+               c.cycloid_curvature == 0.0 ? INFINITY : 1.0 / c.cycloid_curvature, c.pin_radius,
+               c.cycloid_point.x(), c.cycloid_point.y(), c.edge ? "yes" : "");
+  }
+  if (!options.json_path.empty()) {
+    WriteTo(options.json_path, out, [&](std::ostream& os) {
+      nlohmann::json pins = nlohmann::json::array();
+      for (const auto& c : state.pins) {
+        pins.push_back({{"pin", c.pin + 1},
+                        {"pin_angle_deg", RadToDeg(c.angle)},
+                        {"clearance_um", units::MmToUm(c.clearance)},
+                        {"arm_mm", c.arm},
+                        {"cycloid_curvature_radius_mm", Finite(c.cycloid_curvature == 0.0 ? INFINITY : 1.0 / c.cycloid_curvature)},
+                        {"pin_radius_mm", c.pin_radius},
+                        {"cycloid_point_mm", {c.cycloid_point.x(), c.cycloid_point.y()}},
+                        {"pin_point_mm", {c.pin_point.x(), c.pin_point.y()}},
+                        {"normal", {c.normal.x(), c.normal.y()}},
+                        {"edge_contact", c.edge}});
+      }
+      os << nlohmann::json{{"crank_deg", options.crank_deg}, {"pins", pins}}.dump(2) << '\n';
+    });
+  }
+}
+
+}  // namespace ltca::cli
