@@ -1,10 +1,15 @@
 #pragma once
 // Pairs from the papers, typed in from their text (not read from our decks, so that a deck
 // typo cannot hide here).
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "ltca/geometry/pair.hpp"
+#include "ltca/geometry/profile.hpp"
 
 namespace ltca::test {
 
@@ -32,6 +37,37 @@ inline std::vector<NamedPair> AllPairs() {
   auto pairs = ChenPairs();
   pairs.push_back({"Liu Table 1", LiuPair()});
   return pairs;
+}
+
+// A modification in micrometres: isometric dR_rp, offset dR_p.
+inline geometry::Modification Mod(double d_rrp_um, double d_rp_um) {
+  geometry::Modification m;
+  m.pin_radius = d_rrp_um * 1e-3;
+  m.pin_circle_radius = d_rp_um * 1e-3;
+  return m;
+}
+
+// Brute-force distance from body-frame point p to the whole real profile: dense sampling of
+// every tooth space, refined by golden section around the best sample (test only).
+inline double DistanceToProfile(const geometry::CycloidProfile& profile, const Eigen::Vector2d& p) {
+  const int n = 300;
+  double best = 1e300, best_u = 0;
+  int best_k = 0;
+  for (int k = 0; k < profile.pair().tooth_count; ++k) {
+    for (int i = -n; i <= n; ++i) {
+      const double u = profile.phi_max() * i / n;
+      const double dist = (profile.Position(u, k) - p).norm();
+      if (dist < best) best = dist, best_u = u, best_k = k;
+    }
+  }
+  double a = std::max(-profile.phi_max(), best_u - profile.phi_max() / n);
+  double b = std::min(profile.phi_max(), best_u + profile.phi_max() / n);
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  for (int it = 0; it < 100; ++it) {
+    const double c = b - g * (b - a), d = a + g * (b - a);
+    if ((profile.Position(c, best_k) - p).norm() < (profile.Position(d, best_k) - p).norm()) b = d; else a = c;
+  }
+  return std::min(best, (profile.Position(0.5 * (a + b), best_k) - p).norm());
 }
 
 }  // namespace ltca::test

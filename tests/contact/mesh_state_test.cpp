@@ -18,38 +18,10 @@ using ltca::units::kPi;
 
 namespace {
 
-Modification Mod(double d_rrp_um, double d_rp_um) {
-  Modification m;
-  m.pin_radius = d_rrp_um * 1e-3;
-  m.pin_circle_radius = d_rp_um * 1e-3;
-  return m;
-}
-
-// Brute-force gap of a pin: smallest distance from its centre to the sampled profile, refined by
-// golden section, minus the pin radius (test only).
+// Brute-force gap of a pin (test only): distance from its centre to the whole profile, minus r.
 double BruteClearance(const MeshModel& model, int pin, double crank, double psi) {
-  const auto& profile = model.profile();
-  const auto pose = model.CyclePose(crank, psi);
-  const Eigen::Vector2d p = pose.ToBody(model.PinCentre(pin));
-  double best = 1e300, best_u = 0;
-  int best_k = 0;
-  const int n = 300;
-  for (int k = 0; k < model.pair().tooth_count; ++k) {
-    for (int i = -n; i <= n; ++i) {
-      const double u = profile.phi_max() * i / n;
-      const double dist = (profile.Position(u, k) - p).norm();
-      if (dist < best) best = dist, best_u = u, best_k = k;
-    }
-  }
-  double a = std::max(-profile.phi_max(), best_u - profile.phi_max() / n);
-  double b = std::min(profile.phi_max(), best_u + profile.phi_max() / n);
-  const double g = (std::sqrt(5.0) - 1) / 2;
-  for (int it = 0; it < 100; ++it) {
-    const double c = b - g * (b - a), d = a + g * (b - a);
-    if ((profile.Position(c, best_k) - p).norm() < (profile.Position(d, best_k) - p).norm()) b = d; else a = c;
-  }
-  best = std::min(best, (profile.Position(0.5 * (a + b), best_k) - p).norm());
-  return best - model.pair().pin_radius;
+  const Eigen::Vector2d p = model.CyclePose(crank, psi).ToBody(model.PinCentre(pin));
+  return ltca::test::DistanceToProfile(model.profile(), p) - model.pair().pin_radius;
 }
 
 }  // namespace
@@ -85,7 +57,7 @@ TEST_CASE("contact: clearances of the safeguarded Newton match brute force over 
   // to the whole profile minus r, to 1e-9 mm.
   for (const auto& [name, pair] : ltca::test::AllPairs()) {
     CAPTURE(name);
-    const MeshModel model(pair, Mod(4, -9));
+    const MeshModel model(pair, ltca::test::Mod(4, -9));
     for (const double psi : {0.0, 2e-4}) {
       for (const double crank : {0.02, 0.7}) {
         const auto state = model.Evaluate(crank, psi);
@@ -113,7 +85,7 @@ TEST_CASE("contact: clearances of a modified pair match the first-order closed f
   for (const auto& [rrp, rp] : {std::pair{5.0, 0.0}, std::pair{0.0, -5.0}, std::pair{3.0, -2.0}, std::pair{1.0, -6.0}}) {
     CAPTURE(rrp);
     CAPTURE(rp);
-    const MeshModel model(pair, Mod(rrp, rp));
+    const MeshModel model(pair, ltca::test::Mod(rrp, rp));
     const double d_rrp = rrp * 1e-3, d_rp = rp * 1e-3;
     const double k1 = pair.pin_count * pair.eccentricity / (pair.pin_circle_radius + d_rp);
     const double tol = 0.02 * (std::abs(d_rrp) + std::abs(d_rp));
@@ -141,7 +113,7 @@ TEST_CASE("contact: exact and linearised mesh states agree to first order in the
   // c_exact(psi) - (c - L psi) is second order: halving psi quarters it (within 10 %). Away from
   // the root it is below 1e-2 of the first-order term at psi = 1e-4 rad (20 arcsec); near the
   // nearly conformal root it is larger (the contact normal swings), which is why both models exist.
-  const MeshModel model(ltca::test::LiuPair(), Mod(-4, -17));
+  const MeshModel model(ltca::test::LiuPair(), ltca::test::Mod(-4, -17));
   const auto base = model.Evaluate(0.1);
   for (const auto& c : base.pins) {
     if (std::abs(c.arm) < 5.0) continue;
@@ -156,7 +128,7 @@ TEST_CASE("contact: exact and linearised mesh states agree to first order in the
 
 TEST_CASE("contact: interference is an error naming the pins and the overlap") {
   // Radial clearance dR_rp - dR_p < 0 (d > 0): the pins at the root overlap.
-  const MeshModel model(ltca::test::LiuPair(), Mod(-5, 0));
+  const MeshModel model(ltca::test::LiuPair(), ltca::test::Mod(-5, 0));
   CHECK_THROWS_WITH_AS(ltca::contact::AnalyseUnloaded(model, 0.0), doctest::Contains("interference"), std::invalid_argument);
   try {
     ltca::contact::AnalyseUnloaded(model, 0.0);
@@ -164,8 +136,8 @@ TEST_CASE("contact: interference is an error naming the pins and the overlap") {
     CHECK(std::string(e.what()).find("pin 1 by 5") != std::string::npos);  // pin 1 sits in the root at crank 0
   }
   // d = -1 needs a positive pin-circle offset for relief: a negative one interferes.
-  const MeshModel ring(ltca::test::ChenPair(15, 16, 120, 10, 5), Mod(0, -5));
+  const MeshModel ring(ltca::test::ChenPair(15, 16, 120, 10, 5), ltca::test::Mod(0, -5));
   CHECK_THROWS_AS(ltca::contact::AnalyseUnloaded(ring, 0.0), std::invalid_argument);
-  const MeshModel ring_ok(ltca::test::ChenPair(15, 16, 120, 10, 5), Mod(0, 5));
+  const MeshModel ring_ok(ltca::test::ChenPair(15, 16, 120, 10, 5), ltca::test::Mod(0, 5));
   CHECK(ltca::contact::AnalyseUnloaded(ring_ok, 0.0).backlash > 0.0);
 }

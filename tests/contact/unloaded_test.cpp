@@ -15,13 +15,6 @@ using ltca::units::RadToArcsec;
 
 namespace {
 
-Modification Mod(double d_rrp_um, double d_rp_um) {
-  Modification m;
-  m.pin_radius = d_rrp_um * 1e-3;
-  m.pin_circle_radius = d_rp_um * 1e-3;
-  return m;
-}
-
 // Mean backlash over one mesh period (91 positions, Liu's 0.1 deg step), arcsec.
 double MeanBacklash(const MeshModel& model) {
   double sum = 0;
@@ -43,7 +36,7 @@ TEST_CASE("contact: backlash matches the first-order closed form on the 20 cases
   const auto pair = ltca::test::LiuPair();
   for (int i = 0; i < 20; ++i) {
     CAPTURE(i + 1);
-    const MeshModel model(pair, Mod(rrp[i], rp[i]));
+    const MeshModel model(pair, ltca::test::Mod(rrp[i], rp[i]));
     const double k1 = pair.pin_count * pair.eccentricity / (pair.pin_circle_radius + rp[i] * 1e-3);
     const double closed = 2 * (rrp[i] - rp[i] * std::sqrt(1 - k1 * k1)) * 1e-3 / (pair.eccentricity * pair.tooth_count);
     for (const double crank : {0.0, 0.04, 0.1}) {
@@ -63,7 +56,7 @@ TEST_CASE("contact: Liu 2021 Fig. 11 backlash slopes (pin-circle deviation, prof
     ManufacturingErrors lo, hi;
     set(lo, -1e-3);
     set(hi, +1e-3);
-    return (MeanBacklash(MeshModel(pair, Mod(-4, -17), hi)) - MeanBacklash(MeshModel(pair, Mod(-4, -17), lo))) / 2.0;
+    return (MeanBacklash(MeshModel(pair, ltca::test::Mod(-4, -17), hi)) - MeanBacklash(MeshModel(pair, ltca::test::Mod(-4, -17), lo))) / 2.0;
   };
   const double pin_radius_reading = slope([](ManufacturingErrors& e, double v) { e.pin_circle_deviation = v; });
   const double pin_diameter_reading = slope([](ManufacturingErrors& e, double v) {
@@ -82,7 +75,7 @@ TEST_CASE("contact: Li Table 1 pair touches first at the pin about arccos(K1) fr
   // first-contact pin (No. 35 in his numbering) is the one nearest arccos(K1) = 46.3 deg from the
   // line of centres (where the closed-form c_i / L_i is smallest): within half a pin pitch.
   const ltca::geometry::PairParameters li{40, 39, 2.0, 52.15, 0.9, 10.0};
-  const MeshModel model(li, Mod(10, -12));
+  const MeshModel model(li, ltca::test::Mod(10, -12));
   const double k1 = 40 * 0.9 / (52.15 - 0.012);
   for (const double crank : {0.0, 0.03, 0.1}) {
     const auto tca = ltca::contact::AnalyseUnloaded(model, crank);

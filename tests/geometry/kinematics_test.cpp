@@ -20,31 +20,6 @@ Eigen::Vector2d Rotate(const Eigen::Vector2d& v, double a) {
   return {std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y()};
 }
 
-// Smallest distance from point p to the real profile (all tooth spaces), by dense sampling
-// (test only) refined by golden-section search around the best sample.
-double DistanceToProfile(const CycloidProfile& profile, const Eigen::Vector2d& p) {
-  const int zc = profile.pair().tooth_count;
-  const int n = 400;
-  double best = 1e300;
-  int best_k = 0;
-  double best_u = 0;
-  for (int k = 0; k < zc; ++k) {
-    for (int i = -n; i <= n; ++i) {
-      const double u = profile.phi_max() * i / n;
-      const double dist = (profile.Position(u, k) - p).norm();
-      if (dist < best) best = dist, best_k = k, best_u = u;
-    }
-  }
-  double a = std::max(-profile.phi_max(), best_u - profile.phi_max() / n);
-  double b = std::min(profile.phi_max(), best_u + profile.phi_max() / n);
-  const double g = (std::sqrt(5.0) - 1) / 2;
-  for (int it = 0; it < 80; ++it) {
-    const double c = b - g * (b - a), d = a + g * (b - a);
-    if ((profile.Position(c, best_k) - p).norm() < (profile.Position(d, best_k) - p).norm()) b = d; else a = c;
-  }
-  return std::min(best, (profile.Position(0.5 * (a + b), best_k) - p).norm());
-}
-
 }  // namespace
 
 TEST_CASE("geometry: conjugacy - every meshing pin touches the unmodified profile, none interferes") {
@@ -67,7 +42,7 @@ TEST_CASE("geometry: conjugacy - every meshing pin touches the unmodified profil
         const Eigen::Vector2d pin = pose.ToBody(kin.PinCentre(j));
         const auto seed = kin.Seed(j, crank);
         CHECK((pin - profile.PinCentreLocus(seed.u, seed.tooth_space)).norm() < 1e-9);
-        const double dist = DistanceToProfile(profile, pin);
+        const double dist = ltca::test::DistanceToProfile(profile, pin);
         if (ltca::geometry::IsMeshing(profile, kin, j, crank)) {
           ++meshing;
           const auto p = profile.Evaluate(seed.u, seed.tooth_space);
