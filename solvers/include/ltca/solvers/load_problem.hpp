@@ -1,0 +1,74 @@
+#pragma once
+// The loaded contact problem at one crank position, shared by every solver, and the one residual
+// that judges every solver's answer (torque balance plus complementarity of gap and force).
+//
+// Unknowns: the loaded rotation psi (in the load direction) and the pin forces F_i. With the
+// approach delta_i(psi) (exact or linearised, contact/mesh_state.hpp) and the law's deflection
+// w_i(F) = law_i.Approach(F), the deformed gap is g_i = w_i(F_i) - delta_i(psi), and a solution has
+//   F_i >= 0,  g_i >= 0,  F_i g_i = 0,  sum_i F_i L_i(psi) = T.
+#include <vector>
+
+#include "ltca/contact/laws.hpp"
+#include "ltca/contact/material.hpp"
+#include "ltca/contact/mesh_state.hpp"
+#include "ltca/contact/unloaded.hpp"
+
+namespace ltca::solvers {
+
+class LoadProblem {
+ public:
+  /// torque in N*mm (>= 0); the contact length is the face width.
+  LoadProblem(const contact::MeshModel& model, double crank, const contact::ContactSettings& contact,
+              const contact::Material& material, double torque, contact::ContactKinematics kinematics);
+
+  const contact::MeshModel& model() const { return *model_; }
+  double crank() const { return crank_; }
+  double torque() const { return torque_; }
+  contact::ContactKinematics kinematics() const { return kinematics_; }
+  int pin_count() const { return static_cast<int>(base_.pins.size()); }
+  /// The unloaded state (psi = 0) and its laws.
+  const contact::MeshState& base_state() const { return base_; }
+  const std::vector<contact::ContactLaw>& base_laws() const { return base_laws_; }
+  const contact::ContactSettings& contact_settings() const { return contact_; }
+  const contact::Material& material() const { return material_; }
+
+  /// Per-pin state at rotation psi: linearised (frozen geometry) or exact (re-evaluated).
+  struct PinAt {
+    double approach = 0.0;  ///< delta_i(psi), mm
+    double arm = 0.0;       ///< L_i(psi), mm
+    bool edge = false;
+    const contact::ContactLaw* law = nullptr;  ///< nullptr for an edge contact
+  };
+  /// Evaluates every pin at psi; laws for the exact kinematics are rebuilt into the scratch.
+  std::vector<PinAt> At(double psi, std::vector<contact::ContactLaw>* scratch) const;
+
+  /// Output torque sum F_i(delta_i(psi)) L_i(psi), N*mm (forces of the law at each approach).
+  double OutputTorque(double psi) const;
+
+ private:
+  const contact::MeshModel* model_;
+  double crank_;
+  contact::ContactSettings contact_;
+  contact::Material material_;
+  double torque_;
+  contact::ContactKinematics kinematics_;
+  double log_radius_cap_;
+  contact::MeshState base_;
+  std::vector<contact::ContactLaw> base_laws_;  // edge pins get a placeholder (never used)
+  std::vector<bool> base_edge_;
+};
+
+/// The shared judge: residuals of a candidate (psi, F) recomputed from the problem data.
+struct Residuals {
+  double torque_relative = 0.0;     ///< |sum F_i L_i - T| / max(T, 1 N*mm)
+  double force_violation_n = 0.0;   ///< max(0, -F_i), N
+  double gap_violation_mm = 0.0;    ///< max(0, -g_i), mm
+  double complementarity_nmm = 0.0; ///< max |F_i g_i|, N*mm
+  /// One normalised number: the torque residual, and the others scaled by the largest force and
+  /// the largest approach of the solution.
+  double Normalised() const { return normalised; }
+  double normalised = 0.0;
+};
+Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::vector<double>& forces);
+
+}  // namespace ltca::solvers

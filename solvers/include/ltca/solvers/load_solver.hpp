@@ -1,0 +1,77 @@
+#pragma once
+// One door for every load solver (pattern: Drake's SolverBase). The public Solve() is not
+// virtual: it validates the options and the problem, handles the trivial cases every solver
+// shares (zero torque), times the solve, fills the shared part of the result and judges it with
+// the shared residual; each backend implements DoSolve().
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ltca/solvers/load_problem.hpp"
+
+namespace ltca::solvers {
+
+/// Every native status of every backend maps to one of these (the native code is kept).
+enum class SolverStatus {
+  kNotSolved,         ///< Solve() was not called
+  kSuccess,           ///< converged; the shared residual confirms it
+  kMaxIterations,     ///< iteration or evaluation limit reached
+  kLawCannotCarry,    ///< a pin needs more force than its contact law can represent
+  kEdgeContact,       ///< a loaded pin sits on a tip corner: edge contact, not solved as line contact
+  kTooManyGroups,     ///< energy-groups: the candidate tooth groups exceed the limit
+  kNumericalFailure,  ///< the backend failed (NaN, restoration failure, ...)
+  kResidualTooLarge,  ///< the backend claimed success, the shared residual disagrees
+};
+const char* ToString(SolverStatus status);
+
+/// The [solver] section and the per-run settings. Plain struct with defaults and a validation.
+struct SolverOptions {
+  std::string name = "bisection";
+  contact::ContactKinematics kinematics = contact::ContactKinematics::kLinearised;
+  double torque_tolerance = 1e-10;   ///< relative |T_out - T| / T
+  int max_iterations = 500;          ///< torque evaluations (bisection) or iterations
+  /// The shared residual accepted for kSuccess (normalised, see Residuals).
+  double residual_tolerance = 1e-6;
+  /// Preset name applied by ApplyPreset (e.g. "liu2021": torque_tolerance 1e-2, as Liu's stopping rule).
+  void Validate() const;
+};
+/// "liu2021": the paper's 1 % torque stopping rule.
+SolverOptions ApplyPreset(SolverOptions options, const std::string& preset);
+
+struct LoadResult {
+  SolverStatus status = SolverStatus::kNotSolved;
+  std::string message = "Solve() was not called";
+  int native_code = 0;                  ///< the backend's own status code
+  double rotation = std::numeric_limits<double>::quiet_NaN();  ///< psi, rad, in the load direction
+  double te = std::numeric_limits<double>::quiet_NaN();        ///< loaded TE (Liu eq. 16) = -psi, rad
+  std::vector<double> force;            ///< N, per pin
+  std::vector<double> approach;         ///< mm, per pin (geometric approach at psi)
+  std::vector<int> active;              ///< 0-based pins carrying load
+  double energy = 0.0;                  ///< total complementary elastic energy, N*mm
+  Residuals residuals;                  ///< the shared judge's verdict
+  int iterations = 0;
+  int torque_evaluations = 0;
+  double wall_seconds = -1.0;
+};
+
+class LoadSolver {
+ public:
+  virtual ~LoadSolver() = default;
+  virtual std::string name() const = 0;
+  virtual bool available() const { return true; }
+  /// Validates, solves, fills the shared fields, checks the residual. Never throws for a
+  /// failure to converge (that is a status); throws std::invalid_argument for bad options.
+  LoadResult Solve(const LoadProblem& problem, const SolverOptions& options) const;
+
+ private:
+  /// Sets status, message, native_code, rotation, force, iterations / evaluations.
+  virtual void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const = 0;
+};
+
+/// Names of every registered solver, in registry order.
+std::vector<std::string> SolverNames();
+/// Throws std::invalid_argument listing the valid names for an unknown one.
+std::unique_ptr<LoadSolver> MakeSolver(const std::string& name);
+
+}  // namespace ltca::solvers

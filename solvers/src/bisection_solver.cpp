@@ -1,0 +1,103 @@
+#include "bisection_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "ltca/geometry/units.hpp"
+
+namespace ltca::solvers {
+namespace {
+
+struct Evaluation {
+  double torque = 0.0;
+  bool edge = false;       // a pin on a tip corner is pressed
+  bool saturated = false;  // a pin is beyond its law's largest force
+};
+
+Evaluation Evaluate(const LoadProblem& problem, double psi, std::vector<double>* forces) {
+  std::vector<contact::ContactLaw> scratch;
+  Evaluation ev;
+  const auto pins = problem.At(psi, &scratch);
+  forces->assign(pins.size(), 0.0);
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    if (pins[i].approach <= 0.0) continue;
+    if (pins[i].law == nullptr) {
+      ev.edge = true;
+      continue;
+    }
+    if (pins[i].approach >= pins[i].law->max_approach()) ev.saturated = true;
+    (*forces)[i] = pins[i].law->Force(pins[i].approach);
+    ev.torque += (*forces)[i] * pins[i].arm;
+  }
+  return ev;
+}
+
+}  // namespace
+
+void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
+  // Start at the unloaded first contact in the load direction (Liu: theta_c1).
+  double psi = std::numeric_limits<double>::infinity();
+  for (const auto& pin : problem.base_state().pins) {
+    if (pin.arm <= 1e-9 * problem.model().pair().pin_circle_radius) continue;
+    psi = std::min(psi, contact::ClosingRotation(problem.model(), pin, problem.crank(), problem.kinematics()));
+  }
+  if (!std::isfinite(psi)) {
+    result->status = SolverStatus::kNumericalFailure;
+    result->message = "no pin can close its gap in the load direction";
+    return;
+  }
+  const double target = problem.torque();
+  double step = units::ArcsecToRad(1.0 / 60.0);  // Liu section 4: 1/60 arcsec
+  std::vector<double> forces, trial_forces;
+  Evaluation at = Evaluate(problem, psi, &forces);
+  int evaluations = 1;
+  for (; evaluations < options.max_iterations; ++evaluations) {
+    if (std::abs(at.torque - target) <= options.torque_tolerance * target) break;
+    const Evaluation trial = Evaluate(problem, psi + step, &trial_forces);
+    if (trial.edge) {
+      result->status = SolverStatus::kEdgeContact;
+      result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
+      result->rotation = psi + step;
+      result->force = trial_forces;
+      result->torque_evaluations = evaluations + 1;
+      return;
+    }
+    if (trial.torque <= target * (1.0 + options.torque_tolerance)) {
+      psi += step;
+      at = trial;
+      forces.swap(trial_forces);
+      if (at.saturated && at.torque < target * (1.0 - options.torque_tolerance)) {
+        result->status = SolverStatus::kLawCannotCarry;
+        result->message = fmt::format("a pin reached the largest force its contact law can carry at {:.6g} N*m of {:.6g}",
+                                      at.torque / 1000.0, target / 1000.0);
+        result->rotation = psi;
+        result->force = forces;
+        result->torque_evaluations = evaluations + 1;
+        return;
+      }
+      step *= 2.0;  // increasing steps while below the load
+    } else {
+      step *= 0.5;  // overshoot: bisect the step
+    }
+    if (step < 1e-17 * std::max(std::abs(psi), 1e-12)) break;  // cannot refine further in double
+  }
+  result->rotation = psi;
+  result->force = forces;
+  result->torque_evaluations = evaluations;
+  result->iterations = evaluations;
+  result->native_code = 0;
+  if (std::abs(at.torque - target) <= options.torque_tolerance * target) {
+    result->status = SolverStatus::kSuccess;
+    result->message = fmt::format("torque balanced to {:.3g} after {} evaluations",
+                                  std::abs(at.torque - target) / target, evaluations);
+  } else {
+    result->status = SolverStatus::kMaxIterations;
+    result->message = fmt::format("torque off by {:.3g} relative after {} evaluations",
+                                  std::abs(at.torque - target) / target, evaluations);
+  }
+}
+
+}  // namespace ltca::solvers

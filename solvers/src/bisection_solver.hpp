@@ -1,0 +1,19 @@
+#pragma once
+#include "ltca/solvers/load_solver.hpp"
+
+namespace ltca::solvers {
+
+/// Liu 2021 section 3 (Fig. 4, eq. 26): rotate the cycloid about its centre from the unloaded
+/// first contact in steps, doubling the step while the output torque (eq. 26) stays below the
+/// load and halving it (bisection) when it overshoots, until |T_out - T| / T <= torque_tolerance.
+/// Departures: the first step is Liu's 1/60 arcsec but steps grow (Liu keeps them fixed), and
+/// the general default tolerance is 1e-10 (the `liu2021` preset restores his 1 %).
+class BisectionSolver final : public LoadSolver {
+ public:
+  std::string name() const override { return "bisection"; }
+
+ private:
+  void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const override;
+};
+
+}  // namespace ltca::solvers

@@ -1,0 +1,91 @@
+#include "ltca/solvers/load_problem.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ltca::solvers {
+namespace {
+
+contact::ContactLaw MakeLaw(const contact::ContactSettings& settings, const contact::Material& material,
+                            const contact::PinContact& pin, double length, double cap) {
+  // An edge contact has no curvature: give it a placeholder law; solvers check `edge` first.
+  const double curvature = pin.edge ? 0.0 : pin.cycloid_curvature;
+  return contact::ContactLaw(settings, material, curvature, pin.pin_radius, length, cap);
+}
+
+}  // namespace
+
+LoadProblem::LoadProblem(const contact::MeshModel& model, double crank,
+                         const contact::ContactSettings& contact, const contact::Material& material,
+                         double torque, contact::ContactKinematics kinematics)
+    : model_(&model),
+      crank_(crank),
+      contact_(contact),
+      material_(material),
+      torque_(torque),
+      kinematics_(kinematics),
+      log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap
+                                                   : model.pair().pin_circle_radius),
+      base_(model.Evaluate(crank, 0.0)) {
+  base_laws_.reserve(base_.pins.size());
+  for (const auto& pin : base_.pins) {
+    base_laws_.push_back(MakeLaw(contact_, material_, pin, model.pair().face_width, log_radius_cap_));
+  }
+}
+
+std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, std::vector<contact::ContactLaw>* scratch) const {
+  std::vector<PinAt> out(base_.pins.size());
+  if (kinematics_ == contact::ContactKinematics::kLinearised) {
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const auto& pin = base_.pins[i];
+      out[i] = {contact::LinearisedApproach(pin, psi), pin.arm, pin.edge, pin.edge ? nullptr : &base_laws_[i]};
+    }
+    return out;
+  }
+  const contact::MeshState state = model_->Evaluate(crank_, psi);
+  scratch->clear();
+  scratch->reserve(state.pins.size());
+  for (const auto& pin : state.pins) {
+    scratch->push_back(MakeLaw(contact_, material_, pin, model_->pair().face_width, log_radius_cap_));
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const auto& pin = state.pins[i];
+    out[i] = {-pin.clearance, pin.arm, pin.edge, pin.edge ? nullptr : &(*scratch)[i]};
+  }
+  return out;
+}
+
+double LoadProblem::OutputTorque(double psi) const {
+  std::vector<contact::ContactLaw> scratch;
+  double torque = 0.0;
+  for (const PinAt& p : At(psi, &scratch)) {
+    if (p.law != nullptr && p.approach > 0.0) torque += p.law->Force(p.approach) * p.arm;
+  }
+  return torque;
+}
+
+Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::vector<double>& forces) {
+  std::vector<contact::ContactLaw> scratch;
+  const auto pins = problem.At(psi, &scratch);
+  Residuals r;
+  double torque = 0.0, f_max = 0.0, w_max = 0.0;
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    const double f = i < forces.size() ? forces[i] : 0.0;
+    torque += f * pins[i].arm;
+    f_max = std::max(f_max, std::abs(f));
+    w_max = std::max(w_max, std::abs(pins[i].approach) * (f > 0.0 ? 1.0 : 0.0));
+    // Deformed gap: the law's deflection under F minus the geometric approach.
+    const double deflection = pins[i].law != nullptr ? pins[i].law->Approach(f) : 0.0;
+    const double gap = deflection - pins[i].approach;
+    r.force_violation_n = std::max(r.force_violation_n, std::max(0.0, -f));
+    r.gap_violation_mm = std::max(r.gap_violation_mm, std::max(0.0, -gap));
+    r.complementarity_nmm = std::max(r.complementarity_nmm, std::abs(std::max(f, 0.0) * gap));
+  }
+  r.torque_relative = std::abs(torque - problem.torque()) / std::max(problem.torque(), 1.0);
+  const double f_scale = std::max(f_max, 1e-300), w_scale = std::max(w_max, 1e-12);
+  r.normalised = std::max({r.torque_relative, r.force_violation_n / f_scale, r.gap_violation_mm / w_scale,
+                           r.complementarity_nmm / (f_scale * w_scale)});
+  return r;
+}
+
+}  // namespace ltca::solvers

@@ -1,0 +1,125 @@
+#include "ltca/solvers/load_solver.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "bisection_solver.hpp"
+
+namespace ltca::solvers {
+namespace {
+
+struct Entry {
+  const char* name;
+  std::function<std::unique_ptr<LoadSolver>()> make;
+};
+
+// The one table of known solvers (pattern: Drake's choose_best_solver).
+const std::vector<Entry>& Registry() {
+  static const std::vector<Entry> kRegistry = {
+      {"bisection", [] { return std::make_unique<BisectionSolver>(); }},
+  };
+  return kRegistry;
+}
+
+}  // namespace
+
+const char* ToString(SolverStatus status) {
+  switch (status) {
+    case SolverStatus::kNotSolved: return "not-solved";
+    case SolverStatus::kSuccess: return "success";
+    case SolverStatus::kMaxIterations: return "max-iterations";
+    case SolverStatus::kLawCannotCarry: return "law-cannot-carry";
+    case SolverStatus::kEdgeContact: return "edge-contact";
+    case SolverStatus::kTooManyGroups: return "too-many-groups";
+    case SolverStatus::kNumericalFailure: return "numerical-failure";
+    case SolverStatus::kResidualTooLarge: return "residual-too-large";
+  }
+  return "?";
+}
+
+void SolverOptions::Validate() const {
+  if (!(torque_tolerance > 0.0 && torque_tolerance < 1.0)) {
+    throw std::invalid_argument(fmt::format(
+        "[solver] torque_tolerance = {}: expected a relative tolerance in (0, 1)", torque_tolerance));
+  }
+  if (max_iterations < 1) {
+    throw std::invalid_argument(fmt::format("[solver] max_iterations = {}: expected >= 1", max_iterations));
+  }
+  if (!(residual_tolerance > 0.0)) {
+    throw std::invalid_argument(
+        fmt::format("[solver] residual_tolerance = {}: expected > 0", residual_tolerance));
+  }
+}
+
+SolverOptions ApplyPreset(SolverOptions options, const std::string& preset) {
+  if (preset == "liu2021") {
+    options.name = "bisection";
+    options.torque_tolerance = 1e-2;  // Liu section 3: stop when torque and load agree within 1 %
+    options.residual_tolerance = 2e-2;
+    return options;
+  }
+  throw std::invalid_argument(fmt::format("[solver] preset = \"{}\": expected \"liu2021\"", preset));
+}
+
+std::vector<std::string> SolverNames() {
+  std::vector<std::string> names;
+  for (const Entry& e : Registry()) names.emplace_back(e.name);
+  return names;
+}
+
+std::unique_ptr<LoadSolver> MakeSolver(const std::string& name) {
+  for (const Entry& e : Registry()) {
+    if (name == e.name) return e.make();
+  }
+  throw std::invalid_argument(
+      fmt::format("[solver] name = \"{}\": unknown solver; expected one of: {}", name, fmt::join(SolverNames(), ", ")));
+}
+
+LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& options) const {
+  options.Validate();
+  if (problem.kinematics() != options.kinematics) {
+    throw std::invalid_argument("[solver] kinematics: the problem was built for other kinematics than the options name");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  LoadResult result;
+  result.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
+  if (problem.torque() == 0.0) {
+    // No load: the cycloid stays at its theoretical position, no pin carries force.
+    result.status = SolverStatus::kSuccess;
+    result.message = "zero torque: no rotation, no forces";
+    result.rotation = 0.0;
+  } else {
+    DoSolve(problem, options, &result);
+  }
+  result.te = -result.rotation;
+  // Shared part: approaches, active set, energy, and the judge's residuals.
+  std::vector<contact::ContactLaw> scratch;
+  const auto pins = problem.At(std::isfinite(result.rotation) ? result.rotation : 0.0, &scratch);
+  result.approach.resize(pins.size());
+  result.energy = 0.0;
+  result.active.clear();
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    result.approach[i] = pins[i].approach;
+    if (result.force[i] > 0.0) {
+      result.active.push_back(static_cast<int>(i));
+      if (pins[i].law != nullptr) result.energy += pins[i].law->ComplementaryEnergy(result.force[i]);
+    }
+  }
+  if (std::isfinite(result.rotation)) {
+    result.residuals = ComputeResiduals(problem, result.rotation, result.force);
+    if (result.status == SolverStatus::kSuccess && !(result.residuals.Normalised() <= options.residual_tolerance)) {
+      result.status = SolverStatus::kResidualTooLarge;
+      result.message += fmt::format("; shared residual {:.3g} exceeds {:.3g}", result.residuals.Normalised(),
+                                    options.residual_tolerance);
+    }
+  }
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace ltca::solvers

@@ -1,0 +1,89 @@
+// Load solvers judged by the shared residual, never by their own claim, and against closed forms.
+#include <cmath>
+#include <stdexcept>
+
+#include <doctest/doctest.h>
+
+#include "ltca/geometry/units.hpp"
+#include "ltca/solvers/deck.hpp"
+#include "ltca/solvers/load_solver.hpp"
+#include "pairs.hpp"
+
+using ltca::contact::ContactKinematics;
+using ltca::contact::ContactSettings;
+using ltca::contact::LawKind;
+using ltca::contact::MeshModel;
+using ltca::solvers::LoadProblem;
+using ltca::solvers::MakeSolver;
+using ltca::solvers::SolverOptions;
+using ltca::solvers::SolverStatus;
+
+namespace {
+
+ContactSettings Linear() {
+  ContactSettings c;
+  c.law = LawKind::kLinear;
+  c.stiffness_per_length = 2e4;  // N/mm per mm of contact length
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("solvers: closed form 1 - linear law, no clearance, linearised: F_i = F_max sin(phi_i) / S_i") {
+  // Issue closed form: F_max = T / (e z_c sum sin^2 phi_i / S_i^2) over the loaded pins. The
+  // shared residual is recomputed from the problem data (1e-8); forces to 1e-8 of F_max.
+  const auto pair = ltca::test::LiuPair();
+  const MeshModel model(pair, {});
+  const double torque = 206e3, k1 = 40 * 1.3 / 64.0;
+  for (const auto& name : ltca::solvers::SolverNames()) {
+    CAPTURE(name);
+    for (const double crank : {0.0, 0.05}) {
+      const LoadProblem problem(model, crank, Linear(), ltca::contact::Material{}, torque, ContactKinematics::kLinearised);
+      SolverOptions options;
+      options.name = name;
+      const auto r = MakeSolver(name)->Solve(problem, options);
+      REQUIRE(r.status == SolverStatus::kSuccess);
+      CHECK(ltca::solvers::ComputeResiduals(problem, r.rotation, r.force).Normalised() < 1e-8);
+      double sum = 0;
+      for (const auto& c : problem.base_state().pins) {
+        const double s = std::sqrt(1 + k1 * k1 - 2 * k1 * std::cos(c.angle));
+        if (std::sin(c.angle) > 1e-12) sum += std::pow(std::sin(c.angle) / s, 2);
+      }
+      const double f_max = torque / (pair.eccentricity * pair.tooth_count * sum);
+      for (const auto& c : problem.base_state().pins) {
+        const double s = std::sqrt(1 + k1 * k1 - 2 * k1 * std::cos(c.angle));
+        const double expected = std::sin(c.angle) > 0 ? f_max * std::sin(c.angle) / s : 0.0;
+        CHECK(std::abs(r.force[static_cast<std::size_t>(c.pin)] - expected) < 1e-8 * f_max);
+      }
+    }
+  }
+}
+
+TEST_CASE("solvers: the liu2021 preset of bisection lands within 1 % in torque, the default within 1e-10") {
+  const auto deck = ltca::solvers::DefaultDeck();
+  const MeshModel model(deck.pair, deck.modification, deck.errors);
+  const LoadProblem problem(model, 0.3, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
+  const auto tight = MakeSolver("bisection")->Solve(problem, SolverOptions{});
+  const auto liu = MakeSolver("bisection")->Solve(problem, ltca::solvers::ApplyPreset(SolverOptions{}, "liu2021"));
+  CHECK(tight.status == SolverStatus::kSuccess);
+  CHECK(liu.status == SolverStatus::kSuccess);
+  CHECK(tight.residuals.torque_relative <= 1e-10);
+  CHECK(liu.residuals.torque_relative <= 1e-2);
+  CHECK(liu.torque_evaluations < tight.torque_evaluations);
+}
+
+TEST_CASE("solvers: zero torque leaves the cycloid at its theoretical position with no forces") {
+  const MeshModel model(ltca::test::LiuPair(), ltca::test::Mod(-4, -17));
+  const LoadProblem problem(model, 0.1, ContactSettings{}, ltca::contact::Material{}, 0.0, ContactKinematics::kLinearised);
+  const auto r = MakeSolver("bisection")->Solve(problem, SolverOptions{});
+  CHECK(r.status == SolverStatus::kSuccess);
+  CHECK(r.rotation == 0.0);
+  CHECK(r.active.empty());
+}
+
+TEST_CASE("solvers: an unknown solver name is rejected with the valid names") {
+  CHECK_THROWS_WITH_AS(MakeSolver("newton"), doctest::Contains("bisection"), std::invalid_argument);
+  SolverOptions bad;
+  bad.torque_tolerance = 0.0;
+  CHECK_THROWS_WITH_AS(bad.Validate(), doctest::Contains("torque_tolerance"), std::invalid_argument);
+}
