@@ -9,6 +9,7 @@
 
 #include "contact_commands.hpp"
 #include "geometry_command.hpp"
+#include "solve_command.hpp"
 #include "ltca/solvers/deck.hpp"
 
 namespace ltca::cli {
@@ -76,6 +77,22 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   mesh->add_option("--crank-deg", mesh_options.crank_deg, "Crank angle in degrees (default 0)");
   mesh->add_option("--json", mesh_options.json_path, "Write the table as JSON ('-': stdout)")->type_name("FILE|-");
 
+  SolveOptions solve_options;
+  CLI::App* solve = app.add_subcommand(
+      "solve",
+      "Loaded tooth contact analysis over the deck's sweep with one solver: loaded TE (Liu eq. 16), "
+      "pins in contact, pin forces, contact stresses. JSON: summary {mean_te_arcsec, pp_te_arcsec, "
+      "contacts_min, contacts_max, max_pin_force_n, max_contact_stress_mpa, wall_seconds, status} "
+      "and positions [{crank_deg, te_arcsec, contacts, pin_force_n, pin_angle_deg, "
+      "contact_stress_mpa, status}].");
+  solve->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
+  solve->add_option("--solver", solve_options.solver, "Solver name (default: the deck's [solver] name)");
+  solve->add_option("--kinematics", solve_options.kinematics, "linearised or exact (default: the deck's)")
+      ->check(CLI::IsMember({"exact", "linearised"}));
+  solve->add_option("--json", solve_options.json_path, "Write summary and positions as JSON ('-': stdout)")->type_name("FILE|-");
+  solve->add_option("--csv", solve_options.csv_path, "Write one row per position as CSV")->type_name("FILE|-");
+  solve->add_option("--svg", solve_options.svg_path, "Draw the TE over the sweep and the load distribution")->type_name("FILE|-");
+
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
@@ -84,7 +101,9 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   }
 
   try {
-    if (backlash->parsed()) {
+    if (solve->parsed()) {
+      RunSolve(ReadDeck(deck_path), solve_options, out);
+    } else if (backlash->parsed()) {
       backlash_options.kinematics = ParseKinematics(kinematics);
       RunBacklash(ReadDeck(deck_path), backlash_options, out);
     } else if (mesh->parsed()) {

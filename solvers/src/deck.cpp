@@ -151,6 +151,21 @@ contact::ContactSettings ReadContact(const Section& s) {
   return c;
 }
 
+SolverOptions ReadSolver(const Section& s) {
+  SolverOptions o;
+  if (s.Has("preset")) o = ApplyPreset(o, s.String("preset", "a named preset: liu2021"));
+  o.name = s.String("name", o.name, "bisection | energy-qp | energy-groups | compatibility");
+  MakeSolver(o.name);  // rejects an unknown name, listing the valid ones
+  const std::string kinematics = s.String("kinematics", "linearised", "linearised | exact");
+  if (kinematics == "linearised") o.kinematics = contact::ContactKinematics::kLinearised;
+  else if (kinematics == "exact") o.kinematics = contact::ContactKinematics::kExact;
+  else throw std::invalid_argument(fmt::format("[solver] kinematics = \"{}\": expected \"linearised\" or \"exact\"", kinematics));
+  o.torque_tolerance = s.Real("torque_tolerance", o.torque_tolerance, "relative torque tolerance");
+  o.max_iterations = s.Integer("max_iterations", o.max_iterations, "iteration limit");
+  o.Validate();
+  return o;
+}
+
 contact::Material ReadMaterial(const Section& s) {
   contact::Material m;
   m.young_modulus = s.Real("young_modulus_mpa", "Young's modulus of the cycloid in MPa");
@@ -241,8 +256,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
     std::istringstream stream{std::string(toml_text)};
     const toml::value root_value = toml::parse(stream, name);
     const toml::table& root = root_value.as_table();
-    const std::vector<std::string> sections = {"case", "pair",    "modification", "errors",
-                                               "contact", "material", "load",       "sweep"};
+    const std::vector<std::string> sections = {"case",     "pair",     "modification", "errors", "contact",
+                                               "material", "load",     "sweep",        "solver"};
     for (const auto& [key, unused] : root) {
       if (std::find(sections.begin(), sections.end(), key) == sections.end()) {
         throw std::invalid_argument(fmt::format("unknown section or key '{}'; expected one of: {}",
@@ -264,6 +279,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
     deck.contact = ReadContact(Section(Find(root, "contact"), "contact",
                                        {"law", "rho_convention", "stiffness_n_per_mm2",
                                         "log_radius_cap_mm"}));
+    deck.solver = ReadSolver(Section(Find(root, "solver"), "solver",
+                                     {"name", "kinematics", "torque_tolerance", "max_iterations", "preset"}));
     const Section material(Find(root, "material"), "material",
                            {"young_modulus_mpa", "poisson_ratio", "pin_young_modulus_mpa",
                             "pin_poisson_ratio"});

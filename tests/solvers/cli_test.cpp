@@ -162,3 +162,25 @@ TEST_CASE("cli: ltca mesh prints every pin with clearance and arm") {
   CHECK(json.at("pins").at(0).at("clearance_um").get<double>() == doctest::Approx(22.0).epsilon(1e-3));
   CHECK(std::abs(json.at("pins").at(0).at("arm_mm").get<double>()) < 1e-9);
 }
+
+TEST_CASE("cli: ltca solve writes the summary and per-position keys of the issue") {
+  const auto r = RunCli({"solve", Case("liu2021_sec52_base.toml"), "--json", "-"});
+  REQUIRE(r.code == 0);
+  const auto json = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+  for (const char* key : {"mean_te_arcsec", "pp_te_arcsec", "contacts_min", "contacts_max", "max_pin_force_n",
+                          "max_contact_stress_mpa", "wall_seconds", "status"}) {
+    CHECK(json.at("summary").contains(key));
+  }
+  CHECK(json.at("summary").at("status") == "success");
+  // Liu section 5.2: 6 to 7 pins in contact under the base modification (the paper's text).
+  CHECK(json.at("summary").at("contacts_min").get<int>() >= 6);
+  CHECK(json.at("summary").at("contacts_max").get<int>() <= 7);
+  REQUIRE(json.at("positions").size() == 91);
+  const auto& p = json.at("positions").at(0);
+  for (const char* key : {"crank_deg", "te_arcsec", "contacts", "pin_force_n", "pin_angle_deg", "contact_stress_mpa", "status"}) {
+    CHECK(p.contains(key));
+  }
+  CHECK(p.at("pin_force_n").size() == 40);
+  CHECK(p.at("te_arcsec").get<double>() < 0.0);  // negative under load
+  CHECK(RunCli({"solve", "--solver", "newton"}).code != 0);
+}

@@ -13,6 +13,7 @@
 #include "ltca/contact/material.hpp"
 #include "ltca/geometry/errors.hpp"
 #include "ltca/geometry/pair.hpp"
+#include "ltca/solvers/load_solver.hpp"
 
 namespace ltca::solvers {
 
@@ -45,6 +46,7 @@ struct Deck {
   geometry::Modification modification;
   geometry::ManufacturingErrors errors;        ///< [errors], optional, default none
   contact::ContactSettings contact;            ///< [contact], optional, default hertz-line / signed
+  SolverOptions solver;                        ///< [solver], optional, default bisection / linearised
   std::optional<contact::Material> material;  ///< required by the load commands
   std::optional<LoadCase> load;               ///< required by the load commands
   Sweep sweep;
