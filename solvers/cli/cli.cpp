@@ -24,7 +24,7 @@ solvers::Deck ReadDeck(const std::string& path) {
 int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "ltca: loaded tooth contact analysis of cycloid-pin gear pairs.\n"
-      "Without a command, runs `ltca geometry` on the built-in default deck (Liu 2021 Table 1).\n"
+      "Without a command, runs `ltca geometry` and `ltca solve` on the built-in default deck (Liu 2021 Table 1).\n"
       "Decks are TOML files whose keys carry their unit; see docs/decks.md and cases/."};
   app.name("ltca");
 
@@ -108,8 +108,14 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       RunBacklash(ReadDeck(deck_path), backlash_options, out);
     } else if (mesh->parsed()) {
       RunMesh(ReadDeck(deck_path), mesh_options, out);
-    } else {
+    } else if (geometry->parsed()) {
       RunGeometry(ReadDeck(deck_path), geometry_options, out);
+    } else {
+      // No command: the main job on the built-in deck, its geometry and the loaded sweep.
+      const solvers::Deck deck = ReadDeck(deck_path);
+      RunGeometry(deck, geometry_options, out);
+      out << '\n';
+      RunSolve(deck, solve_options, out);
     }
   } catch (const std::invalid_argument& e) {
     fmt::print(err, "ltca: error: {}\n", e.what());

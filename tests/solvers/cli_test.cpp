@@ -64,6 +64,7 @@ TEST_CASE("cli: ltca with no argument runs the built-in Liu 2021 Table 1 case") 
   CHECK(r.code == 0);
   CHECK(r.out.find("Liu 2021 Table 1") != std::string::npos);
   CHECK(r.out.find("54.3409 deg") != std::string::npos);  // alpha_max = arcsin(0.8125)
+  CHECK(r.out.find("mean TE") != std::string::npos);      // and the loaded sweep
 }
 
 TEST_CASE("cli: --csv writes the whole profile and --svg draws every pin") {
