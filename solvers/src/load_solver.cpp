@@ -9,6 +9,7 @@
 #include <fmt/ranges.h>
 
 #include "bisection_solver.hpp"
+#include "energy_qp_solver.hpp"
 
 namespace ltca::solvers {
 namespace {
@@ -22,6 +23,7 @@ struct Entry {
 const std::vector<Entry>& Registry() {
   static const std::vector<Entry> kRegistry = {
       {"bisection", [] { return std::make_unique<BisectionSolver>(); }},
+      {"energy-qp", [] { return std::make_unique<EnergyQpSolver>(); }},
   };
   return kRegistry;
 }
