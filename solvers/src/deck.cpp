@@ -162,6 +162,7 @@ SolverOptions ReadSolver(const Section& s) {
   else throw std::invalid_argument(fmt::format("[solver] kinematics = \"{}\": expected \"linearised\" or \"exact\"", kinematics));
   o.torque_tolerance = s.Real("torque_tolerance", o.torque_tolerance, "relative torque tolerance");
   o.max_iterations = s.Integer("max_iterations", o.max_iterations, "iteration limit");
+  o.nlopt_algorithm = s.String("nlopt_algorithm", o.nlopt_algorithm, "compatibility: NLopt algorithm name");
   o.Validate();
   return o;
 }
@@ -280,7 +281,7 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
                                        {"law", "rho_convention", "stiffness_n_per_mm2",
                                         "log_radius_cap_mm"}));
     deck.solver = ReadSolver(Section(Find(root, "solver"), "solver",
-                                     {"name", "kinematics", "torque_tolerance", "max_iterations", "preset"}));
+                                     {"name", "kinematics", "torque_tolerance", "max_iterations", "preset", "nlopt_algorithm"}));
     const Section material(Find(root, "material"), "material",
                            {"young_modulus_mpa", "poisson_ratio", "pin_young_modulus_mpa",
                             "pin_poisson_ratio"});

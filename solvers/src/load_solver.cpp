@@ -9,6 +9,7 @@
 #include <fmt/ranges.h>
 
 #include "bisection_solver.hpp"
+#include "compatibility_solver.hpp"
 #include "energy_qp_solver.hpp"
 
 namespace ltca::solvers {
@@ -24,6 +25,7 @@ const std::vector<Entry>& Registry() {
   static const std::vector<Entry> kRegistry = {
       {"bisection", [] { return std::make_unique<BisectionSolver>(); }},
       {"energy-qp", [] { return std::make_unique<EnergyQpSolver>(); }},
+      {"compatibility", [] { return std::make_unique<CompatibilitySolver>(); }},
   };
   return kRegistry;
 }

@@ -31,6 +31,8 @@ struct SolverOptions {
   contact::ContactKinematics kinematics = contact::ContactKinematics::kLinearised;
   double torque_tolerance = 1e-10;   ///< relative |T_out - T| / T
   int max_iterations = 500;          ///< torque evaluations (bisection) or iterations
+  /// compatibility: the NLopt algorithm by name (chosen from measurements, docs/solvers.md).
+  std::string nlopt_algorithm = "LD_LBFGS";
   /// The shared residual accepted for kSuccess (normalised, see Residuals).
   double residual_tolerance = 1e-6;
   /// Preset name applied by ApplyPreset (e.g. "liu2021": torque_tolerance 1e-2, as Liu's stopping rule).

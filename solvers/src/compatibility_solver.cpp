@@ -1,0 +1,167 @@
+#include "compatibility_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlopt.hpp>
+
+namespace ltca::solvers {
+namespace {
+
+struct Potential {
+  const LoadProblem* problem = nullptr;
+  int evaluations = 0;
+  std::exception_ptr error;  // NLopt swallows exceptions thrown in callbacks: keep and rethrow
+  bool edge = false;
+
+  // Pi(psi) and dPi/dpsi.
+  double Evaluate(double psi, double* gradient) {
+    ++evaluations;
+    std::vector<contact::ContactLaw> scratch;
+    double pi = -problem->torque() * psi, torque = 0.0;
+    for (const auto& pin : problem->At(psi, &scratch)) {
+      if (pin.approach <= 0.0) continue;
+      if (pin.law == nullptr) {
+        edge = true;
+        continue;
+      }
+      const double f = pin.law->Force(pin.approach);
+      pi += f * pin.approach - pin.law->ComplementaryEnergy(f);  // U = F delta - E^c(F)
+      torque += f * pin.arm;
+    }
+    if (gradient != nullptr) *gradient = torque - problem->torque();
+    return pi;
+  }
+};
+
+double Objective(const std::vector<double>& x, std::vector<double>& grad, void* data) {
+  auto* p = static_cast<Potential*>(data);
+  try {
+    double g = 0.0;
+    const double value = p->Evaluate(x[0], grad.empty() ? nullptr : &g);
+    if (!grad.empty()) grad[0] = g;
+    return value;
+  } catch (...) {
+    p->error = std::current_exception();
+    throw nlopt::forced_stop();
+  }
+}
+
+}  // namespace
+
+void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
+  nlopt::algorithm algorithm;
+  try {
+    algorithm = static_cast<nlopt::algorithm>(nlopt_algorithm_from_string(options.nlopt_algorithm.c_str()));
+    if (static_cast<int>(algorithm) < 0) throw std::invalid_argument("unknown");
+  } catch (const std::exception&) {
+    throw std::invalid_argument(fmt::format(
+        "[solver] nlopt_algorithm = \"{}\": not an NLopt algorithm name (e.g. LD_MMA, LD_LBFGS, LN_BOBYQA)",
+        options.nlopt_algorithm));
+  }
+  Potential potential;
+  potential.problem = &problem;
+  // Bracket: from the first contact in the load direction to a rotation whose torque exceeds T.
+  double lo = std::numeric_limits<double>::infinity();
+  for (const auto& pin : problem.base_state().pins) {
+    if (pin.arm <= 1e-9 * problem.model().pair().pin_circle_radius) continue;
+    lo = std::min(lo, contact::ClosingRotation(problem.model(), pin, problem.crank(), problem.kinematics()));
+  }
+  if (!std::isfinite(lo)) {
+    result->status = SolverStatus::kNumericalFailure;
+    result->message = "no pin can close its gap in the load direction";
+    return;
+  }
+  double step = 1e-6, hi = lo + step, g = 0.0;
+  potential.Evaluate(hi, &g);
+  for (int i = 0; i < 200 && g < 0.0; ++i) {
+    lo = hi;
+    step *= 2.0;
+    hi = lo + step;
+    potential.Evaluate(hi, &g);
+  }
+  if (g < 0.0) {
+    result->status = SolverStatus::kLawCannotCarry;
+    result->message = "the output torque stays below the load over every rotation tried";
+    return;
+  }
+  nlopt::opt opt(algorithm, 1);
+  opt.set_min_objective(Objective, &potential);
+  opt.set_lower_bounds(std::vector<double>{lo});
+  opt.set_upper_bounds(std::vector<double>{hi});
+  opt.set_xtol_abs(1e-16 * std::max(hi, 1e-12));
+  opt.set_xtol_rel(1e-15);
+  opt.set_ftol_rel(0.0);
+  opt.set_maxeval(options.max_iterations);
+  std::vector<double> x{0.5 * (lo + hi)};
+  double value = 0.0;
+  nlopt::result code = nlopt::FAILURE;
+  try {
+    code = opt.optimize(x, value);
+  } catch (const nlopt::roundoff_limited&) {
+    code = nlopt::ROUNDOFF_LIMITED;  // often at the optimum already: the torque check below decides
+  } catch (const nlopt::forced_stop&) {
+    if (potential.error) std::rethrow_exception(potential.error);
+    code = nlopt::FORCED_STOP;
+  } catch (const std::runtime_error&) {
+    // Generic NLopt failure (e.g. a line search that gives up): with exact kinematics the law's
+    // curvature follows psi, so the torque mismatch is not exactly dPi/dpsi there. x holds the
+    // best point; the polish and the torque check below decide.
+    code = nlopt::FAILURE;
+  }
+  result->native_code = static_cast<int>(code);
+  // Polish: near its minimum Pi is flat to second order, so its value cannot resolve a torque
+  // mismatch below ~1e-8 and NLopt may stop there (FTOL / roundoff). A few secant steps on the
+  // mismatch itself, kept inside the bracket, finish the job; they are counted and reported.
+  int polish = 0;
+  {
+    double a = x[0], ga = 0.0;
+    potential.Evaluate(a, &ga);
+    double b = std::clamp(a + 1e-9 * std::max(std::abs(a), 1e-9), lo, hi), gb = 0.0;
+    potential.Evaluate(b, &gb);
+    while (polish < 30 && std::abs(ga) > options.torque_tolerance * problem.torque() && gb != ga) {
+      const double c = std::clamp(b - gb * (b - a) / (gb - ga), lo, hi);
+      a = b, ga = gb;
+      b = c;
+      potential.Evaluate(b, &gb);
+      ++polish;
+      if (std::abs(gb) < std::abs(ga)) x[0] = b;
+      if (std::abs(gb) <= options.torque_tolerance * problem.torque()) break;
+    }
+  }
+  result->rotation = x[0];
+  result->torque_evaluations = potential.evaluations;
+  result->iterations = potential.evaluations;
+  std::vector<contact::ContactLaw> scratch;
+  const auto pins = problem.At(x[0], &scratch);
+  result->force.assign(pins.size(), 0.0);
+  double torque = 0.0;
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    if (pins[i].approach <= 0.0 || pins[i].law == nullptr) continue;
+    result->force[i] = pins[i].law->Force(pins[i].approach);
+    torque += result->force[i] * pins[i].arm;
+  }
+  const double mismatch = std::abs(torque - problem.torque()) / problem.torque();
+  // Every NLopt code maps to one status; success is verified on the torque, not believed.
+  if (potential.edge) {
+    result->status = SolverStatus::kEdgeContact;
+    result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
+  } else if (mismatch <= options.torque_tolerance) {
+    result->status = SolverStatus::kSuccess;
+    result->message = fmt::format("NLopt {} code {} ({} secant polish steps), torque balanced to {:.3g}",
+                                  options.nlopt_algorithm, static_cast<int>(code), polish, mismatch);
+  } else if (code == nlopt::MAXEVAL_REACHED || code == nlopt::MAXTIME_REACHED) {
+    result->status = SolverStatus::kMaxIterations;
+    result->message = fmt::format("NLopt {} hit its evaluation limit, torque off by {:.3g}", options.nlopt_algorithm, mismatch);
+  } else {
+    result->status = SolverStatus::kNumericalFailure;
+    result->message = fmt::format("NLopt {} stopped (code {}) with the torque off by {:.3g}", options.nlopt_algorithm,
+                                  static_cast<int>(code), mismatch);
+  }
+}
+
+}  // namespace ltca::solvers

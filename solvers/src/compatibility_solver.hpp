@@ -1,0 +1,24 @@
+#pragma once
+// No NLopt header here: the backend is private to compatibility_solver.cpp (linked PRIVATE).
+#include "ltca/solvers/load_solver.hpp"
+
+namespace ltca::solvers {
+
+/// Deformation compatibility (Jiang 2022 eq. 10-11, Li eq. 13): every loaded pin's approach is
+/// delta_i = L_i psi - c_i, its force follows from the law, and the torque balance closes the
+/// system. The one unknown psi is the minimiser of the convex potential
+///   Pi(psi) = sum_i U_i(delta_i(psi)) - T psi,   U_i = int_0^delta F_i,   dPi/dpsi = sum F_i L_i - T,
+/// found with NLopt in the bracket [first contact, a rotation that overshoots T]. The algorithm
+/// is selectable by NLopt name (SolverOptions::nlopt_algorithm); gradient-based ones use the
+/// exact derivative (the torque mismatch), derivative-free ones only Pi. Exact kinematics
+/// evaluates Pi on the re-evaluated geometry (dDelta_i/dpsi = L_i(psi) holds exactly), which is
+/// what re-linearising to convergence would reach.
+class CompatibilitySolver final : public LoadSolver {
+ public:
+  std::string name() const override { return "compatibility"; }
+
+ private:
+  void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const override;
+};
+
+}  // namespace ltca::solvers
