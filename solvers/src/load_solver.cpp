@@ -10,6 +10,7 @@
 
 #include "bisection_solver.hpp"
 #include "compatibility_solver.hpp"
+#include "energy_groups_solver.hpp"
 #include "energy_qp_solver.hpp"
 
 namespace ltca::solvers {
@@ -25,6 +26,7 @@ const std::vector<Entry>& Registry() {
   static const std::vector<Entry> kRegistry = {
       {"bisection", [] { return std::make_unique<BisectionSolver>(); }},
       {"energy-qp", [] { return std::make_unique<EnergyQpSolver>(); }},
+      {"energy-groups", [] { return std::make_unique<EnergyGroupsSolver>(); }},
       {"compatibility", [] { return std::make_unique<CompatibilitySolver>(); }},
   };
   return kRegistry;

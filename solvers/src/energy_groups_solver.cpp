@@ -1,0 +1,151 @@
+#include "energy_groups_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace ltca::solvers {
+namespace {
+
+struct Linearised {  // pins about the current rotation psi0: approach = L (psi - psi0) + a0
+  std::vector<double> approach0, arm;
+  std::vector<const contact::ContactLaw*> law;
+  double psi0 = 0.0;
+  double Approach(std::size_t i, double psi) const { return approach0[i] + arm[i] * (psi - psi0); }
+};
+
+struct GroupSolution {
+  bool feasible = false;
+  double psi = 0.0;
+  double energy = std::numeric_limits<double>::infinity();
+  std::vector<double> force;
+};
+
+// Every member in contact: solve sum_{G} F_i(approach_i(psi)) L_i = T by bisection on psi (the
+// left side is non-decreasing), then check feasibility.
+GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& group, double torque,
+                         double tolerance) {
+  GroupSolution s;
+  const auto torque_at = [&](double psi) {
+    double t = 0.0;
+    for (const std::size_t i : group) t += lin.law[i]->Force(lin.Approach(i, psi)) * lin.arm[i];
+    return t;
+  };
+  double lo = std::numeric_limits<double>::infinity();
+  for (const std::size_t i : group) lo = std::min(lo, lin.psi0 - lin.approach0[i] / lin.arm[i]);
+  double step = 1e-7, hi = lo + step;
+  int guard = 0;
+  while (torque_at(hi) < torque && guard++ < 200) lo = hi, step *= 2.0, hi = lo + step;
+  if (guard >= 200) return s;
+  for (int it = 0; it < 200 && hi - lo > 1e-16 * std::max(std::abs(hi), 1e-12); ++it) {
+    const double mid = 0.5 * (lo + hi);
+    const double t = torque_at(mid);
+    if (std::abs(t - torque) <= tolerance * torque) lo = hi = mid;
+    else (t < torque ? lo : hi) = mid;
+  }
+  s.psi = 0.5 * (lo + hi);
+  s.force.assign(lin.arm.size(), 0.0);
+  s.feasible = true;
+  s.energy = 0.0;
+  const double gap_tol = 1e-12;  // mm: rounding of an exactly touching non-member
+  std::vector<bool> member(lin.arm.size(), false);
+  for (const std::size_t i : group) member[i] = true;
+  for (std::size_t i = 0; i < lin.arm.size(); ++i) {
+    const double delta = lin.Approach(i, s.psi);
+    if (member[i]) {
+      if (!(delta > 0.0)) s.feasible = false;  // a member would have to pull
+      s.force[i] = lin.law[i]->Force(delta);
+      s.energy += s.force[i] * delta;            // Li eq. 14: NE = sum F_i delta_i
+    } else if (lin.law[i] != nullptr && delta > gap_tol) {
+      s.feasible = false;                        // a non-member would penetrate
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
+  const int n = problem.pin_count();
+  const double min_arm = 1e-9 * problem.model().pair().pin_circle_radius;
+  std::vector<contact::ContactLaw> scratch;
+  double psi = 0.0;
+  int groups_evaluated = 0;
+  const int outer_limit = problem.kinematics() == contact::ContactKinematics::kExact ? 50 : 1;
+  for (int outer = 0; outer < outer_limit; ++outer) {
+    const auto pins = problem.At(psi, &scratch);
+    Linearised lin;
+    lin.psi0 = psi;
+    for (const auto& p : pins) {
+      const bool usable = p.arm > min_arm && p.law != nullptr;
+      lin.approach0.push_back(p.approach);
+      lin.arm.push_back(usable ? p.arm : 0.0);
+      lin.law.push_back(usable ? p.law : nullptr);
+    }
+    // 1. First contact (smallest closing rotation) about the current linearisation.
+    int first = -1;
+    double first_psi = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < n; ++i) {
+      if (lin.law[static_cast<std::size_t>(i)] == nullptr) continue;
+      const double close = psi - lin.approach0[static_cast<std::size_t>(i)] / lin.arm[static_cast<std::size_t>(i)];
+      if (close < first_psi) first_psi = close, first = i;
+    }
+    if (first < 0) {
+      result->status = SolverStatus::kNumericalFailure;
+      result->message = "no pin can close its gap in the load direction";
+      return;
+    }
+    // 2. Maximum deformation: the first pin alone carries the torque (Li Fig. 5).
+    const auto* first_law = lin.law[static_cast<std::size_t>(first)];
+    const double first_arm = lin.arm[static_cast<std::size_t>(first)];
+    const double psi_max = first_psi + first_law->Approach(problem.torque() / first_arm) / first_arm;
+    std::vector<bool> candidate(static_cast<std::size_t>(n), false);
+    for (int i = 0; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      candidate[k] = lin.law[k] != nullptr && lin.Approach(k, psi_max) > 0.0;
+    }
+    // 3. Contiguous runs of candidates (cyclic pin order) containing the first pin.
+    int left = 0, right = 0;  // how far the run of candidates extends each way from `first`
+    while (left < n - 1 && candidate[static_cast<std::size_t>((first - left - 1 + n) % n)]) ++left;
+    while (right < n - 1 - left && candidate[static_cast<std::size_t>((first + right + 1) % n)]) ++right;
+    const long groups = static_cast<long>(left + 1) * (right + 1);
+    if (groups > kMaxGroups) {
+      result->status = SolverStatus::kTooManyGroups;
+      result->message = fmt::format("{} candidate tooth groups exceed the limit of {}", groups, kMaxGroups);
+      result->rotation = psi;
+      return;
+    }
+    // 4-5. Solve every group, keep the feasible one of minimum energy.
+    GroupSolution best;
+    for (int a = 0; a <= left; ++a) {
+      for (int b = 0; b <= right; ++b) {
+        std::vector<std::size_t> group;
+        for (int j = -a; j <= b; ++j) group.push_back(static_cast<std::size_t>((first + j + n) % n));
+        GroupSolution s = SolveGroup(lin, group, problem.torque(), 0.01 * options.torque_tolerance);
+        ++groups_evaluated;
+        if (s.feasible && s.energy < best.energy) best = std::move(s);
+      }
+    }
+    if (!best.feasible) {
+      result->status = SolverStatus::kNumericalFailure;
+      result->message = fmt::format("none of the {} contiguous tooth groups is feasible (is the loaded set not "
+                                    "contiguous, e.g. under pitch errors?)", groups);
+      result->rotation = psi;
+      result->iterations = groups_evaluated;
+      return;
+    }
+    const double change = best.psi - psi;
+    psi = best.psi;
+    result->force = best.force;
+    result->status = SolverStatus::kSuccess;
+    if (std::abs(change) <= options.torque_tolerance * std::max(std::abs(psi), 1e-12)) break;
+  }
+  result->rotation = psi;
+  result->iterations = groups_evaluated;
+  result->message = fmt::format("{} tooth groups evaluated (Li eq. 14)", groups_evaluated);
+}
+
+}  // namespace ltca::solvers

@@ -1,0 +1,26 @@
+#pragma once
+#include "ltca/solvers/load_solver.hpp"
+
+namespace ltca::solvers {
+
+/// Li's minimum-energy method as published (Li section 3.3-3.5, Fig. 4-7, eq. 13-14):
+///  1. first contact and the clearances after it (Li Fig. 4, contact/unloaded.hpp);
+///  2. the maximum deformation: the rotation if the first pin carried the whole torque; every pin
+///     whose remaining gap it closes is a candidate (Li Fig. 5, an upper bound of the active set);
+///  3. tooth groups: the contiguous runs of candidates (in pin order) that contain the first pin,
+///     Li's reading of Fig. 4 ("No. 30~38 below line 1");
+///  4. each group solved with every member in contact (compatibility eq. 13 + torque balance);
+///     a group is feasible when every member is compressed and every other pin stays open;
+///  5. the feasible group of minimum total energy NE = sum F_i delta_i (eq. 14).
+/// More than kMaxGroups groups: status too-many-groups instead of a guess. A true active set that
+/// is not contiguous (e.g. under pitch errors) has no feasible group: reported, not guessed.
+class EnergyGroupsSolver final : public LoadSolver {
+ public:
+  static constexpr int kMaxGroups = 5000;
+  std::string name() const override { return "energy-groups"; }
+
+ private:
+  void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const override;
+};
+
+}  // namespace ltca::solvers
