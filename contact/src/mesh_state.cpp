@@ -19,7 +19,7 @@ double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 geometry::CycloidProfile MakeProfile(const geometry::PairParameters& pair,
                                      geometry::Modification modification,
                                      const geometry::ManufacturingErrors& errors) {
-  errors.Validate();
+  errors.Validate(pair.pin_count);
   // A uniform layer t on the profile moves the equidistant by t toward the pins: the same curve
   // as generating it with the pin radius r_rp + dR_rp - t.
   modification.pin_radius -= errors.profile_layer;
@@ -82,10 +82,13 @@ MeshModel::MeshModel(const geometry::PairParameters& pair,
     : profile_(MakeProfile(pair, modification, errors)),
       kinematics_(pair),
       pin_circle_radius_(pair.pin_circle_radius + errors.PinCircleRadiusChange()),
+      pitch_(errors.cumulative_pitch_deviation),
       load_direction_(pair.ToothDifference() > 0 ? 1.0 : -1.0) {}
 
 Eigen::Vector2d MeshModel::PinCentre(int pin) const {
-  const double a = kinematics_.PinAngle(pin);
+  // Liu eq. 5: the cumulative pitch deviation moves the pin along its circle.
+  const double shift = pitch_.empty() ? 0.0 : pitch_[static_cast<std::size_t>(pin)] / pin_circle_radius_;
+  const double a = kinematics_.PinAngle(pin) + shift;
   return pin_circle_radius_ * Eigen::Vector2d(std::cos(a), std::sin(a));
 }
 

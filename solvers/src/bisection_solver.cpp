@@ -51,19 +51,25 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   }
   const double target = problem.torque();
   double step = units::ArcsecToRad(1.0 / 60.0);  // Liu section 4: 1/60 arcsec
+  // Converged within the tolerance, or as close as one ulp of the rotation can get.
+  const auto converged = [&](double psi_now, double torque_now) {
+    const double miss = std::abs(torque_now - target);
+    return miss <= options.torque_tolerance * target || miss <= problem.TorqueResolution(psi_now);
+  };
   std::vector<double> forces, trial_forces;
+  bool edge_blocked = false;
   Evaluation at = Evaluate(problem, psi, &forces);
   int evaluations = 1;
   for (; evaluations < options.max_iterations; ++evaluations) {
-    if (std::abs(at.torque - target) <= options.torque_tolerance * target) break;
+    if (converged(psi, at.torque)) break;
     const Evaluation trial = Evaluate(problem, psi + step, &trial_forces);
     if (trial.edge) {
-      result->status = SolverStatus::kEdgeContact;
-      result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
-      result->rotation = psi + step;
-      result->force = trial_forces;
-      result->torque_evaluations = evaluations + 1;
-      return;
+      // A tip corner would be pressed at this trial: treat it as an overshoot. If the load cannot
+      // be reached before a corner engages, the answer is edge contact (below).
+      edge_blocked = true;
+      step *= 0.5;
+      if (step < 1e-17 * std::max(std::abs(psi), 1e-12)) break;
+      continue;
     }
     if (trial.torque <= target * (1.0 + options.torque_tolerance)) {
       psi += step;
@@ -89,10 +95,15 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   result->torque_evaluations = evaluations;
   result->iterations = evaluations;
   result->native_code = 0;
-  if (std::abs(at.torque - target) <= options.torque_tolerance * target) {
+  if (converged(psi, at.torque)) {
     result->status = SolverStatus::kSuccess;
-    result->message = fmt::format("torque balanced to {:.3g} after {} evaluations",
-                                  std::abs(at.torque - target) / target, evaluations);
+    const double miss = std::abs(at.torque - target) / target;
+    result->message = fmt::format("torque balanced to {:.3g} after {} evaluations{}", miss, evaluations,
+                                  miss > options.torque_tolerance ? " (limited by the resolution of the rotation in double precision)" : "");
+  } else if (edge_blocked) {
+    result->status = SolverStatus::kEdgeContact;
+    result->message = fmt::format("the load cannot be reached before a tip corner is pressed (edge contact; line-contact "
+                                  "laws do not apply): torque off by {:.3g}", std::abs(at.torque - target) / target);
   } else {
     result->status = SolverStatus::kMaxIterations;
     result->message = fmt::format("torque off by {:.3g} relative after {} evaluations",

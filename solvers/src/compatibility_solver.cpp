@@ -115,22 +115,35 @@ void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOption
   }
   result->native_code = static_cast<int>(code);
   // Polish: near its minimum Pi is flat to second order, so its value cannot resolve a torque
-  // mismatch below ~1e-8 and NLopt may stop there (FTOL / roundoff). A few secant steps on the
-  // mismatch itself, kept inside the bracket, finish the job; they are counted and reported.
+  // mismatch below ~1e-8 and NLopt may stop there (FTOL / roundoff / failure). Regula falsi
+  // (Illinois) on the mismatch, inside the bracket [lo, hi] shrunk by NLopt's point, finishes
+  // the job with guaranteed convergence; the steps are counted and reported.
   int polish = 0;
   {
-    double a = x[0], ga = 0.0;
+    double a = lo, b = hi, ga = 0.0, gb = 0.0, gx = 0.0;
     potential.Evaluate(a, &ga);
-    double b = std::clamp(a + 1e-9 * std::max(std::abs(a), 1e-9), lo, hi), gb = 0.0;
     potential.Evaluate(b, &gb);
-    while (polish < 30 && std::abs(ga) > options.torque_tolerance * problem.torque() && gb != ga) {
-      const double c = std::clamp(b - gb * (b - a) / (gb - ga), lo, hi);
-      a = b, ga = gb;
-      b = c;
-      potential.Evaluate(b, &gb);
+    potential.Evaluate(x[0], &gx);
+    if (gx < 0.0) a = x[0], ga = gx; else b = x[0], gb = gx;
+    int side = 0;
+    while (polish < 100) {
+      const double floor = std::max(options.torque_tolerance * problem.torque(), problem.TorqueResolution(x[0]));
+      if (std::abs(gx) <= floor || b - a <= 4.0 * std::numeric_limits<double>::epsilon() * std::abs(b)) break;
+      double c = (gb - ga) != 0.0 ? b - gb * (b - a) / (gb - ga) : 0.5 * (a + b);
+      if (!(c > a && c < b)) c = 0.5 * (a + b);
+      double gc = 0.0;
+      potential.Evaluate(c, &gc);
       ++polish;
-      if (std::abs(gb) < std::abs(ga)) x[0] = b;
-      if (std::abs(gb) <= options.torque_tolerance * problem.torque()) break;
+      x[0] = c, gx = gc;
+      if (gc < 0.0) {
+        a = c, ga = gc;
+        if (side == -1) gb *= 0.5;  // Illinois: halve the stale end
+        side = -1;
+      } else {
+        b = c, gb = gc;
+        if (side == 1) ga *= 0.5;
+        side = 1;
+      }
     }
   }
   result->rotation = x[0];
@@ -146,14 +159,20 @@ void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOption
     torque += result->force[i] * pins[i].arm;
   }
   const double mismatch = std::abs(torque - problem.torque()) / problem.torque();
+  // Edge contact is judged at the answer, not at the trial rotations of the search.
+  potential.edge = false;
+  for (const auto& pin : pins) potential.edge = potential.edge || (pin.law == nullptr && pin.approach > 0.0);
   // Every NLopt code maps to one status; success is verified on the torque, not believed.
   if (potential.edge) {
     result->status = SolverStatus::kEdgeContact;
     result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
-  } else if (mismatch <= options.torque_tolerance) {
+  } else if (mismatch <= options.torque_tolerance ||
+             std::abs(torque - problem.torque()) <= problem.TorqueResolution(x[0])) {
+    // (the polish above guarantees this unless the resolution of double precision intervenes)
     result->status = SolverStatus::kSuccess;
-    result->message = fmt::format("NLopt {} code {} ({} secant polish steps), torque balanced to {:.3g}",
-                                  options.nlopt_algorithm, static_cast<int>(code), polish, mismatch);
+    result->message = fmt::format("NLopt {} code {} ({} regula falsi polish steps), torque balanced to {:.3g}{}",
+                                  options.nlopt_algorithm, static_cast<int>(code), polish, mismatch,
+                                  mismatch > options.torque_tolerance ? " (limited by the resolution of the rotation)" : "");
   } else if (code == nlopt::MAXEVAL_REACHED || code == nlopt::MAXTIME_REACHED) {
     result->status = SolverStatus::kMaxIterations;
     result->message = fmt::format("NLopt {} hit its evaluation limit, torque off by {:.3g}", options.nlopt_algorithm, mismatch);

@@ -48,6 +48,20 @@ class Section {
   double Real(const std::string& key, double fallback, const char* what) const {
     return Has(key) ? Real(key, what) : fallback;
   }
+  std::vector<double> RealList(const std::string& key, const char* what) const {
+    if (!Has(key)) return {};
+    const toml::value& v = Get(key, what);
+    if (!v.is_array()) {
+      throw std::invalid_argument(fmt::format("[{}] {}: expected an array of numbers ({})", name_, key, what));
+    }
+    std::vector<double> out;
+    for (const toml::value& item : v.as_array()) {
+      if (item.is_integer()) out.push_back(static_cast<double>(item.as_integer()));
+      else if (item.is_floating()) out.push_back(item.as_floating());
+      else throw std::invalid_argument(fmt::format("[{}] {}: expected numbers only ({})", name_, key, what));
+    }
+    return out;
+  }
   int Integer(const std::string& key, const char* what) const {
     const toml::value& v = Get(key, what);
     if (!v.is_integer() || v.as_integer() < std::numeric_limits<int>::min() ||
@@ -137,7 +151,7 @@ geometry::ManufacturingErrors ReadErrors(const Section& s) {
   e.pin_circle_reading = geometry::ParsePinCircleReading(
       s.String("pin_circle_reading", "radius", "how eq. 5 applies delta_Rp: radius | diameter"));
   e.profile_layer = s.Real("cycloid_profile_layer_mm", 0.0, "uniform layer on the cycloid profile in mm");
-  e.Validate();
+  e.cumulative_pitch_deviation = s.RealList("cumulative_pitch_deviation_mm", "one cumulative pitch deviation per pin in mm");
   return e;
 }
 
@@ -276,7 +290,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
         deck.pair);
     deck.errors = ReadErrors(Section(Find(root, "errors"), "errors",
                                      {"pin_circle_deviation_mm", "pin_circle_reading",
-                                      "cycloid_profile_layer_mm"}));
+                                      "cycloid_profile_layer_mm", "cumulative_pitch_deviation_mm"}));
+    deck.errors.Validate(deck.pair.pin_count);
     deck.contact = ReadContact(Section(Find(root, "contact"), "contact",
                                        {"law", "rho_convention", "stiffness_n_per_mm2",
                                         "log_radius_cap_mm"}));

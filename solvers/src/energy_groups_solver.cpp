@@ -146,6 +146,12 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
   result->rotation = psi;
   result->iterations = groups_evaluated;
   result->message = fmt::format("{} tooth groups evaluated (Li eq. 14)", groups_evaluated);
+  for (const auto& pin : problem.At(psi, &scratch)) {
+    if (pin.law == nullptr && pin.approach > 0.0) {
+      result->status = SolverStatus::kEdgeContact;
+      result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
+    }
+  }
 }
 
 }  // namespace ltca::solvers

@@ -125,7 +125,8 @@ class EnergyNlp final : public Ipopt::TNLP {
                          Ipopt::IpoptCalculatedQuantities*) override {
     out_->status = status;
     out_->force.assign(x, x + n);
-    // Ipopt's Lagrangian is f + lambda g: grad f + lambda L = 0 on loaded pins, so psi = -lambda.
+    // Ipopt's Lagrangian is f + lambda g: grad f + lambda L = 0 on loaded pins, so the rotation
+    // beyond the linearisation point is -lambda.
     out_->rotation = -lambda[0];
   }
 
@@ -187,7 +188,16 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     return;
   }
   const double min_arm = 1e-9 * problem.model().pair().pin_circle_radius;
-  double psi = 0.0;
+  // Linearise about the first contact: the clearances of the subproblem are then the gaps left
+  // there, of the size of the deformations, instead of the whole clearance rotation (which
+  // scales the problem by c / w, up to 1e9 at tiny torques). The optimum does not move:
+  // psi0 sum L_i F_i = psi0 T is a constant.
+  double psi = problem.FirstContactRotation();
+  if (!std::isfinite(psi)) {
+    result->status = SolverStatus::kNumericalFailure;
+    result->message = "no pin can close its gap in the load direction";
+    return;
+  }
   const int outer_limit = problem.kinematics() == contact::ContactKinematics::kExact ? 50 : 1;
   std::vector<contact::ContactLaw> scratch;
   int total_iterations = 0;
@@ -195,11 +205,11 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     const auto pins = problem.At(psi, &scratch);
     Subproblem sub;
     sub.torque = problem.torque();
-    for (std::size_t i = 0; i < pins.size(); ++i) {
-      if (pins[i].arm <= min_arm || pins[i].law == nullptr) continue;
+    // Only pins that can close before any single pin alone carries the torque (rigorous bound).
+    for (const std::size_t i : CandidatePins(pins, problem.torque(), min_arm)) {
       sub.pin.push_back(static_cast<int>(i));
-      // Linearised about psi: approach(psi') = pins.approach + L (psi' - psi) = L psi' - c~.
-      sub.clearance.push_back(-pins[i].approach + pins[i].arm * psi);
+      // About psi: approach(psi + dpsi) = approach(psi) + L dpsi = L dpsi - g, g the gap left.
+      sub.clearance.push_back(-pins[i].approach);
       sub.arm.push_back(pins[i].arm);
       sub.law.push_back(pins[i].law);
     }
@@ -211,8 +221,8 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     result->status = MapStatus(status);
     result->force.assign(pins.size(), 0.0);
     for (std::size_t k = 0; k < sub.pin.size(); ++k) result->force[static_cast<std::size_t>(sub.pin[k])] = out.force[k];
-    const double change = out.rotation - psi;
-    psi = out.rotation;
+    const double change = out.rotation;  // the multiplier is the rotation beyond psi
+    psi += out.rotation;
     if (result->status != SolverStatus::kSuccess) break;
     if (std::abs(change) <= options.torque_tolerance * std::max(std::abs(psi), 1e-12)) break;
   }

@@ -64,6 +64,51 @@ double LoadProblem::OutputTorque(double psi) const {
   return torque;
 }
 
+double LoadProblem::TorqueResolution(double psi) const {
+  std::vector<contact::ContactLaw> scratch;
+  double stiffness = 0.0;
+  for (const PinAt& p : At(psi, &scratch)) {
+    if (p.law != nullptr && p.approach > 0.0) stiffness += p.law->Stiffness(p.approach) * p.arm * p.arm;
+  }
+  const double ulp = std::nextafter(std::abs(psi), INFINITY) - std::abs(psi);
+  return 4.0 * stiffness * ulp;
+}
+
+double LoadProblem::TorqueCapacity() const {
+  double capacity = 0.0;
+  for (std::size_t i = 0; i < base_.pins.size(); ++i) {
+    const auto& pin = base_.pins[i];
+    if (pin.edge || pin.arm <= 0.0) continue;
+    capacity += base_laws_[i].max_force() * pin.arm;
+  }
+  return capacity;
+}
+
+double LoadProblem::FirstContactRotation() const {
+  double first = INFINITY;
+  for (const auto& pin : base_.pins) {
+    if (pin.arm <= 1e-9 * model_->pair().pin_circle_radius) continue;
+    first = std::min(first, contact::ClosingRotation(*model_, pin, crank_, kinematics_));
+  }
+  return first;
+}
+
+std::vector<std::size_t> CandidatePins(const std::vector<LoadProblem::PinAt>& pins, double torque, double min_arm) {
+  // Any single pin m alone reaches the torque after turning (w_m(T / L_m) - approach_m) / L_m.
+  double bound = INFINITY;
+  for (const auto& p : pins) {
+    if (p.law == nullptr || p.arm <= min_arm) continue;
+    bound = std::min(bound, (p.law->Approach(torque / p.arm) - p.approach) / p.arm);
+  }
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    const auto& p = pins[i];
+    if (p.law == nullptr || p.arm <= min_arm) continue;
+    if (p.approach + p.arm * bound > 0.0) out.push_back(i);  // closes before the bound
+  }
+  return out;
+}
+
 Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::vector<double>& forces) {
   std::vector<contact::ContactLaw> scratch;
   const auto pins = problem.At(psi, &scratch);

@@ -94,11 +94,18 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
   const auto start = std::chrono::steady_clock::now();
   LoadResult result;
   result.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
+  const double capacity = problem.TorqueCapacity();
   if (problem.torque() == 0.0) {
     // No load: the cycloid stays at its theoretical position, no pin carries force.
     result.status = SolverStatus::kSuccess;
     result.message = "zero torque: no rotation, no forces";
     result.rotation = 0.0;
+  } else if (problem.torque() > capacity) {
+    // Shared by every backend: even with every pin at its law's largest force the torque is short.
+    result.status = SolverStatus::kLawCannotCarry;
+    result.message = fmt::format("the contact laws can carry at most {:.6g} N*m here (every loaded pin at its "
+                                 "largest force), less than the load {:.6g} N*m",
+                                 capacity / 1000.0, problem.torque() / 1000.0);
   } else {
     DoSolve(problem, options, &result);
   }

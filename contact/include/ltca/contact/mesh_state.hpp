@@ -75,6 +75,7 @@ class MeshModel {
   geometry::CycloidProfile profile_;
   geometry::Kinematics kinematics_;
   double pin_circle_radius_ = 0.0;  // with the deviation
+  std::vector<double> pitch_;       // cumulative pitch deviation per pin, mm (empty: none)
   double load_direction_ = 1.0;
 };
 

@@ -45,6 +45,17 @@ class LoadProblem {
   /// Output torque sum F_i(delta_i(psi)) L_i(psi), N*mm (forces of the law at each approach).
   double OutputTorque(double psi) const;
 
+  /// Smallest torque change a rotation of one ulp can make at psi, N*mm: sum k_i L_i^2 times the
+  /// spacing of doubles at psi (x4). Below it no solver can balance the torque any closer.
+  double TorqueResolution(double psi) const;
+
+  /// The largest torque the contact laws can carry at the unrotated geometry: every pin whose gap
+  /// closes at its law's largest force, sum F_max,i L_i, N*mm (infinite for the linear law).
+  double TorqueCapacity() const;
+
+  /// Rotation of first contact in the load direction (the smallest closing rotation), rad.
+  double FirstContactRotation() const;
+
  private:
   const contact::MeshModel* model_;
   double crank_;
@@ -57,6 +68,12 @@ class LoadProblem {
   std::vector<contact::ContactLaw> base_laws_;  // edge pins get a placeholder (never used)
   std::vector<bool> base_edge_;
 };
+
+/// Pins that can carry load in the linearisation about psi: those whose remaining gap closes
+/// before the rotation at which any single pin alone would carry the whole torque (a rigorous
+/// upper bound of the loaded rotation: more loaded pins only turn the cycloid less). Li Fig. 5's
+/// "maximum deformation". Returns indices into `pins`.
+std::vector<std::size_t> CandidatePins(const std::vector<LoadProblem::PinAt>& pins, double torque, double min_arm);
 
 /// The shared judge: residuals of a candidate (psi, F) recomputed from the problem data.
 struct Residuals {
