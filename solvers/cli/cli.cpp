@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "compare_command.hpp"
 #include "contact_commands.hpp"
 #include "geometry_command.hpp"
 #include "solve_command.hpp"
@@ -93,6 +94,19 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   solve->add_option("--csv", solve_options.csv_path, "Write one row per position as CSV")->type_name("FILE|-");
   solve->add_option("--svg", solve_options.svg_path, "Draw the TE over the sweep and the load distribution")->type_name("FILE|-");
 
+  CompareOptions compare_options;
+  CLI::App* compare = app.add_subcommand(
+      "compare",
+      "Run several solvers (default: all) on the same sweep and print them side by side with the "
+      "largest differences from the first in TE, pin force and contact count, and their times.");
+  compare->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
+  compare->add_option("--solvers", compare_options.solvers, "Comma-separated solver names (default: all)")
+      ->delimiter(',');
+  compare->add_option("--kinematics", compare_options.kinematics, "linearised or exact (default: the deck's)")
+      ->check(CLI::IsMember({"exact", "linearised"}));
+  compare->add_option("--json", compare_options.json_path, "Write the comparison as JSON ('-': stdout)")
+      ->type_name("FILE|-");
+
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
@@ -101,7 +115,10 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   }
 
   try {
-    if (solve->parsed()) {
+    if (compare->parsed()) {
+      for (const auto& name : compare_options.solvers) solvers::MakeSolver(name);  // names checked first
+      RunCompare(ReadDeck(deck_path), compare_options, out);
+    } else if (solve->parsed()) {
       RunSolve(ReadDeck(deck_path), solve_options, out);
     } else if (backlash->parsed()) {
       backlash_options.kinematics = ParseKinematics(kinematics);

@@ -185,3 +185,16 @@ TEST_CASE("cli: ltca solve writes the summary and per-position keys of the issue
   CHECK(p.at("te_arcsec").get<double>() < 0.0);  // negative under load
   CHECK(RunCli({"solve", "--solver", "newton"}).code != 0);
 }
+
+TEST_CASE("cli: ltca compare runs the selected solvers side by side with their differences") {
+  const auto r = RunCli({"compare", Case("liu2021_sec52_base.toml"), "--solvers", "bisection,compatibility", "--json", "-"});
+  REQUIRE(r.code == 0);
+  const auto json = nlohmann::json::parse(r.out.substr(r.out.find("{\n")));
+  REQUIRE(json.at("solvers").size() == 2);
+  const auto& other = json.at("solvers").at(1);
+  CHECK(other.at("name") == "compatibility");
+  CHECK(other.at("max_te_difference_arcsec").get<double>() < 1e-6);
+  CHECK(other.at("max_contact_count_difference").get<int>() == 0);
+  CHECK(other.contains("wall_seconds"));
+  CHECK(RunCli({"compare", "--solvers", "bisection,newton"}).code != 0);
+}
