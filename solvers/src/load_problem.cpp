@@ -33,6 +33,22 @@ LoadProblem::LoadProblem(const contact::MeshModel& model, double crank,
   }
 }
 
+LoadProblem::LoadProblem(const contact::MeshModel& model, contact::MeshState state,
+                         const contact::ContactSettings& contact, const contact::Material& material, double torque)
+    : model_(&model),
+      crank_(state.crank),
+      contact_(contact),
+      material_(material),
+      torque_(torque),
+      kinematics_(contact::ContactKinematics::kLinearised),
+      log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap : model.pair().pin_circle_radius),
+      base_(std::move(state)) {
+  base_laws_.reserve(base_.pins.size());
+  for (const auto& pin : base_.pins) {
+    base_laws_.push_back(MakeLaw(contact_, material_, pin, model.pair().face_width, log_radius_cap_));
+  }
+}
+
 std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, std::vector<contact::ContactLaw>* scratch) const {
   std::vector<PinAt> out(base_.pins.size());
   if (kinematics_ == contact::ContactKinematics::kLinearised) {

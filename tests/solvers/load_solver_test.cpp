@@ -141,3 +141,49 @@ TEST_CASE("solvers: every solver agrees with bisection on the published decks, l
     }
   }
 }
+
+TEST_CASE("solvers: closed form 2 - Kudryavtsev's load-increase factor (Jiang 2022 eq. 11-12)") {
+  // Jiang eq. 11-12 with its typos mended (the bracket uses the pin's normalised arm L_i / L_max
+  // where it prints sin(theta); "2a sin A" is 2 arcsin A): linear law, clearances
+  // c_i = Delta (1 - L_i / L_max) (what an isometric modification leaves after first contact),
+  // L_max = e z_c, P = Delta / w_max, A = P / (1 + P),
+  //   k_z = pi / [(1 + P)(pi - 2 arcsin A - 2 A sqrt(1 - A^2))],  F_max = 4 k_z T / (z_p e z_c),
+  //   F_i = F_max [(1 + P) L_i / L_max - P]  on the loaded pins.
+  // The closed form integrates over a continuum of pins: within 1.5 % at 40 pins and 0.1 % at
+  // 200 pins (of F_max), for P from 0 to 2 and K1 from 0.5 to 0.8125.
+  const double pi = ltca::units::kPi;
+  for (const int zp : {40, 200}) {
+    for (const double k1 : {0.5, 0.8125}) {
+      for (const double p : {0.0, 0.5, 1.0, 2.0}) {
+        CAPTURE(zp);
+        CAPTURE(k1);
+        CAPTURE(p);
+        const double rp = 64.0 * zp / 40.0, e = k1 * rp / zp;
+        const ltca::geometry::PairParameters pair{zp, zp - 1, 0.2 * rp * std::sin(pi / zp), rp, e, 12.0};
+        const MeshModel model(pair, {});
+        const double torque = 2e5, l_max = e * (zp - 1);
+        const double a = p / (1 + p);
+        const double kz = pi / ((1 + p) * (pi - 2 * std::asin(a) - 2 * a * std::sqrt(1 - a * a)));
+        const double f_max = 4 * kz * torque / (zp * e * (zp - 1));
+        const ContactSettings law = Linear();
+        const double k = law.stiffness_per_length * pair.face_width;  // N/mm per pin
+        const double delta = p * f_max / k;                            // P = Delta / w_max
+        auto state = model.Evaluate(0.0);
+        for (auto& c : state.pins) c.clearance = c.arm > 0 ? delta * (1 - c.arm / l_max) : 1.0;
+        const LoadProblem problem(model, state, law, ltca::contact::Material{}, torque);
+        for (const auto& name : ltca::solvers::SolverNames()) {
+          CAPTURE(name);
+          SolverOptions options;
+          options.name = name;
+          const auto r = MakeSolver(name)->Solve(problem, options);
+          REQUIRE(r.status == SolverStatus::kSuccess);
+          const double tol = (zp == 40 ? 0.015 : 0.001) * f_max;
+          for (const auto& c : state.pins) {
+            const double expected = c.arm > 0 ? std::max(0.0, f_max * ((1 + p) * c.arm / l_max - p)) : 0.0;
+            CHECK(std::abs(r.force[static_cast<std::size_t>(c.pin)] - expected) <= tol);
+          }
+        }
+      }
+    }
+  }
+}

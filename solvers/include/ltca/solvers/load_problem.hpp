@@ -21,6 +21,11 @@ class LoadProblem {
   LoadProblem(const contact::MeshModel& model, double crank, const contact::ContactSettings& contact,
               const contact::Material& material, double torque, contact::ContactKinematics kinematics);
 
+  /// A problem on a given unloaded mesh state (linearised kinematics only): for imposed clearance
+  /// distributions, e.g. the closed-form checks. Throws std::invalid_argument for exact kinematics.
+  LoadProblem(const contact::MeshModel& model, contact::MeshState state, const contact::ContactSettings& contact,
+              const contact::Material& material, double torque);
+
   const contact::MeshModel& model() const { return *model_; }
   double crank() const { return crank_; }
   double torque() const { return torque_; }
