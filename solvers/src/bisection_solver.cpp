@@ -92,6 +92,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   }
   result->rotation = psi;
   result->force = forces;
+  result->details = BisectionDetails{step};
   result->torque_evaluations = evaluations;
   result->iterations = evaluations;
   result->native_code = 0;

@@ -147,6 +147,7 @@ void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOption
     }
   }
   result->rotation = x[0];
+  result->details = CompatibilityDetails{options.nlopt_algorithm, static_cast<int>(code), polish};
   result->torque_evaluations = potential.evaluations;
   result->iterations = potential.evaluations;
   std::vector<contact::ContactLaw> scratch;

@@ -201,7 +201,9 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   const int outer_limit = problem.kinematics() == contact::ContactKinematics::kExact ? 50 : 1;
   std::vector<contact::ContactLaw> scratch;
   int total_iterations = 0;
+  EnergyQpDetails details;
   for (int outer = 0; outer < outer_limit; ++outer) {
+    ++details.relinearisations;
     const auto pins = problem.At(psi, &scratch);
     Subproblem sub;
     sub.torque = problem.torque();
@@ -213,6 +215,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
       sub.arm.push_back(pins[i].arm);
       sub.law.push_back(pins[i].law);
     }
+    details.candidates = static_cast<int>(sub.pin.size());
     QpOutcome out;
     Ipopt::SmartPtr<Ipopt::TNLP> nlp = new EnergyNlp(sub, &out);
     const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);
@@ -244,6 +247,8 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   }
   result->rotation = psi;
   result->iterations = total_iterations;
+  details.ipopt_iterations = total_iterations;
+  result->details = details;
   if (result->status != SolverStatus::kEdgeContact && result->status != SolverStatus::kLawCannotCarry) {
     result->message = fmt::format("Ipopt status {} after {} iterations", result->native_code, total_iterations);
   }

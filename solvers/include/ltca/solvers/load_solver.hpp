@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "ltca/solvers/load_problem.hpp"
@@ -41,6 +42,28 @@ struct SolverOptions {
 /// "liu2021": the paper's 1 % torque stopping rule.
 SolverOptions ApplyPreset(SolverOptions options, const std::string& preset);
 
+/// What only one backend has (pattern: Drake's per-solver details).
+struct BisectionDetails {
+  double final_step = 0.0;  ///< rad, the step when it stopped
+};
+struct EnergyQpDetails {
+  int ipopt_iterations = 0;
+  int relinearisations = 0;  ///< outer iterations (exact kinematics)
+  int candidates = 0;        ///< pins in the last subproblem
+};
+struct EnergyGroupsDetails {
+  int groups_evaluated = 0;
+  int candidates = 0;
+  int relinearisations = 0;
+};
+struct CompatibilityDetails {
+  std::string algorithm;
+  int nlopt_result = 0;
+  int polish_steps = 0;
+};
+using BackendDetails = std::variant<std::monostate, BisectionDetails, EnergyQpDetails, EnergyGroupsDetails,
+                                    CompatibilityDetails>;
+
 struct LoadResult {
   SolverStatus status = SolverStatus::kNotSolved;
   std::string message = "Solve() was not called";
@@ -55,6 +78,7 @@ struct LoadResult {
   int iterations = 0;
   int torque_evaluations = 0;
   double wall_seconds = -1.0;
+  BackendDetails details;               ///< the backend's own figures
 };
 
 class LoadSolver {
