@@ -11,6 +11,7 @@
 #include "contact_commands.hpp"
 #include "geometry_command.hpp"
 #include "solve_command.hpp"
+#include "validate_command.hpp"
 #include "ltca/solvers/deck.hpp"
 
 namespace ltca::cli {
@@ -107,6 +108,18 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   compare->add_option("--json", compare_options.json_path, "Write the comparison as JSON ('-': stdout)")
       ->type_name("FILE|-");
 
+  ValidateOptions validate_options;
+  CLI::App* validate = app.add_subcommand(
+      "validate",
+      "Recompute every checkable number of the four papers from the decks in cases/ and give each a "
+      "verdict (reproduced / under a stated convention / not reproducible, and why). --write-doc "
+      "regenerates the tables of docs/validation.md.");
+  validate->add_option("--cases", validate_options.cases_dir, "The cases/ folder (default: the source tree's)");
+  validate->add_option("--markdown", validate_options.markdown_path, "Write the tables as Markdown ('-': stdout)")
+      ->type_name("FILE|-");
+  validate->add_option("--write-doc", validate_options.doc_path,
+                       "Replace the generated block of this document (docs/validation.md)");
+
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
@@ -115,7 +128,9 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   }
 
   try {
-    if (compare->parsed()) {
+    if (validate->parsed()) {
+      return RunValidate(validate_options, out);
+    } else if (compare->parsed()) {
       for (const auto& name : compare_options.solvers) solvers::MakeSolver(name);  // names checked first
       RunCompare(ReadDeck(deck_path), compare_options, out);
     } else if (solve->parsed()) {
