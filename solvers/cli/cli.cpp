@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "bench_command.hpp"
 #include "compare_command.hpp"
 #include "contact_commands.hpp"
 #include "geometry_command.hpp"
@@ -120,6 +121,16 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   validate->add_option("--write-doc", validate_options.doc_path,
                        "Replace the generated block of this document (docs/validation.md)");
 
+  BenchOptions bench_options;
+  CLI::App* bench = app.add_subcommand(
+      "bench",
+      "The benchmark harness: every method on a matrix of cases and settings, time per position "
+      "against error, JSON/CSV rows; with --docs, docs/performance.md and the SVG chart with the bars.");
+  bench->add_flag("--smoke", bench_options.smoke, "The smallest matrix (what ctest runs)");
+  bench->add_option("--out", bench_options.out_dir, "Folder for bench.json and bench.csv (default: bench)");
+  bench->add_option("--docs", bench_options.docs_dir, "Write performance.md and performance.svg into this folder (docs)");
+  bench->add_option("--repeats", bench_options.repeats, "Repeats per run (default 3)")->check(CLI::PositiveNumber);
+
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
@@ -128,7 +139,9 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   }
 
   try {
-    if (validate->parsed()) {
+    if (bench->parsed()) {
+      return RunBenchCommand(bench_options, out);
+    } else if (validate->parsed()) {
       return RunValidate(validate_options, out);
     } else if (compare->parsed()) {
       for (const auto& name : compare_options.solvers) solvers::MakeSolver(name);  // names checked first

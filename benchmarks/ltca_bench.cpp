@@ -1,0 +1,12 @@
+// ltca-bench: the benchmark harness as its own executable (the same as `ltca bench`).
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args{"bench"};
+  args.insert(args.end(), argv + 1, argv + argc);
+  return ltca::cli::Run(args, std::cout, std::cerr);
+}

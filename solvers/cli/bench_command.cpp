@@ -1,0 +1,244 @@
+#include "bench_command.hpp"
+
+#include <sys/resource.h>
+#include <sys/utsname.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <thread>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <fmt/ranges.h>
+
+#include "ltca/geometry/units.hpp"
+#include "ltca/solvers/bench.hpp"
+#include "ltca/solvers/sweep.hpp"
+
+#ifndef LTCA_BUILD_TYPE
+#define LTCA_BUILD_TYPE "unknown"
+#endif
+
+namespace ltca::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using solvers::BenchSetting;
+using contact::ContactKinematics;
+
+std::string Capture(const std::string& command) {
+  std::string out;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[256];
+    while (fgets(buffer, sizeof buffer, pipe) != nullptr) out += buffer;
+    pclose(pipe);
+  }
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  return out;
+}
+
+solvers::BenchHeader Header() {
+  solvers::BenchHeader h;
+  const std::time_t now = std::time(nullptr);
+  char date[64];
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  h.date = date;
+  h.commit = Capture(fmt::format("git -C {} rev-parse --short HEAD 2>/dev/null", LTCA_SOURCE_DIR));
+  if (h.commit.empty()) h.commit = "unknown";
+  h.build_type = LTCA_BUILD_TYPE;
+  h.compiler = fmt::format("g++ {}", __VERSION__);
+  utsname u{};
+  uname(&u);
+  std::string cpu = Capture("grep -m1 'model name' /proc/cpuinfo | cut -d: -f2");
+  h.machine = fmt::format("{} {}, {} cores,{}", u.sysname, u.machine, std::thread::hardware_concurrency(), cpu);
+  return h;
+}
+
+solvers::BenchCase Case(const std::string& name, const std::string& rel) {
+  return {name, solvers::LoadDeck(fs::path(LTCA_CASES_DIR) / rel)};
+}
+
+// Least-squares slope of log(y) over log(x).
+double LogSlope(const std::vector<double>& x, const std::vector<double>& y) {
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) mx += std::log(x[i]), my += std::log(y[i]);
+  mx /= static_cast<double>(x.size());
+  my /= static_cast<double>(x.size());
+  double sxy = 0, sxx = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sxy += (std::log(x[i]) - mx) * (std::log(y[i]) - my);
+    sxx += (std::log(x[i]) - mx) * (std::log(x[i]) - mx);
+  }
+  return sxy / sxx;
+}
+
+double Us(double seconds) { return seconds * 1e6; }
+
+}  // namespace
+
+int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
+  const solvers::BenchHeader header = Header();
+  solvers::BenchMatrix matrix;
+  matrix.repeats = options.smoke ? 1 : options.repeats;
+  const std::vector<std::string> all = solvers::SolverNames();
+  if (options.smoke) {
+    matrix.cases = {Case("liu2021_table1", "liu2021_table1_absolute.toml")};
+    matrix.positions = 5;
+    matrix.settings = {{"bisection", ContactKinematics::kLinearised, 1e-10, ""},
+                       {"compatibility", ContactKinematics::kLinearised, 1e-10, ""}};
+  } else {
+    matrix.cases = {Case("liu2021_table1", "liu2021_table1_absolute.toml"), Case("liu2021_sec52", "liu2021_sec52_base.toml"),
+                    Case("li_table1", "li_table1.toml"), Case("d2_pair", "hard/d2_loaded.toml")};
+    matrix.positions = 31;
+    for (const auto& s : all) {
+      for (const auto kin : {ContactKinematics::kLinearised, ContactKinematics::kExact}) matrix.settings.push_back({s, kin, 1e-10, ""});
+    }
+    for (const double tol : {1e-2, 1e-4, 1e-6, 1e-8}) {
+      matrix.settings.push_back({"bisection", ContactKinematics::kLinearised, tol, ""});
+      matrix.settings.push_back({"compatibility", ContactKinematics::kLinearised, tol, ""});
+    }
+    matrix.settings.push_back({"bisection", ContactKinematics::kLinearised, 1e-2, "liu2021"});
+  }
+  fmt::print(out, "ltca-bench: {} cases x {} settings x {} repeats ({})\n", matrix.cases.size(), matrix.settings.size(),
+             matrix.repeats, header.build_type);
+  const solvers::BenchReport report = solvers::RunBench(matrix, header);
+  fs::create_directories(options.out_dir);
+  solvers::WriteBenchJson(report, fs::path(options.out_dir) / "bench.json");
+  solvers::WriteBenchCsv(report, fs::path(options.out_dir) / "bench.csv");
+  for (const auto& r : report.rows) {
+    fmt::print(out, "{:<16} {:<38} {:<14} {:>10.1f} us/pos {:>9.3g} arcsec err\n", r.case_name, r.setting.Label(), r.status,
+               Us(r.seconds_per_position_median), r.errors.mean_te_arcsec);
+  }
+  if (options.smoke) return 0;
+
+  // Scaling with the pin count (compatibility and bisection, linearised, 31 positions).
+  std::vector<double> pins;
+  std::map<std::string, std::vector<double>> scaling;
+  for (const int zp : {10, 20, 40, 80, 160, 320}) {
+    solvers::Deck deck = solvers::LoadDeck(fs::path(LTCA_CASES_DIR) / fmt::format("scaling/zp{:03d}.toml", zp));
+    deck.sweep.crank_end = 2 * units::kPi / zp;
+    deck.sweep.positions = 31;
+    pins.push_back(zp);
+    for (const std::string s : {"bisection", "compatibility"}) {
+      solvers::SolverOptions o = deck.solver;
+      o.name = s;
+      double best = 1e300;
+      for (int r = 0; r < matrix.repeats; ++r) best = std::min(best, solvers::SolveSweep(deck, o).summary.wall_seconds / 31.0);
+      scaling[s].push_back(best);
+    }
+  }
+  // A whole sweep against the number of positions (compatibility, Liu Table 1).
+  std::vector<double> counts, sweep_seconds;
+  for (const int n : {10, 100, 1000}) {
+    solvers::Deck deck = solvers::LoadDeck(fs::path(LTCA_CASES_DIR) / "liu2021_table1_absolute.toml");
+    deck.sweep.positions = n;
+    solvers::SolverOptions o = deck.solver;
+    o.name = "compatibility";
+    double best = 1e300;
+    for (int r = 0; r < matrix.repeats; ++r) best = std::min(best, solvers::SolveSweep(deck, o).summary.wall_seconds);
+    counts.push_back(n);
+    sweep_seconds.push_back(best);
+  }
+  // Peak memory of a full Liu Table 1 sweep in its own process: the ltca beside this executable.
+  double rss_mb = -1;
+  std::string ltca = options.ltca_path;
+  if (ltca.empty()) {
+    std::error_code ec;
+    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec && fs::exists(self.parent_path() / "ltca")) ltca = (self.parent_path() / "ltca").string();
+  }
+  if (!ltca.empty()) {
+    const int rc = std::system(fmt::format("{} solve {}/liu2021_table1_absolute.toml > /dev/null", ltca,
+                                           LTCA_CASES_DIR).c_str());
+    rusage usage{};
+    getrusage(RUSAGE_CHILDREN, &usage);
+    if (rc == 0) rss_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  }
+
+  if (!options.docs_dir.empty()) {
+    const fs::path docs(options.docs_dir);
+    solvers::WriteBenchSvg(report, docs / "performance.svg");
+    std::ofstream md(docs / "performance.md");
+    fmt::print(md, "# Performance: speed against error\n\n");
+    fmt::print(md, "Generated by `build/release/ltca-bench --docs docs` (`benchmarks/`, `solvers/src/bench.cpp`); do not edit "
+                   "by hand. Raw rows: `bench/bench.json` and `bench/bench.csv`.\n\n");
+    fmt::print(md, "| date | commit | build | compiler | machine |\n|---|---|---|---|---|\n| {} | {} | {} | {} | {} |\n\n",
+               header.date, header.commit, header.build_type, header.compiler, header.machine);
+    fmt::print(md, "Every time is per crank position and includes the mesh state (the whole `SolveSweep`), the median "
+                   "of {} repeats with min and max. Errors are measured against the reference of the same deck: analytic "
+                   "geometry, exact kinematics, torque tolerance 1e-12, solved by bisection and confirmed by "
+                   "compatibility. They include the physics difference of linearised against exact kinematics.\n\n",
+               matrix.repeats);
+    fmt::print(md, "![error against time](performance.svg)\n\n## References\n\n| case | mean TE (arcsec) | bisection vs compatibility |\n|---|---|---|\n");
+    for (const auto& r : report.references) fmt::print(md, "| {} | {:.6f} | {:.1e} arcsec |\n", r.case_name, r.mean_te_arcsec, r.agreement_arcsec);
+    fmt::print(md, "\n## Runs ({} positions per case)\n\n| case | setting | status | us/position median [min, max] | evaluations/position "
+                   "| error mean TE (arcsec) | error pp TE (arcsec) | error max force (N) | error max stress (MPa) | error contacts | residual |\n"
+                   "|---|---|---|---|---|---|---|---|---|---|---|\n", matrix.positions);
+    for (const auto& r : report.rows) {
+      fmt::print(md, "| {} | {} | {} | {:.1f} [{:.1f}, {:.1f}] | {:.1f} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {} | {:.1e} |\n",
+                 r.case_name, r.setting.Label(), r.status, Us(r.seconds_per_position_median), Us(r.seconds_per_position_min),
+                 Us(r.seconds_per_position_max), r.evaluations_per_position, r.errors.mean_te_arcsec, r.errors.pp_te_arcsec,
+                 r.errors.max_force_n, r.errors.max_stress_mpa, r.errors.contacts, r.residual);
+    }
+    // The bars of issue 6.
+    const auto find = [&](const std::string& c, const std::string& s, ContactKinematics k, double tol) -> const solvers::BenchRow* {
+      for (const auto& r : report.rows) {
+        if (r.case_name == c && r.setting.solver == s && r.setting.kinematics == k && r.setting.torque_tolerance == tol &&
+            r.setting.preset.empty()) return &r;
+      }
+      return nullptr;
+    };
+    const auto verdict = [](bool ok) { return ok ? "**met**" : "**missed**"; };
+    fmt::print(md, "\n## The bars (issue 6)\n\n| bar | measured | verdict |\n|---|---|---|\n");
+    const auto* bl = find("liu2021_table1", "bisection", ContactKinematics::kLinearised, 1e-10);
+    const auto* cl = find("liu2021_table1", "compatibility", ContactKinematics::kLinearised, 1e-10);
+    const auto* fastest = (bl && cl) ? (bl->seconds_per_position_median < cl->seconds_per_position_median ? bl : cl) : nullptr;
+    if (fastest) {
+      // "Converged": the mean TE of this run against the same solver at the loosest tolerance step below.
+      const auto* loose = find("liu2021_table1", fastest->setting.solver, ContactKinematics::kLinearised, 1e-8);
+      const double conv = loose ? std::abs(loose->mean_te_arcsec - fastest->mean_te_arcsec) : NAN;
+      fmt::print(md, "| Liu Table 1, analytic, linearised, fastest of bisection / compatibility <= 50 us per position, mean TE "
+                     "converged to 1e-6 arcsec | {}: {:.1f} us; mean TE moves {:.1e} arcsec from tolerance 1e-8 to 1e-10 | {} |\n",
+                 fastest->setting.solver, Us(fastest->seconds_per_position_median), conv,
+                 verdict(Us(fastest->seconds_per_position_median) <= 50.0 && conv <= 1e-6));
+    }
+    if (const auto* qp = find("liu2021_table1", "energy-qp", ContactKinematics::kLinearised, 1e-10)) {
+      fmt::print(md, "| energy-qp (Ipopt) <= 2 ms per position | {:.0f} us | {} |\n", Us(qp->seconds_per_position_median),
+                 verdict(qp->seconds_per_position_median <= 2e-3));
+    }
+    for (const auto& s : all) {
+      const auto* lin = find("liu2021_table1", s, ContactKinematics::kLinearised, 1e-10);
+      const auto* ex = find("liu2021_table1", s, ContactKinematics::kExact, 1e-10);
+      if (lin && ex) {
+        const double ratio = ex->seconds_per_position_median / lin->seconds_per_position_median;
+        fmt::print(md, "| exact kinematics <= 3 x linearised ({}) | {:.1f} x | {} |\n", s, ratio, verdict(ratio <= 3.0));
+      }
+    }
+    fmt::print(md, "| element mode (Liu's discretisation, liu2021 preset) at least 100 x slower than analytic at equal error | "
+                   "not built yet | **missed** |\n");
+    for (const auto& [s, times] : scaling) {
+      const double slope = LogSlope(pins, times);
+      fmt::print(md, "| cost per position grows at most linearly with z_p, exponent <= 1.1 over 10..320 ({}) | {:.2f} "
+                     "(us/position: {}) | {} |\n",
+                 s, slope, fmt::format("{:.0f}", fmt::join([&] { std::vector<double> u; for (double t : times) u.push_back(Us(t)); return u; }(), " / ")),
+                 verdict(slope <= 1.1));
+    }
+    const double sweep_slope = LogSlope(counts, sweep_seconds);
+    fmt::print(md, "| a whole sweep grows linearly with the number of positions (compatibility; 10 / 100 / 1000) | exponent "
+                   "{:.2f} ({:.4f} / {:.4f} / {:.4f} s) | {} |\n",
+               sweep_slope, sweep_seconds[0], sweep_seconds[1], sweep_seconds[2], verdict(sweep_slope <= 1.1));
+    fmt::print(md, "| peak resident memory of a full Liu Table 1 sweep (analytic) < 50 MB | {} | {} |\n",
+               rss_mb > 0 ? fmt::format("{:.1f} MB (`ltca solve`, its own process)", rss_mb) : "not measured",
+               rss_mb > 0 ? verdict(rss_mb < 50.0) : "**missed**");
+    fmt::print(out, "wrote {}/performance.md and performance.svg\n", options.docs_dir);
+  }
+  return 0;
+}
+
+}  // namespace ltca::cli
