@@ -147,11 +147,16 @@ double ContactLaw::Approach(double force) const {
 }
 
 double ContactLaw::Force(double approach) const {
+  double no_hint = 0.0;
+  return Force(approach, &no_hint);
+}
+
+double ContactLaw::Force(double approach, double* hint) const {
   if (!(approach > 0.0)) return 0.0;
   if (approach >= max_approach_) return max_force_;
   switch (kind_) {
     case LawKind::kLinear:
-      return k_lin_ * approach;
+      return *hint = k_lin_ * approach;
     case LawKind::kHertzLine: {
       // Solve h(x) = x + ln(A - (C/2) x) + ln(2 / (pi B)) - ln(delta) = 0 for x = ln F. h is
       // increasing and concave below x_max, so Newton from the left converges monotonically.
@@ -159,13 +164,18 @@ double ContactLaw::Force(double approach) const {
       const double x_max = 2.0 * hertz_a_ / c - 1.0;
       const double shift = std::log(2.0 / (kPi * length_)) - std::log(approach);
       const auto h = [&](double x) { return x + std::log(hertz_a_ - 0.5 * c * x) + shift; };
-      double x = std::min(std::log(approach * kPi * length_ / (2.0 * hertz_a_)), x_max - 1.0);
+      // From either side the first Newton iterate of a concave increasing function lands left of
+      // the root, so a warm start from a nearby earlier force is as safe as the cold one.
+      double x = (*hint > 0.0 && *hint < max_force_) ? std::log(*hint)
+                                                     : std::log(approach * kPi * length_ / (2.0 * hertz_a_));
+      x = std::min(x, x_max - 1.0);
       for (int it = 0; it < 100; ++it) {
         const double step = -h(x) / (1.0 - 0.5 * c / (hertz_a_ - 0.5 * c * x));
         x = std::min(x + step, 0.5 * (x + x_max));  // stay left of x_max
         if (std::abs(step) <= 1e-15 * std::max(1.0, std::abs(x))) break;
       }
-      return std::exp(x);
+      *hint = std::exp(x);
+      return *hint;
     }
     case LawKind::kSagitta: {
       // delta(s) is increasing and convex in s = a^2: Newton from the right converges
@@ -182,7 +192,8 @@ double ContactLaw::Force(double approach) const {
         s -= step;
         if (std::abs(step) <= 1e-16 * s) break;
       }
-      return s / sagitta_factor_;
+      *hint = s / sagitta_factor_;
+      return *hint;
     }
   }
   return 0.0;

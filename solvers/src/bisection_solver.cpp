@@ -17,11 +17,12 @@ struct Evaluation {
   bool saturated = false;  // a pin is beyond its law's largest force
 };
 
-Evaluation Evaluate(const LoadProblem& problem, double psi, std::vector<double>* forces) {
+Evaluation Evaluate(const LoadProblem& problem, double psi, std::vector<double>* forces, std::vector<double>* hints) {
   std::vector<contact::ContactLaw> scratch;
   Evaluation ev;
   const auto pins = problem.At(psi, &scratch);
   forces->assign(pins.size(), 0.0);
+  hints->resize(pins.size(), 0.0);
   for (std::size_t i = 0; i < pins.size(); ++i) {
     if (pins[i].approach <= 0.0) continue;
     if (pins[i].law == nullptr) {
@@ -29,7 +30,7 @@ Evaluation Evaluate(const LoadProblem& problem, double psi, std::vector<double>*
       continue;
     }
     if (pins[i].approach >= pins[i].law->max_approach()) ev.saturated = true;
-    (*forces)[i] = pins[i].law->Force(pins[i].approach);
+    (*forces)[i] = pins[i].law->Force(pins[i].approach, &(*hints)[i]);
     ev.torque += (*forces)[i] * pins[i].arm;
   }
   return ev;
@@ -56,13 +57,13 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
     const double miss = std::abs(torque_now - target);
     return miss <= options.torque_tolerance * target || miss <= problem.TorqueResolution(psi_now);
   };
-  std::vector<double> forces, trial_forces;
+  std::vector<double> forces, trial_forces, hints;
   bool edge_blocked = false;
-  Evaluation at = Evaluate(problem, psi, &forces);
+  Evaluation at = Evaluate(problem, psi, &forces, &hints);
   int evaluations = 1;
   for (; evaluations < options.max_iterations; ++evaluations) {
     if (converged(psi, at.torque)) break;
-    const Evaluation trial = Evaluate(problem, psi + step, &trial_forces);
+    const Evaluation trial = Evaluate(problem, psi + step, &trial_forces, &hints);
     if (trial.edge) {
       // A tip corner would be pressed at this trial: treat it as an overshoot. If the load cannot
       // be reached before a corner engages, the answer is edge contact (below).

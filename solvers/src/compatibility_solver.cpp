@@ -17,19 +17,23 @@ struct Potential {
   int evaluations = 0;
   std::exception_ptr error;  // NLopt swallows exceptions thrown in callbacks: keep and rethrow
   bool edge = false;
+  std::vector<double> hints;  // warm starts of the law inversions, one per pin
 
   // Pi(psi) and dPi/dpsi.
   double Evaluate(double psi, double* gradient) {
     ++evaluations;
     std::vector<contact::ContactLaw> scratch;
     double pi = -problem->torque() * psi, torque = 0.0;
-    for (const auto& pin : problem->At(psi, &scratch)) {
+    const auto pins = problem->At(psi, &scratch);
+    hints.resize(pins.size(), 0.0);
+    for (std::size_t i = 0; i < pins.size(); ++i) {
+      const auto& pin = pins[i];
       if (pin.approach <= 0.0) continue;
       if (pin.law == nullptr) {
         edge = true;
         continue;
       }
-      const double f = pin.law->Force(pin.approach);
+      const double f = pin.law->Force(pin.approach, &hints[i]);
       pi += f * pin.approach - pin.law->ComplementaryEnergy(f);  // U = F delta - E^c(F)
       torque += f * pin.arm;
     }
@@ -76,8 +80,27 @@ void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOption
     result->message = "no pin can close its gap in the load direction";
     return;
   }
-  double step = 1e-6, hi = lo + step, g = 0.0;
+  // Linear prediction of the rotation from the secant stiffness of every closing pin at its share
+  // of the load (forward law evaluations only), then a bracket grown from it.
+  double guess = 0.0;
+  {
+    std::vector<contact::ContactLaw> scratch;
+    double sum_arm = 0.0, stiffness = 0.0;
+    const auto pins = problem.At(lo, &scratch);
+    for (const auto& pin : pins) {
+      if (pin.law != nullptr && pin.arm > 0.0 && pin.approach > -1e-3) sum_arm += pin.arm;
+    }
+    const double share = sum_arm > 0.0 ? problem.torque() / sum_arm : 0.0;
+    for (const auto& pin : pins) {
+      if (pin.law == nullptr || pin.arm <= 0.0 || !(pin.approach > -1e-3) || share <= 0.0) continue;
+      const double w = pin.law->Approach(share);
+      if (w > 0.0) stiffness += share / w * pin.arm * pin.arm;
+    }
+    guess = stiffness > 0.0 ? problem.torque() / stiffness : 1e-6;
+  }
+  double hi = lo + guess, g = 0.0;
   potential.Evaluate(hi, &g);
+  double step = guess;
   for (int i = 0; i < 200 && g < 0.0; ++i) {
     lo = hi;
     step *= 2.0;
@@ -89,6 +112,7 @@ void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOption
     result->message = "the output torque stays below the load over every rotation tried";
     return;
   }
+  const double start = std::clamp(lo + guess, lo, hi);
   nlopt::opt opt(algorithm, 1);
   opt.set_min_objective(Objective, &potential);
   opt.set_lower_bounds(std::vector<double>{lo});
@@ -97,7 +121,7 @@ void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOption
   opt.set_xtol_rel(1e-15);
   opt.set_ftol_rel(0.0);
   opt.set_maxeval(options.max_iterations);
-  std::vector<double> x{0.5 * (lo + hi)};
+  std::vector<double> x{start};
   double value = 0.0;
   nlopt::result code = nlopt::FAILURE;
   try {
@@ -119,11 +143,12 @@ void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOption
   // (Illinois) on the mismatch, inside the bracket [lo, hi] shrunk by NLopt's point, finishes
   // the job with guaranteed convergence; the steps are counted and reported.
   int polish = 0;
-  {
-    double a = lo, b = hi, ga = 0.0, gb = 0.0, gx = 0.0;
+  double gx = 0.0;
+  potential.Evaluate(x[0], &gx);
+  if (std::abs(gx) > std::max(options.torque_tolerance * problem.torque(), problem.TorqueResolution(x[0]))) {
+    double a = lo, b = hi, ga = 0.0, gb = 0.0;
     potential.Evaluate(a, &ga);
     potential.Evaluate(b, &gb);
-    potential.Evaluate(x[0], &gx);
     if (gx < 0.0) a = x[0], ga = gx; else b = x[0], gb = gx;
     int side = 0;
     while (polish < 100) {

@@ -169,8 +169,19 @@ SolverStatus MapStatus(Ipopt::ApplicationReturnStatus s) {
 
 }  // namespace
 
+struct EnergyQpSolver::Backend {
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app;
+  bool initialised = false;
+};
+
+EnergyQpSolver::EnergyQpSolver() : backend_(std::make_unique<Backend>()) {}
+EnergyQpSolver::~EnergyQpSolver() = default;
+
 void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  // One Ipopt application per solver object: creating and initialising it costs more than a
+  // small solve. Options are set on every call (max_iter may change).
+  if (Ipopt::IsNull(backend_->app)) backend_->app = IpoptApplicationFactory();
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = backend_->app;
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");
   app->Options()->SetStringValue("nlp_scaling_method", "user-scaling");
@@ -182,10 +193,13 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   app->Options()->SetIntegerValue("acceptable_iter", 5);
   app->Options()->SetIntegerValue("max_iter", options.max_iterations);
   app->Options()->SetStringValue("mu_strategy", "monotone");
-  if (app->Initialize("") != Ipopt::Solve_Succeeded) {  // "": no option file is read
-    result->status = SolverStatus::kNumericalFailure;
-    result->message = "Ipopt failed to initialise";
-    return;
+  if (!backend_->initialised) {
+    if (app->Initialize("") != Ipopt::Solve_Succeeded) {  // "": no option file is read
+      result->status = SolverStatus::kNumericalFailure;
+      result->message = "Ipopt failed to initialise";
+      return;
+    }
+    backend_->initialised = true;
   }
   const double min_arm = 1e-9 * problem.model().pair().pin_circle_radius;
   // Linearise about the first contact: the clearances of the subproblem are then the gaps left

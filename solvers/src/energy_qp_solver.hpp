@@ -1,5 +1,7 @@
 #pragma once
 // No Ipopt header here: the backend is private to energy_qp_solver.cpp (linked PRIVATE).
+#include <memory>
+
 #include "ltca/solvers/load_solver.hpp"
 
 namespace ltca::solvers {
@@ -14,9 +16,14 @@ namespace ltca::solvers {
 /// the current rotation until psi changes by less than the tolerance.
 class EnergyQpSolver final : public LoadSolver {
  public:
+  EnergyQpSolver();
+  ~EnergyQpSolver() override;
   std::string name() const override { return "energy-qp"; }
 
  private:
+  struct Backend;  // the Ipopt application, created once per solver object (Ipopt stays private)
+  std::unique_ptr<Backend> backend_;
+
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const override;
 };
 

@@ -58,6 +58,9 @@ class ContactLaw {
              double pin_radius, double length, double log_radius_cap);
 
   double Force(double approach) const;      ///< N; 0 for approach <= 0; max_force() beyond.
+  /// The same, warm-started: *hint holds the force of a nearby earlier call (or <= 0: none) and
+  /// receives this one. Solvers that sweep the approach of a pin keep one hint per pin.
+  double Force(double approach, double* hint) const;
   double Approach(double force) const;      ///< mm; 0 for force <= 0.
   double Stiffness(double approach) const;  ///< dF/d(approach), N/mm; >= 0.
   /// Complementary energy int_0^F delta(f) df, N*mm (the energy solvers' objective).
