@@ -114,6 +114,18 @@ geometry::Pose MeshModel::CyclePose(double crank, double loaded_rotation) const 
 }
 
 PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation) const {
+  // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation
+  // and the modifications move the foot point by little).
+  const geometry::MeshSeed seed = kinematics_.Seed(pin, crank);
+  return EvaluatePinFrom(pin, crank, loaded_rotation, seed.tooth_space, seed.u);
+}
+
+PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation, const PinContact& near) const {
+  return EvaluatePinFrom(pin, crank, loaded_rotation, near.tooth_space, near.u);
+}
+
+PinContact MeshModel::EvaluatePinFrom(int pin, double crank, double loaded_rotation, int seed_space,
+                                      double seed_u) const {
   const geometry::Pose pose = CyclePose(crank, loaded_rotation);
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
   const Eigen::Vector2d p = pose.ToBody(centre_fixed);
@@ -122,11 +134,8 @@ PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation)
   const int zc = pair().tooth_count;
   const int d = profile_.tooth_difference();
 
-  // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation
-  // and the modifications move the foot point by little).
-  const geometry::MeshSeed seed = kinematics_.Seed(pin, crank);
-  int k = seed.tooth_space;
-  double u = seed.u;
+  int k = seed_space;
+  double u = seed_u;
   bool edge = false;
   if (std::abs(d) == 1) {
     // The profile is smooth across the tips: search the generating curve of one pitch around
@@ -148,8 +157,8 @@ PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation)
     for (int dk = -1; dk <= 1; ++dk) {
       const int kk = (((k_polar + dk) % zc) + zc) % zc;
       const double rel = std::remainder(polar - (k_polar + dk) * pitch, 2.0 * kPi);
-      const double start = kk == seed.tooth_space && std::abs(seed.u) <= phi_max
-                               ? seed.u
+      const double start = kk == seed_space && std::abs(seed_u) <= phi_max
+                               ? seed_u
                                : std::clamp(rel * phi_max / (0.5 * pitch), -phi_max, phi_max);
       const double uu = ClosestParameter(profile_, kk, p, start, -phi_max, phi_max);
       const double dist = (profile_.Position(uu, kk) - p).norm();

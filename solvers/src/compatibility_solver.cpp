@@ -58,6 +58,84 @@ double Objective(const std::vector<double>& x, std::vector<double>& grad, void* 
 }  // namespace
 
 void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
+  if (problem.kinematics() == contact::ContactKinematics::kExact) {
+    SolveExact(problem, options, result);
+    return;
+  }
+  SolveLinearised(problem, options, result);
+}
+
+void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
+  // Re-linearise until the rotation settles (issue 4): about psi_k the linearised problem takes the
+  // exact gaps, arms and laws of the pose psi_k (value and slope of every approach match there);
+  // its solution is psi_{k+1}. The last answer is verified on the exact torque balance.
+  double psi = 0.0;
+  int evaluations = 0, outer = 0;
+  SolverOptions inner = options;
+  inner.kinematics = contact::ContactKinematics::kLinearised;
+  contact::MeshState state = problem.base_state();
+  double guess = std::numeric_limits<double>::quiet_NaN();
+  for (; outer < 30; ++outer) {
+    if (outer > 0) {  // the exact state at psi, every pin searched from its last foot point
+      for (auto& pin : state.pins) pin = problem.model().EvaluatePin(pin.pin, problem.crank(), psi, pin);
+      state.loaded_rotation = psi;
+    }
+    contact::MeshState shifted = state;
+    for (auto& pin : shifted.pins) pin.clearance += pin.arm * psi;  // L psi' - c~ = approach at psi' (first order)
+    const LoadProblem linear(problem.model(), std::move(shifted), problem.contact_settings(), problem.material(),
+                             problem.torque());
+    if (outer > 0) {  // the linearisation about psi is exact at psi: stop when its torque balances
+      const double miss = std::abs(linear.OutputTorque(psi) - problem.torque());
+      if (miss <= options.torque_tolerance * problem.torque() || miss <= linear.TorqueResolution(psi)) break;
+    }
+    LoadResult step;
+    step.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
+    SolveLinearised(linear, inner, &step, guess);
+    evaluations += step.torque_evaluations;
+    if (step.status != SolverStatus::kSuccess && step.status != SolverStatus::kEdgeContact) {
+      *result = step;
+      result->message = fmt::format("re-linearisation {}: {}", outer + 1, step.message);
+      return;
+    }
+    const double change = step.rotation - psi;
+    psi = step.rotation;
+    guess = psi;  // the next linearisation starts NLopt here
+    if (std::abs(change) <= 1e-15 * std::max(std::abs(psi), 1e-12)) break;  // cannot move any more
+  }
+  // The answer on the exact geometry: forces of the laws at the exact approaches.
+  std::vector<contact::ContactLaw> scratch;
+  const auto pins = problem.At(psi, &scratch);
+  result->force.assign(pins.size(), 0.0);
+  double torque = 0.0;
+  bool edge = false;
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    if (pins[i].approach <= 0.0) continue;
+    if (pins[i].law == nullptr) {
+      edge = true;
+      continue;
+    }
+    result->force[i] = pins[i].law->Force(pins[i].approach);
+    torque += result->force[i] * pins[i].arm;
+  }
+  result->rotation = psi;
+  result->torque_evaluations = evaluations;
+  result->iterations = outer + 1;
+  result->details = CompatibilityDetails{options.nlopt_algorithm, 0, 0};
+  const double miss = std::abs(torque - problem.torque());
+  if (edge) {
+    result->status = SolverStatus::kEdgeContact;
+    result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
+  } else if (miss <= options.torque_tolerance * problem.torque() || miss <= problem.TorqueResolution(psi)) {
+    result->status = SolverStatus::kSuccess;
+    result->message = fmt::format("{} re-linearisations, torque balanced to {:.3g}", outer + 1, miss / problem.torque());
+  } else {
+    result->status = SolverStatus::kMaxIterations;
+    result->message = fmt::format("{} re-linearisations, torque off by {:.3g}", outer + 1, miss / problem.torque());
+  }
+}
+
+void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const SolverOptions& options,
+                                          LoadResult* result, double guess_rotation) const {
   nlopt::algorithm algorithm;
   try {
     algorithm = static_cast<nlopt::algorithm>(nlopt_algorithm_from_string(options.nlopt_algorithm.c_str()));
@@ -112,7 +190,8 @@ void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOption
     result->message = "the output torque stays below the load over every rotation tried";
     return;
   }
-  const double start = std::clamp(lo + guess, lo, hi);
+  const double start =
+      std::isfinite(guess_rotation) ? std::clamp(guess_rotation, lo, hi) : std::clamp(lo + guess, lo, hi);
   nlopt::opt opt(algorithm, 1);
   opt.set_min_objective(Objective, &potential);
   opt.set_lower_bounds(std::vector<double>{lo});

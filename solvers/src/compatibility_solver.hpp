@@ -1,5 +1,7 @@
 #pragma once
 // No NLopt header here: the backend is private to compatibility_solver.cpp (linked PRIVATE).
+#include <limits>
+
 #include "ltca/solvers/load_solver.hpp"
 
 namespace ltca::solvers {
@@ -19,6 +21,10 @@ class CompatibilitySolver final : public LoadSolver {
 
  private:
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const override;
+  /// guess_rotation: a rotation near the answer to start NLopt from (NaN: the linear prediction).
+  void SolveLinearised(const LoadProblem& problem, const SolverOptions& options, LoadResult* result,
+                       double guess_rotation = std::numeric_limits<double>::quiet_NaN()) const;
+  void SolveExact(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const;
 };
 
 }  // namespace ltca::solvers

@@ -58,16 +58,25 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, std::vector<contact:
     }
     return out;
   }
-  const contact::MeshState state = model_->Evaluate(crank_, psi);
+  // Re-evaluate every pin at the rotated pose, searched from its last foot point; build laws only
+  // for the pins that are pressed (the others carry no force).
+  if (last_exact_.empty()) last_exact_ = base_.pins;
   scratch->clear();
-  scratch->reserve(state.pins.size());
-  for (const auto& pin : state.pins) {
-    scratch->push_back(MakeLaw(contact_, material_, pin, model_->pair().face_width, log_radius_cap_));
-  }
+  scratch->reserve(out.size());
+  const bool same_pose = psi == last_exact_psi_;  // the judge and the sweep ask for the answer again
   for (std::size_t i = 0; i < out.size(); ++i) {
-    const auto& pin = state.pins[i];
-    out[i] = {-pin.clearance, pin.arm, pin.edge, pin.edge ? nullptr : &(*scratch)[i]};
+    const contact::PinContact pin =
+        same_pose ? last_exact_[i] : model_->EvaluatePin(static_cast<int>(i), crank_, psi, last_exact_[i]);
+    last_exact_[i] = pin;
+    out[i] = {-pin.clearance, pin.arm, pin.edge, nullptr};
+    if (!pin.edge && pin.clearance < 0.0) {
+      scratch->push_back(MakeLaw(contact_, material_, pin, model_->pair().face_width, log_radius_cap_));
+      out[i].law = &scratch->back();  // stable: reserved above
+    } else if (!pin.edge) {
+      out[i].law = &base_laws_[i];  // unloaded: any law of this pin gives zero force
+    }
   }
+  last_exact_psi_ = psi;
   return out;
 }
 

@@ -70,8 +70,13 @@ class MeshModel {
   MeshState Evaluate(double crank, double loaded_rotation = 0.0) const;
   /// Exact state of one pin.
   PinContact EvaluatePin(int pin, double crank, double loaded_rotation = 0.0) const;
+  /// The same, searched from a nearby earlier foot point (tooth space and u of a PinContact of the
+  /// same pin at a nearby pose) instead of the meshing equation: fewer Newton steps.
+  PinContact EvaluatePin(int pin, double crank, double loaded_rotation, const PinContact& near) const;
 
  private:
+  PinContact EvaluatePinFrom(int pin, double crank, double loaded_rotation, int tooth_space, double u) const;
+
   geometry::CycloidProfile profile_;
   geometry::Kinematics kinematics_;
   double pin_circle_radius_ = 0.0;  // with the deviation

@@ -6,6 +6,7 @@
 // approach delta_i(psi) (exact or linearised, contact/mesh_state.hpp) and the law's deflection
 // w_i(F) = law_i.Approach(F), the deformed gap is g_i = w_i(F_i) - delta_i(psi), and a solution has
 //   F_i >= 0,  g_i >= 0,  F_i g_i = 0,  sum_i F_i L_i(psi) = T.
+#include <limits>
 #include <vector>
 
 #include "ltca/contact/laws.hpp"
@@ -71,6 +72,10 @@ class LoadProblem {
   double log_radius_cap_;
   contact::MeshState base_;
   std::vector<contact::ContactLaw> base_laws_;  // edge pins get a placeholder (never used)
+  // Exact kinematics: the last foot point of every pin, to start the next closest-point search
+  // from (a cache, not state: any value gives the same answer, only the Newton steps differ).
+  mutable std::vector<contact::PinContact> last_exact_;
+  mutable double last_exact_psi_ = std::numeric_limits<double>::quiet_NaN();  // last_exact_ is at this psi
   std::vector<bool> base_edge_;
 };
 
