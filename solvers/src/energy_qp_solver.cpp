@@ -21,7 +21,14 @@ struct Subproblem {
   std::vector<int> pin;
   std::vector<double> clearance, arm;
   std::vector<const contact::ContactLaw*> law;
+  std::vector<bool> free;  ///< false: fixed at zero force (cannot carry load here)
   double torque = 0.0;
+};
+
+struct WarmStart {  // the previous solution of the same solver: neighbouring positions are alike
+  std::vector<double> x, z_lower, z_upper;
+  double lambda = 0.0;
+  bool valid = false;
 };
 
 struct QpOutcome {
@@ -34,17 +41,24 @@ struct QpOutcome {
 /// Only delegates to the subproblem data (pattern: ifopt's adapter).
 class EnergyNlp final : public Ipopt::TNLP {
  public:
-  EnergyNlp(const Subproblem& sub, QpOutcome* out) : sub_(sub), out_(out) {
+  /// The same object serves every solve of a solver (Ipopt's ReOptimizeTNLP keeps its linear
+  /// solver, whose set-up dominates a small solve); Reset points it at the next subproblem.
+  void Reset(const Subproblem* sub, QpOutcome* out, WarmStart* warm) {
+    sub_ = sub;
+    out_ = out;
+    warm_ = warm;
     double sum_l2 = 0.0;
-    for (const double l : sub_.arm) sum_l2 += l * l;
-    f_ref_ = sub_.torque / std::sqrt(sum_l2);
+    for (std::size_t i = 0; i < sub_->arm.size(); ++i) if (sub_->free[i]) sum_l2 += sub_->arm[i] * sub_->arm[i];
+    f_ref_ = sub_->torque / std::sqrt(sum_l2);
     w_ref_ = 0.0;
-    for (std::size_t i = 0; i < sub_.law.size(); ++i) w_ref_ = std::max(w_ref_, sub_.law[i]->Approach(f_ref_));
+    for (std::size_t i = 0; i < sub_->law.size(); ++i) {
+      if (sub_->free[i]) w_ref_ = std::max(w_ref_, sub_->law[i]->Approach(f_ref_));
+    }
     w_ref_ = std::max(w_ref_, 1e-9);
   }
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override {
-    n = static_cast<Index>(sub_.pin.size());
+    n = static_cast<Index>(sub_->pin.size());
     m = 1;
     nnz_jac_g = n;
     nnz_h_lag = n;
@@ -54,9 +68,11 @@ class EnergyNlp final : public Ipopt::TNLP {
   bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index, Number* g_l, Number* g_u) override {
     for (Index i = 0; i < n; ++i) {
       x_l[i] = 0.0;
-      x_u[i] = 2e19;  // unbounded above; a force beyond the law's range is reported after the solve
+      // Unbounded above (a force beyond the law's range is reported after the solve); pins that
+      // cannot carry load here are fixed at zero, which Ipopt removes from the problem.
+      x_u[i] = sub_->free[static_cast<std::size_t>(i)] ? 2e19 : 0.0;
     }
-    g_l[0] = g_u[0] = sub_.torque;
+    g_l[0] = g_u[0] = sub_->torque;
     return true;
   }
   bool get_scaling_parameters(Number& obj_scaling, bool& use_x_scaling, Index n, Number* x_scaling,
@@ -65,34 +81,47 @@ class EnergyNlp final : public Ipopt::TNLP {
     use_x_scaling = true;
     for (Index i = 0; i < n; ++i) x_scaling[i] = 1.0 / f_ref_;
     use_g_scaling = true;
-    g_scaling[0] = 1.0 / sub_.torque;
+    g_scaling[0] = 1.0 / sub_->torque;
     return true;
   }
-  bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
+  bool get_starting_point(Index n, bool, Number* x, bool init_z, Number* z_l, Number* z_u, Index, bool init_lambda,
+                          Number* lambda) override {
+    if (warm_ != nullptr && warm_->valid && warm_->x.size() == static_cast<std::size_t>(n)) {
+      for (Index i = 0; i < n; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        x[i] = sub_->free[k] ? std::max(warm_->x[k], 1e-12 * f_ref_) : 0.0;
+        if (init_z) z_l[i] = warm_->z_lower[k], z_u[i] = warm_->z_upper[k];
+      }
+      if (init_lambda) lambda[0] = warm_->lambda;
+      return true;
+    }
     // The no-clearance distribution F_i ~ L_i (closed form 1): feasible and interior.
     double sum_l2 = 0.0;
-    for (const double l : sub_.arm) sum_l2 += l * l;
-    for (Index i = 0; i < n; ++i) x[i] = sub_.torque * sub_.arm[static_cast<std::size_t>(i)] / sum_l2;
+    for (std::size_t k = 0; k < sub_->arm.size(); ++k) if (sub_->free[k]) sum_l2 += sub_->arm[k] * sub_->arm[k];
+    for (Index i = 0; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      x[i] = sub_->free[k] ? sub_->torque * sub_->arm[k] / sum_l2 : 0.0;
+    }
     return true;
   }
   bool eval_f(Index n, const Number* x, bool, Number& f) override {
     f = 0.0;
     for (Index i = 0; i < n; ++i) {
       const auto k = static_cast<std::size_t>(i);
-      f += sub_.law[k]->ComplementaryEnergy(x[i]) + sub_.clearance[k] * x[i];
+      f += sub_->law[k]->ComplementaryEnergy(x[i]) + sub_->clearance[k] * x[i];
     }
     return std::isfinite(f);
   }
   bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
     for (Index i = 0; i < n; ++i) {
       const auto k = static_cast<std::size_t>(i);
-      g[i] = sub_.law[k]->Approach(x[i]) + sub_.clearance[k];
+      g[i] = sub_->law[k]->Approach(x[i]) + sub_->clearance[k];
     }
     return true;
   }
   bool eval_g(Index n, const Number* x, bool, Index, Number* g) override {
     g[0] = 0.0;
-    for (Index i = 0; i < n; ++i) g[0] += sub_.arm[static_cast<std::size_t>(i)] * x[i];
+    for (Index i = 0; i < n; ++i) g[0] += sub_->arm[static_cast<std::size_t>(i)] * x[i];
     return true;
   }
   bool eval_jac_g(Index n, const Number*, bool, Index, Index, Index* row, Index* col, Number* values) override {
@@ -101,7 +130,7 @@ class EnergyNlp final : public Ipopt::TNLP {
         row[i] = 0;
         col[i] = i;
       } else {
-        values[i] = sub_.arm[static_cast<std::size_t>(i)];
+        values[i] = sub_->arm[static_cast<std::size_t>(i)];
       }
     }
     return true;
@@ -113,17 +142,24 @@ class EnergyNlp final : public Ipopt::TNLP {
       if (values == nullptr) {
         row[i] = col[i] = i;
       } else {
-        const auto* law = sub_.law[static_cast<std::size_t>(i)];
+        const auto* law = sub_->law[static_cast<std::size_t>(i)];
         const double k = law->Stiffness(law->Approach(x[i]));
         values[i] = obj_factor * (k > 0.0 ? 1.0 / k : 1e300);
       }
     }
     return true;
   }
-  void finalize_solution(Ipopt::SolverReturn status, Index n, const Number* x, const Number*, const Number*, Index,
-                         const Number*, const Number* lambda, Number, const Ipopt::IpoptData*,
+  void finalize_solution(Ipopt::SolverReturn status, Index n, const Number* x, const Number* z_l, const Number* z_u,
+                         Index, const Number*, const Number* lambda, Number, const Ipopt::IpoptData*,
                          Ipopt::IpoptCalculatedQuantities*) override {
     out_->status = status;
+    if (warm_ != nullptr) {
+      warm_->x.assign(x, x + n);
+      warm_->z_lower.assign(z_l, z_l + n);
+      warm_->z_upper.assign(z_u, z_u + n);
+      warm_->lambda = lambda[0];
+      warm_->valid = status == Ipopt::SUCCESS || status == Ipopt::STOP_AT_ACCEPTABLE_POINT;
+    }
     out_->force.assign(x, x + n);
     // Ipopt's Lagrangian is f + lambda g: grad f + lambda L = 0 on loaded pins, so the rotation
     // beyond the linearisation point is -lambda.
@@ -131,8 +167,9 @@ class EnergyNlp final : public Ipopt::TNLP {
   }
 
  private:
-  const Subproblem& sub_;
-  QpOutcome* out_;
+  const Subproblem* sub_ = nullptr;
+  QpOutcome* out_ = nullptr;
+  WarmStart* warm_ = nullptr;
   double f_ref_ = 1.0, w_ref_ = 1.0;
 };
 
@@ -171,7 +208,10 @@ SolverStatus MapStatus(Ipopt::ApplicationReturnStatus s) {
 
 struct EnergyQpSolver::Backend {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app;
+  Ipopt::SmartPtr<EnergyNlp> nlp;
   bool initialised = false;
+  int solved_size = -1;  // the size of the last problem: ReOptimizeTNLP needs the same structure
+  WarmStart warm;
 };
 
 EnergyQpSolver::EnergyQpSolver() : backend_(std::make_unique<Backend>()) {}
@@ -193,6 +233,9 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   app->Options()->SetIntegerValue("acceptable_iter", 5);
   app->Options()->SetIntegerValue("max_iter", options.max_iterations);
   app->Options()->SetStringValue("mu_strategy", "monotone");
+  app->Options()->SetNumericValue("warm_start_bound_push", 1e-9);
+  app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-9);
+  app->Options()->SetNumericValue("mu_init", 1e-3);
   if (!backend_->initialised) {
     if (app->Initialize("") != Ipopt::Solve_Succeeded) {  // "": no option file is read
       result->status = SolverStatus::kNumericalFailure;
@@ -221,18 +264,31 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     const auto pins = problem.At(psi, &scratch);
     Subproblem sub;
     sub.torque = problem.torque();
-    // Only pins that can close before any single pin alone carries the torque (rigorous bound).
-    for (const std::size_t i : CandidatePins(pins, problem.torque(), min_arm)) {
+    // Every pin is a variable (a fixed structure lets Ipopt reuse its linear solver); only the pins
+    // that can close before any single pin alone carries the torque are free (rigorous bound).
+    std::vector<bool> can_close(pins.size(), false);
+    for (const std::size_t i : CandidatePins(pins, problem.torque(), min_arm)) can_close[i] = true;
+    for (std::size_t i = 0; i < pins.size(); ++i) {
       sub.pin.push_back(static_cast<int>(i));
       // About psi: approach(psi + dpsi) = approach(psi) + L dpsi = L dpsi - g, g the gap left.
       sub.clearance.push_back(-pins[i].approach);
       sub.arm.push_back(pins[i].arm);
-      sub.law.push_back(pins[i].law);
+      sub.law.push_back(pins[i].law != nullptr ? pins[i].law : &problem.base_laws()[i]);
+      sub.free.push_back(can_close[i]);
     }
-    details.candidates = static_cast<int>(sub.pin.size());
+    details.candidates = static_cast<int>(std::count(sub.free.begin(), sub.free.end(), true));
     QpOutcome out;
-    Ipopt::SmartPtr<Ipopt::TNLP> nlp = new EnergyNlp(sub, &out);
-    const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);
+    const int size = static_cast<int>(sub.pin.size());
+    const bool reuse = Ipopt::IsValid(backend_->nlp) && backend_->solved_size == size;
+    if (!reuse) backend_->nlp = new EnergyNlp();
+    // Warm start from the previous position's solution when it is near (same size, still feasible):
+    // the multiplier is a rotation beyond the linearisation point, similar from position to position.
+    const bool warm = reuse && backend_->warm.valid;
+    app->Options()->SetStringValue("warm_start_init_point", warm ? "yes" : "no");
+    backend_->nlp->Reset(&sub, &out, &backend_->warm);
+    const Ipopt::ApplicationReturnStatus status =
+        reuse ? app->ReOptimizeTNLP(Ipopt::GetRawPtr(backend_->nlp)) : app->OptimizeTNLP(Ipopt::GetRawPtr(backend_->nlp));
+    backend_->solved_size = size;
     result->native_code = static_cast<int>(status);
     if (Ipopt::IsValid(app->Statistics())) total_iterations += app->Statistics()->IterationCount();
     result->status = MapStatus(status);
