@@ -283,7 +283,9 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     if (!reuse) backend_->nlp = new EnergyNlp();
     // Warm start from the previous position's solution when it is near (same size, still feasible):
     // the multiplier is a rotation beyond the linearisation point, similar from position to position.
-    const bool warm = reuse && backend_->warm.valid;
+    // Only under linearised kinematics: the outer loop of exact kinematics moves the linearisation
+    // point, and a multiplier about another point is a poor start.
+    const bool warm = reuse && backend_->warm.valid && outer_limit == 1;
     app->Options()->SetStringValue("warm_start_init_point", warm ? "yes" : "no");
     backend_->nlp->Reset(&sub, &out, &backend_->warm);
     const Ipopt::ApplicationReturnStatus status =
