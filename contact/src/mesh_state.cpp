@@ -95,12 +95,84 @@ double ClosestParameter(const CycloidProfile& profile, int k, const Eigen::Vecto
 
 MeshModel::MeshModel(const geometry::PairParameters& pair,
                      const geometry::Modification& modification,
-                     const geometry::ManufacturingErrors& errors)
+                     const geometry::ManufacturingErrors& errors, const geometry::GeometrySettings& geometry)
     : profile_(MakeProfile(pair, modification, errors)),
       kinematics_(pair),
       pin_circle_radius_(pair.pin_circle_radius + errors.PinCircleRadiusChange()),
       pitch_(errors.cumulative_pitch_deviation),
-      load_direction_(pair.ToothDifference() > 0 ? 1.0 : -1.0) {}
+      load_direction_(pair.ToothDifference() > 0 ? 1.0 : -1.0) {
+  geometry.Validate();
+  if (geometry.mode == geometry::GeometrySettings::Mode::kElements) {
+    discrete_ = std::make_shared<geometry::DiscreteProfile>(profile_, geometry.profile_elements, geometry.width_slices);
+  }
+}
+
+PinContact MeshModel::EvaluatePinElements(int pin, double crank, double loaded_rotation) const {
+  // Liu 2021 section 3: per width slice, the element facing the pin (nearest control point) and
+  // the gap of its equivalent cylinder (eq. 19, signed for a concave element):
+  //   gap = sigma (|p - C| - |rho|) - r,  C = x - rho n (centre of curvature), sigma = sign(rho).
+  // Without misalignment the slices are alike; every slice is still searched, as published.
+  const geometry::Pose pose = CyclePose(crank, loaded_rotation);
+  const Eigen::Vector2d centre_fixed = PinCentre(pin);
+  const Eigen::Vector2d p = pose.ToBody(centre_fixed);
+  const double r_pin = pair().pin_radius;
+  const int zc = pair().tooth_count;
+  const double pitch = profile_.tooth_pitch();
+  const int k_polar = static_cast<int>(std::lround((std::atan2(p.y(), p.x()) - profile_.ToothSpaceRotation(0)) / pitch));
+  const int n = discrete_->element_count();
+  double best_gap = std::numeric_limits<double>::infinity();
+  geometry::ProfileElement best;
+  Eigen::Vector2d best_normal = Eigen::Vector2d::UnitX(), best_point = Eigen::Vector2d::Zero();
+  for (int slice = 0; slice < discrete_->slices(); ++slice) {
+    const auto search = [&](int k) {
+      int j_best = 0;
+      double d_best = std::numeric_limits<double>::infinity();
+      const int kk = ((k % zc) + zc) % zc;
+      for (int j = 0; j < n; ++j) {
+        const double d = (discrete_->Element(j, kk).position - p).squaredNorm();
+        if (d < d_best) d_best = d, j_best = j;
+      }
+      return std::pair{kk, j_best};
+    };
+    auto [k, j] = search(k_polar);
+    if (j == 0 || j == n - 1) {  // at an end of the arc: the neighbouring space may face the pin
+      const auto [k2, j2] = search(k_polar + (j == 0 ? -1 : 1));
+      if ((discrete_->Element(j2, k2).position - p).squaredNorm() < (discrete_->Element(j, k).position - p).squaredNorm()) {
+        k = k2, j = j2;
+      }
+    }
+    const geometry::ProfileElement e = discrete_->Element(j, k);
+    double gap;
+    Eigen::Vector2d normal, point;
+    if (e.curvature == 0.0) {
+      normal = e.normal;
+      gap = e.normal.dot(p - e.position) - r_pin;
+      point = p - (gap + r_pin) * e.normal;
+    } else {
+      const double rho = 1.0 / e.curvature;
+      const Eigen::Vector2d c = e.position - rho * e.normal;
+      const double d = (p - c).norm();
+      const double sigma = rho > 0.0 ? 1.0 : -1.0;
+      gap = sigma * (d - std::abs(rho)) - r_pin;
+      normal = sigma * (p - c) / d;
+      point = c + std::abs(rho) * (p - c) / d;
+    }
+    if (gap < best_gap) best_gap = gap, best = e, best_normal = normal, best_point = point;
+  }
+  PinContact c;
+  c.pin = pin;
+  c.angle = kinematics_.AngleFromLineOfCentres(pin, crank);
+  c.u = best.u;
+  c.tooth_space = 0;
+  c.pin_radius = r_pin;
+  c.cycloid_curvature = best.curvature;
+  c.clearance = best_gap;
+  c.cycloid_point = pose.ToFixed(best_point);
+  c.normal = pose.DirectionToFixed(best_normal);
+  c.pin_point = centre_fixed - r_pin * c.normal;
+  c.arm = load_direction_ * Cross(c.cycloid_point - pose.centre, c.normal);  // Liu eq. 27
+  return c;
+}
 
 Eigen::Vector2d MeshModel::PinCentre(int pin) const {
   // Liu eq. 5: the cumulative pitch deviation moves the pin along its circle.
@@ -114,6 +186,7 @@ geometry::Pose MeshModel::CyclePose(double crank, double loaded_rotation) const 
 }
 
 PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation) const {
+  if (discrete_) return EvaluatePinElements(pin, crank, loaded_rotation);
   // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation
   // and the modifications move the foot point by little).
   const geometry::MeshSeed seed = kinematics_.Seed(pin, crank);
@@ -121,6 +194,7 @@ PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation)
 }
 
 PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation, const PinContact& near) const {
+  if (discrete_) return EvaluatePinElements(pin, crank, loaded_rotation);
   return EvaluatePinFrom(pin, crank, loaded_rotation, near.tooth_space, near.u);
 }
 

@@ -30,7 +30,7 @@ contact::ContactKinematics ParseKinematics(const std::string& text) {
 }
 
 void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, std::ostream& out) {
-  const contact::MeshModel model(deck.pair, deck.modification, deck.errors);
+  const contact::MeshModel model = deck.MakeModel();
   std::vector<contact::UnloadedContact> rows;
   for (const double crank : deck.sweep.CrankAngles()) {
     rows.push_back(contact::AnalyseUnloaded(model, crank, options.kinematics));
@@ -91,7 +91,7 @@ void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, std:
 }
 
 void RunMesh(const solvers::Deck& deck, const MeshOptions& options, std::ostream& out) {
-  const contact::MeshModel model(deck.pair, deck.modification, deck.errors);
+  const contact::MeshModel model = deck.MakeModel();
   const double crank = units::DegToRad(options.crank_deg);
   const contact::MeshState state = model.Evaluate(crank);
   fmt::print(out, "case      {}\n", deck.info.title);

@@ -165,6 +165,18 @@ contact::ContactSettings ReadContact(const Section& s) {
   return c;
 }
 
+geometry::GeometrySettings ReadGeometry(const Section& s) {
+  geometry::GeometrySettings g;
+  const std::string mode = s.String("geometry_mode", "analytic", "analytic | elements (Liu's discrete surface)");
+  if (mode == "analytic") g.mode = geometry::GeometrySettings::Mode::kAnalytic;
+  else if (mode == "elements") g.mode = geometry::GeometrySettings::Mode::kElements;
+  else throw std::invalid_argument(fmt::format("[geometry] geometry_mode = \"{}\": expected \"analytic\" or \"elements\"", mode));
+  g.profile_elements = s.Integer("profile_elements", g.profile_elements, "elements along one tooth space");
+  g.width_slices = s.Integer("width_slices", g.width_slices, "slices across the face width");
+  g.Validate();
+  return g;
+}
+
 SolverOptions ReadSolver(const Section& s) {
   SolverOptions o;
   if (s.Has("preset")) o = ApplyPreset(o, s.String("preset", "a named preset: liu2021"));
@@ -271,8 +283,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
     std::istringstream stream{std::string(toml_text)};
     const toml::value root_value = toml::parse(stream, name);
     const toml::table& root = root_value.as_table();
-    const std::vector<std::string> sections = {"case",     "pair",     "modification", "errors", "contact",
-                                               "material", "load",     "sweep",        "solver"};
+    const std::vector<std::string> sections = {"case", "pair",     "modification", "errors", "contact",
+                                               "geometry", "material", "load", "sweep",  "solver"};
     for (const auto& [key, unused] : root) {
       if (std::find(sections.begin(), sections.end(), key) == sections.end()) {
         throw std::invalid_argument(fmt::format("unknown section or key '{}'; expected one of: {}",
@@ -295,6 +307,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
     deck.contact = ReadContact(Section(Find(root, "contact"), "contact",
                                        {"law", "rho_convention", "stiffness_n_per_mm2",
                                         "log_radius_cap_mm"}));
+    deck.geometry = ReadGeometry(Section(Find(root, "geometry"), "geometry",
+                                         {"geometry_mode", "profile_elements", "width_slices"}));
     deck.solver = ReadSolver(Section(Find(root, "solver"), "solver",
                                      {"name", "kinematics", "torque_tolerance", "max_iterations", "preset", "nlopt_algorithm"}));
     const Section material(Find(root, "material"), "material",
@@ -308,7 +322,7 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
         deck.pair);
     // The geometry must be realisable: this rejects undercut (looped) profiles, also when the
     // profile layer of [errors] is what makes them loop.
-    const contact::MeshModel model(deck.pair, deck.modification, deck.errors);
+    const contact::MeshModel model(deck.pair, deck.modification, deck.errors);  // analytic: cheap to check
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
   } catch (const std::exception& e) {  // TOML syntax errors and the like

@@ -16,7 +16,7 @@ SolverOptions DeckSolverOptions(const Deck& deck) { return deck.solver; }
 SweepResult SolveSweep(const Deck& deck, const SolverOptions& options) {
   options.Validate();
   const auto start = std::chrono::steady_clock::now();
-  const contact::MeshModel model(deck.pair, deck.modification, deck.errors);
+  const contact::MeshModel model = deck.MakeModel();
   const auto solver = MakeSolver(options.name);
   SweepResult sweep;
   sweep.solver = options.name;

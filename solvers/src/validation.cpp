@@ -49,7 +49,7 @@ struct Backlash {
 };
 
 Backlash UnloadedSweep(const Deck& deck) {
-  const contact::MeshModel model(deck.pair, deck.modification, deck.errors);
+  const contact::MeshModel model = deck.MakeModel();
   double sum = 0, lo = INFINITY, hi = -INFINITY;
   const auto cranks = deck.sweep.CrankAngles();
   for (const double crank : cranks) {
@@ -282,7 +282,7 @@ void Li(const fs::path& dir, Builder& b) {
   const int listed[] = {24, 25, 26, 27, 36, 37, 38, 39};
   const double listed_li[] = {0.15, 0.19, 0.24, 0.27, 0.44, 0.37, 0.34, 0.24};
   const auto analyse = [&](const Deck& deck) {
-    const contact::MeshModel model(deck.pair, deck.modification, deck.errors);
+    const contact::MeshModel model = deck.MakeModel();
     const LoadProblem problem(model, deck.sweep.crank_start, deck.contact, *deck.material, deck.load->torque,
                               contact::ContactKinematics::kLinearised);
     const auto r = MakeSolver("bisection")->Solve(problem, SolverOptions{});

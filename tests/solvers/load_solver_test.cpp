@@ -65,7 +65,7 @@ TEST_CASE("solvers: closed form 1 - linear law, no clearance, linearised: F_i = 
 
 TEST_CASE("solvers: the liu2021 preset of bisection lands within 1 % in torque, the default within 1e-10") {
   const auto deck = ltca::solvers::DefaultDeck();
-  const MeshModel model(deck.pair, deck.modification, deck.errors);
+  const MeshModel model = deck.MakeModel();
   const LoadProblem problem(model, 0.3, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
   const auto tight = MakeSolver("bisection")->Solve(problem, SolverOptions{});
   const auto liu = MakeSolver("bisection")->Solve(problem, ltca::solvers::ApplyPreset(SolverOptions{}, "liu2021"));
@@ -111,7 +111,7 @@ TEST_CASE("solvers: every solver agrees with bisection on the published decks, l
   CHECK(decks.size() >= 24);
   for (const auto& deck_ref : decks) {
     const auto* deck = &deck_ref;
-    const MeshModel model(deck->pair, deck->modification, deck->errors);
+    const MeshModel model = deck->MakeModel();
     for (const auto kin : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
       const auto cranks = deck->sweep.CrankAngles();
       for (std::size_t i = 0; i < cranks.size(); i += 30) {
@@ -197,7 +197,7 @@ TEST_CASE("solvers: closed form 2 - Kudryavtsev's load-increase factor (Jiang 20
 
 TEST_CASE("solvers: each backend fills its own details") {
   const auto deck = ltca::solvers::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
-  const MeshModel model(deck.pair, deck.modification, deck.errors);
+  const MeshModel model = deck.MakeModel();
   const LoadProblem problem(model, 0.0, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
   const auto run = [&](const std::string& name) {
     SolverOptions options;

@@ -15,6 +15,9 @@
 
 #include <Eigen/Core>
 
+#include <memory>
+
+#include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/geometry/errors.hpp"
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/pair.hpp"
@@ -52,7 +55,10 @@ struct MeshState {
 class MeshModel {
  public:
   MeshModel(const geometry::PairParameters& pair, const geometry::Modification& modification,
-            const geometry::ManufacturingErrors& errors = {});
+            const geometry::ManufacturingErrors& errors = {}, const geometry::GeometrySettings& geometry = {});
+
+  /// Elements mode (Liu 2021 section 2-3): the discrete surface, or nullptr in the analytic mode.
+  const geometry::DiscreteProfile* discrete() const { return discrete_.get(); }
 
   const geometry::CycloidProfile& profile() const { return profile_; }
   const geometry::Kinematics& kinematics() const { return kinematics_; }
@@ -76,11 +82,13 @@ class MeshModel {
 
  private:
   PinContact EvaluatePinFrom(int pin, double crank, double loaded_rotation, int tooth_space, double u) const;
+  PinContact EvaluatePinElements(int pin, double crank, double loaded_rotation) const;
 
   geometry::CycloidProfile profile_;
   geometry::Kinematics kinematics_;
   double pin_circle_radius_ = 0.0;  // with the deviation
   std::vector<double> pitch_;       // cumulative pitch deviation per pin, mm (empty: none)
+  std::shared_ptr<const geometry::DiscreteProfile> discrete_;  // elements mode only
   double load_direction_ = 1.0;
 };
 

@@ -11,6 +11,8 @@
 
 #include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
+#include "ltca/contact/mesh_state.hpp"
+#include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/geometry/errors.hpp"
 #include "ltca/geometry/pair.hpp"
 #include "ltca/solvers/load_solver.hpp"
@@ -45,11 +47,15 @@ struct Deck {
   geometry::PairParameters pair;
   geometry::Modification modification;
   geometry::ManufacturingErrors errors;        ///< [errors], optional, default none
+  geometry::GeometrySettings geometry;         ///< [geometry], optional, default analytic
   contact::ContactSettings contact;            ///< [contact], optional, default hertz-line / signed
   SolverOptions solver;                        ///< [solver], optional, default bisection / linearised
   std::optional<contact::Material> material;  ///< required by the load commands
   std::optional<LoadCase> load;               ///< required by the load commands
   Sweep sweep;
+
+  /// The pair as the contact layer sees it (modifications, errors, geometry mode).
+  contact::MeshModel MakeModel() const { return {pair, modification, errors, geometry}; }
 
   /// Throws std::invalid_argument naming the deck and the missing section.
   const contact::Material& RequireMaterial() const;
