@@ -63,10 +63,17 @@ Deck WithPositions(Deck deck, int positions) {
 
 }  // namespace
 
+std::string BenchSetting::GeometryLabel() const {
+  return geometry.mode == geometry::GeometrySettings::Mode::kElements
+             ? fmt::format("elements {}x{}", geometry.profile_elements, geometry.width_slices)
+             : "analytic";
+}
+
 std::string BenchSetting::Label() const {
-  return fmt::format("{} {} tol {:g}{}", solver,
+  return fmt::format("{} {} tol {:g}{}{}", solver,
                      kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised", torque_tolerance,
-                     preset.empty() ? "" : " (" + preset + ")");
+                     preset.empty() ? "" : " (" + preset + ")",
+                     geometry.mode == geometry::GeometrySettings::Mode::kElements ? ", " + GeometryLabel() : "");
 }
 
 BenchReport RunBench(const BenchMatrix& matrix, const BenchHeader& header) {
@@ -85,6 +92,9 @@ BenchReport RunBench(const BenchMatrix& matrix, const BenchHeader& header) {
     report.references.push_back({c.name, RadToArcsec(Mean(ref.te)),
                                  std::abs(RadToArcsec(Mean(ref.te) - Mean(confirm.te)))});
     for (const BenchSetting& s : matrix.settings) {
+      if (!s.only_case.empty() && s.only_case != c.name) continue;
+      Deck run_deck = deck;
+      run_deck.geometry = s.geometry;
       SolverOptions options = deck.solver;
       if (!s.preset.empty()) options = ApplyPreset(options, s.preset);
       options.name = s.solver;
@@ -94,7 +104,7 @@ BenchReport RunBench(const BenchMatrix& matrix, const BenchHeader& header) {
       Figures f;
       for (int r = 0; r < std::max(1, matrix.repeats); ++r) {
         const auto start = std::chrono::steady_clock::now();
-        const SweepResult sweep = SolveSweep(deck, options);  // includes the mesh state of every position
+        const SweepResult sweep = SolveSweep(run_deck, options);  // includes the mesh state of every position
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         per_position.push_back(seconds / static_cast<double>(sweep.positions.size()));
         if (r == 0) f = Collect(sweep);
@@ -136,7 +146,7 @@ void WriteBenchJson(const BenchReport& report, const std::filesystem::path& path
                     {"kinematics", r.setting.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised"},
                     {"torque_tolerance", r.setting.torque_tolerance},
                     {"preset", r.setting.preset},
-                    {"geometry_mode", "analytic"},
+                    {"geometry_mode", r.setting.GeometryLabel()},
                     {"status", r.status},
                     {"positions", r.positions},
                     {"seconds_per_position_median", r.seconds_per_position_median},
@@ -172,10 +182,11 @@ void WriteBenchCsv(const BenchReport& report, const std::filesystem::path& path)
         "error_mean_te_arcsec,error_pp_te_arcsec,error_max_pin_force_n,error_max_contact_stress_mpa,error_contacts,"
         "residual\n";
   for (const auto& r : report.rows) {
-    fmt::print(os, "{},{},{},{:g},{},analytic,{},{},{:.6g},{:.6g},{:.6g},{:.4g},{:.9g},{:.3g},{:.3g},{:.3g},{:.3g},{},{:.3g}\n",
+    fmt::print(os, "{},{},{},{:g},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.4g},{:.9g},{:.3g},{:.3g},{:.3g},{:.3g},{},{:.3g}\n",
                r.case_name, r.setting.solver,
                r.setting.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
-               r.setting.torque_tolerance, r.setting.preset, r.status, r.positions, r.seconds_per_position_median,
+               r.setting.torque_tolerance, r.setting.preset, r.setting.GeometryLabel(), r.status, r.positions,
+               r.seconds_per_position_median,
                r.seconds_per_position_min, r.seconds_per_position_max, r.evaluations_per_position, r.mean_te_arcsec,
                r.errors.mean_te_arcsec, r.errors.pp_te_arcsec, r.errors.max_force_n, r.errors.max_stress_mpa,
                r.errors.contacts, r.residual);
@@ -210,7 +221,8 @@ void WriteBenchSvg(const BenchReport& report, const std::filesystem::path& path)
   const char* colours[] = {"#c0392b", "#2980b9", "#27ae60", "#8e44ad", "#d35400", "#16a085", "#7f8c8d", "#2c3e50"};
   std::map<std::string, std::vector<const BenchRow*>> series;
   for (const auto& r : report.rows) {
-    series[r.setting.solver + (r.setting.kinematics == contact::ContactKinematics::kExact ? " exact" : " linearised")]
+    series[r.setting.solver + (r.setting.kinematics == contact::ContactKinematics::kExact ? " exact" : " linearised") +
+           (r.setting.geometry.mode == geometry::GeometrySettings::Mode::kElements ? " elements" : "")]
         .push_back(&r);
   }
   int k = 0;

@@ -15,7 +15,10 @@ struct BenchSetting {
   contact::ContactKinematics kinematics = contact::ContactKinematics::kLinearised;
   double torque_tolerance = 1e-10;
   std::string preset;  ///< "" or "liu2021"
+  geometry::GeometrySettings geometry;  ///< analytic (default) or Liu's elements
+  std::string only_case;                ///< "" all cases; else run on this case only (slow settings)
   std::string Label() const;
+  std::string GeometryLabel() const;
 };
 
 struct BenchCase {
