@@ -19,21 +19,9 @@ struct Evaluation {
 
 Evaluation Evaluate(const LoadProblem& problem, double psi, std::vector<double>* forces, std::vector<double>* hints) {
   std::vector<contact::ContactLaw> scratch;
-  Evaluation ev;
-  const auto pins = problem.At(psi, &scratch);
-  forces->assign(pins.size(), 0.0);
-  hints->resize(pins.size(), 0.0);
-  for (std::size_t i = 0; i < pins.size(); ++i) {
-    if (pins[i].approach <= 0.0) continue;
-    if (pins[i].law == nullptr) {
-      ev.edge = true;
-      continue;
-    }
-    if (pins[i].approach >= pins[i].law->max_approach()) ev.saturated = true;
-    (*forces)[i] = pins[i].law->Force(pins[i].approach, &(*hints)[i]);
-    ev.torque += (*forces)[i] * pins[i].arm;
-  }
-  return ev;
+  Loading l = LoadAt(problem.At(psi, &scratch), hints);
+  *forces = std::move(l.force);
+  return {l.torque, l.edge, l.saturated};
 }
 
 }  // namespace

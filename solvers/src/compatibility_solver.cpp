@@ -104,19 +104,10 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
   }
   // The answer on the exact geometry: forces of the laws at the exact approaches.
   std::vector<contact::ContactLaw> scratch;
-  const auto pins = problem.At(psi, &scratch);
-  result->force.assign(pins.size(), 0.0);
-  double torque = 0.0;
-  bool edge = false;
-  for (std::size_t i = 0; i < pins.size(); ++i) {
-    if (pins[i].approach <= 0.0) continue;
-    if (pins[i].law == nullptr) {
-      edge = true;
-      continue;
-    }
-    result->force[i] = pins[i].law->Force(pins[i].approach);
-    torque += result->force[i] * pins[i].arm;
-  }
+  Loading loading = LoadAt(problem.At(psi, &scratch));
+  result->force = std::move(loading.force);
+  const double torque = loading.torque;
+  const bool edge = loading.edge;
   result->rotation = psi;
   result->torque_evaluations = evaluations;
   result->iterations = outer + 1;
@@ -255,18 +246,12 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   result->torque_evaluations = potential.evaluations;
   result->iterations = potential.evaluations;
   std::vector<contact::ContactLaw> scratch;
-  const auto pins = problem.At(x[0], &scratch);
-  result->force.assign(pins.size(), 0.0);
-  double torque = 0.0;
-  for (std::size_t i = 0; i < pins.size(); ++i) {
-    if (pins[i].approach <= 0.0 || pins[i].law == nullptr) continue;
-    result->force[i] = pins[i].law->Force(pins[i].approach);
-    torque += result->force[i] * pins[i].arm;
-  }
+  Loading loading = LoadAt(problem.At(x[0], &scratch));
+  result->force = std::move(loading.force);
+  const double torque = loading.torque;
   const double mismatch = std::abs(torque - problem.torque()) / problem.torque();
   // Edge contact is judged at the answer, not at the trial rotations of the search.
-  potential.edge = false;
-  for (const auto& pin : pins) potential.edge = potential.edge || (pin.law == nullptr && pin.approach > 0.0);
+  potential.edge = loading.edge;
   // Every NLopt code maps to one status; success is verified on the torque, not believed.
   if (potential.edge) {
     result->status = SolverStatus::kEdgeContact;

@@ -80,13 +80,26 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, std::vector<contact:
   return out;
 }
 
+Loading LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>* hints) {
+  Loading l;
+  l.force.assign(pins.size(), 0.0);
+  if (hints != nullptr) hints->resize(pins.size(), 0.0);
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    if (pins[i].approach <= 0.0) continue;
+    if (pins[i].law == nullptr) {
+      l.edge = true;
+      continue;
+    }
+    if (pins[i].approach >= pins[i].law->max_approach()) l.saturated = true;
+    l.force[i] = hints != nullptr ? pins[i].law->Force(pins[i].approach, &(*hints)[i]) : pins[i].law->Force(pins[i].approach);
+    l.torque += l.force[i] * pins[i].arm;
+  }
+  return l;
+}
+
 double LoadProblem::OutputTorque(double psi) const {
   std::vector<contact::ContactLaw> scratch;
-  double torque = 0.0;
-  for (const PinAt& p : At(psi, &scratch)) {
-    if (p.law != nullptr && p.approach > 0.0) torque += p.law->Force(p.approach) * p.arm;
-  }
-  return torque;
+  return LoadAt(At(psi, &scratch)).torque;
 }
 
 double LoadProblem::TorqueResolution(double psi) const {

@@ -79,6 +79,17 @@ class LoadProblem {
   std::vector<bool> base_edge_;
 };
 
+/// The forces of the laws at the approaches of `pins`, their torque, and whether a pressed pin sits
+/// on a tip corner (edge) or beyond its law's range (saturated). hints: per-pin warm starts of the
+/// law inversions (see ContactLaw::Force), or nullptr.
+struct Loading {
+  std::vector<double> force;  ///< N
+  double torque = 0.0;        ///< N*mm
+  bool edge = false;
+  bool saturated = false;
+};
+Loading LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>* hints = nullptr);
+
 /// Pins that can carry load in the linearisation about psi: those whose remaining gap closes
 /// before the rotation at which any single pin alone would carry the whole torque (a rigorous
 /// upper bound of the loaded rotation: more loaded pins only turn the cycloid less). Li Fig. 5's
