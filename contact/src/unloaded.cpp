@@ -1,5 +1,6 @@
 #include "ltca/contact/unloaded.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -65,6 +66,22 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKin
     for (const PinContact& c : state.pins) r.clearance_at_c1.push_back(-LinearisedApproach(c, r.theta_c1));
   }
   return r;
+}
+
+UnloadedSweep AnalyseUnloadedSweep(const MeshModel& model, const std::vector<double>& cranks,
+                                   ContactKinematics kinematics) {
+  UnloadedSweep sweep;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0.0;
+  for (const double crank : cranks) {
+    sweep.positions.push_back(AnalyseUnloaded(model, crank, kinematics));
+    const double b = sweep.positions.back().backlash;
+    sum += b;
+    lo = std::min(lo, b);
+    hi = std::max(hi, b);
+  }
+  sweep.mean_backlash = sum / static_cast<double>(cranks.size());
+  sweep.pp_backlash = hi - lo;
+  return sweep;
 }
 
 }  // namespace ltca::contact

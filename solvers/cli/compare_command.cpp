@@ -19,7 +19,7 @@ void RunCompare(const solvers::Deck& deck, const CompareOptions& options, std::o
   const std::vector<std::string> names = options.solvers.empty() ? solvers::SolverNames() : options.solvers;
   std::vector<solvers::SweepResult> runs;
   for (const auto& name : names) {
-    solvers::SolverOptions o = solvers::DeckSolverOptions(deck);
+    solvers::SolverOptions o = deck.solver;
     o.name = name;
     if (!options.kinematics.empty()) o.kinematics = ParseKinematics(options.kinematics);
     runs.push_back(solvers::SolveSweep(deck, o));

@@ -98,7 +98,7 @@ void WriteSvg(const solvers::SweepResult& sweep, std::ostream& os) {
 }  // namespace
 
 void RunSolve(const solvers::Deck& deck, const SolveOptions& options, std::ostream& out) {
-  solvers::SolverOptions solver = solvers::DeckSolverOptions(deck);
+  solvers::SolverOptions solver = deck.solver;
   if (!options.solver.empty()) solver.name = options.solver;
   if (!options.kinematics.empty()) solver.kinematics = ParseKinematics(options.kinematics);
   const solvers::SweepResult sweep = solvers::SolveSweep(deck, solver);

@@ -28,11 +28,7 @@ Evaluation Evaluate(const LoadProblem& problem, double psi, std::vector<double>*
 
 void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
   // Start at the unloaded first contact in the load direction (Liu: theta_c1).
-  double psi = std::numeric_limits<double>::infinity();
-  for (const auto& pin : problem.base_state().pins) {
-    if (pin.arm <= 1e-9 * problem.model().pair().pin_circle_radius) continue;
-    psi = std::min(psi, contact::ClosingRotation(problem.model(), pin, problem.crank(), problem.kinematics()));
-  }
+  double psi = problem.FirstContactRotation();
   if (!std::isfinite(psi)) {
     result->status = SolverStatus::kNumericalFailure;
     result->message = "no pin can close its gap in the load direction";
@@ -40,10 +36,8 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   }
   const double target = problem.torque();
   double step = units::ArcsecToRad(1.0 / 60.0);  // Liu section 4: 1/60 arcsec
-  // Converged within the tolerance, or as close as one ulp of the rotation can get.
   const auto converged = [&](double psi_now, double torque_now) {
-    const double miss = std::abs(torque_now - target);
-    return miss <= options.torque_tolerance * target || miss <= problem.TorqueResolution(psi_now);
+    return problem.Balanced(psi_now, torque_now, options.torque_tolerance);
   };
   std::vector<double> forces, trial_forces, hints;
   bool edge_blocked = false;

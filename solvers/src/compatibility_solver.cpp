@@ -85,8 +85,7 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
     const LoadProblem linear(problem.model(), std::move(shifted), problem.contact_settings(), problem.material(),
                              problem.torque());
     if (outer > 0) {  // the linearisation about psi is exact at psi: stop when its torque balances
-      const double miss = std::abs(linear.OutputTorque(psi) - problem.torque());
-      if (miss <= options.torque_tolerance * problem.torque() || miss <= linear.TorqueResolution(psi)) break;
+      if (linear.Balanced(psi, linear.OutputTorque(psi), options.torque_tolerance)) break;
     }
     LoadResult step;
     step.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
@@ -116,7 +115,7 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
   if (edge) {
     result->status = SolverStatus::kEdgeContact;
     result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
-  } else if (miss <= options.torque_tolerance * problem.torque() || miss <= problem.TorqueResolution(psi)) {
+  } else if (problem.Balanced(psi, torque, options.torque_tolerance)) {
     result->status = SolverStatus::kSuccess;
     result->message = fmt::format("{} re-linearisations, torque balanced to {:.3g}", outer + 1, miss / problem.torque());
   } else {
@@ -139,11 +138,7 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   Potential potential;
   potential.problem = &problem;
   // Bracket: from the first contact in the load direction to a rotation whose torque exceeds T.
-  double lo = std::numeric_limits<double>::infinity();
-  for (const auto& pin : problem.base_state().pins) {
-    if (pin.arm <= 1e-9 * problem.model().pair().pin_circle_radius) continue;
-    lo = std::min(lo, contact::ClosingRotation(problem.model(), pin, problem.crank(), problem.kinematics()));
-  }
+  double lo = problem.FirstContactRotation();
   if (!std::isfinite(lo)) {
     result->status = SolverStatus::kNumericalFailure;
     result->message = "no pin can close its gap in the load direction";
@@ -215,15 +210,15 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   int polish = 0;
   double gx = 0.0;
   potential.Evaluate(x[0], &gx);
-  if (std::abs(gx) > std::max(options.torque_tolerance * problem.torque(), problem.TorqueResolution(x[0]))) {
+  if (!problem.Balanced(x[0], problem.torque() + gx, options.torque_tolerance)) {
     double a = lo, b = hi, ga = 0.0, gb = 0.0;
     potential.Evaluate(a, &ga);
     potential.Evaluate(b, &gb);
     if (gx < 0.0) a = x[0], ga = gx; else b = x[0], gb = gx;
     int side = 0;
     while (polish < 100) {
-      const double floor = std::max(options.torque_tolerance * problem.torque(), problem.TorqueResolution(x[0]));
-      if (std::abs(gx) <= floor || b - a <= 4.0 * std::numeric_limits<double>::epsilon() * std::abs(b)) break;
+      if (problem.Balanced(x[0], problem.torque() + gx, options.torque_tolerance) ||
+          b - a <= 4.0 * std::numeric_limits<double>::epsilon() * std::abs(b)) break;
       double c = (gb - ga) != 0.0 ? b - gb * (b - a) / (gb - ga) : 0.5 * (a + b);
       if (!(c > a && c < b)) c = 0.5 * (a + b);
       double gc = 0.0;
@@ -256,8 +251,7 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   if (potential.edge) {
     result->status = SolverStatus::kEdgeContact;
     result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
-  } else if (mismatch <= options.torque_tolerance ||
-             std::abs(torque - problem.torque()) <= problem.TorqueResolution(x[0])) {
+  } else if (problem.Balanced(x[0], torque, options.torque_tolerance)) {
     // (the polish above guarantees this unless the resolution of double precision intervenes)
     result->status = SolverStatus::kSuccess;
     result->message = fmt::format("NLopt {} code {} ({} regula falsi polish steps), torque balanced to {:.3g}{}",

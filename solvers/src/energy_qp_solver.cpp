@@ -301,16 +301,16 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     if (result->status != SolverStatus::kSuccess) break;
     if (std::abs(change) <= options.torque_tolerance * std::max(std::abs(psi), 1e-12)) break;
   }
-  // Edge pins and pins beyond the candidate set: an edge pin with a closed gap is edge contact.
-  for (const auto& pin : problem.At(psi, &scratch)) {
+  // At the answer: an edge pin with a closed gap is edge contact; interior-point forces of
+  // unloaded pins are tiny positives, and a pin whose gap is open carries no force
+  // (complementarity); a force beyond a law's range cannot be carried.
+  const auto final_pins = problem.At(psi, &scratch);
+  for (const auto& pin : final_pins) {
     if (pin.law == nullptr && pin.approach > 0.0) {
       result->status = SolverStatus::kEdgeContact;
       result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
     }
   }
-  // Interior-point forces of unloaded pins are tiny positives: a pin whose gap is open at the
-  // solution carries no force (complementarity). A force beyond a law's range cannot be carried.
-  const auto final_pins = problem.At(psi, &scratch);
   for (std::size_t i = 0; i < result->force.size(); ++i) {
     if (final_pins[i].approach <= 0.0) result->force[i] = 0.0;
     if (final_pins[i].law != nullptr && result->force[i] >= final_pins[i].law->max_force()) {

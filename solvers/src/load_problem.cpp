@@ -27,10 +27,7 @@ LoadProblem::LoadProblem(const contact::MeshModel& model, double crank,
       log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap
                                                    : model.pair().pin_circle_radius),
       base_(model.Evaluate(crank, 0.0)) {
-  base_laws_.reserve(base_.pins.size());
-  for (const auto& pin : base_.pins) {
-    base_laws_.push_back(MakeLaw(contact_, material_, pin, model.pair().face_width, log_radius_cap_));
-  }
+  BuildBaseLaws();
 }
 
 LoadProblem::LoadProblem(const contact::MeshModel& model, contact::MeshState state,
@@ -43,9 +40,13 @@ LoadProblem::LoadProblem(const contact::MeshModel& model, contact::MeshState sta
       kinematics_(contact::ContactKinematics::kLinearised),
       log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap : model.pair().pin_circle_radius),
       base_(std::move(state)) {
+  BuildBaseLaws();
+}
+
+void LoadProblem::BuildBaseLaws() {
   base_laws_.reserve(base_.pins.size());
   for (const auto& pin : base_.pins) {
-    base_laws_.push_back(MakeLaw(contact_, material_, pin, model.pair().face_width, log_radius_cap_));
+    base_laws_.push_back(MakeLaw(contact_, material_, pin, model_->pair().face_width, log_radius_cap_));
   }
 }
 
@@ -110,6 +111,13 @@ double LoadProblem::TorqueResolution(double psi) const {
   }
   const double ulp = std::nextafter(std::abs(psi), INFINITY) - std::abs(psi);
   return 4.0 * stiffness * ulp;
+}
+
+bool LoadProblem::Balanced(double psi, double torque_out, double tolerance) const {
+  const double miss = std::abs(torque_out - torque_);
+  if (miss <= tolerance * torque_) return true;
+  if (miss > 1e-6 * torque_ + 1e-6) return false;
+  return miss <= TorqueResolution(psi);
 }
 
 double LoadProblem::TorqueCapacity() const {

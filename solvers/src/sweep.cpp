@@ -11,8 +11,6 @@ int Severity(SolverStatus s) { return s == SolverStatus::kSuccess ? 0 : (s == So
 
 }  // namespace
 
-SolverOptions DeckSolverOptions(const Deck& deck) { return deck.solver; }
-
 SweepResult SolveSweep(const Deck& deck, const SolverOptions& options) {
   options.Validate();
   const auto start = std::chrono::steady_clock::now();

@@ -49,16 +49,8 @@ struct Backlash {
 };
 
 Backlash UnloadedSweep(const Deck& deck) {
-  const contact::MeshModel model = deck.MakeModel();
-  double sum = 0, lo = INFINITY, hi = -INFINITY;
-  const auto cranks = deck.sweep.CrankAngles();
-  for (const double crank : cranks) {
-    const double b = RadToArcsec(contact::AnalyseUnloaded(model, crank).backlash);
-    sum += b;
-    lo = std::min(lo, b);
-    hi = std::max(hi, b);
-  }
-  return {sum / static_cast<double>(cranks.size()), hi - lo};
+  const auto sweep = contact::AnalyseUnloadedSweep(deck.MakeModel(), deck.sweep.CrankAngles());
+  return {RadToArcsec(sweep.mean_backlash), RadToArcsec(sweep.pp_backlash)};
 }
 
 std::string Percent(double ours, double published) {

@@ -35,6 +35,15 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank,
                                 ContactKinematics kinematics = ContactKinematics::kExact,
                                 double interference_tolerance_mm = 1e-9);
 
+/// The unloaded TCA over a sweep of crank angles, with the mean and peak-to-peak backlash (rad).
+struct UnloadedSweep {
+  std::vector<UnloadedContact> positions;
+  double mean_backlash = 0.0;
+  double pp_backlash = 0.0;
+};
+UnloadedSweep AnalyseUnloadedSweep(const MeshModel& model, const std::vector<double>& cranks,
+                                   ContactKinematics kinematics = ContactKinematics::kExact);
+
 /// Rotation (rad, signed, in the load direction) at which pin's gap closes, starting from its
 /// state at psi = 0: c/L linearised, or Newton on c(psi) = 0 with dc/dpsi = -L(psi) (exact).
 double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double crank,

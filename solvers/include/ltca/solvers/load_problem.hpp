@@ -59,10 +59,18 @@ class LoadProblem {
   /// closes at its law's largest force, sum F_max,i L_i, N*mm (infinite for the linear law).
   double TorqueCapacity() const;
 
+  /// The convergence rule every solver shares: the output torque is within tolerance of T, or as
+  /// close as one ulp of the rotation can get (TorqueResolution). The resolution costs a full
+  /// evaluation, so it is only consulted once the miss is below 1e-6 T (+ 1e-6 N*mm): the floor
+  /// is ulp-sized, far below that for any torque the laws are meant for.
+  bool Balanced(double psi, double torque_out, double tolerance) const;
+
   /// Rotation of first contact in the load direction (the smallest closing rotation), rad.
   double FirstContactRotation() const;
 
  private:
+  void BuildBaseLaws();
+
   const contact::MeshModel* model_;
   double crank_;
   contact::ContactSettings contact_;

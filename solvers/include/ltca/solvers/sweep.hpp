@@ -43,7 +43,4 @@ struct SweepResult {
 /// Solves every crank position of the deck (requires [material] and [load]).
 SweepResult SolveSweep(const Deck& deck, const SolverOptions& options);
 
-/// [solver] of the deck, or the defaults; the CLI may override the name.
-SolverOptions DeckSolverOptions(const Deck& deck);
-
 }  // namespace ltca::solvers
