@@ -99,6 +99,7 @@ ContactLaw::ContactLaw(const ContactSettings& settings, const Material& material
   // keep rho* finite and positive regardless.
   rho_eq_ = 1.0 / std::max(kappa + 1.0 / pin_radius, 1e-12 / pin_radius);
   const double rho_c = cycloid_curvature == 0.0 ? kInf : 1.0 / std::abs(cycloid_curvature);
+  valid_half_width_ = 0.1 * std::min(rho_c, pin_radius);
 
   switch (kind_) {
     case LawKind::kLinear:

@@ -12,20 +12,67 @@
 
 namespace ltca::contact {
 
+double RotationWindow(const MeshModel& model) { return 0.25 * model.profile().tooth_pitch(); }
+
+std::string InterferenceReport(const MeshState& state, double tolerance_mm) {
+  std::string overlaps;
+  for (const PinContact& c : state.pins) {
+    if (c.clearance < -tolerance_mm) {
+      overlaps += fmt::format("{}pin {} by {:.4g} um", overlaps.empty() ? "" : ", ", c.pin + 1,
+                              -units::MmToUm(c.clearance));
+    }
+  }
+  return overlaps;
+}
+
 double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double crank,
                        ContactKinematics kinematics) {
-  double psi = at_zero.clearance / at_zero.arm;
-  if (kinematics == ContactKinematics::kLinearised) return psi;
-  // Newton on c(psi) = 0; the derivative of the exact gap is -L(psi) (envelope theorem).
-  for (int it = 0; it < 50; ++it) {
-    const PinContact c = model.EvaluatePin(at_zero.pin, crank, psi);
-    // The arm changed sign: this pin cannot close its gap by turning this way.
-    if (c.arm * at_zero.arm <= 0.0) return std::copysign(std::numeric_limits<double>::infinity(), at_zero.arm);
-    const double step = c.clearance / c.arm;
-    psi += step;
-    if (std::abs(step) <= 1e-15 * (1.0 + std::abs(psi))) break;
+  const double linear = at_zero.clearance / at_zero.arm;
+  if (kinematics == ContactKinematics::kLinearised || at_zero.clearance == 0.0) return linear;
+  // Exact: the root of the pin's gap c(psi), searched only within a quarter of a cycloid tooth
+  // pitch of the theoretical position. The exact geometry repeats every pitch, so an unguarded
+  // Newton step from a pin with a tiny arm (c/L of order 1 rad) lands whole pitches away and
+  // finds a root there: a rotation thousands of pitches off (issue 10). Within the window the
+  // gap falls monotonically in the closing direction s = sign(L(0)) while L keeps its sign
+  // (dc/dpsi = -L(psi), envelope theorem), so a bracketed Newton iteration on
+  // g(x) = c(s x), g'(x) = -s L(s x), converges; x > 0 closes, x < 0 opens.
+  const double s = at_zero.arm > 0.0 ? 1.0 : -1.0;
+  const double window = RotationWindow(model);
+  const double never = s * std::numeric_limits<double>::infinity();
+  // The root lies on the closing side when the pin has clearance, on the opening side when it
+  // overlaps; bracket [a, b] with g(a) > 0 > g(b) once both ends are known.
+  const bool closing = at_zero.clearance > 0.0;
+  double a = closing ? 0.0 : -window, b = closing ? window : 0.0;
+  bool have_a = closing, have_b = !closing;
+  double x = std::clamp(s * linear, a, b);
+  for (int it = 0; it < 100; ++it) {
+    const PinContact c = model.EvaluatePin(at_zero.pin, crank, s * x);
+    const bool arm_kept = c.arm * at_zero.arm > 0.0;
+    if (c.clearance > 0.0) {
+      // Past the turning point of the gap (the arm changed sign) with the gap still open: the
+      // pin cannot close by turning this way within the window.
+      if (!arm_kept && x > 0.0) return never;
+      a = x, have_a = true;
+    } else {
+      b = x, have_b = true;
+    }
+    if (c.clearance == 0.0) return s * x;
+    double next = arm_kept ? x + c.clearance / std::abs(c.arm) : 0.5 * (a + b);
+    if (!(next > a && next < b)) {
+      if (!have_b) {  // no closing found yet: try the end of the window once
+        if (x >= b) return never;  // the gap is still open at the end of the window
+        next = b;
+      } else if (!have_a) {
+        if (x <= a) return never;  // still overlapping a quarter pitch back: no root in the window
+        next = a;
+      } else {
+        next = 0.5 * (a + b);
+      }
+    }
+    if (std::abs(next - x) <= 1e-15 * (1.0 + std::abs(x))) return s * next;
+    x = next;
   }
-  return psi;
+  return s * x;
 }
 
 UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKinematics kinematics,
@@ -33,14 +80,8 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKin
   const MeshState state = model.Evaluate(crank, 0.0);
   UnloadedContact r;
   r.crank = crank;
-  std::string overlaps;
-  for (const PinContact& c : state.pins) {
-    r.clearance.push_back(c.clearance);
-    if (c.clearance < -interference_tolerance_mm) {
-      overlaps += fmt::format("{}pin {} by {:.4g} um", overlaps.empty() ? "" : ", ", c.pin + 1,
-                              -units::MmToUm(c.clearance));
-    }
-  }
+  for (const PinContact& c : state.pins) r.clearance.push_back(c.clearance);
+  const std::string overlaps = InterferenceReport(state, interference_tolerance_mm);
   if (!overlaps.empty()) {
     throw std::invalid_argument(fmt::format(
         "interference at crank {:.6g} deg: {} overlap the cycloid at the theoretical meshing "

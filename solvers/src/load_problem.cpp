@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ltca::solvers {
 namespace {
@@ -47,6 +48,21 @@ void LoadProblem::BuildBaseLaws() {
   base_laws_.reserve(base_.pins.size());
   for (const auto& pin : base_.pins) {
     base_laws_.push_back(MakeLaw(contact_, material_, pin, model_->pair().face_width, log_radius_cap_));
+  }
+  // Closing rotation of every pin that can close in the load direction (a pin whose arm is zero
+  // to rounding closes only after a rotation far beyond any other: skipped), and from it the
+  // first contact and the single-pin bound of the judge's range (LoadedRotationRange).
+  const double min_arm = 1e-9 * model_->pair().pin_circle_radius;
+  first_contact_ = INFINITY;
+  single_pin_ = INFINITY;
+  for (std::size_t i = 0; i < base_.pins.size(); ++i) {
+    const auto& pin = base_.pins[i];
+    if (pin.arm <= min_arm) continue;
+    const double closing = contact::ClosingRotation(*model_, pin, crank_, kinematics_);
+    first_contact_ = std::min(first_contact_, closing);
+    // Pin m alone reaches the torque at its closing rotation plus w_m(T / L_m) / L_m (exact for
+    // linearised kinematics; to first order in the deformation for exact kinematics).
+    if (!pin.edge) single_pin_ = std::min(single_pin_, closing + base_laws_[i].Approach(torque_ / pin.arm) / pin.arm);
   }
 }
 
@@ -103,14 +119,22 @@ double LoadProblem::OutputTorque(double psi) const {
   return LoadAt(At(psi, &scratch)).torque;
 }
 
+double LoadProblem::GapResolution() const {
+  if (kinematics_ == contact::ContactKinematics::kLinearised) return 0.0;
+  return 16.0 * std::numeric_limits<double>::epsilon() * model_->pair().pin_circle_radius;
+}
+
 double LoadProblem::TorqueResolution(double psi) const {
   std::vector<contact::ContactLaw> scratch;
-  double stiffness = 0.0;
+  double stiffness = 0.0, gap_stiffness = 0.0;
   for (const PinAt& p : At(psi, &scratch)) {
-    if (p.law != nullptr && p.approach > 0.0) stiffness += p.law->Stiffness(p.approach) * p.arm * p.arm;
+    if (p.law == nullptr || !(p.approach > 0.0)) continue;
+    const double k = p.law->Stiffness(p.approach);
+    stiffness += k * p.arm * p.arm;
+    gap_stiffness += k * std::abs(p.arm);
   }
   const double ulp = std::nextafter(std::abs(psi), INFINITY) - std::abs(psi);
-  return 4.0 * stiffness * ulp;
+  return 4.0 * stiffness * ulp + gap_stiffness * GapResolution();
 }
 
 bool LoadProblem::Balanced(double psi, double torque_out, double tolerance) const {
@@ -130,13 +154,10 @@ double LoadProblem::TorqueCapacity() const {
   return capacity;
 }
 
-double LoadProblem::FirstContactRotation() const {
-  double first = INFINITY;
-  for (const auto& pin : base_.pins) {
-    if (pin.arm <= 1e-9 * model_->pair().pin_circle_radius) continue;
-    first = std::min(first, contact::ClosingRotation(*model_, pin, crank_, kinematics_));
-  }
-  return first;
+double LoadProblem::FirstContactRotation() const { return first_contact_; }
+
+LoadProblem::RotationRange LoadProblem::LoadedRotationRange() const {
+  return {first_contact_, single_pin_, contact::RotationWindow(*model_)};
 }
 
 std::vector<std::size_t> CandidatePins(const std::vector<LoadProblem::PinAt>& pins, double torque, double min_arm) {
@@ -159,6 +180,8 @@ Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::ve
   std::vector<contact::ContactLaw> scratch;
   const auto pins = problem.At(psi, &scratch);
   Residuals r;
+  // A gap is known only to the resolution of the geometry: violations below it are rounding.
+  const double resolution = problem.GapResolution();
   double torque = 0.0, f_max = 0.0, w_max = 0.0;
   for (std::size_t i = 0; i < pins.size(); ++i) {
     const double f = i < forces.size() ? forces[i] : 0.0;
@@ -169,8 +192,9 @@ Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::ve
     const double deflection = pins[i].law != nullptr ? pins[i].law->Approach(f) : 0.0;
     const double gap = deflection - pins[i].approach;
     r.force_violation_n = std::max(r.force_violation_n, std::max(0.0, -f));
-    r.gap_violation_mm = std::max(r.gap_violation_mm, std::max(0.0, -gap));
-    r.complementarity_nmm = std::max(r.complementarity_nmm, std::abs(std::max(f, 0.0) * gap));
+    r.gap_violation_mm = std::max(r.gap_violation_mm, std::max(0.0, -gap - resolution));
+    r.complementarity_nmm =
+        std::max(r.complementarity_nmm, std::max(f, 0.0) * std::max(0.0, std::abs(gap) - resolution));
   }
   r.torque_relative = std::abs(torque - problem.torque()) / std::max(problem.torque(), 1.0);
   const double f_scale = std::max(f_max, 1e-300), w_scale = std::max(w_max, 1e-12);

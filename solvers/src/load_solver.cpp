@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -12,6 +13,7 @@
 #include "compatibility_solver.hpp"
 #include "energy_groups_solver.hpp"
 #include "energy_qp_solver.hpp"
+#include "ltca/geometry/units.hpp"
 
 namespace ltca::solvers {
 namespace {
@@ -32,6 +34,59 @@ const std::vector<Entry>& Registry() {
   return kRegistry;
 }
 
+// The residual cannot tell a rotation whole tooth pitches off (the exact geometry repeats every
+// pitch), so a success must also lie where the physical answer lies (issue 10):
+// first contact <= psi <= single-pin bound, and |psi| within a quarter tooth pitch. The range is
+// met to the torque tolerance; under exact kinematics the single-pin bound is a first-order
+// estimate, allowed 5 % of the range. Both ends lie within a quarter pitch of the linearised
+// answer, which lies in the linearised range, so a success is within one pitch of it.
+void JudgeRange(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) {
+  const LoadProblem::RotationRange range = problem.LoadedRotationRange();
+  const double psi = result->rotation;
+  const double width = std::isfinite(range.single_pin) ? range.single_pin - range.first_contact : 0.0;
+  const bool exact = problem.kinematics() == contact::ContactKinematics::kExact;
+  const double slack = (2.0 * options.torque_tolerance + (exact ? 0.05 : 1e-9)) * width +
+                       8.0 * std::numeric_limits<double>::epsilon() * std::abs(psi);
+  std::string why;
+  if (std::abs(psi) > range.window) {
+    why = fmt::format("beyond a quarter tooth pitch ({:.6g} deg)", units::RadToDeg(range.window));
+  } else if (psi < range.first_contact - slack) {
+    why = fmt::format("before first contact at {:.6g} arcsec", units::RadToArcsec(range.first_contact));
+  } else if (psi > range.single_pin + slack) {
+    why = fmt::format("beyond the single-pin bound {:.6g} arcsec", units::RadToArcsec(range.single_pin));
+  }
+  if (why.empty()) return;
+  result->status = SolverStatus::kRotationOutOfRange;
+  result->message += fmt::format("; the rotation {:.6g} arcsec lies {}", units::RadToArcsec(psi), why);
+}
+
+// A solved result whose figures lie beyond the material or the law's idealisation keeps its
+// status and carries warnings (one per kind, naming the worst pin).
+void JudgeValidity(const LoadProblem& problem, const std::vector<LoadProblem::PinAt>& pins, LoadResult* result) {
+  double worst_stress = 0.0, worst_ratio = 0.0;
+  int stress_pin = -1, width_pin = -1;
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    const double f = result->force[i];
+    if (!(f > 0.0) || pins[i].law == nullptr) continue;
+    const double p = pins[i].law->MaxPressure(f);
+    if (p > worst_stress) worst_stress = p, stress_pin = static_cast<int>(i);
+    const double ratio = pins[i].law->HalfWidth(f) / pins[i].law->valid_half_width();
+    if (ratio > worst_ratio) worst_ratio = ratio, width_pin = static_cast<int>(i);
+  }
+  const double limit = problem.material().contact_stress_limit;
+  if (worst_stress > limit) {
+    result->warnings.push_back(fmt::format(
+        "contact stress {:.6g} MPa at pin {} exceeds the material limit {:.6g} MPa ([material] contact_stress_limit_mpa)",
+        worst_stress, stress_pin + 1, limit));
+  }
+  if (worst_ratio > 1.0) {
+    const double b = pins[static_cast<std::size_t>(width_pin)].law->HalfWidth(result->force[static_cast<std::size_t>(width_pin)]);
+    result->warnings.push_back(fmt::format(
+        "Hertz half-width {:.4g} mm at pin {} exceeds a tenth of the smaller radius of curvature ({:.4g} mm): "
+        "beyond the validity of the line-contact law", b, width_pin + 1, b / worst_ratio));
+  }
+}
+
 }  // namespace
 
 const char* ToString(SolverStatus status) {
@@ -44,6 +99,8 @@ const char* ToString(SolverStatus status) {
     case SolverStatus::kTooManyGroups: return "too-many-groups";
     case SolverStatus::kNumericalFailure: return "numerical-failure";
     case SolverStatus::kResidualTooLarge: return "residual-too-large";
+    case SolverStatus::kInterference: return "interference";
+    case SolverStatus::kRotationOutOfRange: return "rotation-out-of-range";
   }
   return "?";
 }
@@ -95,7 +152,12 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
   LoadResult result;
   result.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
   const double capacity = problem.TorqueCapacity();
-  if (problem.torque() == 0.0) {
+  if (const std::string overlaps = contact::InterferenceReport(problem.base_state()); !overlaps.empty()) {
+    // Judged before any solve: an overlapping pin at the theoretical position is an input error
+    // (the commands reject such decks); a solver would report MN-sized "successes" here.
+    result.status = SolverStatus::kInterference;
+    result.message = fmt::format("interference at the theoretical position: {} overlap the cycloid", overlaps);
+  } else if (problem.torque() == 0.0) {
     // No load: the cycloid stays at its theoretical position, no pin carries force.
     result.status = SolverStatus::kSuccess;
     result.message = "zero torque: no rotation, no forces";
@@ -131,6 +193,8 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
       result.status = SolverStatus::kResidualTooLarge;
       result.message += fmt::format("; shared residual {:.3g} exceeds {:.3g}", result.residuals.Normalised(), accepted);
     }
+    if (result.status == SolverStatus::kSuccess && problem.torque() != 0.0) JudgeRange(problem, options, &result);
+    if (result.status == SolverStatus::kSuccess) JudgeValidity(problem, pins, &result);
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

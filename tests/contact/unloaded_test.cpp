@@ -83,3 +83,27 @@ TEST_CASE("contact: Li Table 1 pair touches first at the pin about arccos(K1) fr
     CHECK(std::abs(angle - std::acos(k1)) <= ltca::units::kPi / 40 + 1e-12);
   }
 }
+
+TEST_CASE("contact: an exact closing rotation stays within a quarter tooth pitch, so backlash stays finite") {
+  // Issue 10: on the Liu section 5.2 base pair (dR_rp -4 um, dR_p -17 um) at crank
+  // 8.99756997569976 deg, pin 2 lies near the line of centres with an arm of 0.015 mm; its
+  // linearised closing rotation is 0.86 rad, and an unguarded exact Newton iteration from there
+  // found a "closing" 1281.77 rad away (the exact geometry repeats every tooth pitch). Every
+  // closing rotation must be infinite or within contact::RotationWindow, and the backlash at that
+  // crank must match the first-order closed form of the Table 2 test within 1 %.
+  const auto pair = ltca::test::LiuPair();
+  const MeshModel model(pair, ltca::test::Mod(-4, -17));
+  const double crank = ltca::units::DegToRad(8.99756997569976);
+  const double window = ltca::contact::RotationWindow(model);
+  CHECK(window == doctest::Approx(0.25 * 2 * M_PI / 39).epsilon(1e-12));
+  for (const auto& pin : model.Evaluate(crank).pins) {
+    if (std::abs(pin.arm) < 1e-9 * pair.pin_circle_radius) continue;
+    CAPTURE(pin.pin + 1);
+    const double psi = ltca::contact::ClosingRotation(model, pin, crank, ltca::contact::ContactKinematics::kExact);
+    CHECK((std::isinf(psi) || std::abs(psi) <= window));
+    if (std::isfinite(psi)) CHECK(psi * pin.arm > 0.0);  // a pin with clearance closes in the sense of its arm
+  }
+  const double k1 = pair.pin_count * pair.eccentricity / (pair.pin_circle_radius - 0.017);
+  const double closed = 2 * (-0.004 + 0.017 * std::sqrt(1 - k1 * k1)) / (pair.eccentricity * pair.tooth_count);
+  CHECK(ltca::contact::AnalyseUnloaded(model, crank).backlash == doctest::Approx(closed).epsilon(0.01));
+}

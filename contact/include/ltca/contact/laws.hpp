@@ -73,6 +73,10 @@ class ContactLaw {
   double HalfWidth(double force) const;
   /// Hertz line-contact maximum pressure p0 = 2 F / (pi b B), MPa.
   double MaxPressure(double force) const;
+  /// The largest half-width for which the Hertz (half-space) idealisation behind these laws is
+  /// reasonable: a tenth of the smaller radius of the two bodies (the pin and |rho_c|), mm.
+  /// Beyond it a result carries a warning, not a different law.
+  double valid_half_width() const { return valid_half_width_; }
 
  private:
   double HertzApproach(double force) const;
@@ -90,6 +94,7 @@ class ContactLaw {
   double sagitta_factor_ = 0; // a^2 = sagitta_factor F
   double max_force_ = 0.0;
   double max_approach_ = 0.0;
+  double valid_half_width_ = 0.0;  // mm
 };
 
 }  // namespace ltca::contact

@@ -8,6 +8,9 @@ struct Material {
   double poisson_ratio = 0.3;           ///< nu_c of the cycloid.
   double pin_young_modulus = 206000.0;  ///< E_p of the pins, MPa (deck default: = E_c).
   double pin_poisson_ratio = 0.3;       ///< nu_p of the pins (deck default: = nu_c).
+  /// Contact stress above which a result carries a warning, MPa (deck: contact_stress_limit_mpa;
+  /// default 4000 MPa, the ISO 76 static limit for roller bearings of hardened bearing steel).
+  double contact_stress_limit = 4000.0;
 
   /// Equivalent modulus E* = E_c E_p / (E_p (1 - nu_c^2) + E_c (1 - nu_p^2)), Liu eq. 24, MPa.
   double EquivalentModulus() const;

@@ -1,6 +1,7 @@
 #pragma once
 // Unloaded tooth contact analysis (Liu 2021 section 3, eq. 17; Li Fig. 4): rotate the cycloid
 // about its own centre both ways from the theoretical meshing position to first contact.
+#include <string>
 #include <vector>
 
 #include "ltca/contact/mesh_state.hpp"
@@ -43,6 +44,15 @@ struct UnloadedSweep {
 };
 UnloadedSweep AnalyseUnloadedSweep(const MeshModel& model, const std::vector<double>& cranks,
                                    ContactKinematics kinematics = ContactKinematics::kExact);
+
+/// The largest rotation of the cycloid about its centre (from the theoretical position) that the
+/// contact model describes: a quarter of a cycloid tooth pitch, rad. The exact geometry repeats
+/// every pitch; a closing or loaded rotation beyond this is a pin jumping teeth, not a contact.
+double RotationWindow(const MeshModel& model);
+
+/// The pins that overlap the cycloid by more than tolerance_mm in this state, with their overlap
+/// ("pin 3 by 2.5 um, pin 4 by 1.2 um"); empty when there is no interference.
+std::string InterferenceReport(const MeshState& state, double tolerance_mm = 1e-9);
 
 /// Rotation (rad, signed, in the load direction) at which pin's gap closes, starting from its
 /// state at psi = 0: c/L linearised, or Newton on c(psi) = 0 with dc/dpsi = -L(psi) (exact).

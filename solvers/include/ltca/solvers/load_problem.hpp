@@ -51,8 +51,16 @@ class LoadProblem {
   /// Output torque sum F_i(delta_i(psi)) L_i(psi), N*mm (forces of the law at each approach).
   double OutputTorque(double psi) const;
 
-  /// Smallest torque change a rotation of one ulp can make at psi, N*mm: sum k_i L_i^2 times the
-  /// spacing of doubles at psi (x4). Below it no solver can balance the torque any closer.
+  /// How finely an approach is resolved in double precision, mm: 0 for linearised kinematics
+  /// (frozen geometry, the rounding of L psi - c is covered by TorqueResolution); for exact
+  /// kinematics the closest-point search in coordinates of size R_p resolves a gap to about
+  /// 16 eps R_p (2.3e-13 mm at R_p = 64 mm), which matters only for deformations near 1e-10 mm
+  /// (torques of 1e-6 N*m, cases/hard/tiny_torque.toml).
+  double GapResolution() const;
+
+  /// Smallest torque change the arithmetic can resolve at psi, N*mm: sum k_i L_i^2 times the
+  /// spacing of doubles at psi (x4), plus sum k_i |L_i| times GapResolution(). Below it no solver
+  /// can balance the torque any closer.
   double TorqueResolution(double psi) const;
 
   /// The largest torque the contact laws can carry at the unrotated geometry: every pin whose gap
@@ -67,6 +75,18 @@ class LoadProblem {
 
   /// Rotation of first contact in the load direction (the smallest closing rotation), rad.
   double FirstContactRotation() const;
+
+  /// Where the loaded rotation must lie (the shared judge's range check, issue 10):
+  /// first contact <= psi <= the rotation at which any single pin alone would carry the whole
+  /// torque (more loaded pins only turn the cycloid less): min over pins of the closing rotation
+  /// plus w(T / L) / L (rigorous for linearised kinematics, first order in the deformation for
+  /// exact kinematics; the judge allows for that), and window is contact::RotationWindow.
+  struct RotationRange {
+    double first_contact = 0.0;  ///< rad
+    double single_pin = 0.0;     ///< rad (infinite when no pin has a law and an arm)
+    double window = 0.0;         ///< rad, |psi| beyond it is a pin jumping teeth
+  };
+  RotationRange LoadedRotationRange() const;
 
  private:
   void BuildBaseLaws();
@@ -84,7 +104,8 @@ class LoadProblem {
   // from (a cache, not state: any value gives the same answer, only the Newton steps differ).
   mutable std::vector<contact::PinContact> last_exact_;
   mutable double last_exact_psi_ = std::numeric_limits<double>::quiet_NaN();  // last_exact_ is at this psi
-  std::vector<bool> base_edge_;
+  double first_contact_ = 0.0;  // rad, see BuildBaseLaws
+  double single_pin_ = 0.0;     // rad
 };
 
 /// The forces of the laws at the approaches of `pins`, their torque, and whether a pressed pin sits

@@ -23,6 +23,9 @@ enum class SolverStatus {
   kTooManyGroups,     ///< energy-groups: the candidate tooth groups exceed the limit
   kNumericalFailure,  ///< the backend failed (NaN, restoration failure, ...)
   kResidualTooLarge,  ///< the backend claimed success, the shared residual disagrees
+  kInterference,      ///< a pin overlaps the cycloid at the theoretical position: not solved
+  kRotationOutOfRange,  ///< the rotation lies outside [first contact, single-pin bound] or beyond
+                        ///< a quarter tooth pitch: not the physically meaningful solution
 };
 const char* ToString(SolverStatus status);
 
@@ -79,13 +82,16 @@ struct LoadResult {
   int torque_evaluations = 0;
   double wall_seconds = -1.0;
   BackendDetails details;               ///< the backend's own figures
+  /// Set by the judge on a success whose figures lie beyond what the model or the material
+  /// stands for (contact stress above [material] contact_stress_limit_mpa, a Hertz half-width
+  /// beyond valid_half_width()): the numbers are solved, but say so. Empty otherwise.
+  std::vector<std::string> warnings;
 };
 
 class LoadSolver {
  public:
   virtual ~LoadSolver() = default;
   virtual std::string name() const = 0;
-  virtual bool available() const { return true; }
   /// Validates, solves, fills the shared fields, checks the residual. Never throws for a
   /// failure to converge (that is a status); throws std::invalid_argument for bad options.
   LoadResult Solve(const LoadProblem& problem, const SolverOptions& options) const;
