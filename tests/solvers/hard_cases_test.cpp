@@ -57,10 +57,15 @@ TEST_CASE("solvers: every solver answers every hard case, solved and agreeing or
           if (expected != kExpectedStatus.end() && r.status == expected->second) ++expected_seen;
           if (r.status == SolverStatus::kLawCannotCarry) CHECK(std::isnan(r.te));  // never a silent number
           if (name == "tiny_torque" && kin == ContactKinematics::kExact) {
-            // 1e-3 N*mm: deformations of 1e-10 mm against the ~1e-14 mm rounding of an exact gap
-            // (coordinates of 64 mm): below what double precision resolves. Any status, but a
-            // reported rotation must be the one the linearised model finds, to 1e-6.
-            if (std::isfinite(r.te)) CHECK(r.te == doctest::Approx(ref.te).epsilon(1e-6));
+            // 1e-3 N*mm: deformations of 1e-10 mm against the ~1e-13 mm rounding of an exact gap
+            // (coordinates of 64 mm). Every solver succeeds (issue 10: the convergence rule allows
+            // the gap's rounding) and finds the linearised model's rotation to 1e-6; the forces
+            // are resolved to about 1e-3 of the largest only (1e-13 / 1e-10), so they are held to 1e-2.
+            REQUIRE(r.status == SolverStatus::kSuccess);
+            CHECK(r.te == doctest::Approx(ref.te).epsilon(1e-6));
+            double f_ref = 0;
+            for (const double f : ref.force) f_ref = std::max(f_ref, f);
+            for (std::size_t k = 0; k < r.force.size(); ++k) CHECK(std::abs(r.force[k] - ref.force[k]) <= 1e-2 * f_ref);
             continue;
           }
           if (ref.status != SolverStatus::kSuccess) {  // an honest status: every solver says the same
