@@ -28,15 +28,10 @@ double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double
   return psi;
 }
 
-UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKinematics kinematics,
-                                double interference_tolerance_mm) {
-  const MeshState state = model.Evaluate(crank, 0.0);
-  UnloadedContact r;
-  r.crank = crank;
+void RequireNoInterference(const MeshState& state, double crank, double tolerance_mm) {
   std::string overlaps;
   for (const PinContact& c : state.pins) {
-    r.clearance.push_back(c.clearance);
-    if (c.clearance < -interference_tolerance_mm) {
+    if (c.clearance < -tolerance_mm) {
       overlaps += fmt::format("{}pin {} by {:.4g} um", overlaps.empty() ? "" : ", ", c.pin + 1,
                               -units::MmToUm(c.clearance));
     }
@@ -48,6 +43,19 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKin
         "dR_rp - dR_p must be >= 0)",
         units::RadToDeg(crank), overlaps));
   }
+}
+
+void RequireNoInterference(const MeshModel& model, double crank, double tolerance_mm) {
+  RequireNoInterference(model.Evaluate(crank, 0.0), crank, tolerance_mm);
+}
+
+UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKinematics kinematics,
+                                double interference_tolerance_mm) {
+  const MeshState state = model.Evaluate(crank, 0.0);
+  RequireNoInterference(state, crank, interference_tolerance_mm);
+  UnloadedContact r;
+  r.crank = crank;
+  for (const PinContact& c : state.pins) r.clearance.push_back(c.clearance);
   r.theta_c1 = std::numeric_limits<double>::infinity();
   r.theta_c2 = -std::numeric_limits<double>::infinity();
   // A pin whose arm is tiny closes only after a rotation far beyond any other: skip it.
