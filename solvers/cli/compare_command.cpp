@@ -53,6 +53,7 @@ int RunCompare(const solvers::Deck& deck, const CompareOptions& options, const S
     for (std::size_t r = 1; r < runners.size(); ++r) diffs[r].Add(runners[r].Solve(crank), ref);
     progress.Update(++done);
   }
+  progress.Finish();
 
   const auto& ref_options = runners.front().options();
   std::ostream& text = streams.text;

@@ -137,11 +137,17 @@ Progress::Progress(std::ostream& os, bool enabled, std::string what, std::int64_
       start_(std::chrono::steady_clock::now()), last_(start_) {}
 
 Progress::~Progress() {
-  if (!shown_) return;
   try {
-    os_ << '\r' << std::string(72, ' ') << '\r' << std::flush;
+    Finish();
   } catch (...) {  // a destructor never throws
   }
+}
+
+void Progress::Finish() {
+  enabled_ = false;
+  if (!shown_) return;
+  shown_ = false;
+  os_ << '\r' << std::string(72, ' ') << '\r' << std::flush;
 }
 
 void Progress::Update(std::int64_t done) {

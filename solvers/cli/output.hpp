@@ -81,8 +81,10 @@ struct Streams {
 class Progress {
  public:
   Progress(std::ostream& os, bool enabled, std::string what, std::int64_t total, double min_seconds = 2.0);
-  ~Progress();  ///< clears the line
+  ~Progress();  ///< calls Finish()
   void Update(std::int64_t done);
+  /// Clears the line (before the summary is printed); later updates are not shown.
+  void Finish();
 
  private:
   std::ostream& os_;

@@ -188,6 +188,7 @@ int RunSolve(const solvers::Deck& deck, const SolveOptions& options, const Strea
     progress.Update(++done);
   };
   const solvers::SweepResult sweep = solvers::SolveSweep(deck, solver, callbacks);
+  progress.Finish();
   if (!started) start();
   const auto& s = sweep.summary;
 

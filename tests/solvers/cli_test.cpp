@@ -540,8 +540,12 @@ TEST_CASE("cli: the progress line shows only when enabled and after its delay") 
     ltca::cli::Progress p(shown, true, "solving position", 10, 0.0);
     p.Update(5);
     CHECK(shown.str().find("solving position 5 of 10") != std::string::npos);
+    p.Finish();
+    CHECK(shown.str().back() == '\r');  // the line is cleared before the summary is printed
+    const auto length = shown.str().size();
+    p.Update(10);
+    CHECK(shown.str().size() == length);  // and stays cleared
   }
-  CHECK(shown.str().back() == '\r');  // the line is cleared at the end
   {
     ltca::cli::Progress p(hidden, false, "solving position", 10, 0.0);
     p.Update(5);
