@@ -70,7 +70,7 @@ int RunCompare(const solvers::Deck& deck, const CompareOptions& options, const S
     const solvers::SweepSummary s = runners[r].Summary();
     const Differences& d = diffs[r];
     all_succeeded = all_succeeded && s.all_succeeded();
-    const bool compared = r == 0 || d.compared > 0;
+    const bool compared = r == 0 ? s.succeeded > 0 : d.compared > 0;  // no difference over nothing
     const std::string pins = s.succeeded > 0 ? fmt::format("{:>3}-{:<3}", s.contacts_min, s.contacts_max) : "n/a";
     fmt::print(text, "{:<14} {:<18} {:>9} {:>12} {:>10} {:>7} {:>11} {:>11} {:>12} {:>12} {:>9} {:>9.4f}\n",
                runners[r].options().name, solvers::ToString(s.status), s.failed,
