@@ -104,6 +104,18 @@ MeshModel::MeshModel(const geometry::PairParameters& pair,
   geometry.Validate();
   if (geometry.mode == geometry::GeometrySettings::Mode::kElements) {
     discrete_ = std::make_shared<geometry::DiscreteProfile>(profile_, geometry.profile_elements, geometry.width_slices);
+    // Sampled at 16 crank angles of one mesh period: where a pin meets the surface between two
+    // control points varies with the crank.
+    double worst = 0.0;
+    for (int k = 0; k < 16; ++k) {
+      const double crank = kinematics_.MeshPeriod() * k / 16.0;
+      for (int j = 0; j < pin_count(); ++j) {
+        const geometry::MeshSeed seed = kinematics_.Seed(j, crank);
+        const double analytic = EvaluatePinFrom(j, crank, 0.0, seed.tooth_space, seed.u).clearance;
+        worst = std::max(worst, std::abs(EvaluatePinElements(j, crank, 0.0).clearance - analytic));
+      }
+    }
+    interference_tolerance_ = std::max(interference_tolerance_, 2.0 * worst);
   }
 }
 

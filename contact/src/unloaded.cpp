@@ -75,13 +75,8 @@ double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double
   return s * x;
 }
 
-UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKinematics kinematics,
-                                double interference_tolerance_mm) {
-  const MeshState state = model.Evaluate(crank, 0.0);
-  UnloadedContact r;
-  r.crank = crank;
-  for (const PinContact& c : state.pins) r.clearance.push_back(c.clearance);
-  const std::string overlaps = InterferenceReport(state, interference_tolerance_mm);
+void RequireNoInterference(const MeshState& state, double crank, double tolerance_mm) {
+  const std::string overlaps = InterferenceReport(state, tolerance_mm);
   if (!overlaps.empty()) {
     throw std::invalid_argument(fmt::format(
         "interference at crank {:.6g} deg: {} overlap the cycloid at the theoretical meshing "
@@ -89,6 +84,19 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKin
         "dR_rp - dR_p must be >= 0)",
         units::RadToDeg(crank), overlaps));
   }
+}
+
+void RequireNoInterference(const MeshModel& model, double crank) {
+  RequireNoInterference(model.Evaluate(crank, 0.0), crank, model.interference_tolerance());
+}
+
+UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKinematics kinematics,
+                                double interference_tolerance_mm) {
+  const MeshState state = model.Evaluate(crank, 0.0);
+  RequireNoInterference(state, crank, std::max(interference_tolerance_mm, model.interference_tolerance()));
+  UnloadedContact r;
+  r.crank = crank;
+  for (const PinContact& c : state.pins) r.clearance.push_back(c.clearance);
   r.theta_c1 = std::numeric_limits<double>::infinity();
   r.theta_c2 = -std::numeric_limits<double>::infinity();
   // A pin whose arm is tiny closes only after a rotation far beyond any other: skip it.

@@ -1,6 +1,12 @@
 #include "cli.hpp"
 
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <iostream>
 #include <stdexcept>
 
 #include <CLI/CLI.hpp>
@@ -11,6 +17,7 @@
 #include "compare_command.hpp"
 #include "contact_commands.hpp"
 #include "geometry_command.hpp"
+#include "output.hpp"
 #include "solve_command.hpp"
 #include "validate_command.hpp"
 #include "ltca/solvers/deck.hpp"
@@ -18,9 +25,61 @@
 namespace ltca::cli {
 namespace {
 
+#ifndef LTCA_VERSION
+#define LTCA_VERSION "unknown"
+#endif
+#ifndef LTCA_BUILD_TYPE
+#define LTCA_BUILD_TYPE "unknown"
+#endif
+
 solvers::Deck ReadDeck(const std::string& path) {
   return path.empty() ? solvers::DefaultDeck() : solvers::LoadDeck(path);
 }
+
+/// The compiler, from its own macros.
+std::string Compiler() {
+#if defined(__clang__)
+  return "clang " __clang_version__;
+#elif defined(__GNUC__)
+  return "gcc " __VERSION__;
+#else
+  return "unknown compiler";
+#endif
+}
+
+std::string VersionText() {
+  return fmt::format("ltca {} ({} build, {}, C++ {})", LTCA_VERSION, LTCA_BUILD_TYPE, Compiler(), __cplusplus);
+}
+
+constexpr double kMaxCrankDeg = 3600.0;
+
+/// --crank-deg: a finite angle within +-3600 deg (CLI11 names the option in its message).
+const CLI::Validator kCrankAngle(
+    [](std::string& text) -> std::string {
+      double value = 0.0;
+      std::size_t used = 0;
+      try {
+        value = std::stod(text, &used);
+      } catch (const std::exception&) {
+        return fmt::format("'{}' is not a number of degrees", text);
+      }
+      if (used != text.size()) return fmt::format("'{}' is not a number of degrees", text);
+      if (!std::isfinite(value) || std::abs(value) > kMaxCrankDeg) {
+        return fmt::format("{}: expected a finite crank angle within +-{:g} deg", text, kMaxCrankDeg);
+      }
+      return {};
+    },
+    "DEG, finite, |DEG| <= 3600");
+
+constexpr const char* kFooter =
+    "Exit codes:\n"
+    "  0  every position of every solver succeeded\n"
+    "  1  the run finished but something did not succeed (the outputs are complete, with every\n"
+    "     position's status; figures no valid solve produced are null in JSON, n/a in text)\n"
+    "  2  bad input or options (the message names the key or the option)\n"
+    "  3  an output could not be opened or written (checked before computing; no partial file is left)\n"
+    "  4  internal error (a bug: please report it)\n"
+    "With an output '-' (standard output), stdout carries only that document and the text goes to stderr.";
 
 }  // namespace
 
@@ -28,8 +87,11 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   CLI::App app{
       "ltca: loaded tooth contact analysis of cycloid-pin gear pairs.\n"
       "Without a command, runs `ltca geometry` and `ltca solve` on the built-in default deck (Liu 2021 Table 1).\n"
+      "`ltca DECK` runs the same job on DECK.\n"
       "Decks are TOML files whose keys carry their unit; see docs/decks.md and cases/."};
   app.name("ltca");
+  app.footer(kFooter);
+  app.set_version_flag("--version", VersionText(), "Print the version and the compiler, and exit");
 
   std::string deck_path;
   GeometryOptions geometry_options;
@@ -53,7 +115,8 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
                        "Draw the cycloid and the pins at the crank angle --crank-deg to FILE")
       ->type_name("FILE|-");
   geometry->add_option("--crank-deg", geometry_options.crank_deg,
-                       "Crank angle of the drawing in degrees (default 0)");
+                       "Crank angle of the drawing in degrees (default 0)")
+      ->check(kCrankAngle);
 
   BacklashOptions backlash_options;
   std::string kinematics = "exact";
@@ -77,17 +140,18 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "Mesh state at one crank angle: per pin its angle from the line of centres, clearance c_i "
       "(um), moment arm L_i (mm), radii of curvature, contact point, edge contact.");
   mesh->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
-  mesh->add_option("--crank-deg", mesh_options.crank_deg, "Crank angle in degrees (default 0)");
+  mesh->add_option("--crank-deg", mesh_options.crank_deg, "Crank angle in degrees (default 0)")->check(kCrankAngle);
   mesh->add_option("--json", mesh_options.json_path, "Write the table as JSON ('-': stdout)")->type_name("FILE|-");
 
   SolveOptions solve_options;
   CLI::App* solve = app.add_subcommand(
       "solve",
       "Loaded tooth contact analysis over the deck's sweep with one solver: loaded TE (Liu eq. 16), "
-      "pins in contact, pin forces, contact stresses. JSON: summary {mean_te_arcsec, pp_te_arcsec, "
-      "contacts_min, contacts_max, max_pin_force_n, max_contact_stress_mpa, wall_seconds, status} "
-      "and positions [{crank_deg, te_arcsec, contacts, pin_force_n, pin_angle_deg, "
-      "contact_stress_mpa, status}].");
+      "pins in contact, pin forces, contact stresses. JSON, streamed: positions [{crank_deg, te_arcsec, "
+      "contacts, pin_force_n, pin_angle_deg, contact_stress_mpa, status, message}], then summary "
+      "{mean_te_arcsec, pp_te_arcsec, contacts_min, contacts_max, max_pin_force_n, max_contact_stress_mpa, "
+      "wall_seconds, status, positions, succeeded_positions, failed_positions}. A failed position's figures "
+      "are null; the summary's are over the successful positions only (null when none succeeded).");
   solve->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   solve->add_option("--solver", solve_options.solver, "Solver name (default: the deck's [solver] name)");
   solve->add_option("--kinematics", solve_options.kinematics, "linearised or exact (default: the deck's)")
@@ -131,45 +195,83 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   bench->add_option("--docs", bench_options.docs_dir, "Write performance.md and performance.svg into this folder (docs)");
   bench->add_option("--repeats", bench_options.repeats, "Repeats per run (default 3)")->check(CLI::PositiveNumber);
 
+  // No command: the default job (geometry and solve) on the built-in deck or on DECK.
+  SolveOptions default_options;
+  app.add_option("deck", deck_path, "Case deck (TOML) for the default job; default: the built-in deck");
+  app.add_option("--json", default_options.json_path,
+                 "Default job: write {geometry: ..., solve: ...} as JSON ('-': stdout)")
+      ->type_name("FILE|-");
+  app.add_option("--csv", default_options.csv_path, "Default job: the solve's rows as CSV")->type_name("FILE|-");
+  app.add_option("--svg", default_options.svg_path, "Default job: the solve's drawing")->type_name("FILE|-");
+
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e, out, err);
+    const int code = app.exit(e, out, err);
+    return code == 0 ? kExitSuccess : kExitBadInput;  // --help, --version: 0; any parse error: 2
   }
 
+  // Standard output carries one document: with any output '-', the human text goes to err.
+  bool to_stdout = false;
+  for (const std::string* path :
+       {&geometry_options.json_path, &geometry_options.csv_path, &geometry_options.svg_path, &backlash_options.json_path,
+        &backlash_options.csv_path, &mesh_options.json_path, &solve_options.json_path, &solve_options.csv_path,
+        &solve_options.svg_path, &compare_options.json_path, &validate_options.markdown_path,
+        &default_options.json_path, &default_options.csv_path, &default_options.svg_path}) {
+    to_stdout = to_stdout || *path == "-";
+  }
+  // The progress line only where a person watches: the process's own stderr, a terminal.
+  const bool progress = &err == &std::cerr && isatty(fileno(stderr)) == 1;
+  const Streams streams{out, to_stdout ? err : out, err, progress};
+
+  int code = kExitSuccess;
   try {
     if (bench->parsed()) {
-      return RunBenchCommand(bench_options, out);
+      code = RunBenchCommand(bench_options, out);
     } else if (validate->parsed()) {
-      return RunValidate(validate_options, out);
+      code = RunValidate(validate_options, streams);
     } else if (compare->parsed()) {
       for (const auto& name : compare_options.solvers) solvers::MakeSolver(name);  // names checked first
-      RunCompare(ReadDeck(deck_path), compare_options, out);
+      code = RunCompare(ReadDeck(deck_path), compare_options, streams);
     } else if (solve->parsed()) {
-      RunSolve(ReadDeck(deck_path), solve_options, out);
+      code = RunSolve(ReadDeck(deck_path), solve_options, streams);
     } else if (backlash->parsed()) {
       backlash_options.kinematics = ParseKinematics(kinematics);
-      RunBacklash(ReadDeck(deck_path), backlash_options, out);
+      RunBacklash(ReadDeck(deck_path), backlash_options, streams);
     } else if (mesh->parsed()) {
-      RunMesh(ReadDeck(deck_path), mesh_options, out);
+      RunMesh(ReadDeck(deck_path), mesh_options, streams);
     } else if (geometry->parsed()) {
-      RunGeometry(ReadDeck(deck_path), geometry_options, out);
+      RunGeometry(ReadDeck(deck_path), geometry_options, streams);
     } else {
-      // No command: the main job on the built-in deck, its geometry and the loaded sweep.
+      if (!deck_path.empty() && !std::filesystem::exists(deck_path)) {
+        throw std::invalid_argument(fmt::format(
+            "'{}' is neither a command (geometry, backlash, mesh, solve, compare, validate, bench) nor a deck file",
+            deck_path));
+      }
       const solvers::Deck deck = ReadDeck(deck_path);
-      RunGeometry(deck, geometry_options, out);
-      out << '\n';
-      RunSolve(deck, solve_options, out);
+      RequireOneStdout({{"--json", default_options.json_path}, {"--csv", default_options.csv_path},
+                        {"--svg", default_options.svg_path}});
+      RunGeometry(deck, GeometryOptions{}, streams);
+      streams.text << '\n';
+      JsonEnvelope envelope;
+      envelope.before = "{\n\"geometry\": " + Dump(GeometryJson(deck), -1) + ",\n\"solve\": ";
+      envelope.after = "\n}";
+      code = RunSolve(deck, default_options, streams, envelope);
     }
+    out.flush();
+    if (!out) throw OutputError("writing standard output failed");
   } catch (const std::invalid_argument& e) {
     fmt::print(err, "ltca: error: {}\n", e.what());
-    return 2;
+    return kExitBadInput;
+  } catch (const OutputError& e) {
+    fmt::print(err, "ltca: output error: {}\n", e.what());
+    return kExitOutputError;
   } catch (const std::exception& e) {
     fmt::print(err, "ltca: internal error: {}\n", e.what());
-    return 3;
+    return kExitInternalError;
   }
-  return 0;
+  return code;
 }
 
 }  // namespace ltca::cli

@@ -11,61 +11,100 @@
 #include "contact_commands.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/sweep.hpp"
-#include "output.hpp"
+#include "solve_command.hpp"
 
 namespace ltca::cli {
+namespace {
 
-void RunCompare(const solvers::Deck& deck, const CompareOptions& options, std::ostream& out) {
+/// Largest differences of one solver from the reference, over positions where both succeeded.
+struct Differences {
+  double te = 0.0, force = 0.0;  ///< arcsec, N
+  int pins = 0;
+  std::int64_t compared = 0;     ///< positions where both succeeded
+  void Add(const solvers::PositionResult& a, const solvers::PositionResult& ref) {
+    if (!a.succeeded() || !ref.succeeded()) return;
+    ++compared;
+    te = std::max(te, std::abs(units::RadToArcsec(a.result.te - ref.result.te)));
+    for (std::size_t k = 0; k < a.result.force.size() && k < ref.result.force.size(); ++k) {
+      force = std::max(force, std::abs(a.result.force[k] - ref.result.force[k]));
+    }
+    pins = std::max(pins, std::abs(a.contacts - ref.contacts));
+  }
+};
+
+}  // namespace
+
+int RunCompare(const solvers::Deck& deck, const CompareOptions& options, const Streams& streams) {
   const std::vector<std::string> names = options.solvers.empty() ? solvers::SolverNames() : options.solvers;
-  std::vector<solvers::SweepResult> runs;
+  Output json("--json", options.json_path, streams.out);
+  std::vector<solvers::SweepRunner> runners;  // every solver checked (names, options, interference) first
   for (const auto& name : names) {
     solvers::SolverOptions o = deck.solver;
     o.name = name;
     if (!options.kinematics.empty()) o.kinematics = ParseKinematics(options.kinematics);
-    runs.push_back(solvers::SolveSweep(deck, o));
+    runners.emplace_back(deck, o);
   }
-  const auto& ref = runs.front();
-  fmt::print(out, "case      {}\n", deck.info.title);
-  fmt::print(out, "{} positions, {} kinematics, law {} / {}; differences against {}\n", ref.positions.size(),
-             ref.options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
-             contact::ToString(deck.contact.law), contact::ToString(deck.contact.rho_convention), ref.solver);
-  fmt::print(out, "{:<14} {:<18} {:>12} {:>10} {:>7} {:>11} {:>11} {:>12} {:>12} {:>9} {:>9}\n", "solver", "status",
-             "mean_te_as", "pp_te_as", "pins", "max_F_N", "max_p_MPa", "d_te_as", "d_F_N", "d_pins", "time_s");
-  nlohmann::json doc = {{"case", {{"title", deck.info.title}, {"deck", deck.name}}}, {"reference", ref.solver},
+  std::vector<Differences> diffs(runners.size());
+  const std::vector<double> cranks = deck.sweep.CrankAngles();
+  Progress progress(streams.err, streams.progress, "comparing at position", static_cast<std::int64_t>(cranks.size()));
+  std::int64_t done = 0;
+  for (const double crank : cranks) {
+    const solvers::PositionResult ref = runners.front().Solve(crank);
+    for (std::size_t r = 1; r < runners.size(); ++r) diffs[r].Add(runners[r].Solve(crank), ref);
+    progress.Update(++done);
+  }
+  progress.Finish();
+
+  const auto& ref_options = runners.front().options();
+  std::ostream& text = streams.text;
+  fmt::print(text, "case      {}\n", deck.info.title);
+  fmt::print(text, "{} positions, {} kinematics, law {} / {}; differences against {} where both succeeded\n", cranks.size(),
+             ref_options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
+             contact::ToString(deck.contact.law), contact::ToString(deck.contact.rho_convention), ref_options.name);
+  fmt::print(text, "{:<14} {:<18} {:>9} {:>12} {:>10} {:>7} {:>11} {:>11} {:>12} {:>12} {:>9} {:>9}\n", "solver", "status",
+             "failed", "mean_te_as", "pp_te_as", "pins", "max_F_N", "max_p_MPa", "d_te_as", "d_F_N", "d_pins", "time_s");
+  nlohmann::json doc = {{"case", {{"title", deck.info.title}, {"deck", deck.name}}}, {"reference", ref_options.name},
                         {"solvers", nlohmann::json::array()}};
-  for (const auto& run : runs) {
-    double d_te = 0.0, d_force = 0.0;
-    int d_pins = 0;
-    for (std::size_t i = 0; i < run.positions.size(); ++i) {
-      const auto& a = run.positions[i];
-      const auto& b = ref.positions[i];
-      d_te = std::max(d_te, std::abs(units::RadToArcsec(a.result.te - b.result.te)));
-      for (std::size_t k = 0; k < a.result.force.size(); ++k) {
-        d_force = std::max(d_force, std::abs(a.result.force[k] - b.result.force[k]));
-      }
-      d_pins = std::max(d_pins, std::abs(a.contacts - b.contacts));
-    }
-    const auto& s = run.summary;
-    fmt::print(out, "{:<14} {:<18} {:>12.6f} {:>10.6f} {:>3}-{:<3} {:>11.3f} {:>11.3f} {:>12.3g} {:>12.3g} {:>9} {:>9.4f}\n",
-               run.solver, solvers::ToString(s.status), units::RadToArcsec(s.mean_te), units::RadToArcsec(s.pp_te),
-               s.contacts_min, s.contacts_max, s.max_pin_force, s.max_contact_stress, d_te, d_force, d_pins,
-               s.wall_seconds);
-    doc["solvers"].push_back({{"name", run.solver},
+  bool all_succeeded = true;
+  for (std::size_t r = 0; r < runners.size(); ++r) {
+    const solvers::SweepSummary s = runners[r].Summary();
+    const Differences& d = diffs[r];
+    all_succeeded = all_succeeded && s.all_succeeded();
+    const bool compared = r == 0 ? s.succeeded > 0 : d.compared > 0;  // no difference over nothing
+    const std::string pins = s.succeeded > 0 ? fmt::format("{:>3}-{:<3}", s.contacts_min, s.contacts_max) : "n/a";
+    fmt::print(text, "{:<14} {:<18} {:>9} {:>12} {:>10} {:>7} {:>11} {:>11} {:>12} {:>12} {:>9} {:>9.4f}\n",
+               runners[r].options().name, solvers::ToString(s.status), s.failed,
+               FormatOrNa(units::RadToArcsec(s.mean_te), 6), FormatOrNa(units::RadToArcsec(s.pp_te), 6), pins,
+               FormatOrNa(s.max_pin_force, 3), FormatOrNa(s.max_contact_stress, 3),
+               compared ? fmt::format("{:.3g}", d.te) : "n/a", compared ? fmt::format("{:.3g}", d.force) : "n/a",
+               compared ? fmt::format("{}", d.pins) : "n/a", s.wall_seconds);
+    const auto count = [&s](int v) { return s.succeeded > 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    const auto diff = [compared](nlohmann::json v) { return compared ? std::move(v) : nlohmann::json(nullptr); };
+    doc["solvers"].push_back({{"name", runners[r].options().name},
                               {"status", solvers::ToString(s.status)},
-                              {"mean_te_arcsec", units::RadToArcsec(s.mean_te)},
-                              {"pp_te_arcsec", units::RadToArcsec(s.pp_te)},
-                              {"contacts_min", s.contacts_min},
-                              {"contacts_max", s.contacts_max},
-                              {"max_pin_force_n", s.max_pin_force},
-                              {"max_contact_stress_mpa", s.max_contact_stress},
+                              {"positions", s.positions()},
+                              {"succeeded_positions", s.succeeded},
+                              {"failed_positions", s.failed},
+                              {"mean_te_arcsec", FiniteOrNull(units::RadToArcsec(s.mean_te))},
+                              {"pp_te_arcsec", FiniteOrNull(units::RadToArcsec(s.pp_te))},
+                              {"contacts_min", count(s.contacts_min)},
+                              {"contacts_max", count(s.contacts_max)},
+                              {"max_pin_force_n", FiniteOrNull(s.max_pin_force)},
+                              {"max_contact_stress_mpa", FiniteOrNull(s.max_contact_stress)},
                               {"wall_seconds", s.wall_seconds},
-                              {"max_te_difference_arcsec", d_te},
-                              {"max_pin_force_difference_n", d_force},
-                              {"max_contact_count_difference", d_pins}});
+                              {"compared_positions", r == 0 ? s.succeeded : d.compared},
+                              {"max_te_difference_arcsec", diff(d.te)},
+                              {"max_pin_force_difference_n", diff(d.force)},
+                              {"max_contact_count_difference", diff(d.pins)}});
   }
-  if (!options.json_path.empty()) {
-    WriteTo(options.json_path, out, [&](std::ostream& os) { os << doc.dump(2) << '\n'; });
+  bool any_failed = false;
+  for (const auto& runner : runners) any_failed = any_failed || runner.Summary().failed > 0;
+  if (any_failed) fmt::print(text, "some positions failed: the figures of each solver are over its successful positions only\n");
+  if (json.enabled()) {
+    json.stream() << Dump(doc) << '\n';
+    json.Commit();
   }
+  return all_succeeded ? kExitSuccess : kExitNotSucceeded;
 }
 
 }  // namespace ltca::cli

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "ltca/solvers/deck.hpp"
+#include "output.hpp"
 
 namespace ltca::cli {
 
@@ -14,7 +15,10 @@ struct CompareOptions {
 };
 
 /// `ltca compare`: several solvers on the same sweep, side by side, with their largest
-/// differences from the first in TE, pin force and contact count, and their times.
-void RunCompare(const solvers::Deck& deck, const CompareOptions& options, std::ostream& out);
+/// differences from the first in TE, pin force and contact count, and their times. The solvers
+/// run in lockstep, a position at a time, so memory does not grow with the sweep. Differences
+/// are taken at the positions where both succeeded. Returns kExitSuccess when every position of
+/// every solver succeeded, kExitNotSucceeded otherwise.
+int RunCompare(const solvers::Deck& deck, const CompareOptions& options, const Streams& streams);
 
 }  // namespace ltca::cli

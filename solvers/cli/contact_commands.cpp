@@ -19,7 +19,7 @@ namespace {
 using units::RadToArcsec;
 using units::RadToDeg;
 
-nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json Finite(double v) { return FiniteOrNull(v); }
 
 }  // namespace
 
@@ -29,7 +29,11 @@ contact::ContactKinematics ParseKinematics(const std::string& text) {
   throw std::invalid_argument(fmt::format("--kinematics {}: expected exact or linearised", text));
 }
 
-void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, std::ostream& out) {
+void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, const Streams& streams) {
+  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}});
+  Output json("--json", options.json_path, streams.out);  // checked before computing
+  Output csv("--csv", options.csv_path, streams.out);
+  std::ostream& out = streams.text;
   const contact::UnloadedSweep sweep =
       contact::AnalyseUnloadedSweep(deck.MakeModel(), deck.sweep.CrankAngles(), options.kinematics);
   const auto& rows = sweep.positions;
@@ -48,8 +52,9 @@ void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, std:
     fmt::print(out, "{:>10.4f} {:>14.4f} {:>14.4f} {:>14.4f} {:>6}\n", RadToDeg(r.crank),
                RadToArcsec(r.theta_c1), RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), r.first_pin_c1 + 1);
   }
-  if (!options.json_path.empty()) {
-    WriteTo(options.json_path, out, [&](std::ostream& os) {
+  if (json.enabled()) {
+    {
+      std::ostream& os = json.stream();
       nlohmann::json positions = nlohmann::json::array();
       for (const auto& r : rows) {
         nlohmann::json clearance = nlohmann::json::array(), after = nlohmann::json::array();
@@ -66,26 +71,33 @@ void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, std:
       }
       const nlohmann::json doc = {
           {"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
-          {"summary", {{"mean_backlash_arcsec", RadToArcsec(mean)}, {"pp_backlash_arcsec", RadToArcsec(pp)}}},
+          {"summary", {{"mean_backlash_arcsec", Finite(RadToArcsec(mean))}, {"pp_backlash_arcsec", Finite(RadToArcsec(pp))}}},
           {"positions", positions}};
-      os << doc.dump(2) << '\n';
-    });
+      os << Dump(doc) << '\n';
+    }
+    json.Commit();
   }
-  if (!options.csv_path.empty()) {
-    WriteTo(options.csv_path, out, [&](std::ostream& os) {
+  if (csv.enabled()) {
+    {
+      std::ostream& os = csv.stream();
       os << "crank_deg,theta_c1_arcsec,theta_c2_arcsec,backlash_arcsec,first_contact_pin\n";
       for (const auto& r : rows) {
         fmt::print(os, "{:.9g},{:.9g},{:.9g},{:.9g},{}\n", RadToDeg(r.crank), RadToArcsec(r.theta_c1),
                    RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), r.first_pin_c1 + 1);
       }
-    });
+    }
+    csv.Commit();
   }
 }
 
-void RunMesh(const solvers::Deck& deck, const MeshOptions& options, std::ostream& out) {
+void RunMesh(const solvers::Deck& deck, const MeshOptions& options, const Streams& streams) {
+  Output json("--json", options.json_path, streams.out);  // checked before computing
+  std::ostream& out = streams.text;
   const contact::MeshModel model = deck.MakeModel();
   const double crank = units::DegToRad(options.crank_deg);
   const contact::MeshState state = model.Evaluate(crank);
+  // A table of an interfering pair would show negative clearances as if they were a mesh state.
+  contact::RequireNoInterference(state, crank, model.interference_tolerance());
   fmt::print(out, "case      {}\n", deck.info.title);
   fmt::print(out, "mesh state at crank {:g} deg (unloaded pose)\n", options.crank_deg);
   fmt::print(out, "{:>4} {:>9} {:>12} {:>10} {:>12} {:>8} {:>11} {:>11} {:>5}\n", "pin", "angle_deg",
@@ -96,8 +108,9 @@ void RunMesh(const solvers::Deck& deck, const MeshOptions& options, std::ostream
                c.cycloid_curvature == 0.0 ? INFINITY : 1.0 / c.cycloid_curvature, c.pin_radius,
                c.cycloid_point.x(), c.cycloid_point.y(), c.edge ? "yes" : "");
   }
-  if (!options.json_path.empty()) {
-    WriteTo(options.json_path, out, [&](std::ostream& os) {
+  if (json.enabled()) {
+    {
+      std::ostream& os = json.stream();
       nlohmann::json pins = nlohmann::json::array();
       for (const auto& c : state.pins) {
         pins.push_back({{"pin", c.pin + 1},
@@ -111,8 +124,12 @@ void RunMesh(const solvers::Deck& deck, const MeshOptions& options, std::ostream
                         {"normal", {c.normal.x(), c.normal.y()}},
                         {"edge_contact", c.edge}});
       }
-      os << nlohmann::json{{"crank_deg", options.crank_deg}, {"pins", pins}}.dump(2) << '\n';
-    });
+      os << Dump(nlohmann::json{{"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
+                                {"crank_deg", options.crank_deg},
+                                {"pins", pins}})
+         << '\n';
+    }
+    json.Commit();
   }
 }
 

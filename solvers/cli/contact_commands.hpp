@@ -4,6 +4,7 @@
 
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/solvers/deck.hpp"
+#include "output.hpp"
 
 namespace ltca::cli {
 
@@ -14,15 +15,15 @@ struct BacklashOptions {
 };
 
 /// `ltca backlash`: unloaded TCA over the deck's sweep (Liu eq. 17).
-void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, std::ostream& out);
+void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, const Streams& streams);
 
 struct MeshOptions {
   std::string json_path;
   double crank_deg = 0.0;
 };
 
-/// `ltca mesh`: the mesh state table at one crank angle.
-void RunMesh(const solvers::Deck& deck, const MeshOptions& options, std::ostream& out);
+/// `ltca mesh`: the mesh state table at one crank angle; rejects an interfering pair (std::invalid_argument).
+void RunMesh(const solvers::Deck& deck, const MeshOptions& options, const Streams& streams);
 
 contact::ContactKinematics ParseKinematics(const std::string& text);
 

@@ -95,7 +95,17 @@ void WriteSvg(const CycloidProfile& profile, const Kinematics& kinematics, doubl
 
 }  // namespace
 
-void RunGeometry(const solvers::Deck& deck, const GeometryOptions& options, std::ostream& out) {
+nlohmann::json GeometryJson(const solvers::Deck& deck) {
+  const CycloidProfile profile(deck.pair, deck.modification);
+  return SummaryJson(deck, profile, Kinematics(deck.pair));
+}
+
+void RunGeometry(const solvers::Deck& deck, const GeometryOptions& options, const Streams& streams) {
+  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
+  Output json("--json", options.json_path, streams.out);  // checked before computing
+  Output csv("--csv", options.csv_path, streams.out);
+  Output svg("--svg", options.svg_path, streams.out);
+  std::ostream& out = streams.text;
   const CycloidProfile profile(deck.pair, deck.modification);
   const Kinematics kinematics(deck.pair);
   const auto& p = deck.pair;
@@ -125,19 +135,17 @@ void RunGeometry(const solvers::Deck& deck, const GeometryOptions& options, std:
   fmt::print(out, "mesh period            {:.6f} deg crank\n", RadToDeg(kinematics.MeshPeriod()));
   fmt::print(out, "transmission ratio     {:.6g} (crank / cycloid)\n", kinematics.TransmissionRatio());
 
-  if (!options.json_path.empty()) {
-    WriteTo(options.json_path, out, [&](std::ostream& os) {
-      os << SummaryJson(deck, profile, kinematics).dump(2) << '\n';
-    });
+  if (json.enabled()) {
+    json.stream() << Dump(SummaryJson(deck, profile, kinematics)) << '\n';
+    json.Commit();
   }
-  if (!options.csv_path.empty()) {
-    WriteTo(options.csv_path, out,
-            [&](std::ostream& os) { WriteCsv(profile, options.samples_per_flank, os); });
+  if (csv.enabled()) {
+    WriteCsv(profile, options.samples_per_flank, csv.stream());
+    csv.Commit();
   }
-  if (!options.svg_path.empty()) {
-    WriteTo(options.svg_path, out, [&](std::ostream& os) {
-      WriteSvg(profile, kinematics, units::DegToRad(options.crank_deg), options.samples_per_flank, os);
-    });
+  if (svg.enabled()) {
+    WriteSvg(profile, kinematics, units::DegToRad(options.crank_deg), options.samples_per_flank, svg.stream());
+    svg.Commit();
   }
 }
 

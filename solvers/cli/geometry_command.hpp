@@ -2,7 +2,10 @@
 #include <ostream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "ltca/solvers/deck.hpp"
+#include "output.hpp"
 
 namespace ltca::cli {
 
@@ -15,6 +18,9 @@ struct GeometryOptions {
 };
 
 /// `ltca geometry`: the derived geometry of the deck's pair, its profile and a drawing.
-void RunGeometry(const solvers::Deck& deck, const GeometryOptions& options, std::ostream& out);
+void RunGeometry(const solvers::Deck& deck, const GeometryOptions& options, const Streams& streams);
+
+/// The summary document of `ltca geometry --json` (the default job nests it).
+nlohmann::json GeometryJson(const solvers::Deck& deck);
 
 }  // namespace ltca::cli

@@ -1,22 +1,168 @@
 #include "output.hpp"
 
-#include <fstream>
-#include <stdexcept>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+#include <utility>
 
 #include <fmt/format.h>
+#include <fmt/ostream.h>
 
 namespace ltca::cli {
+namespace {
 
-void WriteTo(const std::string& path, std::ostream& out,
-             const std::function<void(std::ostream&)>& write) {
-  if (path == "-") {
-    write(out);
+namespace fs = std::filesystem;
+
+std::string Reason() { return errno != 0 ? std::string(": ") + std::strerror(errno) : std::string(); }
+
+}  // namespace
+
+Output::Output(std::string option, std::string path, std::ostream& out)
+    : option_(std::move(option)), path_(std::move(path)) {
+  if (path_.empty()) return;
+  if (path_ == "-") {
+    out_ = &out;
     return;
   }
-  std::ofstream file(path);
-  if (!file) throw std::invalid_argument(fmt::format("cannot write the file '{}'", path));
-  write(file);
-  if (!file) throw std::invalid_argument(fmt::format("writing the file '{}' failed", path));
+  std::error_code ec;
+  fs::path target(path_);
+  if (fs::is_symlink(target, ec)) {
+    const fs::path resolved = fs::canonical(target, ec);
+    if (!ec) target = resolved;
+  }
+  const fs::file_status status = fs::status(target, ec);
+  if (fs::is_directory(status)) throw OutputError(fmt::format("{} {}: is a folder, expected a file", option_, path_));
+  errno = 0;
+  if (fs::exists(status) && !fs::is_regular_file(status)) {
+    // A device or a FIFO (/dev/stdout, /dev/full): written in place, checked on Commit().
+    in_place_ = true;
+    file_.open(target);
+    if (!file_) throw OutputError(fmt::format("{} {}: cannot open for writing{}", option_, path_, Reason()));
+    return;
+  }
+  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(folder, ec)) {
+    throw OutputError(fmt::format("{} {}: the folder '{}' does not exist", option_, path_, folder.string()));
+  }
+  std::string pattern = (folder / fmt::format(".{}.ltca-XXXXXX", target.filename().string())).string();
+  errno = 0;
+  const int fd = mkstemp(pattern.data());
+  if (fd < 0) throw OutputError(fmt::format("{} {}: cannot write in the folder '{}'{}", option_, path_, folder.string(), Reason()));
+  close(fd);
+  temp_ = pattern;
+  // The permissions a plain new file would get (mkstemp makes 0600), or the replaced file's.
+  mode_t mode = 0666;
+  struct stat existing {};
+  if (stat(target.c_str(), &existing) == 0) {
+    mode = existing.st_mode & 07777;
+  } else {
+    const mode_t mask = umask(0);
+    umask(mask);
+    mode &= ~mask;
+  }
+  chmod(temp_.c_str(), mode);
+  path_ = target.string();
+  file_.open(temp_, std::ios::out | std::ios::trunc);
+  if (!file_) {
+    std::remove(temp_.c_str());
+    temp_.clear();
+    throw OutputError(fmt::format("{} {}: cannot open for writing{}", option_, path_, Reason()));
+  }
+}
+
+Output::~Output() {
+  if (committed_ || temp_.empty()) return;
+  file_.close();
+  std::remove(temp_.c_str());
+}
+
+std::ostream& Output::stream() { return out_ != nullptr ? *out_ : file_; }
+
+void Output::Commit() {
+  if (path_.empty() || committed_) return;
+  errno = 0;
+  if (out_ != nullptr) {
+    if (!out_->flush()) throw OutputError(fmt::format("{} -: writing standard output failed{}", option_, Reason()));
+    committed_ = true;
+    return;
+  }
+  if (!file_.flush()) throw OutputError(fmt::format("{} {}: writing failed{}", option_, path_, Reason()));
+  file_.close();
+  if (file_.fail()) throw OutputError(fmt::format("{} {}: closing failed{}", option_, path_, Reason()));
+  if (!in_place_ && std::rename(temp_.c_str(), path_.c_str()) != 0) {
+    throw OutputError(fmt::format("{} {}: cannot replace the file{}", option_, path_, Reason()));
+  }
+  committed_ = true;
+}
+
+void WriteTo(const std::string& option, const std::string& path, std::ostream& out,
+             const std::function<void(std::ostream&)>& write) {
+  Output output(option, path, out);
+  if (!output.enabled()) return;
+  write(output.stream());
+  output.Commit();
+}
+
+void RequireOneStdout(const std::vector<std::pair<std::string, std::string>>& option_paths) {
+  std::string first;
+  for (const auto& [option, path] : option_paths) {
+    if (path != "-") continue;
+    if (!first.empty()) {
+      throw std::invalid_argument(
+          fmt::format("{} - and {} -: standard output carries one document; give one of them a file", first, option));
+    }
+    first = option;
+  }
+}
+
+std::string Dump(const nlohmann::json& doc, int indent) {
+  return doc.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+std::string FormatOrNa(double v, int decimals) {
+  return std::isfinite(v) ? fmt::format("{:.{}f}", v, decimals) : std::string("n/a");
+}
+
+Progress::Progress(std::ostream& os, bool enabled, std::string what, std::int64_t total, double min_seconds)
+    : os_(os), enabled_(enabled), what_(std::move(what)), total_(total), min_seconds_(min_seconds),
+      start_(std::chrono::steady_clock::now()), last_(start_) {}
+
+Progress::~Progress() {
+  try {
+    Finish();
+  } catch (...) {  // a destructor never throws
+  }
+}
+
+void Progress::Finish() {
+  enabled_ = false;
+  if (!shown_) return;
+  shown_ = false;
+  os_ << '\r' << std::string(72, ' ') << '\r' << std::flush;
+}
+
+void Progress::Update(std::int64_t done) {
+  if (!enabled_) return;
+  const auto now = std::chrono::steady_clock::now();
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  if (elapsed < min_seconds_) return;
+  if (shown_ && now - last_ < std::chrono::milliseconds(250) && done < total_) return;
+  last_ = now;
+  shown_ = true;
+  const double fraction = total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
+  const double remaining = fraction > 0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
+  fmt::print(os_, "\rltca: {} {} of {} ({:.0f} %), about {:.0f} s left   ", what_, done, total_, 100.0 * fraction,
+             remaining);
+  os_.flush();
 }
 
 }  // namespace ltca::cli

@@ -1,14 +1,98 @@
 #pragma once
-// Writing outputs: "-" means standard output.
+// Writing outputs. "-" means standard output. A file output is checked when it is opened
+// (before any computation), written to a temporary file in the same folder, flushed and
+// checked, and renamed over the target only on success: a failure leaves no partial file.
+// Devices and FIFOs (/dev/stdout, /dev/full) are written in place, and checked the same way.
+#include <chrono>
+#include <cstdint>
+#include <fstream>
 #include <functional>
 #include <ostream>
+#include <stdexcept>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 namespace ltca::cli {
 
-/// Calls write with a stream to the file (or to out for "-"); throws std::invalid_argument
-/// naming the file when it cannot be opened.
-void WriteTo(const std::string& path, std::ostream& out,
+/// An output that could not be opened or written (exit code 3).
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Exit codes of `ltca` (README "Use", `ltca --help`).
+inline constexpr int kExitSuccess = 0;        ///< every position of every solver succeeded
+inline constexpr int kExitNotSucceeded = 1;   ///< the run finished, something did not succeed
+inline constexpr int kExitBadInput = 2;       ///< bad deck or options
+inline constexpr int kExitOutputError = 3;    ///< an output could not be opened or written
+inline constexpr int kExitInternalError = 4;  ///< a bug: please report it
+
+/// One output of a command: "" none, "-" the out stream, else a file written atomically.
+class Output {
+ public:
+  /// Opens the output at once (creating the temporary file), so that an unwritable path is
+  /// found before computing. Throws OutputError naming the option and the path.
+  Output(std::string option, std::string path, std::ostream& out);
+  ~Output();  ///< removes the temporary file unless Commit() succeeded
+  Output(const Output&) = delete;
+  Output& operator=(const Output&) = delete;
+
+  bool enabled() const { return !path_.empty(); }
+  std::ostream& stream();
+  /// Flushes and checks the stream, closes and renames the file into place. Throws OutputError.
+  void Commit();
+
+ private:
+  std::string option_, path_, temp_;
+  std::ostream* out_ = nullptr;  ///< "-"
+  std::ofstream file_;
+  bool in_place_ = false;        ///< a device or FIFO: no temporary file
+  bool committed_ = false;
+};
+
+/// Writes a whole document to an output given as option/path (a convenience over Output).
+void WriteTo(const std::string& option, const std::string& path, std::ostream& out,
              const std::function<void(std::ostream&)>& write);
+
+/// Throws std::invalid_argument when more than one of these outputs is "-": standard output
+/// carries one document.
+void RequireOneStdout(const std::vector<std::pair<std::string, std::string>>& option_paths);
+
+/// JSON text of a document: invalid UTF-8 (a deck path with other bytes) is replaced, never an error.
+std::string Dump(const nlohmann::json& doc, int indent = 2);
+
+/// NaN or infinite: JSON null.
+nlohmann::json FiniteOrNull(double v);
+/// A figure in text, or "n/a" when it is not finite (no valid solve produced it).
+std::string FormatOrNa(double v, int decimals);
+
+/// The streams of a command: documents go to out ("-"); the human text to text, which is the
+/// error stream when any output of the command is "-" (so stdout carries only the document).
+struct Streams {
+  std::ostream& out;
+  std::ostream& text;
+  std::ostream& err;
+  bool progress = false;  ///< a progress line on err (a terminal) for runs over about 2 s
+};
+
+/// "ltca: solving position i of n" on a terminal, after min_seconds, at most every 0.25 s.
+class Progress {
+ public:
+  Progress(std::ostream& os, bool enabled, std::string what, std::int64_t total, double min_seconds = 2.0);
+  ~Progress();  ///< calls Finish()
+  void Update(std::int64_t done);
+  /// Clears the line (before the summary is printed); later updates are not shown.
+  void Finish();
+
+ private:
+  std::ostream& os_;
+  bool enabled_, shown_ = false;
+  std::string what_;
+  std::int64_t total_;
+  double min_seconds_;
+  std::chrono::steady_clock::time_point start_, last_;
+};
 
 }  // namespace ltca::cli

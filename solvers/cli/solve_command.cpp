@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -9,7 +12,6 @@
 
 #include "contact_commands.hpp"
 #include "ltca/geometry/units.hpp"
-#include "output.hpp"
 
 namespace ltca::cli {
 namespace {
@@ -17,75 +19,108 @@ namespace {
 using units::RadToArcsec;
 using units::RadToDeg;
 
-nlohmann::json SweepJson(const solvers::Deck& deck, const solvers::SweepResult& sweep) {
-  const auto& s = sweep.summary;
-  nlohmann::json positions = nlohmann::json::array();
-  for (const auto& p : sweep.positions) {
-    nlohmann::json angles = nlohmann::json::array();
-    for (const double a : p.angle) angles.push_back(RadToDeg(a));
-    positions.push_back({{"crank_deg", RadToDeg(p.crank)},
-                         {"te_arcsec", RadToArcsec(p.result.te)},
-                         {"contacts", p.contacts},
-                         {"pin_force_n", p.result.force},
-                         {"pin_angle_deg", angles},
-                         {"contact_stress_mpa", p.contact_stress},
-                         {"status", solvers::ToString(p.result.status)},
-                         {"message", p.result.message},
-                         {"torque_evaluations", p.result.torque_evaluations},
-                         {"residual", p.result.residuals.Normalised()}});
-  }
-  return {{"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
-          {"solver", {{"name", sweep.solver},
-                      {"kinematics", sweep.options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised"},
-                      {"torque_tolerance", sweep.options.torque_tolerance},
-                      {"law", contact::ToString(deck.contact.law)},
-                      {"rho_convention", contact::ToString(deck.contact.rho_convention)}}},
-          {"summary", {{"mean_te_arcsec", RadToArcsec(s.mean_te)},
-                       {"pp_te_arcsec", RadToArcsec(s.pp_te)},
-                       {"contacts_min", s.contacts_min},
-                       {"contacts_max", s.contacts_max},
-                       {"max_pin_force_n", s.max_pin_force},
-                       {"max_contact_stress_mpa", s.max_contact_stress},
-                       {"wall_seconds", s.wall_seconds},
-                       {"status", solvers::ToString(s.status)}}},
-          {"positions", positions}};
+const char* KinematicsName(contact::ContactKinematics k) {
+  return k == contact::ContactKinematics::kExact ? "exact" : "linearised";
 }
 
-void WriteSvg(const solvers::SweepResult& sweep, std::ostream& os) {
+double MaxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+
+/// A position as JSON: the figures of a failed solve are null, its status and message kept.
+nlohmann::json PositionJson(const solvers::PositionResult& p) {
+  const bool ok = p.succeeded();
+  nlohmann::json angles = nlohmann::json::array();
+  for (const double a : p.angle) angles.push_back(RadToDeg(a));
+  const auto figure = [ok](nlohmann::json value) { return ok ? std::move(value) : nlohmann::json(nullptr); };
+  return {{"crank_deg", RadToDeg(p.crank)},
+          {"te_arcsec", figure(FiniteOrNull(RadToArcsec(p.result.te)))},
+          {"contacts", figure(p.contacts)},
+          {"pin_force_n", figure(p.result.force)},
+          {"pin_angle_deg", angles},
+          {"contact_stress_mpa", figure(p.contact_stress)},
+          {"status", solvers::ToString(p.result.status)},
+          {"message", p.result.message},
+          {"torque_evaluations", p.result.torque_evaluations},
+          {"residual", FiniteOrNull(p.result.residuals.Normalised())}};
+}
+
+nlohmann::json SummaryJson(const solvers::SweepSummary& s) {
+  const auto count = [&s](int v) { return s.succeeded > 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  nlohmann::json j = {{"mean_te_arcsec", FiniteOrNull(RadToArcsec(s.mean_te))},
+                      {"pp_te_arcsec", FiniteOrNull(RadToArcsec(s.pp_te))},
+                      {"contacts_min", count(s.contacts_min)},
+                      {"contacts_max", count(s.contacts_max)},
+                      {"max_pin_force_n", FiniteOrNull(s.max_pin_force)},
+                      {"max_contact_stress_mpa", FiniteOrNull(s.max_contact_stress)},
+                      {"wall_seconds", s.wall_seconds},
+                      {"status", solvers::ToString(s.status)},
+                      {"positions", s.positions()},
+                      {"succeeded_positions", s.succeeded},
+                      {"failed_positions", s.failed}};
+  if (s.failed > 0) {
+    j["note"] = s.succeeded > 0
+                    ? fmt::format("{} of {} positions failed: the figures are over the {} successful positions only",
+                                  s.failed, s.positions(), s.succeeded)
+                    : fmt::format("all {} positions failed: no figure", s.positions());
+  }
+  return j;
+}
+
+/// Indents every line but the first by two spaces (a document nested one level).
+std::string Nested(const std::string& text) {
+  std::string r;
+  for (const char c : text) {
+    r += c;
+    if (c == '\n') r += "  ";
+  }
+  return r;
+}
+
+/// What the SVG needs, kept compactly while the sweep streams by.
+struct SvgData {
+  std::vector<std::pair<double, double>> te;  ///< (crank deg, te arcsec) of successful positions
+  std::optional<solvers::PositionResult> peak;
+  double f_peak = -1.0;
+  void Add(const solvers::PositionResult& p) {
+    if (!p.succeeded()) return;
+    te.emplace_back(RadToDeg(p.crank), RadToArcsec(p.result.te));
+    const double f = MaxOf(p.result.force);
+    if (f > f_peak) f_peak = f, peak = p;
+  }
+};
+
+void WriteSvg(const std::string& solver, const SvgData& data, std::ostream& os) {
   // Left: TE over the crank sweep. Right: pin forces at the position of the largest force.
   const double w = 420, h = 300, pad = 50;
   fmt::print(os, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"11\">\n",
              2 * w, h);
+  if (!data.peak) {
+    fmt::print(os, "<text x=\"{}\" y=\"{}\">no position succeeded: nothing to draw ({})</text>\n</svg>\n", pad, h / 2, solver);
+    return;
+  }
   double te_lo = INFINITY, te_hi = -INFINITY, c_lo = INFINITY, c_hi = -INFINITY;
-  std::size_t peak = 0;
-  double f_peak = -1;
-  for (std::size_t i = 0; i < sweep.positions.size(); ++i) {
-    const auto& p = sweep.positions[i];
-    te_lo = std::min(te_lo, RadToArcsec(p.result.te));
-    te_hi = std::max(te_hi, RadToArcsec(p.result.te));
-    c_lo = std::min(c_lo, RadToDeg(p.crank));
-    c_hi = std::max(c_hi, RadToDeg(p.crank));
-    const double f = *std::max_element(p.result.force.begin(), p.result.force.end());
-    if (f > f_peak) f_peak = f, peak = i;
+  for (const auto& [c, t] : data.te) {
+    te_lo = std::min(te_lo, t), te_hi = std::max(te_hi, t);
+    c_lo = std::min(c_lo, c), c_hi = std::max(c_hi, c);
   }
   if (te_hi - te_lo < 1e-9) te_hi = te_lo + 1e-3;
   if (c_hi - c_lo < 1e-9) c_hi = c_lo + 1.0;
   const auto x1 = [&](double c) { return pad + (c - c_lo) / (c_hi - c_lo) * (w - 2 * pad); };
   const auto y1 = [&](double t) { return h - pad - (t - te_lo) / (te_hi - te_lo) * (h - 2 * pad); };
-  fmt::print(os, "<text x=\"{}\" y=\"20\">loaded TE (arcsec) over crank angle (deg), {}</text>\n", pad, sweep.solver);
+  fmt::print(os, "<text x=\"{}\" y=\"20\">loaded TE (arcsec) over crank angle (deg), {}</text>\n", pad, solver);
   fmt::print(os, "<rect x=\"{0}\" y=\"{0}\" width=\"{1}\" height=\"{2}\" fill=\"none\" stroke=\"#999\"/>\n", pad, w - 2 * pad, h - 2 * pad);
   os << "<polyline fill=\"none\" stroke=\"#c0392b\" points=\"";
-  for (const auto& p : sweep.positions) fmt::print(os, "{:.2f},{:.2f} ", x1(RadToDeg(p.crank)), y1(RadToArcsec(p.result.te)));
+  for (const auto& [c, t] : data.te) fmt::print(os, "{:.2f},{:.2f} ", x1(c), y1(t));
   os << "\"/>\n";
   fmt::print(os, "<text x=\"5\" y=\"{}\">{:.4f}</text><text x=\"5\" y=\"{}\">{:.4f}</text>\n", pad + 4, te_hi, h - pad, te_lo);
   fmt::print(os, "<text x=\"{}\" y=\"{}\">{:.3g}</text><text x=\"{}\" y=\"{}\">{:.3g}</text>\n", pad, h - pad + 15, c_lo, w - pad - 20, h - pad + 15, c_hi);
   // Load distribution: force against the pin's angle from the line of centres.
-  const auto& p = sweep.positions[peak];
+  const auto& p = *data.peak;
+  const double f_peak = data.f_peak;
   const auto x2 = [&](double a) { return w + pad + (a + 180.0) / 360.0 * (w - 2 * pad); };
   const auto y2 = [&](double f) { return h - pad - f / std::max(f_peak, 1e-300) * (h - 2 * pad); };
   fmt::print(os, "<text x=\"{}\" y=\"20\">pin force (N) over pin angle (deg) at crank {:.3g} deg</text>\n", w + pad, RadToDeg(p.crank));
   fmt::print(os, "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#999\"/>\n", w + pad, pad, w - 2 * pad, h - 2 * pad);
-  for (std::size_t i = 0; i < p.result.force.size(); ++i) {
+  for (std::size_t i = 0; i < p.result.force.size() && i < p.angle.size(); ++i) {
     const double a = RadToDeg(p.angle[i]);
     fmt::print(os, "<line x1=\"{0:.2f}\" x2=\"{0:.2f}\" y1=\"{1:.2f}\" y2=\"{2:.2f}\" stroke=\"#2c3e50\" stroke-width=\"3\"/>\n",
                x2(a), y2(0.0), y2(p.result.force[i]));
@@ -95,39 +130,96 @@ void WriteSvg(const solvers::SweepResult& sweep, std::ostream& os) {
   os << "</svg>\n";
 }
 
+/// A CSV field: the figure, or empty when no valid solve produced it.
+std::string CsvFigure(bool ok, double v) { return ok && std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string(); }
+
 }  // namespace
 
-void RunSolve(const solvers::Deck& deck, const SolveOptions& options, std::ostream& out) {
+std::string FailureNote(const solvers::SweepSummary& s) {
+  if (s.failed == 0) return {};
+  if (s.succeeded == 0) return fmt::format("failed positions       all {} (no figure below is an answer)\n", s.positions());
+  return fmt::format("failed positions       {} of {}; the figures below are over the {} successful positions only\n",
+                     s.failed, s.positions(), s.succeeded);
+}
+
+int RunSolve(const solvers::Deck& deck, const SolveOptions& options, const Streams& streams, const JsonEnvelope& envelope) {
   solvers::SolverOptions solver = deck.solver;
   if (!options.solver.empty()) solver.name = options.solver;
   if (!options.kinematics.empty()) solver.kinematics = ParseKinematics(options.kinematics);
-  const solvers::SweepResult sweep = solvers::SolveSweep(deck, solver);
+  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
+  // Outputs first: an unwritable path is an error before anything is computed.
+  Output json("--json", options.json_path, streams.out);
+  Output csv("--csv", options.csv_path, streams.out);
+  Output svg("--svg", options.svg_path, streams.out);
+
+  SvgData svg_data;
+  bool started = false;
+  std::int64_t done = 0;
+  Progress progress(streams.err, streams.progress, "solving position", deck.sweep.positions);
+  const auto start = [&] {  // the headers, once the sweep is accepted (no partial document on bad input)
+    started = true;
+    if (json.enabled()) {
+      nlohmann::json header = {
+          {"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
+          {"solver", {{"name", solver.name},
+                      {"kinematics", KinematicsName(solver.kinematics)},
+                      {"torque_tolerance", solver.torque_tolerance},
+                      {"law", contact::ToString(deck.contact.law)},
+                      {"rho_convention", contact::ToString(deck.contact.rho_convention)}}}};
+      std::string text = Dump(header);
+      text.erase(text.rfind('}'));  // the object stays open for the positions and the summary
+      while (!text.empty() && text.back() == '\n') text.pop_back();
+      json.stream() << envelope.before << text << ",\n  \"positions\": [";
+    }
+    if (csv.enabled()) csv.stream() << "crank_deg,te_arcsec,contacts,max_pin_force_n,max_contact_stress_mpa,status\n";
+  };
+  solvers::SweepCallbacks callbacks;
+  callbacks.keep_positions = false;
+  callbacks.on_position = [&](const solvers::PositionResult& p) {
+    if (!started) start();
+    if (json.enabled()) json.stream() << (done == 0 ? "\n    " : ",\n    ") << Dump(PositionJson(p), -1);
+    if (csv.enabled()) {
+      const bool ok = p.succeeded();
+      fmt::print(csv.stream(), "{:.9g},{},{},{},{},{}\n", RadToDeg(p.crank), CsvFigure(ok, RadToArcsec(p.result.te)),
+                 ok ? fmt::format("{}", p.contacts) : std::string(), CsvFigure(ok, MaxOf(p.result.force)),
+                 CsvFigure(ok, MaxOf(p.contact_stress)), solvers::ToString(p.result.status));
+    }
+    if (svg.enabled()) svg_data.Add(p);
+    progress.Update(++done);
+  };
+  const solvers::SweepResult sweep = solvers::SolveSweep(deck, solver, callbacks);
+  progress.Finish();
+  if (!started) start();
   const auto& s = sweep.summary;
-  fmt::print(out, "case      {}\n", deck.info.title);
-  fmt::print(out, "solver    {} ({} kinematics, torque tolerance {:g}), law {} / {}\n", sweep.solver,
-             solver.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised", solver.torque_tolerance,
-             contact::ToString(deck.contact.law), contact::ToString(deck.contact.rho_convention));
-  fmt::print(out, "status                 {}\n", solvers::ToString(s.status));
-  fmt::print(out, "mean TE                {:.4f} arcsec   (Liu eq. 16; negative under load)\n", RadToArcsec(s.mean_te));
-  fmt::print(out, "peak-to-peak TE        {:.4f} arcsec\n", RadToArcsec(s.pp_te));
-  fmt::print(out, "pins in contact        {} to {}\n", s.contacts_min, s.contacts_max);
-  fmt::print(out, "largest pin force      {:.2f} N\n", s.max_pin_force);
-  fmt::print(out, "largest contact stress {:.2f} MPa\n", s.max_contact_stress);
-  fmt::print(out, "wall time              {:.4f} s for {} positions\n", s.wall_seconds, sweep.positions.size());
-  if (!options.json_path.empty()) {
-    WriteTo(options.json_path, out, [&](std::ostream& os) { os << SweepJson(deck, sweep).dump(2) << '\n'; });
+
+  if (json.enabled()) {
+    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(SummaryJson(s))) << "\n}" << envelope.after << '\n';
+    json.Commit();
   }
-  if (!options.csv_path.empty()) {
-    WriteTo(options.csv_path, out, [&](std::ostream& os) {
-      os << "crank_deg,te_arcsec,contacts,max_pin_force_n,max_contact_stress_mpa,status\n";
-      for (const auto& p : sweep.positions) {
-        fmt::print(os, "{:.9g},{:.9g},{},{:.9g},{:.9g},{}\n", RadToDeg(p.crank), RadToArcsec(p.result.te), p.contacts,
-                   *std::max_element(p.result.force.begin(), p.result.force.end()),
-                   *std::max_element(p.contact_stress.begin(), p.contact_stress.end()), solvers::ToString(p.result.status));
-      }
-    });
+  if (csv.enabled()) csv.Commit();
+  if (svg.enabled()) {
+    WriteSvg(sweep.solver, svg_data, svg.stream());
+    svg.Commit();
   }
-  if (!options.svg_path.empty()) WriteTo(options.svg_path, out, [&](std::ostream& os) { WriteSvg(sweep, os); });
+
+  std::ostream& text = streams.text;
+  fmt::print(text, "case      {}\n", deck.info.title);
+  fmt::print(text, "solver    {} ({} kinematics, torque tolerance {:g}), law {} / {}\n", sweep.solver,
+             KinematicsName(solver.kinematics), solver.torque_tolerance, contact::ToString(deck.contact.law),
+             contact::ToString(deck.contact.rho_convention));
+  fmt::print(text, "status                 {}\n", solvers::ToString(s.status));
+  text << FailureNote(s);
+  fmt::print(text, "mean TE                {} arcsec   (Liu eq. 16; negative under load)\n", FormatOrNa(RadToArcsec(s.mean_te), 4));
+  fmt::print(text, "peak-to-peak TE        {} arcsec\n", FormatOrNa(RadToArcsec(s.pp_te), 4));
+  if (s.succeeded > 0) {
+    fmt::print(text, "pins in contact        {} to {}\n", s.contacts_min, s.contacts_max);
+  } else {
+    fmt::print(text, "pins in contact        n/a\n");
+  }
+  fmt::print(text, "largest pin force      {} N\n", FormatOrNa(s.max_pin_force, 2));
+  fmt::print(text, "largest contact stress {} MPa\n", FormatOrNa(s.max_contact_stress, 2));
+  fmt::print(text, "wall time              {:.4f} s for {} positions\n", s.wall_seconds, s.positions());
+  return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
 }
 
 }  // namespace ltca::cli

@@ -4,6 +4,7 @@
 
 #include "ltca/solvers/deck.hpp"
 #include "ltca/solvers/sweep.hpp"
+#include "output.hpp"
 
 namespace ltca::cli {
 
@@ -13,7 +14,18 @@ struct SolveOptions {
   std::string json_path, csv_path, svg_path;
 };
 
-/// `ltca solve`: the loaded sweep with one solver.
-void RunSolve(const solvers::Deck& deck, const SolveOptions& options, std::ostream& out);
+/// Text written around the solve JSON document (the default job nests it in a larger one).
+struct JsonEnvelope {
+  std::string before, after;
+};
+
+/// `ltca solve`: the loaded sweep with one solver, streamed: every position is written to the
+/// JSON and CSV outputs as it is solved and not kept. Returns kExitSuccess when every position
+/// succeeded, kExitNotSucceeded otherwise (the outputs are complete either way).
+int RunSolve(const solvers::Deck& deck, const SolveOptions& options, const Streams& streams,
+             const JsonEnvelope& envelope = {});
+
+/// The "n of m positions failed" lines of the text summary ("" when none failed).
+std::string FailureNote(const solvers::SweepSummary& summary);
 
 }  // namespace ltca::cli

@@ -18,15 +18,18 @@ constexpr const char* kEnd = "<!-- END GENERATED -->";
 
 }  // namespace
 
-int RunValidate(const ValidateOptions& options, std::ostream& out) {
+int RunValidate(const ValidateOptions& options, const Streams& streams) {
+  Output markdown_out("--markdown", options.markdown_path, streams.out);  // checked before computing
+  std::ostream& out = streams.text;
   const std::string dir = options.cases_dir.empty() ? std::string(LTCA_CASES_DIR) : options.cases_dir;
   const solvers::ValidationReport report = solvers::Validate(dir);
   for (const auto& r : report.rows) {
     fmt::print(out, "{:<48} {:<38} {}\n", r.id, solvers::ToString(r.verdict), r.ours);
   }
   const std::string markdown = solvers::ToMarkdown(report);
-  if (!options.markdown_path.empty()) {
-    WriteTo(options.markdown_path, out, [&](std::ostream& os) { os << markdown; });
+  if (markdown_out.enabled()) {
+    markdown_out.stream() << markdown;
+    markdown_out.Commit();
   }
   if (!options.doc_path.empty()) {
     std::ifstream in(options.doc_path);
@@ -40,7 +43,7 @@ int RunValidate(const ValidateOptions& options, std::ostream& out) {
                                               options.doc_path));
     }
     doc = doc.substr(0, begin) + kBegin + "\n" + markdown + "\n" + doc.substr(end);
-    std::ofstream(options.doc_path) << doc;
+    WriteTo("--write-doc", options.doc_path, streams.out, [&](std::ostream& os) { os << doc; });
     fmt::print(out, "updated the generated block of {}\n", options.doc_path);
   }
   return 0;

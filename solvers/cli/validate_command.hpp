@@ -2,6 +2,8 @@
 #include <ostream>
 #include <string>
 
+#include "output.hpp"
+
 namespace ltca::cli {
 
 struct ValidateOptions {
@@ -11,6 +13,6 @@ struct ValidateOptions {
 };
 
 /// `ltca validate`: every checkable published number, with its verdict.
-int RunValidate(const ValidateOptions& options, std::ostream& out);
+int RunValidate(const ValidateOptions& options, const Streams& streams);
 
 }  // namespace ltca::cli

@@ -152,7 +152,7 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
   LoadResult result;
   result.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
   const double capacity = problem.TorqueCapacity();
-  if (const std::string overlaps = contact::InterferenceReport(problem.base_state()); !overlaps.empty()) {
+  if (const std::string overlaps = contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance()); !overlaps.empty()) {
     // Judged before any solve: an overlapping pin at the theoretical position is an input error
     // (the commands reject such decks); a solver would report MN-sized "successes" here.
     result.status = SolverStatus::kInterference;

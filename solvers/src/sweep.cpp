@@ -4,55 +4,118 @@
 #include <chrono>
 #include <cmath>
 
+#include "ltca/contact/unloaded.hpp"
+
 namespace ltca::solvers {
 namespace {
 
 int Severity(SolverStatus s) { return s == SolverStatus::kSuccess ? 0 : (s == SolverStatus::kNotSolved ? -1 : 1); }
 
+using Clock = std::chrono::steady_clock;
+
 }  // namespace
 
-SweepResult SolveSweep(const Deck& deck, const SolverOptions& options) {
+void SummaryAccumulator::Add(const PositionResult& p) {
+  if (Severity(p.result.status) > Severity(s_.status)) s_.status = p.result.status;
+  if (!p.succeeded()) {
+    ++s_.failed;
+    return;
+  }
+  if (s_.succeeded == 0) {
+    s_.contacts_min = p.contacts;
+    s_.contacts_max = p.contacts;
+    s_.max_pin_force = 0.0;
+    s_.max_contact_stress = 0.0;
+  }
+  ++s_.succeeded;
+  te_sum_ += p.result.te;
+  te_lo_ = std::min(te_lo_, p.result.te);
+  te_hi_ = std::max(te_hi_, p.result.te);
+  s_.contacts_min = std::min(s_.contacts_min, p.contacts);
+  s_.contacts_max = std::max(s_.contacts_max, p.contacts);
+  for (const double f : p.result.force) s_.max_pin_force = std::max(s_.max_pin_force, f);
+  for (const double q : p.contact_stress) s_.max_contact_stress = std::max(s_.max_contact_stress, q);
+}
+
+SweepSummary SummaryAccumulator::Summary() const {
+  SweepSummary s = s_;
+  if (s.succeeded > 0) {
+    s.mean_te = te_sum_ / static_cast<double>(s.succeeded);
+    s.pp_te = te_hi_ - te_lo_;
+  }
+  return s;
+}
+
+struct SweepRunner::Impl {
+  const Deck& deck;
+  SolverOptions options;
+  contact::MeshModel model;
+  std::unique_ptr<LoadSolver> solver;
+  const contact::Material& material;
+  double torque;
+  SummaryAccumulator summary;
+  Clock::duration elapsed{};
+
+  Impl(const Deck& d, const SolverOptions& o, Clock::time_point start)
+      : deck(d), options(o), model(d.MakeModel()), solver(MakeSolver(o.name)), material(d.RequireMaterial()),
+        torque(d.RequireLoad().torque) {
+    // Nothing is solved for a pair that interferes anywhere in the sweep (as `backlash` rejects it).
+    for (const double crank : deck.sweep.CrankAngles()) contact::RequireNoInterference(model, crank);
+    elapsed = Clock::now() - start;
+  }
+};
+
+SweepRunner::SweepRunner(const Deck& deck, const SolverOptions& options) {
+  const auto start = Clock::now();
   options.Validate();
-  const auto start = std::chrono::steady_clock::now();
-  const contact::MeshModel model = deck.MakeModel();
-  const auto solver = MakeSolver(options.name);
+  impl_ = std::make_unique<Impl>(deck, options, start);
+}
+SweepRunner::~SweepRunner() = default;
+SweepRunner::SweepRunner(SweepRunner&&) noexcept = default;
+SweepRunner& SweepRunner::operator=(SweepRunner&&) noexcept = default;
+
+const SolverOptions& SweepRunner::options() const { return impl_->options; }
+
+PositionResult SweepRunner::Solve(double crank) {
+  const auto start = Clock::now();
+  Impl& m = *impl_;
+  const LoadProblem problem(m.model, crank, m.deck.contact, m.material, m.torque, m.options.kinematics);
+  PositionResult pos;
+  pos.crank = crank;
+  pos.result = m.solver->Solve(problem, m.options);
+  std::vector<contact::ContactLaw> scratch;
+  const auto pins = problem.At(std::isfinite(pos.result.rotation) ? pos.result.rotation : 0.0, &scratch);
+  const double f_max = pos.result.force.empty() ? 0.0 : *std::max_element(pos.result.force.begin(), pos.result.force.end());
+  pos.angle.resize(pins.size());
+  pos.contact_stress.assign(pins.size(), 0.0);
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    pos.angle[i] = problem.base_state().pins[i].angle;
+    const double f = i < pos.result.force.size() ? pos.result.force[i] : 0.0;
+    if (f > kContactForceFraction * f_max && f_max > 0.0) ++pos.contacts;
+    if (f > 0.0 && pins[i].law != nullptr) pos.contact_stress[i] = pins[i].law->MaxPressure(f);
+  }
+  m.summary.Add(pos);
+  m.elapsed += Clock::now() - start;
+  return pos;
+}
+
+SweepSummary SweepRunner::Summary() const {
+  SweepSummary s = impl_->summary.Summary();
+  s.wall_seconds = std::chrono::duration<double>(impl_->elapsed).count();
+  return s;
+}
+
+SweepResult SolveSweep(const Deck& deck, const SolverOptions& options, const SweepCallbacks& callbacks) {
+  SweepRunner runner(deck, options);
   SweepResult sweep;
   sweep.solver = options.name;
   sweep.options = options;
-  double te_sum = 0.0, te_lo = INFINITY, te_hi = -INFINITY;
-  sweep.summary.contacts_min = model.pin_count() + 1;
-  sweep.summary.status = SolverStatus::kSuccess;
   for (const double crank : deck.sweep.CrankAngles()) {
-    const LoadProblem problem(model, crank, deck.contact, deck.RequireMaterial(), deck.RequireLoad().torque,
-                              options.kinematics);
-    PositionResult pos;
-    pos.crank = crank;
-    pos.result = solver->Solve(problem, options);
-    std::vector<contact::ContactLaw> scratch;
-    const auto pins = problem.At(std::isfinite(pos.result.rotation) ? pos.result.rotation : 0.0, &scratch);
-    const double f_max = *std::max_element(pos.result.force.begin(), pos.result.force.end());
-    pos.angle.resize(pins.size());
-    pos.contact_stress.assign(pins.size(), 0.0);
-    for (std::size_t i = 0; i < pins.size(); ++i) {
-      pos.angle[i] = problem.base_state().pins[i].angle;
-      const double f = pos.result.force[i];
-      if (f > kContactForceFraction * f_max && f_max > 0.0) ++pos.contacts;
-      if (f > 0.0 && pins[i].law != nullptr) pos.contact_stress[i] = pins[i].law->MaxPressure(f);
-      sweep.summary.max_pin_force = std::max(sweep.summary.max_pin_force, f);
-      sweep.summary.max_contact_stress = std::max(sweep.summary.max_contact_stress, pos.contact_stress[i]);
-    }
-    te_sum += pos.result.te;
-    te_lo = std::min(te_lo, pos.result.te);
-    te_hi = std::max(te_hi, pos.result.te);
-    sweep.summary.contacts_min = std::min(sweep.summary.contacts_min, pos.contacts);
-    sweep.summary.contacts_max = std::max(sweep.summary.contacts_max, pos.contacts);
-    if (Severity(pos.result.status) > Severity(sweep.summary.status)) sweep.summary.status = pos.result.status;
-    sweep.positions.push_back(std::move(pos));
+    PositionResult pos = runner.Solve(crank);
+    if (callbacks.on_position) callbacks.on_position(pos);
+    if (callbacks.keep_positions) sweep.positions.push_back(std::move(pos));
   }
-  const double n = static_cast<double>(sweep.positions.size());
-  sweep.summary.mean_te = te_sum / n;
-  sweep.summary.pp_te = te_hi - te_lo;
-  sweep.summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  sweep.summary = runner.Summary();
   return sweep;
 }
 

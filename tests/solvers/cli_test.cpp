@@ -10,10 +10,13 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
+#include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/deck.hpp"
+#include "ltca/solvers/sweep.hpp"
+#include "output.hpp"
 
 namespace {
 
@@ -36,6 +39,36 @@ std::filesystem::path TempFile(const std::string& name, const std::string& text)
 
 std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
 
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// cases/liu2021_table1.toml with [modification] pin_radius_mm = -0.02: dR_rp - dR_p = -20 um,
+/// every pin overlaps the cycloid by 20 um at the theoretical position.
+std::filesystem::path InterferingDeck() {
+  std::string text = ReadText(Case("liu2021_table1.toml"));
+  const auto at = text.find("[material]");
+  REQUIRE(at != std::string::npos);
+  REQUIRE(text.find("[modification]") == std::string::npos);
+  text.insert(at, "[modification]\npin_radius_mm = -0.02\n\n");
+  return TempFile("interference_20um.toml", text);
+}
+
+/// A folder of its own under the temporary folder, emptied.
+std::filesystem::path FreshFolder(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("ltca_cli_test_dir_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::vector<std::string> FolderEntries(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  return names;
+}
+
 }  // namespace
 
 TEST_CASE("cli: ltca geometry --json writes the keys of the issue with the library's values") {
@@ -43,7 +76,7 @@ TEST_CASE("cli: ltca geometry --json writes the keys of the issue with the libra
     CAPTURE(deck_path);
     const auto r = RunCli({"geometry", deck_path, "--json", "-"});
     REQUIRE(r.code == 0);
-    const auto json = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    const auto json = nlohmann::json::parse(r.out);
     const auto deck = ltca::solvers::LoadDeck(deck_path);
     const ltca::geometry::CycloidProfile profile(deck.pair, deck.modification);
     const ltca::geometry::Kinematics kin(deck.pair);
@@ -130,7 +163,7 @@ TEST_CASE("cli: ltca backlash writes mean and peak-to-peak backlash and per-posi
   // / (e z_c) gives 48.1 arcsec; the mean of the exact TCA is within 1 % of it.
   const auto r = RunCli({"backlash", Case("liu2021_sec52_base.toml"), "--json", "-"});
   REQUIRE(r.code == 0);
-  const auto json = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+  const auto json = nlohmann::json::parse(r.out);
   const double k1 = 40 * 1.3 / (64 - 0.017);
   const double closed = 2 * (-0.004 + 0.017 * std::sqrt(1 - k1 * k1)) / (1.3 * 39) * 180 / 3.14159265358979 * 3600;
   CHECK(json.at("summary").at("mean_backlash_arcsec").get<double>() == doctest::Approx(closed).epsilon(0.01));
@@ -157,7 +190,7 @@ TEST_CASE("cli: ltca backlash reports interference as an error naming the pins")
 TEST_CASE("cli: ltca mesh prints every pin with clearance and arm") {
   const auto r = RunCli({"mesh", Case("li_table1.toml"), "--crank-deg", "0", "--json", "-"});
   REQUIRE(r.code == 0);
-  const auto json = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+  const auto json = nlohmann::json::parse(r.out);
   REQUIRE(json.at("pins").size() == 40);
   // Pin 1 sits in the root on the line of centres: clearance dR_rp - dR_p = 22 um, no arm.
   CHECK(json.at("pins").at(0).at("clearance_um").get<double>() == doctest::Approx(22.0).epsilon(1e-3));
@@ -167,7 +200,7 @@ TEST_CASE("cli: ltca mesh prints every pin with clearance and arm") {
 TEST_CASE("cli: ltca solve writes the summary and per-position keys of the issue") {
   const auto r = RunCli({"solve", Case("liu2021_sec52_base.toml"), "--json", "-"});
   REQUIRE(r.code == 0);
-  const auto json = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+  const auto json = nlohmann::json::parse(r.out);
   for (const char* key : {"mean_te_arcsec", "pp_te_arcsec", "contacts_min", "contacts_max", "max_pin_force_n",
                           "max_contact_stress_mpa", "wall_seconds", "status"}) {
     CHECK(json.at("summary").contains(key));
@@ -189,7 +222,7 @@ TEST_CASE("cli: ltca solve writes the summary and per-position keys of the issue
 TEST_CASE("cli: ltca compare runs the selected solvers side by side with their differences") {
   const auto r = RunCli({"compare", Case("liu2021_sec52_base.toml"), "--solvers", "bisection,compatibility", "--json", "-"});
   REQUIRE(r.code == 0);
-  const auto json = nlohmann::json::parse(r.out.substr(r.out.find("{\n")));
+  const auto json = nlohmann::json::parse(r.out);
   REQUIRE(json.at("solvers").size() == 2);
   const auto& other = json.at("solvers").at(1);
   CHECK(other.at("name") == "compatibility");
@@ -197,4 +230,330 @@ TEST_CASE("cli: ltca compare runs the selected solvers side by side with their d
   CHECK(other.at("max_contact_count_difference").get<int>() == 0);
   CHECK(other.contains("wall_seconds"));
   CHECK(RunCli({"compare", "--solvers", "bisection,newton"}).code != 0);
+}
+
+TEST_CASE("cli: --json - writes only JSON to stdout for every command") {
+  const std::string deck = Case("liu2021_table1.toml");
+  const std::vector<std::vector<std::string>> runs = {
+      {"geometry", deck, "--json", "-"},
+      {"backlash", deck, "--json", "-"},
+      {"mesh", deck, "--crank-deg", "2", "--json", "-"},
+      {"solve", deck, "--json", "-"},
+      {"compare", deck, "--solvers", "bisection,compatibility", "--json", "-"},
+      {"--json", "-"},        // the default job on the built-in deck
+      {deck, "--json", "-"},  // the default job on a deck
+  };
+  for (const auto& args : runs) {
+    CAPTURE(args.front());
+    const auto r = RunCli(args);
+    CHECK(r.code == 0);
+    nlohmann::json json;
+    CHECK_NOTHROW(json = nlohmann::json::parse(r.out));  // the whole of stdout is one document
+    CHECK(json.is_object());
+    // The human text still comes, on stderr.
+    CHECK(r.err.find("case      Liu 2021 Table 1") != std::string::npos);
+  }
+  const auto job = nlohmann::json::parse(RunCli({deck, "--json", "-"}).out);
+  CHECK(job.at("geometry").contains("k1"));
+  CHECK(job.at("solve").at("summary").at("status") == "success");
+}
+
+TEST_CASE("cli: --csv - writes only the CSV to stdout, and the text to stderr") {
+  const auto r = RunCli({"solve", Case("liu2021_table1.toml"), "--csv", "-"});
+  REQUIRE(r.code == 0);
+  std::istringstream rows(r.out);
+  std::string line;
+  std::getline(rows, line);
+  CHECK(line == "crank_deg,te_arcsec,contacts,max_pin_force_n,max_contact_stress_mpa,status");
+  int n = 0;
+  while (std::getline(rows, line)) {
+    ++n;
+    CHECK(line.substr(line.rfind(',') + 1) == "success");
+  }
+  CHECK(n == ltca::solvers::LoadDeck(Case("liu2021_table1.toml")).sweep.positions);
+  CHECK(r.err.find("mean TE") != std::string::npos);
+  // Two documents cannot share stdout.
+  const auto both = RunCli({"solve", Case("liu2021_table1.toml"), "--csv", "-", "--json", "-"});
+  CHECK(both.code == 2);
+  CHECK(both.out.empty());
+}
+
+TEST_CASE("cli: without an output '-' the text stays on stdout and stderr stays empty") {
+  const auto r = RunCli({"solve", Case("liu2021_table1.toml")});
+  CHECK(r.code == 0);
+  CHECK(r.out.find("mean TE") != std::string::npos);
+  CHECK(r.err.empty());  // also: no progress line in-process (stderr is not a terminal)
+}
+
+TEST_CASE("cli: a failed position exits 1 with its status, null figures and n/a in text") {
+  const auto r = RunCli({"solve", Case("hard/law_cannot_carry.toml"), "--json", "-"});
+  CHECK(r.code == 1);
+  const auto json = nlohmann::json::parse(r.out);
+  const auto& s = json.at("summary");
+  CHECK(s.at("status") == "law-cannot-carry");
+  CHECK(s.at("mean_te_arcsec").is_null());
+  CHECK(s.at("pp_te_arcsec").is_null());
+  CHECK(s.at("max_pin_force_n").is_null());
+  CHECK(s.at("max_contact_stress_mpa").is_null());
+  CHECK(s.at("failed_positions") == 1);
+  CHECK(s.at("succeeded_positions") == 0);
+  REQUIRE(json.at("positions").size() == 1);
+  const auto& p = json.at("positions").at(0);
+  CHECK(p.at("status") == "law-cannot-carry");
+  CHECK(p.at("te_arcsec").is_null());
+  CHECK(p.at("pin_force_n").is_null());
+  CHECK(p.at("contact_stress_mpa").is_null());
+  const auto text = RunCli({"solve", Case("hard/law_cannot_carry.toml")});
+  CHECK(text.code == 1);
+  CHECK(text.out.find("mean TE                n/a") != std::string::npos);
+  CHECK(text.out.find("failed positions") != std::string::npos);
+  // compare: the same failure in every solver, and exit 1.
+  const auto cmp = RunCli({"compare", Case("hard/law_cannot_carry.toml"), "--solvers", "bisection", "--json", "-"});
+  CHECK(cmp.code == 1);
+  CHECK(nlohmann::json::parse(cmp.out).at("solvers").at(0).at("mean_te_arcsec").is_null());
+}
+
+TEST_CASE("sweep: the summary is taken over the successful positions only and counts the failed") {
+  using ltca::solvers::PositionResult;
+  using ltca::solvers::SolverStatus;
+  const auto position = [](SolverStatus status, double te, double force, double stress, int contacts) {
+    PositionResult p;
+    p.result.status = status;
+    p.result.te = te;
+    p.result.force = {force, 0.5 * force};
+    p.contact_stress = {stress, 0.0};
+    p.contacts = contacts;
+    return p;
+  };
+  ltca::solvers::SummaryAccumulator acc;
+  acc.Add(position(SolverStatus::kSuccess, -1e-5, 100.0, 900.0, 6));
+  acc.Add(position(SolverStatus::kMaxIterations, 1.3e3, 170848.0, 1e6, 40));  // a wrong number
+  acc.Add(position(SolverStatus::kSuccess, -3e-5, 300.0, 1100.0, 7));
+  const auto s = acc.Summary();
+  CHECK(s.succeeded == 2);
+  CHECK(s.failed == 1);
+  CHECK(s.positions() == 3);
+  CHECK_FALSE(s.all_succeeded());
+  CHECK(s.status == SolverStatus::kMaxIterations);
+  CHECK(s.mean_te == doctest::Approx(-2e-5));
+  CHECK(s.pp_te == doctest::Approx(2e-5));
+  CHECK(s.max_pin_force == 300.0);
+  CHECK(s.max_contact_stress == 1100.0);
+  CHECK(s.contacts_min == 6);
+  CHECK(s.contacts_max == 7);
+
+  ltca::solvers::SummaryAccumulator none;
+  none.Add(position(SolverStatus::kLawCannotCarry, 0.1, 1.0, 1.0, 1));
+  const auto n = none.Summary();
+  CHECK(n.failed == 1);
+  CHECK(std::isnan(n.mean_te));
+  CHECK(std::isnan(n.pp_te));
+  CHECK(std::isnan(n.max_pin_force));
+  CHECK(std::isnan(n.max_contact_stress));
+}
+
+TEST_CASE("sweep: streaming calls back every position in order and keeps none, with the same summary") {
+  const auto deck = ltca::solvers::LoadDeck(Case("liu2021_sec52_base.toml"));
+  const auto kept = ltca::solvers::SolveSweep(deck, deck.solver);
+  std::vector<double> cranks, tes;
+  ltca::solvers::SweepCallbacks callbacks;
+  callbacks.keep_positions = false;
+  callbacks.on_position = [&](const ltca::solvers::PositionResult& p) {
+    cranks.push_back(p.crank);
+    tes.push_back(p.result.te);
+  };
+  const auto streamed = ltca::solvers::SolveSweep(deck, deck.solver, callbacks);
+  CHECK(streamed.positions.empty());
+  REQUIRE(cranks.size() == kept.positions.size());
+  CHECK(cranks == deck.sweep.CrankAngles());
+  for (std::size_t i = 0; i < tes.size(); ++i) CHECK(tes[i] == kept.positions[i].result.te);
+  CHECK(streamed.summary.mean_te == kept.summary.mean_te);
+  CHECK(streamed.summary.pp_te == kept.summary.pp_te);
+  CHECK(streamed.summary.succeeded == static_cast<std::int64_t>(kept.positions.size()));
+}
+
+TEST_CASE("cli: the solve JSON streams its positions and ends with the summary") {
+  const auto r = RunCli({"solve", Case("liu2021_sec52_base.toml"), "--json", "-"});
+  REQUIRE(r.code == 0);
+  // Positions before the summary: the document is written while the sweep runs.
+  CHECK(r.out.find("\"positions\"") < r.out.find("\"summary\""));
+  const auto json = nlohmann::json::parse(r.out);
+  const auto deck = ltca::solvers::LoadDeck(Case("liu2021_sec52_base.toml"));
+  const auto sweep = ltca::solvers::SolveSweep(deck, deck.solver);
+  CHECK(json.at("summary").at("mean_te_arcsec").get<double>() ==
+        doctest::Approx(ltca::units::RadToArcsec(sweep.summary.mean_te)).epsilon(1e-12));
+  CHECK(json.at("positions").size() == sweep.positions.size());
+}
+
+TEST_CASE("contact: RequireNoInterference names the pins and overlaps, and accepts clearance") {
+  const auto deck = ltca::solvers::LoadDeck(InterferingDeck().string());
+  const auto model = deck.MakeModel();
+  CHECK_THROWS_WITH_AS(ltca::contact::RequireNoInterference(model, 0.0), doctest::Contains("pin 1 by 20 um"),
+                       std::invalid_argument);
+  const auto ok = ltca::solvers::LoadDeck(Case("liu2021_sec52_base.toml"));
+  CHECK_NOTHROW(ltca::contact::RequireNoInterference(ok.MakeModel(), 0.0));
+  // The sweep rejects it before solving anything.
+  int solved = 0;
+  ltca::solvers::SweepCallbacks callbacks;
+  callbacks.on_position = [&](const ltca::solvers::PositionResult&) { ++solved; };
+  CHECK_THROWS_AS(ltca::solvers::SolveSweep(deck, deck.solver, callbacks), std::invalid_argument);
+  CHECK(solved == 0);
+}
+
+TEST_CASE("cli: every solving command rejects a 20 um interference with exit 2 naming the pins") {
+  const std::string deck = InterferingDeck().string();
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"solve", deck, "--json", "-"},
+                                             {"compare", deck, "--json", "-"},
+                                             {"mesh", deck, "--json", "-"},
+                                             {"backlash", deck, "--json", "-"},
+                                             {deck, "--json", "-"}}) {
+    CAPTURE(args.front());
+    const auto r = RunCli(args);
+    CHECK(r.code == 2);
+    CHECK(r.err.find("interference") != std::string::npos);
+    CHECK(r.err.find("pin 1 by 20 um") != std::string::npos);
+    CHECK(r.out.empty());  // no partial document
+  }
+}
+
+TEST_CASE("cli: I/O errors exit 3, unwritable paths are found before computing, no partial file is left") {
+  const auto r = RunCli({"solve", Case("liu2021_table1.toml"), "--csv", "/dev/full"});
+  CHECK(r.code == 3);
+  CHECK(r.err.find("/dev/full") != std::string::npos);
+
+  const auto missing = RunCli({"solve", Case("liu2021_table1.toml"), "--json", "/no/such/folder/x.json"});
+  CHECK(missing.code == 3);
+  CHECK(missing.out.empty());  // found before the sweep: no summary was printed
+  CHECK(missing.err.find("/no/such/folder") != std::string::npos);
+
+  const auto dir = FreshFolder("io");
+  CHECK(RunCli({"geometry", "--json", dir.string()}).code == 3);  // a folder is not a file
+
+  // A run that fails (bad input) after the outputs were opened leaves the folder as it was:
+  // no new file, no temporary file, and an existing file untouched.
+  const auto kept = dir / "kept.json";
+  std::ofstream(kept) << "old";
+  const auto bad = RunCli({"solve", InterferingDeck().string(), "--json", kept.string(), "--csv", (dir / "new.csv").string()});
+  CHECK(bad.code == 2);
+  CHECK(FolderEntries(dir) == std::vector<std::string>{"kept.json"});
+  CHECK(ReadText(kept) == "old");
+
+  // A successful run replaces it whole.
+  CHECK(RunCli({"solve", Case("liu2021_table1.toml"), "--json", kept.string()}).code == 0);
+  CHECK(nlohmann::json::parse(ReadText(kept)).at("summary").at("status") == "success");
+  CHECK(FolderEntries(dir) == std::vector<std::string>{"kept.json"});
+}
+
+TEST_CASE("cli: Output reports a failed write and removes its temporary file") {
+  const auto dir = FreshFolder("output");
+  std::ostringstream out;
+  {
+    ltca::cli::Output o("--json", (dir / "a.json").string(), out);
+    o.stream() << "partial";
+    CHECK(FolderEntries(dir).size() == 1);  // the temporary file only
+    // no Commit(): as when an exception unwinds
+  }
+  CHECK(FolderEntries(dir).empty());
+  std::ostringstream bad;
+  bad.setstate(std::ios::badbit);
+  ltca::cli::Output to_stdout("--json", "-", bad);
+  CHECK_THROWS_AS(to_stdout.Commit(), ltca::cli::OutputError);
+  const auto failed = [&] {
+    ltca::cli::Output full("--csv", "/dev/full", out);
+    full.stream() << std::string(1 << 16, 'x');
+    full.Commit();
+  };
+  CHECK_THROWS_AS(failed(), ltca::cli::OutputError);
+}
+
+TEST_CASE("cli: a deck path with non-UTF-8 bytes gives valid JSON") {
+  const auto path = std::filesystem::temp_directory_path() / "ltca_cli_test_\xff\xfe_deck.toml";
+  std::filesystem::copy_file(Case("liu2021_table1.toml"), path, std::filesystem::copy_options::overwrite_existing);
+  for (const std::string command : {"geometry", "solve", "mesh"}) {
+    CAPTURE(command);
+    const auto r = RunCli({command, path.string(), "--json", "-"});
+    REQUIRE(r.code == 0);
+    nlohmann::json json;
+    REQUIRE_NOTHROW(json = nlohmann::json::parse(r.out));
+    CHECK(json.at("case").at("deck").get<std::string>().find("\xEF\xBF\xBD") != std::string::npos);  // U+FFFD
+  }
+}
+
+TEST_CASE("cli: --crank-deg must be a finite angle within +-3600 deg") {
+  for (const std::string bad : {"nan", "inf", "-inf", "1e400", "3600.5", "-1e9", "12abc"}) {
+    for (const std::string command : {"mesh", "geometry"}) {
+      CAPTURE(bad);
+      CAPTURE(command);
+      const auto r = RunCli({command, "--crank-deg=" + bad});
+      CHECK(r.code == 2);
+      CHECK(r.err.find("--crank-deg") != std::string::npos);
+    }
+  }
+  CHECK(RunCli({"mesh", "--crank-deg", "3600"}).code == 0);
+  CHECK(RunCli({"mesh", "--crank-deg", "-12.5"}).code == 0);
+}
+
+TEST_CASE("cli: --version prints the project version and the compiler; --help documents the exit codes") {
+  const auto r = RunCli({"--version"});
+  CHECK(r.code == 0);
+  CHECK(r.out.find(std::string("ltca ") + LTCA_TEST_PROJECT_VERSION) != std::string::npos);
+#if defined(__clang__)
+  CHECK(r.out.find("clang") != std::string::npos);
+#else
+  CHECK(r.out.find(std::string("gcc ") + __VERSION__) != std::string::npos);
+#endif
+  const auto help = RunCli({"--help"});
+  CHECK(help.code == 0);
+  for (const char* line : {"Exit codes:", "  0  every position", "  1  the run finished", "  2  bad input",
+                           "  3  an output could not", "  4  internal error"}) {
+    CHECK(help.out.find(line) != std::string::npos);
+  }
+  CHECK(RunCli({"--no-such-option"}).code == 2);
+}
+
+TEST_CASE("cli: a deck without a command runs the default job on that deck") {
+  const std::string path = Case("liu2021_sec52_base.toml");
+  const auto deck = ltca::solvers::LoadDeck(path);
+  const auto r = RunCli({path, "--json", "-"});
+  REQUIRE(r.code == 0);
+  const auto json = nlohmann::json::parse(r.out);
+  CHECK(json.at("geometry").at("case").at("title") == deck.info.title);
+  CHECK(json.at("geometry").at("k1").get<double>() ==
+        ltca::geometry::CycloidProfile(deck.pair, deck.modification).k1());
+  const auto sweep = ltca::solvers::SolveSweep(deck, deck.solver);
+  CHECK(json.at("solve").at("summary").at("mean_te_arcsec").get<double>() ==
+        doctest::Approx(ltca::units::RadToArcsec(sweep.summary.mean_te)).epsilon(1e-12));
+  CHECK(json.at("solve").at("positions").size() == static_cast<std::size_t>(deck.sweep.positions));
+  const auto text = RunCli({path});
+  CHECK(text.code == 0);
+  CHECK(text.out.find(deck.info.title) != std::string::npos);
+  CHECK(text.out.find("mean TE") != std::string::npos);
+  const auto nonsense = RunCli({"frobnicate"});
+  CHECK(nonsense.code == 2);
+  CHECK(nonsense.err.find("neither a command") != std::string::npos);
+}
+
+TEST_CASE("cli: the progress line shows only when enabled and after its delay") {
+  std::ostringstream shown, hidden, early;
+  {
+    ltca::cli::Progress p(shown, true, "solving position", 10, 0.0);
+    p.Update(5);
+    CHECK(shown.str().find("solving position 5 of 10") != std::string::npos);
+    p.Finish();
+    CHECK(shown.str().back() == '\r');  // the line is cleared before the summary is printed
+    const auto length = shown.str().size();
+    p.Update(10);
+    CHECK(shown.str().size() == length);  // and stays cleared
+  }
+  {
+    ltca::cli::Progress p(hidden, false, "solving position", 10, 0.0);
+    p.Update(5);
+  }
+  CHECK(hidden.str().empty());
+  {
+    ltca::cli::Progress p(early, true, "solving position", 10, 3600.0);
+    p.Update(5);
+  }
+  CHECK(early.str().empty());
 }

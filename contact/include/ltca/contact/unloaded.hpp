@@ -30,8 +30,16 @@ struct UnloadedContact {
   std::vector<double> clearance_at_c1;
 };
 
-/// Throws std::invalid_argument naming the pins and their overlap in um when the pair
-/// interferes (a clearance below -tolerance_mm at the theoretical position).
+/// Throws std::invalid_argument naming the crank, the pins and their overlap in um when the pair
+/// interferes at the theoretical meshing position of that crank (rad): a clearance below
+/// -model.interference_tolerance(). Every command that solves or tabulates a mesh calls it first.
+void RequireNoInterference(const MeshModel& model, double crank);
+/// The same on an evaluated state (loaded rotation 0) of that crank.
+void RequireNoInterference(const MeshState& state, double crank, double tolerance_mm = 1e-9);
+
+/// Calls RequireNoInterference, then rotates both ways to first contact; throws for the pair
+/// that interferes (a clearance below -max(tolerance_mm, model.interference_tolerance()) at the
+/// theoretical position).
 UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank,
                                 ContactKinematics kinematics = ContactKinematics::kExact,
                                 double interference_tolerance_mm = 1e-9);

@@ -1,6 +1,14 @@
 #pragma once
 // A loaded sweep over the deck's crank positions with one solver: per-position results and the
 // summary users ask for (mean / peak-to-peak TE, contact counts, largest force and stress).
+// The summary is taken over the positions that succeeded only: a failed position has no valid
+// TE, force or stress to average. Long sweeps can stream: a callback sees every position as it
+// is solved, and the positions need not be kept.
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,27 +28,78 @@ struct PositionResult {
   std::vector<double> angle;            ///< pin angle from the line of centres, rad
   std::vector<double> contact_stress;   ///< Hertz maximum pressure per pin, MPa (0 if unloaded)
   int contacts = 0;                     ///< pins above kContactForceFraction of the largest force
+  /// The solve is valid (status success); a failed position's te, forces and stresses are not
+  /// answers and take no part in the summary.
+  bool succeeded() const { return result.status == SolverStatus::kSuccess; }
 };
 
+/// Figures over the successful positions only; NaN (and contacts -1) when none succeeded.
 struct SweepSummary {
-  double mean_te = 0.0;        ///< rad
-  double pp_te = 0.0;          ///< rad
-  int contacts_min = 0;
-  int contacts_max = 0;
-  double max_pin_force = 0.0;  ///< N
-  double max_contact_stress = 0.0;  ///< MPa
+  double mean_te = std::numeric_limits<double>::quiet_NaN();        ///< rad
+  double pp_te = std::numeric_limits<double>::quiet_NaN();          ///< rad
+  int contacts_min = -1;
+  int contacts_max = -1;
+  double max_pin_force = std::numeric_limits<double>::quiet_NaN();  ///< N
+  double max_contact_stress = std::numeric_limits<double>::quiet_NaN();  ///< MPa
   double wall_seconds = 0.0;
+  std::int64_t succeeded = 0;  ///< positions with status success
+  std::int64_t failed = 0;     ///< positions with any other status
   SolverStatus status = SolverStatus::kNotSolved;  ///< the worst status over the sweep
+  std::int64_t positions() const { return succeeded + failed; }
+  bool all_succeeded() const { return failed == 0 && succeeded > 0; }
+};
+
+/// Accumulates the summary position by position (the rule of SweepSummary).
+class SummaryAccumulator {
+ public:
+  void Add(const PositionResult& position);
+  /// The summary so far (wall_seconds left to the caller).
+  SweepSummary Summary() const;
+
+ private:
+  SweepSummary s_;
+  double te_sum_ = 0.0, te_lo_ = std::numeric_limits<double>::infinity(),
+         te_hi_ = -std::numeric_limits<double>::infinity();
+};
+
+/// One solver over the crank positions of one deck, a position at a time, so that callers can
+/// stream or run several solvers in lockstep. The constructor validates the options, requires
+/// [material] and [load], and rejects a pair that interferes at any crank of the deck's sweep
+/// (std::invalid_argument naming the pins), before anything is solved.
+class SweepRunner {
+ public:
+  SweepRunner(const Deck& deck, const SolverOptions& options);
+  ~SweepRunner();
+  SweepRunner(SweepRunner&&) noexcept;
+  SweepRunner& operator=(SweepRunner&&) noexcept;
+
+  /// Solves one crank angle (rad) and adds it to the summary.
+  PositionResult Solve(double crank);
+  /// The summary of the positions solved so far; wall_seconds counts construction and solves.
+  SweepSummary Summary() const;
+  const SolverOptions& options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 struct SweepResult {
   std::string solver;
   SolverOptions options;
-  std::vector<PositionResult> positions;
+  std::vector<PositionResult> positions;  ///< empty when the sweep was run without keeping them
   SweepSummary summary;
 };
 
-/// Solves every crank position of the deck (requires [material] and [load]).
-SweepResult SolveSweep(const Deck& deck, const SolverOptions& options);
+struct SweepCallbacks {
+  /// Called with every position as soon as it is solved, in crank order.
+  std::function<void(const PositionResult&)> on_position;
+  /// false: SweepResult::positions stays empty, so memory does not grow with the sweep.
+  bool keep_positions = true;
+};
+
+/// Solves every crank position of the deck (requires [material] and [load]). Throws
+/// std::invalid_argument for bad options or an interfering pair, before solving anything.
+SweepResult SolveSweep(const Deck& deck, const SolverOptions& options, const SweepCallbacks& callbacks = {});
 
 }  // namespace ltca::solvers
