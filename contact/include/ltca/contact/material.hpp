@@ -8,12 +8,21 @@ struct Material {
   double poisson_ratio = 0.3;           ///< nu_c of the cycloid.
   double pin_young_modulus = 206000.0;  ///< E_p of the pins, MPa (deck default: = E_c).
   double pin_poisson_ratio = 0.3;       ///< nu_p of the pins (deck default: = nu_c).
+  /// Contact stress above which a result is flagged, MPa (deck: contact_stress_limit_mpa).
+  /// Default: 4000 MPa, the ISO 76 static contact-stress limit for roller bearings of hardened
+  /// bearing steel (line contact).
+  double contact_stress_limit = 4000.0;  ///< MPa
 
   /// Equivalent modulus E* = E_c E_p / (E_p (1 - nu_c^2) + E_c (1 - nu_p^2)), Liu eq. 24, MPa.
   double EquivalentModulus() const;
 
-  /// Throws std::invalid_argument naming the key for a non-positive modulus or a Poisson ratio
-  /// outside [0, 0.5).
+  /// Smallest and largest accepted modulus, MPa: soft polymers (a few MPa) to diamond (1.2e6 MPa).
+  static constexpr double kMinModulus = 1.0;
+  static constexpr double kMaxModulus = 1e7;
+
+  /// Throws std::invalid_argument naming the key for a modulus outside [kMinModulus,
+  /// kMaxModulus], a Poisson ratio outside [0, 0.5), or a contact-stress limit that is not
+  /// finite and positive.
   void Validate() const;
 };
 
