@@ -18,9 +18,11 @@
 namespace ltca::cli {
 namespace {
 
-solvers::Deck ReadDeck(const std::string& path) {
-  return path.empty() ? solvers::DefaultDeck() : solvers::LoadDeck(path);
+solvers::Deck ReadDeck(const std::string& path, const std::vector<std::string>& overrides) {
+  return path.empty() ? solvers::DefaultDeck(overrides) : solvers::LoadDeck(path, overrides);
 }
+
+constexpr const char* kSetHelp = "Override a deck key: section.key=value (repeatable)";
 
 }  // namespace
 
@@ -32,12 +34,14 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   app.name("ltca");
 
   std::string deck_path;
+  std::vector<std::string> overrides;  // --set section.key=value
   GeometryOptions geometry_options;
   CLI::App* geometry = app.add_subcommand(
       "geometry",
       "Derived geometry of the pair: K1, phi_max (Chen eq. 16), contact ratio (eq. 27), "
       "theta_max (eq. 20), alpha_max (Liu eq. 2), minimum radius of curvature, undercut margin, "
       "mesh period; optionally the profile as CSV and a drawing as SVG.");
+  geometry->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   geometry->add_option("deck", deck_path, "Case deck (TOML); default: the built-in Liu 2021 Table 1 deck");
   geometry->add_option("--json", geometry_options.json_path,
                        "Write the summary as JSON to FILE ('-' for standard output); keys k1, "
@@ -63,6 +67,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "ways (theta_c1 in the load direction, theta_c2 against it), backlash = theta_c1 - "
       "theta_c2 (Liu eq. 17), first-contact pin; summary keys mean_backlash_arcsec, "
       "pp_backlash_arcsec. Interference is an error naming the pins.");
+  backlash->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   backlash->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   backlash->add_option("--json", backlash_options.json_path, "Write summary and positions as JSON ('-': stdout)")
       ->type_name("FILE|-");
@@ -76,6 +81,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "mesh",
       "Mesh state at one crank angle: per pin its angle from the line of centres, clearance c_i "
       "(um), moment arm L_i (mm), radii of curvature, contact point, edge contact.");
+  mesh->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   mesh->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   mesh->add_option("--crank-deg", mesh_options.crank_deg, "Crank angle in degrees (default 0)");
   mesh->add_option("--json", mesh_options.json_path, "Write the table as JSON ('-': stdout)")->type_name("FILE|-");
@@ -88,6 +94,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "contacts_min, contacts_max, max_pin_force_n, max_contact_stress_mpa, wall_seconds, status} "
       "and positions [{crank_deg, te_arcsec, contacts, pin_force_n, pin_angle_deg, "
       "contact_stress_mpa, status}].");
+  solve->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   solve->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   solve->add_option("--solver", solve_options.solver, "Solver name (default: the deck's [solver] name)");
   solve->add_option("--kinematics", solve_options.kinematics, "linearised or exact (default: the deck's)")
@@ -101,6 +108,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "compare",
       "Run several solvers (default: all) on the same sweep and print them side by side with the "
       "largest differences from the first in TE, pin force and contact count, and their times.");
+  compare->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   compare->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   compare->add_option("--solvers", compare_options.solvers, "Comma-separated solver names (default: all)")
       ->delimiter(',');
@@ -145,19 +153,19 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       return RunValidate(validate_options, out);
     } else if (compare->parsed()) {
       for (const auto& name : compare_options.solvers) solvers::MakeSolver(name);  // names checked first
-      RunCompare(ReadDeck(deck_path), compare_options, out);
+      RunCompare(ReadDeck(deck_path, overrides), compare_options, out);
     } else if (solve->parsed()) {
-      RunSolve(ReadDeck(deck_path), solve_options, out);
+      RunSolve(ReadDeck(deck_path, overrides), solve_options, out);
     } else if (backlash->parsed()) {
       backlash_options.kinematics = ParseKinematics(kinematics);
-      RunBacklash(ReadDeck(deck_path), backlash_options, out);
+      RunBacklash(ReadDeck(deck_path, overrides), backlash_options, out);
     } else if (mesh->parsed()) {
-      RunMesh(ReadDeck(deck_path), mesh_options, out);
+      RunMesh(ReadDeck(deck_path, overrides), mesh_options, out);
     } else if (geometry->parsed()) {
-      RunGeometry(ReadDeck(deck_path), geometry_options, out);
+      RunGeometry(ReadDeck(deck_path, overrides), geometry_options, out);
     } else {
       // No command: the main job on the built-in deck, its geometry and the loaded sweep.
-      const solvers::Deck deck = ReadDeck(deck_path);
+      const solvers::Deck deck = ReadDeck(deck_path, overrides);
       RunGeometry(deck, geometry_options, out);
       out << '\n';
       RunSolve(deck, solve_options, out);
