@@ -35,11 +35,12 @@ double SagittaIntegral(double rho, double s) {
 }  // namespace
 
 void ContactSettings::Validate() const {
-  if (law == LawKind::kLinear && !(stiffness_per_length > 0.0 && std::isfinite(stiffness_per_length))) {
+  if (law == LawKind::kLinear &&
+      !(stiffness_per_length >= kMinStiffness && stiffness_per_length <= kMaxStiffness)) {
     throw std::invalid_argument(fmt::format(
-        "[contact] stiffness_n_per_mm2 = {}: the linear law needs a finite positive stiffness per "
-        "mm of contact length",
-        stiffness_per_length));
+        "[contact] stiffness_n_per_mm2 = {}: the linear law needs a stiffness per mm of contact "
+        "length from {:g} to {:g} N/mm^2 (steel line contacts: about 1e4 to 1e5)",
+        stiffness_per_length, kMinStiffness, kMaxStiffness));
   }
   if (law != LawKind::kLinear && stiffness_per_length != 0.0) {
     throw std::invalid_argument(fmt::format(

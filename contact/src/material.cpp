@@ -9,9 +9,11 @@ namespace ltca::contact {
 namespace {
 
 void CheckModulus(double value, const char* key) {
-  if (!std::isfinite(value) || value <= 0.0) {
-    throw std::invalid_argument(
-        fmt::format("[material] {} = {}: expected a finite positive modulus in MPa", key, value));
+  if (!std::isfinite(value) || value < Material::kMinModulus || value > Material::kMaxModulus) {
+    throw std::invalid_argument(fmt::format(
+        "[material] {} = {}: expected a finite positive modulus from {:g} to {:g} MPa (steel: "
+        "about 206000 MPa)",
+        key, value, Material::kMinModulus, Material::kMaxModulus));
   }
 }
 
@@ -35,6 +37,12 @@ void Material::Validate() const {
   CheckPoisson(poisson_ratio, "poisson_ratio");
   CheckModulus(pin_young_modulus, "pin_young_modulus_mpa");
   CheckPoisson(pin_poisson_ratio, "pin_poisson_ratio");
+  if (!std::isfinite(contact_stress_limit) || contact_stress_limit <= 0.0) {
+    throw std::invalid_argument(fmt::format(
+        "[material] contact_stress_limit_mpa = {}: expected a finite positive stress in MPa "
+        "(default 4000 MPa, ISO 76 for hardened bearing steel)",
+        contact_stress_limit));
+  }
 }
 
 }  // namespace ltca::contact

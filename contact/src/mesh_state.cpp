@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "ltca/geometry/units.hpp"
 
@@ -20,10 +24,25 @@ geometry::CycloidProfile MakeProfile(const geometry::PairParameters& pair,
                                      geometry::Modification modification,
                                      const geometry::ManufacturingErrors& errors) {
   errors.Validate(pair.pin_count);
+  if (errors.profile_layer == 0.0) return geometry::CycloidProfile(pair, modification);
   // A uniform layer t on the profile moves the equidistant by t toward the pins: the same curve
-  // as generating it with the pin radius r_rp + dR_rp - t.
+  // as generating it with the pin radius r_rp + dR_rp - t. When the profile is valid without
+  // the layer and not with it, the layer is the key to blame, not the pin radius.
+  const geometry::CycloidProfile without_layer(pair, modification);
   modification.pin_radius -= errors.profile_layer;
-  return geometry::CycloidProfile(pair, modification);
+  try {
+    return geometry::CycloidProfile(pair, modification);
+  } catch (const std::invalid_argument& e) {
+    // The profile's message names the generating radius keys ("[pair] ...: reason"); keep the
+    // reason only.
+    const std::string what = e.what();
+    const auto colon = what.find(": ");
+    const std::string reason = colon == std::string::npos ? what : what.substr(colon + 2);
+    throw std::invalid_argument(fmt::format(
+        "[errors] cycloid_profile_layer_mm = {}: the layer makes the profile invalid; it acts as "
+        "the generating pin radius r_rp + dR_rp - layer = {:.6g} mm, and then {}",
+        errors.profile_layer, pair.pin_radius + modification.pin_radius, reason));
+  }
 }
 
 /// Closest point of body-frame point p on the arc u in [lo, hi] of tooth space k, by a

@@ -43,6 +43,23 @@ void GeometrySettings::Validate() const {
   if (mode == Mode::kElements && width_slices < 1) {
     throw std::invalid_argument(fmt::format("[geometry] width_slices = {}: expected >= 1", width_slices));
   }
+  if (profile_elements > kMaxProfileElements) {
+    throw std::invalid_argument(fmt::format(
+        "[geometry] profile_elements = {}: expected at most {} (docs/decks.md, Limits)",
+        profile_elements, kMaxProfileElements));
+  }
+  if (width_slices > kMaxWidthSlices) {
+    throw std::invalid_argument(fmt::format(
+        "[geometry] width_slices = {}: expected at most {} (docs/decks.md, Limits)", width_slices,
+        kMaxWidthSlices));
+  }
+  const long long product = static_cast<long long>(profile_elements) * width_slices;
+  if (mode == Mode::kElements && product > kMaxElementsTimesSlices) {
+    throw std::invalid_argument(fmt::format(
+        "[geometry] profile_elements = {} x width_slices = {} = {} elements: expected at most {} "
+        "(Liu's 800 x 100 = 80000; docs/decks.md, Limits)",
+        profile_elements, width_slices, product, kMaxElementsTimesSlices));
+  }
 }
 
 DiscreteProfile::DiscreteProfile(const CycloidProfile& profile, int elements, int slices, int polynomial_order)

@@ -39,6 +39,14 @@ void PairParameters::Validate() const {
         "tooth_count must be a nonzero integer",
         tooth_count));
   }
+  const int d = ToothDifference();
+  if (d != 1 && d != 2 && d != 3 && d != -1) {
+    throw std::invalid_argument(fmt::format(
+        "[pair] tooth_count = {}: the tooth difference d = pin_count - tooth_count = {} - {} = {} "
+        "is outside the checked geometry; expected d = 1, 2 or 3 (cycloid inside the pin ring) "
+        "or -1 (cycloid outside it)",
+        tooth_count, pin_count, tooth_count, d));
+  }
   RequirePositive(pin_radius, "pin_radius_mm", "pin radius r_rp in mm");
   RequirePositive(pin_circle_radius, "pin_circle_radius_mm", "pin-circle radius R_p in mm");
   RequirePositive(eccentricity, "eccentricity_mm", "eccentricity e in mm");

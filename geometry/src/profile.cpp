@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -55,7 +56,9 @@ double CycloidProfile::ToothSpaceRotation(int tooth_space) const {
 
 double CycloidProfile::contact_ratio() const {
   // Chen eq. 27 (with |d|, so that d = -1 gives z_p / 2 as d = 1 does).
-  return pair_.pin_count * pair_.tooth_count * phi_max_ / (2.0 * kPi * std::abs(d_));
+  // In double: z_p z_c overflows an int from about 46,000 pins.
+  return static_cast<double>(pair_.pin_count) * static_cast<double>(pair_.tooth_count) * phi_max_ /
+         (2.0 * kPi * std::abs(d_));
 }
 
 double CycloidProfile::theta_max() const {
@@ -220,12 +223,19 @@ void CycloidProfile::ComputeCurvatureExtremes() {
   min_curvature_radius_ = std::min(undercut_margin_, concave);
   if (undercut_margin_ <= 0.0) {
     const double u_at = std::acos(std::clamp(c_at_max, -1.0, 1.0)) / std::abs(zd_);
+    // Name the key(s) that set the generating radius: the pin radius, and its modification
+    // when there is one.
+    const std::string keys =
+        modification_.pin_radius == 0.0
+            ? fmt::format("[pair] pin_radius_mm = {}", pair_.pin_radius)
+            : fmt::format("[pair] pin_radius_mm = {} with [modification] pin_radius_mm = {}",
+                          pair_.pin_radius, modification_.pin_radius);
     throw std::invalid_argument(fmt::format(
-        "[pair] pin_radius_mm = {}: the profile is undercut (looped): the generating pin radius "
+        "{}: the profile is undercut (looped): the generating pin radius "
         "r_rp + dR_rp = {:.6g} mm reaches the smallest convex radius of curvature of the "
         "theoretical profile, {:.6g} mm at u = {:.6g} deg; expected a pin radius below it "
         "(reduce the pin radius or the eccentricity)",
-        pair_.pin_radius, r_, R_ / f_max, units::RadToDeg(u_at)));
+        keys, r_, R_ / f_max, units::RadToDeg(u_at)));
   }
 }
 

@@ -32,9 +32,11 @@ namespace {
 #define LTCA_BUILD_TYPE "unknown"
 #endif
 
-solvers::Deck ReadDeck(const std::string& path) {
-  return path.empty() ? solvers::DefaultDeck() : solvers::LoadDeck(path);
+solvers::Deck ReadDeck(const std::string& path, const std::vector<std::string>& overrides) {
+  return path.empty() ? solvers::DefaultDeck(overrides) : solvers::LoadDeck(path, overrides);
 }
+
+constexpr const char* kSetHelp = "Override a deck key: section.key=value (repeatable)";
 
 /// The compiler, from its own macros.
 std::string Compiler() {
@@ -94,12 +96,14 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   app.set_version_flag("--version", VersionText(), "Print the version and the compiler, and exit");
 
   std::string deck_path;
+  std::vector<std::string> overrides;  // --set section.key=value
   GeometryOptions geometry_options;
   CLI::App* geometry = app.add_subcommand(
       "geometry",
       "Derived geometry of the pair: K1, phi_max (Chen eq. 16), contact ratio (eq. 27), "
       "theta_max (eq. 20), alpha_max (Liu eq. 2), minimum radius of curvature, undercut margin, "
       "mesh period; optionally the profile as CSV and a drawing as SVG.");
+  geometry->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   geometry->add_option("deck", deck_path, "Case deck (TOML); default: the built-in Liu 2021 Table 1 deck");
   geometry->add_option("--json", geometry_options.json_path,
                        "Write the summary as JSON to FILE ('-' for standard output); keys k1, "
@@ -126,6 +130,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "ways (theta_c1 in the load direction, theta_c2 against it), backlash = theta_c1 - "
       "theta_c2 (Liu eq. 17), first-contact pin; summary keys mean_backlash_arcsec, "
       "pp_backlash_arcsec. Interference is an error naming the pins.");
+  backlash->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   backlash->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   backlash->add_option("--json", backlash_options.json_path, "Write summary and positions as JSON ('-': stdout)")
       ->type_name("FILE|-");
@@ -139,6 +144,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "mesh",
       "Mesh state at one crank angle: per pin its angle from the line of centres, clearance c_i "
       "(um), moment arm L_i (mm), radii of curvature, contact point, edge contact.");
+  mesh->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   mesh->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   mesh->add_option("--crank-deg", mesh_options.crank_deg, "Crank angle in degrees (default 0)")->check(kCrankAngle);
   mesh->add_option("--json", mesh_options.json_path, "Write the table as JSON ('-': stdout)")->type_name("FILE|-");
@@ -152,6 +158,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "{mean_te_arcsec, pp_te_arcsec, contacts_min, contacts_max, max_pin_force_n, max_contact_stress_mpa, "
       "wall_seconds, status, positions, succeeded_positions, failed_positions}. A failed position's figures "
       "are null; the summary's are over the successful positions only (null when none succeeded).");
+  solve->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   solve->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   solve->add_option("--solver", solve_options.solver, "Solver name (default: the deck's [solver] name)");
   solve->add_option("--kinematics", solve_options.kinematics, "linearised or exact (default: the deck's)")
@@ -165,6 +172,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "compare",
       "Run several solvers (default: all) on the same sweep and print them side by side with the "
       "largest differences from the first in TE, pin force and contact count, and their times.");
+  compare->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   compare->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   compare->add_option("--solvers", compare_options.solvers, "Comma-separated solver names (default: all)")
       ->delimiter(',');
@@ -203,6 +211,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       ->type_name("FILE|-");
   app.add_option("--csv", default_options.csv_path, "Default job: the solve's rows as CSV")->type_name("FILE|-");
   app.add_option("--svg", default_options.svg_path, "Default job: the solve's drawing")->type_name("FILE|-");
+  app.add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
@@ -233,23 +242,23 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       code = RunValidate(validate_options, streams);
     } else if (compare->parsed()) {
       for (const auto& name : compare_options.solvers) solvers::MakeSolver(name);  // names checked first
-      code = RunCompare(ReadDeck(deck_path), compare_options, streams);
+      code = RunCompare(ReadDeck(deck_path, overrides), compare_options, streams);
     } else if (solve->parsed()) {
-      code = RunSolve(ReadDeck(deck_path), solve_options, streams);
+      code = RunSolve(ReadDeck(deck_path, overrides), solve_options, streams);
     } else if (backlash->parsed()) {
       backlash_options.kinematics = ParseKinematics(kinematics);
-      RunBacklash(ReadDeck(deck_path), backlash_options, streams);
+      RunBacklash(ReadDeck(deck_path, overrides), backlash_options, streams);
     } else if (mesh->parsed()) {
-      RunMesh(ReadDeck(deck_path), mesh_options, streams);
+      RunMesh(ReadDeck(deck_path, overrides), mesh_options, streams);
     } else if (geometry->parsed()) {
-      RunGeometry(ReadDeck(deck_path), geometry_options, streams);
+      RunGeometry(ReadDeck(deck_path, overrides), geometry_options, streams);
     } else {
       if (!deck_path.empty() && !std::filesystem::exists(deck_path)) {
         throw std::invalid_argument(fmt::format(
             "'{}' is neither a command (geometry, backlash, mesh, solve, compare, validate, bench) nor a deck file",
             deck_path));
       }
-      const solvers::Deck deck = ReadDeck(deck_path);
+      const solvers::Deck deck = ReadDeck(deck_path, overrides);
       RequireOneStdout({{"--json", default_options.json_path}, {"--csv", default_options.csv_path},
                         {"--svg", default_options.svg_path}});
       RunGeometry(deck, GeometryOptions{}, streams);

@@ -1,9 +1,12 @@
 #include "ltca/solvers/deck.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <system_error>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -14,6 +17,151 @@
 
 namespace ltca::solvers {
 namespace {
+
+/// Rejects text the TOML parser should never see: larger than a deck can be, or nested deeper
+/// than any deck needs: [ ] and { } outside strings and comments, and the parts of a dotted key
+/// (a.b.c = 1 is a nested table). toml11 handles both by recursion: 10,000 levels of brackets
+/// or 100,000 dotted parts overflow the stack.
+void CheckTextShape(std::string_view text) {
+  if (text.size() > DeckLimits::kMaxFileBytes) {
+    throw std::invalid_argument(fmt::format(
+        "the text is {} bytes; expected a deck of at most {} bytes (4 MiB; docs/decks.md, Limits)",
+        text.size(), DeckLimits::kMaxFileBytes));
+  }
+  int depth = 0;
+  int dots = 0;  // dots in the current run of key (or number) characters
+  int line = 1;
+  std::size_t i = 0;
+  const std::size_t n = text.size();
+  while (i < n) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line, ++i, dots = 0;
+    } else if (c == '#') {  // comment: to the end of the line
+      while (i < n && text[i] != '\n') ++i;
+      dots = 0;
+    } else if (c == '"' || c == '\'') {  // basic or literal string, single- or multi-line
+      const std::string_view triple = c == '"' ? std::string_view("\"\"\"") : std::string_view("'''");
+      const bool multi = text.substr(i, 3) == triple;
+      i += multi ? 3 : 1;
+      while (i < n) {
+        const char d = text[i];
+        if (d == '\n') {
+          if (!multi) break;  // an unterminated single-line string: the parser reports it
+          ++line;
+        } else if (c == '"' && d == '\\') {
+          ++i;  // skip the escaped character
+          if (i < n && text[i] == '\n') ++line;
+        } else if (d == c && (!multi || text.substr(i, 3) == triple)) {
+          i += multi ? 3 : 1;
+          break;
+        }
+        ++i;
+      }
+    } else {
+      if (c == '[' || c == '{') {
+        if (++depth > DeckLimits::kMaxNesting) {
+          throw std::invalid_argument(fmt::format(
+              "line {}: arrays / tables ([ ] and {{ }}) nested deeper than {} levels; expected at "
+              "most {} (docs/decks.md, Limits)",
+              line, DeckLimits::kMaxNesting, DeckLimits::kMaxNesting));
+        }
+      } else if ((c == ']' || c == '}') && depth > 0) {
+        --depth;
+      }
+      if (c == '.' && ++dots > DeckLimits::kMaxNesting) {
+        throw std::invalid_argument(fmt::format(
+            "line {}: a dotted key with more than {} parts; expected at most {} (docs/decks.md, "
+            "Limits)",
+            line, DeckLimits::kMaxNesting, DeckLimits::kMaxNesting));
+      }
+      if (c == '=' || c == ',' || c == '[' || c == ']' || c == '{' || c == '}') dots = 0;
+      ++i;
+    }
+  }
+}
+
+std::string Trim(std::string_view text) {
+  const auto first = text.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return {};
+  const auto last = text.find_last_not_of(" \t");
+  return std::string(text.substr(first, last - first + 1));
+}
+
+/// One --set override, "section.key=value", with its value read as TOML.
+struct Override {
+  std::string text;  ///< as given, for messages
+  std::string section;
+  std::string key;
+  toml::value value;
+};
+
+Override ParseOverride(const std::string& text) {
+  const auto bad = [&](const std::string& why) {
+    return std::invalid_argument(fmt::format(
+        "--set '{}': {}; expected section.key=value, e.g. --set load.torque_nm=100", text, why));
+  };
+  const auto eq = text.find('=');
+  if (eq == std::string::npos) throw bad("no '='");
+  const std::string path = Trim(std::string_view(text).substr(0, eq));
+  const std::string value_text = Trim(std::string_view(text).substr(eq + 1));
+  const auto dot = path.find('.');
+  if (dot == std::string::npos) throw bad(fmt::format("no '.' between section and key in '{}'", path));
+  Override o;
+  o.text = text;
+  o.section = Trim(std::string_view(path).substr(0, dot));
+  o.key = Trim(std::string_view(path).substr(dot + 1));
+  if (o.section.empty() || o.key.empty() || o.key.find('.') != std::string::npos) {
+    throw bad(fmt::format("'{}' is not one section and one key", path));
+  }
+  if (value_text.empty()) throw bad("no value after '='");
+  if (value_text.find_first_of("\r\n") != std::string::npos) throw bad("the value spans lines");
+  try {
+    CheckTextShape(value_text);
+  } catch (const std::invalid_argument& e) {
+    throw bad(e.what());
+  }
+  try {
+    std::istringstream stream("value = " + value_text + "\n");
+    o.value = toml::parse(stream, "--set").as_table().at("value");
+  } catch (const std::exception&) {
+    o.value = toml::value(value_text);  // not a TOML value: a bare word, taken as a string
+  }
+  return o;
+}
+
+/// Applies the overrides to the parsed deck, creating a missing section; the sections are read
+/// afterwards, so an override meets the same checks (known key, type, range) as the file.
+void ApplyOverrides(toml::value& root, const std::vector<std::string>& overrides) {
+  for (const std::string& text : overrides) {
+    const Override o = ParseOverride(text);
+    toml::table& table = root.as_table();
+    auto it = table.find(o.section);
+    if (it == table.end()) it = table.emplace(o.section, toml::table{}).first;
+    if (!it->second.is_table()) {
+      throw std::invalid_argument(fmt::format(
+          "--set '{}': '{}' is a key of the deck, not a section; expected section.key=value",
+          o.text, o.section));
+    }
+    it->second.as_table()[o.key] = o.value;
+  }
+}
+
+/// The "looks like an absolute value" rule: a modification or manufacturing error is a small
+/// change of the geometry, at most DeckLimits::kMaxDeviationFraction of the pin radius.
+void RequireSmallDeviation(double value, const std::string& section, const std::string& key,
+                           const geometry::PairParameters& pair, const std::string& shown = "") {
+  const double limit = DeckLimits::kMaxDeviationFraction * pair.pin_radius;
+  if (std::isfinite(value) && std::abs(value) > limit) {
+    throw std::invalid_argument(fmt::format(
+        "[{}] {} = {}: looks like an absolute value; a modification or manufacturing error is a "
+        "small change of the geometry, at most {:g} % of [pair] pin_radius_mm = {} ({:.6g} mm){} "
+        "(docs/decks.md, Limits)",
+        section, key, shown.empty() ? fmt::format("{}", value) : shown,
+        100.0 * DeckLimits::kMaxDeviationFraction, pair.pin_radius, limit,
+        shown.empty() ? "" : fmt::format("; this one moves the profile by {:.6g} mm", std::abs(value))));
+  }
+}
 
 /// One section of the deck: typed access to its keys, and a final check that every key present
 /// was one the program knows.
@@ -132,6 +280,11 @@ geometry::PairParameters ReadPair(const Section& s) {
   p.pin_circle_radius = s.Real("pin_circle_radius_mm", "pin-circle radius R_p in mm");
   p.eccentricity = s.Real("eccentricity_mm", "eccentricity e in mm");
   p.face_width = s.Real("face_width_mm", "face width B_c in mm");
+  if (p.pin_count > DeckLimits::kMaxPins) {
+    throw std::invalid_argument(fmt::format(
+        "[pair] pin_count = {}: expected at most {} pins (docs/decks.md, Limits)", p.pin_count,
+        DeckLimits::kMaxPins));
+  }
   p.Validate();
   return p;
 }
@@ -142,16 +295,28 @@ geometry::Modification ReadModification(const Section& s, const geometry::PairPa
   m.pin_circle_radius = s.Real("pin_circle_radius_mm", 0.0, "offset modification dR_p in mm");
   m.rotation = units::DegToRad(s.Real("rotation_deg", 0.0, "angle-rotation modification in deg"));
   m.Validate(pair);
+  RequireSmallDeviation(m.pin_radius, "modification", "pin_radius_mm", pair);
+  RequireSmallDeviation(m.pin_circle_radius, "modification", "pin_circle_radius_mm", pair);
+  // The rotation moves the profile along the pin circle by R_p * angle.
+  RequireSmallDeviation(pair.pin_circle_radius * m.rotation, "modification", "rotation_deg", pair,
+                        fmt::format("{}", units::RadToDeg(m.rotation)));
   return m;
 }
 
-geometry::ManufacturingErrors ReadErrors(const Section& s) {
+geometry::ManufacturingErrors ReadErrors(const Section& s, const geometry::PairParameters& pair) {
   geometry::ManufacturingErrors e;
   e.pin_circle_deviation = s.Real("pin_circle_deviation_mm", 0.0, "pin-circle deviation delta_Rp of Liu eq. 5 in mm");
   e.pin_circle_reading = geometry::ParsePinCircleReading(
       s.String("pin_circle_reading", "radius", "how eq. 5 applies delta_Rp: radius | diameter"));
   e.profile_layer = s.Real("cycloid_profile_layer_mm", 0.0, "uniform layer on the cycloid profile in mm");
   e.cumulative_pitch_deviation = s.RealList("cumulative_pitch_deviation_mm", "one cumulative pitch deviation per pin in mm");
+  e.Validate(pair.pin_count);
+  RequireSmallDeviation(e.pin_circle_deviation, "errors", "pin_circle_deviation_mm", pair);
+  RequireSmallDeviation(e.profile_layer, "errors", "cycloid_profile_layer_mm", pair);
+  for (std::size_t j = 0; j < e.cumulative_pitch_deviation.size(); ++j) {
+    RequireSmallDeviation(e.cumulative_pitch_deviation[j], "errors",
+                          fmt::format("cumulative_pitch_deviation_mm[{}]", j), pair);
+  }
   return e;
 }
 
@@ -200,6 +365,8 @@ contact::Material ReadMaterial(const Section& s) {
   m.pin_young_modulus =
       s.Real("pin_young_modulus_mpa", m.young_modulus, "Young's modulus of the pins in MPa");
   m.pin_poisson_ratio = s.Real("pin_poisson_ratio", m.poisson_ratio, "Poisson's ratio of the pins");
+  m.contact_stress_limit = s.Real("contact_stress_limit_mpa", m.contact_stress_limit,
+                                  "contact stress above which a result is flagged, MPa");
   m.Validate();
   return m;
 }
@@ -235,12 +402,18 @@ void LoadCase::Validate() const {
 }
 
 void Sweep::Validate() const {
-  if (positions < 1) {
-    throw std::invalid_argument(
-        fmt::format("[sweep] positions = {}: expected an integer >= 1", positions));
+  if (positions < 1 || positions > DeckLimits::kMaxPositions) {
+    throw std::invalid_argument(fmt::format(
+        "[sweep] positions = {}: expected an integer from 1 to {} (docs/decks.md, Limits)",
+        positions, DeckLimits::kMaxPositions));
   }
-  if (!std::isfinite(crank_start) || !std::isfinite(crank_end)) {
-    throw std::invalid_argument("[sweep] crank_start_deg / crank_end_deg: expected finite angles");
+  const double max_crank = units::DegToRad(DeckLimits::kMaxCrankDeg);
+  for (const auto& [key, value] : {std::pair{"crank_start_deg", crank_start}, std::pair{"crank_end_deg", crank_end}}) {
+    if (!std::isfinite(value) || std::abs(value) > max_crank) {
+      throw std::invalid_argument(fmt::format(
+          "[sweep] {} = {}: expected a finite crank angle within +-{} deg (docs/decks.md, Limits)",
+          key, units::RadToDeg(value), DeckLimits::kMaxCrankDeg));
+    }
   }
   if (positions > 1 && crank_end <= crank_start) {
     throw std::invalid_argument(fmt::format(
@@ -276,12 +449,15 @@ const LoadCase& Deck::RequireLoad() const {
   return *load;
 }
 
-Deck ParseDeck(std::string_view toml_text, const std::string& name) {
+Deck ParseDeck(std::string_view toml_text, const std::string& name,
+               const std::vector<std::string>& overrides) {
   Deck deck;
   deck.name = name;
   try {
+    CheckTextShape(toml_text);
     std::istringstream stream{std::string(toml_text)};
-    const toml::value root_value = toml::parse(stream, name);
+    toml::value root_value = toml::parse(stream, name);
+    ApplyOverrides(root_value, overrides);
     const toml::table& root = root_value.as_table();
     const std::vector<std::string> sections = {"case", "pair",     "modification", "errors", "contact",
                                                "geometry", "material", "load", "sweep",  "solver"};
@@ -302,8 +478,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
         deck.pair);
     deck.errors = ReadErrors(Section(Find(root, "errors"), "errors",
                                      {"pin_circle_deviation_mm", "pin_circle_reading",
-                                      "cycloid_profile_layer_mm", "cumulative_pitch_deviation_mm"}));
-    deck.errors.Validate(deck.pair.pin_count);
+                                      "cycloid_profile_layer_mm", "cumulative_pitch_deviation_mm"}),
+                             deck.pair);
     deck.contact = ReadContact(Section(Find(root, "contact"), "contact",
                                        {"law", "rho_convention", "stiffness_n_per_mm2",
                                         "log_radius_cap_mm"}));
@@ -313,7 +489,7 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
                                      {"name", "kinematics", "torque_tolerance", "max_iterations", "preset", "nlopt_algorithm"}));
     const Section material(Find(root, "material"), "material",
                            {"young_modulus_mpa", "poisson_ratio", "pin_young_modulus_mpa",
-                            "pin_poisson_ratio"});
+                            "pin_poisson_ratio", "contact_stress_limit_mpa"});
     if (material.Present()) deck.material = ReadMaterial(material);
     const Section load(Find(root, "load"), "load", {"torque_nm"});
     if (load.Present()) deck.load = ReadLoad(load);
@@ -331,16 +507,57 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name) {
   return deck;
 }
 
-Deck LoadDeck(const std::filesystem::path& path) {
+Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+  namespace fs = std::filesystem;
+  const std::string name = path.string();
+  // What the path is, before anything opens it: opening a FIFO blocks, a device never ends.
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (status.type() == fs::file_type::not_found) {
+    throw std::invalid_argument(fmt::format("deck '{}': no such file; expected a deck file (TOML)", name));
+  }
+  if (ec) {
+    throw std::invalid_argument(fmt::format("deck '{}': cannot open the file: {}", name, ec.message()));
+  }
+  if (fs::is_directory(status)) {
+    throw std::invalid_argument(fmt::format("deck '{}' is a directory; expected a deck file (TOML)", name));
+  }
+  if (!fs::is_regular_file(status)) {
+    const char* kind = fs::is_character_file(status) ? "a character device"
+                       : fs::is_block_file(status)   ? "a block device"
+                       : fs::is_fifo(status)         ? "a FIFO (named pipe)"
+                       : fs::is_socket(status)       ? "a socket"
+                                                     : "not a regular file";
+    throw std::invalid_argument(fmt::format(
+        "deck '{}' is {}; expected a regular deck file (TOML)", name, kind));
+  }
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) {
+    throw std::invalid_argument(fmt::format("deck '{}': cannot open the file: {}", name, ec.message()));
+  }
+  if (size > DeckLimits::kMaxFileBytes) {
+    throw std::invalid_argument(fmt::format(
+        "deck '{}': the file is {} bytes; expected a deck of at most {} bytes (4 MiB; "
+        "docs/decks.md, Limits)",
+        name, size, DeckLimits::kMaxFileBytes));
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    throw std::invalid_argument(fmt::format("deck '{}': cannot open the file", path.string()));
+    throw std::invalid_argument(fmt::format("deck '{}': cannot open the file", name));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseDeck(text.str(), path.string());
+  // A bounded read: one byte more than the size seen, so a file that grew is noticed and the
+  // text checks below reject it if it now exceeds the limit.
+  std::string text(static_cast<std::size_t>(size) + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) {
+    throw std::invalid_argument(fmt::format("deck '{}': cannot read the file", name));
+  }
+  return ParseDeck(text, name, overrides);
 }
 
-Deck DefaultDeck() { return ParseDeck(DefaultDeckText(), "built-in default (Liu 2021 Table 1)"); }
+Deck DefaultDeck(const std::vector<std::string>& overrides) {
+  return ParseDeck(DefaultDeckText(), "built-in default (Liu 2021 Table 1)", overrides);
+}
 
 }  // namespace ltca::solvers

@@ -177,3 +177,13 @@ TEST_CASE("geometry: undercut is judged on the side the profile is offset to, al
   CHECK(min_stretch_above < 0.0);
   CHECK(min_stretch_below > 0.0);
 }
+
+TEST_CASE("geometry: the contact ratio of a 100,000-pin pair has no int overflow") {
+  // z_p z_c = 100,000 x 99,999 overflows an int. For d = 1, phi_max = pi / z_c (Chen eq. 16;
+  // 180 / 11 deg for z_c = 11 in chen_test), so eq. 27 gives z_p / 2 = 50,000 exactly.
+  // R_p = 1.6 z_p keeps the pin spacing and K1 = 0.8125 of the Liu pair.
+  const int zp = 100'000;
+  const PairParameters pair{zp, zp - 1, 3.0, 1.6 * zp, 1.3, 12.0};
+  const ltca::geometry::CycloidProfile profile(pair);
+  CHECK(profile.contact_ratio() == doctest::Approx(50'000.0).epsilon(1e-9));
+}

@@ -38,6 +38,9 @@ struct ContactSettings {
   LawKind law = LawKind::kHertzLine;
   RhoConvention rho_convention = RhoConvention::kSigned;
   double stiffness_per_length = 0.0;  ///< linear law only, N/mm^2 (deck: stiffness_n_per_mm2)
+  /// Accepted range of stiffness_per_length, N/mm^2: steel line contacts are about 1e4-1e5.
+  static constexpr double kMinStiffness = 1.0;
+  static constexpr double kMaxStiffness = 1e9;
   /// Largest |rho_c| entering the logarithm of the hertz-line law, mm; 0 = the pin-circle radius
   /// of the pair (deck: log_radius_cap_mm).
   double log_radius_cap = 0.0;

@@ -15,8 +15,13 @@ struct Material {
   /// Equivalent modulus E* = E_c E_p / (E_p (1 - nu_c^2) + E_c (1 - nu_p^2)), Liu eq. 24, MPa.
   double EquivalentModulus() const;
 
-  /// Throws std::invalid_argument naming the key for a non-positive modulus or a Poisson ratio
-  /// outside [0, 0.5).
+  /// Smallest and largest accepted modulus, MPa: soft polymers (a few MPa) to diamond (1.2e6 MPa).
+  static constexpr double kMinModulus = 1.0;
+  static constexpr double kMaxModulus = 1e7;
+
+  /// Throws std::invalid_argument naming the key for a modulus outside [kMinModulus,
+  /// kMaxModulus], a Poisson ratio outside [0, 0.5), or a contact-stress limit that is not
+  /// finite and positive.
   void Validate() const;
 };
 

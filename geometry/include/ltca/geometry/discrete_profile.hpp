@@ -19,6 +19,13 @@ struct GeometrySettings {
   Mode mode = Mode::kAnalytic;
   int profile_elements = 800;  ///< elements along one tooth space (Liu: 800)
   int width_slices = 100;      ///< slices across the face width (Liu: 100)
+  /// Limits (docs/decks.md): the cost of one pin evaluation grows with elements x slices (Liu's
+  /// 800 x 100 takes about 1.2 s per position), so the product is capped at 12.5 times Liu's.
+  static constexpr int kMaxProfileElements = 100'000;
+  static constexpr int kMaxWidthSlices = 1'000;
+  static constexpr long long kMaxElementsTimesSlices = 1'000'000;
+  /// Throws std::invalid_argument naming the key: in elements mode fewer than 2 elements or 1
+  /// slice; in any mode a value above its limit.
   void Validate() const;
 };
 

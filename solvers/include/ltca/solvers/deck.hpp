@@ -3,6 +3,7 @@
 // section, each with its own validation; unknown sections and keys and missing required keys
 // are errors that name the key. Values are converted to the internal units (mm, N, MPa, N*mm,
 // rad) on reading.
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -19,6 +20,20 @@
 
 namespace ltca::solvers {
 
+/// What a deck may ask for (docs/decks.md, "Limits"). Each limit is far above every published
+/// case and keeps one run within memory and a sensible time; a value beyond it is an error that
+/// names the key.
+struct DeckLimits {
+  static constexpr std::uintmax_t kMaxFileBytes = 4u << 20;  ///< 4 MiB; cases/ decks are < 2 kB
+  static constexpr int kMaxNesting = 64;          ///< levels of [ ] and { } in the TOML text
+  static constexpr int kMaxPins = 10'000;         ///< [pair] pin_count
+  static constexpr int kMaxPositions = 1'000'000; ///< [sweep] positions
+  static constexpr double kMaxCrankDeg = 3600.0;  ///< |crank_start_deg|, |crank_end_deg| (10 turns)
+  /// Modifications and manufacturing errors (lengths) larger than this fraction of the pin
+  /// radius look like absolute values (a radius, not a change of it) and are rejected.
+  static constexpr double kMaxDeviationFraction = 0.05;
+};
+
 /// [case]: provenance.
 struct CaseInfo {
   std::string title;
@@ -27,7 +42,7 @@ struct CaseInfo {
 
 /// [load]: the torque carried by this cycloid gear.
 struct LoadCase {
-  double torque = 0.0;  ///< N*mm (deck: torque_nm), >= 0.
+  double torque = 0.0;  ///< N*mm (deck: torque_nm), finite, >= 0.
   void Validate() const;
 };
 
@@ -35,7 +50,9 @@ struct LoadCase {
 struct Sweep {
   double crank_start = 0.0;  ///< rad (deck: crank_start_deg).
   double crank_end = 0.0;    ///< rad (deck: crank_end_deg), inclusive.
-  int positions = 91;
+  int positions = 91;  ///< 1 .. DeckLimits::kMaxPositions.
+  /// Throws std::invalid_argument naming the key: positions out of range, angles not finite or
+  /// beyond DeckLimits::kMaxCrankDeg, an empty range with several positions.
   void Validate() const;
   /// The crank angles, rad: positions values from start to end inclusive.
   std::vector<double> CrankAngles() const;
@@ -63,12 +80,20 @@ struct Deck {
 };
 
 /// Parses and validates a deck, including the geometry (an undercut profile is rejected).
+/// overrides: "section.key=value" (the CLI's --set), each value read as a TOML value (a bare
+/// word that is not TOML is a string), applied to the parsed text before the sections are read,
+/// so that an override is checked like the key in the file; a missing section is created.
+/// Text larger than DeckLimits::kMaxFileBytes or nested deeper than DeckLimits::kMaxNesting is
+/// rejected before the TOML parser sees it.
 /// Throws std::invalid_argument with a message that starts with the deck name.
-Deck ParseDeck(std::string_view toml_text, const std::string& name);
-Deck LoadDeck(const std::filesystem::path& path);
+Deck ParseDeck(std::string_view toml_text, const std::string& name,
+               const std::vector<std::string>& overrides = {});
+/// The same for a file, which must be a regular file (not a directory, FIFO or device) of at
+/// most DeckLimits::kMaxFileBytes; it is read with a bounded read.
+Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
 
 /// The built-in default case: Liu 2021 Table 1 (the text of cases/liu2021_table1.toml).
 std::string_view DefaultDeckText();
-Deck DefaultDeck();
+Deck DefaultDeck(const std::vector<std::string>& overrides = {});
 
 }  // namespace ltca::solvers
