@@ -139,10 +139,12 @@ MeshModel::MeshModel(const geometry::PairParameters& pair,
 }
 
 PinContact MeshModel::EvaluatePinElements(int pin, double crank, double loaded_rotation) const {
-  // Liu 2021 section 3: per width slice, the element facing the pin (nearest control point) and
-  // the gap of its equivalent cylinder (eq. 19, signed for a concave element):
+  // Liu 2021 section 3: the element facing the pin (nearest control point) and the gap of its
+  // equivalent cylinder (eq. 19, signed for a concave element):
   //   gap = sigma (|p - C| - |rho|) - r,  C = x - rho n (centre of curvature), sigma = sign(rho).
-  // Without misalignment the slices are alike; every slice is still searched, as published.
+  // Liu searches every width slice. Nothing here varies along the width yet (no misalignment, no
+  // per-slice deviation: the slices are identical), so the search runs once and the slice count
+  // does not multiply the work; the face-width issue brings the per-slice variation and the loop.
   const geometry::Pose pose = CyclePose(crank, loaded_rotation);
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
   const Eigen::Vector2d p = pose.ToBody(centre_fixed);
@@ -151,44 +153,38 @@ PinContact MeshModel::EvaluatePinElements(int pin, double crank, double loaded_r
   const double pitch = profile_.tooth_pitch();
   const int k_polar = static_cast<int>(std::lround((std::atan2(p.y(), p.x()) - profile_.ToothSpaceRotation(0)) / pitch));
   const int n = discrete_->element_count();
-  double best_gap = std::numeric_limits<double>::infinity();
-  geometry::ProfileElement best;
-  Eigen::Vector2d best_normal = Eigen::Vector2d::UnitX(), best_point = Eigen::Vector2d::Zero();
-  for (int slice = 0; slice < discrete_->slices(); ++slice) {
-    const auto search = [&](int k) {
-      int j_best = 0;
-      double d_best = std::numeric_limits<double>::infinity();
-      const int kk = ((k % zc) + zc) % zc;
-      for (int j = 0; j < n; ++j) {
-        const double d = (discrete_->Element(j, kk).position - p).squaredNorm();
-        if (d < d_best) d_best = d, j_best = j;
-      }
-      return std::pair{kk, j_best};
-    };
-    auto [k, j] = search(k_polar);
-    if (j == 0 || j == n - 1) {  // at an end of the arc: the neighbouring space may face the pin
-      const auto [k2, j2] = search(k_polar + (j == 0 ? -1 : 1));
-      if ((discrete_->Element(j2, k2).position - p).squaredNorm() < (discrete_->Element(j, k).position - p).squaredNorm()) {
-        k = k2, j = j2;
-      }
+  const auto search = [&](int k) {
+    int j_best = 0;
+    double d_best = std::numeric_limits<double>::infinity();
+    const int kk = ((k % zc) + zc) % zc;
+    for (int j = 0; j < n; ++j) {
+      const double d = (discrete_->Element(j, kk).position - p).squaredNorm();
+      if (d < d_best) d_best = d, j_best = j;
     }
-    const geometry::ProfileElement e = discrete_->Element(j, k);
-    double gap;
-    Eigen::Vector2d normal, point;
-    if (e.curvature == 0.0) {
-      normal = e.normal;
-      gap = e.normal.dot(p - e.position) - r_pin;
-      point = p - (gap + r_pin) * e.normal;
-    } else {
-      const double rho = 1.0 / e.curvature;
-      const Eigen::Vector2d c = e.position - rho * e.normal;
-      const double d = (p - c).norm();
-      const double sigma = rho > 0.0 ? 1.0 : -1.0;
-      gap = sigma * (d - std::abs(rho)) - r_pin;
-      normal = sigma * (p - c) / d;
-      point = c + std::abs(rho) * (p - c) / d;
+    return std::pair{kk, j_best};
+  };
+  auto [k, j] = search(k_polar);
+  if (j == 0 || j == n - 1) {  // at an end of the arc: the neighbouring space may face the pin
+    const auto [k2, j2] = search(k_polar + (j == 0 ? -1 : 1));
+    if ((discrete_->Element(j2, k2).position - p).squaredNorm() < (discrete_->Element(j, k).position - p).squaredNorm()) {
+      k = k2, j = j2;
     }
-    if (gap < best_gap) best_gap = gap, best = e, best_normal = normal, best_point = point;
+  }
+  const geometry::ProfileElement best = discrete_->Element(j, k);
+  double best_gap;
+  Eigen::Vector2d best_normal, best_point;
+  if (best.curvature == 0.0) {
+    best_normal = best.normal;
+    best_gap = best.normal.dot(p - best.position) - r_pin;
+    best_point = p - (best_gap + r_pin) * best.normal;
+  } else {
+    const double rho = 1.0 / best.curvature;
+    const Eigen::Vector2d c = best.position - rho * best.normal;
+    const double d = (p - c).norm();
+    const double sigma = rho > 0.0 ? 1.0 : -1.0;
+    best_gap = sigma * (d - std::abs(rho)) - r_pin;
+    best_normal = sigma * (p - c) / d;
+    best_point = c + std::abs(rho) * (p - c) / d;
   }
   PinContact c;
   c.pin = pin;

@@ -53,7 +53,16 @@ solvers::BenchHeader Header() {
   h.commit = Capture(fmt::format("git -C {} rev-parse --short HEAD 2>/dev/null", LTCA_SOURCE_DIR));
   if (h.commit.empty()) h.commit = "unknown";
   h.build_type = LTCA_BUILD_TYPE;
-  h.compiler = fmt::format("g++ {}", __VERSION__);
+  // The compiler names itself: clang defines __GNUC__ too, so it is asked first.
+#if defined(__clang__)
+  h.compiler = fmt::format("clang++ {}.{}.{}", __clang_major__, __clang_minor__, __clang_patchlevel__);
+#elif defined(__GNUC__)
+  h.compiler = fmt::format("g++ {}", __VERSION__);  // gcc's __VERSION__ is its version, e.g. "12.2.0"
+#elif defined(__VERSION__)
+  h.compiler = __VERSION__;
+#else
+  h.compiler = "unknown";
+#endif
   utsname u{};
   uname(&u);
   std::string cpu = Capture("grep -m1 'model name' /proc/cpuinfo | cut -d: -f2");
@@ -118,6 +127,9 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
       matrix.settings.push_back(Setting("compatibility", ContactKinematics::kLinearised, tol));
     }
     matrix.settings.push_back(Setting("bisection", ContactKinematics::kLinearised, 1e-2, "liu2021"));
+    // The analytic side of the element-mode bar: the same solver, kinematics and preset as the
+    // element run below, so their ratio compares the geometry representations alone.
+    matrix.settings.push_back(Setting("bisection", ContactKinematics::kExact, 1e-2, "liu2021"));
     // Liu's method as published: elements 800 x 100, the geometry re-evaluated at every rotation
     // (exact), the 1 % stopping rule; and the element mode at a tight tolerance. Liu Table 1 only.
     geometry::GeometrySettings elements;
@@ -243,28 +255,31 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
       }
     }
     {
+      // Like with like: the element run and the analytic run of the same case, solver,
+      // kinematics, tolerance and preset; the ratio is their time per position, and each
+      // error against the reference is printed beside it.
       const solvers::BenchRow* liu = nullptr;
       for (const auto& r : report.rows) {
         if (r.case_name == "liu2021_table1" && r.setting.geometry.mode == geometry::GeometrySettings::Mode::kElements &&
             r.setting.preset == "liu2021") liu = &r;
       }
-      const solvers::BenchRow* fastest_analytic = nullptr;
+      const solvers::BenchRow* analytic = nullptr;
       for (const auto& r : report.rows) {
-        if (liu == nullptr || r.case_name != "liu2021_table1" ||
-            r.setting.geometry.mode != geometry::GeometrySettings::Mode::kAnalytic ||
-            r.errors.mean_te_arcsec > liu->errors.mean_te_arcsec || r.status != "success") continue;
-        if (!fastest_analytic || r.seconds_per_position_median < fastest_analytic->seconds_per_position_median) fastest_analytic = &r;
+        if (liu != nullptr && r.case_name == liu->case_name &&
+            r.setting.geometry.mode == geometry::GeometrySettings::Mode::kAnalytic && r.setting.solver == liu->setting.solver &&
+            r.setting.kinematics == liu->setting.kinematics && r.setting.preset == liu->setting.preset &&
+            r.setting.torque_tolerance == liu->setting.torque_tolerance) analytic = &r;
       }
-      if (liu && fastest_analytic) {
-        const double ratio = liu->seconds_per_position_median / fastest_analytic->seconds_per_position_median;
-        fmt::print(md, "| element mode at Liu's discretisation (800 x 100, exact, liu2021 preset): the analytic mode at least "
-                       "100 x faster at equal or better mean-TE error | elements {:.0f} us, error {:.2e} arcsec; analytic "
-                       "{} {:.1f} us, error {:.2e} arcsec: {:.0f} x | {} |\n",
-                   Us(liu->seconds_per_position_median), liu->errors.mean_te_arcsec, fastest_analytic->setting.Label(),
-                   Us(fastest_analytic->seconds_per_position_median), fastest_analytic->errors.mean_te_arcsec, ratio,
-                   verdict(ratio >= 100.0));
+      if (liu && analytic) {
+        const double ratio = liu->seconds_per_position_median / analytic->seconds_per_position_median;
+        fmt::print(md, "| element mode at Liu's discretisation ({}) against the analytic mode at the same setting ({}): "
+                       "the analytic mode at least 100 x faster at equal or better mean-TE error | elements {:.0f} us, "
+                       "error {:.2e} arcsec; analytic {:.1f} us, error {:.2e} arcsec: {:.0f} x | {} |\n",
+                   liu->setting.GeometryLabel(), analytic->setting.Label(), Us(liu->seconds_per_position_median),
+                   liu->errors.mean_te_arcsec, Us(analytic->seconds_per_position_median), analytic->errors.mean_te_arcsec,
+                   ratio, verdict(ratio >= 100.0 && analytic->errors.mean_te_arcsec <= liu->errors.mean_te_arcsec));
       } else {
-        fmt::print(md, "| element mode against analytic at equal error | no analytic run at that error | **missed** |\n");
+        fmt::print(md, "| element mode against analytic at the same setting | no pair of runs to compare | **missed** |\n");
       }
     }
     for (const auto& [s, times] : scaling) {
@@ -281,15 +296,10 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
     fmt::print(md, "| peak resident memory of a full Liu Table 1 sweep (analytic) < 50 MB | {} | {} |\n",
                rss_mb > 0 ? fmt::format("{:.1f} MB (`ltca solve`, its own process)", rss_mb) : "not measured",
                rss_mb > 0 ? verdict(rss_mb < 50.0) : "**missed**");
-    fmt::print(md, "\n## What limits the missed bars (measured with callgrind on this machine)\n\n"
-                   "- **energy-qp <= 2 ms**: Ipopt needs 5-9 iterations (warm-started from the previous position, one "
-                   "fixed problem structure, ReOptimizeTNLP), but every MUMPS 5.5 call repeats a set-up "
-                   "(`dmumps_save_restore_structure`, Fortran string comparisons): about 60 % of the instructions. "
-                   "Debian's Ipopt 3.11 has no other linear solver.\n"
-                   "- **exact <= 3 x linearised**: each torque evaluation re-evaluates the closest point of every pin "
-                   "(about 0.27 us each, warm-started) and rebuilds the laws of the pressed pins. Compatibility "
-                   "re-linearises 2-3 times; bisection needs about 70 evaluations by construction (Liu's steps).\n"
-                   "- **element mode**: by design slow (every slice and element searched, as published).\n");
+    // What limits the missed bars is not measured by this harness: it is a hand-written note that
+    // names the profiling commands behind it.
+    fmt::print(md, "\nWhat limits the missed bars (profiled with callgrind, the commands named there): "
+                   "[performance-notes.md](performance-notes.md), written by hand.\n");
     fmt::print(out, "wrote {}/performance.md and performance.svg\n", options.docs_dir);
   }
   return 0;

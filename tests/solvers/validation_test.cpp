@@ -79,3 +79,18 @@ TEST_CASE("validation: every published number keeps its verdict, and docs/valida
   }
   REQUIRE(report.liu_table2.size() == 20);
 }
+
+TEST_CASE("validation: the Table 2 amounts are read from the decks, which hold Liu's Table 2") {
+  // Liu 2021 Table 2 (section 5.1), dR_rp and dR_p in um per case: the independent source the
+  // decks in cases/liu2021_table2/ were written from.
+  const double rrp[20] = {2, 3, 4, 5, 0, 0, 0, 0, -4, -3, -2, -1, 1, 2, 3, 4, 6, 7, 8, 9};
+  const double rp[20] = {0, 0, 0, 0, -2, -3, -4, -5, -9, -8, -7, -6, -4, -3, -2, -1, 1, 2, 3, 4};
+  const auto report = ltca::solvers::Validate(LTCA_CASES_DIR);
+  REQUIRE(report.liu_table2.size() == 20);
+  for (std::size_t i = 0; i < 20; ++i) {
+    CAPTURE(i + 1);
+    CHECK(report.liu_table2[i].case_number == static_cast<int>(i + 1));
+    CHECK(report.liu_table2[i].d_rrp_um == doctest::Approx(rrp[i]).epsilon(1e-12));
+    CHECK(report.liu_table2[i].d_rp_um == doctest::Approx(rp[i]).epsilon(1e-12));
+  }
+}
