@@ -440,7 +440,7 @@ void Spawn(Job& job) {
 }
 
 /// Runs every job, `parallel` at a time; polls with WNOHANG and kills a job past the timeout.
-void RunAll(std::vector<Job>& jobs, int parallel) {
+void RunAll(std::vector<Job>& jobs, int parallel, Clock::duration timeout = kTimeout) {
   std::size_t next = 0;
   std::vector<Job*> running;
   while (next < jobs.size() || !running.empty()) {
@@ -458,7 +458,7 @@ void RunAll(std::vector<Job>& jobs, int parallel) {
         it = running.erase(it);
         continue;
       }
-      if (!job.timed_out && Clock::now() - job.start > kTimeout) {
+      if (!job.timed_out && Clock::now() - job.start > timeout) {
         job.timed_out = true;
         kill(job.pid, SIGKILL);  // reaped on the next poll
       }
@@ -552,6 +552,46 @@ std::vector<std::string> Judge(const Job& job, const Mutant& m, const std::strin
 }
 
 }  // namespace
+
+TEST_CASE("cli: the mutated-deck judge flags a crash, a timeout, exit 3, text before JSON, a failed status under exit 0 and an exit 2 naming nothing") {
+  const fs::path dir = std::string(LTCA_MUTANT_DIR) + "_judge";  // ctest may run the other test at once
+  fs::create_directories(dir);
+  const Mutant m{"", "", "", "pin_count"};
+  struct Probe {
+    std::string script;
+    std::string verdict;  // "" = keeps the contract
+  };
+  const std::vector<Probe> probes = {
+      {"kill -SEGV $$", "crash: signal 11"},
+      {"sleep 5", "timeout: over 10 s"},
+      {"exit 3", "exit 3"},
+      {"echo table; echo '{\"status\": \"success\"}'", "exit 0: --json - prints text before the JSON document"},
+      {"echo '{\"p\": [{\"status\": \"max-iterations\"}]}'", "exit 0: probe reports status 'max-iterations'"},
+      {"echo '{\"status\": \"success\"}'; exit 1", "exit 1: every status is success"},
+      {"echo 'bad value' >&2; exit 2", "exit 2: the message names no section or key"},
+      {"echo '{\"status\": \"law-cannot-carry\"}'; exit 1", ""},
+      {"echo '[pair] pin_count = -1: expected' >&2; exit 2", ""},
+      {"echo '{\"status\": \"success\"}'", ""},
+  };
+  std::vector<Job> jobs;
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    Job job;
+    job.args = {"/bin/sh", "-c", probes[i].script, "probe"};
+    job.out = dir / ("p" + std::to_string(i) + ".out");
+    job.err = dir / ("p" + std::to_string(i) + ".err");
+    jobs.push_back(job);
+  }
+  RunAll(jobs, 2, std::chrono::seconds(1));
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    Job job = jobs[i];
+    job.args = {"/bin/sh", "probe"};  // the judge names the command by args[1]
+    const auto verdicts = Judge(job, m, ReadFile(job.out), ReadFile(job.err));
+    CAPTURE(probes[i].script);
+    if (probes[i].verdict.empty()) CHECK(verdicts.empty());
+    else CHECK((!verdicts.empty() && verdicts.front() == probes[i].verdict));
+  }
+  fs::remove_all(dir);
+}
 
 TEST_CASE("cli: every command on 330 mutated decks succeeds, exits 1 with statuses, or exits 2 naming the key") {
   const fs::path exe = LTCA_EXE;
