@@ -7,7 +7,8 @@
 //   exit 2  bad input: stderr names the section ('[') or the mutated key.
 // A signal, a run over 10 s, exit 3 or any other code, or a sanitizer report is a failure. Every
 // failure is written, deck and command, to mutated_decks/ in the build tree, and summarised here by
-// class, with the first reproducer of each class.
+// class, with the first reproducer of each class. Environment: LTCA_MUTANT_JOBS (children at
+// once, default 2), LTCA_MUTANTS (decks, default 330).
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -38,7 +39,7 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 constexpr auto kTimeout = std::chrono::seconds(10);
-constexpr int kMutants = 330;     // at least 300 decks
+constexpr int kMutants = 330;     // at least 300 decks; LTCA_MUTANTS overrides (e.g. a quick local run)
 constexpr int kCompareEvery = 3;  // compare (4 solvers, Ipopt) on every third deck
 constexpr int kPositions = 3;     // sweeps are cut to this many positions (except when mutated)
 
@@ -509,6 +510,7 @@ std::vector<std::string> Judge(const Job& job, const Mutant& m, const std::strin
   if (err.find("AddressSanitizer") != std::string::npos || err.find("LeakSanitizer") != std::string::npos)
     verdicts.push_back("sanitizer: AddressSanitizer report");
   if (err.find("runtime error:") != std::string::npos) verdicts.push_back("sanitizer: UndefinedBehaviorSanitizer report");
+  if (!verdicts.empty()) return verdicts;  // its exit code (86, 87: see Spawn) says no more
   if (job.timed_out) {
     verdicts.push_back("timeout: over 10 s");
     return verdicts;
@@ -593,7 +595,7 @@ TEST_CASE("cli: the mutated-deck judge flags a crash, a timeout, exit 3, text be
   fs::remove_all(dir);
 }
 
-TEST_CASE("cli: every command on 330 mutated decks succeeds, exits 1 with statuses, or exits 2 naming the key") {
+TEST_CASE("cli: every command on 330 mutated decks from cases/ succeeds, exits 1 with statuses, or exits 2 naming the key") {
   const fs::path exe = LTCA_EXE;
   const fs::path dir = LTCA_MUTANT_DIR;
   fs::remove_all(dir);
@@ -610,7 +612,9 @@ TEST_CASE("cli: every command on 330 mutated decks succeeds, exits 1 with status
 
   std::mt19937_64 rng(20240610);
   std::vector<Mutant> mutants;
-  for (int i = 0; i < kMutants; ++i) {
+  const char* count_env = std::getenv("LTCA_MUTANTS");
+  const int count = count_env != nullptr ? std::max(1, std::atoi(count_env)) : kMutants;
+  for (int i = 0; i < count; ++i) {
     const auto& [origin, base] = bases[rng() % bases.size()];
     const auto kind = static_cast<Kind>(i % static_cast<int>(Kind::kCount));  // every kind, in turn
     Mutant m = Mutate(origin, base, kind, rng);
@@ -618,7 +622,7 @@ TEST_CASE("cli: every command on 330 mutated decks succeeds, exits 1 with status
     mutants.push_back(std::move(m));
   }
   const std::size_t kinds_covered = static_cast<std::size_t>(Kind::kCount);
-  CHECK(mutants.size() >= 300);
+  if (count_env == nullptr) CHECK(mutants.size() >= 300);
 
   std::vector<Job> jobs;
   for (std::size_t i = 0; i < mutants.size(); ++i) {
