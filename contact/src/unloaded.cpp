@@ -81,7 +81,8 @@ void RequireNoInterference(const MeshState& state, double crank, double toleranc
     throw std::invalid_argument(fmt::format(
         "interference at crank {:.6g} deg: {} overlap the cycloid at the theoretical meshing "
         "position; expected non-negative clearances (for d > 0 the radial clearance "
-        "dR_rp - dR_p must be >= 0)",
+        "dR_rp - dR_p must be >= 0): check [modification] pin_radius_mm and pin_circle_radius_mm "
+        "and the [errors] section",
         units::RadToDeg(crank), overlaps));
   }
 }

@@ -22,11 +22,62 @@ namespace {
 /// than any deck needs: [ ] and { } outside strings and comments, and the parts of a dotted key
 /// (a.b.c = 1 is a nested table). toml11 handles both by recursion: 10,000 levels of brackets
 /// or 100,000 dotted parts overflow the stack.
+/// Offset of the first byte that is not part of a well-formed UTF-8 sequence (RFC 3629: no
+/// overlong forms, no surrogates, nothing above U+10FFFF), or npos.
+std::size_t FirstInvalidUtf8(std::string_view text) {
+  const auto* b = reinterpret_cast<const unsigned char*>(text.data());
+  const std::size_t n = text.size();
+  std::size_t i = 0;
+  while (i < n) {
+    const unsigned c = b[i];
+    std::size_t len = 0;
+    unsigned lo = 0x80, hi = 0xBF;  // range of the second byte
+    if (c < 0x80) len = 1;
+    else if (c >= 0xC2 && c <= 0xDF) len = 2;
+    else if (c >= 0xE0 && c <= 0xEF) len = 3, lo = c == 0xE0 ? 0xA0 : 0x80, hi = c == 0xED ? 0x9F : 0xBF;
+    else if (c >= 0xF0 && c <= 0xF4) len = 4, lo = c == 0xF0 ? 0x90 : 0x80, hi = c == 0xF4 ? 0x8F : 0xBF;
+    else return i;
+    if (i + len > n) return i;
+    for (std::size_t k = 1; k < len; ++k) {
+      const unsigned cc = b[i + k];
+      if (k == 1 ? (cc < lo || cc > hi) : (cc < 0x80 || cc > 0xBF)) return i;
+    }
+    i += len;
+  }
+  return std::string_view::npos;
+}
+
 void CheckTextShape(std::string_view text) {
   if (text.size() > DeckLimits::kMaxFileBytes) {
     throw std::invalid_argument(fmt::format(
         "the text is {} bytes; expected a deck of at most {} bytes (4 MiB; docs/decks.md, Limits)",
         text.size(), DeckLimits::kMaxFileBytes));
+  }
+  // TOML is UTF-8; toml11 3.7 reads past the end of its buffer on an invalid byte in a literal
+  // string (found by the deck fuzzer, tests/fuzz/regressions/), so the text is checked first.
+  if (const std::size_t bad = FirstInvalidUtf8(text); bad != std::string_view::npos) {
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n');
+    // Name the key (or section header) of that line: the text before '=' or the [header].
+    const std::size_t begin = text.rfind('\n', bad) == std::string_view::npos ? 0 : text.rfind('\n', bad) + 1;
+    std::string_view where = text.substr(begin, std::min(text.find('\n', bad), text.size()) - begin);
+    const std::size_t eq = where.find('=');
+    where = where.substr(0, eq == std::string_view::npos ? where.size() : eq);
+    while (!where.empty() && (where.back() == ' ' || where.back() == '\t')) where.remove_suffix(1);
+    while (!where.empty() && (where.front() == ' ' || where.front() == '\t')) where.remove_prefix(1);
+    where = where.substr(0, std::min(where.size(), FirstInvalidUtf8(where)));  // its valid part
+    // and the [section] it stands in: the last header line before it
+    std::string section;
+    for (std::size_t from = 0; from < begin; from = text.find('\n', from) + 1) {
+      const std::string_view header = text.substr(from, text.find('\n', from) - from);
+      if (header.starts_with('[') && FirstInvalidUtf8(header) == std::string_view::npos) {
+        section = std::string(header.substr(0, header.find(']') + 1));
+      }
+    }
+    std::string context = section;
+    if (!where.empty()) context += fmt::format("{}{}{}", context.empty() ? "" : " ", eq == std::string_view::npos ? "" : "key ", where);
+    throw std::invalid_argument(fmt::format(
+        "line {}{}: byte 0x{:02X} is not valid UTF-8; expected a UTF-8 text (TOML decks are UTF-8)", line,
+        context.empty() ? "" : " (" + context + ")", static_cast<unsigned>(static_cast<unsigned char>(text[bad]))));
   }
   int depth = 0;
   int dots = 0;  // dots in the current run of key (or number) characters

@@ -231,6 +231,22 @@ TEST_CASE("solvers: deeply nested TOML is rejected before the parser sees it") {
   CHECK(ParseDeck(quoted, "t.toml").info.title == std::string(100, '['));
 }
 
+TEST_CASE("solvers: a deck that is not UTF-8 is rejected before the parser, naming the line and key") {
+  // toml11 3.7 read past its buffer on one invalid byte in a literal string (the deck fuzzer's
+  // finding, tests/fuzz/regressions/literal_string_invalid_utf8.toml); TOML requires UTF-8.
+  const std::string bad_title = Replace(kGood, "title = \"test\"", "title = '\xcb'");
+  CHECK(Contains(ErrorOf(bad_title), "([case] key title): byte 0xCB is not valid UTF-8"));
+  const std::string bad_key = Replace(kGood, "pin_count", "pin_count\xff\xfe");
+  CHECK(Contains(ErrorOf(bad_key), "([pair] key pin_count): byte 0xFF is not valid UTF-8"));
+  // Overlong, surrogate and truncated sequences are not UTF-8 either; real multi-byte text is.
+  for (const std::string bytes : {"\xc0\xaf", "\xed\xa0\x80", "\xe2\x82", "\xf4\x90\x80\x80"}) {
+    CAPTURE(bytes.size());
+    CHECK(Contains(ErrorOf(Replace(kGood, "title = \"test\"", "title = \"" + bytes + "\"")), "is not valid UTF-8"));
+  }
+  const std::string umlaut = Replace(kGood, "title = \"test\"", "title = \"Z\xc3\xa4hne \xe2\x80\x94 \xf0\x9f\x94\xa7\"");
+  CHECK(ErrorOf(umlaut) == "");
+}
+
 TEST_CASE("solvers: deck limits on pins, positions, slices and elements name the key") {
   const std::string good = kGood;
   // 10,000 pins: R_p = 1.6 z_p keeps the pin spacing and K1 of the Liu pair.
