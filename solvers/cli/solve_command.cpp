@@ -39,6 +39,7 @@ nlohmann::json PositionJson(const solvers::PositionResult& p) {
           {"contact_stress_mpa", figure(p.contact_stress)},
           {"status", solvers::ToString(p.result.status)},
           {"message", p.result.message},
+          {"warnings", p.result.warnings},
           {"torque_evaluations", p.result.torque_evaluations},
           {"residual", FiniteOrNull(p.result.residuals.Normalised())}};
 }
@@ -55,7 +56,9 @@ nlohmann::json SummaryJson(const solvers::SweepSummary& s) {
                       {"status", solvers::ToString(s.status)},
                       {"positions", s.positions()},
                       {"succeeded_positions", s.succeeded},
-                      {"failed_positions", s.failed}};
+                      {"failed_positions", s.failed},
+                      {"warned_positions", s.warned}};
+  if (s.warned > 0) j["first_warning"] = s.first_warning;
   if (s.failed > 0) {
     j["note"] = s.succeeded > 0
                     ? fmt::format("{} of {} positions failed: the figures are over the {} successful positions only",
@@ -209,6 +212,7 @@ int RunSolve(const solvers::Deck& deck, const SolveOptions& options, const Strea
              contact::ToString(deck.contact.rho_convention));
   fmt::print(text, "status                 {}\n", solvers::ToString(s.status));
   text << FailureNote(s);
+  if (s.warned > 0) fmt::print(text, "warnings               {} positions, first at {}\n", s.warned, s.first_warning);
   fmt::print(text, "mean TE                {} arcsec   (Liu eq. 16; negative under load)\n", FormatOrNa(RadToArcsec(s.mean_te), 4));
   fmt::print(text, "peak-to-peak TE        {} arcsec\n", FormatOrNa(RadToArcsec(s.pp_te), 4));
   if (s.succeeded > 0) {

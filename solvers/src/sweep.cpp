@@ -4,7 +4,10 @@
 #include <chrono>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "ltca/contact/unloaded.hpp"
+#include "ltca/geometry/units.hpp"
 
 namespace ltca::solvers {
 namespace {
@@ -28,6 +31,10 @@ void SummaryAccumulator::Add(const PositionResult& p) {
     s_.max_contact_stress = 0.0;
   }
   ++s_.succeeded;
+  if (!p.result.warnings.empty()) {
+    if (s_.warned == 0) s_.first_warning = fmt::format("crank {:.6g} deg: {}", units::RadToDeg(p.crank), p.result.warnings.front());
+    ++s_.warned;
+  }
   te_sum_ += p.result.te;
   te_lo_ = std::min(te_lo_, p.result.te);
   te_hi_ = std::max(te_hi_, p.result.te);

@@ -557,3 +557,21 @@ TEST_CASE("cli: the progress line shows only when enabled and after its delay") 
   }
   CHECK(early.str().empty());
 }
+
+TEST_CASE("cli: a contact stress beyond [material] contact_stress_limit_mpa is a warning in JSON and text, exit 0") {
+  // Liu 2021 Table 1 prints a largest contact stress of 1067.50 MPa (absolute convention): a
+  // 500 MPa limit is exceeded, the default 4000 MPa is not. A warning keeps the status success.
+  const auto warned = RunCli({"solve", Case("liu2021_table1_absolute.toml"), "--set", "material.contact_stress_limit_mpa=500",
+                              "--set", "sweep.positions=5", "--json", "-"});
+  REQUIRE(warned.code == 0);
+  const auto j = nlohmann::json::parse(warned.out);
+  CHECK(j.at("summary").at("warned_positions").get<int>() > 0);
+  CHECK(j.at("summary").at("first_warning").get<std::string>().find("contact_stress_limit_mpa") != std::string::npos);
+  CHECK(j.at("positions").at(0).at("warnings").size() >= 1);
+  CHECK(warned.err.find("warnings") != std::string::npos);
+  const auto plain = RunCli({"solve", Case("liu2021_table1_absolute.toml"), "--set", "sweep.positions=5", "--json", "-"});
+  REQUIRE(plain.code == 0);
+  const auto k = nlohmann::json::parse(plain.out);
+  CHECK(k.at("summary").at("warned_positions").get<int>() == 0);
+  CHECK(!k.at("summary").contains("first_warning"));
+}

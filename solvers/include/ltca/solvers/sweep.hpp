@@ -44,6 +44,10 @@ struct SweepSummary {
   double wall_seconds = 0.0;
   std::int64_t succeeded = 0;  ///< positions with status success
   std::int64_t failed = 0;     ///< positions with any other status
+  /// Successful positions whose result carries warnings (stress beyond the material limit, a
+  /// half-width beyond the law: LoadResult::warnings), and the first of those warnings.
+  std::int64_t warned = 0;
+  std::string first_warning;
   SolverStatus status = SolverStatus::kNotSolved;  ///< the worst status over the sweep
   std::int64_t positions() const { return succeeded + failed; }
   bool all_succeeded() const { return failed == 0 && succeeded > 0; }
