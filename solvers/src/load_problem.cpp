@@ -124,17 +124,26 @@ double LoadProblem::GapResolution() const {
   return 16.0 * std::numeric_limits<double>::epsilon() * model_->pair().pin_circle_radius;
 }
 
-double LoadProblem::TorqueResolution(double psi) const {
-  std::vector<contact::ContactLaw> scratch;
+namespace {
+
+// The torque the arithmetic cannot resolve at psi (LoadProblem::TorqueResolution), N*mm.
+double Resolution(const std::vector<LoadProblem::PinAt>& pins, double psi, double gap_resolution) {
   double stiffness = 0.0, gap_stiffness = 0.0;
-  for (const PinAt& p : At(psi, &scratch)) {
+  for (const LoadProblem::PinAt& p : pins) {
     if (p.law == nullptr || !(p.approach > 0.0)) continue;
     const double k = p.law->Stiffness(p.approach);
     stiffness += k * p.arm * p.arm;
     gap_stiffness += k * std::abs(p.arm);
   }
   const double ulp = std::nextafter(std::abs(psi), INFINITY) - std::abs(psi);
-  return 4.0 * stiffness * ulp + gap_stiffness * GapResolution();
+  return 4.0 * stiffness * ulp + gap_stiffness * gap_resolution;
+}
+
+}  // namespace
+
+double LoadProblem::TorqueResolution(double psi) const {
+  std::vector<contact::ContactLaw> scratch;
+  return Resolution(At(psi, &scratch), psi, GapResolution());
 }
 
 bool LoadProblem::Balanced(double psi, double torque_out, double tolerance) const {
@@ -196,7 +205,9 @@ Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::ve
     r.complementarity_nmm =
         std::max(r.complementarity_nmm, std::max(f, 0.0) * std::max(0.0, std::abs(gap) - resolution));
   }
-  r.torque_relative = std::abs(torque - problem.torque()) / std::max(problem.torque(), 1.0);
+  // A torque miss below what the arithmetic resolves at psi is rounding, as in Balanced().
+  const double miss = std::max(0.0, std::abs(torque - problem.torque()) - Resolution(pins, psi, resolution));
+  r.torque_relative = miss / std::max(problem.torque(), 1.0);
   const double f_scale = std::max(f_max, 1e-300), w_scale = std::max(w_max, 1e-12);
   r.normalised = std::max({r.torque_relative, r.force_violation_n / f_scale, r.gap_violation_mm / w_scale,
                            r.complementarity_nmm / (f_scale * w_scale)});
