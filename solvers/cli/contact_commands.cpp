@@ -34,60 +34,64 @@ void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, cons
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output csv("--csv", options.csv_path, streams.out);
   std::ostream& out = streams.text;
-  const contact::UnloadedSweep sweep =
-      contact::AnalyseUnloadedSweep(deck.MakeModel(), deck.sweep.CrankAngles(), options.kinematics);
-  const auto& rows = sweep.positions;
-  const double mean = sweep.mean_backlash, pp = sweep.pp_backlash;
+  const contact::MeshModel model = deck.MakeModel();
+  const std::vector<double> cranks = deck.sweep.CrankAngles();
+  // Every crank is checked for interference before anything is computed or written.
+  for (const double crank : cranks) contact::RequireNoInterference(model, crank);
   fmt::print(out, "case      {}\n", deck.info.title);
   fmt::print(out, "unloaded TCA, {} kinematics, {} positions from {:g} to {:g} deg crank\n",
              options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
-             rows.size(), RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
-  fmt::print(out, "mean backlash           {:.4f} arcsec   (Liu eq. 17)\n", RadToArcsec(mean));
-  fmt::print(out, "peak-to-peak backlash   {:.4f} arcsec\n", RadToArcsec(pp));
+             cranks.size(), RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
   fmt::print(out, "{:>10} {:>14} {:>14} {:>14} {:>6}\n", "crank_deg", "theta_c1_as", "theta_c2_as",
              "backlash_as", "pin");
-  const std::size_t step = std::max<std::size_t>(1, rows.size() / 10);
-  for (std::size_t i = 0; i < rows.size(); i += step) {
-    const auto& r = rows[i];
-    fmt::print(out, "{:>10.4f} {:>14.4f} {:>14.4f} {:>14.4f} {:>6}\n", RadToDeg(r.crank),
-               RadToArcsec(r.theta_c1), RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), r.first_pin_c1 + 1);
-  }
+  // Streamed, one position at a time, so memory does not grow with the sweep (issue 10): the JSON
+  // holds the positions, then the summary.
   if (json.enabled()) {
-    {
-      std::ostream& os = json.stream();
-      nlohmann::json positions = nlohmann::json::array();
-      for (const auto& r : rows) {
-        nlohmann::json clearance = nlohmann::json::array(), after = nlohmann::json::array();
-        for (const double c : r.clearance) clearance.push_back(units::MmToUm(c));
-        for (const double c : r.clearance_at_c1) after.push_back(units::MmToUm(c));
-        positions.push_back({{"crank_deg", RadToDeg(r.crank)},
-                             {"theta_c1_arcsec", Finite(RadToArcsec(r.theta_c1))},
-                             {"theta_c2_arcsec", Finite(RadToArcsec(r.theta_c2))},
-                             {"backlash_arcsec", Finite(RadToArcsec(r.backlash))},
-                             {"first_contact_pin", r.first_pin_c1 + 1},
-                             {"first_contact_pin_reverse", r.first_pin_c2 + 1},
-                             {"clearance_um", clearance},
-                             {"clearance_at_first_contact_um", after}});
-      }
-      const nlohmann::json doc = {
-          {"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
-          {"summary", {{"mean_backlash_arcsec", Finite(RadToArcsec(mean))}, {"pp_backlash_arcsec", Finite(RadToArcsec(pp))}}},
-          {"positions", positions}};
-      os << Dump(doc) << '\n';
+    json.stream() << "{\n\"case\": "
+                  << Dump({{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}, -1)
+                  << ",\n\"positions\": [";
+  }
+  if (csv.enabled()) csv.stream() << "crank_deg,theta_c1_arcsec,theta_c2_arcsec,backlash_arcsec,first_contact_pin\n";
+  const std::size_t step = std::max<std::size_t>(1, cranks.size() / 10);
+  double sum = 0.0, lo = INFINITY, hi = -INFINITY;
+  for (std::size_t i = 0; i < cranks.size(); ++i) {
+    const contact::UnloadedContact r = contact::AnalyseUnloaded(model, cranks[i], options.kinematics);
+    sum += r.backlash;
+    lo = std::min(lo, r.backlash);
+    hi = std::max(hi, r.backlash);
+    if (i % step == 0) {
+      fmt::print(out, "{:>10.4f} {:>14.4f} {:>14.4f} {:>14.4f} {:>6}\n", RadToDeg(r.crank), RadToArcsec(r.theta_c1),
+                 RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), r.first_pin_c1 + 1);
     }
+    if (json.enabled()) {
+      nlohmann::json clearance = nlohmann::json::array(), after = nlohmann::json::array();
+      for (const double c : r.clearance) clearance.push_back(units::MmToUm(c));
+      for (const double c : r.clearance_at_c1) after.push_back(units::MmToUm(c));
+      const nlohmann::json position = {{"crank_deg", RadToDeg(r.crank)},
+                                       {"theta_c1_arcsec", Finite(RadToArcsec(r.theta_c1))},
+                                       {"theta_c2_arcsec", Finite(RadToArcsec(r.theta_c2))},
+                                       {"backlash_arcsec", Finite(RadToArcsec(r.backlash))},
+                                       {"first_contact_pin", r.first_pin_c1 + 1},
+                                       {"first_contact_pin_reverse", r.first_pin_c2 + 1},
+                                       {"clearance_um", clearance},
+                                       {"clearance_at_first_contact_um", after}};
+      json.stream() << (i == 0 ? "\n" : ",\n") << Dump(position, -1);
+    }
+    if (csv.enabled()) {
+      fmt::print(csv.stream(), "{:.9g},{:.9g},{:.9g},{:.9g},{}\n", RadToDeg(r.crank), RadToArcsec(r.theta_c1),
+                 RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), r.first_pin_c1 + 1);
+    }
+  }
+  const double mean = sum / static_cast<double>(cranks.size()), pp = hi - lo;
+  fmt::print(out, "mean backlash           {:.4f} arcsec   (Liu eq. 17)\n", RadToArcsec(mean));
+  fmt::print(out, "peak-to-peak backlash   {:.4f} arcsec\n", RadToArcsec(pp));
+  if (json.enabled()) {
+    json.stream() << "\n],\n\"summary\": "
+                  << Dump({{"mean_backlash_arcsec", Finite(RadToArcsec(mean))}, {"pp_backlash_arcsec", Finite(RadToArcsec(pp))}}, -1)
+                  << "\n}\n";
     json.Commit();
   }
-  if (csv.enabled()) {
-    {
-      std::ostream& os = csv.stream();
-      os << "crank_deg,theta_c1_arcsec,theta_c2_arcsec,backlash_arcsec,first_contact_pin\n";
-      for (const auto& r : rows) {
-        fmt::print(os, "{:.9g},{:.9g},{:.9g},{:.9g},{}\n", RadToDeg(r.crank), RadToArcsec(r.theta_c1),
-                   RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), r.first_pin_c1 + 1);
-      }
-    }
-    csv.Commit();
-  }
+  if (csv.enabled()) csv.Commit();
 }
 
 void RunMesh(const solvers::Deck& deck, const MeshOptions& options, const Streams& streams) {
