@@ -179,7 +179,17 @@ std::vector<std::size_t> CandidatePins(const std::vector<LoadProblem::PinAt>& pi
   std::vector<std::size_t> out;
   for (std::size_t i = 0; i < pins.size(); ++i) {
     const auto& p = pins[i];
-    if (p.law == nullptr || p.arm <= min_arm) continue;
+    if (p.law == nullptr) continue;
+    // A pin already pressed at psi is a candidate whatever its arm: under exact kinematics a pin
+    // at the far end of the line of centres (arm -0.004 mm on Liu Table 1 at crank 0.018 deg)
+    // is pressed 5e-8 mm at second order in the rotation and must carry its force. Approaches
+    // below 1e-11 mm are the rounding of a touching pin (a free variable there only collects
+    // interior-point noise); left out, they cost at most 1e-11 mm of penetration.
+    if (p.approach > 1e-11 && p.arm <= min_arm) {
+      out.push_back(i);
+      continue;
+    }
+    if (p.arm <= min_arm) continue;
     if (p.approach + p.arm * bound > 0.0) out.push_back(i);  // closes before the bound
   }
   return out;
