@@ -4,16 +4,17 @@
 #include <cstdio>
 #include <string>
 
+#include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
 int main() {
   using namespace ltca;
-  auto table1 = solvers::DefaultDeck();
+  auto table1 = app::DefaultDeck();
   table1.contact.rho_convention = contact::RhoConvention::kAbsolute;
-  auto base = solvers::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
-  auto li = solvers::LoadDeck(std::string(LTCA_CASES_DIR) + "/li_table1.toml");
+  auto base = app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
+  auto li = app::LoadDeck(std::string(LTCA_CASES_DIR) + "/li_table1.toml");
   std::printf("every third position of one mesh period (31), linearised, torque tolerance 1e-10\n");
   std::printf("algorithm      | Liu Table 1 (absolute rho) | Liu section 5.2 | Li Table 1\n");
   for (const char* algorithm : {"LD_MMA", "LD_CCSAQ", "LD_LBFGS", "LD_SLSQP", "LD_TNEWTON", "LD_VAR2", "LN_BOBYQA",

@@ -17,16 +17,18 @@ struct Evaluation {
   bool saturated = false;  // a pin is beyond its law's largest force
 };
 
-Evaluation Evaluate(const LoadProblem& problem, double psi, std::vector<double>* forces, std::vector<double>* hints) {
+Evaluation Evaluate(const LoadProblem& problem, double psi, Workspace& workspace, std::vector<double>* forces,
+                    std::vector<double>* hints) {
   std::vector<contact::ContactLaw> scratch;
-  Loading l = LoadAt(problem.At(psi, &scratch), hints);
+  Loading l = LoadAt(problem.At(psi, workspace, &scratch), hints);
   *forces = std::move(l.force);
   return {l.torque, l.edge, l.saturated};
 }
 
 }  // namespace
 
-void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
+void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                              LoadResult* result) const {
   // Start at the unloaded first contact in the load direction (Liu: theta_c1).
   double psi = problem.FirstContactRotation();
   if (!std::isfinite(psi)) {
@@ -37,15 +39,15 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   const double target = problem.torque();
   double step = units::ArcsecToRad(1.0 / 60.0);  // Liu section 4: 1/60 arcsec
   const auto converged = [&](double psi_now, double torque_now) {
-    return problem.Balanced(psi_now, torque_now, options.torque_tolerance);
+    return problem.Balanced(psi_now, torque_now, options.torque_tolerance, workspace);
   };
   std::vector<double> forces, trial_forces, hints;
   bool edge_blocked = false;
-  Evaluation at = Evaluate(problem, psi, &forces, &hints);
+  Evaluation at = Evaluate(problem, psi, workspace, &forces, &hints);
   int evaluations = 1;
   for (; evaluations < options.max_iterations; ++evaluations) {
     if (converged(psi, at.torque)) break;
-    const Evaluation trial = Evaluate(problem, psi + step, &trial_forces, &hints);
+    const Evaluation trial = Evaluate(problem, psi + step, workspace, &trial_forces, &hints);
     if (trial.edge) {
       // A tip corner would be pressed at this trial: treat it as an overshoot. If the load cannot
       // be reached before a corner engages, the answer is edge contact (below).
@@ -75,7 +77,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   }
   result->rotation = psi;
   result->force = forces;
-  result->details = BisectionDetails{step};
+  result->details = {{"final_step_rad", step}};
   result->torque_evaluations = evaluations;
   result->iterations = evaluations;
   result->native_code = 0;

@@ -13,7 +13,8 @@ class BisectionSolver final : public LoadSolver {
   std::string name() const override { return "bisection"; }
 
  private:
-  void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const override;
+  void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+               LoadResult* result) const override;
 };
 
 }  // namespace ltca::solvers

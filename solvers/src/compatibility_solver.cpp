@@ -14,6 +14,7 @@ namespace {
 
 struct Potential {
   const LoadProblem* problem = nullptr;
+  Workspace* workspace = nullptr;
   int evaluations = 0;
   std::exception_ptr error;  // NLopt swallows exceptions thrown in callbacks: keep and rethrow
   bool edge = false;
@@ -24,7 +25,7 @@ struct Potential {
     ++evaluations;
     std::vector<contact::ContactLaw> scratch;
     double pi = -problem->torque() * psi, torque = 0.0;
-    const auto pins = problem->At(psi, &scratch);
+    const auto pins = problem->At(psi, *workspace, &scratch);
     hints.resize(pins.size(), 0.0);
     for (std::size_t i = 0; i < pins.size(); ++i) {
       const auto& pin = pins[i];
@@ -57,15 +58,17 @@ double Objective(const std::vector<double>& x, std::vector<double>& grad, void* 
 
 }  // namespace
 
-void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
+void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                                  LoadResult* result) const {
   if (problem.kinematics() == contact::ContactKinematics::kExact) {
-    SolveExact(problem, options, result);
+    SolveExact(problem, options, workspace, result);
     return;
   }
-  SolveLinearised(problem, options, result);
+  SolveLinearised(problem, options, workspace, result);
 }
 
-void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
+void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                                     LoadResult* result) const {
   // Re-linearise until the rotation settles (issue 4): about psi_k the linearised problem takes the
   // exact gaps, arms and laws of the pose psi_k (value and slope of every approach match there);
   // its solution is psi_{k+1}. The last answer is verified on the exact torque balance.
@@ -86,17 +89,17 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
     }
     contact::MeshState shifted = state;
     for (auto& pin : shifted.pins) pin.clearance += pin.arm * psi;  // L psi' - c~ = approach at psi' (first order)
-    const LoadProblem linear(problem.model(), std::move(shifted), problem.contact_settings(), problem.material(),
+    const LoadProblem linear(problem.shared_model(), std::move(shifted), problem.contact_settings(), problem.material(),
                              problem.torque());
     if (outer > 0) {  // the linearisation about psi is exact at psi: stop when its torque balances,
       // with a margin: the final exact evaluation at psi starts its closest-point searches from
       // other foot points and may round differently (a d = 3 position stopped at 0.99e-10 here
       // and was judged 1.01e-10 off, issue 10).
-      if (linear.Balanced(psi, linear.OutputTorque(psi), 0.5 * options.torque_tolerance)) break;
+      if (linear.Balanced(psi, linear.OutputTorque(psi, workspace), 0.5 * options.torque_tolerance, workspace)) break;
     }
     LoadResult step;
     step.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
-    SolveLinearised(linear, inner, &step, guess);
+    SolveLinearised(linear, inner, workspace, &step, guess);
     evaluations += step.torque_evaluations;
     if (step.status != SolverStatus::kSuccess && step.status != SolverStatus::kEdgeContact) {
       *result = step;
@@ -110,19 +113,19 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
   }
   // The answer on the exact geometry: forces of the laws at the exact approaches.
   std::vector<contact::ContactLaw> scratch;
-  Loading loading = LoadAt(problem.At(psi, &scratch));
+  Loading loading = LoadAt(problem.At(psi, workspace, &scratch));
   result->force = std::move(loading.force);
   const double torque = loading.torque;
   const bool edge = loading.edge;
   result->rotation = psi;
   result->torque_evaluations = evaluations;
   result->iterations = outer + 1;
-  result->details = CompatibilityDetails{options.nlopt_algorithm, 0, 0};
+  result->details = {{"nlopt_result", 0.0}, {"polish_steps", 0.0}};
   const double miss = std::abs(torque - problem.torque());
   if (edge) {
     result->status = SolverStatus::kEdgeContact;
     result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
-  } else if (problem.Balanced(psi, torque, options.torque_tolerance)) {
+  } else if (problem.Balanced(psi, torque, options.torque_tolerance, workspace)) {
     result->status = SolverStatus::kSuccess;
     result->message = fmt::format("{} re-linearisations, torque balanced to {:.3g}", outer + 1, miss / problem.torque());
   } else {
@@ -132,7 +135,7 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
 }
 
 void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const SolverOptions& options,
-                                          LoadResult* result, double guess_rotation) const {
+                                          Workspace& workspace, LoadResult* result, double guess_rotation) const {
   nlopt::algorithm algorithm;
   try {
     algorithm = static_cast<nlopt::algorithm>(nlopt_algorithm_from_string(options.nlopt_algorithm.c_str()));
@@ -144,6 +147,7 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   }
   Potential potential;
   potential.problem = &problem;
+  potential.workspace = &workspace;
   // Bracket: from the first contact in the load direction to a rotation whose torque exceeds T.
   double lo = problem.FirstContactRotation();
   if (!std::isfinite(lo)) {
@@ -157,7 +161,7 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   {
     std::vector<contact::ContactLaw> scratch;
     double sum_arm = 0.0, stiffness = 0.0;
-    const auto pins = problem.At(lo, &scratch);
+    const auto pins = problem.At(lo, workspace, &scratch);
     for (const auto& pin : pins) {
       if (pin.law != nullptr && pin.arm > 0.0 && pin.approach > -1e-3) sum_arm += pin.arm;
     }
@@ -217,14 +221,14 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   int polish = 0;
   double gx = 0.0;
   potential.Evaluate(x[0], &gx);
-  if (!problem.Balanced(x[0], problem.torque() + gx, options.torque_tolerance)) {
+  if (!problem.Balanced(x[0], problem.torque() + gx, options.torque_tolerance, workspace)) {
     double a = lo, b = hi, ga = 0.0, gb = 0.0;
     potential.Evaluate(a, &ga);
     potential.Evaluate(b, &gb);
     if (gx < 0.0) a = x[0], ga = gx; else b = x[0], gb = gx;
     int side = 0;
     while (polish < 100) {
-      if (problem.Balanced(x[0], problem.torque() + gx, options.torque_tolerance) ||
+      if (problem.Balanced(x[0], problem.torque() + gx, options.torque_tolerance, workspace) ||
           b - a <= 4.0 * std::numeric_limits<double>::epsilon() * std::abs(b)) break;
       double c = (gb - ga) != 0.0 ? b - gb * (b - a) / (gb - ga) : 0.5 * (a + b);
       if (!(c > a && c < b)) c = 0.5 * (a + b);
@@ -244,11 +248,11 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
     }
   }
   result->rotation = x[0];
-  result->details = CompatibilityDetails{options.nlopt_algorithm, static_cast<int>(code), polish};
+  result->details = {{"nlopt_result", static_cast<double>(code)}, {"polish_steps", static_cast<double>(polish)}};
   result->torque_evaluations = potential.evaluations;
   result->iterations = potential.evaluations;
   std::vector<contact::ContactLaw> scratch;
-  Loading loading = LoadAt(problem.At(x[0], &scratch));
+  Loading loading = LoadAt(problem.At(x[0], workspace, &scratch));
   result->force = std::move(loading.force);
   const double torque = loading.torque;
   const double mismatch = std::abs(torque - problem.torque()) / problem.torque();
@@ -258,7 +262,7 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   if (potential.edge) {
     result->status = SolverStatus::kEdgeContact;
     result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
-  } else if (problem.Balanced(x[0], torque, options.torque_tolerance)) {
+  } else if (problem.Balanced(x[0], torque, options.torque_tolerance, workspace)) {
     // (the polish above guarantees this unless the resolution of double precision intervenes)
     result->status = SolverStatus::kSuccess;
     result->message = fmt::format("NLopt {} code {} ({} regula falsi polish steps), torque balanced to {:.3g}{}",

@@ -20,11 +20,13 @@ class CompatibilitySolver final : public LoadSolver {
   std::string name() const override { return "compatibility"; }
 
  private:
-  void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const override;
+  void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+               LoadResult* result) const override;
   /// guess_rotation: a rotation near the answer to start NLopt from (NaN: the linear prediction).
-  void SolveLinearised(const LoadProblem& problem, const SolverOptions& options, LoadResult* result,
+  void SolveLinearised(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace, LoadResult* result,
                        double guess_rotation = std::numeric_limits<double>::quiet_NaN()) const;
-  void SolveExact(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const;
+  void SolveExact(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                  LoadResult* result) const;
 };
 
 }  // namespace ltca::solvers

@@ -68,16 +68,17 @@ GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& 
 
 }  // namespace
 
-void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
+void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                                 LoadResult* result) const {
   const int n = problem.pin_count();
   const double min_arm = 1e-9 * problem.model().pair().pin_circle_radius;
   std::vector<contact::ContactLaw> scratch;
   double psi = 0.0;
   int groups_evaluated = 0;
-  EnergyGroupsDetails details;
+  BackendDetails details;
   const int outer_limit = problem.kinematics() == contact::ContactKinematics::kExact ? 50 : 1;
   for (int outer = 0; outer < outer_limit; ++outer) {
-    const auto pins = problem.At(psi, &scratch);
+    const auto pins = problem.At(psi, workspace, &scratch);
     Linearised lin;
     lin.psi0 = psi;
     for (const auto& p : pins) {
@@ -108,8 +109,8 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
       const auto k = static_cast<std::size_t>(i);
       candidate[k] = lin.law[k] != nullptr && lin.Approach(k, psi_max) > 0.0;
     }
-    ++details.relinearisations;
-    details.candidates = static_cast<int>(std::count(candidate.begin(), candidate.end(), true));
+    ++details["relinearisations"];
+    details["candidates"] = static_cast<int>(std::count(candidate.begin(), candidate.end(), true));
     // 3. Contiguous runs of candidates (cyclic pin order) containing the first pin.
     int left = 0, right = 0;  // how far the run of candidates extends each way from `first`
     while (left < n - 1 && candidate[static_cast<std::size_t>((first - left - 1 + n) % n)]) ++left;
@@ -148,10 +149,10 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
   }
   result->rotation = psi;
   result->iterations = groups_evaluated;
-  details.groups_evaluated = groups_evaluated;
+  details["groups_evaluated"] = groups_evaluated;
   result->details = details;
   result->message = fmt::format("{} tooth groups evaluated (Li eq. 14)", groups_evaluated);
-  for (const auto& pin : problem.At(psi, &scratch)) {
+  for (const auto& pin : problem.At(psi, workspace, &scratch)) {
     if (pin.law == nullptr && pin.approach > 0.0) {
       result->status = SolverStatus::kEdgeContact;
       result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";

@@ -20,7 +20,8 @@ class EnergyGroupsSolver final : public LoadSolver {
   std::string name() const override { return "energy-groups"; }
 
  private:
-  void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const override;
+  void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+               LoadResult* result) const override;
 };
 
 }  // namespace ltca::solvers

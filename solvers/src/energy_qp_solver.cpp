@@ -204,9 +204,9 @@ SolverStatus MapStatus(Ipopt::ApplicationReturnStatus s) {
   return SolverStatus::kNumericalFailure;
 }
 
-}  // namespace
-
-struct EnergyQpSolver::Backend {
+// Per workspace (per thread): the Ipopt application (creating and initialising it costs more
+// than a small solve), the TNLP kept for ReOptimizeTNLP, and the previous solution.
+struct IpoptState final : Workspace::BackendState {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app;
   Ipopt::SmartPtr<EnergyNlp> nlp;
   bool initialised = false;
@@ -214,14 +214,17 @@ struct EnergyQpSolver::Backend {
   WarmStart warm;
 };
 
-EnergyQpSolver::EnergyQpSolver() : backend_(std::make_unique<Backend>()) {}
-EnergyQpSolver::~EnergyQpSolver() = default;
+}  // namespace
 
-void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const {
-  // One Ipopt application per solver object: creating and initialising it costs more than a
-  // small solve. Options are set on every call (max_iter may change).
-  if (Ipopt::IsNull(backend_->app)) backend_->app = IpoptApplicationFactory();
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = backend_->app;
+void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                             LoadResult* result) const {
+  // One Ipopt application per workspace. Options are set on every call (max_iter may change).
+  auto* state = static_cast<IpoptState*>(workspace.Backend("energy-qp"));
+  if (state == nullptr) {
+    state = static_cast<IpoptState*>(workspace.SetBackend("energy-qp", std::make_unique<IpoptState>()));
+  }
+  if (Ipopt::IsNull(state->app)) state->app = IpoptApplicationFactory();
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = state->app;
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");
   app->Options()->SetStringValue("nlp_scaling_method", "user-scaling");
@@ -236,13 +239,13 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   app->Options()->SetNumericValue("warm_start_bound_push", 1e-9);
   app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-9);
   app->Options()->SetNumericValue("mu_init", 1e-3);
-  if (!backend_->initialised) {
+  if (!state->initialised) {
     if (app->Initialize("") != Ipopt::Solve_Succeeded) {  // "": no option file is read
       result->status = SolverStatus::kNumericalFailure;
       result->message = "Ipopt failed to initialise";
       return;
     }
-    backend_->initialised = true;
+    state->initialised = true;
   }
   const double min_arm = 1e-9 * problem.model().pair().pin_circle_radius;
   // Linearise about the first contact: the clearances of the subproblem are then the gaps left
@@ -258,10 +261,10 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   const int outer_limit = problem.kinematics() == contact::ContactKinematics::kExact ? 50 : 1;
   std::vector<contact::ContactLaw> scratch;
   int total_iterations = 0;
-  EnergyQpDetails details;
+  BackendDetails details;
   for (int outer = 0; outer < outer_limit; ++outer) {
-    ++details.relinearisations;
-    const auto pins = problem.At(psi, &scratch);
+    ++details["relinearisations"];
+    const auto pins = problem.At(psi, workspace, &scratch);
     Subproblem sub;
     sub.torque = problem.torque();
     // Every pin is a variable (a fixed structure lets Ipopt reuse its linear solver); only the pins
@@ -276,21 +279,21 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
       sub.law.push_back(pins[i].law != nullptr ? pins[i].law : &problem.base_laws()[i]);
       sub.free.push_back(can_close[i]);
     }
-    details.candidates = static_cast<int>(std::count(sub.free.begin(), sub.free.end(), true));
+    details["candidates"] = static_cast<int>(std::count(sub.free.begin(), sub.free.end(), true));
     QpOutcome out;
     const int size = static_cast<int>(sub.pin.size());
-    const bool reuse = Ipopt::IsValid(backend_->nlp) && backend_->solved_size == size;
-    if (!reuse) backend_->nlp = new EnergyNlp();
+    const bool reuse = Ipopt::IsValid(state->nlp) && state->solved_size == size;
+    if (!reuse) state->nlp = new EnergyNlp();
     // Warm start from the previous position's solution when it is near (same size, still feasible):
     // the multiplier is a rotation beyond the linearisation point, similar from position to position.
     // Only under linearised kinematics: the outer loop of exact kinematics moves the linearisation
     // point, and a multiplier about another point is a poor start.
-    const bool warm = reuse && backend_->warm.valid && outer_limit == 1;
+    const bool warm = reuse && state->warm.valid && outer_limit == 1;
     app->Options()->SetStringValue("warm_start_init_point", warm ? "yes" : "no");
-    backend_->nlp->Reset(&sub, &out, &backend_->warm);
+    state->nlp->Reset(&sub, &out, &state->warm);
     const Ipopt::ApplicationReturnStatus status =
-        reuse ? app->ReOptimizeTNLP(Ipopt::GetRawPtr(backend_->nlp)) : app->OptimizeTNLP(Ipopt::GetRawPtr(backend_->nlp));
-    backend_->solved_size = size;
+        reuse ? app->ReOptimizeTNLP(Ipopt::GetRawPtr(state->nlp)) : app->OptimizeTNLP(Ipopt::GetRawPtr(state->nlp));
+    state->solved_size = size;
     result->native_code = static_cast<int>(status);
     if (Ipopt::IsValid(app->Statistics())) total_iterations += app->Statistics()->IterationCount();
     result->status = MapStatus(status);
@@ -304,7 +307,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   // At the answer: an edge pin with a closed gap is edge contact; interior-point forces of
   // unloaded pins are tiny positives, and a pin whose gap is open carries no force
   // (complementarity); a force beyond a law's range cannot be carried.
-  const auto final_pins = problem.At(psi, &scratch);
+  const auto final_pins = problem.At(psi, workspace, &scratch);
   for (const auto& pin : final_pins) {
     if (pin.law == nullptr && pin.approach > 0.0) {
       result->status = SolverStatus::kEdgeContact;
@@ -319,7 +322,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   }
   result->rotation = psi;
   result->iterations = total_iterations;
-  details.ipopt_iterations = total_iterations;
+  details["ipopt_iterations"] = total_iterations;
   result->details = details;
   if (result->status != SolverStatus::kEdgeContact && result->status != SolverStatus::kLawCannotCarry) {
     result->message = fmt::format("Ipopt status {} after {} iterations", result->native_code, total_iterations);

@@ -16,15 +16,13 @@ namespace ltca::solvers {
 /// the current rotation until psi changes by less than the tolerance.
 class EnergyQpSolver final : public LoadSolver {
  public:
-  EnergyQpSolver();
-  ~EnergyQpSolver() override;
   std::string name() const override { return "energy-qp"; }
 
  private:
-  struct Backend;  // the Ipopt application, created once per solver object (Ipopt stays private)
-  std::unique_ptr<Backend> backend_;
-
-  void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const override;
+  // The Ipopt application and the warm start live in the workspace (Workspace::BackendState,
+  // defined in the .cpp: Ipopt stays private), created on the first solve of each workspace.
+  void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+               LoadResult* result) const override;
 };
 
 }  // namespace ltca::solvers

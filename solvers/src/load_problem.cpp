@@ -1,8 +1,10 @@
 #include "ltca/solvers/load_problem.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace ltca::solvers {
 namespace {
@@ -14,32 +16,52 @@ contact::ContactLaw MakeLaw(const contact::ContactSettings& settings, const cont
   return contact::ContactLaw(settings, material, curvature, pin.pin_radius, length, cap);
 }
 
+std::uint64_t NextProblemId() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
+LoadProblem::ModelPtr Require(LoadProblem::ModelPtr model) {
+  if (model == nullptr) throw std::invalid_argument("LoadProblem: no mesh model");
+  return model;
+}
+
 }  // namespace
 
-LoadProblem::LoadProblem(const contact::MeshModel& model, double crank,
+LoadProblem::LoadProblem(const contact::MeshModel& model, double crank, const contact::ContactSettings& contact,
+                         const contact::Material& material, double torque, contact::ContactKinematics kinematics)
+    : LoadProblem(std::make_shared<const contact::MeshModel>(model), crank, contact, material, torque, kinematics) {}
+
+LoadProblem::LoadProblem(const contact::MeshModel& model, contact::MeshState state,
+                         const contact::ContactSettings& contact, const contact::Material& material, double torque)
+    : LoadProblem(std::make_shared<const contact::MeshModel>(model), std::move(state), contact, material, torque) {}
+
+LoadProblem::LoadProblem(ModelPtr model, double crank,
                          const contact::ContactSettings& contact, const contact::Material& material,
                          double torque, contact::ContactKinematics kinematics)
-    : model_(&model),
+    : model_(Require(std::move(model))),
+      id_(NextProblemId()),
       crank_(crank),
       contact_(contact),
       material_(material),
       torque_(torque),
       kinematics_(kinematics),
       log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap
-                                                   : model.pair().pin_circle_radius),
-      base_(model.Evaluate(crank, 0.0)) {
+                                                   : model_->pair().pin_circle_radius),
+      base_(model_->Evaluate(crank, 0.0)) {
   BuildBaseLaws();
 }
 
-LoadProblem::LoadProblem(const contact::MeshModel& model, contact::MeshState state,
+LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state,
                          const contact::ContactSettings& contact, const contact::Material& material, double torque)
-    : model_(&model),
+    : model_(Require(std::move(model))),
+      id_(NextProblemId()),
       crank_(state.crank),
       contact_(contact),
       material_(material),
       torque_(torque),
       kinematics_(contact::ContactKinematics::kLinearised),
-      log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap : model.pair().pin_circle_radius),
+      log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap : model_->pair().pin_circle_radius),
       base_(std::move(state)) {
   BuildBaseLaws();
 }
@@ -66,7 +88,8 @@ void LoadProblem::BuildBaseLaws() {
   }
 }
 
-std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, std::vector<contact::ContactLaw>* scratch) const {
+std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace,
+                                                std::vector<contact::ContactLaw>* scratch) const {
   std::vector<PinAt> out(base_.pins.size());
   if (kinematics_ == contact::ContactKinematics::kLinearised) {
     for (std::size_t i = 0; i < out.size(); ++i) {
@@ -77,10 +100,12 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, std::vector<contact:
   }
   // Re-evaluate every pin at the rotated pose, searched from its last foot point; build laws only
   // for the pins that are pressed (the others carry no force).
-  if (last_exact_.empty()) last_exact_ = base_.pins;
+  Workspace::FootPoints& feet = workspace.foot_points();
+  if (feet.problem != id_) feet = {id_, base_.pins, std::numeric_limits<double>::quiet_NaN()};
+  std::vector<contact::PinContact>& last_exact_ = feet.last;
   scratch->clear();
   scratch->reserve(out.size());
-  const bool same_pose = psi == last_exact_psi_;  // the judge and the sweep ask for the answer again
+  const bool same_pose = psi == feet.psi;  // the judge and the sweep ask for the answer again
   for (std::size_t i = 0; i < out.size(); ++i) {
     const contact::PinContact pin =
         same_pose ? last_exact_[i] : model_->EvaluatePin(static_cast<int>(i), crank_, psi, last_exact_[i]);
@@ -93,7 +118,7 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, std::vector<contact:
       out[i].law = &base_laws_[i];  // unloaded: any law of this pin gives zero force
     }
   }
-  last_exact_psi_ = psi;
+  feet.psi = psi;
   return out;
 }
 
@@ -114,9 +139,14 @@ Loading LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>*
   return l;
 }
 
-double LoadProblem::OutputTorque(double psi) const {
+double LoadProblem::OutputTorque(double psi, Workspace& workspace) const {
   std::vector<contact::ContactLaw> scratch;
-  return LoadAt(At(psi, &scratch)).torque;
+  return LoadAt(At(psi, workspace, &scratch)).torque;
+}
+
+double LoadProblem::OutputTorque(double psi) const {
+  Workspace workspace;
+  return OutputTorque(psi, workspace);
 }
 
 double LoadProblem::GapResolution() const {
@@ -141,16 +171,16 @@ double Resolution(const std::vector<LoadProblem::PinAt>& pins, double psi, doubl
 
 }  // namespace
 
-double LoadProblem::TorqueResolution(double psi) const {
+double LoadProblem::TorqueResolution(double psi, Workspace& workspace) const {
   std::vector<contact::ContactLaw> scratch;
-  return Resolution(At(psi, &scratch), psi, GapResolution());
+  return Resolution(At(psi, workspace, &scratch), psi, GapResolution());
 }
 
-bool LoadProblem::Balanced(double psi, double torque_out, double tolerance) const {
+bool LoadProblem::Balanced(double psi, double torque_out, double tolerance, Workspace& workspace) const {
   const double miss = std::abs(torque_out - torque_);
   if (miss <= tolerance * torque_) return true;
   if (miss > 1e-6 * torque_ + 1e-6) return false;
-  return miss <= TorqueResolution(psi);
+  return miss <= TorqueResolution(psi, workspace);
 }
 
 double LoadProblem::TorqueCapacity() const {
@@ -196,8 +226,14 @@ std::vector<std::size_t> CandidatePins(const std::vector<LoadProblem::PinAt>& pi
 }
 
 Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::vector<double>& forces) {
+  Workspace workspace;
+  return ComputeResiduals(problem, psi, forces, workspace);
+}
+
+Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::vector<double>& forces,
+                           Workspace& workspace) {
   std::vector<contact::ContactLaw> scratch;
-  const auto pins = problem.At(psi, &scratch);
+  const auto pins = problem.At(psi, workspace, &scratch);
   Residuals r;
   // A gap is known only to the resolution of the geometry: violations below it are rounding.
   const double resolution = problem.GapResolution();

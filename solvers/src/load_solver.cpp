@@ -2,37 +2,15 @@
 
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
-#include "bisection_solver.hpp"
-#include "compatibility_solver.hpp"
-#include "energy_groups_solver.hpp"
-#include "energy_qp_solver.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::solvers {
 namespace {
-
-struct Entry {
-  const char* name;
-  std::function<std::unique_ptr<LoadSolver>()> make;
-};
-
-// The one table of known solvers (pattern: Drake's choose_best_solver).
-const std::vector<Entry>& Registry() {
-  static const std::vector<Entry> kRegistry = {
-      {"bisection", [] { return std::make_unique<BisectionSolver>(); }},
-      {"energy-qp", [] { return std::make_unique<EnergyQpSolver>(); }},
-      {"energy-groups", [] { return std::make_unique<EnergyGroupsSolver>(); }},
-      {"compatibility", [] { return std::make_unique<CompatibilitySolver>(); }},
-  };
-  return kRegistry;
-}
 
 // The residual cannot tell a rotation whole tooth pitches off (the exact geometry repeats every
 // pitch), so a success must also lie where the physical answer lies (issue 10):
@@ -129,21 +107,12 @@ SolverOptions ApplyPreset(SolverOptions options, const std::string& preset) {
   throw std::invalid_argument(fmt::format("[solver] preset = \"{}\": expected \"liu2021\"", preset));
 }
 
-std::vector<std::string> SolverNames() {
-  std::vector<std::string> names;
-  for (const Entry& e : Registry()) names.emplace_back(e.name);
-  return names;
-}
-
-std::unique_ptr<LoadSolver> MakeSolver(const std::string& name) {
-  for (const Entry& e : Registry()) {
-    if (name == e.name) return e.make();
-  }
-  throw std::invalid_argument(
-      fmt::format("[solver] name = \"{}\": unknown solver; expected one of: {}", name, fmt::join(SolverNames(), ", ")));
-}
-
 LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& options) const {
+  Workspace workspace;
+  return Solve(problem, options, workspace);
+}
+
+LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace) const {
   options.Validate();
   if (problem.kinematics() != options.kinematics) {
     throw std::invalid_argument("[solver] kinematics: the problem was built for other kinematics than the options name");
@@ -169,12 +138,12 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
                                  "largest force), less than the load {:.6g} N*m",
                                  capacity / 1000.0, problem.torque() / 1000.0);
   } else {
-    DoSolve(problem, options, &result);
+    DoSolve(problem, options, workspace, &result);
   }
   result.te = -result.rotation;
   // Shared part: approaches, active set, energy, and the judge's residuals.
   std::vector<contact::ContactLaw> scratch;
-  const auto pins = problem.At(std::isfinite(result.rotation) ? result.rotation : 0.0, &scratch);
+  const auto pins = problem.At(std::isfinite(result.rotation) ? result.rotation : 0.0, workspace, &scratch);
   result.approach.resize(pins.size());
   result.energy = 0.0;
   result.active.clear();
@@ -186,7 +155,7 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
     }
   }
   if (std::isfinite(result.rotation)) {
-    result.residuals = ComputeResiduals(problem, result.rotation, result.force);
+    result.residuals = ComputeResiduals(problem, result.rotation, result.force, workspace);
     // Judged at the accuracy that was asked for: a loose torque tolerance allows a like residual.
     const double accepted = std::max(options.residual_tolerance, 2.0 * options.torque_tolerance);
     if (result.status == SolverStatus::kSuccess && !(result.residuals.Normalised() <= accepted)) {

@@ -14,8 +14,8 @@
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/solvers/deck.hpp"
-#include "ltca/solvers/sweep.hpp"
+#include "ltca/app/deck.hpp"
+#include "ltca/app/sweep.hpp"
 #include "output.hpp"
 
 namespace {
@@ -77,7 +77,7 @@ TEST_CASE("cli: ltca geometry --json writes the keys of the issue with the libra
     const auto r = RunCli({"geometry", deck_path, "--json", "-"});
     REQUIRE(r.code == 0);
     const auto json = nlohmann::json::parse(r.out);
-    const auto deck = ltca::solvers::LoadDeck(deck_path);
+    const auto deck = ltca::app::LoadDeck(deck_path);
     const ltca::geometry::CycloidProfile profile(deck.pair, deck.modification);
     const ltca::geometry::Kinematics kin(deck.pair);
     using ltca::units::RadToDeg;
@@ -270,7 +270,7 @@ TEST_CASE("cli: --csv - writes only the CSV to stdout, and the text to stderr") 
     ++n;
     CHECK(line.substr(line.rfind(',') + 1) == "success");
   }
-  CHECK(n == ltca::solvers::LoadDeck(Case("liu2021_table1.toml")).sweep.positions);
+  CHECK(n == ltca::app::LoadDeck(Case("liu2021_table1.toml")).sweep.positions);
   CHECK(r.err.find("mean TE") != std::string::npos);
   // Two documents cannot share stdout.
   const auto both = RunCli({"solve", Case("liu2021_table1.toml"), "--csv", "-", "--json", "-"});
@@ -314,7 +314,7 @@ TEST_CASE("cli: a failed position exits 1 with its status, null figures and n/a 
 }
 
 TEST_CASE("sweep: the summary is taken over the successful positions only and counts the failed") {
-  using ltca::solvers::PositionResult;
+  using ltca::app::PositionResult;
   using ltca::solvers::SolverStatus;
   const auto position = [](SolverStatus status, double te, double force, double stress, int contacts) {
     PositionResult p;
@@ -325,7 +325,7 @@ TEST_CASE("sweep: the summary is taken over the successful positions only and co
     p.contacts = contacts;
     return p;
   };
-  ltca::solvers::SummaryAccumulator acc;
+  ltca::app::SummaryAccumulator acc;
   acc.Add(position(SolverStatus::kSuccess, -1e-5, 100.0, 900.0, 6));
   acc.Add(position(SolverStatus::kMaxIterations, 1.3e3, 170848.0, 1e6, 40));  // a wrong number
   acc.Add(position(SolverStatus::kSuccess, -3e-5, 300.0, 1100.0, 7));
@@ -342,7 +342,7 @@ TEST_CASE("sweep: the summary is taken over the successful positions only and co
   CHECK(s.contacts_min == 6);
   CHECK(s.contacts_max == 7);
 
-  ltca::solvers::SummaryAccumulator none;
+  ltca::app::SummaryAccumulator none;
   none.Add(position(SolverStatus::kLawCannotCarry, 0.1, 1.0, 1.0, 1));
   const auto n = none.Summary();
   CHECK(n.failed == 1);
@@ -353,16 +353,16 @@ TEST_CASE("sweep: the summary is taken over the successful positions only and co
 }
 
 TEST_CASE("sweep: streaming calls back every position in order and keeps none, with the same summary") {
-  const auto deck = ltca::solvers::LoadDeck(Case("liu2021_sec52_base.toml"));
-  const auto kept = ltca::solvers::SolveSweep(deck, deck.solver);
+  const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
+  const auto kept = ltca::app::SolveSweep(deck, deck.solver);
   std::vector<double> cranks, tes;
-  ltca::solvers::SweepCallbacks callbacks;
+  ltca::app::SweepCallbacks callbacks;
   callbacks.keep_positions = false;
-  callbacks.on_position = [&](const ltca::solvers::PositionResult& p) {
+  callbacks.on_position = [&](const ltca::app::PositionResult& p) {
     cranks.push_back(p.crank);
     tes.push_back(p.result.te);
   };
-  const auto streamed = ltca::solvers::SolveSweep(deck, deck.solver, callbacks);
+  const auto streamed = ltca::app::SolveSweep(deck, deck.solver, callbacks);
   CHECK(streamed.positions.empty());
   REQUIRE(cranks.size() == kept.positions.size());
   CHECK(cranks == deck.sweep.CrankAngles());
@@ -378,25 +378,25 @@ TEST_CASE("cli: the solve JSON streams its positions and ends with the summary")
   // Positions before the summary: the document is written while the sweep runs.
   CHECK(r.out.find("\"positions\"") < r.out.find("\"summary\""));
   const auto json = nlohmann::json::parse(r.out);
-  const auto deck = ltca::solvers::LoadDeck(Case("liu2021_sec52_base.toml"));
-  const auto sweep = ltca::solvers::SolveSweep(deck, deck.solver);
+  const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
+  const auto sweep = ltca::app::SolveSweep(deck, deck.solver);
   CHECK(json.at("summary").at("mean_te_arcsec").get<double>() ==
         doctest::Approx(ltca::units::RadToArcsec(sweep.summary.mean_te)).epsilon(1e-12));
   CHECK(json.at("positions").size() == sweep.positions.size());
 }
 
 TEST_CASE("contact: RequireNoInterference names the pins and overlaps, and accepts clearance") {
-  const auto deck = ltca::solvers::LoadDeck(InterferingDeck().string());
+  const auto deck = ltca::app::LoadDeck(InterferingDeck().string());
   const auto model = deck.MakeModel();
   CHECK_THROWS_WITH_AS(ltca::contact::RequireNoInterference(model, 0.0), doctest::Contains("pin 1 by 20 um"),
                        std::invalid_argument);
-  const auto ok = ltca::solvers::LoadDeck(Case("liu2021_sec52_base.toml"));
+  const auto ok = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
   CHECK_NOTHROW(ltca::contact::RequireNoInterference(ok.MakeModel(), 0.0));
   // The sweep rejects it before solving anything.
   int solved = 0;
-  ltca::solvers::SweepCallbacks callbacks;
-  callbacks.on_position = [&](const ltca::solvers::PositionResult&) { ++solved; };
-  CHECK_THROWS_AS(ltca::solvers::SolveSweep(deck, deck.solver, callbacks), std::invalid_argument);
+  ltca::app::SweepCallbacks callbacks;
+  callbacks.on_position = [&](const ltca::app::PositionResult&) { ++solved; };
+  CHECK_THROWS_AS(ltca::app::SolveSweep(deck, deck.solver, callbacks), std::invalid_argument);
   CHECK(solved == 0);
 }
 
@@ -514,14 +514,14 @@ TEST_CASE("cli: --version prints the project version and the compiler; --help do
 
 TEST_CASE("cli: a deck without a command runs the default job on that deck") {
   const std::string path = Case("liu2021_sec52_base.toml");
-  const auto deck = ltca::solvers::LoadDeck(path);
+  const auto deck = ltca::app::LoadDeck(path);
   const auto r = RunCli({path, "--json", "-"});
   REQUIRE(r.code == 0);
   const auto json = nlohmann::json::parse(r.out);
   CHECK(json.at("geometry").at("case").at("title") == deck.info.title);
   CHECK(json.at("geometry").at("k1").get<double>() ==
         ltca::geometry::CycloidProfile(deck.pair, deck.modification).k1());
-  const auto sweep = ltca::solvers::SolveSweep(deck, deck.solver);
+  const auto sweep = ltca::app::SolveSweep(deck, deck.solver);
   CHECK(json.at("solve").at("summary").at("mean_te_arcsec").get<double>() ==
         doctest::Approx(ltca::units::RadToArcsec(sweep.summary.mean_te)).epsilon(1e-12));
   CHECK(json.at("solve").at("positions").size() == static_cast<std::size_t>(deck.sweep.positions));
@@ -583,7 +583,7 @@ TEST_CASE("cli: backlash streams its positions, and its summary is the library's
   const auto r = RunCli({"backlash", Case("liu2021_sec52_base.toml"), "--set", "sweep.positions=23", "--json", "-"});
   REQUIRE(r.code == 0);
   const auto j = nlohmann::json::parse(r.out);
-  const auto deck = ltca::solvers::LoadDeck(Case("liu2021_sec52_base.toml"), {"sweep.positions=23"});
+  const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"), {"sweep.positions=23"});
   const auto sweep = ltca::contact::AnalyseUnloadedSweep(deck.MakeModel(), deck.sweep.CrankAngles());
   REQUIRE(j.at("positions").size() == 23);
   CHECK(j.at("summary").at("mean_backlash_arcsec").get<double>() ==

@@ -14,9 +14,9 @@
 
 #include "cli.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 
-using ltca::solvers::ParseDeck;
+using ltca::app::ParseDeck;
 
 namespace {
 
@@ -64,7 +64,7 @@ TEST_CASE("solvers: every deck in cases/ loads and names its source") {
   for (const auto& entry : std::filesystem::recursive_directory_iterator(LTCA_CASES_DIR)) {
     if (entry.path().extension() != ".toml") continue;
     CAPTURE(entry.path().string());
-    const auto deck = ltca::solvers::LoadDeck(entry.path());
+    const auto deck = ltca::app::LoadDeck(entry.path());
     CHECK(!deck.info.title.empty());
     CHECK(!deck.info.source.empty());
     ++count;
@@ -76,8 +76,8 @@ TEST_CASE("solvers: the built-in default deck is cases/liu2021_table1.toml") {
   std::ifstream in(std::string(LTCA_CASES_DIR) + "/liu2021_table1.toml");
   std::ostringstream text;
   text << in.rdbuf();
-  CHECK(ltca::solvers::DefaultDeckText() == text.str());
-  const auto deck = ltca::solvers::DefaultDeck();
+  CHECK(ltca::app::DefaultDeckText() == text.str());
+  const auto deck = ltca::app::DefaultDeck();
   CHECK(deck.pair.pin_count == 40);
   CHECK(deck.pair.tooth_count == 39);
 }
@@ -152,7 +152,7 @@ std::filesystem::path WriteTemp(const std::string& name, const std::string& text
 
 std::string LoadErrorOf(const std::filesystem::path& path, const std::vector<std::string>& overrides = {}) {
   try {
-    ltca::solvers::LoadDeck(path, overrides);
+    ltca::app::LoadDeck(path, overrides);
   } catch (const std::invalid_argument& e) {
     return e.what();
   }
@@ -289,7 +289,7 @@ TEST_CASE("solvers: deck rejects a tooth difference outside the checked geometry
   // d = 1, 2, 3 and -1 are the checked ones (cases/chen2008 has one deck of each, and loads).
   for (const char* d : {"d1", "d2", "d3", "dm1"}) {
     CAPTURE(d);
-    CHECK_NOTHROW(ltca::solvers::LoadDeck(std::string(LTCA_CASES_DIR) + "/chen2008/" + d + ".toml"));
+    CHECK_NOTHROW(ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/chen2008/" + d + ".toml"));
   }
 }
 
@@ -355,8 +355,8 @@ TEST_CASE("solvers: --set load.torque_nm=100 gives the same deck as editing the 
   const std::string text = ReadText(original);
   REQUIRE(Contains(text, "torque_nm = 206.0"));
   const auto edited_path = WriteTemp("edited_torque.toml", Replace(text, "torque_nm = 206.0", "torque_nm = 100"));
-  const auto edited = ltca::solvers::LoadDeck(edited_path);
-  const auto overridden = ltca::solvers::LoadDeck(original, {"load.torque_nm=100"});
+  const auto edited = ltca::app::LoadDeck(edited_path);
+  const auto overridden = ltca::app::LoadDeck(original, {"load.torque_nm=100"});
   CHECK(edited.RequireLoad().torque == 100000.0);  // N*mm
   CHECK(overridden.RequireLoad().torque == edited.RequireLoad().torque);
   CHECK(overridden.pair.pin_count == edited.pair.pin_count);
@@ -367,7 +367,7 @@ TEST_CASE("solvers: --set load.torque_nm=100 gives the same deck as editing the 
   CHECK(overridden.sweep.crank_end == edited.sweep.crank_end);
   CHECK(overridden.solver.name == edited.solver.name);
   // The built-in deck takes the same override.
-  CHECK(ltca::solvers::DefaultDeck({"load.torque_nm=100"}).RequireLoad().torque == 100000.0);
+  CHECK(ltca::app::DefaultDeck({"load.torque_nm=100"}).RequireLoad().torque == 100000.0);
 
   // And the solve command gives the same summary (the wall time aside).
   const auto json_a = TempPath("set.json"), json_b = TempPath("edited.json");

@@ -8,12 +8,12 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    (void)ltca::solvers::ParseDeck(text, "fuzz");
+    (void)ltca::app::ParseDeck(text, "fuzz");
   } catch (const std::invalid_argument&) {
     // The documented answer to a bad deck.
   }

@@ -9,7 +9,8 @@
 
 #include <doctest/doctest.h>
 
-#include "ltca/solvers/deck.hpp"
+#include "ltca/solvers/registry.hpp"
+#include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
 using ltca::contact::ContactKinematics;
@@ -34,7 +35,7 @@ TEST_CASE("solvers: every solver answers every hard case, solved and agreeing or
   int decks = 0;
   for (const auto& entry : std::filesystem::directory_iterator(std::string(LTCA_CASES_DIR) + "/hard")) {
     const std::string name = entry.path().stem().string();
-    const auto deck = ltca::solvers::LoadDeck(entry.path());
+    const auto deck = ltca::app::LoadDeck(entry.path());
     const ltca::contact::MeshModel model = deck.MakeModel();
     ++decks;
     int expected_seen = 0;
@@ -102,7 +103,7 @@ TEST_CASE("solvers: at the solution no feasible perturbation of the forces lower
   // direction that keeps the torque, dF_i = +eps / L_i, dF_j = -eps / L_j, wherever the forces stay
   // >= 0, and recompute sum_i [E_i^c(F_i) + c_i F_i] from the laws. None may be lower
   // (beyond 1e-12 relative rounding).
-  const auto deck = ltca::solvers::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
+  const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
   const ltca::contact::MeshModel model = deck.MakeModel();
   const LoadProblem problem(model, 0.07, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
   for (const auto& solver : ltca::solvers::SolverNames()) {

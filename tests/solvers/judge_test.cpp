@@ -8,8 +8,9 @@
 
 #include <doctest/doctest.h>
 
+#include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "pairs.hpp"
 
@@ -35,10 +36,11 @@ class ShiftedSolver final : public ltca::solvers::LoadSolver {
   std::string name() const override { return "shifted"; }
 
  private:
-  void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const override {
+  void DoSolve(const LoadProblem& problem, const SolverOptions& options, ltca::solvers::Workspace& workspace,
+               LoadResult* result) const override {
     SolverOptions inner = options;
     inner.name = "compatibility";
-    const LoadResult truth = MakeSolver("compatibility")->Solve(problem, inner);
+    const LoadResult truth = MakeSolver("compatibility")->Solve(problem, inner, workspace);
     result->status = truth.status;
     result->message = "shifted";
     result->force = truth.force;
@@ -56,7 +58,7 @@ TEST_CASE("solvers: exact kinematics at the crank where energy-qp answered 7,956
   // exact one by the second-order change of the contact geometry (about 0.004 arcsec on these
   // pairs, docs/performance.md): every solver must succeed with exact kinematics, lie within
   // 0.05 arcsec of it, and the four must agree to 1e-6 relative.
-  const auto deck = ltca::solvers::LoadDeck(Case("liu2021_sec52_base.toml"));
+  const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
   const MeshModel model = deck.MakeModel();
   const double crank = ltca::units::DegToRad(8.99756997569976);
   const LoadProblem linear(model, crank, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
@@ -131,7 +133,7 @@ TEST_CASE("solvers: a contact stress beyond the material limit is a warning, one
   // absolute convention, docs/validation.md): a 500 MPa limit must be exceeded at some position
   // and name the key, the default 4000 MPa (steel) and 2000 MPa must not. A 20-fold torque with a
   // linear law of small stiffness opens half-widths beyond a tenth of the pin radius: a warning.
-  const auto deck = ltca::solvers::LoadDeck(Case("liu2021_table1_absolute.toml"));
+  const auto deck = ltca::app::LoadDeck(Case("liu2021_table1_absolute.toml"));
   const MeshModel model = deck.MakeModel();
   for (const double limit : {500.0, 2000.0, 4000.0}) {
     CAPTURE(limit);
@@ -165,7 +167,7 @@ TEST_CASE("solvers: bisection and compatibility converge with exact kinematics a
       "hard/law_cannot_carry.toml", "hard/d2_loaded.toml", "hard/d3_loaded.toml"};
   for (const auto& file : decks) {
     CAPTURE(file);
-    const auto deck = ltca::solvers::LoadDeck(Case(file));
+    const auto deck = ltca::app::LoadDeck(Case(file));
     const MeshModel model = deck.MakeModel();
     const int n = 37;
     for (int k = 0; k < n; ++k) {

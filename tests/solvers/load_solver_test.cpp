@@ -8,8 +8,9 @@
 
 #include <doctest/doctest.h>
 
+#include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "pairs.hpp"
 
@@ -64,7 +65,7 @@ TEST_CASE("solvers: closed form 1 - linear law, no clearance, linearised: F_i = 
 }
 
 TEST_CASE("solvers: the liu2021 preset of bisection lands within 1 % in torque, the default within 1e-10") {
-  const auto deck = ltca::solvers::DefaultDeck();
+  const auto deck = ltca::app::DefaultDeck();
   const MeshModel model = deck.MakeModel();
   const LoadProblem problem(model, 0.3, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
   const auto tight = MakeSolver("bisection")->Solve(problem, SolverOptions{});
@@ -98,16 +99,16 @@ TEST_CASE("solvers: every solver agrees with bisection on the published decks, l
   // 30, 60, 90 of each sweep, linearised and exact.
   // Every deck in cases/ outside cases/hard/ and cases/scaling/ that carries a load, plus Table 1 under the other rho
   // convention (the hard decks have their own test).
-  std::vector<ltca::solvers::Deck> decks;
+  std::vector<ltca::app::Deck> decks;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(LTCA_CASES_DIR)) {
     // cases/hard/ has its own test; cases/scaling/ is benchmark data (the Liu pair scaled up to 320
     // pins, slow under exact kinematics for every solver) covered by the Liu decks here.
     const auto folder = entry.path().parent_path().filename();
     if (entry.path().extension() != ".toml" || folder == "hard" || folder == "scaling") continue;
-    auto deck = ltca::solvers::LoadDeck(entry.path());
+    auto deck = ltca::app::LoadDeck(entry.path());
     if (deck.load && deck.material) decks.push_back(std::move(deck));
   }
-  auto table1_abs = ltca::solvers::DefaultDeck();
+  auto table1_abs = ltca::app::DefaultDeck();
   table1_abs.contact.rho_convention = ltca::contact::RhoConvention::kAbsolute;
   table1_abs.info.title += " (absolute rho)";
   decks.push_back(table1_abs);
@@ -199,7 +200,7 @@ TEST_CASE("solvers: closed form 2 - Kudryavtsev's load-increase factor (Jiang 20
 }
 
 TEST_CASE("solvers: each backend fills its own details") {
-  const auto deck = ltca::solvers::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
+  const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
   const MeshModel model = deck.MakeModel();
   const LoadProblem problem(model, 0.0, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
   const auto run = [&](const std::string& name) {
@@ -207,14 +208,12 @@ TEST_CASE("solvers: each backend fills its own details") {
     options.name = name;
     return MakeSolver(name)->Solve(problem, options);
   };
-  CHECK(std::holds_alternative<ltca::solvers::BisectionDetails>(run("bisection").details));
+  CHECK(run("bisection").details.at("final_step_rad") > 0.0);
   const auto qp = run("energy-qp");
-  REQUIRE(std::holds_alternative<ltca::solvers::EnergyQpDetails>(qp.details));
-  CHECK(std::get<ltca::solvers::EnergyQpDetails>(qp.details).candidates >= 6);
+  CHECK(qp.details.at("candidates") >= 6);
+  CHECK(qp.details.at("ipopt_iterations") >= 1);
   const auto groups = run("energy-groups");
-  REQUIRE(std::holds_alternative<ltca::solvers::EnergyGroupsDetails>(groups.details));
-  CHECK(std::get<ltca::solvers::EnergyGroupsDetails>(groups.details).groups_evaluated > 1);
+  CHECK(groups.details.at("groups_evaluated") > 1);
   const auto compat = run("compatibility");
-  REQUIRE(std::holds_alternative<ltca::solvers::CompatibilityDetails>(compat.details));
-  CHECK(std::get<ltca::solvers::CompatibilityDetails>(compat.details).algorithm == "LD_LBFGS");
+  CHECK(compat.details.count("polish_steps") == 1);
 }

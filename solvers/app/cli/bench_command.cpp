@@ -17,10 +17,11 @@
 #include <fmt/ostream.h>
 #include <fmt/ranges.h>
 
+#include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/geometry/discrete_profile.hpp"
-#include "ltca/solvers/bench.hpp"
-#include "ltca/solvers/sweep.hpp"
+#include "ltca/app/bench.hpp"
+#include "ltca/app/sweep.hpp"
 
 #ifndef LTCA_BUILD_TYPE
 #define LTCA_BUILD_TYPE "unknown"
@@ -30,7 +31,7 @@ namespace ltca::cli {
 namespace {
 
 namespace fs = std::filesystem;
-using solvers::BenchSetting;
+using app::BenchSetting;
 using contact::ContactKinematics;
 
 std::string Capture(const std::string& command) {
@@ -44,8 +45,8 @@ std::string Capture(const std::string& command) {
   return out;
 }
 
-solvers::BenchHeader Header() {
-  solvers::BenchHeader h;
+app::BenchHeader Header() {
+  app::BenchHeader h;
   const std::time_t now = std::time(nullptr);
   char date[64];
   std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
@@ -70,8 +71,8 @@ solvers::BenchHeader Header() {
   return h;
 }
 
-solvers::BenchCase Case(const std::string& name, const std::string& rel) {
-  return {name, solvers::LoadDeck(fs::path(LTCA_CASES_DIR) / rel)};
+app::BenchCase Case(const std::string& name, const std::string& rel) {
+  return {name, app::LoadDeck(fs::path(LTCA_CASES_DIR) / rel)};
 }
 
 // Least-squares slope of log(y) over log(x).
@@ -106,8 +107,8 @@ BenchSetting Setting(const std::string& solver, ContactKinematics kinematics, do
 }  // namespace
 
 int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
-  const solvers::BenchHeader header = Header();
-  solvers::BenchMatrix matrix;
+  const app::BenchHeader header = Header();
+  app::BenchMatrix matrix;
   matrix.repeats = options.smoke ? 1 : options.repeats;
   const std::vector<std::string> all = solvers::SolverNames();
   if (options.smoke) {
@@ -141,10 +142,10 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
   }
   fmt::print(out, "ltca-bench: {} cases x {} settings x {} repeats ({})\n", matrix.cases.size(), matrix.settings.size(),
              matrix.repeats, header.build_type);
-  const solvers::BenchReport report = solvers::RunBench(matrix, header);
+  const app::BenchReport report = app::RunBench(matrix, header);
   fs::create_directories(options.out_dir);
-  solvers::WriteBenchJson(report, fs::path(options.out_dir) / "bench.json");
-  solvers::WriteBenchCsv(report, fs::path(options.out_dir) / "bench.csv");
+  app::WriteBenchJson(report, fs::path(options.out_dir) / "bench.json");
+  app::WriteBenchCsv(report, fs::path(options.out_dir) / "bench.csv");
   for (const auto& r : report.rows) {
     fmt::print(out, "{:<16} {:<38} {:<14} {:>10.1f} us/pos {:>9.3g} arcsec err\n", r.case_name, r.setting.Label(), r.status,
                Us(r.seconds_per_position_median), r.errors.mean_te_arcsec);
@@ -155,7 +156,7 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
   std::vector<double> pins;
   std::map<std::string, std::vector<double>> scaling;
   for (const int zp : {10, 20, 40, 80, 160, 320}) {
-    solvers::Deck deck = solvers::LoadDeck(fs::path(LTCA_CASES_DIR) / fmt::format("scaling/zp{:03d}.toml", zp));
+    app::Deck deck = app::LoadDeck(fs::path(LTCA_CASES_DIR) / fmt::format("scaling/zp{:03d}.toml", zp));
     deck.sweep.crank_end = 2 * units::kPi / zp;
     deck.sweep.positions = 31;
     pins.push_back(zp);
@@ -163,19 +164,19 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
       solvers::SolverOptions o = deck.solver;
       o.name = s;
       double best = 1e300;
-      for (int r = 0; r < matrix.repeats; ++r) best = std::min(best, solvers::SolveSweep(deck, o).summary.wall_seconds / 31.0);
+      for (int r = 0; r < matrix.repeats; ++r) best = std::min(best, app::SolveSweep(deck, o).summary.wall_seconds / 31.0);
       scaling[s].push_back(best);
     }
   }
   // A whole sweep against the number of positions (compatibility, Liu Table 1).
   std::vector<double> counts, sweep_seconds;
   for (const int n : {10, 100, 1000}) {
-    solvers::Deck deck = solvers::LoadDeck(fs::path(LTCA_CASES_DIR) / "liu2021_table1_absolute.toml");
+    app::Deck deck = app::LoadDeck(fs::path(LTCA_CASES_DIR) / "liu2021_table1_absolute.toml");
     deck.sweep.positions = n;
     solvers::SolverOptions o = deck.solver;
     o.name = "compatibility";
     double best = 1e300;
-    for (int r = 0; r < matrix.repeats; ++r) best = std::min(best, solvers::SolveSweep(deck, o).summary.wall_seconds);
+    for (int r = 0; r < matrix.repeats; ++r) best = std::min(best, app::SolveSweep(deck, o).summary.wall_seconds);
     counts.push_back(n);
     sweep_seconds.push_back(best);
   }
@@ -197,10 +198,10 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
 
   if (!options.docs_dir.empty()) {
     const fs::path docs(options.docs_dir);
-    solvers::WriteBenchSvg(report, docs / "performance.svg");
+    app::WriteBenchSvg(report, docs / "performance.svg");
     std::ofstream md(docs / "performance.md");
     fmt::print(md, "# Performance: speed against error\n\n");
-    fmt::print(md, "Generated by `build/release/ltca-bench --docs docs` (`benchmarks/`, `solvers/src/bench.cpp`); do not edit "
+    fmt::print(md, "Generated by `build/release/ltca-bench --docs docs` (`benchmarks/`, `solvers/app/src/bench.cpp`); do not edit "
                    "by hand. Raw rows: `bench/bench.json` and `bench/bench.csv`.\n\n");
     fmt::print(md, "| date | commit | build | compiler | machine |\n|---|---|---|---|---|\n| {} | {} | {} | {} | {} |\n\n",
                header.date, header.commit, header.build_type, header.compiler, header.machine);
@@ -221,7 +222,7 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
                  r.errors.max_force_n, r.errors.max_stress_mpa, r.errors.contacts, r.residual);
     }
     // The bars of issue 6.
-    const auto find = [&](const std::string& c, const std::string& s, ContactKinematics k, double tol) -> const solvers::BenchRow* {
+    const auto find = [&](const std::string& c, const std::string& s, ContactKinematics k, double tol) -> const app::BenchRow* {
       for (const auto& r : report.rows) {
         if (r.case_name == c && r.setting.solver == s && r.setting.kinematics == k && r.setting.torque_tolerance == tol &&
             r.setting.preset.empty() && r.setting.geometry.mode == geometry::GeometrySettings::Mode::kAnalytic) return &r;
@@ -258,12 +259,12 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
       // Like with like: the element run and the analytic run of the same case, solver,
       // kinematics, tolerance and preset; the ratio is their time per position, and each
       // error against the reference is printed beside it.
-      const solvers::BenchRow* liu = nullptr;
+      const app::BenchRow* liu = nullptr;
       for (const auto& r : report.rows) {
         if (r.case_name == "liu2021_table1" && r.setting.geometry.mode == geometry::GeometrySettings::Mode::kElements &&
             r.setting.preset == "liu2021") liu = &r;
       }
-      const solvers::BenchRow* analytic = nullptr;
+      const app::BenchRow* analytic = nullptr;
       for (const auto& r : report.rows) {
         if (liu != nullptr && r.case_name == liu->case_name &&
             r.setting.geometry.mode == geometry::GeometrySettings::Mode::kAnalytic && r.setting.solver == liu->setting.solver &&

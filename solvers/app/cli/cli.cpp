@@ -20,7 +20,8 @@
 #include "output.hpp"
 #include "solve_command.hpp"
 #include "validate_command.hpp"
-#include "ltca/solvers/deck.hpp"
+#include "ltca/solvers/registry.hpp"
+#include "ltca/app/deck.hpp"
 
 namespace ltca::cli {
 namespace {
@@ -32,8 +33,8 @@ namespace {
 #define LTCA_BUILD_TYPE "unknown"
 #endif
 
-solvers::Deck ReadDeck(const std::string& path, const std::vector<std::string>& overrides) {
-  return path.empty() ? solvers::DefaultDeck(overrides) : solvers::LoadDeck(path, overrides);
+app::Deck ReadDeck(const std::string& path, const std::vector<std::string>& overrides) {
+  return path.empty() ? app::DefaultDeck(overrides) : app::LoadDeck(path, overrides);
 }
 
 constexpr const char* kSetHelp = "Override a deck key: section.key=value (repeatable)";
@@ -258,7 +259,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
             "'{}' is neither a command (geometry, backlash, mesh, solve, compare, validate, bench) nor a deck file",
             deck_path));
       }
-      const solvers::Deck deck = ReadDeck(deck_path, overrides);
+      const app::Deck deck = ReadDeck(deck_path, overrides);
       RequireOneStdout({{"--json", default_options.json_path}, {"--csv", default_options.csv_path},
                         {"--svg", default_options.svg_path}});
       RunGeometry(deck, GeometryOptions{}, streams);

@@ -9,8 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "contact_commands.hpp"
+#include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/solvers/sweep.hpp"
+#include "ltca/app/sweep.hpp"
 #include "solve_command.hpp"
 
 namespace ltca::cli {
@@ -21,7 +22,7 @@ struct Differences {
   double te = 0.0, force = 0.0;  ///< arcsec, N
   int pins = 0;
   std::int64_t compared = 0;     ///< positions where both succeeded
-  void Add(const solvers::PositionResult& a, const solvers::PositionResult& ref) {
+  void Add(const app::PositionResult& a, const app::PositionResult& ref) {
     if (!a.succeeded() || !ref.succeeded()) return;
     ++compared;
     te = std::max(te, std::abs(units::RadToArcsec(a.result.te - ref.result.te)));
@@ -34,10 +35,10 @@ struct Differences {
 
 }  // namespace
 
-int RunCompare(const solvers::Deck& deck, const CompareOptions& options, const Streams& streams) {
+int RunCompare(const app::Deck& deck, const CompareOptions& options, const Streams& streams) {
   const std::vector<std::string> names = options.solvers.empty() ? solvers::SolverNames() : options.solvers;
   Output json("--json", options.json_path, streams.out);
-  std::vector<solvers::SweepRunner> runners;  // every solver checked (names, options, interference) first
+  std::vector<app::SweepRunner> runners;  // every solver checked (names, options, interference) first
   for (const auto& name : names) {
     solvers::SolverOptions o = deck.solver;
     o.name = name;
@@ -49,7 +50,7 @@ int RunCompare(const solvers::Deck& deck, const CompareOptions& options, const S
   Progress progress(streams.err, streams.progress, "comparing at position", static_cast<std::int64_t>(cranks.size()));
   std::int64_t done = 0;
   for (const double crank : cranks) {
-    const solvers::PositionResult ref = runners.front().Solve(crank);
+    const app::PositionResult ref = runners.front().Solve(crank);
     for (std::size_t r = 1; r < runners.size(); ++r) diffs[r].Add(runners[r].Solve(crank), ref);
     progress.Update(++done);
   }
@@ -67,7 +68,7 @@ int RunCompare(const solvers::Deck& deck, const CompareOptions& options, const S
                         {"solvers", nlohmann::json::array()}};
   bool all_succeeded = true;
   for (std::size_t r = 0; r < runners.size(); ++r) {
-    const solvers::SweepSummary s = runners[r].Summary();
+    const app::SweepSummary s = runners[r].Summary();
     const Differences& d = diffs[r];
     all_succeeded = all_succeeded && s.all_succeeded();
     const bool compared = r == 0 ? s.succeeded > 0 : d.compared > 0;  // no difference over nothing

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 #include "output.hpp"
 
 namespace ltca::cli {
@@ -19,6 +19,6 @@ struct CompareOptions {
 /// run in lockstep, a position at a time, so memory does not grow with the sweep. Differences
 /// are taken at the positions where both succeeded. Returns kExitSuccess when every position of
 /// every solver succeeded, kExitNotSucceeded otherwise.
-int RunCompare(const solvers::Deck& deck, const CompareOptions& options, const Streams& streams);
+int RunCompare(const app::Deck& deck, const CompareOptions& options, const Streams& streams);
 
 }  // namespace ltca::cli

@@ -29,7 +29,7 @@ contact::ContactKinematics ParseKinematics(const std::string& text) {
   throw std::invalid_argument(fmt::format("--kinematics {}: expected exact or linearised", text));
 }
 
-void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, const Streams& streams) {
+void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Streams& streams) {
   RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output csv("--csv", options.csv_path, streams.out);
@@ -94,7 +94,7 @@ void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, cons
   if (csv.enabled()) csv.Commit();
 }
 
-void RunMesh(const solvers::Deck& deck, const MeshOptions& options, const Streams& streams) {
+void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& streams) {
   Output json("--json", options.json_path, streams.out);  // checked before computing
   std::ostream& out = streams.text;
   const contact::MeshModel model = deck.MakeModel();

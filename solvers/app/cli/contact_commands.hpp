@@ -3,7 +3,7 @@
 #include <string>
 
 #include "ltca/contact/unloaded.hpp"
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 #include "output.hpp"
 
 namespace ltca::cli {
@@ -15,7 +15,7 @@ struct BacklashOptions {
 };
 
 /// `ltca backlash`: unloaded TCA over the deck's sweep (Liu eq. 17).
-void RunBacklash(const solvers::Deck& deck, const BacklashOptions& options, const Streams& streams);
+void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Streams& streams);
 
 struct MeshOptions {
   std::string json_path;
@@ -23,7 +23,7 @@ struct MeshOptions {
 };
 
 /// `ltca mesh`: the mesh state table at one crank angle; rejects an interfering pair (std::invalid_argument).
-void RunMesh(const solvers::Deck& deck, const MeshOptions& options, const Streams& streams);
+void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& streams);
 
 contact::ContactKinematics ParseKinematics(const std::string& text);
 

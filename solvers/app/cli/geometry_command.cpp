@@ -19,7 +19,7 @@ using geometry::CycloidProfile;
 using geometry::Kinematics;
 using units::RadToDeg;
 
-nlohmann::json SummaryJson(const solvers::Deck& deck, const CycloidProfile& profile,
+nlohmann::json SummaryJson(const app::Deck& deck, const CycloidProfile& profile,
                            const Kinematics& kinematics) {
   const auto finite_or_null = [](double v) -> nlohmann::json {
     return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
@@ -95,12 +95,12 @@ void WriteSvg(const CycloidProfile& profile, const Kinematics& kinematics, doubl
 
 }  // namespace
 
-nlohmann::json GeometryJson(const solvers::Deck& deck) {
+nlohmann::json GeometryJson(const app::Deck& deck) {
   const CycloidProfile profile(deck.pair, deck.modification);
   return SummaryJson(deck, profile, Kinematics(deck.pair));
 }
 
-void RunGeometry(const solvers::Deck& deck, const GeometryOptions& options, const Streams& streams) {
+void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const Streams& streams) {
   RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output csv("--csv", options.csv_path, streams.out);

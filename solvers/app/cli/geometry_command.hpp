@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 #include "output.hpp"
 
 namespace ltca::cli {
@@ -18,9 +18,9 @@ struct GeometryOptions {
 };
 
 /// `ltca geometry`: the derived geometry of the deck's pair, its profile and a drawing.
-void RunGeometry(const solvers::Deck& deck, const GeometryOptions& options, const Streams& streams);
+void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const Streams& streams);
 
 /// The summary document of `ltca geometry --json` (the default job nests it).
-nlohmann::json GeometryJson(const solvers::Deck& deck);
+nlohmann::json GeometryJson(const app::Deck& deck);
 
 }  // namespace ltca::cli

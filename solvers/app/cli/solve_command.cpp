@@ -26,7 +26,7 @@ const char* KinematicsName(contact::ContactKinematics k) {
 double MaxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 
 /// A position as JSON: the figures of a failed solve are null, its status and message kept.
-nlohmann::json PositionJson(const solvers::PositionResult& p) {
+nlohmann::json PositionJson(const app::PositionResult& p) {
   const bool ok = p.succeeded();
   nlohmann::json angles = nlohmann::json::array();
   for (const double a : p.angle) angles.push_back(RadToDeg(a));
@@ -44,7 +44,7 @@ nlohmann::json PositionJson(const solvers::PositionResult& p) {
           {"residual", FiniteOrNull(p.result.residuals.Normalised())}};
 }
 
-nlohmann::json SummaryJson(const solvers::SweepSummary& s) {
+nlohmann::json SummaryJson(const app::SweepSummary& s) {
   const auto count = [&s](int v) { return s.succeeded > 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
   nlohmann::json j = {{"mean_te_arcsec", FiniteOrNull(RadToArcsec(s.mean_te))},
                       {"pp_te_arcsec", FiniteOrNull(RadToArcsec(s.pp_te))},
@@ -81,9 +81,9 @@ std::string Nested(const std::string& text) {
 /// What the SVG needs, kept compactly while the sweep streams by.
 struct SvgData {
   std::vector<std::pair<double, double>> te;  ///< (crank deg, te arcsec) of successful positions
-  std::optional<solvers::PositionResult> peak;
+  std::optional<app::PositionResult> peak;
   double f_peak = -1.0;
-  void Add(const solvers::PositionResult& p) {
+  void Add(const app::PositionResult& p) {
     if (!p.succeeded()) return;
     te.emplace_back(RadToDeg(p.crank), RadToArcsec(p.result.te));
     const double f = MaxOf(p.result.force);
@@ -138,14 +138,14 @@ std::string CsvFigure(bool ok, double v) { return ok && std::isfinite(v) ? fmt::
 
 }  // namespace
 
-std::string FailureNote(const solvers::SweepSummary& s) {
+std::string FailureNote(const app::SweepSummary& s) {
   if (s.failed == 0) return {};
   if (s.succeeded == 0) return fmt::format("failed positions       all {} (no figure below is an answer)\n", s.positions());
   return fmt::format("failed positions       {} of {}; the figures below are over the {} successful positions only\n",
                      s.failed, s.positions(), s.succeeded);
 }
 
-int RunSolve(const solvers::Deck& deck, const SolveOptions& options, const Streams& streams, const JsonEnvelope& envelope) {
+int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& streams, const JsonEnvelope& envelope) {
   solvers::SolverOptions solver = deck.solver;
   if (!options.solver.empty()) solver.name = options.solver;
   if (!options.kinematics.empty()) solver.kinematics = ParseKinematics(options.kinematics);
@@ -176,9 +176,9 @@ int RunSolve(const solvers::Deck& deck, const SolveOptions& options, const Strea
     }
     if (csv.enabled()) csv.stream() << "crank_deg,te_arcsec,contacts,max_pin_force_n,max_contact_stress_mpa,status\n";
   };
-  solvers::SweepCallbacks callbacks;
+  app::SweepCallbacks callbacks;
   callbacks.keep_positions = false;
-  callbacks.on_position = [&](const solvers::PositionResult& p) {
+  callbacks.on_position = [&](const app::PositionResult& p) {
     if (!started) start();
     if (json.enabled()) json.stream() << (done == 0 ? "\n    " : ",\n    ") << Dump(PositionJson(p), -1);
     if (csv.enabled()) {
@@ -190,7 +190,7 @@ int RunSolve(const solvers::Deck& deck, const SolveOptions& options, const Strea
     if (svg.enabled()) svg_data.Add(p);
     progress.Update(++done);
   };
-  const solvers::SweepResult sweep = solvers::SolveSweep(deck, solver, callbacks);
+  const app::SweepResult sweep = app::SolveSweep(deck, solver, callbacks);
   progress.Finish();
   if (!started) start();
   const auto& s = sweep.summary;

@@ -2,8 +2,8 @@
 #include <ostream>
 #include <string>
 
-#include "ltca/solvers/deck.hpp"
-#include "ltca/solvers/sweep.hpp"
+#include "ltca/app/deck.hpp"
+#include "ltca/app/sweep.hpp"
 #include "output.hpp"
 
 namespace ltca::cli {
@@ -22,10 +22,10 @@ struct JsonEnvelope {
 /// `ltca solve`: the loaded sweep with one solver, streamed: every position is written to the
 /// JSON and CSV outputs as it is solved and not kept. Returns kExitSuccess when every position
 /// succeeded, kExitNotSucceeded otherwise (the outputs are complete either way).
-int RunSolve(const solvers::Deck& deck, const SolveOptions& options, const Streams& streams,
+int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& streams,
              const JsonEnvelope& envelope = {});
 
 /// The "n of m positions failed" lines of the text summary ("" when none failed).
-std::string FailureNote(const solvers::SweepSummary& summary);
+std::string FailureNote(const app::SweepSummary& summary);
 
 }  // namespace ltca::cli

@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
-#include "ltca/solvers/validation.hpp"
+#include "ltca/app/validation.hpp"
 #include "output.hpp"
 
 namespace ltca::cli {
@@ -22,11 +22,11 @@ int RunValidate(const ValidateOptions& options, const Streams& streams) {
   Output markdown_out("--markdown", options.markdown_path, streams.out);  // checked before computing
   std::ostream& out = streams.text;
   const std::string dir = options.cases_dir.empty() ? std::string(LTCA_CASES_DIR) : options.cases_dir;
-  const solvers::ValidationReport report = solvers::Validate(dir);
+  const app::ValidationReport report = app::Validate(dir);
   for (const auto& r : report.rows) {
-    fmt::print(out, "{:<48} {:<38} {}\n", r.id, solvers::ToString(r.verdict), r.ours);
+    fmt::print(out, "{:<48} {:<38} {}\n", r.id, app::ToString(r.verdict), r.ours);
   }
-  const std::string markdown = solvers::ToMarkdown(report);
+  const std::string markdown = app::ToMarkdown(report);
   if (markdown_out.enabled()) {
     markdown_out.stream() << markdown;
     markdown_out.Commit();

@@ -1,4 +1,4 @@
-#include "ltca/solvers/bench.hpp"
+#include "ltca/app/bench.hpp"
 
 #include <sys/resource.h>
 
@@ -13,9 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "ltca/geometry/units.hpp"
-#include "ltca/solvers/sweep.hpp"
+#include "ltca/app/sweep.hpp"
 
-namespace ltca::solvers {
+namespace ltca::app {
 namespace {
 
 using units::RadToArcsec;
@@ -240,4 +240,4 @@ void WriteBenchSvg(const BenchReport& report, const std::filesystem::path& path)
   os << "</svg>\n";
 }
 
-}  // namespace ltca::solvers
+}  // namespace ltca::app

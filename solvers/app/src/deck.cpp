@@ -1,4 +1,4 @@
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,8 +14,9 @@
 
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/geometry/units.hpp"
+#include "ltca/solvers/registry.hpp"
 
-namespace ltca::solvers {
+namespace ltca::app {
 namespace {
 
 /// Rejects text the TOML parser should never see: larger than a deck can be, or nested deeper
@@ -397,7 +398,7 @@ SolverOptions ReadSolver(const Section& s) {
   SolverOptions o;
   if (s.Has("preset")) o = ApplyPreset(o, s.String("preset", "a named preset: liu2021"));
   o.name = s.String("name", o.name, "bisection | energy-qp | energy-groups | compatibility");
-  MakeSolver(o.name);  // rejects an unknown name, listing the valid ones
+  solvers::MakeSolver(o.name);  // rejects an unknown name, listing the valid ones
   const std::string kinematics = s.String("kinematics", "linearised", "linearised | exact");
   if (kinematics == "linearised") o.kinematics = contact::ContactKinematics::kLinearised;
   else if (kinematics == "exact") o.kinematics = contact::ContactKinematics::kExact;
@@ -611,4 +612,4 @@ Deck DefaultDeck(const std::vector<std::string>& overrides) {
   return ParseDeck(DefaultDeckText(), "built-in default (Liu 2021 Table 1)", overrides);
 }
 
-}  // namespace ltca::solvers
+}  // namespace ltca::app

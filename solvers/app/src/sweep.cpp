@@ -1,4 +1,4 @@
-#include "ltca/solvers/sweep.hpp"
+#include "ltca/app/sweep.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -8,8 +8,9 @@
 
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
+#include "ltca/solvers/registry.hpp"
 
-namespace ltca::solvers {
+namespace ltca::app {
 namespace {
 
 int Severity(SolverStatus s) { return s == SolverStatus::kSuccess ? 0 : (s == SolverStatus::kNotSolved ? -1 : 1); }
@@ -56,18 +57,19 @@ SweepSummary SummaryAccumulator::Summary() const {
 struct SweepRunner::Impl {
   const Deck& deck;
   SolverOptions options;
-  contact::MeshModel model;
+  std::shared_ptr<const contact::MeshModel> model;
   std::unique_ptr<LoadSolver> solver;
+  solvers::Workspace workspace;  // this sweep's warm starts: one runner per thread
   const contact::Material& material;
   double torque;
   SummaryAccumulator summary;
   Clock::duration elapsed{};
 
   Impl(const Deck& d, const SolverOptions& o, Clock::time_point start)
-      : deck(d), options(o), model(d.MakeModel()), solver(MakeSolver(o.name)), material(d.RequireMaterial()),
+      : deck(d), options(o), model(std::make_shared<const contact::MeshModel>(d.MakeModel())), solver(solvers::MakeSolver(o.name)), material(d.RequireMaterial()),
         torque(d.RequireLoad().torque) {
     // Nothing is solved for a pair that interferes anywhere in the sweep (as `backlash` rejects it).
-    for (const double crank : deck.sweep.CrankAngles()) contact::RequireNoInterference(model, crank);
+    for (const double crank : deck.sweep.CrankAngles()) contact::RequireNoInterference(*model, crank);
     elapsed = Clock::now() - start;
   }
 };
@@ -86,12 +88,12 @@ const SolverOptions& SweepRunner::options() const { return impl_->options; }
 PositionResult SweepRunner::Solve(double crank) {
   const auto start = Clock::now();
   Impl& m = *impl_;
-  const LoadProblem problem(m.model, crank, m.deck.contact, m.material, m.torque, m.options.kinematics);
+  const solvers::LoadProblem problem(m.model, crank, m.deck.contact, m.material, m.torque, m.options.kinematics);
   PositionResult pos;
   pos.crank = crank;
-  pos.result = m.solver->Solve(problem, m.options);
+  pos.result = m.solver->Solve(problem, m.options, m.workspace);
   std::vector<contact::ContactLaw> scratch;
-  const auto pins = problem.At(std::isfinite(pos.result.rotation) ? pos.result.rotation : 0.0, &scratch);
+  const auto pins = problem.At(std::isfinite(pos.result.rotation) ? pos.result.rotation : 0.0, m.workspace, &scratch);
   const double f_max = pos.result.force.empty() ? 0.0 : *std::max_element(pos.result.force.begin(), pos.result.force.end());
   pos.angle.resize(pins.size());
   pos.contact_stress.assign(pins.size(), 0.0);
@@ -126,4 +128,4 @@ SweepResult SolveSweep(const Deck& deck, const SolverOptions& options, const Swe
   return sweep;
 }
 
-}  // namespace ltca::solvers
+}  // namespace ltca::app

@@ -1,4 +1,4 @@
-#include "ltca/solvers/validation.hpp"
+#include "ltca/app/validation.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,10 +9,11 @@
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/solvers/deck.hpp"
-#include "ltca/solvers/sweep.hpp"
+#include "ltca/app/deck.hpp"
+#include "ltca/app/sweep.hpp"
+#include "ltca/solvers/registry.hpp"
 
-namespace ltca::solvers {
+namespace ltca::app {
 namespace {
 
 namespace fs = std::filesystem;
@@ -351,9 +352,9 @@ void Li(const fs::path& dir, Builder& b) {
   const double listed_li[] = {0.15, 0.19, 0.24, 0.27, 0.44, 0.37, 0.34, 0.24};
   const auto analyse = [&](const Deck& deck) {
     const contact::MeshModel model = deck.MakeModel();
-    const LoadProblem problem(model, deck.sweep.crank_start, deck.contact, *deck.material, deck.load->torque,
+    const solvers::LoadProblem problem(model, deck.sweep.crank_start, deck.contact, *deck.material, deck.load->torque,
                               contact::ContactKinematics::kLinearised);
-    const auto r = MakeSolver("bisection")->Solve(problem, SolverOptions{});
+    const auto r = solvers::MakeSolver("bisection")->Solve(problem, SolverOptions{});
     contact::Material stated = *deck.material;
     stated.young_modulus = stated.pin_young_modulus = 2.08e5;
     PinFigures f;
@@ -470,7 +471,7 @@ void Jiang(const fs::path& dir, Builder& b) {
   const Deck deck = LoadDeck(dir / "jiang2022_table2.toml");
   double lo = INFINITY, hi = -INFINITY;
   int ok = 0;
-  const auto names = SolverNames();
+  const auto names = solvers::SolverNames();
   for (const auto& name : names) {
     const Loaded l = Solve(deck, name);
     ok += l.status == SolverStatus::kSuccess;
@@ -575,4 +576,4 @@ std::string ToMarkdown(const ValidationReport& report) {
   return os.str();
 }
 
-}  // namespace ltca::solvers
+}  // namespace ltca::app

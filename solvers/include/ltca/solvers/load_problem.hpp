@@ -6,28 +6,42 @@
 // approach delta_i(psi) (exact or linearised, contact/mesh_state.hpp) and the law's deflection
 // w_i(F) = law_i.Approach(F), the deformed gap is g_i = w_i(F_i) - delta_i(psi), and a solution has
 //   F_i >= 0,  g_i >= 0,  F_i g_i = 0,  sum_i F_i L_i(psi) = T.
+#include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/contact/unloaded.hpp"
+#include "ltca/solvers/workspace.hpp"
 
 namespace ltca::solvers {
 
+/// Immutable once built: it shares its model, holds no cache, and may be shared across threads;
+/// what a solve writes lives in a Workspace (ltca/solvers/workspace.hpp).
 class LoadProblem {
  public:
+  using ModelPtr = std::shared_ptr<const contact::MeshModel>;
   /// torque in N*mm (>= 0); the contact length is the face width.
+  LoadProblem(ModelPtr model, double crank, const contact::ContactSettings& contact,
+              const contact::Material& material, double torque, contact::ContactKinematics kinematics);
+  /// The same on a copy of the model (for a one-off problem; a sweep shares one model).
   LoadProblem(const contact::MeshModel& model, double crank, const contact::ContactSettings& contact,
               const contact::Material& material, double torque, contact::ContactKinematics kinematics);
 
   /// A problem on a given unloaded mesh state (linearised kinematics only): for imposed clearance
-  /// distributions, e.g. the closed-form checks. Throws std::invalid_argument for exact kinematics.
+  /// distributions, e.g. the closed-form checks.
+  LoadProblem(ModelPtr model, contact::MeshState state, const contact::ContactSettings& contact,
+              const contact::Material& material, double torque);
   LoadProblem(const contact::MeshModel& model, contact::MeshState state, const contact::ContactSettings& contact,
               const contact::Material& material, double torque);
 
   const contact::MeshModel& model() const { return *model_; }
+  const ModelPtr& shared_model() const { return model_; }
+  /// Unique per constructed problem (copies share it): keys the workspace's foot points.
+  std::uint64_t id() const { return id_; }
   double crank() const { return crank_; }
   double torque() const { return torque_; }
   contact::ContactKinematics kinematics() const { return kinematics_; }
@@ -45,10 +59,14 @@ class LoadProblem {
     bool edge = false;
     const contact::ContactLaw* law = nullptr;  ///< nullptr for an edge contact
   };
-  /// Evaluates every pin at psi; laws for the exact kinematics are rebuilt into the scratch.
-  std::vector<PinAt> At(double psi, std::vector<contact::ContactLaw>* scratch) const;
+  /// Evaluates every pin at psi; laws for the exact kinematics are rebuilt into the scratch (the
+  /// pointers stay valid until its next use). Exact kinematics searches every foot point from the
+  /// workspace's last one for this problem.
+  std::vector<PinAt> At(double psi, Workspace& workspace, std::vector<contact::ContactLaw>* scratch) const;
 
   /// Output torque sum F_i(delta_i(psi)) L_i(psi), N*mm (forces of the law at each approach).
+  double OutputTorque(double psi, Workspace& workspace) const;
+  /// The same with a fresh workspace (for checks outside a solve).
   double OutputTorque(double psi) const;
 
   /// How finely an approach is resolved in double precision, mm: 0 for linearised kinematics
@@ -61,7 +79,7 @@ class LoadProblem {
   /// Smallest torque change the arithmetic can resolve at psi, N*mm: sum k_i L_i^2 times the
   /// spacing of doubles at psi (x4), plus sum k_i |L_i| times GapResolution(). Below it no solver
   /// can balance the torque any closer.
-  double TorqueResolution(double psi) const;
+  double TorqueResolution(double psi, Workspace& workspace) const;
 
   /// The largest torque the contact laws can carry at the unrotated geometry: every pin whose gap
   /// closes at its law's largest force, sum F_max,i L_i, N*mm (infinite for the linear law).
@@ -71,7 +89,7 @@ class LoadProblem {
   /// close as one ulp of the rotation can get (TorqueResolution). The resolution costs a full
   /// evaluation, so it is only consulted once the miss is below 1e-6 T (+ 1e-6 N*mm): the floor
   /// is ulp-sized, far below that for any torque the laws are meant for.
-  bool Balanced(double psi, double torque_out, double tolerance) const;
+  bool Balanced(double psi, double torque_out, double tolerance, Workspace& workspace) const;
 
   /// Rotation of first contact in the load direction (the smallest closing rotation), rad.
   double FirstContactRotation() const;
@@ -91,7 +109,8 @@ class LoadProblem {
  private:
   void BuildBaseLaws();
 
-  const contact::MeshModel* model_;
+  ModelPtr model_;
+  std::uint64_t id_;
   double crank_;
   contact::ContactSettings contact_;
   contact::Material material_;
@@ -100,10 +119,6 @@ class LoadProblem {
   double log_radius_cap_;
   contact::MeshState base_;
   std::vector<contact::ContactLaw> base_laws_;  // edge pins get a placeholder (never used)
-  // Exact kinematics: the last foot point of every pin, to start the next closest-point search
-  // from (a cache, not state: any value gives the same answer, only the Newton steps differ).
-  mutable std::vector<contact::PinContact> last_exact_;
-  mutable double last_exact_psi_ = std::numeric_limits<double>::quiet_NaN();  // last_exact_ is at this psi
   double first_contact_ = 0.0;  // rad, see BuildBaseLaws
   double single_pin_ = 0.0;     // rad
 };
@@ -136,6 +151,9 @@ struct Residuals {
   double Normalised() const { return normalised; }
   double normalised = 0.0;
 };
+Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::vector<double>& forces,
+                           Workspace& workspace);
+/// The same with a fresh workspace (for checks outside a solve).
 Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::vector<double>& forces);
 
 }  // namespace ltca::solvers

@@ -4,9 +4,9 @@
 // shares (zero torque), times the solve, fills the shared part of the result and judges it with
 // the shared residual; each backend implements DoSolve().
 #include <limits>
+#include <map>
 #include <memory>
 #include <string>
-#include <variant>
 #include <vector>
 
 #include "ltca/solvers/load_problem.hpp"
@@ -45,27 +45,10 @@ struct SolverOptions {
 /// "liu2021": the paper's 1 % torque stopping rule.
 SolverOptions ApplyPreset(SolverOptions options, const std::string& preset);
 
-/// What only one backend has (pattern: Drake's per-solver details).
-struct BisectionDetails {
-  double final_step = 0.0;  ///< rad, the step when it stopped
-};
-struct EnergyQpDetails {
-  int ipopt_iterations = 0;
-  int relinearisations = 0;  ///< outer iterations (exact kinematics)
-  int candidates = 0;        ///< pins in the last subproblem
-};
-struct EnergyGroupsDetails {
-  int groups_evaluated = 0;
-  int candidates = 0;
-  int relinearisations = 0;
-};
-struct CompatibilityDetails {
-  std::string algorithm;
-  int nlopt_result = 0;
-  int polish_steps = 0;
-};
-using BackendDetails = std::variant<std::monostate, BisectionDetails, EnergyQpDetails, EnergyGroupsDetails,
-                                    CompatibilityDetails>;
+/// What only one backend has (pattern: Drake's per-solver details), as named figures: e.g.
+/// "ipopt_iterations", "candidates", "groups_evaluated", "polish_steps". A new backend adds its
+/// own names without touching this header.
+using BackendDetails = std::map<std::string, double>;
 
 struct LoadResult {
   SolverStatus status = SolverStatus::kNotSolved;
@@ -94,16 +77,16 @@ class LoadSolver {
   virtual std::string name() const = 0;
   /// Validates, solves, fills the shared fields, checks the residual. Never throws for a
   /// failure to converge (that is a status); throws std::invalid_argument for bad options.
+  /// A solver object holds no state: one may serve several threads, each with its own
+  /// workspace (warm starts and scratch live there, so a sweep passes the same one each time).
+  LoadResult Solve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace) const;
+  /// The same with a fresh workspace (no warm start).
   LoadResult Solve(const LoadProblem& problem, const SolverOptions& options) const;
 
  private:
   /// Sets status, message, native_code, rotation, force, iterations / evaluations.
-  virtual void DoSolve(const LoadProblem& problem, const SolverOptions& options, LoadResult* result) const = 0;
+  virtual void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                       LoadResult* result) const = 0;
 };
-
-/// Names of every registered solver, in registry order.
-std::vector<std::string> SolverNames();
-/// Throws std::invalid_argument listing the valid names for an unknown one.
-std::unique_ptr<LoadSolver> MakeSolver(const std::string& name);
 
 }  // namespace ltca::solvers

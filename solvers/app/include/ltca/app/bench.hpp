@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
-namespace ltca::solvers {
+namespace ltca::app {
 
 struct BenchSetting {
   std::string solver = "bisection";
@@ -77,4 +77,4 @@ void WriteBenchCsv(const BenchReport& report, const std::filesystem::path& path)
 /// Log-log chart of the mean-TE error against the time per position, one series per method.
 void WriteBenchSvg(const BenchReport& report, const std::filesystem::path& path);
 
-}  // namespace ltca::solvers
+}  // namespace ltca::app

@@ -18,7 +18,13 @@
 #include "ltca/geometry/pair.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
-namespace ltca::solvers {
+namespace ltca::app {
+
+// The solver layer's vocabulary, used throughout the application layer.
+using solvers::LoadResult;
+using solvers::LoadSolver;
+using solvers::SolverOptions;
+using solvers::SolverStatus;
 
 /// What a deck may ask for (docs/decks.md, "Limits"). Each limit is far above every published
 /// case and keeps one run within memory and a sensible time; a value beyond it is an error that
@@ -96,4 +102,4 @@ Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>&
 std::string_view DefaultDeckText();
 Deck DefaultDeck(const std::vector<std::string>& overrides = {});
 
-}  // namespace ltca::solvers
+}  // namespace ltca::app

@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "ltca/solvers/deck.hpp"
+#include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
-namespace ltca::solvers {
+namespace ltca::app {
 
 /// A pin counts as in contact when its force exceeds this fraction of the largest pin force:
 /// pins whose arm is zero to rounding (a pin exactly on the line of centres, at the root or the
@@ -106,4 +106,4 @@ struct SweepCallbacks {
 /// std::invalid_argument for bad options or an interfering pair, before solving anything.
 SweepResult SolveSweep(const Deck& deck, const SolverOptions& options, const SweepCallbacks& callbacks = {});
 
-}  // namespace ltca::solvers
+}  // namespace ltca::app

@@ -1,12 +1,12 @@
 #pragma once
 // The published-number regression: every checkable number of the four papers, computed from the
 // decks in cases/, with a verdict. `ltca validate --markdown` writes it into docs/validation.md;
-// tests/solvers/validation_test.cpp fails when a verdict changes or the document is stale.
+// tests/app/validation_test.cpp fails when a verdict changes or the document is stale.
 #include <filesystem>
 #include <string>
 #include <vector>
 
-namespace ltca::solvers {
+namespace ltca::app {
 
 enum class Verdict {
   kReproduced,           ///< within the stated tolerance
@@ -50,4 +50,4 @@ ValidationReport Validate(const std::filesystem::path& cases_dir);
 /// The generated part of docs/validation.md.
 std::string ToMarkdown(const ValidationReport& report);
 
-}  // namespace ltca::solvers
+}  // namespace ltca::app

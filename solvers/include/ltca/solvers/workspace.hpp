@@ -1,0 +1,53 @@
+#pragma once
+// Mutable state of the solves of one thread (pattern: Ceres' per-thread evaluation scratch, Drake's
+// Context beside an immutable System). A LoadProblem is immutable and may be shared across threads;
+// everything a solve writes lives here: the exact-kinematics foot points of the problem last
+// evaluated (a Newton warm start), and each backend's own state (e.g. energy-qp's Ipopt
+// application and its warm start from the previous position). One workspace per thread; a
+// workspace must not be used by two threads at once. Results depend on what a workspace has seen
+// (warm starts), never on what another thread does.
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ltca/contact/mesh_state.hpp"
+
+namespace ltca::solvers {
+
+class Workspace {
+ public:
+  Workspace();
+  ~Workspace();
+  Workspace(const Workspace&) = delete;
+  Workspace& operator=(const Workspace&) = delete;
+  Workspace(Workspace&&) noexcept;
+  Workspace& operator=(Workspace&&) noexcept;
+
+  /// A backend's own state: derived in the backend's translation unit (Ipopt stays private).
+  struct BackendState {
+    virtual ~BackendState() = default;
+  };
+  /// The state stored under `key` (the backend's name), or nullptr.
+  BackendState* Backend(const std::string& key) const;
+  /// Stores (replacing) the state under `key` and returns it.
+  BackendState* SetBackend(const std::string& key, std::unique_ptr<BackendState> state);
+
+  /// Exact kinematics: the last foot point of every contact of one problem, to start the next
+  /// closest-point search from (any value gives the same answer to rounding; only the Newton
+  /// steps differ). Keyed by LoadProblem::id(); LoadProblem::At rebinds it.
+  struct FootPoints {
+    std::uint64_t problem = 0;  ///< 0: bound to none
+    std::vector<contact::PinContact> last;
+    double psi = std::numeric_limits<double>::quiet_NaN();  ///< `last` is at this rotation
+  };
+  FootPoints& foot_points() { return foot_points_; }
+
+ private:
+  FootPoints foot_points_;
+  std::map<std::string, std::unique_ptr<BackendState>> backends_;
+};
+
+}  // namespace ltca::solvers
