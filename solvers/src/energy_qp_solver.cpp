@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <vector>
 
 #include <fmt/format.h>
@@ -204,9 +205,24 @@ SolverStatus MapStatus(Ipopt::ApplicationReturnStatus s) {
   return SolverStatus::kNumericalFailure;
 }
 
+// Debian's Ipopt 3.11 factorises with MUMPS (sequential build), whose Fortran module state is
+// shared by every thread: two concurrent solves abort in DMUMPS_LOAD_INIT (measured with
+// tests/solvers/threads_test.cpp). Every use of Ipopt, its creation and destruction included,
+// holds this lock. Each workspace keeps its own application and warm start, so results do not
+// depend on the order in which threads get the lock.
+std::mutex& IpoptMutex() {
+  static std::mutex m;
+  return m;
+}
+
 // Per workspace (per thread): the Ipopt application (creating and initialising it costs more
 // than a small solve), the TNLP kept for ReOptimizeTNLP, and the previous solution.
 struct IpoptState final : Workspace::BackendState {
+  ~IpoptState() override {
+    const std::lock_guard<std::mutex> lock(IpoptMutex());
+    nlp = nullptr;
+    app = nullptr;
+  }
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app;
   Ipopt::SmartPtr<EnergyNlp> nlp;
   bool initialised = false;
@@ -219,6 +235,7 @@ struct IpoptState final : Workspace::BackendState {
 void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                              LoadResult* result) const {
   // One Ipopt application per workspace. Options are set on every call (max_iter may change).
+  std::unique_lock<std::mutex> lock(IpoptMutex());  // held while Ipopt runs, not while the geometry does
   auto* state = static_cast<IpoptState*>(workspace.Backend("energy-qp"));
   if (state == nullptr) {
     state = static_cast<IpoptState*>(workspace.SetBackend("energy-qp", std::make_unique<IpoptState>()));
@@ -247,6 +264,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     }
     state->initialised = true;
   }
+  lock.unlock();
   const double min_arm = 1e-9 * problem.model().pair().pin_circle_radius;
   // Linearise about the first contact: the clearances of the subproblem are then the gaps left
   // there, of the size of the deformations, instead of the whole clearance rotation (which
@@ -282,6 +300,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     details["candidates"] = static_cast<int>(std::count(sub.free.begin(), sub.free.end(), true));
     QpOutcome out;
     const int size = static_cast<int>(sub.pin.size());
+    lock.lock();
     const bool reuse = Ipopt::IsValid(state->nlp) && state->solved_size == size;
     if (!reuse) state->nlp = new EnergyNlp();
     // Warm start from the previous position's solution when it is near (same size, still feasible):
@@ -296,6 +315,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     state->solved_size = size;
     result->native_code = static_cast<int>(status);
     if (Ipopt::IsValid(app->Statistics())) total_iterations += app->Statistics()->IterationCount();
+    lock.unlock();
     result->status = MapStatus(status);
     result->force.assign(pins.size(), 0.0);
     for (std::size_t k = 0; k < sub.pin.size(); ++k) result->force[static_cast<std::size_t>(sub.pin[k])] = out.force[k];
