@@ -84,7 +84,7 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
   double guess = std::numeric_limits<double>::quiet_NaN();
   for (; outer < 30; ++outer) {
     if (outer > 0) {  // the exact state at psi, every pin searched from its last foot point
-      for (auto& pin : state.pins) pin = problem.model().EvaluatePin(pin.pin, problem.crank(), psi, pin);
+      for (auto& pin : state.pins) pin = problem.EvaluatePin(pin, psi);
       state.loaded_rotation = psi;
     }
     contact::MeshState shifted = state;

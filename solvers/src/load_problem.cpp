@@ -44,7 +44,8 @@ LoadProblem::LoadProblem(ModelPtr model, double crank,
       crank_(crank),
       contact_(contact),
       material_(material),
-      torque_(torque),
+      torque_(std::abs(torque)),
+      direction_(torque < 0.0 ? -1.0 : 1.0),
       kinematics_(kinematics),
       log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap
                                                    : model_->pair().pin_circle_radius),
@@ -59,7 +60,8 @@ LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state,
       crank_(state.crank),
       contact_(contact),
       material_(material),
-      torque_(torque),
+      torque_(std::abs(torque)),
+      direction_(torque < 0.0 ? -1.0 : 1.0),
       kinematics_(contact::ContactKinematics::kLinearised),
       log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap : model_->pair().pin_circle_radius),
       base_(std::move(state)) {
@@ -67,6 +69,9 @@ LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state,
 }
 
 void LoadProblem::BuildBaseLaws() {
+  if (!std::isfinite(torque_)) throw std::invalid_argument("LoadProblem: the torque must be finite");
+  // The frame of the torque: a negative torque turns the cycloid the other way (coast flank).
+  for (auto& pin : base_.pins) pin.arm *= direction_;
   base_laws_.reserve(base_.pins.size());
   for (const auto& pin : base_.pins) {
     base_laws_.push_back(MakeLaw(contact_, material_, pin, model_->pair().face_width, log_radius_cap_));
@@ -80,7 +85,9 @@ void LoadProblem::BuildBaseLaws() {
   for (std::size_t i = 0; i < base_.pins.size(); ++i) {
     const auto& pin = base_.pins[i];
     if (pin.arm <= min_arm) continue;
-    const double closing = contact::ClosingRotation(*model_, pin, crank_, kinematics_);
+    contact::PinContact in_model_frame = pin;  // ClosingRotation works in the model's direction
+    in_model_frame.arm *= direction_;
+    const double closing = direction_ * contact::ClosingRotation(*model_, in_model_frame, crank_, kinematics_);
     first_contact_ = std::min(first_contact_, closing);
     // Pin m alone reaches the torque at its closing rotation plus w_m(T / L_m) / L_m (exact for
     // linearised kinematics; to first order in the deformation for exact kinematics).
@@ -108,7 +115,7 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace
   const bool same_pose = psi == feet.psi;  // the judge and the sweep ask for the answer again
   for (std::size_t i = 0; i < out.size(); ++i) {
     const contact::PinContact pin =
-        same_pose ? last_exact_[i] : model_->EvaluatePin(static_cast<int>(i), crank_, psi, last_exact_[i]);
+        same_pose ? last_exact_[i] : EvaluatePin(last_exact_[i], psi);
     last_exact_[i] = pin;
     out[i] = {-pin.clearance, pin.arm, pin.edge, nullptr};
     if (!pin.edge && pin.clearance < 0.0) {
@@ -120,6 +127,12 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace
   }
   feet.psi = psi;
   return out;
+}
+
+contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, double psi) const {
+  contact::PinContact pin = model_->EvaluatePin(near.pin, crank_, direction_ * psi, near);
+  pin.arm *= direction_;
+  return pin;
 }
 
 Loading LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>* hints) {

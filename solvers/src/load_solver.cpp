@@ -83,6 +83,15 @@ const char* ToString(SolverStatus status) {
   return "?";
 }
 
+const char* ToString(Flank flank) {
+  switch (flank) {
+    case Flank::kNone: return "none";
+    case Flank::kDrive: return "drive";
+    case Flank::kCoast: return "coast";
+  }
+  return "?";
+}
+
 void SolverOptions::Validate() const {
   if (!(torque_tolerance > 0.0 && torque_tolerance < 1.0)) {
     throw std::invalid_argument(fmt::format(
@@ -140,7 +149,8 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
   } else {
     DoSolve(problem, options, workspace, &result);
   }
-  result.te = -result.rotation;
+  result.te = -problem.direction() * result.rotation;
+  result.flank = problem.torque() == 0.0 ? Flank::kNone : (problem.direction() > 0.0 ? Flank::kDrive : Flank::kCoast);
   // Shared part: approaches, active set, energy, and the judge's residuals.
   std::vector<contact::ContactLaw> scratch;
   const auto pins = problem.At(std::isfinite(result.rotation) ? result.rotation : 0.0, workspace, &scratch);

@@ -155,7 +155,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "solve",
       "Loaded tooth contact analysis over the deck's sweep with one solver: loaded TE (Liu eq. 16), "
       "pins in contact, pin forces, contact stresses. JSON, streamed: positions [{crank_deg, te_arcsec, "
-      "contacts, pin_force_n, pin_angle_deg, contact_stress_mpa, status, message}], then summary "
+      "contacts, pin_force_n, pin_angle_deg, contact_stress_mpa, status, flank, message}], then summary "
       "{mean_te_arcsec, pp_te_arcsec, contacts_min, contacts_max, max_pin_force_n, max_contact_stress_mpa, "
       "wall_seconds, status, positions, succeeded_positions, failed_positions}. A failed position's figures "
       "are null; the summary's are over the successful positions only (null when none succeeded).");

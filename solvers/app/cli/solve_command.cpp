@@ -38,6 +38,7 @@ nlohmann::json PositionJson(const app::PositionResult& p) {
           {"pin_angle_deg", angles},
           {"contact_stress_mpa", figure(p.contact_stress)},
           {"status", solvers::ToString(p.result.status)},
+          {"flank", solvers::ToString(p.result.flank)},
           {"message", p.result.message},
           {"warnings", p.result.warnings},
           {"torque_evaluations", p.result.torque_evaluations},
@@ -213,7 +214,9 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
   fmt::print(text, "status                 {}\n", solvers::ToString(s.status));
   text << FailureNote(s);
   if (s.warned > 0) fmt::print(text, "warnings               {} positions, first at {}\n", s.warned, s.first_warning);
-  fmt::print(text, "mean TE                {} arcsec   (Liu eq. 16; negative under load)\n", FormatOrNa(RadToArcsec(s.mean_te), 4));
+  const double torque = deck.RequireLoad().torque;
+  fmt::print(text, "loaded flank           {}\n", torque > 0.0 ? "drive (torque > 0)" : (torque < 0.0 ? "coast (torque < 0)" : "none (zero torque)"));
+  fmt::print(text, "mean TE                {} arcsec   (Liu eq. 16; < 0 on the drive flank, > 0 on the coast flank)\n", FormatOrNa(RadToArcsec(s.mean_te), 4));
   fmt::print(text, "peak-to-peak TE        {} arcsec\n", FormatOrNa(RadToArcsec(s.pp_te), 4));
   if (s.succeeded > 0) {
     fmt::print(text, "pins in contact        {} to {}\n", s.contacts_min, s.contacts_max);

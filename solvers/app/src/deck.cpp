@@ -445,10 +445,10 @@ Sweep ReadSweep(const Section& s, const geometry::PairParameters& pair) {
 }  // namespace
 
 void LoadCase::Validate() const {
-  if (!std::isfinite(torque) || torque < 0.0) {
+  if (!std::isfinite(torque)) {
     throw std::invalid_argument(fmt::format(
-        "[load] torque_nm = {}: expected a finite torque >= 0 N*m (the loaded flank is fixed by "
-        "the conventions in docs/conventions.md)",
+        "[load] torque_nm = {}: expected a finite torque in N*m (its sign picks the flank, "
+        "docs/conventions.md)",
         units::NmmToNm(torque)));
   }
 }

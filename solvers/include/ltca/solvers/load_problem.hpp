@@ -2,7 +2,12 @@
 // The loaded contact problem at one crank position, shared by every solver, and the one residual
 // that judges every solver's answer (torque balance plus complementarity of gap and force).
 //
-// Unknowns: the loaded rotation psi (in the load direction) and the pin forces F_i. With the
+// Unknowns: the loaded rotation psi (in the direction of the torque) and the pin forces F_i.
+// The torque is signed (issue 9): its sign picks the flank. T >= 0 turns the cycloid in the
+// model's load direction (docs/conventions.md) and loads the drive flank; T < 0 turns it the other
+// way and loads the coast flank. The problem works in the frame of its torque: psi >= 0 turns
+// toward the loaded flank, every arm L_i is signed so that L_i > 0 closes a gap in that frame,
+// and torque() is |T|. The physical rotation is direction() * psi. With the
 // approach delta_i(psi) (exact or linearised, contact/mesh_state.hpp) and the law's deflection
 // w_i(F) = law_i.Approach(F), the deformed gap is g_i = w_i(F_i) - delta_i(psi), and a solution has
 //   F_i >= 0,  g_i >= 0,  F_i g_i = 0,  sum_i F_i L_i(psi) = T.
@@ -24,7 +29,7 @@ namespace ltca::solvers {
 class LoadProblem {
  public:
   using ModelPtr = std::shared_ptr<const contact::MeshModel>;
-  /// torque in N*mm (>= 0); the contact length is the face width.
+  /// torque in N*mm, signed (the sign picks the flank); the contact length is the face width.
   LoadProblem(ModelPtr model, double crank, const contact::ContactSettings& contact,
               const contact::Material& material, double torque, contact::ContactKinematics kinematics);
   /// The same on a copy of the model (for a one-off problem; a sweep shares one model).
@@ -43,10 +48,19 @@ class LoadProblem {
   /// Unique per constructed problem (copies share it): keys the workspace's foot points.
   std::uint64_t id() const { return id_; }
   double crank() const { return crank_; }
+  /// |T|, N*mm: what the solvers balance.
   double torque() const { return torque_; }
+  /// +1 when T >= 0 (drive flank, the model's load direction), -1 when T < 0 (coast flank).
+  double direction() const { return direction_; }
+  /// T as given, N*mm.
+  double signed_torque() const { return direction_ * torque_; }
+  /// One pin at rotation psi of this problem's frame, searched from `near` (a contact of the same
+  /// pin, e.g. from base_state()): the geometry at the physical rotation direction() * psi, with
+  /// the arm signed for this frame.
+  contact::PinContact EvaluatePin(const contact::PinContact& near, double psi) const;
   contact::ContactKinematics kinematics() const { return kinematics_; }
   int pin_count() const { return static_cast<int>(base_.pins.size()); }
-  /// The unloaded state (psi = 0) and its laws.
+  /// The unloaded state (psi = 0, arms signed for this problem's frame) and its laws.
   const contact::MeshState& base_state() const { return base_; }
   const std::vector<contact::ContactLaw>& base_laws() const { return base_laws_; }
   const contact::ContactSettings& contact_settings() const { return contact_; }
@@ -114,7 +128,8 @@ class LoadProblem {
   double crank_;
   contact::ContactSettings contact_;
   contact::Material material_;
-  double torque_;
+  double torque_;     // |T|
+  double direction_;  // sign of T (+1 for zero)
   contact::ContactKinematics kinematics_;
   double log_radius_cap_;
   contact::MeshState base_;

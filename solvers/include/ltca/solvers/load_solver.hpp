@@ -29,6 +29,14 @@ enum class SolverStatus {
 };
 const char* ToString(SolverStatus status);
 
+/// Which flank carried the load: the sign of the torque picks it (LoadProblem).
+enum class Flank {
+  kNone,   ///< zero torque: no pin is loaded
+  kDrive,  ///< T > 0: the cycloid turns in the model's load direction (docs/conventions.md)
+  kCoast,  ///< T < 0: the other flank, the cycloid turns the other way
+};
+const char* ToString(Flank flank);
+
 /// The [solver] section and the per-run settings. Plain struct with defaults and a validation.
 struct SolverOptions {
   std::string name = "bisection";
@@ -54,8 +62,11 @@ struct LoadResult {
   SolverStatus status = SolverStatus::kNotSolved;
   std::string message = "Solve() was not called";
   int native_code = 0;                  ///< the backend's own status code
-  double rotation = std::numeric_limits<double>::quiet_NaN();  ///< psi, rad, in the load direction
-  double te = std::numeric_limits<double>::quiet_NaN();        ///< loaded TE (Liu eq. 16) = -psi, rad
+  double rotation = std::numeric_limits<double>::quiet_NaN();  ///< psi, rad, in the direction of the torque
+  /// Loaded TE (Liu eq. 16), rad: -psi for T >= 0; for T < 0 the cycloid lags the other way,
+  /// +psi, so that a perfect pair gives TE(-T) = -TE(T) on the mirrored flank.
+  double te = std::numeric_limits<double>::quiet_NaN();
+  Flank flank = Flank::kNone;           ///< the flank that carried the load
   std::vector<double> force;            ///< N, per pin
   std::vector<double> approach;         ///< mm, per pin (geometric approach at psi)
   std::vector<int> active;              ///< 0-based pins carrying load

@@ -48,7 +48,7 @@ struct CaseInfo {
 
 /// [load]: the torque carried by this cycloid gear.
 struct LoadCase {
-  double torque = 0.0;  ///< N*mm (deck: torque_nm), finite, >= 0.
+  double torque = 0.0;  ///< N*mm (deck: torque_nm), finite, signed: the sign picks the flank.
   void Validate() const;
 };
 
