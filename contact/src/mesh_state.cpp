@@ -20,31 +20,6 @@ double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }
 
-geometry::CycloidProfile MakeProfile(const geometry::PairParameters& pair,
-                                     geometry::Modification modification,
-                                     const geometry::ManufacturingErrors& errors) {
-  errors.Validate(pair.pin_count);
-  if (errors.profile_layer == 0.0) return geometry::CycloidProfile(pair, modification);
-  // A uniform layer t on the profile moves the equidistant by t toward the pins: the same curve
-  // as generating it with the pin radius r_rp + dR_rp - t. When the profile is valid without
-  // the layer and not with it, the layer is the key to blame, not the pin radius.
-  const geometry::CycloidProfile without_layer(pair, modification);
-  modification.pin_radius -= errors.profile_layer;
-  try {
-    return geometry::CycloidProfile(pair, modification);
-  } catch (const std::invalid_argument& e) {
-    // The profile's message names the generating radius keys ("[pair] ...: reason"); keep the
-    // reason only.
-    const std::string what = e.what();
-    const auto colon = what.find(": ");
-    const std::string reason = colon == std::string::npos ? what : what.substr(colon + 2);
-    throw std::invalid_argument(fmt::format(
-        "[errors] cycloid_profile_layer_mm = {}: the layer makes the profile invalid; it acts as "
-        "the generating pin radius r_rp + dR_rp - layer = {:.6g} mm, and then {}",
-        errors.profile_layer, pair.pin_radius + modification.pin_radius, reason));
-  }
-}
-
 /// Closest point of body-frame point p on the arc u in [lo, hi] of tooth space k, by a
 /// safeguarded Newton iteration on g(u) = (x(u) - p) . x'(u) from the seed u0: the bracket
 /// [a, b] with g(a) < 0 < g(b) is kept, and a Newton step that leaves it is replaced by
@@ -115,21 +90,21 @@ double ClosestParameter(const CycloidProfile& profile, int k, const Eigen::Vecto
 MeshModel::MeshModel(const geometry::PairParameters& pair,
                      const geometry::Modification& modification,
                      const geometry::ManufacturingErrors& errors, const geometry::GeometrySettings& geometry)
-    : profile_(MakeProfile(pair, modification, errors)),
-      kinematics_(pair),
-      pin_circle_radius_(pair.pin_circle_radius + errors.PinCircleRadiusChange()),
-      pitch_(errors.cumulative_pitch_deviation),
-      load_direction_(pair.ToothDifference() > 0 ? 1.0 : -1.0) {
+    : MeshModel(geometry::RealPair(pair, modification, errors), geometry) {}
+
+MeshModel::MeshModel(geometry::RealPair real, const geometry::GeometrySettings& geometry)
+    : real_(std::move(real)),
+      load_direction_(real_.nominal().ToothDifference() > 0 ? 1.0 : -1.0) {
   geometry.Validate();
   if (geometry.mode == geometry::GeometrySettings::Mode::kElements) {
-    discrete_ = std::make_shared<geometry::DiscreteProfile>(profile_, geometry.profile_elements, geometry.width_slices);
+    discrete_ = std::make_shared<geometry::DiscreteProfile>(real_.profile(), geometry.profile_elements, geometry.width_slices);
     // Sampled at 16 crank angles of one mesh period: where a pin meets the surface between two
     // control points varies with the crank.
     double worst = 0.0;
     for (int k = 0; k < 16; ++k) {
-      const double crank = kinematics_.MeshPeriod() * k / 16.0;
+      const double crank = real_.kinematics().MeshPeriod() * k / 16.0;
       for (int j = 0; j < pin_count(); ++j) {
-        const geometry::MeshSeed seed = kinematics_.Seed(j, crank);
+        const geometry::MeshSeed seed = real_.kinematics().Seed(j, crank);
         const double analytic = EvaluatePinFrom(j, crank, 0.0, seed.tooth_space, seed.u).clearance;
         worst = std::max(worst, std::abs(EvaluatePinElements(j, crank, 0.0).clearance - analytic));
       }
@@ -150,8 +125,8 @@ PinContact MeshModel::EvaluatePinElements(int pin, double crank, double loaded_r
   const Eigen::Vector2d p = pose.ToBody(centre_fixed);
   const double r_pin = pair().pin_radius;
   const int zc = pair().tooth_count;
-  const double pitch = profile_.tooth_pitch();
-  const int k_polar = static_cast<int>(std::lround((std::atan2(p.y(), p.x()) - profile_.ToothSpaceRotation(0)) / pitch));
+  const double pitch = real_.profile().tooth_pitch();
+  const int k_polar = static_cast<int>(std::lround((std::atan2(p.y(), p.x()) - real_.profile().ToothSpaceRotation(0)) / pitch));
   const int n = discrete_->element_count();
   const auto search = [&](int k) {
     int j_best = 0;
@@ -188,7 +163,7 @@ PinContact MeshModel::EvaluatePinElements(int pin, double crank, double loaded_r
   }
   PinContact c;
   c.pin = pin;
-  c.angle = kinematics_.AngleFromLineOfCentres(pin, crank);
+  c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
   c.u = best.u;
   c.tooth_space = 0;
   c.pin_radius = r_pin;
@@ -201,22 +176,17 @@ PinContact MeshModel::EvaluatePinElements(int pin, double crank, double loaded_r
   return c;
 }
 
-Eigen::Vector2d MeshModel::PinCentre(int pin) const {
-  // Liu eq. 5: the cumulative pitch deviation moves the pin along its circle.
-  const double shift = pitch_.empty() ? 0.0 : pitch_[static_cast<std::size_t>(pin)] / pin_circle_radius_;
-  const double a = kinematics_.PinAngle(pin) + shift;
-  return pin_circle_radius_ * Eigen::Vector2d(std::cos(a), std::sin(a));
-}
+Eigen::Vector2d MeshModel::PinCentre(int pin) const { return real_.PinCentre(pin); }
 
 geometry::Pose MeshModel::CyclePose(double crank, double loaded_rotation) const {
-  return kinematics_.CycloidPose(crank).RotatedAboutCentre(load_direction_ * loaded_rotation);
+  return real_.kinematics().CycloidPose(crank).RotatedAboutCentre(load_direction_ * loaded_rotation);
 }
 
 PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation) const {
   if (discrete_) return EvaluatePinElements(pin, crank, loaded_rotation);
   // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation
   // and the modifications move the foot point by little).
-  const geometry::MeshSeed seed = kinematics_.Seed(pin, crank);
+  const geometry::MeshSeed seed = real_.kinematics().Seed(pin, crank);
   return EvaluatePinFrom(pin, crank, loaded_rotation, seed.tooth_space, seed.u);
 }
 
@@ -231,9 +201,9 @@ PinContact MeshModel::EvaluatePinFrom(int pin, double crank, double loaded_rotat
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
   const Eigen::Vector2d p = pose.ToBody(centre_fixed);
   const double r_pin = pair().pin_radius;
-  const double phi_max = profile_.phi_max();
+  const double phi_max = real_.profile().phi_max();
   const int zc = pair().tooth_count;
-  const int d = profile_.tooth_difference();
+  const int d = real_.profile().tooth_difference();
 
   int k = seed_space;
   double u = seed_u;
@@ -241,8 +211,8 @@ PinContact MeshModel::EvaluatePinFrom(int pin, double crank, double loaded_rotat
   if (std::abs(d) == 1) {
     // The profile is smooth across the tips: search the generating curve of one pitch around
     // the seed, then fold the result back into [-phi_max, phi_max] of its own tooth space.
-    const double pitch = profile_.tooth_pitch();
-    u = ClosestParameter(profile_, k, p, u, u - pitch, u + pitch);
+    const double pitch = real_.profile().tooth_pitch();
+    u = ClosestParameter(real_.profile(), k, p, u, u - pitch, u + pitch);
     const double lobe = 2.0 * kPi * d / zc;
     const double m = std::round(u / lobe);
     u -= m * lobe;
@@ -251,8 +221,8 @@ PinContact MeshModel::EvaluatePinFrom(int pin, double crank, double loaded_rotat
     // |d| >= 2: arcs meet in sharp tip corners, and a pin far from mesh can face a space several
     // lobes' worth from its meshing-equation seed. Search the arc of the tooth space the pin's
     // polar angle falls in and both neighbours; the closest point may be a tip corner.
-    const double pitch = profile_.tooth_pitch();
-    const double polar = std::atan2(p.y(), p.x()) - profile_.ToothSpaceRotation(0);
+    const double pitch = real_.profile().tooth_pitch();
+    const double polar = std::atan2(p.y(), p.x()) - real_.profile().ToothSpaceRotation(0);
     const int k_polar = static_cast<int>(std::lround(polar / pitch));
     double best = std::numeric_limits<double>::infinity();
     for (int dk = -1; dk <= 1; ++dk) {
@@ -261,17 +231,17 @@ PinContact MeshModel::EvaluatePinFrom(int pin, double crank, double loaded_rotat
       const double start = kk == seed_space && std::abs(seed_u) <= phi_max
                                ? seed_u
                                : std::clamp(rel * phi_max / (0.5 * pitch), -phi_max, phi_max);
-      const double uu = ClosestParameter(profile_, kk, p, start, -phi_max, phi_max);
-      const double dist = (profile_.Position(uu, kk) - p).norm();
+      const double uu = ClosestParameter(real_.profile(), kk, p, start, -phi_max, phi_max);
+      const double dist = (real_.profile().Position(uu, kk) - p).norm();
       if (dist < best) best = dist, k = kk, u = uu;
     }
     edge = std::abs(u) >= phi_max;
   }
 
-  const geometry::ProfilePoint x = profile_.Evaluate(u, k);
+  const geometry::ProfilePoint x = real_.profile().Evaluate(u, k);
   PinContact c;
   c.pin = pin;
-  c.angle = kinematics_.AngleFromLineOfCentres(pin, crank);
+  c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
   c.tooth_space = k;
   c.u = u;
   c.edge = edge;

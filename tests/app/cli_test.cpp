@@ -92,6 +92,22 @@ TEST_CASE("cli: ltca geometry --json writes the keys of the issue with the libra
   }
 }
 
+TEST_CASE("cli: ltca geometry describes the pair as made, the one the contact layer solves ([errors] applied)") {
+  // Issue 9: one real pair. A 2 um profile layer changes the cycloid; `ltca geometry` reports the
+  // layered profile (the one the mesh model contacts), not the nominal modified one.
+  const auto with_layer = RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--set",
+                                  "errors.cycloid_profile_layer_mm=0.002", "--json", "-"});
+  const auto without = RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--json", "-"});
+  REQUIRE(with_layer.code == 0);
+  REQUIRE(without.code == 0);
+  const auto a = nlohmann::json::parse(with_layer.out), b = nlohmann::json::parse(without.out);
+  const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"), {"errors.cycloid_profile_layer_mm=0.002"});
+  CHECK(a.at("errors_applied").get<bool>());
+  CHECK_FALSE(b.at("errors_applied").get<bool>());
+  CHECK(a.at("min_curvature_radius_mm").get<double>() == deck.MakeModel().profile().min_curvature_radius());
+  CHECK(a.at("min_curvature_radius_mm").get<double>() != b.at("min_curvature_radius_mm").get<double>());
+}
+
 TEST_CASE("cli: ltca with no argument runs the built-in Liu 2021 Table 1 case") {
   const auto r = RunCli({});
   CHECK(r.code == 0);

@@ -9,6 +9,7 @@
 
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/profile.hpp"
+#include "ltca/geometry/real_pair.hpp"
 #include "ltca/geometry/units.hpp"
 #include "output.hpp"
 
@@ -19,8 +20,9 @@ using geometry::CycloidProfile;
 using geometry::Kinematics;
 using units::RadToDeg;
 
-nlohmann::json SummaryJson(const app::Deck& deck, const CycloidProfile& profile,
-                           const Kinematics& kinematics) {
+nlohmann::json SummaryJson(const app::Deck& deck, const geometry::RealPair& real) {
+  const CycloidProfile& profile = real.profile();
+  const Kinematics& kinematics = real.kinematics();
   const auto finite_or_null = [](double v) -> nlohmann::json {
     return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
   };
@@ -36,6 +38,9 @@ nlohmann::json SummaryJson(const app::Deck& deck, const CycloidProfile& profile,
       {"undercut_margin_mm", finite_or_null(profile.undercut_margin())},
       {"mesh_period_deg", RadToDeg(kinematics.MeshPeriod())},
       {"transmission_ratio", kinematics.TransmissionRatio()},
+      // The figures above are of the cycloid as made: modification and [errors] applied.
+      {"errors_applied", !real.errors().IsZero()},
+      {"pin_circle_radius_as_assembled_mm", real.pin_circle_radius()},
   };
 }
 
@@ -53,8 +58,9 @@ void WriteCsv(const CycloidProfile& profile, int samples, std::ostream& os) {
   }
 }
 
-void WriteSvg(const CycloidProfile& profile, const Kinematics& kinematics, double crank,
-              int samples, std::ostream& os) {
+void WriteSvg(const geometry::RealPair& real, double crank, int samples, std::ostream& os) {
+  const CycloidProfile& profile = real.profile();
+  const Kinematics& kinematics = real.kinematics();
   const auto& pair = profile.pair();
   const geometry::Pose pose = kinematics.CycloidPose(crank);
   // d < 0: the cycloid is the outer member (a ring); its material lies outside the profile.
@@ -67,7 +73,7 @@ void WriteSvg(const CycloidProfile& profile, const Kinematics& kinematics, doubl
              -extent, 2.0 * extent);
   fmt::print(os, "<title>{}: crank {:.4g} deg</title>\n", "cycloid and pins", RadToDeg(crank));
   os << "<g transform=\"scale(1,-1)\" fill=\"none\" stroke-width=\"" << extent / 400.0 << "\">\n";
-  fmt::print(os, "<circle cx=\"0\" cy=\"0\" r=\"{}\" stroke=\"#bbb\"/>\n", pair.pin_circle_radius);
+  fmt::print(os, "<circle cx=\"0\" cy=\"0\" r=\"{}\" stroke=\"#bbb\"/>\n", real.pin_circle_radius());
   os << "<path stroke=\"#c0392b\" fill=\"#f5d5d0\" fill-rule=\"evenodd\" d=\"";
   const double phi = profile.phi_max();
   for (int k = 0; k < pair.tooth_count; ++k) {
@@ -84,7 +90,7 @@ void WriteSvg(const CycloidProfile& profile, const Kinematics& kinematics, doubl
   }
   os << "\"/>\n";
   for (int j = 0; j < pair.pin_count; ++j) {
-    const Eigen::Vector2d c = kinematics.PinCentre(j);
+    const Eigen::Vector2d c = real.PinCentre(j);  // as assembled: pin-circle and pitch deviations
     fmt::print(os, "<circle cx=\"{:.5f}\" cy=\"{:.5f}\" r=\"{}\" stroke=\"#2c3e50\" fill=\"#d6dde5\"/>\n",
                c.x(), c.y(), pair.pin_radius);
   }
@@ -96,8 +102,7 @@ void WriteSvg(const CycloidProfile& profile, const Kinematics& kinematics, doubl
 }  // namespace
 
 nlohmann::json GeometryJson(const app::Deck& deck) {
-  const CycloidProfile profile(deck.pair, deck.modification);
-  return SummaryJson(deck, profile, Kinematics(deck.pair));
+  return SummaryJson(deck, deck.MakeRealPair());
 }
 
 void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const Streams& streams) {
@@ -106,8 +111,9 @@ void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const St
   Output csv("--csv", options.csv_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
   std::ostream& out = streams.text;
-  const CycloidProfile profile(deck.pair, deck.modification);
-  const Kinematics kinematics(deck.pair);
+  const geometry::RealPair real = deck.MakeRealPair();  // the pair as made: what every command sees
+  const CycloidProfile& profile = real.profile();
+  const Kinematics& kinematics = real.kinematics();
   const auto& p = deck.pair;
   const auto& m = deck.modification;
   fmt::print(out, "case      {}\n", deck.info.title);
@@ -118,6 +124,13 @@ void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const St
   fmt::print(out, "modif.    dR_rp = {:g} um, dR_p = {:g} um, rotation = {:g} arcsec\n",
              units::MmToUm(m.pin_radius), units::MmToUm(m.pin_circle_radius),
              units::RadToArcsec(m.rotation));
+  if (!deck.errors.IsZero()) {
+    const auto& e = deck.errors;
+    fmt::print(out, "errors    profile layer = {:g} um, pin circle radius as assembled = {:.6f} mm, pitch deviations: {}\n",
+               units::MmToUm(e.profile_layer), real.pin_circle_radius(),
+               e.cumulative_pitch_deviation.empty() ? "none" : "per pin (Liu eq. 5)");
+    fmt::print(out, "          the figures below are of the cycloid as made ([errors] applied)\n");
+  }
   fmt::print(out, "K1                     {:.6f}       curtate coefficient (Chen eq. 12)\n", profile.k1());
   fmt::print(out, "phi_max                {:.6f} deg   tooth-space half width (Chen eq. 16)\n",
              RadToDeg(profile.phi_max()));
@@ -136,7 +149,7 @@ void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const St
   fmt::print(out, "transmission ratio     {:.6g} (crank / cycloid)\n", kinematics.TransmissionRatio());
 
   if (json.enabled()) {
-    json.stream() << Dump(SummaryJson(deck, profile, kinematics)) << '\n';
+    json.stream() << Dump(SummaryJson(deck, real)) << '\n';
     json.Commit();
   }
   if (csv.enabled()) {
@@ -144,7 +157,7 @@ void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const St
     csv.Commit();
   }
   if (svg.enabled()) {
-    WriteSvg(profile, kinematics, units::DegToRad(options.crank_deg), options.samples_per_flank, svg.stream());
+    WriteSvg(real, units::DegToRad(options.crank_deg), options.samples_per_flank, svg.stream());
     svg.Commit();
   }
 }

@@ -99,7 +99,8 @@ void Chen(const fs::path& dir, Builder& b) {
   };
   for (const Case& c : cases) {
     const Deck deck = LoadDeck(dir / "chen2008" / (std::string(c.deck) + ".toml"));
-    const geometry::CycloidProfile profile(deck.pair, deck.modification);
+    const geometry::RealPair real = deck.MakeRealPair();
+    const geometry::CycloidProfile& profile = real.profile();
     const std::string cmd = fmt::format("ltca geometry cases/chen2008/{}.toml", c.deck);
     const double phi = RadToDeg(profile.phi_max());
     const Verdict v = judge(phi, c.phi);
@@ -126,7 +127,8 @@ void LiuGeometryAndLoaded(const fs::path& dir, Builder& b) {
   const Deck signed_deck = LoadDeck(dir / "liu2021_table1.toml");
   const Deck abs_deck = LoadDeck(dir / "liu2021_table1_absolute.toml");
   {
-    const geometry::CycloidProfile profile(signed_deck.pair, signed_deck.modification);
+    const geometry::RealPair real = signed_deck.MakeRealPair();
+    const geometry::CycloidProfile& profile = real.profile();
     const double alpha = RadToDeg(profile.alpha_max());
     const double printed = 54.3692;
     // Tolerance: half a unit of the printed fourth decimal.

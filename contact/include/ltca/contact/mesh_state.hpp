@@ -22,6 +22,7 @@
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/pair.hpp"
 #include "ltca/geometry/profile.hpp"
+#include "ltca/geometry/real_pair.hpp"
 
 namespace ltca::contact {
 
@@ -56,14 +57,18 @@ class MeshModel {
  public:
   MeshModel(const geometry::PairParameters& pair, const geometry::Modification& modification,
             const geometry::ManufacturingErrors& errors = {}, const geometry::GeometrySettings& geometry = {});
+  /// The pair as made (modification and errors applied once, in geometry::RealPair).
+  explicit MeshModel(geometry::RealPair real, const geometry::GeometrySettings& geometry = {});
+
+  const geometry::RealPair& real_pair() const { return real_; }
 
   /// Elements mode (Liu 2021 section 2-3): the discrete surface, or nullptr in the analytic mode.
   const geometry::DiscreteProfile* discrete() const { return discrete_.get(); }
 
-  const geometry::CycloidProfile& profile() const { return profile_; }
-  const geometry::Kinematics& kinematics() const { return kinematics_; }
-  const geometry::PairParameters& pair() const { return profile_.pair(); }
-  int pin_count() const { return profile_.pair().pin_count; }
+  const geometry::CycloidProfile& profile() const { return real_.profile(); }
+  const geometry::Kinematics& kinematics() const { return real_.kinematics(); }
+  const geometry::PairParameters& pair() const { return real_.nominal(); }
+  int pin_count() const { return real_.nominal().pin_count; }
   /// Clearance below which a pin counts as overlapping the cycloid, mm: 1e-9 on the analytic
   /// surface; on the element surface (Liu section 2-3) its discretisation error, estimated at
   /// construction as twice the largest difference between the element and the analytic clearance
@@ -90,10 +95,7 @@ class MeshModel {
   PinContact EvaluatePinFrom(int pin, double crank, double loaded_rotation, int tooth_space, double u) const;
   PinContact EvaluatePinElements(int pin, double crank, double loaded_rotation) const;
 
-  geometry::CycloidProfile profile_;
-  geometry::Kinematics kinematics_;
-  double pin_circle_radius_ = 0.0;  // with the deviation
-  std::vector<double> pitch_;       // cumulative pitch deviation per pin, mm (empty: none)
+  geometry::RealPair real_;
   std::shared_ptr<const geometry::DiscreteProfile> discrete_;  // elements mode only
   double load_direction_ = 1.0;
   double interference_tolerance_ = 1e-9;  // mm

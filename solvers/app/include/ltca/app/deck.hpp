@@ -77,8 +77,11 @@ struct Deck {
   std::optional<LoadCase> load;               ///< required by the load commands
   Sweep sweep;
 
-  /// The pair as the contact layer sees it (modifications, errors, geometry mode).
-  contact::MeshModel MakeModel() const { return {pair, modification, errors, geometry}; }
+  /// The pair as made: modification and [errors] applied once (geometry::RealPair); every
+  /// command builds this one.
+  geometry::RealPair MakeRealPair() const { return {pair, modification, errors}; }
+  /// The pair as the contact layer sees it (the real pair, geometry mode).
+  contact::MeshModel MakeModel() const { return contact::MeshModel(MakeRealPair(), geometry); }
 
   /// Throws std::invalid_argument naming the deck and the missing section.
   const contact::Material& RequireMaterial() const;

@@ -1,0 +1,52 @@
+#include "ltca/geometry/real_pair.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+
+namespace ltca::geometry {
+namespace {
+
+CycloidProfile MakeProfile(const PairParameters& pair, Modification modification, const ManufacturingErrors& errors) {
+  errors.Validate(pair.pin_count);
+  if (errors.profile_layer == 0.0) return CycloidProfile(pair, modification);
+  // A uniform layer t on the profile moves the equidistant by t toward the pins: the same curve
+  // as generating it with the pin radius r_rp + dR_rp - t. When the profile is valid without
+  // the layer and not with it, the layer is the key to blame, not the pin radius.
+  const CycloidProfile without_layer(pair, modification);
+  modification.pin_radius -= errors.profile_layer;
+  try {
+    return CycloidProfile(pair, modification);
+  } catch (const std::invalid_argument& e) {
+    // The profile's message names the generating radius keys ("[pair] ...: reason"); keep the
+    // reason only.
+    const std::string what = e.what();
+    const auto colon = what.find(": ");
+    const std::string reason = colon == std::string::npos ? what : what.substr(colon + 2);
+    throw std::invalid_argument(fmt::format(
+        "[errors] cycloid_profile_layer_mm = {}: the layer makes the profile invalid; it acts as "
+        "the generating pin radius r_rp + dR_rp - layer = {:.6g} mm, and then {}",
+        errors.profile_layer, pair.pin_radius + modification.pin_radius, reason));
+  }
+}
+
+}  // namespace
+
+RealPair::RealPair(const PairParameters& pair, const Modification& modification, const ManufacturingErrors& errors)
+    : modification_(modification),
+      errors_(errors),
+      profile_(MakeProfile(pair, modification, errors)),
+      kinematics_(pair),
+      pin_circle_radius_(pair.pin_circle_radius + errors.PinCircleRadiusChange()) {}
+
+Eigen::Vector2d RealPair::PinCentre(int pin) const {
+  // Liu eq. 5: the cumulative pitch deviation moves the pin along its circle.
+  const auto& pitch = errors_.cumulative_pitch_deviation;
+  const double shift = pitch.empty() ? 0.0 : pitch[static_cast<std::size_t>(pin)] / pin_circle_radius_;
+  const double a = kinematics_.PinAngle(pin) + shift;
+  return pin_circle_radius_ * Eigen::Vector2d(std::cos(a), std::sin(a));
+}
+
+}  // namespace ltca::geometry
