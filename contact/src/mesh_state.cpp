@@ -163,6 +163,8 @@ PinContact MeshModel::EvaluatePinElements(int pin, double crank, double loaded_r
   }
   PinContact c;
   c.pin = pin;
+  c.slice = 0;  // the plane model: one slice over the whole face width
+  c.length = pair().face_width;
   c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
   c.u = best.u;
   c.tooth_space = 0;
@@ -241,6 +243,8 @@ PinContact MeshModel::EvaluatePinFrom(int pin, double crank, double loaded_rotat
   const geometry::ProfilePoint x = real_.profile().Evaluate(u, k);
   PinContact c;
   c.pin = pin;
+  c.slice = 0;  // the plane model: one slice over the whole face width
+  c.length = pair().face_width;
   c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
   c.tooth_space = k;
   c.u = u;

@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 namespace ltca::solvers {
 namespace {
 
@@ -71,10 +73,16 @@ LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state,
 void LoadProblem::BuildBaseLaws() {
   if (!std::isfinite(torque_)) throw std::invalid_argument("LoadProblem: the torque must be finite");
   // The frame of the torque: a negative torque turns the cycloid the other way (coast flank).
-  for (auto& pin : base_.pins) pin.arm *= direction_;
+  for (auto& pin : base_.pins) {
+    if (!(pin.length > 0.0)) {
+      throw std::invalid_argument(fmt::format("LoadProblem: the contact point of pin {}, slice {} has contact length {} mm: expected > 0",
+                                              pin.pin + 1, pin.slice, pin.length));
+    }
+    pin.arm *= direction_;
+  }
   base_laws_.reserve(base_.pins.size());
   for (const auto& pin : base_.pins) {
-    base_laws_.push_back(MakeLaw(contact_, material_, pin, model_->pair().face_width, log_radius_cap_));
+    base_laws_.push_back(MakeLaw(contact_, material_, pin, pin.length, log_radius_cap_));
   }
   // Closing rotation of every pin that can close in the load direction (a pin whose arm is zero
   // to rounding closes only after a rotation far beyond any other: skipped), and from it the
@@ -119,7 +127,7 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace
     last_exact_[i] = pin;
     out[i] = {-pin.clearance, pin.arm, pin.edge, nullptr};
     if (!pin.edge && pin.clearance < 0.0) {
-      scratch->push_back(MakeLaw(contact_, material_, pin, model_->pair().face_width, log_radius_cap_));
+      scratch->push_back(MakeLaw(contact_, material_, pin, pin.length, log_radius_cap_));
       out[i].law = &scratch->back();  // stable: reserved above
     } else if (!pin.edge) {
       out[i].law = &base_laws_[i];  // unloaded: any law of this pin gives zero force

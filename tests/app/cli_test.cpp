@@ -108,6 +108,19 @@ TEST_CASE("cli: ltca geometry describes the pair as made, the one the contact la
   CHECK(a.at("min_curvature_radius_mm").get<double>() != b.at("min_curvature_radius_mm").get<double>());
 }
 
+TEST_CASE("cli: solve and compare name the model that ran (plane, its slices and surface)") {
+  const auto solve = RunCli({"solve", Case("liu2021_table1.toml"), "--set", "sweep.positions=2", "--json", "-"});
+  const auto elements = RunCli({"compare", Case("liu2021_sec52_base.toml"), "--set", "sweep.positions=2", "--set",
+                                "geometry.geometry_mode=elements", "--solvers", "bisection", "--json", "-"});
+  REQUIRE(solve.code == 0);
+  REQUIRE(elements.code == 0);
+  const auto a = nlohmann::json::parse(solve.out), b = nlohmann::json::parse(elements.out);
+  CHECK(a.at("model").at("name") == "plane");
+  CHECK(a.at("model").at("slices") == 1);
+  CHECK(a.at("model").at("surface") == "analytic");
+  CHECK(b.at("model").at("surface") == "elements");
+}
+
 TEST_CASE("cli: ltca with no argument runs the built-in Liu 2021 Table 1 case") {
   const auto r = RunCli({});
   CHECK(r.code == 0);

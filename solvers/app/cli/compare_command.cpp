@@ -59,12 +59,15 @@ int RunCompare(const app::Deck& deck, const CompareOptions& options, const Strea
   const auto& ref_options = runners.front().options();
   std::ostream& text = streams.text;
   fmt::print(text, "case      {}\n", deck.info.title);
-  fmt::print(text, "{} positions, {} kinematics, law {} / {}; differences against {} where both succeeded\n", cranks.size(),
+  fmt::print(text, "{} positions, {} model ({} slice, {} surface), {} kinematics, law {} / {}; differences against {} where both succeeded\n", cranks.size(),
+             deck.Model().name, deck.Model().slices, deck.Model().surface,
              ref_options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
              contact::ToString(deck.contact.law), contact::ToString(deck.contact.rho_convention), ref_options.name);
   fmt::print(text, "{:<14} {:<18} {:>9} {:>12} {:>10} {:>7} {:>11} {:>11} {:>12} {:>12} {:>9} {:>9}\n", "solver", "status",
              "failed", "mean_te_as", "pp_te_as", "pins", "max_F_N", "max_p_MPa", "d_te_as", "d_F_N", "d_pins", "time_s");
-  nlohmann::json doc = {{"case", {{"title", deck.info.title}, {"deck", deck.name}}}, {"reference", ref_options.name},
+  nlohmann::json doc = {{"case", {{"title", deck.info.title}, {"deck", deck.name}}},
+                        {"model", {{"name", deck.Model().name}, {"slices", deck.Model().slices}, {"surface", deck.Model().surface}}},
+                        {"reference", ref_options.name},
                         {"solvers", nlohmann::json::array()}};
   bool all_succeeded = true;
   for (std::size_t r = 0; r < runners.size(); ++r) {

@@ -165,6 +165,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
     if (json.enabled()) {
       nlohmann::json header = {
           {"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
+          {"model", {{"name", deck.Model().name}, {"slices", deck.Model().slices}, {"surface", deck.Model().surface}}},
           {"solver", {{"name", solver.name},
                       {"kinematics", KinematicsName(solver.kinematics)},
                       {"torque_tolerance", solver.torque_tolerance},
@@ -208,6 +209,8 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
 
   std::ostream& text = streams.text;
   fmt::print(text, "case      {}\n", deck.info.title);
+  fmt::print(text, "model     {} ({} slice over the {:g} mm face width, {} surface)\n", deck.Model().name,
+             deck.Model().slices, deck.pair.face_width, deck.Model().surface);
   fmt::print(text, "solver    {} ({} kinematics, torque tolerance {:g}), law {} / {}\n", sweep.solver,
              KinematicsName(solver.kinematics), solver.torque_tolerance, contact::ToString(deck.contact.law),
              contact::ToString(deck.contact.rho_convention));

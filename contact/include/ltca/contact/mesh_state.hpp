@@ -26,9 +26,13 @@
 
 namespace ltca::contact {
 
-/// One pin at one pose.
+/// One contact point at one pose: a pin in one face-width slice. The plane model has one slice
+/// over the whole face width, so there is one point per pin and the point index is the pin
+/// index; the face-width model (issue 11) has a point per pin and slice.
 struct PinContact {
   int pin = 0;                    ///< 0-based index (printed + 1).
+  int slice = 0;                  ///< 0-based face-width slice (0: the plane model's only one).
+  double length = 0.0;            ///< contact length of this point along the face width, mm.
   double angle = 0.0;             ///< phi: angle from the line of centres, rad, (-pi, pi].
   double clearance = 0.0;         ///< c_i: normal gap, mm; < 0 is overlap.
   double arm = 0.0;               ///< L_i: lever arm of the contact normal about O_c, mm; > 0 when

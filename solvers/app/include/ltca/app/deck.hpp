@@ -83,6 +83,17 @@ struct Deck {
   /// The pair as the contact layer sees it (the real pair, geometry mode).
   contact::MeshModel MakeModel() const { return contact::MeshModel(MakeRealPair(), geometry); }
 
+  /// The model that runs for this deck, named in every output (issue 9): "plane" (one slice over
+  /// the face width: nothing varies along it), the surface (analytic or elements) and the slices.
+  struct ModelInfo {
+    std::string name;     ///< "plane"
+    int slices = 1;
+    std::string surface;  ///< "analytic" or "elements"
+  };
+  ModelInfo Model() const {
+    return {"plane", 1, geometry.mode == geometry::GeometrySettings::Mode::kElements ? "elements" : "analytic"};
+  }
+
   /// Throws std::invalid_argument naming the deck and the missing section.
   const contact::Material& RequireMaterial() const;
   const LoadCase& RequireLoad() const;
