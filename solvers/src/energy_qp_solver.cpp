@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -24,7 +25,23 @@ struct Subproblem {
   std::vector<const contact::ContactLaw*> law;
   std::vector<bool> free;  ///< false: fixed at zero force (cannot carry load here)
   double torque = 0.0;
+  /// The compliance coupling over the variables (every pin is one, in pin order), or nullptr.
+  const Eigen::SparseMatrix<double>* coupling = nullptr;
 };
+
+/// The Hessian's strictly lower off-diagonal entries of a coupling, in a fixed order (Ipopt's
+/// structure): (row, col) with row > col. Empty without coupling.
+using Pattern = std::vector<std::pair<Index, Index>>;
+Pattern LowerPattern(const Eigen::SparseMatrix<double>* c) {
+  Pattern p;
+  if (c == nullptr) return p;
+  for (Eigen::Index k = 0; k < c->outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(*c, k); it; ++it) {
+      if (it.row() > it.col()) p.emplace_back(static_cast<Index>(it.row()), static_cast<Index>(it.col()));
+    }
+  }
+  return p;
+}
 
 struct WarmStart {  // the previous solution of the same solver: neighbouring positions are alike
   std::vector<double> x, z_lower, z_upper;
@@ -55,14 +72,34 @@ class EnergyNlp final : public Ipopt::TNLP {
     for (std::size_t i = 0; i < sub_->law.size(); ++i) {
       if (sub_->free[i]) w_ref_ = std::max(w_ref_, sub_->law[i]->Approach(f_ref_));
     }
+    if (sub_->coupling != nullptr) {
+      // The coupling's deflection of a free pin when every free pin carries f_ref: a scale only.
+      Eigen::VectorXd f = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(sub_->free.size()));
+      for (std::size_t i = 0; i < sub_->free.size(); ++i) if (sub_->free[i]) f(static_cast<Eigen::Index>(i)) = f_ref_;
+      const Eigen::VectorXd cf = *sub_->coupling * f;
+      for (std::size_t i = 0; i < sub_->law.size(); ++i) {
+        if (sub_->free[i]) w_ref_ = std::max(w_ref_, sub_->law[i]->Approach(f_ref_) + std::abs(cf(static_cast<Eigen::Index>(i))));
+      }
+    }
     w_ref_ = std::max(w_ref_, 1e-9);
+    pattern_ = LowerPattern(sub_->coupling);
+    coupling_diagonal_.assign(sub_->pin.size(), 0.0);
+    lower_values_.clear();
+    if (sub_->coupling != nullptr) {
+      for (Eigen::Index k = 0; k < sub_->coupling->outerSize(); ++k) {
+        for (Eigen::SparseMatrix<double>::InnerIterator it(*sub_->coupling, k); it; ++it) {
+          if (it.row() == it.col()) coupling_diagonal_[static_cast<std::size_t>(it.row())] = it.value();
+          if (it.row() > it.col()) lower_values_.push_back(it.value());  // the order of LowerPattern
+        }
+      }
+    }
   }
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override {
     n = static_cast<Index>(sub_->pin.size());
     m = 1;
     nnz_jac_g = n;
-    nnz_h_lag = n;
+    nnz_h_lag = n + static_cast<Index>(pattern_.size());  // the diagonal, then the coupling's lower entries
     style = C_STYLE;
     return true;
   }
@@ -111,12 +148,20 @@ class EnergyNlp final : public Ipopt::TNLP {
       const auto k = static_cast<std::size_t>(i);
       f += sub_->law[k]->ComplementaryEnergy(x[i]) + sub_->clearance[k] * x[i];
     }
+    if (sub_->coupling != nullptr) {  // + 1/2 F^T C F
+      const Eigen::Map<const Eigen::VectorXd> v(x, n);
+      f += 0.5 * v.dot(*sub_->coupling * v);
+    }
     return std::isfinite(f);
   }
   bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
     for (Index i = 0; i < n; ++i) {
       const auto k = static_cast<std::size_t>(i);
       g[i] = sub_->law[k]->Approach(x[i]) + sub_->clearance[k];
+    }
+    if (sub_->coupling != nullptr) {  // + C F
+      const Eigen::Map<const Eigen::VectorXd> v(x, n);
+      Eigen::Map<Eigen::VectorXd>(g, n) += *sub_->coupling * v;
     }
     return true;
   }
@@ -148,6 +193,22 @@ class EnergyNlp final : public Ipopt::TNLP {
         values[i] = obj_factor * (k > 0.0 ? 1.0 / k : 1e300);
       }
     }
+    // Coupled: + C, its diagonal on the diagonal entries and its strictly lower entries after them
+    // (Ipopt takes the lower triangle; the structure is fixed while the pattern is).
+    if (sub_->coupling != nullptr) {
+      for (std::size_t e = 0; e < pattern_.size(); ++e) {
+        const Index at = n + static_cast<Index>(e);
+        if (values == nullptr) {
+          row[at] = pattern_[e].first;
+          col[at] = pattern_[e].second;
+        } else {
+          values[at] = obj_factor * lower_values_[e];
+        }
+      }
+      if (values != nullptr) {
+        for (Index i = 0; i < n; ++i) values[i] += obj_factor * coupling_diagonal_[static_cast<std::size_t>(i)];
+      }
+    }
     return true;
   }
   void finalize_solution(Ipopt::SolverReturn status, Index n, const Number* x, const Number* z_l, const Number* z_u,
@@ -169,6 +230,8 @@ class EnergyNlp final : public Ipopt::TNLP {
 
  private:
   const Subproblem* sub_ = nullptr;
+  Pattern pattern_;  // the coupling's strictly lower entries (Hessian structure after the diagonal)
+  std::vector<double> lower_values_, coupling_diagonal_;  // C at pattern_, and C's diagonal
   QpOutcome* out_ = nullptr;
   WarmStart* warm_ = nullptr;
   double f_ref_ = 1.0, w_ref_ = 1.0;
@@ -227,6 +290,7 @@ struct IpoptState final : Workspace::BackendState {
   Ipopt::SmartPtr<EnergyNlp> nlp;
   bool initialised = false;
   int solved_size = -1;  // the size of the last problem: ReOptimizeTNLP needs the same structure
+  Pattern solved_pattern;  // and the coupling's Hessian pattern of the last problem (empty: none)
   WarmStart warm;
 };
 
@@ -288,7 +352,18 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     // Every pin is a variable (a fixed structure lets Ipopt reuse its linear solver); only the pins
     // that can close before any single pin alone carries the torque are free (rigorous bound).
     std::vector<bool> can_close(pins.size(), false);
-    for (const std::size_t i : CandidatePins(pins, problem.torque(), min_arm)) can_close[i] = true;
+    if (problem.has_coupling()) {
+      // CandidatePins' bound assumes diagonal compliance: with coupling a neighbour's force adds to
+      // a pin's deflection and the loaded rotation may exceed it. Correctness first: every pin
+      // with a law and a positive arm (or already pressed) is free. A pin with a negative arm that a
+      // negative coupling entry pulls shut stays fixed at zero: the shared residual would see its
+      // closed gap.
+      for (std::size_t i = 0; i < pins.size(); ++i) {
+        can_close[i] = pins[i].law != nullptr && (pins[i].arm > min_arm || pins[i].approach > 1e-11);
+      }
+    } else {
+      for (const std::size_t i : CandidatePins(pins, problem.torque(), min_arm)) can_close[i] = true;
+    }
     for (std::size_t i = 0; i < pins.size(); ++i) {
       sub.pin.push_back(static_cast<int>(i));
       // About psi: approach(psi + dpsi) = approach(psi) + L dpsi = L dpsi - g, g the gap left.
@@ -297,12 +372,17 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
       sub.law.push_back(pins[i].law != nullptr ? pins[i].law : &problem.base_laws()[i]);
       sub.free.push_back(can_close[i]);
     }
+    sub.coupling = problem.coupling();
     details["candidates"] = static_cast<int>(std::count(sub.free.begin(), sub.free.end(), true));
     QpOutcome out;
     const int size = static_cast<int>(sub.pin.size());
     lock.lock();
-    const bool reuse = Ipopt::IsValid(state->nlp) && state->solved_size == size;
+    // The TNLP is re-optimised only with the same structure: the size and the coupling's Hessian
+    // pattern (always empty without coupling).
+    const Pattern pattern = LowerPattern(sub.coupling);
+    const bool reuse = Ipopt::IsValid(state->nlp) && state->solved_size == size && state->solved_pattern == pattern;
     if (!reuse) state->nlp = new EnergyNlp();
+    details["reoptimisations"] += reuse ? 1 : 0;
     // Warm start from the previous position's solution when it is near (same size, still feasible):
     // the multiplier is a rotation beyond the linearisation point, similar from position to position.
     // Only under linearised kinematics: the outer loop of exact kinematics moves the linearisation
@@ -313,6 +393,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     const Ipopt::ApplicationReturnStatus status =
         reuse ? app->ReOptimizeTNLP(Ipopt::GetRawPtr(state->nlp)) : app->OptimizeTNLP(Ipopt::GetRawPtr(state->nlp));
     state->solved_size = size;
+    state->solved_pattern = pattern;
     result->native_code = static_cast<int>(status);
     if (Ipopt::IsValid(app->Statistics())) total_iterations += app->Statistics()->IterationCount();
     lock.unlock();
@@ -326,8 +407,22 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   }
   // At the answer: an edge pin with a closed gap is edge contact; interior-point forces of
   // unloaded pins are tiny positives, and a pin whose gap is open carries no force
-  // (complementarity); a force beyond a law's range cannot be carried.
+  // (complementarity); a force beyond a law's range cannot be carried. Coupled, a pin's gap at
+  // zero force of its own is (C F)_i - C_ii F_i - approach_i (the others' forces as solved): a
+  // loaded pin has it negative (w_i + C_ii F_i > 0 closes it), so a pin with it >= 0 is open.
   const auto final_pins = problem.At(psi, workspace, &scratch);
+  if (problem.has_coupling()) {
+    const auto& c = *problem.coupling();
+    const Eigen::Map<const Eigen::VectorXd> f(result->force.data(), static_cast<Eigen::Index>(result->force.size()));
+    const Eigen::VectorXd cf = c * f;
+    std::vector<double> open_force(result->force.size(), 0.0);
+    for (std::size_t i = 0; i < result->force.size(); ++i) {
+      const auto k = static_cast<Eigen::Index>(i);
+      const double others = cf(k) - c.coeff(k, k) * f(k);
+      open_force[i] = others - final_pins[i].approach >= 0.0 ? 0.0 : result->force[i];
+    }
+    result->force = std::move(open_force);
+  }
   for (const auto& pin : final_pins) {
     if (pin.law == nullptr && pin.approach > 0.0) {
       result->status = SolverStatus::kEdgeContact;
@@ -335,7 +430,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     }
   }
   for (std::size_t i = 0; i < result->force.size(); ++i) {
-    if (final_pins[i].approach <= 0.0) result->force[i] = 0.0;
+    if (!problem.has_coupling() && final_pins[i].approach <= 0.0) result->force[i] = 0.0;
     if (final_pins[i].law != nullptr && result->force[i] >= final_pins[i].law->max_force()) {
       result->status = SolverStatus::kLawCannotCarry;
     }

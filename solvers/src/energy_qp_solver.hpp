@@ -14,9 +14,13 @@ namespace ltca::solvers {
 /// equations (Li eq. 13): w_i(F_i) = L_i psi - c_i on loaded pins and c_i - L_i psi >= 0 on the
 /// others, with the torque multiplier as the rotation psi. Exact kinematics: re-linearised about
 /// the current rotation until psi changes by less than the tolerance.
+/// Coupled compliance (LoadProblem::WithCoupling): the objective adds 1/2 F^T C F, its gradient
+/// C F and its Hessian C (sparse, no longer diagonal: C's lower off-diagonal entries), so the KKT
+/// conditions are the coupled compatibility w_i(F_i) + (C F)_i = L_i psi - c_i on loaded pins.
 class EnergyQpSolver final : public LoadSolver {
  public:
   std::string name() const override { return "energy-qp"; }
+  bool supports_coupling() const override { return true; }
 
  private:
   // The Ipopt application and the warm start live in the workspace (Workspace::BackendState,

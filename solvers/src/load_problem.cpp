@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
 #include <fmt/format.h>
 
 namespace ltca::solvers {
@@ -26,6 +28,80 @@ std::uint64_t NextProblemId() {
 LoadProblem::ModelPtr Require(LoadProblem::ModelPtr model) {
   if (model == nullptr) throw std::invalid_argument("LoadProblem: no mesh model");
   return model;
+}
+
+// The checked, symmetrised coupling (LoadProblem::WithCoupling), or nullptr for none.
+std::shared_ptr<const Eigen::SparseMatrix<double>> CheckedCoupling(Eigen::SparseMatrix<double> c, int pins) {
+  if (c.rows() == 0 && c.cols() == 0) return nullptr;
+  if (c.rows() != c.cols()) {
+    throw std::invalid_argument(fmt::format("LoadProblem coupling: {} x {} is not square", c.rows(), c.cols()));
+  }
+  if (c.rows() != pins) {
+    throw std::invalid_argument(
+        fmt::format("LoadProblem coupling: {} x {} does not match the {} pins", c.rows(), c.cols(), pins));
+  }
+  c.makeCompressed();
+  double largest = 0.0;
+  for (int k = 0; k < c.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(c, k); it; ++it) {
+      if (!std::isfinite(it.value())) {
+        throw std::invalid_argument(fmt::format("LoadProblem coupling: entry ({}, {}) = {} is not finite",
+                                                it.row() + 1, it.col() + 1, it.value()));
+      }
+      largest = std::max(largest, std::abs(it.value()));
+    }
+  }
+  const Eigen::SparseMatrix<double> transposed = c.transpose();
+  for (int k = 0; k < c.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(c, k); it; ++it) {
+      const double mirror = transposed.coeff(it.row(), it.col());
+      if (std::abs(it.value() - mirror) > 1e-12 * largest) {
+        throw std::invalid_argument(fmt::format(
+            "LoadProblem coupling: not symmetric: entry ({}, {}) = {} but ({}, {}) = {} (relative tolerance 1e-12)",
+            it.row() + 1, it.col() + 1, it.value(), it.col() + 1, it.row() + 1, mirror));
+      }
+    }
+  }
+  auto sym = std::make_shared<Eigen::SparseMatrix<double>>(0.5 * (c + transposed));
+  sym->prune(0.0);  // drops the explicit zeros: they would only widen energy-qp's Hessian
+  sym->makeCompressed();
+  if (sym->nonZeros() == 0) return nullptr;
+  // Positive semidefinite, against the rounding of a few n eps of the matrix's scale. Up to
+  // kDenseLimit pins: the smallest eigenvalue of the dense matrix (exact, O(n^3)). Beyond (a
+  // deck may have 10,000 pins): C + tol I must be positive definite, i.e. lambda_min > -tol, by a
+  // sparse LDL^T whose pivots must all be positive (tol against the largest absolute row sum,
+  // a bound of the largest eigenvalue).
+  constexpr int kDenseLimit = 200;
+  const double rounding = std::max(1e-12, 8.0 * pins * std::numeric_limits<double>::epsilon());
+  if (pins <= kDenseLimit) {
+    const Eigen::MatrixXd dense = Eigen::MatrixXd(*sym);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(dense, Eigen::EigenvaluesOnly);
+    if (eigen.info() != Eigen::Success) {
+      throw std::invalid_argument("LoadProblem coupling: its eigenvalues could not be computed");
+    }
+    const Eigen::VectorXd& lambda = eigen.eigenvalues();  // ascending
+    const double scale = std::max(std::abs(lambda(0)), std::abs(lambda(lambda.size() - 1)));
+    if (lambda(0) < -rounding * scale) {
+      throw std::invalid_argument(fmt::format(
+          "LoadProblem coupling: not positive semidefinite: smallest eigenvalue {:.6g} (largest {:.6g}) mm/N",
+          lambda(0), lambda(lambda.size() - 1)));
+    }
+  } else {
+    Eigen::VectorXd row_sum = Eigen::VectorXd::Zero(pins);
+    for (Eigen::Index k = 0; k < sym->outerSize(); ++k) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(*sym, k); it; ++it) row_sum(it.row()) += std::abs(it.value());
+    }
+    const double tol = rounding * row_sum.maxCoeff();
+    Eigen::SparseMatrix<double> identity(pins, pins);
+    identity.setIdentity();
+    const Eigen::SparseMatrix<double> shifted = *sym + tol * identity;
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(shifted);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) {
+      throw std::invalid_argument(fmt::format(
+          "LoadProblem coupling: not positive semidefinite: C + {:.3g} I has a non-positive LDL^T pivot", tol));
+    }
+  }
+  return sym;
 }
 
 }  // namespace
@@ -70,6 +146,51 @@ LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state,
   BuildBaseLaws();
 }
 
+LoadProblem LoadProblem::WithCoupling(Eigen::SparseMatrix<double> coupling) const {
+  LoadProblem out(*this);
+  out.coupling_ = CheckedCoupling(std::move(coupling), pin_count());
+  out.single_pin_ = out.SinglePinBound();
+  return out;
+}
+
+double LoadProblem::SinglePinBound() const {
+  // As in BuildBaseLaws, with the coupling's terms when there is one (LoadedRotationRange).
+  const double min_arm = 1e-9 * model_->pair().pin_circle_radius;
+  const std::size_t n = base_.pins.size();
+  // Per pin m: the largest C_mj / L_j over the other pins j that can carry load (positive part).
+  std::vector<double> pull(n, 0.0), self(n, 0.0);
+  if (coupling_ != nullptr) {
+    for (int k = 0; k < coupling_->outerSize(); ++k) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(*coupling_, k); it; ++it) {
+        const auto m = static_cast<std::size_t>(it.row()), j = static_cast<std::size_t>(it.col());
+        if (m == j) {
+          self[m] = it.value();
+        } else if (!base_.pins[j].edge && base_.pins[j].arm > min_arm) {
+          pull[m] = std::max(pull[m], it.value() / base_.pins[j].arm);
+        }
+      }
+    }
+  }
+  double bound = INFINITY;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& pin = base_.pins[i];
+    if (pin.arm <= min_arm || pin.edge) continue;
+    const double closing = Closing(pin);
+    const double force = torque_ / pin.arm;
+    const double deflection =
+        coupling_ == nullptr ? base_laws_[i].Approach(force)
+                             : base_laws_[i].Approach(force) + self[i] * force + pull[i] * torque_;
+    bound = std::min(bound, closing + deflection / pin.arm);
+  }
+  return bound;
+}
+
+double LoadProblem::Closing(const contact::PinContact& pin) const {
+  contact::PinContact in_model_frame = pin;  // ClosingRotation works in the model's direction
+  in_model_frame.arm *= direction_;
+  return direction_ * contact::ClosingRotation(*model_, in_model_frame, crank_, kinematics_);
+}
+
 void LoadProblem::BuildBaseLaws() {
   if (!std::isfinite(torque_)) throw std::invalid_argument("LoadProblem: the torque must be finite");
   // The frame of the torque: a negative torque turns the cycloid the other way (coast flank).
@@ -93,9 +214,7 @@ void LoadProblem::BuildBaseLaws() {
   for (std::size_t i = 0; i < base_.pins.size(); ++i) {
     const auto& pin = base_.pins[i];
     if (pin.arm <= min_arm) continue;
-    contact::PinContact in_model_frame = pin;  // ClosingRotation works in the model's direction
-    in_model_frame.arm *= direction_;
-    const double closing = direction_ * contact::ClosingRotation(*model_, in_model_frame, crank_, kinematics_);
+    const double closing = Closing(pin);
     first_contact_ = std::min(first_contact_, closing);
     // Pin m alone reaches the torque at its closing rotation plus w_m(T / L_m) / L_m (exact for
     // linearised kinematics; to first order in the deformation for exact kinematics).
@@ -259,13 +378,22 @@ Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::ve
   // A gap is known only to the resolution of the geometry: violations below it are rounding.
   const double resolution = problem.GapResolution();
   double torque = 0.0, f_max = 0.0, w_max = 0.0;
+  // Coupled: (C F)_i, F as given (a negative force is judged as it is, not clipped).
+  const bool coupled = problem.has_coupling();
+  Eigen::VectorXd coupled_deflection;
+  if (coupled) {
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(pins.size()));
+    for (std::size_t i = 0; i < pins.size() && i < forces.size(); ++i) f(static_cast<Eigen::Index>(i)) = forces[i];
+    coupled_deflection = *problem.coupling() * f;
+  }
   for (std::size_t i = 0; i < pins.size(); ++i) {
     const double f = i < forces.size() ? forces[i] : 0.0;
     torque += f * pins[i].arm;
     f_max = std::max(f_max, std::abs(f));
     w_max = std::max(w_max, std::abs(pins[i].approach) * (f > 0.0 ? 1.0 : 0.0));
-    // Deformed gap: the law's deflection under F minus the geometric approach.
-    const double deflection = pins[i].law != nullptr ? pins[i].law->Approach(f) : 0.0;
+    // Deformed gap: the law's deflection under F (plus the coupling's) minus the geometric approach.
+    double deflection = pins[i].law != nullptr ? pins[i].law->Approach(f) : 0.0;
+    if (coupled) deflection += coupled_deflection(static_cast<Eigen::Index>(i));
     const double gap = deflection - pins[i].approach;
     r.force_violation_n = std::max(r.force_violation_n, std::max(0.0, -f));
     r.gap_violation_mm = std::max(r.gap_violation_mm, std::max(0.0, -gap - resolution));

@@ -79,6 +79,7 @@ const char* ToString(SolverStatus status) {
     case SolverStatus::kResidualTooLarge: return "residual-too-large";
     case SolverStatus::kInterference: return "interference";
     case SolverStatus::kRotationOutOfRange: return "rotation-out-of-range";
+    case SolverStatus::kCouplingUnsupported: return "coupling-unsupported";
   }
   return "?";
 }
@@ -130,7 +131,12 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
   LoadResult result;
   result.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
   const double capacity = problem.TorqueCapacity();
-  if (const std::string overlaps = contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance()); !overlaps.empty()) {
+  if (problem.has_coupling() && !supports_coupling()) {
+    // Judged before anything else: this backend would answer the uncoupled problem.
+    result.status = SolverStatus::kCouplingUnsupported;
+    result.message = fmt::format("solver \"{}\" does not support a compliance coupling, which this problem has "
+                                 "(docs/solvers.md, \"Coupled compliance\")", name());
+  } else if (const std::string overlaps = contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance()); !overlaps.empty()) {
     // Judged before any solve: an overlapping pin at the theoretical position is an input error
     // (the commands reject such decks); a solver would report MN-sized "successes" here.
     result.status = SolverStatus::kInterference;
@@ -163,6 +169,10 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
       result.active.push_back(static_cast<int>(i));
       if (pins[i].law != nullptr) result.energy += pins[i].law->ComplementaryEnergy(result.force[i]);
     }
+  }
+  if (problem.has_coupling()) {  // plus the coupling's 1/2 F^T C F
+    const Eigen::Map<const Eigen::VectorXd> f(result.force.data(), static_cast<Eigen::Index>(result.force.size()));
+    result.energy += 0.5 * f.dot(*problem.coupling() * f);
   }
   if (std::isfinite(result.rotation)) {
     result.residuals = ComputeResiduals(problem, result.rotation, result.force, workspace);

@@ -11,10 +11,14 @@
 // approach delta_i(psi) (exact or linearised, contact/mesh_state.hpp) and the law's deflection
 // w_i(F) = law_i.Approach(F), the deformed gap is g_i = w_i(F_i) - delta_i(psi), and a solution has
 //   F_i >= 0,  g_i >= 0,  F_i g_i = 0,  sum_i F_i L_i(psi) = T.
+// With a compliance coupling C (issue 9 item 2, WithCoupling) the deflection of pin i is
+// w_i(F_i) + (C F)_i: g_i = w_i(F_i) + (C F)_i - delta_i(psi).
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <vector>
+
+#include <Eigen/SparseCore>
 
 #include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
@@ -66,6 +70,23 @@ class LoadProblem {
   const contact::ContactSettings& contact_settings() const { return contact_; }
   const contact::Material& material() const { return material_; }
 
+  /// Coupled compliance (issue 9 item 2): the deflection of pin i is its law's w_i(F_i) plus
+  /// (C F)_i, C a sparse symmetric positive semidefinite n x n matrix over the pins, mm/N (e.g. pin
+  /// bending, where one pin's force moves its neighbours). Returns a copy of this problem with C
+  /// (the same model, state, laws and id). A 0 x 0 matrix, or one without a non-zero entry,
+  /// means no coupling: every number is then exactly that of the uncoupled problem. Throws
+  /// std::invalid_argument naming what is wrong unless C is square, n x n (n = pin_count()),
+  /// finite, symmetric to 1e-12 relative to its largest entry, and positive semidefinite to a
+  /// rounding tol = max(1e-12, 8 n eps) of its scale: up to 200 pins the smallest eigenvalue
+  /// (Eigen's SelfAdjointEigenSolver on the dense matrix) is at least -tol times the largest
+  /// magnitude; beyond, a sparse LDL^T (Eigen's SimplicialLDLT) of C + tol s I, s the largest
+  /// absolute row sum, has only positive pivots. Stored symmetrised, (C + C^T) / 2, explicit
+  /// zeros dropped.
+  LoadProblem WithCoupling(Eigen::SparseMatrix<double> coupling) const;
+  bool has_coupling() const { return coupling_ != nullptr; }
+  /// The coupling matrix, or nullptr when uncoupled.
+  const Eigen::SparseMatrix<double>* coupling() const { return coupling_.get(); }
+
   /// Per-pin state at rotation psi: linearised (frozen geometry) or exact (re-evaluated).
   struct PinAt {
     double approach = 0.0;  ///< delta_i(psi), mm
@@ -113,6 +134,13 @@ class LoadProblem {
   /// torque (more loaded pins only turn the cycloid less): min over pins of the closing rotation
   /// plus w(T / L) / L (rigorous for linearised kinematics, first order in the deformation for
   /// exact kinematics; the judge allows for that), and window is contact::RotationWindow.
+  /// Coupled, a loaded neighbour adds to pin m's deflection (C_mj > 0), so more loaded pins may turn
+  /// the cycloid more: pin m's term becomes the closing rotation plus
+  /// [w_m(T / L_m) + C_mm T / L_m + T max_{j != m} max(C_mj, 0) / L_j] / L_m, j over the pins that
+  /// can carry load (a law, arm > 0); rigorous for linearised kinematics when every loaded pin
+  /// has a positive arm: loaded or not, L_m psi - c_m <= w_m(F_m) + C_mm F_m + sum_{j != m} C_mj F_j
+  /// with F_m <= T / L_m and sum_j L_j F_j = T. First contact stays a lower bound:
+  /// sum_i F_i (L_i psi - c_i) = sum_i F_i w_i + F^T C F >= 0.
   struct RotationRange {
     double first_contact = 0.0;  ///< rad
     double single_pin = 0.0;     ///< rad (infinite when no pin has a law and an arm)
@@ -122,6 +150,9 @@ class LoadProblem {
 
  private:
   void BuildBaseLaws();
+  /// Closing rotation of a pin of base_ (this problem's frame), rad.
+  double Closing(const contact::PinContact& pin) const;
+  double SinglePinBound() const;  // LoadedRotationRange's upper end, with the coupling's terms
 
   ModelPtr model_;
   std::uint64_t id_;
@@ -136,6 +167,7 @@ class LoadProblem {
   std::vector<contact::ContactLaw> base_laws_;  // edge pins get a placeholder (never used)
   double first_contact_ = 0.0;  // rad, see BuildBaseLaws
   double single_pin_ = 0.0;     // rad
+  std::shared_ptr<const Eigen::SparseMatrix<double>> coupling_;  // nullptr: uncoupled
 };
 
 /// The forces of the laws at the approaches of `pins`, their torque, and whether a pressed pin sits
@@ -152,10 +184,12 @@ Loading LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>*
 /// Pins that can carry load in the linearisation about psi: those whose remaining gap closes
 /// before the rotation at which any single pin alone would carry the whole torque (a rigorous
 /// upper bound of the loaded rotation: more loaded pins only turn the cycloid less). Li Fig. 5's
-/// "maximum deformation". Returns indices into `pins`.
+/// "maximum deformation". Returns indices into `pins`. Assumes diagonal compliance (no
+/// coupling): with coupling the bound does not hold (see LoadedRotationRange).
 std::vector<std::size_t> CandidatePins(const std::vector<LoadProblem::PinAt>& pins, double torque, double min_arm);
 
-/// The shared judge: residuals of a candidate (psi, F) recomputed from the problem data.
+/// The shared judge: residuals of a candidate (psi, F) recomputed from the problem data, with the
+/// coupled gap when the problem has a coupling.
 struct Residuals {
   double torque_relative = 0.0;     ///< |sum F_i L_i - T| / max(T, 1 N*mm)
   double force_violation_n = 0.0;   ///< max(0, -F_i), N

@@ -26,6 +26,8 @@ enum class SolverStatus {
   kInterference,      ///< a pin overlaps the cycloid at the theoretical position: not solved
   kRotationOutOfRange,  ///< the rotation lies outside [first contact, single-pin bound] or beyond
                         ///< a quarter tooth pitch: not the physically meaningful solution
+  kCouplingUnsupported,  ///< the problem has a compliance coupling (LoadProblem::WithCoupling) and
+                         ///< the backend cannot solve it: refused before solving, no numbers
 };
 const char* ToString(SolverStatus status);
 
@@ -70,7 +72,7 @@ struct LoadResult {
   std::vector<double> force;            ///< N, per pin
   std::vector<double> approach;         ///< mm, per pin (geometric approach at psi)
   std::vector<int> active;              ///< 0-based pins carrying load
-  double energy = 0.0;                  ///< total complementary elastic energy, N*mm
+  double energy = 0.0;                  ///< total complementary elastic energy, N*mm (+ 1/2 F^T C F coupled)
   Residuals residuals;                  ///< the shared judge's verdict
   int iterations = 0;
   int torque_evaluations = 0;
@@ -86,6 +88,9 @@ class LoadSolver {
  public:
   virtual ~LoadSolver() = default;
   virtual std::string name() const = 0;
+  /// Whether the backend solves problems with a compliance coupling (LoadProblem::has_coupling).
+  /// Solve() refuses a coupled problem with kCouplingUnsupported before a backend without it runs.
+  virtual bool supports_coupling() const { return false; }
   /// Validates, solves, fills the shared fields, checks the residual. Never throws for a
   /// failure to converge (that is a status); throws std::invalid_argument for bad options.
   /// A solver object holds no state: one may serve several threads, each with its own
