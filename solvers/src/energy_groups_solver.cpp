@@ -10,11 +10,27 @@
 namespace ltca::solvers {
 namespace {
 
+constexpr double kGapTolerance = 1e-12;  // mm: rounding of an exactly touching pin
+
+/// A pin already pressed at the linearisation point whose arm is not positive (arm <= min_arm):
+/// the rotation does not close it (it opens it), so it is no group member and no first contact;
+/// it carries the force its law gives at its linearised approach (zero once it opens) in every
+/// group, which is complementary by construction. Its torque F L (<= 0) pushes back against the
+/// load, and d(F L)/dpsi = F' L^2 >= 0 keeps the group torque non-decreasing in psi.
+/// A departure from Li (docs/solvers.md).
+struct PressedPin {
+  std::size_t pin = 0;
+  double approach0 = 0.0, arm = 0.0;
+  const contact::ContactLaw* law = nullptr;
+};
+
 struct Linearised {  // pins about the current rotation psi0: approach = L (psi - psi0) + a0
   std::vector<double> approach0, arm;
-  std::vector<const contact::ContactLaw*> law;
+  std::vector<const contact::ContactLaw*> law;  ///< nullptr: no group member (edge, or arm <= min_arm)
+  std::vector<PressedPin> pressed;               ///< in every group, see PressedPin
   double psi0 = 0.0;
   double Approach(std::size_t i, double psi) const { return approach0[i] + arm[i] * (psi - psi0); }
+  double Approach(const PressedPin& p, double psi) const { return p.approach0 + p.arm * (psi - psi0); }
 };
 
 struct GroupSolution {
@@ -32,6 +48,7 @@ GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& 
   const auto torque_at = [&](double psi) {
     double t = 0.0;
     for (const std::size_t i : group) t += lin.law[i]->Force(lin.Approach(i, psi)) * lin.arm[i];
+    for (const auto& p : lin.pressed) t += p.law->Force(lin.Approach(p, psi)) * p.arm;
     return t;
   };
   double lo = std::numeric_limits<double>::infinity();
@@ -50,7 +67,6 @@ GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& 
   s.force.assign(lin.arm.size(), 0.0);
   s.feasible = true;
   s.energy = 0.0;
-  const double gap_tol = 1e-12;  // mm: rounding of an exactly touching non-member
   std::vector<bool> member(lin.arm.size(), false);
   for (const std::size_t i : group) member[i] = true;
   for (std::size_t i = 0; i < lin.arm.size(); ++i) {
@@ -59,9 +75,14 @@ GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& 
       if (!(delta > 0.0)) s.feasible = false;  // a member would have to pull
       s.force[i] = lin.law[i]->Force(delta);
       s.energy += s.force[i] * delta;            // Li eq. 14: NE = sum F_i delta_i
-    } else if (lin.law[i] != nullptr && delta > gap_tol) {
+    } else if (lin.law[i] != nullptr && delta > kGapTolerance) {
       s.feasible = false;                        // a non-member would penetrate
     }
+  }
+  for (const auto& p : lin.pressed) {  // complementary by construction: no feasibility check
+    const double delta = lin.Approach(p, s.psi);
+    s.force[p.pin] = p.law->Force(delta);
+    if (delta > 0.0) s.energy += s.force[p.pin] * delta;
   }
   return s;
 }
@@ -81,11 +102,18 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
     const auto pins = problem.At(psi, workspace, &scratch);
     Linearised lin;
     lin.psi0 = psi;
-    for (const auto& p : pins) {
+    for (std::size_t i = 0; i < pins.size(); ++i) {
+      const auto& p = pins[i];
       const bool usable = p.arm > min_arm && p.law != nullptr;
       lin.approach0.push_back(p.approach);
       lin.arm.push_back(usable ? p.arm : 0.0);
       lin.law.push_back(usable ? p.law : nullptr);
+      // Under exact kinematics the pin at the far end of the line of centres can be pressed at
+      // second order with a tiny negative arm (Liu Table 1, crank 0.018 deg: pin 21 = index 20,
+      // arm -0.004 mm, pressed 5e-8 mm); left out, the answer leaves it penetrating. PressedPin.
+      if (!usable && p.law != nullptr && p.approach > kGapTolerance) {
+        lin.pressed.push_back({i, p.approach, p.arm, p.law});
+      }
     }
     // 1. First contact (smallest closing rotation) about the current linearisation.
     int first = -1;

@@ -12,6 +12,9 @@ namespace ltca::solvers {
 ///  4. each group solved with every member in contact (compatibility eq. 13 + torque balance);
 ///     a group is feasible when every member is compressed and every other pin stays open;
 ///  5. the feasible group of minimum total energy NE = sum F_i delta_i (eq. 14).
+/// Departure (docs/solvers.md): a pin already pressed at the linearisation point with an arm <= 0
+/// (exact kinematics, the far end of the line of centres) is in every group at the force of its
+/// approach, zero once it opens; Li's groups have no place for a pin the rotation does not close.
 /// More than kMaxGroups groups: status too-many-groups instead of a guess. A true active set that
 /// is not contiguous (e.g. under pitch errors) has no feasible group: reported, not guessed.
 class EnergyGroupsSolver final : public LoadSolver {
