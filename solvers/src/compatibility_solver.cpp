@@ -101,7 +101,14 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
     step.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
     SolveLinearised(linear, inner, workspace, &step, guess);
     evaluations += step.torque_evaluations;
-    if (step.status != SolverStatus::kSuccess && step.status != SolverStatus::kEdgeContact) {
+    // The step is asked for a quarter of the tolerance. Where double precision cannot refine that
+    // far (the polish bracket collapses: cases/hard/inflection_pin.toml at crank
+    // 23.166345849916095 deg stopped 2.5e-11 off, issue 10) but the requested tolerance holds, the
+    // step is usable: the exact verdict below decides.
+    const bool refined_enough = step.status == SolverStatus::kNumericalFailure && std::isfinite(step.rotation) &&
+                                linear.Balanced(step.rotation, linear.OutputTorque(step.rotation, workspace),
+                                                options.torque_tolerance, workspace);
+    if (step.status != SolverStatus::kSuccess && step.status != SolverStatus::kEdgeContact && !refined_enough) {
       *result = step;
       result->message = fmt::format("re-linearisation {}: {}", outer + 1, step.message);
       return;

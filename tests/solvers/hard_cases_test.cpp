@@ -138,3 +138,24 @@ TEST_CASE("solvers: at the solution no feasible perturbation of the forces lower
     CHECK(tried > 100);
   }
 }
+
+TEST_CASE("solvers: compatibility with exact kinematics at the inflection-pin crank where its quarter-tolerance step could not refine") {
+  // Issue 10, found by a 2,000-position exact sweep of cases/hard/inflection_pin.toml over
+  // 1.356-43.644 deg: at crank 23.166345849916095 deg compatibility's first re-linearisation
+  // stopped 2.5e-11 off its inner (quarter) tolerance of 2.5e-11 and the solve ended
+  // numerical-failure. Independent reference: bisection on the same exact problem; they must
+  // agree to 1e-8 relative in the TE (both balance the torque to 1e-10).
+  const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/hard/inflection_pin.toml");
+  const auto model = deck.MakeModel();
+  const LoadProblem problem(model, 23.166345849916095 * M_PI / 180.0, deck.contact, *deck.material, deck.load->torque,
+                            ContactKinematics::kExact);
+  SolverOptions options;
+  options.kinematics = ContactKinematics::kExact;
+  options.name = "compatibility";
+  const auto compat = MakeSolver("compatibility")->Solve(problem, options);
+  options.name = "bisection";
+  const auto bisection = MakeSolver("bisection")->Solve(problem, options);
+  REQUIRE(bisection.status == SolverStatus::kSuccess);
+  CHECK(compat.status == SolverStatus::kSuccess);
+  CHECK(compat.te == doctest::Approx(bisection.te).epsilon(1e-8));
+}
