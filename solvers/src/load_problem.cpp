@@ -175,7 +175,7 @@ double LoadProblem::SinglePinBound() const {
   for (std::size_t i = 0; i < n; ++i) {
     const auto& pin = base_.pins[i];
     if (pin.arm <= min_arm || pin.edge) continue;
-    const double closing = Closing(pin);
+    const double closing = closing_[i];
     const double force = torque_ / pin.arm;
     const double deflection =
         coupling_ == nullptr ? base_laws_[i].Approach(force)
@@ -206,20 +206,20 @@ void LoadProblem::BuildBaseLaws() {
     base_laws_.push_back(MakeLaw(contact_, material_, pin, pin.length, log_radius_cap_));
   }
   // Closing rotation of every pin that can close in the load direction (a pin whose arm is zero
-  // to rounding closes only after a rotation far beyond any other: skipped), and from it the
-  // first contact and the single-pin bound of the judge's range (LoadedRotationRange).
+  // to rounding closes only after a rotation far beyond any other: skipped), computed once and
+  // kept: the first contact and the single-pin bound of the judge's range (LoadedRotationRange)
+  // come from it, here and again in WithCoupling.
   const double min_arm = 1e-9 * model_->pair().pin_circle_radius;
   first_contact_ = INFINITY;
-  single_pin_ = INFINITY;
+  closing_.assign(base_.pins.size(), INFINITY);
   for (std::size_t i = 0; i < base_.pins.size(); ++i) {
-    const auto& pin = base_.pins[i];
-    if (pin.arm <= min_arm) continue;
-    const double closing = Closing(pin);
-    first_contact_ = std::min(first_contact_, closing);
-    // Pin m alone reaches the torque at its closing rotation plus w_m(T / L_m) / L_m (exact for
-    // linearised kinematics; to first order in the deformation for exact kinematics).
-    if (!pin.edge) single_pin_ = std::min(single_pin_, closing + base_laws_[i].Approach(torque_ / pin.arm) / pin.arm);
+    if (base_.pins[i].arm <= min_arm) continue;
+    closing_[i] = Closing(base_.pins[i]);
+    first_contact_ = std::min(first_contact_, closing_[i]);
   }
+  // Pin m alone reaches the torque at its closing rotation plus w_m(T / L_m) / L_m (exact for
+  // linearised kinematics; to first order in the deformation for exact kinematics).
+  single_pin_ = SinglePinBound();
 }
 
 std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace,

@@ -167,6 +167,7 @@ class LoadProblem {
   std::vector<contact::ContactLaw> base_laws_;  // edge pins get a placeholder (never used)
   double first_contact_ = 0.0;  // rad, see BuildBaseLaws
   double single_pin_ = 0.0;     // rad
+  std::vector<double> closing_;  // rad, per pin (infinite where the arm cannot close it), see BuildBaseLaws
   std::shared_ptr<const Eigen::SparseMatrix<double>> coupling_;  // nullptr: uncoupled
 };
 
