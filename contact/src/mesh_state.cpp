@@ -92,10 +92,18 @@ MeshModel::MeshModel(const geometry::PairParameters& pair,
                      const geometry::ManufacturingErrors& errors, const geometry::GeometrySettings& geometry)
     : MeshModel(geometry::RealPair(pair, modification, errors), geometry) {}
 
-MeshModel::MeshModel(geometry::RealPair real, const geometry::GeometrySettings& geometry)
+MeshModel::MeshModel(geometry::RealPair real, const geometry::GeometrySettings& geometry, bool coupled_along_width)
     : real_(std::move(real)),
+      lead_layer_(real_.errors().VariesAlongWidth()),
       load_direction_(real_.nominal().ToothDifference() > 0 ? 1.0 : -1.0) {
   geometry.Validate();
+  // Model only what the scene needs: slices when something varies along the width or couples it.
+  if (real_.VariesAlongWidth() || coupled_along_width) {
+    if (geometry.width_slices < 1) {
+      throw std::invalid_argument(fmt::format("[geometry] width_slices = {}: expected >= 1", geometry.width_slices));
+    }
+    slices_ = geometry.width_slices;
+  }
   if (geometry.mode == geometry::GeometrySettings::Mode::kElements) {
     discrete_ = std::make_shared<geometry::DiscreteProfile>(real_.profile(), geometry.profile_elements, geometry.width_slices);
     // Sampled at 16 crank angles of one mesh period: where a pin meets the surface between two
@@ -105,25 +113,24 @@ MeshModel::MeshModel(geometry::RealPair real, const geometry::GeometrySettings& 
       const double crank = real_.kinematics().MeshPeriod() * k / 16.0;
       for (int j = 0; j < pin_count(); ++j) {
         const geometry::MeshSeed seed = real_.kinematics().Seed(j, crank);
-        const double analytic = EvaluatePinFrom(j, crank, 0.0, seed.tooth_space, seed.u).clearance;
-        worst = std::max(worst, std::abs(EvaluatePinElements(j, crank, 0.0).clearance - analytic));
+        const double analytic = EvaluatePointFrom(j, 0, crank, 0.0, seed.tooth_space, seed.u).clearance;
+        worst = std::max(worst, std::abs(EvaluatePointElements(j, 0, crank, 0.0).clearance - analytic));
       }
     }
     interference_tolerance_ = std::max(interference_tolerance_, 2.0 * worst);
   }
 }
 
-PinContact MeshModel::EvaluatePinElements(int pin, double crank, double loaded_rotation) const {
+PinContact MeshModel::EvaluatePointElements(int pin, int slice, double crank, double loaded_rotation) const {
   // Liu 2021 section 3: the element facing the pin (nearest control point) and the gap of its
   // equivalent cylinder (eq. 19, signed for a concave element):
   //   gap = sigma (|p - C| - |rho|) - r,  C = x - rho n (centre of curvature), sigma = sign(rho).
-  // Liu searches every width slice. Nothing here varies along the width yet (no misalignment, no
-  // per-slice deviation: the slices are identical), so the search runs once and the slice count
-  // does not multiply the work; the face-width issue brings the per-slice variation and the loop.
-  const geometry::Pose pose = CyclePose(crank, loaded_rotation);
+  // Liu searches every width slice; here the search runs per slice of the model that runs, which
+  // is one slice (the plane model) unless something varies along the width (MeshModel).
+  const geometry::Pose pose = CyclePose(crank, loaded_rotation, SliceZ(slice));
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
   const Eigen::Vector2d p = pose.ToBody(centre_fixed);
-  const double r_pin = pair().pin_radius;
+  const double r_pin = real_.PinRadius(pin);
   const int zc = pair().tooth_count;
   const double pitch = real_.profile().tooth_pitch();
   const int k_polar = static_cast<int>(std::lround((std::atan2(p.y(), p.x()) - real_.profile().ToothSpaceRotation(0)) / pitch));
@@ -163,8 +170,6 @@ PinContact MeshModel::EvaluatePinElements(int pin, double crank, double loaded_r
   }
   PinContact c;
   c.pin = pin;
-  c.slice = 0;  // the plane model: one slice over the whole face width
-  c.length = pair().face_width;
   c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
   c.u = best.u;
   c.tooth_space = 0;
@@ -175,34 +180,52 @@ PinContact MeshModel::EvaluatePinElements(int pin, double crank, double loaded_r
   c.normal = pose.DirectionToFixed(best_normal);
   c.pin_point = centre_fixed - r_pin * c.normal;
   c.arm = load_direction_ * Cross(c.cycloid_point - pose.centre, c.normal);  // Liu eq. 27
+  FinishPoint(slice, &c);
   return c;
+}
+
+void MeshModel::FinishPoint(int slice, PinContact* c) const {
+  c->slice = slice;
+  c->length = pair().face_width / slices_;
+  c->z = SliceZ(slice);
+  if (!lead_layer_) return;
+  // The lead modifications give the slice's flank a layer t along its normal (an equidistant):
+  // the foot point stays, the gap falls by t, the point moves by t toward the pin, the radius of
+  // curvature grows by t (kappa / (1 + kappa t), signed), and the arm (the normal's lever about
+  // the centre) is unchanged. Exact for a layer constant along the profile.
+  const double t = real_.LeadLayer(c->z);
+  c->clearance -= t;
+  c->cycloid_point += t * c->normal;
+  if (!c->edge) c->cycloid_curvature /= 1.0 + c->cycloid_curvature * t;
 }
 
 Eigen::Vector2d MeshModel::PinCentre(int pin) const { return real_.PinCentre(pin); }
 
-geometry::Pose MeshModel::CyclePose(double crank, double loaded_rotation) const {
-  return real_.kinematics().CycloidPose(crank).RotatedAboutCentre(load_direction_ * loaded_rotation);
+geometry::Pose MeshModel::CyclePose(double crank, double loaded_rotation, double z) const {
+  geometry::Pose pose = real_.CycloidPose(crank).RotatedAboutCentre(load_direction_ * loaded_rotation);
+  if (real_.assembly().VariesAlongWidth()) pose.centre += real_.SliceShift(z);
+  return pose;
 }
 
-PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation) const {
-  if (discrete_) return EvaluatePinElements(pin, crank, loaded_rotation);
-  // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation
-  // and the modifications move the foot point by little).
+PinContact MeshModel::EvaluatePoint(int pin, int slice, double crank, double loaded_rotation) const {
+  if (discrete_) return EvaluatePointElements(pin, slice, crank, loaded_rotation);
+  // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation,
+  // the modifications and the errors move the foot point by little).
   const geometry::MeshSeed seed = real_.kinematics().Seed(pin, crank);
-  return EvaluatePinFrom(pin, crank, loaded_rotation, seed.tooth_space, seed.u);
+  return EvaluatePointFrom(pin, slice, crank, loaded_rotation, seed.tooth_space, seed.u);
 }
 
-PinContact MeshModel::EvaluatePin(int pin, double crank, double loaded_rotation, const PinContact& near) const {
-  if (discrete_) return EvaluatePinElements(pin, crank, loaded_rotation);
-  return EvaluatePinFrom(pin, crank, loaded_rotation, near.tooth_space, near.u);
+PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double loaded_rotation) const {
+  if (discrete_) return EvaluatePointElements(near.pin, near.slice, crank, loaded_rotation);
+  return EvaluatePointFrom(near.pin, near.slice, crank, loaded_rotation, near.tooth_space, near.u);
 }
 
-PinContact MeshModel::EvaluatePinFrom(int pin, double crank, double loaded_rotation, int seed_space,
-                                      double seed_u) const {
-  const geometry::Pose pose = CyclePose(crank, loaded_rotation);
+PinContact MeshModel::EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int seed_space,
+                                        double seed_u) const {
+  const geometry::Pose pose = CyclePose(crank, loaded_rotation, SliceZ(slice));
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
   const Eigen::Vector2d p = pose.ToBody(centre_fixed);
-  const double r_pin = pair().pin_radius;
+  const double r_pin = real_.PinRadius(pin);
   const double phi_max = real_.profile().phi_max();
   const int zc = pair().tooth_count;
   const int d = real_.profile().tooth_difference();
@@ -243,8 +266,6 @@ PinContact MeshModel::EvaluatePinFrom(int pin, double crank, double loaded_rotat
   const geometry::ProfilePoint x = real_.profile().Evaluate(u, k);
   PinContact c;
   c.pin = pin;
-  c.slice = 0;  // the plane model: one slice over the whole face width
-  c.length = pair().face_width;
   c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
   c.tooth_space = k;
   c.u = u;
@@ -265,6 +286,7 @@ PinContact MeshModel::EvaluatePinFrom(int pin, double crank, double loaded_rotat
   c.pin_point = centre_fixed - r_pin * c.normal;
   // Liu eq. 27: the lever arm of the normal about the cycloid centre, signed by the load direction.
   c.arm = load_direction_ * Cross(c.cycloid_point - pose.centre, c.normal);
+  FinishPoint(slice, &c);
   return c;
 }
 
@@ -272,8 +294,10 @@ MeshState MeshModel::Evaluate(double crank, double loaded_rotation) const {
   MeshState state;
   state.crank = crank;
   state.loaded_rotation = loaded_rotation;
-  state.pins.reserve(static_cast<std::size_t>(pin_count()));
-  for (int j = 0; j < pin_count(); ++j) state.pins.push_back(EvaluatePin(j, crank, loaded_rotation));
+  state.pins.reserve(static_cast<std::size_t>(point_count()));
+  for (int j = 0; j < pin_count(); ++j) {
+    for (int k = 0; k < slices_; ++k) state.pins.push_back(EvaluatePoint(j, k, crank, loaded_rotation));
+  }
   return state;
 }
 

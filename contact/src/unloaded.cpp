@@ -15,12 +15,20 @@ namespace ltca::contact {
 double RotationWindow(const MeshModel& model) { return 0.25 * model.profile().tooth_pitch(); }
 
 std::string InterferenceReport(const MeshState& state, double tolerance_mm) {
+  // Per pin, its deepest overlap over the slices (and which slice, in the slice model).
   std::string overlaps;
-  for (const PinContact& c : state.pins) {
-    if (c.clearance < -tolerance_mm) {
-      overlaps += fmt::format("{}pin {} by {:.4g} um", overlaps.empty() ? "" : ", ", c.pin + 1,
-                              -units::MmToUm(c.clearance));
+  const bool sliced = std::any_of(state.pins.begin(), state.pins.end(), [](const PinContact& c) { return c.slice > 0; });
+  for (std::size_t i = 0; i < state.pins.size();) {
+    const PinContact* worst = &state.pins[i];
+    std::size_t next = i;
+    for (; next < state.pins.size() && state.pins[next].pin == state.pins[i].pin; ++next) {
+      if (state.pins[next].clearance < worst->clearance) worst = &state.pins[next];
     }
+    if (worst->clearance < -tolerance_mm) {
+      overlaps += fmt::format("{}pin {}{} by {:.4g} um", overlaps.empty() ? "" : ", ", worst->pin + 1,
+                              sliced ? fmt::format(" (slice {})", worst->slice + 1) : "", -units::MmToUm(worst->clearance));
+    }
+    i = next;
   }
   return overlaps;
 }
@@ -46,7 +54,7 @@ double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double
   bool have_a = closing, have_b = !closing;
   double x = std::clamp(s * linear, a, b);
   for (int it = 0; it < 100; ++it) {
-    const PinContact c = model.EvaluatePin(at_zero.pin, crank, s * x);
+    const PinContact c = model.EvaluatePoint(at_zero.pin, at_zero.slice, crank, s * x);
     const bool arm_kept = c.arm * at_zero.arm > 0.0;
     if (c.clearance > 0.0) {
       // Past the turning point of the gap (the arm changed sign) with the gap still open: the
@@ -97,7 +105,18 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKin
   RequireNoInterference(state, crank, std::max(interference_tolerance_mm, model.interference_tolerance()));
   UnloadedContact r;
   r.crank = crank;
-  for (const PinContact& c : state.pins) r.clearance.push_back(c.clearance);
+  // Per pin, the smallest clearance over its slices (Liu section 3: c_t is the minimum over the
+  // slices).
+  const auto min_per_pin = [&](const std::vector<PinContact>& points, const auto& clearance_of) {
+    std::vector<double> out(static_cast<std::size_t>(model.pin_count()), std::numeric_limits<double>::infinity());
+    for (const PinContact& c : points) {
+      double& v = out[static_cast<std::size_t>(c.pin)];
+      v = std::min(v, clearance_of(c));
+    }
+    return out;
+  };
+  const auto gap = [](const PinContact& c) { return c.clearance; };
+  r.clearance = min_per_pin(state.pins, gap);
   r.theta_c1 = std::numeric_limits<double>::infinity();
   r.theta_c2 = -std::numeric_limits<double>::infinity();
   // A pin whose arm is tiny closes only after a rotation far beyond any other: skip it.
@@ -109,12 +128,9 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKin
     if (c.arm < 0.0 && psi > r.theta_c2) r.theta_c2 = psi, r.first_pin_c2 = c.pin;
   }
   r.backlash = r.theta_c1 - r.theta_c2;
-  r.clearance_at_c1.reserve(state.pins.size());
-  if (kinematics == ContactKinematics::kExact) {
-    for (const PinContact& c : model.Evaluate(crank, r.theta_c1).pins) r.clearance_at_c1.push_back(c.clearance);
-  } else {
-    for (const PinContact& c : state.pins) r.clearance_at_c1.push_back(-LinearisedApproach(c, r.theta_c1));
-  }
+  r.clearance_at_c1 = kinematics == ContactKinematics::kExact
+                          ? min_per_pin(model.Evaluate(crank, r.theta_c1).pins, gap)
+                          : min_per_pin(state.pins, [&](const PinContact& c) { return -LinearisedApproach(c, r.theta_c1); });
   return r;
 }
 

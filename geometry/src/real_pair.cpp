@@ -34,9 +34,11 @@ CycloidProfile MakeProfile(const PairParameters& pair, Modification modification
 
 }  // namespace
 
-RealPair::RealPair(const PairParameters& pair, const Modification& modification, const ManufacturingErrors& errors)
+RealPair::RealPair(const PairParameters& pair, const Modification& modification, const ManufacturingErrors& errors,
+                   const AssemblyErrors& assembly)
     : modification_(modification),
       errors_(errors),
+      assembly_((assembly.Validate(), assembly)),
       profile_(MakeProfile(pair, modification, errors)),
       kinematics_(pair),
       pin_circle_radius_(pair.pin_circle_radius + errors.PinCircleRadiusChange()) {}
@@ -46,7 +48,23 @@ Eigen::Vector2d RealPair::PinCentre(int pin) const {
   const auto& pitch = errors_.cumulative_pitch_deviation;
   const double shift = pitch.empty() ? 0.0 : pitch[static_cast<std::size_t>(pin)] / pin_circle_radius_;
   const double a = kinematics_.PinAngle(pin) + shift;
-  return pin_circle_radius_ * Eigen::Vector2d(std::cos(a), std::sin(a));
+  const auto& radial = errors_.pin_radial_deviations;
+  const double r = radial.empty() ? pin_circle_radius_ : pin_circle_radius_ + radial[static_cast<std::size_t>(pin)];
+  return r * Eigen::Vector2d(std::cos(a), std::sin(a));
+}
+
+double RealPair::PinRadius(int pin) const {
+  const auto& dev = errors_.pin_radius_deviations;
+  return dev.empty() ? nominal().pin_radius : nominal().pin_radius + dev[static_cast<std::size_t>(pin)];
+}
+
+Pose RealPair::CycloidPose(double crank) const {
+  Pose pose = kinematics_.CycloidPose(crank);
+  if (assembly_.eccentricity_deviation != 0.0) {
+    pose.centre += assembly_.eccentricity_deviation * Eigen::Vector2d(std::cos(crank), std::sin(crank));
+  }
+  pose.centre += Eigen::Vector2d(assembly_.centre_dx, assembly_.centre_dy);
+  return pose;
 }
 
 }  // namespace ltca::geometry

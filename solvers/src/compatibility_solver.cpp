@@ -98,7 +98,7 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
       if (linear.Balanced(psi, linear.OutputTorque(psi, workspace), 0.5 * options.torque_tolerance, workspace)) break;
     }
     LoadResult step;
-    step.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
+    step.force.assign(static_cast<std::size_t>(problem.point_count()), 0.0);
     SolveLinearised(linear, inner, workspace, &step, guess);
     evaluations += step.torque_evaluations;
     // The step is asked for a quarter of the tolerance. Where double precision cannot refine that

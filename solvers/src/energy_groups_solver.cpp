@@ -91,7 +91,7 @@ GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& 
 
 void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                                  LoadResult* result) const {
-  const int n = problem.pin_count();
+  const int n = problem.point_count();
   const double min_arm = 1e-9 * problem.model().pair().pin_circle_radius;
   std::vector<contact::ContactLaw> scratch;
   double psi = 0.0;

@@ -148,7 +148,7 @@ LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state,
 
 LoadProblem LoadProblem::WithCoupling(Eigen::SparseMatrix<double> coupling) const {
   LoadProblem out(*this);
-  out.coupling_ = CheckedCoupling(std::move(coupling), pin_count());
+  out.coupling_ = CheckedCoupling(std::move(coupling), point_count());
   out.single_pin_ = out.SinglePinBound();
   return out;
 }
@@ -257,7 +257,7 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace
 }
 
 contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, double psi) const {
-  contact::PinContact pin = model_->EvaluatePin(near.pin, crank_, direction_ * psi, near);
+  contact::PinContact pin = model_->EvaluatePoint(near, crank_, direction_ * psi);
   pin.arm *= direction_;
   return pin;
 }

@@ -129,7 +129,7 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
   }
   const auto start = std::chrono::steady_clock::now();
   LoadResult result;
-  result.force.assign(static_cast<std::size_t>(problem.pin_count()), 0.0);
+  result.force.assign(static_cast<std::size_t>(problem.point_count()), 0.0);
   const double capacity = problem.TorqueCapacity();
   if (problem.has_coupling() && !supports_coupling()) {
     // Judged before anything else: this backend would answer the uncoupled problem.

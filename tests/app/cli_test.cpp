@@ -350,6 +350,7 @@ TEST_CASE("sweep: the summary is taken over the successful positions only and co
     p.result.status = status;
     p.result.te = te;
     p.result.force = {force, 0.5 * force};
+    p.pin_force = p.result.force;  // the plane model: one point per pin
     p.contact_stress = {stress, 0.0};
     p.contacts = contacts;
     return p;

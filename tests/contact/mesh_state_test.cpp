@@ -20,7 +20,7 @@ namespace {
 
 // Brute-force gap of a pin (test only): distance from its centre to the whole profile, minus r.
 double BruteClearance(const MeshModel& model, int pin, double crank, double psi) {
-  const Eigen::Vector2d p = model.CyclePose(crank, psi).ToBody(model.PinCentre(pin));
+  const Eigen::Vector2d p = model.CyclePose(crank, psi, model.SliceZ(0)).ToBody(model.PinCentre(pin));
   return ltca::test::DistanceToProfile(model.profile(), p) - model.pair().pin_radius;
 }
 
@@ -118,7 +118,7 @@ TEST_CASE("contact: exact and linearised mesh states agree to first order in the
   for (const auto& c : base.pins) {
     if (std::abs(c.arm) < 5.0) continue;
     const auto err = [&](double psi) {
-      return model.EvaluatePin(c.pin, 0.1, psi).clearance - (c.clearance - c.arm * psi);
+      return model.EvaluatePoint(c.pin, c.slice, 0.1, psi).clearance - (c.clearance - c.arm * psi);
     };
     const double e1 = err(1e-4), e2 = err(5e-5);
     if (std::abs(c.angle) > 0.5) CHECK(std::abs(e1) < 1e-2 * std::abs(c.arm * 1e-4));

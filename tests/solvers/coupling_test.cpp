@@ -397,7 +397,7 @@ TEST_CASE("solvers: coupled compliance - no coupling (absent, empty or all zero)
   const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
   const MeshModel model = deck.MakeModel();
   const LoadProblem plain(model, 0.3, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
-  const auto n = static_cast<Eigen::Index>(plain.pin_count());
+  const auto n = static_cast<Eigen::Index>(plain.point_count());
   Eigen::SparseMatrix<double> zeros(n, n);  // explicit zero entries only
   std::vector<Eigen::Triplet<double>> t{{0, 0, 0.0}, {1, 2, 0.0}, {2, 1, 0.0}};
   zeros.setFromTriplets(t.begin(), t.end());

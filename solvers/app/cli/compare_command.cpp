@@ -66,7 +66,7 @@ int RunCompare(const app::Deck& deck, const CompareOptions& options, const Strea
   fmt::print(text, "{:<14} {:<18} {:>9} {:>12} {:>10} {:>7} {:>11} {:>11} {:>12} {:>12} {:>9} {:>9}\n", "solver", "status",
              "failed", "mean_te_as", "pp_te_as", "pins", "max_F_N", "max_p_MPa", "d_te_as", "d_F_N", "d_pins", "time_s");
   nlohmann::json doc = {{"case", {{"title", deck.info.title}, {"deck", deck.name}}},
-                        {"model", {{"name", deck.Model().name}, {"slices", deck.Model().slices}, {"surface", deck.Model().surface}}},
+                        {"model", ModelJson(deck.Model())},
                         {"reference", ref_options.name},
                         {"solvers", nlohmann::json::array()}};
   bool all_succeeded = true;

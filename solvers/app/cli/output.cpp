@@ -165,4 +165,22 @@ void Progress::Update(std::int64_t done) {
   os_.flush();
 }
 
+nlohmann::json ModelJson(const app::Deck::ModelInfo& model) {
+  nlohmann::json j = {{"name", model.name}, {"slices", model.slices}, {"surface", model.surface}};
+  if (!model.note.empty()) j["note"] = model.note;
+  return j;
+}
+
+std::string ModelLine(const app::Deck& deck) {
+  const app::Deck::ModelInfo m = deck.Model();
+  std::string line =
+      m.slices == 1
+          ? fmt::format("model     {} (1 slice over the {:g} mm face width, {} surface)\n", m.name, deck.pair.face_width,
+                        m.surface)
+          : fmt::format("model     {} ({} slices of {:g} mm over the {:g} mm face width, {} surface)\n", m.name,
+                        m.slices, deck.pair.face_width / m.slices, deck.pair.face_width, m.surface);
+  if (!m.note.empty()) line += fmt::format("note      {}\n", m.note);
+  return line;
+}
+
 }  // namespace ltca::cli

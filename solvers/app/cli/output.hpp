@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "ltca/app/deck.hpp"
+
 namespace ltca::cli {
 
 /// An output that could not be opened or written (exit code 3).
@@ -67,6 +69,13 @@ std::string Dump(const nlohmann::json& doc, int indent = 2);
 nlohmann::json FiniteOrNull(double v);
 /// A figure in text, or "n/a" when it is not finite (no valid solve produced it).
 std::string FormatOrNa(double v, int decimals);
+
+/// The model that ran (issue 11): {name, slices, surface} and a note when a given slice count
+/// was not used.
+nlohmann::json ModelJson(const app::Deck::ModelInfo& model);
+/// "model     slices (20 slices of 1.5 mm over the 30 mm face width, analytic surface)\n", with
+/// the note on a line of its own.
+std::string ModelLine(const app::Deck& deck);
 
 /// The streams of a command: documents go to out ("-"); the human text to text, which is the
 /// error stream when any output of the command is "-" (so stdout carries only the document).

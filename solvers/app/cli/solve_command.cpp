@@ -31,23 +31,41 @@ nlohmann::json PositionJson(const app::PositionResult& p) {
   nlohmann::json angles = nlohmann::json::array();
   for (const double a : p.angle) angles.push_back(RadToDeg(a));
   const auto figure = [ok](nlohmann::json value) { return ok ? std::move(value) : nlohmann::json(nullptr); };
-  return {{"crank_deg", RadToDeg(p.crank)},
-          {"te_arcsec", figure(FiniteOrNull(RadToArcsec(p.result.te)))},
-          {"contacts", figure(p.contacts)},
-          {"pin_force_n", figure(p.result.force)},
-          {"pin_angle_deg", angles},
-          {"contact_stress_mpa", figure(p.contact_stress)},
-          {"status", solvers::ToString(p.result.status)},
-          {"flank", solvers::ToString(p.result.flank)},
-          {"message", p.result.message},
-          {"warnings", p.result.warnings},
-          {"torque_evaluations", p.result.torque_evaluations},
-          {"residual", FiniteOrNull(p.result.residuals.Normalised())}};
+  nlohmann::json j = {{"crank_deg", RadToDeg(p.crank)},
+                      {"te_arcsec", figure(FiniteOrNull(RadToArcsec(p.result.te)))},
+                      {"contacts", figure(p.contacts)},
+                      {"pin_force_n", figure(p.pin_force)},
+                      {"pin_angle_deg", angles},
+                      {"contact_stress_mpa", figure(p.contact_stress)},
+                      {"status", solvers::ToString(p.result.status)},
+                      {"flank", solvers::ToString(p.result.flank)},
+                      {"message", p.result.message},
+                      {"warnings", p.result.warnings},
+                      {"torque_evaluations", p.result.torque_evaluations},
+                      {"residual", FiniteOrNull(p.result.residuals.Normalised())}};
+  if (p.slices > 1 && p.result.force.size() == p.pin_force.size() * static_cast<std::size_t>(p.slices)) {
+    // The contact pattern (issue 11): per pin its slice forces and stresses and its load centroid.
+    nlohmann::json forces = nlohmann::json::array(), stresses = nlohmann::json::array(), centroid = nlohmann::json::array();
+    const auto n = static_cast<std::size_t>(p.slices);
+    for (std::size_t j = 0; j < p.pin_force.size(); ++j) {
+      const auto first = p.result.force.begin() + static_cast<std::ptrdiff_t>(j * n);
+      forces.push_back(std::vector<double>(first, first + static_cast<std::ptrdiff_t>(n)));
+      const auto s0 = p.point_stress.begin() + static_cast<std::ptrdiff_t>(j * n);
+      stresses.push_back(std::vector<double>(s0, s0 + static_cast<std::ptrdiff_t>(n)));
+      centroid.push_back(FiniteOrNull(p.load_centroid[j]));
+    }
+    j["slice_force_n"] = figure(forces);
+    j["slice_stress_mpa"] = figure(stresses);
+    j["load_centroid_mm"] = figure(centroid);
+  }
+  return j;
 }
 
-nlohmann::json SummaryJson(const app::SweepSummary& s) {
+nlohmann::json SummaryJson(const app::SweepSummary& s, const app::Deck::ModelInfo& model) {
   const auto count = [&s](int v) { return s.succeeded > 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
-  nlohmann::json j = {{"mean_te_arcsec", FiniteOrNull(RadToArcsec(s.mean_te))},
+  nlohmann::json j = {{"model", model.name},
+                      {"width_slices", model.slices},
+                      {"mean_te_arcsec", FiniteOrNull(RadToArcsec(s.mean_te))},
                       {"pp_te_arcsec", FiniteOrNull(RadToArcsec(s.pp_te))},
                       {"contacts_min", count(s.contacts_min)},
                       {"contacts_max", count(s.contacts_max)},
@@ -87,7 +105,7 @@ struct SvgData {
   void Add(const app::PositionResult& p) {
     if (!p.succeeded()) return;
     te.emplace_back(RadToDeg(p.crank), RadToArcsec(p.result.te));
-    const double f = MaxOf(p.result.force);
+    const double f = MaxOf(p.pin_force);
     if (f > f_peak) f_peak = f, peak = p;
   }
 };
@@ -124,10 +142,10 @@ void WriteSvg(const std::string& solver, const SvgData& data, std::ostream& os) 
   const auto y2 = [&](double f) { return h - pad - f / std::max(f_peak, 1e-300) * (h - 2 * pad); };
   fmt::print(os, "<text x=\"{}\" y=\"20\">pin force (N) over pin angle (deg) at crank {:.3g} deg</text>\n", w + pad, RadToDeg(p.crank));
   fmt::print(os, "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#999\"/>\n", w + pad, pad, w - 2 * pad, h - 2 * pad);
-  for (std::size_t i = 0; i < p.result.force.size() && i < p.angle.size(); ++i) {
+  for (std::size_t i = 0; i < p.pin_force.size() && i < p.angle.size(); ++i) {
     const double a = RadToDeg(p.angle[i]);
     fmt::print(os, "<line x1=\"{0:.2f}\" x2=\"{0:.2f}\" y1=\"{1:.2f}\" y2=\"{2:.2f}\" stroke=\"#2c3e50\" stroke-width=\"3\"/>\n",
-               x2(a), y2(0.0), y2(p.result.force[i]));
+               x2(a), y2(0.0), y2(p.pin_force[i]));
   }
   fmt::print(os, "<text x=\"{}\" y=\"{}\">{:.4g}</text>\n", w + 5, pad + 4, f_peak);
   fmt::print(os, "<text x=\"{}\" y=\"{}\">-180</text><text x=\"{}\" y=\"{}\">180</text>\n", w + pad, h - pad + 15, 2 * w - pad - 20, h - pad + 15);
@@ -165,7 +183,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
     if (json.enabled()) {
       nlohmann::json header = {
           {"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
-          {"model", {{"name", deck.Model().name}, {"slices", deck.Model().slices}, {"surface", deck.Model().surface}}},
+          {"model", ModelJson(deck.Model())},
           {"solver", {{"name", solver.name},
                       {"kinematics", KinematicsName(solver.kinematics)},
                       {"torque_tolerance", solver.torque_tolerance},
@@ -186,7 +204,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
     if (csv.enabled()) {
       const bool ok = p.succeeded();
       fmt::print(csv.stream(), "{:.9g},{},{},{},{},{}\n", RadToDeg(p.crank), CsvFigure(ok, RadToArcsec(p.result.te)),
-                 ok ? fmt::format("{}", p.contacts) : std::string(), CsvFigure(ok, MaxOf(p.result.force)),
+                 ok ? fmt::format("{}", p.contacts) : std::string(), CsvFigure(ok, MaxOf(p.pin_force)),
                  CsvFigure(ok, MaxOf(p.contact_stress)), solvers::ToString(p.result.status));
     }
     if (svg.enabled()) svg_data.Add(p);
@@ -198,7 +216,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
   const auto& s = sweep.summary;
 
   if (json.enabled()) {
-    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(SummaryJson(s))) << "\n}" << envelope.after << '\n';
+    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(SummaryJson(s, deck.Model()))) << "\n}" << envelope.after << '\n';
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
@@ -209,8 +227,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
 
   std::ostream& text = streams.text;
   fmt::print(text, "case      {}\n", deck.info.title);
-  fmt::print(text, "model     {} ({} slice over the {:g} mm face width, {} surface)\n", deck.Model().name,
-             deck.Model().slices, deck.pair.face_width, deck.Model().surface);
+  text << ModelLine(deck);
   fmt::print(text, "solver    {} ({} kinematics, torque tolerance {:g}), law {} / {}\n", sweep.solver,
              KinematicsName(solver.kinematics), solver.torque_tolerance, contact::ToString(deck.contact.law),
              contact::ToString(deck.contact.rho_convention));

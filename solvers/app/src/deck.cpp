@@ -362,14 +362,43 @@ geometry::ManufacturingErrors ReadErrors(const Section& s, const geometry::PairP
       s.String("pin_circle_reading", "radius", "how eq. 5 applies delta_Rp: radius | diameter"));
   e.profile_layer = s.Real("cycloid_profile_layer_mm", 0.0, "uniform layer on the cycloid profile in mm");
   e.cumulative_pitch_deviation = s.RealList("cumulative_pitch_deviation_mm", "one cumulative pitch deviation per pin in mm");
+  e.pin_radius_deviations = s.RealList("pin_radius_deviations_mm", "one pin radius deviation per pin in mm");
+  e.pin_radial_deviations = s.RealList("pin_radial_deviations_mm", "one radial pin position deviation per pin in mm");
+  e.lead_crowning = units::UmToMm(s.Real("lead_crowning_um", 0.0, "lead crowning of the cycloid in um"));
+  e.lead_slope = units::UmToMm(s.Real("lead_slope_um", 0.0, "lead slope error of the cycloid over the face width in um"));
   e.Validate(pair.pin_count);
   RequireSmallDeviation(e.pin_circle_deviation, "errors", "pin_circle_deviation_mm", pair);
   RequireSmallDeviation(e.profile_layer, "errors", "cycloid_profile_layer_mm", pair);
-  for (std::size_t j = 0; j < e.cumulative_pitch_deviation.size(); ++j) {
-    RequireSmallDeviation(e.cumulative_pitch_deviation[j], "errors",
-                          fmt::format("cumulative_pitch_deviation_mm[{}]", j), pair);
+  for (const auto& [key, list] : {std::pair{"cumulative_pitch_deviation_mm", &e.cumulative_pitch_deviation},
+                                  std::pair{"pin_radius_deviations_mm", &e.pin_radius_deviations},
+                                  std::pair{"pin_radial_deviations_mm", &e.pin_radial_deviations}}) {
+    for (std::size_t j = 0; j < list->size(); ++j) {
+      RequireSmallDeviation((*list)[j], "errors", fmt::format("{}[{}]", key, j), pair);
+    }
   }
+  RequireSmallDeviation(e.lead_crowning, "errors", "lead_crowning_um", pair, fmt::format("{}", units::MmToUm(e.lead_crowning)));
+  RequireSmallDeviation(e.lead_slope, "errors", "lead_slope_um", pair, fmt::format("{}", units::MmToUm(e.lead_slope)));
   return e;
+}
+
+geometry::AssemblyErrors ReadAssembly(const Section& s, const geometry::PairParameters& pair) {
+  geometry::AssemblyErrors a;
+  a.centre_dx = s.Real("centre_dx_mm", 0.0, "frame-fixed offset of the cycloid centre along X in mm");
+  a.centre_dy = s.Real("centre_dy_mm", 0.0, "frame-fixed offset of the cycloid centre along Y in mm");
+  a.eccentricity_deviation = s.Real("eccentricity_deviation_mm", 0.0, "eccentricity deviation in mm");
+  a.misalignment_xz = units::DegToRad(s.Real("misalignment_xz_deg", 0.0, "tilt phi of the cycloid axis in the XZ plane in deg"));
+  a.misalignment_yz = units::DegToRad(s.Real("misalignment_yz_deg", 0.0, "tilt gamma of the cycloid axis in the YZ plane in deg"));
+  a.pivot = geometry::ParseMisalignmentPivot(s.String("misalignment_pivot", "face", "face | mid"));
+  a.Validate();
+  RequireSmallDeviation(a.centre_dx, "errors", "centre_dx_mm", pair);
+  RequireSmallDeviation(a.centre_dy, "errors", "centre_dy_mm", pair);
+  RequireSmallDeviation(a.eccentricity_deviation, "errors", "eccentricity_deviation_mm", pair);
+  // The largest shift of a slice centre: over the face width from the pivot.
+  for (const auto& [key, angle] : {std::pair{"misalignment_xz_deg", a.misalignment_xz},
+                                   std::pair{"misalignment_yz_deg", a.misalignment_yz}}) {
+    RequireSmallDeviation(pair.face_width * std::tan(angle), "errors", key, pair, fmt::format("{}", units::RadToDeg(angle)));
+  }
+  return a;
 }
 
 contact::ContactSettings ReadContact(const Section& s) {
@@ -485,6 +514,24 @@ std::vector<double> Sweep::CrankAngles() const {
   return angles;
 }
 
+Deck::ModelInfo Deck::Model() const {
+  // The rule of contact::MeshModel: slices when something varies along the face width.
+  ModelInfo m;
+  m.surface = geometry.mode == geometry::GeometrySettings::Mode::kElements ? "elements" : "analytic";
+  if (errors.VariesAlongWidth() || assembly.VariesAlongWidth()) {
+    m.name = "slices";
+    m.slices = geometry.width_slices;
+  } else {
+    m.name = "plane";
+    m.slices = 1;
+    if (width_slices_given && geometry.width_slices != 1) {
+      m.note = fmt::format("width_slices = {} not used: nothing varies along the face width, so the plane model ran",
+                           geometry.width_slices);
+    }
+  }
+  return m;
+}
+
 const contact::Material& Deck::RequireMaterial() const {
   if (!material) {
     throw std::invalid_argument(
@@ -528,15 +575,20 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name,
         Section(Find(root, "modification"), "modification",
                 {"pin_radius_mm", "pin_circle_radius_mm", "rotation_deg"}),
         deck.pair);
-    deck.errors = ReadErrors(Section(Find(root, "errors"), "errors",
-                                     {"pin_circle_deviation_mm", "pin_circle_reading",
-                                      "cycloid_profile_layer_mm", "cumulative_pitch_deviation_mm"}),
-                             deck.pair);
+    const Section errors(Find(root, "errors"), "errors",
+                         {"pin_circle_deviation_mm", "pin_circle_reading", "cycloid_profile_layer_mm",
+                          "cumulative_pitch_deviation_mm", "pin_radius_deviations_mm", "pin_radial_deviations_mm",
+                          "lead_crowning_um", "lead_slope_um", "centre_dx_mm", "centre_dy_mm",
+                          "eccentricity_deviation_mm", "misalignment_xz_deg", "misalignment_yz_deg",
+                          "misalignment_pivot"});
+    deck.errors = ReadErrors(errors, deck.pair);
+    deck.assembly = ReadAssembly(errors, deck.pair);
     deck.contact = ReadContact(Section(Find(root, "contact"), "contact",
                                        {"law", "rho_convention", "stiffness_n_per_mm2",
                                         "log_radius_cap_mm"}));
-    deck.geometry = ReadGeometry(Section(Find(root, "geometry"), "geometry",
-                                         {"geometry_mode", "profile_elements", "width_slices"}));
+    const Section geometry(Find(root, "geometry"), "geometry", {"geometry_mode", "profile_elements", "width_slices"});
+    deck.geometry = ReadGeometry(geometry);
+    deck.width_slices_given = geometry.Has("width_slices");
     deck.solver = ReadSolver(Section(Find(root, "solver"), "solver",
                                      {"name", "kinematics", "torque_tolerance", "max_iterations", "preset", "nlopt_algorithm"}));
     const Section material(Find(root, "material"), "material",
@@ -550,7 +602,7 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name,
         deck.pair);
     // The geometry must be realisable: this rejects undercut (looped) profiles, also when the
     // profile layer of [errors] is what makes them loop.
-    const contact::MeshModel model(deck.pair, deck.modification, deck.errors);  // analytic: cheap to check
+    const geometry::RealPair real = deck.MakeRealPair();  // analytic: cheap to check
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
   } catch (const std::exception& e) {  // TOML syntax errors and the like

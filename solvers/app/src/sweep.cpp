@@ -41,7 +41,7 @@ void SummaryAccumulator::Add(const PositionResult& p) {
   te_hi_ = std::max(te_hi_, p.result.te);
   s_.contacts_min = std::min(s_.contacts_min, p.contacts);
   s_.contacts_max = std::max(s_.contacts_max, p.contacts);
-  for (const double f : p.result.force) s_.max_pin_force = std::max(s_.max_pin_force, f);
+  for (const double f : p.pin_force) s_.max_pin_force = std::max(s_.max_pin_force, f);
   for (const double q : p.contact_stress) s_.max_contact_stress = std::max(s_.max_contact_stress, q);
 }
 
@@ -93,15 +93,29 @@ PositionResult SweepRunner::Solve(double crank) {
   pos.crank = crank;
   pos.result = m.solver->Solve(problem, m.options, m.workspace);
   std::vector<contact::ContactLaw> scratch;
-  const auto pins = problem.At(std::isfinite(pos.result.rotation) ? pos.result.rotation : 0.0, m.workspace, &scratch);
-  const double f_max = pos.result.force.empty() ? 0.0 : *std::max_element(pos.result.force.begin(), pos.result.force.end());
-  pos.angle.resize(pins.size());
-  pos.contact_stress.assign(pins.size(), 0.0);
-  for (std::size_t i = 0; i < pins.size(); ++i) {
-    pos.angle[i] = problem.base_state().pins[i].angle;
+  const auto points = problem.At(std::isfinite(pos.result.rotation) ? pos.result.rotation : 0.0, m.workspace, &scratch);
+  const auto& base = problem.base_state().pins;
+  const auto pins = static_cast<std::size_t>(m.model->pin_count());
+  pos.slices = m.model->slice_count();
+  pos.angle.assign(pins, 0.0);
+  pos.pin_force.assign(pins, 0.0);
+  pos.contact_stress.assign(pins, 0.0);
+  pos.point_stress.assign(points.size(), 0.0);
+  pos.load_centroid.assign(pins, std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> moment(pins, 0.0);  // sum F z per pin, N*mm
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto j = static_cast<std::size_t>(base[i].pin);
+    if (base[i].slice == 0) pos.angle[j] = base[i].angle;
     const double f = i < pos.result.force.size() ? pos.result.force[i] : 0.0;
-    if (f > kContactForceFraction * f_max && f_max > 0.0) ++pos.contacts;
-    if (f > 0.0 && pins[i].law != nullptr) pos.contact_stress[i] = pins[i].law->MaxPressure(f);
+    pos.pin_force[j] += f;
+    moment[j] += f * base[i].z;
+    if (f > 0.0 && points[i].law != nullptr) pos.point_stress[i] = points[i].law->MaxPressure(f);
+    pos.contact_stress[j] = std::max(pos.contact_stress[j], pos.point_stress[i]);
+  }
+  const double f_max = pos.pin_force.empty() ? 0.0 : *std::max_element(pos.pin_force.begin(), pos.pin_force.end());
+  for (std::size_t j = 0; j < pins; ++j) {
+    if (pos.pin_force[j] > kContactForceFraction * f_max && f_max > 0.0) ++pos.contacts;
+    if (pos.pin_force[j] > 0.0) pos.load_centroid[j] = moment[j] / pos.pin_force[j];
   }
   m.summary.Add(pos);
   m.elapsed += Clock::now() - start;

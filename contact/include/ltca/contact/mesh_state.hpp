@@ -28,11 +28,13 @@ namespace ltca::contact {
 
 /// One contact point at one pose: a pin in one face-width slice. The plane model has one slice
 /// over the whole face width, so there is one point per pin and the point index is the pin
-/// index; the face-width model (issue 11) has a point per pin and slice.
+/// index; the slice model (issue 11) has a point per pin and slice, pin-major: point index
+/// pin * slice_count + slice.
 struct PinContact {
   int pin = 0;                    ///< 0-based index (printed + 1).
   int slice = 0;                  ///< 0-based face-width slice (0: the plane model's only one).
   double length = 0.0;            ///< contact length of this point along the face width, mm.
+  double z = 0.0;                 ///< axial position of the slice centre from face B, mm.
   double angle = 0.0;             ///< phi: angle from the line of centres, rad, (-pi, pi].
   double clearance = 0.0;         ///< c_i: normal gap, mm; < 0 is overlap.
   double arm = 0.0;               ///< L_i: lever arm of the contact normal about O_c, mm; > 0 when
@@ -52,17 +54,25 @@ struct PinContact {
 struct MeshState {
   double crank = 0.0;             ///< theta_f, rad.
   double loaded_rotation = 0.0;   ///< psi, rad, in the load direction.
-  std::vector<PinContact> pins;   ///< one per pin, in pin order.
+  /// Every contact point, pin-major (one per pin in the plane model, in pin order).
+  std::vector<PinContact> pins;
 };
 
 /// The pair as the contact layer sees it: profile (with modifications and the profile layer),
-/// pins (with the pin-circle deviation) and kinematics.
+/// pins (with their errors), kinematics (with the assembly errors), and the face-width slices.
+///
+/// Model only what the scene needs (issue 11): the slice model (width_slices slices of width
+/// B / n, slice k a plane state at z_k = (k + 1/2) B / n from face B) runs when something varies
+/// along the width (misalignment, lead crowning or slope) or when something couples the slices
+/// (pin bending: `coupled_along_width`); otherwise the plane model runs, one slice over the whole
+/// face width, whatever width_slices says.
 class MeshModel {
  public:
   MeshModel(const geometry::PairParameters& pair, const geometry::Modification& modification,
             const geometry::ManufacturingErrors& errors = {}, const geometry::GeometrySettings& geometry = {});
   /// The pair as made (modification and errors applied once, in geometry::RealPair).
-  explicit MeshModel(geometry::RealPair real, const geometry::GeometrySettings& geometry = {});
+  explicit MeshModel(geometry::RealPair real, const geometry::GeometrySettings& geometry = {},
+                     bool coupled_along_width = false);
 
   const geometry::RealPair& real_pair() const { return real_; }
 
@@ -73,6 +83,12 @@ class MeshModel {
   const geometry::Kinematics& kinematics() const { return real_.kinematics(); }
   const geometry::PairParameters& pair() const { return real_.nominal(); }
   int pin_count() const { return real_.nominal().pin_count; }
+  /// Face-width slices of the model that runs (1: the plane model).
+  int slice_count() const { return slices_; }
+  /// Contact points per pose: pins x slices.
+  int point_count() const { return pin_count() * slices_; }
+  /// Axial position of the centre of slice k from face B, mm.
+  double SliceZ(int slice) const { return (slice + 0.5) * pair().face_width / slices_; }
   /// Clearance below which a pin counts as overlapping the cycloid, mm: 1e-9 on the analytic
   /// surface; on the element surface (Liu section 2-3) its discretisation error, estimated at
   /// construction as twice the largest difference between the element and the analytic clearance
@@ -84,23 +100,29 @@ class MeshModel {
 
   /// Centre of pin j with the pin-circle deviation, fixed frame, mm.
   Eigen::Vector2d PinCentre(int pin) const;
-  /// Pose of the cycloid at crank theta_f turned by psi in the load direction (Liu eq. 14-15).
-  geometry::Pose CyclePose(double crank, double loaded_rotation) const;
+  /// Pose of the cycloid at crank theta_f turned by psi in the load direction (Liu eq. 14-15, with
+  /// the assembly errors of geometry::RealPair::CycloidPose), in the slice at axial position z.
+  geometry::Pose CyclePose(double crank, double loaded_rotation, double z) const;
 
-  /// Exact state of every pin at crank theta_f and loaded rotation psi.
+  /// Exact state of every contact point at crank theta_f and loaded rotation psi.
   MeshState Evaluate(double crank, double loaded_rotation = 0.0) const;
-  /// Exact state of one pin.
-  PinContact EvaluatePin(int pin, double crank, double loaded_rotation = 0.0) const;
+  /// Exact state of one contact point (pin, slice).
+  PinContact EvaluatePoint(int pin, int slice, double crank, double loaded_rotation = 0.0) const;
   /// The same, searched from a nearby earlier foot point (tooth space and u of a PinContact of the
-  /// same pin at a nearby pose) instead of the meshing equation: fewer Newton steps.
-  PinContact EvaluatePin(int pin, double crank, double loaded_rotation, const PinContact& near) const;
+  /// same point at a nearby pose) instead of the meshing equation: fewer Newton steps.
+  PinContact EvaluatePoint(const PinContact& near, double crank, double loaded_rotation) const;
 
  private:
-  PinContact EvaluatePinFrom(int pin, double crank, double loaded_rotation, int tooth_space, double u) const;
-  PinContact EvaluatePinElements(int pin, double crank, double loaded_rotation) const;
+  PinContact EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int tooth_space,
+                               double u) const;
+  PinContact EvaluatePointElements(int pin, int slice, double crank, double loaded_rotation) const;
+  /// The point's slice data and the lead layer (normal offset of the flank) applied to a foot point.
+  void FinishPoint(int slice, PinContact* c) const;
 
   geometry::RealPair real_;
   std::shared_ptr<const geometry::DiscreteProfile> discrete_;  // elements mode only
+  int slices_ = 1;
+  bool lead_layer_ = false;  // crowning or slope: a normal offset per slice
   double load_direction_ = 1.0;
   double interference_tolerance_ = 1e-9;  // mm
 };

@@ -24,9 +24,11 @@ struct UnloadedContact {
   double backlash = 0.0;   ///< theta_c1 - theta_c2, rad (Liu eq. 17), >= 0.
   int first_pin_c1 = -1;   ///< 0-based pin that touches first in the load direction
   int first_pin_c2 = -1;   ///< and against it
-  /// Clearance of every pin at the theoretical position, mm.
+  /// Clearance of every pin at the theoretical position, mm (in the slice model the smallest over
+  /// the pin's slices, as Liu section 3 takes it).
   std::vector<double> clearance;
-  /// Clearance of every pin after rotating to first contact in the load direction, mm (Li Fig. 4).
+  /// Clearance of every pin after rotating to first contact in the load direction, mm (Li Fig. 4;
+  /// the smallest over its slices).
   std::vector<double> clearance_at_c1;
 };
 

@@ -63,7 +63,7 @@ class LoadProblem {
   /// the arm signed for this frame.
   contact::PinContact EvaluatePin(const contact::PinContact& near, double psi) const;
   contact::ContactKinematics kinematics() const { return kinematics_; }
-  int pin_count() const { return static_cast<int>(base_.pins.size()); }
+  int point_count() const { return static_cast<int>(base_.pins.size()); }
   /// The unloaded state (psi = 0, arms signed for this problem's frame) and its laws.
   const contact::MeshState& base_state() const { return base_; }
   const std::vector<contact::ContactLaw>& base_laws() const { return base_laws_; }
@@ -75,7 +75,7 @@ class LoadProblem {
   /// bending, where one pin's force moves its neighbours). Returns a copy of this problem with C
   /// (the same model, state, laws and id). A 0 x 0 matrix, or one without a non-zero entry,
   /// means no coupling: every number is then exactly that of the uncoupled problem. Throws
-  /// std::invalid_argument naming what is wrong unless C is square, n x n (n = pin_count()),
+  /// std::invalid_argument naming what is wrong unless C is square, n x n (n = point_count()),
   /// finite, symmetric to 1e-12 relative to its largest entry, and positive semidefinite to a
   /// rounding tol = max(1e-12, 8 n eps) of its scale: up to 200 pins the smallest eigenvalue
   /// (Eigen's SelfAdjointEigenSolver on the dense matrix) is at least -tol times the largest

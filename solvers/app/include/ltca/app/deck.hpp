@@ -70,7 +70,9 @@ struct Deck {
   geometry::PairParameters pair;
   geometry::Modification modification;
   geometry::ManufacturingErrors errors;        ///< [errors], optional, default none
+  geometry::AssemblyErrors assembly;           ///< [errors] assembly keys, optional, default none
   geometry::GeometrySettings geometry;         ///< [geometry], optional, default analytic
+  bool width_slices_given = false;             ///< [geometry] width_slices is in the deck
   contact::ContactSettings contact;            ///< [contact], optional, default hertz-line / signed
   SolverOptions solver;                        ///< [solver], optional, default bisection / linearised
   std::optional<contact::Material> material;  ///< required by the load commands
@@ -79,20 +81,21 @@ struct Deck {
 
   /// The pair as made: modification and [errors] applied once (geometry::RealPair); every
   /// command builds this one.
-  geometry::RealPair MakeRealPair() const { return {pair, modification, errors}; }
-  /// The pair as the contact layer sees it (the real pair, geometry mode).
+  geometry::RealPair MakeRealPair() const { return {pair, modification, errors, assembly}; }
+  /// The pair as the contact layer sees it (the real pair, geometry mode, the slices it needs).
   contact::MeshModel MakeModel() const { return contact::MeshModel(MakeRealPair(), geometry); }
 
-  /// The model that runs for this deck, named in every output (issue 9): "plane" (one slice over
-  /// the face width: nothing varies along it), the surface (analytic or elements) and the slices.
+  /// The model that runs for this deck, named in every output (issues 9, 11): "plane" (one slice
+  /// over the face width: nothing varies along it) or "slices" (width_slices slices: something
+  /// varies along the width), the surface (analytic or elements), and a note when width_slices was
+  /// given without need.
   struct ModelInfo {
-    std::string name;     ///< "plane"
+    std::string name;     ///< "plane" | "slices"
     int slices = 1;
     std::string surface;  ///< "analytic" or "elements"
+    std::string note;     ///< empty, or why a given slice count was not used
   };
-  ModelInfo Model() const {
-    return {"plane", 1, geometry.mode == geometry::GeometrySettings::Mode::kElements ? "elements" : "analytic"};
-  }
+  ModelInfo Model() const;
 
   /// Throws std::invalid_argument naming the deck and the missing section.
   const contact::Material& RequireMaterial() const;

@@ -22,12 +22,19 @@ namespace ltca::app {
 /// tip) carry ~1e-12 of it, which is numerical zero (docs/validation.md).
 inline constexpr double kContactForceFraction = 1e-6;
 
+/// One crank position. The solver's result is per contact point (pin-major: one per pin in the
+/// plane model, pin x slice in the slice model); the per-pin figures gather a pin's slices.
 struct PositionResult {
   double crank = 0.0;                   ///< rad
-  LoadResult result;
+  LoadResult result;                    ///< forces per contact point, N
+  int slices = 1;                       ///< face-width slices of the model that ran
   std::vector<double> angle;            ///< pin angle from the line of centres, rad
-  std::vector<double> contact_stress;   ///< Hertz maximum pressure per pin, MPa (0 if unloaded)
-  int contacts = 0;                     ///< pins above kContactForceFraction of the largest force
+  std::vector<double> pin_force;        ///< per pin: the total over its slices, N
+  std::vector<double> contact_stress;   ///< per pin: the largest Hertz pressure over its slices, MPa (0 if unloaded)
+  std::vector<double> point_stress;     ///< per contact point: Hertz maximum pressure, MPa (0 if unloaded)
+  /// per pin: the axial centroid of its load from face B, mm (NaN when the pin is unloaded)
+  std::vector<double> load_centroid;
+  int contacts = 0;                     ///< pins above kContactForceFraction of the largest pin force
   /// The solve is valid (status success); a failed position's te, forces and stresses are not
   /// answers and take no part in the summary.
   bool succeeded() const { return result.status == SolverStatus::kSuccess; }
@@ -39,7 +46,7 @@ struct SweepSummary {
   double pp_te = std::numeric_limits<double>::quiet_NaN();          ///< rad
   int contacts_min = -1;
   int contacts_max = -1;
-  double max_pin_force = std::numeric_limits<double>::quiet_NaN();  ///< N
+  double max_pin_force = std::numeric_limits<double>::quiet_NaN();  ///< N, a pin's total over its slices
   double max_contact_stress = std::numeric_limits<double>::quiet_NaN();  ///< MPa
   double wall_seconds = 0.0;
   std::int64_t succeeded = 0;  ///< positions with status success
