@@ -24,8 +24,9 @@ struct PressedPin {
   const contact::ContactLaw* law = nullptr;
 };
 
-struct Linearised {  // pins about the current rotation psi0: approach = L (psi - psi0) + a0
+struct Linearised {  // points about the current rotation psi0: approach = L (psi - psi0) + a0
   std::vector<double> approach0, arm;
+  std::vector<int> pin;                         ///< the pin (tooth) of every point
   std::vector<const contact::ContactLaw*> law;  ///< nullptr: no group member (edge, or arm <= min_arm)
   std::vector<PressedPin> pressed;               ///< in every group, see PressedPin
   double psi0 = 0.0;
@@ -40,9 +41,11 @@ struct GroupSolution {
   std::vector<double> force;
 };
 
-// Every member in contact: solve sum_{G} F_i(approach_i(psi)) L_i = T by bisection on psi (the
-// left side is non-decreasing), then check feasibility.
-GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& group, double torque,
+// Every member tooth in contact: solve sum_{G} F_i(approach_i(psi)) L_i = T by bisection on psi
+// (the left side is non-decreasing), then check feasibility. A tooth is a pin with its slices
+// (issue 11): the slices of a member carry the force of their law (none where the slice is open:
+// complementary by construction), and a member must have a pressed slice.
+GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& group, int pins, double torque,
                          double tolerance) {
   GroupSolution s;
   const auto torque_at = [&](double psi) {
@@ -67,17 +70,20 @@ GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& 
   s.force.assign(lin.arm.size(), 0.0);
   s.feasible = true;
   s.energy = 0.0;
-  std::vector<bool> member(lin.arm.size(), false);
+  std::vector<bool> member(lin.arm.size(), false), pressed_tooth(static_cast<std::size_t>(pins), false);
   for (const std::size_t i : group) member[i] = true;
   for (std::size_t i = 0; i < lin.arm.size(); ++i) {
     const double delta = lin.Approach(i, s.psi);
     if (member[i]) {
-      if (!(delta > 0.0)) s.feasible = false;  // a member would have to pull
+      if (delta > 0.0) pressed_tooth[static_cast<std::size_t>(lin.pin[i])] = true;
       s.force[i] = lin.law[i]->Force(delta);
-      s.energy += s.force[i] * delta;            // Li eq. 14: NE = sum F_i delta_i
+      if (delta > 0.0) s.energy += s.force[i] * delta;  // Li eq. 14: NE = sum F_i delta_i
     } else if (lin.law[i] != nullptr && delta > kGapTolerance) {
       s.feasible = false;                        // a non-member would penetrate
     }
+  }
+  for (const std::size_t i : group) {
+    if (!pressed_tooth[static_cast<std::size_t>(lin.pin[i])]) s.feasible = false;  // a member would have to pull
   }
   for (const auto& p : lin.pressed) {  // complementary by construction: no feasibility check
     const double delta = lin.Approach(p, s.psi);
@@ -92,6 +98,11 @@ GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& 
 void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                                  LoadResult* result) const {
   const int n = problem.point_count();
+  const int teeth = problem.model().pin_count();  // a tooth: a pin with its slices
+  const auto& points = problem.base_state().pins;
+  // The points of every pin (pin-major: a contiguous range).
+  std::vector<std::vector<std::size_t>> points_of(static_cast<std::size_t>(teeth));
+  for (std::size_t i = 0; i < points.size(); ++i) points_of[static_cast<std::size_t>(points[i].pin)].push_back(i);
   const double min_arm = 1e-9 * problem.model().pair().pin_circle_radius;
   std::vector<contact::ContactLaw> scratch;
   double psi = 0.0;
@@ -106,6 +117,7 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
       const auto& p = pins[i];
       const bool usable = p.arm > min_arm && p.law != nullptr;
       lin.approach0.push_back(p.approach);
+      lin.pin.push_back(points[i].pin);
       lin.arm.push_back(usable ? p.arm : 0.0);
       lin.law.push_back(usable ? p.law : nullptr);
       // Under exact kinematics the pin at the far end of the line of centres can be pressed at
@@ -132,17 +144,18 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
     const auto* first_law = lin.law[static_cast<std::size_t>(first)];
     const double first_arm = lin.arm[static_cast<std::size_t>(first)];
     const double psi_max = first_psi + first_law->Approach(problem.torque() / first_arm) / first_arm;
-    std::vector<bool> candidate(static_cast<std::size_t>(n), false);
+    std::vector<bool> candidate(static_cast<std::size_t>(teeth), false);  // per tooth: a slice can close
     for (int i = 0; i < n; ++i) {
       const auto k = static_cast<std::size_t>(i);
-      candidate[k] = lin.law[k] != nullptr && lin.Approach(k, psi_max) > 0.0;
+      if (lin.law[k] != nullptr && lin.Approach(k, psi_max) > 0.0) candidate[static_cast<std::size_t>(lin.pin[k])] = true;
     }
     ++details["relinearisations"];
     details["candidates"] = static_cast<int>(std::count(candidate.begin(), candidate.end(), true));
-    // 3. Contiguous runs of candidates (cyclic pin order) containing the first pin.
-    int left = 0, right = 0;  // how far the run of candidates extends each way from `first`
-    while (left < n - 1 && candidate[static_cast<std::size_t>((first - left - 1 + n) % n)]) ++left;
-    while (right < n - 1 - left && candidate[static_cast<std::size_t>((first + right + 1) % n)]) ++right;
+    // 3. Contiguous runs of candidate teeth (cyclic pin order) containing the first one.
+    const int first_tooth = lin.pin[static_cast<std::size_t>(first)];
+    int left = 0, right = 0;  // how far the run of candidates extends each way from `first_tooth`
+    while (left < teeth - 1 && candidate[static_cast<std::size_t>((first_tooth - left - 1 + teeth) % teeth)]) ++left;
+    while (right < teeth - 1 - left && candidate[static_cast<std::size_t>((first_tooth + right + 1) % teeth)]) ++right;
     const long groups = static_cast<long>(left + 1) * (right + 1);
     if (groups > kMaxGroups) {
       result->status = SolverStatus::kTooManyGroups;
@@ -154,9 +167,13 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
     GroupSolution best;
     for (int a = 0; a <= left; ++a) {
       for (int b = 0; b <= right; ++b) {
-        std::vector<std::size_t> group;
-        for (int j = -a; j <= b; ++j) group.push_back(static_cast<std::size_t>((first + j + n) % n));
-        GroupSolution s = SolveGroup(lin, group, problem.torque(), 0.01 * options.torque_tolerance);
+        std::vector<std::size_t> group;  // the usable points of the teeth first_tooth - a .. first_tooth + b
+        for (int j = -a; j <= b; ++j) {
+          for (const std::size_t i : points_of[static_cast<std::size_t>((first_tooth + j + teeth) % teeth)]) {
+            if (lin.law[i] != nullptr) group.push_back(i);
+          }
+        }
+        GroupSolution s = SolveGroup(lin, group, teeth, problem.torque(), 0.01 * options.torque_tolerance);
         ++groups_evaluated;
         if (s.feasible && s.energy < best.energy) best = std::move(s);
       }

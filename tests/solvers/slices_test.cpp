@@ -1,0 +1,93 @@
+// Issue 11, the 3D -> 2D limit: with nothing that varies along the face width, n identical slices
+// of width B / n carry the plane model's load. Every contact law here depends on the force per
+// unit length only (Liu eq. 22-25: delta(F, B) is a function of F / B; the linear law F = k B
+// delta), so each slice carries F / n at the plane model's approach, the torque balance is the
+// same equation, and the loaded rotation and the pin totals must equal the plane model's. The
+// slices are forced here (MeshModel's coupled_along_width), since the program itself would run
+// the plane model for such a pair.
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "ltca/app/deck.hpp"
+#include "ltca/solvers/load_solver.hpp"
+#include "ltca/solvers/registry.hpp"
+
+using ltca::contact::ContactKinematics;
+using ltca::contact::MeshModel;
+using ltca::solvers::LoadProblem;
+using ltca::solvers::LoadResult;
+using ltca::solvers::SolverOptions;
+using ltca::solvers::SolverStatus;
+
+namespace {
+
+std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+
+LoadResult SolveWith(const std::string& solver, const LoadProblem& problem) {
+  SolverOptions options;
+  options.name = solver;
+  options.kinematics = problem.kinematics();
+  options.torque_tolerance = 1e-13;
+  return ltca::solvers::MakeSolver(solver)->Solve(problem, options);
+}
+
+std::vector<double> PinTotals(const LoadProblem& problem, const std::vector<double>& force) {
+  std::vector<double> total(static_cast<std::size_t>(problem.model().pin_count()), 0.0);
+  for (std::size_t i = 0; i < force.size(); ++i) total[static_cast<std::size_t>(problem.base_state().pins[i].pin)] += force[i];
+  return total;
+}
+
+}  // namespace
+
+TEST_CASE("solvers: n identical slices reproduce the plane model (3D -> 2D limit, n = 1, 3, 20)") {
+  // Tolerance: 1e-12 relative in the rotation and 1e-12 of the largest pin force; the solves
+  // balance the torque to 1e-13 (or the resolution of the rotation in double precision).
+  // The forces are held to what each method resolves: bisection evaluates the laws at the
+  // balanced rotation (1e-12); compatibility and energy-groups stop their re-linearisation and
+  // group bisection at the torque tolerance, which leaves ~1e-11 in a force (1e-10); energy-qp's
+  // forces are Ipopt's interior-point iterates (1e-8). The rotation is held to 1e-12 for all.
+  const auto deck = ltca::app::LoadDeck(Case("liu2021_table1.toml"));
+  const auto plane = std::make_shared<const MeshModel>(deck.MakeModel());
+  REQUIRE(plane->slice_count() == 1);
+  for (const int n : {1, 3, 20}) {
+    auto geometry = deck.geometry;
+    geometry.width_slices = n;
+    const auto sliced = std::make_shared<const MeshModel>(deck.MakeRealPair(), geometry, /*coupled_along_width=*/true);
+    REQUIRE(sliced->slice_count() == n);
+    for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
+      for (const std::string solver : {"bisection", "energy-qp", "energy-groups", "compatibility"}) {
+        for (const double crank : {0.0, 0.05, 0.11}) {
+          CAPTURE(n);
+          CAPTURE(solver);
+          CAPTURE(crank);
+          CAPTURE(static_cast<int>(kinematics));
+          const LoadProblem p_plane(plane, crank, deck.contact, *deck.material, deck.load->torque, kinematics);
+          const LoadProblem p_sliced(sliced, crank, deck.contact, *deck.material, deck.load->torque, kinematics);
+          const LoadResult a = SolveWith(solver, p_plane), b = SolveWith(solver, p_sliced);
+          REQUIRE(a.status == SolverStatus::kSuccess);
+          REQUIRE(b.status == SolverStatus::kSuccess);
+          CHECK(b.rotation == doctest::Approx(a.rotation).epsilon(1e-12));
+          const auto fa = PinTotals(p_plane, a.force), fb = PinTotals(p_sliced, b.force);
+          double f_max = 0.0, diff = 0.0;
+          for (std::size_t j = 0; j < fa.size(); ++j) {
+            f_max = std::max(f_max, fa[j]);
+            diff = std::max(diff, std::abs(fa[j] - fb[j]));
+          }
+          const double tolerance = solver == "energy-qp" ? 1e-8 : (solver == "bisection" ? 1e-12 : 1e-10);
+          CHECK(diff <= tolerance * f_max);
+          // Identical slices share their pin's load equally.
+          double unequal = 0.0;
+          for (std::size_t i = 0; i < b.force.size(); ++i) {
+            const auto j = static_cast<std::size_t>(p_sliced.base_state().pins[i].pin);
+            unequal = std::max(unequal, std::abs(b.force[i] - fb[j] / n));
+          }
+          CHECK(unequal <= tolerance * f_max);
+        }
+      }
+    }
+  }
+}
