@@ -83,14 +83,37 @@ double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double
   return s * x;
 }
 
-void RequireNoInterference(const MeshState& state, double crank, double tolerance_mm) {
+std::string JamReport(const MeshState& state, double tolerance_mm) {
   const std::string overlaps = InterferenceReport(state, tolerance_mm);
+  if (overlaps.empty()) return {};
+  // Some pins overlap at the theoretical position (a pitch or position error of one pin does
+  // that): the pair still fits when a rotation of the cycloid about its centre frees every pin,
+  // i.e. when the gaps c_i - L_i psi >= -tolerance have a common psi (linearised about the
+  // theoretical position): max over L < 0 of (c + tol) / L <= min over L > 0 of (c + tol) / L,
+  // and no pin with a vanishing arm overlaps.
+  double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+  bool stuck = false;
+  for (const PinContact& c : state.pins) {
+    const double slack = c.clearance + tolerance_mm;
+    if (std::abs(c.arm) <= 1e-9 * std::abs(c.pin_point.norm())) {
+      stuck = stuck || slack < 0.0;
+    } else if (c.arm > 0.0) {
+      hi = std::min(hi, slack / c.arm);
+    } else {
+      lo = std::max(lo, slack / c.arm);
+    }
+  }
+  return stuck || lo > hi ? overlaps : std::string();
+}
+
+void RequireNoInterference(const MeshState& state, double crank, double tolerance_mm) {
+  const std::string overlaps = JamReport(state, tolerance_mm);
   if (!overlaps.empty()) {
     throw std::invalid_argument(fmt::format(
         "interference at crank {:.6g} deg: {} overlap the cycloid at the theoretical meshing "
-        "position; expected non-negative clearances (for d > 0 the radial clearance "
-        "dR_rp - dR_p must be >= 0): check [modification] pin_radius_mm and pin_circle_radius_mm "
-        "and the [errors] section",
+        "position and no rotation of the cycloid frees every pin; expected non-negative clearances "
+        "(for d > 0 the radial clearance dR_rp - dR_p must be >= 0): check [modification] "
+        "pin_radius_mm and pin_circle_radius_mm and the [errors] section",
         units::RadToDeg(crank), overlaps));
   }
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -179,9 +180,38 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
       }
     }
     if (!best.feasible) {
+      // Li's groups are contiguous runs of teeth, as the loaded set of a pair without errors is.
+      // Pitch or position errors of single pins can load a set with gaps (Liu 2021 section 5.2).
+      // Then the groups are the candidate teeth in the order they close (uncoupled and
+      // linearised, the loaded set is exactly the teeth closing before the loaded rotation): a
+      // departure from Li (docs/solvers.md).
+      std::vector<std::pair<double, int>> closing;  // (closing rotation, tooth) of the candidates
+      std::vector<double> tooth_closing(static_cast<std::size_t>(teeth), std::numeric_limits<double>::infinity());
+      for (int i = 0; i < n; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        if (lin.law[k] == nullptr || !candidate[static_cast<std::size_t>(lin.pin[k])]) continue;
+        double& c = tooth_closing[static_cast<std::size_t>(lin.pin[k])];
+        c = std::min(c, psi - lin.approach0[k] / lin.arm[k]);
+      }
+      for (int t = 0; t < teeth; ++t) {
+        if (std::isfinite(tooth_closing[static_cast<std::size_t>(t)])) closing.emplace_back(tooth_closing[static_cast<std::size_t>(t)], t);
+      }
+      std::sort(closing.begin(), closing.end());
+      std::vector<std::size_t> group;
+      for (const auto& [unused, tooth] : closing) {
+        for (const std::size_t i : points_of[static_cast<std::size_t>(tooth)]) {
+          if (lin.law[i] != nullptr) group.push_back(i);
+        }
+        GroupSolution s = SolveGroup(lin, group, teeth, problem.torque(), 0.01 * options.torque_tolerance);
+        ++groups_evaluated;
+        if (s.feasible && s.energy < best.energy) best = std::move(s);
+      }
+      details["closing_order_groups"] = 1;
+    }
+    if (!best.feasible) {
       result->status = SolverStatus::kNumericalFailure;
-      result->message = fmt::format("none of the {} contiguous tooth groups is feasible (is the loaded set not "
-                                    "contiguous, e.g. under pitch errors?)", groups);
+      result->message = fmt::format("none of the {} contiguous tooth groups nor the groups in closing order is feasible",
+                                    groups);
       result->rotation = psi;
       result->iterations = groups_evaluated;
       return;

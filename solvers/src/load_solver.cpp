@@ -136,11 +136,13 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
     result.status = SolverStatus::kCouplingUnsupported;
     result.message = fmt::format("solver \"{}\" does not support a compliance coupling, which this problem has "
                                  "(docs/solvers.md, \"Coupled compliance\")", name());
-  } else if (const std::string overlaps = contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance()); !overlaps.empty()) {
-    // Judged before any solve: an overlapping pin at the theoretical position is an input error
-    // (the commands reject such decks); a solver would report MN-sized "successes" here.
+  } else if (const std::string overlaps = contact::JamReport(problem.base_state(), problem.model().interference_tolerance()); !overlaps.empty()) {
+    // Judged before any solve: pins overlapping at the theoretical position that no rotation frees
+    // are an input error (the commands reject such decks); a solver would report MN-sized
+    // "successes" here.
     result.status = SolverStatus::kInterference;
-    result.message = fmt::format("interference at the theoretical position: {} overlap the cycloid", overlaps);
+    result.message = fmt::format("interference at the theoretical position: {} overlap the cycloid and no rotation "
+                                 "frees every pin", overlaps);
   } else if (problem.torque() == 0.0) {
     // No load: the cycloid stays at its theoretical position, no pin carries force.
     result.status = SolverStatus::kSuccess;

@@ -32,9 +32,17 @@ struct UnloadedContact {
   std::vector<double> clearance_at_c1;
 };
 
+/// The pair jams at this pose: pins overlap the cycloid by more than tolerance_mm and no rotation of
+/// the cycloid about its centre frees them all (linearised about the pose; a pin whose arm
+/// vanishes cannot be freed). Returns the overlapping pins (InterferenceReport), or empty when
+/// the pair fits. A pin that overlaps at the theoretical position while a rotation frees it (a
+/// pitch or position error of that pin, issue 11) is no interference: the unloaded cycloid just
+/// sits elsewhere, and the load solves start from its first contact.
+std::string JamReport(const MeshState& state, double tolerance_mm);
+
 /// Throws std::invalid_argument naming the crank, the pins and their overlap in um when the pair
-/// interferes at the theoretical meshing position of that crank (rad): a clearance below
-/// -model.interference_tolerance(). Every command that solves or tabulates a mesh calls it first.
+/// jams at the theoretical meshing position of that crank (rad), JamReport with tolerance
+/// model.interference_tolerance(). Every command that solves or tabulates a mesh calls it first.
 void RequireNoInterference(const MeshModel& model, double crank);
 /// The same on an evaluated state (loaded rotation 0) of that crank.
 void RequireNoInterference(const MeshState& state, double crank, double tolerance_mm = 1e-9);
