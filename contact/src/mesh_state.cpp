@@ -222,7 +222,11 @@ PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double
 
 PinContact MeshModel::EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int seed_space,
                                         double seed_u) const {
-  const geometry::Pose pose = CyclePose(crank, loaded_rotation, SliceZ(slice));
+  return EvaluatePointAt(pin, slice, crank, CyclePose(crank, loaded_rotation, SliceZ(slice)), seed_space, seed_u);
+}
+
+PinContact MeshModel::EvaluatePointAt(int pin, int slice, double crank, const geometry::Pose& pose, int seed_space,
+                                      double seed_u) const {
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
   const Eigen::Vector2d p = pose.ToBody(centre_fixed);
   const double r_pin = real_.PinRadius(pin);
@@ -295,8 +299,24 @@ MeshState MeshModel::Evaluate(double crank, double loaded_rotation) const {
   state.crank = crank;
   state.loaded_rotation = loaded_rotation;
   state.pins.reserve(static_cast<std::size_t>(point_count()));
+  if (slices_ == 1 || discrete_) {
+    for (int j = 0; j < pin_count(); ++j) {
+      for (int k = 0; k < slices_; ++k) state.pins.push_back(EvaluatePoint(j, k, crank, loaded_rotation));
+    }
+    return state;
+  }
+  // The slice model: one pose per slice, and each slice of a pin searched from its neighbour's
+  // foot point (the slices differ by micrometres), not from the meshing equation again.
+  std::vector<geometry::Pose> poses;
+  poses.reserve(static_cast<std::size_t>(slices_));
+  for (int k = 0; k < slices_; ++k) poses.push_back(CyclePose(crank, loaded_rotation, SliceZ(k)));
   for (int j = 0; j < pin_count(); ++j) {
-    for (int k = 0; k < slices_; ++k) state.pins.push_back(EvaluatePoint(j, k, crank, loaded_rotation));
+    const geometry::MeshSeed seed = real_.kinematics().Seed(j, crank);
+    state.pins.push_back(EvaluatePointAt(j, 0, crank, poses[0], seed.tooth_space, seed.u));
+    for (int k = 1; k < slices_; ++k) {
+      const PinContact& near = state.pins.back();
+      state.pins.push_back(EvaluatePointAt(j, k, crank, poses[static_cast<std::size_t>(k)], near.tooth_space, near.u));
+    }
   }
   return state;
 }

@@ -133,6 +133,10 @@ LoadProblem::LoadProblem(ModelPtr model, double crank,
 
 LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state,
                          const contact::ContactSettings& contact, const contact::Material& material, double torque)
+    : LoadProblem(std::move(model), std::move(state), contact, material, torque, contact::ContactKinematics::kLinearised) {}
+
+LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state, const contact::ContactSettings& contact,
+                         const contact::Material& material, double torque, contact::ContactKinematics kinematics)
     : model_(Require(std::move(model))),
       id_(NextProblemId()),
       crank_(state.crank),
@@ -140,7 +144,7 @@ LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state,
       material_(material),
       torque_(std::abs(torque)),
       direction_(torque < 0.0 ? -1.0 : 1.0),
-      kinematics_(contact::ContactKinematics::kLinearised),
+      kinematics_(kinematics),
       log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap : model_->pair().pin_circle_radius),
       base_(std::move(state)) {
   BuildBaseLaws();

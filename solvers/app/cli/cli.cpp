@@ -1,5 +1,6 @@
 #include "cli.hpp"
 
+#include <malloc.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -282,6 +283,13 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     return kExitInternalError;
   }
   return code;
+}
+
+void ConfigureProcess() {
+#ifdef __GLIBC__
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 128 << 20);
+#endif
 }
 
 }  // namespace ltca::cli

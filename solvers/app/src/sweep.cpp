@@ -64,13 +64,31 @@ struct SweepRunner::Impl {
   double torque;
   SummaryAccumulator summary;
   Clock::duration elapsed{};
+  // The unloaded states evaluated for the interference check, kept for the solves when they fit
+  // in kKeptStatesBytes (in sweep order; a crank solved out of order is evaluated again).
+  static constexpr std::size_t kKeptStatesBytes = std::size_t{64} << 20;
+  std::vector<contact::MeshState> checked;
+  std::size_t next_checked = 0;
 
   Impl(const Deck& d, const SolverOptions& o, Clock::time_point start)
       : deck(d), options(o), model(std::make_shared<const contact::MeshModel>(d.MakeModel())), solver(solvers::MakeSolver(o.name)), material(d.RequireMaterial()),
         torque(d.RequireLoad().torque) {
     // Nothing is solved for a pair that interferes anywhere in the sweep (as `backlash` rejects it).
-    for (const double crank : deck.sweep.CrankAngles()) contact::RequireNoInterference(*model, crank);
+    const auto cranks = deck.sweep.CrankAngles();
+    const bool keep = cranks.size() * static_cast<std::size_t>(model->point_count()) * sizeof(contact::PinContact) <= kKeptStatesBytes;
+    for (const double crank : cranks) {
+      contact::MeshState state = model->Evaluate(crank, 0.0);
+      contact::RequireNoInterference(state, crank, model->interference_tolerance());
+      if (keep) checked.push_back(std::move(state));
+    }
     elapsed = Clock::now() - start;
+  }
+
+  solvers::LoadProblem Problem(double crank) {
+    if (next_checked < checked.size() && checked[next_checked].crank == crank) {
+      return {model, std::move(checked[next_checked++]), deck.contact, material, torque, options.kinematics};
+    }
+    return {model, crank, deck.contact, material, torque, options.kinematics};
   }
 };
 
@@ -88,7 +106,7 @@ const SolverOptions& SweepRunner::options() const { return impl_->options; }
 PositionResult SweepRunner::Solve(double crank) {
   const auto start = Clock::now();
   Impl& m = *impl_;
-  const solvers::LoadProblem problem(m.model, crank, m.deck.contact, m.material, m.torque, m.options.kinematics);
+  const solvers::LoadProblem problem = m.Problem(crank);
   PositionResult pos;
   pos.crank = crank;
   pos.result = m.solver->Solve(problem, m.options, m.workspace);

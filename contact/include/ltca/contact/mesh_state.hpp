@@ -115,6 +115,8 @@ class MeshModel {
  private:
   PinContact EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int tooth_space,
                                double u) const;
+  PinContact EvaluatePointAt(int pin, int slice, double crank, const geometry::Pose& pose, int tooth_space,
+                             double u) const;
   PinContact EvaluatePointElements(int pin, int slice, double crank, double loaded_rotation) const;
   /// The point's slice data and the lead layer (normal offset of the flank) applied to a foot point.
   void FinishPoint(int slice, PinContact* c) const;

@@ -46,6 +46,11 @@ class LoadProblem {
               const contact::Material& material, double torque);
   LoadProblem(const contact::MeshModel& model, contact::MeshState state, const contact::ContactSettings& contact,
               const contact::Material& material, double torque);
+  /// A problem on the model's own unloaded state at a crank, evaluated beforehand
+  /// (model->Evaluate(crank, 0), e.g. kept from the interference check of a sweep): the same
+  /// problem as the crank constructor, without evaluating the mesh again.
+  LoadProblem(ModelPtr model, contact::MeshState evaluated, const contact::ContactSettings& contact,
+              const contact::Material& material, double torque, contact::ContactKinematics kinematics);
 
   const contact::MeshModel& model() const { return *model_; }
   const ModelPtr& shared_model() const { return model_; }
