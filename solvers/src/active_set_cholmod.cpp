@@ -125,6 +125,7 @@ ActiveSetCholmod::ActiveSetCholmod(const Eigen::SparseMatrix<double>& coupling) 
 ActiveSetCholmod::~ActiveSetCholmod() = default;
 
 int ActiveSetCholmod::size() const { return static_cast<int>(impl_->c.rows()); }
+const Eigen::SparseMatrix<double>& ActiveSetCholmod::coupling() const { return impl_->c; }
 
 bool ActiveSetCholmod::Matches(const Eigen::SparseMatrix<double>& coupling) const {
   const Eigen::SparseMatrix<double>& c = impl_->c;

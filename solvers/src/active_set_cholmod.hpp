@@ -25,6 +25,8 @@ class ActiveSetCholmod {
   ActiveSetCholmod& operator=(const ActiveSetCholmod&) = delete;
 
   int size() const;
+  /// The coupling C it was built for (compressed, both triangles).
+  const Eigen::SparseMatrix<double>& coupling() const;
   /// True when this kernel was built for exactly this matrix (size, pattern and values).
   bool Matches(const Eigen::SparseMatrix<double>& coupling) const;
 
