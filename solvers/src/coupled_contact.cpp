@@ -76,7 +76,13 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
     if (points[u(i)].law == nullptr || !(f[u(i)] > 0.0) || !std::isfinite(f[u(i)])) f[u(i)] = 0.0;
     free[u(i)] = f[u(i)] > 0.0;
   }
-  // For a given torque the start carries it: scaled, or (cold) on the first point to close.
+  // Secant compliance of an entering point (F = 0): w(f) / f at the force scale.
+  const auto secant = [&](const contact::ContactLaw& law) {
+    const double fs = std::min(force_scale, 0.5 * law.max_force());
+    return law.Approach(fs) / fs;
+  };
+  // For a given torque the start carries it: scaled, or (cold) the uncoupled answer of the secant
+  // stiffnesses, sum k_i L_i max(0, a_i + L_i psi) = T (increasing in psi; bisection on psi).
   const auto carry_torque = [&]() -> bool {
     double t = 0.0;
     for (int i = 0; i < n; ++i) t += f[u(i)] * points[u(i)].arm;
@@ -84,35 +90,46 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
       for (double& x : f) x *= torque / t;
       return true;
     }
-    int first = -1;
-    double best = INFINITY;
+    std::vector<double> k(points.size(), 0.0);
+    double lo = INFINITY;
     for (int i = 0; i < n; ++i) {
       const CoupledPoint& p = points[u(i)];
       if (p.law == nullptr || !(p.arm > 0.0)) continue;
-      const double closing = -p.approach / p.arm;
-      if (closing < best) best = closing, first = i;
+      k[u(i)] = 1.0 / secant(*p.law);
+      lo = std::min(lo, -p.approach / p.arm);
     }
-    if (first < 0) return false;
-    std::fill(f.begin(), f.end(), 0.0);
-    std::fill(free.begin(), free.end(), 0);
-    f[u(first)] = torque / points[u(first)].arm;
-    free[u(first)] = 1;
+    if (!std::isfinite(lo)) return false;
+    const auto carried = [&](double at) {
+      double sum = 0.0;
+      for (int i = 0; i < n; ++i) sum += k[u(i)] * points[u(i)].arm * std::max(0.0, points[u(i)].approach + points[u(i)].arm * at);
+      return sum;
+    };
+    double width = 1e-9, hi = lo + width;
+    for (int grow = 0; grow < 200 && carried(hi) < torque; ++grow) width *= 2.0, hi = lo + width;
+    for (int halve = 0; halve < 100; ++halve) {
+      const double mid = 0.5 * (lo + hi);
+      (carried(mid) < torque ? lo : hi) = mid;
+    }
+    for (int i = 0; i < n; ++i) {
+      f[u(i)] = k[u(i)] * std::max(0.0, points[u(i)].approach + points[u(i)].arm * hi);
+      free[u(i)] = f[u(i)] > 0.0;
+    }
+    t = 0.0;
+    for (int i = 0; i < n; ++i) t += f[u(i)] * points[u(i)].arm;
+    if (!(t > 0.0)) return false;
+    for (double& x : f) x *= torque / t;
     return true;
   };
   if (for_torque && !carry_torque()) {
     out.failure = "no contact point with a law and a positive arm can carry the torque";
     return out;
   }
-  // Secant compliance of an entering point (F = 0): w(f) / f at the force scale.
-  const auto secant = [&](const contact::ContactLaw& law) {
-    const double fs = std::min(force_scale, 0.5 * law.max_force());
-    return law.Approach(fs) / fs;
-  };
   const Eigen::Map<Eigen::VectorXd> fv(f.data(), n);
   Eigen::VectorXd cf(n), d = Eigen::VectorXd::Zero(n);
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, for_torque ? 2 : 1), sol;
   double psi = 0.0, last_step = INFINITY, previous_step = INFINITY;
   bool settled = false, monotone = false, last_full = false;
+  int saturated = -1;  // a point held below its law's largest force in the last step
   for (int it = 0; it < kMaxIterations; ++it) {
     out.iterations = it + 1;
     cf.noalias() = c * fv;
@@ -234,18 +251,20 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
         clipped = true;
       }
     }
+    // A force beyond the law's range (an overshooting step, or a load the law cannot carry):
+    // held just below it; reported when the iteration does not settle.
+    saturated = -1;
     for (int i = 0; i < n; ++i) {
       if (free[u(i)] && f[u(i)] >= points[u(i)].law->max_force()) {
-        out.saturated = true;
-        out.failure = fmt::format("point {} reached the largest force its contact law can carry", i + 1);
-        return out;
+        f[u(i)] = (1.0 - 1e-6) * points[u(i)].law->max_force();
+        saturated = i;
       }
     }
     last_full = alpha == 1.0;
     if (last_full) psi = psi_new;
     previous_step = refresh ? INFINITY : last_step;
     last_step = step;
-    settled = !clipped && !entered;
+    settled = !clipped && !entered && saturated < 0;
     if (!monotone && it + 1 == kSemismoothIterations) {
       // Not settled: continue monotone from a feasible point.
       monotone = true;
@@ -266,7 +285,12 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
       if (gap < -64.0 * kEps * (std::abs(cf(i)) + std::abs(p.approach) + std::abs(psi * p.arm))) out.edge = true;
     }
   }
-  if (!out.converged) out.failure = fmt::format("the active set did not settle in {} Newton steps", kMaxIterations);
+  if (!out.converged && saturated >= 0) {
+    out.saturated = true;
+    out.failure = fmt::format("point {} needs more force than its contact law can carry", saturated + 1);
+  } else if (!out.converged) {
+    out.failure = fmt::format("the active set did not settle in {} Newton steps", kMaxIterations);
+  }
   return out;
 }
 
