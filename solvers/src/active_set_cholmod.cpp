@@ -22,6 +22,7 @@ struct ActiveSetCholmod::Impl {
   cholmod_dense* e = nullptr;
   std::vector<char> active;
   Eigen::VectorXd d;
+  Eigen::MatrixXd rhs;  // Solve's right-hand sides, masked (reused)
   bool stale = true;  // the factor does not hold the current D and active set
   Stats stats;
 
@@ -199,7 +200,8 @@ bool ActiveSetCholmod::Solve(const Eigen::MatrixXd& b, Eigen::MatrixXd* x) {
   Impl& m = *impl_;
   const int n = size();
   if (m.stale && !m.Factorise()) return false;
-  Eigen::MatrixXd rhs = b;
+  Eigen::MatrixXd& rhs = m.rhs;
+  rhs = b;
   for (int i = 0; i < n; ++i) {
     if (!m.active[static_cast<std::size_t>(i)]) rhs.row(i).setZero();
   }

@@ -127,19 +127,27 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
   const Eigen::Map<Eigen::VectorXd> fv(f.data(), n);
   Eigen::VectorXd cf(n), d = Eigen::VectorXd::Zero(n);
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, for_torque ? 2 : 1), sol;
-  double psi = 0.0, last_step = INFINITY, previous_step = INFINITY;
+  Eigen::VectorXd df(n);
+  double psi = 0.0, last_step = INFINITY, previous_step = INFINITY, mismatch = 0.0;
   bool settled = false, monotone = false, last_full = false;
   int saturated = -1;  // a point held below its law's largest force in the last step
   for (int it = 0; it < kMaxIterations; ++it) {
     out.iterations = it + 1;
-    cf.noalias() = c * fv;
+    // C F over the loaded columns only (most points carry no force).
+    cf.setZero();
+    for (int j = 0; j < n; ++j) {
+      const double fj = f[u(j)];
+      if (fj == 0.0) continue;
+      for (Eigen::SparseMatrix<double>::InnerIterator e(c, j); e; ++e) cf(e.row()) += e.value() * fj;
+    }
     double f_max = 0.0;
     for (int i = 0; i < n; ++i) f_max = std::max(f_max, f[u(i)]);
     // The points held at zero: the gap with the last full step's psi; violators enter.
     int worst = -1;
     double worst_gap = 0.0;
     bool entered = false;
-    if (it > 0 && last_full) {
+    // At a given rotation the gaps of the start are known: its points may enter at once.
+    if ((it > 0 && last_full) || (it == 0 && !for_torque)) {
       for (int i = 0; i < n; ++i) {
         const CoupledPoint& p = points[u(i)];
         if (free[u(i)] || p.law == nullptr) continue;
@@ -157,23 +165,28 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
         free[u(worst)] = 1;  // one at a time, once the free set is nearly solved
         entered = true;
       }
-      if (!entered && settled && last_step <= kStepTolerance * std::max(f_max, 1e-300)) {
+      // Converged when the error left after the last step, estimated from the chord's compliance
+      // mismatch (linear) and the law's curvature (quadratic, F |w''| / w' < 1 below the largest
+      // force), is below the tolerance.
+      const double left = mismatch * last_step + last_step * last_step / std::max(f_max, 1e-300);
+      if (!entered && settled && left <= kStepTolerance * std::max(f_max, 1e-300)) {
         out.converged = true;
         break;
       }
     }
     // Tangent compliances and residuals on the free set.
     bool refresh = false;
+    double pending = 0.0;  // largest relative mismatch of a factorised compliance
     for (int i = 0; i < n; ++i) {
       if (!free[u(i)]) continue;
       const contact::ContactLaw& law = *points[u(i)].law;
       d(i) = f[u(i)] > 0.0 ? law.Compliance(f[u(i)]) : secant(law);
-      if (kernel_.active(i) && std::abs(d(i) - kernel_.diagonal(i)) > kRefresh * kernel_.diagonal(i)) refresh = true;
+      if (kernel_.active(i)) pending = std::max(pending, std::abs(d(i) - kernel_.diagonal(i)) / kernel_.diagonal(i));
       rhs(i, 0) = law.Approach(f[u(i)]) + cf(i) - points[u(i)].approach;
       if (for_torque) rhs(i, 1) = points[u(i)].arm;
     }
     // A chord step that contracted poorly: refactorise with the current tangents.
-    if (previous_step < INFINITY && last_step > 0.05 * previous_step) refresh = true;
+    if (pending > kRefresh || (previous_step < INFINITY && last_step > 0.05 * previous_step)) refresh = true;
     if (refresh) kernel_.SetDiagonal(d);
     for (int i = 0; i < n; ++i) {
       if (free[u(i)] && !kernel_.active(i)) kernel_.Add(i, d(i));
@@ -195,7 +208,7 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
       out.failure = "the factorisation of D + C on the active set failed";
       return out;
     }
-    Eigen::VectorXd df = -sol.col(0);
+    df = -sol.col(0);
     double psi_new = psi;
     if (for_torque) {
       double lx = 0.0, ly = 0.0, t = 0.0;
@@ -264,6 +277,7 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
     if (last_full) psi = psi_new;
     previous_step = refresh ? INFINITY : last_step;
     last_step = step;
+    mismatch = refresh ? 0.0 : pending;
     settled = !clipped && !entered && saturated < 0;
     if (!monotone && it + 1 == kSemismoothIterations) {
       // Not settled: continue monotone from a feasible point.

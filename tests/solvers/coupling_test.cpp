@@ -8,6 +8,7 @@
 // coupled gap, and the backends without coupling must refuse with their named status.
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <memory>
 #include <cmath>
 #include <stdexcept>
@@ -706,6 +707,11 @@ TEST_CASE("solvers: coupled compliance - 40 pins x 20 slices with pin bending: b
       factorisations[s] += r[s].details.count("factorisations") ? r[s].details.at("factorisations") : 0.0;
       REQUIRE(r[s].status == SolverStatus::kSuccess);
       CHECK(r[s].residuals.Normalised() < 1e-8);
+      if (std::getenv("LTCA_COUPLED_DETAILS") != nullptr) {
+        std::string d;
+        for (const auto& [key, value] : r[s].details) d += key + "=" + std::to_string(value) + " ";
+        MESSAGE(names[s], ": evaluations ", r[s].torque_evaluations, " iterations ", r[s].iterations, " ", d);
+      }
     }
     const double te_error = std::abs(r[1].te - r[0].te) / std::abs(r[0].te);
     const double force_error = MaxDifference(r[1].force, r[0].force) / MaxForce(r[0].force);
