@@ -235,6 +235,17 @@ double ContactLaw::Compliance(double force) const {
   return 0.0;
 }
 
+double ContactLaw::Approach(double force, double* compliance) const {
+  if (kind_ != LawKind::kHertzLine || !(force > 0.0) || force >= max_force_) {
+    *compliance = Compliance(force);
+    return Approach(force);
+  }
+  const double c = cc_ + cp_;
+  const double log_f = std::log(force);
+  *compliance = 2.0 / (kPi * length_) * (hertz_a_ - 0.5 * c * log_f - 0.5 * c);
+  return 2.0 * force / (kPi * length_) * (hertz_a_ - 0.5 * c * log_f);
+}
+
 double ContactLaw::ComplementaryEnergy(double force) const {
   if (!(force > 0.0)) return 0.0;
   switch (kind_) {

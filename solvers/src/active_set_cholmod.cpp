@@ -139,6 +139,7 @@ bool ActiveSetCholmod::Matches(const Eigen::SparseMatrix<double>& coupling) cons
 }
 
 bool ActiveSetCholmod::active(int i) const { return impl_->active[static_cast<std::size_t>(i)] != 0; }
+const std::vector<char>& ActiveSetCholmod::active_set() const { return impl_->active; }
 double ActiveSetCholmod::diagonal(int i) const { return impl_->d(i); }
 
 void ActiveSetCholmod::SetDiagonal(const Eigen::VectorXd& d) {

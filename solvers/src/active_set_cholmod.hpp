@@ -31,6 +31,8 @@ class ActiveSetCholmod {
   bool Matches(const Eigen::SparseMatrix<double>& coupling) const;
 
   bool active(int i) const;
+  /// Per point: 1 when active.
+  const std::vector<char>& active_set() const;
   /// The diagonal D_i the factor holds for an active point (mm/N).
   double diagonal(int i) const;
   /// A new diagonal for every point (only the active ones enter M): the factor is refactorised

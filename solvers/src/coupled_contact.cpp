@@ -177,24 +177,39 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
     // Tangent compliances and residuals on the free set.
     bool refresh = false;
     double pending = 0.0;  // largest relative mismatch of a factorised compliance
+    const std::vector<char>& in_factor = kernel_.active_set();
     for (int i = 0; i < n; ++i) {
-      if (!free[u(i)]) continue;
+      if (!free[u(i)]) {
+        rhs.row(i).setZero();
+        continue;
+      }
       const contact::ContactLaw& law = *points[u(i)].law;
-      d(i) = f[u(i)] > 0.0 ? law.Compliance(f[u(i)]) : secant(law);
-      if (kernel_.active(i)) pending = std::max(pending, std::abs(d(i) - kernel_.diagonal(i)) / kernel_.diagonal(i));
-      rhs(i, 0) = law.Approach(f[u(i)]) + cf(i) - points[u(i)].approach;
+      double w = 0.0;
+      if (f[u(i)] > 0.0) {
+        w = law.Approach(f[u(i)], &d(i));
+      } else {
+        d(i) = secant(law);
+      }
+      if (in_factor[u(i)]) pending = std::max(pending, std::abs(d(i) - kernel_.diagonal(i)) / kernel_.diagonal(i));
+      rhs(i, 0) = w + cf(i) - points[u(i)].approach;
       if (for_torque) rhs(i, 1) = points[u(i)].arm;
     }
     // A chord step that contracted poorly: refactorise with the current tangents.
     if (pending > kRefresh || (previous_step < INFINITY && last_step > 0.05 * previous_step)) refresh = true;
     if (refresh) kernel_.SetDiagonal(d);
-    for (int i = 0; i < n; ++i) {
-      if (free[u(i)] && !kernel_.active(i)) kernel_.Add(i, d(i));
-      if (!free[u(i)] && kernel_.active(i)) kernel_.Remove(i);
-      if (!free[u(i)]) rhs.row(i).setZero();
-    }
     bool any_free = false;
-    for (int i = 0; i < n && !any_free; ++i) any_free = free[u(i)];
+    for (int i = 0; i < n; ++i) {
+      if (free[u(i)] == in_factor[u(i)]) {
+        any_free = any_free || free[u(i)];
+        continue;
+      }
+      if (free[u(i)]) {
+        kernel_.Add(i, d(i));
+        any_free = true;
+      } else {
+        kernel_.Remove(i);
+      }
+    }
     if (!any_free) {  // nothing can carry load: every force is zero (at a rotation)
       if (for_torque) {
         out.failure = "no contact point is left to carry the torque";

@@ -121,6 +121,9 @@ TEST_CASE("contact: the compliance dw/dF agrees with a central difference of the
       CHECK(law.Compliance(f) == doctest::Approx(fd).epsilon(1e-6));
       CHECK(law.Compliance(f) == doctest::Approx(1.0 / law.Stiffness(law.Approach(f))).epsilon(1e-9));
       CHECK(law.Compliance(f) > 0.0);
+      double compliance = 0.0;
+      CHECK(law.Approach(f, &compliance) == law.Approach(f));  // the fused evaluation, bit for bit
+      CHECK(compliance == law.Compliance(f));
     }
     if (std::isfinite(law.max_force())) CHECK(law.Compliance(law.max_force()) == 0.0);
     CHECK(law.Compliance(0.0) > 0.0);  // the right-hand limit (infinite for hertz-line)

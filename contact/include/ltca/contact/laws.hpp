@@ -70,6 +70,8 @@ class ContactLaw {
   /// solvers' Newton steps use. Positive below max_force(), 0 at and beyond it (the approach is
   /// capped there); at F <= 0 the right-hand limit (infinite for hertz-line: w ~ F ln(1/F)).
   double Compliance(double force) const;
+  /// Approach(force), with Compliance(force) in *compliance: the same numbers, one logarithm for both.
+  double Approach(double force, double* compliance) const;
   /// Complementary energy int_0^F delta(f) df, N*mm (the energy solvers' objective).
   double ComplementaryEnergy(double force) const;
   double max_force() const { return max_force_; }      ///< N (infinite for the linear law)
