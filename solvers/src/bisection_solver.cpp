@@ -108,13 +108,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   result->rotation = psi;
   result->force = forces;
   result->details = {{"final_step_rad", step}};
-  if (coupled != nullptr) {
-    const ActiveSetCholmod::Stats& now = coupled->stats();
-    result->details["factorisations"] = now.factorisations - before.factorisations;
-    result->details["rowadds"] = now.rowadds - before.rowadds;
-    result->details["rowdels"] = now.rowdels - before.rowdels;
-    result->details["solves"] = now.solves - before.solves;
-  }
+  if (coupled != nullptr) AddKernelDetails(before, coupled->stats(), &result->details);
   result->torque_evaluations = evaluations;
   result->iterations = evaluations;
   result->native_code = 0;

@@ -117,13 +117,8 @@ void CompatibilitySolver::SolveCoupled(const LoadProblem& problem, const SolverO
   result->force.resize(static_cast<std::size_t>(problem.pin_count()), 0.0);
   result->iterations = newton;
   result->torque_evaluations = outer + 1;
-  const ActiveSetCholmod::Stats& now = coupled.stats();
-  result->details = {{"newton_steps", newton},
-                     {"relinearisations", outer + 1},
-                     {"factorisations", now.factorisations - before.factorisations},
-                     {"rowadds", now.rowadds - before.rowadds},
-                     {"rowdels", now.rowdels - before.rowdels},
-                     {"solves", now.solves - before.solves}};
+  result->details = {{"newton_steps", newton}, {"relinearisations", outer + 1}};
+  AddKernelDetails(before, coupled.stats(), &result->details);
   const double miss = std::abs(outcome.torque - problem.torque()) / problem.torque();
   if (outcome.saturated) {
     result->status = SolverStatus::kLawCannotCarry;

@@ -28,6 +28,13 @@ std::vector<CoupledPoint> CoupledPoints(const std::vector<LoadProblem::PinAt>& p
   return out;
 }
 
+void AddKernelDetails(const ActiveSetCholmod::Stats& before, const ActiveSetCholmod::Stats& now, BackendDetails* details) {
+  (*details)["factorisations"] = now.factorisations - before.factorisations;
+  (*details)["rowadds"] = now.rowadds - before.rowadds;
+  (*details)["rowdels"] = now.rowdels - before.rowdels;
+  (*details)["solves"] = now.solves - before.solves;
+}
+
 double CoupledForceScale(const LoadProblem& problem) {
   double arms = 0.0;
   for (const auto& p : problem.base_state().pins) arms += std::max(p.arm, 0.0);

@@ -32,6 +32,7 @@
 
 #include "active_set_cholmod.hpp"
 #include "ltca/solvers/load_problem.hpp"
+#include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/workspace.hpp"
 
 namespace ltca::solvers {
@@ -78,6 +79,10 @@ class CoupledContact {
 /// The solver of this problem's coupling kept in the workspace (its CHOLMOD analysis is reused
 /// while the coupling is the same, e.g. over a sweep); rebuilt when the coupling differs.
 CoupledContact& CoupledContactFor(const LoadProblem& problem, Workspace& workspace);
+
+/// The kernel's work between two snapshots of its statistics, as backend details:
+/// `factorisations`, `rowadds`, `rowdels`, `solves`.
+void AddKernelDetails(const ActiveSetCholmod::Stats& before, const ActiveSetCholmod::Stats& now, BackendDetails* details);
 
 /// A typical force of one point, N: T over the sum of the positive arms.
 double CoupledForceScale(const LoadProblem& problem);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -202,6 +203,35 @@ double MaxDifference(const std::vector<double>& a, const std::vector<double>& b)
   return m;
 }
 
+/// A solver's answer against the brute-force one: forces to 1e-8 of the largest, psi to 1e-8
+/// relative, the shared residual below 1e-9, and the same loaded set (an open pin carries exactly
+/// nothing). Returns the force and psi errors.
+std::pair<double, double> CheckAgainst(const Answer& truth, const LoadResult& r) {
+  const double force_error = MaxDifference(r.force, truth.force) / MaxForce(truth.force);
+  const double psi_error = std::abs(r.rotation - truth.psi) / std::abs(truth.psi);
+  CHECK(force_error <= 1e-8);
+  CHECK(psi_error <= 1e-8);
+  CHECK(r.residuals.Normalised() < 1e-9);
+  for (std::size_t i = 0; i < truth.force.size(); ++i) {
+    CAPTURE(i);
+    CHECK((r.force[i] > 0.0) == (truth.force[i] > 0.0));
+  }
+  return {force_error, psi_error};
+}
+
+/// n pins in a ring, each coupled to its neighbours: 2e-6 mm/N on the diagonal, 0.5e-6 beside it.
+Eigen::SparseMatrix<double> NeighbourRing(int n) {
+  Eigen::SparseMatrix<double> c(n, n);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < n; ++i) {
+    t.emplace_back(i, i, 2e-6);
+    t.emplace_back(i, (i + 1) % n, 0.5e-6);
+    t.emplace_back((i + 1) % n, i, 0.5e-6);
+  }
+  c.setFromTriplets(t.begin(), t.end());
+  return c;
+}
+
 LoadResult Solve(const std::string& name, const LoadProblem& problem) {
   SolverOptions options;
   options.name = name;
@@ -221,16 +251,7 @@ TEST_CASE("solvers: coupled compliance - energy-qp matches brute-force active-se
     const Answer truth = Unique(h, h.coupling);
     const LoadResult r = Solve("energy-qp", problem);
     REQUIRE(r.status == SolverStatus::kSuccess);
-    const double f_scale = MaxForce(truth.force);
-    const double force_error = MaxDifference(r.force, truth.force) / f_scale;
-    const double psi_error = std::abs(r.rotation - truth.psi) / std::abs(truth.psi);
-    CHECK(force_error <= 1e-8);
-    CHECK(psi_error <= 1e-8);
-    CHECK(r.residuals.Normalised() < 1e-9);
-    for (std::size_t i = 0; i < truth.force.size(); ++i) {
-      CAPTURE(i);
-      CHECK((r.force[i] > 0.0) == (truth.force[i] > 0.0));  // an open pin carries exactly nothing
-    }
+    const auto [force_error, psi_error] = CheckAgainst(truth, r);
     // The energy of the answer: the law's F^2 / 2k plus the coupling's 1/2 F^T C F.
     double energy = 0.0;
     for (std::size_t i = 0; i < truth.force.size(); ++i) {
@@ -335,15 +356,7 @@ TEST_CASE("solvers: coupled compliance - bisection and compatibility match brute
       const Answer truth = Unique(h, h.coupling);
       const LoadResult r = Solve(name, Coupled(h));
       REQUIRE(r.status == SolverStatus::kSuccess);
-      const double force_error = MaxDifference(r.force, truth.force) / MaxForce(truth.force);
-      const double psi_error = std::abs(r.rotation - truth.psi) / std::abs(truth.psi);
-      CHECK(force_error <= 1e-8);
-      CHECK(psi_error <= 1e-8);
-      CHECK(r.residuals.Normalised() < 1e-9);
-      for (std::size_t i = 0; i < truth.force.size(); ++i) {
-        CAPTURE(i);
-        CHECK((r.force[i] > 0.0) == (truth.force[i] > 0.0));
-      }
+      const auto [force_error, psi_error] = CheckAgainst(truth, r);
       worst_force = std::max(worst_force, force_error);
       worst_psi = std::max(worst_psi, psi_error);
     }
@@ -504,14 +517,7 @@ TEST_CASE("solvers: coupled compliance - energy-qp on a 40-pin pair, linearised 
   const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
   const MeshModel model = deck.MakeModel();
   const int n = model.pin_count();
-  Eigen::SparseMatrix<double> c(n, n);
-  std::vector<Eigen::Triplet<double>> t;
-  for (int i = 0; i < n; ++i) {
-    t.emplace_back(i, i, 2e-6);
-    t.emplace_back(i, (i + 1) % n, 0.5e-6);
-    t.emplace_back((i + 1) % n, i, 0.5e-6);
-  }
-  c.setFromTriplets(t.begin(), t.end());
+  const Eigen::SparseMatrix<double> c = NeighbourRing(n);
   double te[2] = {NAN, NAN}, te_plain = NAN;
   for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     CAPTURE(static_cast<int>(kinematics));
@@ -640,15 +646,7 @@ TEST_CASE("solvers: coupled compliance - Liu Table 1 with pin bending over 10 sl
 TEST_CASE("solvers: coupled compliance - the plane model with pin bending or neighbours coupled: the solvers agree under both kinematics") {
   // One slice per pin (the face as a whole: a diagonal coupling from the beam), and the 40-pin
   // ring of neighbouring pins of the energy-qp test above, on Liu Table 1; linearised and exact.
-  const int n = LiuModel()->pin_count();
-  Eigen::SparseMatrix<double> ring(n, n);
-  std::vector<Eigen::Triplet<double>> t;
-  for (int i = 0; i < n; ++i) {
-    t.emplace_back(i, i, 2e-6);
-    t.emplace_back(i, (i + 1) % n, 0.5e-6);
-    t.emplace_back((i + 1) % n, i, 0.5e-6);
-  }
-  ring.setFromTriplets(t.begin(), t.end());
+  const Eigen::SparseMatrix<double> ring = NeighbourRing(LiuModel()->pin_count());
   for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     for (const double crank : {0.9, 3.3}) {
       CAPTURE(static_cast<int>(kinematics));
