@@ -218,6 +218,34 @@ double ContactLaw::Stiffness(double approach) const {
   return 0.0;
 }
 
+double ContactLaw::Compliance(double force) const {
+  if (force >= max_force_) return 0.0;
+  switch (kind_) {
+    case LawKind::kLinear: return 1.0 / k_lin_;
+    case LawKind::kHertzLine: {
+      if (!(force > 0.0)) return kInf;
+      const double c = cc_ + cp_;
+      return 2.0 / (kPi * length_) * (hertz_a_ - 0.5 * c * std::log(force) - 0.5 * c);
+    }
+    case LawKind::kSagitta: {
+      const double s = sagitta_factor_ * std::max(force, 0.0);
+      return sagitta_factor_ * (SagittaSlope(rho_c_abs_, s) + SagittaSlope(rho_p_, s));
+    }
+  }
+  return 0.0;
+}
+
+double ContactLaw::Approach(double force, double* compliance) const {
+  if (kind_ != LawKind::kHertzLine || !(force > 0.0) || force >= max_force_) {
+    *compliance = Compliance(force);
+    return Approach(force);
+  }
+  const double c = cc_ + cp_;
+  const double log_f = std::log(force);
+  *compliance = 2.0 / (kPi * length_) * (hertz_a_ - 0.5 * c * log_f - 0.5 * c);
+  return 2.0 * force / (kPi * length_) * (hertz_a_ - 0.5 * c * log_f);
+}
+
 double ContactLaw::ComplementaryEnergy(double force) const {
   if (!(force > 0.0)) return 0.0;
   switch (kind_) {

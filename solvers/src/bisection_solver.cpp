@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include <fmt/format.h>
 
+#include "coupled_contact.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::solvers {
@@ -15,6 +17,7 @@ struct Evaluation {
   double torque = 0.0;
   bool edge = false;       // a pin on a tip corner is pressed
   bool saturated = false;  // a pin is beyond its law's largest force
+  std::string failure;     // coupled only: the complementarity problem of the trial did not converge
 };
 
 Evaluation Evaluate(const LoadProblem& problem, double psi, Workspace& workspace, std::vector<double>* forces,
@@ -22,7 +25,17 @@ Evaluation Evaluate(const LoadProblem& problem, double psi, Workspace& workspace
   std::vector<contact::ContactLaw> scratch;
   Loading l = LoadAt(problem.At(psi, workspace, &scratch), hints);
   *forces = std::move(l.force);
-  return {l.torque, l.edge, l.saturated};
+  return {l.torque, l.edge, l.saturated, {}};
+}
+
+// Coupled (issue 11): the forces at psi solve the complementarity problem w(F) + C F - delta(psi)
+// >= 0, F >= 0, complementary (coupled_contact.hpp), started from *forces (the last accepted
+// trial's forces: a warm start).
+Evaluation EvaluateCoupled(const LoadProblem& problem, double psi, Workspace& workspace, CoupledContact& coupled,
+                           double force_scale, std::vector<double>* forces) {
+  std::vector<contact::ContactLaw> scratch;
+  const CoupledOutcome o = coupled.AtRotation(CoupledPoints(problem.At(psi, workspace, &scratch)), force_scale, forces);
+  return {o.torque, o.edge, o.saturated, o.converged || o.saturated ? std::string() : o.failure};
 }
 
 }  // namespace
@@ -42,12 +55,29 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
     return problem.Balanced(psi_now, torque_now, options.torque_tolerance, workspace);
   };
   std::vector<double> forces, trial_forces, hints;
+  // Uncoupled: the forces of the laws at the approaches (the published method, unchanged). Coupled:
+  // the coupled complementarity problem at each trial rotation, warm-started from the last accepted one.
+  CoupledContact* coupled = problem.has_coupling() ? &CoupledContactFor(problem, workspace) : nullptr;
+  const double force_scale = coupled != nullptr ? CoupledForceScale(problem) : 0.0;
+  const ActiveSetCholmod::Stats before = coupled != nullptr ? coupled->stats() : ActiveSetCholmod::Stats{};
+  const auto evaluate = [&](double at_psi, std::vector<double>* out) {
+    if (coupled == nullptr) return Evaluate(problem, at_psi, workspace, out, &hints);
+    if (out != &forces) *out = forces;
+    return EvaluateCoupled(problem, at_psi, workspace, *coupled, force_scale, out);
+  };
+  const auto fail = [&](const Evaluation& e, int evaluations_done) {
+    result->status = SolverStatus::kNumericalFailure;
+    result->message = fmt::format("coupled contact at a trial rotation: {}", e.failure);
+    result->torque_evaluations = evaluations_done;
+  };
   bool edge_blocked = false;
-  Evaluation at = Evaluate(problem, psi, workspace, &forces, &hints);
+  Evaluation at = evaluate(psi, &forces);
+  if (!at.failure.empty()) return fail(at, 1);
   int evaluations = 1;
   for (; evaluations < options.max_iterations; ++evaluations) {
     if (converged(psi, at.torque)) break;
-    const Evaluation trial = Evaluate(problem, psi + step, workspace, &trial_forces, &hints);
+    const Evaluation trial = evaluate(psi + step, &trial_forces);
+    if (!trial.failure.empty()) return fail(trial, evaluations + 1);
     if (trial.edge) {
       // A tip corner would be pressed at this trial: treat it as an overshoot. If the load cannot
       // be reached before a corner engages, the answer is edge contact (below).
@@ -78,6 +108,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   result->rotation = psi;
   result->force = forces;
   result->details = {{"final_step_rad", step}};
+  if (coupled != nullptr) AddKernelDetails(before, coupled->stats(), &result->details);
   result->torque_evaluations = evaluations;
   result->iterations = evaluations;
   result->native_code = 0;

@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 #include <nlopt.hpp>
 
+#include "coupled_contact.hpp"
+
 namespace ltca::solvers {
 namespace {
 
@@ -60,11 +62,81 @@ double Objective(const std::vector<double>& x, std::vector<double>& grad, void* 
 
 void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                                   LoadResult* result) const {
+  if (problem.has_coupling()) {
+    SolveCoupled(problem, options, workspace, result);
+    return;
+  }
   if (problem.kinematics() == contact::ContactKinematics::kExact) {
     SolveExact(problem, options, workspace, result);
     return;
   }
   SolveLinearised(problem, options, workspace, result);
+}
+
+void CompatibilitySolver::SolveCoupled(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                                      LoadResult* result) const {
+  // Jiang 2022 eq. 10-11 with the coupled deflection: Newton on (psi, F) about the first contact.
+  // Linearised kinematics: delta_i(psi0 + psi) = delta_i(psi0) + L_i psi is exact, one solve.
+  // Exact kinematics: re-linearise about each new psi; at psi_k the forces of the exact
+  // approaches (the coupled complementarity problem at psi_k) decide whether the torque balances.
+  double psi = problem.FirstContactRotation();
+  if (!std::isfinite(psi)) {
+    result->status = SolverStatus::kNumericalFailure;
+    result->message = "no pin can close its gap in the load direction";
+    return;
+  }
+  CoupledContact& coupled = CoupledContactFor(problem, workspace);
+  const ActiveSetCholmod::Stats before = coupled.stats();
+  const double force_scale = CoupledForceScale(problem);
+  const bool exact = problem.kinematics() == contact::ContactKinematics::kExact;
+  std::vector<double> forces;
+  std::vector<contact::ContactLaw> scratch;
+  CoupledOutcome outcome;
+  int outer = 0, newton = 0;
+  bool balanced = false;
+  for (; outer < 30; ++outer) {
+    const std::vector<CoupledPoint> points = CoupledPoints(problem.At(psi, workspace, &scratch));
+    if (outer > 0) {  // exact: the answer at the exact approaches of psi
+      outcome = coupled.AtRotation(points, force_scale, &forces);
+      newton += outcome.iterations;
+      if (!outcome.converged || outcome.edge) break;
+      balanced = problem.Balanced(psi, outcome.torque, options.torque_tolerance, workspace);
+      if (balanced) break;
+    }
+    outcome = coupled.ForTorque(points, problem.torque(), &forces);
+    newton += outcome.iterations;
+    psi += outcome.rotation;
+    if (!outcome.converged || outcome.edge) break;
+    if (!exact) {
+      balanced = problem.Balanced(psi, outcome.torque, options.torque_tolerance, workspace);
+      break;
+    }
+  }
+  result->rotation = psi;
+  result->force = forces;
+  result->force.resize(static_cast<std::size_t>(problem.pin_count()), 0.0);
+  result->iterations = newton;
+  result->torque_evaluations = outer + 1;
+  result->details = {{"newton_steps", newton}, {"relinearisations", outer + 1}};
+  AddKernelDetails(before, coupled.stats(), &result->details);
+  const double miss = std::abs(outcome.torque - problem.torque()) / problem.torque();
+  if (outcome.saturated) {
+    result->status = SolverStatus::kLawCannotCarry;
+    result->message = outcome.failure;
+  } else if (outcome.edge) {
+    result->status = SolverStatus::kEdgeContact;
+    result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
+  } else if (!outcome.converged) {
+    result->status = SolverStatus::kNumericalFailure;
+    result->message = fmt::format("coupled Newton: {}", outcome.failure);
+  } else if (balanced) {
+    result->status = SolverStatus::kSuccess;
+    result->message = fmt::format("coupled Newton on (psi, F): {} steps, {} linearisations, torque balanced to {:.3g}",
+                                  newton, outer + 1, miss);
+  } else {
+    result->status = SolverStatus::kMaxIterations;
+    result->message = fmt::format("coupled Newton: {} linearisations, torque off by {:.3g}", outer + 1, miss);
+  }
 }
 
 void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,

@@ -15,9 +15,15 @@ namespace ltca::solvers {
 /// exact derivative (the torque mismatch), derivative-free ones only Pi. Exact kinematics
 /// evaluates Pi on the re-evaluated geometry (dDelta_i/dpsi = L_i(psi) holds exactly), which is
 /// what re-linearising to convergence would reach.
+/// Coupled (issue 11, LoadProblem::WithCoupling): compatibility w_i(F_i) + (C F)_i = delta_i(psi)
+/// on the loaded points and the torque balance, solved by Newton on (psi, F) over the active set
+/// (the bordered matrix [D + C_AA, -L_A; L_A^T, 0], Schur complement on psi; coupled_contact.hpp);
+/// exact kinematics re-linearises about each new psi until the exact torque balances. Uncoupled
+/// problems take the path above unchanged.
 class CompatibilitySolver final : public LoadSolver {
  public:
   std::string name() const override { return "compatibility"; }
+  bool supports_coupling() const override { return true; }
 
  private:
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
@@ -27,6 +33,8 @@ class CompatibilitySolver final : public LoadSolver {
                        double guess_rotation = std::numeric_limits<double>::quiet_NaN()) const;
   void SolveExact(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                   LoadResult* result) const;
+  void SolveCoupled(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                    LoadResult* result) const;
 };
 
 }  // namespace ltca::solvers

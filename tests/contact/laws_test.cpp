@@ -107,6 +107,29 @@ TEST_CASE("contact: stiffness and complementary energy agree with finite differe
   }
 }
 
+TEST_CASE("contact: the compliance dw/dF agrees with a central difference of the approach and with 1 / stiffness") {
+  // Central difference of Approach (1e-6 relative); 1 / Stiffness(Approach(F)) (Stiffness goes
+  // through the law's inversion, the compliance does not) to 1e-9. Zero at the largest force.
+  int index = 0;
+  for (const ContactLaw& law : AllLaws()) {
+    CAPTURE(index++);
+    for (const double f : {1e-3, 0.1, 10.0, 1000.0, 5e4}) {
+      if (f >= 0.5 * law.max_force()) continue;
+      CAPTURE(f);
+      const double h = 1e-5 * f;
+      const double fd = (law.Approach(f + h) - law.Approach(f - h)) / (2 * h);
+      CHECK(law.Compliance(f) == doctest::Approx(fd).epsilon(1e-6));
+      CHECK(law.Compliance(f) == doctest::Approx(1.0 / law.Stiffness(law.Approach(f))).epsilon(1e-9));
+      CHECK(law.Compliance(f) > 0.0);
+      double compliance = 0.0;
+      CHECK(law.Approach(f, &compliance) == law.Approach(f));  // the fused evaluation, bit for bit
+      CHECK(compliance == law.Compliance(f));
+    }
+    if (std::isfinite(law.max_force())) CHECK(law.Compliance(law.max_force()) == 0.0);
+    CHECK(law.Compliance(0.0) > 0.0);  // the right-hand limit (infinite for hertz-line)
+  }
+}
+
 TEST_CASE("contact: hertz-line is Liu 2021 eq. 22-25 and sagitta is Li eq. 3-10 as printed") {
   // Typed in from the papers: Liu eq. 22 K = F / delta with b of eq. 23, E* of eq. 24, rho* of
   // eq. 25 (|rho_c| in the logarithm); Li eq. 3 (half-width), 4 (rho), 6-7 (sagittas), 8-10

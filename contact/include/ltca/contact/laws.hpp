@@ -66,6 +66,12 @@ class ContactLaw {
   double Force(double approach, double* hint) const;
   double Approach(double force) const;      ///< mm; 0 for force <= 0.
   double Stiffness(double approach) const;  ///< dF/d(approach), N/mm; >= 0.
+  /// dw/dF at a force, mm/N, closed form (no law inversion): the tangent compliance the coupled
+  /// solvers' Newton steps use. Positive below max_force(), 0 at and beyond it (the approach is
+  /// capped there); at F <= 0 the right-hand limit (infinite for hertz-line: w ~ F ln(1/F)).
+  double Compliance(double force) const;
+  /// Approach(force), with Compliance(force) in *compliance: the same numbers, one logarithm for both.
+  double Approach(double force, double* compliance) const;
   /// Complementary energy int_0^F delta(f) df, N*mm (the energy solvers' objective).
   double ComplementaryEnergy(double force) const;
   double max_force() const { return max_force_; }      ///< N (infinite for the linear law)

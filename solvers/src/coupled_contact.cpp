@@ -1,0 +1,333 @@
+#include "coupled_contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Core>
+#include <fmt/format.h>
+
+namespace ltca::solvers {
+namespace {
+
+constexpr int kMaxIterations = 200;
+constexpr int kSemismoothIterations = 40;  // then the monotone primal active-set method
+constexpr double kStepTolerance = 1e-12;   // of the largest force
+constexpr double kRefresh = 1e-2;          // relative change of a tangent compliance that refactorises
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+struct BackendCoupled final : Workspace::BackendState {
+  std::unique_ptr<CoupledContact> solver;
+};
+
+}  // namespace
+
+std::vector<CoupledPoint> CoupledPoints(const std::vector<LoadProblem::PinAt>& pins) {
+  std::vector<CoupledPoint> out(pins.size());
+  for (std::size_t i = 0; i < pins.size(); ++i) out[i] = {pins[i].edge ? nullptr : pins[i].law, pins[i].approach, pins[i].arm};
+  return out;
+}
+
+void AddKernelDetails(const ActiveSetCholmod::Stats& before, const ActiveSetCholmod::Stats& now, BackendDetails* details) {
+  (*details)["factorisations"] = now.factorisations - before.factorisations;
+  (*details)["rowadds"] = now.rowadds - before.rowadds;
+  (*details)["rowdels"] = now.rowdels - before.rowdels;
+  (*details)["solves"] = now.solves - before.solves;
+}
+
+double CoupledForceScale(const LoadProblem& problem) {
+  double arms = 0.0;
+  for (const auto& p : problem.base_state().pins) arms += std::max(p.arm, 0.0);
+  return arms > 0.0 && problem.torque() > 0.0 ? problem.torque() / arms : 1.0;
+}
+
+CoupledContact& CoupledContactFor(const LoadProblem& problem, Workspace& workspace) {
+  auto* state = static_cast<BackendCoupled*>(workspace.Backend("coupled-contact"));
+  if (state == nullptr) {
+    state = static_cast<BackendCoupled*>(workspace.SetBackend("coupled-contact", std::make_unique<BackendCoupled>()));
+  }
+  if (state->solver == nullptr || !state->solver->Matches(*problem.coupling())) {
+    state->solver = std::make_unique<CoupledContact>(*problem.coupling());
+  }
+  return *state->solver;
+}
+
+CoupledContact::CoupledContact(const Eigen::SparseMatrix<double>& coupling) : kernel_(coupling) {}
+
+CoupledOutcome CoupledContact::AtRotation(const std::vector<CoupledPoint>& points, double force_scale,
+                                          std::vector<double>* force) {
+  return Solve(points, false, 0.0, force_scale, force);
+}
+
+CoupledOutcome CoupledContact::ForTorque(const std::vector<CoupledPoint>& points, double torque,
+                                         std::vector<double>* force) {
+  double arms = 0.0;
+  for (const auto& p : points) arms += std::max(p.arm, 0.0);
+  return Solve(points, true, torque, arms > 0.0 ? torque / arms : 1.0, force);
+}
+
+CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bool for_torque, double torque,
+                                     double force_scale, std::vector<double>* force) {
+  const Eigen::SparseMatrix<double>& c = kernel_.coupling();
+  const int n = kernel_.size();
+  CoupledOutcome out;
+  if (static_cast<int>(points.size()) != n) {
+    out.failure = fmt::format("{} contact points for a coupling of {}", points.size(), n);
+    return out;
+  }
+  std::vector<double>& f = *force;
+  f.resize(points.size(), 0.0);
+  const auto u = [](int i) { return static_cast<std::size_t>(i); };
+  std::vector<char> free(points.size(), 0);
+  for (int i = 0; i < n; ++i) {
+    if (points[u(i)].law == nullptr || !(f[u(i)] > 0.0) || !std::isfinite(f[u(i)])) f[u(i)] = 0.0;
+    free[u(i)] = f[u(i)] > 0.0;
+  }
+  // Secant compliance of an entering point (F = 0): w(f) / f at the force scale.
+  const auto secant = [&](const contact::ContactLaw& law) {
+    const double fs = std::min(force_scale, 0.5 * law.max_force());
+    return law.Approach(fs) / fs;
+  };
+  // For a given torque the start carries it: scaled, or (cold) the uncoupled answer of the secant
+  // stiffnesses, sum k_i L_i max(0, a_i + L_i psi) = T (increasing in psi; bisection on psi).
+  const auto carry_torque = [&]() -> bool {
+    double t = 0.0;
+    for (int i = 0; i < n; ++i) t += f[u(i)] * points[u(i)].arm;
+    if (t > 0.0) {
+      for (double& x : f) x *= torque / t;
+      return true;
+    }
+    std::vector<double> k(points.size(), 0.0);
+    double lo = INFINITY;
+    for (int i = 0; i < n; ++i) {
+      const CoupledPoint& p = points[u(i)];
+      if (p.law == nullptr || !(p.arm > 0.0)) continue;
+      k[u(i)] = 1.0 / secant(*p.law);
+      lo = std::min(lo, -p.approach / p.arm);
+    }
+    if (!std::isfinite(lo)) return false;
+    const auto carried = [&](double at) {
+      double sum = 0.0;
+      for (int i = 0; i < n; ++i) sum += k[u(i)] * points[u(i)].arm * std::max(0.0, points[u(i)].approach + points[u(i)].arm * at);
+      return sum;
+    };
+    double width = 1e-9, hi = lo + width;
+    for (int grow = 0; grow < 200 && carried(hi) < torque; ++grow) width *= 2.0, hi = lo + width;
+    for (int halve = 0; halve < 100; ++halve) {
+      const double mid = 0.5 * (lo + hi);
+      (carried(mid) < torque ? lo : hi) = mid;
+    }
+    for (int i = 0; i < n; ++i) {
+      f[u(i)] = k[u(i)] * std::max(0.0, points[u(i)].approach + points[u(i)].arm * hi);
+      free[u(i)] = f[u(i)] > 0.0;
+    }
+    t = 0.0;
+    for (int i = 0; i < n; ++i) t += f[u(i)] * points[u(i)].arm;
+    if (!(t > 0.0)) return false;
+    for (double& x : f) x *= torque / t;
+    return true;
+  };
+  if (for_torque && !carry_torque()) {
+    out.failure = "no contact point with a law and a positive arm can carry the torque";
+    return out;
+  }
+  const Eigen::Map<Eigen::VectorXd> fv(f.data(), n);
+  Eigen::VectorXd cf(n), d = Eigen::VectorXd::Zero(n);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, for_torque ? 2 : 1), sol;
+  Eigen::VectorXd df(n);
+  double psi = 0.0, last_step = INFINITY, previous_step = INFINITY, mismatch = 0.0;
+  bool settled = false, monotone = false, last_full = false;
+  int saturated = -1;  // a point held below its law's largest force in the last step
+  for (int it = 0; it < kMaxIterations; ++it) {
+    out.iterations = it + 1;
+    // C F over the loaded columns only (most points carry no force).
+    cf.setZero();
+    for (int j = 0; j < n; ++j) {
+      const double fj = f[u(j)];
+      if (fj == 0.0) continue;
+      for (Eigen::SparseMatrix<double>::InnerIterator e(c, j); e; ++e) cf(e.row()) += e.value() * fj;
+    }
+    double f_max = 0.0;
+    for (int i = 0; i < n; ++i) f_max = std::max(f_max, f[u(i)]);
+    // The points held at zero: the gap with the last full step's psi; violators enter.
+    int worst = -1;
+    double worst_gap = 0.0;
+    bool entered = false;
+    // At a given rotation the gaps of the start are known: its points may enter at once.
+    if ((it > 0 && last_full) || (it == 0 && !for_torque)) {
+      for (int i = 0; i < n; ++i) {
+        const CoupledPoint& p = points[u(i)];
+        if (free[u(i)] || p.law == nullptr) continue;
+        const double gap = cf(i) - p.approach - psi * p.arm;
+        const double tol = 64.0 * kEps * (std::abs(cf(i)) + std::abs(p.approach) + std::abs(psi * p.arm));
+        if (!(gap < -tol)) continue;
+        if (!monotone) {
+          free[u(i)] = 1;
+          entered = true;
+        } else if (gap < worst_gap) {
+          worst_gap = gap, worst = i;
+        }
+      }
+      if (monotone && worst >= 0 && last_step <= 1e-6 * f_max) {
+        free[u(worst)] = 1;  // one at a time, once the free set is nearly solved
+        entered = true;
+      }
+      // Converged when the error left after the last step, estimated from the chord's compliance
+      // mismatch (linear) and the law's curvature (quadratic, F |w''| / w' < 1 below the largest
+      // force), is below the tolerance.
+      const double left = mismatch * last_step + last_step * last_step / std::max(f_max, 1e-300);
+      if (!entered && settled && left <= kStepTolerance * std::max(f_max, 1e-300)) {
+        out.converged = true;
+        break;
+      }
+    }
+    // Tangent compliances and residuals on the free set.
+    bool refresh = false;
+    double pending = 0.0;  // largest relative mismatch of a factorised compliance
+    const std::vector<char>& in_factor = kernel_.active_set();
+    for (int i = 0; i < n; ++i) {
+      if (!free[u(i)]) {
+        rhs.row(i).setZero();
+        continue;
+      }
+      const contact::ContactLaw& law = *points[u(i)].law;
+      double w = 0.0;
+      if (f[u(i)] > 0.0) {
+        w = law.Approach(f[u(i)], &d(i));
+      } else {
+        d(i) = secant(law);
+      }
+      if (in_factor[u(i)]) pending = std::max(pending, std::abs(d(i) - kernel_.diagonal(i)) / kernel_.diagonal(i));
+      rhs(i, 0) = w + cf(i) - points[u(i)].approach;
+      if (for_torque) rhs(i, 1) = points[u(i)].arm;
+    }
+    // A chord step that contracted poorly: refactorise with the current tangents.
+    if (pending > kRefresh || (previous_step < INFINITY && last_step > 0.05 * previous_step)) refresh = true;
+    if (refresh) kernel_.SetDiagonal(d);
+    bool any_free = false;
+    for (int i = 0; i < n; ++i) {
+      if (free[u(i)] == in_factor[u(i)]) {
+        any_free = any_free || free[u(i)];
+        continue;
+      }
+      if (free[u(i)]) {
+        kernel_.Add(i, d(i));
+        any_free = true;
+      } else {
+        kernel_.Remove(i);
+      }
+    }
+    if (!any_free) {  // nothing can carry load: every force is zero (at a rotation)
+      if (for_torque) {
+        out.failure = "no contact point is left to carry the torque";
+        return out;
+      }
+      std::fill(f.begin(), f.end(), 0.0);
+      last_step = 0.0, last_full = true, settled = true;
+      continue;
+    }
+    if (!kernel_.Solve(rhs, &sol)) {
+      out.failure = "the factorisation of D + C on the active set failed";
+      return out;
+    }
+    df = -sol.col(0);
+    double psi_new = psi;
+    if (for_torque) {
+      double lx = 0.0, ly = 0.0, t = 0.0;
+      for (int i = 0; i < n; ++i) {
+        t += f[u(i)] * points[u(i)].arm;
+        if (!free[u(i)]) continue;
+        lx += points[u(i)].arm * sol(i, 1);
+        ly += points[u(i)].arm * sol(i, 0);
+      }
+      if (!(lx > 0.0)) {
+        out.failure = "the loaded points cannot take up a rotation (no positive arm)";
+        return out;
+      }
+      psi_new = (torque - t + ly) / lx;  // [M, -L; L^T, 0] [dF; psi] = [-g; T - L^T F]
+      df += psi_new * sol.col(1);
+    }
+    // Step length: full (semismooth Newton), or ratio test and Armijo (monotone).
+    double alpha = 1.0;
+    int blocking = -1;
+    if (monotone) {
+      for (int i = 0; i < n; ++i) {
+        if (free[u(i)] && df(i) < 0.0 && -f[u(i)] / df(i) < alpha) alpha = -f[u(i)] / df(i), blocking = i;
+      }
+      const auto energy = [&](double a) {
+        Eigen::VectorXd trial = fv;
+        for (int i = 0; i < n; ++i) if (free[u(i)]) trial(i) = std::max(0.0, f[u(i)] + a * df(i));
+        double e = 0.5 * trial.dot(c * trial);
+        for (int i = 0; i < n; ++i) {
+          if (trial(i) > 0.0) e += points[u(i)].law->ComplementaryEnergy(trial(i)) - points[u(i)].approach * trial(i);
+        }
+        return e;
+      };
+      double slope = 0.0;
+      for (int i = 0; i < n; ++i) if (free[u(i)]) slope += rhs(i, 0) * df(i);
+      if (alpha * df.cwiseAbs().maxCoeff() > 1e-6 * std::max(f_max, 1e-300) && slope < 0.0) {
+        const double e0 = energy(0.0);
+        for (int k = 0; k < 30 && energy(alpha) > e0 + 1e-4 * alpha * slope; ++k) alpha *= 0.5, blocking = -1;
+      }
+    }
+    double step = 0.0;
+    bool clipped = false;
+    for (int i = 0; i < n; ++i) {
+      if (!free[u(i)]) continue;
+      f[u(i)] += alpha * df(i);
+      step = std::max(step, std::abs(alpha * df(i)));
+      if (i == blocking || f[u(i)] <= 0.0) {
+        if (monotone && i != blocking && f[u(i)] > -1e-9 * std::max(f_max, 1e-300)) {
+          f[u(i)] = 0.0;  // rounding at the boundary the ratio test stopped at
+          continue;
+        }
+        f[u(i)] = 0.0;
+        free[u(i)] = 0;
+        clipped = true;
+      }
+    }
+    // A force beyond the law's range (an overshooting step, or a load the law cannot carry):
+    // held just below it; reported when the iteration does not settle.
+    saturated = -1;
+    for (int i = 0; i < n; ++i) {
+      if (free[u(i)] && f[u(i)] >= points[u(i)].law->max_force()) {
+        f[u(i)] = (1.0 - 1e-6) * points[u(i)].law->max_force();
+        saturated = i;
+      }
+    }
+    last_full = alpha == 1.0;
+    if (last_full) psi = psi_new;
+    previous_step = refresh ? INFINITY : last_step;
+    last_step = step;
+    mismatch = refresh ? 0.0 : pending;
+    settled = !clipped && !entered && saturated < 0;
+    if (!monotone && it + 1 == kSemismoothIterations) {
+      // Not settled: continue monotone from a feasible point.
+      monotone = true;
+      previous_step = last_step = INFINITY;
+      if (for_torque && !carry_torque()) {
+        out.failure = "no contact point with a law and a positive arm can carry the torque";
+        return out;
+      }
+    }
+  }
+  out.rotation = psi;
+  out.torque = 0.0;
+  for (int i = 0; i < n; ++i) {
+    out.torque += f[u(i)] * points[u(i)].arm;
+    const CoupledPoint& p = points[u(i)];
+    if (p.law == nullptr) {
+      const double gap = cf(i) - p.approach - psi * p.arm;
+      if (gap < -64.0 * kEps * (std::abs(cf(i)) + std::abs(p.approach) + std::abs(psi * p.arm))) out.edge = true;
+    }
+  }
+  if (!out.converged && saturated >= 0) {
+    out.saturated = true;
+    out.failure = fmt::format("point {} needs more force than its contact law can carry", saturated + 1);
+  } else if (!out.converged) {
+    out.failure = fmt::format("the active set did not settle in {} Newton steps", kMaxIterations);
+  }
+  return out;
+}
+
+}  // namespace ltca::solvers
