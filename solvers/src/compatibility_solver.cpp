@@ -114,7 +114,7 @@ void CompatibilitySolver::SolveCoupled(const LoadProblem& problem, const SolverO
   }
   result->rotation = psi;
   result->force = forces;
-  result->force.resize(static_cast<std::size_t>(problem.pin_count()), 0.0);
+  result->force.resize(static_cast<std::size_t>(problem.point_count()), 0.0);
   result->iterations = newton;
   result->torque_evaluations = outer + 1;
   result->details = {{"newton_steps", newton}, {"relinearisations", outer + 1}};
