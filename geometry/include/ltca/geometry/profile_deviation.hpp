@@ -120,6 +120,11 @@ class ProfileDeviation {
   double MaxAbs() const;
   /// Tooth count of the profile it was built for (0 when IsZero()).
   int tooth_count() const { return tooth_count_; }
+  /// Appends to `nodes` the abscissae u in the open interval (lo, hi) where delta has a kink
+  /// (the knots of every source: the same on every tooth space), sorted and without repeats.
+  /// Between two consecutive nodes delta is linear in u on every tooth space: a smooth function
+  /// minus delta has its minimum there at a node or where its derivative vanishes.
+  void NodesIn(double lo, double hi, std::vector<double>* nodes) const;
 
  private:
   struct Table {
