@@ -600,6 +600,11 @@ TEST_CASE("cli: every command on 330 mutated decks from cases/ succeeds, exits 1
   const fs::path dir = LTCA_MUTANT_DIR;
   fs::remove_all(dir);
   fs::create_directories(dir / "work");
+  // Decks name data files relative to their directory ([errors] profile_measured_csv =
+  // "data/..."): the mutants are written to work/, so the data goes beside them.
+  if (fs::exists(fs::path(LTCA_CASES_DIR) / "data")) {
+    fs::copy(fs::path(LTCA_CASES_DIR) / "data", dir / "work" / "data", fs::copy_options::recursive);
+  }
 
   // The bases: every deck in cases/, sweeps cut short, in a fixed order.
   std::vector<std::pair<std::string, std::string>> bases;
