@@ -87,6 +87,17 @@ double ClosestParameter(const CycloidProfile& profile, int k, const Eigen::Vecto
   return u;
 }
 
+/// Places a contact found in the body frame: its point and the normal toward the pin centre in the
+/// fixed frame, the pin's point, and the lever arm of the normal about the cycloid centre, signed
+/// by the load direction (Liu eq. 27). c->pin_radius must be set.
+void PlaceContact(const geometry::Pose& pose, const Eigen::Vector2d& centre_fixed, double load_direction,
+                  const Eigen::Vector2d& point_body, const Eigen::Vector2d& normal_body, PinContact* c) {
+  c->cycloid_point = pose.ToFixed(point_body);
+  c->normal = pose.DirectionToFixed(normal_body);
+  c->pin_point = centre_fixed - c->pin_radius * c->normal;
+  c->arm = load_direction * Cross(c->cycloid_point - pose.centre, c->normal);
+}
+
 /// The foot point on the flank as made, x(u) + delta(k, u) n(u) (a profile deviation along the
 /// profile, geometry::ProfileDeviation), docs/contact.md "Profile deviation along the profile".
 struct DeviatedFoot {
@@ -381,10 +392,7 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double crank, do
     c.pin_radius = r_pin;
     c.cycloid_curvature = f.curvature;
     c.clearance = f.distance - r_pin;
-    c.cycloid_point = pose.ToFixed(f.point);
-    c.normal = pose.DirectionToFixed(f.normal);
-    c.pin_point = centre_fixed - r_pin * c.normal;
-    c.arm = load_direction_ * Cross(c.cycloid_point - pose.centre, c.normal);  // Liu eq. 27
+    PlaceContact(pose, centre_fixed, load_direction_, f.point, f.normal, &c);
     FinishPoint(slice, &c);
     return c;
   }
@@ -430,10 +438,7 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double crank, do
   c.pin_radius = r_pin;
   c.cycloid_curvature = best.curvature;
   c.clearance = best_gap;
-  c.cycloid_point = pose.ToFixed(best_point);
-  c.normal = pose.DirectionToFixed(best_normal);
-  c.pin_point = centre_fixed - r_pin * c.normal;
-  c.arm = load_direction_ * Cross(c.cycloid_point - pose.centre, c.normal);  // Liu eq. 27
+  PlaceContact(pose, centre_fixed, load_direction_, best_point, best_normal, &c);
   FinishPoint(slice, &c);
   return c;
 }
@@ -535,8 +540,7 @@ PinContact MeshModel::EvaluatePointFrom(int pin, int slice, double crank, double
     c.cycloid_curvature = x.curvature;
   }
   c.clearance = centre_gap - r_pin;
-  c.cycloid_point = pose.ToFixed(x.position);
-  c.normal = pose.DirectionToFixed(normal_body);
+  Eigen::Vector2d point_body = x.position;
   if (!real_.profile_deviation().IsZero()) {
     // The flank as made, x + delta n: its nearest point near the smooth foot point. The curvature
     // is that of the equidistant at delta, as Liu eq. 8 gives his shifted elements (rho + delta).
@@ -546,12 +550,10 @@ PinContact MeshModel::EvaluatePointFrom(int pin, int slice, double crank, double
     c.edge = f.corner;
     c.cycloid_curvature = f.corner ? std::numeric_limits<double>::infinity() : f.curvature;
     c.clearance = f.distance - r_pin;
-    c.cycloid_point = pose.ToFixed(f.point);
-    c.normal = pose.DirectionToFixed(f.normal);
+    point_body = f.point;
+    normal_body = f.normal;
   }
-  c.pin_point = centre_fixed - r_pin * c.normal;
-  // Liu eq. 27: the lever arm of the normal about the cycloid centre, signed by the load direction.
-  c.arm = load_direction_ * Cross(c.cycloid_point - pose.centre, c.normal);
+  PlaceContact(pose, centre_fixed, load_direction_, point_body, normal_body, &c);
   FinishPoint(slice, &c);
   return c;
 }

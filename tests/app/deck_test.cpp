@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <sys/stat.h>
@@ -455,23 +456,25 @@ TEST_CASE("solvers: deck [errors] profile_random_* keys give the random profile 
 }
 
 TEST_CASE("solvers: deck rejects bad profile deviation keys, naming the key and the value") {
-  const std::string errors = std::string(kGood) + "[errors]\n";
-  CHECK(Contains(ErrorOf(errors + "profile_random_zone_um = -1\n"),
-                 "deck 't.toml': [errors] profile_random_zone_um = -1: expected a finite tolerance zone width >= 0"));
-  CHECK(Contains(ErrorOf(errors + "profile_random_zone_um = 200\n"),
-                 "[errors] profile_random_zone_um = 200: looks like an absolute value"));
-  CHECK(Contains(ErrorOf(errors + "profile_random_zone_um = \"6\"\n"), "[errors] profile_random_zone_um = \"6\": expected a number"));
-  CHECK(Contains(ErrorOf(errors + "profile_random_elements = 0\n"), "[errors] profile_random_elements = 0: expected 1 .. 100000"));
-  CHECK(Contains(ErrorOf(errors + "profile_random_elements = 2.5\n"), "[errors] profile_random_elements = 2.5: expected an integer"));
-  CHECK(Contains(ErrorOf(errors + "profile_random_seed = -1\n"), "[errors] profile_random_seed = -1: expected an integer >= 0"));
-  CHECK(Contains(ErrorOf(errors + "profile_random_seed = 1.5\n"), "[errors] profile_random_seed = 1.5: expected an integer >= 0"));
-  CHECK(Contains(ErrorOf(errors + "profile_random_distribution = \"gauss\"\n"),
-                 "[errors] profile_random_distribution = \"gauss\": expected \"uniform\" or \"normal\""));
-  CHECK(Contains(ErrorOf(errors + "profile_random_spacing = \"arc\"\n"),
-                 "[errors] profile_random_spacing = \"arc\": expected \"arc_length\" or \"parameter\""));
-  CHECK(Contains(ErrorOf(errors + "profile_measured_csv = \"\"\n"), "[errors] profile_measured_csv = \"\": expected the path"));
-  CHECK(Contains(ErrorOf(errors + "profile_measured_csv = 3\n"), "[errors] profile_measured_csv = 3: expected a string"));
-  CHECK(Contains(ErrorOf(errors + "profile_random_zone_mm = 6\n"), "[errors] unknown key 'profile_random_zone_mm'"));
+  // {the [errors] line, what the message must hold}
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"profile_random_zone_um = -1", "deck 't.toml': [errors] profile_random_zone_um = -1: expected a finite tolerance zone width >= 0"},
+      {"profile_random_zone_um = 200", "[errors] profile_random_zone_um = 200: looks like an absolute value"},
+      {"profile_random_zone_um = \"6\"", "[errors] profile_random_zone_um = \"6\": expected a number"},
+      {"profile_random_elements = 0", "[errors] profile_random_elements = 0: expected 1 .. 100000"},
+      {"profile_random_elements = 2.5", "[errors] profile_random_elements = 2.5: expected an integer"},
+      {"profile_random_seed = -1", "[errors] profile_random_seed = -1: expected an integer >= 0"},
+      {"profile_random_seed = 1.5", "[errors] profile_random_seed = 1.5: expected an integer >= 0"},
+      {"profile_random_distribution = \"gauss\"", "[errors] profile_random_distribution = \"gauss\": expected \"uniform\" or \"normal\""},
+      {"profile_random_spacing = \"arc\"", "[errors] profile_random_spacing = \"arc\": expected \"arc_length\" or \"parameter\""},
+      {"profile_measured_csv = \"\"", "[errors] profile_measured_csv = \"\": expected the path"},
+      {"profile_measured_csv = 3", "[errors] profile_measured_csv = 3: expected a string"},
+      {"profile_random_zone_mm = 6", "[errors] unknown key 'profile_random_zone_mm'"},
+  };
+  for (const auto& [line, message] : cases) {
+    CAPTURE(line);
+    CHECK(Contains(ErrorOf(std::string(kGood) + "[errors]\n" + line + "\n"), message));
+  }
 }
 
 TEST_CASE("solvers: deck reads profile_measured_csv relative to the deck's directory, naming key, path and line") {
