@@ -55,7 +55,7 @@ TEST_CASE("geometry: Philox4x32-10 reproduces the Random123 known-answer vectors
   CHECK(bits[1] == 0x24126ea1'5001e420ull);
 }
 
-TEST_CASE("geometry: Uniform01 is in [0, 1) on a 2^-53 grid with the mean and variance of U(0, 1)") {
+TEST_CASE("geometry: Uniform01 lies in 0 <= u < 1 on a 2^-53 grid with the mean and variance of U(0, 1)") {
   std::vector<double> x(kDraws);
   for (int i = 0; i < kDraws; ++i) x[static_cast<std::size_t>(i)] = rng::Uniform01(20240611, 7, static_cast<std::uint64_t>(i));
   for (const double v : x) {
