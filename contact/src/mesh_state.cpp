@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -85,6 +87,252 @@ double ClosestParameter(const CycloidProfile& profile, int k, const Eigen::Vecto
   return u;
 }
 
+/// Places a contact found in the body frame: its point and the normal toward the pin centre in the
+/// fixed frame, the pin's point, and the lever arm of the normal about the cycloid centre, signed
+/// by the load direction (Liu eq. 27). c->pin_radius must be set.
+void PlaceContact(const geometry::Pose& pose, const Eigen::Vector2d& centre_fixed, double load_direction,
+                  const Eigen::Vector2d& point_body, const Eigen::Vector2d& normal_body, PinContact* c) {
+  c->cycloid_point = pose.ToFixed(point_body);
+  c->normal = pose.DirectionToFixed(normal_body);
+  c->pin_point = centre_fixed - c->pin_radius * c->normal;
+  c->arm = load_direction * Cross(c->cycloid_point - pose.centre, c->normal);
+}
+
+/// The foot point on the flank as made, x(u) + delta(k, u) n(u) (a profile deviation along the
+/// profile, geometry::ProfileDeviation), docs/contact.md "Profile deviation along the profile".
+struct DeviatedFoot {
+  int k = 0;
+  double u = 0.0;
+  Eigen::Vector2d point;   // x(u) + delta n(u), body frame, mm
+  Eigen::Vector2d normal;  // unit, from the point toward the pin centre
+  double distance = 0.0;   // |p - point|, mm
+  double curvature = 0.0;  // of the equidistant at delta through the point: kappa / (1 + kappa delta)
+  bool corner = false;     // a tip corner of a |d| >= 2 profile (an end of its arc)
+};
+
+/// Nearest point to the body-frame pin centre p of the deviated flank y(u) = x(u) + delta(k, u)
+/// n(u) near the smooth foot point (k, u_star):
+///  1. the window. Only a u with smooth separation D(u) - D(u*) < 2 MaxAbs (D = |p - x|) can
+///     beat u* itself, because |p - y(u)| >= D(u) - MaxAbs and |p - y(u*)| = D(u*) - delta(u*)
+///     >= D(u*) - MaxAbs. The half-width starts from the relative curvature at u*,
+///     D(u) - D(u*) ~ s^2 / (2 rho_rel), 1 / rho_rel = kappa + 1 / D(u*), s = sqrt(2 rho_rel 2 MaxAbs),
+///     and doubles until D at its end exceeds D(u*) + 2 MaxAbs or the arc ends. For |d| = 1 the
+///     generating curve runs on across the tips (at most one pitch each way), and the window is cut
+///     into arcs of the tooth spaces it crosses (delta jumps at a tip: each space its own draws);
+///     for |d| >= 2 an arc ends in a tip corner, and when the window reaches it the neighbouring
+///     space is searched from its corner in the same way.
+///  2. the minimum over each arc: between two nodes of delta (ProfileDeviation::NodesIn) delta
+///     is linear, so |p - y| is smooth there, and its minimum is at an end or where
+///     h(u) = (y - p) . y' changes sign from - to +, y' = x' (1 + kappa delta) + delta' n
+///     (n' = kappa x'), found by a safeguarded regula falsi. The candidates are the arc ends, the
+///     nodes, u* and those interior roots: the result is the minimum over the window, which
+///     contains every u that can win, so it is continuous in the pose.
+DeviatedFoot NearestOnDeviatedFlank(const CycloidProfile& profile, const geometry::ProfileDeviation& deviation,
+                                    const Eigen::Vector2d& p, int k_star, double u_star) {
+  const double phi_max = profile.phi_max();
+  const int zc = profile.pair().tooth_count;
+  const int d = profile.tooth_difference();
+  const double reach = 2.0 * deviation.MaxAbs();
+  const geometry::ProfilePoint x_star = profile.Evaluate(u_star, k_star);
+  const double d_star = (p - x_star.position).norm();
+  const auto wrap = [zc](int k) { return ((k % zc) + zc) % zc; };
+  // First guess of the half-width in u: s = sqrt(2 rho_rel 2 MaxAbs) over the flank's speed.
+  const double inv_rho_rel = std::max(x_star.curvature + 1.0 / d_star, 1e-6);
+  const double guess = std::sqrt(2.0 * reach / inv_rho_rel) / x_star.d1.norm();
+  // The end of the window from `from` in direction `dir` on space k, not beyond `limit`.
+  const auto extend = [&](int k, double from, double dir, double limit) {
+    double w = guess;
+    for (int it = 0; it < 64; ++it, w *= 2.0) {
+      const double end = from + dir * w;
+      if (dir * (end - limit) >= 0.0) break;
+      if ((profile.Position(end, k) - p).norm() - d_star >= reach) return end;
+    }
+    return limit;
+  };
+  struct Arc {
+    int k;
+    double lo, hi;
+  };
+  std::vector<Arc> arcs;
+  if (std::abs(d) == 1) {
+    const double pitch = profile.tooth_pitch();
+    const double lo = extend(k_star, u_star, -1.0, u_star - pitch);
+    const double hi = extend(k_star, u_star, 1.0, u_star + pitch);
+    // Cut [lo, hi] of the generating curve of space k_star where it crosses a tip and fold each
+    // piece into its own tooth space, as EvaluatePointFrom folds u*: fold f covers
+    // [(f - 1/2) L, (f + 1/2) L], L = 2 pi / z_c, and is space k_star + f at u - f L (for d = +-1
+    // both: round(u / lobe) d = f with lobe = 2 pi d / z_c).
+    const double fold = 2.0 * kPi / zc;
+    for (long f = std::lround(std::floor(lo / fold + 0.5)); f <= std::lround(std::floor(hi / fold + 0.5)); ++f) {
+      const double a = std::max(lo, (static_cast<double>(f) - 0.5) * fold);
+      const double b = std::min(hi, (static_cast<double>(f) + 0.5) * fold);
+      if (b < a) continue;
+      const double shift = static_cast<double>(f) * fold;
+      arcs.push_back({wrap(k_star + static_cast<int>(f)), a - shift, b - shift});
+    }
+  } else {
+    const double lo = extend(k_star, u_star, -1.0, -phi_max);
+    const double hi = extend(k_star, u_star, 1.0, phi_max);
+    arcs.push_back({k_star, lo, hi});
+    // The window reaches a tip corner: the neighbouring space from its corner (space k's
+    // u = +phi_max meets space k + 1's u = -phi_max).
+    if (lo == -phi_max && (profile.Position(-phi_max, k_star) - p).norm() - d_star < reach) {
+      arcs.push_back({wrap(k_star - 1), extend(wrap(k_star - 1), phi_max, -1.0, -phi_max), phi_max});
+    }
+    if (hi == phi_max && (profile.Position(phi_max, k_star) - p).norm() - d_star < reach) {
+      arcs.push_back({wrap(k_star + 1), -phi_max, extend(wrap(k_star + 1), -phi_max, 1.0, phi_max)});
+    }
+  }
+
+  DeviatedFoot best;
+  best.distance = std::numeric_limits<double>::infinity();
+  std::vector<double> us;
+  struct Sample {
+    geometry::ProfilePoint x;
+    double delta;
+  };
+  std::vector<Sample> samples;
+  for (const Arc& arc : arcs) {
+    const int k = arc.k;
+    us.clear();
+    us.push_back(arc.lo);
+    deviation.NodesIn(arc.lo, arc.hi, &us);
+    us.push_back(arc.hi);
+    if (k == k_star && u_star > arc.lo && u_star < arc.hi) {
+      us.insert(std::upper_bound(us.begin(), us.end(), u_star), u_star);
+    }
+    us.erase(std::unique(us.begin(), us.end()), us.end());
+    samples.clear();
+    for (const double u : us) samples.push_back({profile.Evaluate(u, k), deviation.At(k, u)});
+    const auto consider = [&](double u, const geometry::ProfilePoint& x, double delta) {
+      const Eigen::Vector2d y = x.position + delta * x.normal;
+      const double distance = (p - y).norm();
+      if (distance < best.distance) {
+        best.k = k, best.u = u, best.point = y, best.distance = distance;
+        best.normal = (p - y) / distance;
+        best.curvature = x.curvature / (1.0 + x.curvature * delta);
+        best.corner = std::abs(d) >= 2 && std::abs(u) >= phi_max;
+      }
+    };
+    for (std::size_t i = 0; i < us.size(); ++i) consider(us[i], samples[i].x, samples[i].delta);
+    // Interior minima of the smooth pieces between consecutive candidates.
+    for (std::size_t i = 0; i + 1 < us.size(); ++i) {
+      const double a = us[i], b = us[i + 1];
+      if (!(b > a)) continue;
+      const double slope = (samples[i + 1].delta - samples[i].delta) / (b - a);
+      const auto h = [&](const geometry::ProfilePoint& x, double delta) {
+        const Eigen::Vector2d y = x.position + delta * x.normal;
+        const Eigen::Vector2d dy = (1.0 + x.curvature * delta) * x.d1 + slope * x.normal;
+        return (y - p).dot(dy);
+      };
+      double ua = a, ub = b;
+      double ha = h(samples[i].x, samples[i].delta), hb = h(samples[i + 1].x, samples[i + 1].delta);
+      if (!(ha < 0.0 && hb > 0.0)) continue;
+      // Safeguarded regula falsi (Illinois): h changes sign once on a piece this short.
+      const double tol = 1e-15 * (b - a) + 4.0 * std::numeric_limits<double>::epsilon() * std::abs(b);
+      int side = 0;
+      double u = 0.5 * (ua + ub);
+      for (int it = 0; it < 100 && ub - ua > tol; ++it) {
+        u = (ua * hb - ub * ha) / (hb - ha);
+        if (!(u > ua && u < ub)) u = 0.5 * (ua + ub);
+        const double delta = samples[i].delta + slope * (u - a);
+        const double hu = h(profile.Evaluate(u, k), delta);
+        if (hu == 0.0) break;
+        if (hu < 0.0) {
+          ua = u, ha = hu;
+          if (side == -1) hb *= 0.5;
+          side = -1;
+        } else {
+          ub = u, hb = hu;
+          if (side == 1) ha *= 0.5;
+          side = 1;
+        }
+      }
+      consider(u, profile.Evaluate(u, k), samples[i].delta + slope * (u - a));
+    }
+  }
+  return best;
+}
+
+/// Elements mode with a profile deviation (Liu 2021 eq. 4, 8): element j of tooth space k is
+/// moved along its normal by delta_j = delta(k, u_j), its equivalent cylinder keeps its centre of
+/// curvature and its radius becomes rho + delta (eq. 8 with the sign of ProfileDeviation). The
+/// element surface is a patch of that cylinder, one element long (S_c / n of arc, centred on the
+/// control point), and the gap is the distance from the pin centre to the nearest patch minus the
+/// pin radius: Liu's minimum clearance over the elements. Candidates: the elements whose control
+/// point is within 2 MaxAbs + one element length of the nearest control point's distance (no
+/// other patch can come closer: a patch lies within half an element of its control point and
+/// moves by at most MaxAbs), in the space the pin's polar angle falls in and, when the candidates
+/// reach an end of its arc, its neighbour. Without a deviation the model keeps its nearest-control-
+/// point search (MeshModel::EvaluatePointElements).
+struct ElementFoot {
+  int k = 0;
+  geometry::ProfileElement element;
+  Eigen::Vector2d point;   // nearest point of the shifted patch, body frame
+  Eigen::Vector2d normal;  // unit, from it toward the pin centre
+  double distance = std::numeric_limits<double>::infinity();
+  double curvature = 0.0;  // 1 / (rho + delta)
+};
+
+ElementFoot NearestDeviatedElement(const geometry::DiscreteProfile& discrete, const geometry::ProfileDeviation& deviation,
+                                   const Eigen::Vector2d& p, int k_polar) {
+  const int zc = discrete.profile().pair().tooth_count;
+  const int n = discrete.element_count();
+  const double half = 0.5 * discrete.arc_length() / n;  // half an element, mm
+  const double reach = 2.0 * deviation.MaxAbs() + 2.0 * half;
+  const auto wrap = [zc](int k) { return ((k % zc) + zc) % zc; };
+  std::vector<double> distance(static_cast<std::size_t>(n));
+  double nearest = std::numeric_limits<double>::infinity();
+  const auto distances = [&](int k) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < n; ++j) {
+      const double dj = (discrete.Element(j, k).position - p).norm();
+      distance[static_cast<std::size_t>(j)] = dj;
+      smallest = std::min(smallest, dj);
+    }
+    return smallest;
+  };
+  ElementFoot best;
+  const auto scan = [&](int k) {  // the candidates of space k (distances filled for k)
+    for (int j = 0; j < n; ++j) {
+      if (distance[static_cast<std::size_t>(j)] > nearest + reach) continue;
+      const geometry::ProfileElement e = discrete.Element(j, k);
+      const double delta = deviation.At(k, e.u);
+      const Eigen::Vector2d tangent(-e.normal.y(), e.normal.x());
+      Eigen::Vector2d q;
+      if (e.curvature == 0.0) {
+        q = e.position + delta * e.normal + std::clamp((p - e.position).dot(tangent), -half, half) * tangent;
+      } else {
+        const double rho = 1.0 / e.curvature;
+        const Eigen::Vector2d c = e.position - rho * e.normal;
+        const Eigen::Vector2d e0 = rho > 0.0 ? e.normal : Eigen::Vector2d(-e.normal);  // centre -> control point
+        const Eigen::Vector2d v = p - c;
+        const double beta = half / std::abs(rho);
+        const double alpha = std::clamp(std::atan2(Cross(e0, v), e0.dot(v)), -beta, beta);
+        const Eigen::Vector2d dir = std::cos(alpha) * e0 + std::sin(alpha) * Eigen::Vector2d(-e0.y(), e0.x());
+        q = c + std::abs(rho + delta) * dir;
+      }
+      const double dq = (p - q).norm();
+      if (dq < best.distance) {
+        best.k = k, best.element = e, best.point = q, best.distance = dq;
+        best.normal = (p - q) / dq;
+        best.curvature = e.curvature / (1.0 + e.curvature * delta);
+      }
+    }
+  };
+  const int k = wrap(k_polar);
+  nearest = distances(k);
+  const bool low_end = distance.front() <= nearest + reach, high_end = distance.back() <= nearest + reach;
+  scan(k);
+  for (const int side : {-1, 1}) {
+    if (!(side < 0 ? low_end : high_end)) continue;
+    const int kk = wrap(k + side);
+    nearest = std::min(nearest, distances(kk));
+    scan(kk);
+  }
+  return best;
+}
+
 }  // namespace
 
 MeshModel::MeshModel(const geometry::PairParameters& pair,
@@ -134,6 +382,20 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double crank, do
   const int zc = pair().tooth_count;
   const double pitch = real_.profile().tooth_pitch();
   const int k_polar = static_cast<int>(std::lround((std::atan2(p.y(), p.x()) - real_.profile().ToothSpaceRotation(0)) / pitch));
+  if (!real_.profile_deviation().IsZero()) {
+    const ElementFoot f = NearestDeviatedElement(*discrete_, real_.profile_deviation(), p, k_polar);
+    PinContact c;
+    c.pin = pin;
+    c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
+    c.u = f.element.u;
+    c.tooth_space = f.k;
+    c.pin_radius = r_pin;
+    c.cycloid_curvature = f.curvature;
+    c.clearance = f.distance - r_pin;
+    PlaceContact(pose, centre_fixed, load_direction_, f.point, f.normal, &c);
+    FinishPoint(slice, &c);
+    return c;
+  }
   const int n = discrete_->element_count();
   const auto search = [&](int k) {
     int j_best = 0;
@@ -176,10 +438,7 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double crank, do
   c.pin_radius = r_pin;
   c.cycloid_curvature = best.curvature;
   c.clearance = best_gap;
-  c.cycloid_point = pose.ToFixed(best_point);
-  c.normal = pose.DirectionToFixed(best_normal);
-  c.pin_point = centre_fixed - r_pin * c.normal;
-  c.arm = load_direction_ * Cross(c.cycloid_point - pose.centre, c.normal);  // Liu eq. 27
+  PlaceContact(pose, centre_fixed, load_direction_, best_point, best_normal, &c);
   FinishPoint(slice, &c);
   return c;
 }
@@ -285,11 +544,20 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double crank, const ge
     c.cycloid_curvature = x.curvature;
   }
   c.clearance = centre_gap - r_pin;
-  c.cycloid_point = pose.ToFixed(x.position);
-  c.normal = pose.DirectionToFixed(normal_body);
-  c.pin_point = centre_fixed - r_pin * c.normal;
-  // Liu eq. 27: the lever arm of the normal about the cycloid centre, signed by the load direction.
-  c.arm = load_direction_ * Cross(c.cycloid_point - pose.centre, c.normal);
+  Eigen::Vector2d point_body = x.position;
+  if (!real_.profile_deviation().IsZero()) {
+    // The flank as made, x + delta n: its nearest point near the smooth foot point. The curvature
+    // is that of the equidistant at delta, as Liu eq. 8 gives his shifted elements (rho + delta).
+    const DeviatedFoot f = NearestOnDeviatedFlank(real_.profile(), real_.profile_deviation(), p, k, u);
+    c.tooth_space = f.k;
+    c.u = f.u;
+    c.edge = f.corner;
+    c.cycloid_curvature = f.corner ? std::numeric_limits<double>::infinity() : f.curvature;
+    c.clearance = f.distance - r_pin;
+    point_body = f.point;
+    normal_body = f.normal;
+  }
+  PlaceContact(pose, centre_fixed, load_direction_, point_body, normal_body, &c);
   FinishPoint(slice, &c);
   return c;
 }

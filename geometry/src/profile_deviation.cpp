@@ -319,6 +319,20 @@ double ProfileDeviation::At(int tooth_space, double u) const {
   return sum;
 }
 
+void ProfileDeviation::NodesIn(double lo, double hi, std::vector<double>* nodes) const {
+  const std::size_t first = nodes->size();
+  for (const auto& term : terms_) {
+    const auto begin = std::upper_bound(term->knots.begin(), term->knots.end(), lo);
+    const auto end = std::lower_bound(begin, term->knots.end(), hi);
+    nodes->insert(nodes->end(), begin, end);
+  }
+  if (terms_.size() > 1) {
+    const auto from = nodes->begin() + static_cast<std::ptrdiff_t>(first);
+    std::sort(from, nodes->end());
+    nodes->erase(std::unique(from, nodes->end()), nodes->end());
+  }
+}
+
 double ProfileDeviation::MaxAbs() const {
   double bound = 0.0;
   for (const auto& term : terms_) {

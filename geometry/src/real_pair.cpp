@@ -32,6 +32,12 @@ CycloidProfile MakeProfile(const PairParameters& pair, Modification modification
   }
 }
 
+ProfileDeviation MakeProfileDeviation(const ManufacturingErrors& errors, const CycloidProfile& profile) {
+  const ProfileDeviation random = ProfileDeviation::Random(errors.profile_random, profile);
+  if (!errors.profile_measured) return random;
+  return ProfileDeviation::Sum(random, ProfileDeviation::Measured(*errors.profile_measured, profile));
+}
+
 }  // namespace
 
 RealPair::RealPair(const PairParameters& pair, const Modification& modification, const ManufacturingErrors& errors,
@@ -40,6 +46,7 @@ RealPair::RealPair(const PairParameters& pair, const Modification& modification,
       errors_(errors),
       assembly_((assembly.Validate(), assembly)),
       profile_(MakeProfile(pair, modification, errors)),
+      profile_deviation_(MakeProfileDeviation(errors, profile_)),
       kinematics_(pair),
       pin_circle_radius_(pair.pin_circle_radius + errors.PinCircleRadiusChange()) {}
 

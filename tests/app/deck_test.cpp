@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <sys/stat.h>
@@ -420,4 +421,99 @@ TEST_CASE("solvers: --set reads TOML values, creates sections, and is checked li
   CHECK(Contains(OverrideErrorOf({"lod.torque_nm=100"}), "unknown section or key 'lod'"));
   CHECK(Contains(OverrideErrorOf({"load.torque_nm=abc"}), "[load] torque_nm = \"abc\": expected a number"));
   CHECK(Contains(OverrideErrorOf({"load.torque_nm=nan"}), "[load] torque_nm = nan"));
+}
+
+// Issue 11: the cycloid profile deviation along the profile ([errors] profile_random_*,
+// profile_measured_csv).
+
+TEST_CASE("solvers: deck [errors] profile_random_* keys give the random profile deviation") {
+  const std::string good = kGood;
+  const auto deck = ParseDeck(good + "[errors]\nprofile_random_zone_um = 6\nprofile_random_elements = 400\n"
+                                     "profile_random_seed = 7\nprofile_random_distribution = \"normal\"\n"
+                                     "profile_random_spacing = \"parameter\"\n",
+                              "t.toml");
+  const auto& random = deck.errors.profile_random;
+  CHECK(random.zone == doctest::Approx(0.006).epsilon(1e-15));
+  CHECK(random.elements == 400);
+  CHECK(random.seed == 7u);
+  CHECK(random.distribution == ltca::geometry::ProfileRandomDistribution::kNormal);
+  CHECK(random.spacing == ltca::geometry::ProfileElementSpacing::kParameter);
+  CHECK(!deck.errors.IsZero());
+  CHECK(deck.Model().name == "plane");  // constant along the face width
+  const double max_abs = deck.MakeRealPair().profile_deviation().MaxAbs();
+  CHECK(max_abs > 0.0);
+  CHECK(max_abs <= 0.003);
+  // Defaults: Liu's 800 elements, seed 0, uniform, equal arc length; no zone, no deviation.
+  const auto defaults = ParseDeck(good + "[errors]\nprofile_random_zone_um = 6\n", "t.toml").errors.profile_random;
+  CHECK(defaults.elements == 800);
+  CHECK(defaults.seed == 0u);
+  CHECK(defaults.distribution == ltca::geometry::ProfileRandomDistribution::kUniform);
+  CHECK(defaults.spacing == ltca::geometry::ProfileElementSpacing::kArcLength);
+  CHECK(ParseDeck(good, "t.toml").MakeRealPair().profile_deviation().IsZero());
+  // --set meets the same keys.
+  CHECK(ParseDeck(good, "t.toml", {"errors.profile_random_zone_um=6"}).errors.profile_random.zone ==
+        doctest::Approx(0.006).epsilon(1e-15));
+}
+
+TEST_CASE("solvers: deck rejects bad profile deviation keys, naming the key and the value") {
+  // {the [errors] line, what the message must hold}
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"profile_random_zone_um = -1", "deck 't.toml': [errors] profile_random_zone_um = -1: expected a finite tolerance zone width >= 0"},
+      {"profile_random_zone_um = 200", "[errors] profile_random_zone_um = 200: looks like an absolute value"},
+      {"profile_random_zone_um = \"6\"", "[errors] profile_random_zone_um = \"6\": expected a number"},
+      {"profile_random_elements = 0", "[errors] profile_random_elements = 0: expected 1 .. 100000"},
+      {"profile_random_elements = 2.5", "[errors] profile_random_elements = 2.5: expected an integer"},
+      {"profile_random_seed = -1", "[errors] profile_random_seed = -1: expected an integer >= 0"},
+      {"profile_random_seed = 1.5", "[errors] profile_random_seed = 1.5: expected an integer >= 0"},
+      {"profile_random_distribution = \"gauss\"", "[errors] profile_random_distribution = \"gauss\": expected \"uniform\" or \"normal\""},
+      {"profile_random_spacing = \"arc\"", "[errors] profile_random_spacing = \"arc\": expected \"arc_length\" or \"parameter\""},
+      {"profile_measured_csv = \"\"", "[errors] profile_measured_csv = \"\": expected the path"},
+      {"profile_measured_csv = 3", "[errors] profile_measured_csv = 3: expected a string"},
+      {"profile_random_zone_mm = 6", "[errors] unknown key 'profile_random_zone_mm'"},
+  };
+  for (const auto& [line, message] : cases) {
+    CAPTURE(line);
+    CHECK(Contains(ErrorOf(std::string(kGood) + "[errors]\n" + line + "\n"), message));
+  }
+}
+
+TEST_CASE("solvers: deck reads profile_measured_csv relative to the deck's directory, naming key, path and line") {
+  namespace fs = std::filesystem;
+  const fs::path dir = TempPath("profile");
+  fs::remove_all(dir);
+  fs::create_directories(dir / "data");
+  std::ofstream(dir / "data" / "trace.csv") << "# synthetic\nprofile_angle_deg, deviation_um\n-4, 2.0\n4, -2.0\n";
+  std::ofstream(dir / "data" / "bad.csv") << "profile_angle_deg, deviation_um\n-4, 2.0\n-5, 1.0\n";
+  std::ofstream(dir / "data" / "off.csv") << "profile_angle_deg, deviation_um\n-4, 2.0\n40, 1.0\n";
+  const std::string deck_text = std::string(kGood) + "[errors]\nprofile_measured_csv = \"data/trace.csv\"\n";
+  std::ofstream(dir / "deck.toml") << deck_text;
+  // Loaded from elsewhere: the path is the deck's, not the working directory's.
+  const auto deck = ltca::app::LoadDeck(dir / "deck.toml");
+  REQUIRE(deck.errors.profile_measured.has_value());
+  const auto& trace = *deck.errors.profile_measured;
+  REQUIRE(trace.x.size() == 2);
+  CHECK(trace.line[0] == 3);
+  CHECK(trace.x[1] == doctest::Approx(ltca::units::DegToRad(4.0)).epsilon(1e-15));
+  CHECK(trace.deviation[0] == doctest::Approx(0.002).epsilon(1e-15));
+  // Linear in u between the points: 0 at u = 0, +-2 um at +-4 deg.
+  const auto real = deck.MakeRealPair();
+  CHECK(std::abs(real.profile_deviation().At(5, 0.0)) < 1e-15);
+  CHECK(real.profile_deviation().At(5, ltca::units::DegToRad(-4.0)) == doctest::Approx(0.002).epsilon(1e-12));
+  // The same text parsed without the deck's directory does not find it (relative to the
+  // working directory), and the error names the key and the path.
+  CHECK(Contains(ErrorOf(deck_text), "[errors] profile_measured_csv = \"data/trace.csv\": no such file; expected a CSV file"));
+  CHECK(ParseDeck(deck_text, "t.toml", {}, dir).errors.profile_measured.has_value());
+  const auto load_with = [&](const std::string& csv) {
+    std::ofstream(dir / "deck.toml") << std::string(kGood) + "[errors]\nprofile_measured_csv = \"" + csv + "\"\n";
+    return LoadErrorOf(dir / "deck.toml");
+  };
+  const std::string missing = load_with("data/none.csv");
+  CHECK(Contains(missing, "[errors] profile_measured_csv = \"data/none.csv\" (read as '" + (dir / "data/none.csv").string() + "'): no such file"));
+  CHECK(Contains(load_with("data/bad.csv"), "[errors] profile_measured_csv = \"data/bad.csv\": line 3: profile_angle_deg = -5 after -4 on line 2"));
+  CHECK(Contains(load_with("data/off.csv"), "[errors] profile_measured_csv = \"data/off.csv\": line 3: profile_angle_deg = 40 is off the flank"));
+  CHECK(Contains(load_with("data"), "[errors] profile_measured_csv = \"data\" (read as '" + (dir / "data").string() + "') is a directory"));
+  if (fs::exists("/dev/zero")) {
+    CHECK(Contains(load_with("/dev/zero"), "[errors] profile_measured_csv = \"/dev/zero\" is a character device; expected a regular CSV file"));
+  }
+  fs::remove_all(dir);
 }

@@ -600,6 +600,11 @@ TEST_CASE("cli: every command on 330 mutated decks from cases/ succeeds, exits 1
   const fs::path dir = LTCA_MUTANT_DIR;
   fs::remove_all(dir);
   fs::create_directories(dir / "work");
+  // Decks name data files relative to their directory ([errors] profile_measured_csv =
+  // "data/..."): the mutants are written to work/, so the data goes beside them.
+  if (fs::exists(fs::path(LTCA_CASES_DIR) / "data")) {
+    fs::copy(fs::path(LTCA_CASES_DIR) / "data", dir / "work" / "data", fs::copy_options::recursive);
+  }
 
   // The bases: every deck in cases/, sweeps cut short, in a fixed order.
   std::vector<std::pair<std::string, std::string>> bases;
@@ -635,7 +640,8 @@ TEST_CASE("cli: every command on 330 mutated decks from cases/ succeeds, exits 1
       Job job;
       job.mutant = i;
       job.args = {exe.string(), c[0], deck.string(), "--json", "-"};
-      const std::string stem = "m" + std::to_string(i) + "_" + c[0];
+      std::string stem = "m";  // built by appending: GCC 12 flags "m" + std::string(...) with a false -Wrestrict
+      stem += std::to_string(i) + "_" + c[0];
       job.out = dir / "work" / (stem + ".out");
       job.err = dir / "work" / (stem + ".err");
       jobs.push_back(std::move(job));

@@ -129,6 +129,18 @@ void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const St
     fmt::print(out, "errors    profile layer = {:g} um, pin circle radius as assembled = {:.6f} mm, pitch deviations: {}\n",
                units::MmToUm(e.profile_layer), real.pin_circle_radius(),
                e.cumulative_pitch_deviation.empty() ? "none" : "per pin (Liu eq. 5)");
+    if (e.HasProfileDeviation()) {
+      const auto& r = e.profile_random;
+      fmt::print(out, "          profile deviation along the profile: {}{}{}, |delta| <= {:g} um (Liu eq. 4; not in the figures below)\n",
+                 r.zone == 0.0 ? "" : fmt::format("random zone {:g} um ({} elements, {}, {}, seed {})", units::MmToUm(r.zone),
+                                                   r.elements,
+                                                   r.distribution == geometry::ProfileRandomDistribution::kUniform ? "uniform" : "normal",
+                                                   r.spacing == geometry::ProfileElementSpacing::kArcLength ? "arc_length" : "parameter",
+                                                   r.seed),
+                 r.zone != 0.0 && e.profile_measured ? " plus " : "",
+                 e.profile_measured ? fmt::format("measured trace ({} points)", e.profile_measured->x.size()) : "",
+                 units::MmToUm(real.profile_deviation().MaxAbs()));
+    }
     fmt::print(out, "          the figures below are of the cycloid as made ([errors] applied)\n");
   }
   fmt::print(out, "K1                     {:.6f}       curtate coefficient (Chen eq. 12)\n", profile.k1());

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -199,6 +201,62 @@ void ApplyOverrides(toml::value& root, const std::vector<std::string>& overrides
   }
 }
 
+/// Reads a regular file of at most `limit` bytes with a bounded read. `who` starts every
+/// message ("deck 'x.toml'", "[errors] profile_measured_csv = ..."), `noun` says what the file
+/// should be ("deck file (TOML)") and `kind` names it in the size message ("a deck").
+/// What the path is is checked before anything opens it: opening a FIFO blocks, a device never
+/// ends.
+std::string ReadBoundedFile(const std::filesystem::path& path, const std::string& who, const std::string& noun,
+                            std::uintmax_t limit, const std::string& kind) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (status.type() == fs::file_type::not_found) {
+    throw std::invalid_argument(fmt::format("{}: no such file; expected a {}", who, noun));
+  }
+  if (ec) {
+    throw std::invalid_argument(fmt::format("{}: cannot open the file: {}", who, ec.message()));
+  }
+  if (fs::is_directory(status)) {
+    throw std::invalid_argument(fmt::format("{} is a directory; expected a {}", who, noun));
+  }
+  if (!fs::is_regular_file(status)) {
+    const char* type = fs::is_character_file(status) ? "a character device"
+                       : fs::is_block_file(status)   ? "a block device"
+                       : fs::is_fifo(status)         ? "a FIFO (named pipe)"
+                       : fs::is_socket(status)       ? "a socket"
+                                                     : "not a regular file";
+    throw std::invalid_argument(fmt::format("{} is {}; expected a regular {}", who, type, noun));
+  }
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) {
+    throw std::invalid_argument(fmt::format("{}: cannot open the file: {}", who, ec.message()));
+  }
+  if (size > limit) {
+    throw std::invalid_argument(fmt::format(
+        "{}: the file is {} bytes; expected {} of at most {} bytes ({} MiB; docs/decks.md, Limits)", who, size, kind,
+        limit, limit >> 20));
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw std::invalid_argument(fmt::format("{}: cannot open the file", who));
+  }
+  // A bounded read: one byte more than the size seen, so a file that grew is noticed and the
+  // caller's checks reject it if it now exceeds the limit.
+  std::string text(static_cast<std::size_t>(size) + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) {
+    throw std::invalid_argument(fmt::format("{}: cannot read the file", who));
+  }
+  if (text.size() > limit) {
+    throw std::invalid_argument(fmt::format(
+        "{}: the file grew to more than {} bytes while it was read; expected {} of at most {} bytes", who, limit, kind,
+        limit));
+  }
+  return text;
+}
+
 /// The "looks like an absolute value" rule: a modification or manufacturing error is a small
 /// change of the geometry, at most DeckLimits::kMaxDeviationFraction of the pin radius.
 void RequireSmallDeviation(double value, const std::string& section, const std::string& key,
@@ -273,6 +331,16 @@ class Section {
   }
   int Integer(const std::string& key, int fallback, const char* what) const {
     return Has(key) ? Integer(key, what) : fallback;
+  }
+  /// An integer >= 0 (up to the TOML limit 2^63 - 1).
+  std::uint64_t Unsigned(const std::string& key, std::uint64_t fallback, const char* what) const {
+    if (!Has(key)) return fallback;
+    const toml::value& v = Get(key, what);
+    if (!v.is_integer() || v.as_integer() < 0) {
+      throw std::invalid_argument(fmt::format("[{}] {} = {}: expected an integer >= 0 ({})", name_, key,
+                                              toml::format(v), what));
+    }
+    return static_cast<std::uint64_t>(v.as_integer());
   }
   std::string String(const std::string& key, const char* what) const {
     const toml::value& v = Get(key, what);
@@ -355,7 +423,22 @@ geometry::Modification ReadModification(const Section& s, const geometry::PairPa
   return m;
 }
 
-geometry::ManufacturingErrors ReadErrors(const Section& s, const geometry::PairParameters& pair) {
+/// [errors] profile_measured_csv: the trace, read from `directory` when the path is relative.
+geometry::MeasuredProfile ReadMeasuredProfile(const std::string& value, const std::filesystem::path& directory) {
+  const std::string key = fmt::format("[errors] profile_measured_csv = \"{}\"", value);
+  if (value.empty()) {
+    throw std::invalid_argument(fmt::format("{}: expected the path of a CSV file (relative to the deck's directory)", key));
+  }
+  const std::filesystem::path path = std::filesystem::path(value).is_relative() ? directory / value : std::filesystem::path(value);
+  const std::string text = ReadBoundedFile(
+      path, path.string() == value ? key : fmt::format("{} (read as '{}')", key, path.string()),
+      "CSV file of a measured profile (profile_angle_deg or arc_length_mm, deviation_um)",
+      DeckLimits::kMaxProfileCsvBytes, "a profile trace");
+  return geometry::ParseMeasuredProfile(text, key);
+}
+
+geometry::ManufacturingErrors ReadErrors(const Section& s, const geometry::PairParameters& pair,
+                                         const std::filesystem::path& directory) {
   geometry::ManufacturingErrors e;
   e.pin_circle_deviation = s.Real("pin_circle_deviation_mm", 0.0, "pin-circle deviation delta_Rp of Liu eq. 5 in mm");
   e.pin_circle_reading = geometry::ParsePinCircleReading(
@@ -366,8 +449,30 @@ geometry::ManufacturingErrors ReadErrors(const Section& s, const geometry::PairP
   e.pin_radial_deviations = s.RealList("pin_radial_deviations_mm", "one radial pin position deviation per pin in mm");
   e.lead_crowning = units::UmToMm(s.Real("lead_crowning_um", 0.0, "lead crowning of the cycloid in um"));
   e.lead_slope = units::UmToMm(s.Real("lead_slope_um", 0.0, "lead slope error of the cycloid over the face width in um"));
+  auto& random = e.profile_random;
+  random.zone = units::UmToMm(s.Real("profile_random_zone_um", 0.0, "full width of the random profile tolerance zone in um"));
+  random.elements = s.Integer("profile_random_elements", random.elements, "random profile elements per tooth space");
+  random.seed = s.Unsigned("profile_random_seed", random.seed, "seed of the random profile deviation");
+  random.distribution = geometry::ParseProfileRandomDistribution(
+      s.String("profile_random_distribution", "uniform", "uniform | normal"));
+  random.spacing = geometry::ParseProfileElementSpacing(
+      s.String("profile_random_spacing", "arc_length", "arc_length | parameter"));
+  random.Validate(pair.tooth_count);
+  if (s.Has("profile_measured_csv")) {
+    e.profile_measured = ReadMeasuredProfile(
+        s.String("profile_measured_csv", "path of a measured profile trace, relative to the deck"), directory);
+  }
   e.Validate(pair.pin_count);
   RequireSmallDeviation(e.pin_circle_deviation, "errors", "pin_circle_deviation_mm", pair);
+  RequireSmallDeviation(random.zone, "errors", "profile_random_zone_um", pair, fmt::format("{}", units::MmToUm(random.zone)));
+  if (e.profile_measured) {
+    for (std::size_t i = 0; i < e.profile_measured->deviation.size(); ++i) {
+      const double v = e.profile_measured->deviation[i];
+      RequireSmallDeviation(v, "errors",
+                            fmt::format("profile_measured_csv (line {} of the file, deviation_um)", e.profile_measured->line[i]),
+                            pair, fmt::format("{}", units::MmToUm(v)));
+    }
+  }
   RequireSmallDeviation(e.profile_layer, "errors", "cycloid_profile_layer_mm", pair);
   for (const auto& [key, list] : {std::pair{"cumulative_pitch_deviation_mm", &e.cumulative_pitch_deviation},
                                   std::pair{"pin_radius_deviations_mm", &e.pin_radius_deviations},
@@ -548,8 +653,8 @@ const LoadCase& Deck::RequireLoad() const {
   return *load;
 }
 
-Deck ParseDeck(std::string_view toml_text, const std::string& name,
-               const std::vector<std::string>& overrides) {
+Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::vector<std::string>& overrides,
+               const std::filesystem::path& directory) {
   Deck deck;
   deck.name = name;
   try {
@@ -580,8 +685,10 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name,
                           "cumulative_pitch_deviation_mm", "pin_radius_deviations_mm", "pin_radial_deviations_mm",
                           "lead_crowning_um", "lead_slope_um", "centre_dx_mm", "centre_dy_mm",
                           "eccentricity_deviation_mm", "misalignment_xz_deg", "misalignment_yz_deg",
-                          "misalignment_pivot"});
-    deck.errors = ReadErrors(errors, deck.pair);
+                          "misalignment_pivot", "profile_random_zone_um", "profile_random_elements",
+                          "profile_random_seed", "profile_random_distribution", "profile_random_spacing",
+                          "profile_measured_csv"});
+    deck.errors = ReadErrors(errors, deck.pair, directory);
     deck.assembly = ReadAssembly(errors, deck.pair);
     deck.contact = ReadContact(Section(Find(root, "contact"), "contact",
                                        {"law", "rho_convention", "stiffness_n_per_mm2",
@@ -612,52 +719,11 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name,
 }
 
 Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
-  namespace fs = std::filesystem;
   const std::string name = path.string();
-  // What the path is, before anything opens it: opening a FIFO blocks, a device never ends.
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (status.type() == fs::file_type::not_found) {
-    throw std::invalid_argument(fmt::format("deck '{}': no such file; expected a deck file (TOML)", name));
-  }
-  if (ec) {
-    throw std::invalid_argument(fmt::format("deck '{}': cannot open the file: {}", name, ec.message()));
-  }
-  if (fs::is_directory(status)) {
-    throw std::invalid_argument(fmt::format("deck '{}' is a directory; expected a deck file (TOML)", name));
-  }
-  if (!fs::is_regular_file(status)) {
-    const char* kind = fs::is_character_file(status) ? "a character device"
-                       : fs::is_block_file(status)   ? "a block device"
-                       : fs::is_fifo(status)         ? "a FIFO (named pipe)"
-                       : fs::is_socket(status)       ? "a socket"
-                                                     : "not a regular file";
-    throw std::invalid_argument(fmt::format(
-        "deck '{}' is {}; expected a regular deck file (TOML)", name, kind));
-  }
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) {
-    throw std::invalid_argument(fmt::format("deck '{}': cannot open the file: {}", name, ec.message()));
-  }
-  if (size > DeckLimits::kMaxFileBytes) {
-    throw std::invalid_argument(fmt::format(
-        "deck '{}': the file is {} bytes; expected a deck of at most {} bytes (4 MiB; "
-        "docs/decks.md, Limits)",
-        name, size, DeckLimits::kMaxFileBytes));
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw std::invalid_argument(fmt::format("deck '{}': cannot open the file", name));
-  }
-  // A bounded read: one byte more than the size seen, so a file that grew is noticed and the
-  // text checks below reject it if it now exceeds the limit.
-  std::string text(static_cast<std::size_t>(size) + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) {
-    throw std::invalid_argument(fmt::format("deck '{}': cannot read the file", name));
-  }
-  return ParseDeck(text, name, overrides);
+  const std::string text = ReadBoundedFile(path, fmt::format("deck '{}'", name), "deck file (TOML)",
+                                           DeckLimits::kMaxFileBytes, "a deck");
+  // Relative paths in the deck (profile_measured_csv) are read from the deck's own directory.
+  return ParseDeck(text, name, overrides, path.parent_path());
 }
 
 Deck DefaultDeck(const std::vector<std::string>& overrides) {

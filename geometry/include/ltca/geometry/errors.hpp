@@ -1,10 +1,13 @@
 #pragma once
 // Manufacturing and assembly errors (the [errors] section, issue 11): what Liu 2021 section 2
 // (eq. 4-7) puts on the error tooth surfaces. Signs and figures: docs/conventions.md.
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "ltca/geometry/profile_deviation.hpp"
 
 namespace ltca::geometry {
 
@@ -30,6 +33,13 @@ struct ManufacturingErrors {
   /// Radial position deviation of every pin centre, mm (> 0: further out). Empty: none; otherwise
   /// z_p values.
   std::vector<double> pin_radial_deviations;
+  /// Cycloid profile deviation along the profile (Liu eq. 4, delta^{n_c i_c j_c}): random per
+  /// element within a tolerance zone (zone 0: none; keys profile_random_*), and a measured trace
+  /// applied to every tooth space (profile_measured_csv, already parsed). RealPair builds the
+  /// geometry::ProfileDeviation (their sum) once against the profile as made. It does not vary
+  /// along the face width. docs/contact.md, "Profile deviation along the profile".
+  RandomProfileDeviation profile_random;
+  std::optional<MeasuredProfile> profile_measured;
   /// Lead crowning of the cycloid, mm: a circular arc along the face width, symmetric about the
   /// mid-plane, that removes this much material at either face relative to the mid-plane (> 0).
   double lead_crowning = 0.0;
@@ -49,8 +59,11 @@ struct ManufacturingErrors {
   bool VariesAlongWidth() const { return lead_crowning != 0.0 || lead_slope != 0.0; }
   bool IsZero() const {
     return pin_circle_deviation == 0.0 && profile_layer == 0.0 && cumulative_pitch_deviation.empty() &&
-           pin_radius_deviations.empty() && pin_radial_deviations.empty() && !VariesAlongWidth();
+           pin_radius_deviations.empty() && pin_radial_deviations.empty() && !VariesAlongWidth() &&
+           !HasProfileDeviation();
   }
+  /// A random zone or a measured trace is given (the trace may still be all zeros).
+  bool HasProfileDeviation() const { return profile_random.zone != 0.0 || profile_measured.has_value(); }
   /// Throws std::invalid_argument naming the key for non-finite values or a pitch list whose
   /// length is not z_p.
   void Validate(int pin_count) const;

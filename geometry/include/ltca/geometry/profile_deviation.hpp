@@ -1,14 +1,14 @@
 #pragma once
 // A cycloid profile deviation that varies along the profile (Liu 2021 eq. 4, delta^{n_c i_c j_c};
-// docs/profile-deviation.md): a normal deviation delta(k, u), mm, of tooth space k at profile
-// parameter u. delta > 0 adds material: the flank as made is at
+// docs/contact.md, "Profile deviation along the profile"): a normal deviation delta(k, u), mm,
+// of tooth space k at profile parameter u. delta > 0 adds material: the flank as made is at
 //   x(u) + delta(k, u) n(u)      (n = ProfilePoint::normal, out of the material, toward the pin),
 // the same sign as the uniform [errors] cycloid_profile_layer_mm. It is a function on the smooth
 // analytic profile, not a displaced element surface. A random deviation with Liu's 800 elements
 // changes by up to the zone within one element (14.5 um of arc on Liu Table 1), far faster than
 // the gap to a pin opens away from the foot point: the clearance is then the minimum over u near
 // the foot point of (gap(u) - delta(k, u)), as Liu's minimum over elements, not delta at the
-// smooth foot point (docs/profile-deviation.md).
+// smooth foot point (docs/contact.md, "Profile deviation along the profile").
 //
 // Two sources, and their sum:
 //  - random: Liu section 5.2, each element of each tooth space deviates at random within a
@@ -59,8 +59,9 @@ struct RandomProfileDeviation {
   void Validate(int tooth_count) const;
 };
 
-/// Counter layout of the random deviation (docs/profile-deviation.md). Fixed: changing it changes
-/// the deviation every seed gives. The draw of element e of tooth space k, attempt a, is at
+/// Counter layout of the random deviation (docs/contact.md, "Profile deviation along the
+/// profile"). Fixed: changing it changes the deviation every seed gives. The draw of element e
+/// of tooth space k, attempt a, is at
 ///   stream = kRandomProfileStream + k,  index = e * kRandomProfileAttempts + a
 /// under the seed. Uniform: zone (Uniform01 - 1/2) at attempt 0. Normal: the first attempt with
 /// |StandardNormal| <= 3 gives zone / 6 * z; should all kRandomProfileAttempts attempts fail
@@ -120,6 +121,11 @@ class ProfileDeviation {
   double MaxAbs() const;
   /// Tooth count of the profile it was built for (0 when IsZero()).
   int tooth_count() const { return tooth_count_; }
+  /// Appends to `nodes` the abscissae u in the open interval (lo, hi) where delta has a kink
+  /// (the knots of every source: the same on every tooth space), sorted and without repeats.
+  /// Between two consecutive nodes delta is linear in u on every tooth space: a smooth function
+  /// minus delta has its minimum there at a node or where its derivative vanishes.
+  void NodesIn(double lo, double hi, std::vector<double>* nodes) const;
 
  private:
   struct Table {

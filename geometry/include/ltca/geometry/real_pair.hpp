@@ -13,6 +13,7 @@
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/pair.hpp"
 #include "ltca/geometry/profile.hpp"
+#include "ltca/geometry/profile_deviation.hpp"
 
 namespace ltca::geometry {
 
@@ -30,6 +31,10 @@ class RealPair {
   const AssemblyErrors& assembly() const { return assembly_; }
   /// The cycloid as made: modification and profile layer applied.
   const CycloidProfile& profile() const { return profile_; }
+  /// The profile deviation along the profile of the cycloid as made (errors().profile_random plus
+  /// errors().profile_measured), built once against profile(); IsZero() without one. Constant
+  /// along the face width: it leaves the plane model valid.
+  const ProfileDeviation& profile_deviation() const { return profile_deviation_; }
   const Kinematics& kinematics() const { return kinematics_; }
   /// Radius of the pin circle as assembled, mm: R_p plus the pin-circle deviation.
   double pin_circle_radius() const { return pin_circle_radius_; }
@@ -57,6 +62,7 @@ class RealPair {
   ManufacturingErrors errors_;
   AssemblyErrors assembly_;
   CycloidProfile profile_;
+  ProfileDeviation profile_deviation_;  // after profile_: built against it
   Kinematics kinematics_;
   double pin_circle_radius_;
 };

@@ -38,6 +38,9 @@ struct DeckLimits {
   /// Modifications and manufacturing errors (lengths) larger than this fraction of the pin
   /// radius look like absolute values (a radius, not a change of it) and are rejected.
   static constexpr double kMaxDeviationFraction = 0.05;
+  /// [errors] profile_measured_csv: the trace file, read with a bounded read (a trace of a
+  /// measuring centre has a few hundred to a few thousand rows).
+  static constexpr std::uintmax_t kMaxProfileCsvBytes = 4u << 20;
 };
 
 /// [case]: provenance.
@@ -108,9 +111,11 @@ struct Deck {
 /// so that an override is checked like the key in the file; a missing section is created.
 /// Text larger than DeckLimits::kMaxFileBytes or nested deeper than DeckLimits::kMaxNesting is
 /// rejected before the TOML parser sees it.
+/// directory: where relative paths in the deck ([errors] profile_measured_csv) are read from;
+/// empty: the current directory (LoadDeck passes the deck file's directory).
 /// Throws std::invalid_argument with a message that starts with the deck name.
-Deck ParseDeck(std::string_view toml_text, const std::string& name,
-               const std::vector<std::string>& overrides = {});
+Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::vector<std::string>& overrides = {},
+               const std::filesystem::path& directory = {});
 /// The same for a file, which must be a regular file (not a directory, FIFO or device) of at
 /// most DeckLimits::kMaxFileBytes; it is read with a bounded read.
 Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
