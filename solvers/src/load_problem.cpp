@@ -31,7 +31,7 @@ LoadProblem::ModelPtr Require(LoadProblem::ModelPtr model) {
 }
 
 // The checked, symmetrised coupling (LoadProblem::WithCoupling), or nullptr for none.
-std::shared_ptr<const Eigen::SparseMatrix<double>> CheckedCoupling(Eigen::SparseMatrix<double> c, int pins) {
+std::shared_ptr<const Eigen::SparseMatrix<double>> CheckCouplingMatrix(Eigen::SparseMatrix<double> c, int pins) {
   if (c.rows() == 0 && c.cols() == 0) return nullptr;
   if (c.rows() != c.cols()) {
     throw std::invalid_argument(fmt::format("LoadProblem coupling: {} x {} is not square", c.rows(), c.cols()));
@@ -151,8 +151,20 @@ LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state, const contact
 }
 
 LoadProblem LoadProblem::WithCoupling(Eigen::SparseMatrix<double> coupling) const {
+  return WithCoupling(CheckCoupling(std::move(coupling), point_count()));
+}
+
+LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<double> coupling, int points) {
+  return {CheckCouplingMatrix(std::move(coupling), points), points};
+}
+
+LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
+  if (coupling.points != point_count()) {
+    throw std::invalid_argument(fmt::format("LoadProblem coupling: checked for {} points, the problem has {}",
+                                            coupling.points, point_count()));
+  }
   LoadProblem out(*this);
-  out.coupling_ = CheckedCoupling(std::move(coupling), point_count());
+  out.coupling_ = coupling.matrix;
   out.single_pin_ = out.SinglePinBound();
   return out;
 }

@@ -5,6 +5,7 @@
 // same equation, and the loaded rotation and the pin totals must equal the plane model's. The
 // slices are forced here (MeshModel's coupled_along_width), since the program itself would run
 // the plane model for such a pair.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -92,4 +93,56 @@ TEST_CASE("solvers: n identical slices reproduce the plane model (3D -> 2D limit
       }
     }
   }
+}
+
+TEST_CASE("solvers: pin bending moves load toward the supports: the pin ends carry more than the uncoupled slices give them") {
+  // A beam loaded along the face deflects most away from its supports, so the slices near the
+  // supports become the stiffer ones. cases/pin_bending.toml: clamped, span 20 mm, face 4-16 mm
+  // (symmetric): the outer halves of a pin's slices carry more than half its load; the uncoupled
+  // identical slices carry exactly half. Moving the face toward the first support (offset 1 mm)
+  // moves each loaded pin's load centroid toward face B (z < B / 2).
+  auto deck = ltca::app::LoadDeck(Case("pin_bending.toml"));
+  const auto bent = std::make_shared<const MeshModel>(deck.MakeModel());
+  REQUIRE(bent->slice_count() == 20);
+  const auto rigid = std::make_shared<const MeshModel>(deck.MakeRealPair(), deck.geometry, /*coupled_along_width=*/true);
+  const auto outer_share = [](const LoadProblem& problem, const LoadResult& r) {
+    // Of the most loaded pin: the load on slices 0-4 and 15-19 over the pin's total.
+    const auto total = PinTotals(problem, r.force);
+    const auto heaviest = static_cast<int>(std::max_element(total.begin(), total.end()) - total.begin());
+    double outer = 0.0;
+    for (std::size_t i = 0; i < r.force.size(); ++i) {
+      const auto& p = problem.base_state().pins[i];
+      if (p.pin == heaviest && (p.slice < 5 || p.slice >= 15)) outer += r.force[i];
+    }
+    return outer / total[static_cast<std::size_t>(heaviest)];
+  };
+  for (const double crank : {0.0, 0.1}) {
+    const LoadProblem coupled = deck.MakeProblem(bent, crank, ContactKinematics::kLinearised);
+    REQUIRE(coupled.has_coupling());
+    const LoadProblem uncoupled(rigid, crank, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
+    const LoadResult a = SolveWith("compatibility", coupled), b = SolveWith("compatibility", uncoupled);
+    REQUIRE(a.status == SolverStatus::kSuccess);
+    REQUIRE(b.status == SolverStatus::kSuccess);
+    CHECK(outer_share(uncoupled, b) == doctest::Approx(0.5).epsilon(1e-9));
+    CHECK(outer_share(coupled, a) > 0.5 + 1e-3);
+  }
+  deck.pins->face_offset = 1.0;
+  const auto near_face = std::make_shared<const MeshModel>(deck.MakeModel());
+  const LoadProblem shifted = deck.MakeProblem(near_face, 0.0, ContactKinematics::kLinearised);
+  const LoadResult r = SolveWith("compatibility", shifted);
+  REQUIRE(r.status == SolverStatus::kSuccess);
+  const auto total = PinTotals(shifted, r.force);
+  std::vector<double> moment(total.size(), 0.0);
+  for (std::size_t i = 0; i < r.force.size(); ++i) {
+    const auto& p = shifted.base_state().pins[i];
+    moment[static_cast<std::size_t>(p.pin)] += r.force[i] * p.z;
+  }
+  const double f_max = *std::max_element(total.begin(), total.end());
+  int loaded = 0;
+  for (std::size_t j = 0; j < total.size(); ++j) {
+    if (total[j] < 0.05 * f_max) continue;
+    ++loaded;
+    CHECK(moment[j] / total[j] < 0.5 * deck.pair.face_width - 0.1);
+  }
+  CHECK(loaded >= 3);
 }

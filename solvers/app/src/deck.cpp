@@ -623,7 +623,10 @@ Deck::ModelInfo Deck::Model() const {
   // The rule of contact::MeshModel: slices when something varies along the face width.
   ModelInfo m;
   m.surface = geometry.mode == geometry::GeometrySettings::Mode::kElements ? "elements" : "analytic";
-  if (errors.VariesAlongWidth() || assembly.VariesAlongWidth()) {
+  if (pins) {
+    m.name = "slices+pin-bending";
+    m.slices = geometry.width_slices;
+  } else if (errors.VariesAlongWidth() || assembly.VariesAlongWidth()) {
     m.name = "slices";
     m.slices = geometry.width_slices;
   } else {
@@ -635,6 +638,20 @@ Deck::ModelInfo Deck::Model() const {
     }
   }
   return m;
+}
+
+solvers::LoadProblem::CheckedCoupling Deck::MakeCoupling(const contact::MeshModel& model) const {
+  if (!pins) return {};
+  const contact::PinBeam beam(*pins, RequireMaterial(), pair.pin_radius);
+  return solvers::LoadProblem::CheckCoupling(
+      contact::PinBendingCoupling(model.Evaluate(sweep.crank_start).pins, beam, pair.face_width), model.point_count());
+}
+
+solvers::LoadProblem Deck::MakeProblem(const std::shared_ptr<const contact::MeshModel>& model, double crank,
+                                       contact::ContactKinematics kinematics) const {
+  solvers::LoadProblem problem(model, crank, contact, RequireMaterial(), RequireLoad().torque, kinematics);
+  if (!pins) return problem;
+  return problem.WithCoupling(MakeCoupling(*model));
 }
 
 const contact::Material& Deck::RequireMaterial() const {
@@ -663,8 +680,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     toml::value root_value = toml::parse(stream, name);
     ApplyOverrides(root_value, overrides);
     const toml::table& root = root_value.as_table();
-    const std::vector<std::string> sections = {"case", "pair",     "modification", "errors", "contact",
-                                               "geometry", "material", "load", "sweep",  "solver"};
+    const std::vector<std::string> sections = {"case",     "pair", "modification", "errors", "contact", "geometry",
+                                               "material", "pins", "load",         "sweep",  "solver"};
     for (const auto& [key, unused] : root) {
       if (std::find(sections.begin(), sections.end(), key) == sections.end()) {
         throw std::invalid_argument(fmt::format("unknown section or key '{}'; expected one of: {}",
@@ -702,6 +719,15 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
                            {"young_modulus_mpa", "poisson_ratio", "pin_young_modulus_mpa",
                             "pin_poisson_ratio", "contact_stress_limit_mpa"});
     if (material.Present()) deck.material = ReadMaterial(material);
+    const Section pins(Find(root, "pins"), "pins", {"span_mm", "support", "face_offset_mm"});
+    if (pins.Present()) {
+      contact::PinSupport p;
+      p.span = pins.Real("span_mm", "distance between the two supports of a pin in mm");
+      p.support = contact::ParsePinSupport(pins.String("support", "simply-supported", "simply-supported | clamped"));
+      p.face_offset = pins.Real("face_offset_mm", "from the first support to face B of the cycloid in mm");
+      p.Validate(deck.pair.face_width);
+      deck.pins = p;
+    }
     const Section load(Find(root, "load"), "load", {"torque_nm"});
     if (load.Present()) deck.load = ReadLoad(load);
     deck.sweep = ReadSweep(

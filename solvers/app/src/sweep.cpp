@@ -69,6 +69,7 @@ struct SweepRunner::Impl {
   static constexpr std::size_t kKeptStatesBytes = std::size_t{64} << 20;
   std::vector<contact::MeshState> checked;
   std::size_t next_checked = 0;
+  solvers::LoadProblem::CheckedCoupling coupling;  // pin bending ([pins]), checked once for the sweep
 
   Impl(const Deck& d, const SolverOptions& o, Clock::time_point start)
       : deck(d), options(o), model(std::make_shared<const contact::MeshModel>(d.MakeModel())), solver(solvers::MakeSolver(o.name)), material(d.RequireMaterial()),
@@ -81,14 +82,16 @@ struct SweepRunner::Impl {
       contact::RequireNoInterference(state, crank, model->interference_tolerance());
       if (keep) checked.push_back(std::move(state));
     }
+    coupling = deck.MakeCoupling(*model);
     elapsed = Clock::now() - start;
   }
 
   solvers::LoadProblem Problem(double crank) {
-    if (next_checked < checked.size() && checked[next_checked].crank == crank) {
-      return {model, std::move(checked[next_checked++]), deck.contact, material, torque, options.kinematics};
-    }
-    return {model, crank, deck.contact, material, torque, options.kinematics};
+    solvers::LoadProblem problem =
+        next_checked < checked.size() && checked[next_checked].crank == crank
+            ? solvers::LoadProblem(model, std::move(checked[next_checked++]), deck.contact, material, torque, options.kinematics)
+            : solvers::LoadProblem(model, crank, deck.contact, material, torque, options.kinematics);
+    return coupling.matrix ? problem.WithCoupling(coupling) : problem;
   }
 };
 

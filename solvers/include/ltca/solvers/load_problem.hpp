@@ -88,6 +88,17 @@ class LoadProblem {
   /// absolute row sum, has only positive pivots. Stored symmetrised, (C + C^T) / 2, explicit
   /// zeros dropped.
   LoadProblem WithCoupling(Eigen::SparseMatrix<double> coupling) const;
+  /// A coupling checked once as WithCoupling checks it, to be shared by the problems of one point
+  /// layout (a sweep: pin bending's matrix does not change with the crank). The matrix is nullptr
+  /// for no coupling.
+  struct CheckedCoupling {
+    std::shared_ptr<const Eigen::SparseMatrix<double>> matrix;
+    int points = 0;
+  };
+  static CheckedCoupling CheckCoupling(Eigen::SparseMatrix<double> coupling, int points);
+  /// The same as WithCoupling, without checking again; throws std::invalid_argument when the
+  /// coupling was checked for another number of points.
+  LoadProblem WithCoupling(const CheckedCoupling& coupling) const;
   bool has_coupling() const { return coupling_ != nullptr; }
   /// The coupling matrix, or nullptr when uncoupled.
   const Eigen::SparseMatrix<double>* coupling() const { return coupling_.get(); }

@@ -13,9 +13,11 @@
 #include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
 #include "ltca/contact/mesh_state.hpp"
+#include "ltca/contact/pin_bending.hpp"
 #include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/geometry/errors.hpp"
 #include "ltca/geometry/pair.hpp"
+#include "ltca/solvers/load_problem.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
 namespace ltca::app {
@@ -78,6 +80,7 @@ struct Deck {
   bool width_slices_given = false;             ///< [geometry] width_slices is in the deck
   contact::ContactSettings contact;            ///< [contact], optional, default hertz-line / signed
   SolverOptions solver;                        ///< [solver], optional, default bisection / linearised
+  std::optional<contact::PinSupport> pins;    ///< [pins], optional: pin bending (issue 11)
   std::optional<contact::Material> material;  ///< required by the load commands
   std::optional<LoadCase> load;               ///< required by the load commands
   Sweep sweep;
@@ -86,14 +89,21 @@ struct Deck {
   /// command builds this one.
   geometry::RealPair MakeRealPair() const { return {pair, modification, errors, assembly}; }
   /// The pair as the contact layer sees it (the real pair, geometry mode, the slices it needs).
-  contact::MeshModel MakeModel() const { return contact::MeshModel(MakeRealPair(), geometry); }
+  contact::MeshModel MakeModel() const { return contact::MeshModel(MakeRealPair(), geometry, pins.has_value()); }
+  /// Pin bending's coupling of the model's points ([pins]: every pin a Timoshenko beam of the
+  /// nominal pin radius and the pin material), checked once for the problems of a sweep; the
+  /// matrix is nullptr without [pins].
+  solvers::LoadProblem::CheckedCoupling MakeCoupling(const contact::MeshModel& model) const;
+  /// The load problem of this deck at a crank on the model (its coupling applied).
+  solvers::LoadProblem MakeProblem(const std::shared_ptr<const contact::MeshModel>& model, double crank,
+                                   contact::ContactKinematics kinematics) const;
 
   /// The model that runs for this deck, named in every output (issues 9, 11): "plane" (one slice
   /// over the face width: nothing varies along it) or "slices" (width_slices slices: something
   /// varies along the width), the surface (analytic or elements), and a note when width_slices was
   /// given without need.
   struct ModelInfo {
-    std::string name;     ///< "plane" | "slices"
+    std::string name;     ///< "plane" | "slices" | "slices+pin-bending"
     int slices = 1;
     std::string surface;  ///< "analytic" or "elements"
     std::string note;     ///< empty, or why a given slice count was not used
