@@ -724,6 +724,13 @@ ValidationReport Validate(const fs::path& cases_dir) {
   LiuGeometryAndLoaded(cases_dir, b);
   LiuErrorSurfaces(cases_dir, b);
   report.liu_table2 = LiuTable2(cases_dir, b);
+  {
+    // Slice-count convergence (issue 11): Liu 5.3's phi = 0.02 deg over one revolution in 37
+    // positions, compatibility, linearised; 200 slices is the reference.
+    Deck phi = LoadDeck(cases_dir / "liu2021_sec53_phi.toml");
+    phi.sweep.positions = 37;
+    report.slice_convergence = RunSliceStudy(phi, {5, 10, 20, 50, 100, 200}, "compatibility", 1);
+  }
   Li(cases_dir, b);
   Jiang(cases_dir, b);
   report.rows = std::move(b.rows);
@@ -752,6 +759,21 @@ std::string ToMarkdown(const ValidationReport& report) {
     os << fmt::format("| {} | {:+g} | {:+g} | {:.3f} | {:.4f} | {:.3f} | {:.4f} | {:.2f} | {:.1f} |\n", t.case_number,
                       t.d_rrp_um, t.d_rp_um, t.mean_te_arcsec, t.pp_te_arcsec, t.mean_backlash_arcsec,
                       t.pp_backlash_arcsec, t.mean_pins, t.max_stress_mpa);
+  }
+  if (!report.slice_convergence.empty()) {
+    const SliceStudyRow& ref = report.slice_convergence.back();
+    os << "\n### Slice-count convergence under misalignment (issue 11)\n\n"
+       << "Liu 2021 section 5.3, phi = 0.02 deg (`cases/liu2021_sec53_phi.toml`, 37 positions over one revolution), "
+          "linearised kinematics, compatibility; the error is against " << ref.slices << " slices. Times: "
+          "docs/performance.md.\n\n"
+       << "| slices | PPTE (arcsec) | error | mean backlash (arcsec) | error | pp backlash (arcsec) | error |\n"
+          "|---|---|---|---|---|---|---|\n";
+    for (const auto& r : report.slice_convergence) {
+      os << fmt::format("| {} | {:.4f} | {:.1e} | {:.4f} | {:.1e} | {:.4f} | {:.1e} |\n", r.slices, r.pp_te_arcsec,
+                        std::abs(r.pp_te_arcsec - ref.pp_te_arcsec), r.mean_backlash_arcsec,
+                        std::abs(r.mean_backlash_arcsec - ref.mean_backlash_arcsec), r.pp_backlash_arcsec,
+                        std::abs(r.pp_backlash_arcsec - ref.pp_backlash_arcsec));
+    }
   }
   return os.str();
 }

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "ltca/app/slice_study.hpp"
+
 namespace ltca::app {
 
 enum class Verdict {
@@ -42,6 +44,8 @@ struct LiuTable2Row {
 struct ValidationReport {
   std::vector<ValidationRow> rows;
   std::vector<LiuTable2Row> liu_table2;
+  /// The slice-count convergence under misalignment (issue 11; times are in the bench).
+  std::vector<SliceStudyRow> slice_convergence;
 };
 
 /// Computes every row from the decks under cases_dir.

@@ -1,0 +1,30 @@
+#pragma once
+// The slice-count study (issue 11): how the figures of the slice model converge with the number of
+// face-width slices, and what each slice count costs. `ltca-bench` reports the times beside the
+// errors (docs/performance.md); `ltca validate` reports the convergence (docs/validation.md).
+// Not a timed test.
+#include <string>
+#include <vector>
+
+#include "ltca/app/deck.hpp"
+
+namespace ltca::app {
+
+struct SliceStudyRow {
+  int slices = 0;
+  double seconds_per_position = 0.0;  ///< the whole sweep (mesh states included), fastest of the repeats
+  double mean_te_arcsec = 0.0, pp_te_arcsec = 0.0;
+  double mean_backlash_arcsec = 0.0, pp_backlash_arcsec = 0.0;  ///< linearised unloaded TCA
+  bool succeeded = false;  ///< every position solved
+};
+
+/// The deck (which must run the slice model: something varies along the width, or [pins]) solved
+/// with `solver` under linearised kinematics at every slice count, `repeats` times each.
+std::vector<SliceStudyRow> RunSliceStudy(const Deck& deck, const std::vector<int>& slice_counts,
+                                         const std::string& solver, int repeats);
+
+/// Least-squares slope of log(time) against log(slices) over the rows with lo <= slices <= hi:
+/// the cost exponent (1: linear).
+double CostExponent(const std::vector<SliceStudyRow>& rows, int lo, int hi);
+
+}  // namespace ltca::app

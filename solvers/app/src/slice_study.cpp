@@ -1,0 +1,61 @@
+#include "ltca/app/slice_study.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "ltca/app/sweep.hpp"
+#include "ltca/contact/unloaded.hpp"
+#include "ltca/geometry/units.hpp"
+
+namespace ltca::app {
+
+std::vector<SliceStudyRow> RunSliceStudy(const Deck& deck, const std::vector<int>& slice_counts,
+                                         const std::string& solver, int repeats) {
+  std::vector<SliceStudyRow> rows;
+  for (const int n : slice_counts) {
+    Deck d = deck;
+    d.geometry.width_slices = n;
+    if (d.Model().slices != n) {
+      throw std::invalid_argument(fmt::format("slice study: deck '{}' runs the {} model, not {} slices", deck.name,
+                                              d.Model().name, n));
+    }
+    SolverOptions options = d.solver;
+    options.name = solver;
+    options.kinematics = contact::ContactKinematics::kLinearised;
+    SliceStudyRow row;
+    row.slices = n;
+    row.seconds_per_position = std::numeric_limits<double>::infinity();
+    for (int r = 0; r < std::max(repeats, 1); ++r) {
+      const SweepResult sweep = SolveSweep(d, options);
+      row.seconds_per_position =
+          std::min(row.seconds_per_position, sweep.summary.wall_seconds / static_cast<double>(sweep.summary.positions()));
+      row.succeeded = sweep.summary.all_succeeded();
+      row.mean_te_arcsec = units::RadToArcsec(sweep.summary.mean_te);
+      row.pp_te_arcsec = units::RadToArcsec(sweep.summary.pp_te);
+    }
+    const auto backlash = contact::AnalyseUnloadedSweep(d.MakeModel(), d.sweep.CrankAngles(), contact::ContactKinematics::kLinearised);
+    row.mean_backlash_arcsec = units::RadToArcsec(backlash.mean_backlash);
+    row.pp_backlash_arcsec = units::RadToArcsec(backlash.pp_backlash);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+double CostExponent(const std::vector<SliceStudyRow>& rows, int lo, int hi) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int m = 0;
+  for (const auto& r : rows) {
+    if (r.slices < lo || r.slices > hi) continue;
+    const double x = std::log(r.slices), y = std::log(r.seconds_per_position);
+    sx += x, sy += y, sxx += x * x, sxy += x * y;
+    ++m;
+  }
+  if (m < 2) return std::numeric_limits<double>::quiet_NaN();
+  return (m * sxy - sx * sy) / (m * sxx - sx * sx);
+}
+
+}  // namespace ltca::app
