@@ -2,7 +2,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <cstdio>
+#include <map>
 #include <sstream>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -623,5 +626,53 @@ TEST_CASE("cli: backlash streams its positions, and its summary is the library's
   for (std::size_t i = 0; i < 23; ++i) {
     CHECK(j.at("positions").at(i).at("backlash_arcsec").get<double>() ==
           doctest::Approx(ltca::units::RadToArcsec(sweep.positions[i].backlash)).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("cli: the slice model's JSON and --pattern-csv carry the pin x slice pattern, and the slices of a pin sum to its total") {
+  // Issue 11: cases/liu2021_sec53_phi.toml runs 20 slices. Per position the JSON has
+  // slice_force_n (pin x slice) and load_centroid_mm; the pattern CSV has one row per position,
+  // pin and slice. Independent check: the sum of a pin's slice forces is its pin_force_n, and its
+  // force-weighted slice centre (z_k = (k + 1/2) B / n) is its load centroid.
+  const auto json = RunCli({"solve", Case("liu2021_sec53_phi.toml"), "--set", "sweep.positions=3", "--json", "-"});
+  REQUIRE(json.code == 0);
+  const auto doc = nlohmann::json::parse(json.out);
+  CHECK(doc["summary"]["model"] == "slices");
+  CHECK(doc["summary"]["width_slices"] == 20);
+  const auto csv = RunCli({"solve", Case("liu2021_sec53_phi.toml"), "--set", "sweep.positions=3", "--pattern-csv", "-"});
+  REQUIRE(csv.code == 0);
+  std::istringstream lines(csv.out);
+  std::string line;
+  std::getline(lines, line);
+  CHECK(line == "crank_deg,pin,slice,z_mm,force_n,contact_stress_mpa,status");
+  std::map<std::pair<int, int>, double> force;  // (position, pin) -> sum of slice forces
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    ++rows;
+    double crank = 0, z = 0, f = 0;
+    int pin = 0, slice = 0;
+    REQUIRE(std::sscanf(line.c_str(), "%lf,%d,%d,%lf,%lf", &crank, &pin, &slice, &z, &f) == 5);
+    CHECK(z == doctest::Approx((slice - 0.5) * 12.0 / 20));
+    force[{(rows - 1) / 800, pin}] += f;
+  }
+  CHECK(rows == 3 * 40 * 20);
+  for (int p = 0; p < 3; ++p) {
+    const auto& pos = doc["positions"][static_cast<std::size_t>(p)];
+    REQUIRE(pos["slice_force_n"].size() == 40);
+    for (int j = 0; j < 40; ++j) {
+      const double total = pos["pin_force_n"][static_cast<std::size_t>(j)];
+      CHECK(force[{p, j + 1}] == doctest::Approx(total).epsilon(1e-8).scale(1e-6));
+      double sum = 0, moment = 0;
+      for (int k = 0; k < 20; ++k) {
+        const double f = pos["slice_force_n"][static_cast<std::size_t>(j)][static_cast<std::size_t>(k)];
+        sum += f;
+        moment += f * (k + 0.5) * 12.0 / 20;
+      }
+      if (total > 0) {
+        CHECK(pos["load_centroid_mm"][static_cast<std::size_t>(j)].get<double>() == doctest::Approx(moment / sum).epsilon(1e-12));
+      } else {
+        CHECK(pos["load_centroid_mm"][static_cast<std::size_t>(j)].is_null());
+      }
+    }
   }
 }

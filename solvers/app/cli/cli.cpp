@@ -168,6 +168,9 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   solve->add_option("--json", solve_options.json_path, "Write summary and positions as JSON ('-': stdout)")->type_name("FILE|-");
   solve->add_option("--csv", solve_options.csv_path, "Write one row per position as CSV")->type_name("FILE|-");
   solve->add_option("--svg", solve_options.svg_path, "Draw the TE over the sweep and the load distribution")->type_name("FILE|-");
+  solve->add_option("--pattern-csv", solve_options.pattern_csv_path,
+                    "Write the contact pattern as CSV: one row per position, pin and slice (force, stress, z)")
+      ->type_name("FILE|-");
 
   CompareOptions compare_options;
   CLI::App* compare = app.add_subcommand(
@@ -228,7 +231,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   for (const std::string* path :
        {&geometry_options.json_path, &geometry_options.csv_path, &geometry_options.svg_path, &backlash_options.json_path,
         &backlash_options.csv_path, &mesh_options.json_path, &solve_options.json_path, &solve_options.csv_path,
-        &solve_options.svg_path, &compare_options.json_path, &validate_options.markdown_path,
+        &solve_options.svg_path, &solve_options.pattern_csv_path, &compare_options.json_path, &validate_options.markdown_path,
         &default_options.json_path, &default_options.csv_path, &default_options.svg_path}) {
     to_stdout = to_stdout || *path == "-";
   }

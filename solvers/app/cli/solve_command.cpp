@@ -168,11 +168,13 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
   solvers::SolverOptions solver = deck.solver;
   if (!options.solver.empty()) solver.name = options.solver;
   if (!options.kinematics.empty()) solver.kinematics = ParseKinematics(options.kinematics);
-  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
+  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path},
+                    {"--pattern-csv", options.pattern_csv_path}});
   // Outputs first: an unwritable path is an error before anything is computed.
   Output json("--json", options.json_path, streams.out);
   Output csv("--csv", options.csv_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
+  Output pattern("--pattern-csv", options.pattern_csv_path, streams.out);
 
   SvgData svg_data;
   bool started = false;
@@ -195,6 +197,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
       json.stream() << envelope.before << text << ",\n  \"positions\": [";
     }
     if (csv.enabled()) csv.stream() << "crank_deg,te_arcsec,contacts,max_pin_force_n,max_contact_stress_mpa,status\n";
+    if (pattern.enabled()) pattern.stream() << "crank_deg,pin,slice,z_mm,force_n,contact_stress_mpa,status\n";
   };
   app::SweepCallbacks callbacks;
   callbacks.keep_positions = false;
@@ -208,6 +211,21 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
                  CsvFigure(ok, MaxOf(p.contact_stress)), solvers::ToString(p.result.status));
     }
     if (svg.enabled()) svg_data.Add(p);
+    if (pattern.enabled()) {
+      // Pin (1-based) x slice (1-based) of the model that ran; figures empty for a failed position.
+      const bool ok = p.succeeded();
+      const auto n = static_cast<std::size_t>(p.slices);
+      const double width = deck.pair.face_width / static_cast<double>(p.slices);
+      for (std::size_t j = 0; j < p.pin_force.size(); ++j) {
+        for (std::size_t k = 0; k < n; ++k) {
+          const std::size_t i = j * n + k;
+          fmt::print(pattern.stream(), "{:.9g},{},{},{:.9g},{},{},{}\n", RadToDeg(p.crank), j + 1, k + 1,
+                     (static_cast<double>(k) + 0.5) * width,
+                     CsvFigure(ok, i < p.result.force.size() ? p.result.force[i] : NAN),
+                     CsvFigure(ok, i < p.point_stress.size() ? p.point_stress[i] : NAN), solvers::ToString(p.result.status));
+        }
+      }
+    }
     progress.Update(++done);
   };
   const app::SweepResult sweep = app::SolveSweep(deck, solver, callbacks);
@@ -220,6 +238,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
+  if (pattern.enabled()) pattern.Commit();
   if (svg.enabled()) {
     WriteSvg(sweep.solver, svg_data, svg.stream());
     svg.Commit();
