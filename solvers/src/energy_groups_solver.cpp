@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "coupled_contact.hpp"
+
 namespace ltca::solvers {
 namespace {
 
@@ -94,6 +96,52 @@ GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& 
   return s;
 }
 
+// Coupled (issue 11, pin bending): the group's points, and the pressed points of non-positive arm,
+// are the only ones allowed to carry force; among them the coupled complementarity problem with
+// the torque balance is solved (CoupledContact::ForTorque, the compatibility backend's kernel:
+// members may open, as the slices of a member do uncoupled). Feasible when it converges, every
+// member tooth carries load and every other usable point stays open; the energy is Li's
+// NE = sum F_i delta_i with delta_i the total approach.
+GroupSolution SolveGroupCoupled(const Linearised& lin, const std::vector<std::size_t>& group, int teeth, double torque,
+                                const Eigen::SparseMatrix<double>& matrix, CoupledContact& coupled) {
+  GroupSolution s;
+  const std::size_t n = lin.arm.size();
+  std::vector<CoupledPoint> points(n, CoupledPoint{nullptr, -1.0, 0.0});  // non-members: far open, no law
+  std::vector<bool> member(n, false);
+  for (const std::size_t i : group) {
+    member[i] = true;
+    points[i] = {lin.law[i], lin.approach0[i], lin.arm[i]};
+  }
+  for (const auto& p : lin.pressed) {
+    member[p.pin] = true;
+    points[p.pin] = {p.law, p.approach0, p.arm};
+  }
+  std::vector<double> force;
+  const CoupledOutcome o = coupled.ForTorque(points, torque, &force);
+  if (!o.converged || o.edge || o.saturated) return s;
+  s.psi = lin.psi0 + o.rotation;
+  s.force = std::move(force);
+  s.feasible = true;
+  s.energy = 0.0;
+  // A non-member's gap: (C F)_i - delta_i (no force of its own; a coupling across pins moves it).
+  const Eigen::VectorXd moved =
+      matrix * Eigen::Map<const Eigen::VectorXd>(s.force.data(), static_cast<Eigen::Index>(s.force.size()));
+  std::vector<bool> loaded_tooth(static_cast<std::size_t>(teeth), false);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double delta = points[i].approach + points[i].arm * o.rotation;
+    if (member[i]) {
+      if (s.force[i] > 0.0) loaded_tooth[static_cast<std::size_t>(lin.pin[i])] = true;
+      s.energy += s.force[i] * delta;
+    } else if (lin.law[i] != nullptr && lin.Approach(i, s.psi) - moved(static_cast<Eigen::Index>(i)) > kGapTolerance) {
+      s.feasible = false;  // a non-member would penetrate
+    }
+  }
+  for (const std::size_t i : group) {
+    if (!loaded_tooth[static_cast<std::size_t>(lin.pin[i])]) s.feasible = false;
+  }
+  return s;
+}
+
 }  // namespace
 
 void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
@@ -110,6 +158,11 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
   int groups_evaluated = 0;
   BackendDetails details;
   const int outer_limit = problem.kinematics() == contact::ContactKinematics::kExact ? 50 : 1;
+  CoupledContact* coupled = problem.has_coupling() ? &CoupledContactFor(problem, workspace) : nullptr;
+  const auto solve_group = [&](const Linearised& lin, const std::vector<std::size_t>& group) {
+    return coupled != nullptr ? SolveGroupCoupled(lin, group, teeth, problem.torque(), *problem.coupling(), *coupled)
+                              : SolveGroup(lin, group, teeth, problem.torque(), 0.01 * options.torque_tolerance);
+  };
   for (int outer = 0; outer < outer_limit; ++outer) {
     const auto pins = problem.At(psi, workspace, &scratch);
     Linearised lin;
@@ -144,7 +197,10 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
     // 2. Maximum deformation: the first pin alone carries the torque (Li Fig. 5).
     const auto* first_law = lin.law[static_cast<std::size_t>(first)];
     const double first_arm = lin.arm[static_cast<std::size_t>(first)];
-    const double psi_max = first_psi + first_law->Approach(problem.torque() / first_arm) / first_arm;
+    double psi_max = first_psi + first_law->Approach(problem.torque() / first_arm) / first_arm;
+    // Coupled, more loaded points can turn the cycloid further than one alone: the problem's
+    // coupled bound (LoadProblem::LoadedRotationRange) widens the candidates.
+    if (coupled != nullptr) psi_max = std::max(psi_max, problem.LoadedRotationRange().single_pin);
     std::vector<bool> candidate(static_cast<std::size_t>(teeth), false);  // per tooth: a slice can close
     for (int i = 0; i < n; ++i) {
       const auto k = static_cast<std::size_t>(i);
@@ -174,7 +230,7 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
             if (lin.law[i] != nullptr) group.push_back(i);
           }
         }
-        GroupSolution s = SolveGroup(lin, group, teeth, problem.torque(), 0.01 * options.torque_tolerance);
+        GroupSolution s = solve_group(lin, group);
         ++groups_evaluated;
         if (s.feasible && s.energy < best.energy) best = std::move(s);
       }
@@ -202,7 +258,7 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
         for (const std::size_t i : points_of[static_cast<std::size_t>(tooth)]) {
           if (lin.law[i] != nullptr) group.push_back(i);
         }
-        GroupSolution s = SolveGroup(lin, group, teeth, problem.torque(), 0.01 * options.torque_tolerance);
+        GroupSolution s = solve_group(lin, group);
         ++groups_evaluated;
         if (s.feasible && s.energy < best.energy) best = std::move(s);
       }

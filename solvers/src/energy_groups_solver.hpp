@@ -16,11 +16,15 @@ namespace ltca::solvers {
 /// (exact kinematics, the far end of the line of centres) is in every group at the force of its
 /// approach, zero once it opens; Li's groups have no place for a pin the rotation does not close.
 /// More than kMaxGroups groups: status too-many-groups instead of a guess. A true active set that
-/// is not contiguous (e.g. under pitch errors) has no feasible group: reported, not guessed.
+/// is not contiguous (e.g. under pitch errors) has no feasible contiguous group: the groups in
+/// closing order are tried next (a departure, docs/solvers.md). A tooth is a pin with its slices.
 class EnergyGroupsSolver final : public LoadSolver {
  public:
   static constexpr int kMaxGroups = 5000;
   std::string name() const override { return "energy-groups"; }
+  /// Coupled (pin bending, issue 11): each group's coupled problem is solved by the
+  /// compatibility backend's kernel (docs/solvers.md).
+  bool supports_coupling() const override { return true; }
 
  private:
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,

@@ -343,11 +343,12 @@ TEST_CASE("solvers: coupled compliance - the shared residual judges with the cou
   CHECK(res.complementarity_nmm == doctest::Approx(1.0 * gap).epsilon(1e-9));
 }
 
-TEST_CASE("solvers: coupled compliance - bisection and compatibility match brute-force active-set enumeration") {
+TEST_CASE("solvers: coupled compliance - bisection, compatibility and energy-groups match brute-force active-set enumeration") {
   // The same four hand-made problems as energy-qp above (forces to 1e-8 of the largest, psi to
   // 1e-8, the same loaded set, shared residual < 1e-9): bisection's trial rotations solve the
-  // coupled complementarity problem, compatibility solves Newton on (psi, F) (issue 11).
-  for (const std::string name : {"bisection", "compatibility"}) {
+  // coupled complementarity problem, compatibility solves Newton on (psi, F), energy-groups
+  // solves each tooth group's coupled problem and keeps the feasible one (issue 11).
+  for (const std::string name : {"bisection", "compatibility", "energy-groups"}) {
     CAPTURE(name);
     CHECK(MakeSolver(name)->supports_coupling());
     double worst_force = 0.0, worst_psi = 0.0;
@@ -364,40 +365,57 @@ TEST_CASE("solvers: coupled compliance - bisection and compatibility match brute
   }
 }
 
-TEST_CASE("solvers: coupled compliance - energy-groups returns coupling-unsupported") {
+namespace {
+
+// A backend without coupling support (the default of LoadSolver::supports_coupling): every
+// registered solver supports it since issue 11, so the refusal is checked on this one.
+class UncoupledOnly final : public ltca::solvers::LoadSolver {
+ public:
+  std::string name() const override { return "uncoupled-only"; }
+
+ private:
+  void DoSolve(const LoadProblem& problem, const SolverOptions& options, ltca::solvers::Workspace& workspace,
+               LoadResult* result) const override {
+    *result = ltca::solvers::MakeSolver("bisection")->Solve(problem, options, workspace);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("solvers: coupled compliance - every solver supports it; a backend that does not is refused with coupling-unsupported") {
   // Refused before solving, with the solver named, and no number claimed: rotation and TE NaN,
   // every force zero, no loaded pin. On the uncoupled copy it succeeds (the status is about the
   // coupling, nothing else).
   CHECK(std::string(ltca::solvers::ToString(SolverStatus::kCouplingUnsupported)) == "coupling-unsupported");
-  int refused = 0;
   for (const auto& name : SolverNames()) {
     CAPTURE(name);
-    const bool supports = MakeSolver(name)->supports_coupling();
-    CHECK(supports == (name != "energy-groups"));
-    if (supports) continue;
-    for (const Hand& h : Problems()) {
-      CAPTURE(h.name);
-      const LoadResult r = Solve(name, Coupled(h));
-      CHECK(r.status == SolverStatus::kCouplingUnsupported);
-      CHECK(r.message.find(name) != std::string::npos);
-      CHECK(std::isnan(r.rotation));
-      CHECK(std::isnan(r.te));
-      CHECK(MaxForce(r.force) == 0.0);
-      CHECK(r.active.empty());
-      const LoadResult plain = Solve(name, Uncoupled(h));
-      CHECK(plain.status == SolverStatus::kSuccess);
-      const Answer a = Unique(h, Zero(h.arm.size()));
-      CHECK(MaxDifference(plain.force, a.force) <= 1e-6 * MaxForce(a.force));
-    }
-    ++refused;
+    CHECK(MakeSolver(name)->supports_coupling());
   }
-  CHECK(refused == 1);
+  const UncoupledOnly refusing;
+  CHECK_FALSE(refusing.supports_coupling());
+  for (const Hand& h : Problems()) {
+    CAPTURE(h.name);
+    SolverOptions options;
+    options.name = "bisection";
+    const LoadResult r = refusing.Solve(Coupled(h), options);
+    CHECK(r.status == SolverStatus::kCouplingUnsupported);
+    CHECK(r.message.find("uncoupled-only") != std::string::npos);
+    CHECK(std::isnan(r.rotation));
+    CHECK(std::isnan(r.te));
+    CHECK(MaxForce(r.force) == 0.0);
+    CHECK(r.active.empty());
+    const LoadResult plain = refusing.Solve(Uncoupled(h), options);
+    CHECK(plain.status == SolverStatus::kSuccess);
+    const Answer a = Unique(h, Zero(h.arm.size()));
+    CHECK(MaxDifference(plain.force, a.force) <= 1e-6 * MaxForce(a.force));
+  }
   // Zero torque is no exception: the refusal comes first.
   Hand idle = Problems()[0];
   idle.torque = 0.0;
-  CHECK(Solve("energy-groups", Coupled(idle)).status == SolverStatus::kCouplingUnsupported);
+  SolverOptions options;
+  CHECK(refusing.Solve(Coupled(idle), options).status == SolverStatus::kCouplingUnsupported);
   CHECK(Solve("bisection", Coupled(idle)).status == SolverStatus::kSuccess);
-  CHECK(Solve("energy-qp", Coupled(idle)).status == SolverStatus::kSuccess);
+  CHECK(Solve("energy-groups", Coupled(idle)).status == SolverStatus::kSuccess);
 }
 
 TEST_CASE("solvers: coupled compliance - a coupling that is not symmetric, positive semidefinite, finite or n x n is rejected") {
@@ -611,7 +629,7 @@ LoadResult Agree(const LoadProblem& problem, ContactKinematics kinematics) {
   const LoadResult reference = SolveWith("bisection", problem, kinematics);
   REQUIRE(reference.status == SolverStatus::kSuccess);
   CHECK(reference.residuals.Normalised() < 1e-8);
-  for (const std::string name : {"compatibility", "energy-qp"}) {
+  for (const std::string name : {"compatibility", "energy-qp", "energy-groups"}) {
     CAPTURE(name);
     const LoadResult r = SolveWith(name, problem, kinematics);
     REQUIRE(r.status == SolverStatus::kSuccess);
@@ -624,7 +642,7 @@ LoadResult Agree(const LoadProblem& problem, ContactKinematics kinematics) {
 
 }  // namespace
 
-TEST_CASE("solvers: coupled compliance - Liu Table 1 with pin bending over 10 slices: bisection, compatibility and energy-qp agree (linearised)") {
+TEST_CASE("solvers: coupled compliance - Liu Table 1 with pin bending over 10 slices: every solver agrees with bisection (linearised)") {
   // 40 pins x 10 slices = 400 points, block-diagonal 10 x 10 pin-bending blocks (clamped pins,
   // 16 mm span). Pin bending adds compliance: the TE grows over the uncoupled slice model's, and
   // the slices of a loaded pin carry more near the supports (the pin bends away in the middle).

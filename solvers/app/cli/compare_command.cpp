@@ -59,8 +59,8 @@ int RunCompare(const app::Deck& deck, const CompareOptions& options, const Strea
   const auto& ref_options = runners.front().options();
   std::ostream& text = streams.text;
   fmt::print(text, "case      {}\n", deck.info.title);
-  fmt::print(text, "{} positions, {} model ({} slice, {} surface), {} kinematics, law {} / {}; differences against {} where both succeeded\n", cranks.size(),
-             deck.Model().name, deck.Model().slices, deck.Model().surface,
+  fmt::print(text, "{} positions, {} model ({} slice{}, {} surface), {} kinematics, law {} / {}; differences against {} where both succeeded\n", cranks.size(),
+             deck.Model().name, deck.Model().slices, deck.Model().slices == 1 ? "" : "s", deck.Model().surface,
              ref_options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
              contact::ToString(deck.contact.law), contact::ToString(deck.contact.rho_convention), ref_options.name);
   fmt::print(text, "{:<14} {:<18} {:>9} {:>12} {:>10} {:>7} {:>11} {:>11} {:>12} {:>12} {:>9} {:>9}\n", "solver", "status",
