@@ -104,11 +104,16 @@ void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& s
   contact::RequireNoInterference(state, crank, model.interference_tolerance());
   fmt::print(out, "case      {}\n", deck.info.title);
   fmt::print(out, "mesh state at crank {:g} deg (unloaded pose)\n", options.crank_deg);
-  fmt::print(out, "{:>4} {:>9} {:>12} {:>10} {:>12} {:>8} {:>11} {:>11} {:>5}\n", "pin", "angle_deg",
-             "c_um", "L_mm", "rho_c_mm", "rho_p_mm", "x_mm", "y_mm", "edge");
+  // The slice model has a row per pin and slice (issue 11): the slice and its z are named.
+  const bool sliced = model.slice_count() > 1;
+  out << ModelLine(deck);
+  fmt::print(out, "{:>4} {}{:>9} {:>12} {:>10} {:>12} {:>8} {:>11} {:>11} {:>5}\n", "pin",
+             sliced ? fmt::format("{:>5} {:>7} ", "slice", "z_mm") : std::string(), "angle_deg", "c_um", "L_mm",
+             "rho_c_mm", "rho_p_mm", "x_mm", "y_mm", "edge");
   for (const auto& c : state.pins) {
-    fmt::print(out, "{:>4} {:>9.3f} {:>12.4f} {:>10.4f} {:>12.4f} {:>8.4f} {:>11.5f} {:>11.5f} {:>5}\n",
-               c.pin + 1, RadToDeg(c.angle), units::MmToUm(c.clearance), c.arm,
+    fmt::print(out, "{:>4} {}{:>9.3f} {:>12.4f} {:>10.4f} {:>12.4f} {:>8.4f} {:>11.5f} {:>11.5f} {:>5}\n", c.pin + 1,
+               sliced ? fmt::format("{:>5} {:>7.3f} ", c.slice + 1, c.z) : std::string(), RadToDeg(c.angle),
+               units::MmToUm(c.clearance), c.arm,
                c.cycloid_curvature == 0.0 ? INFINITY : 1.0 / c.cycloid_curvature, c.pin_radius,
                c.cycloid_point.x(), c.cycloid_point.y(), c.edge ? "yes" : "");
   }
@@ -117,7 +122,7 @@ void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& s
       std::ostream& os = json.stream();
       nlohmann::json pins = nlohmann::json::array();
       for (const auto& c : state.pins) {
-        pins.push_back({{"pin", c.pin + 1},
+        nlohmann::json row = {{"pin", c.pin + 1},
                         {"pin_angle_deg", RadToDeg(c.angle)},
                         {"clearance_um", units::MmToUm(c.clearance)},
                         {"arm_mm", c.arm},
@@ -126,10 +131,16 @@ void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& s
                         {"cycloid_point_mm", {c.cycloid_point.x(), c.cycloid_point.y()}},
                         {"pin_point_mm", {c.pin_point.x(), c.pin_point.y()}},
                         {"normal", {c.normal.x(), c.normal.y()}},
-                        {"edge_contact", c.edge}});
+                        {"edge_contact", c.edge}};
+        if (sliced) {
+          row["slice"] = c.slice + 1;
+          row["z_mm"] = c.z;
+        }
+        pins.push_back(std::move(row));
       }
       os << Dump(nlohmann::json{{"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
                                 {"crank_deg", options.crank_deg},
+                                {"model", ModelJson(deck.Model())},
                                 {"pins", pins}})
          << '\n';
     }
