@@ -517,3 +517,25 @@ TEST_CASE("solvers: deck reads profile_measured_csv relative to the deck's direc
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("app: a slice count or a key given without effect is reported in the model's note, not used") {
+  // Issue 11, "a slice count given without need is reported, not silently used"; the same for the
+  // random-profile keys without a zone and a pivot without a tilt.
+  const std::string dir = std::string(LTCA_CASES_DIR) + "/";
+  const auto profile = ltca::app::LoadDeck(dir + "liu2021_5_2_profile.toml", {"errors.profile_random_zone_um=0"});
+  CHECK(profile.Model().name == "plane");
+  CHECK(profile.Model().note.find("profile_random_seed not used") != std::string::npos);
+  const auto zoned = ltca::app::LoadDeck(dir + "liu2021_5_2_profile.toml");
+  CHECK(zoned.Model().note.empty());
+  const auto aligned = ltca::app::LoadDeck(dir + "liu2021_sec53_phi.toml", {"errors.misalignment_xz_deg=0"});
+  CHECK(aligned.Model().name == "plane");
+  CHECK(aligned.Model().slices == 1);
+  CHECK(aligned.Model().note.find("width_slices = 20 not used") != std::string::npos);
+  CHECK(aligned.Model().note.find("misalignment_pivot not used") != std::string::npos);
+  const auto tilted = ltca::app::LoadDeck(dir + "liu2021_sec53_phi.toml");
+  CHECK(tilted.Model().name == "slices");
+  CHECK(tilted.Model().slices == 20);
+  CHECK(tilted.Model().note.empty());
+  const auto bending = ltca::app::LoadDeck(dir + "pin_bending.toml");
+  CHECK(bending.Model().name == "slices+pin-bending");
+}

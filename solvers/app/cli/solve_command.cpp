@@ -43,20 +43,22 @@ nlohmann::json PositionJson(const app::PositionResult& p) {
                       {"warnings", p.result.warnings},
                       {"torque_evaluations", p.result.torque_evaluations},
                       {"residual", FiniteOrNull(p.result.residuals.Normalised())}};
-  if (p.slices > 1 && p.result.force.size() == p.pin_force.size() * static_cast<std::size_t>(p.slices)) {
+  if (p.slices > 1) {
+    const bool complete = p.result.force.size() == p.pin_force.size() * static_cast<std::size_t>(p.slices);
     // The contact pattern (issue 11): per pin its slice forces and stresses and its load centroid.
     nlohmann::json forces = nlohmann::json::array(), stresses = nlohmann::json::array(), centroid = nlohmann::json::array();
     const auto n = static_cast<std::size_t>(p.slices);
-    for (std::size_t j = 0; j < p.pin_force.size(); ++j) {
+    for (std::size_t j = 0; complete && j < p.pin_force.size(); ++j) {
       const auto first = p.result.force.begin() + static_cast<std::ptrdiff_t>(j * n);
       forces.push_back(std::vector<double>(first, first + static_cast<std::ptrdiff_t>(n)));
       const auto s0 = p.point_stress.begin() + static_cast<std::ptrdiff_t>(j * n);
       stresses.push_back(std::vector<double>(s0, s0 + static_cast<std::ptrdiff_t>(n)));
       centroid.push_back(FiniteOrNull(p.load_centroid[j]));
     }
-    j["slice_force_n"] = figure(forces);
-    j["slice_stress_mpa"] = figure(stresses);
-    j["load_centroid_mm"] = figure(centroid);
+    // Always present in the slice model; null for a position no valid solve produced.
+    j["slice_force_n"] = complete ? figure(forces) : nlohmann::json(nullptr);
+    j["slice_stress_mpa"] = complete ? figure(stresses) : nlohmann::json(nullptr);
+    j["load_centroid_mm"] = complete ? figure(centroid) : nlohmann::json(nullptr);
   }
   return j;
 }

@@ -637,6 +637,7 @@ Deck::ModelInfo Deck::Model() const {
                            geometry.width_slices);
     }
   }
+  for (const std::string& note : notes) m.note += (m.note.empty() ? "" : "; ") + note;
   return m;
 }
 
@@ -707,6 +708,16 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
                           "profile_measured_csv"});
     deck.errors = ReadErrors(errors, deck.pair, directory);
     deck.assembly = ReadAssembly(errors, deck.pair);
+    // Keys given without effect are reported (in the model's note), not silently dropped.
+    if (deck.errors.profile_random.zone == 0.0) {
+      for (const char* key : {"profile_random_elements", "profile_random_seed", "profile_random_distribution",
+                              "profile_random_spacing"}) {
+        if (errors.Has(key)) deck.notes.push_back(fmt::format("[errors] {} not used: profile_random_zone_um is 0", key));
+      }
+    }
+    if (!deck.assembly.VariesAlongWidth() && errors.Has("misalignment_pivot")) {
+      deck.notes.push_back("[errors] misalignment_pivot not used: no misalignment");
+    }
     deck.contact = ReadContact(Section(Find(root, "contact"), "contact",
                                        {"law", "rho_convention", "stiffness_n_per_mm2",
                                         "log_radius_cap_mm"}));

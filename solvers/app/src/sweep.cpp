@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -87,11 +88,20 @@ struct SweepRunner::Impl {
   }
 
   solvers::LoadProblem Problem(double crank) {
-    solvers::LoadProblem problem =
-        next_checked < checked.size() && checked[next_checked].crank == crank
-            ? solvers::LoadProblem(model, std::move(checked[next_checked++]), deck.contact, material, torque, options.kinematics)
-            : solvers::LoadProblem(model, crank, deck.contact, material, torque, options.kinematics);
-    return coupling.matrix ? problem.WithCoupling(coupling) : problem;
+    // The kept state of this crank, searched forward (a crank solved out of order is evaluated
+    // again); a state is released once used, and the ones skipped over with it.
+    std::size_t k = next_checked;
+    while (k < checked.size() && checked[k].crank != crank) ++k;
+    std::optional<solvers::LoadProblem> problem;
+    if (k < checked.size()) {
+      problem.emplace(model, std::move(checked[k]), deck.contact, material, torque, options.kinematics);
+      for (std::size_t i = next_checked; i <= k; ++i) checked[i] = contact::MeshState{};
+      next_checked = k + 1;
+    } else {
+      problem.emplace(model, crank, deck.contact, material, torque, options.kinematics);
+    }
+    if (!coupling.matrix) return std::move(*problem);
+    return problem->WithCoupling(coupling);
   }
 };
 

@@ -78,6 +78,7 @@ struct Deck {
   geometry::AssemblyErrors assembly;           ///< [errors] assembly keys, optional, default none
   geometry::GeometrySettings geometry;         ///< [geometry], optional, default analytic
   bool width_slices_given = false;             ///< [geometry] width_slices is in the deck
+  std::vector<std::string> notes;              ///< keys given without effect (reported in Model().note)
   contact::ContactSettings contact;            ///< [contact], optional, default hertz-line / signed
   SolverOptions solver;                        ///< [solver], optional, default bisection / linearised
   std::optional<contact::PinSupport> pins;    ///< [pins], optional: pin bending (issue 11)
@@ -106,7 +107,7 @@ struct Deck {
     std::string name;     ///< "plane" | "slices" | "slices+pin-bending"
     int slices = 1;
     std::string surface;  ///< "analytic" or "elements"
-    std::string note;     ///< empty, or why a given slice count was not used
+    std::string note;     ///< empty, or why a given slice count or key was not used
   };
   ModelInfo Model() const;
 
