@@ -150,6 +150,135 @@ Eigen::MatrixXd PinBeam::SliceCompliance(double face_width, int n_slices) const 
   return c;
 }
 
+PinBeam::SliceBeam PinBeam::SliceBeamModel(double face_width, int n_slices) const {
+  if (!(std::isfinite(face_width) && face_width > 0.0)) {
+    throw std::invalid_argument(fmt::format("pin bending: face width {} mm: expected a finite width > 0", face_width));
+  }
+  if (n_slices < 1) {
+    throw std::invalid_argument(fmt::format("pin bending: {} slices: expected at least 1", n_slices));
+  }
+  support_.Validate(face_width);
+  const double w = face_width / n_slices;
+  const double span = support_.span;
+  // Nodes: first support, face B, the slice boundaries, the far face, the second support.
+  std::vector<double> nodes;
+  const double tiny = 1e-12 * span;
+  if (support_.face_offset > tiny) nodes.push_back(0.0);
+  const int first_slice_node = static_cast<int>(nodes.size());
+  for (int k = 0; k <= n_slices; ++k) nodes.push_back(std::min(support_.face_offset + k * w, span));
+  if (span - nodes.back() > tiny) {
+    nodes.push_back(span);
+  } else {
+    nodes.back() = span;
+  }
+  if (first_slice_node == 0) nodes.front() = 0.0;
+  const int count = static_cast<int>(nodes.size());
+  // Dofs (w, theta) per node, the fixed ones removed.
+  std::vector<int> dof(static_cast<std::size_t>(2 * count), -1);
+  const bool clamped = support_.support == PinSupportKind::kClamped;
+  int dofs = 0;
+  for (int k = 0; k < count; ++k) {
+    const bool end = k == 0 || k == count - 1;
+    if (!end) dof[static_cast<std::size_t>(2 * k)] = dofs++;
+    if (!end || !clamped) dof[static_cast<std::size_t>(2 * k + 1)] = dofs++;
+  }
+  std::vector<Eigen::Triplet<double>> kt, bt;
+  for (int e = 0; e + 1 < count; ++e) {
+    const double l = nodes[static_cast<std::size_t>(e + 1)] - nodes[static_cast<std::size_t>(e)];
+    const double phi = 12.0 * ei_ / (kga_ * l * l);
+    Eigen::Matrix4d ke;
+    ke << 12, 6 * l, -12, 6 * l,  //
+        6 * l, (4 + phi) * l * l, -6 * l, (2 - phi) * l * l,  //
+        -12, -6 * l, 12, -6 * l,  //
+        6 * l, (2 - phi) * l * l, -6 * l, (4 + phi) * l * l;
+    ke *= ei_ / ((1 + phi) * l * l * l);
+    const std::array<int, 4> at = {dof[static_cast<std::size_t>(2 * e)], dof[static_cast<std::size_t>(2 * e + 1)],
+                                   dof[static_cast<std::size_t>(2 * e + 2)], dof[static_cast<std::size_t>(2 * e + 3)]};
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 4; ++c) {
+        if (at[static_cast<std::size_t>(r)] >= 0 && at[static_cast<std::size_t>(c)] >= 0) {
+          kt.emplace_back(at[static_cast<std::size_t>(r)], at[static_cast<std::size_t>(c)], ke(r, c));
+        }
+      }
+    }
+    const int slice = e - first_slice_node;
+    if (slice < 0 || slice >= n_slices) continue;
+    const std::array<double, 4> mean = {0.5, l / 12.0, 0.5, -l / 12.0};
+    for (int r = 0; r < 4; ++r) {
+      if (at[static_cast<std::size_t>(r)] >= 0) bt.emplace_back(slice, at[static_cast<std::size_t>(r)], mean[static_cast<std::size_t>(r)]);
+    }
+  }
+  SliceBeam out;
+  out.stiffness.resize(dofs, dofs);
+  out.stiffness.setFromTriplets(kt.begin(), kt.end());
+  out.loads.resize(n_slices, dofs);
+  out.loads.setFromTriplets(bt.begin(), bt.end());
+  out.local = Eigen::VectorXd::Constant(n_slices, w * w * w / (720.0 * ei_) + w / (12.0 * kga_));
+  return out;
+}
+
+namespace {
+
+// The points grouped by pin: (slice, point index), slices sorted and checked to be 0 .. n - 1 of length B / n.
+std::map<int, std::vector<std::pair<int, int>>> GroupPinSlices(const std::vector<PinContact>& points, double face_width) {
+  std::map<int, std::vector<std::pair<int, int>>> pins;
+  for (std::size_t k = 0; k < points.size(); ++k) pins[points[k].pin].emplace_back(points[k].slice, static_cast<int>(k));
+  for (auto& [pin, slices] : pins) {
+    std::sort(slices.begin(), slices.end());
+    const int n = static_cast<int>(slices.size());
+    for (int k = 0; k < n; ++k) {
+      if (slices[static_cast<std::size_t>(k)].first != k) {
+        throw std::invalid_argument(fmt::format(
+            "pin bending: pin {} has {} contact points whose slices are not 0 .. {} each once (slice {} found)",
+            pin + 1, n, n - 1, slices[static_cast<std::size_t>(k)].first));
+      }
+      const double length = points[static_cast<std::size_t>(slices[static_cast<std::size_t>(k)].second)].length;
+      if (!(std::abs(length - face_width / n) <= 1e-9 * face_width)) {
+        throw std::invalid_argument(fmt::format(
+            "pin bending: pin {}, slice {} has contact length {} mm: expected the face width {} mm / {} slices",
+            pin + 1, k, length, face_width, n));
+      }
+    }
+  }
+  return pins;
+}
+
+}  // namespace
+
+FactoredPinBending PinBendingFactors(const std::vector<PinContact>& points, const PinBeam& beam, double face_width) {
+  const auto pins = GroupPinSlices(points, face_width);
+  std::map<int, PinBeam::SliceBeam> models;  // by slice count
+  std::vector<Eigen::Triplet<double>> kt, bt;
+  FactoredPinBending out;
+  out.local = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(points.size()));
+  int offset = 0;
+  for (const auto& [pin, slices] : pins) {
+    const int n = static_cast<int>(slices.size());
+    auto it = models.find(n);
+    if (it == models.end()) it = models.emplace(n, beam.SliceBeamModel(face_width, n)).first;
+    const PinBeam::SliceBeam& m = it->second;
+    for (int k = 0; k < m.stiffness.outerSize(); ++k) {
+      for (Eigen::SparseMatrix<double>::InnerIterator e(m.stiffness, k); e; ++e) {
+        kt.emplace_back(offset + static_cast<int>(e.row()), offset + static_cast<int>(e.col()), e.value());
+      }
+    }
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> rows = m.loads;
+    for (int s = 0; s < n; ++s) {
+      const int point = slices[static_cast<std::size_t>(s)].second;
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(rows, s); e; ++e) {
+        bt.emplace_back(point, offset + static_cast<int>(e.col()), e.value());
+      }
+      out.local(point) = m.local(s);
+    }
+    offset += static_cast<int>(m.stiffness.rows());
+  }
+  out.stiffness.resize(offset, offset);
+  out.stiffness.setFromTriplets(kt.begin(), kt.end());
+  out.loads.resize(static_cast<Eigen::Index>(points.size()), offset);
+  out.loads.setFromTriplets(bt.begin(), bt.end());
+  return out;
+}
+
 Eigen::SparseMatrix<double> PinBendingCoupling(const std::vector<PinContact>& points, const PinBeam& beam,
                                                double face_width) {
   // Group the points by pin: (slice, point index).

@@ -7,6 +7,7 @@
 // eq. 5.118), which is exact at the nodes for nodal loads. Tolerance 1e-9 relative throughout
 // (the formulas are evaluated in double precision; 1e-9 leaves room for rounding only).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -317,4 +318,50 @@ TEST_CASE("contact: pin bending - the coupling is block diagonal over the points
   wrong_length[1].length = 5.0;
   CHECK_THROWS_WITH_AS(ltca::contact::PinBendingCoupling(wrong_length, beam, face),
                        doctest::Contains("contact length 5 mm"), std::invalid_argument);
+}
+
+TEST_CASE("contact: pin bending - the factored form B K^-1 B^T + E equals the slice compliance (issue 11)") {
+  // K: Przemieniecki's exact Timoshenko element between the supports, face B, the slice
+  // boundaries and the far face; B: consistent loads of 1 N over each slice; E: each slice's
+  // fixed-fixed particular solution. Exact, so equal to SliceCompliance to rounding.
+  double worst = 0.0;
+  for (const PinSupportKind kind : {PinSupportKind::kSimplySupported, PinSupportKind::kClamped}) {
+    for (const auto& [span, offset, face] : std::vector<std::array<double, 3>>{
+             {16.0, 2.0, 12.0}, {20.0, 0.0, 20.0}, {20.0, 0.0, 14.0}, {20.0, 6.0, 14.0}, {30.0, 1.5, 9.0}}) {
+      const PinBeam beam(Support(kind, span, offset), Steel(), kRadius);
+      for (const int n : {1, 2, 3, 5, 10, 20, 37}) {
+        CAPTURE(ToString(kind));
+        CAPTURE(span);
+        CAPTURE(offset);
+        CAPTURE(n);
+        const PinBeam::SliceBeam m = beam.SliceBeamModel(face, n);
+        const Eigen::MatrixXd k = Eigen::MatrixXd(m.stiffness), b = Eigen::MatrixXd(m.loads);
+        const Eigen::MatrixXd c = b * k.ldlt().solve(b.transpose()) + Eigen::MatrixXd(m.local.asDiagonal());
+        const Eigen::MatrixXd exact = beam.SliceCompliance(face, n);
+        const double error = (c - exact).cwiseAbs().maxCoeff() / exact.cwiseAbs().maxCoeff();
+        worst = std::max(worst, error);
+        CHECK(error < 1e-10);
+        CHECK(Eigen::MatrixXd(m.stiffness) .isApprox(Eigen::MatrixXd(m.stiffness).transpose()));
+      }
+    }
+  }
+  MESSAGE("factored pin bending: largest relative difference " << worst);
+  // The coupling of shuffled points of pins with different slice counts.
+  const PinBeam beam(Support(PinSupportKind::kClamped, 16.0, 2.0), Steel(), kRadius);
+  const double face = 12.0;
+  std::vector<PinContact> points;
+  const std::vector<std::pair<int, int>> order = {{1, 2}, {0, 0}, {4, 0}, {1, 0}, {0, 2}, {1, 1}, {0, 1}};
+  for (const auto& [pin, slice] : order) {
+    PinContact p;
+    p.cycloid_point = p.pin_point = p.normal = Eigen::Vector2d::Zero();
+    p.pin = pin;
+    p.slice = slice;
+    p.length = pin == 4 ? face : face / 3;
+    points.push_back(p);
+  }
+  const Eigen::MatrixXd c = Eigen::MatrixXd(ltca::contact::PinBendingCoupling(points, beam, face));
+  const ltca::contact::FactoredPinBending f = ltca::contact::PinBendingFactors(points, beam, face);
+  const Eigen::MatrixXd k = Eigen::MatrixXd(f.stiffness), b = Eigen::MatrixXd(f.loads);
+  const Eigen::MatrixXd factored = b * k.ldlt().solve(b.transpose()) + Eigen::MatrixXd(f.local.asDiagonal());
+  CHECK((factored - c).cwiseAbs().maxCoeff() < 1e-10 * c.cwiseAbs().maxCoeff());
 }

@@ -77,6 +77,23 @@ class PinBeam {
   /// std::invalid_argument for face_width <= 0, n_slices < 1, or face_offset + face_width > span.
   Eigen::MatrixXd SliceCompliance(double face_width, int n_slices) const;
 
+  /// The same compliance in factored form (issue 11, the linear-cost coupled solves):
+  /// SliceCompliance = loads K^-1 loads^T + diag(local), exactly. K (`stiffness`) is the banded
+  /// finite-element stiffness of the pin with Przemieniecki's two-node Timoshenko element (exact at
+  /// the nodes), nodes at the supports, face B, every slice boundary and the far face (coinciding
+  /// nodes merged), dofs (w, theta) per node with the support's conditions applied (w = 0 at the
+  /// supports; clamped also theta = 0). Row j of `loads` (n x dofs) is the consistent load vector
+  /// of 1 N spread uniformly over slice j (the slice means of the element's homogeneous shape
+  /// functions: 1/2, l/12, 1/2, -l/12), so B K^-1 B^T is the slice mean of the nodal-interpolated
+  /// deflection; `local` adds each slice's own fixed-fixed particular solution, l^3 / (720 EI) +
+  /// l / (12 kappa G A) for slice length l. Throws as SliceCompliance.
+  struct SliceBeam {
+    Eigen::SparseMatrix<double> stiffness;  ///< K, dofs x dofs, N/mm (and N*mm/rad), symmetric, both triangles
+    Eigen::SparseMatrix<double> loads;      ///< B, n x dofs
+    Eigen::VectorXd local;                  ///< E, n, mm/N
+  };
+  SliceBeam SliceBeamModel(double face_width, int n_slices) const;
+
   const PinSupport& support() const { return support_; }
   double bending_stiffness() const { return ei_; }  ///< EI, N*mm^2
   double shear_stiffness() const { return kga_; }   ///< kappa G A, N
@@ -97,5 +114,15 @@ class PinBeam {
 /// length is not B / n (to 1e-9 relative).
 Eigen::SparseMatrix<double> PinBendingCoupling(const std::vector<PinContact>& points, const PinBeam& beam,
                                                double face_width);
+
+/// PinBendingCoupling in factored form: C = loads K^-1 loads^T + diag(local) with K block-diagonal
+/// over the pins (one PinBeam::SliceBeamModel per pin, pins in ascending order), loads (points x
+/// dofs) placing each point's slice row at its pin's dofs. Same checks as PinBendingCoupling.
+struct FactoredPinBending {
+  Eigen::SparseMatrix<double> stiffness;
+  Eigen::SparseMatrix<double> loads;
+  Eigen::VectorXd local;
+};
+FactoredPinBending PinBendingFactors(const std::vector<PinContact>& points, const PinBeam& beam, double face_width);
 
 }  // namespace ltca::contact
