@@ -225,6 +225,16 @@ bool ActiveSetCholmod::Solve(const Eigen::MatrixXd& b, Eigen::MatrixXd* x) {
   return x->allFinite();
 }
 
+void ActiveSetCholmod::Apply(const Eigen::VectorXd& f, Eigen::VectorXd* cf) const {
+  const Eigen::SparseMatrix<double>& c = impl_->c;
+  cf->setZero(c.rows());
+  for (int j = 0; j < c.outerSize(); ++j) {
+    const double fj = f(j);
+    if (fj == 0.0) continue;
+    for (Eigen::SparseMatrix<double>::InnerIterator e(c, j); e; ++e) (*cf)(e.row()) += e.value() * fj;
+  }
+}
+
 const ActiveSetCholmod::Stats& ActiveSetCholmod::stats() const { return impl_->stats; }
 
 }  // namespace ltca::solvers

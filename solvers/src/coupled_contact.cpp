@@ -1,5 +1,7 @@
 #include "coupled_contact.hpp"
 
+#include "beam_woodbury.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -46,13 +48,32 @@ CoupledContact& CoupledContactFor(const LoadProblem& problem, Workspace& workspa
   if (state == nullptr) {
     state = static_cast<BackendCoupled*>(workspace.SetBackend("coupled-contact", std::make_unique<BackendCoupled>()));
   }
-  if (state->solver == nullptr || !state->solver->Matches(*problem.coupling())) {
-    state->solver = std::make_unique<CoupledContact>(*problem.coupling());
+  if (state->solver == nullptr || !state->solver->Matches(*problem.coupling(), problem.coupling_factors())) {
+    state->solver = std::make_unique<CoupledContact>(*problem.coupling(), problem.coupling_factors());
   }
   return *state->solver;
 }
 
-CoupledContact::CoupledContact(const Eigen::SparseMatrix<double>& coupling) : kernel_(coupling) {}
+CoupledContact::CoupledContact(const Eigen::SparseMatrix<double>& coupling,
+                               std::shared_ptr<const LoadProblem::CouplingFactors> factors) {
+  if (factors != nullptr) {
+    auto beam = std::make_unique<BeamWoodbury>(std::move(factors));
+    beam_kernel_ = beam.get();
+    kernel_ = std::move(beam);
+  } else {
+    auto matrix = std::make_unique<ActiveSetCholmod>(coupling);
+    matrix_kernel_ = matrix.get();
+    kernel_ = std::move(matrix);
+  }
+}
+
+CoupledContact::~CoupledContact() = default;
+
+bool CoupledContact::Matches(const Eigen::SparseMatrix<double>& coupling,
+                             const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const {
+  if (factors != nullptr) return beam_kernel_ != nullptr && beam_kernel_->Matches(factors);
+  return matrix_kernel_ != nullptr && matrix_kernel_->Matches(coupling);
+}
 
 CoupledOutcome CoupledContact::AtRotation(const std::vector<CoupledPoint>& points, double force_scale,
                                           std::vector<double>* force) {
@@ -68,8 +89,8 @@ CoupledOutcome CoupledContact::ForTorque(const std::vector<CoupledPoint>& points
 
 CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bool for_torque, double torque,
                                      double force_scale, std::vector<double>* force) {
-  const Eigen::SparseMatrix<double>& c = kernel_.coupling();
-  const int n = kernel_.size();
+  ActiveSetKernel& kernel = *kernel_;
+  const int n = kernel.size();
   CoupledOutcome out;
   if (static_cast<int>(points.size()) != n) {
     out.failure = fmt::format("{} contact points for a coupling of {}", points.size(), n);
@@ -140,13 +161,8 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
   int saturated = -1;  // a point held below its law's largest force in the last step
   for (int it = 0; it < kMaxIterations; ++it) {
     out.iterations = it + 1;
-    // C F over the loaded columns only (most points carry no force).
-    cf.setZero();
-    for (int j = 0; j < n; ++j) {
-      const double fj = f[u(j)];
-      if (fj == 0.0) continue;
-      for (Eigen::SparseMatrix<double>::InnerIterator e(c, j); e; ++e) cf(e.row()) += e.value() * fj;
-    }
+    // C F (the matrix kernel: over the loaded columns only).
+    kernel.Apply(fv, &cf);
     double f_max = 0.0;
     for (int i = 0; i < n; ++i) f_max = std::max(f_max, f[u(i)]);
     // The points held at zero: the gap with the last full step's psi; violators enter.
@@ -184,7 +200,7 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
     // Tangent compliances and residuals on the free set.
     bool refresh = false;
     double pending = 0.0;  // largest relative mismatch of a factorised compliance
-    const std::vector<char>& in_factor = kernel_.active_set();
+    const std::vector<char>& in_factor = kernel.active_set();
     for (int i = 0; i < n; ++i) {
       if (!free[u(i)]) {
         rhs.row(i).setZero();
@@ -197,13 +213,13 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
       } else {
         d(i) = secant(law);
       }
-      if (in_factor[u(i)]) pending = std::max(pending, std::abs(d(i) - kernel_.diagonal(i)) / kernel_.diagonal(i));
+      if (in_factor[u(i)]) pending = std::max(pending, std::abs(d(i) - kernel.diagonal(i)) / kernel.diagonal(i));
       rhs(i, 0) = w + cf(i) - points[u(i)].approach;
       if (for_torque) rhs(i, 1) = points[u(i)].arm;
     }
     // A chord step that contracted poorly: refactorise with the current tangents.
     if (pending > kRefresh || (previous_step < INFINITY && last_step > 0.05 * previous_step)) refresh = true;
-    if (refresh) kernel_.SetDiagonal(d);
+    if (refresh) kernel.SetDiagonal(d);
     bool any_free = false;
     for (int i = 0; i < n; ++i) {
       if (free[u(i)] == in_factor[u(i)]) {
@@ -211,10 +227,10 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
         continue;
       }
       if (free[u(i)]) {
-        kernel_.Add(i, d(i));
+        kernel.Add(i, d(i));
         any_free = true;
       } else {
-        kernel_.Remove(i);
+        kernel.Remove(i);
       }
     }
     if (!any_free) {  // nothing can carry load: every force is zero (at a rotation)
@@ -226,7 +242,7 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
       last_step = 0.0, last_full = true, settled = true;
       continue;
     }
-    if (!kernel_.Solve(rhs, &sol)) {
+    if (!kernel.Solve(rhs, &sol)) {
       out.failure = "the factorisation of D + C on the active set failed";
       return out;
     }
@@ -257,7 +273,9 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
       const auto energy = [&](double a) {
         Eigen::VectorXd trial = fv;
         for (int i = 0; i < n; ++i) if (free[u(i)]) trial(i) = std::max(0.0, f[u(i)] + a * df(i));
-        double e = 0.5 * trial.dot(c * trial);
+        Eigen::VectorXd ct;
+        kernel.Apply(trial, &ct);
+        double e = 0.5 * trial.dot(ct);
         for (int i = 0; i < n; ++i) {
           if (trial(i) > 0.0) e += points[u(i)].law->ComplementaryEnergy(trial(i)) - points[u(i)].approach * trial(i);
         }

@@ -37,6 +37,8 @@
 
 namespace ltca::solvers {
 
+class BeamWoodbury;
+
 /// One contact point of a coupled solve.
 struct CoupledPoint {
   const contact::ContactLaw* law = nullptr;  ///< nullptr: an edge contact, which carries no force
@@ -58,8 +60,13 @@ struct CoupledOutcome {
 
 class CoupledContact {
  public:
-  explicit CoupledContact(const Eigen::SparseMatrix<double>& coupling);
-  bool Matches(const Eigen::SparseMatrix<double>& coupling) const { return kernel_.Matches(coupling); }
+  /// With the problem's coupling: the Woodbury kernel (BeamWoodbury) when the coupling comes
+  /// factored (LoadProblem::coupling_factors), otherwise the matrix kernel (ActiveSetCholmod).
+  explicit CoupledContact(const Eigen::SparseMatrix<double>& coupling,
+                          std::shared_ptr<const LoadProblem::CouplingFactors> factors = nullptr);
+  ~CoupledContact();
+  bool Matches(const Eigen::SparseMatrix<double>& coupling,
+               const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const;
 
   /// At the given approaches (psi fixed). force: in, the start (a warm start: any F >= 0); out,
   /// the solution, N. force_scale: a typical point force (the secant of entering points), N.
@@ -68,12 +75,14 @@ class CoupledContact {
   /// force: in, a start (scaled to carry T; none: the first point to close carries it), out, the solution.
   CoupledOutcome ForTorque(const std::vector<CoupledPoint>& points, double torque, std::vector<double>* force);
 
-  const ActiveSetCholmod::Stats& stats() const { return kernel_.stats(); }
+  const ActiveSetCholmod::Stats& stats() const { return kernel_->stats(); }
 
  private:
   CoupledOutcome Solve(const std::vector<CoupledPoint>& points, bool for_torque, double torque, double force_scale,
                        std::vector<double>* force);
-  ActiveSetCholmod kernel_;
+  std::unique_ptr<ActiveSetKernel> kernel_;
+  ActiveSetCholmod* matrix_kernel_ = nullptr;  // kernel_ when C came as a matrix only
+  BeamWoodbury* beam_kernel_ = nullptr;  // kernel_ when C came factored
 };
 
 /// The solver of this problem's coupling kept in the workspace (its CHOLMOD analysis is reused

@@ -158,6 +158,24 @@ LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<doub
   return {CheckCouplingMatrix(std::move(coupling), points), points};
 }
 
+LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<double> coupling, int points,
+                                                        CouplingFactors factors) {
+  CheckedCoupling out = CheckCoupling(std::move(coupling), points);
+  if (out.matrix == nullptr) return out;
+  const Eigen::Index dofs = factors.stiffness.rows();
+  if (factors.stiffness.cols() != dofs || factors.loads.rows() != points || factors.loads.cols() != dofs ||
+      factors.local.size() != points || !factors.local.allFinite() || (factors.local.array() < 0.0).any()) {
+    throw std::invalid_argument(fmt::format(
+        "LoadProblem coupling factors: K {} x {}, loads {} x {}, local {} do not fit {} points",
+        factors.stiffness.rows(), factors.stiffness.cols(), factors.loads.rows(), factors.loads.cols(),
+        factors.local.size(), points));
+  }
+  factors.stiffness.makeCompressed();
+  factors.loads.makeCompressed();
+  out.factors = std::make_shared<const CouplingFactors>(std::move(factors));
+  return out;
+}
+
 LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
   if (coupling.points != point_count()) {
     throw std::invalid_argument(fmt::format("LoadProblem coupling: checked for {} points, the problem has {}",
@@ -165,6 +183,7 @@ LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
   }
   LoadProblem out(*this);
   out.coupling_ = coupling.matrix;
+  out.coupling_factors_ = coupling.matrix != nullptr ? coupling.factors : nullptr;
   out.single_pin_ = out.SinglePinBound();
   return out;
 }

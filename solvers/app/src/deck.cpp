@@ -644,8 +644,11 @@ Deck::ModelInfo Deck::Model() const {
 solvers::LoadProblem::CheckedCoupling Deck::MakeCoupling(const contact::MeshModel& model) const {
   if (!pins) return {};
   const contact::PinBeam beam(*pins, RequireMaterial(), pair.pin_radius);
-  return solvers::LoadProblem::CheckCoupling(
-      contact::PinBendingCoupling(model.Evaluate(sweep.crank_start).pins, beam, pair.face_width), model.point_count());
+  const std::vector<contact::PinContact> points = model.Evaluate(sweep.crank_start).pins;
+  contact::FactoredPinBending f = contact::PinBendingFactors(points, beam, pair.face_width);
+  return solvers::LoadProblem::CheckCoupling(contact::PinBendingCoupling(points, beam, pair.face_width),
+                                             model.point_count(),
+                                             {std::move(f.stiffness), std::move(f.loads), std::move(f.local)});
 }
 
 solvers::LoadProblem Deck::MakeProblem(const std::shared_ptr<const contact::MeshModel>& model, double crank,

@@ -91,17 +91,33 @@ class LoadProblem {
   /// A coupling checked once as WithCoupling checks it, to be shared by the problems of one point
   /// layout (a sweep: pin bending's matrix does not change with the crank). The matrix is nullptr
   /// for no coupling.
+  /// The coupling in factored form (issue 11, pin bending): C = loads K^-1 loads^T + diag(local)
+  /// exactly, K sparse symmetric positive definite (banded per pin), loads points x dofs. With it
+  /// the coupled solves of `bisection` and `compatibility` work in O(points) per Newton step
+  /// (Woodbury on the active set, CHOLMOD on K + B_A^T (D + E)_A^-1 B_A); everything else uses
+  /// the matrix C, which must be the product (the caller's promise; checked only for sizes).
+  struct CouplingFactors {
+    Eigen::SparseMatrix<double> stiffness;  ///< K, dofs x dofs, both triangles
+    Eigen::SparseMatrix<double> loads;      ///< B, points x dofs
+    Eigen::VectorXd local;                  ///< E, per point, >= 0
+  };
   struct CheckedCoupling {
     std::shared_ptr<const Eigen::SparseMatrix<double>> matrix;
     int points = 0;
+    std::shared_ptr<const CouplingFactors> factors;  ///< nullptr: C given only as a matrix
   };
   static CheckedCoupling CheckCoupling(Eigen::SparseMatrix<double> coupling, int points);
+  /// The same with the factored form of the same C; throws std::invalid_argument when the
+  /// factors' sizes do not fit (K square, loads points x K's size, local of size points, finite).
+  static CheckedCoupling CheckCoupling(Eigen::SparseMatrix<double> coupling, int points, CouplingFactors factors);
   /// The same as WithCoupling, without checking again; throws std::invalid_argument when the
   /// coupling was checked for another number of points.
   LoadProblem WithCoupling(const CheckedCoupling& coupling) const;
   bool has_coupling() const { return coupling_ != nullptr; }
   /// The coupling matrix, or nullptr when uncoupled.
   const Eigen::SparseMatrix<double>* coupling() const { return coupling_.get(); }
+  /// The factored form of the coupling, or nullptr when it came only as a matrix.
+  const std::shared_ptr<const CouplingFactors>& coupling_factors() const { return coupling_factors_; }
 
   /// Per-pin state at rotation psi: linearised (frozen geometry) or exact (re-evaluated).
   struct PinAt {
@@ -185,6 +201,7 @@ class LoadProblem {
   double single_pin_ = 0.0;     // rad
   std::vector<double> closing_;  // rad, per pin (infinite where the arm cannot close it), see BuildBaseLaws
   std::shared_ptr<const Eigen::SparseMatrix<double>> coupling_;  // nullptr: uncoupled
+  std::shared_ptr<const CouplingFactors> coupling_factors_;      // nullptr: none (or uncoupled)
 };
 
 /// The forces of the laws at the approaches of `pins`, their torque, and whether a pressed pin sits
