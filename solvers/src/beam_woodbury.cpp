@@ -172,7 +172,19 @@ BeamWoodbury::BeamWoodbury(std::shared_ptr<const LoadProblem::CouplingFactors> f
 BeamWoodbury::~BeamWoodbury() = default;
 
 bool BeamWoodbury::Matches(const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const {
-  return factors == impl_->factors;
+  if (factors == impl_->factors) return true;
+  if (factors == nullptr) return false;
+  const auto same = [](const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix<double>& b) {
+    if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros()) return false;
+    if (!a.isCompressed() || !b.isCompressed()) return false;
+    const auto n = static_cast<std::size_t>(a.outerSize());
+    return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + n + 1, b.outerIndexPtr()) &&
+           std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr()) &&
+           std::equal(a.valuePtr(), a.valuePtr() + a.nonZeros(), b.valuePtr());
+  };
+  const LoadProblem::CouplingFactors& mine = *impl_->factors;
+  return mine.local.size() == factors->local.size() && mine.local == factors->local &&
+         same(mine.stiffness, factors->stiffness) && same(mine.loads, factors->loads);
 }
 
 int BeamWoodbury::size() const { return static_cast<int>(impl_->b.rows()); }

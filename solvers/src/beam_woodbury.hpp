@@ -29,7 +29,7 @@ class BeamWoodbury final : public ActiveSetKernel {
   BeamWoodbury(const BeamWoodbury&) = delete;
   BeamWoodbury& operator=(const BeamWoodbury&) = delete;
 
-  /// True when built for these very factors (the same shared object).
+  /// True when built for these factors (the same shared object, or equal sizes, patterns and values).
   bool Matches(const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const;
 
   int size() const override;
