@@ -31,7 +31,10 @@ LoadProblem::ModelPtr Require(LoadProblem::ModelPtr model) {
 }
 
 // The checked, symmetrised coupling (LoadProblem::WithCoupling), or nullptr for none.
-std::shared_ptr<const Eigen::SparseMatrix<double>> CheckCouplingMatrix(Eigen::SparseMatrix<double> c, int pins) {
+// psd_known: positive semidefinite by construction (a factored coupling whose K was checked), so
+// the O(n^3) check of C is skipped.
+std::shared_ptr<const Eigen::SparseMatrix<double>> CheckCouplingMatrix(Eigen::SparseMatrix<double> c, int pins,
+                                                                       bool psd_known = false) {
   if (c.rows() == 0 && c.cols() == 0) return nullptr;
   if (c.rows() != c.cols()) {
     throw std::invalid_argument(fmt::format("LoadProblem coupling: {} x {} is not square", c.rows(), c.cols()));
@@ -66,6 +69,7 @@ std::shared_ptr<const Eigen::SparseMatrix<double>> CheckCouplingMatrix(Eigen::Sp
   sym->prune(0.0);  // drops the explicit zeros: they would only widen energy-qp's Hessian
   sym->makeCompressed();
   if (sym->nonZeros() == 0) return nullptr;
+  if (psd_known) return sym;
   // Positive semidefinite, against the rounding of a few n eps of the matrix's scale. Up to
   // kDenseLimit pins: the smallest eigenvalue of the dense matrix (exact, O(n^3)). Beyond (a
   // deck may have 10,000 pins): C + tol I must be positive definite, i.e. lambda_min > -tol, by a
@@ -160,8 +164,6 @@ LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<doub
 
 LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<double> coupling, int points,
                                                         CouplingFactors factors) {
-  CheckedCoupling out = CheckCoupling(std::move(coupling), points);
-  if (out.matrix == nullptr) return out;
   const Eigen::Index dofs = factors.stiffness.rows();
   if (factors.stiffness.cols() != dofs || factors.loads.rows() != points || factors.loads.cols() != dofs ||
       factors.local.size() != points || !factors.local.allFinite() || (factors.local.array() < 0.0).any()) {
@@ -170,6 +172,14 @@ LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<doub
         factors.stiffness.rows(), factors.stiffness.cols(), factors.loads.rows(), factors.loads.cols(),
         factors.local.size(), points));
   }
+  // C = B K^-1 B^T + E is positive semidefinite when K is positive definite and E >= 0: K's
+  // LDL^T (banded, O(dofs)) replaces the O(n^3) check of C.
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> k_ldlt(factors.stiffness);
+  if (k_ldlt.info() != Eigen::Success || !(k_ldlt.vectorD().minCoeff() > 0.0)) {
+    throw std::invalid_argument("LoadProblem coupling factors: K is not positive definite");
+  }
+  CheckedCoupling out{CheckCouplingMatrix(std::move(coupling), points, true), points, nullptr};
+  if (out.matrix == nullptr) return out;
   factors.stiffness.makeCompressed();
   factors.loads.makeCompressed();
   out.factors = std::make_shared<const CouplingFactors>(std::move(factors));

@@ -108,7 +108,10 @@ class LoadProblem {
   };
   static CheckedCoupling CheckCoupling(Eigen::SparseMatrix<double> coupling, int points);
   /// The same with the factored form of the same C; throws std::invalid_argument when the
-  /// factors' sizes do not fit (K square, loads points x K's size, local of size points, finite).
+  /// factors' sizes do not fit (K square, loads points x K's size, local of size points, finite,
+  /// >= 0) or K is not positive definite (its LDL^T); C's own positive semidefiniteness then
+  /// follows from the form and is not checked again (the O(n^3) check of WithCoupling), the
+  /// other checks of C (square, finite, symmetric) are made.
   static CheckedCoupling CheckCoupling(Eigen::SparseMatrix<double> coupling, int points, CouplingFactors factors);
   /// The same as WithCoupling, without checking again; throws std::invalid_argument when the
   /// coupling was checked for another number of points.
