@@ -281,39 +281,43 @@ FactoredPinBending PinBendingFactors(const std::vector<PinContact>& points, cons
 
 Eigen::SparseMatrix<double> PinBendingCoupling(const std::vector<PinContact>& points, const PinBeam& beam,
                                                double face_width) {
-  // Group the points by pin: (slice, point index).
-  std::map<int, std::vector<std::pair<int, int>>> pins;
-  for (std::size_t k = 0; k < points.size(); ++k) pins[points[k].pin].emplace_back(points[k].slice, static_cast<int>(k));
+  const auto pins = GroupPinSlices(points, face_width);
   std::map<int, Eigen::MatrixXd> blocks;  // by slice count
-  std::vector<Eigen::Triplet<double>> triplets;
-  for (auto& [pin, slices] : pins) {
-    std::sort(slices.begin(), slices.end());
+  // Built column by column (compressed, rows ascending): a pin's points in point order.
+  const auto size = static_cast<Eigen::Index>(points.size());
+  std::vector<const Eigen::MatrixXd*> block_of(points.size(), nullptr);
+  std::vector<const std::vector<std::pair<int, int>>*> pin_of(points.size(), nullptr);
+  std::map<int, std::vector<std::pair<int, int>>> by_point;  // per pin: (point, slice), point ascending
+  Eigen::Index nnz = 0;
+  for (const auto& [pin, slices] : pins) {
     const int n = static_cast<int>(slices.size());
-    for (int k = 0; k < n; ++k) {
-      if (slices[static_cast<std::size_t>(k)].first != k) {
-        throw std::invalid_argument(fmt::format(
-            "pin bending: pin {} has {} contact points whose slices are not 0 .. {} each once (slice {} found)",
-            pin + 1, n, n - 1, slices[static_cast<std::size_t>(k)].first));
-      }
-      const double length = points[static_cast<std::size_t>(slices[static_cast<std::size_t>(k)].second)].length;
-      if (!(std::abs(length - face_width / n) <= 1e-9 * face_width)) {
-        throw std::invalid_argument(fmt::format(
-            "pin bending: pin {}, slice {} has contact length {} mm: expected the face width {} mm / {} slices",
-            pin + 1, k, length, face_width, n));
-      }
-    }
     auto it = blocks.find(n);
     if (it == blocks.end()) it = blocks.emplace(n, beam.SliceCompliance(face_width, n)).first;
-    const Eigen::MatrixXd& c = it->second;
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) {
-        triplets.emplace_back(slices[static_cast<std::size_t>(i)].second, slices[static_cast<std::size_t>(j)].second, c(i, j));
-      }
+    std::vector<std::pair<int, int>>& order = by_point[pin];
+    for (const auto& [slice, point] : slices) order.emplace_back(point, slice);
+    std::sort(order.begin(), order.end());
+    for (const auto& [slice, point] : slices) {
+      block_of[static_cast<std::size_t>(point)] = &it->second;
+      pin_of[static_cast<std::size_t>(point)] = &order;
+    }
+    nnz += static_cast<Eigen::Index>(n) * n;
+  }
+  Eigen::SparseMatrix<double> out(size, size);
+  out.resizeNonZeros(nnz);
+  auto* outer = out.outerIndexPtr();
+  auto* inner = out.innerIndexPtr();
+  auto* value = out.valuePtr();
+  Eigen::Index p = 0;
+  for (Eigen::Index j = 0; j < size; ++j) {
+    outer[j] = static_cast<int>(p);
+    const Eigen::MatrixXd& c = *block_of[static_cast<std::size_t>(j)];
+    const int sj = points[static_cast<std::size_t>(j)].slice;
+    for (const auto& [point, slice] : *pin_of[static_cast<std::size_t>(j)]) {
+      inner[p] = point;
+      value[p++] = c(slice, sj);
     }
   }
-  const auto size = static_cast<Eigen::Index>(points.size());
-  Eigen::SparseMatrix<double> out(size, size);
-  out.setFromTriplets(triplets.begin(), triplets.end());
+  outer[size] = static_cast<int>(p);
   return out;
 }
 
