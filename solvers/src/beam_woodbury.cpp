@@ -14,7 +14,9 @@ struct BeamWoodbury::Impl {
   std::shared_ptr<const LoadProblem::CouplingFactors> factors;
   Eigen::SparseMatrix<double> b;   // B, points x dofs
   Eigen::SparseMatrix<double> bt;  // B^T, dofs x points: column i is b_i
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> k_factor;  // K, for C F
+  // K, for C F: natural order (banded per pin, no fill).
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>> k_factor;
+  mutable Eigen::VectorXd load_dofs, w_dofs;  // Apply's work vectors
   cholmod_common common{};
   cholmod_sparse* a = nullptr;  // upper triangle of S, pattern of triu(K + B^T B) (stype 1)
   std::vector<int> k_at;        // per stored upper entry of K (column-major order): its position in a
@@ -255,9 +257,10 @@ bool BeamWoodbury::Solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd* out) {
 
 void BeamWoodbury::Apply(const Eigen::VectorXd& f, Eigen::VectorXd* cf) const {
   const Impl& m = *impl_;
-  const Eigen::VectorXd load = m.bt * f;
-  const Eigen::VectorXd w = m.k_factor.solve(load);
-  *cf = m.b * w + m.factors->local.cwiseProduct(f);
+  m.load_dofs.noalias() = m.bt * f;
+  m.w_dofs = m.k_factor.solve(m.load_dofs);
+  cf->noalias() = m.b * m.w_dofs;
+  *cf += m.factors->local.cwiseProduct(f);
 }
 
 const BeamWoodbury::Stats& BeamWoodbury::stats() const { return impl_->stats; }
