@@ -31,6 +31,9 @@ LoadProblem::ModelPtr Require(LoadProblem::ModelPtr model) {
 }
 
 // The checked, symmetrised coupling (LoadProblem::WithCoupling), or nullptr for none.
+std::shared_ptr<const Eigen::SparseMatrix<double>> CheckPositiveSemidefinite(
+    std::shared_ptr<Eigen::SparseMatrix<double>> sym, int pins);
+
 // psd_known: positive semidefinite by construction (a factored coupling whose K was checked), so
 // the O(n^3) check of C is skipped.
 std::shared_ptr<const Eigen::SparseMatrix<double>> CheckCouplingMatrix(Eigen::SparseMatrix<double> c, int pins,
@@ -55,6 +58,34 @@ std::shared_ptr<const Eigen::SparseMatrix<double>> CheckCouplingMatrix(Eigen::Sp
     }
   }
   const Eigen::SparseMatrix<double> transposed = c.transpose();
+  // A structurally symmetric C (pin bending's blocks): the mirror of the entry at position p is
+  // the transpose's entry at p, so the check and (C + C^T) / 2 are single passes (the same
+  // numbers as the general path below, without its searches and sparse sums).
+  const auto outer_size = static_cast<std::size_t>(c.outerSize());
+  if (transposed.nonZeros() == c.nonZeros() &&
+      std::equal(c.outerIndexPtr(), c.outerIndexPtr() + outer_size + 1, transposed.outerIndexPtr()) &&
+      std::equal(c.innerIndexPtr(), c.innerIndexPtr() + c.nonZeros(), transposed.innerIndexPtr())) {
+    const double* cv = c.valuePtr();
+    const double* tv = transposed.valuePtr();
+    for (int k = 0; k < c.outerSize(); ++k) {
+      for (int p = c.outerIndexPtr()[k]; p < c.outerIndexPtr()[k + 1]; ++p) {
+        if (std::abs(cv[p] - tv[p]) > 1e-12 * largest) {
+          const int row = c.innerIndexPtr()[p];
+          throw std::invalid_argument(fmt::format(
+              "LoadProblem coupling: not symmetric: entry ({}, {}) = {} but ({}, {}) = {} (relative tolerance 1e-12)",
+              row + 1, k + 1, cv[p], k + 1, row + 1, tv[p]));
+        }
+      }
+    }
+    auto sym = std::make_shared<Eigen::SparseMatrix<double>>(std::move(c));
+    double* sv = sym->valuePtr();
+    for (Eigen::Index p = 0; p < sym->nonZeros(); ++p) sv[p] = 0.5 * (sv[p] + tv[p]);
+    sym->prune(0.0);
+    sym->makeCompressed();
+    if (sym->nonZeros() == 0) return nullptr;
+    if (psd_known) return sym;
+    return CheckPositiveSemidefinite(std::move(sym), pins);
+  }
   for (int k = 0; k < c.outerSize(); ++k) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(c, k); it; ++it) {
       const double mirror = transposed.coeff(it.row(), it.col());
@@ -70,6 +101,11 @@ std::shared_ptr<const Eigen::SparseMatrix<double>> CheckCouplingMatrix(Eigen::Sp
   sym->makeCompressed();
   if (sym->nonZeros() == 0) return nullptr;
   if (psd_known) return sym;
+  return CheckPositiveSemidefinite(std::move(sym), pins);
+}
+
+std::shared_ptr<const Eigen::SparseMatrix<double>> CheckPositiveSemidefinite(
+    std::shared_ptr<Eigen::SparseMatrix<double>> sym, int pins) {
   // Positive semidefinite, against the rounding of a few n eps of the matrix's scale. Up to
   // kDenseLimit pins: the smallest eigenvalue of the dense matrix (exact, O(n^3)). Beyond (a
   // deck may have 10,000 pins): C + tol I must be positive definite, i.e. lambda_min > -tol, by a
@@ -174,7 +210,8 @@ LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<doub
   }
   // C = B K^-1 B^T + E is positive semidefinite when K is positive definite and E >= 0: K's
   // LDL^T (banded, O(dofs)) replaces the O(n^3) check of C.
-  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> k_ldlt(factors.stiffness);
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>> k_ldlt(
+      factors.stiffness);
   if (k_ldlt.info() != Eigen::Success || !(k_ldlt.vectorD().minCoeff() > 0.0)) {
     throw std::invalid_argument("LoadProblem coupling factors: K is not positive definite");
   }
