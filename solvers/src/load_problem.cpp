@@ -195,7 +195,7 @@ LoadProblem LoadProblem::WithCoupling(Eigen::SparseMatrix<double> coupling) cons
 }
 
 LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<double> coupling, int points) {
-  return {CheckCouplingMatrix(std::move(coupling), points), points};
+  return {CheckCouplingMatrix(std::move(coupling), points), points, nullptr};
 }
 
 LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<double> coupling, int points,
