@@ -118,7 +118,7 @@ double PinBeam::Deflection(double x, double a) const {
   return v;
 }
 
-Eigen::MatrixXd PinBeam::SliceCompliance(double face_width, int n_slices) const {
+void PinBeam::ValidateSlices(double face_width, int n_slices) const {
   if (!(std::isfinite(face_width) && face_width > 0.0)) {
     throw std::invalid_argument(fmt::format("pin bending: face width {} mm: expected a finite width > 0", face_width));
   }
@@ -126,6 +126,10 @@ Eigen::MatrixXd PinBeam::SliceCompliance(double face_width, int n_slices) const 
     throw std::invalid_argument(fmt::format("pin bending: {} slices: expected at least 1", n_slices));
   }
   support_.Validate(face_width);
+}
+
+Eigen::MatrixXd PinBeam::SliceCompliance(double face_width, int n_slices) const {
+  ValidateSlices(face_width, n_slices);
   const double w = face_width / n_slices;
   const double l = support_.span;
   const auto start = [&](int k) { return std::min(support_.face_offset + k * w, l); };
@@ -151,13 +155,7 @@ Eigen::MatrixXd PinBeam::SliceCompliance(double face_width, int n_slices) const 
 }
 
 PinBeam::SliceBeam PinBeam::SliceBeamModel(double face_width, int n_slices) const {
-  if (!(std::isfinite(face_width) && face_width > 0.0)) {
-    throw std::invalid_argument(fmt::format("pin bending: face width {} mm: expected a finite width > 0", face_width));
-  }
-  if (n_slices < 1) {
-    throw std::invalid_argument(fmt::format("pin bending: {} slices: expected at least 1", n_slices));
-  }
-  support_.Validate(face_width);
+  ValidateSlices(face_width, n_slices);
   const double w = face_width / n_slices;
   const double span = support_.span;
   // Nodes: first support, face B, the slice boundaries, the far face, the second support.

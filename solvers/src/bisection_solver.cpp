@@ -1,5 +1,9 @@
 #include "bisection_solver.hpp"
 
+#include <optional>
+
+#include "first_contact.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -43,12 +47,9 @@ Evaluation EvaluateCoupled(const LoadProblem& problem, double psi, Workspace& wo
 void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                               LoadResult* result) const {
   // Start at the unloaded first contact in the load direction (Liu: theta_c1).
-  double psi = problem.FirstContactRotation();
-  if (!std::isfinite(psi)) {
-    result->status = SolverStatus::kNumericalFailure;
-    result->message = "no pin can close its gap in the load direction";
-    return;
-  }
+  const std::optional<double> first_contact = FirstContactOrFail(problem, result);
+  if (!first_contact) return;
+  double psi = *first_contact;
   const double target = problem.torque();
   double step = units::ArcsecToRad(1.0 / 60.0);  // Liu section 4: 1/60 arcsec
   const auto converged = [&](double psi_now, double torque_now) {

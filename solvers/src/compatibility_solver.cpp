@@ -1,5 +1,9 @@
 #include "compatibility_solver.hpp"
 
+#include <optional>
+
+#include "first_contact.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <exception>
@@ -79,12 +83,9 @@ void CompatibilitySolver::SolveCoupled(const LoadProblem& problem, const SolverO
   // Linearised kinematics: delta_i(psi0 + psi) = delta_i(psi0) + L_i psi is exact, one solve.
   // Exact kinematics: re-linearise about each new psi; at psi_k the forces of the exact
   // approaches (the coupled complementarity problem at psi_k) decide whether the torque balances.
-  double psi = problem.FirstContactRotation();
-  if (!std::isfinite(psi)) {
-    result->status = SolverStatus::kNumericalFailure;
-    result->message = "no pin can close its gap in the load direction";
-    return;
-  }
+  const std::optional<double> first_contact = FirstContactOrFail(problem, result);
+  if (!first_contact) return;
+  double psi = *first_contact;
   CoupledContact& coupled = CoupledContactFor(problem, workspace);
   const ActiveSetCholmod::Stats before = coupled.stats();
   const double force_scale = CoupledForceScale(problem);
@@ -228,12 +229,9 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   potential.problem = &problem;
   potential.workspace = &workspace;
   // Bracket: from the first contact in the load direction to a rotation whose torque exceeds T.
-  double lo = problem.FirstContactRotation();
-  if (!std::isfinite(lo)) {
-    result->status = SolverStatus::kNumericalFailure;
-    result->message = "no pin can close its gap in the load direction";
-    return;
-  }
+  const std::optional<double> first_contact = FirstContactOrFail(problem, result);
+  if (!first_contact) return;
+  double lo = *first_contact;
   // Linear prediction of the rotation from the secant stiffness of every closing pin at its share
   // of the load (forward law evaluations only), then a bracket grown from it.
   double guess = 0.0;

@@ -1,5 +1,9 @@
 #include "energy_qp_solver.hpp"
 
+#include <optional>
+
+#include "first_contact.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <mutex>
@@ -334,12 +338,9 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   // there, of the size of the deformations, instead of the whole clearance rotation (which
   // scales the problem by c / w, up to 1e9 at tiny torques). The optimum does not move:
   // psi0 sum L_i F_i = psi0 T is a constant.
-  double psi = problem.FirstContactRotation();
-  if (!std::isfinite(psi)) {
-    result->status = SolverStatus::kNumericalFailure;
-    result->message = "no pin can close its gap in the load direction";
-    return;
-  }
+  const std::optional<double> first_contact = FirstContactOrFail(problem, result);
+  if (!first_contact) return;
+  double psi = *first_contact;
   const int outer_limit = problem.kinematics() == contact::ContactKinematics::kExact ? 50 : 1;
   std::vector<contact::ContactLaw> scratch;
   int total_iterations = 0;

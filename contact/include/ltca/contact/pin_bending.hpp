@@ -101,6 +101,8 @@ class PinBeam {
   static double ShearCoefficient(double poisson_ratio);
 
  private:
+  /// The checks SliceCompliance and SliceBeamModel share (std::invalid_argument).
+  void ValidateSlices(double face_width, int n_slices) const;
   PinSupport support_;
   double ei_ = 0.0;
   double kga_ = 0.0;
