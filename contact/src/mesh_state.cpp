@@ -98,6 +98,74 @@ void PlaceContact(const geometry::Pose& pose, const Eigen::Vector2d& centre_fixe
   c->arm = load_direction * Cross(c->cycloid_point - pose.centre, c->normal);
 }
 
+/// The closest point of a profile with relieved tips (issue 12, geometry/tip_relief.hpp) to the
+/// body-frame pin centre p: the flanks |u| <= u_j of the tooth space the pin's polar angle falls in
+/// and of both neighbours (the safeguarded Newton search, the seed kept when it is on one of them),
+/// and the caps of the four tips around them (closed form). The smallest distance wins; a cap
+/// candidate is taken first, so that at a junction (where both give the same point and, with a
+/// rounding, the same normal) the cap is reported. With rho = 0 a flank point at its end is the
+/// corner it meets the truncation line in.
+struct RelievedFoot {
+  int k = 0;
+  double u = 0.0;
+  Eigen::Vector2d point;
+  Eigen::Vector2d normal;  // unit, out of the material toward p
+  double gap = 0.0;        // signed distance of p, mm
+  double curvature = 0.0;
+  geometry::SurfacePart part = geometry::SurfacePart::kFlank;
+};
+
+RelievedFoot NearestOnRelievedProfile(const CycloidProfile& profile, const Eigen::Vector2d& p, int seed_space,
+                                      double seed_u) {
+  const geometry::TipCap& cap = profile.tip_cap();
+  const double u_j = cap.junction();
+  const double phi_max = profile.phi_max();
+  const int zc = profile.pair().tooth_count;
+  const double pitch = profile.tooth_pitch();
+  const double polar = std::atan2(p.y(), p.x()) - profile.ToothSpaceRotation(0);
+  const int k_polar = static_cast<int>(std::lround(polar / pitch));
+  const auto wrap = [zc](int k) { return ((k % zc) + zc) % zc; };
+  RelievedFoot best;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (int tip = k_polar - 2; tip <= k_polar + 1; ++tip) {
+    const geometry::CapFoot f = cap.Nearest(p, wrap(tip));
+    const double distance = std::abs(f.distance);
+    if (distance < best_distance) {
+      best_distance = distance;
+      best.k = f.tooth_space;
+      best.u = f.tooth_space == wrap(tip) ? u_j : -u_j;
+      best.point = f.point, best.normal = f.normal, best.gap = f.distance;
+      best.curvature = f.curvature, best.part = f.part;
+    }
+  }
+  const bool corners = cap.relief().rounding_radius == 0.0;
+  for (int dk = -1; dk <= 1; ++dk) {
+    const int kk = wrap(k_polar + dk);
+    const double rel = std::remainder(polar - (k_polar + dk) * pitch, 2.0 * kPi);
+    const double start = kk == seed_space && std::abs(seed_u) <= u_j
+                             ? seed_u
+                             : std::clamp(rel * phi_max / (0.5 * pitch), -u_j, u_j);
+    const double uu = ClosestParameter(profile, kk, p, start, -u_j, u_j);
+    const geometry::ProfilePoint x = profile.Evaluate(uu, kk);
+    const double distance = (x.position - p).norm();
+    if (!(distance < best_distance)) continue;
+    best_distance = distance;
+    best.k = kk, best.u = uu, best.point = x.position;
+    if (corners && std::abs(uu) >= u_j) {
+      best.normal = (p - x.position) / distance;
+      best.gap = distance;
+      best.curvature = std::numeric_limits<double>::infinity();
+      best.part = geometry::SurfacePart::kTipCorner;
+    } else {
+      best.normal = x.normal;
+      best.gap = x.normal.dot(p - x.position);
+      best.curvature = x.curvature;
+      best.part = geometry::SurfacePart::kFlank;
+    }
+  }
+  return best;
+}
+
 /// The foot point on the flank as made, x(u) + delta(k, u) n(u) (a profile deviation along the
 /// profile, geometry::ProfileDeviation), docs/contact.md "Profile deviation along the profile".
 struct DeviatedFoot {
@@ -345,6 +413,14 @@ MeshModel::MeshModel(geometry::RealPair real, const geometry::GeometrySettings& 
       lead_layer_(real_.errors().VariesAlongWidth()),
       load_direction_(real_.nominal().ToothDifference() > 0 ? 1.0 : -1.0) {
   geometry.Validate();
+  if (geometry.mode == geometry::GeometrySettings::Mode::kElements && real_.profile().tip_cap().active()) {
+    // Liu's elements are laid over the unrelieved arc [-phi_max, phi_max] (DiscreteProfile).
+    const geometry::TipRelief& relief = real_.profile().tip_cap().relief();
+    throw std::invalid_argument(fmt::format(
+        "[modification] tip_rounding_radius_mm = {}, tip_truncation_mm = {}: a tip relief on the element surface "
+        "([geometry] surface = \"elements\") is not supported yet; expected the analytic surface or no relief",
+        relief.rounding_radius, relief.truncation));
+  }
   // Model only what the scene needs: slices when something varies along the width or couples it.
   if (real_.VariesAlongWidth() || coupled_along_width) {
     if (geometry.width_slices < 1) {
@@ -493,6 +569,22 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double crank, const ge
   const int zc = pair().tooth_count;
   const int d = real_.profile().tooth_difference();
 
+  if (real_.profile().tip_cap().active()) {
+    const RelievedFoot f = NearestOnRelievedProfile(real_.profile(), p, seed_space, seed_u);
+    PinContact c;
+    c.pin = pin;
+    c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
+    c.tooth_space = f.k;
+    c.u = f.u;
+    c.part = f.part;
+    c.edge = f.part == geometry::SurfacePart::kTipCorner;
+    c.pin_radius = r_pin;
+    c.cycloid_curvature = f.curvature;
+    c.clearance = f.gap - r_pin;
+    PlaceContact(pose, centre_fixed, load_direction_, f.point, f.normal, &c);
+    FinishPoint(slice, &c);
+    return c;
+  }
   int k = seed_space;
   double u = seed_u;
   bool edge = false;
@@ -533,6 +625,7 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double crank, const ge
   c.tooth_space = k;
   c.u = u;
   c.edge = edge;
+  if (edge) c.part = geometry::SurfacePart::kTipCorner;
   c.pin_radius = r_pin;
   Eigen::Vector2d normal_body = x.normal;
   double centre_gap = x.normal.dot(p - x.position);  // signed distance of the pin centre
@@ -552,6 +645,7 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double crank, const ge
     c.tooth_space = f.k;
     c.u = f.u;
     c.edge = f.corner;
+    c.part = f.corner ? geometry::SurfacePart::kTipCorner : geometry::SurfacePart::kFlank;
     c.cycloid_curvature = f.corner ? std::numeric_limits<double>::infinity() : f.curvature;
     c.clearance = f.distance - r_pin;
     point_body = f.point;

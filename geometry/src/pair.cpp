@@ -73,6 +73,16 @@ void Modification::Validate(const PairParameters& pair) const {
       !std::isfinite(rotation)) {
     throw std::invalid_argument("[modification]: every value must be finite");
   }
+  if (!(tip_relief.truncation >= 0.0) || !std::isfinite(tip_relief.truncation)) {
+    throw std::invalid_argument(fmt::format(
+        "[modification] tip_truncation_mm = {}: expected a finite length >= 0 (0: no truncation)",
+        tip_relief.truncation));
+  }
+  if (!(tip_relief.rounding_radius >= 0.0) || !std::isfinite(tip_relief.rounding_radius)) {
+    throw std::invalid_argument(fmt::format(
+        "[modification] tip_rounding_radius_mm = {}: expected a finite radius >= 0 (0: sharp corners)",
+        tip_relief.rounding_radius));
+  }
   if (pair.pin_radius + pin_radius <= 0.0) {
     throw std::invalid_argument(fmt::format(
         "[modification] pin_radius_mm = {}: the generating pin radius r_rp + dR_rp = {} mm must "

@@ -46,6 +46,7 @@ CycloidProfile::CycloidProfile(const PairParameters& pair, const Modification& m
   k1_ = e_ * ze_ / R_;  // Chen eq. 12, signed (negative for d < 0)
   ComputePhiMax();
   ComputeCurvatureExtremes();
+  tip_cap_ = TipCap(*this, modification_.tip_relief);
 }
 
 double CycloidProfile::tooth_pitch() const { return 2.0 * kPi / pair_.tooth_count; }
@@ -148,9 +149,12 @@ void CycloidProfile::ComputePhiMax() {
   // |d| >= 2: bracketed root search over the whole admissible interval (0, |d| pi / z_c]: the
   // polar angle starts at 0 at the root and reaches |d| pi / z_c at the lobe tip of the locus.
   // The first sign change from a uniform scan is refined by bisection to machine precision.
+  // Measured from the root axis of space 0, which the rotation modification turns: the tooth's
+  // symmetry axis turns with it (before issue 12 the rotation was not taken off here, and a
+  // rotated |d| >= 2 profile got the wrong phi_max; no deck had one).
   const auto polar_excess = [&](double u) {
-    const Eigen::Vector2d x = Position(u, 0) ;
-    return std::atan2(x.y(), x.x()) - half_pitch;
+    const Eigen::Vector2d x = Position(u, 0);
+    return std::remainder(std::atan2(x.y(), x.x()) - modification_.rotation, 2.0 * kPi) - half_pitch;
   };
   const double upper = std::abs(d_) * half_pitch;
   constexpr int kScan = 256;

@@ -33,6 +33,15 @@ CycloidProfile MakeProfile(const PairParameters& pair, Modification modification
 }
 
 ProfileDeviation MakeProfileDeviation(const ManufacturingErrors& errors, const CycloidProfile& profile) {
+  if (profile.tip_cap().active() && errors.HasProfileDeviation()) {
+    // The deviated flank is searched over the unrelieved arc [-phi_max, phi_max] (contact/
+    // mesh_state.cpp, NearestOnDeviatedFlank); a relieved tip would need the cap deviated too.
+    throw std::invalid_argument(fmt::format(
+        "[modification] tip_rounding_radius_mm = {}, tip_truncation_mm = {}: a tip relief together with a "
+        "profile deviation ([errors] profile_random_* or profile_measured_csv) is not supported yet; expected "
+        "one of them",
+        profile.tip_cap().relief().rounding_radius, profile.tip_cap().relief().truncation));
+  }
   const ProfileDeviation random = ProfileDeviation::Random(errors.profile_random, profile);
   if (!errors.profile_measured) return random;
   return ProfileDeviation::Sum(random, ProfileDeviation::Measured(*errors.profile_measured, profile));

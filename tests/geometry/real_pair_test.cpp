@@ -16,7 +16,7 @@ using ltca::geometry::RealPair;
 
 TEST_CASE("geometry: the real pair's profile carries the layer, its pins the pin-circle and pitch deviations") {
   const auto pair = ltca::test::LiuPair();
-  const Modification modification{-0.004, -0.017, 0.0};
+  const Modification modification{-0.004, -0.017, 0.0, {}};
   ManufacturingErrors errors;
   errors.profile_layer = 0.002;          // 2 um more material on the cycloid
   errors.pin_circle_deviation = 0.005;   // pins 5 um further out (radius reading)
@@ -25,7 +25,7 @@ TEST_CASE("geometry: the real pair's profile carries the layer, its pins the pin
   const RealPair real(pair, modification, errors);
 
   // The layer acts as the generating pin radius r_rp + dR_rp - t (Liu eq. 1 with the layer).
-  const CycloidProfile by_hand(pair, Modification{-0.004 - 0.002, -0.017, 0.0});
+  const CycloidProfile by_hand(pair, Modification{-0.004 - 0.002, -0.017, 0.0, {}});
   const CycloidProfile nominal(pair, modification);
   for (const double u : {-0.05, 0.0, 0.03}) {
     CHECK((real.profile().Position(u, 3) - by_hand.Position(u, 3)).norm() <= 1e-12);

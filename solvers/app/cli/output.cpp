@@ -168,6 +168,12 @@ void Progress::Update(std::int64_t done) {
 nlohmann::json ModelJson(const app::Deck::ModelInfo& model) {
   nlohmann::json j = {{"name", model.name}, {"slices", model.slices}, {"surface", model.surface}};
   if (!model.note.empty()) j["note"] = model.note;
+  if (model.tip_relief_source != "none" || !model.tip_relief_note.empty()) {
+    j["tip_relief"] = {{"truncation_mm", model.tip_relief.truncation},
+                       {"rounding_radius_mm", model.tip_relief.rounding_radius},
+                       {"source", model.tip_relief_source}};
+    if (!model.tip_relief_note.empty()) j["tip_relief"]["note"] = model.tip_relief_note;
+  }
   return j;
 }
 
@@ -180,6 +186,11 @@ std::string ModelLine(const app::Deck& deck) {
           : fmt::format("model     {} ({} slices of {:g} mm over the {:g} mm face width, {} surface)\n", m.name,
                         m.slices, deck.pair.face_width / m.slices, deck.pair.face_width, m.surface);
   if (!m.note.empty()) line += fmt::format("note      {}\n", m.note);
+  if (m.tip_relief_source != "none") {
+    line += fmt::format("tip       relief {} mm truncation, {} mm rounding radius ({})\n", m.tip_relief.truncation,
+                        m.tip_relief.rounding_radius, m.tip_relief_source == "deck" ? "from the deck" : "default");
+  }
+  if (!m.tip_relief_note.empty()) line += fmt::format("tip note  {}\n", m.tip_relief_note);
   return line;
 }
 

@@ -1,4 +1,5 @@
 #include "ltca/app/deck.hpp"
+#include "ltca/app/tip_relief_default.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -414,6 +415,8 @@ geometry::Modification ReadModification(const Section& s, const geometry::PairPa
   m.pin_radius = s.Real("pin_radius_mm", 0.0, "isometric modification dR_rp in mm");
   m.pin_circle_radius = s.Real("pin_circle_radius_mm", 0.0, "offset modification dR_p in mm");
   m.rotation = units::DegToRad(s.Real("rotation_deg", 0.0, "angle-rotation modification in deg"));
+  m.tip_relief.truncation = s.Real("tip_truncation_mm", 0.0, "tip truncation in mm along the tooth axis (issue 12)");
+  m.tip_relief.rounding_radius = s.Real("tip_rounding_radius_mm", 0.0, "tip rounding radius in mm (issue 12)");
   m.Validate(pair);
   RequireSmallDeviation(m.pin_radius, "modification", "pin_radius_mm", pair);
   RequireSmallDeviation(m.pin_circle_radius, "modification", "pin_circle_radius_mm", pair);
@@ -638,6 +641,9 @@ Deck::ModelInfo Deck::Model() const {
     }
   }
   for (const std::string& note : notes) m.note += (m.note.empty() ? "" : "; ") + note;
+  m.tip_relief = modification.tip_relief;
+  m.tip_relief_source = tip_relief_source;
+  m.tip_relief_note = tip_relief_note;
   return m;
 }
 
@@ -697,10 +703,10 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
         root, "pair",
         {"pin_count", "tooth_count", "pin_radius_mm", "pin_circle_radius_mm", "eccentricity_mm",
          "face_width_mm"}));
-    deck.modification = ReadModification(
-        Section(Find(root, "modification"), "modification",
-                {"pin_radius_mm", "pin_circle_radius_mm", "rotation_deg"}),
-        deck.pair);
+    const Section modification(
+        Find(root, "modification"), "modification",
+        {"pin_radius_mm", "pin_circle_radius_mm", "rotation_deg", "tip_truncation_mm", "tip_rounding_radius_mm"});
+    deck.modification = ReadModification(modification, deck.pair);
     const Section errors(Find(root, "errors"), "errors",
                          {"pin_circle_deviation_mm", "pin_circle_reading", "cycloid_profile_layer_mm",
                           "cumulative_pitch_deviation_mm", "pin_radius_deviations_mm", "pin_radial_deviations_mm",
@@ -750,6 +756,11 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     // The geometry must be realisable: this rejects undercut (looped) profiles, also when the
     // profile layer of [errors] is what makes them loop.
     const geometry::RealPair real = deck.MakeRealPair();  // analytic: cheap to check
+    if (modification.Has("tip_truncation_mm") || modification.Has("tip_rounding_radius_mm")) {
+      deck.tip_relief_source = "deck";
+    } else if (std::abs(deck.pair.ToothDifference()) >= 2) {
+      ChooseDefaultTipRelief(deck);
+    }
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
   } catch (const std::exception& e) {  // TOML syntax errors and the like

@@ -48,6 +48,10 @@ struct PinContact {
   double u = 0.0;                 ///< profile parameter, rad, in [-phi_max, phi_max]
   bool edge = false;              ///< the closest point is a tip corner (|d| >= 2): edge contact,
                                   ///< to which the line-contact laws do not apply.
+  /// Which piece of the profile the closest point is on: the flank, or with a tip relief (issue
+  /// 12) its rounding arc or truncation line; kTipCorner exactly when `edge`. On the cap, u is the
+  /// junction +-TipCap::junction() of `tooth_space` (the nearest flank point, a search seed).
+  geometry::SurfacePart part = geometry::SurfacePart::kFlank;
 };
 
 /// All pins at one pose.

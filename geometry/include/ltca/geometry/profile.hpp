@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "ltca/geometry/pair.hpp"
+#include "ltca/geometry/tip_relief.hpp"
 
 namespace ltca::geometry {
 
@@ -61,8 +62,16 @@ class CycloidProfile {
   double undercut_margin() const { return undercut_margin_; }
   /// Angular pitch of the teeth, 2 pi / z_c.
   double tooth_pitch() const;
-  /// True when consecutive tooth spaces meet in sharp corners (|d| >= 2).
-  bool has_tip_corners() const { return std::abs(d_) >= 2; }
+  /// True when consecutive tooth spaces meet in sharp corners (|d| >= 2 without a tip relief, or
+  /// a truncation without rounding).
+  bool has_tip_corners() const {
+    return tip_cap_.active() ? tip_cap_.relief().rounding_radius == 0.0 : std::abs(d_) >= 2;
+  }
+  /// The relieved tips ([modification] tip_truncation_mm, tip_rounding_radius_mm; issue 12):
+  /// inactive without a relief. With one, the flank of every space runs over
+  /// |u| <= tip_cap().junction() and the cap replaces the rest. phi_max, the contact ratio and the
+  /// curvature extremes stay those of the flank (Chen's checks).
+  const TipCap& tip_cap() const { return tip_cap_; }
 
   /// The real profile of tooth space k at parameter u (any u: the generating curve; the real
   /// profile is u in [-phi_max, phi_max]). Analytic position, normal, derivatives, curvature.
@@ -93,6 +102,7 @@ class CycloidProfile {
   double phi_max_ = 0.0;
   double undercut_margin_ = 0.0;
   double min_curvature_radius_ = 0.0;
+  TipCap tip_cap_;
 };
 
 }  // namespace ltca::geometry

@@ -79,6 +79,11 @@ struct Deck {
   geometry::GeometrySettings geometry;         ///< [geometry], optional, default analytic
   bool width_slices_given = false;             ///< [geometry] width_slices is in the deck
   std::vector<std::string> notes;              ///< keys given without effect (reported in Model().note)
+  /// Where the tip relief ([modification] tip_truncation_mm, tip_rounding_radius_mm; issue 12)
+  /// came from: "deck" (a key given, also when 0), "default" (chosen by ChooseDefaultTipRelief for
+  /// |d| >= 2) or "none"; and why, when chosen or not (reported with the model).
+  std::string tip_relief_source = "none";
+  std::string tip_relief_note;
   contact::ContactSettings contact;            ///< [contact], optional, default hertz-line / signed
   SolverOptions solver;                        ///< [solver], optional, default bisection / linearised
   std::optional<contact::PinSupport> pins;    ///< [pins], optional: pin bending (issue 11)
@@ -108,6 +113,9 @@ struct Deck {
     int slices = 1;
     std::string surface;  ///< "analytic" or "elements"
     std::string note;     ///< empty, or why a given slice count or key was not used
+    geometry::TipRelief tip_relief;  ///< the relief that runs (issue 12)
+    std::string tip_relief_source;   ///< "deck" | "default" | "none"
+    std::string tip_relief_note;     ///< how a default was chosen, or why there is none
   };
   ModelInfo Model() const;
 
