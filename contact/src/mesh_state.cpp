@@ -133,34 +133,37 @@ RelievedFoot NearestOnRelievedProfile(const CycloidProfile& profile, const Eigen
     if (distance < best_distance) {
       best_distance = distance;
       best.k = f.tooth_space;
-      best.u = f.tooth_space == wrap(tip) ? u_j : -u_j;
+      best.u = f.u;
       best.point = f.point, best.normal = f.normal, best.gap = f.distance;
       best.curvature = f.curvature, best.part = f.part;
     }
   }
   const bool corners = cap.relief().rounding_radius == 0.0;
+  const std::vector<std::pair<double, double>> arcs = cap.FlankArcs();
   for (int dk = -1; dk <= 1; ++dk) {
     const int kk = wrap(k_polar + dk);
     const double rel = std::remainder(polar - (k_polar + dk) * pitch, 2.0 * kPi);
-    const double start = kk == seed_space && std::abs(seed_u) <= u_j
-                             ? seed_u
-                             : std::clamp(rel * phi_max / (0.5 * pitch), -u_j, u_j);
-    const double uu = ClosestParameter(profile, kk, p, start, -u_j, u_j);
-    const geometry::ProfilePoint x = profile.Evaluate(uu, kk);
-    const double distance = (x.position - p).norm();
-    if (!(distance < best_distance)) continue;
-    best_distance = distance;
-    best.k = kk, best.u = uu, best.point = x.position;
-    if (corners && std::abs(uu) >= u_j) {
-      best.normal = (p - x.position) / distance;
-      best.gap = distance;
-      best.curvature = std::numeric_limits<double>::infinity();
-      best.part = geometry::SurfacePart::kTipCorner;
-    } else {
-      best.normal = x.normal;
-      best.gap = x.normal.dot(p - x.position);
-      best.curvature = x.curvature;
-      best.part = geometry::SurfacePart::kFlank;
+    for (const auto& [lo, hi] : arcs) {
+      const double start = kk == seed_space && seed_u >= lo && seed_u <= hi
+                               ? seed_u
+                               : std::clamp(rel * phi_max / (0.5 * pitch), lo, hi);
+      const double uu = ClosestParameter(profile, kk, p, start, lo, hi);
+      const geometry::ProfilePoint x = profile.Evaluate(uu, kk);
+      const double distance = (x.position - p).norm();
+      if (!(distance < best_distance)) continue;
+      best_distance = distance;
+      best.k = kk, best.u = uu, best.point = x.position;
+      if (corners && std::abs(uu) == u_j) {  // clamped at the junction: the corner with the line
+        best.normal = (p - x.position) / distance;
+        best.gap = distance;
+        best.curvature = std::numeric_limits<double>::infinity();
+        best.part = geometry::SurfacePart::kTipCorner;
+      } else {
+        best.normal = x.normal;
+        best.gap = x.normal.dot(p - x.position);
+        best.curvature = x.curvature;
+        best.part = geometry::SurfacePart::kFlank;
+      }
     }
   }
   return best;

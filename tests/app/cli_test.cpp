@@ -141,7 +141,7 @@ TEST_CASE("cli: --csv writes the whole profile and --svg draws every pin") {
   std::string line;
   int rows = 0;
   std::getline(in, line);
-  CHECK(line == "tooth_space,u_deg,x_mm,y_mm,normal_x,normal_y,curvature_radius_mm");
+  CHECK(line == "tooth_space,u_deg,x_mm,y_mm,normal_x,normal_y,curvature_radius_mm,part");
   while (std::getline(in, line)) ++rows;
   CHECK(rows == 22 * 121);  // z_c tooth spaces of 2 * 60 + 1 samples
   std::ifstream svg_in(svg);

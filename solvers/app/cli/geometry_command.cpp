@@ -1,6 +1,8 @@
 #include "geometry_command.hpp"
 
 #include <cmath>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -41,21 +43,66 @@ nlohmann::json SummaryJson(const app::Deck& deck, const geometry::RealPair& real
       // The figures above are of the cycloid as made: modification and [errors] applied.
       {"errors_applied", !real.errors().IsZero()},
       {"pin_circle_radius_as_assembled_mm", real.pin_circle_radius()},
+      // Issue 12: the relief that runs (from the deck, a default for |d| >= 2, or none), and
+      // what it cuts: the flank ends at +-junction_deg of every space.
+      {"tip_relief",
+       {{"truncation_mm", profile.tip_cap().relief().truncation},
+        {"rounding_radius_mm", profile.tip_cap().relief().rounding_radius},
+        {"source", deck.tip_relief_source},
+        {"note", deck.tip_relief_note.empty() ? nlohmann::json(nullptr) : nlohmann::json(deck.tip_relief_note)},
+        {"active", profile.tip_cap().active()},
+        {"junction_deg", RadToDeg(profile.tip_cap().junction())},
+        {"land_half_width_mm", profile.tip_cap().land_half_width()},
+        {"depth_mm", profile.tip_cap().depth()}}},
   };
 }
 
-void WriteCsv(const CycloidProfile& profile, int samples, std::ostream& os) {
-  // The whole profile, tooth space by tooth space, from -phi_max to phi_max.
-  os << "tooth_space,u_deg,x_mm,y_mm,normal_x,normal_y,curvature_radius_mm\n";
-  const double phi = profile.phi_max();
-  for (int k = 0; k < profile.pair().tooth_count; ++k) {
-    for (int i = -samples; i <= samples; ++i) {
-      const double u = phi * i / samples;
+/// The outline of the cycloid as made, tooth space by tooth space: the flank from -u_j to u_j
+/// (u_j = phi_max without a tip relief), then, with a relief, the cap of the tip it runs into.
+/// f(tooth_space, u or NaN on the cap, position, normal, curvature, part) per point.
+template <class F>
+void ForEachOutlinePoint(const CycloidProfile& profile, int samples, const F& f) {
+  const geometry::TipCap& cap = profile.tip_cap();
+  const auto flank = [&](int k, double lo, double hi) {
+    for (int i = 0; i <= 2 * samples; ++i) {
+      const double u = lo + (hi - lo) * i / (2 * samples);
       const auto p = profile.Evaluate(u, k);
-      fmt::print(os, "{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", k, RadToDeg(u),
-                 p.position.x(), p.position.y(), p.normal.x(), p.normal.y(), p.CurvatureRadius());
+      f(k, u, p.position, p.normal, p.curvature, geometry::SurfacePart::kFlank);
+    }
+  };
+  // Tip `tip`'s cap from w_from to w_to (exclusive of the junctions, which the flanks draw).
+  const auto tip_cap = [&](int k, int tip, double direction) {
+    for (int i = samples - 1; i > -samples; --i) {
+      const geometry::CapFoot c = cap.Point(direction * static_cast<double>(i) / samples, tip);
+      f(k, std::numeric_limits<double>::quiet_NaN(), c.point, c.normal, c.curvature, c.part);
+    }
+  };
+  for (int k = 0; k < profile.pair().tooth_count; ++k) {
+    if (!cap.active()) {
+      flank(k, -profile.phi_max(), profile.phi_max());
+    } else if (profile.tooth_difference() > 0) {
+      // Space k's flank, then the cap of tip k from space k's junction (w = 1) to space k + 1's.
+      flank(k, -cap.junction(), cap.junction());
+      tip_cap(k, k, 1.0);
+    } else {
+      // A ring: the flank u < 0, the cap of its tip at u = 0 (w = -1 on the u < 0 side), the flank u > 0.
+      flank(k, -profile.phi_max(), -cap.junction());
+      tip_cap(k, k, -1.0);
+      flank(k, cap.junction(), profile.phi_max());
     }
   }
+}
+
+void WriteCsv(const CycloidProfile& profile, int samples, std::ostream& os) {
+  // The whole profile, tooth space by tooth space; u_deg is empty on a tip relief's cap.
+  os << "tooth_space,u_deg,x_mm,y_mm,normal_x,normal_y,curvature_radius_mm,part\n";
+  ForEachOutlinePoint(profile, samples, [&](int k, double u, const Eigen::Vector2d& x, const Eigen::Vector2d& n,
+                                            double curvature, geometry::SurfacePart part) {
+    const double radius = curvature == 0.0 ? std::numeric_limits<double>::infinity() : 1.0 / curvature;
+    fmt::print(os, "{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{}\n", k,
+               std::isnan(u) ? std::string() : fmt::format("{:.9g}", RadToDeg(u)), x.x(), x.y(), n.x(), n.y(), radius,
+               geometry::SurfacePartName(part));
+  });
 }
 
 void WriteSvg(const geometry::RealPair& real, double crank, int samples, std::ostream& os) {
@@ -75,13 +122,13 @@ void WriteSvg(const geometry::RealPair& real, double crank, int samples, std::os
   os << "<g transform=\"scale(1,-1)\" fill=\"none\" stroke-width=\"" << extent / 400.0 << "\">\n";
   fmt::print(os, "<circle cx=\"0\" cy=\"0\" r=\"{}\" stroke=\"#bbb\"/>\n", real.pin_circle_radius());
   os << "<path stroke=\"#c0392b\" fill=\"#f5d5d0\" fill-rule=\"evenodd\" d=\"";
-  const double phi = profile.phi_max();
-  for (int k = 0; k < pair.tooth_count; ++k) {
-    for (int i = -samples; i <= samples; ++i) {
-      const Eigen::Vector2d x = pose.ToFixed(profile.Position(phi * i / samples, k));
-      fmt::print(os, "{}{:.5f},{:.5f} ", (k == 0 && i == -samples) ? "M" : "L", x.x(), x.y());
-    }
-  }
+  bool first = true;
+  ForEachOutlinePoint(profile, samples, [&](int, double, const Eigen::Vector2d& body, const Eigen::Vector2d&, double,
+                                            geometry::SurfacePart) {
+    const Eigen::Vector2d x = pose.ToFixed(body);
+    fmt::print(os, "{}{:.5f},{:.5f} ", first ? "M" : "L", x.x(), x.y());
+    first = false;
+  });
   os << "Z";
   if (ring) {  // outer rim of the ring, so that the even-odd fill leaves the inside empty
     const double rim = 1.1 * outer;
@@ -157,6 +204,17 @@ void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const St
   } else {
     fmt::print(out, "undercut margin        none (no convex part on the offset side)\n");
   }
+  const geometry::TipCap& cap = profile.tip_cap();
+  if (cap.active()) {
+    fmt::print(out, "tip relief             truncation {:g} mm, rounding radius {:g} mm ({}): the flank ends at u = +-{:.6f} deg, "
+                    "{:.4g} mm cut off the tip{}\n",
+               cap.relief().truncation, cap.relief().rounding_radius,
+               deck.tip_relief_source == "deck" ? "from the deck" : "default", RadToDeg(cap.junction()), cap.depth(),
+               cap.truncated() ? fmt::format(", land {:.4g} mm wide", 2.0 * cap.land_half_width()) : "");
+  } else {
+    fmt::print(out, "tip relief             none{}\n", profile.has_tip_corners() ? " (sharp tip corners)" : "");
+  }
+  if (!deck.tip_relief_note.empty()) fmt::print(out, "                       {}\n", deck.tip_relief_note);
   fmt::print(out, "mesh period            {:.6f} deg crank\n", RadToDeg(kinematics.MeshPeriod()));
   fmt::print(out, "transmission ratio     {:.6g} (crank / cycloid)\n", kinematics.TransmissionRatio());
 

@@ -2,10 +2,11 @@
 // The relieved tooth tip (issue 12): what replaces the sharp tip corner of a |d| >= 2 profile
 // (Chen 2008 section 2.2 leaves the addendum open) or cuts back the smooth tip of a |d| = 1 one.
 //
-// Local frame of tip k (between tooth space k at u = +phi_max and space k + 1 at u = -phi_max),
-// origin at the unrelieved tip point x(phi_max, k) on the tooth's symmetry axis:
+// Local frame of tip k, for d > 0 between tooth space k at u = +phi_max and space k + 1 at
+// u = -phi_max; for d < 0 (a ring, whose teeth point to the centre) at u = 0 of space k. Origin at
+// the unrelieved tip point on the tooth's symmetry axis:
 //   y along the axis, out of the material (toward the pins),
-//   s across it, > 0 toward tooth space k.
+//   s across it, > 0 toward tooth space k's u < phi_max (d > 0) or u > 0 (d < 0).
 // The tip is symmetric about the axis (x(-u) mirrors x(u) in the space's own axis), so one half
 // is built, for s >= 0, and mirrored:
 //   - the truncation line y = -t (t = tip_truncation_mm), perpendicular to the axis;
@@ -16,6 +17,9 @@
 //   - the flank of each tooth space runs over |u| <= u_j.
 // The cap (arc, segment, mirrored arc) is tangent-continuous with both flanks when rho > 0; with
 // rho = 0 and t > 0 the line meets each flank in a corner (an edge, as the sharp tip is).
+#include <utility>
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "ltca/geometry/pair.hpp"
@@ -41,7 +45,8 @@ struct CapFoot {
   double distance = 0.0;        ///< signed: > 0 outside the material, mm
   double curvature = 0.0;       ///< 1/mm: 1 / rho on the arc, 0 on the line, +infinity at a corner
   SurfacePart part = SurfacePart::kFlank;
-  int tooth_space = 0;          ///< the half of the cap the point is on: space k (s >= 0) or k + 1
+  int tooth_space = 0;          ///< the tooth space whose flank this half of the cap continues
+  double u = 0.0;               ///< that flank's junction parameter (the nearest flank point)
 };
 
 /// The relieved tip of a profile, built once by CycloidProfile from its Modification::tip_relief.
@@ -57,8 +62,12 @@ class TipCap {
   /// are kept when the relief is zero, or when only a rounding is asked of a smooth tip).
   bool active() const { return active_; }
   const TipRelief& relief() const { return relief_; }
-  /// The flank of every tooth space runs over |u| <= junction(); phi_max without relief, rad.
+  /// The flank of a tooth space ends at u = +-junction() (rad): for d > 0 it runs over
+  /// |u| <= junction() (phi_max without relief), for d < 0 over junction() <= |u| <= phi_max (0
+  /// without relief: a ring's tips are at u = 0 of its spaces).
   double junction() const { return junction_; }
+  /// The u-intervals of a tooth space's flank (one for d > 0, two for d < 0).
+  std::vector<std::pair<double, double>> FlankArcs() const;
   /// The truncation line cuts the tooth (false: the arc alone, tangent to both flanks).
   bool truncated() const { return truncated_; }
   /// Half-length of the truncation segment, mm (0 without one).
@@ -66,12 +75,12 @@ class TipCap {
   /// Depth of material removed on the tooth axis, from the unrelieved tip point, mm.
   double depth() const { return depth_; }
 
-  /// Nearest point of the cap of tip k (between spaces k and k + 1) to the body-frame point p.
+  /// Nearest point of the cap of tip k to the body-frame point p.
   CapFoot Nearest(const Eigen::Vector2d& p, int tip) const;
-  /// A point of the cap of tip k, body frame: w in [-1, 1] runs from the junction on space k + 1's
-  /// side (w = -1) over the tip to the junction on space k's side (w = 1), uniformly in arc length
-  /// (for drawings).
-  Eigen::Vector2d Point(double w, int tip) const;
+  /// A point of the cap of tip k, body frame, with its outward normal, curvature and piece
+  /// (distance 0): w in [-1, 1] runs from the junction on space k + 1's side (w = -1) over the tip
+  /// to the junction on space k's side (w = 1), uniformly in arc length (for drawings and tables).
+  CapFoot Point(double w, int tip) const;
   /// Length of one cap from junction to junction, mm.
   double length() const;
 
@@ -79,9 +88,13 @@ class TipCap {
   Eigen::Vector2d ToLocal(const Eigen::Vector2d& p, int tip) const;
   Eigen::Vector2d ToBody(const Eigen::Vector2d& local, int tip) const;
   Eigen::Vector2d DirToBody(const Eigen::Vector2d& local, int tip) const;
+  int SpaceOf(int tip, double side) const;
+  double JunctionOf(double side) const;
 
   TipRelief relief_;
   bool active_ = false;
+  bool ring_ = false;              // d < 0: tips at u = 0
+  double phi_max_ = 0.0;
   bool truncated_ = false;
   double junction_ = 0.0;
   double land_ = 0.0;
