@@ -180,3 +180,25 @@ TEST_CASE("app: stiffness of the Liu 5.2 base: lost motion is the twist between 
     }
   }
 }
+
+TEST_CASE("app: the [stiffness] section is read in internal units and defaults to the catalogue definitions") {
+  const Deck plain = ltca::app::LoadDeck(Case("liu2021_table1.toml"));
+  CHECK(plain.stiffness.steps == 41);
+  CHECK(plain.stiffness.rigidity == StiffnessSettings::Rigidity::kSecant);
+  CHECK(plain.stiffness.lost_motion_fraction == 0.03);
+  CHECK(!plain.stiffness.crank.has_value());
+  const Deck deck = ltca::app::LoadDeck(
+      Case("liu2021_table1.toml"), {"stiffness.steps_per_branch=21", "stiffness.rigidity=tangent", "stiffness.tangent_torque_nm=-150",
+                                    "stiffness.lost_motion_fraction=0.05", "stiffness.crank_deg=4.5"});
+  CHECK(deck.stiffness.steps == 21);
+  CHECK(deck.stiffness.rigidity == StiffnessSettings::Rigidity::kTangent);
+  CHECK(deck.stiffness.tangent_torque == -150e3);  // N*mm
+  CHECK(deck.stiffness.lost_motion_fraction == 0.05);
+  CHECK(*deck.stiffness.crank == doctest::Approx(ltca::units::DegToRad(4.5)).epsilon(1e-15));
+  // The levels are symmetric and hold zero and +-T / 2 when (steps - 1) / 2 is even.
+  StiffnessSettings five;
+  five.steps = 5;
+  five.crank = 0.0;
+  const StiffnessRunner runner(deck, Options("compatibility", ContactKinematics::kLinearised), five);
+  CHECK(runner.Levels() == std::vector<double>{-206e3, -103e3, 0.0, 103e3, 206e3});
+}

@@ -141,6 +141,9 @@ void WriteSvg(const app::StiffnessSummary& s, double rated, bool sweep, const st
     polyline("#e6b0aa", "stroke-width=\"1\"", [&](std::size_t i) { return s.curve_max[i]; });
   }
   polyline("#c0392b", "stroke-width=\"2\"", [&](std::size_t i) { return s.curve[i].twist; });
+  // The read-off values: drawn on the loop, named in a legend in the empty quadrant (twist < 0,
+  // torque > 0).
+  std::vector<std::pair<const char*, std::string>> legend;
   // Backlash: the width at zero torque (the two zero-torque points of the increasing branch).
   std::vector<double> zero;
   for (const auto& p : s.curve) {
@@ -149,30 +152,35 @@ void WriteSvg(const app::StiffnessSummary& s, double rated, bool sweep, const st
   if (zero.size() == 2) {
     fmt::print(os, "<line x1=\"{:.2f}\" x2=\"{:.2f}\" y1=\"{:.2f}\" y2=\"{:.2f}\" stroke=\"#2c3e50\" stroke-width=\"3\"/>\n",
                x(zero[0]), x(zero[1]), y(0.0), y(0.0));
-    fmt::print(os, "<text x=\"{:.2f}\" y=\"{:.2f}\">backlash {:.4g} arcmin</text>\n", x(std::max(zero[0], zero[1])) + 6,
-               y(0.0) + 14, std::abs(zero[1] - zero[0]));
+    legend.emplace_back("#2c3e50", fmt::format("backlash {:.4g} arcmin (loop width at zero torque)", RadToArcmin(s.backlash.mean)));
   }
   // Read-offs: secant (or tangent) points joined; lost motion between the +-f T points.
   const auto& r = s.readoffs;
-  const auto mark = [&](const app::CurvePoint& a, const app::CurvePoint& b, const char* colour, const std::string& label) {
+  const auto mark = [&](const app::CurvePoint& a, const app::CurvePoint& b, const char* colour) {
     if (!std::isfinite(a.twist) || !std::isfinite(b.twist)) return;
     fmt::print(os, "<line x1=\"{:.2f}\" x2=\"{:.2f}\" y1=\"{:.2f}\" y2=\"{:.2f}\" stroke=\"{}\" stroke-width=\"2\" stroke-dasharray=\"5,3\"/>\n",
                x(RadToArcmin(a.twist)), x(RadToArcmin(b.twist)), y(NmmToNm(a.torque)), y(NmmToNm(b.torque)), colour);
     for (const auto* p : {&a, &b}) {
       fmt::print(os, "<circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3\" fill=\"{}\"/>\n", x(RadToArcmin(p->twist)), y(NmmToNm(p->torque)), colour);
     }
-    fmt::print(os, "<text x=\"{:.2f}\" y=\"{:.2f}\" fill=\"{}\">{}</text>\n", x(RadToArcmin(std::max(a.twist, b.twist))) + 6,
-               y(NmmToNm(std::max(a.torque, b.torque))) + 4, colour, label);
   };
   if (r.size() == 6) {  // secant: +T, +T/2, -T/2, -T, then lost motion
-    const std::string k = fmt::format("rigidity {:.4g} N*m/arcmin", RigidityNmPerArcmin(s.rigidity.mean));
-    mark(r[1], r[0], "#2471a3", k);
-    mark(r[3], r[2], "#2471a3", "");
+    mark(r[1], r[0], "#2471a3");
+    mark(r[3], r[2], "#2471a3");
+    legend.emplace_back("#2471a3", fmt::format("torsional rigidity {:.4g} N*m/arcmin (secant 50 % .. 100 % of T)",
+                                               RigidityNmPerArcmin(s.rigidity.mean)));
   } else if (r.size() == 4) {  // tangent: two torques, then lost motion
-    mark(r[1], r[0], "#2471a3", fmt::format("tangent rigidity {:.4g} N*m/arcmin", RigidityNmPerArcmin(s.rigidity.mean)));
+    mark(r[1], r[0], "#2471a3");
+    legend.emplace_back("#2471a3", fmt::format("torsional rigidity {:.4g} N*m/arcmin (tangent)", RigidityNmPerArcmin(s.rigidity.mean)));
   }
   if (r.size() >= 2) {
-    mark(r[r.size() - 1], r[r.size() - 2], "#1e8449", fmt::format("lost motion {:.4g} arcmin", RadToArcmin(s.lost_motion.mean)));
+    mark(r[r.size() - 1], r[r.size() - 2], "#1e8449");
+    legend.emplace_back("#1e8449", fmt::format("lost motion {:.4g} arcmin (at +-{:.3g} % of T)", RadToArcmin(s.lost_motion.mean),
+                                               100.0 * NmmToNm(r.back().torque) / -t_nm));
+  }
+  for (std::size_t i = 0; i < legend.size(); ++i) {
+    fmt::print(os, "<text x=\"{}\" y=\"{}\" fill=\"{}\">{}</text>\n", pad + 8, pad + 16 + 15 * static_cast<double>(i),
+               legend[i].first, legend[i].second);
   }
   os << "</svg>\n";
 }
