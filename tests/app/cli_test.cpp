@@ -761,3 +761,21 @@ TEST_CASE("cli: ltca stiffness rejects bad settings naming the key, the value an
     CHECK(r.err.find(message) != std::string::npos);
   }
 }
+
+TEST_CASE("cli: ltca stiffness exits 1 with null figures where a solve failed, keeping the figures valid solves produced") {
+  // cases/hard/law_cannot_carry.toml: 5e6 N*m is beyond what the sagitta law carries, so the levels
+  // +-T and +-T / 2 fail (law-cannot-carry) and the rigidity is null; the lost motion (+-3 % of T)
+  // and the backlash (zero torque) come from valid solves.
+  const auto r = RunCli({"stiffness", Case("hard/law_cannot_carry.toml"), "--crank-deg", "0", "--steps", "5", "--json", "-"});
+  CHECK(r.code == 1);
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& s = j["summary"];
+  CHECK(s["status"] == "failed");
+  CHECK(s["failed_positions"] == 1);
+  CHECK(s["torsional_rigidity_nm_per_arcmin"].is_null());
+  CHECK(s["lost_motion_arcmin"].is_number());
+  CHECK(s["backlash_arcmin"].is_number());
+  CHECK(s["first_failure"].get<std::string>().find("law-cannot-carry") != std::string::npos);
+  CHECK(j["positions"][0]["curve"][0]["twist_arcmin"].is_null());
+  CHECK(r.err.find("n/a N*m/arcmin") != std::string::npos);
+}
