@@ -676,3 +676,106 @@ TEST_CASE("cli: the slice model's JSON and --pattern-csv carry the pin x slice p
     }
   }
 }
+
+TEST_CASE("cli: ltca stiffness writes the loop, its read-offs and a backlash equal to ltca backlash") {
+  // Liu 5.2 base over 5 positions of the mesh period, linearised (the deck's kinematics): the
+  // backlash of every position is that of `ltca backlash --kinematics linearised` (same cranks).
+  const std::string deck = Case("liu2021_sec52_base.toml");
+  const auto dir = FreshFolder("stiffness");
+  const auto r = RunCli({"stiffness", deck, "--set", "sweep.positions=5", "--solver", "compatibility", "--json", "-", "--csv",
+                         (dir / "loop.csv").string(), "--svg", (dir / "loop.svg").string()});
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const auto b = RunCli({"backlash", deck, "--set", "sweep.positions=5", "--kinematics", "linearised", "--json", "-"});
+  REQUIRE(b.code == 0);
+  const auto bj = nlohmann::json::parse(b.out);
+  REQUIRE(j["positions"].size() == 5);
+  for (std::size_t i = 0; i < 5; ++i) {
+    const auto& p = j["positions"][i];
+    CHECK(p["crank_deg"].get<double>() == doctest::Approx(bj["positions"][i]["crank_deg"].get<double>()).epsilon(1e-12));
+    CHECK(p["backlash_arcmin"].get<double>() ==
+          doctest::Approx(bj["positions"][i]["backlash_arcsec"].get<double>() / 60.0).epsilon(1e-9));
+    CHECK(p["curve"].size() == 84);  // 2 x 41 levels, zero torque twice on each branch
+    CHECK(p["status"] == "success");
+  }
+  const auto& s = j["summary"];
+  for (const char* key : {"torsional_rigidity_nm_per_arcmin", "lost_motion_arcmin", "backlash_arcmin"}) {
+    CAPTURE(key);
+    REQUIRE(s[key].is_number());
+    CHECK(s[std::string(key) + "_min"].get<double>() <= s[key].get<double>());
+    CHECK(s[std::string(key) + "_max"].get<double>() >= s[key].get<double>());
+  }
+  CHECK(s["backlash_arcmin"].get<double>() == doctest::Approx(bj["summary"]["mean_backlash_arcsec"].get<double>() / 60.0).epsilon(1e-9));
+  CHECK(s["hysteresis"] == false);
+  CHECK(s["note"].get<std::string>().find("no friction") != std::string::npos);
+  CHECK(s["curve"].size() == 84);
+  CHECK(s["curve"][0]["torque_nm"].get<double>() == -206.0);
+  CHECK(s["curve"][0]["branch"] == "increasing");
+  CHECK(s["curve"][83]["branch"] == "decreasing");
+  CHECK(j["solver"]["name"] == "compatibility");
+  CHECK(j["model"]["name"] == "plane");
+  CHECK(j["stiffness"]["steps_per_branch"] == 41);
+  // CSV: a row per curve point and position; SVG: the loop with its marks.
+  std::istringstream csv(ReadText(dir / "loop.csv"));
+  std::string line;
+  int rows = 0;
+  std::getline(csv, line);
+  CHECK(line == "crank_deg,branch,torque_nm,twist_arcmin,status");
+  while (std::getline(csv, line)) ++rows;
+  CHECK(rows == 5 * 84);
+  const std::string svg = ReadText(dir / "loop.svg");
+  for (const char* mark : {"<svg", "torque (N*m)", "twist (arcmin", "backlash", "lost motion", "rigidity"}) {
+    CAPTURE(mark);
+    CHECK(svg.find(mark) != std::string::npos);
+  }
+  // One crank: no _min / _max.
+  const auto one = RunCli({"stiffness", deck, "--crank-deg", "2", "--steps", "5", "--json", "-"});
+  REQUIRE(one.code == 0);
+  const auto oj = nlohmann::json::parse(one.out);
+  CHECK(oj["summary"].contains("backlash_arcmin"));
+  CHECK(!oj["summary"].contains("backlash_arcmin_min"));
+  CHECK(oj["summary"]["curve"].size() == 12);
+  CHECK(oj["stiffness"]["crank_deg"] == 2.0);
+}
+
+TEST_CASE("cli: ltca stiffness rejects bad settings naming the key, the value and what is expected") {
+  const std::string deck = Case("liu2021_table1.toml");
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--steps", "40"}, "steps_per_branch = 40: expected an odd integer"},
+      {{"--set", "stiffness.steps_per_branch=1"}, "steps_per_branch = 1: expected an odd integer"},
+      {{"--rigidity", "tangent"}, "tangent_torque_nm = nan: expected a finite torque other than 0"},
+      {{"--rigidity", "tangent", "--tangent-torque-nm", "0"}, "tangent_torque_nm = 0: expected"},
+      {{"--lost-motion-fraction", "1.5"}, "lost_motion_fraction = 1.5: expected a fraction"},
+      {{"--set", "stiffness.rigidity=chord"}, "rigidity = \"chord\": expected \"secant\" or \"tangent\""},
+      {{"--set", "stiffness.bogus=1"}, "[stiffness] unknown key 'bogus'"},
+      {{"--set", "load.torque_nm=0"}, "torque_nm = 0: expected the rated torque"},
+      {{"--crank-deg", "nan"}, "--crank-deg"},
+  };
+  for (const auto& [args, message] : cases) {
+    std::vector<std::string> all = {"stiffness", deck, "--json", "-"};
+    all.insert(all.end(), args.begin(), args.end());
+    CAPTURE(message);
+    const auto r = RunCli(all);
+    CHECK(r.code == 2);
+    CHECK(r.out.empty());
+    CHECK(r.err.find(message) != std::string::npos);
+  }
+}
+
+TEST_CASE("cli: ltca stiffness exits 1 with null figures where a solve failed, keeping the figures valid solves produced") {
+  // cases/hard/law_cannot_carry.toml: 5e6 N*m is beyond what the sagitta law carries, so the levels
+  // +-T and +-T / 2 fail (law-cannot-carry) and the rigidity is null; the lost motion (+-3 % of T)
+  // and the backlash (zero torque) come from valid solves.
+  const auto r = RunCli({"stiffness", Case("hard/law_cannot_carry.toml"), "--crank-deg", "0", "--steps", "5", "--json", "-"});
+  CHECK(r.code == 1);
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& s = j["summary"];
+  CHECK(s["status"] == "failed");
+  CHECK(s["failed_positions"] == 1);
+  CHECK(s["torsional_rigidity_nm_per_arcmin"].is_null());
+  CHECK(s["lost_motion_arcmin"].is_number());
+  CHECK(s["backlash_arcmin"].is_number());
+  CHECK(s["first_failure"].get<std::string>().find("law-cannot-carry") != std::string::npos);
+  CHECK(j["positions"][0]["curve"][0]["twist_arcmin"].is_null());
+  CHECK(r.err.find("n/a N*m/arcmin") != std::string::npos);
+}

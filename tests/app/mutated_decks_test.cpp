@@ -636,6 +636,7 @@ TEST_CASE("cli: every command on 330 mutated decks from cases/ succeeds, exits 1
     std::vector<std::vector<std::string>> commands = {
         {"geometry"}, {"backlash"}, {"mesh"}, {"solve"}};
     if (i % kCompareEvery == 0) commands.push_back({"compare"});
+    if (i % kCompareEvery == 1) commands.push_back({"stiffness"});  // issue 13: the torque loop
     for (auto& c : commands) {
       Job job;
       job.mutant = i;

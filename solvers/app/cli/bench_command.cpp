@@ -23,6 +23,7 @@
 #include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/app/bench.hpp"
 #include "ltca/app/slice_study.hpp"
+#include "ltca/app/stiffness.hpp"
 #include "ltca/app/sweep.hpp"
 
 #ifndef LTCA_BUILD_TYPE
@@ -182,6 +183,23 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
     counts.push_back(n);
     sweep_seconds.push_back(best);
   }
+  // Issue 13: the whole torque-twist loop of `ltca stiffness`, 2 x 41 levels over one mesh period
+  // of 91 positions (plus the read-off solves), Liu 5.2 base, linearised, the fastest solver.
+  double loop_seconds = 1e300;
+  std::int64_t loop_solves = 0;
+  {
+    const app::Deck deck = app::LoadDeck(fs::path(LTCA_CASES_DIR) / "liu2021_sec52_base.toml");
+    solvers::SolverOptions o = deck.solver;
+    o.name = "compatibility";
+    o.kinematics = ContactKinematics::kLinearised;
+    for (int r = 0; r < matrix.repeats; ++r) {
+      app::StiffnessRunner runner(deck, o, app::StiffnessSettings{});
+      for (const double crank : runner.cranks()) runner.Solve(crank);
+      const app::StiffnessSummary s = runner.Summary();
+      loop_seconds = std::min(loop_seconds, s.all_succeeded() ? s.wall_seconds : 1e300);
+      loop_solves = s.solves;
+    }
+  }
   // Face-width slices (issue 11): the Liu Table 1 pair under phi = 0.02 deg (uncoupled) and with
   // pin bending, linearised, against the slice count; errors against 200 slices.
   const std::vector<int> slice_counts = {5, 10, 20, 50, 100, 200};
@@ -319,6 +337,10 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
     fmt::print(md, "| peak resident memory of a full Liu Table 1 sweep (analytic) < 50 MB | {} | {} |\n",
                rss_mb > 0 ? fmt::format("{:.1f} MB (`ltca solve`, its own process)", rss_mb) : "not measured",
                rss_mb > 0 ? verdict(rss_mb < 50.0) : "**missed**");
+    fmt::print(md, "| the stiffness loop (issue 13): 2 x 41 torque levels x 91 positions (Liu 5.2 base), linearised, "
+                   "fastest solver (compatibility), under 1 s | {} ({} solves with the read-offs) | {} |\n",
+               loop_seconds < 1e300 ? fmt::format("{:.3f} s", loop_seconds) : std::string("failed"), loop_solves,
+               verdict(loop_seconds < 1.0));
     // Issue 11: the slice model.
     const auto at = [](const std::vector<app::SliceStudyRow>& rows, int n) -> const app::SliceStudyRow& {
       return *std::find_if(rows.begin(), rows.end(), [n](const app::SliceStudyRow& r) { return r.slices == n; });

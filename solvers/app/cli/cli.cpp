@@ -20,6 +20,7 @@
 #include "geometry_command.hpp"
 #include "output.hpp"
 #include "solve_command.hpp"
+#include "stiffness_command.hpp"
 #include "validate_command.hpp"
 #include "ltca/solvers/registry.hpp"
 #include "ltca/app/deck.hpp"
@@ -74,6 +75,16 @@ const CLI::Validator kCrankAngle(
       return {};
     },
     "DEG, finite, |DEG| <= 3600");
+
+/// The inputs of a command that solves loads: --set, the deck, --solver and --kinematics.
+void AddLoadInputs(CLI::App* command, std::vector<std::string>& overrides, std::string& deck_path, std::string& solver,
+                   std::string& kinematics) {
+  command->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
+  command->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
+  command->add_option("--solver", solver, "Solver name (default: the deck's [solver] name)");
+  command->add_option("--kinematics", kinematics, "linearised or exact (default: the deck's)")
+      ->check(CLI::IsMember({"exact", "linearised"}));
+}
 
 constexpr const char* kFooter =
     "Exit codes:\n"
@@ -160,17 +171,42 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "{mean_te_arcsec, pp_te_arcsec, contacts_min, contacts_max, max_pin_force_n, max_contact_stress_mpa, "
       "wall_seconds, status, positions, succeeded_positions, failed_positions}. A failed position's figures "
       "are null; the summary's are over the successful positions only (null when none succeeded).");
-  solve->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
-  solve->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
-  solve->add_option("--solver", solve_options.solver, "Solver name (default: the deck's [solver] name)");
-  solve->add_option("--kinematics", solve_options.kinematics, "linearised or exact (default: the deck's)")
-      ->check(CLI::IsMember({"exact", "linearised"}));
+  AddLoadInputs(solve, overrides, deck_path, solve_options.solver, solve_options.kinematics);
   solve->add_option("--json", solve_options.json_path, "Write summary and positions as JSON ('-': stdout)")->type_name("FILE|-");
   solve->add_option("--csv", solve_options.csv_path, "Write one row per position as CSV")->type_name("FILE|-");
   solve->add_option("--svg", solve_options.svg_path, "Draw the TE over the sweep and the load distribution")->type_name("FILE|-");
   solve->add_option("--pattern-csv", solve_options.pattern_csv_path,
                     "Write the contact pattern as CSV: one row per position, pin and slice (force, stress, z)")
       ->type_name("FILE|-");
+
+  StiffnessOptions stiffness_options;
+  CLI::App* stiffness = app.add_subcommand(
+      "stiffness",
+      "Torsional stiffness, lost motion and backlash (issue 13, docs/stiffness.md): with the crank locked, the "
+      "output torque runs from -T to +T and back (T = |[load] torque_nm|, the rated torque) and the twist of the "
+      "output (the cycloid about its centre, in the sense of +T from the theoretical position, -TE) is read at each "
+      "level, at one crank (--crank-deg) or at every position of the deck's sweep (mean, min, max). Summary keys "
+      "torsional_rigidity_nm_per_arcmin, lost_motion_arcmin, backlash_arcmin (for a sweep also _min, _max), "
+      "curve [{torque_nm, twist_arcmin, branch}], hysteresis. Options replace the deck's [stiffness] keys.");
+  AddLoadInputs(stiffness, overrides, deck_path, stiffness_options.solver, stiffness_options.kinematics);
+  stiffness->add_option("--crank-deg", stiffness_options.crank_deg,
+                        "One crank angle in degrees ([stiffness] crank_deg; default: the deck's sweep)")
+      ->check(kCrankAngle);
+  stiffness->add_option("--steps", stiffness_options.steps,
+                        "Torque levels per branch from -T to +T, odd ([stiffness] steps_per_branch, default 41)");
+  stiffness->add_option("--rigidity", stiffness_options.rigidity,
+                        "secant (between 50 % and 100 % of T on each flank, default) or tangent ([stiffness] rigidity)")
+      ->check(CLI::IsMember({"secant", "tangent"}));
+  stiffness->add_option("--tangent-torque-nm", stiffness_options.tangent_torque_nm,
+                        "Torque of the tangent rigidity in N*m, signed ([stiffness] tangent_torque_nm)");
+  stiffness->add_option("--lost-motion-fraction", stiffness_options.lost_motion_fraction,
+                        "Lost motion at +-this fraction of T ([stiffness] lost_motion_fraction, default 0.03)");
+  stiffness->add_option("--json", stiffness_options.json_path, "Write the positions and the summary as JSON ('-': stdout)")
+      ->type_name("FILE|-");
+  stiffness->add_option("--csv", stiffness_options.csv_path,
+                        "Write the curve as CSV: crank_deg, branch, torque_nm, twist_arcmin, status")
+      ->type_name("FILE|-");
+  stiffness->add_option("--svg", stiffness_options.svg_path, "Draw the loop with the read-off values")->type_name("FILE|-");
 
   CompareOptions compare_options;
   CLI::App* compare = app.add_subcommand(
@@ -232,7 +268,8 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
        {&geometry_options.json_path, &geometry_options.csv_path, &geometry_options.svg_path, &backlash_options.json_path,
         &backlash_options.csv_path, &mesh_options.json_path, &solve_options.json_path, &solve_options.csv_path,
         &solve_options.svg_path, &solve_options.pattern_csv_path, &compare_options.json_path, &validate_options.markdown_path,
-        &default_options.json_path, &default_options.csv_path, &default_options.svg_path}) {
+        &default_options.json_path, &default_options.csv_path, &default_options.svg_path, &stiffness_options.json_path,
+        &stiffness_options.csv_path, &stiffness_options.svg_path}) {
     to_stdout = to_stdout || *path == "-";
   }
   // The progress line only where a person watches: the process's own stderr, a terminal.
@@ -248,6 +285,8 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     } else if (compare->parsed()) {
       for (const auto& name : compare_options.solvers) solvers::MakeSolver(name);  // names checked first
       code = RunCompare(ReadDeck(deck_path, overrides), compare_options, streams);
+    } else if (stiffness->parsed()) {
+      code = RunStiffness(ReadDeck(deck_path, overrides), stiffness_options, streams);
     } else if (solve->parsed()) {
       code = RunSolve(ReadDeck(deck_path, overrides), solve_options, streams);
     } else if (backlash->parsed()) {
@@ -260,7 +299,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     } else {
       if (!deck_path.empty() && !std::filesystem::exists(deck_path)) {
         throw std::invalid_argument(fmt::format(
-            "'{}' is neither a command (geometry, backlash, mesh, solve, compare, validate, bench) nor a deck file",
+            "'{}' is neither a command (geometry, backlash, mesh, solve, stiffness, compare, validate, bench) nor a deck file",
             deck_path));
       }
       const app::Deck deck = ReadDeck(deck_path, overrides);

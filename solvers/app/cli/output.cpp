@@ -126,6 +126,22 @@ std::string Dump(const nlohmann::json& doc, int indent) {
   return doc.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+std::string Nested(const std::string& text) {
+  std::string r;
+  for (const char c : text) {
+    r += c;
+    if (c == '\n') r += "  ";
+  }
+  return r;
+}
+
+std::string OpenObject(const nlohmann::json& header) {
+  std::string text = Dump(header);
+  text.erase(text.rfind('}'));
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  return text;
+}
+
 nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 std::string FormatOrNa(double v, int decimals) {

@@ -65,6 +65,12 @@ void RequireOneStdout(const std::vector<std::pair<std::string, std::string>>& op
 /// JSON text of a document: invalid UTF-8 (a deck path with other bytes) is replaced, never an error.
 std::string Dump(const nlohmann::json& doc, int indent = 2);
 
+/// Indents every line but the first by two spaces (a document nested one level).
+std::string Nested(const std::string& text);
+/// The text of a JSON object (Dump, indent 2) without its closing brace, so that a streamed
+/// document can go on with more members (positions, then the summary).
+std::string OpenObject(const nlohmann::json& header);
+
 /// NaN or infinite: JSON null.
 nlohmann::json FiniteOrNull(double v);
 /// A figure in text, or "n/a" when it is not finite (no valid solve produced it).

@@ -19,10 +19,6 @@ namespace {
 using units::RadToArcsec;
 using units::RadToDeg;
 
-const char* KinematicsName(contact::ContactKinematics k) {
-  return k == contact::ContactKinematics::kExact ? "exact" : "linearised";
-}
-
 double MaxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 
 /// A position as JSON: the figures of a failed solve are null, its status and message kept.
@@ -89,16 +85,6 @@ nlohmann::json SummaryJson(const app::SweepSummary& s, const app::Deck::ModelInf
   return j;
 }
 
-/// Indents every line but the first by two spaces (a document nested one level).
-std::string Nested(const std::string& text) {
-  std::string r;
-  for (const char c : text) {
-    r += c;
-    if (c == '\n') r += "  ";
-  }
-  return r;
-}
-
 /// What the SVG needs, kept compactly while the sweep streams by.
 struct SvgData {
   std::vector<std::pair<double, double>> te;  ///< (crank deg, te arcsec) of successful positions
@@ -159,6 +145,35 @@ std::string CsvFigure(bool ok, double v) { return ok && std::isfinite(v) ? fmt::
 
 }  // namespace
 
+const char* KinematicsName(contact::ContactKinematics k) {
+  return k == contact::ContactKinematics::kExact ? "exact" : "linearised";
+}
+
+solvers::SolverOptions SolverFor(const app::Deck& deck, const std::string& name, const std::string& kinematics) {
+  solvers::SolverOptions solver = deck.solver;
+  if (!name.empty()) solver.name = name;
+  if (!kinematics.empty()) solver.kinematics = ParseKinematics(kinematics);
+  return solver;
+}
+
+nlohmann::json SolverJson(const app::Deck& deck, const solvers::SolverOptions& solver) {
+  return {{"name", solver.name},
+          {"kinematics", KinematicsName(solver.kinematics)},
+          {"torque_tolerance", solver.torque_tolerance},
+          {"law", contact::ToString(deck.contact.law)},
+          {"rho_convention", contact::ToString(deck.contact.rho_convention)}};
+}
+
+std::string SolverLine(const app::Deck& deck, const solvers::SolverOptions& solver) {
+  return fmt::format("solver    {} ({} kinematics, torque tolerance {:g}), law {} / {}\n", solver.name,
+                     KinematicsName(solver.kinematics), solver.torque_tolerance, contact::ToString(deck.contact.law),
+                     contact::ToString(deck.contact.rho_convention));
+}
+
+nlohmann::json CaseJson(const app::Deck& deck) {
+  return {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}};
+}
+
 std::string FailureNote(const app::SweepSummary& s) {
   if (s.failed == 0) return {};
   if (s.succeeded == 0) return fmt::format("failed positions       all {} (no figure below is an answer)\n", s.positions());
@@ -167,9 +182,7 @@ std::string FailureNote(const app::SweepSummary& s) {
 }
 
 int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& streams, const JsonEnvelope& envelope) {
-  solvers::SolverOptions solver = deck.solver;
-  if (!options.solver.empty()) solver.name = options.solver;
-  if (!options.kinematics.empty()) solver.kinematics = ParseKinematics(options.kinematics);
+  const solvers::SolverOptions solver = SolverFor(deck, options.solver, options.kinematics);
   RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path},
                     {"--pattern-csv", options.pattern_csv_path}});
   // Outputs first: an unwritable path is an error before anything is computed.
@@ -186,17 +199,8 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
     started = true;
     if (json.enabled()) {
       nlohmann::json header = {
-          {"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
-          {"model", ModelJson(deck.Model())},
-          {"solver", {{"name", solver.name},
-                      {"kinematics", KinematicsName(solver.kinematics)},
-                      {"torque_tolerance", solver.torque_tolerance},
-                      {"law", contact::ToString(deck.contact.law)},
-                      {"rho_convention", contact::ToString(deck.contact.rho_convention)}}}};
-      std::string text = Dump(header);
-      text.erase(text.rfind('}'));  // the object stays open for the positions and the summary
-      while (!text.empty() && text.back() == '\n') text.pop_back();
-      json.stream() << envelope.before << text << ",\n  \"positions\": [";
+          {"case", CaseJson(deck)}, {"model", ModelJson(deck.Model())}, {"solver", SolverJson(deck, solver)}};
+      json.stream() << envelope.before << OpenObject(header) << ",\n  \"positions\": [";
     }
     if (csv.enabled()) csv.stream() << "crank_deg,te_arcsec,contacts,max_pin_force_n,max_contact_stress_mpa,status\n";
     if (pattern.enabled()) pattern.stream() << "crank_deg,pin,slice,z_mm,force_n,contact_stress_mpa,status\n";
@@ -249,9 +253,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
   std::ostream& text = streams.text;
   fmt::print(text, "case      {}\n", deck.info.title);
   text << ModelLine(deck);
-  fmt::print(text, "solver    {} ({} kinematics, torque tolerance {:g}), law {} / {}\n", sweep.solver,
-             KinematicsName(solver.kinematics), solver.torque_tolerance, contact::ToString(deck.contact.law),
-             contact::ToString(deck.contact.rho_convention));
+  text << SolverLine(deck, solver);
   fmt::print(text, "status                 {}\n", solvers::ToString(s.status));
   text << FailureNote(s);
   if (s.warned > 0) fmt::print(text, "warnings               {} positions, first at {}\n", s.warned, s.first_warning);

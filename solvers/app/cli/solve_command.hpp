@@ -2,6 +2,8 @@
 #include <ostream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "ltca/app/deck.hpp"
 #include "ltca/app/sweep.hpp"
 #include "output.hpp"
@@ -25,6 +27,16 @@ struct JsonEnvelope {
 /// succeeded, kExitNotSucceeded otherwise (the outputs are complete either way).
 int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& streams,
              const JsonEnvelope& envelope = {});
+
+/// The deck's [solver] with the command line's --solver and --kinematics ("" keeps the deck's).
+solvers::SolverOptions SolverFor(const app::Deck& deck, const std::string& name, const std::string& kinematics);
+const char* KinematicsName(contact::ContactKinematics kinematics);
+/// The solver that ran as JSON: {name, kinematics, torque_tolerance, law, rho_convention}.
+nlohmann::json SolverJson(const app::Deck& deck, const solvers::SolverOptions& solver);
+/// "solver    name (kinematics, torque tolerance), law / rho convention\n".
+std::string SolverLine(const app::Deck& deck, const solvers::SolverOptions& solver);
+/// The deck as JSON: {title, source, deck}.
+nlohmann::json CaseJson(const app::Deck& deck);
 
 /// The "n of m positions failed" lines of the text summary ("" when none failed).
 std::string FailureNote(const app::SweepSummary& summary);

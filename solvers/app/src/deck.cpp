@@ -579,7 +579,51 @@ Sweep ReadSweep(const Section& s, const geometry::PairParameters& pair) {
   return sweep;
 }
 
+StiffnessSettings ReadStiffness(const Section& s) {
+  StiffnessSettings st;
+  st.steps = s.Integer("steps_per_branch", st.steps, "torque levels per branch from -T to +T, odd");
+  const std::string rigidity = s.String("rigidity", "secant", "secant | tangent");
+  if (rigidity == "secant") st.rigidity = StiffnessSettings::Rigidity::kSecant;
+  else if (rigidity == "tangent") st.rigidity = StiffnessSettings::Rigidity::kTangent;
+  else throw std::invalid_argument(fmt::format("[stiffness] rigidity = \"{}\": expected \"secant\" or \"tangent\"", rigidity));
+  if (s.Has("tangent_torque_nm")) {
+    st.tangent_torque = units::NmToNmm(s.Real("tangent_torque_nm", "torque of the tangent rigidity in N*m"));
+  }
+  st.lost_motion_fraction =
+      s.Real("lost_motion_fraction", st.lost_motion_fraction, "fraction of T at which lost motion is read");
+  if (s.Has("crank_deg")) st.crank = units::DegToRad(s.Real("crank_deg", "one crank angle in deg"));
+  st.Validate();
+  return st;
+}
+
 }  // namespace
+
+void StiffnessSettings::Validate() const {
+  if (steps < 3 || steps > kMaxSteps || steps % 2 == 0) {
+    throw std::invalid_argument(fmt::format(
+        "[stiffness] steps_per_branch = {}: expected an odd integer from 3 to {} (torque levels from -T to +T, "
+        "zero among them)",
+        steps, kMaxSteps));
+  }
+  if (rigidity == Rigidity::kTangent && !(std::isfinite(tangent_torque) && tangent_torque != 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "[stiffness] tangent_torque_nm = {}: expected a finite torque other than 0 in N*m with rigidity = \"tangent\" "
+        "(the free play at zero torque has no slope)",
+        units::NmmToNm(tangent_torque)));
+  }
+  if (!(lost_motion_fraction > 0.0 && lost_motion_fraction < 1.0)) {
+    throw std::invalid_argument(fmt::format(
+        "[stiffness] lost_motion_fraction = {}: expected a fraction of the rated torque between 0 and 1 "
+        "(exclusive; catalogues use 0.03)",
+        lost_motion_fraction));
+  }
+  const double max_crank = units::DegToRad(DeckLimits::kMaxCrankDeg);
+  if (crank && !(std::isfinite(*crank) && std::abs(*crank) <= max_crank)) {
+    throw std::invalid_argument(fmt::format(
+        "[stiffness] crank_deg = {}: expected a finite crank angle within +-{} deg (docs/decks.md, Limits)",
+        units::RadToDeg(*crank), DeckLimits::kMaxCrankDeg));
+  }
+}
 
 void LoadCase::Validate() const {
   if (!std::isfinite(torque)) {
@@ -691,7 +735,7 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     ApplyOverrides(root_value, overrides);
     const toml::table& root = root_value.as_table();
     const std::vector<std::string> sections = {"case",     "pair", "modification", "errors", "contact", "geometry",
-                                               "material", "pins", "load",         "sweep",  "solver"};
+                                               "material", "pins", "load",         "sweep",  "solver", "stiffness"};
     for (const auto& [key, unused] : root) {
       if (std::find(sections.begin(), sections.end(), key) == sections.end()) {
         throw std::invalid_argument(fmt::format("unknown section or key '{}'; expected one of: {}",
@@ -753,6 +797,9 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     deck.sweep = ReadSweep(
         Section(Find(root, "sweep"), "sweep", {"crank_start_deg", "crank_end_deg", "positions"}),
         deck.pair);
+    deck.stiffness = ReadStiffness(Section(Find(root, "stiffness"), "stiffness",
+                                           {"steps_per_branch", "rigidity", "tangent_torque_nm",
+                                            "lost_motion_fraction", "crank_deg"}));
     // The geometry must be realisable: this rejects undercut (looped) profiles, also when the
     // profile layer of [errors] is what makes them loop.
     const geometry::RealPair real = deck.MakeRealPair();  // analytic: cheap to check

@@ -5,6 +5,7 @@
 // rad) on reading.
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -69,6 +70,29 @@ struct Sweep {
   std::vector<double> CrankAngles() const;
 };
 
+/// [stiffness]: the torque-twist loop of `ltca stiffness` (issue 13, docs/stiffness.md). The torque
+/// runs from -T to +T and back, T = |[load] torque_nm| (the rated torque).
+struct StiffnessSettings {
+  static constexpr int kMaxSteps = 10'001;
+  /// Torque levels per branch from -T to +T inclusive (deck: steps_per_branch): odd, so that zero
+  /// and the levels +-T / 2 of an (n - 1) / 4 grid are on it; 3 .. kMaxSteps.
+  int steps = 41;
+  enum class Rigidity {
+    kSecant,   ///< between 50 % and 100 % of T on each flank (catalogue definition, the default)
+    kTangent,  ///< the slope at tangent_torque
+  };
+  Rigidity rigidity = Rigidity::kSecant;  ///< deck: rigidity = "secant" | "tangent"
+  /// N*mm, signed (deck: tangent_torque_nm): where the tangent rigidity is taken; finite, not zero
+  /// (the free play has no slope). Required when rigidity is tangent.
+  double tangent_torque = std::numeric_limits<double>::quiet_NaN();
+  /// Lost motion is read at +-fraction T (deck: lost_motion_fraction, default 3 %), in (0, 1).
+  double lost_motion_fraction = 0.03;
+  /// One crank angle, rad (deck: crank_deg); empty: every position of [sweep].
+  std::optional<double> crank;
+  /// Throws std::invalid_argument naming the key, the value and what is expected.
+  void Validate() const;
+};
+
 struct Deck {
   std::string name;  ///< file path, or "built-in default"
   CaseInfo info;
@@ -90,6 +114,7 @@ struct Deck {
   std::optional<contact::Material> material;  ///< required by the load commands
   std::optional<LoadCase> load;               ///< required by the load commands
   Sweep sweep;
+  StiffnessSettings stiffness;                 ///< [stiffness], optional (ltca stiffness)
 
   /// The pair as made: modification and [errors] applied once (geometry::RealPair); every
   /// command builds this one.

@@ -1,0 +1,119 @@
+#pragma once
+// The torque-twist loop of a stage (issue 13, docs/stiffness.md): with the input (crank) locked,
+// the output torque runs from -T to +T and back, T the rated torque (|[load] torque_nm|), and the
+// twist of the output is read at every level. Twist: the cycloid's rotation about its centre in
+// the sense of +T, measured from the theoretical position (= -TE, docs/conventions.md), the
+// unloaded free play included. From the loop, as reducer catalogues state them (Nabtesco RV
+// catalogue, "torsional rigidity, lost motion and backlash"):
+//  - torsional rigidity: b / a, the torque step b = T / 2 between 50 % and 100 % of T over the
+//    twist a it causes, on each flank; the stage's figure takes both flanks, T / (a_drive + a_coast)
+//    (or, as an option, the tangent at a given torque);
+//  - lost motion: the twist between the midpoints of the loop at +-3 % of T;
+//  - backlash: the width of the loop at zero torque.
+// At exactly zero torque the output rests at the first contact of the flank it comes from, so
+// the loop's width there is the backlash of the unloaded analysis (Liu 2021 eq. 17). The solvers
+// have no friction: the loading and unloading branches coincide (no hysteresis), and the result
+// says so with the largest difference found between them.
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ltca/app/deck.hpp"
+
+namespace ltca::app {
+
+/// Which way the torque runs on a branch of the loop.
+enum class Branch {
+  kIncreasing,  ///< from -T to +T
+  kDecreasing,  ///< from +T back to -T
+};
+const char* ToString(Branch branch);  ///< "increasing" | "decreasing"
+
+struct CurvePoint {
+  double torque = 0.0;  ///< N*mm, signed
+  /// Output rotation in the sense of +T from the theoretical position, rad (-TE); NaN when the
+  /// solve at this torque did not succeed.
+  double twist = std::numeric_limits<double>::quiet_NaN();
+  Branch branch = Branch::kIncreasing;
+  SolverStatus status = SolverStatus::kNotSolved;  ///< the solve's (zero torque: the first contact's)
+};
+
+/// The loop at one crank angle. A figure that no valid solve produced is NaN.
+struct StiffnessPosition {
+  double crank = 0.0;  ///< rad
+  /// Both branches: increasing then decreasing. Each has the steps torque levels; at zero torque
+  /// two points, the first contact of the flank it comes from, then that of the flank it goes to
+  /// (the free play crossed at zero torque).
+  std::vector<CurvePoint> curve;
+  double first_contact_drive = std::numeric_limits<double>::quiet_NaN();  ///< rad, >= 0 with clearance
+  double first_contact_coast = std::numeric_limits<double>::quiet_NaN();  ///< rad, in the coast direction
+  double backlash = std::numeric_limits<double>::quiet_NaN();             ///< rad: drive + coast first contact
+  double rigidity = std::numeric_limits<double>::quiet_NaN();        ///< N*mm/rad, by the chosen definition
+  double rigidity_drive = std::numeric_limits<double>::quiet_NaN();  ///< N*mm/rad, secant on the drive flank
+  double rigidity_coast = std::numeric_limits<double>::quiet_NaN();  ///< N*mm/rad, secant on the coast flank
+  double lost_motion = std::numeric_limits<double>::quiet_NaN();     ///< rad
+  /// The read-off points, each solved at its own torque (branch: increasing): secant +T, +T / 2,
+  /// -T / 2, -T (or the tangent's two torques), then lost motion +f T, -f T.
+  std::vector<CurvePoint> readoffs;
+  /// The largest |twist(increasing) - twist(decreasing)| at the same torque level, rad: zero up to
+  /// the solver's tolerance without friction.
+  double branch_difference = std::numeric_limits<double>::quiet_NaN();
+  int solves = 0;  ///< load solves (the curve and the read-off torques)
+  int failed = 0;  ///< of those, not successful
+  std::string first_failure;  ///< "torque x N*m: status: message" of the first failed solve
+  bool succeeded() const { return failed == 0; }
+};
+
+/// Mean, smallest and largest of a figure over the positions where it is finite.
+struct Spread {
+  double mean = std::numeric_limits<double>::quiet_NaN();
+  double min = std::numeric_limits<double>::quiet_NaN();
+  double max = std::numeric_limits<double>::quiet_NaN();
+  std::int64_t count = 0;
+  void Add(double v);
+};
+
+struct StiffnessSummary {
+  Spread rigidity, rigidity_drive, rigidity_coast, lost_motion, backlash, branch_difference;
+  /// The loop over the positions: per curve point (the layout of StiffnessPosition::curve), the
+  /// twist's mean, smallest and largest over the positions where it was solved.
+  std::vector<CurvePoint> curve;  ///< twist: the mean
+  std::vector<double> curve_min, curve_max;
+  std::vector<CurvePoint> readoffs;  ///< twist: the mean over the positions
+  std::int64_t succeeded = 0;  ///< positions whose every solve succeeded
+  std::int64_t failed = 0;
+  std::int64_t solves = 0;
+  std::string first_failure;   ///< "crank x deg, torque y N*m: ..." of the first failed solve
+  double wall_seconds = 0.0;   ///< construction and solves
+  std::int64_t positions() const { return succeeded + failed; }
+  bool all_succeeded() const { return failed == 0 && succeeded > 0; }
+};
+
+/// The loop position by position with one solver and one workspace: every torque step starts from
+/// what the previous one left in the workspace (warm starts). The constructor validates the
+/// options and the settings, requires [material] and a non-zero [load] torque, and rejects a pair
+/// that interferes at any of the cranks, before anything is solved (std::invalid_argument).
+class StiffnessRunner {
+ public:
+  StiffnessRunner(const Deck& deck, const SolverOptions& options, const StiffnessSettings& settings);
+  ~StiffnessRunner();
+  StiffnessRunner(StiffnessRunner&&) noexcept;
+  StiffnessRunner& operator=(StiffnessRunner&&) noexcept;
+
+  /// The cranks of the run, rad: settings.crank, or the deck's sweep.
+  const std::vector<double>& cranks() const;
+  /// The torque levels of a branch, N*mm, from -T to +T.
+  std::vector<double> Levels() const;
+  double rated_torque() const;  ///< T, N*mm (> 0)
+  /// The loop at one crank (rad), added to the summary.
+  StiffnessPosition Solve(double crank);
+  StiffnessSummary Summary() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ltca::app
