@@ -5,8 +5,8 @@
 // tip_rounding_radius_mm in the deck, the relief is chosen for the deck's load:
 //   the smallest rounding radius of the R10 preferred numbers from 0.01 mm (0.01, 0.0125, 0.016,
 //   0.02, 0.025, 0.0315, 0.04, 0.05, 0.063, 0.08, 0.1, ...), no truncation, for which every
-//   position of the deck's sweep solves (compatibility solver, the deck's tolerance, under both
-//   linearised and exact kinematics) and every loaded contact on the rounding arc is within the contact law's
+//   position of the deck's sweep solves on both flanks (+-T, as `ltca stiffness` loads them;
+//   compatibility solver, the deck's tolerance, under both linearised and exact kinematics) and every loaded contact on the rounding arc is within the contact law's
 //   half-width bound (ContactLaw::valid_half_width) and below [material]
 //   contact_stress_limit_mpa.
 // Any rounding radius > 0 keeps a loaded contact off a corner (the relieved tip is smooth); the
