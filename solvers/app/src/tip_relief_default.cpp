@@ -81,7 +81,7 @@ void ChooseDefaultTipRelief(Deck& deck) {
       "every loaded contact on the arc within the law's half-width bound and contact_stress_limit_mpa = {:g}",
       cranks.size(), sampled, material.contact_stress_limit);
   std::string stop;
-  for (int i = 0; i < 60; ++i) {
+  for (int i = 0; DefaultTipRoundingCandidate(i) <= deck.pair.pin_radius; ++i) {
     const double rho = DefaultTipRoundingCandidate(i);
     Deck trial = deck;
     trial.modification.tip_relief = {0.0, rho};
@@ -97,8 +97,9 @@ void ChooseDefaultTipRelief(Deck& deck) {
     bool ok = true;
     // Both flanks (+-T): `ltca stiffness` loads the coast flank too, and with errors its tips differ.
     for (int i = 0; ok && i < 4; ++i) {
-      const contact::ContactKinematics kinematics = kBoth[static_cast<std::size_t>(i % 2)];
-      const double torque = i < 2 ? trial.load->torque : -trial.load->torque;
+      // Linearised on both flanks first: a radius that fails, fails there and cheaply.
+      const contact::ContactKinematics kinematics = kBoth[static_cast<std::size_t>(i / 2)];
+      const double torque = i % 2 == 0 ? trial.load->torque : -trial.load->torque;
       solvers::Workspace workspace;
       options.kinematics = kinematics;
       for (const double crank : cranks) {
@@ -119,7 +120,8 @@ void ChooseDefaultTipRelief(Deck& deck) {
       return;
     }
   }
-  deck.tip_relief_note = fmt::format("sharp tips: no radius meets the default rule ({}){}", rule, stop);
+  deck.tip_relief_note =
+      fmt::format("sharp tips: no radius up to the pin radius meets the default rule ({}){}", rule, stop);
 }
 
 }  // namespace ltca::app

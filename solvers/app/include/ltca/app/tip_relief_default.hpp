@@ -4,7 +4,8 @@
 // which no line-contact law covers. Without [modification] tip_truncation_mm or
 // tip_rounding_radius_mm in the deck, the relief is chosen for the deck's load:
 //   the smallest rounding radius of the R10 preferred numbers from 0.01 mm (0.01, 0.0125, 0.016,
-//   0.02, 0.025, 0.0315, 0.04, 0.05, 0.063, 0.08, 0.1, ...), no truncation, for which every
+//   0.02, 0.025, 0.0315, 0.04, 0.05, 0.063, 0.08, 0.1, ..., up to the pin radius), no truncation,
+//   for which every
 //   position of the deck's sweep solves on both flanks (+-T, as `ltca stiffness` loads them;
 //   compatibility solver, the deck's tolerance, under both linearised and exact kinematics) and every loaded contact on the rounding arc is within the contact law's
 //   half-width bound (ContactLaw::valid_half_width) and below [material]
@@ -22,7 +23,7 @@ namespace ltca::app {
 double DefaultTipRoundingCandidate(int i);
 
 /// Crank positions the choice solves at most: a longer sweep is sampled evenly (the note says so).
-inline constexpr int kTipReliefChoicePositions = 361;
+inline constexpr int kTipReliefChoicePositions = 181;
 
 /// For a deck without tip relief keys: sets deck.modification.tip_relief, deck.tip_relief_source
 /// ("default", or "none" with sharp tips) and deck.tip_relief_note (the rule and what it chose, or
