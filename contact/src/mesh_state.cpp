@@ -169,6 +169,20 @@ RelievedFoot NearestOnRelievedProfile(const CycloidProfile& profile, const Eigen
   return best;
 }
 
+/// A contact found at a foot point (tooth space k, parameter u) whose pin centre is `centre_gap`
+/// from it (signed), before PlaceContact and FinishPoint.
+PinContact FootContact(int pin, double angle, int k, double u, double pin_radius, double curvature, double centre_gap) {
+  PinContact c;
+  c.pin = pin;
+  c.angle = angle;
+  c.tooth_space = k;
+  c.u = u;
+  c.pin_radius = pin_radius;
+  c.cycloid_curvature = curvature;
+  c.clearance = centre_gap - pin_radius;
+  return c;
+}
+
 /// The foot point on the flank as made, x(u) + delta(k, u) n(u) (a profile deviation along the
 /// profile, geometry::ProfileDeviation), docs/contact.md "Profile deviation along the profile".
 struct DeviatedFoot {
@@ -463,14 +477,8 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double crank, do
   const int k_polar = static_cast<int>(std::lround((std::atan2(p.y(), p.x()) - real_.profile().ToothSpaceRotation(0)) / pitch));
   if (!real_.profile_deviation().IsZero()) {
     const ElementFoot f = NearestDeviatedElement(*discrete_, real_.profile_deviation(), p, k_polar);
-    PinContact c;
-    c.pin = pin;
-    c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
-    c.u = f.element.u;
-    c.tooth_space = f.k;
-    c.pin_radius = r_pin;
-    c.cycloid_curvature = f.curvature;
-    c.clearance = f.distance - r_pin;
+    PinContact c = FootContact(pin, real_.kinematics().AngleFromLineOfCentres(pin, crank), f.k, f.element.u, r_pin,
+                               f.curvature, f.distance);
     PlaceContact(pose, centre_fixed, load_direction_, f.point, f.normal, &c);
     FinishPoint(slice, &c);
     return c;
@@ -574,16 +582,10 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double crank, const ge
 
   if (real_.profile().tip_cap().active()) {
     const RelievedFoot f = NearestOnRelievedProfile(real_.profile(), p, seed_space, seed_u);
-    PinContact c;
-    c.pin = pin;
-    c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
-    c.tooth_space = f.k;
-    c.u = f.u;
+    PinContact c = FootContact(pin, real_.kinematics().AngleFromLineOfCentres(pin, crank), f.k, f.u, r_pin,
+                               f.curvature, f.gap);
     c.part = f.part;
     c.edge = f.part == geometry::SurfacePart::kTipCorner;
-    c.pin_radius = r_pin;
-    c.cycloid_curvature = f.curvature;
-    c.clearance = f.gap - r_pin;
     PlaceContact(pose, centre_fixed, load_direction_, f.point, f.normal, &c);
     FinishPoint(slice, &c);
     return c;

@@ -1,4 +1,5 @@
 #include "active_set_cholmod.hpp"
+#include "sparse_identical.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -129,13 +130,7 @@ int ActiveSetCholmod::size() const { return static_cast<int>(impl_->c.rows()); }
 const Eigen::SparseMatrix<double>& ActiveSetCholmod::coupling() const { return impl_->c; }
 
 bool ActiveSetCholmod::Matches(const Eigen::SparseMatrix<double>& coupling) const {
-  const Eigen::SparseMatrix<double>& c = impl_->c;
-  if (coupling.rows() != c.rows() || coupling.cols() != c.cols() || coupling.nonZeros() != c.nonZeros()) return false;
-  if (!coupling.isCompressed()) return false;
-  const auto n = static_cast<std::size_t>(c.cols());
-  return std::equal(c.outerIndexPtr(), c.outerIndexPtr() + n + 1, coupling.outerIndexPtr()) &&
-         std::equal(c.innerIndexPtr(), c.innerIndexPtr() + c.nonZeros(), coupling.innerIndexPtr()) &&
-         std::equal(c.valuePtr(), c.valuePtr() + c.nonZeros(), coupling.valuePtr());
+  return IdenticalSparse(impl_->c, coupling);  // c is kept compressed
 }
 
 bool ActiveSetCholmod::active(int i) const { return impl_->active[static_cast<std::size_t>(i)] != 0; }

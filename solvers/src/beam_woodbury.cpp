@@ -1,4 +1,5 @@
 #include "beam_woodbury.hpp"
+#include "sparse_identical.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -176,17 +177,9 @@ BeamWoodbury::~BeamWoodbury() = default;
 bool BeamWoodbury::Matches(const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const {
   if (factors == impl_->factors) return true;
   if (factors == nullptr) return false;
-  const auto same = [](const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix<double>& b) {
-    if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros()) return false;
-    if (!a.isCompressed() || !b.isCompressed()) return false;
-    const auto n = static_cast<std::size_t>(a.outerSize());
-    return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + n + 1, b.outerIndexPtr()) &&
-           std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr()) &&
-           std::equal(a.valuePtr(), a.valuePtr() + a.nonZeros(), b.valuePtr());
-  };
   const LoadProblem::CouplingFactors& mine = *impl_->factors;
   return mine.local.size() == factors->local.size() && mine.local == factors->local &&
-         same(mine.stiffness, factors->stiffness) && same(mine.loads, factors->loads);
+         IdenticalSparse(mine.stiffness, factors->stiffness) && IdenticalSparse(mine.loads, factors->loads);
 }
 
 int BeamWoodbury::size() const { return static_cast<int>(impl_->b.rows()); }
