@@ -661,6 +661,31 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double crank, const ge
   return c;
 }
 
+void RequireSamePinRing(const MeshModel& first, const MeshModel& second) {
+  const geometry::PairParameters& a = first.pair();
+  const geometry::PairParameters& b = second.pair();
+  if (a.pin_count != b.pin_count || a.tooth_count != b.tooth_count || a.pin_radius != b.pin_radius ||
+      a.pin_circle_radius != b.pin_circle_radius || a.eccentricity != b.eccentricity) {
+    throw std::invalid_argument(fmt::format(
+        "two discs: the second disc's pair (z_p {}, z_c {}, r_rp {} mm, R_p {} mm, e {} mm) differs from the first's "
+        "(z_p {}, z_c {}, r_rp {} mm, R_p {} mm, e {} mm); expected one pin ring and one crank for both",
+        b.pin_count, b.tooth_count, b.pin_radius, b.pin_circle_radius, b.eccentricity, a.pin_count, a.tooth_count,
+        a.pin_radius, a.pin_circle_radius, a.eccentricity));
+  }
+}
+
+MeshState EvaluateTwoDiscs(const MeshModel& first, const MeshModel& second, double crank, double loaded_rotation) {
+  RequireSamePinRing(first, second);
+  MeshState state = first.Evaluate(crank, loaded_rotation);
+  MeshState behind = second.Evaluate(crank + kSecondDiscCrankOffset, loaded_rotation);
+  state.pins.reserve(state.pins.size() + behind.pins.size());
+  for (PinContact& c : behind.pins) {
+    c.disc = 1;
+    state.pins.push_back(std::move(c));
+  }
+  return state;
+}
+
 MeshState MeshModel::Evaluate(double crank, double loaded_rotation) const {
   MeshState state;
   state.crank = crank;

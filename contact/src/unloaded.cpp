@@ -21,11 +21,13 @@ std::string InterferenceReport(const MeshState& state, double tolerance_mm) {
   for (std::size_t i = 0; i < state.pins.size();) {
     const PinContact* worst = &state.pins[i];
     std::size_t next = i;
-    for (; next < state.pins.size() && state.pins[next].pin == state.pins[i].pin; ++next) {
+    for (; next < state.pins.size() && state.pins[next].pin == state.pins[i].pin && state.pins[next].disc == state.pins[i].disc;
+         ++next) {
       if (state.pins[next].clearance < worst->clearance) worst = &state.pins[next];
     }
     if (worst->clearance < -tolerance_mm) {
-      overlaps += fmt::format("{}pin {}{} by {:.4g} um", overlaps.empty() ? "" : ", ", worst->pin + 1,
+      overlaps += fmt::format("{}{}pin {}{} by {:.4g} um", overlaps.empty() ? "" : ", ",
+                              worst->disc > 0 ? fmt::format("disc {} ", worst->disc + 1) : "", worst->pin + 1,
                               sliced ? fmt::format(" (slice {})", worst->slice + 1) : "", -units::MmToUm(worst->clearance));
     }
     i = next;

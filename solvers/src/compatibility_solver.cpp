@@ -162,8 +162,7 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
     }
     contact::MeshState shifted = state;
     for (auto& pin : shifted.pins) pin.clearance += pin.arm * psi;  // L psi' - c~ = approach at psi' (first order)
-    const LoadProblem linear(problem.shared_model(), std::move(shifted), problem.contact_settings(), problem.material(),
-                             problem.torque());
+    const LoadProblem linear = problem.LinearisedOn(std::move(shifted));
     if (outer > 0) {  // the linearisation about psi is exact at psi: stop when its torque balances,
       // with a margin: the final exact evaluation at psi starts its closest-point searches from
       // other foot points and may round differently (a d = 3 position stopped at 0.99e-10 here

@@ -147,11 +147,19 @@ GroupSolution SolveGroupCoupled(const Linearised& lin, const std::vector<std::si
 void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                                  LoadResult* result) const {
   const int n = problem.point_count();
-  const int teeth = problem.model().pin_count();  // a tooth: a pin with its slices
+  // A tooth: a pin with its slices, of one disc (two discs, issue 13: tooth = disc z_p + pin).
+  const int pins_per_disc = problem.model().pin_count();
+  const int teeth = pins_per_disc * problem.disc_count();
   const auto& points = problem.base_state().pins;
-  // The points of every pin (pin-major: a contiguous range).
+  const auto tooth_of = [&](const contact::PinContact& p) { return p.disc * pins_per_disc + p.pin; };
+  // The tooth k places further round the pin ring from tooth t, on the same disc.
+  const auto along = [&](int t, int k) {
+    const int pin = ((t % pins_per_disc + k) % pins_per_disc + pins_per_disc) % pins_per_disc;
+    return t - t % pins_per_disc + pin;
+  };
+  // The points of every tooth (pin-major: a contiguous range).
   std::vector<std::vector<std::size_t>> points_of(static_cast<std::size_t>(teeth));
-  for (std::size_t i = 0; i < points.size(); ++i) points_of[static_cast<std::size_t>(points[i].pin)].push_back(i);
+  for (std::size_t i = 0; i < points.size(); ++i) points_of[static_cast<std::size_t>(tooth_of(points[i]))].push_back(i);
   const double min_arm = 1e-9 * problem.model().pair().pin_circle_radius;
   std::vector<contact::ContactLaw> scratch;
   double psi = 0.0;
@@ -171,7 +179,7 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
       const auto& p = pins[i];
       const bool usable = p.arm > min_arm && p.law != nullptr;
       lin.approach0.push_back(p.approach);
-      lin.pin.push_back(points[i].pin);
+      lin.pin.push_back(tooth_of(points[i]));
       lin.arm.push_back(usable ? p.arm : 0.0);
       lin.law.push_back(usable ? p.law : nullptr);
       // Under exact kinematics the pin at the far end of the line of centres can be pressed at
@@ -208,12 +216,15 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
     }
     ++details["relinearisations"];
     details["candidates"] = static_cast<int>(std::count(candidate.begin(), candidate.end(), true));
-    // 3. Contiguous runs of candidate teeth (cyclic pin order) containing the first one.
+    // 3. Contiguous runs of candidate teeth (cyclic pin order) containing the first one. Two discs
+    // load two runs, one per disc: there the groups in closing order below are the groups.
     const int first_tooth = lin.pin[static_cast<std::size_t>(first)];
     int left = 0, right = 0;  // how far the run of candidates extends each way from `first_tooth`
-    while (left < teeth - 1 && candidate[static_cast<std::size_t>((first_tooth - left - 1 + teeth) % teeth)]) ++left;
-    while (right < teeth - 1 - left && candidate[static_cast<std::size_t>((first_tooth + right + 1) % teeth)]) ++right;
-    const long groups = static_cast<long>(left + 1) * (right + 1);
+    if (problem.disc_count() == 1) {
+      while (left < teeth - 1 && candidate[static_cast<std::size_t>(along(first_tooth, -left - 1))]) ++left;
+      while (right < teeth - 1 - left && candidate[static_cast<std::size_t>(along(first_tooth, right + 1))]) ++right;
+    }
+    const long groups = problem.disc_count() == 1 ? static_cast<long>(left + 1) * (right + 1) : 0;
     if (groups > kMaxGroups) {
       result->status = SolverStatus::kTooManyGroups;
       result->message = fmt::format("{} candidate tooth groups exceed the limit of {}", groups, kMaxGroups);
@@ -222,11 +233,11 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
     }
     // 4-5. Solve every group, keep the feasible one of minimum energy.
     GroupSolution best;
-    for (int a = 0; a <= left; ++a) {
+    for (int a = 0; a <= left && groups > 0; ++a) {
       for (int b = 0; b <= right; ++b) {
         std::vector<std::size_t> group;  // the usable points of the teeth first_tooth - a .. first_tooth + b
         for (int j = -a; j <= b; ++j) {
-          for (const std::size_t i : points_of[static_cast<std::size_t>((first_tooth + j + teeth) % teeth)]) {
+          for (const std::size_t i : points_of[static_cast<std::size_t>(along(first_tooth, j))]) {
             if (lin.law[i] != nullptr) group.push_back(i);
           }
         }

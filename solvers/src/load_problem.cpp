@@ -177,17 +177,49 @@ LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state,
 
 LoadProblem::LoadProblem(ModelPtr model, contact::MeshState state, const contact::ContactSettings& contact,
                          const contact::Material& material, double torque, contact::ContactKinematics kinematics)
-    : model_(Require(std::move(model))),
+    : LoadProblem(std::move(model), nullptr, std::move(state), contact, material, torque, kinematics) {}
+
+LoadProblem::LoadProblem(ModelPtr first, ModelPtr second, double crank, const contact::ContactSettings& contact,
+                         const contact::Material& material, double torque, contact::ContactKinematics kinematics)
+    : LoadProblem(first, Require(second),
+                  contact::EvaluateTwoDiscs(*Require(first), *second, crank, 0.0), contact, material, torque,
+                  kinematics) {}
+
+LoadProblem::LoadProblem(ModelPtr first, ModelPtr second, contact::MeshState evaluated,
+                         const contact::ContactSettings& contact, const contact::Material& material, double torque,
+                         contact::ContactKinematics kinematics)
+    : model_(Require(std::move(first))),
+      second_(std::move(second)),  // nullptr: one disc (the constructor above delegates here)
       id_(NextProblemId()),
-      crank_(state.crank),
+      crank_(evaluated.crank),
       contact_(contact),
       material_(material),
       torque_(std::abs(torque)),
       direction_(torque < 0.0 ? -1.0 : 1.0),
       kinematics_(kinematics),
       log_radius_cap_(contact.log_radius_cap > 0.0 ? contact.log_radius_cap : model_->pair().pin_circle_radius),
-      base_(std::move(state)) {
+      base_(std::move(evaluated)) {
+  if (second_) contact::RequireSamePinRing(*model_, *second_);
   BuildBaseLaws();
+}
+
+LoadProblem LoadProblem::LinearisedOn(contact::MeshState state) const {
+  if (second_ != nullptr) {
+    return LoadProblem(model_, second_, std::move(state), contact_, material_, torque_,
+                       contact::ContactKinematics::kLinearised);
+  }
+  return LoadProblem(model_, std::move(state), contact_, material_, torque_);
+}
+
+std::vector<double> LoadProblem::DiscTorques(double psi, const std::vector<double>& forces,
+                                             Workspace& workspace) const {
+  std::vector<contact::ContactLaw> scratch;
+  const auto pins = At(psi, workspace, &scratch);
+  std::vector<double> out(static_cast<std::size_t>(disc_count()), 0.0);
+  for (std::size_t i = 0; i < pins.size() && i < forces.size(); ++i) {
+    out[static_cast<std::size_t>(base_.pins[i].disc)] += direction_ * forces[i] * pins[i].arm;
+  }
+  return out;
 }
 
 LoadProblem LoadProblem::WithCoupling(Eigen::SparseMatrix<double> coupling) const {
@@ -224,6 +256,9 @@ LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<doub
 }
 
 LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
+  if (second_ != nullptr && coupling.matrix != nullptr) {
+    throw std::invalid_argument("LoadProblem coupling: not supported for two discs (issue 13): pin bending couples one disc's points only");
+  }
   if (coupling.points != point_count()) {
     throw std::invalid_argument(fmt::format("LoadProblem coupling: checked for {} points, the problem has {}",
                                             coupling.points, point_count()));
@@ -270,13 +305,17 @@ double LoadProblem::SinglePinBound() const {
 double LoadProblem::Closing(const contact::PinContact& pin) const {
   contact::PinContact in_model_frame = pin;  // ClosingRotation works in the model's direction
   in_model_frame.arm *= direction_;
-  return direction_ * contact::ClosingRotation(*model_, in_model_frame, crank_, kinematics_);
+  return direction_ * contact::ClosingRotation(DiscModel(pin.disc), in_model_frame, DiscCrank(pin.disc), kinematics_);
 }
 
 void LoadProblem::BuildBaseLaws() {
   if (!std::isfinite(torque_)) throw std::invalid_argument("LoadProblem: the torque must be finite");
   // The frame of the torque: a negative torque turns the cycloid the other way (coast flank).
   for (auto& pin : base_.pins) {
+    if (pin.disc != 0 && (pin.disc != 1 || second_ == nullptr)) {
+      throw std::invalid_argument(fmt::format("LoadProblem: pin {} belongs to disc {}, the problem has {}", pin.pin + 1,
+                                              pin.disc + 1, disc_count() == 1 ? "one disc" : "two discs"));
+    }
     if (!(pin.length > 0.0)) {
       throw std::invalid_argument(fmt::format("LoadProblem: the contact point of pin {}, slice {} has contact length {} mm: expected > 0",
                                               pin.pin + 1, pin.slice, pin.length));
@@ -339,7 +378,8 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace
 }
 
 contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, double psi) const {
-  contact::PinContact pin = model_->EvaluatePoint(near, crank_, direction_ * psi);
+  contact::PinContact pin = DiscModel(near.disc).EvaluatePoint(near, DiscCrank(near.disc), direction_ * psi);
+  pin.disc = near.disc;
   pin.arm *= direction_;
   return pin;
 }

@@ -117,10 +117,11 @@ TEST_CASE("solvers: every solver agrees with bisection on the published decks, l
   for (const auto& deck_ref : decks) {
     const auto* deck = &deck_ref;
     const auto model = std::make_shared<const MeshModel>(deck->MakeModel());
+    const auto second = deck->MakeSecondModel();  // [second_disc] (issue 13): both discs' points
     for (const auto kin : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
       const auto cranks = deck->sweep.CrankAngles();
       for (std::size_t i = 0; i < cranks.size(); i += 30) {
-        const LoadProblem problem = deck->MakeProblem(model, cranks[i], kin);  // with pin bending's coupling
+        const LoadProblem problem = deck->MakeProblem(model, cranks[i], kin, second);  // with pin bending's coupling
         SolverOptions options;
         options.kinematics = kin;
         const auto ref = MakeSolver("bisection")->Solve(problem, options);

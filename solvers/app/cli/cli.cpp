@@ -16,11 +16,14 @@
 
 #include "bench_command.hpp"
 #include "compare_command.hpp"
+#include "report_command.hpp"
 #include "contact_commands.hpp"
 #include "geometry_command.hpp"
 #include "output.hpp"
 #include "solve_command.hpp"
 #include "stiffness_command.hpp"
+#include "tolerance_command.hpp"
+#include "efficiency_command.hpp"
 #include "validate_command.hpp"
 #include "ltca/solvers/registry.hpp"
 #include "ltca/app/deck.hpp"
@@ -149,6 +152,9 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       ->type_name("FILE|-");
   backlash->add_option("--csv", backlash_options.csv_path, "Write one row per position as CSV")
       ->type_name("FILE|-");
+  backlash->add_option("--svg", backlash_options.svg_path,
+                       "Draw backlash and the rotations to first contact over crank angle (SVG; .png/.pdf by extension)")
+      ->type_name("FILE|-");
   backlash->add_option("--kinematics", kinematics, "exact (default) or linearised")
       ->check(CLI::IsMember({"exact", "linearised"}));
 
@@ -161,6 +167,8 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   mesh->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   mesh->add_option("--crank-deg", mesh_options.crank_deg, "Crank angle in degrees (default 0)")->check(kCrankAngle);
   mesh->add_option("--json", mesh_options.json_path, "Write the table as JSON ('-': stdout)")->type_name("FILE|-");
+  mesh->add_option("--svg", mesh_options.svg_path, "Draw the clearance and arm of every pin (SVG; .png/.pdf by extension)")
+      ->type_name("FILE|-");
 
   SolveOptions solve_options;
   CLI::App* solve = app.add_subcommand(
@@ -208,6 +216,50 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       ->type_name("FILE|-");
   stiffness->add_option("--svg", stiffness_options.svg_path, "Draw the loop with the read-off values")->type_name("FILE|-");
 
+  // --- issue 15: ltca tolerance ----------------------------------------------------------------
+  ToleranceOptions tolerance_options;
+  CLI::App* tolerance = app.add_subcommand(
+      "tolerance",
+      "Tolerance analysis (issue 15, docs/tolerance.md): a seeded Monte Carlo over the deck's [tolerances]; every "
+      "sample builds its pair and runs the unloaded and the loaded TCA over the sweep (and lost motion when asked). "
+      "Percentiles 1/5/50/95/99 of every figure, the fraction within [tolerances] limits, a sensitivity ranking "
+      "(standardised regression coefficients), the extreme-value worst case. Sample i depends on (seed, i) only: "
+      "any number of threads or MPI ranks (mpirun -np K ltca tolerance ...) gives the same samples.");
+  AddLoadInputs(tolerance, overrides, deck_path, tolerance_options.solver, tolerance_options.kinematics);
+  tolerance->add_option("--samples", tolerance_options.samples, "Number of samples ([tolerances] samples)")->check(CLI::PositiveNumber);
+  tolerance->add_option("--seed", tolerance_options.seed, "Seed of the counter-based stream ([tolerances] seed)");
+  tolerance->add_option("--threads", tolerance_options.threads, "Threads (default 0: every hardware thread)")->check(CLI::NonNegativeNumber);
+  tolerance->add_option("--first", tolerance_options.first,
+                        "Index of the first sample (re-run sample i of a study: --first i --samples 1)")
+      ->check(CLI::NonNegativeNumber);
+  tolerance->add_flag("--lost-motion", tolerance_options.lost_motion, "Also lost motion per sample ([tolerances] lost_motion = true)");
+  tolerance->add_flag("--no-worst-case", tolerance_options.no_worst_case, "Skip the extreme-value (worst-case) runs");
+  tolerance->add_option("--json", tolerance_options.json_path,
+                        "Write the summary as JSON ('-': stdout): summary {samples, seed, figures {NAME: {mean, std, p1, p5, p50, "
+                        "p95, p99}}, limits, pass_fraction, sensitivity, worst_case}")
+      ->type_name("FILE|-");
+  tolerance->add_option("--csv", tolerance_options.csv_path, "Write every sample's inputs and figures as CSV")->type_name("FILE|-");
+  tolerance->add_option("--svg", tolerance_options.svg_path, "Draw histograms of the figures")->type_name("FILE|-");
+  // --- end of ltca tolerance ---------------------------------------------------------------------
+  // issue 14: ltca efficiency
+  EfficiencyOptions efficiency_options;
+  CLI::App* efficiency = app.add_subcommand(
+      "efficiency",
+      "Friction, power loss and meshing efficiency (issue 14, docs/efficiency.md): at every position of the deck's "
+      "sweep the loaded forces, the sliding and entrainment speed of every contact (crank at [operation] "
+      "input_speed_rpm), the friction coefficient ([friction] model coulomb | jiang-mixed), the loss mu F |v_s| and "
+      "the efficiency. Summary keys power_loss_w (mean over the sweep), efficiency (full model: sleeve, friction in "
+      "the torque balance), efficiency_first_order (pins fixed, no sleeve, frictionless forces), "
+      "efficiency_malhotra_parameswaran, efficiency_sensinger.");
+  AddLoadInputs(efficiency, overrides, deck_path, efficiency_options.solver, efficiency_options.kinematics);
+  efficiency->add_option("--json", efficiency_options.json_path, "Write the positions and the summary as JSON ('-': stdout)")
+      ->type_name("FILE|-");
+  efficiency->add_option("--csv", efficiency_options.csv_path, "Write one row per position and loaded contact as CSV")
+      ->type_name("FILE|-");
+  efficiency->add_option("--svg", efficiency_options.svg_path,
+                         "Draw efficiency and power loss over crank angle and the friction coefficient per pin")
+      ->type_name("FILE|-");
+
   CompareOptions compare_options;
   CLI::App* compare = app.add_subcommand(
       "compare",
@@ -220,6 +272,9 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   compare->add_option("--kinematics", compare_options.kinematics, "linearised or exact (default: the deck's)")
       ->check(CLI::IsMember({"exact", "linearised"}));
   compare->add_option("--json", compare_options.json_path, "Write the comparison as JSON ('-': stdout)")
+      ->type_name("FILE|-");
+  compare->add_option("--svg", compare_options.svg_path,
+                      "Draw every solver's TE over crank angle and its difference from the first (SVG; .png/.pdf by extension)")
       ->type_name("FILE|-");
 
   ValidateOptions validate_options;
@@ -243,6 +298,20 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   bench->add_option("--out", bench_options.out_dir, "Folder for bench.json and bench.csv (default: bench)");
   bench->add_option("--docs", bench_options.docs_dir, "Write performance.md and performance.svg into this folder (docs)");
   bench->add_option("--repeats", bench_options.repeats, "Repeats per run (default 3)")->check(CLI::PositiveNumber);
+  bench->add_flag("--tolerance-only", bench_options.tolerance_only,
+                  "Only the tolerance bar (issue 15): 10,000 samples, 1 vs 2 threads, cost against samples; writes tolerance.csv "
+                  "(with --smoke: 20 samples)");
+
+  ReportOptions report_options;
+  CLI::App* report = app.add_subcommand(
+      "report",
+      "One static HTML page, DIR/index.html, that a browser opens from disk (nothing fetched): the case, the model "
+      "and solver, the geometry table, the summaries of the loaded sweep and of the backlash, and the figures inlined "
+      "as SVG; the JSON documents it is built from are left beside it.");
+  report->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
+  report->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
+  report->add_option("-o,--out", report_options.out_dir, "Folder of index.html (created when missing)")->required()->type_name("DIR");
+  report->add_option("--solver", report_options.solver, "Solver name (default: the deck's [solver] name)");
 
   // No command: the default job (geometry and solve) on the built-in deck or on DECK.
   SolveOptions default_options;
@@ -266,10 +335,12 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   bool to_stdout = false;
   for (const std::string* path :
        {&geometry_options.json_path, &geometry_options.csv_path, &geometry_options.svg_path, &backlash_options.json_path,
-        &backlash_options.csv_path, &mesh_options.json_path, &solve_options.json_path, &solve_options.csv_path,
-        &solve_options.svg_path, &solve_options.pattern_csv_path, &compare_options.json_path, &validate_options.markdown_path,
+        &backlash_options.csv_path, &backlash_options.svg_path, &mesh_options.json_path, &mesh_options.svg_path, &solve_options.json_path, &solve_options.csv_path,
+        &solve_options.svg_path, &solve_options.pattern_csv_path, &compare_options.json_path, &compare_options.svg_path, &validate_options.markdown_path,
         &default_options.json_path, &default_options.csv_path, &default_options.svg_path, &stiffness_options.json_path,
-        &stiffness_options.csv_path, &stiffness_options.svg_path}) {
+        &stiffness_options.csv_path, &stiffness_options.svg_path, &tolerance_options.json_path, &tolerance_options.csv_path,
+        &tolerance_options.svg_path, &efficiency_options.json_path,
+        &efficiency_options.csv_path, &efficiency_options.svg_path}) {
     to_stdout = to_stdout || *path == "-";
   }
   // The progress line only where a person watches: the process's own stderr, a terminal.
@@ -282,9 +353,16 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       code = RunBenchCommand(bench_options, out);
     } else if (validate->parsed()) {
       code = RunValidate(validate_options, streams);
+    } else if (report->parsed()) {
+      if (!report_options.solver.empty()) solvers::MakeSolver(report_options.solver);  // the name checked first
+      code = RunReport(ReadDeck(deck_path, overrides), report_options, streams);
     } else if (compare->parsed()) {
       for (const auto& name : compare_options.solvers) solvers::MakeSolver(name);  // names checked first
       code = RunCompare(ReadDeck(deck_path, overrides), compare_options, streams);
+    } else if (tolerance->parsed()) {
+      code = RunTolerance(ReadDeck(deck_path, overrides), tolerance_options, streams);
+    } else if (efficiency->parsed()) {
+      code = RunEfficiency(ReadDeck(deck_path, overrides), efficiency_options, streams);
     } else if (stiffness->parsed()) {
       code = RunStiffness(ReadDeck(deck_path, overrides), stiffness_options, streams);
     } else if (solve->parsed()) {
@@ -299,7 +377,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     } else {
       if (!deck_path.empty() && !std::filesystem::exists(deck_path)) {
         throw std::invalid_argument(fmt::format(
-            "'{}' is neither a command (geometry, backlash, mesh, solve, stiffness, compare, validate, bench) nor a deck file",
+            "'{}' is neither a command (geometry, backlash, mesh, solve, stiffness, tolerance, efficiency, compare, report, validate, bench) nor a deck file",
             deck_path));
       }
       const app::Deck deck = ReadDeck(deck_path, overrides);

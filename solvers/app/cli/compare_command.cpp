@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -33,11 +34,52 @@ struct Differences {
   }
 };
 
+namespace plots = app::plots;
+
+/// Every solver's TE over crank angle (left) and its difference from the first solver's (right).
+void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunner>& runners, const std::vector<double>& crank_deg,
+                        const std::vector<std::vector<double>>& te, Output& output) {
+  plots::Figure figure;
+  figure.title = fmt::format("{}: loaded TE of {} solvers over crank {:.4g} to {:.4g} deg", deck.info.title, runners.size(),
+                             crank_deg.empty() ? 0.0 : crank_deg.front(), crank_deg.empty() ? 0.0 : crank_deg.back());
+  const auto& ref = runners.front().options();
+  figure.caption = FigureCaption(deck, fmt::format("model {}, {} kinematics, {} positions; a failed position is a gap",
+                                                   deck.Model().name, KinematicsName(ref.kinematics), crank_deg.size()));
+  figure.columns = runners.size() > 1 ? 2 : 1;
+  figure.width = runners.size() > 1 ? 1500 : 900;
+  figure.height = 560;
+  plots::Panel all;
+  all.title = "loaded transmission error";
+  all.x_label = "crank angle (deg)";
+  all.y_label = "TE (arcsec)";
+  all.legend = plots::LegendPlace::kOutsideRight;
+  for (std::size_t r = 0; r < runners.size(); ++r) all.series.push_back({runners[r].options().name, crank_deg, te[r], plots::Style::kLineMarkers});
+  figure.panels.push_back(std::move(all));
+  if (runners.size() > 1) {
+    plots::Panel diff;
+    diff.title = fmt::format("difference from {}", ref.name);
+    diff.x_label = "crank angle (deg)";
+    diff.y_label = fmt::format("TE - TE of {} (arcsec)", ref.name);
+    diff.legend = plots::LegendPlace::kOutsideRight;
+    for (std::size_t r = 1; r < runners.size(); ++r) {
+      plots::Series d{runners[r].options().name, crank_deg, {}, plots::Style::kLineMarkers};
+      d.colour = static_cast<int>(r);  // the colour and marker it has on the left
+      for (std::size_t i = 0; i < crank_deg.size(); ++i) d.y.push_back(te[r][i] - te[0][i]);  // NaN where either failed
+      diff.series.push_back(std::move(d));
+    }
+    diff.marks.push_back({plots::Mark::Axis::kHorizontal, 0.0, "", false});
+    figure.panels.push_back(std::move(diff));
+  }
+  WriteFigure(figure, output);
+}
+
 }  // namespace
 
 int RunCompare(const app::Deck& deck, const CompareOptions& options, const Streams& streams) {
   const std::vector<std::string> names = options.solvers.empty() ? solvers::SolverNames() : options.solvers;
+  RequireOneStdout({{"--json", options.json_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);
+  Output svg("--svg", options.svg_path, streams.out);
   std::vector<app::SweepRunner> runners;  // every solver checked (names, options, interference) first
   for (const auto& name : names) {
     solvers::SolverOptions o = deck.solver;
@@ -49,9 +91,18 @@ int RunCompare(const app::Deck& deck, const CompareOptions& options, const Strea
   const std::vector<double> cranks = deck.sweep.CrankAngles();
   Progress progress(streams.err, streams.progress, "comparing at position", static_cast<std::int64_t>(cranks.size()));
   std::int64_t done = 0;
+  // The figure's data: a TE per solver and position (NaN where it failed).
+  std::vector<double> plot_crank;
+  std::vector<std::vector<double>> plot_te(runners.size());
+  const auto te_of = [](const app::PositionResult& p) { return p.succeeded() ? units::RadToArcsec(p.result.te) : NAN; };
   for (const double crank : cranks) {
     const app::PositionResult ref = runners.front().Solve(crank);
-    for (std::size_t r = 1; r < runners.size(); ++r) diffs[r].Add(runners[r].Solve(crank), ref);
+    if (svg.enabled()) plot_crank.push_back(units::RadToDeg(crank)), plot_te[0].push_back(te_of(ref));
+    for (std::size_t r = 1; r < runners.size(); ++r) {
+      const app::PositionResult p = runners[r].Solve(crank);
+      if (svg.enabled()) plot_te[r].push_back(te_of(p));
+      diffs[r].Add(p, ref);
+    }
     progress.Update(++done);
   }
   progress.Finish();
@@ -108,6 +159,7 @@ int RunCompare(const app::Deck& deck, const CompareOptions& options, const Strea
     json.stream() << Dump(doc) << '\n';
     json.Commit();
   }
+  if (svg.enabled()) WriteCompareFigure(deck, runners, plot_crank, plot_te, svg);
   return all_succeeded ? kExitSuccess : kExitNotSucceeded;
 }
 

@@ -21,6 +21,97 @@ using units::RadToDeg;
 
 nlohmann::json Finite(double v) { return FiniteOrNull(v); }
 
+namespace plots = app::plots;
+
+/// Backlash over crank angle with its mean and peak-to-peak (left); the rotations to first contact
+/// both ways (right).
+void WriteBacklashFigure(const app::Deck& deck, const BacklashOptions& options, const std::vector<double>& crank_deg,
+                         const std::vector<double>& c1, const std::vector<double>& c2, const std::vector<double>& backlash,
+                         bool two_discs, Output& output) {
+  plots::Figure figure;
+  figure.title = fmt::format("{}: unloaded backlash over crank {:.4g} to {:.4g} deg", deck.info.title,
+                             crank_deg.empty() ? 0.0 : crank_deg.front(), crank_deg.empty() ? 0.0 : crank_deg.back());
+  figure.caption = FigureCaption(deck, fmt::format("unloaded TCA, {} kinematics, {} positions; backlash = theta_c1 - theta_c2 "
+                                                   "(Liu eq. 17){}",
+                                                   options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
+                                                   crank_deg.size(), two_discs ? "; two discs: the stage's, the nearer first contact of either" : ""));
+  figure.columns = 2;
+  figure.width = 1300;
+  figure.height = 520;
+  plots::Panel b;
+  b.title = "backlash";
+  b.x_label = "crank angle (deg)";
+  b.y_label = "backlash (arcsec)";
+  b.series.push_back({"backlash", crank_deg, backlash, plots::Style::kLineMarkers});
+  MarkMeanAndPeakToPeak(b, backlash, "arcsec");
+  figure.panels.push_back(std::move(b));
+  plots::Panel r;
+  r.title = "rotation of the output to first contact";
+  r.x_label = "crank angle (deg)";
+  r.y_label = "rotation to first contact (arcsec)";
+  r.legend = plots::LegendPlace::kOutsideRight;
+  r.series.push_back({"theta_c1 (load direction)", crank_deg, c1, plots::Style::kLineMarkers});
+  r.series.push_back({"theta_c2 (against it)", crank_deg, c2, plots::Style::kLineMarkers});
+  r.marks.push_back({plots::Mark::Axis::kHorizontal, 0.0, "", false});
+  figure.panels.push_back(std::move(r));
+  WriteFigure(figure, output);
+}
+
+/// The clearance of every pin around the ring (log scale: it runs from microns in the mesh to
+/// millimetres away from it) and its moment arm, at one crank angle.
+void WriteMeshFigure(const app::Deck& deck, double crank_deg, const contact::MeshState& state, int pin_count, Output& output) {
+  std::vector<double> pin, clearance(static_cast<std::size_t>(pin_count), INFINITY), arm(static_cast<std::size_t>(pin_count), NAN);
+  for (const auto& c : state.pins) {  // the slice model: per pin, the slice of least clearance
+    const auto j = static_cast<std::size_t>(c.pin);
+    if (c.disc != 0 || j >= clearance.size()) continue;
+    if (units::MmToUm(c.clearance) < clearance[j]) clearance[j] = units::MmToUm(c.clearance), arm[j] = c.arm;
+  }
+  // A log axis when the clearances span more than two decades (microns in the mesh, millimetres
+  // away from it); a contact (below floor_um) is then drawn at floor_um.
+  const double floor_um = 1e-3;
+  double least = INFINITY, most = -INFINITY;
+  int least_pin = 0;
+  for (int j = 0; j < pin_count; ++j) {
+    pin.push_back(j + 1);
+    const double c = clearance[static_cast<std::size_t>(j)];
+    if (c < least) least = c, least_pin = j + 1;
+    if (std::isfinite(c)) most = std::max(most, c);
+  }
+  const bool log = most > 100.0 * std::max(least, floor_um);
+  if (log) {
+    for (double& c : clearance) c = std::max(c, floor_um);
+  }
+  plots::Figure figure;
+  figure.title = fmt::format("{}: mesh state at crank {:g} deg (unloaded)", deck.info.title, crank_deg);
+  figure.caption = FigureCaption(deck, fmt::format("model {}; pins numbered from +x_f counter-clockwise{}{}",
+                                                   deck.Model().name,
+                                                   log ? fmt::format("; clearance on a log scale, below {:g} um (contact) drawn at {:g} um",
+                                                                     floor_um, floor_um)
+                                                       : "",
+                                                   deck.disc_count() == 2 ? "; [second_disc]: the first disc's mesh" : ""));
+  figure.columns = 2;
+  figure.width = 1300;
+  figure.height = 520;
+  plots::Panel c;
+  c.title = fmt::format("least clearance {:.4g} um at pin {}", least, least_pin);
+  c.x_label = "pin number";
+  c.y_label = "clearance (um)";
+  c.log_y = log;
+  c.series.push_back({"clearance", pin, clearance, plots::Style::kLineMarkers});
+  c.x_min = 0.0, c.x_max = pin_count + 1.0;
+  figure.panels.push_back(std::move(c));
+  plots::Panel a;
+  a.title = "moment arm of the contact normal about O_c";
+  a.x_label = "pin number";
+  a.y_label = "arm L_i (mm)";
+  plots::Series arms{"arm", pin, arm, plots::Style::kBars};
+  arms.colour = 2;
+  a.series.push_back(std::move(arms));
+  a.x_min = 0.0, a.x_max = pin_count + 1.0;
+  figure.panels.push_back(std::move(a));
+  WriteFigure(figure, output);
+}
+
 }  // namespace
 
 contact::ContactKinematics ParseKinematics(const std::string& text) {
@@ -30,18 +121,28 @@ contact::ContactKinematics ParseKinematics(const std::string& text) {
 }
 
 void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Streams& streams) {
-  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}});
+  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output csv("--csv", options.csv_path, streams.out);
+  Output svg("--svg", options.svg_path, streams.out);
+  std::vector<double> plot_crank, plot_c1, plot_c2, plot_backlash;  // for the figure (a double each per position)
   std::ostream& out = streams.text;
   const contact::MeshModel model = deck.MakeModel();
+  const std::shared_ptr<const contact::MeshModel> second = deck.MakeSecondModel();  // [second_disc] (issue 13)
   const std::vector<double> cranks = deck.sweep.CrankAngles();
   // Every crank is checked for interference before anything is computed or written.
-  for (const double crank : cranks) contact::RequireNoInterference(model, crank);
+  for (const double crank : cranks) {
+    contact::RequireNoInterference(model, crank);
+    if (second) contact::RequireNoInterference(*second, crank + contact::kSecondDiscCrankOffset);
+  }
   fmt::print(out, "case      {}\n", deck.info.title);
   fmt::print(out, "unloaded TCA, {} kinematics, {} positions from {:g} to {:g} deg crank\n",
              options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
              cranks.size(), RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
+  if (second) {
+    fmt::print(out, "two discs: the stage's free play, on each flank the nearer first contact of either disc; pins "
+                    "{}..{} are disc 2's\n", model.pin_count() + 1, 2 * model.pin_count());
+  }
   fmt::print(out, "{:>10} {:>14} {:>14} {:>14} {:>6}\n", "crank_deg", "theta_c1_as", "theta_c2_as",
              "backlash_as", "pin");
   // Streamed, one position at a time, so memory does not grow with the sweep (issue 10): the JSON
@@ -55,7 +156,22 @@ void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const St
   const std::size_t step = std::max<std::size_t>(1, cranks.size() / 10);
   double sum = 0.0, lo = INFINITY, hi = -INFINITY;
   for (std::size_t i = 0; i < cranks.size(); ++i) {
-    const contact::UnloadedContact r = contact::AnalyseUnloaded(model, cranks[i], options.kinematics);
+    contact::UnloadedContact r = contact::AnalyseUnloaded(model, cranks[i], options.kinematics);
+    std::vector<double> second_clearance;
+    if (second) {
+      // Two discs turn the output together: it stops at the first contact of either disc on each
+      // flank. Disc 2's pins are numbered z_p + 1 .. 2 z_p here.
+      const contact::UnloadedContact r2 =
+          contact::AnalyseUnloaded(*second, cranks[i] + contact::kSecondDiscCrankOffset, options.kinematics);
+      if (r2.theta_c1 < r.theta_c1) r.theta_c1 = r2.theta_c1, r.first_pin_c1 = r2.first_pin_c1 + model.pin_count();
+      if (r2.theta_c2 > r.theta_c2) r.theta_c2 = r2.theta_c2, r.first_pin_c2 = r2.first_pin_c2 + model.pin_count();
+      r.backlash = r.theta_c1 - r.theta_c2;
+      second_clearance = r2.clearance;
+    }
+    if (svg.enabled()) {
+      plot_crank.push_back(RadToDeg(r.crank)), plot_c1.push_back(RadToArcsec(r.theta_c1));
+      plot_c2.push_back(RadToArcsec(r.theta_c2)), plot_backlash.push_back(RadToArcsec(r.backlash));
+    }
     sum += r.backlash;
     lo = std::min(lo, r.backlash);
     hi = std::max(hi, r.backlash);
@@ -67,7 +183,7 @@ void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const St
       nlohmann::json clearance = nlohmann::json::array(), after = nlohmann::json::array();
       for (const double c : r.clearance) clearance.push_back(units::MmToUm(c));
       for (const double c : r.clearance_at_c1) after.push_back(units::MmToUm(c));
-      const nlohmann::json position = {{"crank_deg", RadToDeg(r.crank)},
+      nlohmann::json position = {{"crank_deg", RadToDeg(r.crank)},
                                        {"theta_c1_arcsec", Finite(RadToArcsec(r.theta_c1))},
                                        {"theta_c2_arcsec", Finite(RadToArcsec(r.theta_c2))},
                                        {"backlash_arcsec", Finite(RadToArcsec(r.backlash))},
@@ -75,6 +191,13 @@ void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const St
                                        {"first_contact_pin_reverse", r.first_pin_c2 + 1},
                                        {"clearance_um", clearance},
                                        {"clearance_at_first_contact_um", after}};
+      if (second) {
+        nlohmann::json c2 = nlohmann::json::array();
+        for (const double c : second_clearance) c2.push_back(units::MmToUm(c));
+        position["second_disc_clearance_um"] = c2;
+        // Each disc's own first contact is not the stage's: no figure rather than a misleading one.
+        position["clearance_at_first_contact_um"] = nullptr;
+      }
       json.stream() << (i == 0 ? "\n" : ",\n") << Dump(position, -1);
     }
     if (csv.enabled()) {
@@ -92,10 +215,13 @@ void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const St
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
+  if (svg.enabled()) WriteBacklashFigure(deck, options, plot_crank, plot_c1, plot_c2, plot_backlash, second != nullptr, svg);
 }
 
 void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& streams) {
+  RequireOneStdout({{"--json", options.json_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
+  Output svg("--svg", options.svg_path, streams.out);
   std::ostream& out = streams.text;
   const contact::MeshModel model = deck.MakeModel();
   const double crank = units::DegToRad(options.crank_deg);
@@ -104,6 +230,7 @@ void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& s
   contact::RequireNoInterference(state, crank, model.interference_tolerance());
   fmt::print(out, "case      {}\n", deck.info.title);
   fmt::print(out, "mesh state at crank {:g} deg (unloaded pose)\n", options.crank_deg);
+  if (deck.disc_count() == 2) fmt::print(out, "note      [second_disc]: the first disc's mesh only\n");
   // The slice model has a row per pin and slice (issue 11): the slice and its z are named.
   const bool sliced = model.slice_count() > 1;
   out << ModelLine(deck);
@@ -146,6 +273,7 @@ void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& s
     }
     json.Commit();
   }
+  if (svg.enabled()) WriteMeshFigure(deck, options.crank_deg, state, deck.pair.pin_count, svg);
 }
 
 }  // namespace ltca::cli

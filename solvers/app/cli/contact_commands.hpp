@@ -11,6 +11,7 @@ namespace ltca::cli {
 struct BacklashOptions {
   std::string json_path;
   std::string csv_path;
+  std::string svg_path;  ///< backlash and the rotations to first contact over crank angle (issue 16)
   contact::ContactKinematics kinematics = contact::ContactKinematics::kExact;
 };
 
@@ -19,6 +20,7 @@ void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const St
 
 struct MeshOptions {
   std::string json_path;
+  std::string svg_path;  ///< the clearance and arm of every pin (issue 16)
   double crank_deg = 0.0;
 };
 

@@ -1,5 +1,6 @@
 #include "geometry_command.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -9,6 +10,7 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
+#include "ltca/contact/mesh_state.hpp"
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/real_pair.hpp"
@@ -105,45 +107,121 @@ void WriteCsv(const CycloidProfile& profile, int samples, std::ostream& os) {
   });
 }
 
-void WriteSvg(const geometry::RealPair& real, double crank, int samples, std::ostream& os) {
+/// A round exaggeration factor (1, 2 or 5 x 10^k) that draws a typical mesh clearance (the
+/// median over the pins of the working flank side) about 1.5 % of the drawing's extent.
+double ExaggerationFactor(const std::vector<double>& clearance, double extent) {
+  std::vector<double> c;
+  for (const double v : clearance) {
+    if (std::isfinite(v) && v > 1e-5) c.push_back(v);  // below 0.01 um: in contact, nothing to exaggerate
+  }
+  if (c.empty()) return 1.0;
+  std::sort(c.begin(), c.end());
+  const double typical = c[c.size() / 4];  // the tighter quarter: the pins that mesh
+  const double want = 0.015 * extent / typical;
+  if (want <= 1.0) return 1.0;
+  if (want >= 1e4) return 1e4;
+  const double decade = std::pow(10.0, std::floor(std::log10(want)));
+  for (const double m : {5.0, 2.0, 1.0}) {
+    if (m * decade <= want) return m * decade;
+  }
+  return decade;
+}
+
+void WriteDrawing(const app::Deck& deck, const geometry::RealPair& real, double crank, int samples, Output& output) {
+  namespace plots = app::plots;
   const CycloidProfile& profile = real.profile();
   const Kinematics& kinematics = real.kinematics();
   const auto& pair = profile.pair();
   const geometry::Pose pose = kinematics.CycloidPose(crank);
-  // d < 0: the cycloid is the outer member (a ring); its material lies outside the profile.
-  const bool ring = profile.tooth_difference() < 0;
+  const bool ring = profile.tooth_difference() < 0;  // the cycloid is the outer member
   const double outer = pair.pin_circle_radius + pair.pin_radius + 2.0 * pair.eccentricity;
   const double extent = (ring ? 1.15 * outer : outer) + 2.0;
-  fmt::print(os,
-             "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"{0} {0} {1} {1}\" "
-             "width=\"800\" height=\"800\">\n",
-             -extent, 2.0 * extent);
-  fmt::print(os, "<title>{}: crank {:.4g} deg</title>\n", "cycloid and pins", RadToDeg(crank));
-  os << "<g transform=\"scale(1,-1)\" fill=\"none\" stroke-width=\"" << extent / 400.0 << "\">\n";
-  fmt::print(os, "<circle cx=\"0\" cy=\"0\" r=\"{}\" stroke=\"#bbb\"/>\n", real.pin_circle_radius());
-  os << "<path stroke=\"#c0392b\" fill=\"#f5d5d0\" fill-rule=\"evenodd\" d=\"";
-  bool first = true;
+
+  // The unloaded clearance of every pin (the smallest over its slices), from the contact layer.
+  const contact::MeshModel model = deck.MakeModel();
+  const contact::MeshState state = model.Evaluate(crank);
+  std::vector<double> clearance(static_cast<std::size_t>(pair.pin_count), INFINITY);
+  for (const auto& c : state.pins) {
+    auto& v = clearance[static_cast<std::size_t>(c.pin)];
+    v = std::min(v, c.clearance);
+  }
+  const double c_min = *std::min_element(clearance.begin(), clearance.end());
+  const double factor = ExaggerationFactor(clearance, extent);
+
+  plots::Panel panel;
+  panel.x_label = "x_f (mm)";
+  panel.y_label = "y_f (mm)";
+  panel.equal_scale = true;
+  panel.legend = plots::LegendPlace::kOutsideRight;
+  panel.title = fmt::format("clearances drawn x{:g}", factor);
+  plots::Series disc{ring ? "cycloid ring (as made)" : "cycloid disc (as made)", {}, {}, ring ? plots::Style::kOutline : plots::Style::kPolygon};
+  disc.colour = 1;
   ForEachOutlinePoint(profile, samples, [&](int, double, const Eigen::Vector2d& body, const Eigen::Vector2d&, double,
                                             geometry::SurfacePart) {
     const Eigen::Vector2d x = pose.ToFixed(body);
-    fmt::print(os, "{}{:.5f},{:.5f} ", first ? "M" : "L", x.x(), x.y());
-    first = false;
+    disc.x.push_back(x.x()), disc.y.push_back(x.y());
   });
-  os << "Z";
-  if (ring) {  // outer rim of the ring, so that the even-odd fill leaves the inside empty
-    const double rim = 1.1 * outer;
-    fmt::print(os, " M{0:.5f},{1:.5f} A{2},{2} 0 1,0 {3:.5f},{1:.5f} A{2},{2} 0 1,0 {0:.5f},{1:.5f} Z",
-               pose.centre.x() + rim, pose.centre.y(), rim, pose.centre.x() - rim);
+  panel.series.push_back(std::move(disc));
+  plots::Series pin_circle{fmt::format("pin circle R_p = {:g} mm", real.pin_circle_radius()), {}, {}, plots::Style::kOutline};
+  pin_circle.colour = 6;
+  pin_circle.dashed = true;
+  for (int i = 0; i < 360; ++i) {
+    pin_circle.x.push_back(real.pin_circle_radius() * std::cos(i * M_PI / 180.0));
+    pin_circle.y.push_back(real.pin_circle_radius() * std::sin(i * M_PI / 180.0));
   }
-  os << "\"/>\n";
+  panel.series.push_back(std::move(pin_circle));
+  bool first_pin = true, first_contact = true;
+  std::string contact_pins;
+  int touching_pins = 0;
   for (int j = 0; j < pair.pin_count; ++j) {
     const Eigen::Vector2d c = real.PinCentre(j);  // as assembled: pin-circle and pitch deviations
-    fmt::print(os, "<circle cx=\"{:.5f}\" cy=\"{:.5f}\" r=\"{}\" stroke=\"#2c3e50\" fill=\"#d6dde5\"/>\n",
-               c.x(), c.y(), pair.pin_radius);
+    const double g = std::max(0.0, clearance[static_cast<std::size_t>(j)]);
+    const double r = std::max(pair.pin_radius - (factor - 1.0) * g, 0.3 * pair.pin_radius);
+    const bool touching = clearance[static_cast<std::size_t>(j)] <= c_min + 1e-4;  // within 0.1 um of the first contact
+    plots::Series pin{"", {}, {}, plots::Style::kPolygon};
+    pin.colour = touching ? 2 : 0;
+    if (touching && first_contact) pin.label = "first contact (least clearance)", first_contact = false;
+    if (!touching && first_pin) pin.label = "pins", first_pin = false;
+    if (touching) ++touching_pins;
+    if (touching && touching_pins <= 6) contact_pins += fmt::format("{}{}", contact_pins.empty() ? "" : ", ", j + 1);
+    if (touching && touching_pins == 7) contact_pins += ", ...";
+    for (int i = 0; i < 48; ++i) {
+      pin.x.push_back(c.x() + r * std::cos(i * M_PI / 24.0));
+      pin.y.push_back(c.y() + r * std::sin(i * M_PI / 24.0));
+    }
+    panel.series.push_back(std::move(pin));
+    // Outside the pins; inside them for a ring, whose outline runs outside the pin circle.
+    const double label_radius = ring ? c.norm() - pair.pin_radius - 0.05 * extent : c.norm() + pair.pin_radius + 0.06 * extent;
+    const double a = std::atan2(c.y(), c.x());
+    panel.notes.push_back({label_radius * std::cos(a), label_radius * std::sin(a) - 0.012 * extent, fmt::format("{}", j + 1), 0.5, 0.7});
   }
-  fmt::print(os, "<circle cx=\"{:.5f}\" cy=\"{:.5f}\" r=\"{}\" fill=\"#c0392b\"/>\n", pose.centre.x(),
-             pose.centre.y(), extent / 150.0);
-  os << "</g>\n</svg>\n";
+  // The line of centres: from the pin-circle centre O_p through the cycloid centre O_c.
+  plots::Series centres{"line of centres O_p O_c", {}, {}, plots::Style::kLine};
+  centres.colour = 4;
+  centres.dashed = true;
+  const Eigen::Vector2d oc = pose.centre;
+  const Eigen::Vector2d dir = oc.norm() > 0.0 ? Eigen::Vector2d(oc / oc.norm()) : Eigen::Vector2d(1.0, 0.0);
+  centres.x = {-extent * dir.x(), extent * dir.x()};
+  centres.y = {-extent * dir.y(), extent * dir.y()};
+  panel.series.push_back(std::move(centres));
+  plots::Series centre_mark{"cycloid centre O_c", {oc.x()}, {oc.y()}, plots::Style::kMarkers};
+  centre_mark.colour = 4;
+  panel.series.push_back(std::move(centre_mark));
+  const double limit = extent + 0.1 * extent;
+  panel.x_min = -limit, panel.x_max = limit, panel.y_min = -limit, panel.y_max = limit;
+
+  plots::Figure figure;
+  figure.title = fmt::format("{}: cycloid and pins at crank {:.4g} deg (unloaded)", deck.info.title, RadToDeg(crank));
+  figure.caption = FigureCaption(
+      deck, fmt::format("z_p = {}, z_c = {}, R_p = {:g} mm, r_rp = {:g} mm, e = {:g} mm; least clearance {:.3f} um (pin {}); "
+                        "pins numbered from +x_f counter-clockwise\n"
+                        "clearances exaggerated x{:g}: each pin's radius is reduced by ({:g} - 1) x its clearance (at least 30 % kept)",
+                        pair.pin_count, pair.tooth_count, pair.pin_circle_radius, pair.pin_radius, pair.eccentricity,
+                        units::MmToUm(c_min) + 0.0, contact_pins, factor, factor));
+  figure.panels.push_back(std::move(panel));
+  figure.width = 1000;
+  figure.height = 800;
+  WriteFigure(figure, output);
 }
 
 }  // namespace
@@ -226,10 +304,7 @@ void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const St
     WriteCsv(profile, options.samples_per_flank, csv.stream());
     csv.Commit();
   }
-  if (svg.enabled()) {
-    WriteSvg(real, units::DegToRad(options.crank_deg), options.samples_per_flank, svg.stream());
-    svg.Commit();
-  }
+  if (svg.enabled()) WriteDrawing(deck, real, units::DegToRad(options.crank_deg), options.samples_per_flank, svg);
 }
 
 }  // namespace ltca::cli

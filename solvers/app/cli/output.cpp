@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -24,9 +25,49 @@ std::string Reason() { return errno != 0 ? std::string(": ") + std::strerror(err
 
 }  // namespace
 
+void WriteFigure(const app::plots::Figure& figure, Output& output) {
+  if (!output.enabled()) return;
+  try {
+    app::plots::Write(figure, output.stream(), app::plots::FormatForPath(output.path()));
+  } catch (const std::runtime_error& e) {
+    throw OutputError(fmt::format("{}: {}", output.path(), e.what()));
+  }
+  output.Commit();
+}
+
+void MarkMeanAndPeakToPeak(app::plots::Panel& panel, const std::vector<double>& values, const std::string& unit) {
+  double lo = INFINITY, hi = -INFINITY, sum = 0.0;
+  int n = 0;
+  for (const double v : values) {
+    if (!std::isfinite(v)) continue;
+    lo = std::min(lo, v), hi = std::max(hi, v), sum += v, ++n;
+  }
+  if (n == 0) return;
+  using Mark = app::plots::Mark;
+  panel.marks.push_back({Mark::Axis::kHorizontal, sum / n, fmt::format("mean {:.4f} {}", sum / n, unit), false});
+  panel.marks.push_back({Mark::Axis::kHorizontal, hi, fmt::format("max {:.4f}: peak-to-peak {:.4f} {}", hi, hi - lo, unit), true});
+  panel.marks.push_back({Mark::Axis::kHorizontal, lo, fmt::format("min {:.4f}", lo), true});
+  const double pad = std::max(0.15 * (hi - lo), 1e-3 * std::max(1.0, std::abs(hi)));
+  panel.y_min = lo - pad, panel.y_max = hi + 2 * pad;
+}
+
+std::string FigureCaption(const app::Deck& deck, const std::string& ran) {
+  std::string caption = fmt::format("deck: {}", deck.name);
+  if (!deck.info.source.empty()) caption += fmt::format("   source: {}", deck.info.source);
+  if (!ran.empty()) caption += "\n" + ran;
+  return caption + fmt::format("\nltca {}", LTCA_VERSION);
+}
+
 Output::Output(std::string option, std::string path, std::ostream& out)
     : option_(std::move(option)), path_(std::move(path)) {
   if (path_.empty()) return;
+  if (option_ == "--svg") {  // a figure: its format (by the extension) must be one the plotting library draws
+    try {
+      app::plots::RequireFormat(app::plots::FormatForPath(path_));
+    } catch (const std::runtime_error& e) {
+      throw OutputError(fmt::format("{} {}: {}", option_, path_, e.what()));
+    }
+  }
   if (path_ == "-") {
     out_ = &out;
     return;
@@ -184,6 +225,7 @@ void Progress::Update(std::int64_t done) {
 nlohmann::json ModelJson(const app::Deck::ModelInfo& model) {
   nlohmann::json j = {{"name", model.name}, {"slices", model.slices}, {"surface", model.surface}};
   if (!model.note.empty()) j["note"] = model.note;
+  if (model.discs != 1) j["discs"] = model.discs;  // issue 13: [second_disc]
   if (model.tip_relief_source != "none" || !model.tip_relief_note.empty()) {
     j["tip_relief"] = {{"truncation_mm", model.tip_relief.truncation},
                        {"rounding_radius_mm", model.tip_relief.rounding_radius},

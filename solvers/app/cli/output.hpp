@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ltca/app/deck.hpp"
+#include "ltca/app/plots.hpp"
 
 namespace ltca::cli {
 
@@ -42,6 +43,7 @@ class Output {
   Output& operator=(const Output&) = delete;
 
   bool enabled() const { return !path_.empty(); }
+  const std::string& path() const { return path_; }
   std::ostream& stream();
   /// Flushes and checks the stream, closes and renames the file into place. Throws OutputError.
   void Commit();
@@ -57,6 +59,17 @@ class Output {
 /// Writes a whole document to an output given as option/path (a convenience over Output).
 void WriteTo(const std::string& option, const std::string& path, std::ostream& out,
              const std::function<void(std::ostream&)>& write);
+
+/// Draws a figure (issue 16) into an output, SVG or, by the path's extension, PNG or PDF, and
+/// commits it.
+void WriteFigure(const app::plots::Figure& figure, Output& output);
+/// A figure's caption: the deck and its source on one line, then `ran` (the model and solver).
+std::string FigureCaption(const app::Deck& deck, const std::string& ran);
+
+/// Marks the mean, the largest and the smallest of the finite values on a panel (horizontal lines
+/// labelled with the figure and the unit, the peak-to-peak named on the largest) and sets the y range
+/// to leave room for the labels. Does nothing when no value is finite.
+void MarkMeanAndPeakToPeak(app::plots::Panel& panel, const std::vector<double>& values, const std::string& unit);
 
 /// Throws std::invalid_argument when more than one of these outputs is "-": standard output
 /// carries one document.

@@ -16,6 +16,7 @@
 namespace ltca::cli {
 namespace {
 
+namespace plots = app::plots;
 using units::RadToArcsec;
 using units::RadToDeg;
 
@@ -39,6 +40,15 @@ nlohmann::json PositionJson(const app::PositionResult& p) {
                       {"warnings", p.result.warnings},
                       {"torque_evaluations", p.result.torque_evaluations},
                       {"residual", FiniteOrNull(p.result.residuals.Normalised())}};
+  if (!p.disc_torque.empty()) {
+    // Two discs (issue 13): the torque each carries, N*m, signed as T; pin arrays run over disc 1's
+    // pins, then disc 2's.
+    nlohmann::json torques = nlohmann::json::array();
+    for (const double t : p.disc_torque) torques.push_back(FiniteOrNull(t / 1000.0));
+    j["disc_torque_nm"] = figure(torques);
+    const double total = p.disc_torque.size() == 2 ? p.disc_torque[0] + p.disc_torque[1] : 0.0;
+    j["first_disc_share"] = figure(total != 0.0 ? FiniteOrNull(p.disc_torque[0] / total) : nlohmann::json(nullptr));
+  }
   if (p.slices > 1) {
     const bool complete = p.result.force.size() == p.pin_force.size() * static_cast<std::size_t>(p.slices);
     // The contact pattern (issue 11): per pin its slice forces and stresses and its load centroid.
@@ -76,6 +86,12 @@ nlohmann::json SummaryJson(const app::SweepSummary& s, const app::Deck::ModelInf
                       {"failed_positions", s.failed},
                       {"warned_positions", s.warned}};
   if (s.warned > 0) j["first_warning"] = s.first_warning;
+  if (model.discs == 2) {  // issue 13: the share of T the first disc carries, over the successful positions
+    j["discs"] = 2;
+    j["first_disc_share_mean"] = FiniteOrNull(s.first_disc_share_mean);
+    j["first_disc_share_min"] = FiniteOrNull(s.first_disc_share_min);
+    j["first_disc_share_max"] = FiniteOrNull(s.first_disc_share_max);
+  }
   if (s.failed > 0) {
     j["note"] = s.succeeded > 0
                     ? fmt::format("{} of {} positions failed: the figures are over the {} successful positions only",
@@ -85,59 +101,148 @@ nlohmann::json SummaryJson(const app::SweepSummary& s, const app::Deck::ModelInf
   return j;
 }
 
-/// What the SVG needs, kept compactly while the sweep streams by.
+/// What the figure needs, kept compactly while the sweep streams by: the TE of every position
+/// (NaN where the solve failed: a gap in the curve) and the position of the largest pin force.
 struct SvgData {
-  std::vector<std::pair<double, double>> te;  ///< (crank deg, te arcsec) of successful positions
+  std::vector<double> crank_deg, te_arcsec;
   std::optional<app::PositionResult> peak;
   double f_peak = -1.0;
+  /// The pin x crank maps: every stride-th position's pin forces and stresses (NaN when it
+  /// failed), at most about kMapColumns columns whatever the sweep.
+  static constexpr std::int64_t kMapColumns = 90;
+  std::int64_t stride = 1, seen = 0;
+  std::vector<double> map_crank;
+  std::vector<std::vector<double>> map_force, map_stress;
+  explicit SvgData(std::int64_t positions) : stride(std::max<std::int64_t>(1, (positions + kMapColumns - 1) / kMapColumns)) {}
   void Add(const app::PositionResult& p) {
+    if (seen++ % stride == 0) {
+      const auto or_nan = [&p](const std::vector<double>& v) {
+        return p.succeeded() ? v : std::vector<double>(v.size(), NAN);
+      };
+      map_crank.push_back(RadToDeg(p.crank));
+      map_force.push_back(or_nan(p.pin_force));
+      map_stress.push_back(or_nan(p.contact_stress));
+    }
+    crank_deg.push_back(RadToDeg(p.crank));
+    te_arcsec.push_back(p.succeeded() ? RadToArcsec(p.result.te) : NAN);
     if (!p.succeeded()) return;
-    te.emplace_back(RadToDeg(p.crank), RadToArcsec(p.result.te));
     const double f = MaxOf(p.pin_force);
     if (f > f_peak) f_peak = f, peak = p;
   }
 };
 
-void WriteSvg(const std::string& solver, const SvgData& data, std::ostream& os) {
-  // Left: TE over the crank sweep. Right: pin forces at the position of the largest force.
-  const double w = 420, h = 300, pad = 50;
-  fmt::print(os, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"11\">\n",
-             2 * w, h);
-  if (!data.peak) {
-    fmt::print(os, "<text x=\"{}\" y=\"{}\">no position succeeded: nothing to draw ({})</text>\n</svg>\n", pad, h / 2, solver);
-    return;
+/// Bars of one quantity per pin, numbered j + 1 (docs/conventions.md), one series per disc;
+/// the loaded pins carry their number above the bar.
+plots::Panel PinBars(const std::vector<double>& values, int pin_count, const std::string& y_label, const std::string& title) {
+  plots::Panel panel;
+  panel.title = title;
+  panel.x_label = "pin number";
+  panel.y_label = y_label;
+  const int discs = pin_count > 0 && values.size() == 2 * static_cast<std::size_t>(pin_count) ? 2 : 1;
+  const int n = discs == 2 ? pin_count : static_cast<int>(values.size());
+  double top = 0.0;
+  for (const double v : values) top = std::max(top, std::isfinite(v) ? v : 0.0);
+  for (int d = 0; d < discs; ++d) {
+    plots::Series bars;
+    bars.label = discs == 2 ? fmt::format("disc {}", d + 1) : "";
+    bars.style = plots::Style::kBars;
+    bars.colour = d;
+    bars.bar_width = discs == 2 ? 0.4 : 0.7;
+    for (int j = 0; j < n; ++j) {
+      const double v = values[static_cast<std::size_t>(d * n + j)];
+      const double x = j + 1 + (discs == 2 ? (d == 0 ? -0.2 : 0.2) : 0.0);
+      bars.x.push_back(x);
+      bars.y.push_back(v);
+      if (std::isfinite(v) && v > 0.0) panel.notes.push_back({x, v + 0.02 * top, fmt::format("{}", j + 1), 0.5, 0.75});
+    }
+    panel.series.push_back(std::move(bars));
   }
-  double te_lo = INFINITY, te_hi = -INFINITY, c_lo = INFINITY, c_hi = -INFINITY;
-  for (const auto& [c, t] : data.te) {
-    te_lo = std::min(te_lo, t), te_hi = std::max(te_hi, t);
-    c_lo = std::min(c_lo, c), c_hi = std::max(c_hi, c);
+  panel.x_min = 0.0, panel.x_max = n + 1.0;
+  panel.y_min = 0.0, panel.y_max = top > 0.0 ? 1.1 * top : 1.0;
+  return panel;
+}
+
+/// The TE over the sweep with its mean and peak-to-peak marked.
+plots::Panel TePanel(const std::vector<double>& crank_deg, const std::vector<double>& te_arcsec, const std::string& label) {
+  plots::Panel panel;
+  panel.title = "loaded transmission error";
+  panel.x_label = "crank angle (deg)";
+  panel.y_label = "TE (arcsec)";
+  panel.series.push_back({label, crank_deg, te_arcsec, plots::Style::kLineMarkers});
+  MarkMeanAndPeakToPeak(panel, te_arcsec, "arcsec");
+  return panel;
+}
+
+void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, const SvgData& data, Output& output) {
+  plots::Figure figure;
+  const double c_lo = data.crank_deg.empty() ? 0.0 : data.crank_deg.front();
+  const double c_hi = data.crank_deg.empty() ? 0.0 : data.crank_deg.back();
+  figure.title = fmt::format("{}: loaded TE over crank {:.4g} to {:.4g} deg, {} solver", deck.info.title, c_lo, c_hi, solver.name);
+  figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics), T = {:g} N*m, {} positions",
+                                                   deck.Model().name, solver.name, KinematicsName(solver.kinematics),
+                                                   deck.RequireLoad().torque / 1000.0, data.crank_deg.size()));
+  figure.columns = 3;
+  figure.width = 1500;
+  figure.height = 520;
+  figure.panels.push_back(TePanel(data.crank_deg, data.te_arcsec, solver.name));
+  if (data.peak) {
+    const auto& p = *data.peak;
+    const double crank = RadToDeg(p.crank);
+    figure.panels.push_back(PinBars(p.pin_force, deck.pair.pin_count, "pin force (N)",
+                                    fmt::format("pin forces at crank {:.4g} deg (largest force)", crank)));
+    figure.panels.push_back(PinBars(p.contact_stress, deck.pair.pin_count, "contact stress (MPa)",
+                                    fmt::format("contact stress at crank {:.4g} deg", crank)));
+  } else {
+    figure.title += ": no position succeeded";
   }
-  if (te_hi - te_lo < 1e-9) te_hi = te_lo + 1e-3;
-  if (c_hi - c_lo < 1e-9) c_hi = c_lo + 1.0;
-  const auto x1 = [&](double c) { return pad + (c - c_lo) / (c_hi - c_lo) * (w - 2 * pad); };
-  const auto y1 = [&](double t) { return h - pad - (t - te_lo) / (te_hi - te_lo) * (h - 2 * pad); };
-  fmt::print(os, "<text x=\"{}\" y=\"20\">loaded TE (arcsec) over crank angle (deg), {}</text>\n", pad, solver);
-  fmt::print(os, "<rect x=\"{0}\" y=\"{0}\" width=\"{1}\" height=\"{2}\" fill=\"none\" stroke=\"#999\"/>\n", pad, w - 2 * pad, h - 2 * pad);
-  os << "<polyline fill=\"none\" stroke=\"#c0392b\" points=\"";
-  for (const auto& [c, t] : data.te) fmt::print(os, "{:.2f},{:.2f} ", x1(c), y1(t));
-  os << "\"/>\n";
-  fmt::print(os, "<text x=\"5\" y=\"{}\">{:.4f}</text><text x=\"5\" y=\"{}\">{:.4f}</text>\n", pad + 4, te_hi, h - pad, te_lo);
-  fmt::print(os, "<text x=\"{}\" y=\"{}\">{:.3g}</text><text x=\"{}\" y=\"{}\">{:.3g}</text>\n", pad, h - pad + 15, c_lo, w - pad - 20, h - pad + 15, c_hi);
-  // Load distribution: force against the pin's angle from the line of centres.
-  const auto& p = *data.peak;
-  const double f_peak = data.f_peak;
-  const auto x2 = [&](double a) { return w + pad + (a + 180.0) / 360.0 * (w - 2 * pad); };
-  const auto y2 = [&](double f) { return h - pad - f / std::max(f_peak, 1e-300) * (h - 2 * pad); };
-  fmt::print(os, "<text x=\"{}\" y=\"20\">pin force (N) over pin angle (deg) at crank {:.3g} deg</text>\n", w + pad, RadToDeg(p.crank));
-  fmt::print(os, "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#999\"/>\n", w + pad, pad, w - 2 * pad, h - 2 * pad);
-  for (std::size_t i = 0; i < p.pin_force.size() && i < p.angle.size(); ++i) {
-    const double a = RadToDeg(p.angle[i]);
-    fmt::print(os, "<line x1=\"{0:.2f}\" x2=\"{0:.2f}\" y1=\"{1:.2f}\" y2=\"{2:.2f}\" stroke=\"#2c3e50\" stroke-width=\"3\"/>\n",
-               x2(a), y2(0.0), y2(p.pin_force[i]));
+  // Pin x crank-angle maps of force and contact stress (two discs: disc 2's pins numbered z_p + 1 ..).
+  std::size_t pins = 0;
+  for (const auto& f : data.map_force) pins = std::max(pins, f.size());
+  if (data.peak && pins > 0) {
+    std::vector<double> pin_numbers;
+    for (std::size_t j = 0; j < pins; ++j) pin_numbers.push_back(static_cast<double>(j + 1));
+    const auto map_panel = [&](const std::vector<std::vector<double>>& z, const std::string& label, const std::string& title) {
+      plots::Panel panel;
+      panel.title = title;
+      panel.x_label = "crank angle (deg)";
+      panel.y_label = pins == 2 * static_cast<std::size_t>(deck.pair.pin_count) ? "pin number (disc 2: z_p + 1 ..)" : "pin number";
+      panel.map = plots::Map{data.map_crank, pin_numbers, z, label};
+      for (auto& column : panel.map->z) column.resize(pins, NAN);
+      const double half = data.map_crank.size() > 1 ? (data.map_crank[1] - data.map_crank[0]) / 2 : 0.5;
+      panel.x_min = data.map_crank.front() - half, panel.x_max = data.map_crank.back() + half;
+      panel.y_min = 0.5, panel.y_max = static_cast<double>(pins) + 0.5;
+      return panel;
+    };
+    const std::string every = data.stride > 1 ? fmt::format(" (1 position in {})", data.stride) : "";
+    figure.panels.push_back(map_panel(data.map_force, "pin force (N)", "pin force map" + every));
+    figure.panels.push_back(map_panel(data.map_stress, "contact stress (MPa)", "contact stress map" + every));
+    figure.height = 1000;
   }
-  fmt::print(os, "<text x=\"{}\" y=\"{}\">{:.4g}</text>\n", w + 5, pad + 4, f_peak);
-  fmt::print(os, "<text x=\"{}\" y=\"{}\">-180</text><text x=\"{}\" y=\"{}\">180</text>\n", w + pad, h - pad + 15, 2 * w - pad - 20, h - pad + 15);
-  os << "</svg>\n";
+  // The contact pattern across the face width (the slice model, issue 11): pin x slice forces at
+  // the position of the largest pin force.
+  if (data.peak && data.peak->slices > 1 &&
+      data.peak->result.force.size() == data.peak->pin_force.size() * static_cast<std::size_t>(data.peak->slices)) {
+    const auto& p = *data.peak;
+    const auto n = static_cast<std::size_t>(p.slices);
+    plots::Map map;
+    map.z_label = "slice force (N)";
+    for (std::size_t k = 0; k < n; ++k) map.x.push_back((static_cast<double>(k) + 0.5) * deck.pair.face_width / static_cast<double>(n));
+    for (std::size_t j = 0; j < p.pin_force.size(); ++j) map.y.push_back(static_cast<double>(j + 1));
+    for (std::size_t k = 0; k < n; ++k) {
+      std::vector<double> column;
+      for (std::size_t j = 0; j < p.pin_force.size(); ++j) column.push_back(p.result.force[j * n + k]);
+      map.z.push_back(std::move(column));
+    }
+    plots::Panel panel;
+    panel.title = fmt::format("contact pattern at crank {:.4g} deg", RadToDeg(p.crank));
+    panel.x_label = "face width position z (mm)";
+    panel.y_label = "pin number";
+    panel.x_min = 0.0, panel.x_max = deck.pair.face_width;
+    panel.y_min = 0.5, panel.y_max = static_cast<double>(p.pin_force.size()) + 0.5;
+    panel.map = std::move(map);
+    figure.panels.push_back(std::move(panel));
+  }
+  cli::WriteFigure(figure, output);
 }
 
 /// A CSV field: the figure, or empty when no valid solve produced it.
@@ -191,7 +296,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
   Output svg("--svg", options.svg_path, streams.out);
   Output pattern("--pattern-csv", options.pattern_csv_path, streams.out);
 
-  SvgData svg_data;
+  SvgData svg_data(deck.sweep.positions);
   bool started = false;
   std::int64_t done = 0;
   Progress progress(streams.err, streams.progress, "solving position", deck.sweep.positions);
@@ -202,7 +307,10 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
           {"case", CaseJson(deck)}, {"model", ModelJson(deck.Model())}, {"solver", SolverJson(deck, solver)}};
       json.stream() << envelope.before << OpenObject(header) << ",\n  \"positions\": [";
     }
-    if (csv.enabled()) csv.stream() << "crank_deg,te_arcsec,contacts,max_pin_force_n,max_contact_stress_mpa,status\n";
+    if (csv.enabled()) {
+      csv.stream() << "crank_deg,te_arcsec,contacts,max_pin_force_n,max_contact_stress_mpa,status"
+                   << (deck.disc_count() == 2 ? ",disc1_torque_nm,disc2_torque_nm\n" : "\n");
+    }
     if (pattern.enabled()) pattern.stream() << "crank_deg,pin,slice,z_mm,force_n,contact_stress_mpa,status\n";
   };
   app::SweepCallbacks callbacks;
@@ -212,9 +320,13 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
     if (json.enabled()) json.stream() << (done == 0 ? "\n    " : ",\n    ") << Dump(PositionJson(p), -1);
     if (csv.enabled()) {
       const bool ok = p.succeeded();
-      fmt::print(csv.stream(), "{:.9g},{},{},{},{},{}\n", RadToDeg(p.crank), CsvFigure(ok, RadToArcsec(p.result.te)),
+      fmt::print(csv.stream(), "{:.9g},{},{},{},{},{}", RadToDeg(p.crank), CsvFigure(ok, RadToArcsec(p.result.te)),
                  ok ? fmt::format("{}", p.contacts) : std::string(), CsvFigure(ok, MaxOf(p.pin_force)),
                  CsvFigure(ok, MaxOf(p.contact_stress)), solvers::ToString(p.result.status));
+      if (p.disc_torque.size() == 2) {  // two discs (issue 13): each disc's torque, N*m
+        fmt::print(csv.stream(), ",{},{}", CsvFigure(ok, p.disc_torque[0] / 1000.0), CsvFigure(ok, p.disc_torque[1] / 1000.0));
+      }
+      csv.stream() << '\n';
     }
     if (svg.enabled()) svg_data.Add(p);
     if (pattern.enabled()) {
@@ -245,10 +357,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
   }
   if (csv.enabled()) csv.Commit();
   if (pattern.enabled()) pattern.Commit();
-  if (svg.enabled()) {
-    WriteSvg(sweep.solver, svg_data, svg.stream());
-    svg.Commit();
-  }
+  if (svg.enabled()) WriteFigure(deck, solver, svg_data, svg);
 
   std::ostream& text = streams.text;
   fmt::print(text, "case      {}\n", deck.info.title);
@@ -265,6 +374,11 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
     fmt::print(text, "pins in contact        {} to {}\n", s.contacts_min, s.contacts_max);
   } else {
     fmt::print(text, "pins in contact        n/a\n");
+  }
+  if (deck.disc_count() == 2) {
+    fmt::print(text, "first disc's share     {} mean, {} to {} of T (disc 2: the rest; per crank in --json/--csv)\n",
+               FormatOrNa(s.first_disc_share_mean, 4), FormatOrNa(s.first_disc_share_min, 4),
+               FormatOrNa(s.first_disc_share_max, 4));
   }
   fmt::print(text, "largest pin force      {} N\n", FormatOrNa(s.max_pin_force, 2));
   fmt::print(text, "largest contact stress {} MPa\n", FormatOrNa(s.max_contact_stress, 2));

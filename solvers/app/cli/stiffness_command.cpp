@@ -9,6 +9,7 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
+#include "ltca/app/efficiency.hpp"
 #include "ltca/app/stiffness.hpp"
 #include "ltca/geometry/units.hpp"
 #include "solve_command.hpp"
@@ -59,6 +60,10 @@ nlohmann::json PositionJson(const app::StiffnessPosition& p) {
                       {"failed_solves", p.failed},
                       {"curve", CurveJson(p.curve)}};
   if (!p.succeeded()) j["message"] = p.first_failure;
+  if (std::isfinite(p.first_disc_share_drive) || std::isfinite(p.first_disc_share_coast)) {  // two discs (issue 13)
+    j["first_disc_share_drive"] = FiniteOrNull(p.first_disc_share_drive);
+    j["first_disc_share_coast"] = FiniteOrNull(p.first_disc_share_coast);
+  }
   return j;
 }
 
@@ -74,17 +79,29 @@ void AddSpread(nlohmann::json& j, const std::string& key, const std::string& uni
 
 double Arcmin(double rad) { return RadToArcmin(rad); }
 
-nlohmann::json SummaryJson(const app::StiffnessSummary& s, bool sweep) {
+nlohmann::json SummaryJson(const app::StiffnessSummary& s, bool sweep, double friction_mu) {
   nlohmann::json j = nlohmann::json::object();
   AddSpread(j, "torsional_rigidity", "nm_per_arcmin", s.rigidity, sweep, RigidityNmPerArcmin);
   AddSpread(j, "torsional_rigidity_drive", "nm_per_arcmin", s.rigidity_drive, sweep, RigidityNmPerArcmin);
   AddSpread(j, "torsional_rigidity_coast", "nm_per_arcmin", s.rigidity_coast, sweep, RigidityNmPerArcmin);
   AddSpread(j, "lost_motion", "arcmin", s.lost_motion, sweep, Arcmin);
   AddSpread(j, "backlash", "arcmin", s.backlash, sweep, Arcmin);
-  j["hysteresis"] = false;
+  if (s.first_disc_share_drive.count + s.first_disc_share_coast.count > 0) {  // two discs (issue 13): T_1 / T at +-T
+    const auto share = [](double v) { return v; };
+    AddSpread(j, "first_disc_share", "drive", s.first_disc_share_drive, sweep, share);
+    AddSpread(j, "first_disc_share", "coast", s.first_disc_share_coast, sweep, share);
+  }
+  j["hysteresis"] = friction_mu > 0.0;  // issue 14: friction separates the branches
   j["branch_difference_arcmin"] = FiniteOrNull(RadToArcmin(s.branch_difference.max));
-  j["note"] = "no friction in the model: the increasing and decreasing branches coincide (no hysteresis loop); "
-              "branch_difference_arcmin is the largest difference found between them (the solver's tolerance)";
+  if (friction_mu > 0.0) {
+    j["friction_coefficient"] = friction_mu;
+    j["note"] = "Coulomb friction in the torque balance ([friction]): the increasing branch carries T - mu sum F a_t, the "
+                "decreasing one T + mu sum F a_t, and they differ (the hysteresis loop); branch_difference_arcmin is the "
+                "loop's largest width at a torque level; the read-off values are taken on the loop's midline";
+  } else {
+    j["note"] = "no friction in the model: the increasing and decreasing branches coincide (no hysteresis loop); "
+                "branch_difference_arcmin is the largest difference found between them (the solver's tolerance)";
+  }
   j["curve"] = sweep ? CurveJson(s.curve, &s.curve_min, &s.curve_max) : CurveJson(s.curve);
   j["positions"] = s.positions();
   j["succeeded_positions"] = s.succeeded;
@@ -97,92 +114,81 @@ nlohmann::json SummaryJson(const app::StiffnessSummary& s, bool sweep) {
 }
 
 /// The loop as a catalogue draws it: twist (arcmin) across, torque (N*m) up, with the three
-/// read-off values marked.
-void WriteSvg(const app::StiffnessSummary& s, double rated, bool sweep, const std::string& title, std::ostream& os) {
-  const double w = 640, h = 460, pad = 70;
-  fmt::print(os, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"11\">\n", w, h);
-  fmt::print(os, "<text x=\"{}\" y=\"20\">torque-twist loop{}: {}</text>\n", pad, sweep ? " (mean over the positions, band: their range)" : "", title);
-  double lo = INFINITY, hi = -INFINITY;
-  for (std::size_t i = 0; i < s.curve.size(); ++i) {
-    for (const double v : {s.curve[i].twist, s.curve_min[i], s.curve_max[i]}) {
-      if (std::isfinite(v)) lo = std::min(lo, RadToArcmin(v)), hi = std::max(hi, RadToArcmin(v));
-    }
-  }
-  if (!std::isfinite(lo)) {
-    fmt::print(os, "<text x=\"{}\" y=\"{}\">no solve succeeded: nothing to draw</text>\n</svg>\n", pad, h / 2);
-    return;
-  }
-  const double span = std::max(hi - lo, 1e-9), t_nm = NmmToNm(rated);
-  lo -= 0.05 * span, hi += 0.05 * span;
-  const auto x = [&](double arcmin) { return pad + (arcmin - lo) / (hi - lo) * (w - 2 * pad); };
-  const auto y = [&](double nm) { return h - pad - (nm + 1.1 * t_nm) / (2.2 * t_nm) * (h - 2 * pad); };
-  // Axes through the origin (twist 0 clamped into the frame), with the extreme values labelled.
-  fmt::print(os, "<rect x=\"{0}\" y=\"{0}\" width=\"{1}\" height=\"{2}\" fill=\"none\" stroke=\"#999\"/>\n", pad, w - 2 * pad, h - 2 * pad);
-  const double x0 = std::clamp(x(0.0), pad, w - pad);
-  fmt::print(os, "<line x1=\"{}\" x2=\"{}\" y1=\"{:.2f}\" y2=\"{:.2f}\" stroke=\"#bbb\"/>\n", pad, w - pad, y(0.0), y(0.0));
-  fmt::print(os, "<line x1=\"{:.2f}\" x2=\"{:.2f}\" y1=\"{}\" y2=\"{}\" stroke=\"#bbb\"/>\n", x0, x0, pad, h - pad);
-  fmt::print(os, "<text x=\"{}\" y=\"{}\">twist (arcmin, output rotation in the sense of +T from the theoretical position)</text>\n", pad, h - pad + 32);
-  fmt::print(os, "<text x=\"{:.2f}\" y=\"{}\" text-anchor=\"middle\">{:.4g}</text><text x=\"{:.2f}\" y=\"{}\" text-anchor=\"middle\">{:.4g}</text>\n",
-             x(lo), h - pad + 15, lo, x(hi), h - pad + 15, hi);
-  fmt::print(os, "<text x=\"14\" y=\"{:.2f}\" transform=\"rotate(-90 14 {:.2f})\" text-anchor=\"middle\">torque (N*m)</text>\n", h / 2, h / 2);
-  for (const double nm : {-t_nm, 0.0, t_nm}) {
-    fmt::print(os, "<text x=\"{}\" y=\"{:.2f}\" text-anchor=\"end\">{:.4g}</text>\n", pad - 4, y(nm) + 4, nm);
-  }
-  const auto polyline = [&](const char* colour, const char* extra, auto twist_of) {
-    os << "<polyline fill=\"none\" stroke=\"" << colour << "\" " << extra << " points=\"";
+/// read-off values drawn on it and named in the legend.
+void WriteLoopFigure(const app::Deck& deck, const solvers::SolverOptions& solver, const app::StiffnessSummary& s,
+                     double rated, const std::string& when, bool sweep, std::size_t positions, Output& output) {
+  namespace plots = app::plots;
+  plots::Panel panel;
+  panel.title = sweep ? "mean over the positions; dashed: their smallest and largest twist" : "";
+  panel.x_label = "twist (arcmin, output rotation in the sense of +T)";
+  panel.y_label = "torque (N*m)";
+  panel.legend = plots::LegendPlace::kTopLeft;
+  const auto branch = [&](const std::string& label, int colour, bool dashed, auto twist_of) {
+    plots::Series series{label, {}, {}, plots::Style::kLine};
+    series.colour = colour;
+    series.dashed = dashed;
     for (std::size_t i = 0; i < s.curve.size(); ++i) {
-      const double v = twist_of(i);
-      if (std::isfinite(v)) fmt::print(os, "{:.2f},{:.2f} ", x(RadToArcmin(v)), y(NmmToNm(s.curve[i].torque)));
+      series.x.push_back(RadToArcmin(twist_of(i)));  // NaN (an unsolved point): a gap
+      series.y.push_back(NmmToNm(s.curve[i].torque));
     }
-    os << "\"/>\n";
+    return series;
   };
-  if (sweep) {
-    polyline("#e6b0aa", "stroke-width=\"1\"", [&](std::size_t i) { return s.curve_min[i]; });
-    polyline("#e6b0aa", "stroke-width=\"1\"", [&](std::size_t i) { return s.curve_max[i]; });
-  }
-  polyline("#c0392b", "stroke-width=\"2\"", [&](std::size_t i) { return s.curve[i].twist; });
-  // The read-off values: drawn on the loop, named in a legend in the empty quadrant (twist < 0,
-  // torque > 0).
-  std::vector<std::pair<const char*, std::string>> legend;
-  // Backlash: the width at zero torque (the two zero-torque points of the increasing branch).
-  std::vector<double> zero;
-  for (const auto& p : s.curve) {
-    if (p.torque == 0.0 && p.branch == app::Branch::kIncreasing && std::isfinite(p.twist)) zero.push_back(RadToArcmin(p.twist));
-  }
-  if (zero.size() == 2) {
-    fmt::print(os, "<line x1=\"{:.2f}\" x2=\"{:.2f}\" y1=\"{:.2f}\" y2=\"{:.2f}\" stroke=\"#2c3e50\" stroke-width=\"3\"/>\n",
-               x(zero[0]), x(zero[1]), y(0.0), y(0.0));
-    legend.emplace_back("#2c3e50", fmt::format("backlash {:.4g} arcmin (loop width at zero torque)", RadToArcmin(s.backlash.mean)));
-  }
-  // Read-offs: secant (or tangent) points joined; lost motion between the +-f T points.
-  const auto& r = s.readoffs;
-  const auto mark = [&](const app::CurvePoint& a, const app::CurvePoint& b, const char* colour) {
-    if (!std::isfinite(a.twist) || !std::isfinite(b.twist)) return;
-    fmt::print(os, "<line x1=\"{:.2f}\" x2=\"{:.2f}\" y1=\"{:.2f}\" y2=\"{:.2f}\" stroke=\"{}\" stroke-width=\"2\" stroke-dasharray=\"5,3\"/>\n",
-               x(RadToArcmin(a.twist)), x(RadToArcmin(b.twist)), y(NmmToNm(a.torque)), y(NmmToNm(b.torque)), colour);
-    for (const auto* p : {&a, &b}) {
-      fmt::print(os, "<circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3\" fill=\"{}\"/>\n", x(RadToArcmin(p->twist)), y(NmmToNm(p->torque)), colour);
+  bool any = false;
+  for (const auto& c : s.curve) any = any || std::isfinite(c.twist);
+  if (any) {
+    panel.series.push_back(branch("torque-twist loop", 0, false, [&](std::size_t i) { return s.curve[i].twist; }));
+    if (sweep) {
+      panel.series.push_back(branch("range over the positions", 6, true, [&](std::size_t i) { return s.curve_min[i]; }));
+      panel.series.push_back(branch("", 6, true, [&](std::size_t i) { return s.curve_max[i]; }));
     }
-  };
-  if (r.size() == 6) {  // secant: +T, +T/2, -T/2, -T, then lost motion
-    mark(r[1], r[0], "#2471a3");
-    mark(r[3], r[2], "#2471a3");
-    legend.emplace_back("#2471a3", fmt::format("torsional rigidity {:.4g} N*m/arcmin (secant 50 % .. 100 % of T)",
-                                               RigidityNmPerArcmin(s.rigidity.mean)));
-  } else if (r.size() == 4) {  // tangent: two torques, then lost motion
-    mark(r[1], r[0], "#2471a3");
-    legend.emplace_back("#2471a3", fmt::format("torsional rigidity {:.4g} N*m/arcmin (tangent)", RigidityNmPerArcmin(s.rigidity.mean)));
+    // Backlash: the loop's width at zero torque (the two zero-torque points of the increasing branch).
+    std::vector<double> zero;
+    for (const auto& p : s.curve) {
+      if (p.torque == 0.0 && p.branch == app::Branch::kIncreasing && std::isfinite(p.twist)) zero.push_back(RadToArcmin(p.twist));
+    }
+    if (zero.size() == 2) {
+      plots::Series b{fmt::format("backlash {:.4g} arcmin (width at zero torque)", RadToArcmin(s.backlash.mean)), zero, {0.0, 0.0},
+                      plots::Style::kLineMarkers};
+      b.colour = 2;
+      panel.series.push_back(std::move(b));
+    }
+    const auto& r = s.readoffs;
+    const auto segment = [&](const std::string& label, const app::CurvePoint& a, const app::CurvePoint& c, int colour) {
+      plots::Series seg{label, {RadToArcmin(a.twist), RadToArcmin(c.twist)}, {NmmToNm(a.torque), NmmToNm(c.torque)},
+                        plots::Style::kLineMarkers};
+      seg.colour = colour;
+      seg.dashed = true;
+      if (std::isfinite(a.twist) && std::isfinite(c.twist)) panel.series.push_back(std::move(seg));
+    };
+    if (r.size() == 6) {  // secant: +T, +T/2, -T/2, -T, then lost motion
+      segment(fmt::format("torsional rigidity {:.4g} N*m/arcmin (secant 50 % .. 100 % of T)", RigidityNmPerArcmin(s.rigidity.mean)),
+              r[1], r[0], 1);
+      segment("", r[3], r[2], 1);
+    } else if (r.size() == 4) {  // tangent: two torques, then lost motion
+      segment(fmt::format("torsional rigidity {:.4g} N*m/arcmin (tangent)", RigidityNmPerArcmin(s.rigidity.mean)), r[1], r[0], 1);
+    }
+    if (r.size() >= 2) {
+      segment(fmt::format("lost motion {:.4g} arcmin (at +-{:.3g} % of T)", RadToArcmin(s.lost_motion.mean),
+                          100.0 * NmmToNm(r.back().torque) / -NmmToNm(rated)),
+              r[r.size() - 1], r[r.size() - 2], 3);
+    }
+    // A panel shows a legend from two labelled series: with fewer, the one label goes in the title.
+    if (panel.LabelledSeries() < 2 && !panel.series.empty()) panel.title = panel.series.front().label;
   }
-  if (r.size() >= 2) {
-    mark(r[r.size() - 1], r[r.size() - 2], "#1e8449");
-    legend.emplace_back("#1e8449", fmt::format("lost motion {:.4g} arcmin (at +-{:.3g} % of T)", RadToArcmin(s.lost_motion.mean),
-                                               100.0 * NmmToNm(r.back().torque) / -t_nm));
-  }
-  for (std::size_t i = 0; i < legend.size(); ++i) {
-    fmt::print(os, "<text x=\"{}\" y=\"{}\" fill=\"{}\">{}</text>\n", pad + 8, pad + 16 + 15 * static_cast<double>(i),
-               legend[i].first, legend[i].second);
-  }
-  os << "</svg>\n";
+  panel.marks.push_back({plots::Mark::Axis::kHorizontal, 0.0, "", false});
+  panel.marks.push_back({plots::Mark::Axis::kVertical, 0.0, "", false});
+  const double t = NmmToNm(rated);
+  panel.y_min = -1.15 * t, panel.y_max = 1.15 * t;
+  plots::Figure figure;
+  figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}", deck.info.title, t, when,
+                             any ? "" : ": no solve succeeded");
+  figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics); {} crank position{}", deck.Model().name,
+                                                   solver.name, KinematicsName(solver.kinematics), positions,
+                                                   positions == 1 ? "" : "s"));
+  figure.width = 1000;
+  figure.height = 640;
+  figure.panels.push_back(std::move(panel));
+  WriteFigure(figure, output);
 }
 
 std::string Figure(double v, int decimals) { return FormatOrNa(v, decimals); }
@@ -270,13 +276,14 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
   progress.Finish();
   const app::StiffnessSummary s = runner.Summary();
   if (json.enabled()) {
-    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(SummaryJson(s, sweep))) << "\n}\n";
+    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(SummaryJson(s, sweep, app::LoopFrictionCoefficient(deck)))) << "\n}\n";
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
   if (svg.enabled()) {
-    WriteSvg(s, rated, sweep, deck.info.title, svg.stream());
-    svg.Commit();
+    const std::string when = sweep ? fmt::format("crank {:g} to {:g} deg", RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end))
+                                   : fmt::format("crank {:g} deg", RadToDeg(*settings.crank));
+    WriteLoopFigure(deck, solver, s, rated, when, sweep, cranks.size(), svg);
   }
 
   const auto range = [sweep](const app::Spread& v, double (*convert)(double), int decimals, const char* unit) {
@@ -293,8 +300,18 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
   fmt::print(text, "lost motion            {}, at +-{:g} % of T\n", range(s.lost_motion, Arcmin, 5, "arcmin"),
              100.0 * settings.lost_motion_fraction);
   fmt::print(text, "backlash               {}, at zero torque\n", range(s.backlash, Arcmin, 5, "arcmin"));
-  fmt::print(text, "hysteresis             none: no friction, the branches coincide (largest difference {} arcmin)\n",
-             Figure(RadToArcmin(s.branch_difference.max), 12));
+  if (s.first_disc_share_drive.count + s.first_disc_share_coast.count > 0) {  // two discs (issue 13)
+    const auto share = [](double v) { return v; };
+    fmt::print(text, "first disc's share     {} at +T (disc 2: the rest)\n", range(s.first_disc_share_drive, share, 4, "of T"));
+    fmt::print(text, "                       {} at -T\n", range(s.first_disc_share_coast, share, 4, "of T"));
+  }
+  if (app::LoopFrictionCoefficient(deck) > 0.0) {  // issue 14
+    fmt::print(text, "hysteresis             friction mu = {:g}: the branches differ by up to {} arcmin\n",
+               app::LoopFrictionCoefficient(deck), Figure(RadToArcmin(s.branch_difference.max), 6));
+  } else {
+    fmt::print(text, "hysteresis             none: no friction, the branches coincide (largest difference {} arcmin)\n",
+               Figure(RadToArcmin(s.branch_difference.max), 12));
+  }
   fmt::print(text, "wall time              {:.4f} s for {} solves\n", s.wall_seconds, s.solves);
   return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
 }

@@ -7,12 +7,14 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
 #include "ltca/geometry/units.hpp"
+#include "ltca/app/plots.hpp"
 #include "ltca/app/sweep.hpp"
 
 namespace ltca::app {
@@ -194,50 +196,53 @@ void WriteBenchCsv(const BenchReport& report, const std::filesystem::path& path)
 }
 
 void WriteBenchSvg(const BenchReport& report, const std::filesystem::path& path) {
-  // Log-log: x = seconds per position, y = mean-TE error (floored at 1e-12 arcsec to be drawable).
-  const double w = 760, h = 480, pad = 70;
-  double x_lo = 1e300, x_hi = 1e-300, y_lo = 1e300, y_hi = 1e-300;
-  const auto y_of = [](const BenchRow& r) { return std::max(r.errors.mean_te_arcsec, 1e-12); };
+  // One panel per case, log-log: x = seconds per position, y = mean-TE error against the case's
+  // reference (floored at 1e-12 arcsec to be drawable). A method keeps its colour and marker in
+  // every panel.
+  const auto method = [](const BenchRow& r) {
+    return r.setting.solver + (r.setting.kinematics == contact::ContactKinematics::kExact ? " exact" : " linearised") +
+           (r.setting.geometry.mode == geometry::GeometrySettings::Mode::kElements ? " elements" : "");
+  };
+  std::map<std::string, int> methods;
+  std::vector<std::string> cases;
   for (const auto& r : report.rows) {
-    x_lo = std::min(x_lo, r.seconds_per_position_median);
-    x_hi = std::max(x_hi, r.seconds_per_position_median);
-    y_lo = std::min(y_lo, y_of(r));
-    y_hi = std::max(y_hi, y_of(r));
-  }
-  const double lx0 = std::floor(std::log10(x_lo)), lx1 = std::ceil(std::log10(x_hi) + 1e-9);
-  const double ly0 = std::floor(std::log10(y_lo)), ly1 = std::ceil(std::log10(y_hi) + 1e-9);
-  const auto px = [&](double x) { return pad + (std::log10(x) - lx0) / std::max(lx1 - lx0, 1.0) * (w - 2 * pad); };
-  const auto py = [&](double y) { return h - pad - (std::log10(y) - ly0) / std::max(ly1 - ly0, 1.0) * (h - 2 * pad); };
-  std::ofstream os(path);
-  fmt::print(os, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" font-family=\"sans-serif\" font-size=\"11\">\n", w + 220, h);
-  fmt::print(os, "<rect x=\"{0}\" y=\"{0}\" width=\"{1}\" height=\"{2}\" fill=\"none\" stroke=\"#888\"/>\n", pad, w - 2 * pad, h - 2 * pad);
-  fmt::print(os, "<text x=\"{}\" y=\"20\">mean-TE error (arcsec) against time per crank position (s), log-log; one series per method</text>\n", pad);
-  for (double e = lx0; e <= lx1; e += 1) {
-    fmt::print(os, "<text x=\"{:.1f}\" y=\"{}\">1e{}</text>\n", px(std::pow(10, e)) - 10, h - pad + 16, e);
-  }
-  for (double e = ly0; e <= ly1; e += 1) {
-    fmt::print(os, "<text x=\"8\" y=\"{:.1f}\">1e{}</text>\n", py(std::pow(10, e)) + 4, e);
-  }
-  const char* colours[] = {"#c0392b", "#2980b9", "#27ae60", "#8e44ad", "#d35400", "#16a085", "#7f8c8d", "#2c3e50"};
-  std::map<std::string, std::vector<const BenchRow*>> series;
-  for (const auto& r : report.rows) {
-    series[r.setting.solver + (r.setting.kinematics == contact::ContactKinematics::kExact ? " exact" : " linearised") +
-           (r.setting.geometry.mode == geometry::GeometrySettings::Mode::kElements ? " elements" : "")]
-        .push_back(&r);
+    methods.emplace(method(r), 0);
+    if (std::find(cases.begin(), cases.end(), r.case_name) == cases.end()) cases.push_back(r.case_name);
   }
   int k = 0;
-  for (const auto& [name, rows] : series) {
-    const char* colour = colours[k % 8];
-    for (const BenchRow* r : rows) {
-      fmt::print(os, "<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"4\" fill=\"{}\"><title>{} {}: {:.3g} s, {:.3g} arcsec</title></circle>\n",
-                 px(r->seconds_per_position_median), py(y_of(*r)), colour, r->case_name, r->setting.Label(),
-                 r->seconds_per_position_median, r->errors.mean_te_arcsec);
+  for (auto& [name, index] : methods) index = k++;
+  plots::Figure figure;
+  figure.title = fmt::format("speed against error: mean-TE error against time per crank position, {} methods on {} cases",
+                             methods.size(), cases.size());
+  figure.caption = fmt::format("ltca-bench at {} ({} build, {}), {}; the error is against each case's reference "
+                               "(bisection, exact kinematics, 1e-12, confirmed by compatibility); 0 is drawn at 1e-12 arcsec",
+                               report.header.commit, report.header.build_type, report.header.compiler, report.header.date);
+  figure.columns = cases.size() > 1 ? 2 : 1;
+  figure.width = figure.columns == 2 ? 1500 : 900;
+  figure.height = 120 + 400 * static_cast<int>((cases.size() + 1) / static_cast<std::size_t>(figure.columns));
+  for (const auto& c : cases) {
+    plots::Panel panel;
+    panel.title = c;
+    panel.x_label = "time per crank position (s)";
+    panel.y_label = "mean-TE error (arcsec)";
+    panel.log_x = panel.log_y = true;
+    panel.legend = plots::LegendPlace::kOutsideRight;
+    for (const auto& [name, index] : methods) {
+      plots::Series series{name, {}, {}, plots::Style::kMarkers};
+      series.colour = index % 8;
+      series.marker = (index + index / 8) % 8;  // colour and marker together tell up to 64 methods apart
+      for (const auto& r : report.rows) {
+        if (r.case_name != c || method(r) != name) continue;
+        series.x.push_back(r.seconds_per_position_median);
+        series.y.push_back(std::max(r.errors.mean_te_arcsec, 1e-12));
+      }
+      if (!series.x.empty()) panel.series.push_back(std::move(series));
     }
-    fmt::print(os, "<circle cx=\"{}\" cy=\"{}\" r=\"4\" fill=\"{}\"/><text x=\"{}\" y=\"{}\">{}</text>\n", w + 10,
-               pad + 18 * k, colour, w + 20, pad + 18 * k + 4, name);
-    ++k;
+    figure.panels.push_back(std::move(panel));
   }
-  os << "</svg>\n";
+  std::ofstream os(path, std::ios::binary);
+  plots::Write(figure, os, plots::FormatForPath(path.string()));
+  if (!os.flush()) throw std::runtime_error("cannot write " + path.string());
 }
 
 }  // namespace ltca::app

@@ -596,7 +596,351 @@ StiffnessSettings ReadStiffness(const Section& s) {
   return st;
 }
 
+
+// --- issue 15: reading [tolerances] ------------------------------------------------------------
+double Number(const toml::value& v, const std::string& where, const char* what) {
+  if (v.is_integer()) return static_cast<double>(v.as_integer());
+  if (v.is_floating()) return v.as_floating();
+  throw std::invalid_argument(fmt::format("[tolerances] {} = {}: expected a number ({})", where, toml::format(v), what));
+}
+
+ToleranceDistribution ReadDistribution(const std::string& key, bool per_pin, const toml::value& v) {
+  const std::string expected =
+      "expected an inline table, e.g. { distribution = \"normal\", sigma = 0.002 } or "
+      "{ distribution = \"uniform\", tolerance = 0.005 } (docs/tolerance.md)";
+  if (!v.is_table()) throw std::invalid_argument(fmt::format("[tolerances] {} = {}: {}", key, toml::format(v), expected));
+  ToleranceDistribution d;
+  d.key = key;
+  d.per_pin = per_pin;
+  const toml::table& t = v.as_table();
+  for (const auto& [name, unused] : t) {
+    if (name != "distribution" && name != "sigma" && name != "tolerance" && name != "mean") {
+      throw std::invalid_argument(fmt::format("[tolerances] {}: unknown key '{}'; expected distribution, sigma, tolerance, mean",
+                                              key, name));
+    }
+  }
+  const auto it = t.find("distribution");
+  if (it == t.end() || !it->second.is_string()) {
+    throw std::invalid_argument(fmt::format("[tolerances] {}: missing distribution = \"normal\" | \"uniform\"; {}", key, expected));
+  }
+  const std::string kind = it->second.as_string().str;
+  if (kind == "normal") d.kind = ToleranceDistribution::Kind::kNormal;
+  else if (kind == "uniform") d.kind = ToleranceDistribution::Kind::kUniform;
+  else throw std::invalid_argument(fmt::format("[tolerances] {}.distribution = \"{}\": expected \"normal\" or \"uniform\"", key, kind));
+  const bool has_sigma = t.count("sigma") != 0, has_tolerance = t.count("tolerance") != 0;
+  if (d.kind == ToleranceDistribution::Kind::kNormal) {
+    if (has_sigma == has_tolerance) {
+      throw std::invalid_argument(fmt::format(
+          "[tolerances] {}: a normal distribution takes one of sigma or tolerance (+-tolerance read as 3 sigma), {}", key,
+          has_sigma ? "not both" : "none was given"));
+    }
+    if (has_sigma) d.sigma = Number(t.at("sigma"), key + ".sigma", "standard deviation in the key's unit");
+    else {
+      d.tolerance = Number(t.at("tolerance"), key + ".tolerance", "+-tolerance in the key's unit, read as 3 sigma");
+      d.sigma = d.tolerance / 3.0;
+    }
+  } else {
+    if (has_sigma) throw std::invalid_argument(fmt::format("[tolerances] {}: a uniform distribution takes tolerance (+-), not sigma", key));
+    if (!has_tolerance) throw std::invalid_argument(fmt::format("[tolerances] {}: missing tolerance (the uniform half-width, +-)", key));
+    d.tolerance = Number(t.at("tolerance"), key + ".tolerance", "half-width of the uniform distribution in the key's unit");
+  }
+  if (t.count("mean") != 0) d.mean = Number(t.at("mean"), key + ".mean", "offset of the centre from the deck's value in the key's unit");
+  return d;
+}
+
+ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairParameters& pair) {
+  if (!value.is_table()) throw std::invalid_argument("[tolerances] must be a table (section)");
+  ToleranceSettings s;
+  const toml::table& t = value.as_table();
+  const auto& keys = ToleranceSettings::ToleranceKeys();
+  for (const auto& entry : t) {
+    const std::string& key = entry.first;  // not a structured binding: clang 14 cannot capture one in a lambda
+    if (key == "samples" || key == "seed" || key == "lost_motion" || key == "limits" || key == "chains" ||
+        key == "profile_random_per_sample") {
+      continue;
+    }
+    if (std::none_of(keys.begin(), keys.end(), [&](const auto& k) { return k.first == key; })) {
+      std::vector<std::string> names = {"samples", "seed", "lost_motion", "limits", "chains", "profile_random_per_sample"};
+      for (const auto& k : keys) names.push_back(k.first);
+      throw std::invalid_argument(fmt::format("[tolerances] unknown key '{}'; expected one of: {}", key, fmt::join(names, ", ")));
+    }
+  }
+  for (const auto& [key, per_pin] : keys) {  // in the fixed order of the key table
+    if (const auto it = t.find(key); it != t.end()) s.distributions.push_back(ReadDistribution(key, per_pin, it->second));
+  }
+  if (const auto it = t.find("samples"); it != t.end()) {
+    if (!it->second.is_integer()) {
+      throw std::invalid_argument(fmt::format("[tolerances] samples = {}: expected an integer", toml::format(it->second)));
+    }
+    s.samples = it->second.as_integer();
+  }
+  if (const auto it = t.find("seed"); it != t.end()) {
+    if (!it->second.is_integer() || it->second.as_integer() < 0) {
+      throw std::invalid_argument(fmt::format("[tolerances] seed = {}: expected an integer >= 0", toml::format(it->second)));
+    }
+    s.seed = static_cast<std::uint64_t>(it->second.as_integer());
+  }
+  if (const auto it = t.find("lost_motion"); it != t.end()) {
+    if (!it->second.is_boolean()) {
+      throw std::invalid_argument(fmt::format("[tolerances] lost_motion = {}: expected true or false", toml::format(it->second)));
+    }
+    s.lost_motion = it->second.as_boolean();
+  }
+  if (const auto it = t.find("profile_random_per_sample"); it != t.end()) {
+    if (!it->second.is_boolean()) {
+      throw std::invalid_argument(
+          fmt::format("[tolerances] profile_random_per_sample = {}: expected true or false", toml::format(it->second)));
+    }
+    s.profile_random_per_sample = it->second.as_boolean();
+  }
+  if (const auto it = t.find("limits"); it != t.end()) {
+    if (!it->second.is_table()) {
+      throw std::invalid_argument(fmt::format(
+          "[tolerances] limits = {}: expected an inline table, e.g. {{ lost_motion_arcmin = 1.0, contacts_min = {{ min = 4 }} }}",
+          toml::format(it->second)));
+    }
+    for (const auto& [figure, limit] : it->second.as_table()) {
+      ToleranceLimit l;
+      l.figure = figure;
+      const std::string where = "limits." + figure;
+      if (limit.is_table()) {
+        for (const auto& [name, bound] : limit.as_table()) {
+          if (name == "min") l.min = Number(bound, where + ".min", "lower limit of the figure");
+          else if (name == "max") l.max = Number(bound, where + ".max", "upper limit of the figure");
+          else throw std::invalid_argument(fmt::format("[tolerances] {}: unknown key '{}'; expected min, max", where, name));
+        }
+      } else {
+        l.max = Number(limit, where, "upper limit of the figure, or { min = .., max = .. }");
+      }
+      s.limits.push_back(l);
+    }
+  }
+  if (const auto it = t.find("chains"); it != t.end()) {
+    const std::string example =
+        "expected chains = { NAME = [ { link = \"pin tooth diameter\", kind = \"decreasing\", upper_um = 0, lower_um = -13 }, "
+        "... ] } (docs/tolerance.md)";
+    if (!it->second.is_table()) throw std::invalid_argument(fmt::format("[tolerances] chains = {}: {}", toml::format(it->second), example));
+    for (const auto& [name, links] : it->second.as_table()) {
+      DimensionChain chain;
+      chain.name = name;
+      if (!links.is_array() || links.as_array().empty()) {
+        throw std::invalid_argument(fmt::format("[tolerances] chains.{}: {}", name, example));
+      }
+      for (std::size_t k = 0; k < links.as_array().size(); ++k) {
+        const toml::value& l = links.as_array()[k];
+        const std::string where = fmt::format("chains.{}[{}]", name, k);
+        if (!l.is_table()) throw std::invalid_argument(fmt::format("[tolerances] {}: {}", where, example));
+        DimensionLink link;
+        for (const auto& [field, value] : l.as_table()) {
+          if (field == "link" && value.is_string()) link.name = value.as_string().str;
+          else if (field == "kind" && value.is_string() && (value.as_string().str == "increasing" || value.as_string().str == "decreasing")) {
+            link.increasing = value.as_string().str == "increasing";
+          } else if (field == "upper_um") link.upper = Number(value, where + ".upper_um", "upper deviation in um");
+          else if (field == "lower_um") link.lower = Number(value, where + ".lower_um", "lower deviation in um");
+          else {
+            throw std::invalid_argument(fmt::format("[tolerances] {}.{} = {}: expected link (a name), kind = \"increasing\" | "
+                                                    "\"decreasing\", upper_um, lower_um",
+                                                    where, field, toml::format(value)));
+          }
+        }
+        for (const char* field : {"kind", "upper_um", "lower_um"}) {
+          if (l.as_table().count(field) == 0) throw std::invalid_argument(fmt::format("[tolerances] {}: missing {}; {}", where, field, example));
+        }
+        if (!(std::isfinite(link.upper) && std::isfinite(link.lower) && link.lower <= link.upper)) {
+          throw std::invalid_argument(fmt::format("[tolerances] {}: lower_um = {} and upper_um = {}: expected finite deviations with lower <= upper",
+                                                  where, link.lower, link.upper));
+        }
+        chain.links.push_back(link);
+      }
+      s.chains.push_back(std::move(chain));
+    }
+    // A TOML table has no order: by name, so that the output (and the chain's random stream) does not
+    // depend on the parser.
+    std::sort(s.chains.begin(), s.chains.end(), [](const DimensionChain& a, const DimensionChain& b) { return a.name < b.name; });
+  }
+  s.Validate();
+  // The "looks like an absolute value" rule of [errors] and [modification], on the reach of a
+  // distribution: its offset plus its worst-case half-width (3 sigma for a normal one).
+  for (const ToleranceDistribution& d : s.distributions) {
+    const double reach = std::abs(d.mean) + d.WorstCaseHalfWidth();
+    const std::string shown = fmt::format("{{ mean {} +- {} }}", d.mean, d.WorstCaseHalfWidth());
+    if (d.key.ends_with("_mm")) RequireSmallDeviation(reach, "tolerances", d.key, pair, shown);
+    else if (d.key.ends_with("_um")) RequireSmallDeviation(units::UmToMm(reach), "tolerances", d.key, pair, shown);
+    else if (d.key == "modification_rotation_deg") {
+      RequireSmallDeviation(pair.pin_circle_radius * units::DegToRad(reach), "tolerances", d.key, pair, shown);
+    } else {  // misalignment: the shift of a slice over the face width
+      RequireSmallDeviation(pair.face_width * std::tan(units::DegToRad(std::min(reach, 45.0))), "tolerances", d.key, pair, shown);
+    }
+  }
+  return s;
+}
+// --- end of reading [tolerances] -----------------------------------------------------------------
+
+// --- issue 14: [operation] and [friction] ----------------------------------------------------------
+OperationSettings ReadOperation(const Section& s) {
+  OperationSettings o;
+  o.input_speed = s.Real("input_speed_rpm", "crank (input) speed in rpm") * 2.0 * units::kPi / 60.0;
+  o.viscosity = s.Real("oil_viscosity_pa_s", 0.03, "dynamic viscosity of the oil in Pa*s") * 1e-6;
+  o.pressure_viscosity = s.Real("pressure_viscosity_per_gpa", 10.0, "pressure-viscosity coefficient in 1/GPa") * 1e-3;
+  o.roughness_cycloid = units::UmToMm(s.Real("roughness_ra_cycloid_um", 0.3, "Ra of the cycloid flank in um"));
+  o.roughness_pin = units::UmToMm(s.Real("roughness_ra_pin_um", 0.3, "Ra of the pin (or sleeve) in um"));
+  o.Validate();
+  return o;
+}
+
+FrictionSettings ReadFriction(const Section& s, const geometry::PairParameters& pair) {
+  FrictionSettings f;
+  const std::string model = s.String("model", "coulomb", "coulomb | jiang-mixed");
+  if (model == "coulomb") f.model = FrictionSettings::Model::kCoulomb;
+  else if (model == "jiang-mixed") f.model = FrictionSettings::Model::kJiangMixed;
+  else throw std::invalid_argument(fmt::format("[friction] model = \"{}\": expected \"coulomb\" or \"jiang-mixed\"", model));
+  if (f.model == FrictionSettings::Model::kCoulomb || s.Has("coefficient")) {
+    f.coefficient = s.Real("coefficient", "Coulomb friction coefficient mu");
+  }
+  f.boundary_coefficient = s.Real("boundary_coefficient", f.boundary_coefficient, "boundary friction coefficient f_b");
+  f.limiting_shear_modulus =
+      s.Real("limiting_shear_modulus_mpa", f.limiting_shear_modulus, "G of Jiang eq. 23 in MPa");
+  f.power_law_exponent = s.Real("power_law_exponent", f.power_law_exponent, "n of Jiang eq. 22-23");
+  if (s.Has("sleeve_bore_radius_mm")) {
+    f.sleeve_bore_radius = s.Real("sleeve_bore_radius_mm", "radius of the pin inside its sleeve in mm");
+  }
+  if (s.Has("sleeve_coefficient")) f.sleeve_coefficient = s.Real("sleeve_coefficient", "mu at the sleeve bore");
+  const std::string balance = s.String("torque_balance", "solve", "solve | bound");
+  if (balance == "solve") f.torque_balance = FrictionSettings::TorqueBalance::kSolve;
+  else if (balance == "bound") f.torque_balance = FrictionSettings::TorqueBalance::kBound;
+  else throw std::invalid_argument(fmt::format("[friction] torque_balance = \"{}\": expected \"solve\" or \"bound\"", balance));
+  f.Validate(pair);
+  return f;
+}
+// --- end of issue 14's block -----------------------------------------------------------------------
+
 }  // namespace
+
+// --- issue 15: [tolerances] ---------------------------------------------------------------------
+double ToleranceDistribution::StandardDeviation() const {
+  return kind == Kind::kNormal ? sigma : tolerance / std::sqrt(3.0);
+}
+
+const std::vector<std::pair<std::string, bool>>& ToleranceSettings::ToleranceKeys() {
+  // The order is part of the random stream: a key's stream number is its index here, so keys
+  // are only ever appended.
+  static const std::vector<std::pair<std::string, bool>> kKeys = {
+      {"pin_circle_deviation_mm", false},   {"cycloid_profile_layer_mm", false},
+      {"cumulative_pitch_deviation_mm", true}, {"pin_radius_deviations_mm", true},
+      {"pin_radial_deviations_mm", true},   {"lead_crowning_um", false},
+      {"lead_slope_um", false},             {"centre_dx_mm", false},
+      {"centre_dy_mm", false},              {"eccentricity_deviation_mm", false},
+      {"misalignment_xz_deg", false},       {"misalignment_yz_deg", false},
+      {"modification_pin_radius_mm", false}, {"modification_pin_circle_radius_mm", false},
+      {"modification_rotation_deg", false}};
+  return kKeys;
+}
+
+const std::vector<std::string>& ToleranceSettings::FigureNames() {
+  static const std::vector<std::string> kNames = {
+      "mean_backlash_arcsec", "pp_backlash_arcsec", "mean_te_arcsec",         "pp_te_arcsec",
+      "max_contact_stress_mpa", "max_pin_force_n",  "contacts_min",           "contacts_max",
+      "lost_motion_arcmin"};
+  return kNames;
+}
+
+void ToleranceSettings::Validate() const {
+  if (samples < 1 || samples > kMaxSamples) {
+    throw std::invalid_argument(fmt::format("[tolerances] samples = {}: expected an integer from 1 to {}", samples, kMaxSamples));
+  }
+  for (const ToleranceDistribution& d : distributions) {
+    for (const auto& [name, v] : {std::pair{"sigma", d.sigma}, std::pair{"tolerance", d.tolerance}}) {
+      if (!(std::isfinite(v) && v >= 0.0)) {
+        throw std::invalid_argument(fmt::format("[tolerances] {}.{} = {}: expected a finite value >= 0 in the key's unit", d.key, name, v));
+      }
+    }
+    if (!std::isfinite(d.mean)) {
+      throw std::invalid_argument(fmt::format("[tolerances] {}.mean = {}: expected a finite offset in the key's unit", d.key, d.mean));
+    }
+  }
+  const auto& names = FigureNames();
+  for (std::size_t i = 0; i < limits.size(); ++i) {
+    const ToleranceLimit& l = limits[i];
+    if (std::find(names.begin(), names.end(), l.figure) == names.end()) {
+      throw std::invalid_argument(fmt::format("[tolerances] limits.{}: unknown figure; expected one of: {}", l.figure, fmt::join(names, ", ")));
+    }
+    if (std::isnan(l.min) || std::isnan(l.max) || !(l.min <= l.max) || (std::isinf(l.min) && std::isinf(l.max))) {
+      throw std::invalid_argument(fmt::format(
+          "[tolerances] limits.{} = {{ min = {}, max = {} }}: expected finite limits with min <= max (at least one given)", l.figure,
+          l.min, l.max));
+    }
+    if (l.figure == "lost_motion_arcmin" && !lost_motion) {
+      throw std::invalid_argument("[tolerances] limits.lost_motion_arcmin: lost motion is not run; expected lost_motion = true with this limit");
+    }
+  }
+}
+// --- end of issue 15's [tolerances] -------------------------------------------------------------
+
+// --- issue 14: [operation] and [friction] ----------------------------------------------------------
+const char* ToString(FrictionSettings::Model model) {
+  return model == FrictionSettings::Model::kCoulomb ? "coulomb" : "jiang-mixed";
+}
+
+void OperationSettings::Validate() const {
+  const double rpm = input_speed * 60.0 / (2.0 * units::kPi);
+  if (!(std::isfinite(rpm) && rpm > 0.0 && rpm <= kMaxSpeedRpm)) {
+    throw std::invalid_argument(fmt::format(
+        "[operation] input_speed_rpm = {:g}: expected a crank speed above 0 and at most {:g} rpm", rpm, kMaxSpeedRpm));
+  }
+  if (!(std::isfinite(viscosity) && viscosity > 0.0 && viscosity <= 10e-6)) {
+    throw std::invalid_argument(fmt::format(
+        "[operation] oil_viscosity_pa_s = {}: expected a dynamic viscosity above 0 and at most 10 Pa*s (gear oils: "
+        "0.01 to 1 Pa*s)",
+        viscosity * 1e6));
+  }
+  if (!(std::isfinite(pressure_viscosity) && pressure_viscosity >= 0.0 && pressure_viscosity <= 0.1)) {
+    throw std::invalid_argument(fmt::format(
+        "[operation] pressure_viscosity_per_gpa = {}: expected 0 to 100 1/GPa (mineral oils: 10 to 30)",
+        pressure_viscosity * 1e3));
+  }
+  for (const auto& [key, value] : {std::pair{"roughness_ra_cycloid_um", roughness_cycloid},
+                                   std::pair{"roughness_ra_pin_um", roughness_pin}}) {
+    if (!(std::isfinite(value) && value >= 0.0 && value <= 0.01)) {
+      throw std::invalid_argument(fmt::format(
+          "[operation] {} = {}: expected a roughness Ra from 0 to 10 um (ground flanks: 0.2 to 0.8 um)", key,
+          units::MmToUm(value)));
+    }
+  }
+  if (roughness_cycloid == 0.0 && roughness_pin == 0.0) {
+    throw std::invalid_argument(
+        "[operation] roughness_ra_cycloid_um = roughness_ra_pin_um = 0: expected a rough surface on at least one body "
+        "(the film ratio lambda = h / sigma needs sigma > 0)");
+  }
+}
+
+void FrictionSettings::Validate(const geometry::PairParameters& pair) const {
+  const auto check_mu = [](const char* key, double mu) {
+    if (!(std::isfinite(mu) && mu >= 0.0 && mu <= 1.0)) {
+      throw std::invalid_argument(fmt::format(
+          "[friction] {} = {}: expected a friction coefficient from 0 to 1 (lubricated steel: 0.01 to 0.1)", key, mu));
+    }
+  };
+  if (model == Model::kCoulomb || std::isfinite(coefficient)) check_mu("coefficient", coefficient);
+  check_mu("boundary_coefficient", boundary_coefficient);
+  if (!std::isnan(sleeve_coefficient)) check_mu("sleeve_coefficient", sleeve_coefficient);
+  if (!(std::isfinite(limiting_shear_modulus) && limiting_shear_modulus > 0.0 && limiting_shear_modulus <= 1e4)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] limiting_shear_modulus_mpa = {}: expected above 0 and at most 10000 MPa (Jiang: 1 MPa)",
+        limiting_shear_modulus));
+  }
+  if (!(std::isfinite(power_law_exponent) && power_law_exponent > 0.0 && power_law_exponent <= 1.0)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] power_law_exponent = {}: expected in (0, 1] (1: Newtonian; Jiang: 0.5)", power_law_exponent));
+  }
+  if (sleeve_bore_radius && !(std::isfinite(*sleeve_bore_radius) && *sleeve_bore_radius > 0.0 &&
+                              *sleeve_bore_radius < pair.pin_radius)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] sleeve_bore_radius_mm = {}: expected a radius above 0 and below the sleeve's outer radius, [pair] "
+        "pin_radius_mm = {}",
+        *sleeve_bore_radius, pair.pin_radius));
+  }
+}
+// --- end of issue 14's block -----------------------------------------------------------------------
 
 void StiffnessSettings::Validate() const {
   if (steps < 3 || steps > kMaxSteps || steps % 2 == 0) {
@@ -684,6 +1028,15 @@ Deck::ModelInfo Deck::Model() const {
                            geometry.width_slices);
     }
   }
+  if (second_disc) {  // issue 13: both discs run the slice model when either varies along the width
+    if (m.name == "plane" && SlicesForced()) {
+      m.name = "slices";
+      m.slices = geometry.width_slices;
+      m.note.clear();
+    }
+    m.discs = 2;
+    m.name += "+two-discs";
+  }
   for (const std::string& note : notes) m.note += (m.note.empty() ? "" : "; ") + note;
   m.tip_relief = modification.tip_relief;
   m.tip_relief_source = tip_relief_source;
@@ -701,8 +1054,34 @@ solvers::LoadProblem::CheckedCoupling Deck::MakeCoupling(const contact::MeshMode
                                              {std::move(f.stiffness), std::move(f.loads), std::move(f.local)});
 }
 
+bool Deck::SlicesForced() const {
+  if (pins) return true;
+  if (!second_disc) return false;
+  return errors.VariesAlongWidth() || assembly.VariesAlongWidth() || second_disc->errors.VariesAlongWidth() ||
+         second_disc->assembly.VariesAlongWidth();
+}
+
+geometry::RealPair Deck::MakeSecondRealPair() const {
+  if (!second_disc) throw std::invalid_argument(fmt::format("deck '{}': no [second_disc]", name));
+  return {pair, second_disc->modification, second_disc->errors, second_disc->assembly};
+}
+
+std::shared_ptr<const contact::MeshModel> Deck::MakeSecondModel() const {
+  if (!second_disc) return nullptr;
+  return std::make_shared<const contact::MeshModel>(MakeSecondRealPair(), geometry, SlicesForced());
+}
+
+contact::MeshState Deck::EvaluateDiscs(const contact::MeshModel& model, const contact::MeshModel* second,
+                                       double crank) const {
+  return second != nullptr ? contact::EvaluateTwoDiscs(model, *second, crank) : model.Evaluate(crank, 0.0);
+}
+
 solvers::LoadProblem Deck::MakeProblem(const std::shared_ptr<const contact::MeshModel>& model, double crank,
-                                       contact::ContactKinematics kinematics) const {
+                                       contact::ContactKinematics kinematics,
+                                       const std::shared_ptr<const contact::MeshModel>& second) const {
+  if (second != nullptr) {
+    return solvers::LoadProblem(model, second, crank, contact, RequireMaterial(), RequireLoad().torque, kinematics);
+  }
   solvers::LoadProblem problem(model, crank, contact, RequireMaterial(), RequireLoad().torque, kinematics);
   if (!pins) return problem;
   return problem.WithCoupling(MakeCoupling(*model));
@@ -724,6 +1103,90 @@ const LoadCase& Deck::RequireLoad() const {
   return *load;
 }
 
+namespace {
+
+// The keys of [modification] and [errors]: those of the disc (a second disc may give its own,
+// issue 13) and those of the pin ring (common to both discs).
+const std::vector<std::string> kModificationKeys = {"pin_radius_mm", "pin_circle_radius_mm", "rotation_deg",
+                                                    "tip_truncation_mm", "tip_rounding_radius_mm"};
+const std::vector<std::string> kRingErrorKeys = {"pin_circle_deviation_mm", "pin_circle_reading",
+                                                 "cumulative_pitch_deviation_mm", "pin_radius_deviations_mm",
+                                                 "pin_radial_deviations_mm"};
+const std::vector<std::string> kDiscErrorKeys = {
+    "cycloid_profile_layer_mm", "lead_crowning_um", "lead_slope_um", "centre_dx_mm", "centre_dy_mm",
+    "eccentricity_deviation_mm", "misalignment_xz_deg", "misalignment_yz_deg", "misalignment_pivot",
+    "profile_random_zone_um", "profile_random_elements", "profile_random_seed", "profile_random_distribution",
+    "profile_random_spacing", "profile_measured_csv"};
+
+std::vector<std::string> ConcatKeys(const std::vector<std::string>& a, const std::vector<std::string>& b) {
+  std::vector<std::string> out = a;
+  out.insert(out.end(), b.begin(), b.end());
+  return out;
+}
+
+bool Contains(const std::vector<std::string>& keys, const std::string& key) {
+  return std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
+// [second_disc] (issue 13): the first disc's [modification] and [errors] tables with the keys the
+// section gives put over them, read by the same readers; the first disc's tip relief (given or
+// chosen) unless the section gives its own.
+void ReadSecondDisc(const toml::table& root, const toml::value& section, const std::filesystem::path& directory,
+                    Deck* deck) {
+  if (!section.is_table()) {
+    throw std::invalid_argument("[second_disc]: expected a table of the second disc's keys");
+  }
+  if (deck->pins) {
+    throw std::invalid_argument(
+        "[second_disc] with [pins]: pin bending with two discs is not supported yet (the pin beams would couple "
+        "both discs' contacts); expected one of the two sections");
+  }
+  const auto table_of = [&](const char* name) {
+    const toml::value* v = Find(root, name);
+    return v != nullptr && v->is_table() ? v->as_table() : toml::table{};
+  };
+  toml::table modification = table_of("modification"), errors = table_of("errors");
+  bool relief_given = false;
+  for (const auto& [key, value] : section.as_table()) {
+    if (Contains(kModificationKeys, key)) {
+      modification[key] = value;
+      relief_given = relief_given || key == "tip_truncation_mm" || key == "tip_rounding_radius_mm";
+    } else if (Contains(kDiscErrorKeys, key)) {
+      errors[key] = value;
+    } else if (Contains(kRingErrorKeys, key)) {
+      throw std::invalid_argument(fmt::format(
+          "[second_disc] {}: the pin ring is common to both discs; expected it in [errors] (a second disc takes the "
+          "[modification] keys, the disc's [errors] keys and indexing_deviation_mm)",
+          key));
+    } else if (key != "indexing_deviation_mm") {
+      throw std::invalid_argument(fmt::format(
+          "[second_disc] unknown key '{}'; expected indexing_deviation_mm, a key of [modification] ({}) or a disc key "
+          "of [errors] ({})",
+          key, fmt::join(kModificationKeys, ", "), fmt::join(kDiscErrorKeys, ", ")));
+    }
+  }
+  const toml::value given(section);
+  const Section own(&given, "second_disc", ConcatKeys(ConcatKeys(kModificationKeys, kDiscErrorKeys), {"indexing_deviation_mm"}));
+  SecondDisc disc;
+  disc.indexing_deviation = own.Real("indexing_deviation_mm", 0.0, "indexing deviation of the second disc in mm along the pin circle");
+  const toml::value modification_value(modification), errors_value(errors);
+  disc.modification = ReadModification(Section(&modification_value, "second_disc", kModificationKeys), deck->pair);
+  if (!relief_given) disc.modification.tip_relief = deck->modification.tip_relief;
+  const Section error_section(&errors_value, "second_disc", ConcatKeys(kRingErrorKeys, kDiscErrorKeys));
+  disc.errors = ReadErrors(error_section, deck->pair, directory);
+  disc.assembly = ReadAssembly(error_section, deck->pair);
+  // The indexing deviation turns the disc in the sense of +T: counterclockwise for d > 0.
+  const double load_direction = deck->pair.ToothDifference() > 0 ? 1.0 : -1.0;
+  disc.modification.rotation += load_direction * disc.indexing_deviation / deck->pair.pin_circle_radius;
+  RequireSmallDeviation(disc.indexing_deviation, "second_disc", "indexing_deviation_mm", deck->pair);
+  disc.modification.Validate(deck->pair);
+  deck->second_disc = std::move(disc);
+  const geometry::RealPair realisable = deck->MakeSecondRealPair();  // rejects an undercut second disc
+  (void)realisable;
+}
+
+}  // namespace
+
 Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::vector<std::string>& overrides,
                const std::filesystem::path& directory) {
   Deck deck;
@@ -735,7 +1198,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     ApplyOverrides(root_value, overrides);
     const toml::table& root = root_value.as_table();
     const std::vector<std::string> sections = {"case",     "pair", "modification", "errors", "contact", "geometry",
-                                               "material", "pins", "load",         "sweep",  "solver", "stiffness"};
+                                               "material", "pins", "load",         "sweep",  "solver", "stiffness",
+                                               "second_disc", "tolerances", "operation", "friction"};
     for (const auto& [key, unused] : root) {
       if (std::find(sections.begin(), sections.end(), key) == sections.end()) {
         throw std::invalid_argument(fmt::format("unknown section or key '{}'; expected one of: {}",
@@ -747,18 +1211,9 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
         root, "pair",
         {"pin_count", "tooth_count", "pin_radius_mm", "pin_circle_radius_mm", "eccentricity_mm",
          "face_width_mm"}));
-    const Section modification(
-        Find(root, "modification"), "modification",
-        {"pin_radius_mm", "pin_circle_radius_mm", "rotation_deg", "tip_truncation_mm", "tip_rounding_radius_mm"});
+    const Section modification(Find(root, "modification"), "modification", ConcatKeys(kModificationKeys, {}));
     deck.modification = ReadModification(modification, deck.pair);
-    const Section errors(Find(root, "errors"), "errors",
-                         {"pin_circle_deviation_mm", "pin_circle_reading", "cycloid_profile_layer_mm",
-                          "cumulative_pitch_deviation_mm", "pin_radius_deviations_mm", "pin_radial_deviations_mm",
-                          "lead_crowning_um", "lead_slope_um", "centre_dx_mm", "centre_dy_mm",
-                          "eccentricity_deviation_mm", "misalignment_xz_deg", "misalignment_yz_deg",
-                          "misalignment_pivot", "profile_random_zone_um", "profile_random_elements",
-                          "profile_random_seed", "profile_random_distribution", "profile_random_spacing",
-                          "profile_measured_csv"});
+    const Section errors(Find(root, "errors"), "errors", ConcatKeys(kRingErrorKeys, kDiscErrorKeys));
     deck.errors = ReadErrors(errors, deck.pair, directory);
     deck.assembly = ReadAssembly(errors, deck.pair);
     // Keys given without effect are reported (in the model's note), not silently dropped.
@@ -800,6 +1255,28 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     deck.stiffness = ReadStiffness(Section(Find(root, "stiffness"), "stiffness",
                                            {"steps_per_branch", "rigidity", "tangent_torque_nm",
                                             "lost_motion_fraction", "crank_deg"}));
+    if (const toml::value* t = Find(root, "tolerances")) {  // issue 15
+      deck.tolerances = ReadTolerances(*t, deck.pair);
+      if (deck.tolerances->profile_random_per_sample && deck.errors.profile_random.zone == 0.0) {
+        throw std::invalid_argument(
+            "[tolerances] profile_random_per_sample = true: [errors] profile_random_zone_um is 0; expected a random profile "
+            "zone to draw per sample");
+      }
+    }
+    // issue 14: [operation] and [friction], both optional.
+    const Section operation(Find(root, "operation"), "operation",
+                            {"input_speed_rpm", "oil_viscosity_pa_s", "pressure_viscosity_per_gpa",
+                             "roughness_ra_cycloid_um", "roughness_ra_pin_um"});
+    if (operation.Present()) deck.operation = ReadOperation(operation);
+    const Section friction(Find(root, "friction"), "friction",
+                           {"model", "coefficient", "boundary_coefficient", "limiting_shear_modulus_mpa",
+                            "power_law_exponent", "sleeve_bore_radius_mm", "sleeve_coefficient", "torque_balance"});
+    if (friction.Present()) deck.friction = ReadFriction(friction, deck.pair);
+    if (deck.friction && deck.friction->model == FrictionSettings::Model::kJiangMixed && !deck.operation) {
+      throw std::invalid_argument(
+          "[friction] model = \"jiang-mixed\": expected an [operation] section (input_speed_rpm, the oil, the "
+          "roughness) for the film thickness");
+    }
     // The geometry must be realisable: this rejects undercut (looped) profiles, also when the
     // profile layer of [errors] is what makes them loop.
     const geometry::RealPair real = deck.MakeRealPair();  // analytic: cheap to check
@@ -808,6 +1285,7 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     } else if (std::abs(deck.pair.ToothDifference()) >= 2) {
       ChooseDefaultTipRelief(deck);
     }
+    if (const toml::value* second = Find(root, "second_disc")) ReadSecondDisc(root, *second, directory, &deck);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
   } catch (const std::exception& e) {  // TOML syntax errors and the like

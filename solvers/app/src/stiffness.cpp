@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "ltca/app/efficiency.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
@@ -42,6 +43,7 @@ struct StiffnessRunner::Impl {
   SolverOptions options;
   StiffnessSettings settings;
   std::shared_ptr<const contact::MeshModel> model;
+  std::shared_ptr<const contact::MeshModel> second;  // [second_disc]: the stage's two discs (issue 13)
   std::unique_ptr<LoadSolver> solver;
   solvers::Workspace workspace;  // shared by every step and position: the warm starts
   const contact::Material& material;
@@ -53,9 +55,14 @@ struct StiffnessRunner::Impl {
   std::vector<std::int64_t> curve_count;
   std::vector<Spread> readoff_spread;
   Clock::duration elapsed{};
+  // issue 14: Coulomb friction in the loop (0 without [friction]); sense of the twist's motion on
+  // the branch being solved (+1 increasing, -1 decreasing, 0: the loop's midpoint, both).
+  double friction_mu = LoopFrictionCoefficient(deck);
+  double sense = 0.0;
 
   Impl(const Deck& d, const SolverOptions& o, const StiffnessSettings& s)
       : deck(d), options(o), settings(s), model(std::make_shared<const contact::MeshModel>(d.MakeModel())),
+        second(d.MakeSecondModel()),
         solver(solvers::MakeSolver(o.name)), material(d.RequireMaterial()), rated(std::abs(d.RequireLoad().torque)),
         cranks(s.crank ? std::vector<double>{*s.crank} : d.sweep.CrankAngles()) {
     if (rated == 0.0) {
@@ -64,11 +71,18 @@ struct StiffnessRunner::Impl {
           "-|T| to +|T|)");
     }
     // Nothing is solved for a pair that interferes at any crank (as `solve` and `backlash` reject it).
-    for (const double crank : cranks) contact::RequireNoInterference(*model, crank);
+    for (const double crank : cranks) contact::RequireNoInterference(State(crank), crank, Tolerance());
     coupling = deck.MakeCoupling(*model);
   }
 
+  /// Every contact point of the stage at a crank: one disc, or both.
+  contact::MeshState State(double crank) const { return deck.EvaluateDiscs(*model, second.get(), crank); }
+  double Tolerance() const {
+    return std::max(model->interference_tolerance(), second ? second->interference_tolerance() : 0.0);
+  }
+
   solvers::LoadProblem Problem(const contact::MeshState& state, double torque) const {
+    if (second) return {model, second, state, deck.contact, material, torque, options.kinematics};
     solvers::LoadProblem problem(model, state, deck.contact, material, torque, options.kinematics);
     if (!coupling.matrix) return problem;
     return problem.WithCoupling(coupling);
@@ -76,9 +90,25 @@ struct StiffnessRunner::Impl {
 
   /// The twist at a non-zero torque (rad, -TE), NaN when the solve fails (counted in pos).
   double Twist(const contact::MeshState& state, double torque, StiffnessPosition* pos, SolverStatus* status) {
-    const LoadResult r = solver->Solve(Problem(state, torque), options, workspace);
-    ++pos->solves;
+    if (friction_mu > 0.0 && sense == 0.0) {  // issue 14: the loop's midpoint, both branches solved
+      sense = 1.0;
+      const double up = Twist(state, torque, pos, status);
+      sense = -1.0;
+      const double down = Twist(state, torque, pos, status);
+      sense = 0.0;
+      return 0.5 * (up + down);
+    }
+    int solves = 0;
+    const LoadResult r = SolveWithLoopFriction(
+        *model, state, torque, sense, friction_mu,
+        [&](double t) { return solver->Solve(Problem(state, t), options, workspace); }, &solves, second.get());
+    pos->solves += solves;
     if (status != nullptr) *status = r.status;
+    if (second && r.status == SolverStatus::kSuccess && std::abs(torque) == rated) {
+      // Two discs (issue 13): the split at +-T; with friction, of the last branch solved.
+      const std::vector<double> parts = Problem(state, torque).DiscTorques(r.rotation, r.force, workspace);
+      (torque > 0.0 ? pos->first_disc_share_drive : pos->first_disc_share_coast) = parts[0] / (parts[0] + parts[1]);
+    }
     if (r.status == SolverStatus::kSuccess) return -r.te;
     ++pos->failed;
     if (pos->first_failure.empty()) {
@@ -120,8 +150,8 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   Impl& m = *impl_;
   StiffnessPosition pos;
   pos.crank = crank;
-  const contact::MeshState state = m.model->Evaluate(crank, 0.0);
-  contact::RequireNoInterference(state, crank, m.model->interference_tolerance());
+  const contact::MeshState state = m.State(crank);
+  contact::RequireNoInterference(state, crank, m.Tolerance());
   const double t = m.rated;
 
   // The free play: where the output rests at zero torque, coming from either flank.
@@ -145,6 +175,7 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   std::vector<double> up(levels.size(), kNaN), down(levels.size(), kNaN);
   for (const Branch branch : {Branch::kIncreasing, Branch::kDecreasing}) {
     const bool increasing = branch == Branch::kIncreasing;
+    m.sense = increasing ? 1.0 : -1.0;  // issue 14: friction resists the twist's motion
     for (std::size_t i = 0; i < levels.size(); ++i) {
       const std::size_t k = increasing ? i : levels.size() - 1 - i;
       const double torque = levels[k];
@@ -161,6 +192,7 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
       pos.curve.push_back(p);
     }
   }
+  m.sense = 0.0;
   pos.branch_difference = 0.0;
   for (std::size_t k = 0; k < levels.size(); ++k) {
     if (levels[k] == 0.0) continue;
@@ -204,6 +236,8 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   s.lost_motion.Add(pos.lost_motion);
   s.backlash.Add(pos.backlash);
   s.branch_difference.Add(pos.branch_difference);
+  s.first_disc_share_drive.Add(pos.first_disc_share_drive);
+  s.first_disc_share_coast.Add(pos.first_disc_share_coast);
   if (s.curve.empty()) {
     s.curve = pos.curve;
     s.curve_min.assign(pos.curve.size(), kNaN);

@@ -44,6 +44,13 @@ void SummaryAccumulator::Add(const PositionResult& p) {
   s_.contacts_max = std::max(s_.contacts_max, p.contacts);
   for (const double f : p.pin_force) s_.max_pin_force = std::max(s_.max_pin_force, f);
   for (const double q : p.contact_stress) s_.max_contact_stress = std::max(s_.max_contact_stress, q);
+  if (p.disc_torque.size() == 2 && p.disc_torque[0] + p.disc_torque[1] != 0.0) {
+    const double share = p.disc_torque[0] / (p.disc_torque[0] + p.disc_torque[1]);
+    s_.first_disc_share_min = shares_ == 0 ? share : std::min(s_.first_disc_share_min, share);
+    s_.first_disc_share_max = shares_ == 0 ? share : std::max(s_.first_disc_share_max, share);
+    share_sum_ += share;
+    ++shares_;
+  }
 }
 
 SweepSummary SummaryAccumulator::Summary() const {
@@ -52,6 +59,7 @@ SweepSummary SummaryAccumulator::Summary() const {
     s.mean_te = te_sum_ / static_cast<double>(s.succeeded);
     s.pp_te = te_hi_ - te_lo_;
   }
+  if (shares_ > 0) s.first_disc_share_mean = share_sum_ / static_cast<double>(shares_);
   return s;
 }
 
@@ -59,6 +67,7 @@ struct SweepRunner::Impl {
   const Deck& deck;
   SolverOptions options;
   std::shared_ptr<const contact::MeshModel> model;
+  std::shared_ptr<const contact::MeshModel> second;  // [second_disc] (issue 13), nullptr for one disc
   std::unique_ptr<LoadSolver> solver;
   solvers::Workspace workspace;  // this sweep's warm starts: one runner per thread
   const contact::Material& material;
@@ -73,14 +82,16 @@ struct SweepRunner::Impl {
   solvers::LoadProblem::CheckedCoupling coupling;  // pin bending ([pins]), checked once for the sweep
 
   Impl(const Deck& d, const SolverOptions& o, Clock::time_point start)
-      : deck(d), options(o), model(std::make_shared<const contact::MeshModel>(d.MakeModel())), solver(solvers::MakeSolver(o.name)), material(d.RequireMaterial()),
-        torque(d.RequireLoad().torque) {
+      : deck(d), options(o), model(std::make_shared<const contact::MeshModel>(d.MakeModel())), second(d.MakeSecondModel()),
+        solver(solvers::MakeSolver(o.name)), material(d.RequireMaterial()), torque(d.RequireLoad().torque) {
     // Nothing is solved for a pair that interferes anywhere in the sweep (as `backlash` rejects it).
     const auto cranks = deck.sweep.CrankAngles();
-    const bool keep = cranks.size() * static_cast<std::size_t>(model->point_count()) * sizeof(contact::PinContact) <= kKeptStatesBytes;
+    const bool keep = cranks.size() * static_cast<std::size_t>(model->point_count() * deck.disc_count()) *
+                          sizeof(contact::PinContact) <= kKeptStatesBytes;
+    const double tolerance = std::max(model->interference_tolerance(), second ? second->interference_tolerance() : 0.0);
     for (const double crank : cranks) {
-      contact::MeshState state = model->Evaluate(crank, 0.0);
-      contact::RequireNoInterference(state, crank, model->interference_tolerance());
+      contact::MeshState state = deck.EvaluateDiscs(*model, second.get(), crank);
+      contact::RequireNoInterference(state, crank, tolerance);
       if (keep) checked.push_back(std::move(state));
     }
     coupling = deck.MakeCoupling(*model);
@@ -94,9 +105,15 @@ struct SweepRunner::Impl {
     while (k < checked.size() && checked[k].crank != crank) ++k;
     std::optional<solvers::LoadProblem> problem;
     if (k < checked.size()) {
-      problem.emplace(model, std::move(checked[k]), deck.contact, material, torque, options.kinematics);
+      if (second) {
+        problem.emplace(model, second, std::move(checked[k]), deck.contact, material, torque, options.kinematics);
+      } else {
+        problem.emplace(model, std::move(checked[k]), deck.contact, material, torque, options.kinematics);
+      }
       for (std::size_t i = next_checked; i <= k; ++i) checked[i] = contact::MeshState{};
       next_checked = k + 1;
+    } else if (second) {
+      problem.emplace(model, second, crank, deck.contact, material, torque, options.kinematics);
     } else {
       problem.emplace(model, crank, deck.contact, material, torque, options.kinematics);
     }
@@ -126,7 +143,9 @@ PositionResult SweepRunner::Solve(double crank) {
   std::vector<contact::ContactLaw> scratch;
   const auto points = problem.At(std::isfinite(pos.result.rotation) ? pos.result.rotation : 0.0, m.workspace, &scratch);
   const auto& base = problem.base_state().pins;
-  const auto pins = static_cast<std::size_t>(m.model->pin_count());
+  // Per pin of every disc: disc 1's pins, then disc 2's (issue 13).
+  const auto pins = static_cast<std::size_t>(m.model->pin_count() * problem.disc_count());
+  const auto per_disc = static_cast<std::size_t>(m.model->pin_count());
   pos.slices = m.model->slice_count();
   pos.angle.assign(pins, 0.0);
   pos.pin_force.assign(pins, 0.0);
@@ -135,7 +154,7 @@ PositionResult SweepRunner::Solve(double crank) {
   pos.load_centroid.assign(pins, std::numeric_limits<double>::quiet_NaN());
   std::vector<double> moment(pins, 0.0);  // sum F z per pin, N*mm
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto j = static_cast<std::size_t>(base[i].pin);
+    const auto j = static_cast<std::size_t>(base[i].disc) * per_disc + static_cast<std::size_t>(base[i].pin);
     if (base[i].slice == 0) pos.angle[j] = base[i].angle;
     const double f = i < pos.result.force.size() ? pos.result.force[i] : 0.0;
     pos.pin_force[j] += f;
@@ -147,6 +166,10 @@ PositionResult SweepRunner::Solve(double crank) {
   for (std::size_t j = 0; j < pins; ++j) {
     if (pos.pin_force[j] > kContactForceFraction * f_max && f_max > 0.0) ++pos.contacts;
     if (pos.pin_force[j] > 0.0) pos.load_centroid[j] = moment[j] / pos.pin_force[j];
+  }
+  if (problem.disc_count() == 2) {
+    pos.disc_torque = pos.succeeded() ? problem.DiscTorques(pos.result.rotation, pos.result.force, m.workspace)
+                                      : std::vector<double>(2, std::numeric_limits<double>::quiet_NaN());
   }
   m.summary.Add(pos);
   m.elapsed += Clock::now() - start;

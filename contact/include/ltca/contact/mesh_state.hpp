@@ -33,6 +33,9 @@ namespace ltca::contact {
 struct PinContact {
   int pin = 0;                    ///< 0-based index (printed + 1).
   int slice = 0;                  ///< 0-based face-width slice (0: the plane model's only one).
+  /// 0-based cycloid disc of the stage (issue 13): 0 for a single disc and for the first of two;
+  /// 1 for the second disc of an RV stage, half a crank turn behind (EvaluateTwoDiscs).
+  int disc = 0;
   double length = 0.0;            ///< contact length of this point along the face width, mm.
   double z = 0.0;                 ///< axial position of the slice centre from face B, mm.
   double angle = 0.0;             ///< phi: angle from the line of centres, rad, (-pi, pi].
@@ -132,6 +135,19 @@ class MeshModel {
   double load_direction_ = 1.0;
   double interference_tolerance_ = 1e-9;  // mm
 };
+
+/// The second disc of an RV stage sits on the crank half a turn from the first (issue 13).
+inline constexpr double kSecondDiscCrankOffset = 3.14159265358979323846;
+
+/// The two discs of an RV stage on one pin ring at crank theta_f (issue 13): every contact point
+/// of `first` at theta_f, then every point of `second` at theta_f + kSecondDiscCrankOffset with
+/// disc = 1, both at loaded rotation psi (the one output rotation they share). Throws
+/// std::invalid_argument unless both models have the same pin ring (pin count, pin-circle radius,
+/// pin radius, tooth count, eccentricity).
+MeshState EvaluateTwoDiscs(const MeshModel& first, const MeshModel& second, double crank,
+                           double loaded_rotation = 0.0);
+/// The check of EvaluateTwoDiscs alone.
+void RequireSamePinRing(const MeshModel& first, const MeshModel& second);
 
 /// Linearised approach of a pin at loaded rotation psi: L_i psi - c_i (mm).
 inline double LinearisedApproach(const PinContact& pin, double loaded_rotation) {

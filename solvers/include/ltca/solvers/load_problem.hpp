@@ -52,7 +52,33 @@ class LoadProblem {
   LoadProblem(ModelPtr model, contact::MeshState evaluated, const contact::ContactSettings& contact,
               const contact::Material& material, double torque, contact::ContactKinematics kinematics);
 
+  /// Two discs of an RV stage on one pin ring (issue 13): `first` at the crank and `second` at
+  /// crank + pi (contact::EvaluateTwoDiscs), turned by one output rotation psi, so that the sum
+  /// over both discs' points of F_i L_i balances T = T_1 + T_2. The points are the first disc's,
+  /// then the second's (PinContact::disc = 1); the split T_1 : T_2 is a result (DiscTorques). No
+  /// coupling (WithCoupling throws). Throws std::invalid_argument unless both discs share the
+  /// pin ring (contact::RequireSamePinRing).
+  LoadProblem(ModelPtr first, ModelPtr second, double crank, const contact::ContactSettings& contact,
+              const contact::Material& material, double torque, contact::ContactKinematics kinematics);
+  /// The same on both discs' state at a crank evaluated beforehand (EvaluateTwoDiscs at loaded
+  /// rotation 0, e.g. kept from the interference check of a sweep). A null `second` is one disc
+  /// (the one-disc constructor on `evaluated`).
+  LoadProblem(ModelPtr first, ModelPtr second, contact::MeshState evaluated, const contact::ContactSettings& contact,
+              const contact::Material& material, double torque, contact::ContactKinematics kinematics);
+
+  /// The first disc's model (the only one of a single-disc problem).
   const contact::MeshModel& model() const { return *model_; }
+  /// 1, or 2 for the two discs of an RV stage.
+  int disc_count() const { return second_ == nullptr ? 1 : 2; }
+  /// The model of disc 0 or 1, and the crank angle it is evaluated at (rad).
+  const contact::MeshModel& DiscModel(int disc) const { return disc == 0 ? *model_ : *second_; }
+  double DiscCrank(int disc) const { return disc == 0 ? crank_ : crank_ + contact::kSecondDiscCrankOffset; }
+  /// A linearised problem with |T| on `state`, a state of this problem's points with the arms
+  /// already signed for this frame (compatibility's re-linearisation): the same discs.
+  LoadProblem LinearisedOn(contact::MeshState state) const;
+  /// Per disc, the torque its points carry at rotation psi, sum F_i L_i(psi), N*mm, signed as T
+  /// (T_1 + T_2 = T at a balanced solution).
+  std::vector<double> DiscTorques(double psi, const std::vector<double>& forces, Workspace& workspace) const;
   const ModelPtr& shared_model() const { return model_; }
   /// Unique per constructed problem (copies share it): keys the workspace's foot points.
   std::uint64_t id() const { return id_; }
@@ -190,6 +216,7 @@ class LoadProblem {
   double SinglePinBound() const;  // LoadedRotationRange's upper end, with the coupling's terms
 
   ModelPtr model_;
+  ModelPtr second_;  // the second disc of a two-disc stage, nullptr for one disc
   std::uint64_t id_;
   double crank_;
   contact::ContactSettings contact_;

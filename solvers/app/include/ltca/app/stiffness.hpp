@@ -54,6 +54,10 @@ struct StiffnessPosition {
   double rigidity_drive = std::numeric_limits<double>::quiet_NaN();  ///< N*mm/rad, secant on the drive flank
   double rigidity_coast = std::numeric_limits<double>::quiet_NaN();  ///< N*mm/rad, secant on the coast flank
   double lost_motion = std::numeric_limits<double>::quiet_NaN();     ///< rad
+  /// Two discs ([second_disc], issue 13): the share of the torque the first disc carries at +T
+  /// (drive) and at -T (coast), T_1 / T; NaN for one disc or a failed solve.
+  double first_disc_share_drive = std::numeric_limits<double>::quiet_NaN();
+  double first_disc_share_coast = std::numeric_limits<double>::quiet_NaN();
   /// The read-off points, each solved at its own torque (branch: increasing): secant +T, +T / 2,
   /// -T / 2, -T (or the tangent's two torques), then lost motion +f T, -f T.
   std::vector<CurvePoint> readoffs;
@@ -77,6 +81,7 @@ struct Spread {
 
 struct StiffnessSummary {
   Spread rigidity, rigidity_drive, rigidity_coast, lost_motion, backlash, branch_difference;
+  Spread first_disc_share_drive, first_disc_share_coast;  ///< two discs only (issue 13)
   /// The loop over the positions: per curve point (the layout of StiffnessPosition::curve), the
   /// twist's mean, smallest and largest over the positions where it was solved.
   std::vector<CurvePoint> curve;  ///< twist: the mean

@@ -35,6 +35,10 @@ struct PositionResult {
   /// per pin: the axial centroid of its load from face B, mm (NaN when the pin is unloaded)
   std::vector<double> load_centroid;
   int contacts = 0;                     ///< pins above kContactForceFraction of the largest pin force
+  /// Two discs ([second_disc], issue 13): the torque each disc carries, N*mm, signed as T (NaN for
+  /// a failed position); empty for one disc. The per-pin figures above then run over disc 1's pins,
+  /// then disc 2's (2 z_p entries).
+  std::vector<double> disc_torque;
   /// The solve is valid (status success); a failed position's te, forces and stresses are not
   /// answers and take no part in the summary.
   bool succeeded() const { return result.status == SolverStatus::kSuccess; }
@@ -55,6 +59,11 @@ struct SweepSummary {
   /// half-width beyond the law: LoadResult::warnings), and the first of those warnings.
   std::int64_t warned = 0;
   std::string first_warning;
+  /// Two discs: the share of the torque the first disc carries, T_1 / T, over the successful
+  /// positions (NaN for one disc or none).
+  double first_disc_share_mean = std::numeric_limits<double>::quiet_NaN();
+  double first_disc_share_min = std::numeric_limits<double>::quiet_NaN();
+  double first_disc_share_max = std::numeric_limits<double>::quiet_NaN();
   SolverStatus status = SolverStatus::kNotSolved;  ///< the worst status over the sweep
   std::int64_t positions() const { return succeeded + failed; }
   bool all_succeeded() const { return failed == 0 && succeeded > 0; }
@@ -71,6 +80,8 @@ class SummaryAccumulator {
   SweepSummary s_;
   double te_sum_ = 0.0, te_lo_ = std::numeric_limits<double>::infinity(),
          te_hi_ = -std::numeric_limits<double>::infinity();
+  double share_sum_ = 0.0;
+  std::int64_t shares_ = 0;
 };
 
 /// One solver over the crank positions of one deck, a position at a time, so that callers can

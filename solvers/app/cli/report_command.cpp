@@ -1,0 +1,203 @@
+#include "report_command.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <nlohmann/json.hpp>
+
+#include "contact_commands.hpp"
+#include "efficiency_command.hpp"
+#include "geometry_command.hpp"
+#include "ltca/app/plots.hpp"
+#include "ltca/geometry/units.hpp"
+#include "solve_command.hpp"
+#include "stiffness_command.hpp"
+#include "tolerance_command.hpp"
+
+namespace ltca::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw OutputError(fmt::format("report: cannot read back {}", path.string()));
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::string Html(const std::string& text) { return app::plots::XmlEscape(text); }
+
+/// A JSON value as table text: numbers to 6 significant digits, null as n/a.
+std::string Cell(const nlohmann::json& v) {
+  if (v.is_null()) return "n/a";
+  if (v.is_number_float()) return fmt::format("{:.6g}", v.get<double>());
+  if (v.is_string()) return Html(v.get<std::string>());
+  return Html(v.dump());
+}
+
+/// A two-column table of the object's scalar members (nested objects: "key.member").
+std::string Table(const nlohmann::json& object, const std::string& prefix = "") {
+  std::string rows;
+  for (const auto& [key, value] : object.items()) {
+    if (value.is_object()) {
+      rows += Table(value, prefix + key + ".");
+    } else if (!value.is_array()) {
+      rows += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", Html(prefix + key), Cell(value));
+    }
+  }
+  return prefix.empty() ? "<table>\n" + rows + "</table>\n" : rows;
+}
+
+/// An SVG file inlined into the page: its XML prolog and DOCTYPE dropped, and its element ids
+/// (PLplot's "text-clipping<n>") given the figure's prefix, since one page holds several figures
+/// and an id must be unique in it (else a later figure's text is clipped by an earlier one's).
+std::string InlineSvg(const fs::path& path) {
+  std::string svg = ReadFile(path);
+  const auto at = svg.find("<svg");
+  if (at == std::string::npos) return {};
+  svg.erase(0, at);
+  const std::string prefix = path.stem().string() + "-";
+  for (const std::string from : {"id=\"", "url(#"}) {
+    for (auto pos = svg.find(from); pos != std::string::npos; pos = svg.find(from, pos + from.size() + prefix.size())) {
+      svg.insert(pos + from.size(), prefix);
+    }
+  }
+  return svg;
+}
+
+}  // namespace
+
+int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams& streams) {
+  if (options.out_dir.empty()) throw std::invalid_argument("report: -o DIR: expected the folder to write index.html into");
+  const fs::path dir(options.out_dir);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!fs::is_directory(dir)) throw OutputError(fmt::format("-o {}: cannot create the folder{}", options.out_dir, ec ? ": " + ec.message() : ""));
+  const auto file = [&dir](const char* name) { return (dir / name).string(); };
+  // The commands write their documents and figures into DIR; their text goes nowhere.
+  std::ostringstream sink;
+  const Streams quiet{sink, sink, streams.err, streams.progress};
+  GeometryOptions geometry;
+  geometry.json_path = file("geometry.json");
+  geometry.svg_path = file("geometry.svg");
+  geometry.crank_deg = 0.0;
+  RunGeometry(deck, geometry, quiet);
+  SolveOptions solve;
+  solve.solver = options.solver;
+  solve.json_path = file("solve.json");
+  solve.svg_path = file("solve.svg");
+  const int code = RunSolve(deck, solve, quiet);
+  BacklashOptions backlash;
+  backlash.json_path = file("backlash.json");
+  backlash.svg_path = file("backlash.svg");
+  RunBacklash(deck, backlash, quiet);
+  MeshOptions mesh;
+  mesh.json_path = file("mesh.json");
+  mesh.svg_path = file("mesh.svg");
+  RunMesh(deck, mesh, quiet);
+  // The torque-twist loop at crank 0 (one position of the deck's [stiffness] steps); none at
+  // zero torque, where there is no rated torque to run the loop to.
+  StiffnessOptions stiffness;
+  stiffness.solver = options.solver;
+  stiffness.crank_deg = 0.0;
+  stiffness.json_path = file("stiffness.json");
+  stiffness.svg_path = file("stiffness.svg");
+  const bool loop = deck.RequireLoad().torque != 0.0;
+  const int loop_code = loop ? RunStiffness(deck, stiffness, quiet) : kExitSuccess;
+  // Efficiency (issue 14) when the deck carries [friction] and [operation]; tolerances (issue 15)
+  // when it carries [tolerances], with the deck's samples on every hardware thread. Both are one
+  // disc's studies: a two-disc deck has neither here (the commands say why).
+  const bool efficiency = deck.friction && deck.operation && !deck.second_disc && deck.RequireLoad().torque != 0.0;
+  EfficiencyOptions eff;
+  eff.solver = options.solver;
+  eff.json_path = file("efficiency.json");
+  eff.svg_path = file("efficiency.svg");
+  const int eff_code = efficiency ? RunEfficiency(deck, eff, quiet) : kExitSuccess;
+  const bool tolerance = deck.tolerances.has_value() && !deck.second_disc;
+  ToleranceOptions tol;
+  tol.solver = options.solver;
+  tol.json_path = file("tolerance.json");
+  tol.svg_path = file("tolerance.svg");
+  const int tol_code = tolerance ? RunTolerance(deck, tol, quiet) : kExitSuccess;
+
+  const nlohmann::json g = nlohmann::json::parse(ReadFile(geometry.json_path));
+  const nlohmann::json s = nlohmann::json::parse(ReadFile(solve.json_path));
+  const nlohmann::json b = nlohmann::json::parse(ReadFile(backlash.json_path));
+  const auto& p = deck.pair;
+  std::string html = fmt::format(
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>ltca report: {0}</title>\n"
+      "<style>body{{font-family:sans-serif;max-width:1500px;margin:1em auto;padding:0 1em;color:#111}}"
+      "table{{border-collapse:collapse;margin:0.5em 0 1.5em}}th,td{{border:1px solid #ccc;padding:2px 8px;text-align:left;"
+      "font-size:0.9em}}th{{background:#f3f3f3;font-weight:normal}}svg{{max-width:100%;height:auto;display:block;"
+      "margin:0.5em 0 2em}}h2{{border-bottom:1px solid #ccc}}.grid{{display:flex;gap:2em;flex-wrap:wrap}}</style>\n"
+      "</head>\n<body>\n<h1>{0}</h1>\n",
+      Html(deck.info.title));
+  html += "<h2>Case</h2>\n<table>\n";
+  html += fmt::format("<tr><th>deck</th><td>{}</td></tr>\n<tr><th>source</th><td>{}</td></tr>\n", Html(deck.name), Html(deck.info.source));
+  html += fmt::format("<tr><th>model</th><td>{}</td></tr>\n", Html(ModelLine(deck)));
+  html += fmt::format("<tr><th>solver</th><td>{}</td></tr>\n", Html(SolverLine(deck, SolverFor(deck, options.solver, ""))));
+  html += fmt::format("<tr><th>load</th><td>T = {:g} N*m</td></tr>\n", deck.RequireLoad().torque / 1000.0);
+  html += fmt::format("<tr><th>sweep</th><td>{} positions, crank {:g} to {:g} deg</td></tr>\n", deck.sweep.positions,
+                      units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end));
+  html += fmt::format("<tr><th>program</th><td>ltca {}</td></tr>\n</table>\n", LTCA_VERSION);
+  html += "<h2>Geometry</h2>\n<div class=\"grid\">\n<div>\n<table>\n";
+  html += fmt::format(
+      "<tr><th>z_p (pins)</th><td>{}</td></tr><tr><th>z_c (teeth)</th><td>{}</td></tr><tr><th>r_rp (mm)</th><td>{:g}</td></tr>"
+      "<tr><th>R_p (mm)</th><td>{:g}</td></tr><tr><th>e (mm)</th><td>{:g}</td></tr><tr><th>B_c (mm)</th><td>{:g}</td></tr>\n</table>\n",
+      p.pin_count, p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width);
+  nlohmann::json derived = g;
+  derived.erase("case");
+  html += Table(derived) + "</div>\n<div>" + InlineSvg(geometry.svg_path) + "</div>\n</div>\n";
+  html += "<h2>Loaded tooth contact analysis</h2>\n";
+  html += Table(s["summary"]);
+  html += InlineSvg(solve.svg_path);
+  html += "<h2>Unloaded: backlash and mesh</h2>\n";
+  html += Table(b["summary"]);
+  html += InlineSvg(backlash.svg_path);
+  html += InlineSvg(mesh.svg_path);
+  if (loop) {
+    const nlohmann::json l = nlohmann::json::parse(ReadFile(stiffness.json_path));
+    html += "<h2>Torsional stiffness: the torque-twist loop at crank 0</h2>\n";
+    nlohmann::json summary = l["summary"];
+    summary.erase("curve");
+    html += Table(summary);
+    html += InlineSvg(stiffness.svg_path);
+  }
+  if (efficiency) {
+    const nlohmann::json e = nlohmann::json::parse(ReadFile(eff.json_path));
+    html += "<h2>Friction and meshing efficiency</h2>\n";
+    html += Table(e["summary"]);
+    html += InlineSvg(eff.svg_path);
+  }
+  if (tolerance) {
+    const nlohmann::json t = nlohmann::json::parse(ReadFile(tol.json_path));
+    const nlohmann::json& ts = t["summary"];
+    html += "<h2>Tolerance analysis (Monte Carlo)</h2>\n";
+    nlohmann::json shown = {{"samples", ts["samples"]}, {"seed", ts["seed"]}, {"succeeded", ts["succeeded"]},
+                            {"failed", ts["failed"]}, {"rejected", ts["rejected"]}, {"pass_fraction", ts["pass_fraction"]},
+                            {"figures", ts["figures"]}};
+    html += Table(shown);
+    html += InlineSvg(tol.svg_path);
+  }
+  html += fmt::format("<p>Built from geometry.json, solve.json, backlash.json, mesh.json{}{}{} in this folder. A static page: "
+                      "nothing is fetched when it is viewed.</p>\n</body>\n</html>\n",
+                      loop ? ", stiffness.json" : "", efficiency ? ", efficiency.json" : "", tolerance ? ", tolerance.json" : "");
+  Output page("-o", file("index.html"), streams.out);
+  page.stream() << html;
+  page.Commit();
+  fmt::print(streams.text, "wrote {} (case {}, status {})\n", file("index.html"), deck.info.title,
+             Cell(s["summary"].value("status", nlohmann::json(nullptr))));
+  for (const int c : {code, loop_code, eff_code, tol_code}) {
+    if (c != kExitSuccess) return c;
+  }
+  return kExitSuccess;
+}
+
+}  // namespace ltca::cli

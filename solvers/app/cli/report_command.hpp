@@ -1,0 +1,23 @@
+#pragma once
+#include <string>
+
+#include "ltca/app/deck.hpp"
+#include "output.hpp"
+
+namespace ltca::cli {
+
+struct ReportOptions {
+  std::string out_dir;  ///< the folder of index.html (created when missing)
+  std::string solver;   ///< "" = the deck's [solver] name
+};
+
+/// `ltca report DECK -o DIR` (issue 16): one static HTML page, DIR/index.html, that a browser
+/// opens from disk with nothing fetched: the case, the model and solver that ran, the geometry
+/// table, the summary tables of the loaded sweep, the unloaded backlash and the torque-twist loop
+/// at crank 0, and the figures (geometry drawing, TE, load distribution and maps, backlash, mesh
+/// clearances, the loop) inlined as SVG. The documents the page is built from (geometry.json,
+/// solve.json, backlash.json, mesh.json, stiffness.json) are left beside it. Returns
+/// kExitNotSucceeded when a solve failed, else kExitSuccess.
+int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams& streams);
+
+}  // namespace ltca::cli

@@ -1,0 +1,440 @@
+#include "tolerance_command.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <nlohmann/json.hpp>
+
+#include "ltca/app/tolerance.hpp"
+#include "ltca/geometry/units.hpp"
+#include "solve_command.hpp"
+
+namespace ltca::cli {
+namespace {
+
+using app::ToleranceSample;
+using units::RadToDeg;
+using Clock = std::chrono::steady_clock;
+
+const char* KindName(app::ToleranceDistribution::Kind k) {
+  return k == app::ToleranceDistribution::Kind::kNormal ? "normal" : "uniform";
+}
+
+/// A number in the CSV: every bit (17 significant digits), empty when not finite.
+std::string CsvNumber(double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); }
+
+std::string CsvText(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"') out += '"';
+    out += (c == '\n' || c == '\r') ? ' ' : c;
+  }
+  return out + '"';
+}
+
+// --- Samples as bytes, for the MPI gather (bit for bit: doubles are copied, not printed) -------
+template <typename T>
+void Put(std::string& out, const T& v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+template <typename T>
+T Take(const std::string& in, std::size_t& at) {
+  if (at + sizeof(T) > in.size()) throw std::runtime_error("tolerance: a gathered sample is truncated");
+  T v;
+  std::memcpy(&v, in.data() + at, sizeof(T));
+  at += sizeof(T);
+  return v;
+}
+std::string Serialise(const std::vector<ToleranceSample>& samples) {
+  std::string out;
+  for (const auto& s : samples) {
+    Put(out, s.index);
+    Put(out, static_cast<std::uint64_t>(s.inputs.size()));
+    for (const double v : s.inputs) Put(out, v);
+    for (const double v : s.figures) Put(out, v);
+    for (const std::string* text : {&s.status, &s.message}) {
+      Put(out, static_cast<std::uint64_t>(text->size()));
+      out += *text;
+    }
+  }
+  return out;
+}
+void Deserialise(const std::string& in, std::vector<ToleranceSample>& out) {
+  std::size_t at = 0;
+  while (at < in.size()) {
+    ToleranceSample s;
+    s.index = Take<std::int64_t>(in, at);
+    s.inputs.resize(Take<std::uint64_t>(in, at));
+    for (double& v : s.inputs) v = Take<double>(in, at);
+    for (double& v : s.figures) v = Take<double>(in, at);
+    for (std::string* text : {&s.status, &s.message}) {
+      const auto n = Take<std::uint64_t>(in, at);
+      if (at + n > in.size()) throw std::runtime_error("tolerance: a gathered sample is truncated");
+      *text = in.substr(at, n);
+      at += n;
+    }
+    out.push_back(std::move(s));
+  }
+}
+
+nlohmann::json StatsJson(const app::FigureStats& f) {
+  return {{"mean", FiniteOrNull(f.mean)}, {"std", FiniteOrNull(f.std)}, {"p1", FiniteOrNull(f.p1)},
+          {"p5", FiniteOrNull(f.p5)},     {"p50", FiniteOrNull(f.p50)}, {"p95", FiniteOrNull(f.p95)},
+          {"p99", FiniteOrNull(f.p99)},   {"min", FiniteOrNull(f.min)}, {"max", FiniteOrNull(f.max)},
+          {"count", f.count}};
+}
+
+/// A worst-case corner in text: the figure, or why there is none ("rejected": the pair interferes).
+std::string Corner(double v, const std::string& status) { return status == "success" ? FormatOrNa(v, 4) : status; }
+
+/// Samples beyond a worst-case corner: the corner is then no bound (a figure that is not monotonic
+/// in the inputs, e.g. a maximum over the pins, whose worst case is pins that differ, not every
+/// pin at the same limit).
+bool BeyondCorners(const app::FigureStats& f, const app::WorstCaseFigure& w) {
+  return (w.corner_high_status == "success" && f.max > w.corner_high) || (w.corner_low_status == "success" && f.min < w.corner_low);
+}
+
+/// Whether a figure is part of this run (lost motion only when asked for).
+bool Ran(std::size_t f, const app::ToleranceSettings& s) { return f != app::kLostMotionArcmin || s.lost_motion; }
+
+constexpr const char* kWorstCaseMethod =
+    "extreme-value method: every input at the end of its range (uniform: +-tolerance, normal: +-3 sigma) about its "
+    "centre; stack = nominal -+ sum over the inputs of |f(+h) - f(-h)| / 2 (linear stacking, as a dimensional chain "
+    "by the extreme-value method, Jiang 2022 section 5.1); corner = the deterministic run at the corner that the "
+    "stack picks";
+
+/// "mean_te_arcsec" -> "mean TE (arcsec)": a figure's name as an axis label with its unit.
+std::string AxisLabel(const std::string& name) {
+  static const std::vector<std::pair<std::string, std::string>> units = {
+      {"_arcsec", "arcsec"}, {"_arcmin", "arcmin"}, {"_mpa", "MPa"}, {"_n", "N"}};
+  std::string base = name, unit = "pins";
+  for (const auto& [suffix, u] : units) {
+    if (base.size() > suffix.size() && base.compare(base.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      base.resize(base.size() - suffix.size()), unit = u;
+      break;
+    }
+  }
+  std::replace(base.begin(), base.end(), '_', ' ');
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{{"pp ", "peak-to-peak "}, {" te", " TE"}}) {
+    const auto at = base.find(from);
+    if (at != std::string::npos) base.replace(at, from.size(), to);
+  }
+  return fmt::format("{} ({})", base, unit);
+}
+
+/// Histograms of the figures, one panel each, with p5 / p50 / p95, the limits and the worst case.
+void WriteHistograms(const app::ToleranceStudy& study, const std::vector<ToleranceSample>& samples,
+                     const app::ToleranceSummary& summary, const app::WorstCaseResult* worst, Output& output) {
+  namespace plots = app::plots;
+  const auto& names = app::ToleranceSettings::FigureNames();
+  const app::Deck& deck = study.deck();
+  plots::Figure figure;
+  figure.title = fmt::format("{}: {} samples (seed {}, {} succeeded), loaded TCA over crank {:g} to {:g} deg", deck.info.title,
+                             summary.samples, summary.seed, summary.succeeded, RadToDeg(deck.sweep.crank_start),
+                             RadToDeg(deck.sweep.crank_end));
+  figure.caption = FigureCaption(deck, "bars: samples per bin; dashed: p5, p50, p95 and the extreme-value corners (worst case); "
+                                       "solid: the [tolerances] limits");
+  figure.columns = 3;
+  for (std::size_t f = 0; f < app::kToleranceFigureCount; ++f) {
+    const auto& st = summary.figures[f];
+    if (!Ran(f, study.settings()) || st.count == 0) continue;
+    plots::Panel panel;
+    panel.title = fmt::format("mean {:.5g}, std {:.3g}", st.mean, st.std);
+    panel.x_label = AxisLabel(names[f]);
+    panel.y_label = "samples per bin";
+    std::vector<double> span = {st.min, st.max};
+    for (const auto& l : summary.limits) {
+      if (l.limit.figure == names[f]) span.push_back(l.limit.min), span.push_back(l.limit.max);
+    }
+    if (worst != nullptr) span.push_back(worst->figures[f].corner_low), span.push_back(worst->figures[f].corner_high);
+    double lo = INFINITY, hi = -INFINITY;
+    for (const double v : span) {
+      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+    if (!(hi > lo)) lo -= 0.5, hi += 0.5;
+    const double pad = 0.03 * (hi - lo);
+    lo -= pad, hi += pad;
+    const int bins = 30;
+    const double width = (hi - lo) / bins;
+    plots::Series bars{"samples", {}, {}, plots::Style::kBars};
+    bars.bar_width = width;
+    std::vector<double> count(bins, 0.0);
+    for (const auto& s : samples) {
+      const double v = s.figures[f];
+      if (s.status != "success" || !std::isfinite(v)) continue;
+      count[static_cast<std::size_t>(std::clamp(static_cast<int>((v - lo) / width), 0, bins - 1))] += 1.0;
+    }
+    for (int b = 0; b < bins; ++b) bars.x.push_back(lo + (b + 0.5) * width), bars.y.push_back(count[static_cast<std::size_t>(b)]);
+    panel.series.push_back(std::move(bars));
+    using Mark = plots::Mark;
+    for (const auto& [v, label] : {std::pair{st.p5, "p5"}, std::pair{st.p50, "p50"}, std::pair{st.p95, "p95"}}) {
+      if (std::isfinite(v)) panel.marks.push_back({Mark::Axis::kVertical, v, label, true});
+    }
+    for (const auto& l : summary.limits) {
+      if (l.limit.figure != names[f]) continue;
+      if (std::isfinite(l.limit.min)) panel.marks.push_back({Mark::Axis::kVertical, l.limit.min, "limit", false});
+      if (std::isfinite(l.limit.max)) panel.marks.push_back({Mark::Axis::kVertical, l.limit.max, "limit", false});
+    }
+    if (worst != nullptr) {
+      for (const double v : {worst->figures[f].corner_low, worst->figures[f].corner_high}) {
+        if (std::isfinite(v)) panel.marks.push_back({Mark::Axis::kVertical, v, "corner", true});
+      }
+    }
+    panel.x_min = lo, panel.x_max = hi;
+    figure.panels.push_back(std::move(panel));
+  }
+  if (figure.panels.empty()) figure.title += ": no sample succeeded";
+  const int rows = static_cast<int>((figure.panels.size() + 2) / 3);
+  figure.width = 1500;
+  figure.height = 140 + 330 * std::max(rows, 1);
+  WriteFigure(figure, output);
+}
+
+}  // namespace
+
+int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, const Streams& streams) {
+  if (!deck_in.tolerances) {
+    throw std::invalid_argument(fmt::format(
+        "deck '{}': missing section [tolerances] for ltca tolerance; expected e.g. [tolerances] samples = 1000, seed = 1, "
+        "pin_circle_deviation_mm = {{ distribution = \"normal\", sigma = 0.002 }} (docs/tolerance.md)",
+        deck_in.name));
+  }
+  app::ToleranceSettings settings = *deck_in.tolerances;
+  if (options.samples) settings.samples = *options.samples;
+  if (options.seed) settings.seed = *options.seed;
+  if (options.lost_motion) settings.lost_motion = true;
+  if (options.first < 0) throw std::invalid_argument(fmt::format("--first {}: expected a sample index >= 0", options.first));
+  if (options.threads < 0) throw std::invalid_argument(fmt::format("--threads {}: expected 1 or more (0: every hardware thread)", options.threads));
+  const int threads = options.threads > 0 ? options.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const solvers::SolverOptions solver = SolverFor(deck_in, options.solver, options.kinematics);
+  const app::ToleranceStudy study(deck_in, solver, settings);  // validates everything
+  const app::Deck& deck = study.deck();
+
+  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+  const int rank = farm ? farm->rank() : 0, ranks = farm ? farm->size() : 1;
+  const bool root = rank == 0;
+  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
+  // Outputs first (rank 0 only): an unwritable path is an error before anything is computed.
+  Output json("--json", root ? options.json_path : "", streams.out);
+  Output csv("--csv", root ? options.csv_path : "", streams.out);
+  Output svg("--svg", root ? options.svg_path : "", streams.out);
+  std::ostringstream quiet;
+  std::ostream& text = root ? streams.text : quiet;
+
+  const std::int64_t n = settings.samples;
+  fmt::print(text, "case      {}\n", deck.info.title);
+  text << ModelLine(deck);
+  text << SolverLine(deck, solver);
+  fmt::print(text, "samples   {} from index {}, seed {} (counter-based Philox4x32-10: sample i depends on (seed, i) only), "
+                   "{} thread(s){}\n",
+             n, options.first, settings.seed, threads, ranks > 1 ? fmt::format(" on each of {} MPI ranks", ranks) : "");
+  fmt::print(text, "per sample: unloaded TCA and loaded TCA over {} positions from {:g} to {:g} deg crank{}\n",
+             deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end),
+             settings.lost_motion ? fmt::format(", lost motion at +-{:g} % of T", 100.0 * deck.stiffness.lost_motion_fraction) : "");
+  for (const auto& d : settings.distributions) {
+    fmt::print(text, "  {:<36} {:<7} {}{}\n", d.key, KindName(d.kind),
+               d.kind == app::ToleranceDistribution::Kind::kNormal ? fmt::format("sigma {:g}", d.sigma)
+                                                                    : fmt::format("+-{:g}", d.tolerance),
+               (d.mean != 0.0 ? fmt::format(", centre offset {:g}", d.mean) : std::string()) + (d.per_pin ? ", per pin" : ""));
+  }
+  if (settings.profile_random_per_sample) {
+    fmt::print(text, "  profile random deviation: every sample its own, zone {:g} um ({}), seed drawn from (seed, i)\n",
+               units::MmToUm(deck.errors.profile_random.zone),
+               deck.errors.profile_random.distribution == geometry::ProfileRandomDistribution::kNormal ? "normal" : "uniform");
+  }
+  for (const auto& note : study.notes()) fmt::print(text, "note      {}\n", note);
+
+  // The samples: rank r runs the r-th static block, on its threads.
+  const auto start = Clock::now();
+  const std::int64_t begin = options.first + n * rank / ranks, end = options.first + n * (rank + 1) / ranks;
+  std::vector<ToleranceSample> samples;
+  {
+    Progress progress(streams.err, streams.progress && root, "tolerance sample", end - begin);
+    samples = study.RunRange(begin, end - begin, threads, [&](std::int64_t done) { progress.Update(done); });
+    progress.Finish();
+  }
+  if (farm && ranks > 1) {
+    const std::vector<std::string> parts = farm->Gather(Serialise(samples));
+    if (!root) {
+      const bool ok = std::all_of(samples.begin(), samples.end(), [](const ToleranceSample& s) { return s.status == "success"; });
+      return ok ? kExitSuccess : kExitNotSucceeded;
+    }
+    samples.clear();
+    for (const auto& part : parts) Deserialise(part, samples);
+    if (static_cast<std::int64_t>(samples.size()) != n) {
+      throw std::runtime_error(fmt::format("tolerance: gathered {} samples, expected {}", samples.size(), n));
+    }
+  }
+  const double sample_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const app::ToleranceSummary summary = app::Summarise(study, samples);
+  std::optional<app::WorstCaseResult> worst;
+  const auto worst_start = Clock::now();
+  if (!options.no_worst_case) worst = app::ExtremeValueWorstCase(study, threads);
+  const double worst_seconds = std::chrono::duration<double>(Clock::now() - worst_start).count();
+
+  const auto& names = app::ToleranceSettings::FigureNames();
+  // CSV: every sample's inputs and figures, so that any one can be re-run (--first i --samples 1).
+  if (csv.enabled()) {
+    std::ostream& os = csv.stream();
+    os << "sample,status";
+    for (const auto& in : study.inputs()) os << ',' << in.name;
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      if (Ran(f, settings)) os << ',' << names[f];
+    }
+    os << ",message\n";
+    for (const auto& s : samples) {
+      os << s.index << ',' << s.status;
+      for (const double v : s.inputs) os << ',' << CsvNumber(v);
+      for (std::size_t f = 0; f < names.size(); ++f) {
+        if (Ran(f, settings)) os << ',' << CsvNumber(s.figures[f]);
+      }
+      os << ',' << CsvText(s.message) << '\n';
+    }
+    csv.Commit();
+  }
+  if (svg.enabled()) {
+    WriteHistograms(study, samples, summary, worst ? &*worst : nullptr, svg);
+  }
+  if (json.enabled()) {
+    nlohmann::json dists = nlohmann::json::array();
+    for (const auto& d : settings.distributions) {
+      nlohmann::json j = {{"key", d.key}, {"distribution", KindName(d.kind)}, {"mean", d.mean}, {"per_pin", d.per_pin},
+                          {"std", d.StandardDeviation()}, {"worst_case_half_width", d.WorstCaseHalfWidth()}};
+      if (d.kind == app::ToleranceDistribution::Kind::kNormal) j["sigma"] = d.sigma;
+      if (d.tolerance != 0.0 || d.kind == app::ToleranceDistribution::Kind::kUniform) j["tolerance"] = d.tolerance;
+      dists.push_back(std::move(j));
+    }
+    nlohmann::json figures = nlohmann::json::object(), sens = nlohmann::json::object(), wc = nlohmann::json::object();
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      if (!Ran(f, settings)) continue;
+      figures[names[f]] = StatsJson(summary.figures[f]);
+      const auto& fs = summary.sensitivity[f];
+      nlohmann::json keys = nlohmann::json::array();
+      for (const auto& k : fs.keys) keys.push_back({{"key", k.key}, {"src", FiniteOrNull(k.src)}, {"share", FiniteOrNull(k.share)}});
+      sens[names[f]] = {{"r_squared", FiniteOrNull(fs.r_squared)}, {"ranking", keys}};
+      if (!fs.note.empty()) sens[names[f]]["note"] = fs.note;
+      if (worst) {
+        const auto& w = worst->figures[f];
+        wc[names[f]] = {{"nominal", FiniteOrNull(w.nominal)},       {"stack_low", FiniteOrNull(w.stack_low)},
+                        {"stack_high", FiniteOrNull(w.stack_high)}, {"corner_low", FiniteOrNull(w.corner_low)},
+                        {"corner_high", FiniteOrNull(w.corner_high)}, {"corner_low_status", w.corner_low_status},
+                        {"corner_high_status", w.corner_high_status},
+                        {"monte_carlo_beyond_corners", BeyondCorners(summary.figures[f], w)}};
+      }
+    }
+    nlohmann::json limits = nlohmann::json::array();
+    for (const auto& l : summary.limits) {
+      limits.push_back({{"figure", l.limit.figure}, {"min", FiniteOrNull(l.limit.min)}, {"max", FiniteOrNull(l.limit.max)},
+                        {"passed", l.passed}, {"fraction", l.fraction}});
+    }
+    nlohmann::json doc = {
+        {"case", CaseJson(deck)},
+        {"model", ModelJson(deck.Model())},
+        {"solver", SolverJson(deck, solver)},
+        {"tolerances",
+         {{"samples", n}, {"first", options.first}, {"seed", settings.seed}, {"threads", threads}, {"mpi_ranks", ranks},
+          {"lost_motion", settings.lost_motion}, {"profile_random_per_sample", settings.profile_random_per_sample},
+          {"distributions", dists},
+          {"sweep", {{"crank_start_deg", units::RadToDeg(deck.sweep.crank_start)}, {"crank_end_deg", units::RadToDeg(deck.sweep.crank_end)},
+                     {"positions", deck.sweep.positions}}},
+          {"random_stream", "Philox4x32-10 (counter-based): draw (key, pin) of sample i is a pure function of (seed, i)"}}},
+        {"notes", study.notes()},
+        {"summary",
+         {{"samples", summary.samples}, {"seed", summary.seed}, {"succeeded", summary.succeeded}, {"failed", summary.failed},
+          {"rejected", summary.rejected}, {"figures", figures}, {"limits", limits},
+          {"pass_fraction", FiniteOrNull(summary.pass_fraction)},
+          {"sensitivity", {{"method", app::kSensitivityMethod}, {"figures", sens}}},
+          {"wall_seconds", sample_seconds},
+          {"samples_per_second", FiniteOrNull(static_cast<double>(n) / sample_seconds)}}}};
+    if (!settings.chains.empty()) {
+      nlohmann::json chains = nlohmann::json::object();
+      for (std::size_t c = 0; c < settings.chains.size(); ++c) {
+        const auto& chain = settings.chains[c];
+        const app::ClosingLink ev = app::ExtremeValueClosingLink(chain.links);
+        nlohmann::json mc = StatsJson(app::ChainMonteCarlo(chain.links, n, settings.seed, c));
+        chains[chain.name] = {{"extreme_value_um", {{"min", ev.min}, {"max", ev.max}}}, {"monte_carlo_um", mc},
+                              {"method", "extreme-value method (Jiang 2022 section 5.1) and Monte Carlo with every link uniform within its limits"}};
+      }
+      doc["summary"]["chains"] = chains;
+    }
+    if (worst) {
+      doc["summary"]["worst_case"] = {{"method", kWorstCaseMethod}, {"figures", wc}, {"runs", worst->runs},
+                                      {"failed_runs", worst->failed_runs}, {"wall_seconds", worst_seconds}};
+    }
+    json.stream() << Dump(doc) << '\n';
+    json.Commit();
+  }
+
+  // The text summary.
+  fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", "figure", "mean", "std", "p1", "p5", "p50", "p95",
+             "p99", worst ? fmt::format(" {:>23}", "worst case (corners)") : std::string());
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    if (!Ran(f, settings)) continue;
+    const auto& s = summary.figures[f];
+    fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", names[f], FormatOrNa(s.mean, 4), FormatOrNa(s.std, 4),
+               FormatOrNa(s.p1, 4), FormatOrNa(s.p5, 4), FormatOrNa(s.p50, 4), FormatOrNa(s.p95, 4), FormatOrNa(s.p99, 4),
+               worst ? fmt::format(" {:>11} {:>11}{}", Corner(worst->figures[f].corner_low, worst->figures[f].corner_low_status),
+                                   Corner(worst->figures[f].corner_high, worst->figures[f].corner_high_status),
+                                   BeyondCorners(s, worst->figures[f]) ? " *" : "")
+                     : std::string());
+  }
+  if (worst) {
+    fmt::print(text, "worst case: extreme-value method (every input at +-tolerance or +-3 sigma about its centre, effects stacked "
+                     "linearly, the corner the stack picks run): {} runs, {} not succeeded (rejected: the corner pair interferes)\n",
+               worst->runs, worst->failed_runs);
+    if (std::any_of(names.begin(), names.end(), [&](const std::string& name) {
+          const auto f = static_cast<std::size_t>(&name - names.data());
+          return Ran(f, settings) && BeyondCorners(summary.figures[f], worst->figures[f]);
+        })) {
+      fmt::print(text, "  * samples lie beyond the corners: the figure is not monotonic in the inputs (a maximum or range over "
+                       "the pins: its worst case is pins that differ, not every pin at the same limit); the corners bound "
+                       "nothing there\n");
+    }
+  }
+  for (std::size_t c = 0; c < settings.chains.size(); ++c) {
+    const auto& chain = settings.chains[c];
+    const app::ClosingLink ev = app::ExtremeValueClosingLink(chain.links);
+    const app::FigureStats mc = app::ChainMonteCarlo(chain.links, n, settings.seed, c);
+    fmt::print(text, "chain {}: closing link by the extreme-value method {:g} .. {:g} um; Monte Carlo (links uniform) mean {:.3f}, "
+                     "p1 {:.3f}, p50 {:.3f}, p99 {:.3f} um\n",
+               chain.name, ev.min, ev.max, mc.mean, mc.p1, mc.p50, mc.p99);
+  }
+  for (const auto& l : summary.limits) {
+    fmt::print(text, "limit     {} in [{:g}, {:g}]: {} of {} samples ({:.2f} %)\n", l.limit.figure, l.limit.min, l.limit.max, l.passed,
+               summary.samples, 100.0 * l.fraction);
+  }
+  if (!summary.limits.empty()) {
+    fmt::print(text, "all limits met by {} of {} samples ({:.2f} %)\n", summary.passed_all, summary.samples, 100.0 * summary.pass_fraction);
+  }
+  fmt::print(text, "sensitivity (standardised regression coefficients; share = sum of SRC^2 over the key's columns):\n");
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    if (!Ran(f, settings)) continue;
+    const auto& fs = summary.sensitivity[f];
+    std::string ranking;
+    for (std::size_t k = 0; k < std::min<std::size_t>(3, fs.keys.size()); ++k) {
+      ranking += fmt::format("{}{} {:.3f}", k == 0 ? "" : ", ", fs.keys[k].key, fs.keys[k].share);
+    }
+    fmt::print(text, "  {:<24} R^2 {:>6}  {}\n", names[f], FormatOrNa(fs.r_squared, 3), fs.note.empty() ? ranking : fs.note);
+  }
+  if (summary.failed + summary.rejected > 0) {
+    const auto first = std::find_if(samples.begin(), samples.end(), [](const ToleranceSample& s) { return s.status != "success"; });
+    fmt::print(text, "not succeeded: {} failed, {} rejected of {} samples; first: sample {}: {}\n", summary.failed, summary.rejected,
+               summary.samples, first->index, first->message);
+  }
+  fmt::print(text, "wall time {:.3f} s for {} samples ({:.1f} samples/s){}\n", sample_seconds, n, static_cast<double>(n) / sample_seconds,
+             worst ? fmt::format("; worst case {:.3f} s for {} runs", worst_seconds, worst->runs) : std::string());
+  return summary.succeeded == summary.samples ? kExitSuccess : kExitNotSucceeded;
+}
+
+}  // namespace ltca::cli

@@ -1,0 +1,48 @@
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ltca/app/deck.hpp"
+#include "output.hpp"
+
+namespace ltca::cli {
+
+/// The command line of `ltca tolerance` (issue 15, docs/tolerance.md): each option given replaces
+/// the deck's [tolerances] key.
+struct ToleranceOptions {
+  std::string solver;      ///< "" = the deck's [solver] name
+  std::string kinematics;  ///< "" = the deck's
+  std::string json_path, csv_path, svg_path;
+  std::optional<std::int64_t> samples;  ///< [tolerances] samples
+  std::optional<std::uint64_t> seed;    ///< [tolerances] seed
+  std::int64_t first = 0;               ///< the first sample index (re-run sample i: --first i --samples 1)
+  int threads = 0;                      ///< 0: every hardware thread
+  bool lost_motion = false;             ///< also lost motion (as [tolerances] lost_motion = true)
+  bool no_worst_case = false;           ///< skip the extreme-value counterpart
+};
+
+/// The ranks of one MPI job, behind an interface so that MPI stays out of every header
+/// (tolerance_mpi.cpp implements it when MPI is found; tolerance_nompi.cpp otherwise).
+class SampleFarm {
+ public:
+  virtual ~SampleFarm() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  /// Every rank passes its bytes; rank 0 gets every rank's bytes in rank order, the others none.
+  virtual std::vector<std::string> Gather(const std::string& mine) = 0;
+};
+/// The MPI job this process is a rank of (started by mpirun), or nullptr: built without MPI, or
+/// not started by mpirun (a plain run is one process with threads).
+std::unique_ptr<SampleFarm> MakeSampleFarm();
+/// "OpenMPI x.y" or "none": what the build has.
+std::string SampleFarmBuild();
+
+/// `ltca tolerance`: the Monte Carlo of [tolerances] over threads (and MPI ranks), its summary
+/// (percentiles, limits, sensitivity), the extreme-value worst case, per-sample CSV, SVG
+/// histograms. Returns kExitSuccess when every sample succeeded, kExitNotSucceeded otherwise.
+int RunTolerance(const app::Deck& deck, const ToleranceOptions& options, const Streams& streams);
+
+}  // namespace ltca::cli

@@ -1,0 +1,134 @@
+#pragma once
+// Friction, power loss and meshing efficiency of the cycloid-pin mesh (issue 14, docs/efficiency.md).
+// At every crank position of the deck's sweep the loaded problem is solved (frictionless forces);
+// at every loaded contact point the sliding and entrainment speeds (Jiang 2022 eq. 13-14), the
+// friction coefficient ([friction] model: Coulomb or Jiang's mixed lubrication, eq. 20-26) and
+// the loss mu F |v_s| (eq. 28-29) follow. Figures:
+//  - first order (always): pins fixed, no sleeve, frictionless forces,
+//    efficiency_first_order = P_out / (P_out + sum mu_i F_i |v_s,i|), P_out = |T| |omega_c|;
+//  - full model: the pin sleeve (eq. 34: the sliding moves to the sleeve bore at the ratio of the
+//    radii) and the friction moment in the torque balance ([friction] torque_balance: re-solved
+//    to a fixed point, or bounded), efficiency = P_out / (P_out + P_loss) = 1 - P_loss / P_in (eq. 30);
+//  - the classical estimates with the same mu (Malhotra-Parameswaran's load distribution F_i ~ L_i
+//    summed over the pins, and its continuum closed form; see docs/efficiency.md for what they are).
+// The crank turns so that the cycloid moves against the load torque (the stage drives the load):
+// power flows from the crank to the output.
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ltca/app/deck.hpp"
+#include "ltca/app/stiffness.hpp"
+
+namespace ltca::app {
+
+constexpr double kEfficiencyNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// One loaded contact point at one position. Speeds in mm/s, forces N, power W.
+struct ContactFrictionPoint {
+  int pin = 0;
+  int slice = 0;
+  double force = 0.0;           ///< normal force, N (with the friction moment in the balance, if solved)
+  double sliding = 0.0;         ///< v_s, mm/s, signed along t = Rot(+90) n
+  double entrainment = 0.0;     ///< U, mm/s
+  double coefficient = 0.0;     ///< mu at the cycloid-pin contact (the model's)
+  double effective_coefficient = 0.0;  ///< with a sleeve: mu_bore r_bore / r_sleeve; else = coefficient
+  double loss = 0.0;            ///< W, full model
+  double loss_first_order = 0.0;  ///< W: coefficient F_frictionless |v_s|
+  double film_thickness = kEfficiencyNaN;  ///< mm (jiang-mixed)
+  double lambda = kEfficiencyNaN;          ///< (jiang-mixed)
+  double max_pressure = 0.0;    ///< MPa, of the shape used
+  bool point_contact = false;   ///< the ellipse (Jiang eq. 15-19) was used for the pressure
+};
+
+struct EfficiencyPosition {
+  double crank = 0.0;  ///< rad
+  SolverStatus status = SolverStatus::kNotSolved;
+  std::string message;
+  std::vector<ContactFrictionPoint> contacts;  ///< loaded points only
+  std::vector<double> pin_coefficient;  ///< per pin: force-weighted mean mu; NaN when unloaded
+  std::vector<double> pin_loss;         ///< per pin, W (full model)
+  double output_power = kEfficiencyNaN;          ///< W, |T| |omega_c|
+  double power_loss = kEfficiencyNaN;            ///< W, full model
+  double power_loss_first_order = kEfficiencyNaN;  ///< W
+  double efficiency = kEfficiencyNaN;
+  double efficiency_first_order = kEfficiencyNaN;
+  /// Classical estimates at this position with the same mu (Coulomb's, or the mean of the mixed
+  /// coefficients over the loaded contacts): F_i ~ L_i over the pins of the half ring
+  /// (Malhotra-Parameswaran), and the continuum closed form.
+  double efficiency_malhotra_parameswaran = kEfficiencyNaN;
+  double efficiency_sensinger = kEfficiencyNaN;
+  double mean_coefficient = kEfficiencyNaN;  ///< force-weighted over the loaded contacts
+  /// sigma M_f / |T|: the friction moment about the cycloid centre (frictionless forces) in the
+  /// sense of the load torque, over the torque. Bounds the relative change of the forces.
+  double friction_moment_ratio = kEfficiencyNaN;
+  int balance_solves = 0;  ///< extra solves of the torque balance with friction
+  /// |ratio(forces) - s| at the last balance solve (0 without friction or when bounded). The
+  /// accepted state may be the secant step on forces interpolated from that solve and the
+  /// frictionless one (docs/efficiency.md): its error is second order, below this residual.
+  double balance_residual = 0.0;
+  std::vector<std::string> warnings;
+  bool succeeded() const { return status == SolverStatus::kSuccess; }
+};
+
+/// Mean, smallest and largest over the successful positions: the stiffness loop's Spread.
+using EfficiencySpread = Spread;
+
+struct EfficiencySummary {
+  EfficiencySpread power_loss, power_loss_first_order, output_power, friction_moment_ratio, mean_coefficient;
+  /// Energy-weighted over the sweep: mean P_out / (mean P_out + mean P_loss).
+  double efficiency = kEfficiencyNaN;
+  double efficiency_first_order = kEfficiencyNaN;
+  double efficiency_malhotra_parameswaran = kEfficiencyNaN;  ///< mean over the positions
+  double efficiency_sensinger = kEfficiencyNaN;              ///< closed form, position independent
+  double energy_loss_per_revolution = kEfficiencyNaN;        ///< J per crank revolution (mean loss x period)
+  std::int64_t succeeded = 0, failed = 0, solves = 0, balance_solves = 0;
+  std::string first_failure;
+  std::vector<std::string> warnings;  ///< distinct warning names with the first message of each
+  double wall_seconds = 0.0;
+  double loaded_solve_seconds = 0.0;  ///< of which in the frictionless load solves
+  bool all_succeeded() const { return failed == 0 && succeeded > 0; }
+};
+
+/// Continuum closed form with F ~ L over the half ring of an unmodified pair (docs/efficiency.md):
+/// P_loss / P_out = 4 mu (R_p - r_p) / (pi e z_c / |d|).
+double SensingerEfficiency(const geometry::PairParameters& pair, double mu);
+
+/// Requires [material], [load] (torque != 0), [friction] and [operation]; validates the options;
+/// rejects a pair that interferes at any crank of the sweep (std::invalid_argument).
+class EfficiencyRunner {
+ public:
+  EfficiencyRunner(const Deck& deck, const SolverOptions& options);
+  ~EfficiencyRunner();
+  EfficiencyRunner(EfficiencyRunner&&) noexcept;
+  EfficiencyRunner& operator=(EfficiencyRunner&&) noexcept;
+  EfficiencyPosition Solve(double crank);
+  EfficiencySummary Summary() const;
+  const std::vector<double>& cranks() const;
+  double crank_speed() const;  ///< rad/s, signed: the crank's sense that drives the load
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// --- the stiffness loop with friction (issue 13 + 14) -------------------------------------------
+/// The signed torque the normal forces carry at a quasi-static step of the torque-twist loop with
+/// Coulomb friction (the crank locked, the cycloid turning about its centre): the friction at each
+/// loaded contact resists the turning, so the normal forces carry T - sense mu sum F_i |a_t,i|
+/// (a_t: the tangential arm about the cycloid centre), sense = +1 while the twist grows in +T's
+/// sense (the increasing branch), -1 on the way back. solve(t) solves the frictionless problem at
+/// signed torque t; iterated to a fixed point. mu: [friction]'s static coefficient (Coulomb's, or
+/// f_b for jiang-mixed: no entrainment, boundary friction). Returns the last result; *solves counts.
+/// second: the second disc of a two-disc stage (issue 13), whose points in state turn about its own
+/// centre, half a crank turn on; nullptr for one disc.
+LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state, double torque,
+                                 double sense, double mu, const std::function<LoadResult(double)>& solve, int* solves,
+                                 const contact::MeshModel* second = nullptr);
+/// The static coefficient of the loop: 0 without [friction].
+double LoopFrictionCoefficient(const Deck& deck);
+
+}  // namespace ltca::app

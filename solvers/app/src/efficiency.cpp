@@ -1,0 +1,470 @@
+#include "ltca/app/efficiency.hpp"
+#include "ltca/app/sweep.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "ltca/contact/sliding.hpp"
+#include "ltca/contact/unloaded.hpp"
+#include "ltca/geometry/units.hpp"
+#include "ltca/solvers/registry.hpp"
+
+namespace ltca::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using units::kPi;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kWattPerNmmPerS = 1e-3;  // N*mm/s -> W
+
+/// z component of a x b.
+double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+
+/// The torque balance with friction converges when the ratio moves by less than this.
+constexpr double kBalanceTolerance = 1e-10;
+constexpr int kMaxBalanceSolves = 20;
+/// An interpolated secant step is accepted when its ratio residual is below this.
+constexpr double kInterpolatedTolerance = 1e-8;
+
+/// The warning's name: the text before the first ':'.
+std::string WarningName(const std::string& w) { return w.substr(0, w.find(':')); }
+
+}  // namespace
+
+double SensingerEfficiency(const geometry::PairParameters& pair, double mu) {
+  const double arm = pair.eccentricity * pair.tooth_count / std::abs(pair.ToothDifference());  // |O_c I|
+  return 1.0 / (1.0 + 4.0 * mu * (pair.pin_circle_radius - pair.pin_radius) / (kPi * arm));
+}
+
+struct EfficiencyRunner::Impl {
+  const Deck& deck;
+  SolverOptions options;
+  std::shared_ptr<const contact::MeshModel> model;
+  std::unique_ptr<LoadSolver> solver;
+  solvers::Workspace workspace;
+  const contact::Material& material;
+  const FrictionSettings& friction;
+  const OperationSettings& operation;
+  double torque;  // signed, N*mm
+  std::vector<double> cranks;
+  solvers::LoadProblem::CheckedCoupling coupling;
+  contact::Lubrication lubrication;
+  double crank_speed = 0.0;  // rad/s, signed (set by the first position)
+  EfficiencySummary summary;
+  double mp_sum = 0.0;
+  std::int64_t mp_count = 0;
+  std::map<std::string, std::string> warnings;
+  Clock::duration elapsed{}, solving{};
+
+  Impl(const Deck& d, const SolverOptions& o)
+      : deck(d), options(o), model(std::make_shared<const contact::MeshModel>(d.MakeModel())),
+        solver(solvers::MakeSolver(o.name)), material(d.RequireMaterial()), friction(RequireFriction(d)),
+        operation(RequireOperation(d)), torque(d.RequireLoad().torque), cranks(d.sweep.CrankAngles()) {
+    if (d.second_disc) {
+      throw std::invalid_argument(fmt::format(
+          "deck '{}': [second_disc]: ltca efficiency sums the first disc's contacts only; expected one disc (the "
+          "two-disc efficiency is not built yet)",
+          d.name));
+    }
+    if (torque == 0.0) {
+      throw std::invalid_argument("[load] torque_nm = 0: expected a non-zero torque (efficiency has no output power "
+                                  "at zero torque)");
+    }
+    for (const double crank : cranks) contact::RequireNoInterference(*model, crank);
+    coupling = deck.MakeCoupling(*model);
+    lubrication.viscosity = operation.viscosity;
+    lubrication.pressure_viscosity = operation.pressure_viscosity;
+    lubrication.roughness_cycloid = operation.roughness_cycloid;
+    lubrication.roughness_pin = operation.roughness_pin;
+    lubrication.boundary_coefficient = friction.boundary_coefficient;
+    lubrication.limiting_shear_modulus = friction.limiting_shear_modulus;
+    lubrication.power_law_exponent = friction.power_law_exponent;
+  }
+
+  static const FrictionSettings& RequireFriction(const Deck& d) {
+    if (!d.friction) {
+      throw std::invalid_argument(fmt::format(
+          "deck '{}': missing required section [friction] for this command (e.g. --set friction.coefficient=0.05)",
+          d.name));
+    }
+    return *d.friction;
+  }
+  static const OperationSettings& RequireOperation(const Deck& d) {
+    if (!d.operation) {
+      throw std::invalid_argument(fmt::format(
+          "deck '{}': missing required section [operation] for this command (e.g. --set "
+          "operation.input_speed_rpm=1500)",
+          d.name));
+    }
+    return *d.operation;
+  }
+
+  solvers::LoadProblem Problem(const contact::MeshState& state, double t) const {
+    solvers::LoadProblem problem(model, state, deck.contact, material, t, options.kinematics);
+    if (!coupling.matrix) return problem;
+    return problem.WithCoupling(coupling);
+  }
+
+  LoadResult Solve(const contact::MeshState& state, double t) {
+    const auto start = Clock::now();
+    LoadResult r = solver->Solve(Problem(state, t), options, workspace);
+    solving += Clock::now() - start;
+    return r;
+  }
+
+  /// Where a pin's contact is a point contact (Jiang eq. 15-19): lead crowning (relative
+  /// curvature 8 c / B^2 along the width) or a misalignment (the pin axis crossing the flank's),
+  /// when the ellipse fits within the face width; otherwise the line contact holds.
+  bool PointCurvature(const contact::PinContact& c, contact::RelativeCurvature* curvature) const {
+    const double across = c.cycloid_curvature + 1.0 / c.pin_radius;
+    const double crowning = deck.errors.lead_crowning;
+    const double tilt = std::hypot(deck.assembly.misalignment_xz, deck.assembly.misalignment_yz);
+    if (crowning > 0.0) {
+      *curvature = {8.0 * crowning / (deck.pair.face_width * deck.pair.face_width), across};
+      return true;
+    }
+    if (tilt > 0.0 && c.cycloid_curvature > 0.0) {
+      *curvature = contact::CrossedCylinders(c.cycloid_curvature, 1.0 / c.pin_radius, tilt);
+      return curvature->a > 0.0;
+    }
+    return false;
+  }
+
+  struct PointKinematics {
+    Eigen::Vector2d lever;  // P - O_c, mm
+    contact::ContactVelocities v;  // per second
+  };
+
+  /// mu at each loaded point for the forces f; fills the contact records. Returns the friction
+  /// moment ratio sigma M_f / |T| with the effective coefficients.
+  double Evaluate(const contact::MeshState& state, const std::vector<PointKinematics>& kin,
+                  const std::vector<double>& f, double sigma, std::vector<ContactFrictionPoint>* out,
+                  std::vector<std::string>* warn) const {
+    out->clear();
+    const double e_star = material.EquivalentModulus();
+    const int slices = model->slice_count();
+    std::vector<double> pin_force(static_cast<std::size_t>(model->pin_count()), 0.0);
+    for (std::size_t i = 0; i < f.size(); ++i) pin_force[static_cast<std::size_t>(state.pins[i].pin)] += std::max(0.0, f[i]);
+    // A point carries load above kContactForceFraction of the largest (the rule of ltca solve):
+    // below it the force is numerical zero, whose "coefficient" (viscous drag over a vanishing
+    // load) means nothing.
+    const double floor = kContactForceFraction * *std::max_element(f.begin(), f.end());
+    double moment = 0.0;
+    const double ratio = friction.sleeve_bore_radius ? *friction.sleeve_bore_radius / deck.pair.pin_radius : 1.0;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      if (!(f[i] > floor)) continue;
+      const contact::PinContact& c = state.pins[i];
+      ContactFrictionPoint p;
+      p.pin = c.pin;
+      p.slice = c.slice;
+      p.force = f[i];
+      p.sliding = kin[i].v.sliding;
+      p.entrainment = kin[i].v.entrainment;
+      const double across = c.cycloid_curvature + 1.0 / c.pin_radius;
+      const double rho = across > 0.0 ? 1.0 / across : kNaN;
+      contact::RelativeCurvature curvature;
+      contact::ContactShape shape = contact::LineShape(f[i], c.length, rho, e_star);
+      if (PointCurvature(c, &curvature)) {
+        const contact::ContactShape ellipse =
+            contact::EllipseShape(curvature, pin_force[static_cast<std::size_t>(c.pin)], e_star);
+        if (2.0 * ellipse.semi_major <= deck.pair.face_width) {
+          shape = ellipse;
+          // The pin's ellipse carries the pin's force: this point's share of its area.
+          shape.area *= f[i] / pin_force[static_cast<std::size_t>(c.pin)];
+          p.point_contact = true;
+        }
+      }
+      p.max_pressure = shape.max_pressure;
+      if (friction.model == FrictionSettings::Model::kCoulomb) {
+        p.coefficient = friction.coefficient;
+      } else {
+        const contact::MixedFriction m = contact::MixedCoefficient(lubrication, f[i], shape, c.length, rho, e_star,
+                                                                   p.entrainment, p.sliding);
+        p.coefficient = m.coefficient;
+        p.film_thickness = m.film_thickness;
+        p.lambda = m.lambda;
+        if (warn != nullptr) warn->insert(warn->end(), m.warnings.begin(), m.warnings.end());
+      }
+      // Jiang eq. 34: with a sleeve rolling on the cycloid, the sliding is at its bore, slower by
+      // r_bore / r_sleeve; the tangential force at the cycloid is what turns the sleeve against
+      // the bore's friction, mu_bore F r_bore / r_sleeve.
+      const double bore = std::isnan(friction.sleeve_coefficient) ? p.coefficient : friction.sleeve_coefficient;
+      p.effective_coefficient = friction.sleeve_bore_radius ? bore * ratio : p.coefficient;
+      p.loss_first_order = p.coefficient * f[i] * std::abs(p.sliding) * kWattPerNmmPerS;
+      p.loss = p.effective_coefficient * f[i] * std::abs(p.sliding) * kWattPerNmmPerS;
+      // The friction force on the cycloid opposes its sliding over the pin.
+      const double direction = p.sliding > 0.0 ? 1.0 : p.sliding < 0.0 ? -1.0 : 0.0;
+      moment += Cross(kin[i].lever, -p.effective_coefficient * f[i] * direction * Perp(c.normal));
+      out->push_back(p);
+    }
+    (void)slices;
+    return sigma * moment / std::abs(torque);
+  }
+
+  EfficiencyPosition SolvePosition(double crank) {
+    EfficiencyPosition pos;
+    pos.crank = crank;
+    const contact::MeshState state = model->Evaluate(crank, 0.0);
+    contact::RequireNoInterference(state, crank, model->interference_tolerance());
+    LoadResult r = Solve(state, torque);
+    ++summary.solves;
+    pos.status = r.status;
+    pos.message = r.message;
+    if (r.status != SolverStatus::kSuccess) return pos;
+    pos.warnings = r.warnings;
+
+    // Kinematics per point, per radian of crank first; then the crank's sense that drives the load.
+    const std::size_t n = state.pins.size();
+    std::vector<PointKinematics> kin(n);
+    std::vector<contact::PoseRate> rates(n);
+    double reaction = 0.0;  // moment of the normal forces on the cycloid about its centre
+    for (std::size_t i = 0; i < n; ++i) {
+      const contact::PinContact& c = state.pins[i];
+      const geometry::Pose pose = model->CyclePose(crank, 0.0, c.z);
+      rates[i] = contact::PoseRatePerCrank(*model, crank, 0.0, c.z);
+      kin[i].lever = c.cycloid_point - pose.centre;
+      kin[i].v = contact::Velocities(c, pose, rates[i]);
+      reaction += Cross(kin[i].lever, -r.force[i] * c.normal);
+    }
+    const double sigma = reaction < 0.0 ? 1.0 : -1.0;  // the sense in which the load torque acts
+    // The cycloid turns against the load torque: omega_c has the sign -sigma.
+    const double per_crank = rates.front().angular_velocity;
+    const double crank_sign = (-sigma * per_crank) > 0.0 ? 1.0 : -1.0;
+    crank_speed = crank_sign * operation.input_speed;
+    for (std::size_t i = 0; i < n; ++i) {
+      auto& v = kin[i].v;
+      v.sliding *= crank_speed;
+      v.normal *= crank_speed;
+      v.point_over_pin *= crank_speed;
+      v.point_over_cycloid *= crank_speed;
+      v.entrainment *= crank_speed;
+      v.point_velocity *= crank_speed;
+    }
+    const double omega_c = std::abs(per_crank * crank_speed);
+    pos.output_power = std::abs(torque) * omega_c * kWattPerNmmPerS;
+
+    // First order: the frictionless forces.
+    std::vector<ContactFrictionPoint> first;
+    pos.friction_moment_ratio = Evaluate(state, kin, r.force, sigma, &first, &pos.warnings);
+    pos.power_loss_first_order = 0.0;
+    double mu_force = 0.0, force_sum = 0.0;
+    for (const auto& p : first) {
+      pos.power_loss_first_order += p.loss_first_order;
+      mu_force += p.coefficient * p.force;
+      force_sum += p.force;
+    }
+    pos.mean_coefficient = force_sum > 0.0 ? mu_force / force_sum : kNaN;
+    pos.efficiency_first_order = pos.output_power / (pos.output_power + pos.power_loss_first_order);
+
+    // The full model: the friction moment in the torque balance, solved to a fixed point (the
+    // approach of every pin depends on psi alone, so re-solving the frictionless problem at the
+    // torque the normal forces must carry, T (1 + ratio), is exact within the model), or bounded.
+    pos.contacts = first;
+    if (friction.torque_balance == FrictionSettings::TorqueBalance::kSolve && pos.friction_moment_ratio != 0.0) {
+      // Secant on g(s) = ratio(forces solved at T (1 + s)) - s, from s = 0 (g = the frictionless
+      // ratio). The forces are nearly linear in s over this range, so after one solve at s_1 the
+      // secant root s_2 is taken with the forces interpolated linearly between s = 0 and s_1, and
+      // accepted when its residual is below kInterpolatedTolerance (second order in g(s_1));
+      // otherwise more solves follow.
+      std::vector<double> f_prev = r.force;
+      double s_prev = 0.0, g_prev = pos.friction_moment_ratio, s_now = pos.friction_moment_ratio;
+      bool converged = false;
+      std::vector<std::string> ignored;
+      for (int k = 0; k < kMaxBalanceSolves; ++k) {
+        const LoadResult rk = Solve(state, torque * (1.0 + s_now));
+        ++pos.balance_solves;
+        if (rk.status != SolverStatus::kSuccess) {
+          pos.status = rk.status;
+          pos.message = "torque balance with friction: " + rk.message;
+          return pos;
+        }
+        const double g_now = Evaluate(state, kin, rk.force, sigma, &pos.contacts, &ignored) - s_now;
+        pos.balance_residual = std::abs(g_now);
+        if (std::abs(g_now) < kBalanceTolerance) {
+          converged = true;
+          break;
+        }
+        const double slope = (g_now - g_prev) / (s_now - s_prev);
+        const double s_next = slope != 0.0 && std::isfinite(slope) ? s_now - g_now / slope : s_now + g_now;
+        // The interpolated forces at s_next.
+        std::vector<double> f_next(rk.force.size());
+        const double w = (s_next - s_prev) / (s_now - s_prev);
+        for (std::size_t i = 0; i < f_next.size(); ++i) f_next[i] = f_prev[i] + w * (rk.force[i] - f_prev[i]);
+        std::vector<ContactFrictionPoint> interpolated;
+        const double g_next = Evaluate(state, kin, f_next, sigma, &interpolated, &ignored) - s_next;
+        if (std::abs(g_next) < kInterpolatedTolerance) {
+          pos.contacts = std::move(interpolated);  // balance_residual stays that of the last solve
+          converged = true;
+          break;
+        }
+        f_prev = rk.force;
+        s_prev = s_now;
+        g_prev = g_now;
+        s_now = s_next;
+      }
+      if (!converged) {
+        pos.warnings.push_back(fmt::format(
+            "efficiency.torque_balance_not_converged: the friction moment ratio moved by more than {:g} after {} solves",
+            kBalanceTolerance, kMaxBalanceSolves));
+      }
+    } else if (friction.torque_balance == FrictionSettings::TorqueBalance::kBound && pos.friction_moment_ratio != 0.0) {
+      pos.warnings.push_back(fmt::format(
+          "efficiency.torque_balance_bounded: frictionless forces; the friction moment is {:.3g} of the torque, "
+          "the bound on the relative change of the forces and the loss",
+          std::abs(pos.friction_moment_ratio)));
+    }
+    pos.power_loss = 0.0;
+    pos.pin_coefficient.assign(static_cast<std::size_t>(model->pin_count()), kNaN);
+    pos.pin_loss.assign(static_cast<std::size_t>(model->pin_count()), 0.0);
+    std::vector<double> pin_mu_force(pos.pin_loss.size(), 0.0), pin_force(pos.pin_loss.size(), 0.0);
+    for (const auto& p : pos.contacts) {
+      pos.power_loss += p.loss;
+      const auto j = static_cast<std::size_t>(p.pin);
+      pos.pin_loss[j] += p.loss;
+      pin_mu_force[j] += p.coefficient * p.force;
+      pin_force[j] += p.force;
+    }
+    for (std::size_t j = 0; j < pin_force.size(); ++j) {
+      if (pin_force[j] > 0.0) pos.pin_coefficient[j] = pin_mu_force[j] / pin_force[j];
+    }
+    pos.efficiency = pos.output_power / (pos.output_power + pos.power_loss);
+
+    // The classical estimates with the same (mean) mu: F_i ~ L_i over the pins of the loaded half
+    // of the nominal pair (Malhotra-Parameswaran's distribution), and its continuum limit.
+    const geometry::Kinematics& k = model->kinematics();
+    const geometry::PairParameters& pair = deck.pair;
+    const double pitch = pair.eccentricity * pair.pin_count / pair.ToothDifference();
+    const Eigen::Vector2d u(std::cos(crank), std::sin(crank));
+    const Eigen::Vector2d centre = pair.eccentricity * u, ip = pitch * u;
+    double loaded_side = 0.0;
+    for (const auto& p : first) loaded_side += p.force * std::sin(k.AngleFromLineOfCentres(p.pin, crank));
+    double num = 0.0, den = 0.0;
+    for (int j = 0; j < pair.pin_count; ++j) {
+      if (std::sin(k.AngleFromLineOfCentres(j, crank)) * loaded_side <= 0.0) continue;
+      const Eigen::Vector2d ci = k.PinCentre(j) - ip;
+      const double l = ci.norm();
+      const double arm = std::abs(Cross(ci / l, centre - ip));  // O_c to the normal line C_j I
+      num += arm * (l - pair.pin_radius);
+      den += arm * arm;
+    }
+    if (den > 0.0 && std::isfinite(pos.mean_coefficient)) {
+      pos.efficiency_malhotra_parameswaran = 1.0 / (1.0 + pos.mean_coefficient * num / den);
+      pos.efficiency_sensinger = SensingerEfficiency(pair, pos.mean_coefficient);
+    }
+    return pos;
+  }
+};
+
+EfficiencyRunner::EfficiencyRunner(const Deck& deck, const SolverOptions& options) {
+  const auto start = Clock::now();
+  options.Validate();
+  impl_ = std::make_unique<Impl>(deck, options);
+  impl_->elapsed = Clock::now() - start;
+}
+EfficiencyRunner::~EfficiencyRunner() = default;
+EfficiencyRunner::EfficiencyRunner(EfficiencyRunner&&) noexcept = default;
+EfficiencyRunner& EfficiencyRunner::operator=(EfficiencyRunner&&) noexcept = default;
+const std::vector<double>& EfficiencyRunner::cranks() const { return impl_->cranks; }
+double EfficiencyRunner::crank_speed() const { return impl_->crank_speed; }
+
+EfficiencyPosition EfficiencyRunner::Solve(double crank) {
+  const auto start = Clock::now();
+  Impl& m = *impl_;
+  EfficiencyPosition pos = m.SolvePosition(crank);
+  EfficiencySummary& s = m.summary;
+  s.balance_solves += pos.balance_solves;
+  if (pos.succeeded()) {
+    ++s.succeeded;
+    s.power_loss.Add(pos.power_loss);
+    s.power_loss_first_order.Add(pos.power_loss_first_order);
+    s.output_power.Add(pos.output_power);
+    s.friction_moment_ratio.Add(pos.friction_moment_ratio);
+    s.mean_coefficient.Add(pos.mean_coefficient);
+    if (std::isfinite(pos.efficiency_malhotra_parameswaran)) {
+      m.mp_sum += pos.efficiency_malhotra_parameswaran;
+      ++m.mp_count;
+    }
+    for (const std::string& w : pos.warnings) m.warnings.emplace(WarningName(w), w);
+  } else {
+    ++s.failed;
+    if (s.first_failure.empty()) {
+      s.first_failure = fmt::format("crank {:.6g} deg: {}: {}", units::RadToDeg(crank), solvers::ToString(pos.status),
+                                    pos.message);
+    }
+  }
+  m.elapsed += Clock::now() - start;
+  return pos;
+}
+
+EfficiencySummary EfficiencyRunner::Summary() const {
+  const Impl& m = *impl_;
+  EfficiencySummary s = m.summary;
+  if (s.succeeded > 0) {
+    s.efficiency = s.output_power.mean / (s.output_power.mean + s.power_loss.mean);
+    s.efficiency_first_order = s.output_power.mean / (s.output_power.mean + s.power_loss_first_order.mean);
+    if (m.mp_count > 0) s.efficiency_malhotra_parameswaran = m.mp_sum / static_cast<double>(m.mp_count);
+    if (std::isfinite(s.mean_coefficient.mean)) s.efficiency_sensinger = SensingerEfficiency(m.deck.pair, s.mean_coefficient.mean);
+    s.energy_loss_per_revolution = s.power_loss.mean * 2.0 * kPi / m.operation.input_speed;
+  }
+  for (const auto& [name, text] : m.warnings) s.warnings.push_back(text);
+  s.wall_seconds = std::chrono::duration<double>(m.elapsed).count();
+  s.loaded_solve_seconds = std::chrono::duration<double>(m.solving).count();
+  return s;
+}
+
+// --- the stiffness loop with friction ------------------------------------------------------------
+double LoopFrictionCoefficient(const Deck& deck) {
+  if (!deck.friction) return 0.0;
+  return deck.friction->model == FrictionSettings::Model::kCoulomb ? deck.friction->coefficient
+                                                                    : deck.friction->boundary_coefficient;
+}
+
+LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state, double torque,
+                                 double sense, double mu, const std::function<LoadResult(double)>& solve, int* solves,
+                                 const contact::MeshModel* second) {
+  LoadResult r = solve(torque);
+  if (solves != nullptr) ++*solves;
+  if (mu == 0.0 || sense == 0.0 || r.status != SolverStatus::kSuccess) return r;
+  // Turning about its centre (crank locked), the cycloid slides every contact along its tangent;
+  // the friction moment about the centre is mu F_i |(P - O_c) x t_i| = mu F_i |(P - O_c) . n_i|.
+  std::vector<double> arm(state.pins.size(), 0.0);
+  for (std::size_t i = 0; i < state.pins.size(); ++i) {
+    const contact::PinContact& c = state.pins[i];
+    const bool on_second = c.disc == 1 && second != nullptr;  // issue 13: each disc about its own centre
+    const contact::MeshModel& disc = on_second ? *second : model;
+    const double crank = state.crank + (on_second ? contact::kSecondDiscCrankOffset : 0.0);
+    arm[i] = std::abs((c.cycloid_point - disc.CyclePose(crank, 0.0, c.z).centre).dot(c.normal));
+  }
+  // The normal forces carry t = T + M_f, M_f = -sense mu sum F_i a_i (the friction resists the
+  // motion): a fixed point in t, each step the frictionless problem at t.
+  // g(t) = T - sense mu sum F_i(t) a_i - t, solved by the secant method from t = T.
+  const auto residual = [&](const LoadResult& res, double t) {
+    double moment = 0.0;
+    for (std::size_t i = 0; i < state.pins.size(); ++i) {
+      if (res.force[i] > 0.0) moment += mu * res.force[i] * arm[i];
+    }
+    return torque - sense * moment - t;
+  };
+  double t_prev = torque, g_prev = residual(r, torque);
+  double t_now = torque + g_prev;
+  for (int k = 0; k < kMaxBalanceSolves; ++k) {
+    r = solve(t_now);
+    if (solves != nullptr) ++*solves;
+    if (r.status != SolverStatus::kSuccess) break;
+    const double g_now = residual(r, t_now);
+    if (std::abs(g_now) <= kBalanceTolerance * std::abs(torque)) break;
+    const double slope = (g_now - g_prev) / (t_now - t_prev);
+    t_prev = t_now;
+    g_prev = g_now;
+    t_now = slope != 0.0 && std::isfinite(slope) ? t_now - g_now / slope : t_now + g_now;
+  }
+  return r;
+}
+
+}  // namespace ltca::app

@@ -1,0 +1,90 @@
+#!/usr/bin/env python3
+"""Issue 16: `ltca report DECK -o DIR` writes one static page that a browser opens from disk.
+
+    check_report.py LTCA OUT_DIR [DECK [FIGURES [WORD ...]]]
+
+FIGURES: the number of inline figures expected (default 5); WORD: further text the page must hold
+(a deck with [friction] adds the efficiency figure, one with [tolerances] the histograms).
+
+Checked: exit 0; DIR/index.html parses as HTML (html.parser) with no external resource (no
+script, stylesheet, image or frame fetched from anywhere: nothing but inline content); it names
+the case, the model and the solver; it holds the geometry table and the summaries; its five
+figures (geometry, solve, backlash, mesh, the stiffness loop) are inline SVGs, each parsed with xml.etree.ElementTree and carrying its axis labels;
+the SVG element ids are unique in the page (several PLplot figures in one page).
+"""
+import html.parser
+import os
+import re
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+SVG = "{http://www.w3.org/2000/svg}"
+LTCA = "{urn:ltca:plots}"
+
+
+class Page(html.parser.HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.fetches, self.tags, self.text = [], [], []
+
+    def handle_starttag(self, tag, attrs):
+        self.tags.append(tag)
+        for name, value in attrs:
+            if name in ("src", "href", "data", "srcset", "poster") and value:
+                self.fetches.append(f"<{tag} {name}={value}>")
+        if tag in ("script", "link", "iframe", "object", "embed", "img"):
+            self.fetches.append(f"<{tag}>")
+
+    def handle_data(self, data):
+        self.text.append(data)
+
+
+def main():
+    ltca, out_dir = sys.argv[1:3]
+    deck = sys.argv[3:4]
+    expected = int(sys.argv[4]) if len(sys.argv) > 4 else 5
+    extra = sys.argv[5:]
+    run = subprocess.run([ltca, "report", *deck, "-o", out_dir], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    failures = []
+    if run.returncode != 0:
+        print(f"FAIL exit {run.returncode}: {run.stderr[-400:]}")
+        return 1
+    page_text = open(os.path.join(out_dir, "index.html"), encoding="utf-8").read()
+    page = Page()
+    page.feed(page_text)
+    if page.fetches:
+        failures.append(f"the page fetches: {page.fetches[:5]}")
+    text = " ".join(page.text)
+    for word in ("Case", "model", "solver", "Geometry", "mean_te_arcsec", "pp_te_arcsec", "mean_backlash_arcsec", "z_p (pins)",
+                 "torsional_rigidity_nm_per_arcmin", *extra):
+        if word not in text:
+            failures.append(f"'{word}' is not on the page")
+    svgs = re.findall(r"<svg\b.*?</svg>", page_text, re.S)
+    if len(svgs) != expected:
+        failures.append(f"{len(svgs)} inline figures, expected {expected} (geometry, solve, backlash, mesh, stiffness loop, "
+                        "and efficiency / tolerance when the deck has them)")
+    ids = re.findall(r'\bid="([^"]+)"', page_text)
+    if len(ids) != len(set(ids)):
+        failures.append("element ids repeat across the figures")
+    for k, svg in enumerate(svgs):
+        try:
+            root = ET.fromstring(svg)
+            drawn = ["".join(t.itertext()) for t in root.iter(SVG + "text")]
+            panels = root.findall(f"{SVG}metadata/{LTCA}figure/{LTCA}panel")
+            if not panels:
+                failures.append(f"figure {k}: no panels in its metadata")
+            for p in panels:
+                for axis in ("x_label", "y_label"):
+                    if p.get(axis) not in drawn:
+                        failures.append(f"figure {k}: the {axis} '{p.get(axis)}' is not drawn")
+        except ET.ParseError as e:
+            failures.append(f"figure {k}: not well-formed: {e}")
+    for f in failures:
+        print("FAIL", f)
+    print(f"{len(svgs)} figures, {len(page.fetches)} fetches, {len(failures)} failures")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

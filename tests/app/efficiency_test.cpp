@@ -1,0 +1,218 @@
+// Issue 14: friction, power loss and efficiency (ltca efficiency), and the hysteresis of the
+// stiffness loop with friction. Independent references: mu = 0 (no loss at all), the closed
+// form of the linear law on a perfect pair (forces proportional to the arms, Malhotra and
+// Parameswaran's distribution, with the sliding speed of Jiang eq. 13), its continuum integral,
+// the radius ratio of Jiang eq. 34, and the direction of friction in the loop.
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "ltca/app/deck.hpp"
+#include "ltca/app/efficiency.hpp"
+#include "ltca/app/stiffness.hpp"
+#include "ltca/geometry/units.hpp"
+
+using ltca::app::Deck;
+using ltca::app::EfficiencyPosition;
+using ltca::app::EfficiencyRunner;
+using ltca::contact::ContactKinematics;
+using ltca::solvers::SolverOptions;
+
+namespace {
+
+std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+
+SolverOptions Options(const std::string& solver = "bisection",
+                      ContactKinematics kinematics = ContactKinematics::kLinearised) {
+  SolverOptions o;
+  o.name = solver;
+  o.kinematics = kinematics;
+  return o;
+}
+
+/// Liu Table 1 (perfect pair) with Coulomb friction mu, crank 1500 rpm, a short sweep.
+Deck LiuWithFriction(const std::string& mu, std::vector<std::string> more = {}) {
+  std::vector<std::string> o = {"friction.coefficient=" + mu, "operation.input_speed_rpm=1500", "sweep.positions=7"};
+  o.insert(o.end(), more.begin(), more.end());
+  return ltca::app::LoadDeck(Case("liu2021_table1.toml"), o);
+}
+
+}  // namespace
+
+TEST_CASE("app: efficiency with mu = 0 is exactly 1 and no power is lost") {
+  for (const std::string solver : {"bisection", "energy-qp"}) {
+    for (const std::string balance : {"solve", "bound"}) {
+      CAPTURE(solver);
+      CAPTURE(balance);
+      const Deck deck = LiuWithFriction("0", {"friction.torque_balance=" + balance});
+      EfficiencyRunner runner(deck, Options(solver, ContactKinematics::kExact));
+      for (const double crank : runner.cranks()) {
+        const EfficiencyPosition p = runner.Solve(crank);
+        REQUIRE(p.succeeded());
+        CHECK(p.power_loss == 0.0);
+        CHECK(p.power_loss_first_order == 0.0);
+        CHECK(p.efficiency == 1.0);
+        CHECK(p.efficiency_first_order == 1.0);
+        CHECK(p.balance_solves == 0);
+        CHECK(p.output_power > 0.0);
+      }
+      const auto s = runner.Summary();
+      CHECK(s.efficiency == 1.0);
+      CHECK(s.efficiency_first_order == 1.0);
+      CHECK(s.power_loss.mean == 0.0);
+    }
+  }
+}
+
+TEST_CASE("app: output power is |T| |omega_c| and the crank turns so that the stage drives the load") {
+  // Liu Table 1: T = 206 N*m, crank 1500 rpm = 157.08 rad/s, omega_c = 157.08 / 39 rad/s:
+  // P_out = 206 * 157.08 / 39 = 829.7 W (1e-9 relative).
+  for (const std::string torque : {"206", "-206"}) {
+    const Deck deck = LiuWithFriction("0.05", {"load.torque_nm=" + torque});
+    EfficiencyRunner runner(deck, Options());
+    const EfficiencyPosition p = runner.Solve(0.0);
+    REQUIRE(p.succeeded());
+    CHECK(p.output_power == doctest::Approx(206.0 * 1500.0 * 2 * M_PI / 60.0 / 39.0).epsilon(1e-9));
+    CHECK(p.power_loss > 0.0);
+    CHECK(p.efficiency < 1.0);
+  }
+}
+
+TEST_CASE("app: constant mu on a perfect pair under the linear law: the contact sum is Malhotra-Parameswaran's (1e-8)") {
+  // The linear law without clearance and linearised kinematics gives F_i = k B L_i psi on the
+  // loaded half: the distribution of Malhotra and Parameswaran (F_i ~ L_i). With the sliding
+  // speed |v_s,i| = |omega_c| (l_i - r_p) (Jiang eq. 13) and T = sum F_i L_i, the first-order
+  // efficiency is 1 / (1 + mu sum L_i (l_i - r_p) / sum L_i^2) over the pins: the estimate's own
+  // sum, computed by efficiency.cpp from the nominal geometry, not from the solve. 1e-8: the
+  // torque balance is solved to 1e-10.
+  const Deck deck = LiuWithFriction("0.05", {"contact.law=linear", "contact.stiffness_n_per_mm2=2e4",
+                                             "friction.torque_balance=solve"});
+  EfficiencyRunner runner(deck, Options());
+  for (const double crank : runner.cranks()) {
+    CAPTURE(crank);
+    const EfficiencyPosition p = runner.Solve(crank);
+    REQUIRE(p.succeeded());
+    CHECK(p.efficiency_first_order == doctest::Approx(p.efficiency_malhotra_parameswaran).epsilon(1e-8));
+    // The continuum closed form: within 0.1 % of the loss over 40 pins.
+    CHECK((1 / p.efficiency_sensinger - 1) == doctest::Approx(1 / p.efficiency_malhotra_parameswaran - 1).epsilon(1e-3));
+    // With the friction moment in the balance: under the linear law the forces scale with the
+    // torque the normal forces carry, T_n, and the friction moment with them, M_f = r_0 T_n
+    // (r_0 the frictionless ratio), so T_n = T + r_0 T_n = T / (1 - r_0) and the loss scales by
+    // 1 / (1 - r_0). 1e-8: the secant step is exact for a linear dependence.
+    CHECK(p.power_loss == doctest::Approx(p.power_loss_first_order / (1 - p.friction_moment_ratio)).epsilon(1e-8));
+    CHECK(p.balance_solves >= 1);
+  }
+  // The closed form itself: 4 mu (R_p - r_p) / (pi e z_c) = 4 * 0.05 * 61 / (pi * 1.3 * 39).
+  CHECK(ltca::app::SensingerEfficiency(deck.pair, 0.05) ==
+        doctest::Approx(1 / (1 + 4 * 0.05 * 61 / (M_PI * 1.3 * 39))).epsilon(1e-14));
+}
+
+TEST_CASE("app: a pin sleeve moves the sliding to its bore at the ratio of the radii (Jiang eq. 34)") {
+  // Bound mode (frictionless forces): with mu_bore = mu (the default) the loss is exactly r_bore / r_sleeve of
+  // the sleeveless one; the first-order figure ignores the sleeve.
+  const Deck plain = LiuWithFriction("0.05", {"friction.torque_balance=bound"});
+  const Deck sleeve = LiuWithFriction("0.05", {"friction.torque_balance=bound", "friction.sleeve_bore_radius_mm=2.25"});
+  EfficiencyRunner a(plain, Options()), b(sleeve, Options());
+  const EfficiencyPosition pa = a.Solve(0.1), pb = b.Solve(0.1);
+  REQUIRE(pa.succeeded());
+  REQUIRE(pb.succeeded());
+  CHECK(pb.power_loss == doctest::Approx(0.75 * pa.power_loss).epsilon(1e-12));
+  CHECK(pb.power_loss_first_order == pa.power_loss_first_order);
+  CHECK(pb.efficiency > pa.efficiency);
+}
+
+TEST_CASE("app: the Jiang 2022 Table 2 deck runs the mixed model with films of a fraction of a micrometre") {
+  const Deck deck = ltca::app::LoadDeck(Case("jiang2022_table2_efficiency.toml"), {"sweep.positions=4"});
+  EfficiencyRunner runner(deck, Options());
+  for (const double crank : runner.cranks()) {
+    const EfficiencyPosition p = runner.Solve(crank);
+    REQUIRE(p.succeeded());
+    REQUIRE(!p.contacts.empty());
+    for (const auto& c : p.contacts) {
+      CHECK(c.coefficient > 0.0);
+      CHECK(c.coefficient <= deck.friction->boundary_coefficient);
+      CHECK(c.film_thickness > 0.0);
+      CHECK(c.film_thickness < 2e-3);  // 0.01 .. 1.5 um at 30 mPa*s and 0.1 .. 3 m/s
+    }
+    CHECK(p.efficiency < 1.0);
+    CHECK(p.efficiency > 0.5);
+  }
+}
+
+TEST_CASE("app: [friction] and [operation] are read in internal units and bad values name their key") {
+  const Deck deck = LiuWithFriction("0.05", {"operation.oil_viscosity_pa_s=0.1", "operation.roughness_ra_pin_um=0.4",
+                                             "operation.pressure_viscosity_per_gpa=20"});
+  REQUIRE(deck.operation);
+  CHECK(deck.operation->input_speed == doctest::Approx(1500.0 * 2 * M_PI / 60.0));
+  CHECK(deck.operation->viscosity == doctest::Approx(0.1e-6));  // MPa*s
+  CHECK(deck.operation->roughness_pin == doctest::Approx(0.4e-3));  // mm
+  CHECK(deck.operation->pressure_viscosity == doctest::Approx(0.02));  // 1/MPa
+  CHECK(std::isnan(deck.friction->sleeve_coefficient));  // default: the contact's own coefficient
+  const auto error = [](std::vector<std::string> o) {
+    try {
+      ltca::app::LoadDeck(Case("liu2021_table1.toml"), o);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(error({"friction.coefficient=0.1", "friction.sleeve_coefficient=-1"}).find("sleeve_coefficient = -1") !=
+        std::string::npos);
+  CHECK(error({"friction.coefficient=1.5"}).find("[friction] coefficient = 1.5") != std::string::npos);
+  CHECK(error({"friction.model=viscous", "friction.coefficient=0.1"}).find("[friction] model") != std::string::npos);
+  CHECK(error({"friction.model=jiang-mixed"}).find("[operation]") != std::string::npos);
+  CHECK(error({"operation.input_speed_rpm=-5"}).find("[operation] input_speed_rpm = -5") != std::string::npos);
+  CHECK(error({"friction.coefficient=0.1", "friction.sleeve_bore_radius_mm=3"}).find("sleeve_bore_radius_mm") !=
+        std::string::npos);
+  CHECK(error({"friction.torque_balance=maybe", "friction.coefficient=0.1"}).find("torque_balance") != std::string::npos);
+}
+
+TEST_CASE("app: ltca efficiency writes the summary keys of issue 14 as JSON") {
+  std::ostringstream out, err;
+  const int code = ltca::cli::Run({"efficiency", Case("jiang2022_table2_efficiency.toml"), "--set", "sweep.positions=3",
+                                   "--json", "-"},
+                                  out, err);
+  CHECK(code == 0);
+  const auto j = nlohmann::json::parse(out.str());
+  const auto& s = j.at("summary");
+  for (const char* key : {"power_loss_w", "efficiency", "efficiency_first_order", "efficiency_malhotra_parameswaran",
+                          "efficiency_sensinger", "friction_moment_ratio"}) {
+    CAPTURE(key);
+    CHECK(s.at(key).is_number());
+  }
+  CHECK(j.at("friction").at("model") == "jiang-mixed");
+  CHECK(j.at("positions").size() == 3);
+  CHECK(j.at("positions")[0].at("pin_coefficient").size() == 24);
+}
+
+TEST_CASE("app: with friction the stiffness loop opens: the loading branch twists less than the unloading one") {
+  // Coulomb friction resists the cycloid's turning: loading, the normal forces carry T minus the
+  // friction moment, unloading T plus it. At every non-zero torque the increasing branch's twist
+  // is below the decreasing one's (by about 2 mu a_t / L of the wind-up); without friction they
+  // coincide (stiffness_test.cpp).
+  const Deck deck = ltca::app::LoadDeck(Case("liu2021_table1.toml"), {"friction.coefficient=0.05"});
+  ltca::app::StiffnessSettings settings;
+  settings.crank = 0.0;
+  settings.steps = 9;
+  ltca::app::StiffnessRunner runner(deck, Options(), settings);
+  const auto p = runner.Solve(0.0);
+  REQUIRE(p.succeeded());
+  CHECK(p.branch_difference > 0.0);
+  int compared = 0;
+  for (const auto& up : p.curve) {
+    if (up.branch != ltca::app::Branch::kIncreasing || up.torque == 0.0) continue;
+    for (const auto& down : p.curve) {
+      if (down.branch == ltca::app::Branch::kDecreasing && down.torque == up.torque) {
+        CAPTURE(up.torque);
+        CHECK(up.twist < down.twist);
+        ++compared;
+      }
+    }
+  }
+  CHECK(compared == 8);
+}

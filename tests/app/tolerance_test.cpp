@@ -1,0 +1,319 @@
+// Issue 15: tolerance analysis (ltca tolerance). Independent references: the deterministic runs
+// of the pair (SolveSweep, and the unloaded analysis contact::AnalyseUnloaded that `ltca backlash`
+// runs), Liu 2021 Fig. 11's printed slope of the mean backlash against the pin-circle deviation
+// (4.7578 arcsec/um, docs/validation.md), Jiang 2022 section 5.1's clearances from Table 3, and
+// textbook order statistics.
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "ltca/app/deck.hpp"
+#include "ltca/app/sweep.hpp"
+#include "ltca/app/tolerance.hpp"
+#include "ltca/contact/unloaded.hpp"
+#include "ltca/geometry/units.hpp"
+
+using ltca::app::Deck;
+using ltca::app::ToleranceSample;
+using ltca::app::ToleranceStudy;
+
+namespace {
+
+std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// Liu 2021 section 5.2 base modification (dR_rp -4 um, dR_p -17 um: clearance at every pin)
+/// with a [tolerances] section appended.
+Deck BaseWith(const std::string& tolerances, const std::vector<std::string>& overrides = {}) {
+  const std::string text = ReadText(Case("liu2021_sec52_base.toml")) + "\n[tolerances]\n" + tolerances + "\n";
+  return ltca::app::ParseDeck(text, "sec52_base+tolerances", overrides);
+}
+
+/// The mean backlash of a deck over its sweep, rad, by the unloaded analysis alone.
+double MeanBacklash(const Deck& deck) {
+  const ltca::contact::MeshModel model = deck.MakeModel();
+  double sum = 0.0;
+  const auto cranks = deck.sweep.CrankAngles();
+  for (const double c : cranks) sum += ltca::contact::AnalyseUnloaded(model, c, deck.solver.kinematics).backlash;
+  return sum / static_cast<double>(cranks.size());
+}
+
+bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
+
+}  // namespace
+
+TEST_CASE("app: zero tolerances give every sample the deterministic run of the deck, bit for bit") {
+  // Every key of every kind present, all with zero spread: each sample must be the deck itself.
+  const Deck deck = BaseWith(
+      "samples = 3\nseed = 7\n"
+      "pin_circle_deviation_mm = { distribution = \"normal\", sigma = 0 }\n"
+      "pin_radius_deviations_mm = { distribution = \"uniform\", tolerance = 0 }\n"
+      "cumulative_pitch_deviation_mm = { distribution = \"normal\", tolerance = 0 }\n"
+      "eccentricity_deviation_mm = { distribution = \"uniform\", tolerance = 0.0 }\n",
+      {"sweep.positions=16"});
+  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  const auto samples = study.RunRange(0, 3, 2);
+  // The deterministic run: `ltca solve`'s sweep and `ltca backlash`'s unloaded analysis.
+  const ltca::app::SweepResult sweep = ltca::app::SolveSweep(deck, deck.solver, {nullptr, false});
+  const ltca::contact::MeshModel model = deck.MakeModel();
+  double sum = 0.0, lo = INFINITY, hi = -INFINITY;
+  const auto cranks = deck.sweep.CrankAngles();
+  for (const double c : cranks) {
+    const double b = ltca::contact::AnalyseUnloaded(model, c, deck.solver.kinematics).backlash;
+    sum += b, lo = std::min(lo, b), hi = std::max(hi, b);
+  }
+  using ltca::units::RadToArcsec;
+  for (const ToleranceSample& s : samples) {
+    CAPTURE(s.index);
+    CHECK(s.status == "success");
+    for (const double v : s.inputs) CHECK(v == 0.0);
+    CHECK(SameBits(s.figures[ltca::app::kMeanBacklashArcsec], RadToArcsec(sum / static_cast<double>(cranks.size()))));
+    CHECK(SameBits(s.figures[ltca::app::kPpBacklashArcsec], RadToArcsec(hi - lo)));
+    CHECK(SameBits(s.figures[ltca::app::kMeanTeArcsec], RadToArcsec(sweep.summary.mean_te)));
+    CHECK(SameBits(s.figures[ltca::app::kPpTeArcsec], RadToArcsec(sweep.summary.pp_te)));
+    CHECK(SameBits(s.figures[ltca::app::kMaxContactStressMpa], sweep.summary.max_contact_stress));
+    CHECK(SameBits(s.figures[ltca::app::kMaxPinForceN], sweep.summary.max_pin_force));
+    CHECK(s.figures[ltca::app::kContactsMin] == sweep.summary.contacts_min);
+    CHECK(s.figures[ltca::app::kContactsMax] == sweep.summary.contacts_max);
+  }
+}
+
+TEST_CASE("app: a normal pin-circle tolerance gives the mean backlash the mean and sigma predicted by Liu Fig. 11's slope") {
+  // Liu 2021 Fig. 11: the mean backlash is linear in the pin-circle deviation delta_Rp with slope
+  // 4.7578 arcsec/um (printed; this program's finite difference agrees to 0.01 %,
+  // docs/validation.md). With delta_Rp ~ N(0, sigma_in) the mean backlash is then
+  // N(b0, (slope sigma_in)^2), b0 the deterministic run at delta_Rp = 0. Seed fixed; the
+  // tolerances follow from the sample count n: the sample mean within 4 standard errors
+  // (sigma / sqrt(n)), the sample standard deviation within 4 of its standard errors
+  // (sigma / sqrt(2 (n - 1))) plus 0.1 % for the slope (the validation tolerance of Fig. 11).
+  const double sigma_in_um = 2.0, liu_slope = 4.7578;  // arcsec/um
+  const int n = 400;
+  const Deck deck = BaseWith(fmt::format("samples = {}\nseed = 20261123\npin_circle_deviation_mm = {{ distribution = \"normal\", sigma = {} }}\n"
+                                         "limits = {{ mean_backlash_arcsec = {{ max = {} }} }}\n",
+                                         n, sigma_in_um / 1000.0, 1e9),
+                             {"sweep.positions=31"});
+  const double b0 = ltca::units::RadToArcsec(MeanBacklash(deck));
+  // The slope again by a central difference of two deterministic runs at +-1 um (not the Monte Carlo).
+  Deck plus = deck, minus = deck;
+  plus.errors.pin_circle_deviation = 0.001, minus.errors.pin_circle_deviation = -0.001;
+  const double fd_slope = ltca::units::RadToArcsec(MeanBacklash(plus) - MeanBacklash(minus)) / 2.0;
+  CHECK(fd_slope == doctest::Approx(liu_slope).epsilon(1e-3));
+
+  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  const auto samples = study.RunRange(0, n, 2);
+  const ltca::app::ToleranceSummary summary = ltca::app::Summarise(study, samples);
+  REQUIRE(summary.succeeded == n);
+  const auto& f = summary.figures[ltca::app::kMeanBacklashArcsec];
+  const double sigma = liu_slope * sigma_in_um;
+  CHECK(std::abs(f.mean - b0) < 4.0 * sigma / std::sqrt(n));
+  CHECK(std::abs(f.std - sigma) < 4.0 * sigma / std::sqrt(2.0 * (n - 1)) + 1e-3 * sigma);
+  // The figure is linear in the one input: its SRC is +1 (backlash grows with delta_Rp), R^2 1.
+  const auto& s = summary.sensitivity[ltca::app::kMeanBacklashArcsec];
+  REQUIRE(s.keys.size() == 1);
+  CHECK(s.keys[0].key == "pin_circle_deviation_mm");
+  CHECK(s.keys[0].src == doctest::Approx(1.0).epsilon(1e-3));
+  CHECK(s.r_squared > 0.999);
+  // The limit far above every sample: all pass.
+  REQUIRE(summary.limits.size() == 1);
+  CHECK(summary.limits[0].passed == n);
+  CHECK(summary.pass_fraction == 1.0);
+  // The extreme-value counterpart: +-3 sigma_in stacked with Liu's slope, 1 % (the response is
+  // linear; the residual is the slope's own deviation and the curvature over +-6 um).
+  const ltca::app::WorstCaseResult worst = ltca::app::ExtremeValueWorstCase(study, 2);
+  const auto& w = worst.figures[ltca::app::kMeanBacklashArcsec];
+  CHECK(w.nominal == doctest::Approx(b0).epsilon(1e-12));
+  CHECK(w.stack_high - w.nominal == doctest::Approx(3.0 * sigma).epsilon(1e-2));
+  CHECK(w.corner_low == doctest::Approx(b0 - 3.0 * sigma).epsilon(1e-2));
+  // Every sample lies within the worst case at 3 sigma but for about 0.27 % of them.
+  int outside = 0;
+  for (const auto& x : samples) outside += (x.figures[0] > w.corner_high || x.figures[0] < w.corner_low) ? 1 : 0;
+  CHECK(outside <= 6);  // expected 1.08 of 400 (0.27 %); P(X >= 7) < 1e-3 for Poisson(1.08)
+}
+
+TEST_CASE("app: sample i depends on (seed, i) only, whatever the range and the threads") {
+  const Deck deck = BaseWith(
+      "samples = 6\nseed = 3\n"
+      "pin_circle_deviation_mm = { distribution = \"normal\", sigma = 0.002 }\n"
+      "pin_radius_deviations_mm = { distribution = \"uniform\", tolerance = 0.001 }\n",
+      {"sweep.positions=8"});
+  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  REQUIRE(study.inputs().size() == 41);  // one scalar key and 40 pins
+  CHECK(study.inputs()[1].name == "pin_radius_deviations_mm[1]");
+  const auto one = study.RunRange(0, 6, 1);
+  const auto two = study.RunRange(0, 6, 2);
+  const auto tail = study.RunRange(3, 3, 2);
+  for (std::size_t i = 0; i < 6; ++i) {
+    CAPTURE(i);
+    CHECK(one[i].index == static_cast<std::int64_t>(i));
+    CHECK(std::memcmp(one[i].inputs.data(), two[i].inputs.data(), one[i].inputs.size() * sizeof(double)) == 0);
+    CHECK(std::memcmp(one[i].figures.data(), two[i].figures.data(), sizeof(one[i].figures)) == 0);
+    if (i >= 3) CHECK(std::memcmp(one[i].figures.data(), tail[i - 3].figures.data(), sizeof(one[i].figures)) == 0);
+  }
+  // Pins are drawn independently: the 40 pin values are not one value repeated, and lie within +-1 um.
+  double lo = 1.0, hi = -1.0;
+  for (std::size_t c = 1; c < 41; ++c) lo = std::min(lo, one[0].inputs[c]), hi = std::max(hi, one[0].inputs[c]);
+  CHECK(lo >= -0.001);
+  CHECK(hi <= 0.001);
+  CHECK(hi - lo > 0.001);  // 40 uniform draws on +-1 um span more than 1 um but with probability ~1e-11
+  // Another seed, other samples.
+  ltca::app::ToleranceSettings other = *deck.tolerances;
+  other.seed = 4;
+  const ToleranceStudy study4(deck, deck.solver, other);
+  CHECK(study4.Draw(0)[0] != study.Draw(0)[0]);
+}
+
+TEST_CASE("app: profile_random_per_sample gives every sample its own random profile, and without it every sample the deck's") {
+  const std::vector<std::string> set = {"sweep.positions=6", "errors.profile_random_zone_um=2"};
+  const Deck fixed = BaseWith("samples = 2\npin_circle_deviation_mm = { distribution = \"normal\", sigma = 0 }\n", set);
+  const Deck drawn = BaseWith("samples = 2\nprofile_random_per_sample = true\n", set);
+  const auto a = ToleranceStudy(fixed, fixed.solver, *fixed.tolerances).RunRange(0, 2, 1);
+  const auto b = ToleranceStudy(drawn, drawn.solver, *drawn.tolerances).RunRange(0, 2, 1);
+  REQUIRE(a[0].status == "success");
+  REQUIRE(b[0].status == "success");
+  CHECK(SameBits(a[0].figures[ltca::app::kMeanBacklashArcsec], a[1].figures[ltca::app::kMeanBacklashArcsec]));
+  CHECK(b[0].figures[ltca::app::kMeanBacklashArcsec] != b[1].figures[ltca::app::kMeanBacklashArcsec]);
+  CHECK(b[0].figures[ltca::app::kMeanBacklashArcsec] != a[0].figures[ltca::app::kMeanBacklashArcsec]);
+  CHECK_THROWS_WITH_AS(BaseWith("profile_random_per_sample = true\n"), doctest::Contains("profile_random_zone_um is 0"),
+                       std::invalid_argument);
+}
+
+TEST_CASE("app: ltca tolerance writes the same per-sample CSV and summary on 1 and 2 threads") {
+  const auto dir = std::filesystem::temp_directory_path() / "ltca_tolerance_test";
+  std::filesystem::create_directories(dir);
+  std::vector<std::string> csv;
+  std::vector<nlohmann::json> summary;
+  for (const char* threads : {"1", "2"}) {
+    const std::string path = (dir / (std::string("samples_") + threads + ".csv")).string();
+    const std::string json = (dir / (std::string("summary_") + threads + ".json")).string();
+    std::ostringstream out, err;
+    const int code = ltca::cli::Run({"tolerance", Case("liu2021_tolerances.toml"), "--samples", "6", "--threads", threads, "--set",
+                                     "sweep.positions=10", "--no-worst-case", "--csv", path, "--json", json},
+                                    out, err);
+    INFO(err.str());
+    CHECK(code == 0);
+    csv.push_back(ReadText(path));
+    nlohmann::json s = nlohmann::json::parse(ReadText(json)).at("summary");
+    s.erase("wall_seconds"), s.erase("samples_per_second");  // times, not results
+    summary.push_back(s);
+  }
+  CHECK(csv[0].size() > 100);
+  CHECK(csv[0] == csv[1]);
+  CHECK(csv[0].starts_with("sample,status,pin_circle_deviation_mm,"));
+  CHECK(summary[0] == summary[1]);  // every figure, percentile, fraction and coefficient, exactly
+}
+
+TEST_CASE("app: ltca tolerance --json - writes the summary the issue names, and nothing else on stdout") {
+  std::ostringstream out, err;
+  const int code = ltca::cli::Run({"tolerance", Case("liu2021_tolerances.toml"), "--samples", "12", "--threads", "2", "--set",
+                                   "sweep.positions=6", "--json", "-"},
+                                  out, err);
+  INFO(err.str());
+  REQUIRE(code == 0);
+  const nlohmann::json j = nlohmann::json::parse(out.str());
+  const auto& s = j.at("summary");
+  CHECK(s.at("samples") == 12);
+  CHECK(s.at("seed") == j.at("tolerances").at("seed"));
+  for (const char* figure : {"mean_backlash_arcsec", "pp_backlash_arcsec", "mean_te_arcsec", "pp_te_arcsec", "max_contact_stress_mpa",
+                             "contacts_min", "contacts_max"}) {
+    CAPTURE(figure);
+    for (const char* k : {"mean", "std", "p1", "p5", "p50", "p95", "p99"}) CHECK(s.at("figures").at(figure).contains(k));
+    const auto& f = s.at("figures").at(figure);
+    CHECK(f.at("p1").get<double>() <= f.at("p50").get<double>());
+    CHECK(f.at("p50").get<double>() <= f.at("p99").get<double>());
+  }
+  CHECK(s.at("sensitivity").at("method").get<std::string>().starts_with("standardised regression coefficients"));
+  CHECK(s.contains("worst_case"));
+  CHECK(s.at("limits").size() >= 1);
+}
+
+TEST_CASE("app: percentiles are the linear interpolation between order statistics (Hyndman and Fan type 7)") {
+  // 0, 1, ..., 100 (shuffled): the p-th percentile of type 7 is exactly p; with a NaN left out.
+  std::vector<double> v;
+  for (int i = 0; i <= 100; ++i) v.push_back(static_cast<double>((i * 37) % 101));
+  v.push_back(NAN);
+  const auto s = ltca::app::ComputeStats(v);
+  CHECK(s.count == 101);
+  CHECK(s.p1 == 1.0);
+  CHECK(s.p5 == 5.0);
+  CHECK(s.p50 == 50.0);
+  CHECK(s.p95 == 95.0);
+  CHECK(s.p99 == 99.0);
+  CHECK(s.mean == 50.0);
+  // The sample standard deviation of 0..100: sqrt(101 * 102 / 12) = 29.3002...
+  CHECK(s.std == doctest::Approx(std::sqrt(101.0 * 102.0 / 12.0)).epsilon(1e-14));
+  // Between order statistics: 1, 2, 3, 4 at p = 0.5 is 2.5, at p = 0.01 is 1.03.
+  const auto t = ltca::app::ComputeStats({4, 2, 1, 3});
+  CHECK(t.p50 == doctest::Approx(2.5).epsilon(1e-15));
+  CHECK(t.p1 == doctest::Approx(1.03).epsilon(1e-14));
+}
+
+TEST_CASE("app: Jiang 2022 Table 3 by the extreme-value method gives the clearances of section 5.1") {
+  // Jiang 2022 section 5.1: A_0 = 26 um (crank 0/-18 in the cycloid bore +8/0), B_0 = 22 um (pin
+  // 0/-13 in the pin gear bore +9/0), C_0 = 24 um (pin 0/-9 in the sleeve +15/0), minimum 0 each.
+  using ltca::app::DimensionLink;
+  const auto a = ltca::app::ExtremeValueClosingLink({{"A2 cycloid bore", true, 8, 0}, {"A1 crankshaft", false, 0, -18}});
+  const auto b = ltca::app::ExtremeValueClosingLink({{"B2 pin gear bore", true, 9, 0}, {"B1 pin tooth", false, 0, -13}});
+  const auto c = ltca::app::ExtremeValueClosingLink({{"C2 sleeve", true, 15, 0}, {"C1 pin tooth", false, 0, -9}});
+  CHECK(a.max == 26.0);
+  CHECK(b.max == 22.0);
+  CHECK(c.max == 24.0);
+  CHECK(a.min == 0.0);
+  CHECK(b.min == 0.0);
+  CHECK(c.min == 0.0);
+  CHECK_THROWS_AS(ltca::app::ExtremeValueClosingLink({{"bad", true, -1, 1}}), std::invalid_argument);
+  // Beside it the Monte Carlo of the same chain, links uniform within their limits: B_0 is the
+  // difference of U(0, 9) and U(-13, 0), mean 4.5 + 6.5 = 11 um, variance (9^2 + 13^2) / 12. Seed
+  // fixed; tolerances from n = 20,000: the mean within 4 standard errors, the standard deviation
+  // within 4 % (about 4 of its standard errors for this near-trapezoidal law), inside [0, 22].
+  const int n = 20000;
+  const auto mc = ltca::app::ChainMonteCarlo({{"B2 pin gear bore", true, 9, 0}, {"B1 pin tooth", false, 0, -13}}, n, 2022, 1);
+  const double sd = std::sqrt((81.0 + 169.0) / 12.0);
+  CHECK(mc.count == n);
+  CHECK(std::abs(mc.mean - 11.0) < 4.0 * sd / std::sqrt(n));
+  CHECK(mc.std == doctest::Approx(sd).epsilon(0.04));
+  CHECK(mc.min >= b.min);
+  CHECK(mc.max <= b.max);
+  CHECK(mc.p99 < b.max);  // the worst case is rarer than 1 in 100
+}
+
+TEST_CASE("app: the tolerances section rejects a bad distribution or limit, naming the key") {
+  const auto message = [](const std::string& tolerances) {
+    try {
+      BaseWith(tolerances);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(message("pin_circle_deviation_mm = { distribution = \"normal\", sigma = 0.001, tolerance = 0.003 }").find("pin_circle_deviation_mm") !=
+        std::string::npos);
+  CHECK(message("pin_circle_deviation_mm = { distribution = \"uniform\", sigma = 0.001 }").find("not sigma") != std::string::npos);
+  CHECK(message("pin_circle_deviation_mm = { distribution = \"triangle\", tolerance = 0.001 }").find("triangle") != std::string::npos);
+  CHECK(message("pin_circle_deviation_mm = { distribution = \"normal\", sigma = -0.001 }").find("sigma") != std::string::npos);
+  CHECK(message("pin_circle_deviation_mm = 0.002").find("inline table") != std::string::npos);
+  CHECK(message("pin_circle_radius_mm = { distribution = \"normal\", sigma = 0.001 }").find("unknown key 'pin_circle_radius_mm'") !=
+        std::string::npos);
+  CHECK(message("samples = 0").find("samples") != std::string::npos);
+  CHECK(message("limits = { te_arcsec = 3 }").find("te_arcsec") != std::string::npos);
+  CHECK(message("limits = { lost_motion_arcmin = 1.0 }").find("lost_motion = true") != std::string::npos);
+  CHECK(message("pin_circle_deviation_mm = { distribution = \"normal\", sigma = 1.0 }").find("looks like an absolute value") !=
+        std::string::npos);
+  CHECK(message("chains = { B0 = [ { link = \"pin\", kind = \"sideways\", upper_um = 0, lower_um = -13 } ] }").find("chains.B0[0].kind") !=
+        std::string::npos);
+  CHECK(message("chains = { B0 = [ { link = \"pin\", kind = \"decreasing\", upper_um = -13, lower_um = 0 } ] }").find("lower <= upper") !=
+        std::string::npos);
+  CHECK(message("seed = 1\npin_circle_deviation_mm = { distribution = \"uniform\", tolerance = 0.002 }") == "no error");
+}

@@ -1,0 +1,240 @@
+// Issue 13: the two discs of an RV stage through the application layer: the [second_disc] deck
+// section, the sweep's per-crank split, the stage's torque-twist loop and its backlash.
+// References: one disc at T / 2 (two identical discs), the unloaded analysis of each disc on its
+// own (contact::AnalyseUnloaded), and the sweep against the loop at the same crank and torque.
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "ltca/app/deck.hpp"
+#include "ltca/app/efficiency.hpp"
+#include "ltca/app/stiffness.hpp"
+#include "ltca/app/sweep.hpp"
+#include "ltca/app/tolerance.hpp"
+#include "cli.hpp"
+#include "ltca/contact/mesh_state.hpp"
+#include "ltca/contact/unloaded.hpp"
+#include "ltca/geometry/units.hpp"
+
+using ltca::app::Deck;
+using ltca::app::StiffnessPosition;
+using ltca::app::StiffnessRunner;
+using ltca::app::StiffnessSettings;
+using ltca::app::SweepRunner;
+using ltca::contact::ContactKinematics;
+using ltca::solvers::SolverOptions;
+
+namespace {
+
+std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+
+SolverOptions Options(const std::string& solver = "compatibility",
+                      ContactKinematics kinematics = ContactKinematics::kLinearised) {
+  SolverOptions o;
+  o.name = solver;
+  o.kinematics = kinematics;
+  return o;
+}
+
+/// The message of the std::invalid_argument the deck text throws ("" when it reads).
+std::string Rejection(const std::vector<std::string>& overrides, const std::string& deck = "liu2021_table1.toml") {
+  try {
+    (void)ltca::app::LoadDeck(Case(deck), overrides);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("app: two identical discs: 50/50 at every position of the sweep, and the stage is twice as stiff as one disc at T/2 (1e-9)") {
+  // Liu 5.2's base modification (48 arcsec of backlash, a curved loop): the stage at T against
+  // one disc at T / 2. Every twist of the stage's loop is the one disc's at half the torque, so
+  // the secant rigidity doubles and lost motion and backlash are equal.
+  const Deck stage = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"), {"second_disc.indexing_deviation_mm=0"});
+  const Deck one = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"), {"load.torque_nm=103"});
+  REQUIRE(stage.disc_count() == 2);
+  CHECK(stage.Model().name == "plane+two-discs");
+  CHECK(stage.Model().discs == 2);
+  CHECK(one.Model().name == "plane");
+
+  SweepRunner sweep(stage, Options());
+  for (const double crank : stage.sweep.CrankAngles()) {
+    const ltca::app::PositionResult p = sweep.Solve(crank);
+    REQUIRE(p.succeeded());
+    REQUIRE(p.disc_torque.size() == 2);
+    CHECK(p.disc_torque[0] == doctest::Approx(103e3).epsilon(1e-9));
+    CHECK(p.disc_torque[1] == doctest::Approx(103e3).epsilon(1e-9));
+    CHECK(p.pin_force.size() == 80);  // disc 1's 40 pins, then disc 2's
+  }
+  const ltca::app::SweepSummary s = sweep.Summary();
+  CHECK(s.succeeded == 91);
+  CHECK(s.first_disc_share_min == doctest::Approx(0.5).epsilon(1e-9));
+  CHECK(s.first_disc_share_max == doctest::Approx(0.5).epsilon(1e-9));
+
+  for (const std::string solver : {"compatibility", "bisection"}) {
+    for (const double crank_deg : {0.0, 3.3}) {
+      CAPTURE(solver);
+      CAPTURE(crank_deg);
+      StiffnessSettings settings;
+      settings.steps = 5;
+      settings.crank = ltca::units::DegToRad(crank_deg);
+      StiffnessRunner two(stage, Options(solver), settings);
+      StiffnessRunner single(one, Options(solver), settings);
+      const StiffnessPosition a = two.Solve(*settings.crank), b = single.Solve(*settings.crank);
+      REQUIRE(a.succeeded());
+      REQUIRE(b.succeeded());
+      CHECK(a.rigidity == doctest::Approx(2.0 * b.rigidity).epsilon(1e-9));
+      CHECK(a.rigidity_drive == doctest::Approx(2.0 * b.rigidity_drive).epsilon(1e-9));
+      CHECK(a.lost_motion == doctest::Approx(b.lost_motion).epsilon(1e-9));
+      CHECK(a.backlash == doctest::Approx(b.backlash).epsilon(1e-12));
+      CHECK(a.first_disc_share_drive == doctest::Approx(0.5).epsilon(1e-9));
+      CHECK(a.first_disc_share_coast == doctest::Approx(0.5).epsilon(1e-9));
+      CHECK(std::isnan(b.first_disc_share_drive));  // one disc: no split
+      REQUIRE(a.curve.size() == b.curve.size());
+      for (std::size_t i = 0; i < a.curve.size(); ++i) {
+        CHECK(a.curve[i].torque == doctest::Approx(2.0 * b.curve[i].torque).epsilon(1e-15));
+        CHECK(a.curve[i].twist == doctest::Approx(b.curve[i].twist).epsilon(1e-9));
+      }
+    }
+  }
+}
+
+TEST_CASE("app: a second disc indexed 0.5 um ahead carries more of +T and less of -T, reported per crank alike by solve and stiffness") {
+  const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"), {"second_disc.indexing_deviation_mm=0.0005"});
+  SweepRunner sweep(stage, Options());
+  StiffnessSettings settings;
+  settings.steps = 3;
+  for (const double crank_deg : {0.0, 2.5, 6.1}) {
+    CAPTURE(crank_deg);
+    const double crank = ltca::units::DegToRad(crank_deg);
+    const ltca::app::PositionResult p = sweep.Solve(crank);
+    REQUIRE(p.succeeded());
+    const double share = p.disc_torque[0] / (p.disc_torque[0] + p.disc_torque[1]);
+    CHECK(share > 0.3);  // both carry (observed 0.40 to 0.42)
+    CHECK(share < 0.48);
+    settings.crank = crank;
+    StiffnessRunner loop(stage, Options(), settings);
+    const StiffnessPosition q = loop.Solve(crank);
+    REQUIRE(q.succeeded());
+    CHECK(q.first_disc_share_drive == doctest::Approx(share).epsilon(1e-8));  // the same solve at +T
+    CHECK(q.first_disc_share_coast > 0.52);  // under -T the first disc is the nearer one
+    CHECK(q.first_disc_share_coast < 0.7);
+  }
+}
+
+TEST_CASE("app: the stage's backlash is the nearer first contact of either disc on each flank (1e-12 rad)") {
+  // Reference: each disc's own unloaded analysis (contact::AnalyseUnloaded, the code of ltca
+  // backlash), the second at crank + pi; the loop finds its zero-torque points by the load
+  // problem's closing rotations over both discs' points (another code path).
+  const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"));
+  const ltca::contact::MeshModel first = stage.MakeModel();
+  const auto second = stage.MakeSecondModel();
+  for (const ContactKinematics kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
+    for (const double crank_deg : {0.0, 4.5, 8.2}) {
+      CAPTURE(crank_deg);
+      StiffnessSettings settings;
+      settings.steps = 3;
+      settings.crank = ltca::units::DegToRad(crank_deg);
+      StiffnessRunner loop(stage, Options("compatibility", kinematics), settings);
+      const StiffnessPosition p = loop.Solve(*settings.crank);
+      REQUIRE(p.succeeded());
+      const auto a = ltca::contact::AnalyseUnloaded(first, *settings.crank, kinematics);
+      const auto b = ltca::contact::AnalyseUnloaded(*second, *settings.crank + ltca::contact::kSecondDiscCrankOffset, kinematics);
+      const double drive = std::min(a.theta_c1, b.theta_c1), coast = std::min(-a.theta_c2, -b.theta_c2);
+      CHECK(std::abs(p.first_contact_drive - drive) < 1e-12);
+      CHECK(std::abs(p.first_contact_coast - coast) < 1e-12);
+      CHECK(std::abs(p.backlash - (drive + coast)) < 1e-12);
+      // 5 um ahead is 16.1 arcsec: the stage's free play is the one disc's less s / R_p.
+      // Exact to round-off; linearised to first order in s / R_p (2e-4 of it observed, bound 1e-3).
+      CHECK(std::abs(p.backlash - (a.backlash - 0.005 / 64.0)) <
+            (kinematics == ContactKinematics::kExact ? 1e-12 : 1e-3 * 0.005 / 64.0));
+    }
+  }
+}
+
+TEST_CASE("app: [second_disc] copies the first disc unless told, and rejects pin-ring keys, unknown keys, [pins] and studies that would move one disc") {
+  // The default copy: the second disc's pair is the first's (the same modification and errors).
+  const Deck copy = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"), {"second_disc.indexing_deviation_mm=0"});
+  REQUIRE(copy.second_disc.has_value());
+  CHECK(copy.second_disc->modification.pin_radius == copy.modification.pin_radius);
+  CHECK(copy.second_disc->modification.pin_circle_radius == copy.modification.pin_circle_radius);
+  CHECK(copy.second_disc->modification.rotation == copy.modification.rotation);
+  // Its own modification key, over the first disc's; indexing adds s / R_p to its rotation.
+  const Deck own = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"),
+                                       {"second_disc.pin_radius_mm=-0.006", "second_disc.indexing_deviation_mm=0.002"});
+  CHECK(own.second_disc->modification.pin_radius == doctest::Approx(-0.006));
+  CHECK(own.second_disc->modification.pin_circle_radius == copy.modification.pin_circle_radius);
+  CHECK(own.second_disc->modification.rotation == doctest::Approx(copy.modification.rotation + 0.002 / 64.0).epsilon(1e-15));
+  CHECK(own.modification.pin_radius == copy.modification.pin_radius);  // the first disc is untouched
+
+  const std::string ring = Rejection({"second_disc.pin_circle_deviation_mm=0.001"});
+  CHECK(ring.find("pin_circle_deviation_mm") != std::string::npos);
+  CHECK(ring.find("pin ring is common") != std::string::npos);
+  const std::string unknown = Rejection({"second_disc.tooth_count=38"});
+  CHECK(unknown.find("unknown key 'tooth_count'") != std::string::npos);
+  const std::string pins = Rejection({"second_disc.indexing_deviation_mm=0", "pins.span_mm=20", "pins.face_offset_mm=4"});
+  CHECK(pins.find("[second_disc] with [pins]") != std::string::npos);
+  const std::string far = Rejection({"second_disc.indexing_deviation_mm=5"});
+  CHECK(far.find("indexing_deviation_mm") != std::string::npos);
+  CHECK(Rejection({"second_disc.indexing_deviation_mm=0.001"}).empty());
+
+  // Studies that would vary or sum the first disc only say so instead of answering for it.
+  const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"),
+                                         {"friction.coefficient=0.05", "operation.input_speed_rpm=1500"});
+  CHECK_THROWS_WITH_AS(ltca::app::EfficiencyRunner(stage, Options()), doctest::Contains("[second_disc]"), std::invalid_argument);
+  ltca::app::ToleranceSettings tolerances;
+  CHECK_THROWS_WITH_AS(ltca::app::ToleranceStudy(stage, Options(), tolerances), doctest::Contains("[second_disc]"),
+                       std::invalid_argument);
+}
+
+TEST_CASE("cli: two discs in the JSON and CSV of solve, stiffness and backlash: the split per position, the model named") {
+  // cases/rv_two_discs.toml with the second disc 0.5 um ahead: both carry. The JSON figures are
+  // checked against the library's (SweepRunner) at the same crank, and against their own sums.
+  const std::vector<std::string> set = {"--set", "second_disc.indexing_deviation_mm=0.0005", "--set", "sweep.positions=3"};
+  const auto run = [&](std::vector<std::string> args) {
+    args.insert(args.end(), set.begin(), set.end());
+    std::ostringstream out, err;
+    const int code = ltca::cli::Run(args, out, err);
+    REQUIRE(code == 0);
+    return out.str();
+  };
+  const std::string deck = Case("rv_two_discs.toml");
+  const auto solve = nlohmann::json::parse(run({"solve", deck, "--json", "-"}));
+  CHECK(solve.at("model").at("name") == "plane+two-discs");
+  CHECK(solve.at("model").at("discs") == 2);
+  const Deck stage = ltca::app::LoadDeck(deck, {"second_disc.indexing_deviation_mm=0.0005", "sweep.positions=3"});
+  SweepRunner sweep(stage, Options("bisection"));
+  double lo = 1.0, hi = 0.0;
+  for (const auto& p : solve.at("positions")) {
+    const auto torques = p.at("disc_torque_nm").get<std::vector<double>>();
+    REQUIRE(torques.size() == 2);
+    CHECK(torques[0] + torques[1] == doctest::Approx(206.0).epsilon(1e-8));
+    CHECK(p.at("pin_force_n").size() == 80);
+    const double share = p.at("first_disc_share").get<double>();
+    const ltca::app::PositionResult r = sweep.Solve(ltca::units::DegToRad(p.at("crank_deg").get<double>()));
+    CHECK(share == doctest::Approx(r.disc_torque[0] / 206e3).epsilon(1e-9));
+    lo = std::min(lo, share), hi = std::max(hi, share);
+  }
+  CHECK(solve.at("summary").at("first_disc_share_min").get<double>() == doctest::Approx(lo).epsilon(1e-15));
+  CHECK(solve.at("summary").at("first_disc_share_max").get<double>() == doctest::Approx(hi).epsilon(1e-15));
+  const std::string csv = run({"solve", deck, "--csv", "-"});
+  CHECK(csv.rfind("crank_deg,te_arcsec,contacts,max_pin_force_n,max_contact_stress_mpa,status,disc1_torque_nm,disc2_torque_nm\n", 0) == 0);
+
+  const auto loop = nlohmann::json::parse(run({"stiffness", deck, "--json", "-", "--crank-deg", "0"}));
+  CHECK(loop.at("model").at("name") == "plane+two-discs");
+  CHECK(loop.at("summary").at("first_disc_share_drive").get<double>() ==
+        doctest::Approx(solve.at("positions").at(0).at("first_disc_share").get<double>()).epsilon(1e-8));
+  const auto backlash = nlohmann::json::parse(run({"backlash", deck, "--json", "-", "--kinematics", "linearised"}));
+  CHECK(backlash.at("positions").at(0).at("backlash_arcsec").get<double>() ==
+        doctest::Approx(loop.at("summary").at("backlash_arcmin").get<double>() * 60.0).epsilon(1e-9));
+  CHECK(backlash.at("positions").at(0).at("second_disc_clearance_um").size() == 40);
+}

@@ -1,0 +1,175 @@
+// Issue 13: the two discs of an RV stage, half a crank turn apart on one pin ring, turning the
+// output together. Independent references: the one-disc problem (a stage of two identical discs
+// at T is one disc at T / 2, by symmetry), the rigid-turn identity of an indexing deviation (a
+// disc turned by s / R_p closes its gaps s / R_p earlier), and the shared residual, which judges
+// every solver on the points of both discs.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+#include <fmt/format.h>
+
+#include "ltca/app/deck.hpp"
+#include "ltca/geometry/units.hpp"
+#include "ltca/solvers/load_solver.hpp"
+#include "ltca/solvers/registry.hpp"
+
+using ltca::app::Deck;
+using ltca::contact::ContactKinematics;
+using ltca::contact::MeshModel;
+using ltca::solvers::LoadProblem;
+using ltca::solvers::LoadResult;
+using ltca::solvers::MakeSolver;
+using ltca::solvers::SolverOptions;
+using ltca::solvers::SolverStatus;
+using ltca::solvers::Workspace;
+
+namespace {
+
+std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+
+LoadResult Solve(const std::string& solver, const LoadProblem& problem, ContactKinematics kinematics) {
+  SolverOptions options;
+  options.name = solver;
+  options.kinematics = kinematics;
+  return MakeSolver(solver)->Solve(problem, options);
+}
+
+double MaxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+
+}  // namespace
+
+TEST_CASE("solvers: every solver solves the two-disc stage and agrees with bisection, the split included") {
+  // The stage of cases/rv_two_discs.toml with the second disc 0.5 um ahead (both discs carry) and
+  // with the deck's 5 um (the second carries alone): the same law and kinematics, TE to 1e-6
+  // relative, forces to 1e-6 of the largest, the shared residual below 1e-8, and the disc torques
+  // summing to T (1e-8: the residual's bound).
+  for (const std::string indexing : {"0.0005", "0.005"}) {
+    const Deck deck = ltca::app::LoadDeck(Case("rv_two_discs.toml"), {"second_disc.indexing_deviation_mm=" + indexing});
+    const auto model = std::make_shared<const MeshModel>(deck.MakeModel());
+    const auto second = deck.MakeSecondModel();
+    REQUIRE(second != nullptr);
+    const double torque = deck.RequireLoad().torque;
+    for (const auto kin : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
+      for (const double crank_deg : {0.0, 3.3, 7.1}) {
+        CAPTURE(indexing);
+        CAPTURE(crank_deg);
+        CAPTURE(static_cast<int>(kin));
+        const LoadProblem problem = deck.MakeProblem(model, ltca::units::DegToRad(crank_deg), kin, second);
+        REQUIRE(problem.disc_count() == 2);
+        REQUIRE(problem.point_count() == 2 * model->point_count());
+        const LoadResult ref = Solve("bisection", problem, kin);
+        REQUIRE(ref.status == SolverStatus::kSuccess);
+        CHECK(ltca::solvers::ComputeResiduals(problem, ref.rotation, ref.force).Normalised() < 1e-8);
+        Workspace ws;
+        const std::vector<double> parts = problem.DiscTorques(ref.rotation, ref.force, ws);
+        REQUIRE(parts.size() == 2);
+        CHECK(parts[0] + parts[1] == doctest::Approx(torque).epsilon(1e-8));
+        CHECK(parts[1] > parts[0]);  // the disc ahead in +T's sense carries more of +T
+        const double f_max = MaxOf(ref.force);
+        for (const auto& name : ltca::solvers::SolverNames()) {
+          if (name == "bisection") continue;
+          CAPTURE(name);
+          const LoadResult other = Solve(name, problem, kin);
+          CAPTURE(other.message);
+          REQUIRE(other.status == SolverStatus::kSuccess);
+          CHECK(ltca::solvers::ComputeResiduals(problem, other.rotation, other.force).Normalised() < 1e-8);
+          CHECK(other.te == doctest::Approx(ref.te).epsilon(1e-6));
+          REQUIRE(other.force.size() == ref.force.size());
+          for (std::size_t k = 0; k < ref.force.size(); ++k) CHECK(std::abs(other.force[k] - ref.force[k]) <= 1e-6 * f_max);
+          const std::vector<double> split = problem.DiscTorques(other.rotation, other.force, ws);
+          CHECK(std::abs(split[0] - parts[0]) <= 1e-6 * std::abs(torque));
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("solvers: two identical discs each carry T/2 at every crank, and the stage at T is one disc at T/2 (1e-9)") {
+  // Liu Table 1 (z_p = 40: half a crank turn is 20 mesh periods, so both discs see the same mesh
+  // state, pin-shifted) perfect and with Liu 5.2's base modification (48 arcsec of backlash). The
+  // second disc is the default copy of the first. Reference: one disc at T / 2.
+  for (const std::string deck_name : {"liu2021_table1.toml", "liu2021_sec52_base.toml"}) {
+    const Deck stage = ltca::app::LoadDeck(Case(deck_name), {"second_disc.indexing_deviation_mm=0"});
+    const double torque = stage.RequireLoad().torque;
+    const Deck half = ltca::app::LoadDeck(Case(deck_name), {fmt::format("load.torque_nm={:.17g}", 0.5 * torque / 1000.0)});
+    const auto model = std::make_shared<const MeshModel>(stage.MakeModel());
+    const auto second = stage.MakeSecondModel();
+    const auto one = std::make_shared<const MeshModel>(half.MakeModel());
+    for (const auto kin : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
+      for (const std::string solver : {"bisection", "compatibility"}) {
+        for (const double crank_deg : {0.0, 1.7, 4.5, 8.9}) {
+          CAPTURE(deck_name);
+          CAPTURE(solver);
+          CAPTURE(crank_deg);
+          CAPTURE(static_cast<int>(kin));
+          const double crank = ltca::units::DegToRad(crank_deg);
+          const LoadProblem both = stage.MakeProblem(model, crank, kin, second);
+          const LoadResult r = Solve(solver, both, kin);
+          REQUIRE(r.status == SolverStatus::kSuccess);
+          Workspace ws;
+          const std::vector<double> parts = both.DiscTorques(r.rotation, r.force, ws);
+          CHECK(parts[0] == doctest::Approx(0.5 * torque).epsilon(1e-9));
+          CHECK(parts[1] == doctest::Approx(0.5 * torque).epsilon(1e-9));
+          const LoadResult single = Solve(solver, half.MakeProblem(one, crank, kin), kin);
+          REQUIRE(single.status == SolverStatus::kSuccess);
+          CHECK(r.te == doctest::Approx(single.te).epsilon(1e-9));
+          // Disc 1's forces in the stage are the single disc's.
+          const double f_max = MaxOf(single.force);
+          REQUIRE(r.force.size() == 2 * single.force.size());
+          for (std::size_t k = 0; k < single.force.size(); ++k) CHECK(std::abs(r.force[k] - single.force[k]) <= 1e-9 * f_max);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("solvers: a second disc indexed s ahead closes its gaps s/R_p earlier; alone under +T it is the one-disc stage shifted by s/R_p") {
+  // cases/rv_two_discs.toml: Liu 5.2's base modification, the second disc s = 5 um ahead along the
+  // pin circle, s / R_p = 16.1 arcsec, less than the twist the first disc would need to touch at
+  // 206 N*m: under +T the second disc carries everything and the stage's TE is the one-disc TE at
+  // T moved by s / R_p (exact kinematics; linearised to first order); under -T the first disc
+  // carries everything and the TE is the one-disc TE.
+  const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"));
+  const double s_over_r = 0.005 / 64.0;
+  const auto model = std::make_shared<const MeshModel>(stage.MakeModel());
+  const auto second = stage.MakeSecondModel();
+  for (const double sign : {1.0, -1.0}) {
+    const std::string torque = sign > 0.0 ? "load.torque_nm=206" : "load.torque_nm=-206";
+    const Deck signed_stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"), {torque});
+    const Deck one = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"), {torque});
+    const auto one_model = std::make_shared<const MeshModel>(one.MakeModel());
+    for (const auto kin : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
+      for (const double crank_deg : {0.0, 4.5}) {
+        CAPTURE(sign);
+        CAPTURE(crank_deg);
+        CAPTURE(static_cast<int>(kin));
+        const double crank = ltca::units::DegToRad(crank_deg);
+        const LoadProblem both = signed_stage.MakeProblem(model, crank, kin, second);
+        const LoadResult r = Solve("bisection", both, kin);
+        REQUIRE(r.status == SolverStatus::kSuccess);
+        Workspace ws;
+        const std::vector<double> parts = both.DiscTorques(r.rotation, r.force, ws);
+        const LoadResult single = Solve("bisection", one.MakeProblem(one_model, crank, kin), kin);
+        REQUIRE(single.status == SolverStatus::kSuccess);
+        if (sign > 0.0) {
+          CHECK(parts[0] == 0.0);
+          if (kin == ContactKinematics::kExact) {
+            CHECK(r.te == doctest::Approx(single.te + s_over_r).epsilon(1e-9));
+          } else {
+            // Linearised kinematics freeze the gaps and arms at the disc's own (turned) pose, so
+            // the rigid-turn identity holds to first order in s / R_p only: 0.14 % of s / R_p
+            // observed at these cranks; bound 1 %.
+            CHECK(std::abs(r.te - (single.te + s_over_r)) < 1e-2 * s_over_r);
+          }
+        } else {
+          CHECK(parts[1] == 0.0);
+          CHECK(r.te == doctest::Approx(single.te).epsilon(1e-9));
+        }
+      }
+    }
+  }
+}
