@@ -31,6 +31,8 @@ constexpr double kBalanceTolerance = 1e-10;
 constexpr int kMaxBalanceSolves = 20;
 /// An interpolated secant step is accepted when its ratio residual is below this.
 constexpr double kInterpolatedTolerance = 1e-8;
+/// At most this many secant steps on the interpolated forces after each solve.
+constexpr int kInterpolatedSteps = 8;
 
 /// The warning's name: the text before the first ':'.
 std::string WarningName(const std::string& w) { return w.substr(0, w.find(':')); }
@@ -290,17 +292,31 @@ struct EfficiencyRunner::Impl {
           converged = true;
           break;
         }
-        const double slope = (g_now - g_prev) / (s_now - s_prev);
-        const double s_next = slope != 0.0 && std::isfinite(slope) ? s_now - g_now / slope : s_now + g_now;
-        // The interpolated forces at s_next.
+        // Secant steps on the interpolated forces, F(s) = F(s_prev) + w (F(s_now) - F(s_prev)),
+        // w = (s - s_prev) / (s_now - s_prev): each costs one evaluation of the friction, no solve.
+        // With Coulomb friction the ratio is linear in the forces, so the first step is the root;
+        // with a coefficient that depends on the force (jiang-mixed) a few more steps find it.
         std::vector<double> f_next(rk.force.size());
-        const double w = (s_next - s_prev) / (s_now - s_prev);
-        for (std::size_t i = 0; i < f_next.size(); ++i) f_next[i] = f_prev[i] + w * (rk.force[i] - f_prev[i]);
         std::vector<ContactFrictionPoint> interpolated;
-        const double g_next = Evaluate(state, kin, f_next, sigma, &interpolated, &ignored) - s_next;
-        if (std::abs(g_next) < kInterpolatedTolerance) {
+        double s_a = s_prev, g_a = g_prev, s_b = s_now, g_b = g_now, s_next = s_now;
+        for (int step = 0; step < kInterpolatedSteps; ++step) {
+          const double slope = (g_b - g_a) / (s_b - s_a);
+          s_next = slope != 0.0 && std::isfinite(slope) ? s_b - g_b / slope : s_b + g_b;
+          const double w = (s_next - s_prev) / (s_now - s_prev);
+          for (std::size_t i = 0; i < f_next.size(); ++i) f_next[i] = f_prev[i] + w * (rk.force[i] - f_prev[i]);
+          const double g_next = Evaluate(state, kin, f_next, sigma, &interpolated, &ignored) - s_next;
+          if (std::abs(g_next) < kInterpolatedTolerance) {
+            converged = true;
+            break;
+          }
+          if (s_next == s_b) break;
+          s_a = s_b;
+          g_a = g_b;
+          s_b = s_next;
+          g_b = g_next;
+        }
+        if (converged) {
           pos.contacts = std::move(interpolated);  // balance_residual stays that of the last solve
-          converged = true;
           break;
         }
         f_prev = rk.force;
