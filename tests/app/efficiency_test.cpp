@@ -183,6 +183,44 @@ TEST_CASE("app: jiang-mixed: one balance solve and secant steps on interpolated 
   }
 }
 
+TEST_CASE("cli: [friction] with mu = 0 leaves the loaded results of solve and stiffness bit-identical to the deck without it") {
+  // Issue 14: "with mu = 0 ... the loaded results are bit-identical to today". The reference is
+  // the same deck without [friction] and [operation]; every position's figures, the summary and
+  // the loop's curve must be equal as JSON values (exact doubles), for both kinematics.
+  const std::string deck = Case("liu2021_sec52_base.toml");
+  const auto run = [&](std::vector<std::string> args) {
+    std::ostringstream out, err;
+    REQUIRE(ltca::cli::Run(args, out, err) == 0);
+    return nlohmann::json::parse(out.str());
+  };
+  const auto Figures = [](nlohmann::json summary) {  // all but the timing
+    summary.erase("wall_seconds");
+    return summary;
+  };
+  const std::vector<std::string> friction = {"--set", "friction.coefficient=0", "--set", "operation.input_speed_rpm=1500"};
+  for (const std::string kinematics : {"linearised", "exact"}) {
+    CAPTURE(kinematics);
+    std::vector<std::string> solve = {"solve", deck, "--json", "-", "--kinematics", kinematics, "--set", "sweep.positions=5"};
+    const auto plain = run(solve);
+    solve.insert(solve.end(), friction.begin(), friction.end());
+    const auto with = run(solve);
+    REQUIRE(plain.at("positions").size() == 5);
+    CHECK(plain.at("positions") == with.at("positions"));
+    CHECK(Figures(plain.at("summary")) == Figures(with.at("summary")));
+  }
+  std::vector<std::string> loop = {"stiffness", deck, "--json", "-", "--crank-deg", "0"};
+  const auto plain = run(loop);
+  loop.insert(loop.end(), friction.begin(), friction.end());
+  const auto with = run(loop);
+  REQUIRE(plain.at("summary").at("curve").size() > 80);
+  CHECK(plain.at("positions") == with.at("positions"));
+  for (const char* key : {"curve", "torsional_rigidity_nm_per_arcmin", "lost_motion_arcmin", "backlash_arcmin",
+                          "branch_difference_arcmin", "hysteresis"}) {
+    CAPTURE(key);
+    CHECK(plain.at("summary").at(key) == with.at("summary").at(key));
+  }
+}
+
 TEST_CASE("app: [friction] and [operation] are read in internal units and bad values name their key") {
   const Deck deck = LiuWithFriction("0.05", {"operation.oil_viscosity_pa_s=0.1", "operation.roughness_ra_pin_um=0.4",
                                              "operation.pressure_viscosity_per_gpa=20"});
