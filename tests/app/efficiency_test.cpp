@@ -221,6 +221,63 @@ TEST_CASE("cli: [friction] with mu = 0 leaves the loaded results of solve and st
   }
 }
 
+TEST_CASE("app: friction that locks the stage is a failed position with no figures, never a success") {
+  // Under the linear law the normal forces must carry T_n = T / (1 - r_0), r_0 the frictionless
+  // friction moment ratio (the closed form of the Malhotra-Parameswaran test above): with r_0 >= 1
+  // no balance exists. The "bound" run gives r_0; the solved balance must then fail, with every
+  // figure NaN (null in JSON) and no contact, and exit 1 from the command.
+  const std::vector<std::string> linear = {"contact.law=linear", "contact.stiffness_n_per_mm2=2e4"};
+  auto bound_options = linear;
+  bound_options.push_back("friction.torque_balance=bound");
+  const Deck bound = LiuWithFriction("1", bound_options);
+  const Deck solve = LiuWithFriction("1", linear);
+  EfficiencyRunner bound_runner(bound, Options());
+  EfficiencyRunner runner(solve, Options());
+  for (const double crank : runner.cranks()) {
+    CAPTURE(crank);
+    const EfficiencyPosition r0 = bound_runner.Solve(crank);
+    REQUIRE(r0.succeeded());
+    REQUIRE(r0.friction_moment_ratio > 1.0);
+    const EfficiencyPosition p = runner.Solve(crank);
+    CHECK(!p.succeeded());
+    CHECK(p.message.find("torque_balance_not_converged") != std::string::npos);
+    CHECK(p.contacts.empty());
+    for (const double v : {p.power_loss, p.power_loss_first_order, p.efficiency, p.efficiency_first_order, p.output_power,
+                           p.mean_coefficient, p.friction_moment_ratio, p.balance_residual}) {
+      CHECK(std::isnan(v));
+    }
+  }
+  CHECK(!runner.Summary().all_succeeded());
+  CHECK(std::isnan(runner.Summary().efficiency));
+  // The command: exit 1, null figures, no CSV row for a failed position.
+  std::ostringstream out, err;
+  const int code = ltca::cli::Run({"efficiency", Case("liu2021_table1.toml"), "--json", "-", "--set", "friction.coefficient=1",
+                                   "--set", "operation.input_speed_rpm=1500", "--set", "sweep.positions=3", "--set",
+                                   "contact.law=linear", "--set", "contact.stiffness_n_per_mm2=2e4"},
+                                  out, err);
+  CHECK(code == 1);
+  const auto j = nlohmann::json::parse(out.str());
+  for (const auto& position : j.at("positions")) {
+    CHECK(position.at("status") != "success");
+    CHECK(position.at("efficiency").is_null());
+    CHECK(position.at("power_loss_w").is_null());
+    CHECK(position.at("balance_residual").is_null());
+    CHECK(position.at("contacts").empty());
+  }
+  CHECK(j.at("summary").at("efficiency").is_null());
+  // The stiffness loop with the same friction: unloading, the normal forces must carry
+  // T / (1 - r_0) < 0 for r_0 > 1, so the loop has no balance; it fails with a null rigidity.
+  std::ostringstream loop_out, loop_err;
+  const int loop_code = ltca::cli::Run({"stiffness", Case("liu2021_table1.toml"), "--json", "-", "--crank-deg", "0", "--set",
+                                        "friction.coefficient=1", "--set", "contact.law=linear", "--set",
+                                        "contact.stiffness_n_per_mm2=2e4"},
+                                       loop_out, loop_err);
+  CHECK(loop_code == 1);
+  const auto loop = nlohmann::json::parse(loop_out.str());
+  CHECK(loop.at("summary").at("torsional_rigidity_nm_per_arcmin").is_null());
+  CHECK(loop.at("summary").at("status") != "success");
+}
+
 TEST_CASE("app: [friction] and [operation] are read in internal units and bad values name their key") {
   const Deck deck = LiuWithFriction("0.05", {"operation.oil_viscosity_pa_s=0.1", "operation.roughness_ra_pin_um=0.4",
                                              "operation.pressure_viscosity_per_gpa=20"});

@@ -51,7 +51,7 @@ nlohmann::json PositionJson(const app::EfficiencyPosition& p) {
                       {"mean_coefficient", FiniteOrNull(p.mean_coefficient)},
                       {"friction_moment_ratio", FiniteOrNull(p.friction_moment_ratio)},
                       {"balance_solves", p.balance_solves},
-                      {"balance_residual", p.balance_residual},
+                      {"balance_residual", FiniteOrNull(p.balance_residual)},
                       {"pin_coefficient", pin_mu},
                       {"contacts", contacts}};
   if (!p.succeeded()) j["message"] = p.message;
@@ -109,7 +109,7 @@ void WriteEfficiencyFigure(const app::Deck& deck, const solvers::SolverOptions& 
     return v;
   };
   plots::Panel eff;
-  eff.title = fmt::format("efficiency, mean {:.6f}", s.efficiency);
+  eff.title = fmt::format("efficiency, mean {}", Figure(s.efficiency, 6));
   eff.x_label = "crank angle (deg)";
   eff.y_label = "efficiency (-)";
   eff.legend = plots::LegendPlace::kBottomRight;
@@ -120,7 +120,7 @@ void WriteEfficiencyFigure(const app::Deck& deck, const solvers::SolverOptions& 
   eff.series.push_back(std::move(first));
   figure.panels.push_back(std::move(eff));
   plots::Panel loss;
-  loss.title = fmt::format("power loss, mean {:.4g} W", s.power_loss.mean);
+  loss.title = fmt::format("power loss, mean {} W", Figure(s.power_loss.mean, 4));
   loss.x_label = "crank angle (deg)";
   loss.y_label = "power loss (W)";
   plots::Series l{"power loss", crank, values([](const app::EfficiencyPosition& p) { return p.power_loss; }), plots::Style::kLine};

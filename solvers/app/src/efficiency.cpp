@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -33,6 +34,20 @@ constexpr int kMaxBalanceSolves = 20;
 constexpr double kInterpolatedTolerance = 1e-8;
 /// At most this many secant steps on the interpolated forces after each solve.
 constexpr int kInterpolatedSteps = 8;
+
+/// A failed position: its status and message (and the warnings so far) and no figure at all, so
+/// that nothing a failed balance computed reaches the output as a number (null in JSON, n/a in
+/// text, no CSV rows).
+EfficiencyPosition Failed(EfficiencyPosition pos, SolverStatus status, std::string message) {
+  EfficiencyPosition failed;
+  failed.crank = pos.crank;
+  failed.status = status;
+  failed.message = std::move(message);
+  failed.balance_solves = pos.balance_solves;
+  failed.balance_residual = std::numeric_limits<double>::quiet_NaN();
+  failed.warnings = std::move(pos.warnings);
+  return failed;
+}
 
 /// The warning's name: the text before the first ':'.
 std::string WarningName(const std::string& w) { return w.substr(0, w.find(':')); }
@@ -281,11 +296,7 @@ struct EfficiencyRunner::Impl {
       for (int k = 0; k < kMaxBalanceSolves; ++k) {
         const LoadResult rk = Solve(state, torque * (1.0 + s_now));
         ++pos.balance_solves;
-        if (rk.status != SolverStatus::kSuccess) {
-          pos.status = rk.status;
-          pos.message = "torque balance with friction: " + rk.message;
-          return pos;
-        }
+        if (rk.status != SolverStatus::kSuccess) return Failed(std::move(pos), rk.status, "torque balance with friction: " + rk.message);
         const double g_now = Evaluate(state, kin, rk.force, sigma, &pos.contacts, &ignored) - s_now;
         pos.balance_residual = std::abs(g_now);
         if (std::abs(g_now) < kBalanceTolerance) {
@@ -304,6 +315,13 @@ struct EfficiencyRunner::Impl {
           s_next = slope != 0.0 && std::isfinite(slope) ? s_b - g_b / slope : s_b + g_b;
           const double w = (s_next - s_prev) / (s_now - s_prev);
           for (std::size_t i = 0; i < f_next.size(); ++i) f_next[i] = f_prev[i] + w * (rk.force[i] - f_prev[i]);
+          // The interpolation stands only while every force keeps its sign (no contact lost or
+          // gained beyond the two solves) and the torque its sense; otherwise the next solve decides.
+          bool keeps_contacts = std::isfinite(s_next) && s_next > -1.0;
+          for (std::size_t i = 0; i < f_next.size() && keeps_contacts; ++i) {
+            keeps_contacts = rk.force[i] > 0.0 ? f_next[i] > 0.0 : f_next[i] >= 0.0;
+          }
+          if (!keeps_contacts) break;
           const double g_next = Evaluate(state, kin, f_next, sigma, &interpolated, &ignored) - s_next;
           if (std::abs(g_next) < kInterpolatedTolerance) {
             converged = true;
@@ -319,15 +337,26 @@ struct EfficiencyRunner::Impl {
           pos.contacts = std::move(interpolated);  // balance_residual stays that of the last solve
           break;
         }
+        // The friction moment opposes the load, so the balance lies at s >= 0; a secant step
+        // below it means the friction moment grows as fast as the torque the forces carry (a
+        // ratio that reaches 1: the stage locks), and no balance exists.
+        if (!std::isfinite(s_next) || s_next < 0.0) {
+          return Failed(std::move(pos), SolverStatus::kMaxIterations,
+                        fmt::format("efficiency.torque_balance_not_converged: no torque balance with friction (the "
+                                    "friction moment reaches the torque the normal forces carry; ratio {:.3g} at "
+                                    "s = {:.3g}): the stage locks under this friction",
+                                    g_now + s_now, s_now));
+        }
         f_prev = rk.force;
         s_prev = s_now;
         g_prev = g_now;
         s_now = s_next;
       }
       if (!converged) {
-        pos.warnings.push_back(fmt::format(
-            "efficiency.torque_balance_not_converged: the friction moment ratio moved by more than {:g} after {} solves",
-            kBalanceTolerance, kMaxBalanceSolves));
+        return Failed(std::move(pos), SolverStatus::kMaxIterations,
+                      fmt::format("efficiency.torque_balance_not_converged: the friction moment ratio moved by {:.3g} "
+                                  "(more than {:g}) after {} solves",
+                                  pos.balance_residual, kBalanceTolerance, kMaxBalanceSolves));
       }
     } else if (friction.torque_balance == FrictionSettings::TorqueBalance::kBound && pos.friction_moment_ratio != 0.0) {
       pos.warnings.push_back(fmt::format(
@@ -469,18 +498,34 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
   };
   double t_prev = torque, g_prev = residual(r, torque);
   double t_now = torque + g_prev;
+  // The normal forces carry torque in the sense of T: a step to the other sense means the friction
+  // moment outgrows the torque (the stage locks under this friction), and no balance exists.
+  const auto locked = [&](double t) {
+    LoadResult failed;
+    failed.status = SolverStatus::kMaxIterations;
+    failed.message = fmt::format(
+        "torque balance with friction (mu {:g}): no balance at {:g} N*m, the friction moment reaches the torque the "
+        "normal forces carry (step to {:g} N*m): the stage locks under this friction",
+        mu, torque / 1000.0, t / 1000.0);
+    return failed;
+  };
   for (int k = 0; k < kMaxBalanceSolves; ++k) {
+    if (!std::isfinite(t_now) || (torque != 0.0 && t_now * torque <= 0.0)) return locked(t_now);
     r = solve(t_now);
     if (solves != nullptr) ++*solves;
-    if (r.status != SolverStatus::kSuccess) break;
+    if (r.status != SolverStatus::kSuccess) return r;
     const double g_now = residual(r, t_now);
-    if (std::abs(g_now) <= kBalanceTolerance * std::abs(torque)) break;
+    if (std::abs(g_now) <= kBalanceTolerance * std::abs(torque)) return r;
     const double slope = (g_now - g_prev) / (t_now - t_prev);
     t_prev = t_now;
     g_prev = g_now;
     t_now = slope != 0.0 && std::isfinite(slope) ? t_now - g_now / slope : t_now + g_now;
   }
-  return r;
+  LoadResult failed;
+  failed.status = SolverStatus::kMaxIterations;
+  failed.message = fmt::format("torque balance with friction (mu {:g}) at {:g} N*m: not converged after {} solves", mu,
+                               torque / 1000.0, kMaxBalanceSolves);
+  return failed;
 }
 
 }  // namespace ltca::app
