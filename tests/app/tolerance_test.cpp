@@ -317,3 +317,26 @@ TEST_CASE("app: the tolerances section rejects a bad distribution or limit, nami
         std::string::npos);
   CHECK(message("seed = 1\npin_circle_deviation_mm = { distribution = \"uniform\", tolerance = 0.002 }") == "no error");
 }
+
+TEST_CASE("cli: ltca tolerance refuses a seed or a first sample index outside 0 .. 2^63 - 1 (exit 2, naming the option), never wraps it") {
+  // A review found --seed -1 run as seed 2^64 - 1 and --first 2^64 - 1 run from 2^63 - 1 with the
+  // next index negative, both with exit 0. The deck's own seed is an integer >= 0 (TOML int64).
+  const auto run = [](std::vector<std::string> more) {
+    std::vector<std::string> args = {"tolerance", Case("liu2021_tolerances.toml"), "--samples", "2", "--no-worst-case",
+                                     "--set", "sweep.positions=3"};
+    args.insert(args.end(), more.begin(), more.end());
+    std::ostringstream out, err;
+    const int code = ltca::cli::Run(args, out, err);
+    return std::make_pair(code, err.str());
+  };
+  for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{
+           {"--seed", "-1"}, {"--seed", "18446744073709551616"}, {"--seed", "1.5"}, {"--first", "-1"},
+           {"--first", "18446744073709551615"}, {"--first", "9223372036854775807"}}) {
+    CAPTURE(option);
+    CAPTURE(value);
+    const auto [code, err] = run({option, value});
+    CHECK(code == 2);
+    CHECK(err.find(option) != std::string::npos);
+  }
+  CHECK(run({"--seed", "9223372036854775807", "--first", "5"}).first == 0);
+}

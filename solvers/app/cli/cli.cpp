@@ -3,11 +3,14 @@
 #include <malloc.h>
 #include <unistd.h>
 
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <stdexcept>
 
 #include <CLI/CLI.hpp>
@@ -58,6 +61,20 @@ std::string Compiler() {
 std::string VersionText() {
   return fmt::format("ltca {} ({} build, {}, C++ {})", LTCA_VERSION, LTCA_BUILD_TYPE, Compiler(), __cplusplus);
 }
+
+/// --seed and --first: a whole number 0 .. 2^63 - 1, as the deck's integers are (CLI11 would
+/// wrap a negative seed into an unsigned one, or clamp one too large, without a word).
+const CLI::Validator kIndex(
+    [](std::string& text) -> std::string {
+      std::int64_t value = 0;
+      const char* end = text.data() + text.size();
+      const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+      if (text.empty() || ptr != end || ec != std::errc() || value < 0) {
+        return fmt::format("'{}': expected a whole number from 0 to {}", text, std::numeric_limits<std::int64_t>::max());
+      }
+      return {};
+    },
+    "INT >= 0");
 
 constexpr double kMaxCrankDeg = 3600.0;
 
@@ -227,11 +244,11 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "any number of threads or MPI ranks (mpirun -np K ltca tolerance ...) gives the same samples.");
   AddLoadInputs(tolerance, overrides, deck_path, tolerance_options.solver, tolerance_options.kinematics);
   tolerance->add_option("--samples", tolerance_options.samples, "Number of samples ([tolerances] samples)")->check(CLI::PositiveNumber);
-  tolerance->add_option("--seed", tolerance_options.seed, "Seed of the counter-based stream ([tolerances] seed)");
+  tolerance->add_option("--seed", tolerance_options.seed, "Seed of the counter-based stream ([tolerances] seed)")->check(kIndex);
   tolerance->add_option("--threads", tolerance_options.threads, "Threads (default 0: every hardware thread)")->check(CLI::NonNegativeNumber);
   tolerance->add_option("--first", tolerance_options.first,
                         "Index of the first sample (re-run sample i of a study: --first i --samples 1)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kIndex);
   tolerance->add_flag("--lost-motion", tolerance_options.lost_motion, "Also lost motion per sample ([tolerances] lost_motion = true)");
   tolerance->add_flag("--no-worst-case", tolerance_options.no_worst_case, "Skip the extreme-value (worst-case) runs");
   tolerance->add_option("--json", tolerance_options.json_path,

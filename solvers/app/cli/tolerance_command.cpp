@@ -1,6 +1,7 @@
 #include "tolerance_command.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -233,6 +234,10 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
   std::ostream& text = root ? streams.text : quiet;
 
   const std::int64_t n = settings.samples;
+  if (options.first > std::numeric_limits<std::int64_t>::max() - n) {
+    throw std::invalid_argument(fmt::format("--first {} with {} samples: the last sample index would pass {}", options.first, n,
+                                            std::numeric_limits<std::int64_t>::max()));
+  }
   fmt::print(text, "case      {}\n", deck.info.title);
   text << ModelLine(deck);
   text << SolverLine(deck, solver);
