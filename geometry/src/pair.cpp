@@ -69,9 +69,15 @@ void PairParameters::Validate() const {
 }
 
 void Modification::Validate(const PairParameters& pair) const {
-  if (!std::isfinite(pin_radius) || !std::isfinite(pin_circle_radius) ||
-      !std::isfinite(rotation)) {
-    throw std::invalid_argument("[modification]: every value must be finite");
+  if (!std::isfinite(pin_radius)) {
+    throw std::invalid_argument(fmt::format("[modification] pin_radius_mm = {}: expected a finite length in mm", pin_radius));
+  }
+  if (!std::isfinite(pin_circle_radius)) {
+    throw std::invalid_argument(
+        fmt::format("[modification] pin_circle_radius_mm = {}: expected a finite length in mm", pin_circle_radius));
+  }
+  if (!std::isfinite(rotation)) {
+    throw std::invalid_argument(fmt::format("[modification] rotation_deg = {}: expected a finite angle in deg", rotation));
   }
   if (!(tip_relief.truncation >= 0.0) || !std::isfinite(tip_relief.truncation)) {
     throw std::invalid_argument(fmt::format(

@@ -196,6 +196,29 @@ TEST_CASE("app: [second_disc] copies the first disc unless told, and rejects pin
                        std::invalid_argument);
 }
 
+TEST_CASE("app: a bad [second_disc] value is named with its own section, key and value") {
+  // A review found [second_disc] indexing_deviation_mm = nan reported as "[modification]: every
+  // value must be finite", and [second_disc] pin_radius_mm = -0.5 as a [modification] key.
+  const auto error = [](const std::string& set) {
+    try {
+      (void)ltca::app::LoadDeck(Case("rv_two_discs.toml"), {set});
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  for (const auto& [set, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"second_disc.indexing_deviation_mm=nan", "[second_disc] indexing_deviation_mm = nan"},
+           {"second_disc.indexing_deviation_mm=inf", "[second_disc] indexing_deviation_mm = inf"},
+           {"second_disc.pin_radius_mm=-0.5", "[second_disc] pin_radius_mm = -0.5"},
+           {"second_disc.pin_radius_mm=nan", "[second_disc] pin_radius_mm = nan"},
+           {"second_disc.rotation_deg=1", "[second_disc] rotation_deg = 1"},
+           {"modification.pin_circle_radius_mm=nan", "[modification] pin_circle_radius_mm = nan"}}) {
+    CAPTURE(set);
+    CHECK(error(set).find(expected) != std::string::npos);
+  }
+}
+
 TEST_CASE("cli: two discs in the JSON and CSV of solve, stiffness and backlash: the split per position, the model named") {
   // cases/rv_two_discs.toml with the second disc 0.5 um ahead: both carry. The JSON figures are
   // checked against the library's (SweepRunner) at the same crank, and against their own sums.

@@ -278,6 +278,7 @@ void RequireSmallDeviation(double value, const std::string& section, const std::
 /// was one the program knows.
 class Section {
  public:
+  const std::string& name() const { return name_; }
   Section(const toml::value* value, std::string name, std::vector<std::string> known)
       : name_(std::move(name)), known_(std::move(known)) {
     if (value != nullptr) {
@@ -417,11 +418,19 @@ geometry::Modification ReadModification(const Section& s, const geometry::PairPa
   m.rotation = units::DegToRad(s.Real("rotation_deg", 0.0, "angle-rotation modification in deg"));
   m.tip_relief.truncation = s.Real("tip_truncation_mm", 0.0, "tip truncation in mm along the tooth axis (issue 12)");
   m.tip_relief.rounding_radius = s.Real("tip_rounding_radius_mm", 0.0, "tip rounding radius in mm (issue 12)");
-  m.Validate(pair);
-  RequireSmallDeviation(m.pin_radius, "modification", "pin_radius_mm", pair);
-  RequireSmallDeviation(m.pin_circle_radius, "modification", "pin_circle_radius_mm", pair);
+  try {
+    m.Validate(pair);
+  } catch (const std::invalid_argument& e) {  // name the section the keys were read from ([second_disc])
+    std::string message = e.what();
+    if (s.name() != "modification" && message.rfind("[modification]", 0) == 0) {
+      message.replace(0, std::string("[modification]").size(), "[" + s.name() + "]");
+    }
+    throw std::invalid_argument(message);
+  }
+  RequireSmallDeviation(m.pin_radius, s.name(), "pin_radius_mm", pair);
+  RequireSmallDeviation(m.pin_circle_radius, s.name(), "pin_circle_radius_mm", pair);
   // The rotation moves the profile along the pin circle by R_p * angle.
-  RequireSmallDeviation(pair.pin_circle_radius * m.rotation, "modification", "rotation_deg", pair,
+  RequireSmallDeviation(pair.pin_circle_radius * m.rotation, s.name(), "rotation_deg", pair,
                         fmt::format("{}", units::RadToDeg(m.rotation)));
   return m;
 }
@@ -1169,6 +1178,10 @@ void ReadSecondDisc(const toml::table& root, const toml::value& section, const s
   const Section own(&given, "second_disc", ConcatKeys(ConcatKeys(kModificationKeys, kDiscErrorKeys), {"indexing_deviation_mm"}));
   SecondDisc disc;
   disc.indexing_deviation = own.Real("indexing_deviation_mm", 0.0, "indexing deviation of the second disc in mm along the pin circle");
+  if (!std::isfinite(disc.indexing_deviation)) {
+    throw std::invalid_argument(fmt::format(
+        "[second_disc] indexing_deviation_mm = {}: expected a finite length in mm along the pin circle", disc.indexing_deviation));
+  }
   const toml::value modification_value(modification), errors_value(errors);
   disc.modification = ReadModification(Section(&modification_value, "second_disc", kModificationKeys), deck->pair);
   if (!relief_given) disc.modification.tip_relief = deck->modification.tip_relief;
