@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <cstdio>
+#include <unistd.h>
 #include <map>
 #include <sstream>
 #include <utility>
@@ -785,4 +786,24 @@ TEST_CASE("cli: ltca stiffness exits 1 with null figures where a solve failed, k
   CHECK(s["first_failure"].get<std::string>().find("law-cannot-carry") != std::string::npos);
   CHECK(j["positions"][0]["curve"][0]["twist_arcmin"].is_null());
   CHECK(r.err.find("n/a N*m/arcmin") != std::string::npos);
+}
+
+TEST_CASE("cli: ltca report with a folder where one of its files goes exits 3 before writing anything") {
+  // A review found index.html (or solve.svg) as a folder reported only after the other files were
+  // written, naming an option (--svg) the user never gave.
+  for (const std::string blocked : {"index.html", "solve.svg"}) {
+    CAPTURE(blocked);
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("ltca_report_blocked_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir / blocked);
+    std::ostringstream out, err;
+    const int code = ltca::cli::Run({"report", Case("liu2021_sec52_base.toml"), "--set", "sweep.positions=3", "-o", dir.string()}, out, err);
+    CHECK(code == 3);
+    CHECK(err.str().find(blocked) != std::string::npos);
+    CHECK(err.str().find("--svg") == std::string::npos);
+    int entries = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++entries;
+    CHECK(entries == 1);  // only the folder that was in the way
+    std::filesystem::remove_all(dir);
+  }
 }

@@ -81,6 +81,15 @@ int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams
   fs::create_directories(dir, ec);
   if (!fs::is_directory(dir)) throw OutputError(fmt::format("-o {}: cannot create the folder{}", options.out_dir, ec ? ": " + ec.message() : ""));
   const auto file = [&dir](const char* name) { return (dir / name).string(); };
+  // Every file the report may write, checked before anything is computed or written: a folder in
+  // the way (or a file that cannot be opened) is an error now, not after half the files exist.
+  for (const char* name : {"index.html", "geometry.json", "geometry.svg", "solve.json", "solve.svg", "backlash.json",
+                           "backlash.svg", "mesh.json", "mesh.svg", "stiffness.json", "stiffness.svg", "efficiency.json",
+                           "efficiency.svg", "tolerance.json", "tolerance.svg"}) {
+    if (fs::is_directory(dir / name)) {
+      throw OutputError(fmt::format("-o {}: {} is a folder; the report writes a file there", options.out_dir, file(name)));
+    }
+  }
   // The commands write their documents and figures into DIR; their text goes nowhere.
   std::ostringstream sink;
   const Streams quiet{sink, sink, streams.err, streams.progress};

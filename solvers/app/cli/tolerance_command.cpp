@@ -396,8 +396,11 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
   }
   if (worst) {
     fmt::print(text, "worst case: extreme-value method (every input at +-tolerance or +-3 sigma about its centre, effects stacked "
-                     "linearly, the corner the stack picks run): {} runs, {} not succeeded (rejected: the corner pair interferes)\n",
-               worst->runs, worst->failed_runs);
+                     "linearly, the corner the stack picks run): {} runs, {} not succeeded{}\n",
+               worst->runs, worst->failed_runs,
+               worst->failed_runs > 0 ? " (their effect is taken as 0; a corner marked 'rejected' could not be built or "
+                                        "assembled, one marked 'failed' did not solve)"
+                                      : "");
     if (std::any_of(names.begin(), names.end(), [&](const std::string& name) {
           const auto f = static_cast<std::size_t>(&name - names.data());
           return Ran(f, settings) && BeyondCorners(summary.figures[f], worst->figures[f]);
