@@ -807,3 +807,22 @@ TEST_CASE("cli: ltca report with a folder where one of its files goes exits 3 be
     std::filesystem::remove_all(dir);
   }
 }
+
+TEST_CASE("cli: two outputs to one file are refused (exit 2, naming both options), as two to stdout are") {
+  // A review found --json X --csv X accepted, the CSV silently replacing the JSON.
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("ltca_same_file_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string same = (dir / "out.x").string();
+  const std::string also = (dir / "." / "out.x").string();  // the same file, spelled differently
+  for (const auto& command : std::vector<std::vector<std::string>>{
+           {"solve", Case("liu2021_table1.toml"), "--json", same, "--csv", same},
+           {"backlash", Case("liu2021_table1.toml"), "--json", same, "--svg", also}}) {
+    std::ostringstream out, err;
+    CHECK(ltca::cli::Run(command, out, err) == 2);
+    CHECK(err.str().find("--json") != std::string::npos);
+    CHECK(!std::filesystem::exists(same));
+  }
+  std::ostringstream out, err;
+  CHECK(ltca::cli::Run({"solve", Case("liu2021_table1.toml"), "--json", same, "--csv", (dir / "other.csv").string()}, out, err) == 0);
+  std::filesystem::remove_all(dir);
+}

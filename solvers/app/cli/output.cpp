@@ -152,6 +152,21 @@ void WriteTo(const std::string& option, const std::string& path, std::ostream& o
 }
 
 void RequireOneStdout(const std::vector<std::pair<std::string, std::string>>& option_paths) {
+  // Two outputs to one file would leave only the last one written: refused like two to stdout.
+  std::vector<std::pair<std::string, std::filesystem::path>> files;
+  for (const auto& [option, path] : option_paths) {
+    if (path.empty() || path == "-") continue;
+    std::error_code ec;
+    std::filesystem::path resolved = std::filesystem::weakly_canonical(path, ec);
+    if (ec) resolved = std::filesystem::path(path).lexically_normal();
+    for (const auto& [other_option, other] : files) {
+      if (other == resolved) {
+        throw std::invalid_argument(fmt::format("{} {} and {} {}: two outputs to one file; give each its own file",
+                                                other_option, path, option, path));
+      }
+    }
+    files.emplace_back(option, resolved);
+  }
   std::string first;
   for (const auto& [option, path] : option_paths) {
     if (path != "-") continue;
