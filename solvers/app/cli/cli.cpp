@@ -398,7 +398,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
             deck_path));
       }
       const app::Deck deck = ReadDeck(deck_path, overrides);
-      RequireOneStdout({{"--json", default_options.json_path}, {"--csv", default_options.csv_path},
+      RequireDistinctOutputs({{"--json", default_options.json_path}, {"--csv", default_options.csv_path},
                         {"--svg", default_options.svg_path}});
       RunGeometry(deck, GeometryOptions{}, streams);
       streams.text << '\n';

@@ -77,7 +77,7 @@ void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunne
 
 int RunCompare(const app::Deck& deck, const CompareOptions& options, const Streams& streams) {
   const std::vector<std::string> names = options.solvers.empty() ? solvers::SolverNames() : options.solvers;
-  RequireOneStdout({{"--json", options.json_path}, {"--svg", options.svg_path}});
+  RequireDistinctOutputs({{"--json", options.json_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
   std::vector<app::SweepRunner> runners;  // every solver checked (names, options, interference) first

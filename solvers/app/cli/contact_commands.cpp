@@ -121,7 +121,7 @@ contact::ContactKinematics ParseKinematics(const std::string& text) {
 }
 
 void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Streams& streams) {
-  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
+  RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output csv("--csv", options.csv_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
@@ -219,7 +219,7 @@ void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const St
 }
 
 void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& streams) {
-  RequireOneStdout({{"--json", options.json_path}, {"--svg", options.svg_path}});
+  RequireDistinctOutputs({{"--json", options.json_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output svg("--svg", options.svg_path, streams.out);
   std::ostream& out = streams.text;

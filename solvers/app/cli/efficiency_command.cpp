@@ -18,8 +18,6 @@ namespace {
 using units::RadToDeg;
 constexpr double kMmPerSToMPerS = 1e-3;
 
-std::string Figure(double v, int decimals) { return FormatOrNa(v, decimals); }
-
 nlohmann::json PositionJson(const app::EfficiencyPosition& p) {
   nlohmann::json contacts = nlohmann::json::array();
   for (const auto& c : p.contacts) {
@@ -109,7 +107,7 @@ void WriteEfficiencyFigure(const app::Deck& deck, const solvers::SolverOptions& 
     return v;
   };
   plots::Panel eff;
-  eff.title = fmt::format("efficiency, mean {}", Figure(s.efficiency, 6));
+  eff.title = fmt::format("efficiency, mean {}", FormatOrNa(s.efficiency, 6));
   eff.x_label = "crank angle (deg)";
   eff.y_label = "efficiency (-)";
   eff.legend = plots::LegendPlace::kBottomRight;
@@ -120,7 +118,7 @@ void WriteEfficiencyFigure(const app::Deck& deck, const solvers::SolverOptions& 
   eff.series.push_back(std::move(first));
   figure.panels.push_back(std::move(eff));
   plots::Panel loss;
-  loss.title = fmt::format("power loss, mean {} W", Figure(s.power_loss.mean, 4));
+  loss.title = fmt::format("power loss, mean {} W", FormatOrNa(s.power_loss.mean, 4));
   loss.x_label = "crank angle (deg)";
   loss.y_label = "power loss (W)";
   plots::Series l{"power loss", crank, values([](const app::EfficiencyPosition& p) { return p.power_loss; }), plots::Style::kLine};
@@ -149,7 +147,7 @@ void WriteEfficiencyFigure(const app::Deck& deck, const solvers::SolverOptions& 
 
 int RunEfficiency(const app::Deck& deck, const EfficiencyOptions& options, const Streams& streams) {
   const solvers::SolverOptions solver = SolverFor(deck, options.solver, options.kinematics);
-  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
+  RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);
   Output csv("--csv", options.csv_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
@@ -206,8 +204,8 @@ int RunEfficiency(const app::Deck& deck, const EfficiencyOptions& options, const
   for (std::size_t i = 0; i < cranks.size(); ++i) {
     app::EfficiencyPosition p = runner.Solve(cranks[i]);
     if (i % every == 0) {
-      fmt::print(text, "{:>10.4f} {:>12} {:>12} {:>12} {:>12} {:>8}\n", RadToDeg(p.crank), Figure(p.power_loss, 4),
-                 Figure(p.efficiency, 6), Figure(p.efficiency_first_order, 6), Figure(p.mean_coefficient, 4),
+      fmt::print(text, "{:>10.4f} {:>12} {:>12} {:>12} {:>12} {:>8}\n", RadToDeg(p.crank), FormatOrNa(p.power_loss, 4),
+                 FormatOrNa(p.efficiency, 6), FormatOrNa(p.efficiency_first_order, 6), FormatOrNa(p.mean_coefficient, 4),
                  p.succeeded() ? "success" : "failed");
     }
     if (json.enabled()) json.stream() << (i == 0 ? "\n    " : ",\n    ") << Dump(PositionJson(p), -1);
@@ -238,16 +236,16 @@ int RunEfficiency(const app::Deck& deck, const EfficiencyOptions& options, const
     WriteEfficiencyFigure(deck, solver, kept, s, svg);
   }
   if (s.failed > 0) fmt::print(text, "failed positions       {} of {}; first: {}\n", s.failed, s.succeeded + s.failed, s.first_failure);
-  fmt::print(text, "output power           {} W (|T| |omega_c|)\n", Figure(s.output_power.mean, 4));
-  fmt::print(text, "power loss             {} W (mean; {} .. {} over the positions)\n", Figure(s.power_loss.mean, 4),
-             Figure(s.power_loss.min, 4), Figure(s.power_loss.max, 4));
-  fmt::print(text, "efficiency             {} (full model)\n", Figure(s.efficiency, 6));
-  fmt::print(text, "efficiency_first_order {} (pins fixed, no sleeve, frictionless forces)\n", Figure(s.efficiency_first_order, 6));
+  fmt::print(text, "output power           {} W (|T| |omega_c|)\n", FormatOrNa(s.output_power.mean, 4));
+  fmt::print(text, "power loss             {} W (mean; {} .. {} over the positions)\n", FormatOrNa(s.power_loss.mean, 4),
+             FormatOrNa(s.power_loss.min, 4), FormatOrNa(s.power_loss.max, 4));
+  fmt::print(text, "efficiency             {} (full model)\n", FormatOrNa(s.efficiency, 6));
+  fmt::print(text, "efficiency_first_order {} (pins fixed, no sleeve, frictionless forces)\n", FormatOrNa(s.efficiency_first_order, 6));
   fmt::print(text, "classical estimates    {} (Malhotra-Parameswaran load distribution), {} (continuum closed form), "
                    "mean mu {}\n",
-             Figure(s.efficiency_malhotra_parameswaran, 6), Figure(s.efficiency_sensinger, 6), Figure(s.mean_coefficient.mean, 4));
-  fmt::print(text, "friction moment / T    {} (mean; {} .. {})\n", Figure(s.friction_moment_ratio.mean, 5),
-             Figure(s.friction_moment_ratio.min, 5), Figure(s.friction_moment_ratio.max, 5));
+             FormatOrNa(s.efficiency_malhotra_parameswaran, 6), FormatOrNa(s.efficiency_sensinger, 6), FormatOrNa(s.mean_coefficient.mean, 4));
+  fmt::print(text, "friction moment / T    {} (mean; {} .. {})\n", FormatOrNa(s.friction_moment_ratio.mean, 5),
+             FormatOrNa(s.friction_moment_ratio.min, 5), FormatOrNa(s.friction_moment_ratio.max, 5));
   for (const auto& w : s.warnings) fmt::print(text, "warning                {}\n", w);
   fmt::print(text, "wall time              {:.4f} s ({:.4f} s in {} load solves + {} balance solves)\n", s.wall_seconds,
              s.loaded_solve_seconds, s.solves, s.balance_solves);

@@ -231,7 +231,7 @@ nlohmann::json GeometryJson(const app::Deck& deck) {
 }
 
 void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const Streams& streams) {
-  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
+  RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output csv("--csv", options.csv_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);

@@ -151,7 +151,7 @@ void WriteTo(const std::string& option, const std::string& path, std::ostream& o
   output.Commit();
 }
 
-void RequireOneStdout(const std::vector<std::pair<std::string, std::string>>& option_paths) {
+void RequireDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& option_paths) {
   // Two outputs to one file would leave only the last one written: refused like two to stdout.
   std::vector<std::pair<std::string, std::filesystem::path>> files;
   for (const auto& [option, path] : option_paths) {

@@ -71,9 +71,9 @@ std::string FigureCaption(const app::Deck& deck, const std::string& ran);
 /// to leave room for the labels. Does nothing when no value is finite.
 void MarkMeanAndPeakToPeak(app::plots::Panel& panel, const std::vector<double>& values, const std::string& unit);
 
-/// Throws std::invalid_argument when more than one of these outputs is "-": standard output
-/// carries one document.
-void RequireOneStdout(const std::vector<std::pair<std::string, std::string>>& option_paths);
+/// Throws std::invalid_argument when more than one of these outputs is "-" (standard output
+/// carries one document) or two of them name the same file (one would replace the other).
+void RequireDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& option_paths);
 
 /// JSON text of a document: invalid UTF-8 (a deck path with other bytes) is replaced, never an error.
 std::string Dump(const nlohmann::json& doc, int indent = 2);

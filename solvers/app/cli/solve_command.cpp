@@ -288,7 +288,7 @@ std::string FailureNote(const app::SweepSummary& s) {
 
 int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& streams, const JsonEnvelope& envelope) {
   const solvers::SolverOptions solver = SolverFor(deck, options.solver, options.kinematics);
-  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path},
+  RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path},
                     {"--pattern-csv", options.pattern_csv_path}});
   // Outputs first: an unwritable path is an error before anything is computed.
   Output json("--json", options.json_path, streams.out);

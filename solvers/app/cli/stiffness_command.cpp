@@ -191,8 +191,6 @@ void WriteLoopFigure(const app::Deck& deck, const solvers::SolverOptions& solver
   WriteFigure(figure, output);
 }
 
-std::string Figure(double v, int decimals) { return FormatOrNa(v, decimals); }
-
 }  // namespace
 
 app::StiffnessSettings StiffnessSettingsFor(const app::Deck& deck, const StiffnessOptions& options) {
@@ -213,7 +211,7 @@ app::StiffnessSettings StiffnessSettingsFor(const app::Deck& deck, const Stiffne
 int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const Streams& streams) {
   const solvers::SolverOptions solver = SolverFor(deck, options.solver, options.kinematics);
   const app::StiffnessSettings settings = StiffnessSettingsFor(deck, options);
-  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
+  RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   // Outputs first: an unwritable path is an error before anything is computed.
   Output json("--json", options.json_path, streams.out);
   Output csv("--csv", options.csv_path, streams.out);
@@ -260,8 +258,8 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
   for (std::size_t i = 0; i < cranks.size(); ++i) {
     const app::StiffnessPosition p = runner.Solve(cranks[i]);
     if (i % every == 0) {
-      fmt::print(text, "{:>10.4f} {:>18} {:>18} {:>16} {:>8}\n", RadToDeg(p.crank), Figure(RigidityNmPerArcmin(p.rigidity), 4),
-                 Figure(RadToArcmin(p.lost_motion), 5), Figure(RadToArcmin(p.backlash), 5), p.succeeded() ? "success" : "failed");
+      fmt::print(text, "{:>10.4f} {:>18} {:>18} {:>16} {:>8}\n", RadToDeg(p.crank), FormatOrNa(RigidityNmPerArcmin(p.rigidity), 4),
+                 FormatOrNa(RadToArcmin(p.lost_motion), 5), FormatOrNa(RadToArcmin(p.backlash), 5), p.succeeded() ? "success" : "failed");
     }
     if (json.enabled()) json.stream() << (i == 0 ? "\n    " : ",\n    ") << Dump(PositionJson(p), -1);
     if (csv.enabled()) {
@@ -287,15 +285,15 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
   }
 
   const auto range = [sweep](const app::Spread& v, double (*convert)(double), int decimals, const char* unit) {
-    std::string r = fmt::format("{} {}", Figure(convert(v.mean), decimals), unit);
-    if (sweep && v.count > 0) r += fmt::format(" (mean; {} .. {} over the positions)", Figure(convert(v.min), decimals), Figure(convert(v.max), decimals));
+    std::string r = fmt::format("{} {}", FormatOrNa(convert(v.mean), decimals), unit);
+    if (sweep && v.count > 0) r += fmt::format(" (mean; {} .. {} over the positions)", FormatOrNa(convert(v.min), decimals), FormatOrNa(convert(v.max), decimals));
     return r;
   };
   if (s.failed > 0) fmt::print(text, "failed positions       {} of {}; first: {}\n", s.failed, s.positions(), s.first_failure);
   fmt::print(text, "torsional rigidity     {}\n", range(s.rigidity, RigidityNmPerArcmin, 4, "N*m/arcmin"));
   if (settings.rigidity == app::StiffnessSettings::Rigidity::kSecant) {
-    fmt::print(text, "  drive / coast flank  {} / {} N*m/arcmin\n", Figure(RigidityNmPerArcmin(s.rigidity_drive.mean), 4),
-               Figure(RigidityNmPerArcmin(s.rigidity_coast.mean), 4));
+    fmt::print(text, "  drive / coast flank  {} / {} N*m/arcmin\n", FormatOrNa(RigidityNmPerArcmin(s.rigidity_drive.mean), 4),
+               FormatOrNa(RigidityNmPerArcmin(s.rigidity_coast.mean), 4));
   }
   fmt::print(text, "lost motion            {}, at +-{:g} % of T\n", range(s.lost_motion, Arcmin, 5, "arcmin"),
              100.0 * settings.lost_motion_fraction);
@@ -307,10 +305,10 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
   }
   if (app::LoopFrictionCoefficient(deck) > 0.0) {  // issue 14
     fmt::print(text, "hysteresis             friction mu = {:g}: the branches differ by up to {} arcmin\n",
-               app::LoopFrictionCoefficient(deck), Figure(RadToArcmin(s.branch_difference.max), 6));
+               app::LoopFrictionCoefficient(deck), FormatOrNa(RadToArcmin(s.branch_difference.max), 6));
   } else {
     fmt::print(text, "hysteresis             none: no friction, the branches coincide (largest difference {} arcmin)\n",
-               Figure(RadToArcmin(s.branch_difference.max), 12));
+               FormatOrNa(RadToArcmin(s.branch_difference.max), 12));
   }
   fmt::print(text, "wall time              {:.4f} s for {} solves\n", s.wall_seconds, s.solves);
   return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;

@@ -225,7 +225,7 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
   std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
   const int rank = farm ? farm->rank() : 0, ranks = farm ? farm->size() : 1;
   const bool root = rank == 0;
-  RequireOneStdout({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
+  RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   // Outputs first (rank 0 only): an unwritable path is an error before anything is computed.
   Output json("--json", root ? options.json_path : "", streams.out);
   Output csv("--csv", root ? options.csv_path : "", streams.out);

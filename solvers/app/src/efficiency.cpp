@@ -500,17 +500,19 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
   double t_now = torque + g_prev;
   // The normal forces carry torque in the sense of T: a step to the other sense means the friction
   // moment outgrows the torque (the stage locks under this friction), and no balance exists.
-  const auto locked = [&](double t) {
-    LoadResult failed;
-    failed.status = SolverStatus::kMaxIterations;
-    failed.message = fmt::format(
-        "torque balance with friction (mu {:g}): no balance at {:g} N*m, the friction moment reaches the torque the "
-        "normal forces carry (step to {:g} N*m): the stage locks under this friction",
-        mu, torque / 1000.0, t / 1000.0);
-    return failed;
+  const auto failed = [](std::string message) {
+    LoadResult f;
+    f.status = SolverStatus::kMaxIterations;
+    f.message = std::move(message);
+    return f;
   };
   for (int k = 0; k < kMaxBalanceSolves; ++k) {
-    if (!std::isfinite(t_now) || (torque != 0.0 && t_now * torque <= 0.0)) return locked(t_now);
+    if (!std::isfinite(t_now) || (torque != 0.0 && t_now * torque <= 0.0)) {
+      return failed(fmt::format(
+          "torque balance with friction (mu {:g}): no balance at {:g} N*m, the friction moment reaches the torque the "
+          "normal forces carry (step to {:g} N*m): the stage locks under this friction",
+          mu, torque / 1000.0, t_now / 1000.0));
+    }
     r = solve(t_now);
     if (solves != nullptr) ++*solves;
     if (r.status != SolverStatus::kSuccess) return r;
@@ -521,11 +523,8 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
     g_prev = g_now;
     t_now = slope != 0.0 && std::isfinite(slope) ? t_now - g_now / slope : t_now + g_now;
   }
-  LoadResult failed;
-  failed.status = SolverStatus::kMaxIterations;
-  failed.message = fmt::format("torque balance with friction (mu {:g}) at {:g} N*m: not converged after {} solves", mu,
-                               torque / 1000.0, kMaxBalanceSolves);
-  return failed;
+  return failed(fmt::format("torque balance with friction (mu {:g}) at {:g} N*m: not converged after {} solves", mu,
+                            torque / 1000.0, kMaxBalanceSolves));
 }
 
 }  // namespace ltca::app
