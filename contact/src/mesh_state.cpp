@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -455,20 +456,20 @@ MeshModel::MeshModel(geometry::RealPair real, const geometry::GeometrySettings& 
       for (int j = 0; j < pin_count(); ++j) {
         const geometry::MeshSeed seed = real_.kinematics().Seed(j, crank);
         const double analytic = EvaluatePointFrom(j, 0, crank, 0.0, seed.tooth_space, seed.u).clearance;
-        worst = std::max(worst, std::abs(EvaluatePointElements(j, 0, crank, 0.0).clearance - analytic));
+        worst = std::max(worst, std::abs(EvaluatePointElements(j, 0, SliceZ(0), crank, 0.0).clearance - analytic));
       }
     }
     interference_tolerance_ = std::max(interference_tolerance_, 2.0 * worst);
   }
 }
 
-PinContact MeshModel::EvaluatePointElements(int pin, int slice, double crank, double loaded_rotation) const {
+PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double crank, double loaded_rotation) const {
   // Liu 2021 section 3: the element facing the pin (nearest control point) and the gap of its
   // equivalent cylinder (eq. 19, signed for a concave element):
   //   gap = sigma (|p - C| - |rho|) - r,  C = x - rho n (centre of curvature), sigma = sign(rho).
   // Liu searches every width slice; here the search runs per slice of the model that runs, which
   // is one slice (the plane model) unless something varies along the width (MeshModel).
-  const geometry::Pose pose = CyclePose(crank, loaded_rotation, SliceZ(slice));
+  const geometry::Pose pose = CyclePose(crank, loaded_rotation, z);
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
   const Eigen::Vector2d p = pose.ToBody(centre_fixed);
   const double r_pin = real_.PinRadius(pin);
@@ -480,7 +481,7 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double crank, do
     PinContact c = FootContact(pin, real_.kinematics().AngleFromLineOfCentres(pin, crank), f.k, f.element.u, r_pin,
                                f.curvature, f.distance);
     PlaceContact(pose, centre_fixed, load_direction_, f.point, f.normal, &c);
-    FinishPoint(slice, &c);
+    FinishPoint(slice, z, &c);
     return c;
   }
   const int n = discrete_->element_count();
@@ -526,14 +527,14 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double crank, do
   c.cycloid_curvature = best.curvature;
   c.clearance = best_gap;
   PlaceContact(pose, centre_fixed, load_direction_, best_point, best_normal, &c);
-  FinishPoint(slice, &c);
+  FinishPoint(slice, z, &c);
   return c;
 }
 
-void MeshModel::FinishPoint(int slice, PinContact* c) const {
+void MeshModel::FinishPoint(int slice, double z, PinContact* c) const {
   c->slice = slice;
   c->length = pair().face_width / slices_;
-  c->z = SliceZ(slice);
+  c->z = z;
   if (!lead_layer_) return;
   // The lead modifications give the slice's flank a layer t along its normal (an equidistant):
   // the foot point stays, the gap falls by t, the point moves by t toward the pin, the radius of
@@ -554,25 +555,36 @@ geometry::Pose MeshModel::CyclePose(double crank, double loaded_rotation, double
 }
 
 PinContact MeshModel::EvaluatePoint(int pin, int slice, double crank, double loaded_rotation) const {
-  if (discrete_) return EvaluatePointElements(pin, slice, crank, loaded_rotation);
+  return EvaluateSection(pin, slice, SliceZ(slice), crank, loaded_rotation);
+}
+
+PinContact MeshModel::EvaluateSection(int pin, double z, double crank, double loaded_rotation) const {
+  const int slice = std::clamp(static_cast<int>(std::floor(z / pair().face_width * slices_)), 0, slices_ - 1);
+  return EvaluateSection(pin, slice, z, crank, loaded_rotation);
+}
+
+PinContact MeshModel::EvaluateSection(int pin, int slice, double z, double crank, double loaded_rotation) const {
+  if (discrete_) return EvaluatePointElements(pin, slice, z, crank, loaded_rotation);
   // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation,
   // the modifications and the errors move the foot point by little).
   const geometry::MeshSeed seed = real_.kinematics().Seed(pin, crank);
-  return EvaluatePointFrom(pin, slice, crank, loaded_rotation, seed.tooth_space, seed.u);
+  return EvaluatePointAt(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z), seed.tooth_space, seed.u);
 }
 
 PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double loaded_rotation) const {
-  if (discrete_) return EvaluatePointElements(near.pin, near.slice, crank, loaded_rotation);
-  return EvaluatePointFrom(near.pin, near.slice, crank, loaded_rotation, near.tooth_space, near.u);
+  if (discrete_) return EvaluatePointElements(near.pin, near.slice, near.z, crank, loaded_rotation);
+  return EvaluatePointAt(near.pin, near.slice, near.z, crank, CyclePose(crank, loaded_rotation, near.z), near.tooth_space,
+                         near.u);
 }
 
 PinContact MeshModel::EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int seed_space,
                                         double seed_u) const {
-  return EvaluatePointAt(pin, slice, crank, CyclePose(crank, loaded_rotation, SliceZ(slice)), seed_space, seed_u);
+  const double z = SliceZ(slice);
+  return EvaluatePointAt(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z), seed_space, seed_u);
 }
 
-PinContact MeshModel::EvaluatePointAt(int pin, int slice, double crank, const geometry::Pose& pose, int seed_space,
-                                      double seed_u) const {
+PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double crank, const geometry::Pose& pose,
+                                      int seed_space, double seed_u) const {
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
   const Eigen::Vector2d p = pose.ToBody(centre_fixed);
   const double r_pin = real_.PinRadius(pin);
@@ -587,7 +599,7 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double crank, const ge
     c.part = f.part;
     c.edge = f.part == geometry::SurfacePart::kTipCorner;
     PlaceContact(pose, centre_fixed, load_direction_, f.point, f.normal, &c);
-    FinishPoint(slice, &c);
+    FinishPoint(slice, z, &c);
     return c;
   }
   int k = seed_space;
@@ -657,7 +669,7 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double crank, const ge
     normal_body = f.normal;
   }
   PlaceContact(pose, centre_fixed, load_direction_, point_body, normal_body, &c);
-  FinishPoint(slice, &c);
+  FinishPoint(slice, z, &c);
   return c;
 }
 
@@ -686,6 +698,33 @@ MeshState EvaluateTwoDiscs(const MeshModel& first, const MeshModel& second, doub
   return state;
 }
 
+bool SameMesh(const MeshState& a, const MeshState& b) {
+  if (a.pins.size() != b.pins.size()) return false;
+  constexpr double kTolerance = 1e-9;
+  const auto key = [](const PinContact& c) { return std::tuple{c.disc, c.slice, c.angle}; };
+  const auto sorted = [&](const MeshState& s) {
+    std::vector<const PinContact*> out;
+    out.reserve(s.pins.size());
+    for (const PinContact& c : s.pins) out.push_back(&c);
+    std::sort(out.begin(), out.end(), [&](const PinContact* x, const PinContact* y) { return key(*x) < key(*y); });
+    return out;
+  };
+  const auto near = [](double x, double y, double scale) {
+    return x == y || std::abs(x - y) <= kTolerance * std::max(1.0, scale);
+  };
+  const std::vector<const PinContact*> pa = sorted(a), pb = sorted(b);
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    const PinContact &x = *pa[i], &y = *pb[i];
+    if (x.disc != y.disc || x.slice != y.slice || x.edge != y.edge || x.part != y.part) return false;
+    if (!near(std::remainder(x.angle - y.angle, 2.0 * kPi), 0.0, 1.0) || !near(x.clearance, y.clearance, 1.0) ||
+        !near(x.arm, y.arm, 1.0) || !near(x.pin_radius, y.pin_radius, 1.0) || !near(x.length, y.length, 1.0) ||
+        !near(x.cycloid_curvature, y.cycloid_curvature, std::abs(x.cycloid_curvature))) {
+      return false;
+    }
+  }
+  return true;
+}
+
 MeshState MeshModel::Evaluate(double crank, double loaded_rotation) const {
   MeshState state;
   state.crank = crank;
@@ -704,10 +743,11 @@ MeshState MeshModel::Evaluate(double crank, double loaded_rotation) const {
   for (int k = 0; k < slices_; ++k) poses.push_back(CyclePose(crank, loaded_rotation, SliceZ(k)));
   for (int j = 0; j < pin_count(); ++j) {
     const geometry::MeshSeed seed = real_.kinematics().Seed(j, crank);
-    state.pins.push_back(EvaluatePointAt(j, 0, crank, poses[0], seed.tooth_space, seed.u));
+    state.pins.push_back(EvaluatePointAt(j, 0, SliceZ(0), crank, poses[0], seed.tooth_space, seed.u));
     for (int k = 1; k < slices_; ++k) {
       const PinContact& near = state.pins.back();
-      state.pins.push_back(EvaluatePointAt(j, k, crank, poses[static_cast<std::size_t>(k)], near.tooth_space, near.u));
+      state.pins.push_back(
+          EvaluatePointAt(j, k, SliceZ(k), crank, poses[static_cast<std::size_t>(k)], near.tooth_space, near.u));
     }
   }
   return state;

@@ -56,7 +56,7 @@ double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double
   bool have_a = closing, have_b = !closing;
   double x = std::clamp(s * linear, a, b);
   for (int it = 0; it < 100; ++it) {
-    const PinContact c = model.EvaluatePoint(at_zero.pin, at_zero.slice, crank, s * x);
+    const PinContact c = model.EvaluateSection(at_zero.pin, at_zero.slice, at_zero.z, crank, s * x);
     const bool arm_kept = c.arm * at_zero.arm > 0.0;
     if (c.clearance > 0.0) {
       // Past the turning point of the gap (the arm changed sign) with the gap still open: the
@@ -124,14 +124,62 @@ void RequireNoInterference(const MeshModel& model, double crank) {
   RequireNoInterference(model.Evaluate(crank, 0.0), crank, model.interference_tolerance());
 }
 
+namespace {
+
+/// The face sections the first contact is sought in: every point of the state (the slice
+/// centres) and, in the slice model, each pin's two face edges (z = 0 and z = B). Under
+/// misalignment a pin's gap varies linearly along the face, so its first contact lies at an edge,
+/// which the slice centres miss by B / (2 n): the backlash would depend on the slice count
+/// (issue 26).
+std::vector<PinContact> FaceSections(const MeshModel& model, const MeshState& state) {
+  std::vector<PinContact> sections = state.pins;
+  if (model.slice_count() == 1) return sections;
+  const int last = model.slice_count() - 1;
+  for (int j = 0; j < model.pin_count(); ++j) {
+    sections.push_back(model.EvaluateSection(j, 0, 0.0, state.crank, state.loaded_rotation));
+    sections.push_back(model.EvaluateSection(j, last, model.pair().face_width, state.crank, state.loaded_rotation));
+  }
+  return sections;
+}
+
+/// A lead modification (crowning) makes a pin's gap curve along the face, so its smallest closing
+/// rotation can lie between two sampled sections: golden-section search of s psi(z) over the
+/// sections next to the best one (psi is unimodal there: a convex lead layer over a linear gap).
+double RefineAlongWidth(const MeshModel& model, const PinContact& best, const std::vector<PinContact>& sections,
+                        double crank, ContactKinematics kinematics, double s, double psi_best) {
+  double a = 0.0, b = model.pair().face_width;
+  for (const PinContact& c : sections) {
+    if (c.pin != best.pin) continue;
+    if (c.z < best.z) a = std::max(a, c.z);
+    if (c.z > best.z) b = std::min(b, c.z);
+  }
+  const auto f = [&](double z) {
+    const double psi = ClosingRotation(model, model.EvaluateSection(best.pin, z, crank), crank, kinematics);
+    return std::isfinite(psi) ? s * psi : std::numeric_limits<double>::infinity();
+  };
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = b - g * (b - a), x2 = a + g * (b - a), f1 = f(x1), f2 = f(x2);
+  while (b - a > 1e-9 * model.pair().face_width) {
+    if (f1 <= f2) {
+      b = x2, x2 = x1, f2 = f1, x1 = b - g * (b - a), f1 = f(x1);
+    } else {
+      a = x1, x1 = x2, f1 = f2, x2 = a + g * (b - a), f2 = f(x2);
+    }
+  }
+  return std::min(s * psi_best, std::min(f1, f2)) * s;
+}
+
+}  // namespace
+
 UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKinematics kinematics,
                                 double interference_tolerance_mm) {
   const MeshState state = model.Evaluate(crank, 0.0);
   RequireNoInterference(state, crank, std::max(interference_tolerance_mm, model.interference_tolerance()));
   UnloadedContact r;
   r.crank = crank;
-  // Per pin, the smallest clearance over its slices (Liu section 3: c_t is the minimum over the
-  // slices).
+  const std::vector<PinContact> sections = FaceSections(model, state);
+  // Per pin, the smallest clearance over its face sections (Liu section 3: c_t is the minimum
+  // over the slices; here the face edges too).
   const auto min_per_pin = [&](const std::vector<PinContact>& points, const auto& clearance_of) {
     std::vector<double> out(static_cast<std::size_t>(model.pin_count()), std::numeric_limits<double>::infinity());
     for (const PinContact& c : points) {
@@ -141,36 +189,55 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKin
     return out;
   };
   const auto gap = [](const PinContact& c) { return c.clearance; };
-  r.clearance = min_per_pin(state.pins, gap);
+  r.clearance = min_per_pin(sections, gap);
   r.theta_c1 = std::numeric_limits<double>::infinity();
   r.theta_c2 = -std::numeric_limits<double>::infinity();
   // A pin whose arm is tiny closes only after a rotation far beyond any other: skip it.
   const double min_arm = 1e-9 * model.pair().pin_circle_radius;
-  for (const PinContact& c : state.pins) {
+  // Beyond a quarter tooth pitch a closing is a pin jumping teeth, not a contact (RotationWindow):
+  // the exact search stops there, and so does the linearised c / L (issue 26: a degenerate pair's
+  // c / L of 3 rad was reported as its backlash).
+  const double window = RotationWindow(model);
+  const PinContact* best_c1 = nullptr;
+  const PinContact* best_c2 = nullptr;
+  for (const PinContact& c : sections) {
     if (std::abs(c.arm) < min_arm) continue;
     const double psi = ClosingRotation(model, c, crank, kinematics);
-    if (c.arm > 0.0 && psi < r.theta_c1) r.theta_c1 = psi, r.first_pin_c1 = c.pin;
-    if (c.arm < 0.0 && psi > r.theta_c2) r.theta_c2 = psi, r.first_pin_c2 = c.pin;
+    if (!(std::abs(psi) <= window)) continue;
+    if (c.arm > 0.0 && psi < r.theta_c1) r.theta_c1 = psi, r.first_pin_c1 = c.pin, best_c1 = &c;
+    if (c.arm < 0.0 && psi > r.theta_c2) r.theta_c2 = psi, r.first_pin_c2 = c.pin, best_c2 = &c;
+  }
+  if (model.slice_count() > 1 && model.real_pair().errors().VariesAlongWidth()) {
+    if (best_c1 != nullptr && std::isfinite(r.theta_c1)) {
+      r.theta_c1 = RefineAlongWidth(model, *best_c1, sections, crank, kinematics, 1.0, r.theta_c1);
+    }
+    if (best_c2 != nullptr && std::isfinite(r.theta_c2)) {
+      r.theta_c2 = RefineAlongWidth(model, *best_c2, sections, crank, kinematics, -1.0, r.theta_c2);
+    }
   }
   r.backlash = r.theta_c1 - r.theta_c2;
-  r.clearance_at_c1 = kinematics == ContactKinematics::kExact
-                          ? min_per_pin(model.Evaluate(crank, r.theta_c1).pins, gap)
-                          : min_per_pin(state.pins, [&](const PinContact& c) { return -LinearisedApproach(c, r.theta_c1); });
+  if (kinematics == ContactKinematics::kExact) {
+    const MeshState at_c1 = model.Evaluate(crank, r.theta_c1);
+    r.clearance_at_c1 = min_per_pin(FaceSections(model, at_c1), gap);
+  } else {
+    r.clearance_at_c1 = min_per_pin(sections, [&](const PinContact& c) { return -LinearisedApproach(c, r.theta_c1); });
+  }
   return r;
 }
 
 UnloadedSweep AnalyseUnloadedSweep(const MeshModel& model, const std::vector<double>& cranks,
                                    ContactKinematics kinematics) {
   UnloadedSweep sweep;
+  sweep.closed_period = cranks.size() > 1 && SameMesh(model.Evaluate(cranks.front()), model.Evaluate(cranks.back()));
   double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0.0;
-  for (const double crank : cranks) {
-    sweep.positions.push_back(AnalyseUnloaded(model, crank, kinematics));
+  for (std::size_t i = 0; i < cranks.size(); ++i) {
+    sweep.positions.push_back(AnalyseUnloaded(model, cranks[i], kinematics));
     const double b = sweep.positions.back().backlash;
-    sum += b;
+    if (!(sweep.closed_period && i + 1 == cranks.size())) sum += b;  // a repeated state weighs once
     lo = std::min(lo, b);
     hi = std::max(hi, b);
   }
-  sweep.mean_backlash = sum / static_cast<double>(cranks.size());
+  sweep.mean_backlash = sum / static_cast<double>(cranks.size() - (sweep.closed_period ? 1 : 0));
   sweep.pp_backlash = hi - lo;
   return sweep;
 }

@@ -118,15 +118,23 @@ class MeshModel {
   /// The same, searched from a nearby earlier foot point (tooth space and u of a PinContact of the
   /// same point at a nearby pose) instead of the meshing equation: fewer Newton steps.
   PinContact EvaluatePoint(const PinContact& near, double crank, double loaded_rotation) const;
+  /// Exact state of a pin in the face section at axial position z from face B (mm, in [0, B]),
+  /// which need not be a slice centre: the unloaded analysis looks at the face edges too, where
+  /// a gap that varies linearly along the width (misalignment) is smallest (issue 26). The point
+  /// is labelled with the slice that contains z (its length is that slice's).
+  PinContact EvaluateSection(int pin, double z, double crank, double loaded_rotation = 0.0) const;
+  /// The same with the slice label given (EvaluatePoint is the section at the slice's centre).
+  PinContact EvaluateSection(int pin, int slice, double z, double crank, double loaded_rotation) const;
 
  private:
   PinContact EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int tooth_space,
                                double u) const;
-  PinContact EvaluatePointAt(int pin, int slice, double crank, const geometry::Pose& pose, int tooth_space,
+  PinContact EvaluatePointAt(int pin, int slice, double z, double crank, const geometry::Pose& pose, int tooth_space,
                              double u) const;
-  PinContact EvaluatePointElements(int pin, int slice, double crank, double loaded_rotation) const;
-  /// The point's slice data and the lead layer (normal offset of the flank) applied to a foot point.
-  void FinishPoint(int slice, PinContact* c) const;
+  PinContact EvaluatePointElements(int pin, int slice, double z, double crank, double loaded_rotation) const;
+  /// The point's slice data (at axial position z) and the lead layer (normal offset of the flank)
+  /// applied to a foot point.
+  void FinishPoint(int slice, double z, PinContact* c) const;
 
   geometry::RealPair real_;
   std::shared_ptr<const geometry::DiscreteProfile> discrete_;  // elements mode only
@@ -148,6 +156,14 @@ MeshState EvaluateTwoDiscs(const MeshModel& first, const MeshModel& second, doub
                            double loaded_rotation = 0.0);
 /// The check of EvaluateTwoDiscs alone.
 void RequireSamePinRing(const MeshModel& first, const MeshModel& second);
+
+/// Whether two states are one mesh up to the numbering of the pins: the same contact points
+/// (matched by disc, slice and angle from the line of centres) with the same clearance, arm,
+/// curvature, pin radius and length, to 1e-9 (mm, rad, relative for the curvature). The states
+/// of a sweep's first and last crank are one mesh when the sweep closes a period: a whole crank
+/// turn, or a mesh period of a pair whose errors keep that symmetry. A mean over such a sweep
+/// weights that state once (issue 26).
+bool SameMesh(const MeshState& a, const MeshState& b);
 
 /// Linearised approach of a pin at loaded rotation psi: L_i psi - c_i (mm).
 inline double LinearisedApproach(const PinContact& pin, double loaded_rotation) {

@@ -55,10 +55,13 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank,
                                 double interference_tolerance_mm = 1e-9);
 
 /// The unloaded TCA over a sweep of crank angles, with the mean and peak-to-peak backlash (rad).
+/// A sweep whose last crank repeats the state of its first (SameMesh: a closed period) weights
+/// that state once in the mean (issue 26).
 struct UnloadedSweep {
   std::vector<UnloadedContact> positions;
   double mean_backlash = 0.0;
   double pp_backlash = 0.0;
+  bool closed_period = false;  ///< the last crank's state is the first's: left out of the mean
 };
 UnloadedSweep AnalyseUnloadedSweep(const MeshModel& model, const std::vector<double>& cranks,
                                    ContactKinematics kinematics = ContactKinematics::kExact);
