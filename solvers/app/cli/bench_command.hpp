@@ -1,6 +1,7 @@
 #pragma once
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace ltca::cli {
 
@@ -12,6 +13,11 @@ struct BenchOptions {
   int repeats = 3;
   bool tolerance_only = false;  ///< only the tolerance bar (issue 15), e.g. to re-measure it on a quiet machine
 };
+
+/// Peak resident memory of one run of a program (args[0] a path, the rest its arguments), MB, as
+/// measured by the ltca-peak-rss program at peak_rss_exe (a small process that forks it and reads
+/// its rusage); -1 when it could not run or did not exit 0. Its standard output is discarded.
+double PeakRssMb(const std::string& peak_rss_exe, const std::vector<std::string>& args);
 
 /// `ltca bench` / `ltca-bench`: speed against error for every method, and the performance bars.
 int RunBenchCommand(const BenchOptions& options, std::ostream& out);
