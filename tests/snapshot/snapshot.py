@@ -38,9 +38,9 @@ RELATIVE = 1e-12
 ABSOLUTE = {"te": 1e-9, "force": 1e-12, "stress": 1e-9, "crank": 1e-12}
 
 
-# Issue 12: a |d| >= 2 deck with a load gets a default tip relief. The snapshot recorded their
-# sharp tips, which both relief keys set to 0 keep: these decks are checked that way (so the check
-# also shows that sharp tips are unchanged, edge-contact statuses included).
+# Issue 12 gave a |d| >= 2 deck with a load a default tip relief; issue 26 removed it (no relief is
+# assumed). The snapshot recorded their sharp tips, which both relief keys set to 0 keep: these
+# decks are still checked with the keys given, which is now also what the deck alone runs.
 SHARP_TIPS = {"hard/d2_loaded.toml", "hard/d3_loaded.toml"}
 SHARP_TIP_SETTINGS = ["--set", "modification.tip_truncation_mm=0", "--set", "modification.tip_rounding_radius_mm=0"]
 
@@ -143,7 +143,15 @@ def check_run(exe, cases, want):
         if doc is None or "summary" not in want:
             return m.lines
         summary, positions = condense(doc)
-        for key, value in want["summary"].items():
+        want_summary = dict(want["summary"])
+        if summary.get("closed_period") and want.get("positions"):
+            # Issue 26: a sweep whose last state repeats its first (a closed period) weights it once
+            # in the mean. The recording counted it twice; its mean is recomputed here from the
+            # recorded positions without the last, which the check below still compares one by one.
+            tes = [p["te_arcsec"] for p in want["positions"][:-1] if p["status"] == "success"]
+            if tes:
+                want_summary["mean_te_arcsec"] = sum(tes) / len(tes)
+        for key, value in want_summary.items():
             m.close(f"{name}: summary {key}", SUMMARY_KIND.get(key), summary.get(key), value)
         m.close(f"{name}: positions", None, len(positions), len(want["positions"]))
         for i, (g, w) in enumerate(zip(positions, want["positions"])):

@@ -45,7 +45,7 @@ nlohmann::json SummaryJson(const app::Deck& deck, const geometry::RealPair& real
       // The figures above are of the cycloid as made: modification and [errors] applied.
       {"errors_applied", !real.errors().IsZero()},
       {"pin_circle_radius_as_assembled_mm", real.pin_circle_radius()},
-      // Issue 12: the relief that runs (from the deck, a default for |d| >= 2, or none), and
+      // Issue 12: the relief that runs (from the deck, or none: issue 26 assumes none), and
       // what it cuts: the flank ends at +-junction_deg of every space.
       {"tip_relief",
        {{"truncation_mm", profile.tip_cap().relief().truncation},
@@ -284,10 +284,9 @@ void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const St
   }
   const geometry::TipCap& cap = profile.tip_cap();
   if (cap.active()) {
-    fmt::print(out, "tip relief             truncation {:g} mm, rounding radius {:g} mm ({}): the flank ends at u = +-{:.6f} deg, "
-                    "{:.4g} mm cut off the tip{}\n",
-               cap.relief().truncation, cap.relief().rounding_radius,
-               deck.tip_relief_source == "deck" ? "from the deck" : "default", RadToDeg(cap.junction()), cap.depth(),
+    fmt::print(out, "tip relief             truncation {:g} mm, rounding radius {:g} mm (from the deck): the flank ends at "
+                    "u = +-{:.6f} deg, {:.4g} mm cut off the tip{}\n",
+               cap.relief().truncation, cap.relief().rounding_radius, RadToDeg(cap.junction()), cap.depth(),
                cap.truncated() ? fmt::format(", land {:.4g} mm wide", 2.0 * cap.land_half_width()) : "");
   } else {
     fmt::print(out, "tip relief             none{}\n", profile.has_tip_corners() ? " (sharp tip corners)" : "");

@@ -1,5 +1,4 @@
 #include "ltca/app/deck.hpp"
-#include "ltca/app/tip_relief_default.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -350,7 +349,17 @@ class Section {
       throw std::invalid_argument(fmt::format("[{}] {} = {}: expected a string ({})", name_, key,
                                               toml::format(v), what));
     }
-    return v.as_string().str;
+    const std::string& text = v.as_string().str;
+    // Printed to terminals and written into SVG/XML, neither of which takes control characters
+    // (an ESC would drive the terminal, a NUL ends a C string; issue 26).
+    for (std::size_t i = 0; i < text.size(); ++i) {
+      const auto c = static_cast<unsigned char>(text[i]);
+      if (c < 0x20 || c == 0x7f) {
+        throw std::invalid_argument(fmt::format(
+            "[{}] {}: a control character (U+{:04X}) at byte {}: expected printable text ({})", name_, key, c, i + 1, what));
+      }
+    }
+    return text;
   }
   std::string String(const std::string& key, const std::string& fallback, const char* what) const {
     return Has(key) ? String(key, what) : fallback;
@@ -571,7 +580,7 @@ contact::Material ReadMaterial(const Section& s) {
 
 LoadCase ReadLoad(const Section& s) {
   LoadCase load;
-  load.torque = units::NmToNmm(s.Real("torque_nm", "torque on this cycloid gear in N*m"));
+  load.torque = units::NmToNmm(s.Real("torque_nm", "output torque of the stage in N*m: one disc's, or with [second_disc] both discs' together"));
   load.Validate();
   return load;
 }
@@ -1293,10 +1302,17 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     // The geometry must be realisable: this rejects undercut (looped) profiles, also when the
     // profile layer of [errors] is what makes them loop.
     const geometry::RealPair real = deck.MakeRealPair();  // analytic: cheap to check
+    // No tip relief but the user's (issue 26): a default chosen for the solvers' sake changed the
+    // part with the torque and the stress limit, and no relief keeps the tips of the |d| >= 2 decks
+    // of cases/hard unloaded at their torque (docs/contact.md, "Tip relief"). A loaded sharp corner
+    // is an edge contact, a named status; a loaded relief is reported by the solve (a warning).
     if (modification.Has("tip_truncation_mm") || modification.Has("tip_rounding_radius_mm")) {
       deck.tip_relief_source = "deck";
     } else if (std::abs(deck.pair.ToothDifference()) >= 2) {
-      ChooseDefaultTipRelief(deck);
+      deck.tip_relief_note =
+          "sharp tips: no tip relief is given ([modification] tip_rounding_radius_mm, tip_truncation_mm) and none is "
+          "assumed; a position where a loaded pin bears on a tip corner fails with status edge-contact, which no "
+          "line-contact law covers";
     }
     if (const toml::value* second = Find(root, "second_disc")) ReadSecondDisc(root, *second, directory, &deck);
   } catch (const std::invalid_argument& e) {

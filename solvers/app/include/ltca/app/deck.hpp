@@ -53,7 +53,7 @@ struct CaseInfo {
   std::string source;  ///< paper, table / section; free text.
 };
 
-/// [load]: the torque carried by this cycloid gear.
+/// [load]: the output torque of the stage: the one disc's, or with [second_disc] both discs' together.
 struct LoadCase {
   double torque = 0.0;  ///< N*mm (deck: torque_nm), finite, signed: the sign picks the flank.
   void Validate() const;
@@ -231,8 +231,8 @@ struct Deck {
   bool width_slices_given = false;             ///< [geometry] width_slices is in the deck
   std::vector<std::string> notes;              ///< keys given without effect (reported in Model().note)
   /// Where the tip relief ([modification] tip_truncation_mm, tip_rounding_radius_mm; issue 12)
-  /// came from: "deck" (a key given, also when 0), "default" (chosen by ChooseDefaultTipRelief for
-  /// |d| >= 2) or "none"; and why, when chosen or not (reported with the model).
+  /// came from: "deck" (a key given, also when 0) or "none" (no relief is ever assumed, issue 26);
+  /// the note says what sharp tips of a |d| >= 2 pair do (reported with the model).
   std::string tip_relief_source = "none";
   std::string tip_relief_note;
   contact::ContactSettings contact;            ///< [contact], optional, default hertz-line / signed
@@ -279,7 +279,7 @@ struct Deck {
     std::string surface;  ///< "analytic" or "elements"
     std::string note;     ///< empty, or why a given slice count or key was not used
     geometry::TipRelief tip_relief;  ///< the relief that runs (issue 12)
-    std::string tip_relief_source;   ///< "deck" | "default" | "none"
+    std::string tip_relief_source;   ///< "deck" | "none"
     std::string tip_relief_note;     ///< how a default was chosen, or why there is none
     int discs = 1;                   ///< 2 with [second_disc] (name ends in "+two-discs")
   };
