@@ -625,7 +625,8 @@ TEST_CASE("cli: backlash streams its positions, and its summary is the library's
   REQUIRE(r.code == 0);
   const auto j = nlohmann::json::parse(r.out);
   const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"), {"sweep.positions=23"});
-  const auto sweep = ltca::contact::AnalyseUnloadedSweep(deck.MakeModel(), deck.sweep.CrankAngles());
+  // The deck's [solver] kinematics, as every command takes it (issue 26).
+  const auto sweep = ltca::contact::AnalyseUnloadedSweep(deck.MakeModel(), deck.sweep.CrankAngles(), deck.solver.kinematics);
   REQUIRE(j.at("positions").size() == 23);
   CHECK(j.at("summary").at("mean_backlash_arcsec").get<double>() ==
         doctest::Approx(ltca::units::RadToArcsec(sweep.mean_backlash)).epsilon(1e-12));

@@ -96,13 +96,17 @@ const CLI::Validator kCrankAngle(
     },
     "DEG, finite, |DEG| <= 3600");
 
+/// Every command that takes --kinematics follows one rule (issue 26).
+constexpr const char* kKinematicsHelp =
+    "linearised or exact (default: the deck's [solver] kinematics, which is linearised when the deck does not set it)";
+
 /// The inputs of a command that solves loads: --set, the deck, --solver and --kinematics.
 void AddLoadInputs(CLI::App* command, std::vector<std::string>& overrides, std::string& deck_path, std::string& solver,
                    std::string& kinematics) {
   command->add_option("--set", overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
   command->add_option("deck", deck_path, "Case deck (TOML); default: the built-in deck");
   command->add_option("--solver", solver, "Solver name (default: the deck's [solver] name)");
-  command->add_option("--kinematics", kinematics, "linearised or exact (default: the deck's)")
+  command->add_option("--kinematics", kinematics, kKinematicsHelp)
       ->check(CLI::IsMember({"exact", "linearised"}));
 }
 
@@ -156,7 +160,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       ->check(kCrankAngle);
 
   BacklashOptions backlash_options;
-  std::string kinematics = "exact";
+  std::string kinematics;
   CLI::App* backlash = app.add_subcommand(
       "backlash",
       "Unloaded tooth contact analysis over the deck's sweep: rotation to first contact both "
@@ -172,8 +176,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   backlash->add_option("--svg", backlash_options.svg_path,
                        "Draw backlash and the rotations to first contact over crank angle (SVG; .png/.pdf by extension)")
       ->type_name("FILE|-");
-  backlash->add_option("--kinematics", kinematics, "exact (default) or linearised")
-      ->check(CLI::IsMember({"exact", "linearised"}));
+  backlash->add_option("--kinematics", kinematics, kKinematicsHelp)->check(CLI::IsMember({"exact", "linearised"}));
 
   MeshOptions mesh_options;
   CLI::App* mesh = app.add_subcommand(
@@ -207,7 +210,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   StiffnessOptions stiffness_options;
   CLI::App* stiffness = app.add_subcommand(
       "stiffness",
-      "Torsional stiffness, lost motion and backlash (issue 13, docs/stiffness.md): with the crank locked, the "
+      "Torsional stiffness, lost motion and backlash (docs/stiffness.md): with the crank locked, the "
       "output torque runs from -T to +T and back (T = |[load] torque_nm|, the rated torque) and the twist of the "
       "output (the cycloid about its centre, in the sense of +T from the theoretical position, -TE) is read at each "
       "level, at one crank (--crank-deg) or at every position of the deck's sweep (mean, min, max). Summary keys "
@@ -237,7 +240,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   ToleranceOptions tolerance_options;
   CLI::App* tolerance = app.add_subcommand(
       "tolerance",
-      "Tolerance analysis (issue 15, docs/tolerance.md): a seeded Monte Carlo over the deck's [tolerances]; every "
+      "Tolerance analysis (docs/tolerance.md): a seeded Monte Carlo over the deck's [tolerances]; every "
       "sample builds its pair and runs the unloaded and the loaded TCA over the sweep (and lost motion when asked). "
       "Percentiles 1/5/50/95/99 of every figure, the fraction within [tolerances] limits, a sensitivity ranking "
       "(standardised regression coefficients), the extreme-value worst case. Sample i depends on (seed, i) only: "
@@ -262,7 +265,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   EfficiencyOptions efficiency_options;
   CLI::App* efficiency = app.add_subcommand(
       "efficiency",
-      "Friction, power loss and meshing efficiency (issue 14, docs/efficiency.md): at every position of the deck's "
+      "Friction, power loss and meshing efficiency (docs/efficiency.md): at every position of the deck's "
       "sweep the loaded forces, the sliding and entrainment speed of every contact (crank at [operation] "
       "input_speed_rpm), the friction coefficient ([friction] model coulomb | jiang-mixed), the loss mu F |v_s| and "
       "the efficiency. Summary keys power_loss_w (mean over the sweep), efficiency (full model: sleeve, friction in "
@@ -316,7 +319,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   bench->add_option("--docs", bench_options.docs_dir, "Write performance.md and performance.svg into this folder (docs)");
   bench->add_option("--repeats", bench_options.repeats, "Repeats per run (default 3)")->check(CLI::PositiveNumber);
   bench->add_flag("--tolerance-only", bench_options.tolerance_only,
-                  "Only the tolerance bar (issue 15): 10,000 samples, 1 vs 2 threads, cost against samples; writes tolerance.csv "
+                  "Only the tolerance bar: 10,000 samples, 1 vs 2 threads, cost against samples; writes tolerance.csv "
                   "(with --smoke: 20 samples)");
 
   ReportOptions report_options;
@@ -343,6 +346,24 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
+  } catch (const CLI::ExtrasError&) {
+    // CLI11 lists the extras of a reversed argument list back to front ("0 --crank-deg"); name them
+    // in the order given, and the command whose --help lists what it takes (issue 26).
+    std::string command = "ltca";
+    for (const CLI::App* sub : app.get_subcommands()) command += " " + sub->get_name();
+    std::vector<std::string> extras;
+    for (const CLI::App* level : [&] {
+           std::vector<const CLI::App*> v{&app};
+           for (const CLI::App* sub : app.get_subcommands()) v.push_back(sub);
+           return v;
+         }()) {
+      for (const std::string& x : level->remaining()) extras.push_back(x);
+    }
+    std::string joined;
+    for (const std::string& x : extras) joined += (joined.empty() ? "" : " ") + x;
+    fmt::print(err, "ltca: error: {}: '{}' {} not an option or argument of this command; `{} --help` lists what it takes\n",
+               command, joined, extras.size() == 1 ? "is" : "are", command);
+    return kExitBadInput;
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e, out, err);
     return code == 0 ? kExitSuccess : kExitBadInput;  // --help, --version: 0; any parse error: 2
@@ -385,8 +406,8 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     } else if (solve->parsed()) {
       code = RunSolve(ReadDeck(deck_path, overrides), solve_options, streams);
     } else if (backlash->parsed()) {
-      backlash_options.kinematics = ParseKinematics(kinematics);
-      RunBacklash(ReadDeck(deck_path, overrides), backlash_options, streams);
+      if (!kinematics.empty()) backlash_options.kinematics = ParseKinematics(kinematics);
+      code = RunBacklash(ReadDeck(deck_path, overrides), backlash_options, streams);
     } else if (mesh->parsed()) {
       RunMesh(ReadDeck(deck_path, overrides), mesh_options, streams);
     } else if (geometry->parsed()) {

@@ -110,6 +110,7 @@ int RunCompare(const app::Deck& deck, const CompareOptions& options, const Strea
   const auto& ref_options = runners.front().options();
   std::ostream& text = streams.text;
   fmt::print(text, "case      {}\n", deck.info.title);
+  text << ModelLine(deck);
   fmt::print(text, "{} positions, {} model ({} slice{}, {} surface), {} kinematics, law {} / {}; differences against {} where both succeeded\n", cranks.size(),
              deck.Model().name, deck.Model().slices, deck.Model().slices == 1 ? "" : "s", deck.Model().surface,
              ref_options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
@@ -150,7 +151,18 @@ int RunCompare(const app::Deck& deck, const CompareOptions& options, const Strea
                               {"compared_positions", r == 0 ? s.succeeded : d.compared},
                               {"max_te_difference_arcsec", diff(d.te)},
                               {"max_pin_force_difference_n", diff(d.force)},
-                              {"max_contact_count_difference", diff(d.pins)}});
+                              {"max_contact_count_difference", diff(d.pins)},
+                              {"warned_positions", s.warned},
+                              {"first_warning", s.warned > 0 ? nlohmann::json(s.first_warning) : nlohmann::json(nullptr)},
+                              {"closed_period", s.closed_period}});
+  }
+  // Warnings as `ltca solve` lists them (issue 26: a stress far beyond the material's limit was
+  // reported as a plain success here).
+  for (const auto& runner : runners) {
+    const app::SweepSummary s = runner.Summary();
+    if (s.warned > 0) {
+      fmt::print(text, "warnings  {}: {} positions, first at {}\n", runner.options().name, s.warned, s.first_warning);
+    }
   }
   bool any_failed = false;
   for (const auto& runner : runners) any_failed = any_failed || runner.Summary().failed > 0;

@@ -12,6 +12,7 @@
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/geometry/units.hpp"
 #include "output.hpp"
+#include "solve_command.hpp"
 
 namespace ltca::cli {
 namespace {
@@ -33,7 +34,7 @@ void WriteBacklashFigure(const app::Deck& deck, const BacklashOptions& options, 
                              crank_deg.empty() ? 0.0 : crank_deg.front(), crank_deg.empty() ? 0.0 : crank_deg.back());
   figure.caption = FigureCaption(deck, fmt::format("unloaded TCA, {} kinematics, {} positions; backlash = theta_c1 - theta_c2 "
                                                    "(Liu eq. 17){}",
-                                                   options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
+                                                   KinematicsName(*options.kinematics),
                                                    crank_deg.size(), two_discs ? "; two discs: the stage's, the nearer first contact of either" : ""));
   figure.columns = 2;
   figure.width = 1300;
@@ -120,11 +121,15 @@ contact::ContactKinematics ParseKinematics(const std::string& text) {
   throw std::invalid_argument(fmt::format("--kinematics {}: expected exact or linearised", text));
 }
 
-void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Streams& streams) {
+int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Streams& streams) {
   RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output csv("--csv", options.csv_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
+  // One rule for every command (issue 26): --kinematics, else the deck's [solver] kinematics.
+  BacklashOptions run = options;
+  if (!run.kinematics) run.kinematics = deck.solver.kinematics;
+  const contact::ContactKinematics kinematics = *run.kinematics;
   std::vector<double> plot_crank, plot_c1, plot_c2, plot_backlash;  // for the figure (a double each per position)
   std::ostream& out = streams.text;
   const contact::MeshModel model = deck.MakeModel();
@@ -135,13 +140,19 @@ void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const St
     contact::RequireNoInterference(model, crank);
     if (second) contact::RequireNoInterference(*second, crank + contact::kSecondDiscCrankOffset);
   }
+  // A sweep whose last state repeats its first (a closed period) weights it once in the mean.
+  const bool closed = cranks.size() > 1 && contact::SameMesh(deck.EvaluateDiscs(model, second.get(), cranks.front()),
+                                                             deck.EvaluateDiscs(model, second.get(), cranks.back()));
   fmt::print(out, "case      {}\n", deck.info.title);
-  fmt::print(out, "unloaded TCA, {} kinematics, {} positions from {:g} to {:g} deg crank\n",
-             options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
+  out << ModelLine(deck);
+  fmt::print(out, "unloaded TCA, {} kinematics, {} positions from {:g} to {:g} deg crank\n", KinematicsName(kinematics),
              cranks.size(), RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
+  if (model.slice_count() > 1) {
+    fmt::print(out, "first contact sought at both face edges and the {} slice centres\n", model.slice_count());
+  }
   if (second) {
-    fmt::print(out, "two discs: the stage's free play, on each flank the nearer first contact of either disc; pins "
-                    "{}..{} are disc 2's\n", model.pin_count() + 1, 2 * model.pin_count());
+    fmt::print(out, "two discs: the stage's free play, on each flank the nearer first contact of either disc "
+                    "(pin column: disc:pin)\n");
   }
   fmt::print(out, "{:>10} {:>14} {:>14} {:>14} {:>6}\n", "crank_deg", "theta_c1_as", "theta_c2_as",
              "backlash_as", "pin");
@@ -150,72 +161,113 @@ void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const St
   if (json.enabled()) {
     json.stream() << "{\n\"case\": "
                   << Dump({{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}, -1)
-                  << ",\n\"positions\": [";
+                  << ",\n\"model\": " << Dump(ModelJson(deck.Model()), -1)
+                  << ",\n\"kinematics\": " << Dump(KinematicsName(kinematics), -1) << ",\n\"positions\": [";
   }
-  if (csv.enabled()) csv.stream() << "crank_deg,theta_c1_arcsec,theta_c2_arcsec,backlash_arcsec,first_contact_pin\n";
+  if (csv.enabled()) {
+    csv.stream() << "crank_deg,theta_c1_arcsec,theta_c2_arcsec,backlash_arcsec,first_contact_disc,first_contact_pin,status\n";
+  }
   const std::size_t step = std::max<std::size_t>(1, cranks.size() / 10);
   double sum = 0.0, lo = INFINITY, hi = -INFINITY;
+  std::size_t succeeded = 0, in_mean = 0;
+  std::string first_failure;
   for (std::size_t i = 0; i < cranks.size(); ++i) {
-    contact::UnloadedContact r = contact::AnalyseUnloaded(model, cranks[i], options.kinematics);
+    contact::UnloadedContact r = contact::AnalyseUnloaded(model, cranks[i], kinematics);
+    int disc_c1 = 1, disc_c2 = 1;
     std::vector<double> second_clearance;
     if (second) {
       // Two discs turn the output together: it stops at the first contact of either disc on each
-      // flank. Disc 2's pins are numbered z_p + 1 .. 2 z_p here.
+      // flank.
       const contact::UnloadedContact r2 =
-          contact::AnalyseUnloaded(*second, cranks[i] + contact::kSecondDiscCrankOffset, options.kinematics);
-      if (r2.theta_c1 < r.theta_c1) r.theta_c1 = r2.theta_c1, r.first_pin_c1 = r2.first_pin_c1 + model.pin_count();
-      if (r2.theta_c2 > r.theta_c2) r.theta_c2 = r2.theta_c2, r.first_pin_c2 = r2.first_pin_c2 + model.pin_count();
+          contact::AnalyseUnloaded(*second, cranks[i] + contact::kSecondDiscCrankOffset, kinematics);
+      if (r2.theta_c1 < r.theta_c1) r.theta_c1 = r2.theta_c1, r.first_pin_c1 = r2.first_pin_c1, disc_c1 = 2;
+      if (r2.theta_c2 > r.theta_c2) r.theta_c2 = r2.theta_c2, r.first_pin_c2 = r2.first_pin_c2, disc_c2 = 2;
       r.backlash = r.theta_c1 - r.theta_c2;
       second_clearance = r2.clearance;
     }
+    // No pin closes its gap within the rotation window on a flank (a degenerate pair, e.g. an
+    // eccentricity far below the pin's clearance): no backlash, a failed position (issue 26).
+    const bool ok = std::isfinite(r.theta_c1) && std::isfinite(r.theta_c2) && r.first_pin_c1 >= 0 && r.first_pin_c2 >= 0;
+    const std::string failure =
+        ok ? std::string()
+           : fmt::format("no pin closes its gap {} within a quarter tooth pitch of the theoretical position",
+                         std::isfinite(r.theta_c1) ? "against the load direction" : "in the load direction");
+    if (!ok && first_failure.empty()) first_failure = fmt::format("crank {:.6g} deg: {}", RadToDeg(r.crank), failure);
+    const double c1 = ok ? r.theta_c1 : NAN, c2 = ok ? r.theta_c2 : NAN, b = ok ? r.backlash : NAN;
+    const std::string pin_label = !ok ? "n/a" : second ? fmt::format("{}:{}", disc_c1, r.first_pin_c1 + 1)
+                                                       : fmt::format("{}", r.first_pin_c1 + 1);
     if (svg.enabled()) {
-      plot_crank.push_back(RadToDeg(r.crank)), plot_c1.push_back(RadToArcsec(r.theta_c1));
-      plot_c2.push_back(RadToArcsec(r.theta_c2)), plot_backlash.push_back(RadToArcsec(r.backlash));
+      plot_crank.push_back(RadToDeg(r.crank)), plot_c1.push_back(RadToArcsec(c1));
+      plot_c2.push_back(RadToArcsec(c2)), plot_backlash.push_back(RadToArcsec(b));
     }
-    sum += r.backlash;
-    lo = std::min(lo, r.backlash);
-    hi = std::max(hi, r.backlash);
-    if (i % step == 0) {
-      fmt::print(out, "{:>10.4f} {:>14.4f} {:>14.4f} {:>14.4f} {:>6}\n", RadToDeg(r.crank), RadToArcsec(r.theta_c1),
-                 RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), r.first_pin_c1 + 1);
+    if (ok) {
+      ++succeeded;
+      if (!(closed && i + 1 == cranks.size())) sum += b, ++in_mean;  // a repeated state weighs once
+      lo = std::min(lo, b);
+      hi = std::max(hi, b);
+    }
+    if (i % step == 0 || !ok) {
+      fmt::print(out, "{:>10.4f} {:>14} {:>14} {:>14} {:>6}\n", RadToDeg(r.crank), FormatOrNa(RadToArcsec(c1), 4),
+                 FormatOrNa(RadToArcsec(c2), 4), FormatOrNa(RadToArcsec(b), 4), pin_label);
     }
     if (json.enabled()) {
       nlohmann::json clearance = nlohmann::json::array(), after = nlohmann::json::array();
-      for (const double c : r.clearance) clearance.push_back(units::MmToUm(c));
-      for (const double c : r.clearance_at_c1) after.push_back(units::MmToUm(c));
+      for (const double c : r.clearance) clearance.push_back(Finite(units::MmToUm(c)));
+      for (const double c : r.clearance_at_c1) after.push_back(ok ? Finite(units::MmToUm(c)) : nlohmann::json(nullptr));
+      const auto pin_or_null = [&](int pin) { return ok ? nlohmann::json(pin + 1) : nlohmann::json(nullptr); };
       nlohmann::json position = {{"crank_deg", RadToDeg(r.crank)},
-                                       {"theta_c1_arcsec", Finite(RadToArcsec(r.theta_c1))},
-                                       {"theta_c2_arcsec", Finite(RadToArcsec(r.theta_c2))},
-                                       {"backlash_arcsec", Finite(RadToArcsec(r.backlash))},
-                                       {"first_contact_pin", r.first_pin_c1 + 1},
-                                       {"first_contact_pin_reverse", r.first_pin_c2 + 1},
-                                       {"clearance_um", clearance},
-                                       {"clearance_at_first_contact_um", after}};
+                                 {"status", ok ? "success" : "failed"},
+                                 {"theta_c1_arcsec", Finite(RadToArcsec(c1))},
+                                 {"theta_c2_arcsec", Finite(RadToArcsec(c2))},
+                                 {"backlash_arcsec", Finite(RadToArcsec(b))},
+                                 {"first_contact_pin", pin_or_null(r.first_pin_c1)},
+                                 {"first_contact_pin_reverse", pin_or_null(r.first_pin_c2)},
+                                 {"clearance_um", clearance},
+                                 {"clearance_at_first_contact_um", after}};
+      if (!ok) position["message"] = failure;
       if (second) {
-        nlohmann::json c2 = nlohmann::json::array();
-        for (const double c : second_clearance) c2.push_back(units::MmToUm(c));
-        position["second_disc_clearance_um"] = c2;
+        position["first_contact_disc"] = ok ? nlohmann::json(disc_c1) : nlohmann::json(nullptr);
+        position["first_contact_disc_reverse"] = ok ? nlohmann::json(disc_c2) : nlohmann::json(nullptr);
+        nlohmann::json c2j = nlohmann::json::array();
+        for (const double c : second_clearance) c2j.push_back(Finite(units::MmToUm(c)));
+        position["second_disc_clearance_um"] = c2j;
         // Each disc's own first contact is not the stage's: no figure rather than a misleading one.
         position["clearance_at_first_contact_um"] = nullptr;
       }
       json.stream() << (i == 0 ? "\n" : ",\n") << Dump(position, -1);
     }
     if (csv.enabled()) {
-      fmt::print(csv.stream(), "{:.9g},{:.9g},{:.9g},{:.9g},{}\n", RadToDeg(r.crank), RadToArcsec(r.theta_c1),
-                 RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), r.first_pin_c1 + 1);
+      if (ok) {
+        fmt::print(csv.stream(), "{:.9g},{:.9g},{:.9g},{:.9g},{},{},success\n", RadToDeg(r.crank), RadToArcsec(c1),
+                   RadToArcsec(c2), RadToArcsec(b), disc_c1, r.first_pin_c1 + 1);
+      } else {
+        fmt::print(csv.stream(), "{:.9g},,,,,,failed\n", RadToDeg(r.crank));
+      }
     }
   }
-  const double mean = sum / static_cast<double>(cranks.size()), pp = hi - lo;
-  fmt::print(out, "mean backlash           {:.4f} arcsec   (Liu eq. 17)\n", RadToArcsec(mean));
-  fmt::print(out, "peak-to-peak backlash   {:.4f} arcsec\n", RadToArcsec(pp));
+  // Over the successful positions; a sweep's only success may be its repeated last state.
+  const double mean = in_mean > 0 ? sum / static_cast<double>(in_mean) : (succeeded > 0 ? lo : NAN);
+  const double pp = succeeded > 0 ? hi - lo : NAN;
+  const std::size_t failed = cranks.size() - succeeded;
+  if (failed > 0) fmt::print(out, "failed                  {} of {} positions, first at {}\n", failed, cranks.size(), first_failure);
+  fmt::print(out, "mean backlash           {} arcsec   (Liu eq. 17){}\n", FormatOrNa(RadToArcsec(mean), 4),
+             closed ? "; the last position repeats the first: counted once" : "");
+  fmt::print(out, "peak-to-peak backlash   {} arcsec\n", FormatOrNa(RadToArcsec(pp), 4));
   if (json.enabled()) {
-    json.stream() << "\n],\n\"summary\": "
-                  << Dump({{"mean_backlash_arcsec", Finite(RadToArcsec(mean))}, {"pp_backlash_arcsec", Finite(RadToArcsec(pp))}}, -1)
-                  << "\n}\n";
+    nlohmann::json summary = {{"mean_backlash_arcsec", Finite(RadToArcsec(mean))},
+                              {"pp_backlash_arcsec", Finite(RadToArcsec(pp))},
+                              {"status", failed == 0 ? "success" : "failed"},
+                              {"positions", cranks.size()},
+                              {"succeeded_positions", succeeded},
+                              {"failed_positions", failed},
+                              {"closed_period", closed}};
+    if (failed > 0) summary["first_failure"] = first_failure;
+    json.stream() << "\n],\n\"summary\": " << Dump(summary, -1) << "\n}\n";
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
-  if (svg.enabled()) WriteBacklashFigure(deck, options, plot_crank, plot_c1, plot_c2, plot_backlash, second != nullptr, svg);
+  if (svg.enabled()) WriteBacklashFigure(deck, run, plot_crank, plot_c1, plot_c2, plot_backlash, second != nullptr, svg);
+  return failed == 0 ? kExitSuccess : kExitNotSucceeded;
 }
 
 void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& streams) {

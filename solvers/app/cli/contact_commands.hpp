@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -12,11 +13,13 @@ struct BacklashOptions {
   std::string json_path;
   std::string csv_path;
   std::string svg_path;  ///< backlash and the rotations to first contact over crank angle (issue 16)
-  contact::ContactKinematics kinematics = contact::ContactKinematics::kExact;
+  /// --kinematics; empty: the deck's [solver] kinematics (the rule of every command).
+  std::optional<contact::ContactKinematics> kinematics;
 };
 
-/// `ltca backlash`: unloaded TCA over the deck's sweep (Liu eq. 17).
-void RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Streams& streams);
+/// `ltca backlash`: unloaded TCA over the deck's sweep (Liu eq. 17). Returns the exit code: 1 when
+/// a position has no first contact on a flank (its figures null, the summary over the others).
+int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Streams& streams);
 
 struct MeshOptions {
   std::string json_path;

@@ -153,19 +153,27 @@ void WriteTo(const std::string& option, const std::string& path, std::ostream& o
 
 void RequireDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& option_paths) {
   // Two outputs to one file would leave only the last one written: refused like two to stdout.
-  std::vector<std::pair<std::string, std::filesystem::path>> files;
+  // A path is compared absolute and normalised, its existing part with links resolved, so that
+  // "o.json", "./o.json" and "$PWD/o.json" are one file whether or not it exists yet (issue 26).
+  struct File {
+    std::string option, path;
+    std::filesystem::path resolved;
+  };
+  std::vector<File> files;
   for (const auto& [option, path] : option_paths) {
     if (path.empty() || path == "-") continue;
     std::error_code ec;
-    std::filesystem::path resolved = std::filesystem::weakly_canonical(path, ec);
+    std::filesystem::path resolved = std::filesystem::absolute(path, ec);
+    if (!ec) resolved = std::filesystem::weakly_canonical(resolved, ec);
     if (ec) resolved = std::filesystem::path(path).lexically_normal();
-    for (const auto& [other_option, other] : files) {
-      if (other == resolved) {
+    resolved = resolved.lexically_normal();
+    for (const File& other : files) {
+      if (other.resolved == resolved) {
         throw std::invalid_argument(fmt::format("{} {} and {} {}: two outputs to one file; give each its own file",
-                                                other_option, path, option, path));
+                                                other.option, other.path, option, path));
       }
     }
-    files.emplace_back(option, resolved);
+    files.push_back({option, path, resolved});
   }
   std::string first;
   for (const auto& [option, path] : option_paths) {
@@ -260,8 +268,8 @@ std::string ModelLine(const app::Deck& deck) {
                         m.slices, deck.pair.face_width / m.slices, deck.pair.face_width, m.surface);
   if (!m.note.empty()) line += fmt::format("note      {}\n", m.note);
   if (m.tip_relief_source != "none") {
-    line += fmt::format("tip       relief {} mm truncation, {} mm rounding radius ({})\n", m.tip_relief.truncation,
-                        m.tip_relief.rounding_radius, m.tip_relief_source == "deck" ? "from the deck" : "default");
+    line += fmt::format("tip       relief {} mm truncation, {} mm rounding radius (from the deck)\n", m.tip_relief.truncation,
+                        m.tip_relief.rounding_radius);
   }
   if (!m.tip_relief_note.empty()) line += fmt::format("tip note  {}\n", m.tip_relief_note);
   return line;

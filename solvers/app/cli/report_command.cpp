@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -106,7 +107,7 @@ int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams
   BacklashOptions backlash;
   backlash.json_path = file("backlash.json");
   backlash.svg_path = file("backlash.svg");
-  RunBacklash(deck, backlash, quiet);
+  const int backlash_code = RunBacklash(deck, backlash, quiet);
   MeshOptions mesh;
   mesh.json_path = file("mesh.json");
   mesh.svg_path = file("mesh.svg");
@@ -201,12 +202,19 @@ int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams
   Output page("-o", file("index.html"), streams.out);
   page.stream() << html;
   page.Commit();
-  fmt::print(streams.text, "wrote {} (case {}, status {})\n", file("index.html"), deck.info.title,
-             Cell(s["summary"].value("status", nlohmann::json(nullptr))));
-  for (const int c : {code, loop_code, eff_code, tol_code}) {
-    if (c != kExitSuccess) return c;
+  // The page's status is every part's (issue 26: it said the solve's "success" and exited 1 when the
+  // loop failed).
+  std::string failed;
+  int result = kExitSuccess;
+  for (const auto& [part, c] : {std::pair{"solve", code}, std::pair{"backlash", backlash_code}, std::pair{"stiffness", loop_code},
+                                std::pair{"efficiency", eff_code}, std::pair{"tolerance", tol_code}}) {
+    if (c == kExitSuccess) continue;
+    failed += fmt::format("{}{}", failed.empty() ? "" : ", ", part);
+    if (result == kExitSuccess) result = c;
   }
-  return kExitSuccess;
+  fmt::print(streams.text, "wrote {} (case {}, {})\n", file("index.html"), deck.info.title,
+             failed.empty() ? "every part succeeded" : fmt::format("not every part succeeded: {}; see their sections", failed));
+  return result;
 }
 
 }  // namespace ltca::cli

@@ -84,7 +84,8 @@ nlohmann::json SummaryJson(const app::SweepSummary& s, const app::Deck::ModelInf
                       {"positions", s.positions()},
                       {"succeeded_positions", s.succeeded},
                       {"failed_positions", s.failed},
-                      {"warned_positions", s.warned}};
+                      {"warned_positions", s.warned},
+                      {"closed_period", s.closed_period}};
   if (s.warned > 0) j["first_warning"] = s.first_warning;
   if (model.discs == 2) {  // issue 13: the share of T the first disc carries, over the successful positions
     j["discs"] = 2;
@@ -195,28 +196,41 @@ void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, co
   } else {
     figure.title += ": no position succeeded";
   }
-  // Pin x crank-angle maps of force and contact stress (two discs: disc 2's pins numbered z_p + 1 ..).
+  // Pin x crank-angle maps of force and contact stress. Both discs bear on one pin ring, so the pins
+  // are numbered 1 .. z_p for each disc, with a map per disc (issue 26: disc 2's were z_p + 1 ..).
   std::size_t pins = 0;
   for (const auto& f : data.map_force) pins = std::max(pins, f.size());
   if (data.peak && pins > 0) {
+    const std::size_t per_disc = deck.disc_count() == 2 && pins == 2 * static_cast<std::size_t>(deck.pair.pin_count)
+                                     ? static_cast<std::size_t>(deck.pair.pin_count)
+                                     : pins;
+    const std::size_t discs = pins / per_disc;
     std::vector<double> pin_numbers;
-    for (std::size_t j = 0; j < pins; ++j) pin_numbers.push_back(static_cast<double>(j + 1));
-    const auto map_panel = [&](const std::vector<std::vector<double>>& z, const std::string& label, const std::string& title) {
+    for (std::size_t j = 0; j < per_disc; ++j) pin_numbers.push_back(static_cast<double>(j + 1));
+    const auto map_panel = [&](const std::vector<std::vector<double>>& z, std::size_t disc, const std::string& label,
+                               const std::string& title) {
       plots::Panel panel;
-      panel.title = title;
+      panel.title = discs == 2 ? fmt::format("{}, disc {}", title, disc + 1) : title;
       panel.x_label = "crank angle (deg)";
-      panel.y_label = pins == 2 * static_cast<std::size_t>(deck.pair.pin_count) ? "pin number (disc 2: z_p + 1 ..)" : "pin number";
-      panel.map = plots::Map{data.map_crank, pin_numbers, z, label};
-      for (auto& column : panel.map->z) column.resize(pins, NAN);
+      panel.y_label = "pin number";
+      std::vector<std::vector<double>> columns;
+      for (const auto& column : z) {
+        std::vector<double> part(per_disc, NAN);
+        for (std::size_t j = 0; j < per_disc && disc * per_disc + j < column.size(); ++j) part[j] = column[disc * per_disc + j];
+        columns.push_back(std::move(part));
+      }
+      panel.map = plots::Map{data.map_crank, pin_numbers, std::move(columns), label};
       const double half = data.map_crank.size() > 1 ? (data.map_crank[1] - data.map_crank[0]) / 2 : 0.5;
       panel.x_min = data.map_crank.front() - half, panel.x_max = data.map_crank.back() + half;
-      panel.y_min = 0.5, panel.y_max = static_cast<double>(pins) + 0.5;
+      panel.y_min = 0.5, panel.y_max = static_cast<double>(per_disc) + 0.5;
       return panel;
     };
     const std::string every = data.stride > 1 ? fmt::format(" (1 position in {})", data.stride) : "";
-    figure.panels.push_back(map_panel(data.map_force, "pin force (N)", "pin force map" + every));
-    figure.panels.push_back(map_panel(data.map_stress, "contact stress (MPa)", "contact stress map" + every));
-    figure.height = 1000;
+    for (std::size_t d = 0; d < discs; ++d) figure.panels.push_back(map_panel(data.map_force, d, "pin force (N)", "pin force map" + every));
+    for (std::size_t d = 0; d < discs; ++d) {
+      figure.panels.push_back(map_panel(data.map_stress, d, "contact stress (MPa)", "contact stress map" + every));
+    }
+    figure.height = discs == 2 ? 1480 : 1000;
   }
   // The contact pattern across the face width (the slice model, issue 11): pin x slice forces at
   // the position of the largest pin force.
@@ -370,6 +384,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
   fmt::print(text, "loaded flank           {}\n", torque > 0.0 ? "drive (torque > 0)" : (torque < 0.0 ? "coast (torque < 0)" : "none (zero torque)"));
   fmt::print(text, "mean TE                {} arcsec   (Liu eq. 16; < 0 on the drive flank, > 0 on the coast flank)\n", FormatOrNa(RadToArcsec(s.mean_te), 4));
   fmt::print(text, "peak-to-peak TE        {} arcsec\n", FormatOrNa(RadToArcsec(s.pp_te), 4));
+  if (s.closed_period) fmt::print(text, "                       (the last position repeats the first: the mean counts it once)\n");
   if (s.succeeded > 0) {
     fmt::print(text, "pins in contact        {} to {}\n", s.contacts_min, s.contacts_max);
   } else {

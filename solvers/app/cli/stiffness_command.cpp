@@ -91,6 +91,7 @@ nlohmann::json SummaryJson(const app::StiffnessSummary& s, bool sweep, double fr
     AddSpread(j, "first_disc_share", "drive", s.first_disc_share_drive, sweep, share);
     AddSpread(j, "first_disc_share", "coast", s.first_disc_share_coast, sweep, share);
   }
+  if (sweep) j["closed_period"] = s.closed_period;  // issue 26: the means weigh a repeated last state once
   j["hysteresis"] = friction_mu > 0.0;  // issue 14: friction separates the branches
   j["branch_difference_arcmin"] = FiniteOrNull(RadToArcmin(s.branch_difference.max));
   if (friction_mu > 0.0) {

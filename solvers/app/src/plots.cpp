@@ -50,13 +50,30 @@ std::mutex& Lock() {
   return m;
 }
 
-/// PLplot's text escape is '#' (#u superscript, ...): a literal '#' is "##".
+/// Characters of a text drawn by PLplot at most: PLplot crashes in plend (SIGSEGV) on a string of
+/// about 980 characters or more (issue 26); a figure's title is unreadable long before that.
+constexpr std::size_t kMaxDrawnCharacters = 200;
+
+/// PLplot's text escape is '#' (#u superscript, ...): a literal '#' is "##". A text longer than
+/// kMaxDrawnCharacters is cut there (at a UTF-8 character boundary) and ends in "..."; a control
+/// character is drawn as a space. The SVG's <title> and <desc> keep the whole text.
 std::string Pl(const std::string& text) {
   std::string out;
-  out.reserve(text.size());
-  for (const char c : text) {
-    out += c;
-    if (c == '#') out += '#';
+  out.reserve(std::min(text.size(), 4 * kMaxDrawnCharacters) + 3);
+  std::size_t characters = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const bool starts_character = (c & 0xC0) != 0x80;
+    if (starts_character && characters++ == kMaxDrawnCharacters) {
+      out += "...";
+      break;
+    }
+    if (c < 0x20 || c == 0x7f) {
+      out += ' ';
+    } else {
+      out += text[i];
+      if (text[i] == '#') out += '#';
+    }
   }
   return out;
 }
@@ -416,7 +433,7 @@ void Draw(const Figure& f) {
   const double line = 17.0 / f.height;
   // Long lines are set smaller to fit the page (at most about 12.5 px per character at scale 1).
   const auto fit = [&f](const std::string& text, double scale) {
-    return std::min(scale, 0.97 * f.width / (12.5 * std::max<double>(1.0, static_cast<double>(text.size()))));
+    return std::min(scale, 0.97 * f.width / (12.5 * std::max<double>(1.0, static_cast<double>(std::min(text.size(), kMaxDrawnCharacters + 3)))));
   };
   Chr(fit(f.title, 0.95));
   plptex(0.5, 1.0 - 26.0 / f.height, 1, 0, 0.5, Pl(f.title).c_str());
@@ -464,7 +481,13 @@ std::string XmlEscape(const std::string& text) {
       case '<': out += "&lt;"; break;
       case '>': out += "&gt;"; break;
       case '"': out += "&quot;"; break;
-      default: out += c;
+      default:
+        // XML 1.0 has no control characters but tab, newline and carriage return.
+        if ((static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7f) {
+          out += ' ';
+        } else {
+          out += c;
+        }
     }
   }
   return out;

@@ -26,14 +26,19 @@ constexpr double kTangentStep = 0.01;
 
 const char* ToString(Branch branch) { return branch == Branch::kIncreasing ? "increasing" : "decreasing"; }
 
-void Spread::Add(double v) {
+void Spread::Add(double v, bool in_mean) {
   if (!std::isfinite(v)) return;
   if (count == 0) {
-    mean = min = max = v;
+    min = max = v;
   } else {
-    mean += (v - mean) / static_cast<double>(count + 1);
     min = std::min(min, v);
     max = std::max(max, v);
+  }
+  if (in_mean) {
+    mean = in_mean_count == 0 ? v : mean + (v - mean) / static_cast<double>(in_mean_count + 1);
+    ++in_mean_count;
+  } else if (in_mean_count == 0) {
+    mean = v;  // only the repeated state so far: it is the mean
   }
   ++count;
 }
@@ -57,6 +62,7 @@ struct StiffnessRunner::Impl {
   Clock::duration elapsed{};
   // issue 14: Coulomb friction in the loop (0 without [friction]); sense of the twist's motion on
   // the branch being solved (+1 increasing, -1 decreasing, 0: the loop's midpoint, both).
+  bool closed = false;
   double friction_mu = LoopFrictionCoefficient(deck);
   double sense = 0.0;
 
@@ -72,6 +78,8 @@ struct StiffnessRunner::Impl {
     }
     // Nothing is solved for a pair that interferes at any crank (as `solve` and `backlash` reject it).
     for (const double crank : cranks) contact::RequireNoInterference(State(crank), crank, Tolerance());
+    // The last crank repeats the first's state (a closed period): the means weigh it once (issue 26).
+    closed = cranks.size() > 1 && contact::SameMesh(State(cranks.front()), State(cranks.back()));
     coupling = deck.MakeCoupling(*model);
   }
 
@@ -225,19 +233,21 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
 
   // The summary.
   StiffnessSummary& s = m.summary;
+  s.closed_period = m.closed;
+  const bool in_mean = !(m.closed && crank == m.cranks.back());
   (pos.succeeded() ? s.succeeded : s.failed) += 1;
   s.solves += pos.solves;
   if (!pos.succeeded() && s.first_failure.empty()) {
     s.first_failure = fmt::format("crank {:.6g} deg, {}", units::RadToDeg(crank), pos.first_failure);
   }
-  s.rigidity.Add(pos.rigidity);
-  s.rigidity_drive.Add(pos.rigidity_drive);
-  s.rigidity_coast.Add(pos.rigidity_coast);
-  s.lost_motion.Add(pos.lost_motion);
-  s.backlash.Add(pos.backlash);
-  s.branch_difference.Add(pos.branch_difference);
-  s.first_disc_share_drive.Add(pos.first_disc_share_drive);
-  s.first_disc_share_coast.Add(pos.first_disc_share_coast);
+  s.rigidity.Add(pos.rigidity, in_mean);
+  s.rigidity_drive.Add(pos.rigidity_drive, in_mean);
+  s.rigidity_coast.Add(pos.rigidity_coast, in_mean);
+  s.lost_motion.Add(pos.lost_motion, in_mean);
+  s.backlash.Add(pos.backlash, in_mean);
+  s.branch_difference.Add(pos.branch_difference, in_mean);
+  s.first_disc_share_drive.Add(pos.first_disc_share_drive, in_mean);
+  s.first_disc_share_coast.Add(pos.first_disc_share_coast, in_mean);
   if (s.curve.empty()) {
     s.curve = pos.curve;
     s.curve_min.assign(pos.curve.size(), kNaN);
@@ -248,16 +258,17 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   for (std::size_t i = 0; i < pos.curve.size(); ++i) {
     const double v = pos.curve[i].twist;
     if (!std::isfinite(v)) continue;
+    s.curve_min[i] = std::isnan(s.curve_min[i]) ? v : std::min(s.curve_min[i], v);
+    s.curve_max[i] = std::isnan(s.curve_max[i]) ? v : std::max(s.curve_max[i], v);
+    if (!in_mean) continue;
     m.curve_sum[i] += v;
-    s.curve_min[i] = m.curve_count[i] == 0 ? v : std::min(s.curve_min[i], v);
-    s.curve_max[i] = m.curve_count[i] == 0 ? v : std::max(s.curve_max[i], v);
     ++m.curve_count[i];
   }
   if (s.readoffs.empty()) {
     s.readoffs = pos.readoffs;
     m.readoff_spread.assign(pos.readoffs.size(), Spread{});
   }
-  for (std::size_t i = 0; i < pos.readoffs.size(); ++i) m.readoff_spread[i].Add(pos.readoffs[i].twist);
+  for (std::size_t i = 0; i < pos.readoffs.size(); ++i) m.readoff_spread[i].Add(pos.readoffs[i].twist, in_mean);
   m.elapsed += Clock::now() - start;
   return pos;
 }

@@ -20,7 +20,7 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
-void SummaryAccumulator::Add(const PositionResult& p) {
+void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
   if (Severity(p.result.status) > Severity(s_.status)) s_.status = p.result.status;
   if (!p.succeeded()) {
     ++s_.failed;
@@ -37,7 +37,10 @@ void SummaryAccumulator::Add(const PositionResult& p) {
     if (s_.warned == 0) s_.first_warning = fmt::format("crank {:.6g} deg: {}", units::RadToDeg(p.crank), p.result.warnings.front());
     ++s_.warned;
   }
-  te_sum_ += p.result.te;
+  if (in_mean) {
+    te_sum_ += p.result.te;
+    ++te_count_;
+  }
   te_lo_ = std::min(te_lo_, p.result.te);
   te_hi_ = std::max(te_hi_, p.result.te);
   s_.contacts_min = std::min(s_.contacts_min, p.contacts);
@@ -48,18 +51,25 @@ void SummaryAccumulator::Add(const PositionResult& p) {
     const double share = p.disc_torque[0] / (p.disc_torque[0] + p.disc_torque[1]);
     s_.first_disc_share_min = shares_ == 0 ? share : std::min(s_.first_disc_share_min, share);
     s_.first_disc_share_max = shares_ == 0 ? share : std::max(s_.first_disc_share_max, share);
-    share_sum_ += share;
+    if (in_mean) {
+      share_sum_ += share;
+      ++share_count_;
+    }
     ++shares_;
   }
 }
 
 SweepSummary SummaryAccumulator::Summary() const {
   SweepSummary s = s_;
+  s.closed_period = closed_period;
   if (s.succeeded > 0) {
-    s.mean_te = te_sum_ / static_cast<double>(s.succeeded);
+    // A sweep's only success may be the repeated last state: it is the mean then.
+    s.mean_te = te_count_ > 0 ? te_sum_ / static_cast<double>(te_count_) : te_lo_;
     s.pp_te = te_hi_ - te_lo_;
   }
-  if (shares_ > 0) s.first_disc_share_mean = share_sum_ / static_cast<double>(shares_);
+  if (shares_ > 0) {
+    s.first_disc_share_mean = share_count_ > 0 ? share_sum_ / static_cast<double>(share_count_) : s.first_disc_share_min;
+  }
   return s;
 }
 
@@ -80,6 +90,10 @@ struct SweepRunner::Impl {
   std::vector<contact::MeshState> checked;
   std::size_t next_checked = 0;
   solvers::LoadProblem::CheckedCoupling coupling;  // pin bending ([pins]), checked once for the sweep
+  // The last crank's state repeats the first's (a closed period, contact::SameMesh): the mean
+  // weights it once (issue 26).
+  bool closed = false;
+  double last_crank = 0.0;
 
   Impl(const Deck& d, const SolverOptions& o, Clock::time_point start)
       : deck(d), options(o), model(std::make_shared<const contact::MeshModel>(d.MakeModel())), second(d.MakeSecondModel()),
@@ -89,11 +103,16 @@ struct SweepRunner::Impl {
     const bool keep = cranks.size() * static_cast<std::size_t>(model->point_count() * deck.disc_count()) *
                           sizeof(contact::PinContact) <= kKeptStatesBytes;
     const double tolerance = std::max(model->interference_tolerance(), second ? second->interference_tolerance() : 0.0);
-    for (const double crank : cranks) {
-      contact::MeshState state = deck.EvaluateDiscs(*model, second.get(), crank);
-      contact::RequireNoInterference(state, crank, tolerance);
+    contact::MeshState first;
+    for (std::size_t i = 0; i < cranks.size(); ++i) {
+      contact::MeshState state = deck.EvaluateDiscs(*model, second.get(), cranks[i]);
+      contact::RequireNoInterference(state, cranks[i], tolerance);
+      if (i == 0) first = state;
+      if (i > 0 && i + 1 == cranks.size()) closed = contact::SameMesh(first, state);
       if (keep) checked.push_back(std::move(state));
     }
+    last_crank = cranks.back();
+    summary.closed_period = closed;
     coupling = deck.MakeCoupling(*model);
     elapsed = Clock::now() - start;
   }
@@ -167,11 +186,26 @@ PositionResult SweepRunner::Solve(double crank) {
     if (pos.pin_force[j] > kContactForceFraction * f_max && f_max > 0.0) ++pos.contacts;
     if (pos.pin_force[j] > 0.0) pos.load_centroid[j] = moment[j] / pos.pin_force[j];
   }
+  // A relieved tip that carries load is reported as such (issue 26): the user's relief is used as
+  // given, and its contact (a small convex radius: a high stress) is a fact the user must see.
+  const bool relieved = m.model->profile().tip_cap().active() || (m.second && m.second->profile().tip_cap().active());
+  if (relieved && pos.succeeded()) {
+    const bool exact = problem.kinematics() == contact::ContactKinematics::kExact;
+    for (std::size_t i = 0; i < points.size() && i < pos.result.force.size(); ++i) {
+      const double f = pos.result.force[i];
+      if (!(f > kContactForceFraction * f_max)) continue;
+      const geometry::SurfacePart part = exact ? problem.EvaluatePin(base[i], pos.result.rotation).part : base[i].part;
+      if (part == geometry::SurfacePart::kFlank) continue;
+      pos.result.warnings.push_back(fmt::format("{}pin {} bears {:.4g} N on the {} of a relieved tip ({:.4g} MPa)",
+                                                problem.disc_count() == 2 ? fmt::format("disc {} ", base[i].disc + 1) : "",
+                                                base[i].pin + 1, f, geometry::SurfacePartName(part), pos.point_stress[i]));
+    }
+  }
   if (problem.disc_count() == 2) {
     pos.disc_torque = pos.succeeded() ? problem.DiscTorques(pos.result.rotation, pos.result.force, m.workspace)
                                       : std::vector<double>(2, std::numeric_limits<double>::quiet_NaN());
   }
-  m.summary.Add(pos);
+  m.summary.Add(pos, !(m.closed && crank == m.last_crank));
   m.elapsed += Clock::now() - start;
   return pos;
 }

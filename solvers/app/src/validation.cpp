@@ -38,8 +38,10 @@ Loaded Summarise(const SweepResult& sweep) {
   l.max_stress = sweep.summary.max_contact_stress;
   l.max_force = sweep.summary.max_pin_force;
   l.status = sweep.summary.status;
-  for (const auto& p : sweep.positions) l.mean_pins += p.contacts;
-  l.mean_pins /= static_cast<double>(sweep.positions.size());
+  // A closed period's repeated last state weighs once (issue 26).
+  const std::size_t n = sweep.positions.size() - (sweep.summary.closed_period && sweep.positions.size() > 1 ? 1 : 0);
+  for (std::size_t i = 0; i < n; ++i) l.mean_pins += sweep.positions[i].contacts;
+  l.mean_pins /= static_cast<double>(n);
   return l;
 }
 

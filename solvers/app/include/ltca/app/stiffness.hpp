@@ -75,8 +75,11 @@ struct Spread {
   double mean = std::numeric_limits<double>::quiet_NaN();
   double min = std::numeric_limits<double>::quiet_NaN();
   double max = std::numeric_limits<double>::quiet_NaN();
-  std::int64_t count = 0;
-  void Add(double v);
+  std::int64_t count = 0;          ///< values added
+  std::int64_t in_mean_count = 0;  ///< of those, the ones the mean weighs
+  /// in_mean false: the value repeats a state already added (the last crank of a closed period,
+  /// issue 26); it counts in min and max, not in the mean.
+  void Add(double v, bool in_mean = true);
 };
 
 struct StiffnessSummary {
@@ -92,6 +95,8 @@ struct StiffnessSummary {
   std::int64_t solves = 0;
   std::string first_failure;   ///< "crank x deg, torque y N*m: ..." of the first failed solve
   double wall_seconds = 0.0;   ///< construction and solves
+  /// The last crank repeats the first's state (contact::SameMesh): the means weigh it once.
+  bool closed_period = false;
   std::int64_t positions() const { return succeeded + failed; }
   bool all_succeeded() const { return failed == 0 && succeeded > 0; }
 };

@@ -65,6 +65,10 @@ struct SweepSummary {
   double first_disc_share_min = std::numeric_limits<double>::quiet_NaN();
   double first_disc_share_max = std::numeric_limits<double>::quiet_NaN();
   SolverStatus status = SolverStatus::kNotSolved;  ///< the worst status over the sweep
+  /// The sweep's last crank repeats the state of its first (contact::SameMesh: a whole crank turn,
+  /// or a mesh period of a pair that keeps that symmetry), so the means weight that state once
+  /// (issue 26); the extremes and counts see every position.
+  bool closed_period = false;
   std::int64_t positions() const { return succeeded + failed; }
   bool all_succeeded() const { return failed == 0 && succeeded > 0; }
 };
@@ -72,7 +76,11 @@ struct SweepSummary {
 /// Accumulates the summary position by position (the rule of SweepSummary).
 class SummaryAccumulator {
  public:
-  void Add(const PositionResult& position);
+  /// in_mean false: the position repeats one already added (the last of a closed period), and
+  /// counts everywhere but in the means.
+  void Add(const PositionResult& position, bool in_mean = true);
+  /// Sets SweepSummary::closed_period (the caller decides it, SweepRunner from the states).
+  bool closed_period = false;
   /// The summary so far (wall_seconds left to the caller).
   SweepSummary Summary() const;
 
@@ -80,8 +88,9 @@ class SummaryAccumulator {
   SweepSummary s_;
   double te_sum_ = 0.0, te_lo_ = std::numeric_limits<double>::infinity(),
          te_hi_ = -std::numeric_limits<double>::infinity();
+  std::int64_t te_count_ = 0;
   double share_sum_ = 0.0;
-  std::int64_t shares_ = 0;
+  std::int64_t shares_ = 0, share_count_ = 0;
 };
 
 /// One solver over the crank positions of one deck, a position at a time, so that callers can
