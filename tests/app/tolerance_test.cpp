@@ -1,8 +1,9 @@
 // Issue 15: tolerance analysis (ltca tolerance). Independent references: the deterministic runs
 // of the pair (SolveSweep, and the unloaded analysis contact::AnalyseUnloaded that `ltca backlash`
 // runs), Liu 2021 Fig. 11's printed slope of the mean backlash against the pin-circle deviation
-// (4.7578 arcsec/um, docs/validation.md), Jiang 2022 section 5.1's clearances from Table 3, and
-// textbook order statistics.
+// (4.7578 arcsec/um, docs/validation.md), Jiang 2022 section 5.1's clearances from Table 3,
+// textbook order statistics, the truncated normal's variance (Johnson, Kotz & Balakrishnan) and
+// chi^2 quantiles from the tables.
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -565,4 +566,19 @@ TEST_CASE("app: a thread that cannot be started stops and joins the ones started
   const Deck deck = BaseWith("samples = 1\npin_circle_deviation_mm = { distribution = \"normal\", sigma = 0.002 }\n");
   const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
   CHECK_THROWS_WITH_AS(study.RunRange(0, 1, 40000), doctest::Contains("--threads 40000: expected 1 to 1024"), std::invalid_argument);
+}
+
+TEST_CASE("cli: ltca tolerance says of a sample stopped by the iteration limit that the limit was reached, and where") {
+  // Issue 26 item 16: such a sample read "torque off by 1e-10 relative", as if converged, or only
+  // "(max-iterations)". Bisection cannot balance Liu's load in 3 evaluations (it starts 1/60
+  // arcsec past first contact, Liu 2021 section 4): every position stops at the limit.
+  std::ostringstream out, err;
+  const int code = ltca::cli::Run({"tolerance", Case("liu2021_tolerances.toml"), "--samples", "1", "--no-worst-case", "--set",
+                                   "sweep.positions=2", "--set", "solver.max_iterations=3", "--csv", "-"},
+                                  out, err);
+  INFO(out.str());
+  INFO(err.str());
+  CHECK(code == 1);
+  CHECK(out.str().find("iteration limit reached (max_iterations = 3)") != std::string::npos);
+  CHECK(out.str().find("first at crank 0 deg") != std::string::npos);
 }

@@ -286,7 +286,14 @@ ToleranceSample ToleranceStudy::Evaluate(const Deck& pair) const {
     s.figures[kPpBacklashArcsec] = units::RadToArcsec(hi - lo);
     // Loaded TCA over the sweep: `ltca solve`'s summary.
     SweepRunner runner(pair, options_);
-    for (const double crank : cranks) runner.Solve(crank);
+    std::string first_failure;  // the first position that did not succeed: where, and the solver's own words
+    for (const double crank : cranks) {
+      const PositionResult p = runner.Solve(crank);
+      if (!p.succeeded() && first_failure.empty()) {
+        first_failure = fmt::format("first at crank {:g} deg: {}: {}", units::RadToDeg(crank), solvers::ToString(p.result.status),
+                                    p.result.message);
+      }
+    }
     const SweepSummary sum_loaded = runner.Summary();
     s.figures[kMeanTeArcsec] = units::RadToArcsec(sum_loaded.mean_te);
     s.figures[kPpTeArcsec] = units::RadToArcsec(sum_loaded.pp_te);
@@ -298,8 +305,8 @@ ToleranceSample ToleranceStudy::Evaluate(const Deck& pair) const {
     }
     if (!sum_loaded.all_succeeded()) {
       s.status = "failed";
-      s.message = fmt::format("{} of {} loaded positions did not succeed ({})", sum_loaded.failed, sum_loaded.positions(),
-                              solvers::ToString(sum_loaded.status));
+      s.message = fmt::format("{} of {} loaded positions did not succeed ({}); {}", sum_loaded.failed, sum_loaded.positions(),
+                              solvers::ToString(sum_loaded.status), first_failure);
     }
     if (settings_.lost_motion) {
       // Lost motion is solved at its own torques (+-f T); the curve needs only its 3 levels.
