@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
+#include "tolerance_command.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/app/sweep.hpp"
 #include "ltca/app/tolerance.hpp"
@@ -581,4 +582,27 @@ TEST_CASE("cli: ltca tolerance says of a sample stopped by the iteration limit t
   CHECK(code == 1);
   CHECK(out.str().find("iteration limit reached (max_iterations = 3)") != std::string::npos);
   CHECK(out.str().find("first at crank 0 deg") != std::string::npos);
+}
+
+TEST_CASE("cli: ltca tolerance shows the worst-case phase on its own progress line and clears it before the summary") {
+  // Issue 26 item 16: the worst-case runs went on silently after the progress line read 100 %.
+  // RunTolerance with a progress stream (a terminal in real use) and no delay before the lines.
+  std::ostringstream out, err;
+  ltca::cli::ToleranceOptions options;
+  options.samples = 2;
+  options.threads = 1;
+  options.progress_after_seconds = 0.0;
+  const Deck deck = ltca::app::LoadDeck(Case("liu2021_tolerances.toml"), {"sweep.positions=2"});
+  const int code = ltca::cli::RunTolerance(deck, options, {out, out, err, true});
+  CHECK(code == 0);
+  const std::string e = err.str();
+  const auto samples_at = e.find("ltca: tolerance sample 2 of 2 (100 %)");
+  const auto worst_at = e.find("ltca: tolerance worst-case run ");
+  CHECK(samples_at != std::string::npos);
+  REQUIRE(worst_at != std::string::npos);
+  CHECK(worst_at > samples_at);
+  const std::string clear = "\r" + std::string(72, ' ') + "\r";
+  CHECK(e.ends_with(clear));                                    // cleared before the summary
+  CHECK(e.find(clear, samples_at) < worst_at);                  // the samples' line first
+  CHECK(out.str().find("ltca:") == std::string::npos);          // no progress in the summary
 }

@@ -297,7 +297,7 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
   // The samples: rank r runs the r-th static block, on its threads.
   const auto start = Clock::now();
   {
-    Progress progress(streams.err, streams.progress && root, "tolerance sample", end - begin);
+    Progress progress(streams.err, streams.progress && root, "tolerance sample", end - begin, options.progress_after_seconds);
     study.RunStream(begin, end - begin, threads, keep, [&](std::int64_t done) { progress.Update(done); });
     progress.Finish();
   }
@@ -320,7 +320,8 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
     // Its own progress line (the samples' reads 100 % by now), cleared before the summary.
     // At most 1 + 2 x columns + 2 x figures runs (a figure with no stack runs no corner).
     Progress progress(streams.err, streams.progress && root, "tolerance worst-case run",
-                      1 + 2 * static_cast<std::int64_t>(study.inputs().size() + app::kToleranceFigureCount));
+                      1 + 2 * static_cast<std::int64_t>(study.inputs().size() + app::kToleranceFigureCount),
+                      options.progress_after_seconds);
     worst = app::ExtremeValueWorstCase(study, threads, [&](std::int64_t done, std::int64_t) { progress.Update(done); });
     progress.Finish();
     beyond = app::CompareWithCorners(study, samples, *worst);
