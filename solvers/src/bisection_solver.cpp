@@ -124,8 +124,14 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
                                   "laws do not apply): torque off by {:.3g}", std::abs(at.torque - target) / target);
   } else {
     result->status = SolverStatus::kMaxIterations;
-    result->message = fmt::format("torque off by {:.3g} relative after {} evaluations",
-                                  std::abs(at.torque - target) / target, evaluations);
+    const double miss = std::abs(at.torque - target) / target;
+    result->message = evaluations >= options.max_iterations
+                          ? fmt::format("iteration limit reached (max_iterations = {}) before the torque balanced: the output "
+                                        "torque at the stop is off by {:.3g} relative, torque_tolerance {:.3g}",
+                                        options.max_iterations, miss, options.torque_tolerance)
+                          : fmt::format("the rotation step fell below the resolution of double precision after {} evaluations "
+                                        "before the torque balanced: off by {:.3g} relative, torque_tolerance {:.3g}",
+                                        evaluations, miss, options.torque_tolerance);
   }
 }
 

@@ -136,7 +136,9 @@ void CompatibilitySolver::SolveCoupled(const LoadProblem& problem, const SolverO
                                   newton, outer + 1, miss);
   } else {
     result->status = SolverStatus::kMaxIterations;
-    result->message = fmt::format("coupled Newton: {} linearisations, torque off by {:.3g}", outer + 1, miss);
+    result->message = fmt::format("coupled Newton: iteration limit reached ({} linearisations) before the torque balanced: "
+                                  "off by {:.3g} relative at the stop, torque_tolerance {:.3g}",
+                                  outer + 1, miss, options.torque_tolerance);
   }
 }
 
@@ -209,7 +211,9 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
     result->message = fmt::format("{} re-linearisations, torque balanced to {:.3g}", outer + 1, miss / problem.torque());
   } else {
     result->status = SolverStatus::kMaxIterations;
-    result->message = fmt::format("{} re-linearisations, torque off by {:.3g}", outer + 1, miss / problem.torque());
+    result->message = fmt::format("iteration limit reached ({} re-linearisations) before the torque balanced: off by {:.3g} "
+                                  "relative at the stop, torque_tolerance {:.3g}",
+                                  outer + 1, miss / problem.torque(), options.torque_tolerance);
   }
 }
 

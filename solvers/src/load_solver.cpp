@@ -93,10 +93,20 @@ const char* ToString(Flank flank) {
   return "?";
 }
 
+namespace {
+/// The torque tolerances SolverOptions accepts (relative |T_out - T| / T).
+constexpr double kMinTorqueTolerance = 1e-15, kMaxTorqueTolerance = 0.05;
+}  // namespace
+
 void SolverOptions::Validate() const {
-  if (!(torque_tolerance > 0.0 && torque_tolerance < 1.0)) {
+  // Above 5 % the load that is balanced is not the torque that was asked for (Liu 2021 section 3
+  // stops at 1 %); below 1e-15 no rotation in double precision can resolve it (Balanced() then
+  // falls back to the resolution anyway).
+  if (!(torque_tolerance >= kMinTorqueTolerance && torque_tolerance <= kMaxTorqueTolerance)) {
     throw std::invalid_argument(fmt::format(
-        "[solver] torque_tolerance = {}: expected a relative tolerance in (0, 1)", torque_tolerance));
+        "[solver] torque_tolerance = {}: expected a relative tolerance from {:g} to {:g} (|T_out - T| / T: above 5 % the "
+        "balanced load is no longer the given torque; Liu 2021 section 3 uses 1 %)",
+        torque_tolerance, kMinTorqueTolerance, kMaxTorqueTolerance));
   }
   if (max_iterations < 1) {
     throw std::invalid_argument(fmt::format("[solver] max_iterations = {}: expected >= 1", max_iterations));

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
@@ -222,4 +223,35 @@ TEST_CASE("solvers: each backend fills its own details") {
   CHECK(groups.details.at("groups_evaluated") > 1);
   const auto compat = run("compatibility");
   CHECK(compat.details.count("polish_steps") == 1);
+}
+
+TEST_CASE("solvers: torque_tolerance is refused above 5 % (the load would not be the given torque), naming the key and the range") {
+  // Issue 26 item 16: torque_tolerance accepted up to 0.999, a "balance" at 0.1 % of the load.
+  // Liu 2021 section 3 stops at 1 %; 5 % is the loosest a balance of the given torque can mean.
+  for (const double bad : {0.06, 0.5, 0.999}) {
+    CAPTURE(bad);
+    SolverOptions o;
+    o.torque_tolerance = bad;
+    const std::string expected = fmt::format("torque_tolerance = {}: expected a relative tolerance from 1e-15 to 0.05", bad);
+    CHECK_THROWS_WITH_AS(o.Validate(), doctest::Contains(expected.c_str()), std::invalid_argument);
+  }
+  SolverOptions ok;
+  ok.torque_tolerance = 0.05;
+  CHECK_NOTHROW(ok.Validate());
+  ok.torque_tolerance = 1e-2;  // Liu's
+  CHECK_NOTHROW(ok.Validate());
+}
+
+TEST_CASE("solvers: bisection stopped by max_iterations says that the iteration limit was reached, not how close it came") {
+  // Issue 26 item 16: the message read "torque off by 1e-10 relative", as if it had converged.
+  const auto deck = ltca::app::DefaultDeck();
+  const MeshModel model = deck.MakeModel();
+  const LoadProblem problem(model, 0.3, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
+  SolverOptions options;
+  options.max_iterations = 3;
+  const auto r = MakeSolver("bisection")->Solve(problem, options);
+  REQUIRE(r.status == SolverStatus::kMaxIterations);
+  CHECK(r.message.find("iteration limit") != std::string::npos);
+  CHECK(r.message.find("max_iterations = 3") != std::string::npos);
+  CHECK(r.message.find("torque_tolerance") != std::string::npos);
 }

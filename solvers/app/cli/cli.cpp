@@ -246,9 +246,24 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       "(standardised regression coefficients), the extreme-value worst case. Sample i depends on (seed, i) only: "
       "any number of threads or MPI ranks (mpirun -np K ltca tolerance ...) gives the same samples.");
   AddLoadInputs(tolerance, overrides, deck_path, tolerance_options.solver, tolerance_options.kinematics);
-  tolerance->add_option("--samples", tolerance_options.samples, "Number of samples ([tolerances] samples)")->check(CLI::PositiveNumber);
+  tolerance
+      ->add_option_function<std::string>(
+          "--samples",
+          [&tolerance_options](const std::string& text) {
+            // Said in the option's own words (CLI11's range check printed "Value 0 not in range 0.000000 to 1.797e308").
+            std::int64_t value = 0;
+            const char* end = text.data() + text.size();
+            const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+            if (text.empty() || ptr != end || ec != std::errc() || value < 1 || value > app::ToleranceSettings::kMaxSamples) {
+              throw CLI::ValidationError(fmt::format("--samples {}: expected a whole number from 1 to {}", text,
+                                                     app::ToleranceSettings::kMaxSamples));
+            }
+            tolerance_options.samples = value;
+          },
+          "Number of samples ([tolerances] samples)")
+      ->type_name("INT 1..10000000");
   tolerance->add_option("--seed", tolerance_options.seed, "Seed of the counter-based stream ([tolerances] seed)")->check(kIndex);
-  tolerance->add_option("--threads", tolerance_options.threads, "Threads (default 0: every hardware thread)")->check(CLI::NonNegativeNumber);
+  tolerance->add_option("--threads", tolerance_options.threads, "Threads, 1 to 1024 (default 0: every hardware thread)");
   tolerance->add_option("--first", tolerance_options.first,
                         "Index of the first sample (re-run sample i of a study: --first i --samples 1)")
       ->check(kIndex);

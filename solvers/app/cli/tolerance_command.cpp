@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -57,27 +58,22 @@ T Take(const std::string& in, std::size_t& at) {
   at += sizeof(T);
   return v;
 }
-std::string Serialise(const std::vector<ToleranceSample>& samples) {
-  std::string out;
-  for (const auto& s : samples) {
-    Put(out, s.index);
-    Put(out, static_cast<std::uint64_t>(s.inputs.size()));
-    for (const double v : s.inputs) Put(out, v);
-    for (const double v : s.figures) Put(out, v);
-    for (const std::string* text : {&s.status, &s.message}) {
-      Put(out, static_cast<std::uint64_t>(text->size()));
-      out += *text;
-    }
+/// A rank's samples for the gather: index, figures, status and message, not the inputs (rank 0
+/// draws them again: Draw(i) is a pure function of (seed, i)).
+void Serialise(const ToleranceSample& s, std::string& out) {
+  Put(out, s.index);
+  for (const double v : s.figures) Put(out, v);
+  for (const std::string* text : {&s.status, &s.message}) {
+    Put(out, static_cast<std::uint64_t>(text->size()));
+    out += *text;
   }
-  return out;
 }
-void Deserialise(const std::string& in, std::vector<ToleranceSample>& out) {
+/// Calls each(sample) for every sample of a rank's bytes, in order, its inputs drawn again.
+void Deserialise(const std::string& in, const app::ToleranceStudy& study, const std::function<void(const ToleranceSample&)>& each) {
   std::size_t at = 0;
   while (at < in.size()) {
     ToleranceSample s;
     s.index = Take<std::int64_t>(in, at);
-    s.inputs.resize(Take<std::uint64_t>(in, at));
-    for (double& v : s.inputs) v = Take<double>(in, at);
     for (double& v : s.figures) v = Take<double>(in, at);
     for (std::string* text : {&s.status, &s.message}) {
       const auto n = Take<std::uint64_t>(in, at);
@@ -85,7 +81,8 @@ void Deserialise(const std::string& in, std::vector<ToleranceSample>& out) {
       *text = in.substr(at, n);
       at += n;
     }
-    out.push_back(std::move(s));
+    s.inputs = study.Draw(s.index);
+    each(s);
   }
 }
 
@@ -99,11 +96,14 @@ nlohmann::json StatsJson(const app::FigureStats& f) {
 /// A worst-case corner in text: the figure, or why there is none ("rejected": the pair interferes).
 std::string Corner(double v, const std::string& status) { return status == "success" ? FormatOrNa(v, 4) : status; }
 
-/// Samples beyond a worst-case corner: the corner is then no bound (a figure that is not monotonic
-/// in the inputs, e.g. a maximum over the pins, whose worst case is pins that differ, not every
-/// pin at the same limit).
-bool BeyondCorners(const app::FigureStats& f, const app::WorstCaseFigure& w) {
-  return (w.corner_high_status == "success" && f.max > w.corner_high) || (w.corner_low_status == "success" && f.min < w.corner_low);
+/// The mark of a figure with samples beyond its worst-case corners: '*' when some of them have every
+/// input within the range the worst case uses (the figure is not monotonic in the inputs, e.g. a
+/// maximum over the pins, whose worst case is pins that differ, not every pin at the same limit);
+/// '+' when each of them has an input beyond it (a normal given by sigma, drawn beyond 3 sigma);
+/// "" when none lies beyond.
+std::string BeyondMark(const app::CornerExceedance& e) {
+  if (e.beyond == 0) return "";
+  return e.beyond_in_range > 0 ? " *" : " +";
 }
 
 /// Whether a figure is part of this run (lost motion only when asked for).
@@ -135,7 +135,7 @@ std::string AxisLabel(const std::string& name) {
 }
 
 /// Histograms of the figures, one panel each, with p5 / p50 / p95, the limits and the worst case.
-void WriteHistograms(const app::ToleranceStudy& study, const std::vector<ToleranceSample>& samples,
+void WriteHistograms(const app::ToleranceStudy& study, const app::SampleTable& samples,
                      const app::ToleranceSummary& summary, const app::WorstCaseResult* worst, Output& output) {
   namespace plots = app::plots;
   const auto& names = app::ToleranceSettings::FigureNames();
@@ -171,9 +171,9 @@ void WriteHistograms(const app::ToleranceStudy& study, const std::vector<Toleran
     plots::Series bars{"samples", {}, {}, plots::Style::kBars};
     bars.bar_width = width;
     std::vector<double> count(bins, 0.0);
-    for (const auto& s : samples) {
-      const double v = s.figures[f];
-      if (s.status != "success" || !std::isfinite(v)) continue;
+    for (std::int64_t k = 0; k < samples.size(); ++k) {
+      const double v = samples.figures(k)[f];
+      if (!samples.succeeded(k) || !std::isfinite(v)) continue;
       count[static_cast<std::size_t>(std::clamp(static_cast<int>((v - lo) / width), 0, bins - 1))] += 1.0;
     }
     for (int b = 0; b < bins; ++b) bars.x.push_back(lo + (b + 0.5) * width), bars.y.push_back(count[static_cast<std::size_t>(b)]);
@@ -216,8 +216,12 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
   if (options.seed) settings.seed = *options.seed;
   if (options.lost_motion) settings.lost_motion = true;
   if (options.first < 0) throw std::invalid_argument(fmt::format("--first {}: expected a sample index >= 0", options.first));
-  if (options.threads < 0) throw std::invalid_argument(fmt::format("--threads {}: expected 1 or more (0: every hardware thread)", options.threads));
-  const int threads = options.threads > 0 ? options.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  if (options.threads < 0 || options.threads > app::kMaxToleranceThreads) {
+    throw std::invalid_argument(fmt::format("--threads {}: expected 0 (every hardware thread) or 1 to {}", options.threads,
+                                            app::kMaxToleranceThreads));
+  }
+  const int threads = options.threads > 0 ? options.threads
+                                          : std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, app::kMaxToleranceThreads);
   const solvers::SolverOptions solver = SolverFor(deck_in, options.solver, options.kinematics);
   const app::ToleranceStudy study(deck_in, solver, settings);  // validates everything
   const app::Deck& deck = study.deck();
@@ -247,12 +251,7 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
   fmt::print(text, "per sample: unloaded TCA and loaded TCA over {} positions from {:g} to {:g} deg crank{}\n",
              deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end),
              settings.lost_motion ? fmt::format(", lost motion at +-{:g} % of T", 100.0 * deck.stiffness.lost_motion_fraction) : "");
-  for (const auto& d : settings.distributions) {
-    fmt::print(text, "  {:<36} {:<7} {}{}\n", d.key, KindName(d.kind),
-               d.kind == app::ToleranceDistribution::Kind::kNormal ? fmt::format("sigma {:g}", d.sigma)
-                                                                    : fmt::format("+-{:g}", d.tolerance),
-               (d.mean != 0.0 ? fmt::format(", centre offset {:g}", d.mean) : std::string()) + (d.per_pin ? ", per pin" : ""));
-  }
+  for (const auto& d : settings.distributions) fmt::print(text, "  {:<36} {}\n", d.key, app::Describe(d));
   if (settings.profile_random_per_sample) {
     fmt::print(text, "  profile random deviation: every sample its own, zone {:g} um ({}), seed drawn from (seed, i)\n",
                units::MmToUm(deck.errors.profile_random.zone),
@@ -260,45 +259,31 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
   }
   for (const auto& note : study.notes()) fmt::print(text, "note      {}\n", note);
 
-  // The samples: rank r runs the r-th static block, on its threads.
-  const auto start = Clock::now();
-  const std::int64_t begin = options.first + n * rank / ranks, end = options.first + n * (rank + 1) / ranks;
-  std::vector<ToleranceSample> samples;
-  {
-    Progress progress(streams.err, streams.progress && root, "tolerance sample", end - begin);
-    samples = study.RunRange(begin, end - begin, threads, [&](std::int64_t done) { progress.Update(done); });
-    progress.Finish();
-  }
-  if (farm && ranks > 1) {
-    const std::vector<std::string> parts = farm->Gather(Serialise(samples));
-    if (!root) {
-      const bool ok = std::all_of(samples.begin(), samples.end(), [](const ToleranceSample& s) { return s.status == "success"; });
-      return ok ? kExitSuccess : kExitNotSucceeded;
-    }
-    samples.clear();
-    for (const auto& part : parts) Deserialise(part, samples);
-    if (static_cast<std::int64_t>(samples.size()) != n) {
-      throw std::runtime_error(fmt::format("tolerance: gathered {} samples, expected {}", samples.size(), n));
-    }
-  }
-  const double sample_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const app::ToleranceSummary summary = app::Summarise(study, samples);
-  std::optional<app::WorstCaseResult> worst;
-  const auto worst_start = Clock::now();
-  if (!options.no_worst_case) worst = app::ExtremeValueWorstCase(study, threads);
-  const double worst_seconds = std::chrono::duration<double>(Clock::now() - worst_start).count();
-
   const auto& names = app::ToleranceSettings::FigureNames();
-  // CSV: every sample's inputs and figures, so that any one can be re-run (--first i --samples 1).
-  if (csv.enabled()) {
-    std::ostream& os = csv.stream();
+  // The CSV is written as the samples come, in sample order: every sample's inputs and figures,
+  // so that any one can be re-run (--first i --samples 1). Only the table is kept.
+  std::ostream* csv_os = csv.enabled() ? &csv.stream() : nullptr;
+  if (csv_os != nullptr) {
+    std::ostream& os = *csv_os;
     os << "sample,status";
     for (const auto& in : study.inputs()) os << ',' << in.name;
     for (std::size_t f = 0; f < names.size(); ++f) {
       if (Ran(f, settings)) os << ',' << names[f];
     }
     os << ",message\n";
-    for (const auto& s : samples) {
+  }
+  const std::int64_t begin = options.first + n * rank / ranks, end = options.first + n * (rank + 1) / ranks;
+  app::SampleTable samples(options.first);
+  std::string mine;      // a rank other than 0: its samples as bytes for the gather
+  bool mine_ok = true;   // and whether they all succeeded (its exit code)
+  if (root) samples.Reserve(n);
+  const auto keep = [&](const ToleranceSample& s) {
+    if (!root) {
+      mine_ok = mine_ok && s.status == "success";
+      return Serialise(s, mine);
+    }
+    if (csv_os != nullptr) {
+      std::ostream& os = *csv_os;
       os << s.index << ',' << s.status;
       for (const double v : s.inputs) os << ',' << CsvNumber(v);
       for (std::size_t f = 0; f < names.size(); ++f) {
@@ -306,8 +291,43 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
       }
       os << ',' << CsvText(s.message) << '\n';
     }
-    csv.Commit();
+    samples.Add(s);
+  };
+
+  // The samples: rank r runs the r-th static block, on its threads.
+  const auto start = Clock::now();
+  {
+    Progress progress(streams.err, streams.progress && root, "tolerance sample", end - begin, options.progress_after_seconds);
+    study.RunStream(begin, end - begin, threads, keep, [&](std::int64_t done) { progress.Update(done); });
+    progress.Finish();
   }
+  if (farm && ranks > 1) {
+    const std::vector<std::string> parts = farm->Gather(mine);
+    if (!root) {
+      // This rank's exit code: whether its own samples succeeded (rank 0's is the study's).
+      return mine_ok ? kExitSuccess : kExitNotSucceeded;
+    }
+    for (std::size_t r = 1; r < parts.size(); ++r) Deserialise(parts[r], study, keep);
+    if (samples.size() != n) throw std::runtime_error(fmt::format("tolerance: gathered {} samples, expected {}", samples.size(), n));
+  }
+  if (csv_os != nullptr) csv.Commit();
+  const double sample_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const app::ToleranceSummary summary = app::Summarise(study, samples);
+  std::optional<app::WorstCaseResult> worst;
+  std::array<app::CornerExceedance, app::kToleranceFigureCount> beyond{};
+  const auto worst_start = Clock::now();
+  if (!options.no_worst_case) {
+    // Its own progress line (the samples' reads 100 % by now), cleared before the summary.
+    // At most 1 + 2 x columns + 2 x figures runs (a figure with no stack runs no corner).
+    Progress progress(streams.err, streams.progress && root, "tolerance worst-case run",
+                      1 + 2 * static_cast<std::int64_t>(study.inputs().size() + app::kToleranceFigureCount),
+                      options.progress_after_seconds);
+    worst = app::ExtremeValueWorstCase(study, threads, [&](std::int64_t done, std::int64_t) { progress.Update(done); });
+    progress.Finish();
+    beyond = app::CompareWithCorners(study, samples, *worst);
+  }
+  const double worst_seconds = std::chrono::duration<double>(Clock::now() - worst_start).count();
+
   if (svg.enabled()) {
     WriteHistograms(study, samples, summary, worst ? &*worst : nullptr, svg);
   }
@@ -315,8 +335,12 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
     nlohmann::json dists = nlohmann::json::array();
     for (const auto& d : settings.distributions) {
       nlohmann::json j = {{"key", d.key}, {"distribution", KindName(d.kind)}, {"mean", d.mean}, {"per_pin", d.per_pin},
-                          {"std", d.StandardDeviation()}, {"worst_case_half_width", d.WorstCaseHalfWidth()}};
-      if (d.kind == app::ToleranceDistribution::Kind::kNormal) j["sigma"] = d.sigma;
+                          {"std", d.StandardDeviation()}, {"worst_case_half_width", d.WorstCaseHalfWidth()},
+                          {"description", app::Describe(d)}};
+      if (d.kind == app::ToleranceDistribution::Kind::kNormal) {
+        j["sigma"] = d.sigma;
+        j["truncated_at"] = app::Truncated(d) ? nlohmann::json(d.tolerance) : nlohmann::json();
+      }
       if (d.tolerance != 0.0 || d.kind == app::ToleranceDistribution::Kind::kUniform) j["tolerance"] = d.tolerance;
       dists.push_back(std::move(j));
     }
@@ -326,8 +350,12 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
       figures[names[f]] = StatsJson(summary.figures[f]);
       const auto& fs = summary.sensitivity[f];
       nlohmann::json keys = nlohmann::json::array();
-      for (const auto& k : fs.keys) keys.push_back({{"key", k.key}, {"src", FiniteOrNull(k.src)}, {"share", FiniteOrNull(k.share)}});
-      sens[names[f]] = {{"r_squared", FiniteOrNull(fs.r_squared)}, {"ranking", keys}};
+      for (const auto& k : fs.keys) {
+        keys.push_back({{"key", k.key}, {"src", FiniteOrNull(k.src)}, {"share", FiniteOrNull(k.share)}, {"columns", k.columns},
+                        {"noise_floor", FiniteOrNull(k.noise_floor)}, {"distinguishable_from_chance", k.distinguishable}});
+      }
+      sens[names[f]] = {{"samples", fs.samples}, {"r_squared", FiniteOrNull(fs.r_squared)},
+                        {"r_squared_noise_floor", FiniteOrNull(fs.r_squared_floor)}, {"ranking", keys}};
       if (!fs.note.empty()) sens[names[f]]["note"] = fs.note;
       if (worst) {
         const auto& w = worst->figures[f];
@@ -335,7 +363,10 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
                         {"stack_high", FiniteOrNull(w.stack_high)}, {"corner_low", FiniteOrNull(w.corner_low)},
                         {"corner_high", FiniteOrNull(w.corner_high)}, {"corner_low_status", w.corner_low_status},
                         {"corner_high_status", w.corner_high_status},
-                        {"monte_carlo_beyond_corners", BeyondCorners(summary.figures[f], w)}};
+                        {"monte_carlo_beyond_corners", beyond[f].beyond > 0},
+                        {"samples_beyond_corners", beyond[f].beyond},
+                        {"samples_beyond_corners_inputs_in_range", beyond[f].beyond_in_range}};
+        if (!w.note.empty()) wc[names[f]]["note"] = w.note;
       }
     }
     nlohmann::json limits = nlohmann::json::array();
@@ -353,7 +384,8 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
           {"distributions", dists},
           {"sweep", {{"crank_start_deg", units::RadToDeg(deck.sweep.crank_start)}, {"crank_end_deg", units::RadToDeg(deck.sweep.crank_end)},
                      {"positions", deck.sweep.positions}}},
-          {"random_stream", "Philox4x32-10 (counter-based): draw (key, pin) of sample i is a pure function of (seed, i)"}}},
+          {"random_stream", "Philox4x32-10 (counter-based): draw (key, pin) of sample i is a pure function of (seed, i); a normal "
+                            "given as +-tolerance is the normal truncated there, drawn by the inverse distribution function"}}},
         {"notes", study.notes()},
         {"summary",
          {{"samples", summary.samples}, {"seed", summary.seed}, {"succeeded", summary.succeeded}, {"failed", summary.failed},
@@ -376,6 +408,7 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
     if (worst) {
       doc["summary"]["worst_case"] = {{"method", kWorstCaseMethod}, {"figures", wc}, {"runs", worst->runs},
                                       {"failed_runs", worst->failed_runs}, {"wall_seconds", worst_seconds}};
+      if (!worst->first_failure.empty()) doc["summary"]["worst_case"]["first_failure"] = worst->first_failure;
     }
     json.stream() << Dump(doc) << '\n';
     json.Commit();
@@ -390,24 +423,34 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
     fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", names[f], FormatOrNa(s.mean, 4), FormatOrNa(s.std, 4),
                FormatOrNa(s.p1, 4), FormatOrNa(s.p5, 4), FormatOrNa(s.p50, 4), FormatOrNa(s.p95, 4), FormatOrNa(s.p99, 4),
                worst ? fmt::format(" {:>11} {:>11}{}", Corner(worst->figures[f].corner_low, worst->figures[f].corner_low_status),
-                                   Corner(worst->figures[f].corner_high, worst->figures[f].corner_high_status),
-                                   BeyondCorners(s, worst->figures[f]) ? " *" : "")
+                                   Corner(worst->figures[f].corner_high, worst->figures[f].corner_high_status), BeyondMark(beyond[f]))
                      : std::string());
   }
   if (worst) {
     fmt::print(text, "worst case: extreme-value method (every input at +-tolerance or +-3 sigma about its centre, effects stacked "
-                     "linearly, the corner the stack picks run): {} runs, {} not succeeded{}\n",
-               worst->runs, worst->failed_runs,
-               worst->failed_runs > 0 ? " (their effect is taken as 0; a corner marked 'rejected' could not be built or "
-                                        "assembled, one marked 'failed' did not solve)"
-                                      : "");
-    if (std::any_of(names.begin(), names.end(), [&](const std::string& name) {
-          const auto f = static_cast<std::size_t>(&name - names.data());
-          return Ran(f, settings) && BeyondCorners(summary.figures[f], worst->figures[f]);
-        })) {
-      fmt::print(text, "  * samples lie beyond the corners: the figure is not monotonic in the inputs (a maximum or range over "
-                       "the pins: its worst case is pins that differ, not every pin at the same limit); the corners bound "
-                       "nothing there\n");
+                     "linearly, the corner the stack picks run): {} runs, {} not succeeded\n",
+               worst->runs, worst->failed_runs);
+    if (worst->failed_runs > 0) {
+      fmt::print(text, "  a corner marked 'rejected' could not be built or assembled, one marked 'failed' did not solve; a figure "
+                       "whose effect of an input needs a run that did not succeed has no stack and no corner ('not run'), never "
+                       "an effect of 0; first: {}\n",
+                 worst->first_failure);
+    }
+    const auto any = [&](auto&& pred) {
+      for (std::size_t f = 0; f < names.size(); ++f) {
+        if (Ran(f, settings) && pred(beyond[f])) return true;
+      }
+      return false;
+    };
+    if (any([](const app::CornerExceedance& e) { return e.beyond_in_range > 0; })) {
+      fmt::print(text, "  * samples with every input within its range lie beyond the corners: the figure is not monotonic in the "
+                       "inputs (a maximum or range over the pins: its worst case is pins that differ, not every pin at the same "
+                       "limit); the corners bound nothing there\n");
+    }
+    if (any([](const app::CornerExceedance& e) { return e.beyond > 0 && e.beyond_in_range == 0; })) {
+      fmt::print(text, "  + the samples beyond the corners each have an input beyond 3 sigma: a normal given by sigma is not "
+                       "truncated (0.27 % of its draws lie beyond the +-3 sigma of the worst case); give it as a tolerance to "
+                       "truncate it there\n");
     }
   }
   for (std::size_t c = 0; c < settings.chains.size(); ++c) {
@@ -425,20 +468,22 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
   if (!summary.limits.empty()) {
     fmt::print(text, "all limits met by {} of {} samples ({:.2f} %)\n", summary.passed_all, summary.samples, 100.0 * summary.pass_fraction);
   }
-  fmt::print(text, "sensitivity (standardised regression coefficients; share = sum of SRC^2 over the key's columns):\n");
+  fmt::print(text, "sensitivity (standardised regression coefficients; share = sum of SRC^2 over the key's columns; R^2 of the "
+                   "linear fit, beside it the R^2 chance reaches; '~': a share below its noise floor, not distinguishable from "
+                   "chance at the 99.9th percentile):\n");
   for (std::size_t f = 0; f < names.size(); ++f) {
     if (!Ran(f, settings)) continue;
     const auto& fs = summary.sensitivity[f];
     std::string ranking;
     for (std::size_t k = 0; k < std::min<std::size_t>(3, fs.keys.size()); ++k) {
-      ranking += fmt::format("{}{} {:.3f}", k == 0 ? "" : ", ", fs.keys[k].key, fs.keys[k].share);
+      ranking += fmt::format("{}{} {:.3f}{}", k == 0 ? "" : ", ", fs.keys[k].key, fs.keys[k].share, fs.keys[k].distinguishable ? "" : " ~");
     }
-    fmt::print(text, "  {:<24} R^2 {:>6}  {}\n", names[f], FormatOrNa(fs.r_squared, 3), fs.note.empty() ? ranking : fs.note);
+    fmt::print(text, "  {:<24} R^2 {:>6} (chance {:>5})  {}\n", names[f], FormatOrNa(fs.r_squared, 3), FormatOrNa(fs.r_squared_floor, 3),
+               fs.note.empty() ? ranking : fs.note);
   }
   if (summary.failed + summary.rejected > 0) {
-    const auto first = std::find_if(samples.begin(), samples.end(), [](const ToleranceSample& s) { return s.status != "success"; });
     fmt::print(text, "not succeeded: {} failed, {} rejected of {} samples; first: sample {}: {}\n", summary.failed, summary.rejected,
-               summary.samples, first->index, first->message);
+               summary.samples, samples.first_failure_index(), samples.first_failure_message());
   }
   fmt::print(text, "wall time {:.3f} s for {} samples ({:.1f} samples/s){}\n", sample_seconds, n, static_cast<double>(n) / sample_seconds,
              worst ? fmt::format("; worst case {:.3f} s for {} runs", worst_seconds, worst->runs) : std::string());

@@ -22,6 +22,9 @@ struct ToleranceOptions {
   int threads = 0;                      ///< 0: every hardware thread
   bool lost_motion = false;             ///< also lost motion (as [tolerances] lost_motion = true)
   bool no_worst_case = false;           ///< skip the extreme-value counterpart
+  /// The progress lines (samples, then worst-case runs) appear once a phase has run this long, s
+  /// (when Streams::progress); a test sets 0.
+  double progress_after_seconds = 2.0;
 };
 
 /// The ranks of one MPI job, behind an interface so that MPI stays out of every header

@@ -654,7 +654,7 @@ ToleranceDistribution ReadDistribution(const std::string& key, bool per_pin, con
     }
     if (has_sigma) d.sigma = Number(t.at("sigma"), key + ".sigma", "standard deviation in the key's unit");
     else {
-      d.tolerance = Number(t.at("tolerance"), key + ".tolerance", "+-tolerance in the key's unit, read as 3 sigma");
+      d.tolerance = Number(t.at("tolerance"), key + ".tolerance", "+-tolerance in the key's unit, read as 3 sigma (the normal truncated there)");
       d.sigma = d.tolerance / 3.0;
     }
   } else {
@@ -836,8 +836,16 @@ FrictionSettings ReadFriction(const Section& s, const geometry::PairParameters& 
 
 // --- issue 15: [tolerances] ---------------------------------------------------------------------
 double ToleranceDistribution::StandardDeviation() const {
-  return kind == Kind::kNormal ? sigma : tolerance / std::sqrt(3.0);
+  if (kind == Kind::kUniform) return tolerance / std::sqrt(3.0);
+  if (tolerance == 0.0) return sigma;  // given by sigma: not truncated
+  // Given as +-tolerance (3 sigma): the normal truncated there, as ToleranceStudy::Draw draws it
+  // (Johnson, Kotz & Balakrishnan 1994, vol. 1, ch. 13 sec. 10.1).
+  constexpr double a = 3.0;
+  const double phi = std::exp(-0.5 * a * a) / std::sqrt(2.0 * units::kPi);
+  const double mass = std::erf(a / std::sqrt(2.0));  // 2 Phi(a) - 1
+  return sigma * std::sqrt(1.0 - 2.0 * a * phi / mass);
 }
+
 
 const std::vector<std::pair<std::string, bool>>& ToleranceSettings::ToleranceKeys() {
   // The order is part of the random stream: a key's stream number is its index here, so keys

@@ -37,11 +37,30 @@ void AddToPin(std::vector<double>& list, int pins, int j, double v_mm) {
   list[static_cast<std::size_t>(j)] += v_mm;
 }
 
-/// Calls fn(i) for i in 0 .. n - 1 on `threads` threads (the calling thread one of them), the
-/// indices handed out one at a time; progress(done) from the calling thread. The first
-/// exception thrown by fn is rethrown after every thread has stopped.
+/// The symmetry the errors break: per-pin keys and the frame-fixed assembly errors (the centre
+/// offset and the tilts stay where they are while the eccentric turns) repeat only after a whole
+/// crank revolution, not after one mesh period.
+bool BreaksMeshPeriod(const ToleranceDistribution& d) {
+  if (d.IsZero()) return false;
+  return d.per_pin || d.key == "centre_dx_mm" || d.key == "centre_dy_mm" || d.key == "misalignment_xz_deg" ||
+         d.key == "misalignment_yz_deg";
+}
+
+/// The draw of a normal given as a tolerance +-t (t = 3 sigma): the normal truncated to +-3 sigma,
+/// drawn exactly by the inverse distribution function of a uniform on [Phi(-3), Phi(3)] (one
+/// uniform of the counter-based stream, so the draw stays a pure function of (seed, stream, i)).
+/// Evaluated on the lower half by symmetry, so that p near 1 loses no digits.
+double TruncatedStandardNormal(double u) {
+  static const double lo = 0.5 * std::erfc(3.0 / std::sqrt(2.0));  // Phi(-3)
+  const double p = lo + u * (1.0 - 2.0 * lo);                        // in [Phi(-3), Phi(3))
+  const double z = p <= 0.5 ? InverseNormalCdf(p) : -InverseNormalCdf(1.0 - p);
+  return std::clamp(z, -3.0, 3.0);  // rounding never puts a draw beyond the corner
+}
+
+}  // namespace
+
 void ParallelFor(std::int64_t n, int threads, const std::function<void(std::int64_t)>& fn,
-                 const std::function<void(std::int64_t)>& progress) {
+                 const std::function<void(std::int64_t)>& progress, const ThreadStarter& start) {
   std::atomic<std::int64_t> next{0}, done{0};
   std::atomic<bool> stop{false};
   std::exception_ptr error;
@@ -64,23 +83,96 @@ void ParallelFor(std::int64_t n, int threads, const std::function<void(std::int6
   std::vector<std::thread> pool;
   const int extra = static_cast<int>(std::min<std::int64_t>(std::max(threads, 1), std::max<std::int64_t>(n, 1))) - 1;
   pool.reserve(static_cast<std::size_t>(extra));
-  for (int t = 0; t < extra; ++t) pool.emplace_back(work, false);
+  try {
+    for (int t = 0; t < extra; ++t) {
+      if (start) pool.push_back(start([&work] { work(false); }));
+      else pool.emplace_back(work, false);
+    }
+  } catch (...) {
+    // A thread that cannot be started (std::system_error: resources): stop the ones running and
+    // join them before the error leaves, or their std::thread destructors would terminate.
+    stop = true;
+    for (auto& t : pool) {
+      if (t.joinable()) t.join();
+    }
+    throw;
+  }
   work(true);
   for (auto& t : pool) t.join();
   if (progress) progress(done.load());
   if (error) std::rethrow_exception(error);
 }
 
-/// The symmetry the errors break: per-pin keys and the frame-fixed assembly errors (the centre
-/// offset and the tilts stay where they are while the eccentric turns) repeat only after a whole
-/// crank revolution, not after one mesh period.
-bool BreaksMeshPeriod(const ToleranceDistribution& d) {
-  if (d.IsZero()) return false;
-  return d.per_pin || d.key == "centre_dx_mm" || d.key == "centre_dy_mm" || d.key == "misalignment_xz_deg" ||
-         d.key == "misalignment_yz_deg";
+double InverseNormalCdf(double p) {
+  if (!(p > 0.0 && p < 1.0)) {
+    if (p == 0.0) return -INFINITY;
+    if (p == 1.0) return INFINITY;
+    throw std::invalid_argument(fmt::format("InverseNormalCdf({}): expected a probability in [0, 1]", p));
+  }
+  // P. J. Acklam's rational approximation (relative error 1.15e-9), then one Halley step on
+  // Phi(x) = erfc(-x / sqrt 2) / 2, which brings it to full double accuracy.
+  static constexpr double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+                                 1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
+  static constexpr double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
+                                 6.680131188771972e+01,  -1.328068155288572e+01};
+  static constexpr double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
+                                 -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
+  static constexpr double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00, 3.754408661907416e+00};
+  const double p_low = 0.02425;
+  double x = 0.0;
+  if (p < p_low) {
+    const double q = std::sqrt(-2.0 * std::log(p));
+    x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) / ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
+  } else if (p <= 1.0 - p_low) {
+    const double q = p - 0.5, r = q * q;
+    x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+        (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1.0);
+  } else {
+    const double q = std::sqrt(-2.0 * std::log1p(-p));
+    x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) / ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
+  }
+  const double e = 0.5 * std::erfc(-x / std::sqrt(2.0)) - p;
+  const double u = e * std::sqrt(2.0 * units::kPi) * std::exp(0.5 * x * x);
+  return x - u / (1.0 + 0.5 * x * u);
 }
 
-}  // namespace
+double ChiSquaredQuantile(double p, int m) {
+  if (m < 1) throw std::invalid_argument(fmt::format("ChiSquaredQuantile: {} degrees of freedom: expected >= 1", m));
+  const double z = InverseNormalCdf(p);
+  if (m == 1) {
+    const double z1 = InverseNormalCdf(0.5 + 0.5 * p);  // chi^2_1 = z^2: P(|Z| <= z1) = p
+    return z1 * z1;
+  }
+  // Wilson & Hilferty (1931): (chi^2_m / m)^(1/3) is nearly normal, mean 1 - 2 / (9 m), variance 2 / (9 m).
+  const double k = 2.0 / (9.0 * m);
+  const double t = 1.0 - k + z * std::sqrt(k);
+  return m * t * t * t;
+}
+
+std::string Describe(const ToleranceDistribution& d) {
+  using Kind = ToleranceDistribution::Kind;
+  std::string out = d.kind == Kind::kUniform ? fmt::format("uniform +-{:g}", d.tolerance)
+                    : Truncated(d) ? fmt::format("normal truncated to +-{:g} (3 sigma, sigma {:g} before truncation)", d.tolerance, d.sigma)
+                                   : fmt::format("normal, sigma {:g} (not truncated)", d.sigma);
+  if (d.mean != 0.0) out += fmt::format(", centre offset {:g}", d.mean);
+  if (d.per_pin) out += ", per pin";
+  return out;
+}
+
+void SampleTable::Reserve(std::int64_t count) {
+  figures_.reserve(static_cast<std::size_t>(count));
+  status_.reserve(static_cast<std::size_t>(count));
+}
+
+void SampleTable::Add(const ToleranceSample& s) {
+  if (s.index != first_ + size()) {
+    throw std::logic_error(fmt::format("tolerance: sample {} added after {} samples from {}: expected sample order", s.index, size(), first_));
+  }
+  const Status status = s.status == "success" ? kSuccess : s.status == "failed" ? kFailed : kRejected;
+  if (status != kSuccess && first_failure_index_ < 0) first_failure_index_ = s.index, first_failure_message_ = s.message;
+  figures_.push_back(s.figures);
+  status_.push_back(status);
+}
 
 ToleranceStudy::ToleranceStudy(const Deck& deck, const SolverOptions& options, const ToleranceSettings& settings)
     : deck_(deck), options_(options), settings_(settings) {
@@ -129,7 +221,9 @@ std::vector<double> ToleranceStudy::Draw(std::int64_t i) const {
     const ToleranceDistribution& d = settings_.distributions[inputs_[c].distribution];
     // Stream: the key's index in the key table (high word) and pin + 1 (low word; 0 for a scalar).
     const std::uint64_t stream = (static_cast<std::uint64_t>(KeyIndex(d.key)) << 32) | static_cast<std::uint64_t>(inputs_[c].pin + 1);
-    if (d.kind == ToleranceDistribution::Kind::kNormal) {
+    if (Truncated(d)) {
+      out[c] = d.mean + d.sigma * TruncatedStandardNormal(geometry::rng::Uniform01(settings_.seed, stream, index));
+    } else if (d.kind == ToleranceDistribution::Kind::kNormal) {
       out[c] = d.mean + d.sigma * geometry::rng::StandardNormal(settings_.seed, stream, index);
     } else {
       out[c] = d.mean + d.tolerance * (2.0 * geometry::rng::Uniform01(settings_.seed, stream, index) - 1.0);
@@ -192,7 +286,14 @@ ToleranceSample ToleranceStudy::Evaluate(const Deck& pair) const {
     s.figures[kPpBacklashArcsec] = units::RadToArcsec(hi - lo);
     // Loaded TCA over the sweep: `ltca solve`'s summary.
     SweepRunner runner(pair, options_);
-    for (const double crank : cranks) runner.Solve(crank);
+    std::string first_failure;  // the first position that did not succeed: where, and the solver's own words
+    for (const double crank : cranks) {
+      const PositionResult p = runner.Solve(crank);
+      if (!p.succeeded() && first_failure.empty()) {
+        first_failure = fmt::format("first at crank {:g} deg: {}: {}", units::RadToDeg(crank), solvers::ToString(p.result.status),
+                                    p.result.message);
+      }
+    }
     const SweepSummary sum_loaded = runner.Summary();
     s.figures[kMeanTeArcsec] = units::RadToArcsec(sum_loaded.mean_te);
     s.figures[kPpTeArcsec] = units::RadToArcsec(sum_loaded.pp_te);
@@ -204,8 +305,8 @@ ToleranceSample ToleranceStudy::Evaluate(const Deck& pair) const {
     }
     if (!sum_loaded.all_succeeded()) {
       s.status = "failed";
-      s.message = fmt::format("{} of {} loaded positions did not succeed ({})", sum_loaded.failed, sum_loaded.positions(),
-                              solvers::ToString(sum_loaded.status));
+      s.message = fmt::format("{} of {} loaded positions did not succeed ({}); {}", sum_loaded.failed, sum_loaded.positions(),
+                              solvers::ToString(sum_loaded.status), first_failure);
     }
     if (settings_.lost_motion) {
       // Lost motion is solved at its own torques (+-f T); the curve needs only its 3 levels.
@@ -244,10 +345,31 @@ ToleranceSample ToleranceStudy::Run(std::int64_t i) const {
 std::vector<ToleranceSample> ToleranceStudy::RunRange(std::int64_t first, std::int64_t count, int threads,
                                                       const std::function<void(std::int64_t)>& progress) const {
   if (first < 0 || count < 0) throw std::invalid_argument(fmt::format("tolerance: samples {} .. {}: expected indices >= 0", first, first + count - 1));
-  if (threads < 1) throw std::invalid_argument(fmt::format("--threads {}: expected at least 1", threads));
-  std::vector<ToleranceSample> out(static_cast<std::size_t>(count));
-  ParallelFor(count, threads, [&](std::int64_t k) { out[static_cast<std::size_t>(k)] = Run(first + k); }, progress);
+  std::vector<ToleranceSample> out;
+  out.reserve(static_cast<std::size_t>(count));
+  RunStream(first, count, threads, [&](const ToleranceSample& s) { out.push_back(s); }, progress);
   return out;
+}
+
+void ToleranceStudy::RunStream(std::int64_t first, std::int64_t count, int threads,
+                               const std::function<void(const ToleranceSample&)>& sink,
+                               const std::function<void(std::int64_t)>& progress) const {
+  if (first < 0 || count < 0) throw std::invalid_argument(fmt::format("tolerance: samples {} .. {}: expected indices >= 0", first, first + count - 1));
+  if (threads < 1 || threads > kMaxToleranceThreads) {
+    throw std::invalid_argument(fmt::format("--threads {}: expected 1 to {}", threads, kMaxToleranceThreads));
+  }
+  // Blocks of 64 samples a thread: the threads wait for one another only at the end of a block
+  // (about 1 % of the time), and at most one block of samples is held.
+  const std::int64_t block = std::int64_t{64} * threads;
+  std::vector<ToleranceSample> part;
+  for (std::int64_t start = 0; start < count; start += block) {
+    const std::int64_t m = std::min(block, count - start);
+    part.assign(static_cast<std::size_t>(m), ToleranceSample{});
+    ParallelFor(
+        m, threads, [&](std::int64_t k) { part[static_cast<std::size_t>(k)] = Run(first + start + k); },
+        progress ? std::function<void(std::int64_t)>([&](std::int64_t done) { progress(start + done); }) : nullptr);
+    for (const ToleranceSample& s : part) sink(s);
+  }
 }
 
 FigureStats ComputeStats(std::vector<double> values) {
@@ -276,99 +398,208 @@ FigureStats ComputeStats(std::vector<double> values) {
 }
 
 ToleranceSummary Summarise(const ToleranceStudy& study, const std::vector<ToleranceSample>& samples) {
+  SampleTable table(samples.empty() ? 0 : samples.front().index);
+  table.Reserve(static_cast<std::int64_t>(samples.size()));
+  for (const auto& s : samples) table.Add(s);
+  return Summarise(study, table);
+}
+
+ToleranceSummary Summarise(const ToleranceStudy& study, const SampleTable& samples) {
   ToleranceSummary out;
-  out.samples = static_cast<std::int64_t>(samples.size());
+  const std::int64_t n_all = samples.size();
+  out.samples = n_all;
   out.seed = study.settings().seed;
-  std::vector<const ToleranceSample*> ok;
-  for (const auto& s : samples) {
-    if (s.status == "success") ++out.succeeded, ok.push_back(&s);
-    else if (s.status == "failed") ++out.failed;
-    else ++out.rejected;
+  for (std::int64_t k = 0; k < n_all; ++k) {
+    switch (samples.status(k)) {
+      case SampleTable::kSuccess: ++out.succeeded; break;
+      case SampleTable::kFailed: ++out.failed; break;
+      case SampleTable::kRejected: ++out.rejected; break;
+    }
   }
   const auto& names = ToleranceSettings::FigureNames();
+  // A figure's value in a successful sample, NaN otherwise.
+  const auto value = [&](std::int64_t k, std::size_t f) { return samples.succeeded(k) ? samples.figures(k)[f] : kNaN; };
   for (std::size_t f = 0; f < kToleranceFigureCount; ++f) {
     std::vector<double> v;
-    v.reserve(ok.size());
-    for (const auto* s : ok) v.push_back(s->figures[f]);
+    v.reserve(static_cast<std::size_t>(out.succeeded));
+    for (std::int64_t k = 0; k < n_all; ++k) {
+      if (samples.succeeded(k)) v.push_back(samples.figures(k)[f]);
+    }
     out.figures[f] = ComputeStats(std::move(v));
   }
   // Limits: a sample passes when it succeeded and its figure is within [min, max].
   const auto figure_index = [&](const std::string& name) {
     return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
   };
-  const auto within = [&](const ToleranceSample& s, const ToleranceLimit& l) {
-    const double v = s.figures[figure_index(l.figure)];
-    return s.status == "success" && std::isfinite(v) && v >= l.min && v <= l.max;
+  const auto within = [&](std::int64_t k, const ToleranceLimit& l) {
+    const double v = value(k, figure_index(l.figure));
+    return std::isfinite(v) && v >= l.min && v <= l.max;
   };
   for (const ToleranceLimit& l : study.settings().limits) {
     LimitResult r;
     r.limit = l;
-    for (const auto& s : samples) r.passed += within(s, l) ? 1 : 0;
+    for (std::int64_t k = 0; k < n_all; ++k) r.passed += within(k, l) ? 1 : 0;
     r.fraction = out.samples > 0 ? static_cast<double>(r.passed) / static_cast<double>(out.samples) : kNaN;
     out.limits.push_back(r);
   }
   if (!study.settings().limits.empty()) {
-    for (const auto& s : samples) {
-      const auto& limits = study.settings().limits;
-      out.passed_all += std::all_of(limits.begin(), limits.end(), [&](const ToleranceLimit& l) { return within(s, l); }) ? 1 : 0;
+    const auto& limits = study.settings().limits;
+    for (std::int64_t k = 0; k < n_all; ++k) {
+      out.passed_all += std::all_of(limits.begin(), limits.end(), [&](const ToleranceLimit& l) { return within(k, l); }) ? 1 : 0;
     }
     out.pass_fraction = out.samples > 0 ? static_cast<double>(out.passed_all) / static_cast<double>(out.samples) : kNaN;
   }
-  // Sensitivity: SRC of every figure on every input column.
+
+  // Sensitivity: SRC of every figure on every input column, by the normal equations of the
+  // standardised least-squares problem. The inputs are drawn again in chunks of rows (Draw(i) is
+  // a pure function of (seed, i)); one pass accumulates, per figure, the counts, the sums of the
+  // inputs (shifted by their distributions' centres, so no digits cancel) and the cross products.
   const auto& inputs = study.inputs();
   const auto& dists = study.settings().distributions;
   const auto cols = static_cast<Eigen::Index>(inputs.size());
+  Eigen::VectorXd shift(cols);
+  for (Eigen::Index c = 0; c < cols; ++c) shift(c) = dists[inputs[static_cast<std::size_t>(c)].distribution].mean;
+  struct Sums {
+    std::int64_t n = 0;
+    double y_mean = 0.0, yy = 0.0, y_sum = 0.0;  // y centred on its mean (computed first, below)
+    Eigen::VectorXd x, xy;
+    Eigen::MatrixXd xx;
+  };
+  std::array<Sums, kToleranceFigureCount> sums;
+  for (std::size_t f = 0; f < kToleranceFigureCount; ++f) {
+    Sums& a = sums[f];
+    a.x = Eigen::VectorXd::Zero(cols), a.xy = Eigen::VectorXd::Zero(cols), a.xx = Eigen::MatrixXd::Zero(cols, cols);
+    double total = 0.0;
+    for (std::int64_t k = 0; k < n_all; ++k) {
+      const double y = value(k, f);
+      if (std::isfinite(y)) ++a.n, total += y;
+    }
+    a.y_mean = a.n > 0 ? total / static_cast<double>(a.n) : kNaN;
+  }
+  const bool fit_any = cols > 0 && std::any_of(sums.begin(), sums.end(), [&](const Sums& a) { return a.n >= cols + 2; });
+  if (fit_any) {
+    constexpr Eigen::Index kChunk = 512;
+    Eigen::MatrixXd x(kChunk, cols), xm(kChunk, cols);
+    Eigen::VectorXd y(kChunk);
+    std::vector<std::int64_t> rows;
+    rows.reserve(kChunk);
+    const auto flush = [&] {
+      const auto m = static_cast<Eigen::Index>(rows.size());
+      if (m == 0) return;
+      for (Eigen::Index r = 0; r < m; ++r) {
+        const std::vector<double> drawn = study.Draw(samples.index(rows[static_cast<std::size_t>(r)]));
+        for (Eigen::Index c = 0; c < cols; ++c) x(r, c) = drawn[static_cast<std::size_t>(c)] - shift(c);
+      }
+      const auto xs = x.topRows(m);
+      Eigen::MatrixXd gram;  // X^T X of the whole chunk, shared by the figures finite in every row
+      for (std::size_t f = 0; f < kToleranceFigureCount; ++f) {
+        Sums& a = sums[f];
+        if (a.n < cols + 2) continue;
+        bool all = true;
+        for (Eigen::Index r = 0; r < m; ++r) {
+          const double v = value(rows[static_cast<std::size_t>(r)], f);
+          y(r) = std::isfinite(v) ? v - a.y_mean : 0.0;
+          all = all && std::isfinite(v);
+        }
+        if (all) {
+          if (gram.size() == 0) gram.noalias() = xs.transpose() * xs;
+          a.xx += gram;
+          a.x += xs.colwise().sum().transpose();
+        } else {  // rows without the figure weigh 0
+          for (Eigen::Index r = 0; r < m; ++r) {
+            if (std::isfinite(value(rows[static_cast<std::size_t>(r)], f))) xm.row(r) = xs.row(r);
+            else xm.row(r).setZero();
+          }
+          a.xx.noalias() += xm.topRows(m).transpose() * xm.topRows(m);
+          a.x += xm.topRows(m).colwise().sum().transpose();
+        }
+        a.xy.noalias() += xs.transpose() * y.head(m);
+        a.yy += y.head(m).squaredNorm();
+        a.y_sum += y.head(m).sum();
+      }
+      rows.clear();
+    };
+    for (std::int64_t k = 0; k < n_all; ++k) {
+      if (!samples.succeeded(k)) continue;
+      rows.push_back(k);
+      if (static_cast<Eigen::Index>(rows.size()) == kChunk) flush();
+    }
+    flush();
+  }
   for (std::size_t f = 0; f < kToleranceFigureCount; ++f) {
     FigureSensitivity fs;
     fs.figure = names[f];
-    std::vector<const ToleranceSample*> rows;
-    for (const auto* s : ok) {
-      if (std::isfinite(s->figures[f])) rows.push_back(s);
-    }
-    const auto n = static_cast<Eigen::Index>(rows.size());
+    const Sums& a = sums[f];
+    const Eigen::Index n = a.n;
+    fs.samples = n;
     if (cols == 0) {
       fs.note = "no tolerance given";
-    } else if (n < cols + 2) {
+      out.sensitivity.push_back(std::move(fs));
+      continue;
+    }
+    if (n < cols + 2) {
       fs.note = fmt::format("{} successful samples for {} input columns: at least {} are needed", n, cols, cols + 2);
-    } else {
-      Eigen::MatrixXd x(n, cols);
-      Eigen::VectorXd y(n);
-      for (Eigen::Index r = 0; r < n; ++r) {
-        y(r) = rows[static_cast<std::size_t>(r)]->figures[f];
-        for (Eigen::Index c = 0; c < cols; ++c) x(r, c) = rows[static_cast<std::size_t>(r)]->inputs[static_cast<std::size_t>(c)];
-      }
-      const auto standardise = [n](auto&& v) {
-        const double mean = v.mean();
-        const double sd = std::sqrt((v.array() - mean).square().sum() / static_cast<double>(n - 1));
-        v.array() -= mean;
-        if (sd > 0.0) v /= sd;
-        return sd;
-      };
-      const double sy = standardise(y);
-      std::vector<bool> varies(static_cast<std::size_t>(cols));
-      for (Eigen::Index c = 0; c < cols; ++c) varies[static_cast<std::size_t>(c)] = standardise(x.col(c)) > 0.0;
-      if (!(sy > 0.0)) {
-        fs.note = "the figure does not vary over the samples";
-      } else {
-        const Eigen::VectorXd beta = x.colPivHouseholderQr().solve(y);
-        const double ss_res = (y - x * beta).squaredNorm();
-        fs.r_squared = 1.0 - ss_res / y.squaredNorm();
-        for (std::size_t k = 0; k < dists.size(); ++k) {
-          KeySensitivity ks;
-          ks.key = dists[k].key;
-          double share = 0.0;
-          for (Eigen::Index c = 0; c < cols; ++c) {
-            if (inputs[static_cast<std::size_t>(c)].distribution != k || !varies[static_cast<std::size_t>(c)]) continue;
-            share += beta(c) * beta(c);
-            if (!dists[k].per_pin) ks.src = beta(c);
-          }
-          ks.share = share;
-          if (!dists[k].per_pin && std::isnan(ks.src)) ks.src = 0.0;
-          fs.keys.push_back(ks);
-        }
-        std::stable_sort(fs.keys.begin(), fs.keys.end(), [](const KeySensitivity& a, const KeySensitivity& b) { return a.share > b.share; });
+      out.sensitivity.push_back(std::move(fs));
+      continue;
+    }
+    // Centred cross products: sum (x - xbar)(x - xbar)^T = sum x x^T - n xbar xbar^T (x shifted).
+    const double nn = static_cast<double>(n);
+    const Eigen::VectorXd xbar = a.x / nn;
+    const Eigen::MatrixXd cxx = a.xx - nn * xbar * xbar.transpose();
+    const Eigen::VectorXd cxy = a.xy - xbar * a.y_sum;
+    const double syy = a.yy - a.y_sum * a.y_sum / nn;
+    if (!(syy > 0.0)) {
+      fs.note = "the figure does not vary over the samples";
+      out.sensitivity.push_back(std::move(fs));
+      continue;
+    }
+    // Standardised: the correlation matrix R and the correlations r of the inputs with the figure.
+    std::vector<Eigen::Index> varying;
+    for (Eigen::Index c = 0; c < cols; ++c) {
+      if (cxx(c, c) > 0.0) varying.push_back(c);
+    }
+    const auto p = static_cast<Eigen::Index>(varying.size());
+    Eigen::MatrixXd r_xx(p, p);
+    Eigen::VectorXd r_xy(p);
+    for (Eigen::Index i = 0; i < p; ++i) {
+      const Eigen::Index ci = varying[static_cast<std::size_t>(i)];
+      r_xy(i) = cxy(ci) / std::sqrt(cxx(ci, ci) * syy);
+      for (Eigen::Index j = 0; j < p; ++j) {
+        const Eigen::Index cj = varying[static_cast<std::size_t>(j)];
+        r_xx(i, j) = cxx(ci, cj) / std::sqrt(cxx(ci, ci) * cxx(cj, cj));
       }
     }
+    Eigen::VectorXd beta = Eigen::VectorXd::Zero(cols);
+    if (p > 0) {
+      const Eigen::VectorXd b = r_xx.colPivHouseholderQr().solve(r_xy);
+      for (Eigen::Index i = 0; i < p; ++i) beta(varying[static_cast<std::size_t>(i)]) = b(i);
+      // R^2 = b^T r at the least-squares solution (the standardised figure has unit variance).
+      fs.r_squared = std::clamp(b.dot(r_xy), 0.0, 1.0);
+    } else {
+      fs.r_squared = 0.0;
+    }
+    const double dof = static_cast<double>(n - p - 1);
+    const double q_all = p > 0 ? ChiSquaredQuantile(kNoiseFloorLevel, static_cast<int>(p)) : 0.0;
+    fs.r_squared_floor = q_all / (q_all + dof);
+    for (std::size_t k = 0; k < dists.size(); ++k) {
+      KeySensitivity ks;
+      ks.key = dists[k].key;
+      double share = 0.0;
+      for (Eigen::Index c = 0; c < cols; ++c) {
+        if (inputs[static_cast<std::size_t>(c)].distribution != k || !(cxx(c, c) > 0.0)) continue;
+        share += beta(c) * beta(c);
+        ++ks.columns;
+        if (!dists[k].per_pin) ks.src = beta(c);
+      }
+      ks.share = share;
+      if (!dists[k].per_pin && std::isnan(ks.src)) ks.src = 0.0;
+      if (ks.columns > 0) {
+        ks.noise_floor = ChiSquaredQuantile(kNoiseFloorLevel, ks.columns) * (1.0 - fs.r_squared) / dof;
+        ks.distinguishable = ks.share > ks.noise_floor;
+      }
+      fs.keys.push_back(ks);
+    }
+    std::stable_sort(fs.keys.begin(), fs.keys.end(), [](const KeySensitivity& x, const KeySensitivity& y) { return x.share > y.share; });
     out.sensitivity.push_back(std::move(fs));
   }
   return out;
@@ -405,7 +636,8 @@ FigureStats ChainMonteCarlo(const std::vector<DimensionLink>& links, std::int64_
   return ComputeStats(std::move(v));
 }
 
-WorstCaseResult ExtremeValueWorstCase(const ToleranceStudy& study, int threads) {
+WorstCaseResult ExtremeValueWorstCase(const ToleranceStudy& study, int threads,
+                                      const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const auto& inputs = study.inputs();
   const auto& dists = study.settings().distributions;
   const std::size_t cols = inputs.size();
@@ -424,45 +656,113 @@ WorstCaseResult ExtremeValueWorstCase(const ToleranceStudy& study, int threads) 
     }
   }
   WorstCaseResult out;
+  // The runs of both stages for the progress: the second stage's count is known after the first.
+  std::int64_t total = static_cast<std::int64_t>(points.size()) + 2 * static_cast<std::int64_t>(kToleranceFigureCount);
   const auto run_all = [&](const std::vector<std::vector<double>>& pts) {
     std::vector<ToleranceSample> r(pts.size());
-    ParallelFor(static_cast<std::int64_t>(pts.size()), threads,
-                [&](std::int64_t i) { r[static_cast<std::size_t>(i)] = study.Evaluate(study.Apply(pts[static_cast<std::size_t>(i)])); }, {});
+    const std::int64_t before = out.runs;
+    ParallelFor(
+        static_cast<std::int64_t>(pts.size()), threads,
+        [&](std::int64_t i) { r[static_cast<std::size_t>(i)] = study.Evaluate(study.Apply(pts[static_cast<std::size_t>(i)])); },
+        progress ? std::function<void(std::int64_t)>([&](std::int64_t done) { progress(before + done, total); }) : nullptr);
     out.runs += static_cast<std::int64_t>(pts.size());
     for (const auto& s : r) out.failed_runs += s.status == "success" ? 0 : 1;
     return r;
   };
   const std::vector<ToleranceSample> first = run_all(points);
-  // Stage 2: per figure, the corner the linear stack picks, each way.
+  const auto end_name = [&](std::size_t run) {  // run 1 + 2c: column c at +h; 2 + 2c: at -h
+    const std::size_t c = (run - 1) / 2;
+    const double at = centre[c] + ((run - 1) % 2 == 0 ? half[c] : -half[c]);
+    return fmt::format("{} at {:g}", inputs[c].name, at);
+  };
+  if (first[0].status != "success") out.first_failure = fmt::format("the nominal pair: {}", first[0].message);
+  for (std::size_t run = 1; run < first.size() && out.first_failure.empty(); ++run) {
+    if (first[run].status != "success") out.first_failure = fmt::format("{}: {} ({})", end_name(run), first[run].status, first[run].message);
+  }
+  // Stage 2: per figure, the corner the linear stack picks, each way. An input whose effect on the
+  // figure is unknown (a run at an end failed or was rejected) is not an effect of 0: the figure
+  // then has no stack and no corner.
   std::vector<std::vector<double>> corners;
+  std::vector<std::size_t> corner_figure;
   for (std::size_t f = 0; f < kToleranceFigureCount; ++f) {
     WorstCaseFigure& w = out.figures[f];
     w.nominal = first[0].status == "success" ? first[0].figures[f] : kNaN;
     double stack = 0.0;
     std::vector<double> high = centre, low = centre;
-    for (std::size_t c = 0; c < cols; ++c) {
-      const double up = first[1 + 2 * c].figures[f], down = first[2 + 2 * c].figures[f];
-      const bool ok = first[1 + 2 * c].status == "success" && first[2 + 2 * c].status == "success" && std::isfinite(up) &&
-                      std::isfinite(down);
-      const double effect = ok ? 0.5 * (up - down) : 0.0;
+    for (std::size_t c = 0; c < cols && w.note.empty(); ++c) {
+      for (const std::size_t run : {1 + 2 * c, 2 + 2 * c}) {
+        if (first[run].status != "success" || !std::isfinite(first[run].figures[f])) {
+          w.note = first[run].status != "success"
+                       ? fmt::format("{} {}: its effect is unknown ({})", end_name(run), first[run].status, first[run].message)
+                       : fmt::format("{}: no value", end_name(run));
+          break;
+        }
+      }
+      if (!w.note.empty()) break;
+      const double effect = 0.5 * (first[1 + 2 * c].figures[f] - first[2 + 2 * c].figures[f]);
       stack += std::abs(effect);
       const double sign = effect >= 0.0 ? 1.0 : -1.0;
       high[c] += sign * half[c];
       low[c] -= sign * half[c];
     }
+    if (!w.note.empty()) {
+      w.stack_low = w.stack_high = w.corner_low = w.corner_high = kNaN;
+      w.corner_low_status = w.corner_high_status = "not run";
+      continue;
+    }
     w.stack_low = w.nominal - stack;
     w.stack_high = w.nominal + stack;
     corners.push_back(std::move(low));
     corners.push_back(std::move(high));
+    corner_figure.push_back(f);
   }
+  total = static_cast<std::int64_t>(points.size() + corners.size());
   const std::vector<ToleranceSample> second = run_all(corners);
-  for (std::size_t f = 0; f < kToleranceFigureCount; ++f) {
-    const auto& lo = second[2 * f];
-    const auto& hi = second[2 * f + 1];
+  for (std::size_t k = 0; k < corner_figure.size(); ++k) {
+    const std::size_t f = corner_figure[k];
+    const auto& lo = second[2 * k];
+    const auto& hi = second[2 * k + 1];
     out.figures[f].corner_low = lo.status == "success" ? lo.figures[f] : kNaN;
     out.figures[f].corner_high = hi.status == "success" ? hi.figures[f] : kNaN;
     out.figures[f].corner_low_status = lo.status;
     out.figures[f].corner_high_status = hi.status;
+    for (const auto* s : {&lo, &hi}) {
+      if (s->status != "success" && out.first_failure.empty()) {
+        out.first_failure = fmt::format("the {} corner of {}: {} ({})", s == &lo ? "low" : "high", ToleranceSettings::FigureNames()[f],
+                                        s->status, s->message);
+      }
+    }
+  }
+  return out;
+}
+
+std::array<CornerExceedance, kToleranceFigureCount> CompareWithCorners(const ToleranceStudy& study, const SampleTable& samples,
+                                                                        const WorstCaseResult& worst) {
+  std::array<CornerExceedance, kToleranceFigureCount> out{};
+  const auto& inputs = study.inputs();
+  const auto& dists = study.settings().distributions;
+  for (std::int64_t k = 0; k < samples.size(); ++k) {
+    if (!samples.succeeded(k)) continue;
+    std::vector<double> drawn;  // drawn again only for a sample beyond some corner
+    for (std::size_t f = 0; f < kToleranceFigureCount; ++f) {
+      const WorstCaseFigure& w = worst.figures[f];
+      const double v = samples.figures(k)[f];
+      // Beyond by more than the arithmetic's noise: 1e-6 of the figure's unit (arcsec, MPa, N,
+      // arcmin, pins) plus 1e-9 relative; a figure that is 0 up to round-off (the peak-to-peak of a
+      // pair whose pins are all alike, ~1e-11 arcsec) is not "beyond" its corners.
+      const auto slack = [](double corner) { return 1e-6 + 1e-9 * std::abs(corner); };
+      const bool beyond = (w.corner_high_status == "success" && v > w.corner_high + slack(w.corner_high)) ||
+                          (w.corner_low_status == "success" && v < w.corner_low - slack(w.corner_low));
+      if (!beyond) continue;
+      ++out[f].beyond;
+      if (drawn.empty()) drawn = study.Draw(samples.index(k));
+      bool in_range = true;
+      for (std::size_t c = 0; c < inputs.size(); ++c) {
+        const ToleranceDistribution& d = dists[inputs[c].distribution];
+        in_range = in_range && std::abs(drawn[c] - d.mean) <= d.WorstCaseHalfWidth() * (1.0 + 1e-12);  // an ulp of the sum
+      }
+      out[f].beyond_in_range += in_range ? 1 : 0;
+    }
   }
   return out;
 }

@@ -18,6 +18,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ltca/app/deck.hpp"
@@ -32,6 +33,31 @@ enum ToleranceFigure : std::size_t {
   kMeanBacklashArcsec, kPpBacklashArcsec, kMeanTeArcsec, kPpTeArcsec, kMaxContactStressMpa, kMaxPinForceN,
   kContactsMin, kContactsMax, kLostMotionArcmin
 };
+
+/// The most threads a study runs on (--threads): beyond it a thread costs its stack (8 MiB of
+/// address space) and buys nothing on any machine this runs on; starting 40,000 failed.
+inline constexpr int kMaxToleranceThreads = 1024;
+
+/// Starts one thread running the work (std::thread's own constructor by default; a test passes
+/// one that fails).
+using ThreadStarter = std::function<std::thread(std::function<void()>)>;
+/// Calls fn(i) for i in 0 .. n - 1 on `threads` threads (the calling thread one of them), the
+/// indices handed out one at a time; progress(done) from the calling thread. The first exception
+/// thrown by fn is rethrown after every thread has stopped. When a thread cannot be started, the
+/// ones already started stop after their current index and are joined, and the error is
+/// rethrown: no thread is left running or unjoined.
+void ParallelFor(std::int64_t n, int threads, const std::function<void(std::int64_t)>& fn,
+                 const std::function<void(std::int64_t)>& progress, const ThreadStarter& start = {});
+
+/// A normal given as a tolerance +-t (t = 3 sigma) is drawn from the normal truncated to +-t, so
+/// that no draw lies beyond the worst-case corner; one given by sigma is not truncated
+/// (ToleranceDistribution::StandardDeviation() is the truncated normal's then).
+inline bool Truncated(const ToleranceDistribution& d) {
+  return d.kind == ToleranceDistribution::Kind::kNormal && d.tolerance > 0.0;
+}
+/// "normal, sigma 0.001 (not truncated)", "normal truncated to +-0.003 (3 sigma, sigma 0.001 before
+/// truncation)", "uniform +-0.002", with the centre offset and "per pin" when they apply.
+std::string Describe(const ToleranceDistribution& d);
 
 /// One input column of the study: a scalar key, or one pin of a per-pin key.
 struct ToleranceInput {
@@ -76,10 +102,16 @@ class ToleranceStudy {
   ToleranceSample Evaluate(const Deck& pair) const;
   /// Sample i: Draw, Apply, Evaluate.
   ToleranceSample Run(std::int64_t i) const;
-  /// Samples first .. first + count - 1 on `threads` threads (>= 1), in sample order. The
-  /// callback (if any) is called from the calling thread with the number done so far.
+  /// Samples first .. first + count - 1 on `threads` threads (1 .. kMaxToleranceThreads), in
+  /// sample order. The callback (if any) is called from the calling thread with the number done
+  /// so far.
   std::vector<ToleranceSample> RunRange(std::int64_t first, std::int64_t count, int threads,
                                         const std::function<void(std::int64_t)>& progress = {}) const;
+  /// The same samples handed to `sink` one by one in sample order from the calling thread, as
+  /// they are produced: they are computed in blocks of 64 per thread, so that at most one block
+  /// is held at once whatever the count.
+  void RunStream(std::int64_t first, std::int64_t count, int threads, const std::function<void(const ToleranceSample&)>& sink,
+                 const std::function<void(std::int64_t)>& progress = {}) const;
 
  private:
   Deck deck_;
@@ -87,6 +119,40 @@ class ToleranceStudy {
   ToleranceSettings settings_;
   std::vector<ToleranceInput> inputs_;
   std::vector<std::string> notes_;
+};
+
+/// What the summary keeps of the samples: each one's figures and status, 73 bytes a sample in two
+/// flat arrays (no string or vector per sample). The inputs are not kept: they are drawn again
+/// where needed (ToleranceStudy::Draw(i) is a pure function of (seed, i)). Of the messages only
+/// the first one of a sample that did not succeed is kept (the text summary shows it).
+class SampleTable {
+ public:
+  enum Status : std::uint8_t { kSuccess = 0, kFailed = 1, kRejected = 2 };
+  /// The bytes the table retains a sample (its capacity reserved for the count).
+  static constexpr std::size_t kBytesPerSample = sizeof(ToleranceFigures) + sizeof(std::uint8_t);
+
+  explicit SampleTable(std::int64_t first = 0) : first_(first) {}
+  void Reserve(std::int64_t count);
+  /// Adds the next sample: its index must be first() + size() (sample order).
+  void Add(const ToleranceSample& s);
+  std::int64_t first() const { return first_; }
+  std::int64_t size() const { return static_cast<std::int64_t>(status_.size()); }
+  std::int64_t index(std::int64_t k) const { return first_ + k; }
+  const ToleranceFigures& figures(std::int64_t k) const { return figures_[static_cast<std::size_t>(k)]; }
+  Status status(std::int64_t k) const { return static_cast<Status>(status_[static_cast<std::size_t>(k)]); }
+  bool succeeded(std::int64_t k) const { return status(k) == kSuccess; }
+  /// The first sample that did not succeed: its index (-1: none) and message.
+  std::int64_t first_failure_index() const { return first_failure_index_; }
+  const std::string& first_failure_message() const { return first_failure_message_; }
+  /// Bytes held for the samples (the arrays' capacity).
+  std::size_t RetainedBytes() const { return figures_.capacity() * sizeof(ToleranceFigures) + status_.capacity(); }
+
+ private:
+  std::int64_t first_ = 0;
+  std::vector<ToleranceFigures> figures_;
+  std::vector<std::uint8_t> status_;
+  std::int64_t first_failure_index_ = -1;
+  std::string first_failure_message_;
 };
 
 /// Percentiles by linear interpolation between order statistics (Hyndman & Fan type 7, numpy's
@@ -110,21 +176,39 @@ struct LimitResult {
 /// "Global sensitivity analysis: the primer", 2008, section 1.2.5). A key's share is the sum of
 /// SRC^2 over its columns (one per pin for a per-pin key): with independent inputs and a linear
 /// response the shares add up to R^2, the fraction of the variance the linear fit explains.
+///
+/// The noise floor: with n samples and p columns a key of m columns whose true effect is nil
+/// still gets a share, sum of m SRC^2 each of variance (1 - R^2) / (n - p - 1) (the least-squares
+/// variance of a coefficient on independent standardised inputs), so share (n - p - 1) / (1 - R^2)
+/// is about chi^2 with m degrees of freedom. The floor is its 99.9th percentile (Wilson-Hilferty
+/// for m > 1, exact for m = 1) times (1 - R^2) / (n - p - 1); a share below it is not
+/// distinguishable from chance. Likewise R^2 by chance alone: q / (q + n - p - 1), q the 99.9th
+/// percentile of chi^2 with p degrees of freedom (the F test of the whole fit, its denominator
+/// taken at its mean).
+inline constexpr double kNoiseFloorLevel = 0.999;
 struct KeySensitivity {
   std::string key;
   double src = std::numeric_limits<double>::quiet_NaN();    ///< scalar keys: the signed SRC
   double share = std::numeric_limits<double>::quiet_NaN();  ///< sum of SRC^2 over the key's columns
+  int columns = 0;                                          ///< its columns that vary (m)
+  double noise_floor = std::numeric_limits<double>::quiet_NaN();  ///< the share chance reaches (above)
+  bool distinguishable = false;                             ///< share above the noise floor
 };
 struct FigureSensitivity {
   std::string figure;
+  std::int64_t samples = 0;  ///< successful samples with a finite figure (n)
   double r_squared = std::numeric_limits<double>::quiet_NaN();
+  double r_squared_floor = std::numeric_limits<double>::quiet_NaN();  ///< R^2 that chance reaches (above)
   std::vector<KeySensitivity> keys;  ///< largest share first
   std::string note;                  ///< why there is no ranking, when there is none
 };
 inline constexpr const char* kSensitivityMethod =
     "standardised regression coefficients (SRC): least squares of the standardised figure on the standardised "
-    "inputs (Eigen column-pivoting QR) over the successful samples; a key's share is the sum of SRC^2 over its "
-    "columns (per pin for per-pin keys); R^2 says how much of the variance the linear model explains";
+    "inputs (normal equations of the correlation matrix, Eigen column-pivoting QR) over the successful samples; a "
+    "key's share is the sum of SRC^2 over its columns (per pin for per-pin keys); R^2 says how much of the variance "
+    "the linear model explains; noise_floor is the share a key with no effect reaches by chance at the 99.9th "
+    "percentile (chi^2 with the key's columns as degrees of freedom, times (1 - R^2) / (n - p - 1)): a share below "
+    "it is not distinguishable from chance";
 
 struct ToleranceSummary {
   std::int64_t samples = 0, succeeded = 0, failed = 0, rejected = 0;
@@ -135,8 +219,15 @@ struct ToleranceSummary {
   double pass_fraction = std::numeric_limits<double>::quiet_NaN();  ///< passed_all / samples (NaN without limits)
   std::vector<FigureSensitivity> sensitivity;
 };
-/// The summary of samples in sample order (it does not depend on how they were computed).
+/// The summary of samples in sample order (it does not depend on how they were computed). The
+/// inputs of the regression are drawn again (Draw(i)), not read from the samples.
+ToleranceSummary Summarise(const ToleranceStudy& study, const SampleTable& samples);
 ToleranceSummary Summarise(const ToleranceStudy& study, const std::vector<ToleranceSample>& samples);
+/// The standard normal's inverse distribution function, to full double accuracy (Acklam's
+/// rational approximation, one Halley step on erfc).
+double InverseNormalCdf(double p);
+/// The p-th quantile of chi^2 with m degrees of freedom: exact for m = 1, Wilson-Hilferty above.
+double ChiSquaredQuantile(double p, int m);
 
 // --- The extreme-value (worst-case) counterpart ------------------------------------------------
 
@@ -160,14 +251,32 @@ struct WorstCaseFigure {
   double nominal = std::numeric_limits<double>::quiet_NaN();  ///< every input at its centre
   double stack_low = nominal, stack_high = nominal;           ///< nominal -+ sum |effect|
   double corner_low = nominal, corner_high = nominal;         ///< the run at the corner
-  /// The corner runs' status ("success", "failed", "rejected": e.g. the corner pair interferes).
+  /// The corner runs' status ("success", "failed", "rejected": e.g. the corner pair interferes;
+  /// "not run": an input's effect on the figure is unknown, see note).
   std::string corner_low_status, corner_high_status;
+  /// Why there is no stack and no corner: the input whose run at an end did not succeed. The
+  /// effect of such an input is unknown, never taken as 0: the stack and both corners are NaN.
+  std::string note;
 };
 struct WorstCaseResult {
   std::array<WorstCaseFigure, kToleranceFigureCount> figures;
   std::int64_t runs = 0;
-  std::int64_t failed_runs = 0;  ///< runs that were rejected or failed (their effect is taken as 0)
+  std::int64_t failed_runs = 0;  ///< runs that were rejected or failed
+  std::string first_failure;     ///< the first of them: which input at which end, and why
 };
-WorstCaseResult ExtremeValueWorstCase(const ToleranceStudy& study, int threads);
+/// `progress(done, total)` from the calling thread, over both stages of runs.
+WorstCaseResult ExtremeValueWorstCase(const ToleranceStudy& study, int threads,
+                                      const std::function<void(std::int64_t, std::int64_t)>& progress = {});
+
+/// The samples of a figure beyond its worst-case corners, and how many of them have an input
+/// beyond the range the worst case uses (a normal given by sigma is not truncated: 0.27 % of its
+/// draws lie beyond 3 sigma). A sample beyond a corner with every input in range means the figure
+/// is not monotonic in the inputs; one with an input out of range means nothing of the kind.
+struct CornerExceedance {
+  std::int64_t beyond = 0;           ///< successful samples beyond a successful corner
+  std::int64_t beyond_in_range = 0;  ///< of them, with every input within its worst-case range
+};
+std::array<CornerExceedance, kToleranceFigureCount> CompareWithCorners(const ToleranceStudy& study, const SampleTable& samples,
+                                                                        const WorstCaseResult& worst);
 
 }  // namespace ltca::app
