@@ -367,9 +367,10 @@ TEST_CASE("app: ltca efficiency writes the summary keys of issue 14 as JSON") {
 
 TEST_CASE("app: with friction the stiffness loop opens: the loading branch twists less than the unloading one") {
   // Coulomb friction resists the cycloid's turning: loading, the normal forces carry T minus the
-  // friction moment, unloading T plus it. At every non-zero torque the increasing branch's twist
-  // is below the decreasing one's (by about 2 mu a_t / L of the wind-up); without friction they
-  // coincide (stiffness_test.cpp).
+  // friction moment, unloading T plus it. At every non-zero torque inside the loop the increasing
+  // branch's twist is below the decreasing one's (by about 2 mu a_t / L of the wind-up); at +-T,
+  // the reversals, the loop has one twist (the stick: review issue 26; its closed form in
+  // stiffness_test.cpp); without friction the branches coincide.
   const Deck deck = ltca::app::LoadDeck(Case("liu2021_table1.toml"), {"friction.coefficient=0.05"});
   ltca::app::StiffnessSettings settings;
   settings.crank = 0.0;
@@ -384,7 +385,11 @@ TEST_CASE("app: with friction the stiffness loop opens: the loading branch twist
     for (const auto& down : p.curve) {
       if (down.branch == ltca::app::Branch::kDecreasing && down.torque == up.torque) {
         CAPTURE(up.torque);
-        CHECK(up.twist < down.twist);
+        if (std::abs(up.torque) == 206e3) {
+          CHECK(up.twist == down.twist);
+        } else {
+          CHECK(up.twist < down.twist);
+        }
         ++compared;
       }
     }
