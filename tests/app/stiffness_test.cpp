@@ -3,6 +3,7 @@
 // runs (contact::AnalyseUnloaded, its own code path), the mirror symmetry of the perfect pair,
 // and `ltca solve`'s sweep (SolveSweep) at the lost-motion torques.
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "ltca/app/sweep.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
+#include "stiffness_command.hpp"
 
 using ltca::app::Branch;
 using ltca::app::Deck;
@@ -308,4 +310,31 @@ TEST_CASE("app: without friction the loop's hysteresis is zero up to the solver'
   CHECK(std::abs(p.hysteresis) < 1e-9 * scale);
   CHECK(std::isnan(p.stick_end_drive));
   for (const auto& c : p.curve) CHECK(!c.stick_end);
+}
+
+TEST_CASE("cli: ltca stiffness clears the progress line before each row of its table") {
+  // Review issue 26, item 16: on a terminal the rows were written after the progress line, on the
+  // same line. Progress and text on one stream (as on a terminal), the line shown at once: what a
+  // terminal shows of each line (the text after its last carriage return) is the row alone.
+  const Deck deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"), {"sweep.positions=4"});
+  std::ostringstream out, terminal;
+  ltca::cli::Streams streams{out, terminal, terminal, true};
+  streams.progress_delay_seconds = 0.0;
+  ltca::cli::StiffnessOptions options;
+  options.solver = "compatibility";
+  REQUIRE(ltca::cli::RunStiffness(deck, options, streams) == 0);
+  const std::string text = terminal.str();
+  REQUIRE(text.find("stiffness loop at position") != std::string::npos);  // the line was shown
+  std::istringstream lines(text);
+  int rows = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const std::string shown = line.substr(line.rfind('\r') == std::string::npos ? 0 : line.rfind('\r') + 1);
+    if (line.find("success") == std::string::npos || line.find("crank_deg") != std::string::npos) continue;
+    if (shown.find("wall time") != std::string::npos) continue;
+    CAPTURE(line);
+    CHECK(shown.find("ltca:") == std::string::npos);
+    CHECK(shown.find("success") != std::string::npos);
+    ++rows;
+  }
+  CHECK(rows == 4);
 }

@@ -278,11 +278,13 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
     json.stream() << OpenObject(header) << ",\n  \"positions\": [";
   }
   if (csv.enabled()) csv.stream() << "crank_deg,branch,torque_nm,twist_arcmin,status\n";
-  Progress progress(streams.err, streams.progress, "stiffness loop at position", static_cast<std::int64_t>(cranks.size()));
+  Progress progress(streams.err, streams.progress, "stiffness loop at position", static_cast<std::int64_t>(cranks.size()),
+                    streams.progress_delay_seconds);
   const std::size_t every = std::max<std::size_t>(1, cranks.size() / 10);
   for (std::size_t i = 0; i < cranks.size(); ++i) {
     const app::StiffnessPosition p = runner.Solve(cranks[i]);
     if (i % every == 0) {
+      progress.Clear();  // a row of the table never lands on the progress line (review issue 26, item 16)
       fmt::print(text, "{:>10.4f} {:>18} {:>18} {:>16} {:>8}\n", RadToDeg(p.crank), FormatOrNa(RigidityNmPerArcmin(p.rigidity), 4),
                  FormatOrNa(RadToArcmin(p.lost_motion), 5), FormatOrNa(RadToArcmin(p.backlash), 5), p.succeeded() ? "success" : "failed");
     }
