@@ -339,9 +339,11 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
                range(s.stick_end_drive, NmmToNm, 5, "N*m"), range(s.stick_end_coast, NmmToNm, 5, "N*m"),
                FormatOrNa(RadToArcmin(s.branch_difference.max), 6));
   } else {
-    fmt::print(text, "hysteresis             {} per cycle: none, no friction; the branches coincide (largest difference "
-                     "{} arcmin)\n",
-               FormatOrNa(NmmRadToJ(s.hysteresis.mean), 3), FormatOrNa(RadToArcmin(s.branch_difference.max), 12));
+    const double work = NmmRadToJ(s.hysteresis.mean);
+    fmt::print(text, "hysteresis             {} J per cycle: none, no friction (zero up to the solver's tolerance); the "
+                     "branches coincide (largest difference {} arcmin)\n",
+               std::isfinite(work) ? fmt::format("{:.3g}", work) : std::string("n/a"),
+               FormatOrNa(RadToArcmin(s.branch_difference.max), 12));
   }
   fmt::print(text, "wall time              {:.4f} s for {} solves\n", s.wall_seconds, s.solves);
   return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
