@@ -115,8 +115,8 @@ nlohmann::json SummaryJson(const app::StiffnessSummary& s, bool sweep, double fr
                 "moving down T + mu sum F a_t. After each reversal (+T, -T) the twist holds (stick) until the torque "
                 "reaches stick_end_drive_nm / stick_end_coast_nm, where the branch of the new sense reaches that twist; "
                 "the loop closes at -T. hysteresis_j is its area, the work friction dissipates per cycle; "
-                "branch_difference_arcmin is the loop's largest width at a torque level; the read-off values are taken "
-                "at the midpoints of the loop's width";
+                "branch_difference_arcmin is the loop's largest width at a torque level; the rigidity is read on the "
+                "loading pass of each flank, the lost motion between the midpoints of the loop's width";
   } else {
     j["note"] = "no friction in the model: the increasing and decreasing branches coincide (no hysteresis loop: "
                 "hysteresis_j is zero up to the solver's tolerance); branch_difference_arcmin is the largest difference "

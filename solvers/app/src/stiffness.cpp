@@ -343,13 +343,25 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
 
   pos.hysteresis = LoopWork(pos.curve);
 
-  // The read-offs, each solved at its own torque (the levels need not contain it): the midpoint of
-  // the loop's width there. Without friction a torque has one twist, so the midpoint is that
-  // twist. With friction the mean of the loop's twist on either pass: the branch of that sense,
-  // or the held twist where the torque lies within a stick (at +-T both passes meet: the reversal).
-  const auto twist = [&](double torque) {
+  // The read-offs, each solved at its own torque (the levels need not contain it). Without
+  // friction a torque has one twist. With friction (review issue 26) the loop has two there:
+  //  - the rigidity (secant or tangent) is read on the loading pass, the twist moving away from
+  //    zero in the sense of the torque (the increasing pass for T > 0, the decreasing one for
+  //    T < 0), the curve a catalogue's test traces from 50 % to 100 % of the rated torque (Harmonic
+  //    Drive: the slope of the torque-torsion curve loaded from zero); the loop's midline would
+  //    take the reversal's twist at +-T against both passes' mean at +-T / 2, a secant that grows
+  //    without bound with friction (K (1 - r^2) / (1 - 2 r) under the linear law);
+  //  - the lost motion at the midpoints of the loop's width at +-f T, as the catalogue defines it:
+  //    the mean of the loop's twist on either pass, the branch of that sense or the held twist
+  //    where the torque lies within that pass's stick.
+  const auto twist = [&](double torque, bool loading) {
     CurvePoint p{torque, kNaN, Branch::kIncreasing, SolverStatus::kNotSolved};
-    if (m.friction_mu > 0.0) {
+    if (m.friction_mu > 0.0 && loading) {
+      m.sense = torque > 0.0 ? 1.0 : -1.0;
+      p.branch = torque > 0.0 ? Branch::kIncreasing : Branch::kDecreasing;
+      p.twist = m.Twist(state, torque, &pos, &p.status);
+      m.sense = 0.0;
+    } else if (m.friction_mu > 0.0) {
       SolverStatus on_up = SolverStatus::kSuccess, on_down = SolverStatus::kSuccess;
       double rising = held_low, falling = held_high;
       if (!(torque < pos.stick_end_coast)) {
@@ -370,18 +382,19 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
     return p.twist;
   };
   if (m.settings.rigidity == StiffnessSettings::Rigidity::kSecant) {
-    const double full = twist(t), half = twist(0.5 * t), coast_half = twist(-0.5 * t), coast_full = twist(-t);
+    const double full = twist(t, true), half = twist(0.5 * t, true), coast_half = twist(-0.5 * t, true),
+                 coast_full = twist(-t, true);
     const double drive = full - half, coast = coast_half - coast_full;  // a on either flank
     pos.rigidity_drive = 0.5 * t / drive;
     pos.rigidity_coast = 0.5 * t / coast;
     pos.rigidity = t / (drive + coast);
   } else {
     const double at = m.settings.tangent_torque, h = kTangentStep * std::abs(at);
-    const double above = twist(at + h), below = twist(at - h);
+    const double above = twist(at + h, true), below = twist(at - h, true);
     pos.rigidity = 2.0 * h / (above - below);
   }
   const double f = m.settings.lost_motion_fraction;
-  const double plus = twist(f * t), minus = twist(-f * t);
+  const double plus = twist(f * t, false), minus = twist(-f * t, false);
   pos.lost_motion = plus - minus;
 
   // The summary.

@@ -70,8 +70,10 @@ struct StiffnessPosition {
   /// (drive) and at -T (coast), T_1 / T; NaN for one disc or a failed solve.
   double first_disc_share_drive = std::numeric_limits<double>::quiet_NaN();
   double first_disc_share_coast = std::numeric_limits<double>::quiet_NaN();
-  /// The read-off points, each solved at its own torque (branch: increasing): secant +T, +T / 2,
-  /// -T / 2, -T (or the tangent's two torques), then lost motion +f T, -f T.
+  /// The read-off points, each solved at its own torque: secant +T, +T / 2, -T / 2, -T (or the
+  /// tangent's two torques), then lost motion +f T, -f T. Branch: increasing without friction;
+  /// with friction the rigidity's are on the loading pass (increasing for T > 0, decreasing for
+  /// T < 0) and the lost motion's the midpoints of the loop's width (labelled increasing).
   std::vector<CurvePoint> readoffs;
   /// The largest |twist(increasing) - twist(decreasing)| at the same torque level, rad: zero up to
   /// the solver's tolerance without friction.
