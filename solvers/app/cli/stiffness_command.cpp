@@ -156,10 +156,7 @@ void WriteLoopFigure(const app::Deck& deck, const solvers::SolverOptions& solver
   bool any = false;
   for (const auto& c : s.curve) any = any || std::isfinite(c.twist);
   if (any) {
-    const std::string loop = app::LoopFrictionCoefficient(deck) > 0.0
-                                 ? fmt::format("torque-twist loop, hysteresis {} J per cycle", FormatOrNa(NmmRadToJ(s.hysteresis.mean), 4))
-                                 : std::string("torque-twist loop");
-    panel.series.push_back(branch(loop, 0, false, [&](std::size_t i) { return s.curve[i].twist; }));
+    panel.series.push_back(branch("torque-twist loop", 0, false, [&](std::size_t i) { return s.curve[i].twist; }));
     if (sweep) {
       panel.series.push_back(branch("range over the positions", 6, true, [&](std::size_t i) { return s.curve_min[i]; }));
       panel.series.push_back(branch("", 6, true, [&](std::size_t i) { return s.curve_max[i]; }));
@@ -203,7 +200,11 @@ void WriteLoopFigure(const app::Deck& deck, const solvers::SolverOptions& solver
   const double t = NmmToNm(rated);
   panel.y_min = -1.15 * t, panel.y_max = 1.15 * t;
   plots::Figure figure;
-  figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}", deck.info.title, t, when,
+  const std::string hysteresis =  // with friction the loop's area (review issue 26)
+      app::LoopFrictionCoefficient(deck) > 0.0 && std::isfinite(s.hysteresis.mean)
+          ? fmt::format(", hysteresis {:.4g} J per cycle (mu {:g})", NmmRadToJ(s.hysteresis.mean), app::LoopFrictionCoefficient(deck))
+          : std::string();
+  figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}{}", deck.info.title, t, when, hysteresis,
                              any ? "" : ": no solve succeeded");
   figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics); {} crank position{}", deck.Model().name,
                                                    solver.name, KinematicsName(solver.kinematics), positions,
