@@ -212,6 +212,17 @@ struct StiffnessRunner::Impl {
         const std::size_t k = increasing ? i : n - 1 - i;
         const double torque = levels[k];
         if (torque == 0.0) {  // no force, no friction: a stick cannot outlast zero torque
+          // With few levels the stick may reach the last level before zero: it ends between that
+          // level and zero, where the branch arrives at the first contact of the flank it leaves.
+          const CurvePoint& leaving = increasing ? at_coast : at_drive;
+          const double h_zero = sense * (leaving.twist - held);
+          if (stuck && std::isfinite(h_zero) && h_zero >= 0.0) {
+            stick_end = StickEnd(state, held, t_prev, h_prev, 0.0, h_zero, pos);
+            CurvePoint end{stick_end, std::isfinite(stick_end) ? held : kNaN, branch,
+                           std::isfinite(stick_end) ? held_status : SolverStatus::kNumericalFailure};
+            end.stick_end = true;
+            pos->curve.push_back(end);
+          }
           stuck = false;
           for (CurvePoint p : increasing ? std::vector<CurvePoint>{at_coast, at_drive} : std::vector<CurvePoint>{at_drive, at_coast}) {
             p.branch = branch;
