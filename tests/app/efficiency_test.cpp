@@ -104,8 +104,11 @@ TEST_CASE("app: constant mu on a perfect pair under the linear law: the contact 
     // With the friction moment in the balance: under the linear law the forces scale with the
     // torque the normal forces carry, T_n, and the friction moment with them, M_f = r_0 T_n
     // (r_0 the frictionless ratio), so T_n = T + r_0 T_n = T / (1 - r_0) and the loss scales by
-    // 1 / (1 - r_0). 1e-8: the secant step is exact for a linear dependence.
-    CHECK(p.power_loss == doctest::Approx(p.power_loss_first_order / (1 - p.friction_moment_ratio)).epsilon(1e-8));
+    // 1 / (1 - r_0); the solved ratio is s = M_f / T = r_0 / (1 - r_0). 1e-8: the secant step is
+    // exact for a linear dependence.
+    const double r0 = p.friction_moment_ratio_first_order;
+    CHECK(p.power_loss == doctest::Approx(p.power_loss_first_order / (1 - r0)).epsilon(1e-8));
+    CHECK(p.friction_moment_ratio == doctest::Approx(r0 / (1 - r0)).epsilon(1e-8));
     CHECK(p.balance_solves >= 1);
   }
   // The closed form itself: 4 mu (R_p - r_p) / (pi e z_c) = 4 * 0.05 * 61 / (pi * 1.3 * 39).
@@ -180,6 +183,44 @@ TEST_CASE("app: jiang-mixed: one balance solve and secant steps on interpolated 
       CHECK(p.power_loss == doctest::Approx(q.power_loss).epsilon(1e-5));
       CHECK(p.power_loss != doctest::Approx(p.power_loss_first_order).epsilon(1e-3));  // the balance matters
     }
+  }
+}
+
+TEST_CASE("app: efficiency's friction_moment_ratio is s of the solved balance and balance_residual is the accepted state's") {
+  // Review issue 26, item 5: the ratio was that of the frictionless forces and the residual that of
+  // the last full solve, not of the accepted (interpolated) state. Independent reference: the fixed
+  // point T' = T (1 + s) found by plain iteration of real solves, each a "bound" run at T' (its
+  // frictionless forces at T' are the balanced ones; its ratio is M_f / T'), to 1e-12 of T:
+  // s = T' / T - 1. Tolerance 1e-5 of s: the full model interpolates the forces between two solves
+  // (about 2e-6 of the loss on this deck, the test above). The accepted state's residual is below
+  // the interpolated tolerance, 1e-8; the first-order ratio is the "bound" run's at T.
+  const std::string deck_path = Case("jiang2022_table2_efficiency.toml");
+  const Deck deck = ltca::app::LoadDeck(deck_path, {"sweep.positions=3"});
+  EfficiencyRunner runner(deck, Options());
+  const double torque_nm = deck.load->torque / 1000.0;
+  for (const double crank : runner.cranks()) {
+    CAPTURE(crank);
+    const EfficiencyPosition p = runner.Solve(crank);
+    REQUIRE(p.succeeded());
+    double carried_nm = torque_nm;
+    double first_order = 0.0;
+    for (int k = 0; k < 40; ++k) {
+      const Deck bound = ltca::app::LoadDeck(
+          deck_path, {"sweep.positions=3", "friction.torque_balance=bound", fmt::format("load.torque_nm={:.17g}", carried_nm)});
+      const EfficiencyPosition q = EfficiencyRunner(bound, Options()).Solve(crank);
+      REQUIRE(q.succeeded());
+      if (k == 0) first_order = q.friction_moment_ratio;
+      const double next_nm = torque_nm + q.friction_moment_ratio * carried_nm;
+      const bool done = std::abs(next_nm - carried_nm) < 1e-12 * torque_nm;
+      carried_nm = next_nm;
+      if (done) break;
+    }
+    const double s = carried_nm / torque_nm - 1.0;
+    CHECK(s > 0.05);
+    CHECK(p.friction_moment_ratio == doctest::Approx(s).epsilon(1e-5));
+    CHECK(p.friction_moment_ratio_first_order == doctest::Approx(first_order).epsilon(1e-12));
+    CHECK(p.friction_moment_ratio_first_order < p.friction_moment_ratio);
+    CHECK(p.balance_residual < 1e-8);
   }
 }
 
@@ -326,9 +367,10 @@ TEST_CASE("app: ltca efficiency writes the summary keys of issue 14 as JSON") {
 
 TEST_CASE("app: with friction the stiffness loop opens: the loading branch twists less than the unloading one") {
   // Coulomb friction resists the cycloid's turning: loading, the normal forces carry T minus the
-  // friction moment, unloading T plus it. At every non-zero torque the increasing branch's twist
-  // is below the decreasing one's (by about 2 mu a_t / L of the wind-up); without friction they
-  // coincide (stiffness_test.cpp).
+  // friction moment, unloading T plus it. At every non-zero torque inside the loop the increasing
+  // branch's twist is below the decreasing one's (by about 2 mu a_t / L of the wind-up); at +-T,
+  // the reversals, the loop has one twist (the stick: review issue 26; its closed form in
+  // stiffness_test.cpp); without friction the branches coincide.
   const Deck deck = ltca::app::LoadDeck(Case("liu2021_table1.toml"), {"friction.coefficient=0.05"});
   ltca::app::StiffnessSettings settings;
   settings.crank = 0.0;
@@ -343,7 +385,11 @@ TEST_CASE("app: with friction the stiffness loop opens: the loading branch twist
     for (const auto& down : p.curve) {
       if (down.branch == ltca::app::Branch::kDecreasing && down.torque == up.torque) {
         CAPTURE(up.torque);
-        CHECK(up.twist < down.twist);
+        if (std::abs(up.torque) == 206e3) {
+          CHECK(up.twist == down.twist);
+        } else {
+          CHECK(up.twist < down.twist);
+        }
         ++compared;
       }
     }

@@ -3,7 +3,9 @@
 // runs (contact::AnalyseUnloaded, its own code path), the mirror symmetry of the perfect pair,
 // and `ltca solve`'s sweep (SolveSweep) at the lost-motion torques.
 #include <cmath>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <doctest/doctest.h>
@@ -14,6 +16,7 @@
 #include "ltca/app/sweep.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
+#include "stiffness_command.hpp"
 
 using ltca::app::Branch;
 using ltca::app::Deck;
@@ -201,4 +204,144 @@ TEST_CASE("app: the [stiffness] section is read in internal units and defaults t
   five.crank = 0.0;
   const StiffnessRunner runner(deck, Options("compatibility", ContactKinematics::kLinearised), five);
   CHECK(runner.Levels() == std::vector<double>{-206e3, -103e3, 0.0, 103e3, 206e3});
+}
+
+TEST_CASE("app: Coulomb friction loop, linear law without clearance: branches T / (K (1 +- r)), stick to T (1 - r) / (1 + r), closed, its area the hysteresis") {
+  // Review issue 26, item 4. Closed form (derived here, independent of the program's friction
+  // code): Liu Table 1 perfect pair, linear law F_i = k B delta_i, linearised kinematics, so on a
+  // flank delta_i = |L_i| |psi| for the loaded half (zero clearance) and the normal forces carry
+  // K psi, K = k B sum L_i^2. Turning the cycloid about its centre O_c (crank locked) slides every
+  // contact along its tangent: Coulomb friction mu F_i acts on the arm a_i = |(P_i - O_c) . n_i|,
+  // a moment mu k B |psi| sum |L_i| a_i = r K |psi| opposing the motion, r = mu sum |L_i| a_i /
+  // sum L_i^2. Quasi-static balance T = K psi + (sense of motion) r K |psi|:
+  //   drive (T > 0): moving up psi = T / (K_d (1 + r_d)), moving down psi = T / (K_d (1 - r_d));
+  //   coast (T < 0): moving up psi = T / (K_c (1 - r_c)), moving down psi = T / (K_c (1 + r_c)).
+  // At +T the motion reverses: friction turns round while the twist holds at T / (K_d (1 + r_d)),
+  // until the moving-down branch reaches it, at T (1 - r_d) / (1 + r_d); at -T likewise at
+  // -T (1 - r_c) / (1 + r_c). The loop closes at -T on -T / (K_c (1 + r_c)). Its area (the work
+  // per cycle) is the area between the two lines on each flank up to the held twist:
+  //   W = T^2 (r_d / (K_d (1 + r_d)^2) + r_c / (K_c (1 + r_c)^2)).
+  // The rigidity is read on the loading pass, the lost motion at the midpoints of the loop's width
+  // (docs/stiffness.md). K, L_i and a_i come
+  // from the contact geometry (MeshModel::Evaluate) and O_c = e (cos theta, sin theta) of the
+  // nominal pair. Tolerance 1e-8: the load solves balance the torque to 1e-10 and the stick ends
+  // are found to 1e-10 of the held twist. The trapezoids of the area are exact on straight
+  // branches, whatever the number of levels.
+  const double k = 2e4, mu = 0.1, torque = 206e3;  // N/mm^2, -, N*mm
+  const Deck deck = ltca::app::LoadDeck(Case("liu2021_table1.toml"), {"contact.law=linear", "contact.stiffness_n_per_mm2=2e4",
+                                                                       "friction.coefficient=0.1"});
+  const ltca::contact::MeshModel model = deck.MakeModel();
+  for (const double crank_deg : {0.0, 3.3}) {
+    CAPTURE(crank_deg);
+    const double crank = ltca::units::DegToRad(crank_deg);
+    const Eigen::Vector2d centre = deck.pair.eccentricity * Eigen::Vector2d(std::cos(crank), std::sin(crank));
+    double kd = 0.0, kc = 0.0, sd = 0.0, sc = 0.0;  // k B sum L^2, k B sum |L| a per flank
+    for (const auto& pin : model.Evaluate(crank, 0.0).pins) {
+      REQUIRE(std::abs(pin.clearance) < (pin.arm > 0.0 ? 1e-12 : 1.0));
+      const double a = std::abs((pin.cycloid_point - centre).dot(pin.normal));
+      (pin.arm > 0.0 ? kd : kc) += k * pin.length * pin.arm * pin.arm;
+      (pin.arm > 0.0 ? sd : sc) += k * pin.length * std::abs(pin.arm) * a;
+    }
+    const double rd = mu * sd / kd, rc = mu * sc / kc;
+    CHECK(rd > 0.01);
+    const auto rising = [&](double t) { return t > 0.0 ? t / (kd * (1 + rd)) : t / (kc * (1 - rc)); };
+    const auto falling = [&](double t) { return t > 0.0 ? t / (kd * (1 - rd)) : t / (kc * (1 + rc)); };
+    const double held_high = rising(torque), held_low = falling(-torque);
+    const double end_drive = torque * (1 - rd) / (1 + rd), end_coast = -torque * (1 - rc) / (1 + rc);
+    // 41 levels: the stick spans levels; 3 levels (-T, 0, T, as ltca tolerance runs the loop): the
+    // stick ends between a reversal and zero torque.
+    for (const auto& [solver, steps] : std::vector<std::pair<std::string, int>>{{"bisection", 41}, {"compatibility", 41}, {"bisection", 3}}) {
+      CAPTURE(solver);
+      CAPTURE(steps);
+      StiffnessSettings settings = AtCrank(crank_deg);
+      settings.steps = steps;
+      StiffnessRunner runner(deck, Options(solver, ContactKinematics::kLinearised), settings);
+      const StiffnessPosition p = runner.Solve(crank);
+      REQUIRE(p.succeeded());
+      const double scale = held_high;  // twist tolerance: 1e-8 of the twist at T
+      int stick_ends = 0, held_points = 0;
+      for (const auto& c : p.curve) {
+        CAPTURE(c.torque);
+        const bool up = c.branch == Branch::kIncreasing;
+        double expected = 0.0;
+        if (c.stick_end) {
+          ++stick_ends;
+          CHECK(c.torque == doctest::Approx(up ? end_coast : end_drive).epsilon(1e-8));
+          expected = up ? held_low : held_high;
+        } else if (up) {
+          expected = c.torque < end_coast ? held_low : rising(c.torque);
+          held_points += c.torque < end_coast;
+        } else {
+          expected = c.torque > end_drive ? held_high : falling(c.torque);
+          held_points += c.torque > end_drive;
+        }
+        CHECK(std::abs(c.twist - expected) < 1e-8 * scale);
+      }
+      CHECK(stick_ends == 2);
+      CHECK(held_points >= (steps == 41 ? 4 : 0));  // the stick spans levels after both reversals
+      // The decreasing branch starts where the increasing one ended, and the loop closes at -T.
+      const auto& first = p.curve.front();
+      const auto& last = p.curve.back();
+      CHECK(first.torque == -torque);
+      CHECK(last.torque == -torque);
+      CHECK(std::abs(first.twist - last.twist) < 1e-8 * scale);
+      CHECK(p.stick_end_drive == doctest::Approx(end_drive).epsilon(1e-8));
+      CHECK(p.stick_end_coast == doctest::Approx(end_coast).epsilon(1e-8));
+      const double work = torque * torque * (rd / (kd * (1 + rd) * (1 + rd)) + rc / (kc * (1 + rc) * (1 + rc)));
+      CHECK(p.hysteresis == doctest::Approx(work).epsilon(1e-7));
+      // The read-offs: the secant on the loading pass of each flank (twist growing in the sense of
+      // the torque), K (1 + r), and the lost motion between the midpoints of the loop's width at
+      // +-3 % of T, where both passes slide.
+      const auto mid = [&](double t) {
+        const double a = t < end_coast ? held_low : rising(t), b = t > end_drive ? held_high : falling(t);
+        return 0.5 * (a + b);
+      };
+      CHECK(p.rigidity_drive == doctest::Approx(kd * (1 + rd)).epsilon(1e-7));
+      CHECK(p.rigidity_coast == doctest::Approx(kc * (1 + rc)).epsilon(1e-7));
+      CHECK(p.rigidity == doctest::Approx(1.0 / (0.5 / (kd * (1 + rd)) + 0.5 / (kc * (1 + rc)))).epsilon(1e-7));
+      CHECK(p.lost_motion == doctest::Approx(mid(0.03 * torque) - mid(-0.03 * torque)).epsilon(1e-7));
+    }
+  }
+}
+
+TEST_CASE("app: without friction the loop's hysteresis is zero up to the solver's tolerance") {
+  // Review issue 26, item 4: the two branches coincide, so the work round the loop vanishes; the
+  // loop's scale is T x twist(T) (about 206 N*m x 1e-4 rad = 2e-2 J), the residue below 1e-9 of it.
+  const Deck deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
+  const StiffnessSettings settings = AtCrank(0.0);
+  StiffnessRunner runner(deck, Options("compatibility", ContactKinematics::kLinearised), settings);
+  const StiffnessPosition p = runner.Solve(0.0);
+  REQUIRE(p.succeeded());
+  const double scale = 206e3 * std::abs(p.curve.back().twist);
+  CHECK(std::isfinite(p.hysteresis));
+  CHECK(std::abs(p.hysteresis) < 1e-9 * scale);
+  CHECK(std::isnan(p.stick_end_drive));
+  for (const auto& c : p.curve) CHECK(!c.stick_end);
+}
+
+TEST_CASE("cli: ltca stiffness clears the progress line before each row of its table") {
+  // Review issue 26, item 16: on a terminal the rows were written after the progress line, on the
+  // same line. Progress and text on one stream (as on a terminal), the line shown at once: what a
+  // terminal shows of each line (the text after its last carriage return) is the row alone.
+  const Deck deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"), {"sweep.positions=4"});
+  std::ostringstream out, terminal;
+  ltca::cli::Streams streams{out, terminal, terminal, true};
+  streams.progress_delay_seconds = 0.0;
+  ltca::cli::StiffnessOptions options;
+  options.solver = "compatibility";
+  REQUIRE(ltca::cli::RunStiffness(deck, options, streams) == 0);
+  const std::string text = terminal.str();
+  REQUIRE(text.find("stiffness loop at position") != std::string::npos);  // the line was shown
+  std::istringstream lines(text);
+  int rows = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const std::string shown = line.substr(line.rfind('\r') == std::string::npos ? 0 : line.rfind('\r') + 1);
+    if (line.find("success") == std::string::npos || line.find("crank_deg") != std::string::npos) continue;
+    if (shown.find("wall time") != std::string::npos) continue;
+    CAPTURE(line);
+    CHECK(shown.find("ltca:") == std::string::npos);
+    CHECK(shown.find("success") != std::string::npos);
+    ++rows;
+  }
+  CHECK(rows == 4);
 }

@@ -48,6 +48,7 @@ nlohmann::json PositionJson(const app::EfficiencyPosition& p) {
                       {"efficiency_sensinger", FiniteOrNull(p.efficiency_sensinger)},
                       {"mean_coefficient", FiniteOrNull(p.mean_coefficient)},
                       {"friction_moment_ratio", FiniteOrNull(p.friction_moment_ratio)},
+                      {"friction_moment_ratio_first_order", FiniteOrNull(p.friction_moment_ratio_first_order)},
                       {"balance_solves", p.balance_solves},
                       {"balance_residual", FiniteOrNull(p.balance_residual)},
                       {"pin_coefficient", pin_mu},
@@ -73,6 +74,7 @@ nlohmann::json SummaryJson(const app::EfficiencySummary& s) {
   j["efficiency_sensinger"] = FiniteOrNull(s.efficiency_sensinger);
   spread(j, "mean_coefficient", s.mean_coefficient);
   spread(j, "friction_moment_ratio", s.friction_moment_ratio);
+  spread(j, "friction_moment_ratio_first_order", s.friction_moment_ratio_first_order);
   j["energy_loss_per_revolution_j"] = FiniteOrNull(s.energy_loss_per_revolution);
   j["positions"] = s.succeeded + s.failed;
   j["succeeded_positions"] = s.succeeded;
@@ -244,8 +246,9 @@ int RunEfficiency(const app::Deck& deck, const EfficiencyOptions& options, const
   fmt::print(text, "classical estimates    {} (Malhotra-Parameswaran load distribution), {} (continuum closed form), "
                    "mean mu {}\n",
              FormatOrNa(s.efficiency_malhotra_parameswaran, 6), FormatOrNa(s.efficiency_sensinger, 6), FormatOrNa(s.mean_coefficient.mean, 4));
-  fmt::print(text, "friction moment / T    {} (mean; {} .. {})\n", FormatOrNa(s.friction_moment_ratio.mean, 5),
-             FormatOrNa(s.friction_moment_ratio.min, 5), FormatOrNa(s.friction_moment_ratio.max, 5));
+  fmt::print(text, "friction moment / T    {} (mean; {} .. {}; the accepted forces), {} with the frictionless forces\n",
+             FormatOrNa(s.friction_moment_ratio.mean, 5), FormatOrNa(s.friction_moment_ratio.min, 5),
+             FormatOrNa(s.friction_moment_ratio.max, 5), FormatOrNa(s.friction_moment_ratio_first_order.mean, 5));
   for (const auto& w : s.warnings) fmt::print(text, "warning                {}\n", w);
   fmt::print(text, "wall time              {:.4f} s ({:.4f} s in {} load solves + {} balance solves)\n", s.wall_seconds,
              s.loaded_solve_seconds, s.solves, s.balance_solves);

@@ -225,6 +225,10 @@ Progress::~Progress() {
 
 void Progress::Finish() {
   enabled_ = false;
+  Clear();
+}
+
+void Progress::Clear() {
   if (!shown_) return;
   shown_ = false;
   os_ << '\r' << std::string(72, ' ') << '\r' << std::flush;

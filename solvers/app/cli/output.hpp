@@ -103,6 +103,7 @@ struct Streams {
   std::ostream& text;
   std::ostream& err;
   bool progress = false;  ///< a progress line on err (a terminal) for runs over about 2 s
+  double progress_delay_seconds = 2.0;  ///< the line shows after this long (tests: 0)
 };
 
 /// "ltca: solving position i of n" on a terminal, after min_seconds, at most every 0.25 s.
@@ -113,6 +114,8 @@ class Progress {
   void Update(std::int64_t done);
   /// Clears the line (before the summary is printed); later updates are not shown.
   void Finish();
+  /// Clears the line before other text is written to the terminal; the next update shows it again.
+  void Clear();
 
  private:
   std::ostream& os_;

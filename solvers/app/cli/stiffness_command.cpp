@@ -23,6 +23,13 @@ using units::RadToDeg;
 
 /// N*mm/rad to N*m/arcmin.
 double RigidityNmPerArcmin(double nmm_per_rad) { return NmmToNm(nmm_per_rad) / RadToArcmin(1.0); }
+/// N*mm*rad (the loop's work per cycle) to J.
+double NmmRadToJ(double nmm_rad) { return NmmToNm(nmm_rad); }
+
+/// What the figures cover (docs/stiffness.md).
+constexpr const char* kScope =
+    "mesh only: the rigidity, lost motion and backlash of the cycloid-pin ring mesh alone; bearings, crankshafts and "
+    "the output mechanism are not modelled";
 
 std::string Definition(const app::StiffnessSettings& s) {
   if (s.rigidity == app::StiffnessSettings::Rigidity::kSecant) {
@@ -38,6 +45,7 @@ nlohmann::json CurveJson(const std::vector<app::CurvePoint>& curve, const std::v
     nlohmann::json p = {{"torque_nm", NmmToNm(curve[i].torque)},
                         {"twist_arcmin", FiniteOrNull(RadToArcmin(curve[i].twist))},
                         {"branch", app::ToString(curve[i].branch)}};
+    if (curve[i].stick_end) p["stick_end"] = true;  // friction: where the stick after the reversal ends
     if (lo != nullptr && hi != nullptr) {
       p["twist_arcmin_min"] = FiniteOrNull(RadToArcmin((*lo)[i]));
       p["twist_arcmin_max"] = FiniteOrNull(RadToArcmin((*hi)[i]));
@@ -55,11 +63,16 @@ nlohmann::json PositionJson(const app::StiffnessPosition& p) {
                       {"lost_motion_arcmin", FiniteOrNull(RadToArcmin(p.lost_motion))},
                       {"backlash_arcmin", FiniteOrNull(RadToArcmin(p.backlash))},
                       {"branch_difference_arcmin", FiniteOrNull(RadToArcmin(p.branch_difference))},
+                      {"hysteresis_j", FiniteOrNull(NmmRadToJ(p.hysteresis))},
                       {"status", p.succeeded() ? "success" : "failed"},
                       {"solves", p.solves},
                       {"failed_solves", p.failed},
                       {"curve", CurveJson(p.curve)}};
   if (!p.succeeded()) j["message"] = p.first_failure;
+  if (std::isfinite(p.stick_end_drive) || std::isfinite(p.stick_end_coast)) {  // friction (review issue 26)
+    j["stick_end_drive_nm"] = FiniteOrNull(NmmToNm(p.stick_end_drive));
+    j["stick_end_coast_nm"] = FiniteOrNull(NmmToNm(p.stick_end_coast));
+  }
   if (std::isfinite(p.first_disc_share_drive) || std::isfinite(p.first_disc_share_coast)) {  // two discs (issue 13)
     j["first_disc_share_drive"] = FiniteOrNull(p.first_disc_share_drive);
     j["first_disc_share_coast"] = FiniteOrNull(p.first_disc_share_coast);
@@ -93,15 +106,22 @@ nlohmann::json SummaryJson(const app::StiffnessSummary& s, bool sweep, double fr
   }
   if (sweep) j["closed_period"] = s.closed_period;  // issue 26: the means weigh a repeated last state once
   j["hysteresis"] = friction_mu > 0.0;  // issue 14: friction separates the branches
+  AddSpread(j, "hysteresis", "j", s.hysteresis, sweep, [](double v) { return NmmRadToJ(v); });
   j["branch_difference_arcmin"] = FiniteOrNull(RadToArcmin(s.branch_difference.max));
   if (friction_mu > 0.0) {
     j["friction_coefficient"] = friction_mu;
-    j["note"] = "Coulomb friction in the torque balance ([friction]): the increasing branch carries T - mu sum F a_t, the "
-                "decreasing one T + mu sum F a_t, and they differ (the hysteresis loop); branch_difference_arcmin is the "
-                "loop's largest width at a torque level; the read-off values are taken on the loop's midline";
+    AddSpread(j, "stick_end_drive", "nm", s.stick_end_drive, sweep, [](double v) { return NmmToNm(v); });
+    AddSpread(j, "stick_end_coast", "nm", s.stick_end_coast, sweep, [](double v) { return NmmToNm(v); });
+    j["note"] = "Coulomb friction in the torque balance ([friction]): moving up the normal forces carry T - mu sum F a_t, "
+                "moving down T + mu sum F a_t. After each reversal (+T, -T) the twist holds (stick) until the torque "
+                "reaches stick_end_drive_nm / stick_end_coast_nm, where the branch of the new sense reaches that twist; "
+                "the loop closes at -T. hysteresis_j is its area, the work friction dissipates per cycle; "
+                "branch_difference_arcmin is the loop's largest width at a torque level; the rigidity is read on the "
+                "loading pass of each flank, the lost motion between the midpoints of the loop's width";
   } else {
-    j["note"] = "no friction in the model: the increasing and decreasing branches coincide (no hysteresis loop); "
-                "branch_difference_arcmin is the largest difference found between them (the solver's tolerance)";
+    j["note"] = "no friction in the model: the increasing and decreasing branches coincide (no hysteresis loop: "
+                "hysteresis_j is zero up to the solver's tolerance); branch_difference_arcmin is the largest difference "
+                "found between them (the solver's tolerance)";
   }
   j["curve"] = sweep ? CurveJson(s.curve, &s.curve_min, &s.curve_max) : CurveJson(s.curve);
   j["positions"] = s.positions();
@@ -181,7 +201,11 @@ void WriteLoopFigure(const app::Deck& deck, const solvers::SolverOptions& solver
   const double t = NmmToNm(rated);
   panel.y_min = -1.15 * t, panel.y_max = 1.15 * t;
   plots::Figure figure;
-  figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}", deck.info.title, t, when,
+  const std::string hysteresis =  // with friction the loop's area (review issue 26)
+      app::LoopFrictionCoefficient(deck) > 0.0 && std::isfinite(s.hysteresis.mean)
+          ? fmt::format(", hysteresis {:.4g} J per cycle (mu {:g})", NmmRadToJ(s.hysteresis.mean), app::LoopFrictionCoefficient(deck))
+          : std::string();
+  figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}{}", deck.info.title, t, when, hysteresis,
                              any ? "" : ": no solve succeeded");
   figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics); {} crank position{}", deck.Model().name,
                                                    solver.name, KinematicsName(solver.kinematics), positions,
@@ -232,10 +256,12 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
                                  RadToDeg(deck.sweep.crank_end))
                    : fmt::format("crank {:g} deg", RadToDeg(*settings.crank)));
   fmt::print(text, "rigidity  {}\n", Definition(settings));
+  fmt::print(text, "scope     {}\n", kScope);
   fmt::print(text, "{:>10} {:>18} {:>18} {:>16} {:>8}\n", "crank_deg", "rigidity_nm/amin", "lost_motion_amin", "backlash_amin", "status");
 
   if (json.enabled()) {
-    nlohmann::json stiffness = {{"rated_torque_nm", NmmToNm(rated)},
+    nlohmann::json stiffness = {{"scope", kScope},
+                                {"rated_torque_nm", NmmToNm(rated)},
                                 {"steps_per_branch", settings.steps},
                                 {"rigidity_definition", Definition(settings)},
                                 {"lost_motion_fraction", settings.lost_motion_fraction}};
@@ -254,11 +280,13 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
     json.stream() << OpenObject(header) << ",\n  \"positions\": [";
   }
   if (csv.enabled()) csv.stream() << "crank_deg,branch,torque_nm,twist_arcmin,status\n";
-  Progress progress(streams.err, streams.progress, "stiffness loop at position", static_cast<std::int64_t>(cranks.size()));
+  Progress progress(streams.err, streams.progress, "stiffness loop at position", static_cast<std::int64_t>(cranks.size()),
+                    streams.progress_delay_seconds);
   const std::size_t every = std::max<std::size_t>(1, cranks.size() / 10);
   for (std::size_t i = 0; i < cranks.size(); ++i) {
     const app::StiffnessPosition p = runner.Solve(cranks[i]);
     if (i % every == 0) {
+      progress.Clear();  // a row of the table never lands on the progress line (review issue 26, item 16)
       fmt::print(text, "{:>10.4f} {:>18} {:>18} {:>16} {:>8}\n", RadToDeg(p.crank), FormatOrNa(RigidityNmPerArcmin(p.rigidity), 4),
                  FormatOrNa(RadToArcmin(p.lost_motion), 5), FormatOrNa(RadToArcmin(p.backlash), 5), p.succeeded() ? "success" : "failed");
     }
@@ -304,11 +332,19 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
     fmt::print(text, "first disc's share     {} at +T (disc 2: the rest)\n", range(s.first_disc_share_drive, share, 4, "of T"));
     fmt::print(text, "                       {} at -T\n", range(s.first_disc_share_coast, share, 4, "of T"));
   }
-  if (app::LoopFrictionCoefficient(deck) > 0.0) {  // issue 14
-    fmt::print(text, "hysteresis             friction mu = {:g}: the branches differ by up to {} arcmin\n",
-               app::LoopFrictionCoefficient(deck), FormatOrNa(RadToArcmin(s.branch_difference.max), 6));
+  const auto joules = [](double v) { return NmmRadToJ(v); };
+  if (app::LoopFrictionCoefficient(deck) > 0.0) {  // issue 14, review issue 26
+    fmt::print(text, "hysteresis             {} per cycle (the loop's area), friction mu = {:g}\n",
+               range(s.hysteresis, joules, 6, "J"), app::LoopFrictionCoefficient(deck));
+    fmt::print(text, "  stick after reversal the twist holds from +T down to {} and from -T up to {}; the branches "
+                     "differ by up to {} arcmin\n",
+               range(s.stick_end_drive, NmmToNm, 5, "N*m"), range(s.stick_end_coast, NmmToNm, 5, "N*m"),
+               FormatOrNa(RadToArcmin(s.branch_difference.max), 6));
   } else {
-    fmt::print(text, "hysteresis             none: no friction, the branches coincide (largest difference {} arcmin)\n",
+    const double work = NmmRadToJ(s.hysteresis.mean);
+    fmt::print(text, "hysteresis             {} J per cycle: none, no friction (zero up to the solver's tolerance); the "
+                     "branches coincide (largest difference {} arcmin)\n",
+               std::isfinite(work) ? fmt::format("{:.3g}", work) : std::string("n/a"),
                FormatOrNa(RadToArcmin(s.branch_difference.max), 12));
   }
   fmt::print(text, "wall time              {:.4f} s for {} solves\n", s.wall_seconds, s.solves);

@@ -70,6 +70,7 @@ struct EfficiencyRunner::Impl {
   const OperationSettings& operation;
   double torque;  // signed, N*mm
   std::vector<double> cranks;
+  bool closed = false;
   solvers::LoadProblem::CheckedCoupling coupling;
   contact::Lubrication lubrication;
   double crank_speed = 0.0;  // rad/s, signed (set by the first position)
@@ -94,6 +95,8 @@ struct EfficiencyRunner::Impl {
                                   "at zero torque)");
     }
     for (const double crank : cranks) contact::RequireNoInterference(*model, crank);
+    // The last crank repeats the first's state (a closed period): the means weigh it once (issue 26).
+    closed = cranks.size() > 1 && contact::SameMesh(model->Evaluate(cranks.front()), model->Evaluate(cranks.back()));
     coupling = deck.MakeCoupling(*model);
     lubrication.viscosity = operation.viscosity;
     lubrication.pressure_viscosity = operation.pressure_viscosity;
@@ -268,7 +271,8 @@ struct EfficiencyRunner::Impl {
 
     // First order: the frictionless forces.
     std::vector<ContactFrictionPoint> first;
-    pos.friction_moment_ratio = Evaluate(state, kin, r.force, sigma, &first, &pos.warnings);
+    pos.friction_moment_ratio_first_order = Evaluate(state, kin, r.force, sigma, &first, &pos.warnings);
+    pos.friction_moment_ratio = pos.friction_moment_ratio_first_order;  // "bound": the accepted forces
     pos.power_loss_first_order = 0.0;
     double mu_force = 0.0, force_sum = 0.0;
     for (const auto& p : first) {
@@ -290,7 +294,7 @@ struct EfficiencyRunner::Impl {
       // accepted when its residual is below kInterpolatedTolerance (second order in g(s_1));
       // otherwise more solves follow.
       std::vector<double> f_prev = r.force;
-      double s_prev = 0.0, g_prev = pos.friction_moment_ratio, s_now = pos.friction_moment_ratio;
+      double s_prev = 0.0, g_prev = pos.friction_moment_ratio_first_order, s_now = pos.friction_moment_ratio_first_order;
       bool converged = false;
       std::vector<std::string> ignored;
       for (int k = 0; k < kMaxBalanceSolves; ++k) {
@@ -301,6 +305,7 @@ struct EfficiencyRunner::Impl {
         pos.balance_residual = std::abs(g_now);
         if (std::abs(g_now) < kBalanceTolerance) {
           converged = true;
+          pos.friction_moment_ratio = g_now + s_now;  // the ratio of the solved forces: the accepted state
           break;
         }
         // Secant steps on the interpolated forces, F(s) = F(s_prev) + w (F(s_now) - F(s_prev)),
@@ -325,6 +330,9 @@ struct EfficiencyRunner::Impl {
           const double g_next = Evaluate(state, kin, f_next, sigma, &interpolated, &ignored) - s_next;
           if (std::abs(g_next) < kInterpolatedTolerance) {
             converged = true;
+            // The accepted state is this step's: its ratio and its own residual (not the last solve's).
+            pos.friction_moment_ratio = g_next + s_next;
+            pos.balance_residual = std::abs(g_next);
             break;
           }
           if (s_next == s_b) break;
@@ -334,7 +342,7 @@ struct EfficiencyRunner::Impl {
           g_b = g_next;
         }
         if (converged) {
-          pos.contacts = std::move(interpolated);  // balance_residual stays that of the last solve
+          pos.contacts = std::move(interpolated);
           break;
         }
         // The friction moment opposes the load, so the balance lies at s >= 0; a secant step
@@ -424,14 +432,17 @@ EfficiencyPosition EfficiencyRunner::Solve(double crank) {
   EfficiencyPosition pos = m.SolvePosition(crank);
   EfficiencySummary& s = m.summary;
   s.balance_solves += pos.balance_solves;
+  s.closed_period = m.closed;
   if (pos.succeeded()) {
+    const bool in_mean = !(m.closed && crank == m.cranks.back());
     ++s.succeeded;
-    s.power_loss.Add(pos.power_loss);
-    s.power_loss_first_order.Add(pos.power_loss_first_order);
-    s.output_power.Add(pos.output_power);
-    s.friction_moment_ratio.Add(pos.friction_moment_ratio);
-    s.mean_coefficient.Add(pos.mean_coefficient);
-    if (std::isfinite(pos.efficiency_malhotra_parameswaran)) {
+    s.power_loss.Add(pos.power_loss, in_mean);
+    s.power_loss_first_order.Add(pos.power_loss_first_order, in_mean);
+    s.output_power.Add(pos.output_power, in_mean);
+    s.friction_moment_ratio.Add(pos.friction_moment_ratio, in_mean);
+    s.friction_moment_ratio_first_order.Add(pos.friction_moment_ratio_first_order, in_mean);
+    s.mean_coefficient.Add(pos.mean_coefficient, in_mean);
+    if (in_mean && std::isfinite(pos.efficiency_malhotra_parameswaran)) {
       m.mp_sum += pos.efficiency_malhotra_parameswaran;
       ++m.mp_count;
     }

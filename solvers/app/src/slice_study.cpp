@@ -45,6 +45,34 @@ std::vector<SliceStudyRow> RunSliceStudy(const Deck& deck, const std::vector<int
   return rows;
 }
 
+FaceEdgeBacklash FaceEdgeUnloaded(const Deck& deck) {
+  if (!deck.assembly.VariesAlongWidth()) {
+    throw std::invalid_argument(fmt::format("deck '{}': the face-edge backlash needs a misalignment", deck.name));
+  }
+  Deck edge[2] = {deck, deck};
+  const double width = deck.pair.face_width;
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::Vector2d shift = deck.assembly.SliceShift(k == 0 ? 0.0 : width, width);
+    edge[k].assembly.misalignment_xz = edge[k].assembly.misalignment_yz = 0.0;
+    edge[k].assembly.centre_dx += shift.x();
+    edge[k].assembly.centre_dy += shift.y();
+    edge[k].geometry.width_slices = 1;
+  }
+  const contact::MeshModel at_b = edge[0].MakeModel(), at_far = edge[1].MakeModel();
+  const contact::MeshModel tilted = deck.MakeModel();
+  const std::vector<double> cranks = deck.sweep.CrankAngles();
+  const bool closed = cranks.size() > 1 && contact::SameMesh(tilted.Evaluate(cranks.front()), tilted.Evaluate(cranks.back()));
+  double sum = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t i = 0; i < cranks.size(); ++i) {
+    const auto p = contact::AnalyseUnloaded(at_b, cranks[i], contact::ContactKinematics::kLinearised);
+    const auto q = contact::AnalyseUnloaded(at_far, cranks[i], contact::ContactKinematics::kLinearised);
+    const double b = std::min(p.theta_c1, q.theta_c1) - std::max(p.theta_c2, q.theta_c2);
+    if (!(closed && i + 1 == cranks.size())) sum += b;
+    lo = std::min(lo, b), hi = std::max(hi, b);
+  }
+  return {units::RadToArcsec(sum / static_cast<double>(cranks.size() - (closed ? 1 : 0))), units::RadToArcsec(hi - lo)};
+}
+
 double CostExponent(const std::vector<SliceStudyRow>& rows, int lo, int hi) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   int m = 0;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -21,6 +23,38 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// The tangent is the central difference over +-this fraction of the torque it is taken at.
 constexpr double kTangentStep = 0.01;
+
+/// The stick after a reversal ends where the other sense's twist equals the held twist: found to
+/// this fraction of the held twist, or of T in torque, in at most kStickIterations solves.
+constexpr double kStickTolerance = 1e-10;
+constexpr int kStickIterations = 40;
+
+/// The integral of T d(twist) once round the curve, closed from its last point to its first
+/// (trapezoids), N*mm*rad; NaN when any point is.
+double LoopWork(const std::vector<CurvePoint>& curve) {
+  double work = 0.0;
+  for (std::size_t i = 0; i < curve.size(); ++i) {
+    const CurvePoint& a = curve[i];
+    const CurvePoint& b = curve[(i + 1) % curve.size()];
+    work += 0.5 * (a.torque + b.torque) * (b.twist - a.twist);
+  }
+  return work;
+}
+
+/// Inserts p into the run of points of its branch, in torque order (rising on the increasing
+/// branch, falling on the decreasing one); returns its index.
+std::size_t InsertInOrder(std::vector<CurvePoint>& curve, const CurvePoint& p) {
+  const bool increasing = p.branch == Branch::kIncreasing;
+  std::size_t i = 0;
+  while (i < curve.size() && curve[i].branch != p.branch) ++i;
+  if (i < curve.size()) ++i;  // the reversal point stays first
+  while (i < curve.size() && curve[i].branch == p.branch &&
+         (increasing ? curve[i].torque < p.torque : curve[i].torque > p.torque)) {
+    ++i;
+  }
+  curve.insert(curve.begin() + static_cast<std::ptrdiff_t>(i), p);
+  return i;
+}
 
 }  // namespace
 
@@ -59,6 +93,7 @@ struct StiffnessRunner::Impl {
   std::vector<double> curve_sum;
   std::vector<std::int64_t> curve_count;
   std::vector<Spread> readoff_spread;
+  Spread stick_torque[2], stick_twist[2];  // the stick_end points over the positions: [increasing, decreasing]
   Clock::duration elapsed{};
   // issue 14: Coulomb friction in the loop (0 without [friction]); sense of the twist's motion on
   // the branch being solved (+1 increasing, -1 decreasing, 0: the loop's midpoint, both).
@@ -96,24 +131,19 @@ struct StiffnessRunner::Impl {
     return problem.WithCoupling(coupling);
   }
 
-  /// The twist at a non-zero torque (rad, -TE), NaN when the solve fails (counted in pos).
-  double Twist(const contact::MeshState& state, double torque, StiffnessPosition* pos, SolverStatus* status) {
-    if (friction_mu > 0.0 && sense == 0.0) {  // issue 14: the loop's midpoint, both branches solved
-      sense = 1.0;
-      const double up = Twist(state, torque, pos, status);
-      sense = -1.0;
-      const double down = Twist(state, torque, pos, status);
-      sense = 0.0;
-      return 0.5 * (up + down);
-    }
+  /// The twist at a non-zero torque (rad, -TE) with friction resisting the motion of the current
+  /// sense, NaN when the solve fails (counted in pos). on_loop: false for a probe that is not a
+  /// point of the loop (it does not set the two discs' split).
+  double Twist(const contact::MeshState& state, double torque, StiffnessPosition* pos, SolverStatus* status,
+               bool on_loop = true) {
     int solves = 0;
     const LoadResult r = SolveWithLoopFriction(
         *model, state, torque, sense, friction_mu,
         [&](double t) { return solver->Solve(Problem(state, t), options, workspace); }, &solves, second.get());
     pos->solves += solves;
     if (status != nullptr) *status = r.status;
-    if (second && r.status == SolverStatus::kSuccess && std::abs(torque) == rated) {
-      // Two discs (issue 13): the split at +-T; with friction, of the last branch solved.
+    if (second && on_loop && r.status == SolverStatus::kSuccess && std::abs(torque) == rated) {
+      // Two discs (issue 13): the split at +-T; with friction, of the loop's pass through it.
       const std::vector<double> parts = Problem(state, torque).DiscTorques(r.rotation, r.force, workspace);
       (torque > 0.0 ? pos->first_disc_share_drive : pos->first_disc_share_coast) = parts[0] / (parts[0] + parts[1]);
     }
@@ -123,6 +153,125 @@ struct StiffnessRunner::Impl {
       pos->first_failure = fmt::format("torque {:g} N*m: {}: {}", units::NmmToNm(torque), solvers::ToString(r.status), r.message);
     }
     return kNaN;
+  }
+
+  /// Review issue 26, item 4: the torque at which the stick after a reversal ends, the root of
+  /// h(t) = sense (twist_sense(t) - held) between t_a (h_a < 0: still stuck) and t_b (h_b >= 0),
+  /// by regula falsi with the Illinois modification (each step one solve of the current sense).
+  /// Under the linear law h is linear in t and the first step is the root. NaN when a solve fails.
+  double StickEnd(const contact::MeshState& state, double held, double t_a, double h_a, double t_b, double h_b,
+                  StiffnessPosition* pos) {
+    if (h_b == 0.0) return t_b;
+    const double twist_tol = kStickTolerance * std::max(std::abs(held), 1e-9);
+    int kept = 0;  // which end was kept last: -1 a, +1 b
+    double t = t_b;
+    for (int it = 0; it < kStickIterations; ++it) {
+      t = (t_a * h_b - t_b * h_a) / (h_b - h_a);
+      if (std::abs(t_b - t_a) <= kStickTolerance * rated) return t;
+      SolverStatus status = SolverStatus::kNotSolved;
+      const double h = sense * (Twist(state, t, pos, &status, false) - held);
+      if (!std::isfinite(h)) return kNaN;
+      if (std::abs(h) <= twist_tol) return t;
+      if (h < 0.0) {
+        t_a = t, h_a = h;
+        if (kept == -1) h_b *= 0.5;
+        kept = -1;
+      } else {
+        t_b = t, h_b = h;
+        if (kept == 1) h_a *= 0.5;
+        kept = 1;
+      }
+    }
+    return t;
+  }
+
+  /// Review issue 26, item 4: the loop with Coulomb friction, path dependent. It starts at -T with
+  /// the twist the decreasing pass arrives with (that branch solved at -T); on each branch the
+  /// twist holds at its reversal value over the levels where the branch of the new sense (friction
+  /// resisting that motion) stays short of it, up to the stick_end point (StickEnd), then follows
+  /// that branch; the decreasing pass ends at -T on the twist the loop began with. Fills pos->curve,
+  /// the stick ends, and the loop's twist per level (up, down). Returns the held twists at -T, +T.
+  std::pair<double, double> FrictionLoop(const contact::MeshState& state, const std::vector<double>& levels,
+                                         const CurvePoint& at_coast, const CurvePoint& at_drive, StiffnessPosition* pos,
+                                         std::vector<double>* up, std::vector<double>* down) {
+    const std::size_t n = levels.size();
+    SolverStatus low_status = SolverStatus::kNotSolved;
+    sense = -1.0;
+    const double held_low = Twist(state, levels.front(), pos, &low_status);
+    double held = held_low, held_high = kNaN;
+    SolverStatus held_status = low_status;
+    for (const Branch branch : {Branch::kIncreasing, Branch::kDecreasing}) {
+      const bool increasing = branch == Branch::kIncreasing;
+      sense = increasing ? 1.0 : -1.0;
+      std::vector<double>& loop = increasing ? *up : *down;
+      double& stick_end = increasing ? pos->stick_end_coast : pos->stick_end_drive;
+      const std::size_t first = increasing ? 0 : n - 1;
+      pos->curve.push_back({levels[first], held, branch, held_status});  // the reversal
+      loop[first] = held;
+      // The branch of this sense at the reversal torque lies behind the held twist (h < 0).
+      double t_prev = levels[first], h_prev = kNaN;
+      bool stuck = std::isfinite(held);
+      if (stuck) {
+        SolverStatus status = SolverStatus::kNotSolved;
+        h_prev = sense * (Twist(state, levels[first], pos, &status, false) - held);
+        stuck = std::isfinite(h_prev);
+      }
+      for (std::size_t i = 1; i < n; ++i) {
+        const std::size_t k = increasing ? i : n - 1 - i;
+        const double torque = levels[k];
+        if (torque == 0.0) {  // no force, no friction: a stick cannot outlast zero torque
+          // With few levels the stick may reach the last level before zero: it ends between that
+          // level and zero, where the branch arrives at the first contact of the flank it leaves.
+          const CurvePoint& leaving = increasing ? at_coast : at_drive;
+          const double h_zero = sense * (leaving.twist - held);
+          if (stuck && std::isfinite(h_zero) && h_zero >= 0.0) {
+            stick_end = StickEnd(state, held, t_prev, h_prev, 0.0, h_zero, pos);
+            CurvePoint end{stick_end, std::isfinite(stick_end) ? held : kNaN, branch,
+                           std::isfinite(stick_end) ? held_status : SolverStatus::kNumericalFailure};
+            end.stick_end = true;
+            pos->curve.push_back(end);
+          }
+          stuck = false;
+          for (CurvePoint p : increasing ? std::vector<CurvePoint>{at_coast, at_drive} : std::vector<CurvePoint>{at_drive, at_coast}) {
+            p.branch = branch;
+            pos->curve.push_back(p);
+          }
+          continue;
+        }
+        CurvePoint p{torque, kNaN, branch, SolverStatus::kNotSolved};
+        if (!increasing && k == 0 && !stuck) {
+          p.twist = held_low;  // the loop closes where it began (the same solve)
+          p.status = low_status;
+        } else {
+          p.twist = Twist(state, torque, pos, &p.status);
+        }
+        if (stuck) {
+          const double h = sense * (p.twist - held);
+          if (!std::isfinite(h)) {
+            stuck = false;  // a failed solve: the point stays unsolved
+          } else if (h < 0.0) {  // still stuck: the twist holds
+            t_prev = torque;
+            h_prev = h;
+            p.twist = held;
+            p.status = held_status;
+          } else {
+            stick_end = StickEnd(state, held, t_prev, h_prev, torque, h, pos);
+            CurvePoint end{stick_end, std::isfinite(stick_end) ? held : kNaN, branch,
+                           std::isfinite(stick_end) ? held_status : SolverStatus::kNumericalFailure};
+            end.stick_end = true;
+            pos->curve.push_back(end);
+            stuck = false;
+          }
+        }
+        loop[k] = p.twist;
+        pos->curve.push_back(p);
+      }
+      held = loop[increasing ? n - 1 : 0];
+      held_status = pos->curve.back().status;
+      if (increasing) held_high = held;
+    }
+    sense = 0.0;
+    return {held_low, held_high};
   }
 };
 
@@ -181,7 +330,10 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   // one left.
   const std::vector<double> levels = Levels();
   std::vector<double> up(levels.size(), kNaN), down(levels.size(), kNaN);
+  double held_low = kNaN, held_high = kNaN;  // with friction: the twist held after the reversal at -T, +T
+  if (m.friction_mu > 0.0) std::tie(held_low, held_high) = m.FrictionLoop(state, levels, at_coast, at_drive, &pos, &up, &down);
   for (const Branch branch : {Branch::kIncreasing, Branch::kDecreasing}) {
+    if (m.friction_mu > 0.0) break;  // the loop above
     const bool increasing = branch == Branch::kIncreasing;
     m.sense = increasing ? 1.0 : -1.0;  // issue 14: friction resists the twist's motion
     for (std::size_t i = 0; i < levels.size(); ++i) {
@@ -208,27 +360,60 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
     if (!std::isfinite(up[k] - down[k])) pos.branch_difference = kNaN;
   }
 
+  pos.hysteresis = LoopWork(pos.curve);
+
   // The read-offs, each solved at its own torque (the levels need not contain it). Without
-  // friction a torque has one twist, so each midpoint of the loop is that twist.
-  const auto twist = [&](double torque) {
+  // friction a torque has one twist. With friction (review issue 26) the loop has two there:
+  //  - the rigidity (secant or tangent) is read on the loading pass, the twist moving away from
+  //    zero in the sense of the torque (the increasing pass for T > 0, the decreasing one for
+  //    T < 0), the curve a catalogue's test traces from 50 % to 100 % of the rated torque (Harmonic
+  //    Drive: the slope of the torque-torsion curve loaded from zero); the loop's midline would
+  //    take the reversal's twist at +-T against both passes' mean at +-T / 2, a secant that grows
+  //    without bound with friction (K (1 - r^2) / (1 - 2 r) under the linear law);
+  //  - the lost motion at the midpoints of the loop's width at +-f T, as the catalogue defines it:
+  //    the mean of the loop's twist on either pass, the branch of that sense or the held twist
+  //    where the torque lies within that pass's stick.
+  const auto twist = [&](double torque, bool loading) {
     CurvePoint p{torque, kNaN, Branch::kIncreasing, SolverStatus::kNotSolved};
-    p.twist = m.Twist(state, torque, &pos, &p.status);
+    if (m.friction_mu > 0.0 && loading) {
+      m.sense = torque > 0.0 ? 1.0 : -1.0;
+      p.branch = torque > 0.0 ? Branch::kIncreasing : Branch::kDecreasing;
+      p.twist = m.Twist(state, torque, &pos, &p.status);
+      m.sense = 0.0;
+    } else if (m.friction_mu > 0.0) {
+      SolverStatus on_up = SolverStatus::kSuccess, on_down = SolverStatus::kSuccess;
+      double rising = held_low, falling = held_high;
+      if (!(torque < pos.stick_end_coast)) {
+        m.sense = 1.0;
+        rising = m.Twist(state, torque, &pos, &on_up);
+      }
+      if (!(torque > pos.stick_end_drive)) {
+        m.sense = -1.0;
+        falling = m.Twist(state, torque, &pos, &on_down);
+      }
+      m.sense = 0.0;
+      p.twist = 0.5 * (rising + falling);
+      p.status = on_up != SolverStatus::kSuccess ? on_up : on_down;
+    } else {
+      p.twist = m.Twist(state, torque, &pos, &p.status);
+    }
     pos.readoffs.push_back(p);
     return p.twist;
   };
   if (m.settings.rigidity == StiffnessSettings::Rigidity::kSecant) {
-    const double full = twist(t), half = twist(0.5 * t), coast_half = twist(-0.5 * t), coast_full = twist(-t);
+    const double full = twist(t, true), half = twist(0.5 * t, true), coast_half = twist(-0.5 * t, true),
+                 coast_full = twist(-t, true);
     const double drive = full - half, coast = coast_half - coast_full;  // a on either flank
     pos.rigidity_drive = 0.5 * t / drive;
     pos.rigidity_coast = 0.5 * t / coast;
     pos.rigidity = t / (drive + coast);
   } else {
     const double at = m.settings.tangent_torque, h = kTangentStep * std::abs(at);
-    const double above = twist(at + h), below = twist(at - h);
+    const double above = twist(at + h, true), below = twist(at - h, true);
     pos.rigidity = 2.0 * h / (above - below);
   }
   const double f = m.settings.lost_motion_fraction;
-  const double plus = twist(f * t), minus = twist(-f * t);
+  const double plus = twist(f * t, false), minus = twist(-f * t, false);
   pos.lost_motion = plus - minus;
 
   // The summary.
@@ -248,15 +433,30 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   s.branch_difference.Add(pos.branch_difference, in_mean);
   s.first_disc_share_drive.Add(pos.first_disc_share_drive, in_mean);
   s.first_disc_share_coast.Add(pos.first_disc_share_coast, in_mean);
-  if (s.curve.empty()) {
-    s.curve = pos.curve;
-    s.curve_min.assign(pos.curve.size(), kNaN);
-    s.curve_max.assign(pos.curve.size(), kNaN);
-    m.curve_sum.assign(pos.curve.size(), 0.0);
-    m.curve_count.assign(pos.curve.size(), 0);
+  s.hysteresis.Add(pos.hysteresis, in_mean);
+  s.stick_end_drive.Add(pos.stick_end_drive, in_mean);
+  s.stick_end_coast.Add(pos.stick_end_coast, in_mean);
+  // The curve's layout over the positions: the levels and zero-torque points (the same at every
+  // position); the stick_end points, whose torque differs by position, apart.
+  std::vector<CurvePoint> layout;
+  for (const CurvePoint& c : pos.curve) {
+    if (!c.stick_end) {
+      layout.push_back(c);
+      continue;
+    }
+    const int b = c.branch == Branch::kIncreasing ? 0 : 1;
+    if (std::isfinite(c.twist)) m.stick_torque[b].Add(c.torque, in_mean);
+    m.stick_twist[b].Add(c.twist, in_mean);
   }
-  for (std::size_t i = 0; i < pos.curve.size(); ++i) {
-    const double v = pos.curve[i].twist;
+  if (s.curve.empty()) {
+    s.curve = layout;
+    s.curve_min.assign(layout.size(), kNaN);
+    s.curve_max.assign(layout.size(), kNaN);
+    m.curve_sum.assign(layout.size(), 0.0);
+    m.curve_count.assign(layout.size(), 0);
+  }
+  for (std::size_t i = 0; i < layout.size(); ++i) {
+    const double v = layout[i].twist;
     if (!std::isfinite(v)) continue;
     s.curve_min[i] = std::isnan(s.curve_min[i]) ? v : std::min(s.curve_min[i], v);
     s.curve_max[i] = std::isnan(s.curve_max[i]) ? v : std::max(s.curve_max[i], v);
@@ -279,6 +479,16 @@ StiffnessSummary StiffnessRunner::Summary() const {
     const std::int64_t n = impl_->curve_count[i];
     s.curve[i].twist = n > 0 ? impl_->curve_sum[i] / static_cast<double>(n) : kNaN;
     s.curve[i].status = n > 0 ? SolverStatus::kSuccess : SolverStatus::kNumericalFailure;
+  }
+  for (const Branch branch : {Branch::kIncreasing, Branch::kDecreasing}) {  // friction: the mean stick ends
+    const int b = branch == Branch::kIncreasing ? 0 : 1;
+    const Spread& twist = impl_->stick_twist[b];
+    if (impl_->stick_torque[b].count == 0) continue;
+    CurvePoint end{impl_->stick_torque[b].mean, twist.mean, branch, SolverStatus::kSuccess};
+    end.stick_end = true;
+    const auto at = static_cast<std::ptrdiff_t>(InsertInOrder(s.curve, end));
+    s.curve_min.insert(s.curve_min.begin() + at, twist.min);
+    s.curve_max.insert(s.curve_max.begin() + at, twist.max);
   }
   for (std::size_t i = 0; i < s.readoffs.size(); ++i) {
     s.readoffs[i].twist = impl_->readoff_spread[i].mean;

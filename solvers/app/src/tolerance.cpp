@@ -275,15 +275,10 @@ ToleranceSample ToleranceStudy::Evaluate(const Deck& pair) const {
     // Unloaded TCA over the sweep: the arithmetic of `ltca backlash` (mean = sum / n).
     const contact::MeshModel model = pair.MakeModel();
     const std::vector<double> cranks = pair.sweep.CrankAngles();
-    double sum = 0.0, lo = INFINITY, hi = -INFINITY;
-    for (const double crank : cranks) {
-      const double b = contact::AnalyseUnloaded(model, crank, options_.kinematics).backlash;
-      sum += b;
-      lo = std::min(lo, b);
-      hi = std::max(hi, b);
-    }
-    s.figures[kMeanBacklashArcsec] = units::RadToArcsec(sum / static_cast<double>(cranks.size()));
-    s.figures[kPpBacklashArcsec] = units::RadToArcsec(hi - lo);
+    // The unloaded sweep's rule: a closed period's repeated state weighs once in the mean (issue 26).
+    const contact::UnloadedSweep backlash = contact::AnalyseUnloadedSweep(model, cranks, options_.kinematics);
+    s.figures[kMeanBacklashArcsec] = units::RadToArcsec(backlash.mean_backlash);
+    s.figures[kPpBacklashArcsec] = units::RadToArcsec(backlash.pp_backlash);
     // Loaded TCA over the sweep: `ltca solve`'s summary.
     SweepRunner runner(pair, options_);
     std::string first_failure;  // the first position that did not succeed: where, and the solver's own words

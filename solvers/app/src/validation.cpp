@@ -742,15 +742,21 @@ void JiangEfficiency(const fs::path& dir, Builder& b) {
   const double l0 = LossAtCrank(plain, 0.0), l10 = LossAtCrank(plain, 72.0);
   const double s0 = LossAtCrank(with, 0.0), s10 = LossAtCrank(with, 72.0);
   const EfficiencyRun a = RunEfficiencyDeck(plain), w = RunEfficiencyDeck(with);
+  // "Same order" is a factor of 2 either way at most, as for liu2021.t1.pp_te (review issue 26:
+  // a factor of 3 was called the same order).
+  const auto within_two = [](double ours, double published) { return ours > published / 2 && ours < published * 2; };
   b.Add("jiang2022.s52.loss", "mixed-lubrication power loss without sleeve, 20 r/s, Ra 0.3 um (Fig. 13)",
         "72.3321 W (t = 0), 35.9208 W (t = 10 ms)",
         fmt::format("{:.2f} W (crank 0), {:.2f} W (crank 72 deg); mean over a mesh period {:.2f} W", l0, l10, a.loss),
-        Percent(l0, 72.3321),
-        Within(l0 > 72.3321 / 3 && l0 < 72.3321 * 3 && l10 > 35.9208 / 3 && l10 < 35.9208 * 3, Verdict::kSameOrder),
-        "same order (within a factor 3 at both instants); at t = 0 within a few %, but Jiang's loss halves within 10 ms "
-        "while ours varies by about 2 % over the mesh period (no transient start-up in a quasi-static model). Left open "
-        "by the paper: the speed's meaning (20 r/s read as crank revolutions), the load distribution (his eq. 11 "
-        "with clearances vs our solved forces), the composite roughness and the film constant (docs/efficiency.md)",
+        fmt::format("{} at t = 0; {:.2f} x Jiang's at t = 10 ms", Percent(l0, 72.3321), l10 / 35.9208),
+        Within(within_two(l0, 72.3321) && within_two(l10, 35.9208), Verdict::kSameOrder),
+        fmt::format("'same order' needs a factor 2 or less at both instants: at t = 0 within a few %, but Jiang's loss "
+                    "halves within 10 ms while ours varies by about 2 % over the mesh period (no transient start-up in "
+                    "a quasi-static model), so at t = 10 ms ours is {:.2f} times his. Left open by the paper: the "
+                    "speed's meaning (20 r/s read as crank revolutions), the load distribution (his eq. 11 with "
+                    "clearances vs our solved forces), the composite roughness and the film constant "
+                    "(docs/efficiency.md)",
+                    l10 / 35.9208),
         cmd);
   b.Add("jiang2022.s52.loss_sleeve", "power loss with the pin sleeve (Fig. 13)", "27.2156 W (t = 0), 16.9709 W (t = 10 ms)",
         fmt::format("{:.2f} W (crank 0), {:.2f} W (crank 72 deg), bore / sleeve radius 7.5 / 10 (chosen)", s0, s10),
@@ -766,22 +772,40 @@ void JiangEfficiency(const fs::path& dir, Builder& b) {
                     100.0 * 2 * units::kPi * 20 / 23),
         cmd);
   // Fig. 15: 10 .. 40 r/s.
-  std::vector<double> losses;
+  std::vector<double> losses, efficiencies;
   for (const int rps : {10, 20, 30, 40}) {
     const Deck d = LoadDeck(path, {fmt::format("operation.input_speed_rpm={}", rps * 60)});
-    losses.push_back(RunEfficiencyDeck(d).loss);
+    const EfficiencyRun run = RunEfficiencyDeck(d);
+    losses.push_back(run.loss);
+    efficiencies.push_back(run.efficiency);
   }
   b.Add("jiang2022.fig15.speed", "power loss without sleeve at 10 / 20 / 30 / 40 r/s (Fig. 15)", "23.6 W .. 119 W",
         fmt::format("{:.1f} / {:.1f} / {:.1f} / {:.1f} W", losses[0], losses[1], losses[2], losses[3]),
-        fmt::format("40 / 10 r/s: {:.2f} (published {:.2f})", losses[3] / losses[0], 119.0 / 23.6),
-        Within(losses[0] > 23.6 / 3 && losses[0] < 23.6 * 3 && losses[3] > 119.0 / 3 && losses[3] < 119.0 * 3,
-               Verdict::kSameOrder),
-        "same order (within a factor 3 at both ends); the loss grows about in proportion to the speed (the mixed "
-        "coefficient changes little: most contacts are boundary-dominated, lambda < 1)",
+        fmt::format("{:.2f} x at 10 r/s, {:.2f} x at 40 r/s; 40 / 10 r/s: {:.2f} (published {:.2f})", losses[0] / 23.6,
+                    losses[3] / 119.0, losses[3] / losses[0], 119.0 / 23.6),
+        Within(within_two(losses[0], 23.6) && within_two(losses[3], 119.0), Verdict::kSameOrder),
+        "'same order' needs a factor 2 or less at both ends; ours grows less than in proportion to the speed (the mixed "
+        "coefficient falls as the film thickens; most contacts stay boundary-dominated, lambda < 1), Jiang's more "
+        "than in proportion (see jiang2022.claim.efficiency_speed)",
         cmd + " --set operation.input_speed_rpm=600 (1200, 1800, 2400)");
   b.Add("jiang2022.claim.speed", "the loss rises with speed (Fig. 15)", "rises",
         fmt::format("{:.1f} < {:.1f} < {:.1f} < {:.1f} W", losses[0], losses[1], losses[2], losses[3]), "",
         losses[0] < losses[1] && losses[1] < losses[2] && losses[2] < losses[3] ? Verdict::kHolds : Verdict::kFails, "",
+        cmd + " --set operation.input_speed_rpm=600 (1200, 1800, 2400)");
+  // Fig. 15 (a): "The transmission efficiency decreased from 99.97% to 99.84% as the speed
+  // increased without the pin tooth sleeve". The claim is the direction: it holds only if ours
+  // falls at every step of speed too (review issue 26: ours rises, and the row was missing).
+  const bool falls = efficiencies[0] > efficiencies[1] && efficiencies[1] > efficiencies[2] && efficiencies[2] > efficiencies[3];
+  const bool rises = efficiencies[0] < efficiencies[1] && efficiencies[1] < efficiencies[2] && efficiencies[2] < efficiencies[3];
+  b.Add("jiang2022.claim.efficiency_speed", "the efficiency without sleeve falls with speed, 10 -> 40 r/s (Fig. 15)",
+        "falls, 99.97 % -> 99.84 %",
+        fmt::format("{}: {:.2f} / {:.2f} / {:.2f} / {:.2f} %", falls ? "falls" : (rises ? "rises" : "not monotone"),
+                    100 * efficiencies[0], 100 * efficiencies[1], 100 * efficiencies[2], 100 * efficiencies[3]),
+        "", falls ? Verdict::kHolds : Verdict::kFails,
+        fmt::format("the direction is compared: the output power grows in proportion to the speed; our loss grows "
+                    "less ({:.2f} x from 10 to 40 r/s), so our efficiency rises; Jiang's loss grows more ({:.2f} x) "
+                    "and his falls",
+                    losses[3] / losses[0], 119.0 / 23.6),
         cmd + " --set operation.input_speed_rpm=600 (1200, 1800, 2400)");
   b.Add("jiang2022.claim.sleeve", "the sleeve lowers the loss and its fluctuation (Fig. 13-14)", "lower, smoother",
         fmt::format("mean {:.2f} -> {:.2f} W, range over the mesh period {:.3f} -> {:.3f} W", a.loss, w.loss, a.loss_range,
@@ -835,6 +859,7 @@ ValidationReport Validate(const fs::path& cases_dir) {
     Deck phi = LoadDeck(cases_dir / "liu2021_sec53_phi.toml");
     phi.sweep.positions = 37;
     report.slice_convergence = RunSliceStudy(phi, {5, 10, 20, 50, 100, 200}, "compatibility", 1);
+    report.slice_face_edge = FaceEdgeUnloaded(phi);
   }
   Li(cases_dir, b);
   Jiang(cases_dir, b);
@@ -870,15 +895,19 @@ std::string ToMarkdown(const ValidationReport& report) {
     const SliceStudyRow& ref = report.slice_convergence.back();
     os << "\n### Slice-count convergence under misalignment (issue 11)\n\n"
        << "Liu 2021 section 5.3, phi = 0.02 deg (`cases/liu2021_sec53_phi.toml`, 37 positions over one revolution), "
-          "linearised kinematics, compatibility; the error is against " << ref.slices << " slices. Times: "
-          "docs/performance.md.\n\n"
+          "linearised kinematics, compatibility. The PPTE's error is against " << ref.slices << " slices; the "
+          "backlash's against the face-edge value, the first contact of two plane models with the cycloid centre where "
+          "the tilted axis puts it at each face (" << fmt::format("{:.4f} / {:.4f} arcsec", report.slice_face_edge.mean_arcsec,
+                                                                   report.slice_face_edge.pp_arcsec)
+       << ", `app::FaceEdgeUnloaded`): the unloaded analysis seeks the first contact at the face edges, so it does not "
+          "depend on the slice count (docs/contact.md). Times: docs/performance.md.\n\n"
        << "| slices | PPTE (arcsec) | error | mean backlash (arcsec) | error | pp backlash (arcsec) | error |\n"
           "|---|---|---|---|---|---|---|\n";
     for (const auto& r : report.slice_convergence) {
       os << fmt::format("| {} | {:.4f} | {:.1e} | {:.4f} | {:.1e} | {:.4f} | {:.1e} |\n", r.slices, r.pp_te_arcsec,
                         std::abs(r.pp_te_arcsec - ref.pp_te_arcsec), r.mean_backlash_arcsec,
-                        std::abs(r.mean_backlash_arcsec - ref.mean_backlash_arcsec), r.pp_backlash_arcsec,
-                        std::abs(r.pp_backlash_arcsec - ref.pp_backlash_arcsec));
+                        std::abs(r.mean_backlash_arcsec - report.slice_face_edge.mean_arcsec), r.pp_backlash_arcsec,
+                        std::abs(r.pp_backlash_arcsec - report.slice_face_edge.pp_arcsec));
     }
   }
   return os.str();

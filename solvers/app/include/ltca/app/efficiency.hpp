@@ -62,13 +62,19 @@ struct EfficiencyPosition {
   double efficiency_malhotra_parameswaran = kEfficiencyNaN;
   double efficiency_sensinger = kEfficiencyNaN;
   double mean_coefficient = kEfficiencyNaN;  ///< force-weighted over the loaded contacts
-  /// sigma M_f / |T|: the friction moment about the cycloid centre (frictionless forces) in the
-  /// sense of the load torque, over the torque. Bounds the relative change of the forces.
+  /// s = sigma M_f / |T| at the accepted state: the friction moment about the cycloid centre in the
+  /// sense of the load torque, over the torque, with the forces the figures use. With
+  /// torque_balance = "solve" the forces balanced with friction (the normal forces carry T (1 + s));
+  /// with "bound" (or mu = 0) the frictionless forces, the bound on the relative change of the forces.
   double friction_moment_ratio = kEfficiencyNaN;
+  /// The same ratio with the frictionless forces (the first-order figure's forces); equals
+  /// friction_moment_ratio with "bound".
+  double friction_moment_ratio_first_order = kEfficiencyNaN;
   int balance_solves = 0;  ///< extra solves of the torque balance with friction
-  /// |ratio(forces) - s| at the last balance solve (0 without friction or when bounded). The
-  /// accepted state may be the secant step on forces interpolated from that solve and the
-  /// frictionless one (docs/efficiency.md): its error is second order, below this residual.
+  /// |ratio(forces) - s| of the accepted state (0 without friction or when bounded): the balance
+  /// residual of the forces the figures use. With "solve" the accepted state is a real solve or the
+  /// secant step on forces interpolated between two solves (docs/efficiency.md); either way its own
+  /// residual, below 1e-10 (a solve) or 1e-8 (interpolated).
   double balance_residual = 0.0;
   std::vector<std::string> warnings;
   bool succeeded() const { return status == SolverStatus::kSuccess; }
@@ -79,6 +85,7 @@ using EfficiencySpread = Spread;
 
 struct EfficiencySummary {
   EfficiencySpread power_loss, power_loss_first_order, output_power, friction_moment_ratio, mean_coefficient;
+  EfficiencySpread friction_moment_ratio_first_order;  ///< with the frictionless forces
   /// Energy-weighted over the sweep: mean P_out / (mean P_out + mean P_loss).
   double efficiency = kEfficiencyNaN;
   double efficiency_first_order = kEfficiencyNaN;
@@ -90,6 +97,8 @@ struct EfficiencySummary {
   std::vector<std::string> warnings;  ///< distinct warning names with the first message of each
   double wall_seconds = 0.0;
   double loaded_solve_seconds = 0.0;  ///< of which in the frictionless load solves
+  /// The last crank repeats the first's state (contact::SameMesh): the means weigh it once.
+  bool closed_period = false;
   bool all_succeeded() const { return failed == 0 && succeeded > 0; }
 };
 

@@ -11,9 +11,15 @@
 //  - lost motion: the twist between the midpoints of the loop at +-3 % of T;
 //  - backlash: the width of the loop at zero torque.
 // At exactly zero torque the output rests at the first contact of the flank it comes from, so
-// the loop's width there is the backlash of the unloaded analysis (Liu 2021 eq. 17). The solvers
-// have no friction: the loading and unloading branches coincide (no hysteresis), and the result
-// says so with the largest difference found between them.
+// the loop's width there is the backlash of the unloaded analysis (Liu 2021 eq. 17). Without
+// [friction] the loading and unloading branches coincide (no hysteresis), and the result says so
+// with the largest difference found between them. With Coulomb friction (issue 14, review issue
+// 26) the loop is path dependent: after each reversal (+T, -T) the output sticks at the twist it
+// reached while the torque falls back, until the branch of the other sense (friction resisting
+// that motion) reaches the same twist; only then does the twist move along that branch. The loop
+// closes at -T, and its area (the work friction dissipates per cycle) is the hysteresis.
+// Everything here is the pin-ring mesh alone: bearings, crankshafts and the output mechanism are
+// not modelled.
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -38,6 +44,9 @@ struct CurvePoint {
   double twist = std::numeric_limits<double>::quiet_NaN();
   Branch branch = Branch::kIncreasing;
   SolverStatus status = SolverStatus::kNotSolved;  ///< the solve's (zero torque: the first contact's)
+  /// With friction: where the stick after a reversal ends (the torque at which the branch of the
+  /// other sense reaches the held twist), a point off the torque levels.
+  bool stick_end = false;
 };
 
 /// The loop at one crank angle. A figure that no valid solve produced is NaN.
@@ -45,7 +54,10 @@ struct StiffnessPosition {
   double crank = 0.0;  ///< rad
   /// Both branches: increasing then decreasing. Each has the steps torque levels; at zero torque
   /// two points, the first contact of the flank it comes from, then that of the flank it goes to
-  /// (the free play crossed at zero torque).
+  /// (the free play crossed at zero torque). With friction each branch starts at its reversal
+  /// (-T, +T) with the twist the other branch ended with, holds it (stick) over the levels up to its
+  /// stick_end point, inserted in torque order, and the decreasing branch ends at -T where the
+  /// increasing one began (the loop closes).
   std::vector<CurvePoint> curve;
   double first_contact_drive = std::numeric_limits<double>::quiet_NaN();  ///< rad, >= 0 with clearance
   double first_contact_coast = std::numeric_limits<double>::quiet_NaN();  ///< rad, in the coast direction
@@ -58,12 +70,22 @@ struct StiffnessPosition {
   /// (drive) and at -T (coast), T_1 / T; NaN for one disc or a failed solve.
   double first_disc_share_drive = std::numeric_limits<double>::quiet_NaN();
   double first_disc_share_coast = std::numeric_limits<double>::quiet_NaN();
-  /// The read-off points, each solved at its own torque (branch: increasing): secant +T, +T / 2,
-  /// -T / 2, -T (or the tangent's two torques), then lost motion +f T, -f T.
+  /// The read-off points, each solved at its own torque: secant +T, +T / 2, -T / 2, -T (or the
+  /// tangent's two torques), then lost motion +f T, -f T. Branch: increasing without friction;
+  /// with friction the rigidity's are on the loading pass (increasing for T > 0, decreasing for
+  /// T < 0) and the lost motion's the midpoints of the loop's width (labelled increasing).
   std::vector<CurvePoint> readoffs;
   /// The largest |twist(increasing) - twist(decreasing)| at the same torque level, rad: zero up to
   /// the solver's tolerance without friction.
   double branch_difference = std::numeric_limits<double>::quiet_NaN();
+  /// The loop's area, the integral of T d(twist) once round the curve (trapezoids between its
+  /// points), N*mm*rad = 1e-3 J per cycle: the work friction dissipates. Without friction zero up
+  /// to the solver's tolerance. NaN when a point of the curve was not solved.
+  double hysteresis = std::numeric_limits<double>::quiet_NaN();
+  /// With friction, N*mm: the torque at which the stick after the reversal at +T ends (drive) and
+  /// after the reversal at -T (coast); NaN without friction.
+  double stick_end_drive = std::numeric_limits<double>::quiet_NaN();
+  double stick_end_coast = std::numeric_limits<double>::quiet_NaN();
   int solves = 0;  ///< load solves (the curve and the read-off torques)
   int failed = 0;  ///< of those, not successful
   std::string first_failure;  ///< "torque x N*m: status: message" of the first failed solve
@@ -85,8 +107,12 @@ struct Spread {
 struct StiffnessSummary {
   Spread rigidity, rigidity_drive, rigidity_coast, lost_motion, backlash, branch_difference;
   Spread first_disc_share_drive, first_disc_share_coast;  ///< two discs only (issue 13)
+  Spread hysteresis;                        ///< N*mm*rad per cycle
+  Spread stick_end_drive, stick_end_coast;  ///< N*mm, friction only
   /// The loop over the positions: per curve point (the layout of StiffnessPosition::curve), the
-  /// twist's mean, smallest and largest over the positions where it was solved.
+  /// twist's mean, smallest and largest over the positions where it was solved. With friction the
+  /// stick_end points (whose torque differs by position) are the means of their torques and twists,
+  /// inserted in torque order.
   std::vector<CurvePoint> curve;  ///< twist: the mean
   std::vector<double> curve_min, curve_max;
   std::vector<CurvePoint> readoffs;  ///< twist: the mean over the positions
