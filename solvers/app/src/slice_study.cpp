@@ -45,7 +45,7 @@ std::vector<SliceStudyRow> RunSliceStudy(const Deck& deck, const std::vector<int
   return rows;
 }
 
-FaceEdgeBacklash FaceEdgeUnloaded(const Deck& deck) {
+FaceEdgeBacklash FaceEdgeUnloaded(const Deck& deck, contact::ContactKinematics kinematics) {
   if (!deck.assembly.VariesAlongWidth()) {
     throw std::invalid_argument(fmt::format("deck '{}': the face-edge backlash needs a misalignment", deck.name));
   }
@@ -64,8 +64,8 @@ FaceEdgeBacklash FaceEdgeUnloaded(const Deck& deck) {
   const bool closed = cranks.size() > 1 && contact::SameMesh(tilted.Evaluate(cranks.front()), tilted.Evaluate(cranks.back()));
   double sum = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (std::size_t i = 0; i < cranks.size(); ++i) {
-    const auto p = contact::AnalyseUnloaded(at_b, cranks[i], contact::ContactKinematics::kLinearised);
-    const auto q = contact::AnalyseUnloaded(at_far, cranks[i], contact::ContactKinematics::kLinearised);
+    const auto p = contact::AnalyseUnloaded(at_b, cranks[i], kinematics);
+    const auto q = contact::AnalyseUnloaded(at_far, cranks[i], kinematics);
     const double b = std::min(p.theta_c1, q.theta_c1) - std::max(p.theta_c2, q.theta_c2);
     if (!(closed && i + 1 == cranks.size())) sum += b;
     lo = std::min(lo, b), hi = std::max(hi, b);

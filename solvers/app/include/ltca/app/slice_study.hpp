@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ltca/app/deck.hpp"
+#include "ltca/contact/unloaded.hpp"
 
 namespace ltca::app {
 
@@ -27,12 +28,13 @@ std::vector<SliceStudyRow> RunSliceStudy(const Deck& deck, const std::vector<int
 /// with the cycloid centre where the tilted axis puts it at face B, and the one at the far face
 /// (AssemblyErrors::SliceShift at z = 0 and z = B added to the centre offset); at each crank the
 /// first contact both ways is the nearer of the two. The gap of a tilted axis is linear along the
-/// face, so this is the value every slice count must give (linearised kinematics; a closed period's
-/// repeated state weighs once). Throws std::invalid_argument for a deck without misalignment.
+/// face, so this is the value every slice count must give (a closed period's repeated state weighs
+/// once). Throws std::invalid_argument for a deck without misalignment.
 struct FaceEdgeBacklash {
   double mean_arcsec = 0.0, pp_arcsec = 0.0;
 };
-FaceEdgeBacklash FaceEdgeUnloaded(const Deck& deck);
+FaceEdgeBacklash FaceEdgeUnloaded(const Deck& deck,
+                                  contact::ContactKinematics kinematics = contact::ContactKinematics::kLinearised);
 
 /// Least-squares slope of log(time) against log(slices) over the rows with lo <= slices <= hi:
 /// the cost exponent (1: linear).
