@@ -2,7 +2,7 @@
 """Snapshot of every ltca command on every deck before the issue-24 refactoring, and its check.
 
     commands.py make  LTCA CASES OUT.jsonl          # record (then: xz -9 OUT.jsonl)
-    commands.py check LTCA CASES SNAPSHOT.jsonl.xz DECK [--all]
+    commands.py check LTCA CASES SNAPSHOT.jsonl.xz DECK
 
 `make` runs, for every deck in CASES (ltca's working directory is CASES and the deck is given
 relative to it, so `case.deck` and messages read the same wherever the tree is):
@@ -23,11 +23,16 @@ JSON at all) keeps the last line of its standard error as `message` (report keep
 it wrote before failing too). Python writes a float as the shortest text
 that reads back to the same double.
 
-Sampling: a run that took more than SAMPLE_SECONDS is kept whole in the file (`checked` false)
-and recorded again at its sweep's first and middle crank angles, each run alone with
+The documents drop some bulky per-position arrays (PER_POSITION_DROPPED, the reasons beside it).
+
+Sampling: a run that took more than SAMPLE_SECONDS is kept in the file (`checked` false) with
+its exit code and summary only, and recorded again at its sweep's first crank angle, and its middle one unless the first alone took
+more than SAMPLE_SECONDS, each run alone with
 `--set sweep.crank_start_deg=C --set sweep.positions=1` (`checked` true, `sampled_from` naming
 the whole run's args). The crank angles are the deck's sweep as its linearised backlash gives it
-back. `check` runs only the checked records (`--all`: every record, the whole slow runs too).
+back. Runs with Li's tooth groups (solve --solver energy-groups, and compare) on the 160- and
+320-pin scaling decks (TOO_SLOW_WHOLE: 70 s and 800 s per sweep) are recorded so, never whole.
+Stiffness at crank 0 has no sweep to sample and is always checked whole. `check` runs only the checked records.
 
 `check` re-runs one deck's records and compares: exit codes, strings, booleans, nulls, integers,
 object keys and array lengths exactly; every float to RELATIVE (1e-12) relative, or, near zero,
@@ -59,6 +64,15 @@ ABSOLUTE_BY_SUFFIX = {"_arcsec": 1e-9, "_arcmin": 1e-9, "_um": 1e-9, "_mm": 1e-9
 # output): wall_seconds (summaries, compare's solvers, tolerance's worst_case),
 # loaded_solve_seconds (efficiency), samples_per_second (tolerance), threads and mpi_ranks
 # (tolerance: its samples do not depend on them).
+# Per-position arrays dropped to keep the file small (2.6 MB instead of 10 MB with xz -9):
+# pin_angle_deg (the kinematics of the pins; mesh keeps them at crank 0), clearance_um and
+# clearance_at_first_contact_um (backlash's per-pin gaps; theta_c1, theta_c2, backlash and the
+# first-contact pins are kept, and mesh keeps clearance_um at crank 0), contact_stress_mpa and
+# slice_stress_mpa (Hertz of the pin and slice forces, which are kept, as is the summary's
+# max_contact_stress_mpa).
+PER_POSITION_DROPPED = {"pin_angle_deg", "clearance_um", "clearance_at_first_contact_um",
+                        "contact_stress_mpa", "slice_stress_mpa"}
+TOO_SLOW_WHOLE = {"scaling/zp160.toml", "scaling/zp320.toml"}
 TIMING = {"wall_seconds", "loaded_solve_seconds", "samples_per_second", "threads", "mpi_ranks"}
 
 
@@ -85,11 +99,19 @@ def runs_of(cases, deck):
     return runs
 
 
-def strip(doc):
+def too_slow_whole(deck, command, args):
+    """Li's tooth groups on the 160- and 320-pin scaling decks (70 s and 800 s per sweep at
+    9dfef0e): recorded at their sampled positions only, never whole."""
+    return deck in TOO_SLOW_WHOLE and command in ("solve", "compare") and "energy-groups" in ",".join(args)
+
+
+def strip(doc, position=False):
+    """doc without TIMING (any depth) and, in an element of a positions array, PER_POSITION_DROPPED."""
     if isinstance(doc, dict):
-        return {k: strip(v) for k, v in doc.items() if k not in TIMING}
+        return {k: strip(v, k == "positions") for k, v in doc.items()
+                if k not in TIMING and not (position and k in PER_POSITION_DROPPED)}
     if isinstance(doc, list):
-        return [strip(v) for v in doc]
+        return [strip(v, position) for v in doc]
     return doc
 
 
@@ -140,38 +162,61 @@ def sweep_cranks(records, deck):
     return None
 
 
+def add_samples(exe, cases, records, every):
+    """Samples the slow runs of records (whole runs) and the runs of every too slow to run whole:
+    the slow whole run keeps its exit code and summary only, unchecked; its first position is
+    recorded alone, and its middle one too unless the first alone took more than SAMPLE_SECONDS.
+    Stiffness at one crank has no sweep to sample: it is checked whole. Returns the samples."""
+    slow = [(r["deck"], r["command"], r["args"], r) for r in records
+            if r["generated_wall_seconds"] > SAMPLE_SECONDS
+            and r["command"] not in ("geometry", "mesh", "stiffness")]
+    slow += [(*j, None) for j in every if too_slow_whole(*j)]
+
+    def sample(job):
+        deck, command, args, r = job
+        cranks = sweep_cranks(records, deck)
+        if cranks is None:
+            return []
+        if r is not None:
+            r["checked"] = False
+            summary = (r.pop("json", None) or {}).get("summary") if command != "report" else None
+            if summary is not None:
+                r["summary"] = summary
+        out = []
+        for c in [cranks[0], cranks[len(cranks) // 2]][:1 if len(cranks) == 1 else 2]:
+            sampled = [*args, "--set", f"sweep.crank_start_deg={c!r}", "--set", "sweep.positions=1"]
+            out.append(record(exe, cases, deck, command, sampled, True, args))
+            if out[0]["generated_wall_seconds"] > SAMPLE_SECONDS:
+                break
+        return out
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return [s for samples in pool.map(sample, slow) for s in samples]
+
+
 def make(exe, cases, out):
     exe = os.path.abspath(exe)
     start = time.monotonic()
     decks = sorted(os.path.relpath(os.path.join(d, f), cases)
                    for d, _, files in os.walk(cases) for f in files if f.endswith(".toml"))
-    jobs = [(d, c, a) for d in decks for c, a in runs_of(cases, d)]
+    every = [(d, c, a) for d in decks for c, a in runs_of(cases, d)]
+    jobs = [j for j in every if not too_slow_whole(*j)]
     with ThreadPoolExecutor(max_workers=2) as pool:
         records = list(pool.map(lambda j: record(exe, cases, *j), jobs))
-    # The slow ones: keep them whole, unchecked, and record their first and middle positions alone.
-    samples = []
-    for r in records:
-        if r["generated_wall_seconds"] <= SAMPLE_SECONDS or r["command"] in ("geometry", "mesh"):
-            continue
-        cranks = sweep_cranks(records, r["deck"])
-        if cranks is None:
-            continue
-        r["checked"] = False
-        for c in sorted({cranks[0], cranks[len(cranks) // 2]}):
-            args = [*r["args"], "--set", f"sweep.crank_start_deg={c!r}", "--set", "sweep.positions=1"]
-            samples.append((r["deck"], r["command"], args, True, r["args"]))
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        records += list(pool.map(lambda j: record(exe, cases, *j), samples))
+    write(records + add_samples(exe, cases, records, every), out, len(decks))
+    print(f"recording took {time.monotonic() - start:.1f} s")
+
+
+def write(records, out, decks):
     records.sort(key=lambda r: r["deck"])
     with open(out, "w", encoding="utf-8") as f:
         for r in records:
             f.write(json.dumps(r, sort_keys=True, separators=(",", ":")) + "\n")
+    sampled = sum(1 for r in records if "sampled_from" in r)
     slow = [r for r in records if r["checked"] and r["generated_wall_seconds"] > SAMPLE_SECONDS]
-    print(f"{len(decks)} decks, {len(records)} runs ({len(samples)} of them one position of a "
-          f"slow run) -> {out}")
+    print(f"{decks} decks, {len(records)} runs ({sampled} of them one position of a slow run) -> {out}")
     print(f"checked runs took {sum(r['generated_wall_seconds'] for r in records if r['checked']):.1f} s "
           f"({len(slow)} still over {SAMPLE_SECONDS} s)")
-    print(f"recording took {time.monotonic() - start:.1f} s")
 
 
 def floor_of(key):
@@ -220,10 +265,11 @@ def check_run(exe, cases, want):
     return problems
 
 
-def check(exe, cases, snapshot, deck, every=False):
+def check(exe, cases, snapshot, deck):
     exe = os.path.abspath(exe)
     with lzma.open(snapshot, "rt", encoding="utf-8") as f:
-        wanted = [r for r in map(json.loads, f) if r["deck"] == deck and (every or r["checked"])]
+        tag = '"deck":' + json.dumps(deck) + ","  # parse only this deck's lines (sort_keys, no spaces)
+        wanted = [r for r in (json.loads(line) for line in f if tag in line) if r["deck"] == deck and r["checked"]]
     if not wanted:
         print(f"no run of {deck} in {snapshot}")
         return 1
@@ -241,8 +287,8 @@ def main():
     if len(sys.argv) == 5 and sys.argv[1] == "make":
         make(*sys.argv[2:5])
         return 0
-    if len(sys.argv) in (6, 7) and sys.argv[1] == "check" and sys.argv[6:] in ([], ["--all"]):
-        return check(*sys.argv[2:6], every=len(sys.argv) == 7)
+    if len(sys.argv) == 6 and sys.argv[1] == "check":
+        return check(*sys.argv[2:6])
     print(__doc__)
     return 2
 
