@@ -55,7 +55,7 @@ from concurrent.futures import ThreadPoolExecutor
 SOLVERS = ["bisection", "energy-qp", "energy-groups", "compatibility"]
 KINEMATICS = ["linearised", "exact"]
 TOLERANCE_SAMPLES = "20"
-SAMPLE_SECONDS = 1.0
+SAMPLE_SECONDS = 0.5
 RELATIVE = 1e-12
 ABSOLUTE_DEFAULT = 1e-12
 ABSOLUTE_BY_SUFFIX = {"_arcsec": 1e-9, "_arcmin": 1e-9, "_um": 1e-9, "_mm": 1e-9, "_deg": 1e-9,
@@ -64,7 +64,7 @@ ABSOLUTE_BY_SUFFIX = {"_arcsec": 1e-9, "_arcmin": 1e-9, "_um": 1e-9, "_mm": 1e-9
 # output): wall_seconds (summaries, compare's solvers, tolerance's worst_case),
 # loaded_solve_seconds (efficiency), samples_per_second (tolerance), threads and mpi_ranks
 # (tolerance: its samples do not depend on them).
-# Per-position arrays dropped to keep the file small (2.6 MB instead of 10 MB with xz -9):
+# Per-position arrays dropped to keep the file small (2.3 MB instead of 10 MB with xz -9):
 # pin_angle_deg (the kinematics of the pins; mesh keeps them at crank 0), clearance_um and
 # clearance_at_first_contact_um (backlash's per-pin gaps; theta_c1, theta_c2, backlash and the
 # first-contact pins are kept, and mesh keeps clearance_um at crank 0), contact_stress_mpa and
