@@ -1,0 +1,297 @@
+#!/usr/bin/env python3
+"""Snapshot of every ltca command on every deck before the issue-24 refactoring, and its check.
+
+    commands.py make  LTCA CASES OUT.jsonl          # record (then: xz -9 OUT.jsonl)
+    commands.py check LTCA CASES SNAPSHOT.jsonl.xz DECK
+
+`make` runs, for every deck in CASES (ltca's working directory is CASES and the deck is given
+relative to it, so `case.deck` and messages read the same wherever the tree is):
+
+    geometry; mesh --crank-deg 0; backlash --kinematics K; solve --solver S --kinematics K;
+    compare --solvers (all four) --kinematics K; stiffness --crank-deg 0;
+    efficiency (a deck with [friction] and [operation]);
+    tolerance --samples 20 --threads 1 (a deck with [tolerances]; the worst case is kept);
+    report -o DIR (with --set tolerances.samples=20 on a deck with [tolerances]), reading back
+    the JSON documents it leaves in DIR;
+
+for S in bisection, energy-qp, energy-groups, compatibility and K in linearised, exact. Every
+command but report writes `--json -`. One JSON line per run: deck, command, args (after the
+deck), exit code, the seconds it took (`generated_wall_seconds`, never compared), and `json`:
+the document with every field of TIMING dropped (at any depth), or for report {file: document}.
+A run that fails (exit 2: the command does not apply, e.g. a deck without [material]; or no
+JSON at all) keeps the last line of its standard error as `message` (report keeps the documents
+it wrote before failing too). Python writes a float as the shortest text
+that reads back to the same double.
+
+The documents drop some bulky per-position arrays (PER_POSITION_DROPPED, the reasons beside it).
+
+Sampling: a run that took more than SAMPLE_SECONDS is kept in the file (`checked` false) with
+its exit code and summary only, and recorded again at its sweep's first crank angle, and its middle one unless the first alone took
+more than SAMPLE_SECONDS, each run alone with
+`--set sweep.crank_start_deg=C --set sweep.positions=1` (`checked` true, `sampled_from` naming
+the whole run's args). The crank angles are the deck's sweep as its linearised backlash gives it
+back. Runs with Li's tooth groups (solve --solver energy-groups, and compare) on the 160- and
+320-pin scaling decks (TOO_SLOW_WHOLE: 70 s and 800 s per sweep) are recorded so, never whole.
+Stiffness at crank 0 has no sweep to sample and is always checked whole. `check` runs only the checked records.
+
+`check` re-runs one deck's records and compares: exit codes, strings, booleans, nulls, integers,
+object keys and array lengths exactly; every float to RELATIVE (1e-12) relative, or, near zero,
+to an absolute floor by the field's unit: ABSOLUTE_BY_SUFFIX (1e-9 in arcsec, arcmin, um, mm,
+deg, MPa), 1e-12 otherwise (N, N*m, J, W, efficiencies, residuals). An array element takes the
+floor of the field that holds the array. Prints the mismatches; exit 1 on any.
+
+It is a regression anchor, not a validation: it records what the code computed at the commit
+named in tests/snapshot/README.md, so that a refactoring can show it changed no number.
+"""
+import json
+import lzma
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+SOLVERS = ["bisection", "energy-qp", "energy-groups", "compatibility"]
+KINEMATICS = ["linearised", "exact"]
+TOLERANCE_SAMPLES = "20"
+SAMPLE_SECONDS = 0.5
+RELATIVE = 1e-12
+ABSOLUTE_DEFAULT = 1e-12
+ABSOLUTE_BY_SUFFIX = {"_arcsec": 1e-9, "_arcmin": 1e-9, "_um": 1e-9, "_mm": 1e-9, "_deg": 1e-9,
+                      "_mpa": 1e-9}
+# Fields that measure time or the machine, dropped at any depth (found by reading every command's
+# output): wall_seconds (summaries, compare's solvers, tolerance's worst_case),
+# loaded_solve_seconds (efficiency), samples_per_second (tolerance), threads and mpi_ranks
+# (tolerance: its samples do not depend on them).
+# Per-position arrays dropped to keep the file small (2.3 MB instead of 10 MB with xz -9):
+# pin_angle_deg (the kinematics of the pins; mesh keeps them at crank 0), clearance_um and
+# clearance_at_first_contact_um (backlash's per-pin gaps; theta_c1, theta_c2, backlash and the
+# first-contact pins are kept, and mesh keeps clearance_um at crank 0), contact_stress_mpa and
+# slice_stress_mpa (Hertz of the pin and slice forces, which are kept, as is the summary's
+# max_contact_stress_mpa).
+PER_POSITION_DROPPED = {"pin_angle_deg", "clearance_um", "clearance_at_first_contact_um",
+                        "contact_stress_mpa", "slice_stress_mpa"}
+TOO_SLOW_WHOLE = {"scaling/zp160.toml", "scaling/zp320.toml"}
+TIMING = {"wall_seconds", "loaded_solve_seconds", "samples_per_second", "threads", "mpi_ranks"}
+
+
+def deck_sections(path):
+    with open(path, encoding="utf-8") as f:
+        return {line.strip().split("]")[0] + "]" for line in f if line.lstrip().startswith("[")}
+
+
+def runs_of(cases, deck):
+    """The (command, args) of one deck, args after the deck."""
+    sections = deck_sections(os.path.join(cases, deck))
+    runs = [("geometry", []), ("mesh", ["--crank-deg", "0"])]
+    runs += [("backlash", ["--kinematics", k]) for k in KINEMATICS]
+    runs += [("solve", ["--solver", s, "--kinematics", k]) for s in SOLVERS for k in KINEMATICS]
+    runs += [("compare", ["--solvers", ",".join(SOLVERS), "--kinematics", k]) for k in KINEMATICS]
+    runs.append(("stiffness", ["--crank-deg", "0"]))
+    if "[friction]" in sections and "[operation]" in sections:
+        runs.append(("efficiency", []))
+    if "[tolerances]" in sections:
+        runs.append(("tolerance", ["--samples", TOLERANCE_SAMPLES, "--threads", "1"]))
+        runs.append(("report", ["--set", f"tolerances.samples={TOLERANCE_SAMPLES}"]))
+    else:
+        runs.append(("report", []))
+    return runs
+
+
+def too_slow_whole(deck, command, args):
+    """Li's tooth groups on the 160- and 320-pin scaling decks (70 s and 800 s per sweep at
+    9dfef0e): recorded at their sampled positions only, never whole."""
+    return deck in TOO_SLOW_WHOLE and command in ("solve", "compare") and "energy-groups" in ",".join(args)
+
+
+def strip(doc, position=False):
+    """doc without TIMING (any depth) and, in an element of a positions array, PER_POSITION_DROPPED."""
+    if isinstance(doc, dict):
+        return {k: strip(v, k == "positions") for k, v in doc.items()
+                if k not in TIMING and not (position and k in PER_POSITION_DROPPED)}
+    if isinstance(doc, list):
+        return [strip(v, position) for v in doc]
+    return doc
+
+
+def run(exe, cases, deck, command, args):
+    """Runs one command; returns (exit code, stripped JSON or None, message or None, seconds)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        argv = [exe, command, deck, *args]
+        argv += ["-o", tmp] if command == "report" else ["--json", "-"]
+        start = time.monotonic()
+        proc = subprocess.run(argv, cwd=cases, capture_output=True, text=True, check=False)
+        wall = time.monotonic() - start
+        doc = None
+        if command == "report":
+            files = sorted(f for f in os.listdir(tmp) if f.endswith(".json"))
+            if files:
+                doc = {}
+                for name in files:
+                    with open(os.path.join(tmp, name), encoding="utf-8") as f:
+                        doc[name] = strip(json.load(f))
+        elif proc.stdout.strip():
+            doc = strip(json.loads(proc.stdout))
+        message = None
+        if doc is None or proc.returncode >= 2:
+            lines = [line for line in proc.stderr.splitlines() if line.strip()]
+            message = lines[-1] if lines else ""
+        return proc.returncode, doc, message, wall
+
+
+def record(exe, cases, deck, command, args, checked=True, sampled_from=None):
+    code, doc, message, wall = run(exe, cases, deck, command, args)
+    r = {"deck": deck, "command": command, "args": args, "exit": code, "checked": checked,
+         "generated_wall_seconds": round(wall, 2)}
+    if sampled_from is not None:
+        r["sampled_from"] = sampled_from
+    if doc is not None:
+        r["json"] = doc
+    if message is not None:
+        r["message"] = message
+    return r
+
+
+def sweep_cranks(records, deck):
+    """The deck's crank angles, as its linearised backlash gives them back (None: no positions)."""
+    for r in records:
+        if r["deck"] == deck and r["command"] == "backlash" and r["args"][-1] == "linearised":
+            positions = (r.get("json") or {}).get("positions") or []
+            return [p["crank_deg"] for p in positions] or None
+    return None
+
+
+def add_samples(exe, cases, records, every):
+    """Samples the slow runs of records (whole runs) and the runs of every too slow to run whole:
+    the slow whole run keeps its exit code and summary only, unchecked; its first position is
+    recorded alone, and its middle one too unless the first alone took more than SAMPLE_SECONDS.
+    Stiffness at one crank has no sweep to sample: it is checked whole. Returns the samples."""
+    slow = [(r["deck"], r["command"], r["args"], r) for r in records
+            if r["generated_wall_seconds"] > SAMPLE_SECONDS
+            and r["command"] not in ("geometry", "mesh", "stiffness")]
+    slow += [(*j, None) for j in every if too_slow_whole(*j)]
+
+    def sample(job):
+        deck, command, args, r = job
+        cranks = sweep_cranks(records, deck)
+        if cranks is None:
+            return []
+        if r is not None:
+            r["checked"] = False
+            summary = (r.pop("json", None) or {}).get("summary") if command != "report" else None
+            if summary is not None:
+                r["summary"] = summary
+        out = []
+        for c in [cranks[0], cranks[len(cranks) // 2]][:1 if len(cranks) == 1 else 2]:
+            sampled = [*args, "--set", f"sweep.crank_start_deg={c!r}", "--set", "sweep.positions=1"]
+            out.append(record(exe, cases, deck, command, sampled, True, args))
+            if out[0]["generated_wall_seconds"] > SAMPLE_SECONDS:
+                break
+        return out
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return [s for samples in pool.map(sample, slow) for s in samples]
+
+
+def make(exe, cases, out):
+    exe = os.path.abspath(exe)
+    start = time.monotonic()
+    decks = sorted(os.path.relpath(os.path.join(d, f), cases)
+                   for d, _, files in os.walk(cases) for f in files if f.endswith(".toml"))
+    every = [(d, c, a) for d in decks for c, a in runs_of(cases, d)]
+    jobs = [j for j in every if not too_slow_whole(*j)]
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        records = list(pool.map(lambda j: record(exe, cases, *j), jobs))
+    write(records + add_samples(exe, cases, records, every), out, len(decks))
+    print(f"recording took {time.monotonic() - start:.1f} s")
+
+
+def write(records, out, decks):
+    records.sort(key=lambda r: r["deck"])
+    with open(out, "w", encoding="utf-8") as f:
+        for r in records:
+            f.write(json.dumps(r, sort_keys=True, separators=(",", ":")) + "\n")
+    sampled = sum(1 for r in records if "sampled_from" in r)
+    slow = [r for r in records if r["checked"] and r["generated_wall_seconds"] > SAMPLE_SECONDS]
+    print(f"{decks} decks, {len(records)} runs ({sampled} of them one position of a slow run) -> {out}")
+    print(f"checked runs took {sum(r['generated_wall_seconds'] for r in records if r['checked']):.1f} s "
+          f"({len(slow)} still over {SAMPLE_SECONDS} s)")
+
+
+def floor_of(key):
+    for suffix, value in ABSOLUTE_BY_SUFFIX.items():
+        if key.endswith(suffix):
+            return value
+    return ABSOLUTE_DEFAULT
+
+
+def compare(problems, where, key, got, want):
+    """Appends to problems every difference between got and want (key: the field's name)."""
+    if isinstance(want, dict):
+        if not isinstance(got, dict):
+            problems.append(f"{where}: {type(got).__name__} != object")
+            return
+        for k in sorted(set(got) | set(want)):
+            if k not in want or k not in got:
+                problems.append(f"{where}.{k}: {'extra' if k not in want else 'missing'}")
+            else:
+                compare(problems, f"{where}.{k}", k, got[k], want[k])
+        return
+    if isinstance(want, list):
+        if not isinstance(got, list) or len(got) != len(want):
+            problems.append(f"{where}: length {len(got) if isinstance(got, list) else got!r} != {len(want)}")
+            return
+        for i, (g, w) in enumerate(zip(got, want)):
+            compare(problems, f"{where}[{i}]", key, g, w)
+        return
+    number = (int, float)
+    if (isinstance(want, float) and isinstance(got, number) and not isinstance(got, bool)) or \
+       (isinstance(got, float) and isinstance(want, number) and not isinstance(want, bool)):
+        if abs(got - want) > max(RELATIVE * abs(want), floor_of(key)):
+            problems.append(f"{where}: {got!r} != {want!r} (diff {abs(got - want):.3g})")
+        return
+    if type(got) is not type(want) or got != want:
+        problems.append(f"{where}: {got!r} != {want!r}")
+
+
+def check_run(exe, cases, want):
+    name = f"{want['command']} {want['deck']} {' '.join(want['args'])}"
+    code, doc, message, _ = run(exe, cases, want["deck"], want["command"], want["args"])
+    problems = []
+    compare(problems, f"{name}: exit", "exit", code, want["exit"])
+    compare(problems, f"{name}: json", "json", doc, want.get("json"))
+    compare(problems, f"{name}: message", "message", message, want.get("message"))
+    return problems
+
+
+def check(exe, cases, snapshot, deck):
+    exe = os.path.abspath(exe)
+    with lzma.open(snapshot, "rt", encoding="utf-8") as f:
+        tag = '"deck":' + json.dumps(deck) + ","  # parse only this deck's lines (sort_keys, no spaces)
+        wanted = [r for r in (json.loads(line) for line in f if tag in line) if r["deck"] == deck and r["checked"]]
+    if not wanted:
+        print(f"no run of {deck} in {snapshot}")
+        return 1
+    start = time.monotonic()
+    problems = [line for w in wanted for line in check_run(exe, cases, w)]
+    for line in problems[:40]:
+        print(line)
+    if len(problems) > 40:
+        print(f"... and {len(problems) - 40} more")
+    print(f"{deck}: {len(wanted)} runs in {time.monotonic() - start:.1f} s, {len(problems)} mismatches")
+    return 1 if problems else 0
+
+
+def main():
+    if len(sys.argv) == 5 and sys.argv[1] == "make":
+        make(*sys.argv[2:5])
+        return 0
+    if len(sys.argv) == 6 and sys.argv[1] == "check":
+        return check(*sys.argv[2:6])
+    print(__doc__)
+    return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
