@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
+#include "cli_run.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/profile.hpp"
@@ -24,16 +25,8 @@
 
 namespace {
 
-struct Outcome {
-  int code;
-  std::string out, err;
-};
-
-Outcome RunCli(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  const int code = ltca::cli::Run(args, out, err);
-  return {code, out.str(), err.str()};
-}
+using ltca::test::Outcome;
+using ltca::test::RunCli;
 
 std::filesystem::path TempFile(const std::string& name, const std::string& text) {
   const auto path = std::filesystem::temp_directory_path() / ("ltca_cli_test_" + name);
@@ -41,7 +34,7 @@ std::filesystem::path TempFile(const std::string& name, const std::string& text)
   return path;
 }
 
-std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+using ltca::test::Case;
 
 std::string ReadText(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -18,6 +18,7 @@
 
 #include "bench_command.hpp"
 #include "cli.hpp"
+#include "cli_run.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/app/slice_study.hpp"
 #include "ltca/app/sweep.hpp"
@@ -31,18 +32,9 @@ namespace units = ltca::units;
 
 namespace {
 
-struct Outcome {
-  int code;
-  std::string out, err;
-};
-
-Outcome RunCli(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  const int code = ltca::cli::Run(args, out, err);
-  return {code, out.str(), err.str()};
-}
-
-std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+using ltca::test::Case;
+using ltca::test::Outcome;
+using ltca::test::RunCli;
 
 std::filesystem::path Temp(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("ltca_review_test_" + name);
