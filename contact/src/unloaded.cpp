@@ -108,6 +108,16 @@ std::string JamReport(const MeshState& state, double tolerance_mm) {
   return stuck || lo > hi ? overlaps : std::string();
 }
 
+const char* ToString(ContactKinematics kinematics) {
+  return kinematics == ContactKinematics::kExact ? "exact" : "linearised";
+}
+
+ContactKinematics ParseKinematics(const std::string& text) {
+  if (text == "linearised") return ContactKinematics::kLinearised;
+  if (text == "exact") return ContactKinematics::kExact;
+  throw std::invalid_argument(fmt::format("[solver] kinematics = \"{}\": expected \"linearised\" or \"exact\"", text));
+}
+
 void RequireNoInterference(const MeshState& state, double crank, double tolerance_mm) {
   const std::string overlaps = JamReport(state, tolerance_mm);
   if (!overlaps.empty()) {

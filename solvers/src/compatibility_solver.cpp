@@ -150,7 +150,6 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
   double psi = 0.0;
   int evaluations = 0, outer = 0;
   SolverOptions inner = options;
-  inner.kinematics = contact::ContactKinematics::kLinearised;
   // The linearisation about psi_k matches the exact torque at psi_k only: solve it to a quarter of
   // the tolerance, so that the exact torque at the settled rotation meets the tolerance itself
   // (at the requested 1e-10 one d = 3 position ended 1.01e-10 off, issue 10).

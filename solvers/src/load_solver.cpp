@@ -134,9 +134,6 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
 
 LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace) const {
   options.Validate();
-  if (problem.kinematics() != options.kinematics) {
-    throw std::invalid_argument("[solver] kinematics: the problem was built for other kinematics than the options name");
-  }
   const auto start = std::chrono::steady_clock::now();
   LoadResult result;
   result.force.assign(static_cast<std::size_t>(problem.point_count()), 0.0);

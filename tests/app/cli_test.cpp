@@ -20,7 +20,8 @@
 #include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/app/deck.hpp"
-#include "ltca/app/sweep.hpp"
+#include "deck_runs.hpp"
+#include "ltca/analysis/sweep.hpp"
 #include "output.hpp"
 
 namespace {
@@ -388,7 +389,7 @@ TEST_CASE("sweep: the summary is taken over the successful positions only and co
 
 TEST_CASE("sweep: streaming calls back every position in order and keeps none, with the same summary") {
   const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
-  const auto kept = ltca::app::SolveSweep(deck, deck.solver);
+  const auto kept = ltca::test::SolveSweep(deck, deck.solver);
   std::vector<double> cranks, tes;
   ltca::app::SweepCallbacks callbacks;
   callbacks.keep_positions = false;
@@ -396,7 +397,7 @@ TEST_CASE("sweep: streaming calls back every position in order and keeps none, w
     cranks.push_back(p.crank);
     tes.push_back(p.result.te);
   };
-  const auto streamed = ltca::app::SolveSweep(deck, deck.solver, callbacks);
+  const auto streamed = ltca::test::SolveSweep(deck, deck.solver, callbacks);
   CHECK(streamed.positions.empty());
   REQUIRE(cranks.size() == kept.positions.size());
   CHECK(cranks == deck.sweep.CrankAngles());
@@ -413,7 +414,7 @@ TEST_CASE("cli: the solve JSON streams its positions and ends with the summary")
   CHECK(r.out.find("\"positions\"") < r.out.find("\"summary\""));
   const auto json = nlohmann::json::parse(r.out);
   const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
-  const auto sweep = ltca::app::SolveSweep(deck, deck.solver);
+  const auto sweep = ltca::test::SolveSweep(deck, deck.solver);
   CHECK(json.at("summary").at("mean_te_arcsec").get<double>() ==
         doctest::Approx(ltca::units::RadToArcsec(sweep.summary.mean_te)).epsilon(1e-12));
   CHECK(json.at("positions").size() == sweep.positions.size());
@@ -430,7 +431,7 @@ TEST_CASE("contact: RequireNoInterference names the pins and overlaps, and accep
   int solved = 0;
   ltca::app::SweepCallbacks callbacks;
   callbacks.on_position = [&](const ltca::app::PositionResult&) { ++solved; };
-  CHECK_THROWS_AS(ltca::app::SolveSweep(deck, deck.solver, callbacks), std::invalid_argument);
+  CHECK_THROWS_AS(ltca::test::SolveSweep(deck, deck.solver, callbacks), std::invalid_argument);
   CHECK(solved == 0);
 }
 
@@ -555,7 +556,7 @@ TEST_CASE("cli: a deck without a command runs the default job on that deck") {
   CHECK(json.at("geometry").at("case").at("title") == deck.info.title);
   CHECK(json.at("geometry").at("k1").get<double>() ==
         ltca::geometry::CycloidProfile(deck.pair, deck.modification).k1());
-  const auto sweep = ltca::app::SolveSweep(deck, deck.solver);
+  const auto sweep = ltca::test::SolveSweep(deck, deck.solver);
   CHECK(json.at("solve").at("summary").at("mean_te_arcsec").get<double>() ==
         doctest::Approx(ltca::units::RadToArcsec(sweep.summary.mean_te)).epsilon(1e-12));
   CHECK(json.at("solve").at("positions").size() == static_cast<std::size_t>(deck.sweep.positions));
@@ -619,7 +620,7 @@ TEST_CASE("cli: backlash streams its positions, and its summary is the library's
   const auto j = nlohmann::json::parse(r.out);
   const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"), {"sweep.positions=23"});
   // The deck's [solver] kinematics, as every command takes it (issue 26).
-  const auto sweep = ltca::contact::AnalyseUnloadedSweep(deck.MakeModel(), deck.sweep.CrankAngles(), deck.solver.kinematics);
+  const auto sweep = ltca::contact::AnalyseUnloadedSweep(deck.MakeModel(), deck.sweep.CrankAngles(), deck.kinematics);
   REQUIRE(j.at("positions").size() == 23);
   CHECK(j.at("summary").at("mean_backlash_arcsec").get<double>() ==
         doctest::Approx(ltca::units::RadToArcsec(sweep.mean_backlash)).epsilon(1e-12));

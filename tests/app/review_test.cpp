@@ -20,8 +20,9 @@
 #include "cli.hpp"
 #include "cli_run.hpp"
 #include "ltca/app/deck.hpp"
-#include "ltca/app/slice_study.hpp"
-#include "ltca/app/sweep.hpp"
+#include "deck_runs.hpp"
+#include "ltca/analysis/slice_study.hpp"
+#include "ltca/analysis/sweep.hpp"
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
@@ -49,7 +50,7 @@ TEST_CASE("app: backlash under misalignment is the face-edge value at 5, 20 and 
   for (const ContactKinematics kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     // The reference takes another path: two plane models (no slices) with the cycloid centre where
     // the tilted axis puts it at face B and at the far face (the gap is linear along the face).
-    const double reference = ltca::app::FaceEdgeUnloaded(deck, kinematics).mean_arcsec;
+    const double reference = ltca::app::FaceEdgeUnloaded(deck, deck.sweep.CrankAngles(), kinematics).mean_arcsec;
     for (const int n : {5, 20, 100}) {
       Deck d = deck;
       d.geometry.width_slices = n;
@@ -69,7 +70,7 @@ TEST_CASE("app: +dy and -dy of Liu 5.3 give equal mean TE and mean backlash (1e-
     const Deck deck = ltca::app::LoadDeck(Case("liu2021_sec53_dy.toml"), {fmt::format("errors.centre_dy_mm={}", dy_mm)});
     ltca::solvers::SolverOptions options = deck.solver;
     options.name = "compatibility";
-    const auto sweep = ltca::app::SolveSweep(deck, options);
+    const auto sweep = ltca::test::SolveSweep(deck, options);
     REQUIRE(sweep.summary.all_succeeded());
     CHECK(sweep.summary.closed_period);
     const auto backlash =
@@ -91,7 +92,7 @@ TEST_CASE("app: a sweep that does not close a period weights every position in t
   // Half a mesh period of Liu Table 1: the last state is not the first.
   const Deck deck = ltca::app::LoadDeck(Case("liu2021_table1.toml"), {"sweep.crank_end_deg=4.5", "sweep.positions=10"});
   auto options = deck.solver;
-  const auto sweep = ltca::app::SolveSweep(deck, options);
+  const auto sweep = ltca::test::SolveSweep(deck, options);
   REQUIRE(sweep.summary.all_succeeded());
   CHECK_FALSE(sweep.summary.closed_period);
   double sum = 0.0;
@@ -99,7 +100,7 @@ TEST_CASE("app: a sweep that does not close a period weights every position in t
   CHECK(sweep.summary.mean_te == doctest::Approx(sum / static_cast<double>(sweep.positions.size())).epsilon(1e-14));
   // One mesh period (360 / z_p = 9 deg, the deck's own sweep) of the error-free pair closes.
   const Deck period = ltca::app::LoadDeck(Case("liu2021_table1.toml"));
-  CHECK(ltca::app::SolveSweep(period, options).summary.closed_period);
+  CHECK(ltca::test::SolveSweep(period, options).summary.closed_period);
 }
 
 TEST_CASE("app: no tip relief is assumed: the |d| >= 2 decks keep the tips they are given at any torque and stress limit, issue 26 item 3") {
@@ -122,7 +123,7 @@ TEST_CASE("app: no tip relief is assumed: the |d| >= 2 decks keep the tips they 
     for (const char* solver : {"bisection", "compatibility", "energy-qp", "energy-groups"}) {
       auto options = deck.solver;
       options.name = solver;
-      const auto sweep = ltca::app::SolveSweep(deck, options);
+      const auto sweep = ltca::test::SolveSweep(deck, options);
       statuses.emplace_back();
       for (const auto& p : sweep.positions) {
         statuses.back().push_back(p.result.status);
@@ -141,7 +142,7 @@ TEST_CASE("app: a relief the user gives that carries load is reported with a war
   REQUIRE(deck.tip_relief_source == "deck");
   auto options = deck.solver;
   options.name = "compatibility";
-  const auto sweep = ltca::app::SolveSweep(deck, options);
+  const auto sweep = ltca::test::SolveSweep(deck, options);
   REQUIRE(sweep.summary.all_succeeded());
   bool on_arc = false;
   for (const auto& p : sweep.positions) {

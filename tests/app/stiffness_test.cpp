@@ -12,8 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include "ltca/app/deck.hpp"
-#include "ltca/app/stiffness.hpp"
-#include "ltca/app/sweep.hpp"
+#include "deck_runs.hpp"
+#include "ltca/analysis/stiffness.hpp"
+#include "ltca/analysis/sweep.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
 #include "stiffness_command.hpp"
@@ -30,10 +31,9 @@ namespace {
 
 std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
 
-SolverOptions Options(const std::string& solver, ContactKinematics kinematics) {
+SolverOptions Options(const std::string& solver) {
   SolverOptions o;
   o.name = solver;
-  o.kinematics = kinematics;
   return o;
 }
 
@@ -75,7 +75,7 @@ TEST_CASE("app: stiffness of the linear law without clearance is the closed form
       }
       StiffnessSettings secant = AtCrank(crank_deg);
       secant.steps = 5;
-      StiffnessRunner runner(deck, Options(solver, ContactKinematics::kLinearised), secant);
+      auto runner = ltca::test::StiffnessOn(deck, Options(solver), secant, ContactKinematics::kLinearised);
       const StiffnessPosition p = runner.Solve(*secant.crank);
       REQUIRE(p.succeeded());
       CHECK(p.rigidity_drive == doctest::Approx(drive).epsilon(1e-9));
@@ -85,7 +85,7 @@ TEST_CASE("app: stiffness of the linear law without clearance is the closed form
         StiffnessSettings tangent = secant;
         tangent.rigidity = StiffnessSettings::Rigidity::kTangent;
         tangent.tangent_torque = at;
-        StiffnessRunner t(deck, Options(solver, ContactKinematics::kLinearised), tangent);
+        auto t = ltca::test::StiffnessOn(deck, Options(solver), tangent, ContactKinematics::kLinearised);
         // The central difference over +-1 % of the torque divides two twists, each balanced to the
         // torque tolerance 1e-10 (bisection stops there): up to 2e-10 x 50 = 1e-8 of the slope.
         CHECK(t.Solve(*tangent.crank).rigidity == doctest::Approx(at > 0.0 ? drive : coast).epsilon(2e-8));
@@ -102,7 +102,7 @@ TEST_CASE("app: stiffness backlash and the zero-torque points are the unloaded a
     for (const double crank_deg : {0.0, 2.5, 4.5, 8.2}) {
       CAPTURE(crank_deg);
       const StiffnessSettings settings = AtCrank(crank_deg);
-      StiffnessRunner runner(deck, Options("compatibility", kinematics), settings);
+      auto runner = ltca::test::StiffnessOn(deck, Options("compatibility"), settings, kinematics);
       const StiffnessPosition p = runner.Solve(*settings.crank);
       REQUIRE(p.succeeded());
       const ltca::contact::UnloadedContact u = ltca::contact::AnalyseUnloaded(model, *settings.crank, kinematics);
@@ -131,7 +131,7 @@ TEST_CASE("app: stiffness of the Liu Table 1 perfect pair: no backlash and a cur
   for (const std::string solver : {"compatibility", "bisection"}) {
     CAPTURE(solver);
     const StiffnessSettings settings = AtCrank(0.0);
-    StiffnessRunner runner(deck, Options(solver, ContactKinematics::kLinearised), settings);
+    auto runner = ltca::test::StiffnessOn(deck, Options(solver), settings, ContactKinematics::kLinearised);
     const StiffnessPosition p = runner.Solve(0.0);
     REQUIRE(p.succeeded());
     CHECK(std::abs(p.backlash) < 1e-12);
@@ -143,7 +143,7 @@ TEST_CASE("app: stiffness of the Liu Table 1 perfect pair: no backlash and a cur
       CHECK(up[i]->twist == doctest::Approx(-mirror->twist).epsilon(1e-8));
     }
     CHECK(p.rigidity_drive == doctest::Approx(p.rigidity_coast).epsilon(1e-8));
-    StiffnessRunner sweep(deck, Options(solver, ContactKinematics::kLinearised), StiffnessSettings{});
+    auto sweep = ltca::test::StiffnessOn(deck, Options(solver), StiffnessSettings{}, ContactKinematics::kLinearised);
     for (const double crank : sweep.cranks()) REQUIRE(sweep.Solve(crank).succeeded());
     const ltca::app::StiffnessSummary s = sweep.Summary();
     CHECK(std::abs(s.backlash.max) < 1e-12);
@@ -164,7 +164,7 @@ TEST_CASE("app: stiffness of the Liu 5.2 base: lost motion is the twist between 
       CAPTURE(crank_deg);
       const Deck deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
       const StiffnessSettings settings = AtCrank(crank_deg);
-      StiffnessRunner runner(deck, Options("compatibility", kinematics), settings);
+      auto runner = ltca::test::StiffnessOn(deck, Options("compatibility"), settings, kinematics);
       const StiffnessPosition p = runner.Solve(*settings.crank);
       REQUIRE(p.succeeded());
       double twist[2] = {0.0, 0.0};
@@ -173,7 +173,7 @@ TEST_CASE("app: stiffness of the Liu 5.2 base: lost motion is the twist between 
             Case("liu2021_sec52_base.toml"),
             {side == 0 ? "load.torque_nm=6.18" : "load.torque_nm=-6.18", "sweep.positions=1",
              "sweep.crank_start_deg=" + std::to_string(crank_deg), "sweep.crank_end_deg=" + std::to_string(crank_deg)});
-        const ltca::app::SweepResult r = ltca::app::SolveSweep(one, Options("bisection", kinematics));
+        const ltca::app::SweepResult r = ltca::test::SolveSweep(ltca::test::WithKinematics(one, kinematics), Options("bisection"));
         REQUIRE(r.summary.all_succeeded());
         twist[side] = -r.positions.front().result.te;
       }
@@ -202,7 +202,7 @@ TEST_CASE("app: the [stiffness] section is read in internal units and defaults t
   StiffnessSettings five;
   five.steps = 5;
   five.crank = 0.0;
-  const StiffnessRunner runner(deck, Options("compatibility", ContactKinematics::kLinearised), five);
+  const auto runner = ltca::test::StiffnessOn(deck, Options("compatibility"), five, ContactKinematics::kLinearised);
   CHECK(runner.Levels() == std::vector<double>{-206e3, -103e3, 0.0, 103e3, 206e3});
 }
 
@@ -255,7 +255,7 @@ TEST_CASE("app: Coulomb friction loop, linear law without clearance: branches T 
       CAPTURE(steps);
       StiffnessSettings settings = AtCrank(crank_deg);
       settings.steps = steps;
-      StiffnessRunner runner(deck, Options(solver, ContactKinematics::kLinearised), settings);
+      auto runner = ltca::test::StiffnessOn(deck, Options(solver), settings, ContactKinematics::kLinearised);
       const StiffnessPosition p = runner.Solve(crank);
       REQUIRE(p.succeeded());
       const double scale = held_high;  // twist tolerance: 1e-8 of the twist at T
@@ -309,7 +309,7 @@ TEST_CASE("app: without friction the loop's hysteresis is zero up to the solver'
   // loop's scale is T x twist(T) (about 206 N*m x 1e-4 rad = 2e-2 J), the residue below 1e-9 of it.
   const Deck deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
   const StiffnessSettings settings = AtCrank(0.0);
-  StiffnessRunner runner(deck, Options("compatibility", ContactKinematics::kLinearised), settings);
+  auto runner = ltca::test::StiffnessOn(deck, Options("compatibility"), settings, ContactKinematics::kLinearised);
   const StiffnessPosition p = runner.Solve(0.0);
   REQUIRE(p.succeeded());
   const double scale = 206e3 * std::abs(p.curve.back().twist);

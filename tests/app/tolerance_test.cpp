@@ -22,8 +22,9 @@
 #include "cli.hpp"
 #include "tolerance_command.hpp"
 #include "ltca/app/deck.hpp"
-#include "ltca/app/sweep.hpp"
-#include "ltca/app/tolerance.hpp"
+#include "deck_runs.hpp"
+#include "ltca/analysis/sweep.hpp"
+#include "ltca/analysis/tolerance.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
 
@@ -57,7 +58,7 @@ double MeanBacklash(const Deck& deck) {
   const auto cranks = deck.sweep.CrankAngles();
   REQUIRE(cranks.size() > 1);
   for (std::size_t i = 0; i + 1 < cranks.size(); ++i) {
-    sum += ltca::contact::AnalyseUnloaded(model, cranks[i], deck.solver.kinematics).backlash;
+    sum += ltca::contact::AnalyseUnloaded(model, cranks[i], deck.kinematics).backlash;
   }
   return sum / static_cast<double>(cranks.size() - 1);
 }
@@ -75,18 +76,18 @@ TEST_CASE("app: zero tolerances give every sample the deterministic run of the d
       "cumulative_pitch_deviation_mm = { distribution = \"normal\", tolerance = 0 }\n"
       "eccentricity_deviation_mm = { distribution = \"uniform\", tolerance = 0.0 }\n",
       {"sweep.positions=16"});
-  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   const auto samples = study.RunRange(0, 3, 2);
   // The deterministic run: `ltca solve`'s sweep and `ltca backlash`'s unloaded analysis.
-  const ltca::app::SweepResult sweep = ltca::app::SolveSweep(deck, deck.solver, {nullptr, false});
+  const ltca::app::SweepResult sweep = ltca::test::SolveSweep(deck, deck.solver, {nullptr, false});
   const ltca::contact::MeshModel model = deck.MakeModel();
   double lo = INFINITY, hi = -INFINITY;
   const auto cranks = deck.sweep.CrankAngles();
   for (const double c : cranks) {
-    const double b = ltca::contact::AnalyseUnloaded(model, c, deck.solver.kinematics).backlash;
+    const double b = ltca::contact::AnalyseUnloaded(model, c, deck.kinematics).backlash;
     lo = std::min(lo, b), hi = std::max(hi, b);
   }
-  const double mean = ltca::contact::AnalyseUnloadedSweep(model, cranks, deck.solver.kinematics).mean_backlash;
+  const double mean = ltca::contact::AnalyseUnloadedSweep(model, cranks, deck.kinematics).mean_backlash;
   using ltca::units::RadToArcsec;
   for (const ToleranceSample& s : samples) {
     CAPTURE(s.index);
@@ -124,7 +125,7 @@ TEST_CASE("app: a normal pin-circle tolerance gives the mean backlash the mean a
   const double fd_slope = ltca::units::RadToArcsec(MeanBacklash(plus) - MeanBacklash(minus)) / 2.0;
   CHECK(fd_slope == doctest::Approx(liu_slope).epsilon(1e-3));
 
-  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   const auto samples = study.RunRange(0, n, 2);
   const ltca::app::ToleranceSummary summary = ltca::app::Summarise(study, samples);
   REQUIRE(summary.succeeded == n);
@@ -161,7 +162,7 @@ TEST_CASE("app: sample i depends on (seed, i) only, whatever the range and the t
       "pin_circle_deviation_mm = { distribution = \"normal\", sigma = 0.002 }\n"
       "pin_radius_deviations_mm = { distribution = \"uniform\", tolerance = 0.001 }\n",
       {"sweep.positions=8"});
-  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   REQUIRE(study.inputs().size() == 41);  // one scalar key and 40 pins
   CHECK(study.inputs()[1].name == "pin_radius_deviations_mm[1]");
   const auto one = study.RunRange(0, 6, 1);
@@ -183,7 +184,7 @@ TEST_CASE("app: sample i depends on (seed, i) only, whatever the range and the t
   // Another seed, other samples.
   ltca::app::ToleranceSettings other = *deck.tolerances;
   other.seed = 4;
-  const ToleranceStudy study4(deck, deck.solver, other);
+  const auto study4 = ltca::test::ToleranceOn(deck, deck.solver, other);
   CHECK(study4.Draw(0)[0] != study.Draw(0)[0]);
 }
 
@@ -191,8 +192,8 @@ TEST_CASE("app: profile_random_per_sample gives every sample its own random prof
   const std::vector<std::string> set = {"sweep.positions=6", "errors.profile_random_zone_um=2"};
   const Deck fixed = BaseWith("samples = 2\npin_circle_deviation_mm = { distribution = \"normal\", sigma = 0 }\n", set);
   const Deck drawn = BaseWith("samples = 2\nprofile_random_per_sample = true\n", set);
-  const auto a = ToleranceStudy(fixed, fixed.solver, *fixed.tolerances).RunRange(0, 2, 1);
-  const auto b = ToleranceStudy(drawn, drawn.solver, *drawn.tolerances).RunRange(0, 2, 1);
+  const auto a = ltca::test::ToleranceOn(fixed, fixed.solver, *fixed.tolerances).RunRange(0, 2, 1);
+  const auto b = ltca::test::ToleranceOn(drawn, drawn.solver, *drawn.tolerances).RunRange(0, 2, 1);
   REQUIRE(a[0].status == "success");
   REQUIRE(b[0].status == "success");
   CHECK(SameBits(a[0].figures[ltca::app::kMeanBacklashArcsec], a[1].figures[ltca::app::kMeanBacklashArcsec]));
@@ -363,7 +364,7 @@ TEST_CASE("app: a normal tolerance +-t is drawn from the normal truncated to +-t
   // untruncated normal's variance is 2.7 % larger: 8 standard errors away.
   const double t = 0.003, sigma = t / 3.0;
   const Deck deck = BaseWith("samples = 1\nseed = 26\npin_circle_deviation_mm = { distribution = \"normal\", tolerance = 0.003 }\n");
-  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   const double a = 3.0, phi = std::exp(-0.5 * a * a) / std::sqrt(2.0 * ltca::units::kPi), big_phi = 0.5 * std::erfc(-a / std::sqrt(2.0));
   const double variance = sigma * sigma * (1.0 - 2.0 * a * phi / (2.0 * big_phi - 1.0));
   const int n = 200000;
@@ -381,7 +382,7 @@ TEST_CASE("app: a normal tolerance +-t is drawn from the normal truncated to +-t
   CHECK(deck.tolerances->distributions[0].StandardDeviation() == doctest::Approx(std::sqrt(variance)).epsilon(1e-12));
   // A normal given by sigma alone stays untruncated: 0.27 % of the draws beyond 3 sigma.
   const Deck free = BaseWith("samples = 1\nseed = 26\npin_circle_deviation_mm = { distribution = \"normal\", sigma = 0.001 }\n");
-  const ToleranceStudy free_study(free, free.solver, *free.tolerances);
+  const auto free_study = ltca::test::ToleranceOn(free, free.solver, *free.tolerances);
   int beyond = 0;
   for (int i = 0; i < 20000; ++i) beyond += std::abs(free_study.Draw(i)[0]) > 0.003 ? 1 : 0;
   CHECK(beyond > 20);  // expected 54 (0.27 %); P(X <= 20) < 1e-7 for Poisson(54)
@@ -397,7 +398,7 @@ TEST_CASE("app: a worst-case input whose run failed is not a zero effect: its fi
                              "pin_circle_deviation_mm = { distribution = \"uniform\", tolerance = 0.015 }\n"
                              "eccentricity_deviation_mm = { distribution = \"uniform\", tolerance = 0.001 }\n",
                              {"sweep.positions=3"});
-  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   const ltca::app::WorstCaseResult worst = ltca::app::ExtremeValueWorstCase(study, 2);
   CHECK(worst.failed_runs >= 1);
   for (std::size_t f = 0; f < ltca::app::kToleranceFigureCount; ++f) {
@@ -498,7 +499,7 @@ TEST_CASE("app: the sensitivity reports R^2 and a noise floor, and outputs shuff
                                          "pin_radius_deviations_mm = {{ distribution = \"normal\", sigma = 0.0005 }}\n",
                                          n),
                              {"sweep.positions=2"});
-  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   std::vector<ToleranceSample> samples = study.RunRange(0, n, 2);
   const auto summary = ltca::app::Summarise(study, samples);
   REQUIRE(summary.succeeded == n);
@@ -554,7 +555,7 @@ TEST_CASE("app: the samples are streamed: the summary keeps 73 bytes a sample, s
   // RunStream hands the samples over in sample order, and they are those of RunRange.
   const Deck deck = BaseWith("samples = 5\nseed = 3\npin_circle_deviation_mm = { distribution = \"normal\", sigma = 0.002 }\n",
                              {"sweep.positions=2"});
-  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   const auto whole = study.RunRange(2, 5, 2);
   std::vector<std::int64_t> order;
   study.RunStream(2, 5, 2, [&](const ToleranceSample& x) {
@@ -578,7 +579,7 @@ TEST_CASE("app: a thread that cannot be started stops and joins the ones started
   CHECK(ran <= 1000);
   // And the limit on the threads is enforced where the samples are run.
   const Deck deck = BaseWith("samples = 1\npin_circle_deviation_mm = { distribution = \"normal\", sigma = 0.002 }\n");
-  const ToleranceStudy study(deck, deck.solver, *deck.tolerances);
+  const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   CHECK_THROWS_WITH_AS(study.RunRange(0, 1, 40000), doctest::Contains("--threads 40000: expected 1 to 1024"), std::invalid_argument);
 }
 

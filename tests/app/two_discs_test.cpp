@@ -14,10 +14,11 @@
 #include <sstream>
 
 #include "ltca/app/deck.hpp"
-#include "ltca/app/efficiency.hpp"
-#include "ltca/app/stiffness.hpp"
-#include "ltca/app/sweep.hpp"
-#include "ltca/app/tolerance.hpp"
+#include "deck_runs.hpp"
+#include "ltca/analysis/efficiency.hpp"
+#include "ltca/analysis/stiffness.hpp"
+#include "ltca/analysis/sweep.hpp"
+#include "ltca/analysis/tolerance.hpp"
 #include "cli.hpp"
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/contact/unloaded.hpp"
@@ -35,11 +36,9 @@ namespace {
 
 std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
 
-SolverOptions Options(const std::string& solver = "compatibility",
-                      ContactKinematics kinematics = ContactKinematics::kLinearised) {
+SolverOptions Options(const std::string& solver = "compatibility") {
   SolverOptions o;
   o.name = solver;
-  o.kinematics = kinematics;
   return o;
 }
 
@@ -66,7 +65,7 @@ TEST_CASE("app: two identical discs: 50/50 at every position of the sweep, and t
   CHECK(stage.Model().discs == 2);
   CHECK(one.Model().name == "plane");
 
-  SweepRunner sweep(stage, Options());
+  auto sweep = ltca::test::SweepOn(stage, Options(), ContactKinematics::kLinearised);
   for (const double crank : stage.sweep.CrankAngles()) {
     const ltca::app::PositionResult p = sweep.Solve(crank);
     REQUIRE(p.succeeded());
@@ -87,8 +86,8 @@ TEST_CASE("app: two identical discs: 50/50 at every position of the sweep, and t
       StiffnessSettings settings;
       settings.steps = 5;
       settings.crank = ltca::units::DegToRad(crank_deg);
-      StiffnessRunner two(stage, Options(solver), settings);
-      StiffnessRunner single(one, Options(solver), settings);
+      auto two = ltca::test::StiffnessOn(stage, Options(solver), settings, ContactKinematics::kLinearised);
+      auto single = ltca::test::StiffnessOn(one, Options(solver), settings, ContactKinematics::kLinearised);
       const StiffnessPosition a = two.Solve(*settings.crank), b = single.Solve(*settings.crank);
       REQUIRE(a.succeeded());
       REQUIRE(b.succeeded());
@@ -110,7 +109,7 @@ TEST_CASE("app: two identical discs: 50/50 at every position of the sweep, and t
 
 TEST_CASE("app: a second disc indexed 0.5 um ahead carries more of +T and less of -T, reported per crank alike by solve and stiffness") {
   const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"), {"second_disc.indexing_deviation_mm=0.0005"});
-  SweepRunner sweep(stage, Options());
+  auto sweep = ltca::test::SweepOn(stage, Options(), ContactKinematics::kLinearised);
   StiffnessSettings settings;
   settings.steps = 3;
   for (const double crank_deg : {0.0, 2.5, 6.1}) {
@@ -122,7 +121,7 @@ TEST_CASE("app: a second disc indexed 0.5 um ahead carries more of +T and less o
     CHECK(share > 0.3);  // both carry (observed 0.40 to 0.42)
     CHECK(share < 0.48);
     settings.crank = crank;
-    StiffnessRunner loop(stage, Options(), settings);
+    auto loop = ltca::test::StiffnessOn(stage, Options(), settings, ContactKinematics::kLinearised);
     const StiffnessPosition q = loop.Solve(crank);
     REQUIRE(q.succeeded());
     CHECK(q.first_disc_share_drive == doctest::Approx(share).epsilon(1e-8));  // the same solve at +T
@@ -137,14 +136,15 @@ TEST_CASE("app: the stage's backlash is the nearer first contact of either disc 
   // problem's closing rotations over both discs' points (another code path).
   const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"));
   const ltca::contact::MeshModel first = stage.MakeModel();
-  const auto second = stage.MakeSecondModel();
+  const auto second = std::make_shared<const ltca::contact::MeshModel>(stage.MakeSecondRealPair(), stage.geometry,
+                                                                       stage.SlicesForced());
   for (const ContactKinematics kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     for (const double crank_deg : {0.0, 4.5, 8.2}) {
       CAPTURE(crank_deg);
       StiffnessSettings settings;
       settings.steps = 3;
       settings.crank = ltca::units::DegToRad(crank_deg);
-      StiffnessRunner loop(stage, Options("compatibility", kinematics), settings);
+      auto loop = ltca::test::StiffnessOn(stage, Options("compatibility"), settings, kinematics);
       const StiffnessPosition p = loop.Solve(*settings.crank);
       REQUIRE(p.succeeded());
       const auto a = ltca::contact::AnalyseUnloaded(first, *settings.crank, kinematics);
@@ -190,9 +190,9 @@ TEST_CASE("app: [second_disc] copies the first disc unless told, and rejects pin
   // Studies that would vary or sum the first disc only say so instead of answering for it.
   const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"),
                                          {"friction.coefficient=0.05", "operation.input_speed_rpm=1500"});
-  CHECK_THROWS_WITH_AS(ltca::app::EfficiencyRunner(stage, Options()), doctest::Contains("[second_disc]"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(ltca::test::EfficiencyOn(stage, Options(), ContactKinematics::kLinearised), doctest::Contains("[second_disc]"), std::invalid_argument);
   ltca::app::ToleranceSettings tolerances;
-  CHECK_THROWS_WITH_AS(ltca::app::ToleranceStudy(stage, Options(), tolerances), doctest::Contains("[second_disc]"),
+  CHECK_THROWS_WITH_AS(ltca::test::ToleranceOn(stage, Options(), tolerances), doctest::Contains("[second_disc]"),
                        std::invalid_argument);
 }
 
@@ -235,7 +235,7 @@ TEST_CASE("cli: two discs in the JSON and CSV of solve, stiffness and backlash: 
   CHECK(solve.at("model").at("name") == "plane+two-discs");
   CHECK(solve.at("model").at("discs") == 2);
   const Deck stage = ltca::app::LoadDeck(deck, {"second_disc.indexing_deviation_mm=0.0005", "sweep.positions=3"});
-  SweepRunner sweep(stage, Options("bisection"));
+  auto sweep = ltca::test::SweepOn(stage, Options("bisection"), ContactKinematics::kLinearised);
   double lo = 1.0, hi = 0.0;
   for (const auto& p : solve.at("positions")) {
     const auto torques = p.at("disc_torque_nm").get<std::vector<double>>();

@@ -186,9 +186,12 @@ TEST_CASE("solvers: beam Woodbury - bisection and compatibility give the same an
         const double crank = 9.0 * k / 5;
         CAPTURE(n);
         CAPTURE(crank);
-        const LoadProblem plain = n > 0 ? SlicedProblem(crank, n) : deck.MakeProblem(model, ltca::units::DegToRad(crank), kinematics);
+        ltca::app::Deck d = deck;
+        d.kinematics = kinematics;
+        const ltca::analysis::Stage stage = d.MakeStage({ltca::units::DegToRad(crank)});
+        const LoadProblem plain = n > 0 ? SlicedProblem(crank, n) : stage.Problem(ltca::units::DegToRad(crank), deck.load->torque);
         const LoadProblem::CheckedCoupling factored =
-            n > 0 ? Factored(plain, Pin(ltca::contact::PinSupportKind::kClamped)) : deck.MakeCoupling(*model);
+            n > 0 ? Factored(plain, Pin(ltca::contact::PinSupportKind::kClamped)) : stage.coupling();
         LoadProblem::CheckedCoupling matrix_only = factored;
         matrix_only.factors = nullptr;
         const LoadProblem with_matrix = plain.WithCoupling(matrix_only);
@@ -199,7 +202,6 @@ TEST_CASE("solvers: beam Woodbury - bisection and compatibility give the same an
           CAPTURE(std::string(names[s]));
           SolverOptions options;
           options.name = names[s];
-          options.kinematics = kinematics;
           auto start = std::chrono::steady_clock::now();
           const LoadResult a = MakeSolver(names[s])->Solve(with_matrix, options, matrix_ws[s]);
           const double t0 = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -543,7 +543,6 @@ TEST_CASE("solvers: coupled compliance - energy-qp on a 40-pin pair, linearised 
     const LoadProblem problem = plain.WithCoupling(c);
     SolverOptions options;
     options.name = "energy-qp";
-    options.kinematics = kinematics;
     const LoadResult r = MakeSolver("energy-qp")->Solve(problem, options);
     REQUIRE(r.status == SolverStatus::kSuccess);
     CHECK(r.residuals.Normalised() < 1e-8);
@@ -614,11 +613,10 @@ Eigen::SparseMatrix<double> Bending(const LoadProblem& p, const ltca::contact::P
   return ltca::contact::PinBendingCoupling(p.base_state().pins, beam, LiuModel()->pair().face_width);
 }
 
-LoadResult SolveWith(const std::string& name, const LoadProblem& problem, ContactKinematics kinematics,
+LoadResult SolveWith(const std::string& name, const LoadProblem& problem, ContactKinematics /*kinematics: the problem's*/,
                      ltca::solvers::Workspace* workspace = nullptr) {
   SolverOptions options;
   options.name = name;
-  options.kinematics = kinematics;
   return workspace != nullptr ? MakeSolver(name)->Solve(problem, options, *workspace)
                               : MakeSolver(name)->Solve(problem, options);
 }

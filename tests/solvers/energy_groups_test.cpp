@@ -26,7 +26,6 @@ std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + 
 LoadResult SolveWith(const std::string& name, const LoadProblem& problem) {
   SolverOptions options;
   options.name = name;
-  options.kinematics = ContactKinematics::kExact;
   return MakeSolver(name)->Solve(problem, options);
 }
 

@@ -30,7 +30,6 @@ std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + 
 LoadResult SolveWith(const std::string& solver, const LoadProblem& problem) {
   SolverOptions options;
   options.name = solver;
-  options.kinematics = problem.kinematics();
   return ltca::solvers::MakeSolver(solver)->Solve(problem, options);
 }
 

@@ -44,7 +44,6 @@ TEST_CASE("solvers: every solver answers every hard case, solved and agreeing or
       for (std::size_t i = 0; i < cranks.size(); ++i) {
         const LoadProblem problem(model, cranks[i], deck.contact, *deck.material, deck.load->torque, kin);
         SolverOptions options;
-        options.kinematics = kin;
         const auto ref = MakeSolver("bisection")->Solve(problem, options);
         for (const auto& solver : ltca::solvers::SolverNames()) {
           CAPTURE(name);
@@ -150,7 +149,6 @@ TEST_CASE("solvers: compatibility with exact kinematics at the inflection-pin cr
   const LoadProblem problem(model, 23.166345849916095 * M_PI / 180.0, deck.contact, *deck.material, deck.load->torque,
                             ContactKinematics::kExact);
   SolverOptions options;
-  options.kinematics = ContactKinematics::kExact;
   options.name = "compatibility";
   const auto compat = MakeSolver("compatibility")->Solve(problem, options);
   options.name = "bisection";

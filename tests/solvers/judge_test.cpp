@@ -72,7 +72,6 @@ TEST_CASE("solvers: exact kinematics at the crank where energy-qp answered 7,956
     CAPTURE(name);
     SolverOptions options;
     options.name = name;
-    options.kinematics = ContactKinematics::kExact;
     const LoadResult r = MakeSolver(name)->Solve(exact, options);
     REQUIRE(r.status == SolverStatus::kSuccess);
     CHECK(std::abs(ltca::units::RadToArcsec(r.te - reference.te)) < 0.05);
@@ -90,7 +89,6 @@ TEST_CASE("solvers: the judge rejects a rotation one tooth pitch off that the re
   for (const auto kinematics : {ContactKinematics::kExact, ContactKinematics::kLinearised}) {
     const LoadProblem problem(model, 0.05, {}, {}, 206e3, kinematics);
     SolverOptions options;
-    options.kinematics = kinematics;
     for (const int pitches : {1, -1, 7956}) {
       CAPTURE(pitches);
       const LoadResult r = ShiftedSolver(pitches).Solve(problem, options);
@@ -118,7 +116,6 @@ TEST_CASE("solvers: a pin overlapping the cycloid at the theoretical position is
         CAPTURE(name);
         SolverOptions options;
         options.name = name;
-        options.kinematics = kinematics;
         const LoadResult r = MakeSolver(name)->Solve(problem, options);
         CHECK(r.status == SolverStatus::kInterference);
         CHECK(r.message.find("pin ") != std::string::npos);
@@ -178,7 +175,6 @@ TEST_CASE("solvers: bisection and compatibility converge with exact kinematics a
       for (const std::string name : {"bisection", "compatibility"}) {
         SolverOptions options = deck.solver;
         options.name = name;
-        options.kinematics = ContactKinematics::kExact;
         const LoadResult r = MakeSolver(name)->Solve(problem, options);
         CAPTURE(name);
         CAPTURE(r.message);

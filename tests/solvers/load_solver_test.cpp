@@ -117,14 +117,15 @@ TEST_CASE("solvers: every solver agrees with bisection on the published decks, l
   CHECK(decks.size() >= 24);
   for (const auto& deck_ref : decks) {
     const auto* deck = &deck_ref;
-    const auto model = std::make_shared<const MeshModel>(deck->MakeModel());
-    const auto second = deck->MakeSecondModel();  // [second_disc] (issue 13): both discs' points
     for (const auto kin : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
       const auto cranks = deck->sweep.CrankAngles();
+      ltca::app::Deck d = *deck;
+      d.kinematics = kin;
+      // The stage: both discs' points with [second_disc] (issue 13), pin bending's coupling with [pins].
+      const ltca::analysis::Stage stage = d.MakeStage(cranks);
       for (std::size_t i = 0; i < cranks.size(); i += 30) {
-        const LoadProblem problem = deck->MakeProblem(model, cranks[i], kin, second);  // with pin bending's coupling
+        const LoadProblem problem = stage.Problem(cranks[i], deck->load->torque);
         SolverOptions options;
-        options.kinematics = kin;
         const auto ref = MakeSolver("bisection")->Solve(problem, options);
         REQUIRE(ref.status == SolverStatus::kSuccess);
         CHECK(ltca::solvers::ComputeResiduals(problem, ref.rotation, ref.force).Normalised() < 1e-8);

@@ -31,7 +31,6 @@ std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + 
 LoadResult SolveWith(const std::string& solver, const LoadProblem& problem) {
   SolverOptions options;
   options.name = solver;
-  options.kinematics = problem.kinematics();
   options.torque_tolerance = 1e-13;
   return ltca::solvers::MakeSolver(solver)->Solve(problem, options);
 }
@@ -102,6 +101,7 @@ TEST_CASE("solvers: pin bending moves load toward the supports: the pin ends car
   // identical slices carry exactly half. Moving the face toward the first support (offset 1 mm)
   // moves each loaded pin's load centroid toward face B (z < B / 2).
   auto deck = ltca::app::LoadDeck(Case("pin_bending.toml"));
+  deck.kinematics = ContactKinematics::kLinearised;
   const auto bent = std::make_shared<const MeshModel>(deck.MakeModel());
   REQUIRE(bent->slice_count() == 20);
   const auto rigid = std::make_shared<const MeshModel>(deck.MakeRealPair(), deck.geometry, /*coupled_along_width=*/true);
@@ -117,7 +117,7 @@ TEST_CASE("solvers: pin bending moves load toward the supports: the pin ends car
     return outer / total[static_cast<std::size_t>(heaviest)];
   };
   for (const double crank : {0.0, 0.1}) {
-    const LoadProblem coupled = deck.MakeProblem(bent, crank, ContactKinematics::kLinearised);
+    const LoadProblem coupled = deck.MakeStage({crank}).Problem(crank, deck.load->torque);
     REQUIRE(coupled.has_coupling());
     const LoadProblem uncoupled(rigid, crank, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
     const LoadResult a = SolveWith("compatibility", coupled), b = SolveWith("compatibility", uncoupled);
@@ -127,8 +127,7 @@ TEST_CASE("solvers: pin bending moves load toward the supports: the pin ends car
     CHECK(outer_share(coupled, a) > 0.5 + 1e-3);
   }
   deck.pins->face_offset = 1.0;
-  const auto near_face = std::make_shared<const MeshModel>(deck.MakeModel());
-  const LoadProblem shifted = deck.MakeProblem(near_face, 0.0, ContactKinematics::kLinearised);
+  const LoadProblem shifted = deck.MakeStage({0.0}).Problem(0.0, deck.load->torque);
   const LoadResult r = SolveWith("compatibility", shifted);
   REQUIRE(r.status == SolverStatus::kSuccess);
   const auto total = PinTotals(shifted, r.force);

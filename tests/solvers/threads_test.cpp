@@ -37,7 +37,6 @@ std::vector<LoadResult> SolveAll(const std::vector<Run>& runs, const std::vector
     Workspace workspace;
     SolverOptions options;
     options.name = runs[r].solver;
-    options.kinematics = runs[r].kinematics;
     for (const LoadProblem& p : problems[r]) out.push_back(solvers[r]->Solve(p, options, workspace));
   }
   return out;

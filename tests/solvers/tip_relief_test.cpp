@@ -25,13 +25,13 @@ Run Solve(const std::string& deck_file, double rho) {
   const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/" + deck_file,
                                         {"modification.tip_truncation_mm=0",
                                          "modification.tip_rounding_radius_mm=" + std::to_string(rho)});
-  const auto model = std::make_shared<const ltca::contact::MeshModel>(deck.MakeModel());
+  const ltca::analysis::Stage stage = deck.MakeStage();
   Run run;
   ltca::solvers::SolverOptions options;
   options.name = "compatibility";
   for (const double crank : deck.sweep.CrankAngles()) {
     run.results.push_back(ltca::solvers::MakeSolver(options.name)
-                              ->Solve(deck.MakeProblem(model, crank, options.kinematics), options));
+                              ->Solve(stage.Problem(crank, deck.load->torque), options));
   }
   return run;
 }

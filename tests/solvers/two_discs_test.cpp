@@ -31,11 +31,17 @@ namespace {
 
 std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
 
-LoadResult Solve(const std::string& solver, const LoadProblem& problem, ContactKinematics kinematics) {
+LoadResult Solve(const std::string& solver, const LoadProblem& problem, ContactKinematics /*kinematics: the problem's*/) {
   SolverOptions options;
   options.name = solver;
-  options.kinematics = kinematics;
   return MakeSolver(solver)->Solve(problem, options);
+}
+
+/// The deck's stage under `kinematics` at one crank (rad): its load problem at the deck's torque.
+LoadProblem ProblemOf(const Deck& deck, double crank, ContactKinematics kinematics) {
+  Deck d = deck;
+  d.kinematics = kinematics;
+  return d.MakeStage({crank}).Problem(crank, d.RequireLoad().torque);
 }
 
 double MaxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
@@ -50,15 +56,13 @@ TEST_CASE("solvers: every solver solves the two-disc stage and agrees with bisec
   for (const std::string indexing : {"0.0005", "0.005"}) {
     const Deck deck = ltca::app::LoadDeck(Case("rv_two_discs.toml"), {"second_disc.indexing_deviation_mm=" + indexing});
     const auto model = std::make_shared<const MeshModel>(deck.MakeModel());
-    const auto second = deck.MakeSecondModel();
-    REQUIRE(second != nullptr);
     const double torque = deck.RequireLoad().torque;
     for (const auto kin : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
       for (const double crank_deg : {0.0, 3.3, 7.1}) {
         CAPTURE(indexing);
         CAPTURE(crank_deg);
         CAPTURE(static_cast<int>(kin));
-        const LoadProblem problem = deck.MakeProblem(model, ltca::units::DegToRad(crank_deg), kin, second);
+        const LoadProblem problem = ProblemOf(deck, ltca::units::DegToRad(crank_deg), kin);
         REQUIRE(problem.disc_count() == 2);
         REQUIRE(problem.point_count() == 2 * model->point_count());
         const LoadResult ref = Solve("bisection", problem, kin);
@@ -97,7 +101,6 @@ TEST_CASE("solvers: two identical discs each carry T/2 at every crank, and the s
     const double torque = stage.RequireLoad().torque;
     const Deck half = ltca::app::LoadDeck(Case(deck_name), {fmt::format("load.torque_nm={:.17g}", 0.5 * torque / 1000.0)});
     const auto model = std::make_shared<const MeshModel>(stage.MakeModel());
-    const auto second = stage.MakeSecondModel();
     const auto one = std::make_shared<const MeshModel>(half.MakeModel());
     for (const auto kin : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
       for (const std::string solver : {"bisection", "compatibility"}) {
@@ -107,14 +110,14 @@ TEST_CASE("solvers: two identical discs each carry T/2 at every crank, and the s
           CAPTURE(crank_deg);
           CAPTURE(static_cast<int>(kin));
           const double crank = ltca::units::DegToRad(crank_deg);
-          const LoadProblem both = stage.MakeProblem(model, crank, kin, second);
+          const LoadProblem both = ProblemOf(stage, crank, kin);
           const LoadResult r = Solve(solver, both, kin);
           REQUIRE(r.status == SolverStatus::kSuccess);
           Workspace ws;
           const std::vector<double> parts = both.DiscTorques(r.rotation, r.force, ws);
           CHECK(parts[0] == doctest::Approx(0.5 * torque).epsilon(1e-9));
           CHECK(parts[1] == doctest::Approx(0.5 * torque).epsilon(1e-9));
-          const LoadResult single = Solve(solver, half.MakeProblem(one, crank, kin), kin);
+          const LoadResult single = Solve(solver, ProblemOf(half, crank, kin), kin);
           REQUIRE(single.status == SolverStatus::kSuccess);
           CHECK(r.te == doctest::Approx(single.te).epsilon(1e-9));
           // Disc 1's forces in the stage are the single disc's.
@@ -136,7 +139,6 @@ TEST_CASE("solvers: a second disc indexed s ahead closes its gaps s/R_p earlier;
   const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"));
   const double s_over_r = 0.005 / 64.0;
   const auto model = std::make_shared<const MeshModel>(stage.MakeModel());
-  const auto second = stage.MakeSecondModel();
   for (const double sign : {1.0, -1.0}) {
     const std::string torque = sign > 0.0 ? "load.torque_nm=206" : "load.torque_nm=-206";
     const Deck signed_stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"), {torque});
@@ -148,12 +150,12 @@ TEST_CASE("solvers: a second disc indexed s ahead closes its gaps s/R_p earlier;
         CAPTURE(crank_deg);
         CAPTURE(static_cast<int>(kin));
         const double crank = ltca::units::DegToRad(crank_deg);
-        const LoadProblem both = signed_stage.MakeProblem(model, crank, kin, second);
+        const LoadProblem both = ProblemOf(signed_stage, crank, kin);
         const LoadResult r = Solve("bisection", both, kin);
         REQUIRE(r.status == SolverStatus::kSuccess);
         Workspace ws;
         const std::vector<double> parts = both.DiscTorques(r.rotation, r.force, ws);
-        const LoadResult single = Solve("bisection", one.MakeProblem(one_model, crank, kin), kin);
+        const LoadResult single = Solve("bisection", ProblemOf(one, crank, kin), kin);
         REQUIRE(single.status == SolverStatus::kSuccess);
         if (sign > 0.0) {
           CHECK(parts[0] == 0.0);

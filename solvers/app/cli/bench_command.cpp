@@ -29,10 +29,10 @@
 #include "ltca/geometry/units.hpp"
 #include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/app/bench.hpp"
-#include "ltca/app/slice_study.hpp"
-#include "ltca/app/stiffness.hpp"
-#include "ltca/app/sweep.hpp"
-#include "ltca/app/tolerance.hpp"
+#include "ltca/analysis/slice_study.hpp"
+#include "ltca/analysis/stiffness.hpp"
+#include "ltca/analysis/sweep.hpp"
+#include "ltca/analysis/tolerance.hpp"
 
 #ifndef LTCA_BUILD_TYPE
 #define LTCA_BUILD_TYPE "unknown"
@@ -176,14 +176,14 @@ ToleranceBar RunToleranceBar(bool smoke, std::ostream& out) {
   deck.sweep.crank_start = 0.0;
   deck.sweep.crank_end = 2.0 * units::kPi / deck.pair.pin_count;
   deck.sweep.positions = smoke ? 5 : 91;
+  deck.kinematics = ContactKinematics::kLinearised;
   solvers::SolverOptions o = deck.solver;
   o.name = "compatibility";
-  o.kinematics = ContactKinematics::kLinearised;
   // The bar's figures: backlash and loaded TE; no lost motion (and so no limit on it).
   app::ToleranceSettings settings = *deck.tolerances;
   settings.lost_motion = false;
   settings.limits.clear();
-  const app::ToleranceStudy study(deck, o, settings);
+  const app::ToleranceStudy study(deck.MakeToleranceCase(), o, settings);
   bar.load_before = Capture("cat /proc/loadavg");
   const auto timed = [&](std::int64_t n, int threads) {
     const auto start = std::chrono::steady_clock::now();
@@ -297,7 +297,7 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
       solvers::SolverOptions o = deck.solver;
       o.name = s;
       double best = 1e300;
-      for (int r = 0; r < matrix.repeats; ++r) best = std::min(best, app::SolveSweep(deck, o).summary.wall_seconds / 31.0);
+      for (int r = 0; r < matrix.repeats; ++r) best = std::min(best, app::SolveDeckSweep(deck, o).summary.wall_seconds / 31.0);
       scaling[s].push_back(best);
     }
   }
@@ -309,7 +309,7 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
     solvers::SolverOptions o = deck.solver;
     o.name = "compatibility";
     double best = 1e300;
-    for (int r = 0; r < matrix.repeats; ++r) best = std::min(best, app::SolveSweep(deck, o).summary.wall_seconds);
+    for (int r = 0; r < matrix.repeats; ++r) best = std::min(best, app::SolveDeckSweep(deck, o).summary.wall_seconds);
     counts.push_back(n);
     sweep_seconds.push_back(best);
   }
@@ -318,15 +318,17 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
   double loop_seconds = 1e300;
   std::int64_t loop_solves = 0;
   {
-    const app::Deck deck = app::LoadDeck(fs::path(LTCA_CASES_DIR) / "liu2021_sec52_base.toml");
+    app::Deck deck = app::LoadDeck(fs::path(LTCA_CASES_DIR) / "liu2021_sec52_base.toml");
+    deck.kinematics = ContactKinematics::kLinearised;
     solvers::SolverOptions o = deck.solver;
     o.name = "compatibility";
-    o.kinematics = ContactKinematics::kLinearised;
     for (int r = 0; r < matrix.repeats; ++r) {
-      app::StiffnessRunner runner(deck, o, app::StiffnessSettings{});
+      const auto start = std::chrono::steady_clock::now();  // the stage (mesh states) included
+      app::StiffnessRunner runner(deck.MakeStage(), o, app::StiffnessSettings{}, deck.RequireLoad().torque, deck.friction);
       for (const double crank : runner.cranks()) runner.Solve(crank);
       const app::StiffnessSummary s = runner.Summary();
-      loop_seconds = std::min(loop_seconds, s.all_succeeded() ? s.wall_seconds : 1e300);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      loop_seconds = std::min(loop_seconds, s.all_succeeded() ? seconds : 1e300);
       loop_solves = s.solves;
     }
   }
@@ -338,10 +340,15 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
   const std::vector<int> slice_counts = {5, 10, 20, 50, 100, 200};
   app::Deck misaligned = app::LoadDeck(fs::path(LTCA_CASES_DIR) / "liu2021_sec53_phi.toml");
   app::Deck bending = app::LoadDeck(fs::path(LTCA_CASES_DIR) / "pin_bending.toml");
-  const auto slices_compat = app::RunSliceStudy(misaligned, slice_counts, "compatibility", matrix.repeats);
-  const auto slices_bisect = app::RunSliceStudy(misaligned, slice_counts, "bisection", matrix.repeats);
-  const auto bending_compat = app::RunSliceStudy(bending, slice_counts, "compatibility", matrix.repeats);
-  const app::FaceEdgeBacklash face_edge = app::FaceEdgeUnloaded(misaligned);
+  const auto study = [&](const app::Deck& deck, const char* solver) {
+    solvers::SolverOptions o = deck.solver;
+    o.name = solver;
+    return app::RunSliceStudy(deck, deck.sweep.CrankAngles(), deck.RequireLoad().torque, o, slice_counts, matrix.repeats);
+  };
+  const auto slices_compat = study(misaligned, "compatibility");
+  const auto slices_bisect = study(misaligned, "bisection");
+  const auto bending_compat = study(bending, "compatibility");
+  const app::FaceEdgeBacklash face_edge = app::FaceEdgeUnloaded(misaligned, misaligned.sweep.CrankAngles());
   {
     std::ofstream csv(fs::path(options.out_dir) / "slices.csv");
     csv << "case,solver,slices,seconds_per_position,mean_te_arcsec,pp_te_arcsec,mean_backlash_arcsec,pp_backlash_arcsec,succeeded\n";

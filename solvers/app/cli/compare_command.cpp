@@ -12,7 +12,7 @@
 #include "contact_commands.hpp"
 #include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/app/sweep.hpp"
+#include "ltca/analysis/sweep.hpp"
 #include "solve_command.hpp"
 
 namespace ltca::cli {
@@ -44,7 +44,7 @@ void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunne
                              crank_deg.empty() ? 0.0 : crank_deg.front(), crank_deg.empty() ? 0.0 : crank_deg.back());
   const auto& ref = runners.front().options();
   figure.caption = FigureCaption(deck, fmt::format("model {}, {} kinematics, {} positions; a failed position is a gap",
-                                                   deck.Model().name, KinematicsName(ref.kinematics), crank_deg.size()));
+                                                   deck.Model().name, contact::ToString(deck.kinematics), crank_deg.size()));
   figure.columns = runners.size() > 1 ? 2 : 1;
   figure.width = runners.size() > 1 ? 1500 : 900;
   figure.height = 560;
@@ -75,17 +75,22 @@ void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunne
 
 }  // namespace
 
-int RunCompare(const app::Deck& deck, const CompareOptions& options, const Streams& streams) {
+int RunCompare(const app::Deck& deck_given, const CompareOptions& options, const Streams& streams) {
+  const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
   const std::vector<std::string> names = options.solvers.empty() ? solvers::SolverNames() : options.solvers;
   RequireDistinctOutputs({{"--json", options.json_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
-  std::vector<app::SweepRunner> runners;  // every solver checked (names, options, interference) first
+  // Every solver checked (names, options) and the stage (interference) first; one stage for all.
+  deck.RequireMaterial();
+  const double torque = deck.RequireLoad().torque;
+  for (const auto& name : names) solvers::MakeSolver(name);
+  const analysis::Stage stage = deck.MakeStage();
+  std::vector<app::SweepRunner> runners;
   for (const auto& name : names) {
     solvers::SolverOptions o = deck.solver;
     o.name = name;
-    if (!options.kinematics.empty()) o.kinematics = ParseKinematics(options.kinematics);
-    runners.emplace_back(deck, o);
+    runners.emplace_back(stage, o, torque);
   }
   std::vector<Differences> diffs(runners.size());
   const std::vector<double> cranks = deck.sweep.CrankAngles();
@@ -113,7 +118,7 @@ int RunCompare(const app::Deck& deck, const CompareOptions& options, const Strea
   text << ModelLine(deck);
   fmt::print(text, "{} positions, {} model ({} slice{}, {} surface), {} kinematics, law {} / {}; differences against {} where both succeeded\n", cranks.size(),
              deck.Model().name, deck.Model().slices, deck.Model().slices == 1 ? "" : "s", deck.Model().surface,
-             ref_options.kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised",
+             contact::ToString(deck.kinematics),
              contact::ToString(deck.contact.law), contact::ToString(deck.contact.rho_convention), ref_options.name);
   fmt::print(text, "{:<14} {:<18} {:>9} {:>12} {:>10} {:>7} {:>11} {:>11} {:>12} {:>12} {:>9} {:>9}\n", "solver", "status",
              "failed", "mean_te_as", "pp_te_as", "pins", "max_F_N", "max_p_MPa", "d_te_as", "d_F_N", "d_pins", "time_s");

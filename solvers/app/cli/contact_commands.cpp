@@ -34,7 +34,7 @@ void WriteBacklashFigure(const app::Deck& deck, const BacklashOptions& options, 
                              crank_deg.empty() ? 0.0 : crank_deg.front(), crank_deg.empty() ? 0.0 : crank_deg.back());
   figure.caption = FigureCaption(deck, fmt::format("unloaded TCA, {} kinematics, {} positions; backlash = theta_c1 - theta_c2 "
                                                    "(Liu eq. 17){}",
-                                                   KinematicsName(*options.kinematics),
+                                                   contact::ToString(*options.kinematics),
                                                    crank_deg.size(), two_discs ? "; two discs: the stage's, the nearer first contact of either" : ""));
   figure.columns = 2;
   figure.width = 1300;
@@ -128,24 +128,20 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
   Output svg("--svg", options.svg_path, streams.out);
   // One rule for every command (issue 26): --kinematics, else the deck's [solver] kinematics.
   BacklashOptions run = options;
-  if (!run.kinematics) run.kinematics = deck.solver.kinematics;
+  if (!run.kinematics) run.kinematics = deck.kinematics;
   const contact::ContactKinematics kinematics = *run.kinematics;
   std::vector<double> plot_crank, plot_c1, plot_c2, plot_backlash;  // for the figure (a double each per position)
   std::ostream& out = streams.text;
-  const contact::MeshModel model = deck.MakeModel();
-  const std::shared_ptr<const contact::MeshModel> second = deck.MakeSecondModel();  // [second_disc] (issue 13)
-  const std::vector<double> cranks = deck.sweep.CrankAngles();
-  // Every crank is checked for interference before anything is computed or written.
-  for (const double crank : cranks) {
-    contact::RequireNoInterference(model, crank);
-    if (second) contact::RequireNoInterference(*second, crank + contact::kSecondDiscCrankOffset);
-  }
+  // The stage checks every crank for interference before anything is computed or written.
+  const analysis::Stage stage(deck, deck.sweep.CrankAngles());
+  const contact::MeshModel& model = stage.model();
+  const contact::MeshModel* second = stage.disc_count() == 2 ? &stage.model(1) : nullptr;  // [second_disc] (issue 13)
+  const std::vector<double>& cranks = stage.cranks();
   // A sweep whose last state repeats its first (a closed period) weights it once in the mean.
-  const bool closed = cranks.size() > 1 && contact::SameMesh(deck.EvaluateDiscs(model, second.get(), cranks.front()),
-                                                             deck.EvaluateDiscs(model, second.get(), cranks.back()));
+  const bool closed = stage.closed_period();
   fmt::print(out, "case      {}\n", deck.info.title);
   out << ModelLine(deck);
-  fmt::print(out, "unloaded TCA, {} kinematics, {} positions from {:g} to {:g} deg crank\n", KinematicsName(kinematics),
+  fmt::print(out, "unloaded TCA, {} kinematics, {} positions from {:g} to {:g} deg crank\n", contact::ToString(kinematics),
              cranks.size(), RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
   if (model.slice_count() > 1) {
     fmt::print(out, "first contact sought at both face edges and the {} slice centres\n", model.slice_count());
@@ -162,7 +158,7 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
     json.stream() << "{\n\"case\": "
                   << Dump({{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}, -1)
                   << ",\n\"model\": " << Dump(ModelJson(deck.Model()), -1)
-                  << ",\n\"kinematics\": " << Dump(KinematicsName(kinematics), -1) << ",\n\"positions\": [";
+                  << ",\n\"kinematics\": " << Dump(contact::ToString(kinematics), -1) << ",\n\"positions\": [";
   }
   if (csv.enabled()) {
     csv.stream() << "crank_deg,theta_c1_arcsec,theta_c2_arcsec,backlash_arcsec,first_contact_disc,first_contact_pin,status\n";

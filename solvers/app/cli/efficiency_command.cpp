@@ -8,7 +8,7 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
-#include "ltca/app/efficiency.hpp"
+#include "ltca/analysis/efficiency.hpp"
 #include "ltca/geometry/units.hpp"
 #include "solve_command.hpp"
 
@@ -97,7 +97,7 @@ void WriteEfficiencyFigure(const app::Deck& deck, const solvers::SolverOptions& 
   figure.title = fmt::format("{}: efficiency and power loss over crank {:g} to {:g} deg", deck.info.title,
                              RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
   figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics); {} positions; failed positions are gaps",
-                                                   deck.Model().name, solver.name, KinematicsName(solver.kinematics), positions.size()));
+                                                   deck.Model().name, solver.name, contact::ToString(deck.kinematics), positions.size()));
   figure.columns = 3;
   figure.width = 1500;
   figure.height = 520;
@@ -147,13 +147,19 @@ void WriteEfficiencyFigure(const app::Deck& deck, const solvers::SolverOptions& 
 
 }  // namespace
 
-int RunEfficiency(const app::Deck& deck, const EfficiencyOptions& options, const Streams& streams) {
-  const solvers::SolverOptions solver = SolverFor(deck, options.solver, options.kinematics);
+int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options, const Streams& streams) {
+  const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
+  const solvers::SolverOptions solver = SolverFor(deck, options.solver);
   RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);
   Output csv("--csv", options.csv_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
-  app::EfficiencyRunner runner(deck, solver);  // checks [friction], [operation], the options and interference
+  // Old order of the checks: [material], [friction], [operation], [load]; the stage checks interference.
+  deck.RequireMaterial();
+  const app::FrictionSettings& friction = deck.RequireFriction();
+  const app::OperationSettings& operation = deck.RequireOperation();
+  const double torque = deck.RequireLoad().torque;
+  app::EfficiencyRunner runner(deck.MakeStage(), solver, torque, friction, operation);
   const app::FrictionSettings& f = *deck.friction;
   const app::OperationSettings& op = *deck.operation;
   const std::vector<double>& cranks = runner.cranks();

@@ -180,7 +180,7 @@ void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, co
   const double c_hi = data.crank_deg.empty() ? 0.0 : data.crank_deg.back();
   figure.title = fmt::format("{}: loaded TE over crank {:.4g} to {:.4g} deg, {} solver", deck.info.title, c_lo, c_hi, solver.name);
   figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics), T = {:g} N*m, {} positions",
-                                                   deck.Model().name, solver.name, KinematicsName(solver.kinematics),
+                                                   deck.Model().name, solver.name, contact::ToString(deck.kinematics),
                                                    deck.RequireLoad().torque / 1000.0, data.crank_deg.size()));
   figure.columns = 3;
   figure.width = 1500;
@@ -264,20 +264,21 @@ std::string CsvFigure(bool ok, double v) { return ok && std::isfinite(v) ? fmt::
 
 }  // namespace
 
-const char* KinematicsName(contact::ContactKinematics k) {
-  return k == contact::ContactKinematics::kExact ? "exact" : "linearised";
+app::Deck DeckFor(const app::Deck& deck, const std::string& kinematics) {
+  app::Deck d = deck;
+  if (!kinematics.empty()) d.kinematics = contact::ParseKinematics(kinematics);
+  return d;
 }
 
-solvers::SolverOptions SolverFor(const app::Deck& deck, const std::string& name, const std::string& kinematics) {
+solvers::SolverOptions SolverFor(const app::Deck& deck, const std::string& name) {
   solvers::SolverOptions solver = deck.solver;
   if (!name.empty()) solver.name = name;
-  if (!kinematics.empty()) solver.kinematics = ParseKinematics(kinematics);
   return solver;
 }
 
 nlohmann::json SolverJson(const app::Deck& deck, const solvers::SolverOptions& solver) {
   return {{"name", solver.name},
-          {"kinematics", KinematicsName(solver.kinematics)},
+          {"kinematics", contact::ToString(deck.kinematics)},
           {"torque_tolerance", solver.torque_tolerance},
           {"law", contact::ToString(deck.contact.law)},
           {"rho_convention", contact::ToString(deck.contact.rho_convention)}};
@@ -285,7 +286,7 @@ nlohmann::json SolverJson(const app::Deck& deck, const solvers::SolverOptions& s
 
 std::string SolverLine(const app::Deck& deck, const solvers::SolverOptions& solver) {
   return fmt::format("solver    {} ({} kinematics, torque tolerance {:g}), law {} / {}\n", solver.name,
-                     KinematicsName(solver.kinematics), solver.torque_tolerance, contact::ToString(deck.contact.law),
+                     contact::ToString(deck.kinematics), solver.torque_tolerance, contact::ToString(deck.contact.law),
                      contact::ToString(deck.contact.rho_convention));
 }
 
@@ -300,8 +301,9 @@ std::string FailureNote(const app::SweepSummary& s) {
                      s.failed, s.positions(), s.succeeded);
 }
 
-int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& streams, const JsonEnvelope& envelope) {
-  const solvers::SolverOptions solver = SolverFor(deck, options.solver, options.kinematics);
+int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Streams& streams, const JsonEnvelope& envelope) {
+  const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
+  const solvers::SolverOptions solver = SolverFor(deck, options.solver);
   RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path},
                     {"--pattern-csv", options.pattern_csv_path}});
   // Outputs first: an unwritable path is an error before anything is computed.
@@ -360,7 +362,7 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
     }
     progress.Update(++done);
   };
-  const app::SweepResult sweep = app::SolveSweep(deck, solver, callbacks);
+  const app::SweepResult sweep = app::SolveDeckSweep(deck, solver, callbacks);
   progress.Finish();
   if (!started) start();
   const auto& s = sweep.summary;

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ltca/app/deck.hpp"
-#include "ltca/app/sweep.hpp"
+#include "ltca/analysis/sweep.hpp"
 #include "output.hpp"
 
 namespace ltca::cli {
@@ -28,9 +28,10 @@ struct JsonEnvelope {
 int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& streams,
              const JsonEnvelope& envelope = {});
 
-/// The deck's [solver] with the command line's --solver and --kinematics ("" keeps the deck's).
-solvers::SolverOptions SolverFor(const app::Deck& deck, const std::string& name, const std::string& kinematics);
-const char* KinematicsName(contact::ContactKinematics kinematics);
+/// The deck with the command line's --kinematics ("" keeps the deck's [solver] kinematics).
+app::Deck DeckFor(const app::Deck& deck, const std::string& kinematics);
+/// The deck's [solver] with the command line's --solver ("" keeps the deck's).
+solvers::SolverOptions SolverFor(const app::Deck& deck, const std::string& name);
 /// The solver that ran as JSON: {name, kinematics, torque_tolerance, law, rho_convention}.
 nlohmann::json SolverJson(const app::Deck& deck, const solvers::SolverOptions& solver);
 /// "solver    name (kinematics, torque tolerance), law / rho convention\n".

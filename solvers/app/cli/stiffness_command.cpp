@@ -9,8 +9,8 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
-#include "ltca/app/efficiency.hpp"
-#include "ltca/app/stiffness.hpp"
+#include "ltca/analysis/efficiency.hpp"
+#include "ltca/analysis/stiffness.hpp"
 #include "ltca/geometry/units.hpp"
 #include "solve_command.hpp"
 
@@ -202,13 +202,13 @@ void WriteLoopFigure(const app::Deck& deck, const solvers::SolverOptions& solver
   panel.y_min = -1.15 * t, panel.y_max = 1.15 * t;
   plots::Figure figure;
   const std::string hysteresis =  // with friction the loop's area (review issue 26)
-      app::LoopFrictionCoefficient(deck) > 0.0 && std::isfinite(s.hysteresis.mean)
-          ? fmt::format(", hysteresis {:.4g} J per cycle (mu {:g})", NmmRadToJ(s.hysteresis.mean), app::LoopFrictionCoefficient(deck))
+      app::LoopFrictionCoefficient(deck.friction) > 0.0 && std::isfinite(s.hysteresis.mean)
+          ? fmt::format(", hysteresis {:.4g} J per cycle (mu {:g})", NmmRadToJ(s.hysteresis.mean), app::LoopFrictionCoefficient(deck.friction))
           : std::string();
   figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}{}", deck.info.title, t, when, hysteresis,
                              any ? "" : ": no solve succeeded");
   figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics); {} crank position{}", deck.Model().name,
-                                                   solver.name, KinematicsName(solver.kinematics), positions,
+                                                   solver.name, contact::ToString(deck.kinematics), positions,
                                                    positions == 1 ? "" : "s"));
   figure.width = 1000;
   figure.height = 640;
@@ -233,15 +233,20 @@ app::StiffnessSettings StiffnessSettingsFor(const app::Deck& deck, const Stiffne
   return s;
 }
 
-int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const Streams& streams) {
-  const solvers::SolverOptions solver = SolverFor(deck, options.solver, options.kinematics);
+int RunStiffness(const app::Deck& deck_given, const StiffnessOptions& options, const Streams& streams) {
+  const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
+  const solvers::SolverOptions solver = SolverFor(deck, options.solver);
   const app::StiffnessSettings settings = StiffnessSettingsFor(deck, options);
   RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   // Outputs first: an unwritable path is an error before anything is computed.
   Output json("--json", options.json_path, streams.out);
   Output csv("--csv", options.csv_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
-  app::StiffnessRunner runner(deck, solver, settings);  // checks the deck, the options and interference
+  deck.RequireMaterial();
+  const double torque = deck.RequireLoad().torque;
+  // The stage checks interference at the loop's cranks; the runner checks the options and the torque.
+  app::StiffnessRunner runner(deck.MakeStage(settings.crank ? std::vector<double>{*settings.crank} : deck.sweep.CrankAngles()),
+                              solver, settings, torque, deck.friction);
   const bool sweep = !settings.crank.has_value();
   const std::vector<double>& cranks = runner.cranks();
   const double rated = runner.rated_torque();
@@ -303,7 +308,7 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
   progress.Finish();
   const app::StiffnessSummary s = runner.Summary();
   if (json.enabled()) {
-    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(SummaryJson(s, sweep, app::LoopFrictionCoefficient(deck)))) << "\n}\n";
+    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(SummaryJson(s, sweep, app::LoopFrictionCoefficient(deck.friction)))) << "\n}\n";
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
@@ -333,9 +338,9 @@ int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const S
     fmt::print(text, "                       {} at -T\n", range(s.first_disc_share_coast, share, 4, "of T"));
   }
   const auto joules = [](double v) { return NmmRadToJ(v); };
-  if (app::LoopFrictionCoefficient(deck) > 0.0) {  // issue 14, review issue 26
+  if (app::LoopFrictionCoefficient(deck.friction) > 0.0) {  // issue 14, review issue 26
     fmt::print(text, "hysteresis             {} per cycle (the loop's area), friction mu = {:g}\n",
-               range(s.hysteresis, joules, 6, "J"), app::LoopFrictionCoefficient(deck));
+               range(s.hysteresis, joules, 6, "J"), app::LoopFrictionCoefficient(deck.friction));
     fmt::print(text, "  stick after reversal the twist holds from +T down to {} and from -T up to {}; the branches "
                      "differ by up to {} arcmin\n",
                range(s.stick_end_drive, NmmToNm, 5, "N*m"), range(s.stick_end_coast, NmmToNm, 5, "N*m"),

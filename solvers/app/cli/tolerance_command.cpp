@@ -17,7 +17,7 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
-#include "ltca/app/tolerance.hpp"
+#include "ltca/analysis/tolerance.hpp"
 #include "ltca/geometry/units.hpp"
 #include "solve_command.hpp"
 
@@ -135,11 +135,10 @@ std::string AxisLabel(const std::string& name) {
 }
 
 /// Histograms of the figures, one panel each, with p5 / p50 / p95, the limits and the worst case.
-void WriteHistograms(const app::ToleranceStudy& study, const app::SampleTable& samples,
+void WriteHistograms(const app::Deck& deck, const app::ToleranceStudy& study, const app::SampleTable& samples,
                      const app::ToleranceSummary& summary, const app::WorstCaseResult* worst, Output& output) {
   namespace plots = app::plots;
   const auto& names = app::ToleranceSettings::FigureNames();
-  const app::Deck& deck = study.deck();
   plots::Figure figure;
   figure.title = fmt::format("{}: {} samples (seed {}, {} succeeded), loaded TCA over crank {:g} to {:g} deg", deck.info.title,
                              summary.samples, summary.seed, summary.succeeded, RadToDeg(deck.sweep.crank_start),
@@ -204,14 +203,15 @@ void WriteHistograms(const app::ToleranceStudy& study, const app::SampleTable& s
 
 }  // namespace
 
-int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, const Streams& streams) {
-  if (!deck_in.tolerances) {
+int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, const Streams& streams) {
+  const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
+  if (!deck.tolerances) {
     throw std::invalid_argument(fmt::format(
         "deck '{}': missing section [tolerances] for ltca tolerance; expected e.g. [tolerances] samples = 1000, seed = 1, "
         "pin_circle_deviation_mm = {{ distribution = \"normal\", sigma = 0.002 }} (docs/tolerance.md)",
-        deck_in.name));
+        deck.name));
   }
-  app::ToleranceSettings settings = *deck_in.tolerances;
+  app::ToleranceSettings settings = *deck.tolerances;
   if (options.samples) settings.samples = *options.samples;
   if (options.seed) settings.seed = *options.seed;
   if (options.lost_motion) settings.lost_motion = true;
@@ -222,9 +222,8 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
   }
   const int threads = options.threads > 0 ? options.threads
                                           : std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, app::kMaxToleranceThreads);
-  const solvers::SolverOptions solver = SolverFor(deck_in, options.solver, options.kinematics);
-  const app::ToleranceStudy study(deck_in, solver, settings);  // validates everything
-  const app::Deck& deck = study.deck();
+  const solvers::SolverOptions solver = SolverFor(deck, options.solver);
+  const app::ToleranceStudy study(deck.MakeToleranceCase(), solver, settings);  // validates everything
 
   std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
   const int rank = farm ? farm->rank() : 0, ranks = farm ? farm->size() : 1;
@@ -329,7 +328,7 @@ int RunTolerance(const app::Deck& deck_in, const ToleranceOptions& options, cons
   const double worst_seconds = std::chrono::duration<double>(Clock::now() - worst_start).count();
 
   if (svg.enabled()) {
-    WriteHistograms(study, samples, summary, worst ? &*worst : nullptr, svg);
+    WriteHistograms(deck, study, samples, summary, worst ? &*worst : nullptr, svg);
   }
   if (json.enabled()) {
     nlohmann::json dists = nlohmann::json::array();

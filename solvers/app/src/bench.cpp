@@ -15,7 +15,7 @@
 
 #include "ltca/geometry/units.hpp"
 #include "ltca/app/plots.hpp"
-#include "ltca/app/sweep.hpp"
+#include "ltca/analysis/sweep.hpp"
 
 namespace ltca::app {
 namespace {
@@ -84,29 +84,30 @@ BenchReport RunBench(const BenchMatrix& matrix, const BenchHeader& header) {
   for (const BenchCase& c : matrix.cases) {
     const Deck deck = WithPositions(c.deck, matrix.positions);
     // Reference: analytic, exact kinematics, 1e-12, confirmed by a second solver.
+    Deck ref_deck = deck;
+    ref_deck.kinematics = contact::ContactKinematics::kExact;
     SolverOptions ref_options = deck.solver;
-    ref_options.kinematics = contact::ContactKinematics::kExact;
     ref_options.torque_tolerance = 1e-12;
     ref_options.name = "bisection";
-    const Figures ref = Collect(SolveSweep(deck, ref_options));
+    const Figures ref = Collect(SolveDeckSweep(ref_deck, ref_options));
     ref_options.name = "compatibility";
-    const Figures confirm = Collect(SolveSweep(deck, ref_options));
+    const Figures confirm = Collect(SolveDeckSweep(ref_deck, ref_options));
     report.references.push_back({c.name, RadToArcsec(Mean(ref.te)),
                                  std::abs(RadToArcsec(Mean(ref.te) - Mean(confirm.te)))});
     for (const BenchSetting& s : matrix.settings) {
       if (!s.only_case.empty() && s.only_case != c.name) continue;
       Deck run_deck = deck;
       run_deck.geometry = s.geometry;
+      run_deck.kinematics = s.kinematics;
       SolverOptions options = deck.solver;
       if (!s.preset.empty()) options = ApplyPreset(options, s.preset);
       options.name = s.solver;
-      options.kinematics = s.kinematics;
       if (s.preset.empty()) options.torque_tolerance = s.torque_tolerance;
       std::vector<double> per_position;
       Figures f;
       for (int r = 0; r < std::max(1, matrix.repeats); ++r) {
         const auto start = std::chrono::steady_clock::now();
-        const SweepResult sweep = SolveSweep(run_deck, options);  // includes the mesh state of every position
+        const SweepResult sweep = SolveDeckSweep(run_deck, options);  // includes the stage: every position's mesh state
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         per_position.push_back(seconds / static_cast<double>(sweep.positions.size()));
         if (r == 0) f = Collect(sweep);

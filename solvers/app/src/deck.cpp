@@ -1,6 +1,7 @@
 #include "ltca/app/deck.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -549,15 +550,12 @@ geometry::GeometrySettings ReadGeometry(const Section& s) {
   return g;
 }
 
-SolverOptions ReadSolver(const Section& s) {
+SolverOptions ReadSolver(const Section& s, contact::ContactKinematics* kinematics) {
   SolverOptions o;
   if (s.Has("preset")) o = ApplyPreset(o, s.String("preset", "a named preset: liu2021"));
   o.name = s.String("name", o.name, "bisection | energy-qp | energy-groups | compatibility");
   solvers::MakeSolver(o.name);  // rejects an unknown name, listing the valid ones
-  const std::string kinematics = s.String("kinematics", "linearised", "linearised | exact");
-  if (kinematics == "linearised") o.kinematics = contact::ContactKinematics::kLinearised;
-  else if (kinematics == "exact") o.kinematics = contact::ContactKinematics::kExact;
-  else throw std::invalid_argument(fmt::format("[solver] kinematics = \"{}\": expected \"linearised\" or \"exact\"", kinematics));
+  *kinematics = contact::ParseKinematics(s.String("kinematics", "linearised", "linearised | exact"));
   o.torque_tolerance = s.Real("torque_tolerance", o.torque_tolerance, "relative torque tolerance");
   o.max_iterations = s.Integer("max_iterations", o.max_iterations, "iteration limit");
   o.nlopt_algorithm = s.String("nlopt_algorithm", o.nlopt_algorithm, "compatibility: NLopt algorithm name");
@@ -834,167 +832,6 @@ FrictionSettings ReadFriction(const Section& s, const geometry::PairParameters& 
 
 }  // namespace
 
-// --- issue 15: [tolerances] ---------------------------------------------------------------------
-double ToleranceDistribution::StandardDeviation() const {
-  if (kind == Kind::kUniform) return tolerance / std::sqrt(3.0);
-  if (tolerance == 0.0) return sigma;  // given by sigma: not truncated
-  // Given as +-tolerance (3 sigma): the normal truncated there, as ToleranceStudy::Draw draws it
-  // (Johnson, Kotz & Balakrishnan 1994, vol. 1, ch. 13 sec. 10.1).
-  constexpr double a = 3.0;
-  const double phi = std::exp(-0.5 * a * a) / std::sqrt(2.0 * units::kPi);
-  const double mass = std::erf(a / std::sqrt(2.0));  // 2 Phi(a) - 1
-  return sigma * std::sqrt(1.0 - 2.0 * a * phi / mass);
-}
-
-
-const std::vector<std::pair<std::string, bool>>& ToleranceSettings::ToleranceKeys() {
-  // The order is part of the random stream: a key's stream number is its index here, so keys
-  // are only ever appended.
-  static const std::vector<std::pair<std::string, bool>> kKeys = {
-      {"pin_circle_deviation_mm", false},   {"cycloid_profile_layer_mm", false},
-      {"cumulative_pitch_deviation_mm", true}, {"pin_radius_deviations_mm", true},
-      {"pin_radial_deviations_mm", true},   {"lead_crowning_um", false},
-      {"lead_slope_um", false},             {"centre_dx_mm", false},
-      {"centre_dy_mm", false},              {"eccentricity_deviation_mm", false},
-      {"misalignment_xz_deg", false},       {"misalignment_yz_deg", false},
-      {"modification_pin_radius_mm", false}, {"modification_pin_circle_radius_mm", false},
-      {"modification_rotation_deg", false}};
-  return kKeys;
-}
-
-const std::vector<std::string>& ToleranceSettings::FigureNames() {
-  static const std::vector<std::string> kNames = {
-      "mean_backlash_arcsec", "pp_backlash_arcsec", "mean_te_arcsec",         "pp_te_arcsec",
-      "max_contact_stress_mpa", "max_pin_force_n",  "contacts_min",           "contacts_max",
-      "lost_motion_arcmin"};
-  return kNames;
-}
-
-void ToleranceSettings::Validate() const {
-  if (samples < 1 || samples > kMaxSamples) {
-    throw std::invalid_argument(fmt::format("[tolerances] samples = {}: expected an integer from 1 to {}", samples, kMaxSamples));
-  }
-  for (const ToleranceDistribution& d : distributions) {
-    for (const auto& [name, v] : {std::pair{"sigma", d.sigma}, std::pair{"tolerance", d.tolerance}}) {
-      if (!(std::isfinite(v) && v >= 0.0)) {
-        throw std::invalid_argument(fmt::format("[tolerances] {}.{} = {}: expected a finite value >= 0 in the key's unit", d.key, name, v));
-      }
-    }
-    if (!std::isfinite(d.mean)) {
-      throw std::invalid_argument(fmt::format("[tolerances] {}.mean = {}: expected a finite offset in the key's unit", d.key, d.mean));
-    }
-  }
-  const auto& names = FigureNames();
-  for (std::size_t i = 0; i < limits.size(); ++i) {
-    const ToleranceLimit& l = limits[i];
-    if (std::find(names.begin(), names.end(), l.figure) == names.end()) {
-      throw std::invalid_argument(fmt::format("[tolerances] limits.{}: unknown figure; expected one of: {}", l.figure, fmt::join(names, ", ")));
-    }
-    if (std::isnan(l.min) || std::isnan(l.max) || !(l.min <= l.max) || (std::isinf(l.min) && std::isinf(l.max))) {
-      throw std::invalid_argument(fmt::format(
-          "[tolerances] limits.{} = {{ min = {}, max = {} }}: expected finite limits with min <= max (at least one given)", l.figure,
-          l.min, l.max));
-    }
-    if (l.figure == "lost_motion_arcmin" && !lost_motion) {
-      throw std::invalid_argument("[tolerances] limits.lost_motion_arcmin: lost motion is not run; expected lost_motion = true with this limit");
-    }
-  }
-}
-// --- end of issue 15's [tolerances] -------------------------------------------------------------
-
-// --- issue 14: [operation] and [friction] ----------------------------------------------------------
-const char* ToString(FrictionSettings::Model model) {
-  return model == FrictionSettings::Model::kCoulomb ? "coulomb" : "jiang-mixed";
-}
-
-void OperationSettings::Validate() const {
-  const double rpm = input_speed * 60.0 / (2.0 * units::kPi);
-  if (!(std::isfinite(rpm) && rpm > 0.0 && rpm <= kMaxSpeedRpm)) {
-    throw std::invalid_argument(fmt::format(
-        "[operation] input_speed_rpm = {:g}: expected a crank speed above 0 and at most {:g} rpm", rpm, kMaxSpeedRpm));
-  }
-  if (!(std::isfinite(viscosity) && viscosity > 0.0 && viscosity <= 10e-6)) {
-    throw std::invalid_argument(fmt::format(
-        "[operation] oil_viscosity_pa_s = {}: expected a dynamic viscosity above 0 and at most 10 Pa*s (gear oils: "
-        "0.01 to 1 Pa*s)",
-        viscosity * 1e6));
-  }
-  if (!(std::isfinite(pressure_viscosity) && pressure_viscosity >= 0.0 && pressure_viscosity <= 0.1)) {
-    throw std::invalid_argument(fmt::format(
-        "[operation] pressure_viscosity_per_gpa = {}: expected 0 to 100 1/GPa (mineral oils: 10 to 30)",
-        pressure_viscosity * 1e3));
-  }
-  for (const auto& [key, value] : {std::pair{"roughness_ra_cycloid_um", roughness_cycloid},
-                                   std::pair{"roughness_ra_pin_um", roughness_pin}}) {
-    if (!(std::isfinite(value) && value >= 0.0 && value <= 0.01)) {
-      throw std::invalid_argument(fmt::format(
-          "[operation] {} = {}: expected a roughness Ra from 0 to 10 um (ground flanks: 0.2 to 0.8 um)", key,
-          units::MmToUm(value)));
-    }
-  }
-  if (roughness_cycloid == 0.0 && roughness_pin == 0.0) {
-    throw std::invalid_argument(
-        "[operation] roughness_ra_cycloid_um = roughness_ra_pin_um = 0: expected a rough surface on at least one body "
-        "(the film ratio lambda = h / sigma needs sigma > 0)");
-  }
-}
-
-void FrictionSettings::Validate(const geometry::PairParameters& pair) const {
-  const auto check_mu = [](const char* key, double mu) {
-    if (!(std::isfinite(mu) && mu >= 0.0 && mu <= 1.0)) {
-      throw std::invalid_argument(fmt::format(
-          "[friction] {} = {}: expected a friction coefficient from 0 to 1 (lubricated steel: 0.01 to 0.1)", key, mu));
-    }
-  };
-  if (model == Model::kCoulomb || std::isfinite(coefficient)) check_mu("coefficient", coefficient);
-  check_mu("boundary_coefficient", boundary_coefficient);
-  if (!std::isnan(sleeve_coefficient)) check_mu("sleeve_coefficient", sleeve_coefficient);
-  if (!(std::isfinite(limiting_shear_modulus) && limiting_shear_modulus > 0.0 && limiting_shear_modulus <= 1e4)) {
-    throw std::invalid_argument(fmt::format(
-        "[friction] limiting_shear_modulus_mpa = {}: expected above 0 and at most 10000 MPa (Jiang: 1 MPa)",
-        limiting_shear_modulus));
-  }
-  if (!(std::isfinite(power_law_exponent) && power_law_exponent > 0.0 && power_law_exponent <= 1.0)) {
-    throw std::invalid_argument(fmt::format(
-        "[friction] power_law_exponent = {}: expected in (0, 1] (1: Newtonian; Jiang: 0.5)", power_law_exponent));
-  }
-  if (sleeve_bore_radius && !(std::isfinite(*sleeve_bore_radius) && *sleeve_bore_radius > 0.0 &&
-                              *sleeve_bore_radius < pair.pin_radius)) {
-    throw std::invalid_argument(fmt::format(
-        "[friction] sleeve_bore_radius_mm = {}: expected a radius above 0 and below the sleeve's outer radius, [pair] "
-        "pin_radius_mm = {}",
-        *sleeve_bore_radius, pair.pin_radius));
-  }
-}
-// --- end of issue 14's block -----------------------------------------------------------------------
-
-void StiffnessSettings::Validate() const {
-  if (steps < 3 || steps > kMaxSteps || steps % 2 == 0) {
-    throw std::invalid_argument(fmt::format(
-        "[stiffness] steps_per_branch = {}: expected an odd integer from 3 to {} (torque levels from -T to +T, "
-        "zero among them)",
-        steps, kMaxSteps));
-  }
-  if (rigidity == Rigidity::kTangent && !(std::isfinite(tangent_torque) && tangent_torque != 0.0)) {
-    throw std::invalid_argument(fmt::format(
-        "[stiffness] tangent_torque_nm = {}: expected a finite torque other than 0 in N*m with rigidity = \"tangent\" "
-        "(the free play at zero torque has no slope)",
-        units::NmmToNm(tangent_torque)));
-  }
-  if (!(lost_motion_fraction > 0.0 && lost_motion_fraction < 1.0)) {
-    throw std::invalid_argument(fmt::format(
-        "[stiffness] lost_motion_fraction = {}: expected a fraction of the rated torque between 0 and 1 "
-        "(exclusive; catalogues use 0.03)",
-        lost_motion_fraction));
-  }
-  const double max_crank = units::DegToRad(DeckLimits::kMaxCrankDeg);
-  if (crank && !(std::isfinite(*crank) && std::abs(*crank) <= max_crank)) {
-    throw std::invalid_argument(fmt::format(
-        "[stiffness] crank_deg = {}: expected a finite crank angle within +-{} deg (docs/decks.md, Limits)",
-        units::RadToDeg(*crank), DeckLimits::kMaxCrankDeg));
-  }
-}
-
 void LoadCase::Validate() const {
   if (!std::isfinite(torque)) {
     throw std::invalid_argument(fmt::format(
@@ -1004,64 +841,12 @@ void LoadCase::Validate() const {
   }
 }
 
-void Sweep::Validate() const {
-  if (positions < 1 || positions > DeckLimits::kMaxPositions) {
-    throw std::invalid_argument(fmt::format(
-        "[sweep] positions = {}: expected an integer from 1 to {} (docs/decks.md, Limits)",
-        positions, DeckLimits::kMaxPositions));
-  }
-  const double max_crank = units::DegToRad(DeckLimits::kMaxCrankDeg);
-  for (const auto& [key, value] : {std::pair{"crank_start_deg", crank_start}, std::pair{"crank_end_deg", crank_end}}) {
-    if (!std::isfinite(value) || std::abs(value) > max_crank) {
-      throw std::invalid_argument(fmt::format(
-          "[sweep] {} = {}: expected a finite crank angle within +-{} deg (docs/decks.md, Limits)",
-          key, units::RadToDeg(value), DeckLimits::kMaxCrankDeg));
-    }
-  }
-  if (positions > 1 && crank_end <= crank_start) {
-    throw std::invalid_argument(fmt::format(
-        "[sweep] crank_end_deg = {}: expected an angle above crank_start_deg = {} when "
-        "positions > 1",
-        units::RadToDeg(crank_end), units::RadToDeg(crank_start)));
-  }
-}
-
-std::vector<double> Sweep::CrankAngles() const {
-  std::vector<double> angles(static_cast<std::size_t>(positions));
-  for (int i = 0; i < positions; ++i) {
-    angles[static_cast<std::size_t>(i)] =
-        positions == 1 ? crank_start
-                       : crank_start + (crank_end - crank_start) * i / (positions - 1);
-  }
-  return angles;
-}
-
 Deck::ModelInfo Deck::Model() const {
-  // The rule of contact::MeshModel: slices when something varies along the face width.
   ModelInfo m;
-  m.surface = geometry.mode == geometry::GeometrySettings::Mode::kElements ? "elements" : "analytic";
-  if (pins) {
-    m.name = "slices+pin-bending";
-    m.slices = geometry.width_slices;
-  } else if (errors.VariesAlongWidth() || assembly.VariesAlongWidth()) {
-    m.name = "slices";
-    m.slices = geometry.width_slices;
-  } else {
-    m.name = "plane";
-    m.slices = 1;
-    if (width_slices_given && geometry.width_slices != 1) {
-      m.note = fmt::format("width_slices = {} not used: nothing varies along the face width, so the plane model ran",
-                           geometry.width_slices);
-    }
-  }
-  if (second_disc) {  // issue 13: both discs run the slice model when either varies along the width
-    if (m.name == "plane" && SlicesForced()) {
-      m.name = "slices";
-      m.slices = geometry.width_slices;
-      m.note.clear();
-    }
-    m.discs = 2;
-    m.name += "+two-discs";
+  static_cast<analysis::ModelInfo&>(m) = StageDesign::Model();
+  if (m.name.rfind("plane", 0) == 0 && width_slices_given && geometry.width_slices != 1) {
+    m.note = fmt::format("width_slices = {} not used: nothing varies along the face width, so the plane model ran",
+                         geometry.width_slices);
   }
   for (const std::string& note : notes) m.note += (m.note.empty() ? "" : "; ") + note;
   m.tip_relief = modification.tip_relief;
@@ -1070,47 +855,33 @@ Deck::ModelInfo Deck::Model() const {
   return m;
 }
 
-solvers::LoadProblem::CheckedCoupling Deck::MakeCoupling(const contact::MeshModel& model) const {
-  if (!pins) return {};
-  const contact::PinBeam beam(*pins, RequireMaterial(), pair.pin_radius);
-  const std::vector<contact::PinContact> points = model.Evaluate(sweep.crank_start).pins;
-  contact::FactoredPinBending f = contact::PinBendingFactors(points, beam, pair.face_width);
-  return solvers::LoadProblem::CheckCoupling(contact::PinBendingCoupling(points, beam, pair.face_width),
-                                             model.point_count(),
-                                             {std::move(f.stiffness), std::move(f.loads), std::move(f.local)});
+analysis::Stage Deck::MakeStage(std::vector<double> cranks) const {
+  RequireMaterial();
+  return analysis::Stage(*this, std::move(cranks));
 }
 
-bool Deck::SlicesForced() const {
-  if (pins) return true;
-  if (!second_disc) return false;
-  return errors.VariesAlongWidth() || assembly.VariesAlongWidth() || second_disc->errors.VariesAlongWidth() ||
-         second_disc->assembly.VariesAlongWidth();
+analysis::ToleranceCase Deck::MakeToleranceCase() const {
+  RequireMaterial();
+  return {*this, sweep, RequireLoad().torque, stiffness, friction};
 }
 
-geometry::RealPair Deck::MakeSecondRealPair() const {
-  if (!second_disc) throw std::invalid_argument(fmt::format("deck '{}': no [second_disc]", name));
-  return {pair, second_disc->modification, second_disc->errors, second_disc->assembly};
-}
-
-std::shared_ptr<const contact::MeshModel> Deck::MakeSecondModel() const {
-  if (!second_disc) return nullptr;
-  return std::make_shared<const contact::MeshModel>(MakeSecondRealPair(), geometry, SlicesForced());
-}
-
-contact::MeshState Deck::EvaluateDiscs(const contact::MeshModel& model, const contact::MeshModel* second,
-                                       double crank) const {
-  return second != nullptr ? contact::EvaluateTwoDiscs(model, *second, crank) : model.Evaluate(crank, 0.0);
-}
-
-solvers::LoadProblem Deck::MakeProblem(const std::shared_ptr<const contact::MeshModel>& model, double crank,
-                                       contact::ContactKinematics kinematics,
-                                       const std::shared_ptr<const contact::MeshModel>& second) const {
-  if (second != nullptr) {
-    return solvers::LoadProblem(model, second, crank, contact, RequireMaterial(), RequireLoad().torque, kinematics);
+const FrictionSettings& Deck::RequireFriction() const {
+  if (!friction) {
+    throw std::invalid_argument(fmt::format(
+        "deck '{}': missing required section [friction] for this command (e.g. --set friction.coefficient=0.05)",
+        name));
   }
-  solvers::LoadProblem problem(model, crank, contact, RequireMaterial(), RequireLoad().torque, kinematics);
-  if (!pins) return problem;
-  return problem.WithCoupling(MakeCoupling(*model));
+  return *friction;
+}
+
+const OperationSettings& Deck::RequireOperation() const {
+  if (!operation) {
+    throw std::invalid_argument(fmt::format(
+        "deck '{}': missing required section [operation] for this command (e.g. --set "
+        "operation.input_speed_rpm=1500)",
+        name));
+  }
+  return *operation;
 }
 
 const contact::Material& Deck::RequireMaterial() const {
@@ -1263,7 +1034,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     deck.geometry = ReadGeometry(geometry);
     deck.width_slices_given = geometry.Has("width_slices");
     deck.solver = ReadSolver(Section(Find(root, "solver"), "solver",
-                                     {"name", "kinematics", "torque_tolerance", "max_iterations", "preset", "nlopt_algorithm"}));
+                                     {"name", "kinematics", "torque_tolerance", "max_iterations", "preset", "nlopt_algorithm"}),
+                             &deck.kinematics);
     const Section material(Find(root, "material"), "material",
                            {"young_modulus_mpa", "poisson_ratio", "pin_young_modulus_mpa",
                             "pin_poisson_ratio", "contact_stress_limit_mpa"});
@@ -1329,6 +1101,18 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
   }
   return deck;
+}
+
+SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const SweepCallbacks& callbacks) {
+  const auto start = std::chrono::steady_clock::now();
+  options.Validate();
+  deck.RequireMaterial();
+  const double torque = deck.RequireLoad().torque;
+  const analysis::Stage stage = deck.MakeStage();
+  const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  SweepResult sweep = analysis::SolveSweep(stage, options, torque, callbacks);
+  sweep.summary.wall_seconds += build;
+  return sweep;
 }
 
 Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>& overrides) {

@@ -10,8 +10,8 @@
 #include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/app/deck.hpp"
-#include "ltca/app/efficiency.hpp"
-#include "ltca/app/sweep.hpp"
+#include "ltca/analysis/efficiency.hpp"
+#include "ltca/analysis/sweep.hpp"
 #include "ltca/solvers/registry.hpp"
 
 namespace ltca::app {
@@ -48,7 +48,7 @@ Loaded Summarise(const SweepResult& sweep) {
 Loaded Solve(const Deck& deck, const std::string& solver = "bisection") {
   SolverOptions options = deck.solver;
   options.name = solver;
-  return Summarise(SolveSweep(deck, options));
+  return Summarise(SolveDeckSweep(deck, options));
 }
 
 struct Backlash {
@@ -263,7 +263,7 @@ Revolution SolveRevolution(const Deck& deck) {
   Revolution r;
   SolverOptions options = deck.solver;
   options.name = "bisection";
-  r.sweep = SolveSweep(deck, options);
+  r.sweep = SolveDeckSweep(deck, options);
   r.loaded = Summarise(r.sweep);
   r.backlash = UnloadedSweep(deck);
   r.harmonic = FirstHarmonic(r.sweep.positions);
@@ -716,7 +716,9 @@ struct EfficiencyRun {
 EfficiencyRun RunEfficiencyDeck(const Deck& deck) {
   SolverOptions o;
   o.name = "bisection";
-  EfficiencyRunner runner(deck, o);
+  // Linearised kinematics, the default (whatever the deck's [solver] names).
+  EfficiencyRunner runner(deck.MakeStage().WithKinematics(contact::ContactKinematics::kLinearised), o,
+                          deck.RequireLoad().torque, deck.RequireFriction(), deck.RequireOperation());
   for (const double crank : runner.cranks()) runner.Solve(crank);
   const EfficiencySummary s = runner.Summary();
   return {s.power_loss.mean, s.efficiency, s.power_loss.max - s.power_loss.min, s.all_succeeded()};
@@ -724,10 +726,8 @@ EfficiencyRun RunEfficiencyDeck(const Deck& deck) {
 double LossAtCrank(const Deck& deck, double crank_deg) {
   SolverOptions o;
   o.name = "bisection";
-  Deck one = deck;
-  one.sweep.crank_start = one.sweep.crank_end = units::DegToRad(crank_deg);
-  one.sweep.positions = 1;
-  EfficiencyRunner runner(one, o);
+  EfficiencyRunner runner(deck.MakeStage({units::DegToRad(crank_deg)}).WithKinematics(contact::ContactKinematics::kLinearised),
+                          o, deck.RequireLoad().torque, deck.RequireFriction(), deck.RequireOperation());
   return runner.Solve(units::DegToRad(crank_deg)).power_loss;
 }
 
@@ -858,8 +858,11 @@ ValidationReport Validate(const fs::path& cases_dir) {
     // positions, compatibility, linearised; 200 slices is the reference.
     Deck phi = LoadDeck(cases_dir / "liu2021_sec53_phi.toml");
     phi.sweep.positions = 37;
-    report.slice_convergence = RunSliceStudy(phi, {5, 10, 20, 50, 100, 200}, "compatibility", 1);
-    report.slice_face_edge = FaceEdgeUnloaded(phi);
+    SolverOptions options = phi.solver;
+    options.name = "compatibility";
+    report.slice_convergence =
+        RunSliceStudy(phi, phi.sweep.CrankAngles(), phi.RequireLoad().torque, options, {5, 10, 20, 50, 100, 200}, 1);
+    report.slice_face_edge = FaceEdgeUnloaded(phi, phi.sweep.CrankAngles());
   }
   Li(cases_dir, b);
   Jiang(cases_dir, b);

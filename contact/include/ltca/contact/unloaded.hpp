@@ -13,6 +13,10 @@ enum class ContactKinematics {
   kLinearised,  ///< c_i and L_i frozen at the unrotated pose: approach = L_i psi - c_i
   kExact,       ///< the contact geometry re-evaluated at the rotated pose
 };
+/// "linearised" | "exact": the one spelling of the kinematics in decks, options and outputs.
+const char* ToString(ContactKinematics kinematics);
+/// The inverse; throws std::invalid_argument naming [solver] kinematics and the valid values.
+ContactKinematics ParseKinematics(const std::string& text);
 
 struct UnloadedContact {
   double crank = 0.0;      ///< rad

@@ -40,9 +40,9 @@ enum class Flank {
 const char* ToString(Flank flank);
 
 /// The [solver] section and the per-run settings. Plain struct with defaults and a validation.
+/// The kinematics is the problem's (LoadProblem::kinematics), not an option of the solve.
 struct SolverOptions {
   std::string name = "bisection";
-  contact::ContactKinematics kinematics = contact::ContactKinematics::kLinearised;
   double torque_tolerance = 1e-10;   ///< relative |T_out - T| / T
   int max_iterations = 500;          ///< torque evaluations (bisection) or iterations
   /// compatibility: the NLopt algorithm by name (chosen from measurements, docs/solvers.md).

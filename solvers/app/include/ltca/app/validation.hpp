@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "ltca/app/slice_study.hpp"
+#include "ltca/app/deck.hpp"
 
 namespace ltca::app {
 

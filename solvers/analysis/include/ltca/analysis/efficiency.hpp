@@ -20,10 +20,11 @@
 #include <string>
 #include <vector>
 
-#include "ltca/app/deck.hpp"
-#include "ltca/app/stiffness.hpp"
+#include "ltca/analysis/friction.hpp"
+#include "ltca/analysis/run.hpp"
+#include "ltca/analysis/stage.hpp"
 
-namespace ltca::app {
+namespace ltca::analysis {
 
 constexpr double kEfficiencyNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -83,7 +84,8 @@ struct EfficiencyPosition {
 /// Mean, smallest and largest over the successful positions: the stiffness loop's Spread.
 using EfficiencySpread = Spread;
 
-struct EfficiencySummary {
+/// The run record counts the successful and failed positions.
+struct EfficiencySummary : RunRecord {
   EfficiencySpread power_loss, power_loss_first_order, output_power, friction_moment_ratio, mean_coefficient;
   EfficiencySpread friction_moment_ratio_first_order;  ///< with the frictionless forces
   /// Energy-weighted over the sweep: mean P_out / (mean P_out + mean P_loss).
@@ -92,25 +94,23 @@ struct EfficiencySummary {
   double efficiency_malhotra_parameswaran = kEfficiencyNaN;  ///< mean over the positions
   double efficiency_sensinger = kEfficiencyNaN;              ///< closed form, position independent
   double energy_loss_per_revolution = kEfficiencyNaN;        ///< J per crank revolution (mean loss x period)
-  std::int64_t succeeded = 0, failed = 0, solves = 0, balance_solves = 0;
-  std::string first_failure;
+  std::int64_t solves = 0, balance_solves = 0;
   std::vector<std::string> warnings;  ///< distinct warning names with the first message of each
-  double wall_seconds = 0.0;
   double loaded_solve_seconds = 0.0;  ///< of which in the frictionless load solves
   /// The last crank repeats the first's state (contact::SameMesh): the means weigh it once.
   bool closed_period = false;
-  bool all_succeeded() const { return failed == 0 && succeeded > 0; }
 };
 
 /// Continuum closed form with F ~ L over the half ring of an unmodified pair (docs/efficiency.md):
 /// P_loss / P_out = 4 mu (R_p - r_p) / (pi e z_c / |d|).
 double SensingerEfficiency(const geometry::PairParameters& pair, double mu);
 
-/// Requires [material], [load] (torque != 0), [friction] and [operation]; validates the options;
-/// rejects a pair that interferes at any crank of the sweep (std::invalid_argument).
+/// Over the stage's checked cranks at a non-zero torque (N*mm, signed), one disc; validates the
+/// options (std::invalid_argument).
 class EfficiencyRunner {
  public:
-  EfficiencyRunner(const Deck& deck, const SolverOptions& options);
+  EfficiencyRunner(const Stage& stage, const SolverOptions& options, double torque, const FrictionSettings& friction,
+                   const OperationSettings& operation);
   ~EfficiencyRunner();
   EfficiencyRunner(EfficiencyRunner&&) noexcept;
   EfficiencyRunner& operator=(EfficiencyRunner&&) noexcept;
@@ -124,20 +124,4 @@ class EfficiencyRunner {
   std::unique_ptr<Impl> impl_;
 };
 
-// --- the stiffness loop with friction (issue 13 + 14) -------------------------------------------
-/// The signed torque the normal forces carry at a quasi-static step of the torque-twist loop with
-/// Coulomb friction (the crank locked, the cycloid turning about its centre): the friction at each
-/// loaded contact resists the turning, so the normal forces carry T - sense mu sum F_i |a_t,i|
-/// (a_t: the tangential arm about the cycloid centre), sense = +1 while the twist grows in +T's
-/// sense (the increasing branch), -1 on the way back. solve(t) solves the frictionless problem at
-/// signed torque t; iterated to a fixed point. mu: [friction]'s static coefficient (Coulomb's, or
-/// f_b for jiang-mixed: no entrainment, boundary friction). Returns the last result; *solves counts.
-/// second: the second disc of a two-disc stage (issue 13), whose points in state turn about its own
-/// centre, half a crank turn on; nullptr for one disc.
-LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state, double torque,
-                                 double sense, double mu, const std::function<LoadResult(double)>& solve, int* solves,
-                                 const contact::MeshModel* second = nullptr);
-/// The static coefficient of the loop: 0 without [friction].
-double LoopFrictionCoefficient(const Deck& deck);
-
-}  // namespace ltca::app
+}  // namespace ltca::analysis

@@ -12,10 +12,28 @@
 #include <string>
 #include <vector>
 
-#include "ltca/app/deck.hpp"
+#include "ltca/analysis/run.hpp"
+#include "ltca/analysis/stage.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
-namespace ltca::app {
+namespace ltca::analysis {
+
+/// The largest crank angle a sweep or a command names, deg (10 turns; docs/decks.md, Limits).
+inline constexpr double kMaxCrankDeg = 3600.0;
+
+/// The crank positions of a sweep (a deck's [sweep]); default one mesh period in 91 positions
+/// (Liu's 0.1 deg step at z_p = 40).
+struct Sweep {
+  static constexpr int kMaxPositions = 1'000'000;
+  double crank_start = 0.0;  ///< rad (deck: crank_start_deg).
+  double crank_end = 0.0;    ///< rad (deck: crank_end_deg), inclusive.
+  int positions = 91;        ///< 1 .. kMaxPositions.
+  /// Throws std::invalid_argument naming the key: positions out of range, angles not finite or
+  /// beyond kMaxCrankDeg, an empty range with several positions.
+  void Validate() const;
+  /// The crank angles, rad: positions values from start to end inclusive.
+  std::vector<double> CrankAngles() const;
+};
 
 /// A pin counts as in contact when its force exceeds this fraction of the largest pin force:
 /// pins whose arm is zero to rounding (a pin exactly on the line of centres, at the root or the
@@ -44,17 +62,15 @@ struct PositionResult {
   bool succeeded() const { return result.status == SolverStatus::kSuccess; }
 };
 
-/// Figures over the successful positions only; NaN (and contacts -1) when none succeeded.
-struct SweepSummary {
+/// Figures over the successful positions only; NaN (and contacts -1) when none succeeded. The run
+/// record counts positions with status success and with any other status.
+struct SweepSummary : RunRecord {
   double mean_te = std::numeric_limits<double>::quiet_NaN();        ///< rad
   double pp_te = std::numeric_limits<double>::quiet_NaN();          ///< rad
   int contacts_min = -1;
   int contacts_max = -1;
   double max_pin_force = std::numeric_limits<double>::quiet_NaN();  ///< N, a pin's total over its slices
   double max_contact_stress = std::numeric_limits<double>::quiet_NaN();  ///< MPa
-  double wall_seconds = 0.0;
-  std::int64_t succeeded = 0;  ///< positions with status success
-  std::int64_t failed = 0;     ///< positions with any other status
   /// Successful positions whose result carries warnings (stress beyond the material limit, a
   /// half-width beyond the law: LoadResult::warnings), and the first of those warnings.
   std::int64_t warned = 0;
@@ -69,8 +85,6 @@ struct SweepSummary {
   /// or a mesh period of a pair that keeps that symmetry), so the means weight that state once
   /// (issue 26); the extremes and counts see every position.
   bool closed_period = false;
-  std::int64_t positions() const { return succeeded + failed; }
-  bool all_succeeded() const { return failed == 0 && succeeded > 0; }
 };
 
 /// Accumulates the summary position by position (the rule of SweepSummary).
@@ -93,13 +107,12 @@ class SummaryAccumulator {
   std::int64_t shares_ = 0, share_count_ = 0;
 };
 
-/// One solver over the crank positions of one deck, a position at a time, so that callers can
-/// stream or run several solvers in lockstep. The constructor validates the options, requires
-/// [material] and [load], and rejects a pair that interferes at any crank of the deck's sweep
-/// (std::invalid_argument naming the pins), before anything is solved.
+/// One solver over the crank positions of a stage at one torque (N*mm, signed), a position at a
+/// time, so that callers can stream or run several solvers in lockstep. The constructor validates
+/// the options; the stage has checked its cranks for interference.
 class SweepRunner {
  public:
-  SweepRunner(const Deck& deck, const SolverOptions& options);
+  SweepRunner(const Stage& stage, const SolverOptions& options, double torque);
   ~SweepRunner();
   SweepRunner(SweepRunner&&) noexcept;
   SweepRunner& operator=(SweepRunner&&) noexcept;
@@ -129,8 +142,9 @@ struct SweepCallbacks {
   bool keep_positions = true;
 };
 
-/// Solves every crank position of the deck (requires [material] and [load]). Throws
-/// std::invalid_argument for bad options or an interfering pair, before solving anything.
-SweepResult SolveSweep(const Deck& deck, const SolverOptions& options, const SweepCallbacks& callbacks = {});
+/// Solves every checked crank of the stage at the torque (N*mm). Throws std::invalid_argument for
+/// bad options, before solving anything.
+SweepResult SolveSweep(const Stage& stage, const SolverOptions& options, double torque,
+                       const SweepCallbacks& callbacks = {});
 
-}  // namespace ltca::app
+}  // namespace ltca::analysis

@@ -26,9 +26,37 @@
 #include <string>
 #include <vector>
 
-#include "ltca/app/deck.hpp"
+#include <optional>
 
-namespace ltca::app {
+#include "ltca/analysis/friction.hpp"
+#include "ltca/analysis/run.hpp"
+#include "ltca/analysis/stage.hpp"
+
+namespace ltca::analysis {
+
+/// [stiffness]: the torque-twist loop of `ltca stiffness` (issue 13, docs/stiffness.md). The torque
+/// runs from -T to +T and back, T = |[load] torque_nm| (the rated torque).
+struct StiffnessSettings {
+  static constexpr int kMaxSteps = 10'001;
+  /// Torque levels per branch from -T to +T inclusive (deck: steps_per_branch): odd, so that zero
+  /// and the levels +-T / 2 of an (n - 1) / 4 grid are on it; 3 .. kMaxSteps.
+  int steps = 41;
+  enum class Rigidity {
+    kSecant,   ///< between 50 % and 100 % of T on each flank (catalogue definition, the default)
+    kTangent,  ///< the slope at tangent_torque
+  };
+  Rigidity rigidity = Rigidity::kSecant;  ///< deck: rigidity = "secant" | "tangent"
+  /// N*mm, signed (deck: tangent_torque_nm): where the tangent rigidity is taken; finite, not zero
+  /// (the free play has no slope). Required when rigidity is tangent.
+  double tangent_torque = std::numeric_limits<double>::quiet_NaN();
+  /// Lost motion is read at +-fraction T (deck: lost_motion_fraction, default 3 %), in (0, 1).
+  double lost_motion_fraction = 0.03;
+  /// One crank angle, rad (deck: crank_deg); empty: every position of [sweep].
+  std::optional<double> crank;
+  /// Throws std::invalid_argument naming the key, the value and what is expected.
+  void Validate() const;
+};
+
 
 /// Which way the torque runs on a branch of the loop.
 enum class Branch {
@@ -92,19 +120,10 @@ struct StiffnessPosition {
   bool succeeded() const { return failed == 0; }
 };
 
-/// Mean, smallest and largest of a figure over the positions where it is finite.
-struct Spread {
-  double mean = std::numeric_limits<double>::quiet_NaN();
-  double min = std::numeric_limits<double>::quiet_NaN();
-  double max = std::numeric_limits<double>::quiet_NaN();
-  std::int64_t count = 0;          ///< values added
-  std::int64_t in_mean_count = 0;  ///< of those, the ones the mean weighs
-  /// in_mean false: the value repeats a state already added (the last crank of a closed period,
-  /// issue 26); it counts in min and max, not in the mean.
-  void Add(double v, bool in_mean = true);
-};
 
-struct StiffnessSummary {
+/// The run record counts positions whose every solve succeeded; first_failure is "crank x deg,
+/// torque y N*m: ..." of the first failed solve.
+struct StiffnessSummary : RunRecord {
   Spread rigidity, rigidity_drive, rigidity_coast, lost_motion, backlash, branch_difference;
   Spread first_disc_share_drive, first_disc_share_coast;  ///< two discs only (issue 13)
   Spread hysteresis;                        ///< N*mm*rad per cycle
@@ -116,29 +135,25 @@ struct StiffnessSummary {
   std::vector<CurvePoint> curve;  ///< twist: the mean
   std::vector<double> curve_min, curve_max;
   std::vector<CurvePoint> readoffs;  ///< twist: the mean over the positions
-  std::int64_t succeeded = 0;  ///< positions whose every solve succeeded
-  std::int64_t failed = 0;
   std::int64_t solves = 0;
-  std::string first_failure;   ///< "crank x deg, torque y N*m: ..." of the first failed solve
-  double wall_seconds = 0.0;   ///< construction and solves
   /// The last crank repeats the first's state (contact::SameMesh): the means weigh it once.
   bool closed_period = false;
-  std::int64_t positions() const { return succeeded + failed; }
-  bool all_succeeded() const { return failed == 0 && succeeded > 0; }
 };
 
 /// The loop position by position with one solver and one workspace: every torque step starts from
 /// what the previous one left in the workspace (warm starts). The constructor validates the
-/// options and the settings, requires [material] and a non-zero [load] torque, and rejects a pair
-/// that interferes at any of the cranks, before anything is solved (std::invalid_argument).
+/// options and the settings and requires a non-zero rated torque T (N*mm; its sign is not used),
+/// before anything is solved (std::invalid_argument). friction:
+/// the loop's Coulomb friction (LoopFrictionCoefficient), none without.
 class StiffnessRunner {
  public:
-  StiffnessRunner(const Deck& deck, const SolverOptions& options, const StiffnessSettings& settings);
+  StiffnessRunner(const Stage& stage, const SolverOptions& options, const StiffnessSettings& settings, double torque,
+                  const std::optional<FrictionSettings>& friction = std::nullopt);
   ~StiffnessRunner();
   StiffnessRunner(StiffnessRunner&&) noexcept;
   StiffnessRunner& operator=(StiffnessRunner&&) noexcept;
 
-  /// The cranks of the run, rad: settings.crank, or the deck's sweep.
+  /// The cranks of the run, rad: settings.crank, or the stage's checked cranks.
   const std::vector<double>& cranks() const;
   /// The torque levels of a branch, N*mm, from -T to +T.
   std::vector<double> Levels() const;
@@ -152,4 +167,4 @@ class StiffnessRunner {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace ltca::app
+}  // namespace ltca::analysis

@@ -1,4 +1,4 @@
-#include "ltca/app/tolerance.hpp"
+#include "ltca/analysis/tolerance.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -10,14 +10,15 @@
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
-#include "ltca/app/stiffness.hpp"
-#include "ltca/app/sweep.hpp"
+#include "ltca/analysis/stiffness.hpp"
+#include "ltca/analysis/sweep.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/counter_rng.hpp"
 #include "ltca/geometry/units.hpp"
 
-namespace ltca::app {
+namespace ltca::analysis {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -174,20 +175,87 @@ void SampleTable::Add(const ToleranceSample& s) {
   status_.push_back(status);
 }
 
-ToleranceStudy::ToleranceStudy(const Deck& deck, const SolverOptions& options, const ToleranceSettings& settings)
-    : deck_(deck), options_(options), settings_(settings) {
+double ToleranceDistribution::StandardDeviation() const {
+  if (kind == Kind::kUniform) return tolerance / std::sqrt(3.0);
+  if (tolerance == 0.0) return sigma;  // given by sigma: not truncated
+  // Given as +-tolerance (3 sigma): the normal truncated there, as ToleranceStudy::Draw draws it
+  // (Johnson, Kotz & Balakrishnan 1994, vol. 1, ch. 13 sec. 10.1).
+  constexpr double a = 3.0;
+  const double phi = std::exp(-0.5 * a * a) / std::sqrt(2.0 * units::kPi);
+  const double mass = std::erf(a / std::sqrt(2.0));  // 2 Phi(a) - 1
+  return sigma * std::sqrt(1.0 - 2.0 * a * phi / mass);
+}
+
+
+const std::vector<std::pair<std::string, bool>>& ToleranceSettings::ToleranceKeys() {
+  // The order is part of the random stream: a key's stream number is its index here, so keys
+  // are only ever appended.
+  static const std::vector<std::pair<std::string, bool>> kKeys = {
+      {"pin_circle_deviation_mm", false},   {"cycloid_profile_layer_mm", false},
+      {"cumulative_pitch_deviation_mm", true}, {"pin_radius_deviations_mm", true},
+      {"pin_radial_deviations_mm", true},   {"lead_crowning_um", false},
+      {"lead_slope_um", false},             {"centre_dx_mm", false},
+      {"centre_dy_mm", false},              {"eccentricity_deviation_mm", false},
+      {"misalignment_xz_deg", false},       {"misalignment_yz_deg", false},
+      {"modification_pin_radius_mm", false}, {"modification_pin_circle_radius_mm", false},
+      {"modification_rotation_deg", false}};
+  return kKeys;
+}
+
+const std::vector<std::string>& ToleranceSettings::FigureNames() {
+  static const std::vector<std::string> kNames = {
+      "mean_backlash_arcsec", "pp_backlash_arcsec", "mean_te_arcsec",         "pp_te_arcsec",
+      "max_contact_stress_mpa", "max_pin_force_n",  "contacts_min",           "contacts_max",
+      "lost_motion_arcmin"};
+  return kNames;
+}
+
+void ToleranceSettings::Validate() const {
+  if (samples < 1 || samples > kMaxSamples) {
+    throw std::invalid_argument(fmt::format("[tolerances] samples = {}: expected an integer from 1 to {}", samples, kMaxSamples));
+  }
+  for (const ToleranceDistribution& d : distributions) {
+    for (const auto& [name, v] : {std::pair{"sigma", d.sigma}, std::pair{"tolerance", d.tolerance}}) {
+      if (!(std::isfinite(v) && v >= 0.0)) {
+        throw std::invalid_argument(fmt::format("[tolerances] {}.{} = {}: expected a finite value >= 0 in the key's unit", d.key, name, v));
+      }
+    }
+    if (!std::isfinite(d.mean)) {
+      throw std::invalid_argument(fmt::format("[tolerances] {}.mean = {}: expected a finite offset in the key's unit", d.key, d.mean));
+    }
+  }
+  const auto& names = FigureNames();
+  for (std::size_t i = 0; i < limits.size(); ++i) {
+    const ToleranceLimit& l = limits[i];
+    if (std::find(names.begin(), names.end(), l.figure) == names.end()) {
+      throw std::invalid_argument(fmt::format("[tolerances] limits.{}: unknown figure; expected one of: {}", l.figure, fmt::join(names, ", ")));
+    }
+    if (std::isnan(l.min) || std::isnan(l.max) || !(l.min <= l.max) || (std::isinf(l.min) && std::isinf(l.max))) {
+      throw std::invalid_argument(fmt::format(
+          "[tolerances] limits.{} = {{ min = {}, max = {} }}: expected finite limits with min <= max (at least one given)", l.figure,
+          l.min, l.max));
+    }
+    if (l.figure == "lost_motion_arcmin" && !lost_motion) {
+      throw std::invalid_argument("[tolerances] limits.lost_motion_arcmin: lost motion is not run; expected lost_motion = true with this limit");
+    }
+  }
+}
+
+ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& options, const ToleranceSettings& settings)
+    : nominal_(std::move(nominal)), options_(options), settings_(settings) {
   options_.Validate();
   settings_.Validate();
-  deck_.RequireMaterial();
-  deck_.RequireLoad();
-  if (settings_.lost_motion) deck_.stiffness.Validate();
-  if (deck_.second_disc) {
+  if (!nominal_.design.material) {
+    throw std::invalid_argument(fmt::format("deck '{}': missing required section [material] for this command", nominal_.design.name));
+  }
+  if (settings_.lost_motion) nominal_.stiffness.Validate();
+  if (nominal_.design.second_disc) {
     throw std::invalid_argument(fmt::format(
         "deck '{}': [second_disc] with [tolerances]: the draws would move the first disc only; expected one disc "
         "(the two-disc tolerance study is not built yet)",
-        deck_.name));
+        nominal_.design.name));
   }
-  const int pins = deck_.pair.pin_count;
+  const int pins = nominal_.design.pair.pin_count;
   for (std::size_t k = 0; k < settings_.distributions.size(); ++k) {
     const ToleranceDistribution& d = settings_.distributions[k];
     KeyIndex(d.key);  // a known key
@@ -197,9 +265,9 @@ ToleranceStudy::ToleranceStudy(const Deck& deck, const SolverOptions& options, c
       inputs_.push_back({d.key, k, -1});
     }
   }
-  const double span = deck_.sweep.crank_end - deck_.sweep.crank_start;
+  const double span = nominal_.sweep.crank_end - nominal_.sweep.crank_start;
   const double revolution = 2.0 * units::kPi;
-  const double step = deck_.sweep.positions > 1 ? span / (deck_.sweep.positions - 1) : revolution;
+  const double step = nominal_.sweep.positions > 1 ? span / (nominal_.sweep.positions - 1) : revolution;
   if (std::any_of(settings_.distributions.begin(), settings_.distributions.end(), BreaksMeshPeriod) &&
       span + step < revolution * (1.0 - 1e-9)) {
     notes_.push_back(fmt::format(
@@ -209,7 +277,7 @@ ToleranceStudy::ToleranceStudy(const Deck& deck, const SolverOptions& options, c
         "step for the whole revolution)",
         units::RadToDeg(span)));
   }
-  if (settings_.lost_motion && deck_.RequireLoad().torque == 0.0) {
+  if (settings_.lost_motion && nominal_.torque == 0.0) {
     throw std::invalid_argument("[tolerances] lost_motion = true: expected a non-zero [load] torque_nm (the rated torque of the loop)");
   }
 }
@@ -232,11 +300,12 @@ std::vector<double> ToleranceStudy::Draw(std::int64_t i) const {
   return out;
 }
 
-Deck ToleranceStudy::Apply(const std::vector<double>& inputs) const {
+ToleranceCase ToleranceStudy::Apply(const std::vector<double>& inputs) const {
   if (inputs.size() != inputs_.size()) {
     throw std::invalid_argument(fmt::format("tolerance: {} input values for {} input columns", inputs.size(), inputs_.size()));
   }
-  Deck d = deck_;
+  ToleranceCase out = nominal_;
+  StageDesign& d = out.design;
   const int pins = d.pair.pin_count;
   for (std::size_t c = 0; c < inputs_.size(); ++c) {
     const double v = inputs[c];
@@ -263,24 +332,26 @@ Deck ToleranceStudy::Apply(const std::vector<double>& inputs) const {
     else if (key == "modification_rotation_deg") m.rotation += units::DegToRad(v);
     else throw std::logic_error(fmt::format("tolerance: key '{}' has no effect coded", key));
   }
-  return d;
+  return out;
 }
 
-ToleranceSample ToleranceStudy::Evaluate(const Deck& pair) const {
+ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
   ToleranceSample s;
   try {
-    pair.errors.Validate(pair.pair.pin_count);
-    pair.assembly.Validate();
-    pair.modification.Validate(pair.pair);
+    const StageDesign& design = pair.design;
+    design.errors.Validate(design.pair.pin_count);
+    design.assembly.Validate();
+    design.modification.Validate(design.pair);
+    // One stage for every figure of the sample, checked at the sweep's cranks.
+    const Stage stage(design, pair.sweep.CrankAngles());
+    const std::vector<double>& cranks = stage.cranks();
     // Unloaded TCA over the sweep: the arithmetic of `ltca backlash` (mean = sum / n).
-    const contact::MeshModel model = pair.MakeModel();
-    const std::vector<double> cranks = pair.sweep.CrankAngles();
     // The unloaded sweep's rule: a closed period's repeated state weighs once in the mean (issue 26).
-    const contact::UnloadedSweep backlash = contact::AnalyseUnloadedSweep(model, cranks, options_.kinematics);
+    const contact::UnloadedSweep backlash = contact::AnalyseUnloadedSweep(stage.model(), cranks, stage.kinematics());
     s.figures[kMeanBacklashArcsec] = units::RadToArcsec(backlash.mean_backlash);
     s.figures[kPpBacklashArcsec] = units::RadToArcsec(backlash.pp_backlash);
     // Loaded TCA over the sweep: `ltca solve`'s summary.
-    SweepRunner runner(pair, options_);
+    SweepRunner runner(stage, options_, pair.torque);
     std::string first_failure;  // the first position that did not succeed: where, and the solver's own words
     for (const double crank : cranks) {
       const PositionResult p = runner.Solve(crank);
@@ -307,7 +378,7 @@ ToleranceSample ToleranceStudy::Evaluate(const Deck& pair) const {
       // Lost motion is solved at its own torques (+-f T); the curve needs only its 3 levels.
       StiffnessSettings st = pair.stiffness;
       st.steps = 3;
-      StiffnessRunner loop(pair, options_, st);
+      StiffnessRunner loop(stage, options_, st, pair.torque, pair.friction);
       for (const double crank : loop.cranks()) loop.Solve(crank);
       const StiffnessSummary ss = loop.Summary();
       s.figures[kLostMotionArcmin] = units::RadToArcmin(ss.lost_motion.mean);
@@ -326,10 +397,10 @@ ToleranceSample ToleranceStudy::Evaluate(const Deck& pair) const {
 
 ToleranceSample ToleranceStudy::Run(std::int64_t i) const {
   std::vector<double> inputs = Draw(i);
-  Deck pair = Apply(inputs);
+  ToleranceCase pair = Apply(inputs);
   if (settings_.profile_random_per_sample) {
     // Its own stream, above every key's and chain's: (0xFFFFFFFF << 32), counter i.
-    pair.errors.profile_random.seed = geometry::rng::Bits128(settings_.seed, std::uint64_t{0xFFFFFFFF} << 32, static_cast<std::uint64_t>(i))[0];
+    pair.design.errors.profile_random.seed = geometry::rng::Bits128(settings_.seed, std::uint64_t{0xFFFFFFFF} << 32, static_cast<std::uint64_t>(i))[0];
   }
   ToleranceSample s = Evaluate(pair);
   s.index = i;
@@ -762,4 +833,4 @@ std::array<CornerExceedance, kToleranceFigureCount> CompareWithCorners(const Tol
   return out;
 }
 
-}  // namespace ltca::app
+}  // namespace ltca::analysis

@@ -1,4 +1,5 @@
-#include "ltca/app/stiffness.hpp"
+#include "ltca/analysis/stiffness.hpp"
+#include "ltca/analysis/sweep.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -10,12 +11,11 @@
 
 #include <fmt/format.h>
 
-#include "ltca/app/efficiency.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
 
-namespace ltca::app {
+namespace ltca::analysis {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -58,37 +58,44 @@ std::size_t InsertInOrder(std::vector<CurvePoint>& curve, const CurvePoint& p) {
 
 }  // namespace
 
-const char* ToString(Branch branch) { return branch == Branch::kIncreasing ? "increasing" : "decreasing"; }
-
-void Spread::Add(double v, bool in_mean) {
-  if (!std::isfinite(v)) return;
-  if (count == 0) {
-    min = max = v;
-  } else {
-    min = std::min(min, v);
-    max = std::max(max, v);
+void StiffnessSettings::Validate() const {
+  if (steps < 3 || steps > kMaxSteps || steps % 2 == 0) {
+    throw std::invalid_argument(fmt::format(
+        "[stiffness] steps_per_branch = {}: expected an odd integer from 3 to {} (torque levels from -T to +T, "
+        "zero among them)",
+        steps, kMaxSteps));
   }
-  if (in_mean) {
-    mean = in_mean_count == 0 ? v : mean + (v - mean) / static_cast<double>(in_mean_count + 1);
-    ++in_mean_count;
-  } else if (in_mean_count == 0) {
-    mean = v;  // only the repeated state so far: it is the mean
+  if (rigidity == Rigidity::kTangent && !(std::isfinite(tangent_torque) && tangent_torque != 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "[stiffness] tangent_torque_nm = {}: expected a finite torque other than 0 in N*m with rigidity = \"tangent\" "
+        "(the free play at zero torque has no slope)",
+        units::NmmToNm(tangent_torque)));
   }
-  ++count;
+  if (!(lost_motion_fraction > 0.0 && lost_motion_fraction < 1.0)) {
+    throw std::invalid_argument(fmt::format(
+        "[stiffness] lost_motion_fraction = {}: expected a fraction of the rated torque between 0 and 1 "
+        "(exclusive; catalogues use 0.03)",
+        lost_motion_fraction));
+  }
+  const double max_crank = units::DegToRad(kMaxCrankDeg);
+  if (crank && !(std::isfinite(*crank) && std::abs(*crank) <= max_crank)) {
+    throw std::invalid_argument(fmt::format(
+        "[stiffness] crank_deg = {}: expected a finite crank angle within +-{} deg (docs/decks.md, Limits)",
+        units::RadToDeg(*crank), kMaxCrankDeg));
+  }
 }
 
+const char* ToString(Branch branch) { return branch == Branch::kIncreasing ? "increasing" : "decreasing"; }
+
+
 struct StiffnessRunner::Impl {
-  const Deck& deck;
+  Stage stage;
   SolverOptions options;
   StiffnessSettings settings;
-  std::shared_ptr<const contact::MeshModel> model;
-  std::shared_ptr<const contact::MeshModel> second;  // [second_disc]: the stage's two discs (issue 13)
   std::unique_ptr<LoadSolver> solver;
   solvers::Workspace workspace;  // shared by every step and position: the warm starts
-  const contact::Material& material;
   double rated;  // T, N*mm
   std::vector<double> cranks;
-  solvers::LoadProblem::CheckedCoupling coupling;
   StiffnessSummary summary;
   std::vector<double> curve_sum;
   std::vector<std::int64_t> curve_count;
@@ -98,37 +105,27 @@ struct StiffnessRunner::Impl {
   // issue 14: Coulomb friction in the loop (0 without [friction]); sense of the twist's motion on
   // the branch being solved (+1 increasing, -1 decreasing, 0: the loop's midpoint, both).
   bool closed = false;
-  double friction_mu = LoopFrictionCoefficient(deck);
+  double friction_mu = 0.0;
   double sense = 0.0;
 
-  Impl(const Deck& d, const SolverOptions& o, const StiffnessSettings& s)
-      : deck(d), options(o), settings(s), model(std::make_shared<const contact::MeshModel>(d.MakeModel())),
-        second(d.MakeSecondModel()),
-        solver(solvers::MakeSolver(o.name)), material(d.RequireMaterial()), rated(std::abs(d.RequireLoad().torque)),
-        cranks(s.crank ? std::vector<double>{*s.crank} : d.sweep.CrankAngles()) {
+  Impl(const Stage& st, const SolverOptions& o, const StiffnessSettings& s, double torque,
+       const std::optional<FrictionSettings>& friction)
+      : stage(st), options(o), settings(s), solver(solvers::MakeSolver(o.name)), rated(std::abs(torque)),
+        cranks(s.crank ? std::vector<double>{*s.crank} : st.cranks()), friction_mu(LoopFrictionCoefficient(friction)) {
     if (rated == 0.0) {
       throw std::invalid_argument(
           "[load] torque_nm = 0: expected the rated torque of the stiffness loop, not zero (the loop runs from "
           "-|T| to +|T|)");
     }
-    // Nothing is solved for a pair that interferes at any crank (as `solve` and `backlash` reject it).
-    for (const double crank : cranks) contact::RequireNoInterference(State(crank), crank, Tolerance());
     // The last crank repeats the first's state (a closed period): the means weigh it once (issue 26).
-    closed = cranks.size() > 1 && contact::SameMesh(State(cranks.front()), State(cranks.back()));
-    coupling = deck.MakeCoupling(*model);
+    closed = !s.crank && stage.closed_period();
   }
 
   /// Every contact point of the stage at a crank: one disc, or both.
-  contact::MeshState State(double crank) const { return deck.EvaluateDiscs(*model, second.get(), crank); }
-  double Tolerance() const {
-    return std::max(model->interference_tolerance(), second ? second->interference_tolerance() : 0.0);
-  }
+  contact::MeshState State(double crank) const { return stage.State(crank); }
 
   solvers::LoadProblem Problem(const contact::MeshState& state, double torque) const {
-    if (second) return {model, second, state, deck.contact, material, torque, options.kinematics};
-    solvers::LoadProblem problem(model, state, deck.contact, material, torque, options.kinematics);
-    if (!coupling.matrix) return problem;
-    return problem.WithCoupling(coupling);
+    return stage.Problem(state, torque);
   }
 
   /// The twist at a non-zero torque (rad, -TE) with friction resisting the motion of the current
@@ -138,11 +135,12 @@ struct StiffnessRunner::Impl {
                bool on_loop = true) {
     int solves = 0;
     const LoadResult r = SolveWithLoopFriction(
-        *model, state, torque, sense, friction_mu,
-        [&](double t) { return solver->Solve(Problem(state, t), options, workspace); }, &solves, second.get());
+        stage.model(), state, torque, sense, friction_mu,
+        [&](double t) { return solver->Solve(Problem(state, t), options, workspace); }, &solves,
+        stage.disc_count() == 2 ? &stage.model(1) : nullptr);
     pos->solves += solves;
     if (status != nullptr) *status = r.status;
-    if (second && on_loop && r.status == SolverStatus::kSuccess && std::abs(torque) == rated) {
+    if (stage.disc_count() == 2 && on_loop && r.status == SolverStatus::kSuccess && std::abs(torque) == rated) {
       // Two discs (issue 13): the split at +-T; with friction, of the loop's pass through it.
       const std::vector<double> parts = Problem(state, torque).DiscTorques(r.rotation, r.force, workspace);
       (torque > 0.0 ? pos->first_disc_share_drive : pos->first_disc_share_coast) = parts[0] / (parts[0] + parts[1]);
@@ -275,11 +273,12 @@ struct StiffnessRunner::Impl {
   }
 };
 
-StiffnessRunner::StiffnessRunner(const Deck& deck, const SolverOptions& options, const StiffnessSettings& settings) {
+StiffnessRunner::StiffnessRunner(const Stage& stage, const SolverOptions& options, const StiffnessSettings& settings,
+                                 double torque, const std::optional<FrictionSettings>& friction) {
   const auto start = Clock::now();
   options.Validate();
   settings.Validate();
-  impl_ = std::make_unique<Impl>(deck, options, settings);
+  impl_ = std::make_unique<Impl>(stage, options, settings, torque, friction);
   impl_->elapsed = Clock::now() - start;
 }
 StiffnessRunner::~StiffnessRunner() = default;
@@ -308,7 +307,6 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   StiffnessPosition pos;
   pos.crank = crank;
   const contact::MeshState state = m.State(crank);
-  contact::RequireNoInterference(state, crank, m.Tolerance());
   const double t = m.rated;
 
   // The free play: where the output rests at zero torque, coming from either flank.
@@ -498,4 +496,4 @@ StiffnessSummary StiffnessRunner::Summary() const {
   return s;
 }
 
-}  // namespace ltca::app
+}  // namespace ltca::analysis

@@ -1,9 +1,11 @@
-#include "ltca/app/sweep.hpp"
+#include "ltca/analysis/sweep.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -11,7 +13,7 @@
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
 
-namespace ltca::app {
+namespace ltca::analysis {
 namespace {
 
 int Severity(SolverStatus s) { return s == SolverStatus::kSuccess ? 0 : (s == SolverStatus::kNotSolved ? -1 : 1); }
@@ -19,6 +21,38 @@ int Severity(SolverStatus s) { return s == SolverStatus::kSuccess ? 0 : (s == So
 using Clock = std::chrono::steady_clock;
 
 }  // namespace
+
+void Sweep::Validate() const {
+  if (positions < 1 || positions > kMaxPositions) {
+    throw std::invalid_argument(fmt::format(
+        "[sweep] positions = {}: expected an integer from 1 to {} (docs/decks.md, Limits)",
+        positions, kMaxPositions));
+  }
+  const double max_crank = units::DegToRad(kMaxCrankDeg);
+  for (const auto& [key, value] : {std::pair{"crank_start_deg", crank_start}, std::pair{"crank_end_deg", crank_end}}) {
+    if (!std::isfinite(value) || std::abs(value) > max_crank) {
+      throw std::invalid_argument(fmt::format(
+          "[sweep] {} = {}: expected a finite crank angle within +-{} deg (docs/decks.md, Limits)",
+          key, units::RadToDeg(value), kMaxCrankDeg));
+    }
+  }
+  if (positions > 1 && crank_end <= crank_start) {
+    throw std::invalid_argument(fmt::format(
+        "[sweep] crank_end_deg = {}: expected an angle above crank_start_deg = {} when "
+        "positions > 1",
+        units::RadToDeg(crank_end), units::RadToDeg(crank_start)));
+  }
+}
+
+std::vector<double> Sweep::CrankAngles() const {
+  std::vector<double> angles(static_cast<std::size_t>(positions));
+  for (int i = 0; i < positions; ++i) {
+    angles[static_cast<std::size_t>(i)] =
+        positions == 1 ? crank_start
+                       : crank_start + (crank_end - crank_start) * i / (positions - 1);
+  }
+  return angles;
+}
 
 void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
   if (Severity(p.result.status) > Severity(s_.status)) s_.status = p.result.status;
@@ -74,77 +108,29 @@ SweepSummary SummaryAccumulator::Summary() const {
 }
 
 struct SweepRunner::Impl {
-  const Deck& deck;
+  Stage stage;
   SolverOptions options;
-  std::shared_ptr<const contact::MeshModel> model;
-  std::shared_ptr<const contact::MeshModel> second;  // [second_disc] (issue 13), nullptr for one disc
   std::unique_ptr<LoadSolver> solver;
   solvers::Workspace workspace;  // this sweep's warm starts: one runner per thread
-  const contact::Material& material;
   double torque;
   SummaryAccumulator summary;
   Clock::duration elapsed{};
-  // The unloaded states evaluated for the interference check, kept for the solves when they fit
-  // in kKeptStatesBytes (in sweep order; a crank solved out of order is evaluated again).
-  static constexpr std::size_t kKeptStatesBytes = std::size_t{64} << 20;
-  std::vector<contact::MeshState> checked;
-  std::size_t next_checked = 0;
-  solvers::LoadProblem::CheckedCoupling coupling;  // pin bending ([pins]), checked once for the sweep
   // The last crank's state repeats the first's (a closed period, contact::SameMesh): the mean
   // weights it once (issue 26).
-  bool closed = false;
   double last_crank = 0.0;
 
-  Impl(const Deck& d, const SolverOptions& o, Clock::time_point start)
-      : deck(d), options(o), model(std::make_shared<const contact::MeshModel>(d.MakeModel())), second(d.MakeSecondModel()),
-        solver(solvers::MakeSolver(o.name)), material(d.RequireMaterial()), torque(d.RequireLoad().torque) {
-    // Nothing is solved for a pair that interferes anywhere in the sweep (as `backlash` rejects it).
-    const auto cranks = deck.sweep.CrankAngles();
-    const bool keep = cranks.size() * static_cast<std::size_t>(model->point_count() * deck.disc_count()) *
-                          sizeof(contact::PinContact) <= kKeptStatesBytes;
-    const double tolerance = std::max(model->interference_tolerance(), second ? second->interference_tolerance() : 0.0);
-    contact::MeshState first;
-    for (std::size_t i = 0; i < cranks.size(); ++i) {
-      contact::MeshState state = deck.EvaluateDiscs(*model, second.get(), cranks[i]);
-      contact::RequireNoInterference(state, cranks[i], tolerance);
-      if (i == 0) first = state;
-      if (i > 0 && i + 1 == cranks.size()) closed = contact::SameMesh(first, state);
-      if (keep) checked.push_back(std::move(state));
-    }
-    last_crank = cranks.back();
-    summary.closed_period = closed;
-    coupling = deck.MakeCoupling(*model);
-    elapsed = Clock::now() - start;
-  }
-
-  solvers::LoadProblem Problem(double crank) {
-    // The kept state of this crank, searched forward (a crank solved out of order is evaluated
-    // again); a state is released once used, and the ones skipped over with it.
-    std::size_t k = next_checked;
-    while (k < checked.size() && checked[k].crank != crank) ++k;
-    std::optional<solvers::LoadProblem> problem;
-    if (k < checked.size()) {
-      if (second) {
-        problem.emplace(model, second, std::move(checked[k]), deck.contact, material, torque, options.kinematics);
-      } else {
-        problem.emplace(model, std::move(checked[k]), deck.contact, material, torque, options.kinematics);
-      }
-      for (std::size_t i = next_checked; i <= k; ++i) checked[i] = contact::MeshState{};
-      next_checked = k + 1;
-    } else if (second) {
-      problem.emplace(model, second, crank, deck.contact, material, torque, options.kinematics);
-    } else {
-      problem.emplace(model, crank, deck.contact, material, torque, options.kinematics);
-    }
-    if (!coupling.matrix) return std::move(*problem);
-    return problem->WithCoupling(coupling);
+  Impl(const Stage& s, const SolverOptions& o, double t)
+      : stage(s), options(o), solver(solvers::MakeSolver(o.name)), torque(t) {
+    summary.closed_period = stage.closed_period();
+    if (!stage.cranks().empty()) last_crank = stage.cranks().back();
   }
 };
 
-SweepRunner::SweepRunner(const Deck& deck, const SolverOptions& options) {
+SweepRunner::SweepRunner(const Stage& stage, const SolverOptions& options, double torque) {
   const auto start = Clock::now();
   options.Validate();
-  impl_ = std::make_unique<Impl>(deck, options, start);
+  impl_ = std::make_unique<Impl>(stage, options, torque);
+  impl_->elapsed = Clock::now() - start;
 }
 SweepRunner::~SweepRunner() = default;
 SweepRunner::SweepRunner(SweepRunner&&) noexcept = default;
@@ -155,7 +141,7 @@ const SolverOptions& SweepRunner::options() const { return impl_->options; }
 PositionResult SweepRunner::Solve(double crank) {
   const auto start = Clock::now();
   Impl& m = *impl_;
-  const solvers::LoadProblem problem = m.Problem(crank);
+  const solvers::LoadProblem problem = m.stage.Problem(crank, m.torque);
   PositionResult pos;
   pos.crank = crank;
   pos.result = m.solver->Solve(problem, m.options, m.workspace);
@@ -163,9 +149,10 @@ PositionResult SweepRunner::Solve(double crank) {
   const auto points = problem.At(std::isfinite(pos.result.rotation) ? pos.result.rotation : 0.0, m.workspace, &scratch);
   const auto& base = problem.base_state().pins;
   // Per pin of every disc: disc 1's pins, then disc 2's (issue 13).
-  const auto pins = static_cast<std::size_t>(m.model->pin_count() * problem.disc_count());
-  const auto per_disc = static_cast<std::size_t>(m.model->pin_count());
-  pos.slices = m.model->slice_count();
+  const contact::MeshModel& model = m.stage.model();
+  const auto pins = static_cast<std::size_t>(model.pin_count() * problem.disc_count());
+  const auto per_disc = static_cast<std::size_t>(model.pin_count());
+  pos.slices = model.slice_count();
   pos.angle.assign(pins, 0.0);
   pos.pin_force.assign(pins, 0.0);
   pos.contact_stress.assign(pins, 0.0);
@@ -188,7 +175,8 @@ PositionResult SweepRunner::Solve(double crank) {
   }
   // A relieved tip that carries load is reported as such (issue 26): the user's relief is used as
   // given, and its contact (a small convex radius: a high stress) is a fact the user must see.
-  const bool relieved = m.model->profile().tip_cap().active() || (m.second && m.second->profile().tip_cap().active());
+  const bool relieved = model.profile().tip_cap().active() ||
+                        (m.stage.disc_count() == 2 && m.stage.model(1).profile().tip_cap().active());
   if (relieved && pos.succeeded()) {
     const bool exact = problem.kinematics() == contact::ContactKinematics::kExact;
     for (std::size_t i = 0; i < points.size() && i < pos.result.force.size(); ++i) {
@@ -205,7 +193,7 @@ PositionResult SweepRunner::Solve(double crank) {
     pos.disc_torque = pos.succeeded() ? problem.DiscTorques(pos.result.rotation, pos.result.force, m.workspace)
                                       : std::vector<double>(2, std::numeric_limits<double>::quiet_NaN());
   }
-  m.summary.Add(pos, !(m.closed && crank == m.last_crank));
+  m.summary.Add(pos, !(m.summary.closed_period && crank == m.last_crank));
   m.elapsed += Clock::now() - start;
   return pos;
 }
@@ -216,12 +204,12 @@ SweepSummary SweepRunner::Summary() const {
   return s;
 }
 
-SweepResult SolveSweep(const Deck& deck, const SolverOptions& options, const SweepCallbacks& callbacks) {
-  SweepRunner runner(deck, options);
+SweepResult SolveSweep(const Stage& stage, const SolverOptions& options, double torque, const SweepCallbacks& callbacks) {
+  SweepRunner runner(stage, options, torque);
   SweepResult sweep;
   sweep.solver = options.name;
   sweep.options = options;
-  for (const double crank : deck.sweep.CrankAngles()) {
+  for (const double crank : stage.cranks()) {
     PositionResult pos = runner.Solve(crank);
     if (callbacks.on_position) callbacks.on_position(pos);
     if (callbacks.keep_positions) sweep.positions.push_back(std::move(pos));
@@ -230,4 +218,4 @@ SweepResult SolveSweep(const Deck& deck, const SolverOptions& options, const Swe
   return sweep;
 }
 
-}  // namespace ltca::app
+}  // namespace ltca::analysis

@@ -21,9 +21,91 @@
 #include <thread>
 #include <vector>
 
-#include "ltca/app/deck.hpp"
+#include <optional>
 
-namespace ltca::app {
+#include "ltca/analysis/friction.hpp"
+#include "ltca/analysis/stage.hpp"
+#include "ltca/analysis/stiffness.hpp"
+#include "ltca/analysis/sweep.hpp"
+
+namespace ltca::analysis {
+
+/// One key of [tolerances]: how the value of an [errors] or [modification] key scatters about the
+/// deck's own value (its nominal). Values are in the key's unit (mm, um or deg, as its name says).
+struct ToleranceDistribution {
+  enum class Kind {
+    kNormal,   ///< mean + sigma z, z standard normal (deck: sigma, or tolerance read as 3 sigma)
+    kUniform,  ///< uniform on mean +- tolerance (deck: tolerance)
+  };
+  std::string key;      ///< the [tolerances] key, e.g. "pin_circle_deviation_mm"
+  Kind kind = Kind::kNormal;
+  double sigma = 0.0;       ///< normal: standard deviation, key unit (>= 0)
+  double tolerance = 0.0;   ///< uniform: half-width, key unit (>= 0); normal: 3 sigma when given so
+  double mean = 0.0;        ///< offset of the distribution's centre from the deck's value, key unit
+  bool per_pin = false;     ///< drawn independently for every pin (a list key of [errors])
+  /// The half-width of the range the extreme-value (worst-case) method uses: uniform: tolerance;
+  /// normal: 3 sigma.
+  double WorstCaseHalfWidth() const { return kind == Kind::kUniform ? tolerance : 3.0 * sigma; }
+  /// Standard deviation of a draw, key unit.
+  double StandardDeviation() const;
+  /// Nothing scatters and nothing is offset: the key leaves every sample at the deck's value.
+  bool IsZero() const { return sigma == 0.0 && tolerance == 0.0 && mean == 0.0; }
+};
+
+/// A user-given acceptance limit on a figure of `ltca tolerance` (deck: [tolerances] limits).
+struct ToleranceLimit {
+  std::string figure;  ///< a figure name, e.g. "lost_motion_arcmin"
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+};
+
+/// One link of an assembly dimensional chain: a dimension with its upper and lower deviation
+/// (deck: [tolerances] chains, e.g. Jiang 2022 Table 3).
+struct DimensionLink {
+  std::string name;
+  bool increasing = true;  ///< an increasing link widens the closing link; a decreasing one narrows it
+  double upper = 0.0;      ///< upper deviation (es / ES), um in a deck
+  double lower = 0.0;      ///< lower deviation (ei / EI), um in a deck
+};
+/// A dimensional chain whose closing link (a clearance) is solved for (deck: [tolerances] chains).
+struct DimensionChain {
+  std::string name;  ///< e.g. "B0"
+  std::vector<DimensionLink> links;
+};
+
+/// [tolerances]: the Monte Carlo of `ltca tolerance` (issue 15).
+struct ToleranceSettings {
+  static constexpr std::int64_t kMaxSamples = 10'000'000;
+  std::vector<ToleranceDistribution> distributions;  ///< in the order of ToleranceKeys()
+  std::int64_t samples = 1000;   ///< 1 .. kMaxSamples
+  std::uint64_t seed = 1;        ///< of the counter-based stream: sample i depends on (seed, i) only
+  bool lost_motion = false;      ///< also run lost motion (issue 13) per sample
+  /// [errors] profile_random_*: every sample its own random profile deviation (the zone and the
+  /// law of the deck, the seed drawn from (seed, i)) instead of the deck's one profile.
+  bool profile_random_per_sample = false;
+  std::vector<ToleranceLimit> limits;
+  /// Assembly dimensional chains (deck: chains = { B0 = [ { link = "...", kind = "increasing",
+  /// upper_um = 9, lower_um = 0 }, ... ] }): their closing links by the extreme-value method and
+  /// by Monte Carlo (every link uniform within its limits), reported beside the pair's figures.
+  std::vector<DimensionChain> chains;
+  /// The keys [tolerances] knows: every numeric key of [errors] and, prefixed "modification_", the
+  /// modifications. The second member says whether the key is per pin.
+  static const std::vector<std::pair<std::string, bool>>& ToleranceKeys();
+  /// The figure names a limit may name (the summary keys of solve, backlash and stiffness).
+  static const std::vector<std::string>& FigureNames();
+  /// Throws std::invalid_argument naming the key, the value and what is expected.
+  void Validate() const;
+};
+// --- end of issue 15's [tolerances] ----------------------------------------------------------------
+
+/// The nominal case a study varies: the stage as the deck gives it, and what every sample runs.
+struct ToleranceCase {
+  StageDesign design;
+  Sweep sweep;
+  double torque = 0.0;                      ///< N*mm, signed
+  StiffnessSettings stiffness;              ///< lost motion's loop (ToleranceSettings::lost_motion)
+  std::optional<FrictionSettings> friction; ///< the loop's friction
+};
 
 /// The figures of a sample, in the order of ToleranceSettings::FigureNames(), in the units their
 /// names carry (arcsec, MPa, N, arcmin; contacts as counts).
@@ -83,11 +165,11 @@ struct ToleranceSample {
 /// The Monte Carlo: immutable once built, Run() may be called from any number of threads.
 class ToleranceStudy {
  public:
-  /// Validates the options and the settings; the deck is copied. Requires [material] and [load]
-  /// (and a non-zero torque when lost motion is asked for).
-  ToleranceStudy(const Deck& deck, const SolverOptions& options, const ToleranceSettings& settings);
+  /// Validates the options and the settings. Requires the material (and a non-zero torque when
+  /// lost motion is asked for).
+  ToleranceStudy(ToleranceCase nominal, const SolverOptions& options, const ToleranceSettings& settings);
 
-  const Deck& deck() const { return deck_; }
+  const ToleranceCase& nominal() const { return nominal_; }
   const SolverOptions& options() const { return options_; }
   const ToleranceSettings& settings() const { return settings_; }
   const std::vector<ToleranceInput>& inputs() const { return inputs_; }
@@ -96,10 +178,10 @@ class ToleranceStudy {
 
   /// The input columns of sample i: a pure function of (seed, i).
   std::vector<double> Draw(std::int64_t i) const;
-  /// The deck of a pair with these input deviations (from the deck's values) applied.
-  Deck Apply(const std::vector<double>& inputs) const;
-  /// The figures of one pair (the deterministic run of a deck), with status and message.
-  ToleranceSample Evaluate(const Deck& pair) const;
+  /// The case of a pair with these input deviations (from the nominal values) applied.
+  ToleranceCase Apply(const std::vector<double>& inputs) const;
+  /// The figures of one pair (the deterministic run of a case), with status and message.
+  ToleranceSample Evaluate(const ToleranceCase& pair) const;
   /// Sample i: Draw, Apply, Evaluate.
   ToleranceSample Run(std::int64_t i) const;
   /// Samples first .. first + count - 1 on `threads` threads (1 .. kMaxToleranceThreads), in
@@ -114,7 +196,7 @@ class ToleranceStudy {
                  const std::function<void(std::int64_t)>& progress = {}) const;
 
  private:
-  Deck deck_;
+  ToleranceCase nominal_;
   SolverOptions options_;
   ToleranceSettings settings_;
   std::vector<ToleranceInput> inputs_;
@@ -279,4 +361,4 @@ struct CornerExceedance {
 std::array<CornerExceedance, kToleranceFigureCount> CompareWithCorners(const ToleranceStudy& study, const SampleTable& samples,
                                                                         const WorstCaseResult& worst);
 
-}  // namespace ltca::app
+}  // namespace ltca::analysis

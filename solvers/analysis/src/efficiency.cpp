@@ -1,5 +1,5 @@
-#include "ltca/app/efficiency.hpp"
-#include "ltca/app/sweep.hpp"
+#include "ltca/analysis/efficiency.hpp"
+#include "ltca/analysis/sweep.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -15,7 +15,7 @@
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
 
-namespace ltca::app {
+namespace ltca::analysis {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -60,18 +60,17 @@ double SensingerEfficiency(const geometry::PairParameters& pair, double mu) {
 }
 
 struct EfficiencyRunner::Impl {
-  const Deck& deck;
+  Stage stage;
+  const StageDesign& design;
+  const contact::Material& material;
   SolverOptions options;
-  std::shared_ptr<const contact::MeshModel> model;
   std::unique_ptr<LoadSolver> solver;
   solvers::Workspace workspace;
-  const contact::Material& material;
-  const FrictionSettings& friction;
-  const OperationSettings& operation;
+  FrictionSettings friction;
+  OperationSettings operation;
   double torque;  // signed, N*mm
   std::vector<double> cranks;
   bool closed = false;
-  solvers::LoadProblem::CheckedCoupling coupling;
   contact::Lubrication lubrication;
   double crank_speed = 0.0;  // rad/s, signed (set by the first position)
   EfficiencySummary summary;
@@ -80,24 +79,21 @@ struct EfficiencyRunner::Impl {
   std::map<std::string, std::string> warnings;
   Clock::duration elapsed{}, solving{};
 
-  Impl(const Deck& d, const SolverOptions& o)
-      : deck(d), options(o), model(std::make_shared<const contact::MeshModel>(d.MakeModel())),
-        solver(solvers::MakeSolver(o.name)), material(d.RequireMaterial()), friction(RequireFriction(d)),
-        operation(RequireOperation(d)), torque(d.RequireLoad().torque), cranks(d.sweep.CrankAngles()) {
-    if (d.second_disc) {
+  Impl(const Stage& st, const SolverOptions& o, double t, const FrictionSettings& f, const OperationSettings& op)
+      : stage(st), design(st.design()), material(st.material()), options(o), solver(solvers::MakeSolver(o.name)), friction(f), operation(op),
+        torque(t), cranks(st.cranks()) {
+    if (stage.disc_count() == 2) {
       throw std::invalid_argument(fmt::format(
           "deck '{}': [second_disc]: ltca efficiency sums the first disc's contacts only; expected one disc (the "
           "two-disc efficiency is not built yet)",
-          d.name));
+          design.name));
     }
     if (torque == 0.0) {
       throw std::invalid_argument("[load] torque_nm = 0: expected a non-zero torque (efficiency has no output power "
                                   "at zero torque)");
     }
-    for (const double crank : cranks) contact::RequireNoInterference(*model, crank);
     // The last crank repeats the first's state (a closed period): the means weigh it once (issue 26).
-    closed = cranks.size() > 1 && contact::SameMesh(model->Evaluate(cranks.front()), model->Evaluate(cranks.back()));
-    coupling = deck.MakeCoupling(*model);
+    closed = stage.closed_period();
     lubrication.viscosity = operation.viscosity;
     lubrication.pressure_viscosity = operation.pressure_viscosity;
     lubrication.roughness_cycloid = operation.roughness_cycloid;
@@ -107,29 +103,7 @@ struct EfficiencyRunner::Impl {
     lubrication.power_law_exponent = friction.power_law_exponent;
   }
 
-  static const FrictionSettings& RequireFriction(const Deck& d) {
-    if (!d.friction) {
-      throw std::invalid_argument(fmt::format(
-          "deck '{}': missing required section [friction] for this command (e.g. --set friction.coefficient=0.05)",
-          d.name));
-    }
-    return *d.friction;
-  }
-  static const OperationSettings& RequireOperation(const Deck& d) {
-    if (!d.operation) {
-      throw std::invalid_argument(fmt::format(
-          "deck '{}': missing required section [operation] for this command (e.g. --set "
-          "operation.input_speed_rpm=1500)",
-          d.name));
-    }
-    return *d.operation;
-  }
-
-  solvers::LoadProblem Problem(const contact::MeshState& state, double t) const {
-    solvers::LoadProblem problem(model, state, deck.contact, material, t, options.kinematics);
-    if (!coupling.matrix) return problem;
-    return problem.WithCoupling(coupling);
-  }
+  solvers::LoadProblem Problem(const contact::MeshState& state, double t) const { return stage.Problem(state, t); }
 
   LoadResult Solve(const contact::MeshState& state, double t) {
     const auto start = Clock::now();
@@ -143,10 +117,10 @@ struct EfficiencyRunner::Impl {
   /// when the ellipse fits within the face width; otherwise the line contact holds.
   bool PointCurvature(const contact::PinContact& c, contact::RelativeCurvature* curvature) const {
     const double across = c.cycloid_curvature + 1.0 / c.pin_radius;
-    const double crowning = deck.errors.lead_crowning;
-    const double tilt = std::hypot(deck.assembly.misalignment_xz, deck.assembly.misalignment_yz);
+    const double crowning = design.errors.lead_crowning;
+    const double tilt = std::hypot(design.assembly.misalignment_xz, design.assembly.misalignment_yz);
     if (crowning > 0.0) {
-      *curvature = {8.0 * crowning / (deck.pair.face_width * deck.pair.face_width), across};
+      *curvature = {8.0 * crowning / (design.pair.face_width * design.pair.face_width), across};
       return true;
     }
     if (tilt > 0.0 && c.cycloid_curvature > 0.0) {
@@ -168,15 +142,15 @@ struct EfficiencyRunner::Impl {
                   std::vector<std::string>* warn) const {
     out->clear();
     const double e_star = material.EquivalentModulus();
-    const int slices = model->slice_count();
-    std::vector<double> pin_force(static_cast<std::size_t>(model->pin_count()), 0.0);
+    const int slices = stage.model().slice_count();
+    std::vector<double> pin_force(static_cast<std::size_t>(stage.model().pin_count()), 0.0);
     for (std::size_t i = 0; i < f.size(); ++i) pin_force[static_cast<std::size_t>(state.pins[i].pin)] += std::max(0.0, f[i]);
     // A point carries load above kContactForceFraction of the largest (the rule of ltca solve):
     // below it the force is numerical zero, whose "coefficient" (viscous drag over a vanishing
     // load) means nothing.
     const double floor = kContactForceFraction * *std::max_element(f.begin(), f.end());
     double moment = 0.0;
-    const double ratio = friction.sleeve_bore_radius ? *friction.sleeve_bore_radius / deck.pair.pin_radius : 1.0;
+    const double ratio = friction.sleeve_bore_radius ? *friction.sleeve_bore_radius / design.pair.pin_radius : 1.0;
     for (std::size_t i = 0; i < f.size(); ++i) {
       if (!(f[i] > floor)) continue;
       const contact::PinContact& c = state.pins[i];
@@ -193,7 +167,7 @@ struct EfficiencyRunner::Impl {
       if (PointCurvature(c, &curvature)) {
         const contact::ContactShape ellipse =
             contact::EllipseShape(curvature, pin_force[static_cast<std::size_t>(c.pin)], e_star);
-        if (2.0 * ellipse.semi_major <= deck.pair.face_width) {
+        if (2.0 * ellipse.semi_major <= design.pair.face_width) {
           shape = ellipse;
           // The pin's ellipse carries the pin's force: this point's share of its area.
           shape.area *= f[i] / pin_force[static_cast<std::size_t>(c.pin)];
@@ -230,8 +204,7 @@ struct EfficiencyRunner::Impl {
   EfficiencyPosition SolvePosition(double crank) {
     EfficiencyPosition pos;
     pos.crank = crank;
-    const contact::MeshState state = model->Evaluate(crank, 0.0);
-    contact::RequireNoInterference(state, crank, model->interference_tolerance());
+    const contact::MeshState state = stage.State(crank);
     LoadResult r = Solve(state, torque);
     ++summary.solves;
     pos.status = r.status;
@@ -246,8 +219,8 @@ struct EfficiencyRunner::Impl {
     double reaction = 0.0;  // moment of the normal forces on the cycloid about its centre
     for (std::size_t i = 0; i < n; ++i) {
       const contact::PinContact& c = state.pins[i];
-      const geometry::Pose pose = model->CyclePose(crank, 0.0, c.z);
-      rates[i] = contact::PoseRatePerCrank(*model, crank, 0.0, c.z);
+      const geometry::Pose pose = stage.model().CyclePose(crank, 0.0, c.z);
+      rates[i] = contact::PoseRatePerCrank(stage.model(), crank, 0.0, c.z);
       kin[i].lever = c.cycloid_point - pose.centre;
       kin[i].v = contact::Velocities(c, pose, rates[i]);
       reaction += Cross(kin[i].lever, -r.force[i] * c.normal);
@@ -373,8 +346,8 @@ struct EfficiencyRunner::Impl {
           std::abs(pos.friction_moment_ratio)));
     }
     pos.power_loss = 0.0;
-    pos.pin_coefficient.assign(static_cast<std::size_t>(model->pin_count()), kNaN);
-    pos.pin_loss.assign(static_cast<std::size_t>(model->pin_count()), 0.0);
+    pos.pin_coefficient.assign(static_cast<std::size_t>(stage.model().pin_count()), kNaN);
+    pos.pin_loss.assign(static_cast<std::size_t>(stage.model().pin_count()), 0.0);
     std::vector<double> pin_mu_force(pos.pin_loss.size(), 0.0), pin_force(pos.pin_loss.size(), 0.0);
     for (const auto& p : pos.contacts) {
       pos.power_loss += p.loss;
@@ -390,8 +363,8 @@ struct EfficiencyRunner::Impl {
 
     // The classical estimates with the same (mean) mu: F_i ~ L_i over the pins of the loaded half
     // of the nominal pair (Malhotra-Parameswaran's distribution), and its continuum limit.
-    const geometry::Kinematics& k = model->kinematics();
-    const geometry::PairParameters& pair = deck.pair;
+    const geometry::Kinematics& k = stage.model().kinematics();
+    const geometry::PairParameters& pair = design.pair;
     const double pitch = pair.eccentricity * pair.pin_count / pair.ToothDifference();
     const Eigen::Vector2d u(std::cos(crank), std::sin(crank));
     const Eigen::Vector2d centre = pair.eccentricity * u, ip = pitch * u;
@@ -414,10 +387,11 @@ struct EfficiencyRunner::Impl {
   }
 };
 
-EfficiencyRunner::EfficiencyRunner(const Deck& deck, const SolverOptions& options) {
+EfficiencyRunner::EfficiencyRunner(const Stage& stage, const SolverOptions& options, double torque,
+                                   const FrictionSettings& friction, const OperationSettings& operation) {
   const auto start = Clock::now();
   options.Validate();
-  impl_ = std::make_unique<Impl>(deck, options);
+  impl_ = std::make_unique<Impl>(stage, options, torque, friction, operation);
   impl_->elapsed = Clock::now() - start;
 }
 EfficiencyRunner::~EfficiencyRunner() = default;
@@ -465,7 +439,7 @@ EfficiencySummary EfficiencyRunner::Summary() const {
     s.efficiency = s.output_power.mean / (s.output_power.mean + s.power_loss.mean);
     s.efficiency_first_order = s.output_power.mean / (s.output_power.mean + s.power_loss_first_order.mean);
     if (m.mp_count > 0) s.efficiency_malhotra_parameswaran = m.mp_sum / static_cast<double>(m.mp_count);
-    if (std::isfinite(s.mean_coefficient.mean)) s.efficiency_sensinger = SensingerEfficiency(m.deck.pair, s.mean_coefficient.mean);
+    if (std::isfinite(s.mean_coefficient.mean)) s.efficiency_sensinger = SensingerEfficiency(m.design.pair, s.mean_coefficient.mean);
     s.energy_loss_per_revolution = s.power_loss.mean * 2.0 * kPi / m.operation.input_speed;
   }
   for (const auto& [name, text] : m.warnings) s.warnings.push_back(text);
@@ -474,68 +448,4 @@ EfficiencySummary EfficiencyRunner::Summary() const {
   return s;
 }
 
-// --- the stiffness loop with friction ------------------------------------------------------------
-double LoopFrictionCoefficient(const Deck& deck) {
-  if (!deck.friction) return 0.0;
-  return deck.friction->model == FrictionSettings::Model::kCoulomb ? deck.friction->coefficient
-                                                                    : deck.friction->boundary_coefficient;
-}
-
-LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state, double torque,
-                                 double sense, double mu, const std::function<LoadResult(double)>& solve, int* solves,
-                                 const contact::MeshModel* second) {
-  LoadResult r = solve(torque);
-  if (solves != nullptr) ++*solves;
-  if (mu == 0.0 || sense == 0.0 || r.status != SolverStatus::kSuccess) return r;
-  // Turning about its centre (crank locked), the cycloid slides every contact along its tangent;
-  // the friction moment about the centre is mu F_i |(P - O_c) x t_i| = mu F_i |(P - O_c) . n_i|.
-  std::vector<double> arm(state.pins.size(), 0.0);
-  for (std::size_t i = 0; i < state.pins.size(); ++i) {
-    const contact::PinContact& c = state.pins[i];
-    const bool on_second = c.disc == 1 && second != nullptr;  // issue 13: each disc about its own centre
-    const contact::MeshModel& disc = on_second ? *second : model;
-    const double crank = state.crank + (on_second ? contact::kSecondDiscCrankOffset : 0.0);
-    arm[i] = std::abs((c.cycloid_point - disc.CyclePose(crank, 0.0, c.z).centre).dot(c.normal));
-  }
-  // The normal forces carry t = T + M_f, M_f = -sense mu sum F_i a_i (the friction resists the
-  // motion): a fixed point in t, each step the frictionless problem at t.
-  // g(t) = T - sense mu sum F_i(t) a_i - t, solved by the secant method from t = T.
-  const auto residual = [&](const LoadResult& res, double t) {
-    double moment = 0.0;
-    for (std::size_t i = 0; i < state.pins.size(); ++i) {
-      if (res.force[i] > 0.0) moment += mu * res.force[i] * arm[i];
-    }
-    return torque - sense * moment - t;
-  };
-  double t_prev = torque, g_prev = residual(r, torque);
-  double t_now = torque + g_prev;
-  // The normal forces carry torque in the sense of T: a step to the other sense means the friction
-  // moment outgrows the torque (the stage locks under this friction), and no balance exists.
-  const auto failed = [](std::string message) {
-    LoadResult f;
-    f.status = SolverStatus::kMaxIterations;
-    f.message = std::move(message);
-    return f;
-  };
-  for (int k = 0; k < kMaxBalanceSolves; ++k) {
-    if (!std::isfinite(t_now) || (torque != 0.0 && t_now * torque <= 0.0)) {
-      return failed(fmt::format(
-          "torque balance with friction (mu {:g}): no balance at {:g} N*m, the friction moment reaches the torque the "
-          "normal forces carry (step to {:g} N*m): the stage locks under this friction",
-          mu, torque / 1000.0, t_now / 1000.0));
-    }
-    r = solve(t_now);
-    if (solves != nullptr) ++*solves;
-    if (r.status != SolverStatus::kSuccess) return r;
-    const double g_now = residual(r, t_now);
-    if (std::abs(g_now) <= kBalanceTolerance * std::abs(torque)) return r;
-    const double slope = (g_now - g_prev) / (t_now - t_prev);
-    t_prev = t_now;
-    g_prev = g_now;
-    t_now = slope != 0.0 && std::isfinite(slope) ? t_now - g_now / slope : t_now + g_now;
-  }
-  return failed(fmt::format("torque balance with friction (mu {:g}) at {:g} N*m: not converged after {} solves", mu,
-                            torque / 1000.0, kMaxBalanceSolves));
-}
-
-}  // namespace ltca::app
+}  // namespace ltca::analysis

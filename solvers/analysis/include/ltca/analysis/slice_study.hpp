@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "ltca/app/deck.hpp"
+#include "ltca/analysis/stage.hpp"
 #include "ltca/contact/unloaded.hpp"
 
-namespace ltca::app {
+namespace ltca::analysis {
 
 struct SliceStudyRow {
   int slices = 0;
@@ -19,10 +19,12 @@ struct SliceStudyRow {
   bool succeeded = false;  ///< every position solved
 };
 
-/// The deck (which must run the slice model: something varies along the width, or [pins]) solved
-/// with `solver` under linearised kinematics at every slice count, `repeats` times each.
-std::vector<SliceStudyRow> RunSliceStudy(const Deck& deck, const std::vector<int>& slice_counts,
-                                         const std::string& solver, int repeats);
+/// The stage (which must run the slice model: something varies along the width, or [pins]) at
+/// the cranks (rad) and the torque (N*mm), solved with `options` under linearised kinematics at
+/// every slice count, `repeats` times each; the time per position includes building the stage.
+std::vector<SliceStudyRow> RunSliceStudy(const StageDesign& design, const std::vector<double>& cranks, double torque,
+                                         const SolverOptions& options, const std::vector<int>& slice_counts,
+                                         int repeats);
 
 /// The unloaded figures of a misaligned deck from its face edges alone (issue 26): the plane pair
 /// with the cycloid centre where the tilted axis puts it at face B, and the one at the far face
@@ -33,11 +35,11 @@ std::vector<SliceStudyRow> RunSliceStudy(const Deck& deck, const std::vector<int
 struct FaceEdgeBacklash {
   double mean_arcsec = 0.0, pp_arcsec = 0.0;
 };
-FaceEdgeBacklash FaceEdgeUnloaded(const Deck& deck,
+FaceEdgeBacklash FaceEdgeUnloaded(const StageDesign& design, const std::vector<double>& cranks,
                                   contact::ContactKinematics kinematics = contact::ContactKinematics::kLinearised);
 
 /// Least-squares slope of log(time) against log(slices) over the rows with lo <= slices <= hi:
 /// the cost exponent (1: linear).
 double CostExponent(const std::vector<SliceStudyRow>& rows, int lo, int hi);
 
-}  // namespace ltca::app
+}  // namespace ltca::analysis

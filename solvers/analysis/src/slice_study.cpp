@@ -1,43 +1,46 @@
-#include "ltca/app/slice_study.hpp"
+#include "ltca/analysis/slice_study.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
-#include "ltca/app/sweep.hpp"
+#include "ltca/analysis/sweep.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
 
-namespace ltca::app {
+namespace ltca::analysis {
 
-std::vector<SliceStudyRow> RunSliceStudy(const Deck& deck, const std::vector<int>& slice_counts,
-                                         const std::string& solver, int repeats) {
+std::vector<SliceStudyRow> RunSliceStudy(const StageDesign& design, const std::vector<double>& cranks, double torque,
+                                         const SolverOptions& options, const std::vector<int>& slice_counts,
+                                         int repeats) {
+  using Clock = std::chrono::steady_clock;
   std::vector<SliceStudyRow> rows;
   for (const int n : slice_counts) {
-    Deck d = deck;
+    StageDesign d = design;
     d.geometry.width_slices = n;
+    d.kinematics = contact::ContactKinematics::kLinearised;
     if (d.Model().slices != n) {
-      throw std::invalid_argument(fmt::format("slice study: deck '{}' runs the {} model, not {} slices", deck.name,
+      throw std::invalid_argument(fmt::format("slice study: deck '{}' runs the {} model, not {} slices", design.name,
                                               d.Model().name, n));
     }
-    SolverOptions options = d.solver;
-    options.name = solver;
-    options.kinematics = contact::ContactKinematics::kLinearised;
     SliceStudyRow row;
     row.slices = n;
     row.seconds_per_position = std::numeric_limits<double>::infinity();
     for (int r = 0; r < std::max(repeats, 1); ++r) {
-      const SweepResult sweep = SolveSweep(d, options);
-      row.seconds_per_position =
-          std::min(row.seconds_per_position, sweep.summary.wall_seconds / static_cast<double>(sweep.summary.positions()));
+      const auto start = Clock::now();
+      const Stage stage(d, cranks);
+      const SweepResult sweep = SolveSweep(stage, options, torque);
+      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      row.seconds_per_position = std::min(row.seconds_per_position, seconds / static_cast<double>(sweep.summary.positions()));
       row.succeeded = sweep.summary.all_succeeded();
       row.mean_te_arcsec = units::RadToArcsec(sweep.summary.mean_te);
       row.pp_te_arcsec = units::RadToArcsec(sweep.summary.pp_te);
     }
-    const auto backlash = contact::AnalyseUnloadedSweep(d.MakeModel(), d.sweep.CrankAngles(), contact::ContactKinematics::kLinearised);
+    const auto backlash = contact::AnalyseUnloadedSweep(d.MakeModel(), cranks, contact::ContactKinematics::kLinearised);
     row.mean_backlash_arcsec = units::RadToArcsec(backlash.mean_backlash);
     row.pp_backlash_arcsec = units::RadToArcsec(backlash.pp_backlash);
     rows.push_back(row);
@@ -45,11 +48,12 @@ std::vector<SliceStudyRow> RunSliceStudy(const Deck& deck, const std::vector<int
   return rows;
 }
 
-FaceEdgeBacklash FaceEdgeUnloaded(const Deck& deck, contact::ContactKinematics kinematics) {
+FaceEdgeBacklash FaceEdgeUnloaded(const StageDesign& deck, const std::vector<double>& cranks,
+                                  contact::ContactKinematics kinematics) {
   if (!deck.assembly.VariesAlongWidth()) {
     throw std::invalid_argument(fmt::format("deck '{}': the face-edge backlash needs a misalignment", deck.name));
   }
-  Deck edge[2] = {deck, deck};
+  StageDesign edge[2] = {deck, deck};
   const double width = deck.pair.face_width;
   for (int k = 0; k < 2; ++k) {
     const Eigen::Vector2d shift = deck.assembly.SliceShift(k == 0 ? 0.0 : width, width);
@@ -60,7 +64,6 @@ FaceEdgeBacklash FaceEdgeUnloaded(const Deck& deck, contact::ContactKinematics k
   }
   const contact::MeshModel at_b = edge[0].MakeModel(), at_far = edge[1].MakeModel();
   const contact::MeshModel tilted = deck.MakeModel();
-  const std::vector<double> cranks = deck.sweep.CrankAngles();
   const bool closed = cranks.size() > 1 && contact::SameMesh(tilted.Evaluate(cranks.front()), tilted.Evaluate(cranks.back()));
   double sum = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (std::size_t i = 0; i < cranks.size(); ++i) {
@@ -86,4 +89,4 @@ double CostExponent(const std::vector<SliceStudyRow>& rows, int lo, int hi) {
   return (m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
-}  // namespace ltca::app
+}  // namespace ltca::analysis

@@ -1,0 +1,69 @@
+#pragma once
+// Friction (issue 14, docs/efficiency.md): the operating point and the friction model of a deck
+// ([operation], [friction]), and the quasi-static torque balance of the torque-twist loop with
+// Coulomb friction, which both `ltca stiffness` and `ltca tolerance` (lost motion) run.
+#include <functional>
+#include <limits>
+#include <optional>
+
+#include "ltca/analysis/stage.hpp"
+
+namespace ltca::analysis {
+
+/// [operation]: how the stage runs, for `ltca efficiency`. Internal units: rad/s, MPa*s, 1/MPa, mm.
+struct OperationSettings {
+  double input_speed = 0.0;          ///< crank speed, rad/s (deck: input_speed_rpm, required, > 0)
+  double viscosity = 30e-9;          ///< eta_0, MPa*s (deck: oil_viscosity_pa_s, default 0.03, Jiang)
+  double pressure_viscosity = 0.01;  ///< alpha, 1/MPa (deck: pressure_viscosity_per_gpa, default 10, Jiang)
+  double roughness_cycloid = 0.3e-3; ///< Ra, mm (deck: roughness_ra_cycloid_um, default 0.3, Jiang)
+  double roughness_pin = 0.3e-3;     ///< Ra, mm (deck: roughness_ra_pin_um, default 0.3)
+  static constexpr double kMaxSpeedRpm = 100'000.0;
+  /// Throws std::invalid_argument naming the key, the value and what is expected.
+  void Validate() const;
+};
+
+/// [friction]: the friction coefficient model, the pin sleeve and the torque balance.
+struct FrictionSettings {
+  enum class Model {
+    kCoulomb,     ///< constant mu = coefficient (deck: model = "coulomb", the default)
+    kJiangMixed,  ///< Jiang 2022 eq. 20-26 (deck: "jiang-mixed"); needs [operation]
+  };
+  Model model = Model::kCoulomb;
+  /// mu (deck: coefficient): Coulomb's constant; with jiang-mixed the coefficient of the first-order
+  /// figure is the mixed one, and this key is not used (it may be absent). In [0, 1].
+  double coefficient = std::numeric_limits<double>::quiet_NaN();
+  double boundary_coefficient = 0.1;    ///< f_b of eq. 20 (deck: boundary_coefficient), in [0, 1]
+  double limiting_shear_modulus = 1.0;  ///< G of eq. 23, MPa (deck: limiting_shear_modulus_mpa)
+  double power_law_exponent = 0.5;      ///< n of eq. 22-23 (deck: power_law_exponent), in (0, 1]
+  /// Pin sleeve (Jiang eq. 34, deck: sleeve_bore_radius_mm): the radius of the pin inside a sleeve
+  /// whose outer radius is [pair] pin_radius_mm. Empty: no sleeve.
+  std::optional<double> sleeve_bore_radius;
+  /// mu at the sleeve's bore (deck: sleeve_coefficient); NaN (the default): the coefficient of the
+  /// contact it replaces (Coulomb's mu, or the mixed one there), Jiang eq. 34 read literally.
+  double sleeve_coefficient = std::numeric_limits<double>::quiet_NaN();
+  enum class TorqueBalance {
+    kSolve,  ///< re-solve with the friction moment in the balance, to a fixed point (default)
+    kBound,  ///< frictionless forces; the friction moment's ratio to T reported as a bound
+  };
+  TorqueBalance torque_balance = TorqueBalance::kSolve;  ///< deck: torque_balance = "solve" | "bound"
+  /// Throws std::invalid_argument naming the key, the value and what is expected.
+  void Validate(const geometry::PairParameters& pair) const;
+};
+const char* ToString(FrictionSettings::Model model);
+// --- the stiffness loop with friction (issue 13 + 14) -------------------------------------------
+/// The signed torque the normal forces carry at a quasi-static step of the torque-twist loop with
+/// Coulomb friction (the crank locked, the cycloid turning about its centre): the friction at each
+/// loaded contact resists the turning, so the normal forces carry T - sense mu sum F_i |a_t,i|
+/// (a_t: the tangential arm about the cycloid centre), sense = +1 while the twist grows in +T's
+/// sense (the increasing branch), -1 on the way back. solve(t) solves the frictionless problem at
+/// signed torque t; iterated to a fixed point. mu: [friction]'s static coefficient (Coulomb's, or
+/// f_b for jiang-mixed: no entrainment, boundary friction). Returns the last result; *solves counts.
+/// second: the second disc of a two-disc stage (issue 13), whose points in state turn about its own
+/// centre, half a crank turn on; nullptr for one disc.
+LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state, double torque,
+                                 double sense, double mu, const std::function<LoadResult(double)>& solve, int* solves,
+                                 const contact::MeshModel* second = nullptr);
+/// The static coefficient of the loop: Coulomb's mu, or f_b for jiang-mixed; 0 without [friction].
+double LoopFrictionCoefficient(const std::optional<FrictionSettings>& friction);
+
+}  // namespace ltca::analysis

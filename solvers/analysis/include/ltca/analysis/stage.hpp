@@ -1,0 +1,148 @@
+#pragma once
+// The stage (issue 24): everything that is loaded together, built once and shared by every
+// analysis. StageDesign is its data as a deck gives it (internal units); Stage is the immutable
+// object built from it: the discs' real pairs and mesh models (one disc, or the two discs of an RV
+// stage on one pin ring), pin bending's coupling of the pin ring, and the crank angles it has
+// checked for interference. It hands out the load problem at a crank and a torque.
+//
+// The output mechanism and the bearings (issue 25) join the stage as elements that are not pins:
+// each adds its data to StageDesign and its compliance to the problems Stage hands out.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ltca/contact/laws.hpp"
+#include "ltca/contact/material.hpp"
+#include "ltca/contact/mesh_state.hpp"
+#include "ltca/contact/pin_bending.hpp"
+#include "ltca/geometry/errors.hpp"
+#include "ltca/geometry/pair.hpp"
+#include "ltca/solvers/load_problem.hpp"
+#include "ltca/solvers/load_solver.hpp"
+
+namespace ltca::analysis {
+
+// The solver layer's vocabulary, used throughout the analyses.
+using solvers::LoadResult;
+using solvers::LoadSolver;
+using solvers::SolverOptions;
+using solvers::SolverStatus;
+
+/// The second cycloid disc of an RV stage (issue 13, docs/stiffness.md "Two discs"), half a crank
+/// turn from the first on one pin ring, turning the output with it: its own modification and the
+/// disc's errors (profile, lead, centre, eccentricity and misalignment). The pin ring's errors (pin
+/// circle, pitch, pin radii and positions) are common: the first disc's.
+struct SecondDisc {
+  geometry::Modification modification;
+  geometry::ManufacturingErrors errors;  ///< the pin ring's members as the first disc's
+  geometry::AssemblyErrors assembly;
+  /// Indexing deviation of this disc, mm along the pin circle: its teeth stand this far ahead of
+  /// the first disc's in the sense of +T (a rigid turn of the disc by the value / R_p, added to its
+  /// rotation modification).
+  double indexing_deviation = 0.0;
+};
+
+/// The model that runs for a stage, named in every output (issues 9, 11, 13).
+struct ModelInfo {
+  std::string name;     ///< "plane" | "slices" | "slices+pin-bending", "+two-discs" with two discs
+  int slices = 1;
+  std::string surface;  ///< "analytic" or "elements"
+  int discs = 1;
+};
+
+/// What is loaded together, as data (a deck's [pair], [modification], [errors], [geometry],
+/// [contact], [material], [pins], [second_disc] and [solver] kinematics).
+struct StageDesign {
+  std::string name;  ///< where the design comes from (a deck's file path), for messages
+  geometry::PairParameters pair;
+  geometry::Modification modification;
+  geometry::ManufacturingErrors errors;
+  geometry::AssemblyErrors assembly;
+  geometry::GeometrySettings geometry;
+  contact::ContactSettings contact;
+  /// How the contact geometry follows the loaded rotation (the load problem's, and the unloaded
+  /// analysis's): linearised (frozen) or exact (re-evaluated).
+  contact::ContactKinematics kinematics = contact::ContactKinematics::kLinearised;
+  std::optional<contact::PinSupport> pins;     ///< pin bending (issue 11); none: rigid pins
+  std::optional<SecondDisc> second_disc;       ///< the two discs of an RV stage (issue 13)
+  std::optional<contact::Material> material;  ///< required for load problems
+
+  /// The pair as made: modification and errors applied once (geometry::RealPair).
+  geometry::RealPair MakeRealPair() const { return {pair, modification, errors, assembly}; }
+  /// The pair as the contact layer sees it (the real pair, geometry mode, the slices it needs).
+  contact::MeshModel MakeModel() const { return contact::MeshModel(MakeRealPair(), geometry, SlicesForced()); }
+  /// The second disc as made; throws std::invalid_argument without one.
+  geometry::RealPair MakeSecondRealPair() const;
+  int disc_count() const { return second_disc ? 2 : 1; }
+  /// The slice model is forced on every disc: pin bending couples the slices; with two discs one
+  /// that varies along the width makes both run it (one point layout per position).
+  bool SlicesForced() const;
+  /// The model that runs (the rule of contact::MeshModel: slices when something varies along the
+  /// face width, or pin bending couples the slices).
+  ModelInfo Model() const;
+};
+
+/// Immutable once built; copies share the models and the coupling, and a Stage may be shared
+/// across threads.
+class Stage {
+ public:
+  using ModelPtr = std::shared_ptr<const contact::MeshModel>;
+  /// Builds the discs' models and pin bending's coupling (with the material; without one no
+  /// problem can be built, and Problem throws), evaluates
+  /// the stage at every crank of `cranks` (rad) and throws std::invalid_argument naming the pins
+  /// when a pin overlaps a disc at any of them, before anything is solved. The states evaluated
+  /// for the check are kept for the problems when they fit in kKeptStatesBytes.
+  Stage(StageDesign design, std::vector<double> cranks);
+
+  static constexpr std::size_t kKeptStatesBytes = std::size_t{64} << 20;
+
+  const StageDesign& design() const { return *design_; }
+  ModelInfo Model() const { return design_->Model(); }
+  int disc_count() const { return second_ ? 2 : 1; }
+  /// The model of disc 0 (the first) or 1.
+  const contact::MeshModel& model(int disc = 0) const { return disc == 0 ? *first_ : *second_; }
+  const ModelPtr& shared_model(int disc = 0) const { return disc == 0 ? first_ : second_; }
+  contact::ContactKinematics kinematics() const { return design_->kinematics; }
+  /// The same stage (models, coupling, checked cranks shared) under other kinematics.
+  Stage WithKinematics(contact::ContactKinematics kinematics) const;
+
+  /// The checked crank angles, rad, in the order given.
+  const std::vector<double>& cranks() const { return checked_->cranks; }
+  /// The last checked crank repeats the state of the first (contact::SameMesh: a whole crank
+  /// turn, or a mesh period of a pair that keeps that symmetry), so means weigh it once (issue 26).
+  bool closed_period() const { return checked_->closed; }
+  /// The overlap a check tolerates, mm: the largest of the discs' models'.
+  double interference_tolerance() const;
+
+  /// Every contact point of the stage at a crank (rad), unloaded (loaded rotation 0): one disc,
+  /// or both (contact::EvaluateTwoDiscs). The kept state of a checked crank, else evaluated; a
+  /// crank that was not checked is checked now (std::invalid_argument on interference).
+  contact::MeshState State(double crank) const;
+  /// The load problem at a crank (rad) and a signed torque (N*mm), with the stage's coupling.
+  solvers::LoadProblem Problem(double crank, double torque) const;
+  /// The same on a state of this stage (State(crank), or a copy of one).
+  solvers::LoadProblem Problem(contact::MeshState state, double torque) const;
+  /// The material; throws std::invalid_argument when the design has none.
+  const contact::Material& material() const { return RequireMaterial(); }
+  /// Pin bending's coupling, checked once (matrix nullptr without [pins]).
+  const solvers::LoadProblem::CheckedCoupling& coupling() const { return *coupling_; }
+
+ private:
+  struct Checked {
+    std::vector<double> cranks;
+    std::vector<contact::MeshState> states;  // kept states, in crank order, or empty
+    std::vector<std::size_t> order;          // indices of cranks sorted by angle (lookup)
+    bool closed = false;
+  };
+  /// Index of a checked crank, or -1.
+  std::ptrdiff_t CheckedIndex(double crank) const;
+  const contact::Material& RequireMaterial() const;
+
+  std::shared_ptr<const StageDesign> design_;
+  ModelPtr first_, second_;
+  std::shared_ptr<const solvers::LoadProblem::CheckedCoupling> coupling_;
+  std::shared_ptr<const Checked> checked_;
+};
+
+}  // namespace ltca::analysis

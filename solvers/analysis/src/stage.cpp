@@ -1,0 +1,132 @@
+#include "ltca/analysis/stage.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "ltca/contact/unloaded.hpp"
+
+namespace ltca::analysis {
+
+geometry::RealPair StageDesign::MakeSecondRealPair() const {
+  if (!second_disc) throw std::invalid_argument("the stage has no second disc ([second_disc])");
+  return {pair, second_disc->modification, second_disc->errors, second_disc->assembly};
+}
+
+bool StageDesign::SlicesForced() const {
+  if (pins) return true;
+  if (!second_disc) return false;
+  return errors.VariesAlongWidth() || assembly.VariesAlongWidth() || second_disc->errors.VariesAlongWidth() ||
+         second_disc->assembly.VariesAlongWidth();
+}
+
+ModelInfo StageDesign::Model() const {
+  ModelInfo m;
+  m.surface = geometry.mode == geometry::GeometrySettings::Mode::kElements ? "elements" : "analytic";
+  if (pins) {
+    m.name = "slices+pin-bending";
+    m.slices = geometry.width_slices;
+  } else if (errors.VariesAlongWidth() || assembly.VariesAlongWidth() || SlicesForced()) {
+    m.name = "slices";
+    m.slices = geometry.width_slices;
+  } else {
+    m.name = "plane";
+    m.slices = 1;
+  }
+  if (second_disc) {  // issue 13
+    m.discs = 2;
+    m.name += "+two-discs";
+  }
+  return m;
+}
+
+Stage::Stage(StageDesign design, std::vector<double> cranks)
+    : design_(std::make_shared<const StageDesign>(std::move(design))) {
+  const StageDesign& d = *design_;
+  first_ = std::make_shared<const contact::MeshModel>(d.MakeModel());
+  if (d.second_disc) {
+    second_ = std::make_shared<const contact::MeshModel>(d.MakeSecondRealPair(), d.geometry, d.SlicesForced());
+  }
+  // Nothing is solved for a stage that interferes at any of its cranks.
+  auto checked = std::make_shared<Checked>();
+  checked->cranks = std::move(cranks);
+  const std::size_t n = checked->cranks.size();
+  const bool keep = n * static_cast<std::size_t>(first_->point_count() * disc_count()) * sizeof(contact::PinContact) <=
+                    kKeptStatesBytes;
+  const double tolerance = interference_tolerance();
+  contact::MeshState first;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double crank = checked->cranks[i];
+    contact::MeshState state = second_ ? contact::EvaluateTwoDiscs(*first_, *second_, crank) : first_->Evaluate(crank, 0.0);
+    contact::RequireNoInterference(state, crank, tolerance);
+    if (i == 0) first = state;
+    if (i > 0 && i + 1 == n) checked->closed = contact::SameMesh(first, state);
+    if (keep) checked->states.push_back(std::move(state));
+  }
+  checked->order.resize(n);
+  for (std::size_t i = 0; i < n; ++i) checked->order[i] = i;
+  std::stable_sort(checked->order.begin(), checked->order.end(),
+                   [&c = checked->cranks](std::size_t a, std::size_t b) { return c[a] < c[b]; });
+  checked_ = std::move(checked);
+  // Pin bending ([pins], issue 11): every pin a Timoshenko beam of the nominal pin radius and the
+  // pin material, coupling the model's points; checked once (it does not change with the crank).
+  auto coupling = std::make_shared<solvers::LoadProblem::CheckedCoupling>();
+  if (d.pins && d.material) {
+    const contact::PinBeam beam(*d.pins, *d.material, d.pair.pin_radius);
+    const double crank = checked_->cranks.empty() ? 0.0 : checked_->cranks.front();
+    const std::vector<contact::PinContact> points = first_->Evaluate(crank).pins;
+    contact::FactoredPinBending f = contact::PinBendingFactors(points, beam, d.pair.face_width);
+    *coupling = solvers::LoadProblem::CheckCoupling(contact::PinBendingCoupling(points, beam, d.pair.face_width),
+                                                    first_->point_count(),
+                                                    {std::move(f.stiffness), std::move(f.loads), std::move(f.local)});
+  }
+  coupling_ = std::move(coupling);
+}
+
+Stage Stage::WithKinematics(contact::ContactKinematics kinematics) const {
+  Stage s = *this;
+  StageDesign d = *design_;
+  d.kinematics = kinematics;
+  s.design_ = std::make_shared<const StageDesign>(std::move(d));
+  return s;
+}
+
+double Stage::interference_tolerance() const {
+  return std::max(first_->interference_tolerance(), second_ ? second_->interference_tolerance() : 0.0);
+}
+
+std::ptrdiff_t Stage::CheckedIndex(double crank) const {
+  const Checked& c = *checked_;
+  const auto it = std::lower_bound(c.order.begin(), c.order.end(), crank,
+                                   [&c](std::size_t i, double value) { return c.cranks[i] < value; });
+  if (it == c.order.end() || c.cranks[*it] != crank) return -1;
+  return static_cast<std::ptrdiff_t>(*it);
+}
+
+contact::MeshState Stage::State(double crank) const {
+  const std::ptrdiff_t k = CheckedIndex(crank);
+  if (k >= 0 && !checked_->states.empty()) return checked_->states[static_cast<std::size_t>(k)];
+  contact::MeshState state = second_ ? contact::EvaluateTwoDiscs(*first_, *second_, crank) : first_->Evaluate(crank, 0.0);
+  if (k < 0) contact::RequireNoInterference(state, crank, interference_tolerance());
+  return state;
+}
+
+const contact::Material& Stage::RequireMaterial() const {
+  if (!design_->material) throw std::invalid_argument("missing required section [material] for a load problem");
+  return *design_->material;
+}
+
+solvers::LoadProblem Stage::Problem(double crank, double torque) const {
+  return Problem(State(crank), torque);
+}
+
+solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) const {
+  const StageDesign& d = *design_;
+  if (second_) return {first_, second_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics};
+  solvers::LoadProblem problem(first_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics);
+  if (!coupling_->matrix) return problem;
+  return problem.WithCoupling(*coupling_);
+}
+
+}  // namespace ltca::analysis
