@@ -1,5 +1,6 @@
 #include "ltca/solvers/load_solver.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -132,7 +133,14 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
   return Solve(problem, options, workspace);
 }
 
+namespace {
+std::atomic<std::uint64_t> solve_calls{0};
+}  // namespace
+
+std::uint64_t SolveCallCount() { return solve_calls.load(std::memory_order_relaxed); }
+
 LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace) const {
+  solve_calls.fetch_add(1, std::memory_order_relaxed);
   options.Validate();
   const auto start = std::chrono::steady_clock::now();
   LoadResult result;

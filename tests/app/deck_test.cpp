@@ -73,6 +73,26 @@ TEST_CASE("solvers: every deck in cases/ loads and names its source") {
   CHECK(count >= 5);
 }
 
+TEST_CASE("app: reading a deck runs no load solve, whatever the deck holds (issue 24)") {
+  // Every deck of cases/ (sharp |d| >= 2 tips, tip relief, two discs, pin bending, tolerances,
+  // friction) and the built-in one with an override: LoadSolver::Solve is never called. The control:
+  // one sweep of the default deck counts its solves, so the counter would see one.
+  const std::uint64_t before = ltca::solvers::SolveCallCount();
+  int decks = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(LTCA_CASES_DIR)) {
+    if (entry.path().extension() != ".toml") continue;
+    (void)ltca::app::LoadDeck(entry.path());
+    ++decks;
+  }
+  (void)ltca::app::DefaultDeck({"load.torque_nm=-100"});
+  CHECK(decks >= 50);
+  CHECK(ltca::solvers::SolveCallCount() == before);
+  const ltca::app::Deck deck = ltca::app::DefaultDeck({"sweep.positions=3"});
+  const auto sweep = ltca::app::SolveDeckSweep(deck, deck.solver);
+  CHECK(ltca::solvers::SolveCallCount() == before + 3);
+  CHECK(sweep.summary.succeeded == 3);
+}
+
 TEST_CASE("solvers: the built-in default deck is cases/liu2021_table1.toml") {
   std::ifstream in(std::string(LTCA_CASES_DIR) + "/liu2021_table1.toml");
   std::ostringstream text;

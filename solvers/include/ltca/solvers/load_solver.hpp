@@ -3,6 +3,7 @@
 // virtual: it validates the options and the problem, handles the trivial cases every solver
 // shares (zero torque), times the solve, fills the shared part of the result and judges it with
 // the shared residual; each backend implements DoSolve().
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <memory>
@@ -83,6 +84,10 @@ struct LoadResult {
   /// beyond valid_half_width()): the numbers are solved, but say so. Empty otherwise.
   std::vector<std::string> warnings;
 };
+
+/// LoadSolver::Solve calls in this process so far, over every solver and thread (a relaxed atomic
+/// counter): shows that something, e.g. reading a deck, runs no load solve (issue 24).
+std::uint64_t SolveCallCount();
 
 class LoadSolver {
  public:
