@@ -1,13 +1,32 @@
-// ltca-bench: the benchmark harness as its own executable (the same as `ltca bench`).
+// ltca-bench: the benchmark harness (issue 6): every method on a matrix of cases and settings, time
+// per position against error. Not a timed test: it writes figures (bench/, docs/performance.md).
+#include <exception>
 #include <iostream>
-#include <string>
-#include <vector>
+#include <stdexcept>
 
-#include "cli.hpp"
+#include <CLI/CLI.hpp>
+
+#include "bench_command.hpp"
 
 int main(int argc, char** argv) {
-  ltca::cli::ConfigureProcess();
-  std::vector<std::string> args{"bench"};
-  args.insert(args.end(), argv + 1, argv + argc);
-  return ltca::cli::Run(args, std::cout, std::cerr);
+  CLI::App app("ltca-bench: the benchmark harness: every method on a matrix of cases and settings, time per position "
+               "against error, JSON/CSV rows; with --docs, docs/performance.md and the SVG chart with the bars.");
+  ltca::bench::BenchOptions options;
+  app.add_flag("--smoke", options.smoke, "The smallest matrix (what ctest runs)");
+  app.add_option("--out", options.out_dir, "Folder for bench.json and bench.csv (default: bench)");
+  app.add_option("--docs", options.docs_dir, "Write performance.md and performance.svg into this folder (docs)");
+  app.add_option("--repeats", options.repeats, "Repeats per run (default 3)")->check(CLI::PositiveNumber);
+  app.add_flag("--tolerance-only", options.tolerance_only,
+               "Only the tolerance bar: 10,000 samples, 1 vs 2 threads, cost against samples; writes tolerance.csv "
+               "(with --smoke: 20 samples)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return ltca::bench::RunBenchCommand(options, std::cout);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "ltca-bench: error: " << e.what() << '\n';
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ltca-bench: internal error: " << e.what() << '\n';
+    return 4;
+  }
 }

@@ -1,4 +1,5 @@
-// Issue 16: the figure module (ltca/app/plots.hpp) and the bench chart drawn with it. The figures
+// Issue 16: the figure module (ltca/app/plots.hpp); the bench chart drawn with it is tested in
+// tests/benchmarks. The figures
 // of the commands are checked for every deck by tests/app/check_svg.py.
 #include <cstdlib>
 #include <filesystem>
@@ -10,7 +11,6 @@
 
 #include <doctest/doctest.h>
 
-#include "ltca/app/bench.hpp"
 #include "ltca/app/plots.hpp"
 
 namespace {
@@ -96,21 +96,3 @@ TEST_CASE("app: --svg FILE.png and FILE.pdf draw PNG and PDF (plplot-driver-cair
   CHECK(pdf.str().rfind("%PDF", 0) == 0);
 }
 
-TEST_CASE("app: the bench chart has a panel per case and every method in each, one colour and marker per method") {
-  ltca::app::BenchReport report;
-  report.header = {"2026-11-23", "abc1234", "Release", "gcc", "test"};
-  for (const char* c : {"case_a", "case_b"}) {
-    for (const char* solver : {"bisection", "compatibility", "energy-qp"}) {
-      ltca::app::BenchRow row;
-      row.case_name = c;
-      row.setting.solver = solver;
-      row.seconds_per_position_median = solver[0] == 'b' ? 1e-4 : 1e-3;
-      row.errors.mean_te_arcsec = solver[0] == 'e' ? 1e-3 : 0.0;  // 0 is drawn at the floor, 1e-12
-      report.rows.push_back(row);
-    }
-  }
-  const fs::path svg = fs::temp_directory_path() / "ltca_plots_test_bench.svg";
-  ltca::app::WriteBenchSvg(report, svg);
-  CHECK(CheckSvg(svg, 2, 3) == 0);
-  fs::remove(svg);
-}

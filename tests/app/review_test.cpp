@@ -16,7 +16,6 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "bench_command.hpp"
 #include "cli.hpp"
 #include "cli_run.hpp"
 #include "ltca/app/deck.hpp"
@@ -210,18 +209,6 @@ TEST_CASE("cli: backlash at a degenerate eccentricity is a failed position with 
   CHECK(doc["summary"]["failed_positions"].get<int>() > 0);
 }
 
-TEST_CASE("bench: the peak memory of a run is that process's, not the largest child's so far, issue 26 item 10") {
-  // A first child that touches 200 MB, then a tiny one: getrusage(RUSAGE_CHILDREN) reports the
-  // 200 MB for both, and a child exec'd straight from this (40 MB) test process would carry its size.
-  const double big = ltca::cli::PeakRssMb(LTCA_PEAK_RSS_EXE, {"/usr/bin/python3", "-c", "b = bytearray(200 * 2**20)"});
-  CHECK(big > 200.0);
-  CHECK(big < 260.0);
-  const double small = ltca::cli::PeakRssMb(LTCA_PEAK_RSS_EXE, {"/bin/true"});
-  CHECK(small > 0.0);
-  CHECK(small < 5.0);
-  CHECK(ltca::cli::PeakRssMb(LTCA_PEAK_RSS_EXE, {"/bin/false"}) == -1.0);
-}
-
 TEST_CASE("cli: backlash follows the deck's [solver] kinematics as solve and stiffness do, issue 26 item 11") {
   const auto with = [](const std::string& kinematics) {
     const auto r = RunCli({"backlash", Case("liu2021_sec52_base.toml"), "--set", "sweep.positions=2", "--set",
@@ -275,7 +262,7 @@ TEST_CASE("cli: messages say what happened, issue 26 item 16") {
     CHECK(r.err.find("ltca backlash --help") != std::string::npos);
   }
   SUBCASE("--help cites no issue numbers") {
-    for (const char* command : {"stiffness", "tolerance", "efficiency", "bench", "backlash", "solve"}) {
+    for (const char* command : {"stiffness", "tolerance", "efficiency", "backlash", "solve"}) {
       const auto r = RunCli({command, "--help"});
       CAPTURE(command);
       CHECK(r.code == 0);

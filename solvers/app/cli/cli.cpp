@@ -17,7 +17,6 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
-#include "bench_command.hpp"
 #include "compare_command.hpp"
 #include "report_command.hpp"
 #include "contact_commands.hpp"
@@ -324,19 +323,6 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   validate->add_option("--write-doc", validate_options.doc_path,
                        "Replace the generated block of this document (docs/validation.md)");
 
-  BenchOptions bench_options;
-  CLI::App* bench = app.add_subcommand(
-      "bench",
-      "The benchmark harness: every method on a matrix of cases and settings, time per position "
-      "against error, JSON/CSV rows; with --docs, docs/performance.md and the SVG chart with the bars.");
-  bench->add_flag("--smoke", bench_options.smoke, "The smallest matrix (what ctest runs)");
-  bench->add_option("--out", bench_options.out_dir, "Folder for bench.json and bench.csv (default: bench)");
-  bench->add_option("--docs", bench_options.docs_dir, "Write performance.md and performance.svg into this folder (docs)");
-  bench->add_option("--repeats", bench_options.repeats, "Repeats per run (default 3)")->check(CLI::PositiveNumber);
-  bench->add_flag("--tolerance-only", bench_options.tolerance_only,
-                  "Only the tolerance bar: 10,000 samples, 1 vs 2 threads, cost against samples; writes tolerance.csv "
-                  "(with --smoke: 20 samples)");
-
   ReportOptions report_options;
   CLI::App* report = app.add_subcommand(
       "report",
@@ -402,9 +388,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
 
   int code = kExitSuccess;
   try {
-    if (bench->parsed()) {
-      code = RunBenchCommand(bench_options, out);
-    } else if (validate->parsed()) {
+    if (validate->parsed()) {
       code = RunValidate(validate_options, streams);
     } else if (report->parsed()) {
       if (!report_options.solver.empty()) solvers::MakeSolver(report_options.solver);  // the name checked first
@@ -430,7 +414,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     } else {
       if (!deck_path.empty() && !std::filesystem::exists(deck_path)) {
         throw std::invalid_argument(fmt::format(
-            "'{}' is neither a command (geometry, backlash, mesh, solve, stiffness, tolerance, efficiency, compare, report, validate, bench) nor a deck file",
+            "'{}' is neither a command (geometry, backlash, mesh, solve, stiffness, tolerance, efficiency, compare, report, validate) nor a deck file",
             deck_path));
       }
       const app::Deck deck = ReadDeck(deck_path, overrides);

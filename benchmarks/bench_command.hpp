@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-namespace ltca::cli {
+namespace ltca::bench {
 
 struct BenchOptions {
   bool smoke = false;       ///< the smallest matrix (ctest)
@@ -19,7 +19,7 @@ struct BenchOptions {
 /// its rusage); -1 when it could not run or did not exit 0. Its standard output is discarded.
 double PeakRssMb(const std::string& peak_rss_exe, const std::vector<std::string>& args);
 
-/// `ltca bench` / `ltca-bench`: speed against error for every method, and the performance bars.
+/// `ltca-bench`: speed against error for every method, and the performance bars.
 int RunBenchCommand(const BenchOptions& options, std::ostream& out);
 
-}  // namespace ltca::cli
+}  // namespace ltca::bench

@@ -8,7 +8,10 @@
 #include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
-namespace ltca::app {
+namespace ltca::bench {
+
+using app::Deck;
+using solvers::SolverOptions;
 
 struct BenchSetting {
   std::string solver = "bisection";
@@ -77,4 +80,4 @@ void WriteBenchCsv(const BenchReport& report, const std::filesystem::path& path)
 /// Log-log chart of the mean-TE error against the time per position, one series per method.
 void WriteBenchSvg(const BenchReport& report, const std::filesystem::path& path);
 
-}  // namespace ltca::app
+}  // namespace ltca::bench
