@@ -1,5 +1,7 @@
 #include "compare_command.hpp"
 
+#include "command.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -178,6 +180,33 @@ int RunCompare(const app::Deck& deck_given, const CompareOptions& options, const
   }
   if (svg.enabled()) WriteCompareFigure(deck, runners, plot_crank, plot_te, svg);
   return all_succeeded ? kExitSuccess : kExitNotSucceeded;
+}
+
+Command CompareCommand() {
+  struct State {
+    DeckInput deck;
+    CompareOptions options;
+  };
+  auto st = std::make_shared<State>();
+  return {"compare",
+          "Run several solvers (default: all) on the same sweep and print them side by side with the largest differences "
+          "from the first in TE, pin force and contact count, and their times.",
+          [st](CLI::App& c) {
+            CompareOptions& o = st->options;
+            AddDeckInputs(c, st->deck);
+            c.add_option("--solvers", o.solvers, "Comma-separated solver names (default: all)")->delimiter(',');
+            c.add_option("--kinematics", o.kinematics, "linearised or exact (default: the deck's)")
+                ->check(CLI::IsMember({"exact", "linearised"}));
+            c.add_option("--json", o.json_path, "Write the comparison as JSON ('-': stdout)")->type_name("FILE|-");
+            c.add_option("--svg", o.svg_path,
+                         "Draw every solver's TE over crank angle and its difference from the first (SVG; .png/.pdf by extension)")
+                ->type_name("FILE|-");
+          },
+          [st] { return std::vector<std::string>{st->options.json_path, st->options.svg_path}; },
+          [st](const Streams& streams) {
+            for (const auto& name : st->options.solvers) solvers::MakeSolver(name);  // names checked first
+            return RunCompare(st->deck.Read(), st->options, streams);
+          }};
 }
 
 }  // namespace ltca::cli

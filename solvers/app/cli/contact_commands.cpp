@@ -1,5 +1,7 @@
 #include "contact_commands.hpp"
 
+#include "command.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -322,6 +324,57 @@ void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& s
     json.Commit();
   }
   if (svg.enabled()) WriteMeshFigure(deck, options.crank_deg, state, deck.pair.pin_count, svg);
+}
+
+Command BacklashCommand() {
+  struct State {
+    DeckInput deck;
+    BacklashOptions options;
+    std::string kinematics;
+  };
+  auto st = std::make_shared<State>();
+  return {"backlash",
+          "Unloaded tooth contact analysis over the deck's sweep: rotation to first contact both ways (theta_c1 in the "
+          "load direction, theta_c2 against it), backlash = theta_c1 - theta_c2 (Liu eq. 17), first-contact pin; summary "
+          "keys mean_backlash_arcsec, pp_backlash_arcsec. Interference is an error naming the pins.",
+          [st](CLI::App& c) {
+            AddDeckInputs(c, st->deck);
+            c.add_option("--json", st->options.json_path, "Write summary and positions as JSON ('-': stdout)")->type_name("FILE|-");
+            c.add_option("--csv", st->options.csv_path, "Write one row per position as CSV")->type_name("FILE|-");
+            c.add_option("--svg", st->options.svg_path,
+                         "Draw backlash and the rotations to first contact over crank angle (SVG; .png/.pdf by extension)")
+                ->type_name("FILE|-");
+            c.add_option("--kinematics", st->kinematics, kKinematicsHelp)->check(CLI::IsMember({"exact", "linearised"}));
+          },
+          [st] { return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path}; },
+          [st](const Streams& streams) {
+            BacklashOptions options = st->options;
+            if (!st->kinematics.empty()) options.kinematics = contact::ParseKinematics(st->kinematics);
+            return RunBacklash(st->deck.Read(), options, streams);
+          }};
+}
+
+Command MeshCommand() {
+  struct State {
+    DeckInput deck;
+    MeshOptions options;
+  };
+  auto st = std::make_shared<State>();
+  return {"mesh",
+          "Mesh state at one crank angle: per pin its angle from the line of centres, clearance c_i (um), moment arm L_i "
+          "(mm), radii of curvature, contact point, edge contact.",
+          [st](CLI::App& c) {
+            AddDeckInputs(c, st->deck);
+            c.add_option("--crank-deg", st->options.crank_deg, "Crank angle in degrees (default 0)")->check(CrankAngle());
+            c.add_option("--json", st->options.json_path, "Write the table as JSON ('-': stdout)")->type_name("FILE|-");
+            c.add_option("--svg", st->options.svg_path, "Draw the clearance and arm of every pin (SVG; .png/.pdf by extension)")
+                ->type_name("FILE|-");
+          },
+          [st] { return std::vector<std::string>{st->options.json_path, st->options.svg_path}; },
+          [st](const Streams& streams) {
+            RunMesh(st->deck.Read(), st->options, streams);
+            return kExitSuccess;
+          }};
 }
 
 }  // namespace ltca::cli

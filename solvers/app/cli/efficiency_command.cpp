@@ -1,5 +1,7 @@
 #include "efficiency_command.hpp"
 
+#include "command.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -259,6 +261,31 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
   fmt::print(text, "wall time              {:.4f} s ({:.4f} s in {} load solves + {} balance solves)\n", s.wall_seconds,
              s.loaded_solve_seconds, s.solves, s.balance_solves);
   return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+}
+
+Command EfficiencyCommand() {
+  struct State {
+    DeckInput deck;
+    EfficiencyOptions options;
+  };
+  auto st = std::make_shared<State>();
+  return {"efficiency",
+          "Friction, power loss and meshing efficiency (docs/efficiency.md): at every position of the deck's sweep the "
+          "loaded forces, the sliding and entrainment speed of every contact (crank at [operation] input_speed_rpm), the "
+          "friction coefficient ([friction] model coulomb | jiang-mixed), the loss mu F |v_s| and the efficiency. Summary "
+          "keys power_loss_w (mean over the sweep), efficiency (full model: sleeve, friction in the torque balance), "
+          "efficiency_first_order (pins fixed, no sleeve, frictionless forces), efficiency_malhotra_parameswaran, "
+          "efficiency_sensinger.",
+          [st](CLI::App& c) {
+            EfficiencyOptions& o = st->options;
+            AddLoadInputs(c, st->deck, o.solver, o.kinematics);
+            c.add_option("--json", o.json_path, "Write the positions and the summary as JSON ('-': stdout)")->type_name("FILE|-");
+            c.add_option("--csv", o.csv_path, "Write one row per position and loaded contact as CSV")->type_name("FILE|-");
+            c.add_option("--svg", o.svg_path, "Draw efficiency and power loss over crank angle and the friction coefficient per pin")
+                ->type_name("FILE|-");
+          },
+          [st] { return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path}; },
+          [st](const Streams& streams) { return RunEfficiency(st->deck.Read(), st->options, streams); }};
 }
 
 }  // namespace ltca::cli

@@ -1,5 +1,7 @@
 #include "report_command.hpp"
 
+#include "command.hpp"
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -18,6 +20,7 @@
 #include "geometry_command.hpp"
 #include "ltca/app/plots.hpp"
 #include "ltca/geometry/units.hpp"
+#include "ltca/solvers/registry.hpp"
 #include "solve_command.hpp"
 #include "stiffness_command.hpp"
 #include "tolerance_command.hpp"
@@ -215,6 +218,28 @@ int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams
   fmt::print(streams.text, "wrote {} (case {}, {})\n", file("index.html"), deck.info.title,
              failed.empty() ? "every part succeeded" : fmt::format("not every part succeeded: {}; see their sections", failed));
   return result;
+}
+
+Command ReportCommand() {
+  struct State {
+    DeckInput deck;
+    ReportOptions options;
+  };
+  auto st = std::make_shared<State>();
+  return {"report",
+          "One static HTML page, DIR/index.html, that a browser opens from disk (nothing fetched): the case, the model and "
+          "solver, the geometry table, the summaries of the loaded sweep and of the backlash, and the figures inlined as "
+          "SVG; the JSON documents it is built from are left beside it.",
+          [st](CLI::App& c) {
+            AddDeckInputs(c, st->deck);
+            c.add_option("-o,--out", st->options.out_dir, "Folder of index.html (created when missing)")->required()->type_name("DIR");
+            c.add_option("--solver", st->options.solver, "Solver name (default: the deck's [solver] name)");
+          },
+          [] { return std::vector<std::string>{}; },
+          [st](const Streams& streams) {
+            if (!st->options.solver.empty()) solvers::MakeSolver(st->options.solver);  // the name checked first
+            return RunReport(st->deck.Read(), st->options, streams);
+          }};
 }
 
 }  // namespace ltca::cli

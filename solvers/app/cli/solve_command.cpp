@@ -1,5 +1,7 @@
 #include "solve_command.hpp"
 
+#include "command.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -401,6 +403,35 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
   fmt::print(text, "largest contact stress {} MPa\n", FormatOrNa(s.max_contact_stress, 2));
   fmt::print(text, "wall time              {:.4f} s for {} positions\n", s.wall_seconds, s.positions());
   return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+}
+
+Command SolveCommand() {
+  struct State {
+    DeckInput deck;
+    SolveOptions options;
+  };
+  auto st = std::make_shared<State>();
+  return {"solve",
+          "Loaded tooth contact analysis over the deck's sweep with one solver: loaded TE (Liu eq. 16), pins in contact, "
+          "pin forces, contact stresses. JSON, streamed: positions [{crank_deg, te_arcsec, contacts, pin_force_n, "
+          "pin_angle_deg, contact_stress_mpa, status, flank, message}], then summary {mean_te_arcsec, pp_te_arcsec, "
+          "contacts_min, contacts_max, max_pin_force_n, max_contact_stress_mpa, wall_seconds, status, positions, "
+          "succeeded_positions, failed_positions}. A failed position's figures are null; the summary's are over the "
+          "successful positions only (null when none succeeded).",
+          [st](CLI::App& c) {
+            AddLoadInputs(c, st->deck, st->options.solver, st->options.kinematics);
+            c.add_option("--json", st->options.json_path, "Write summary and positions as JSON ('-': stdout)")->type_name("FILE|-");
+            c.add_option("--csv", st->options.csv_path, "Write one row per position as CSV")->type_name("FILE|-");
+            c.add_option("--svg", st->options.svg_path, "Draw the TE over the sweep and the load distribution")->type_name("FILE|-");
+            c.add_option("--pattern-csv", st->options.pattern_csv_path,
+                         "Write the contact pattern as CSV: one row per position, pin and slice (force, stress, z)")
+                ->type_name("FILE|-");
+          },
+          [st] {
+            return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path,
+                                            st->options.pattern_csv_path};
+          },
+          [st](const Streams& streams) { return RunSolve(st->deck.Read(), st->options, streams); }};
 }
 
 }  // namespace ltca::cli

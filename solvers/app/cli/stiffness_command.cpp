@@ -1,5 +1,7 @@
 #include "stiffness_command.hpp"
 
+#include "command.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -354,6 +356,41 @@ int RunStiffness(const app::Deck& deck_given, const StiffnessOptions& options, c
   }
   fmt::print(text, "wall time              {:.4f} s for {} solves\n", s.wall_seconds, s.solves);
   return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+}
+
+Command StiffnessCommand() {
+  struct State {
+    DeckInput deck;
+    StiffnessOptions options;
+  };
+  auto st = std::make_shared<State>();
+  return {"stiffness",
+          "Torsional stiffness, lost motion and backlash (docs/stiffness.md): with the crank locked, the output torque "
+          "runs from -T to +T and back (T = |[load] torque_nm|, the rated torque) and the twist of the output (the "
+          "cycloid about its centre, in the sense of +T from the theoretical position, -TE) is read at each level, at "
+          "one crank (--crank-deg) or at every position of the deck's sweep (mean, min, max). Summary keys "
+          "torsional_rigidity_nm_per_arcmin, lost_motion_arcmin, backlash_arcmin (for a sweep also _min, _max), curve "
+          "[{torque_nm, twist_arcmin, branch}], hysteresis. Options replace the deck's [stiffness] keys.",
+          [st](CLI::App& c) {
+            StiffnessOptions& o = st->options;
+            AddLoadInputs(c, st->deck, o.solver, o.kinematics);
+            c.add_option("--crank-deg", o.crank_deg, "One crank angle in degrees ([stiffness] crank_deg; default: the deck's sweep)")
+                ->check(CrankAngle());
+            c.add_option("--steps", o.steps, "Torque levels per branch from -T to +T, odd ([stiffness] steps_per_branch, default 41)");
+            c.add_option("--rigidity", o.rigidity,
+                         "secant (between 50 % and 100 % of T on each flank, default) or tangent ([stiffness] rigidity)")
+                ->check(CLI::IsMember({"secant", "tangent"}));
+            c.add_option("--tangent-torque-nm", o.tangent_torque_nm,
+                         "Torque of the tangent rigidity in N*m, signed ([stiffness] tangent_torque_nm)");
+            c.add_option("--lost-motion-fraction", o.lost_motion_fraction,
+                         "Lost motion at +-this fraction of T ([stiffness] lost_motion_fraction, default 0.03)");
+            c.add_option("--json", o.json_path, "Write the positions and the summary as JSON ('-': stdout)")->type_name("FILE|-");
+            c.add_option("--csv", o.csv_path, "Write the curve as CSV: crank_deg, branch, torque_nm, twist_arcmin, status")
+                ->type_name("FILE|-");
+            c.add_option("--svg", o.svg_path, "Draw the loop with the read-off values")->type_name("FILE|-");
+          },
+          [st] { return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path}; },
+          [st](const Streams& streams) { return RunStiffness(st->deck.Read(), st->options, streams); }};
 }
 
 }  // namespace ltca::cli

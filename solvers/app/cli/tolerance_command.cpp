@@ -1,6 +1,9 @@
 #include "tolerance_command.hpp"
 
+#include "command.hpp"
+
 #include <algorithm>
+#include <charconv>
 #include <limits>
 #include <chrono>
 #include <cmath>
@@ -487,6 +490,53 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
   fmt::print(text, "wall time {:.3f} s for {} samples ({:.1f} samples/s){}\n", sample_seconds, n, static_cast<double>(n) / sample_seconds,
              worst ? fmt::format("; worst case {:.3f} s for {} runs", worst_seconds, worst->runs) : std::string());
   return summary.succeeded == summary.samples ? kExitSuccess : kExitNotSucceeded;
+}
+
+Command ToleranceCommand() {
+  struct State {
+    DeckInput deck;
+    ToleranceOptions options;
+  };
+  auto st = std::make_shared<State>();
+  return {"tolerance",
+          "Tolerance analysis (docs/tolerance.md): a seeded Monte Carlo over the deck's [tolerances]; every sample builds "
+          "its pair and runs the unloaded and the loaded TCA over the sweep (and lost motion when asked). Percentiles "
+          "1/5/50/95/99 of every figure, the fraction within [tolerances] limits, a sensitivity ranking (standardised "
+          "regression coefficients), the extreme-value worst case. Sample i depends on (seed, i) only: any number of "
+          "threads or MPI ranks (mpirun -np K ltca tolerance ...) gives the same samples.",
+          [st](CLI::App& c) {
+            ToleranceOptions& o = st->options;
+            AddLoadInputs(c, st->deck, o.solver, o.kinematics);
+            c.add_option_function<std::string>(
+                 "--samples",
+                 [&o](const std::string& text) {
+                   // Said in the option's own words (CLI11's range check printed "Value 0 not in range 0.000000 to 1.797e308").
+                   std::int64_t value = 0;
+                   const char* end = text.data() + text.size();
+                   const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+                   if (text.empty() || ptr != end || ec != std::errc() || value < 1 || value > app::ToleranceSettings::kMaxSamples) {
+                     throw CLI::ValidationError(fmt::format("--samples {}: expected a whole number from 1 to {}", text,
+                                                            app::ToleranceSettings::kMaxSamples));
+                   }
+                   o.samples = value;
+                 },
+                 "Number of samples ([tolerances] samples)")
+                ->type_name("INT 1..10000000");
+            c.add_option("--seed", o.seed, "Seed of the counter-based stream ([tolerances] seed)")->check(Index());
+            c.add_option("--threads", o.threads, "Threads, 1 to 1024 (default 0: every hardware thread)");
+            c.add_option("--first", o.first, "Index of the first sample (re-run sample i of a study: --first i --samples 1)")
+                ->check(Index());
+            c.add_flag("--lost-motion", o.lost_motion, "Also lost motion per sample ([tolerances] lost_motion = true)");
+            c.add_flag("--no-worst-case", o.no_worst_case, "Skip the extreme-value (worst-case) runs");
+            c.add_option("--json", o.json_path,
+                         "Write the summary as JSON ('-': stdout): summary {samples, seed, figures {NAME: {mean, std, p1, p5, "
+                         "p50, p95, p99}}, limits, pass_fraction, sensitivity, worst_case}")
+                ->type_name("FILE|-");
+            c.add_option("--csv", o.csv_path, "Write every sample's inputs and figures as CSV")->type_name("FILE|-");
+            c.add_option("--svg", o.svg_path, "Draw histograms of the figures")->type_name("FILE|-");
+          },
+          [st] { return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path}; },
+          [st](const Streams& streams) { return RunTolerance(st->deck.Read(), st->options, streams); }};
 }
 
 }  // namespace ltca::cli

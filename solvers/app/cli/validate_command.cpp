@@ -1,5 +1,7 @@
 #include "validate_command.hpp"
 
+#include "command.hpp"
+
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -47,6 +49,21 @@ int RunValidate(const ValidateOptions& options, const Streams& streams) {
     fmt::print(out, "updated the generated block of {}\n", options.doc_path);
   }
   return 0;
+}
+
+Command ValidateCommand() {
+  auto o = std::make_shared<ValidateOptions>();
+  return {"validate",
+          "Recompute every checkable number of the four papers from the decks in cases/ and give each a verdict "
+          "(reproduced / under a stated convention / not reproducible, and why). --write-doc regenerates the tables of "
+          "docs/validation.md.",
+          [o](CLI::App& c) {
+            c.add_option("--cases", o->cases_dir, "The cases/ folder (default: the source tree's)");
+            c.add_option("--markdown", o->markdown_path, "Write the tables as Markdown ('-': stdout)")->type_name("FILE|-");
+            c.add_option("--write-doc", o->doc_path, "Replace the generated block of this document (docs/validation.md)");
+          },
+          [o] { return std::vector<std::string>{o->markdown_path}; },
+          [o](const Streams& streams) { return RunValidate(*o, streams); }};
 }
 
 }  // namespace ltca::cli

@@ -1,0 +1,67 @@
+#include "command.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <limits>
+
+#include <fmt/format.h>
+
+namespace ltca::cli {
+
+app::Deck DeckInput::Read() const { return path.empty() ? app::DefaultDeck(overrides) : app::LoadDeck(path, overrides); }
+
+std::vector<Command> Commands() {
+  return {GeometryCommand(),  BacklashCommand(),  MeshCommand(),    SolveCommand(),     StiffnessCommand(),
+          ToleranceCommand(), EfficiencyCommand(), CompareCommand(), ValidateCommand(), ReportCommand()};
+}
+
+void AddDeckInputs(CLI::App& command, DeckInput& deck, const char* deck_help) {
+  command.add_option("--set", deck.overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
+  command.add_option("deck", deck.path, deck_help);
+}
+
+void AddLoadInputs(CLI::App& command, DeckInput& deck, std::string& solver, std::string& kinematics) {
+  AddDeckInputs(command, deck);
+  command.add_option("--solver", solver, "Solver name (default: the deck's [solver] name)");
+  command.add_option("--kinematics", kinematics, kKinematicsHelp)->check(CLI::IsMember({"exact", "linearised"}));
+}
+
+const CLI::Validator& CrankAngle() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        std::size_t used = 0;
+        try {
+          value = std::stod(text, &used);
+        } catch (const std::exception&) {
+          return fmt::format("'{}' is not a number of degrees", text);
+        }
+        if (used != text.size()) return fmt::format("'{}' is not a number of degrees", text);
+        if (!std::isfinite(value) || std::abs(value) > analysis::kMaxCrankDeg) {
+          return fmt::format("{}: expected a finite crank angle within +-{:g} deg", text, analysis::kMaxCrankDeg);
+        }
+        return {};
+      },
+      fmt::format("DEG, finite, |DEG| <= {:g}", analysis::kMaxCrankDeg));
+  return validator;
+}
+
+const CLI::Validator& Index() {
+  // CLI11 would wrap a negative seed into an unsigned one, or clamp one too large, without a word.
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string {
+        std::int64_t value = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+        if (text.empty() || ptr != end || ec != std::errc() || value < 0) {
+          return fmt::format("'{}': expected a whole number from 0 to {}", text, std::numeric_limits<std::int64_t>::max());
+        }
+        return {};
+      },
+      "INT >= 0");
+  return validator;
+}
+
+}  // namespace ltca::cli

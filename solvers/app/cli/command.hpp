@@ -1,0 +1,63 @@
+#pragma once
+// The table of commands (issue 24): each command is {name, description, options, outputs, run};
+// cli.cpp adds every entry to the command line and runs the one that was given. A new command is
+// one factory in its *_command.cpp and one line in Commands() (command.cpp).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "ltca/app/deck.hpp"
+#include "output.hpp"
+
+namespace ltca::cli {
+
+/// The deck a command reads: DECK (default: the built-in deck) with its --set overrides.
+struct DeckInput {
+  std::string path;
+  std::vector<std::string> overrides;
+  app::Deck Read() const;
+};
+
+struct Command {
+  std::string name;
+  std::string description;
+  /// Adds the command's arguments and options to its sub-command, bound to the entry's own state.
+  std::function<void(CLI::App&)> options;
+  /// The output paths its options name after parsing ('-': standard output, "" none).
+  std::function<std::vector<std::string>()> outputs;
+  /// Runs it; returns the exit code (kExitSuccess or kExitNotSucceeded), throws for bad input.
+  std::function<int(const Streams&)> run;
+};
+
+/// Every command, in the order `ltca --help` lists them.
+std::vector<Command> Commands();
+
+// The factories, one in each command's source.
+Command GeometryCommand();
+Command BacklashCommand();
+Command MeshCommand();
+Command SolveCommand();
+Command StiffnessCommand();
+Command ToleranceCommand();
+Command EfficiencyCommand();
+Command CompareCommand();
+Command ValidateCommand();
+Command ReportCommand();
+
+// --- the options several commands share ------------------------------------------------------------
+inline constexpr const char* kSetHelp = "Override a deck key: section.key=value (repeatable)";
+/// Every command that takes --kinematics follows one rule (issue 26).
+inline constexpr const char* kKinematicsHelp =
+    "linearised or exact (default: the deck's [solver] kinematics, which is linearised when the deck does not set it)";
+/// --set and DECK.
+void AddDeckInputs(CLI::App& command, DeckInput& deck, const char* deck_help = "Case deck (TOML); default: the built-in deck");
+/// --set, DECK, --solver and --kinematics: the inputs of a command that solves loads.
+void AddLoadInputs(CLI::App& command, DeckInput& deck, std::string& solver, std::string& kinematics);
+/// --crank-deg: a finite angle within +-analysis::kMaxCrankDeg (CLI11 names the option in its message).
+const CLI::Validator& CrankAngle();
+/// --seed and --first: a whole number 0 .. 2^63 - 1, as the deck's integers are.
+const CLI::Validator& Index();
+
+}  // namespace ltca::cli
