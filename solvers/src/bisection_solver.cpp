@@ -94,7 +94,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
       if (at.saturated && at.torque < target * (1.0 - options.torque_tolerance)) {
         result->status = SolverStatus::kLawCannotCarry;
         result->message = fmt::format("a pin reached the largest force its contact law can carry at {:.6g} N*m of {:.6g}",
-                                      at.torque / 1000.0, target / 1000.0);
+                                      units::NmmToNm(at.torque), units::NmmToNm(target));
         result->rotation = psi;
         result->force = forces;
         result->torque_evaluations = evaluations + 1;

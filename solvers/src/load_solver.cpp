@@ -168,7 +168,7 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
     result.status = SolverStatus::kLawCannotCarry;
     result.message = fmt::format("the contact laws can carry at most {:.6g} N*m here (every loaded pin at its "
                                  "largest force), less than the load {:.6g} N*m",
-                                 capacity / 1000.0, problem.torque() / 1000.0);
+                                 units::NmmToNm(capacity), units::NmmToNm(problem.torque()));
   } else {
     DoSolve(problem, options, workspace, &result);
   }

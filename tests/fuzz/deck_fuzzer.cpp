@@ -2,7 +2,7 @@
 // std::invalid_argument that names what is wrong. Any other exception, a crash, a hang (libFuzzer
 // -timeout) or a sanitizer report (the target is built with ASan and UBSan) is a finding.
 // Build and run: cmake --preset fuzz && cmake --build --preset fuzz &&
-//   build/fuzz/tests/fuzz/deck_fuzzer -dict=tests/fuzz/deck.dict <copy of tests/fuzz/corpus>
+//   build/fuzz/tests/fuzz/deck_fuzzer -dict=build/fuzz/deck.dict (tests/fuzz/README.md) <copy of tests/fuzz/corpus>
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>

@@ -21,7 +21,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using units::kPi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kWattPerNmmPerS = 1e-3;  // N*mm/s -> W
 
 /// z component of a x b.
 double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
@@ -190,8 +189,8 @@ struct EfficiencyRunner::Impl {
       // the bore's friction, mu_bore F r_bore / r_sleeve.
       const double bore = std::isnan(friction.sleeve_coefficient) ? p.coefficient : friction.sleeve_coefficient;
       p.effective_coefficient = friction.sleeve_bore_radius ? bore * ratio : p.coefficient;
-      p.loss_first_order = p.coefficient * f[i] * std::abs(p.sliding) * kWattPerNmmPerS;
-      p.loss = p.effective_coefficient * f[i] * std::abs(p.sliding) * kWattPerNmmPerS;
+      p.loss_first_order = units::NmmPerSToW(p.coefficient * f[i] * std::abs(p.sliding));
+      p.loss = units::NmmPerSToW(p.effective_coefficient * f[i] * std::abs(p.sliding));
       // The friction force on the cycloid opposes its sliding over the pin.
       const double direction = p.sliding > 0.0 ? 1.0 : p.sliding < 0.0 ? -1.0 : 0.0;
       moment += Cross(kin[i].lever, -p.effective_coefficient * f[i] * direction * Perp(c.normal));
@@ -240,7 +239,7 @@ struct EfficiencyRunner::Impl {
       v.point_velocity *= crank_speed;
     }
     const double omega_c = std::abs(per_crank * crank_speed);
-    pos.output_power = std::abs(torque) * omega_c * kWattPerNmmPerS;
+    pos.output_power = units::NmmPerSToW(std::abs(torque) * omega_c);
 
     // First order: the frictionless forces.
     std::vector<ContactFrictionPoint> first;

@@ -24,7 +24,7 @@ const char* ToString(FrictionSettings::Model model) {
 }
 
 void OperationSettings::Validate() const {
-  const double rpm = input_speed * 60.0 / (2.0 * units::kPi);
+  const double rpm = units::RadPerSToRpm(input_speed);
   if (!(std::isfinite(rpm) && rpm > 0.0 && rpm <= kMaxSpeedRpm)) {
     throw std::invalid_argument(fmt::format(
         "[operation] input_speed_rpm = {:g}: expected a crank speed above 0 and at most {:g} rpm", rpm, kMaxSpeedRpm));
@@ -33,12 +33,12 @@ void OperationSettings::Validate() const {
     throw std::invalid_argument(fmt::format(
         "[operation] oil_viscosity_pa_s = {}: expected a dynamic viscosity above 0 and at most 10 Pa*s (gear oils: "
         "0.01 to 1 Pa*s)",
-        viscosity * 1e6));
+        units::MPaSToPaS(viscosity)));
   }
   if (!(std::isfinite(pressure_viscosity) && pressure_viscosity >= 0.0 && pressure_viscosity <= 0.1)) {
     throw std::invalid_argument(fmt::format(
         "[operation] pressure_viscosity_per_gpa = {}: expected 0 to 100 1/GPa (mineral oils: 10 to 30)",
-        pressure_viscosity * 1e3));
+        units::PerMPaToPerGPa(pressure_viscosity)));
   }
   for (const auto& [key, value] : {std::pair{"roughness_ra_cycloid_um", roughness_cycloid},
                                    std::pair{"roughness_ra_pin_um", roughness_pin}}) {

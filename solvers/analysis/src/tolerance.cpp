@@ -1,4 +1,5 @@
 #include "ltca/analysis/tolerance.hpp"
+#include "ltca/analysis/keys.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -188,17 +189,13 @@ double ToleranceDistribution::StandardDeviation() const {
 
 
 const std::vector<std::pair<std::string, bool>>& ToleranceSettings::ToleranceKeys() {
-  // The order is part of the random stream: a key's stream number is its index here, so keys
-  // are only ever appended.
-  static const std::vector<std::pair<std::string, bool>> kKeys = {
-      {"pin_circle_deviation_mm", false},   {"cycloid_profile_layer_mm", false},
-      {"cumulative_pitch_deviation_mm", true}, {"pin_radius_deviations_mm", true},
-      {"pin_radial_deviations_mm", true},   {"lead_crowning_um", false},
-      {"lead_slope_um", false},             {"centre_dx_mm", false},
-      {"centre_dy_mm", false},              {"eccentricity_deviation_mm", false},
-      {"misalignment_xz_deg", false},       {"misalignment_yz_deg", false},
-      {"modification_pin_radius_mm", false}, {"modification_pin_circle_radius_mm", false},
-      {"modification_rotation_deg", false}};
+  // From the table of deck keys, in the order of their random streams (DeckKey::tolerance_stream:
+  // a key's stream is its index here, so a new key takes the next number).
+  static const std::vector<std::pair<std::string, bool>> kKeys = [] {
+    std::vector<std::pair<std::string, bool>> keys;
+    for (const DeckKey* k : ToleranceVariableKeys()) keys.emplace_back(k->ToleranceName(), k->per_pin);
+    return keys;
+  }();
   return kKeys;
 }
 
@@ -312,25 +309,11 @@ ToleranceCase ToleranceStudy::Apply(const std::vector<double>& inputs) const {
     if (v == 0.0) continue;  // the deck's own value, untouched (zero tolerances give the deck bit for bit)
     const std::string& key = settings_.distributions[inputs_[c].distribution].key;
     const int j = inputs_[c].pin;
-    auto& e = d.errors;
-    auto& a = d.assembly;
-    auto& m = d.modification;
-    if (key == "pin_circle_deviation_mm") e.pin_circle_deviation += v;
-    else if (key == "cycloid_profile_layer_mm") e.profile_layer += v;
-    else if (key == "cumulative_pitch_deviation_mm") AddToPin(e.cumulative_pitch_deviation, pins, j, v);
-    else if (key == "pin_radius_deviations_mm") AddToPin(e.pin_radius_deviations, pins, j, v);
-    else if (key == "pin_radial_deviations_mm") AddToPin(e.pin_radial_deviations, pins, j, v);
-    else if (key == "lead_crowning_um") e.lead_crowning += units::UmToMm(v);
-    else if (key == "lead_slope_um") e.lead_slope += units::UmToMm(v);
-    else if (key == "centre_dx_mm") a.centre_dx += v;
-    else if (key == "centre_dy_mm") a.centre_dy += v;
-    else if (key == "eccentricity_deviation_mm") a.eccentricity_deviation += v;
-    else if (key == "misalignment_xz_deg") a.misalignment_xz += units::DegToRad(v);
-    else if (key == "misalignment_yz_deg") a.misalignment_yz += units::DegToRad(v);
-    else if (key == "modification_pin_radius_mm") m.pin_radius += v;
-    else if (key == "modification_pin_circle_radius_mm") m.pin_circle_radius += v;
-    else if (key == "modification_rotation_deg") m.rotation += units::DegToRad(v);
-    else throw std::logic_error(fmt::format("tolerance: key '{}' has no effect coded", key));
+    const DeckKey* k = FindToleranceKey(key);
+    const DiscParts parts{&d.modification, &d.errors, &d.assembly};
+    if (k != nullptr && k->list != nullptr) AddToPin(*k->list(parts), pins, j, k->ToInternal(v));
+    else if (k != nullptr && k->real != nullptr) *k->real(parts) += k->ToInternal(v);
+    else throw std::logic_error(fmt::format("tolerance: key '{}' has no field in the table of deck keys", key));
   }
   return out;
 }

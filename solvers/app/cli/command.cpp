@@ -14,7 +14,7 @@ app::Deck DeckInput::Read() const { return path.empty() ? app::DefaultDeck(overr
 
 std::vector<Command> Commands() {
   return {GeometryCommand(),  BacklashCommand(),  MeshCommand(),    SolveCommand(),     StiffnessCommand(),
-          ToleranceCommand(), EfficiencyCommand(), CompareCommand(), ValidateCommand(), ReportCommand()};
+          ToleranceCommand(), EfficiencyCommand(), CompareCommand(), ValidateCommand(), ReportCommand(),      KeysCommand()};
 }
 
 void AddDeckInputs(CLI::App& command, DeckInput& deck, const char* deck_help) {

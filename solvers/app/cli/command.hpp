@@ -45,6 +45,7 @@ Command EfficiencyCommand();
 Command CompareCommand();
 Command ValidateCommand();
 Command ReportCommand();
+Command KeysCommand();
 
 // --- the options several commands share ------------------------------------------------------------
 inline constexpr const char* kSetHelp = "Override a deck key: section.key=value (repeatable)";

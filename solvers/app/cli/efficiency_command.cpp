@@ -178,8 +178,8 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
                                                                                            : fmt::format("{:g}", f.sleeve_coefficient))
                                   : std::string("no sleeve"),
              f.torque_balance == app::FrictionSettings::TorqueBalance::kSolve ? "solved" : "bounded");
-  fmt::print(text, "operation crank {:g} rpm, oil {:g} Pa*s, alpha {:g} 1/GPa, Ra {:g} / {:g} um\n", op.input_speed * 30.0 / units::kPi,
-             op.viscosity * 1e6, op.pressure_viscosity * 1e3, units::MmToUm(op.roughness_cycloid), units::MmToUm(op.roughness_pin));
+  fmt::print(text, "operation crank {:g} rpm, oil {:g} Pa*s, alpha {:g} 1/GPa, Ra {:g} / {:g} um\n", units::RadPerSToRpm(op.input_speed),
+             units::MPaSToPaS(op.viscosity), units::PerMPaToPerGPa(op.pressure_viscosity), units::MmToUm(op.roughness_cycloid), units::MmToUm(op.roughness_pin));
   fmt::print(text, "{:>10} {:>12} {:>12} {:>12} {:>12} {:>8}\n", "crank_deg", "loss_w", "efficiency", "first_order", "mean_mu", "status");
 
   if (json.enabled()) {
@@ -189,9 +189,9 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
                                {"sleeve_bore_radius_mm", f.sleeve_bore_radius ? nlohmann::json(*f.sleeve_bore_radius) : nlohmann::json(nullptr)},
                                {"sleeve_coefficient", FiniteOrNull(f.sleeve_coefficient)},
                                {"torque_balance", f.torque_balance == app::FrictionSettings::TorqueBalance::kSolve ? "solve" : "bound"}};
-    nlohmann::json operation = {{"input_speed_rpm", op.input_speed * 30.0 / units::kPi},
+    nlohmann::json operation = {{"input_speed_rpm", units::RadPerSToRpm(op.input_speed)},
                                 {"oil_viscosity_pa_s", op.viscosity * 1e6},
-                                {"pressure_viscosity_per_gpa", op.pressure_viscosity * 1e3},
+                                {"pressure_viscosity_per_gpa", units::PerMPaToPerGPa(op.pressure_viscosity)},
                                 {"roughness_ra_cycloid_um", units::MmToUm(op.roughness_cycloid)},
                                 {"roughness_ra_pin_um", units::MmToUm(op.roughness_pin)}};
     const nlohmann::json header = {{"case", CaseJson(deck)},

@@ -10,9 +10,12 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 #include <system_error>
 #include <utility>
 
+#include <fstream>
+#include <sstream>
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
@@ -277,6 +280,21 @@ std::string ModelLine(const app::Deck& deck) {
   }
   if (!m.tip_relief_note.empty()) line += fmt::format("tip note  {}\n", m.tip_relief_note);
   return line;
+}
+
+void ReplaceGeneratedBlock(const std::string& option, const std::string& path, const std::string& begin,
+                           const std::string& end, const std::string& content, std::ostream& out) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(fmt::format("{} {}: cannot read the document", option, path));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string doc = text.str();
+  const auto b = doc.find(begin), e = doc.find(end);
+  if (b == std::string::npos || e == std::string::npos || e < b) {
+    throw std::invalid_argument(fmt::format("{} {}: the markers of the generated block are missing", option, path));
+  }
+  doc = doc.substr(0, b) + begin + "\n" + content + "\n" + doc.substr(e);
+  WriteTo(option, path, out, [&](std::ostream& os) { os << doc; });
 }
 
 }  // namespace ltca::cli

@@ -126,4 +126,10 @@ class Progress {
   std::chrono::steady_clock::time_point start_, last_;
 };
 
+/// Replaces the block between the lines `begin` and `end` of the document at `path` by `content`
+/// (--write-doc of `ltca validate` and `ltca keys`); std::invalid_argument naming `option` when the
+/// document cannot be read or lacks the markers.
+void ReplaceGeneratedBlock(const std::string& option, const std::string& path, const std::string& begin,
+                           const std::string& end, const std::string& content, std::ostream& out);
+
 }  // namespace ltca::cli

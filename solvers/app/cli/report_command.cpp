@@ -156,7 +156,7 @@ int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams
   html += fmt::format("<tr><th>deck</th><td>{}</td></tr>\n<tr><th>source</th><td>{}</td></tr>\n", Html(deck.name), Html(deck.info.source));
   html += fmt::format("<tr><th>model</th><td>{}</td></tr>\n", Html(ModelLine(deck)));
   html += fmt::format("<tr><th>solver</th><td>{}</td></tr>\n", Html(SolverLine(deck, SolverFor(deck, options.solver))));
-  html += fmt::format("<tr><th>load</th><td>T = {:g} N*m</td></tr>\n", deck.RequireLoad().torque / 1000.0);
+  html += fmt::format("<tr><th>load</th><td>T = {:g} N*m</td></tr>\n", units::NmmToNm(deck.RequireLoad().torque));
   html += fmt::format("<tr><th>sweep</th><td>{} positions, crank {:g} to {:g} deg</td></tr>\n", deck.sweep.positions,
                       units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end));
   html += fmt::format("<tr><th>program</th><td>ltca {}</td></tr>\n</table>\n", LTCA_VERSION);

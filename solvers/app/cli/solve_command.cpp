@@ -46,7 +46,7 @@ nlohmann::json PositionJson(const app::PositionResult& p) {
     // Two discs (issue 13): the torque each carries, N*m, signed as T; pin arrays run over disc 1's
     // pins, then disc 2's.
     nlohmann::json torques = nlohmann::json::array();
-    for (const double t : p.disc_torque) torques.push_back(FiniteOrNull(t / 1000.0));
+    for (const double t : p.disc_torque) torques.push_back(FiniteOrNull(units::NmmToNm(t)));
     j["disc_torque_nm"] = figure(torques);
     const double total = p.disc_torque.size() == 2 ? p.disc_torque[0] + p.disc_torque[1] : 0.0;
     j["first_disc_share"] = figure(total != 0.0 ? FiniteOrNull(p.disc_torque[0] / total) : nlohmann::json(nullptr));
@@ -183,7 +183,7 @@ void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, co
   figure.title = fmt::format("{}: loaded TE over crank {:.4g} to {:.4g} deg, {} solver", deck.info.title, c_lo, c_hi, solver.name);
   figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics), T = {:g} N*m, {} positions",
                                                    deck.Model().name, solver.name, contact::ToString(deck.kinematics),
-                                                   deck.RequireLoad().torque / 1000.0, data.crank_deg.size()));
+                                                   units::NmmToNm(deck.RequireLoad().torque), data.crank_deg.size()));
   figure.columns = 3;
   figure.width = 1500;
   figure.height = 520;
@@ -342,7 +342,7 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
                  ok ? fmt::format("{}", p.contacts) : std::string(), CsvFigure(ok, MaxOf(p.pin_force)),
                  CsvFigure(ok, MaxOf(p.contact_stress)), solvers::ToString(p.result.status));
       if (p.disc_torque.size() == 2) {  // two discs (issue 13): each disc's torque, N*m
-        fmt::print(csv.stream(), ",{},{}", CsvFigure(ok, p.disc_torque[0] / 1000.0), CsvFigure(ok, p.disc_torque[1] / 1000.0));
+        fmt::print(csv.stream(), ",{},{}", CsvFigure(ok, units::NmmToNm(p.disc_torque[0])), CsvFigure(ok, units::NmmToNm(p.disc_torque[1])));
       }
       csv.stream() << '\n';
     }

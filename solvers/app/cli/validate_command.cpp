@@ -34,18 +34,7 @@ int RunValidate(const ValidateOptions& options, const Streams& streams) {
     markdown_out.Commit();
   }
   if (!options.doc_path.empty()) {
-    std::ifstream in(options.doc_path);
-    if (!in) throw std::invalid_argument(fmt::format("--write-doc {}: cannot read the document", options.doc_path));
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string doc = text.str();
-    const auto begin = doc.find(kBegin), end = doc.find(kEnd);
-    if (begin == std::string::npos || end == std::string::npos || end < begin) {
-      throw std::invalid_argument(fmt::format("--write-doc {}: the markers of the generated block are missing",
-                                              options.doc_path));
-    }
-    doc = doc.substr(0, begin) + kBegin + "\n" + markdown + "\n" + doc.substr(end);
-    WriteTo("--write-doc", options.doc_path, streams.out, [&](std::ostream& os) { os << doc; });
+    ReplaceGeneratedBlock("--write-doc", options.doc_path, kBegin, kEnd, markdown, streams.out);
     fmt::print(out, "updated the generated block of {}\n", options.doc_path);
   }
   return 0;

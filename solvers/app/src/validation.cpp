@@ -429,7 +429,7 @@ std::vector<LiuTable2Row> LiuTable2(const fs::path& dir, Builder& b) {
     const Loaded l = Solve(deck);
     const Backlash bk = UnloadedSweep(deck);
     // The amounts are the deck's [modification] (mm), listed in um as Liu prints them.
-    table.push_back({i, deck.modification.pin_radius * 1e3, deck.modification.pin_circle_radius * 1e3, l.mean_te,
+    table.push_back({i, units::MmToUm(deck.modification.pin_radius), units::MmToUm(deck.modification.pin_circle_radius), l.mean_te,
                      l.pp_te, bk.mean, bk.pp, l.mean_pins, l.max_stress});
   }
   // The groups Liu's claims speak of, selected by the amounts the decks hold.
@@ -690,7 +690,7 @@ void Jiang(const fs::path& dir, Builder& b) {
     // speed with a stated ceiling of 10,000 rpm, above the input speed of any servo motor or
     // cycloid stage catalogue.
     const double input_kw = 72.3321 / (1.0 - 0.999) / 1000.0;
-    const double torque = deck.RequireLoad().torque / 1000.0;  // N*mm in the deck, N*m here
+    const double torque = units::NmmToNm(deck.RequireLoad().torque);
     const double output_rad_s = input_kw * 1000 / torque;
     const double crank_rpm = output_rad_s * pair.tooth_count / (pair.pin_count - pair.tooth_count) * 60.0 /
                              (2.0 * units::kPi);

@@ -1,0 +1,73 @@
+#pragma once
+// The deck's keys, each described once (issue 24): section, name, unit, type, default, what it is,
+// per pin or not, whether [second_disc] may give its own, whether [tolerances] may vary it, the
+// limit it is held to, and, for the numbers of [modification] and [errors], where the value goes.
+// The deck reader, the second disc's split, the tolerance study's Apply, the key reference of
+// docs/decks.md and the fuzz dictionary (`ltca keys`) are driven by this table. Data only: no TOML.
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ltca/geometry/errors.hpp"
+#include "ltca/geometry/pair.hpp"
+
+namespace ltca::analysis {
+
+/// The parts of one disc a key of [modification] or [errors] writes to (a second disc has its own).
+struct DiscParts {
+  geometry::Modification* modification;
+  geometry::ManufacturingErrors* errors;
+  geometry::AssemblyErrors* assembly;
+};
+
+struct DeckKey {
+  enum class Type { kReal, kRealList, kInteger, kUnsigned, kText, kBool, kTable };
+  /// The rule that tells a modification or an error from an absolute value (docs/decks.md, Limits):
+  /// the change it makes to the geometry is at most DeckKey::kMaxDeviationFraction of the pin radius.
+  enum class Limit {
+    kNone,
+    kLength,    ///< the value itself (mm once converted)
+    kRotation,  ///< an angle that turns the profile along the pin circle: R_p x angle
+    kTilt,      ///< a tilt of the axis: the shift over the face width, B tan(angle)
+  };
+  static constexpr double kMaxDeviationFraction = 0.05;
+
+  const char* section;
+  const char* name;
+  Type type;
+  const char* unit;           ///< the unit its name ends with ("mm", "um", "deg", ...), "" none
+  const char* meaning;        ///< what it is: messages name it, docs/decks.md lists it
+  const char* default_value;  ///< as a deck writes it; "" required or absent by default
+  const char* choices = "";   ///< a text key's values, "a | b"
+  bool per_pin = false;       ///< one value per pin
+  bool disc = false;          ///< a key of one disc: [second_disc] may give its own (else the pin ring's)
+  int tolerance_stream = -1;  ///< >= 0: [tolerances] may vary it; its random stream (order fixed forever)
+  Limit limit = Limit::kNone;
+  /// Where a number of [modification] or [errors] goes (nullptr: read by its section's reader).
+  double* (*real)(const DiscParts&) = nullptr;
+  std::vector<double>* (*list)(const DiscParts&) = nullptr;
+
+  /// The deck's unit to the internal one (mm, rad): um -> mm, deg -> rad; others unchanged.
+  double ToInternal(double value) const;
+  double FromInternal(double value) const;
+  /// Its name in [tolerances]: [modification] keys carry the prefix "modification_".
+  std::string ToleranceName() const;
+  /// The change the value (internal units) makes to the pair's geometry, mm (Limit).
+  double Reach(double internal, const geometry::PairParameters& pair) const;
+};
+
+/// Every key of every section, in the order of docs/decks.md.
+const std::vector<DeckKey>& DeckKeys();
+/// The sections, in that order.
+std::vector<std::string> DeckSections();
+/// The names of one section's keys, in table order.
+std::vector<std::string> SectionKeys(std::string_view section);
+/// The key, or nullptr.
+const DeckKey* FindKey(std::string_view section, std::string_view name);
+/// The keys [tolerances] may vary, in the order of their random streams.
+std::vector<const DeckKey*> ToleranceVariableKeys();
+/// The key [tolerances] names (ToleranceName()), or nullptr.
+const DeckKey* FindToleranceKey(std::string_view tolerance_name);
+const char* ToString(DeckKey::Type type);
+
+}  // namespace ltca::analysis

@@ -1,0 +1,305 @@
+#include "ltca/analysis/keys.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ltca/geometry/units.hpp"
+
+namespace ltca::analysis {
+namespace {
+
+using T = DeckKey::Type;
+using L = DeckKey::Limit;
+
+// Field accessors: where a number of [modification] or [errors] goes.
+#define LTCA_FIELD(part, member) [](const DiscParts& p) -> double* { return &p.part->member; }
+#define LTCA_LIST(member) [](const DiscParts& p) -> std::vector<double>* { return &p.errors->member; }
+
+const std::vector<DeckKey> kKeys = {
+    // [case]
+    {.section = "case", .name = "title", .type = T::kText, .unit = "", .meaning = "a short title of the case", .default_value = ""},
+    {.section = "case", .name = "source", .type = T::kText, .unit = "", .meaning = "provenance: paper, table / section",
+     .default_value = "\"\""},
+    // [pair]
+    {.section = "pair", .name = "pin_count", .type = T::kInteger, .unit = "", .meaning = "number of pins z_p", .default_value = ""},
+    {.section = "pair", .name = "tooth_count", .type = T::kInteger, .unit = "", .meaning = "number of cycloid teeth z_c",
+     .default_value = ""},
+    {.section = "pair", .name = "pin_radius_mm", .type = T::kReal, .unit = "mm", .meaning = "pin radius r_rp in mm", .default_value = ""},
+    {.section = "pair", .name = "pin_circle_radius_mm", .type = T::kReal, .unit = "mm", .meaning = "pin-circle radius R_p in mm",
+     .default_value = ""},
+    {.section = "pair", .name = "eccentricity_mm", .type = T::kReal, .unit = "mm", .meaning = "eccentricity e in mm", .default_value = ""},
+    {.section = "pair", .name = "face_width_mm", .type = T::kReal, .unit = "mm", .meaning = "face width B_c in mm", .default_value = ""},
+    // [modification]: every key is the disc's
+    {.section = "modification", .name = "pin_radius_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "isometric modification dR_rp in mm", .default_value = "0", .disc = true, .tolerance_stream = 12,
+     .limit = L::kLength, .real = LTCA_FIELD(modification, pin_radius)},
+    {.section = "modification", .name = "pin_circle_radius_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "offset modification dR_p in mm", .default_value = "0", .disc = true, .tolerance_stream = 13,
+     .limit = L::kLength, .real = LTCA_FIELD(modification, pin_circle_radius)},
+    {.section = "modification", .name = "rotation_deg", .type = T::kReal, .unit = "deg",
+     .meaning = "angle-rotation modification in deg", .default_value = "0", .disc = true, .tolerance_stream = 14,
+     .limit = L::kRotation, .real = LTCA_FIELD(modification, rotation)},
+    {.section = "modification", .name = "tip_truncation_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "tip truncation in mm along the tooth axis (issue 12)", .default_value = "0", .disc = true,
+     .real = LTCA_FIELD(modification, tip_relief.truncation)},
+    {.section = "modification", .name = "tip_rounding_radius_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "tip rounding radius in mm (issue 12)", .default_value = "0", .disc = true,
+     .real = LTCA_FIELD(modification, tip_relief.rounding_radius)},
+    // [errors]: the pin ring's keys (common to both discs), then the disc's
+    {.section = "errors", .name = "pin_circle_deviation_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "pin-circle deviation delta_Rp of Liu eq. 5 in mm", .default_value = "0", .tolerance_stream = 0,
+     .limit = L::kLength, .real = LTCA_FIELD(errors, pin_circle_deviation)},
+    {.section = "errors", .name = "pin_circle_reading", .type = T::kText, .unit = "",
+     .meaning = "how eq. 5 applies delta_Rp: radius | diameter", .default_value = "\"radius\"", .choices = "radius | diameter"},
+    {.section = "errors", .name = "cumulative_pitch_deviation_mm", .type = T::kRealList, .unit = "mm",
+     .meaning = "one cumulative pitch deviation per pin in mm", .default_value = "[]", .per_pin = true, .tolerance_stream = 2,
+     .limit = L::kLength, .list = LTCA_LIST(cumulative_pitch_deviation)},
+    {.section = "errors", .name = "pin_radius_deviations_mm", .type = T::kRealList, .unit = "mm",
+     .meaning = "one pin radius deviation per pin in mm", .default_value = "[]", .per_pin = true, .tolerance_stream = 3,
+     .limit = L::kLength, .list = LTCA_LIST(pin_radius_deviations)},
+    {.section = "errors", .name = "pin_radial_deviations_mm", .type = T::kRealList, .unit = "mm",
+     .meaning = "one radial pin position deviation per pin in mm", .default_value = "[]", .per_pin = true,
+     .tolerance_stream = 4, .limit = L::kLength, .list = LTCA_LIST(pin_radial_deviations)},
+    {.section = "errors", .name = "cycloid_profile_layer_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "uniform layer on the cycloid profile in mm", .default_value = "0", .disc = true, .tolerance_stream = 1,
+     .limit = L::kLength, .real = LTCA_FIELD(errors, profile_layer)},
+    {.section = "errors", .name = "lead_crowning_um", .type = T::kReal, .unit = "um",
+     .meaning = "lead crowning of the cycloid in um", .default_value = "0", .disc = true, .tolerance_stream = 5,
+     .limit = L::kLength, .real = LTCA_FIELD(errors, lead_crowning)},
+    {.section = "errors", .name = "lead_slope_um", .type = T::kReal, .unit = "um",
+     .meaning = "lead slope error of the cycloid over the face width in um", .default_value = "0", .disc = true,
+     .tolerance_stream = 6, .limit = L::kLength, .real = LTCA_FIELD(errors, lead_slope)},
+    {.section = "errors", .name = "centre_dx_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "frame-fixed offset of the cycloid centre along X in mm", .default_value = "0", .disc = true,
+     .tolerance_stream = 7, .limit = L::kLength, .real = LTCA_FIELD(assembly, centre_dx)},
+    {.section = "errors", .name = "centre_dy_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "frame-fixed offset of the cycloid centre along Y in mm", .default_value = "0", .disc = true,
+     .tolerance_stream = 8, .limit = L::kLength, .real = LTCA_FIELD(assembly, centre_dy)},
+    {.section = "errors", .name = "eccentricity_deviation_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "eccentricity deviation in mm", .default_value = "0", .disc = true, .tolerance_stream = 9,
+     .limit = L::kLength, .real = LTCA_FIELD(assembly, eccentricity_deviation)},
+    {.section = "errors", .name = "misalignment_xz_deg", .type = T::kReal, .unit = "deg",
+     .meaning = "tilt phi of the cycloid axis in the XZ plane in deg", .default_value = "0", .disc = true,
+     .tolerance_stream = 10, .limit = L::kTilt, .real = LTCA_FIELD(assembly, misalignment_xz)},
+    {.section = "errors", .name = "misalignment_yz_deg", .type = T::kReal, .unit = "deg",
+     .meaning = "tilt gamma of the cycloid axis in the YZ plane in deg", .default_value = "0", .disc = true,
+     .tolerance_stream = 11, .limit = L::kTilt, .real = LTCA_FIELD(assembly, misalignment_yz)},
+    {.section = "errors", .name = "misalignment_pivot", .type = T::kText, .unit = "", .meaning = "face | mid",
+     .default_value = "\"face\"", .choices = "face | mid", .disc = true},
+    {.section = "errors", .name = "profile_random_zone_um", .type = T::kReal, .unit = "um",
+     .meaning = "full width of the random profile tolerance zone in um", .default_value = "0", .disc = true,
+     .limit = L::kLength, .real = LTCA_FIELD(errors, profile_random.zone)},
+    {.section = "errors", .name = "profile_random_elements", .type = T::kInteger, .unit = "",
+     .meaning = "random profile elements per tooth space", .default_value = "800", .disc = true},
+    {.section = "errors", .name = "profile_random_seed", .type = T::kUnsigned, .unit = "",
+     .meaning = "seed of the random profile deviation", .default_value = "0", .disc = true},
+    {.section = "errors", .name = "profile_random_distribution", .type = T::kText, .unit = "", .meaning = "uniform | normal",
+     .default_value = "\"uniform\"", .choices = "uniform | normal", .disc = true},
+    {.section = "errors", .name = "profile_random_spacing", .type = T::kText, .unit = "", .meaning = "arc_length | parameter",
+     .default_value = "\"arc_length\"", .choices = "arc_length | parameter", .disc = true},
+    {.section = "errors", .name = "profile_measured_csv", .type = T::kText, .unit = "",
+     .meaning = "path of a measured profile trace, relative to the deck", .default_value = "", .disc = true},
+    // [contact]
+    {.section = "contact", .name = "law", .type = T::kText, .unit = "", .meaning = "hertz-line | sagitta | linear",
+     .default_value = "\"hertz-line\"", .choices = "hertz-line | sagitta | linear"},
+    {.section = "contact", .name = "rho_convention", .type = T::kText, .unit = "", .meaning = "signed | absolute",
+     .default_value = "\"signed\"", .choices = "signed | absolute"},
+    {.section = "contact", .name = "stiffness_n_per_mm2", .type = T::kReal, .unit = "N/mm^2",
+     .meaning = "linear law: stiffness per mm of contact length", .default_value = "0"},
+    {.section = "contact", .name = "log_radius_cap_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "largest cycloid radius in the hertz-line logarithm, mm", .default_value = "0"},
+    // [geometry]
+    {.section = "geometry", .name = "geometry_mode", .type = T::kText, .unit = "",
+     .meaning = "analytic | elements (Liu's discrete surface)", .default_value = "\"analytic\"", .choices = "analytic | elements"},
+    {.section = "geometry", .name = "profile_elements", .type = T::kInteger, .unit = "", .meaning = "elements along one tooth space",
+     .default_value = "800"},
+    {.section = "geometry", .name = "width_slices", .type = T::kInteger, .unit = "", .meaning = "slices across the face width",
+     .default_value = "100"},
+    // [material]
+    {.section = "material", .name = "young_modulus_mpa", .type = T::kReal, .unit = "MPa",
+     .meaning = "Young's modulus of the cycloid in MPa", .default_value = ""},
+    {.section = "material", .name = "poisson_ratio", .type = T::kReal, .unit = "", .meaning = "Poisson's ratio of the cycloid",
+     .default_value = ""},
+    {.section = "material", .name = "pin_young_modulus_mpa", .type = T::kReal, .unit = "MPa",
+     .meaning = "Young's modulus of the pins in MPa", .default_value = "young_modulus_mpa"},
+    {.section = "material", .name = "pin_poisson_ratio", .type = T::kReal, .unit = "", .meaning = "Poisson's ratio of the pins",
+     .default_value = "poisson_ratio"},
+    {.section = "material", .name = "contact_stress_limit_mpa", .type = T::kReal, .unit = "MPa",
+     .meaning = "contact stress above which a result is flagged, MPa", .default_value = "4000"},
+    // [pins]
+    {.section = "pins", .name = "span_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "distance between the two supports of a pin in mm", .default_value = ""},
+    {.section = "pins", .name = "support", .type = T::kText, .unit = "", .meaning = "simply-supported | clamped",
+     .default_value = "\"simply-supported\"", .choices = "simply-supported | clamped"},
+    {.section = "pins", .name = "face_offset_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "from the first support to face B of the cycloid in mm", .default_value = ""},
+    // [load]
+    {.section = "load", .name = "torque_nm", .type = T::kReal, .unit = "N*m",
+     .meaning = "output torque of the stage in N*m: one disc's, or with [second_disc] both discs' together",
+     .default_value = ""},
+    // [sweep]
+    {.section = "sweep", .name = "crank_start_deg", .type = T::kReal, .unit = "deg", .meaning = "first crank angle in deg",
+     .default_value = "0"},
+    {.section = "sweep", .name = "crank_end_deg", .type = T::kReal, .unit = "deg",
+     .meaning = "last crank angle in deg (inclusive)", .default_value = "crank_start_deg + 360 / pin_count"},
+    {.section = "sweep", .name = "positions", .type = T::kInteger, .unit = "", .meaning = "number of crank positions",
+     .default_value = "91"},
+    // [solver]
+    {.section = "solver", .name = "name", .type = T::kText, .unit = "",
+     .meaning = "bisection | energy-qp | energy-groups | compatibility", .default_value = "\"bisection\"",
+     .choices = "bisection | energy-qp | energy-groups | compatibility"},
+    {.section = "solver", .name = "kinematics", .type = T::kText, .unit = "", .meaning = "linearised | exact",
+     .default_value = "\"linearised\"", .choices = "linearised | exact"},
+    {.section = "solver", .name = "torque_tolerance", .type = T::kReal, .unit = "", .meaning = "relative torque tolerance",
+     .default_value = "1e-10"},
+    {.section = "solver", .name = "max_iterations", .type = T::kInteger, .unit = "", .meaning = "iteration limit",
+     .default_value = "500"},
+    {.section = "solver", .name = "preset", .type = T::kText, .unit = "", .meaning = "a named preset: liu2021", .default_value = "",
+     .choices = "liu2021"},
+    {.section = "solver", .name = "nlopt_algorithm", .type = T::kText, .unit = "", .meaning = "compatibility: NLopt algorithm name",
+     .default_value = "\"LD_LBFGS\""},
+    // [stiffness]
+    {.section = "stiffness", .name = "steps_per_branch", .type = T::kInteger, .unit = "",
+     .meaning = "torque levels per branch from -T to +T, odd", .default_value = "41"},
+    {.section = "stiffness", .name = "rigidity", .type = T::kText, .unit = "", .meaning = "secant | tangent",
+     .default_value = "\"secant\"", .choices = "secant | tangent"},
+    {.section = "stiffness", .name = "tangent_torque_nm", .type = T::kReal, .unit = "N*m",
+     .meaning = "torque of the tangent rigidity in N*m", .default_value = ""},
+    {.section = "stiffness", .name = "lost_motion_fraction", .type = T::kReal, .unit = "",
+     .meaning = "fraction of T at which lost motion is read", .default_value = "0.03"},
+    {.section = "stiffness", .name = "crank_deg", .type = T::kReal, .unit = "deg", .meaning = "one crank angle in deg",
+     .default_value = ""},
+    // [second_disc]: its own key; the disc keys of [modification] and [errors] too (DeckKey::disc)
+    {.section = "second_disc", .name = "indexing_deviation_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "indexing deviation of the second disc in mm along the pin circle", .default_value = "0"},
+    // [tolerances]: its own keys; a distribution for each key with a tolerance_stream
+    {.section = "tolerances", .name = "samples", .type = T::kInteger, .unit = "", .meaning = "number of samples",
+     .default_value = "1000"},
+    {.section = "tolerances", .name = "seed", .type = T::kUnsigned, .unit = "", .meaning = "seed of the counter-based stream",
+     .default_value = "1"},
+    {.section = "tolerances", .name = "lost_motion", .type = T::kBool, .unit = "", .meaning = "also lost motion per sample",
+     .default_value = "false"},
+    {.section = "tolerances", .name = "limits", .type = T::kTable, .unit = "",
+     .meaning = "acceptance limits: { figure = max } or { figure = { min = .., max = .. } }", .default_value = ""},
+    {.section = "tolerances", .name = "chains", .type = T::kTable, .unit = "",
+     .meaning = "assembly dimensional chains (extreme value and Monte Carlo of the closing link)", .default_value = ""},
+    {.section = "tolerances", .name = "profile_random_per_sample", .type = T::kBool, .unit = "",
+     .meaning = "every sample its own random profile deviation", .default_value = "false"},
+    // [operation]
+    {.section = "operation", .name = "input_speed_rpm", .type = T::kReal, .unit = "rpm", .meaning = "crank (input) speed in rpm",
+     .default_value = ""},
+    {.section = "operation", .name = "oil_viscosity_pa_s", .type = T::kReal, .unit = "Pa*s",
+     .meaning = "dynamic viscosity of the oil in Pa*s", .default_value = "0.03"},
+    {.section = "operation", .name = "pressure_viscosity_per_gpa", .type = T::kReal, .unit = "1/GPa",
+     .meaning = "pressure-viscosity coefficient in 1/GPa", .default_value = "10"},
+    {.section = "operation", .name = "roughness_ra_cycloid_um", .type = T::kReal, .unit = "um",
+     .meaning = "Ra of the cycloid flank in um", .default_value = "0.3"},
+    {.section = "operation", .name = "roughness_ra_pin_um", .type = T::kReal, .unit = "um", .meaning = "Ra of the pin (or sleeve) in um",
+     .default_value = "0.3"},
+    // [friction]
+    {.section = "friction", .name = "model", .type = T::kText, .unit = "", .meaning = "coulomb | jiang-mixed",
+     .default_value = "\"coulomb\"", .choices = "coulomb | jiang-mixed"},
+    {.section = "friction", .name = "coefficient", .type = T::kReal, .unit = "", .meaning = "Coulomb friction coefficient mu",
+     .default_value = ""},
+    {.section = "friction", .name = "boundary_coefficient", .type = T::kReal, .unit = "",
+     .meaning = "boundary friction coefficient f_b", .default_value = "0.1"},
+    {.section = "friction", .name = "limiting_shear_modulus_mpa", .type = T::kReal, .unit = "MPa",
+     .meaning = "G of Jiang eq. 23 in MPa", .default_value = "1"},
+    {.section = "friction", .name = "power_law_exponent", .type = T::kReal, .unit = "", .meaning = "n of Jiang eq. 22-23",
+     .default_value = "0.5"},
+    {.section = "friction", .name = "sleeve_bore_radius_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "radius of the pin inside its sleeve in mm", .default_value = ""},
+    {.section = "friction", .name = "sleeve_coefficient", .type = T::kReal, .unit = "", .meaning = "mu at the sleeve bore",
+     .default_value = ""},
+    {.section = "friction", .name = "torque_balance", .type = T::kText, .unit = "", .meaning = "solve | bound",
+     .default_value = "\"solve\"", .choices = "solve | bound"},
+};
+
+#undef LTCA_FIELD
+#undef LTCA_LIST
+
+}  // namespace
+
+double DeckKey::ToInternal(double value) const {
+  const std::string_view u = unit;
+  if (u == "um") return units::UmToMm(value);
+  if (u == "deg") return units::DegToRad(value);
+  return value;
+}
+
+double DeckKey::FromInternal(double value) const {
+  const std::string_view u = unit;
+  if (u == "um") return units::MmToUm(value);
+  if (u == "deg") return units::RadToDeg(value);
+  return value;
+}
+
+std::string DeckKey::ToleranceName() const {
+  return std::string_view(section) == "modification" ? std::string("modification_") + name : std::string(name);
+}
+
+double DeckKey::Reach(double internal, const geometry::PairParameters& pair) const {
+  switch (limit) {
+    case Limit::kRotation: return pair.pin_circle_radius * internal;
+    case Limit::kTilt: return pair.face_width * std::tan(internal);
+    case Limit::kLength:
+    case Limit::kNone: break;
+  }
+  return internal;
+}
+
+const std::vector<DeckKey>& DeckKeys() { return kKeys; }
+
+std::vector<std::string> DeckSections() {
+  std::vector<std::string> out;
+  for (const DeckKey& k : kKeys) {
+    if (std::find(out.begin(), out.end(), k.section) == out.end()) out.emplace_back(k.section);
+  }
+  return out;
+}
+
+std::vector<std::string> SectionKeys(std::string_view section) {
+  std::vector<std::string> out;
+  for (const DeckKey& k : kKeys) {
+    if (k.section == section) out.emplace_back(k.name);
+  }
+  return out;
+}
+
+const DeckKey* FindKey(std::string_view section, std::string_view name) {
+  for (const DeckKey& k : kKeys) {
+    if (k.section == section && k.name == name) return &k;
+  }
+  return nullptr;
+}
+
+std::vector<const DeckKey*> ToleranceVariableKeys() {
+  std::vector<const DeckKey*> out;
+  for (const DeckKey& k : kKeys) {
+    if (k.tolerance_stream >= 0) out.push_back(&k);
+  }
+  std::sort(out.begin(), out.end(), [](const DeckKey* a, const DeckKey* b) { return a->tolerance_stream < b->tolerance_stream; });
+  return out;
+}
+
+const DeckKey* FindToleranceKey(std::string_view tolerance_name) {
+  for (const DeckKey* k : ToleranceVariableKeys()) {
+    if (k->ToleranceName() == tolerance_name) return k;
+  }
+  return nullptr;
+}
+
+const char* ToString(DeckKey::Type type) {
+  switch (type) {
+    case DeckKey::Type::kReal: return "number";
+    case DeckKey::Type::kRealList: return "list of numbers";
+    case DeckKey::Type::kInteger: return "integer";
+    case DeckKey::Type::kUnsigned: return "integer >= 0";
+    case DeckKey::Type::kText: return "text";
+    case DeckKey::Type::kBool: return "true | false";
+    case DeckKey::Type::kTable: return "table";
+  }
+  return "?";
+}
+
+}  // namespace ltca::analysis
