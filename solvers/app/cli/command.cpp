@@ -12,6 +12,19 @@ namespace ltca::cli {
 
 app::Deck DeckInput::Read() const { return path.empty() ? app::DefaultDeck(overrides) : app::LoadDeck(path, overrides); }
 
+// The factories, one in each command's source.
+Command GeometryCommand();
+Command BacklashCommand();
+Command MeshCommand();
+Command SolveCommand();
+Command StiffnessCommand();
+Command ToleranceCommand();
+Command EfficiencyCommand();
+Command CompareCommand();
+Command ValidateCommand();
+Command ReportCommand();
+Command KeysCommand();
+
 std::vector<Command> Commands() {
   return {GeometryCommand(),  BacklashCommand(),  MeshCommand(),    SolveCommand(),     StiffnessCommand(),
           ToleranceCommand(), EfficiencyCommand(), CompareCommand(), ValidateCommand(), ReportCommand(),      KeysCommand()};

@@ -1,7 +1,7 @@
 #pragma once
 // The table of commands (issue 24): each command is {name, description, options, outputs, run};
 // cli.cpp adds every entry to the command line and runs the one that was given. A new command is
-// one factory in its *_command.cpp and one line in Commands() (command.cpp).
+// one factory in its *_command.cpp, declared and listed in command.cpp (Commands()).
 #include <functional>
 #include <string>
 #include <vector>
@@ -33,19 +33,6 @@ struct Command {
 
 /// Every command, in the order `ltca --help` lists them.
 std::vector<Command> Commands();
-
-// The factories, one in each command's source.
-Command GeometryCommand();
-Command BacklashCommand();
-Command MeshCommand();
-Command SolveCommand();
-Command StiffnessCommand();
-Command ToleranceCommand();
-Command EfficiencyCommand();
-Command CompareCommand();
-Command ValidateCommand();
-Command ReportCommand();
-Command KeysCommand();
 
 // --- the options several commands share ------------------------------------------------------------
 inline constexpr const char* kSetHelp = "Override a deck key: section.key=value (repeatable)";
