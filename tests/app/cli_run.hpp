@@ -1,10 +1,11 @@
 #pragma once
 // The command line run in-process, shared by the application-layer tests: its exit code and what it
-// wrote to standard output and standard error; and the path of a deck in cases/.
+// wrote to standard output and standard error (and, from cases.hpp, the path of a deck in cases/).
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "cases.hpp"
 #include "cli.hpp"
 
 namespace ltca::test {
@@ -19,7 +20,5 @@ inline Outcome RunCli(const std::vector<std::string>& args) {
   const int code = ltca::cli::Run(args, out, err);
   return {code, out.str(), err.str()};
 }
-
-inline std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
 
 }  // namespace ltca::test

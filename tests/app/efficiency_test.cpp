@@ -9,6 +9,8 @@
 #include <vector>
 
 #include <doctest/doctest.h>
+
+#include "cases.hpp"
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -27,7 +29,7 @@ using ltca::solvers::SolverOptions;
 
 namespace {
 
-std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+using ltca::test::Case;
 
 SolverOptions Options(const std::string& solver = "bisection") {
   SolverOptions o;

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include <doctest/doctest.h>
+
+#include "cases.hpp"
 #include <nlohmann/json.hpp>
 
 #include "ltca/app/deck.hpp"
@@ -29,7 +31,7 @@ using ltca::solvers::SolverOptions;
 
 namespace {
 
-std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+using ltca::test::Case;
 
 SolverOptions Options(const std::string& solver) {
   SolverOptions o;

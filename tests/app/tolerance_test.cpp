@@ -16,6 +16,8 @@
 #include <vector>
 
 #include <doctest/doctest.h>
+
+#include "cases.hpp"
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -34,7 +36,7 @@ using ltca::app::ToleranceStudy;
 
 namespace {
 
-std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+using ltca::test::Case;
 
 std::string ReadText(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -27,6 +27,8 @@ import lzma
 import os
 import subprocess
 import sys
+
+import snapshot_cli  # beside this script
 import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -177,23 +179,8 @@ def check(exe, cases, snapshot, deck):
         return 1
     with ThreadPoolExecutor(max_workers=1) as pool:
         problems = [line for lines in pool.map(lambda w: check_run(exe, cases, w), wanted) for line in lines]
-    for line in problems[:40]:
-        print(line)
-    if len(problems) > 40:
-        print(f"... and {len(problems) - 40} more")
-    print(f"{deck}: {len(wanted)} runs, {len(problems)} mismatches")
-    return 1 if problems else 0
-
-
-def main():
-    if len(sys.argv) == 5 and sys.argv[1] == "make":
-        make(*sys.argv[2:5])
-        return 0
-    if len(sys.argv) == 6 and sys.argv[1] == "check":
-        return check(*sys.argv[2:6])
-    print(__doc__)
-    return 2
+    return snapshot_cli.report(deck, len(wanted), problems)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(snapshot_cli.main(make, check, __doc__))

@@ -6,6 +6,8 @@
 
 #include <doctest/doctest.h>
 
+#include "cases.hpp"
+
 #include "ltca/geometry/units.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/solvers/registry.hpp"
@@ -21,7 +23,7 @@ using ltca::solvers::SolverStatus;
 
 namespace {
 
-std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+using ltca::test::Case;
 
 LoadResult SolveWith(const std::string& name, const LoadProblem& problem) {
   SolverOptions options;

@@ -10,6 +10,8 @@
 
 #include <doctest/doctest.h>
 
+#include "cases.hpp"
+
 #include "ltca/app/deck.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
@@ -25,7 +27,7 @@ using ltca::solvers::SolverStatus;
 
 namespace {
 
-std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+using ltca::test::Case;
 
 LoadResult SolveWith(const std::string& solver, const LoadProblem& problem) {
   SolverOptions options;

@@ -8,6 +8,8 @@
 
 #include <doctest/doctest.h>
 
+#include "cases.hpp"
+
 #include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/app/deck.hpp"
@@ -25,7 +27,7 @@ using ltca::solvers::SolverStatus;
 
 namespace {
 
-std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+using ltca::test::Case;
 
 // A backend that answers with the true solution turned by a whole number of cycloid tooth pitches:
 // the same forces and, on the exact geometry, the same approaches, so the residual is as small as

@@ -13,6 +13,8 @@
 
 #include <doctest/doctest.h>
 
+#include "cases.hpp"
+
 #include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/registry.hpp"
@@ -26,7 +28,7 @@ using ltca::solvers::SolverStatus;
 
 namespace {
 
-std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+using ltca::test::Case;
 
 LoadResult SolveWith(const std::string& solver, const LoadProblem& problem) {
   SolverOptions options;

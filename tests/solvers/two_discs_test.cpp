@@ -10,6 +10,8 @@
 #include <vector>
 
 #include <doctest/doctest.h>
+
+#include "cases.hpp"
 #include <fmt/format.h>
 
 #include "ltca/app/deck.hpp"
@@ -29,7 +31,7 @@ using ltca::solvers::Workspace;
 
 namespace {
 
-std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+using ltca::test::Case;
 
 LoadResult Solve(const std::string& solver, const LoadProblem& problem, ContactKinematics /*kinematics: the problem's*/) {
   SolverOptions options;
