@@ -21,11 +21,14 @@ struct ActiveSetCholmod::Impl {
   cholmod_dense* x = nullptr;     // cholmod_solve2's solution and workspaces, reused
   cholmod_dense* y = nullptr;
   cholmod_dense* e = nullptr;
-  std::vector<char> active;
-  Eigen::VectorXd d;
+  // The kernel's shared bookkeeping (ActiveSetKernel::State).
+  std::vector<char>& active;
+  Eigen::VectorXd& d;
+  bool& stale;
+  Stats& stats;
   Eigen::MatrixXd rhs;  // Solve's right-hand sides, masked (reused)
-  bool stale = true;  // the factor does not hold the current D and active set
-  Stats stats;
+
+  explicit Impl(State& s) : active(s.active), d(s.d), stale(s.stale), stats(s.stats) {}
 
   ~Impl() {
     cholmod_free_dense(&x, &common);
@@ -59,7 +62,7 @@ struct ActiveSetCholmod::Impl {
   }
 };
 
-ActiveSetCholmod::ActiveSetCholmod(const Eigen::SparseMatrix<double>& coupling) : impl_(std::make_unique<Impl>()) {
+ActiveSetCholmod::ActiveSetCholmod(const Eigen::SparseMatrix<double>& coupling) : impl_(std::make_unique<Impl>(state_)) {
   Impl& m = *impl_;
   if (coupling.rows() != coupling.cols()) {
     throw std::invalid_argument(fmt::format("active-set factor: {} x {} is not square", coupling.rows(), coupling.cols()));
@@ -120,35 +123,48 @@ ActiveSetCholmod::ActiveSetCholmod(const Eigen::SparseMatrix<double>& coupling) 
   m.r = cholmod_allocate_sparse(static_cast<std::size_t>(n), 1, static_cast<std::size_t>(longest), 0, 1, 0, CHOLMOD_REAL,
                                 &m.common);
   if (m.r == nullptr) throw std::runtime_error("active-set factor: CHOLMOD could not allocate a column");
-  m.active.assign(static_cast<std::size_t>(n), 0);
-  m.d = Eigen::VectorXd::Ones(n);
+  Reset(n);
 }
 
 ActiveSetCholmod::~ActiveSetCholmod() = default;
 
-int ActiveSetCholmod::size() const { return static_cast<int>(impl_->c.rows()); }
 const Eigen::SparseMatrix<double>& ActiveSetCholmod::coupling() const { return impl_->c; }
 
 bool ActiveSetCholmod::Matches(const Eigen::SparseMatrix<double>& coupling) const {
   return IdenticalSparse(impl_->c, coupling);  // c is kept compressed
 }
 
-bool ActiveSetCholmod::active(int i) const { return impl_->active[static_cast<std::size_t>(i)] != 0; }
-const std::vector<char>& ActiveSetCholmod::active_set() const { return impl_->active; }
-double ActiveSetCholmod::diagonal(int i) const { return impl_->d(i); }
-
-void ActiveSetCholmod::SetDiagonal(const Eigen::VectorXd& d) {
-  impl_->d = d;
-  impl_->stale = true;
+void ActiveSetKernel::Reset(int n) {
+  state_.active.assign(static_cast<std::size_t>(n), 0);
+  state_.d = Eigen::VectorXd::Ones(n);
+  state_.stale = true;
 }
 
-void ActiveSetCholmod::Add(int i, double d_i) {
+void ActiveSetKernel::SetDiagonal(const Eigen::VectorXd& d) {
+  state_.d = d;
+  state_.stale = true;
+}
+
+void ActiveSetKernel::Add(int i, double d_i) {
+  const auto k = static_cast<std::size_t>(i);
+  if (state_.active[k]) return;
+  state_.active[k] = 1;
+  state_.d(i) = d_i;
+  if (state_.stale) return;
+  if (!UpdateAdd(i, d_i)) state_.stale = true;
+}
+
+void ActiveSetKernel::Remove(int i) {
+  const auto k = static_cast<std::size_t>(i);
+  if (!state_.active[k]) return;
+  state_.active[k] = 0;
+  if (state_.stale) return;
+  if (!UpdateRemove(i)) state_.stale = true;
+}
+
+bool ActiveSetCholmod::UpdateAdd(int i, double d_i) {
   Impl& m = *impl_;
   const auto k = static_cast<std::size_t>(i);
-  if (m.active[k]) return;
-  m.active[k] = 1;
-  m.d(i) = d_i;
-  if (m.stale) return;
   // Column i of the masked M in L's row order: C_ji over the active points j, D_i + C_ii on the diagonal.
   auto* rp = static_cast<int*>(m.r->p);
   auto* ri = static_cast<int*>(m.r->i);
@@ -178,18 +194,14 @@ void ActiveSetCholmod::Add(int i, double d_i) {
   // The new pivot must be positive (M_AA is positive definite); otherwise refactorise from scratch.
   const auto* lp = static_cast<const int*>(m.l->p);
   const auto* lx = static_cast<const double*>(m.l->x);
-  if (!ok || m.common.status != CHOLMOD_OK || !(lx[lp[m.iperm[k]]] > 0.0)) m.stale = true;
+  return ok && m.common.status == CHOLMOD_OK && lx[lp[m.iperm[k]]] > 0.0;
 }
 
-void ActiveSetCholmod::Remove(int i) {
+bool ActiveSetCholmod::UpdateRemove(int i) {
   Impl& m = *impl_;
-  const auto k = static_cast<std::size_t>(i);
-  if (!m.active[k]) return;
-  m.active[k] = 0;
-  if (m.stale) return;
   ++m.stats.rowdels;
-  const int ok = cholmod_rowdel(static_cast<std::size_t>(m.iperm[k]), nullptr, m.l, &m.common);
-  if (!ok || m.common.status != CHOLMOD_OK) m.stale = true;
+  const int ok = cholmod_rowdel(static_cast<std::size_t>(m.iperm[static_cast<std::size_t>(i)]), nullptr, m.l, &m.common);
+  return ok && m.common.status == CHOLMOD_OK;
 }
 
 bool ActiveSetCholmod::Solve(const Eigen::MatrixXd& b, Eigen::MatrixXd* x) {
@@ -229,7 +241,5 @@ void ActiveSetCholmod::Apply(const Eigen::VectorXd& f, Eigen::VectorXd* cf) cons
     for (Eigen::SparseMatrix<double>::InnerIterator e(c, j); e; ++e) (*cf)(e.row()) += e.value() * fj;
   }
 }
-
-const ActiveSetCholmod::Stats& ActiveSetCholmod::stats() const { return impl_->stats; }
 
 }  // namespace ltca::solvers

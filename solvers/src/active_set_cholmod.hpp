@@ -29,23 +29,43 @@ class ActiveSetKernel {
     int solves = 0;          ///< cholmod_solve2 calls
   };
   virtual ~ActiveSetKernel() = default;
-  virtual int size() const = 0;
-  virtual bool active(int i) const = 0;
+  int size() const { return static_cast<int>(state_.active.size()); }
+  bool active(int i) const { return state_.active[static_cast<std::size_t>(i)] != 0; }
   /// Per point: 1 when active.
-  virtual const std::vector<char>& active_set() const = 0;
+  const std::vector<char>& active_set() const { return state_.active; }
   /// The diagonal D_i the factor holds for an active point (mm/N).
-  virtual double diagonal(int i) const = 0;
+  double diagonal(int i) const { return state_.d(i); }
   /// A new diagonal for every point (only the active ones enter M): refactorised at the next Solve.
-  virtual void SetDiagonal(const Eigen::VectorXd& d) = 0;
-  /// Point i enters the active set with diagonal d_i. No effect when already active.
-  virtual void Add(int i, double d_i) = 0;
-  /// Point i leaves the active set. No effect when inactive.
-  virtual void Remove(int i) = 0;
+  void SetDiagonal(const Eigen::VectorXd& d);
+  /// Point i enters the active set with diagonal d_i. No effect when already active. When the
+  /// factor is current it is updated (UpdateAdd), otherwise the next Solve refactorises.
+  void Add(int i, double d_i);
+  /// Point i leaves the active set. No effect when inactive. As Add, by UpdateRemove.
+  void Remove(int i);
   /// x = M_AA^{-1} b on the active rows, 0 on the others (b, x: n x k). False when it fails.
   [[nodiscard]] virtual bool Solve(const Eigen::MatrixXd& b, Eigen::MatrixXd* x) = 0;
   /// cf = C f (all points).
   virtual void Apply(const Eigen::VectorXd& f, Eigen::VectorXd* cf) const = 0;
-  virtual const Stats& stats() const = 0;
+  const Stats& stats() const { return state_.stats; }
+
+ protected:
+  /// The bookkeeping both kernels share (issue 24): the active set, the diagonal, whether the
+  /// factor is stale (it does not hold the current D and active set), the counts.
+  struct State {
+    std::vector<char> active;
+    Eigen::VectorXd d;
+    bool stale = true;
+    Stats stats;
+  };
+  /// n points, none active, D = 1, the factor stale.
+  void Reset(int n);
+  State state_;
+
+ private:
+  /// The factor is current and point i has just entered with d_i (left): update the factor;
+  /// false when the update failed (the next Solve refactorises).
+  virtual bool UpdateAdd(int i, double d_i) = 0;
+  virtual bool UpdateRemove(int i) = 0;
 };
 
 class ActiveSetCholmod final : public ActiveSetKernel {
@@ -56,25 +76,11 @@ class ActiveSetCholmod final : public ActiveSetKernel {
   ActiveSetCholmod(const ActiveSetCholmod&) = delete;
   ActiveSetCholmod& operator=(const ActiveSetCholmod&) = delete;
 
-  int size() const override;
   /// The coupling C it was built for (compressed, both triangles).
   const Eigen::SparseMatrix<double>& coupling() const;
   /// True when this kernel was built for exactly this matrix (size, pattern and values).
   bool Matches(const Eigen::SparseMatrix<double>& coupling) const;
 
-  bool active(int i) const override;
-  /// Per point: 1 when active.
-  const std::vector<char>& active_set() const override;
-  /// The diagonal D_i the factor holds for an active point (mm/N).
-  double diagonal(int i) const override;
-  /// A new diagonal for every point (only the active ones enter M): the factor is refactorised
-  /// numerically at the next Solve.
-  void SetDiagonal(const Eigen::VectorXd& d) override;
-  /// Point i enters the active set with diagonal d_i: cholmod_rowadd when the factor is current,
-  /// otherwise only recorded (the next Solve refactorises). No effect when already active.
-  void Add(int i, double d_i) override;
-  /// Point i leaves the active set: cholmod_rowdel when the factor is current. No effect when inactive.
-  void Remove(int i) override;
 
   /// x = M_AA^{-1} b on the active rows, 0 on the others; b and x are n x k (k right-hand sides,
   /// solved together). Refactorises first if needed. Returns false when CHOLMOD fails (M_AA not
@@ -83,9 +89,10 @@ class ActiveSetCholmod final : public ActiveSetKernel {
   /// cf = C f over the non-zero entries of f.
   void Apply(const Eigen::VectorXd& f, Eigen::VectorXd* cf) const override;
 
-  const Stats& stats() const override;
-
  private:
+  /// Point i entered: cholmod_rowadd. Left: cholmod_rowdel.
+  bool UpdateAdd(int i, double d_i) override;
+  bool UpdateRemove(int i) override;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -30,12 +30,15 @@ struct BeamWoodbury::Impl {
   cholmod_dense* x = nullptr;
   cholmod_dense* y = nullptr;
   cholmod_dense* e = nullptr;
-  std::vector<char> active;
-  Eigen::VectorXd d;     // per point, the laws' compliances
+  // The kernel's shared bookkeeping (ActiveSetKernel::State): d per point, the laws' compliances.
+  std::vector<char>& active;
+  Eigen::VectorXd& d;
+  bool& stale;
+  Stats& stats;
   Eigen::VectorXd held;  // per active point, the D_i the factor holds
   Eigen::MatrixXd y_points, z_dofs, b_u;
-  bool stale = true;
-  Stats stats;
+
+  explicit Impl(State& s) : active(s.active), d(s.d), stale(s.stale), stats(s.stats) {}
 
   ~Impl() {
     cholmod_free_dense(&x, &common);
@@ -96,7 +99,7 @@ struct BeamWoodbury::Impl {
 };
 
 BeamWoodbury::BeamWoodbury(std::shared_ptr<const LoadProblem::CouplingFactors> factors)
-    : impl_(std::make_unique<Impl>()) {
+    : impl_(std::make_unique<Impl>(state_)) {
   Impl& m = *impl_;
   if (factors == nullptr) throw std::invalid_argument("beam Woodbury: no factors");
   m.factors = std::move(factors);
@@ -167,8 +170,7 @@ BeamWoodbury::BeamWoodbury(std::shared_ptr<const LoadProblem::CouplingFactors> f
   m.column = cholmod_allocate_sparse(static_cast<std::size_t>(dofs), 1, static_cast<std::size_t>(longest), 1, 1, 0,
                                      CHOLMOD_REAL, &m.common);
   if (m.column == nullptr) throw std::runtime_error("beam Woodbury: CHOLMOD could not allocate a column");
-  m.active.assign(static_cast<std::size_t>(n), 0);
-  m.d = Eigen::VectorXd::Ones(n);
+  Reset(n);
   m.held = Eigen::VectorXd::Ones(n);
 }
 
@@ -182,36 +184,17 @@ bool BeamWoodbury::Matches(const std::shared_ptr<const LoadProblem::CouplingFact
          IdenticalSparse(mine.stiffness, factors->stiffness) && IdenticalSparse(mine.loads, factors->loads);
 }
 
-int BeamWoodbury::size() const { return static_cast<int>(impl_->b.rows()); }
-bool BeamWoodbury::active(int i) const { return impl_->active[static_cast<std::size_t>(i)] != 0; }
-const std::vector<char>& BeamWoodbury::active_set() const { return impl_->active; }
-double BeamWoodbury::diagonal(int i) const { return impl_->d(i); }
-
-void BeamWoodbury::SetDiagonal(const Eigen::VectorXd& d) {
-  impl_->d = d;
-  impl_->stale = true;
-}
-
-void BeamWoodbury::Add(int i, double d_i) {
+bool BeamWoodbury::UpdateAdd(int i, double d_i) {
   Impl& m = *impl_;
-  const auto k = static_cast<std::size_t>(i);
-  if (m.active[k]) return;
-  m.active[k] = 1;
-  m.d(i) = d_i;
-  if (m.stale) return;
   ++m.stats.rowadds;
   m.held(i) = d_i;
-  if (!m.UpDown(i, d_i, true)) m.stale = true;
+  return m.UpDown(i, d_i, true);
 }
 
-void BeamWoodbury::Remove(int i) {
+bool BeamWoodbury::UpdateRemove(int i) {
   Impl& m = *impl_;
-  const auto k = static_cast<std::size_t>(i);
-  if (!m.active[k]) return;
-  m.active[k] = 0;
-  if (m.stale) return;
   ++m.stats.rowdels;
-  if (!m.UpDown(i, m.held(i), false)) m.stale = true;
+  return m.UpDown(i, m.held(i), false);
 }
 
 bool BeamWoodbury::Solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd* out) {
@@ -256,6 +239,5 @@ void BeamWoodbury::Apply(const Eigen::VectorXd& f, Eigen::VectorXd* cf) const {
   *cf += m.factors->local.cwiseProduct(f);
 }
 
-const BeamWoodbury::Stats& BeamWoodbury::stats() const { return impl_->stats; }
 
 }  // namespace ltca::solvers

@@ -32,18 +32,13 @@ class BeamWoodbury final : public ActiveSetKernel {
   /// True when built for these factors (the same shared object, or equal sizes, patterns and values).
   bool Matches(const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const;
 
-  int size() const override;
-  bool active(int i) const override;
-  const std::vector<char>& active_set() const override;
-  double diagonal(int i) const override;
-  void SetDiagonal(const Eigen::VectorXd& d) override;
-  void Add(int i, double d_i) override;
-  void Remove(int i) override;
   [[nodiscard]] bool Solve(const Eigen::MatrixXd& b, Eigen::MatrixXd* x) override;
   void Apply(const Eigen::VectorXd& f, Eigen::VectorXd* cf) const override;
-  const Stats& stats() const override;
 
  private:
+  /// Point i entered: the rank-1 update of S by b_i / sqrt(D'_i). Left: the downdate.
+  bool UpdateAdd(int i, double d_i) override;
+  bool UpdateRemove(int i) override;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
