@@ -41,6 +41,10 @@ void AddLoadInputs(CLI::App& command, DeckInput& deck, std::string& solver, std:
   command.add_option("--kinematics", kinematics, kKinematicsHelp)->check(CLI::IsMember({"exact", "linearised"}));
 }
 
+void AddOutput(CLI::App& command, const char* option, std::string& path, const char* help) {
+  command.add_option(option, path, help)->type_name("FILE|-");
+}
+
 const CLI::Validator& CrankAngle() {
   static const CLI::Validator validator(
       [](std::string& text) -> std::string {

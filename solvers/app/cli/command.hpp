@@ -20,6 +20,13 @@ struct DeckInput {
   app::Deck Read() const;
 };
 
+/// The state of a command that reads a deck: the deck and the command's options (bound by `options`).
+template <class Options>
+struct DeckState {
+  DeckInput deck;
+  Options options;
+};
+
 struct Command {
   std::string name;
   std::string description;
@@ -43,6 +50,8 @@ inline constexpr const char* kKinematicsHelp =
 void AddDeckInputs(CLI::App& command, DeckInput& deck, const char* deck_help = "Case deck (TOML); default: the built-in deck");
 /// --set, DECK, --solver and --kinematics: the inputs of a command that solves loads.
 void AddLoadInputs(CLI::App& command, DeckInput& deck, std::string& solver, std::string& kinematics);
+/// An output option (--json, --csv, --svg, ...): a FILE, or '-' for standard output.
+void AddOutput(CLI::App& command, const char* option, std::string& path, const char* help);
 /// --crank-deg: a finite angle within +-analysis::kMaxCrankDeg (CLI11 names the option in its message).
 const CLI::Validator& CrankAngle();
 /// --seed and --first: a whole number 0 .. 2^63 - 1, as the deck's integers are.

@@ -183,11 +183,7 @@ int RunCompare(const app::Deck& deck_given, const CompareOptions& options, const
 }
 
 Command CompareCommand() {
-  struct State {
-    DeckInput deck;
-    CompareOptions options;
-  };
-  auto st = std::make_shared<State>();
+  auto st = std::make_shared<DeckState<CompareOptions>>();
   return {"compare",
           "Run several solvers (default: all) on the same sweep and print them side by side with the largest differences "
           "from the first in TE, pin force and contact count, and their times.",
@@ -197,10 +193,9 @@ Command CompareCommand() {
             c.add_option("--solvers", o.solvers, "Comma-separated solver names (default: all)")->delimiter(',');
             c.add_option("--kinematics", o.kinematics, "linearised or exact (default: the deck's)")
                 ->check(CLI::IsMember({"exact", "linearised"}));
-            c.add_option("--json", o.json_path, "Write the comparison as JSON ('-': stdout)")->type_name("FILE|-");
-            c.add_option("--svg", o.svg_path,
-                         "Draw every solver's TE over crank angle and its difference from the first (SVG; .png/.pdf by extension)")
-                ->type_name("FILE|-");
+            AddOutput(c, "--json", o.json_path, "Write the comparison as JSON ('-': stdout)");
+            AddOutput(c, "--svg", o.svg_path,
+                      "Draw every solver's TE over crank angle and its difference from the first (SVG; .png/.pdf by extension)");
           },
           [st] { return std::vector<std::string>{st->options.json_path, st->options.svg_path}; },
           [st](const Streams& streams) {

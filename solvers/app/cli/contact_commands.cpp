@@ -117,12 +117,6 @@ void WriteMeshFigure(const app::Deck& deck, double crank_deg, const contact::Mes
 
 }  // namespace
 
-contact::ContactKinematics ParseKinematics(const std::string& text) {
-  if (text == "exact") return contact::ContactKinematics::kExact;
-  if (text == "linearised") return contact::ContactKinematics::kLinearised;
-  throw std::invalid_argument(fmt::format("--kinematics {}: expected exact or linearised", text));
-}
-
 int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Streams& streams) {
   RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
@@ -339,11 +333,10 @@ Command BacklashCommand() {
           "keys mean_backlash_arcsec, pp_backlash_arcsec. Interference is an error naming the pins.",
           [st](CLI::App& c) {
             AddDeckInputs(c, st->deck);
-            c.add_option("--json", st->options.json_path, "Write summary and positions as JSON ('-': stdout)")->type_name("FILE|-");
-            c.add_option("--csv", st->options.csv_path, "Write one row per position as CSV")->type_name("FILE|-");
-            c.add_option("--svg", st->options.svg_path,
-                         "Draw backlash and the rotations to first contact over crank angle (SVG; .png/.pdf by extension)")
-                ->type_name("FILE|-");
+            AddOutput(c, "--json", st->options.json_path, "Write summary and positions as JSON ('-': stdout)");
+            AddOutput(c, "--csv", st->options.csv_path, "Write one row per position as CSV");
+            AddOutput(c, "--svg", st->options.svg_path,
+                      "Draw backlash and the rotations to first contact over crank angle (SVG; .png/.pdf by extension)");
             c.add_option("--kinematics", st->kinematics, kKinematicsHelp)->check(CLI::IsMember({"exact", "linearised"}));
           },
           [st] { return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path}; },
@@ -355,20 +348,16 @@ Command BacklashCommand() {
 }
 
 Command MeshCommand() {
-  struct State {
-    DeckInput deck;
-    MeshOptions options;
-  };
-  auto st = std::make_shared<State>();
+  auto st = std::make_shared<DeckState<MeshOptions>>();
   return {"mesh",
           "Mesh state at one crank angle: per pin its angle from the line of centres, clearance c_i (um), moment arm L_i "
           "(mm), radii of curvature, contact point, edge contact.",
           [st](CLI::App& c) {
             AddDeckInputs(c, st->deck);
             c.add_option("--crank-deg", st->options.crank_deg, "Crank angle in degrees (default 0)")->check(CrankAngle());
-            c.add_option("--json", st->options.json_path, "Write the table as JSON ('-': stdout)")->type_name("FILE|-");
-            c.add_option("--svg", st->options.svg_path, "Draw the clearance and arm of every pin (SVG; .png/.pdf by extension)")
-                ->type_name("FILE|-");
+            AddOutput(c, "--json", st->options.json_path, "Write the table as JSON ('-': stdout)");
+            AddOutput(c, "--svg", st->options.svg_path,
+                      "Draw the clearance and arm of every pin (SVG; .png/.pdf by extension)");
           },
           [st] { return std::vector<std::string>{st->options.json_path, st->options.svg_path}; },
           [st](const Streams& streams) {

@@ -30,6 +30,4 @@ struct MeshOptions {
 /// `ltca mesh`: the mesh state table at one crank angle; rejects an interfering pair (std::invalid_argument).
 void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& streams);
 
-contact::ContactKinematics ParseKinematics(const std::string& text);
-
 }  // namespace ltca::cli

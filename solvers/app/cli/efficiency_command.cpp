@@ -264,11 +264,7 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
 }
 
 Command EfficiencyCommand() {
-  struct State {
-    DeckInput deck;
-    EfficiencyOptions options;
-  };
-  auto st = std::make_shared<State>();
+  auto st = std::make_shared<DeckState<EfficiencyOptions>>();
   return {"efficiency",
           "Friction, power loss and meshing efficiency (docs/efficiency.md): at every position of the deck's sweep the "
           "loaded forces, the sliding and entrainment speed of every contact (crank at [operation] input_speed_rpm), the "
@@ -279,10 +275,10 @@ Command EfficiencyCommand() {
           [st](CLI::App& c) {
             EfficiencyOptions& o = st->options;
             AddLoadInputs(c, st->deck, o.solver, o.kinematics);
-            c.add_option("--json", o.json_path, "Write the positions and the summary as JSON ('-': stdout)")->type_name("FILE|-");
-            c.add_option("--csv", o.csv_path, "Write one row per position and loaded contact as CSV")->type_name("FILE|-");
-            c.add_option("--svg", o.svg_path, "Draw efficiency and power loss over crank angle and the friction coefficient per pin")
-                ->type_name("FILE|-");
+            AddOutput(c, "--json", o.json_path, "Write the positions and the summary as JSON ('-': stdout)");
+            AddOutput(c, "--csv", o.csv_path, "Write one row per position and loaded contact as CSV");
+            AddOutput(c, "--svg", o.svg_path,
+                      "Draw efficiency and power loss over crank angle and the friction coefficient per pin");
           },
           [st] { return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path}; },
           [st](const Streams& streams) { return RunEfficiency(st->deck.Read(), st->options, streams); }};

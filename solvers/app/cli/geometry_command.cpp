@@ -309,28 +309,22 @@ void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const St
 }
 
 Command GeometryCommand() {
-  struct State {
-    DeckInput deck;
-    GeometryOptions options;
-  };
-  auto st = std::make_shared<State>();
+  auto st = std::make_shared<DeckState<GeometryOptions>>();
   return {"geometry",
           "Derived geometry of the pair: K1, phi_max (Chen eq. 16), contact ratio (eq. 27), theta_max (eq. 20), "
           "alpha_max (Liu eq. 2), minimum radius of curvature, undercut margin, mesh period; optionally the profile as "
           "CSV and a drawing as SVG.",
           [st](CLI::App& c) {
             AddDeckInputs(c, st->deck, "Case deck (TOML); default: the built-in Liu 2021 Table 1 deck");
-            c.add_option("--json", st->options.json_path,
-                         "Write the summary as JSON to FILE ('-' for standard output); keys k1, phi_max_deg, contact_ratio, "
-                         "theta_max_deg, alpha_max_deg, min_curvature_radius_mm, undercut_margin_mm, mesh_period_deg, "
-                         "transmission_ratio")
-                ->type_name("FILE|-");
-            c.add_option("--csv", st->options.csv_path,
-                         "Write the whole profile to FILE: tooth_space, u_deg, x_mm, y_mm, normal_x, normal_y, "
-                         "curvature_radius_mm (body frame)")
-                ->type_name("FILE|-");
-            c.add_option("--svg", st->options.svg_path, "Draw the cycloid and the pins at the crank angle --crank-deg to FILE")
-                ->type_name("FILE|-");
+            AddOutput(c, "--json", st->options.json_path,
+                      "Write the summary as JSON to FILE ('-' for standard output); keys k1, phi_max_deg, contact_ratio, "
+                      "theta_max_deg, alpha_max_deg, min_curvature_radius_mm, undercut_margin_mm, mesh_period_deg, "
+                      "transmission_ratio");
+            AddOutput(c, "--csv", st->options.csv_path,
+                      "Write the whole profile to FILE: tooth_space, u_deg, x_mm, y_mm, normal_x, normal_y, "
+                      "curvature_radius_mm (body frame)");
+            AddOutput(c, "--svg", st->options.svg_path,
+                      "Draw the cycloid and the pins at the crank angle --crank-deg to FILE");
             c.add_option("--crank-deg", st->options.crank_deg, "Crank angle of the drawing in degrees (default 0)")
                 ->check(CrankAngle());
           },

@@ -63,10 +63,9 @@ Command KeysCommand() {
           "Every deck key: section, unit, type, default, whether it is per pin, whether [second_disc] may give its own "
           "and [tolerances] vary it, and what it is; --write-doc regenerates the key reference of docs/decks.md.",
           [st](CLI::App& c) {
-            c.add_option("--markdown", st->markdown_path, "Write the key reference as Markdown ('-': stdout)")->type_name("FILE|-");
+            AddOutput(c, "--markdown", st->markdown_path, "Write the key reference as Markdown ('-': stdout)");
             c.add_option("--write-doc", st->doc_path, "Replace the generated key reference of this document (docs/decks.md)");
-            c.add_option("--dict", st->dict_path, "Write the libFuzzer dictionary of the deck fuzzer ('-': stdout)")
-                ->type_name("FILE|-");
+            AddOutput(c, "--dict", st->dict_path, "Write the libFuzzer dictionary of the deck fuzzer ('-': stdout)");
           },
           [st] { return std::vector<std::string>{st->markdown_path, st->dict_path}; },
           [st](const Streams& streams) {

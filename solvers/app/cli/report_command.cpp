@@ -221,11 +221,7 @@ int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams
 }
 
 Command ReportCommand() {
-  struct State {
-    DeckInput deck;
-    ReportOptions options;
-  };
-  auto st = std::make_shared<State>();
+  auto st = std::make_shared<DeckState<ReportOptions>>();
   return {"report",
           "One static HTML page, DIR/index.html, that a browser opens from disk (nothing fetched): the case, the model and "
           "solver, the geometry table, the summaries of the loaded sweep and of the backlash, and the figures inlined as "

@@ -12,7 +12,6 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
-#include "contact_commands.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::cli {
@@ -406,11 +405,7 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
 }
 
 Command SolveCommand() {
-  struct State {
-    DeckInput deck;
-    SolveOptions options;
-  };
-  auto st = std::make_shared<State>();
+  auto st = std::make_shared<DeckState<SolveOptions>>();
   return {"solve",
           "Loaded tooth contact analysis over the deck's sweep with one solver: loaded TE (Liu eq. 16), pins in contact, "
           "pin forces, contact stresses. JSON, streamed: positions [{crank_deg, te_arcsec, contacts, pin_force_n, "
@@ -420,12 +415,11 @@ Command SolveCommand() {
           "successful positions only (null when none succeeded).",
           [st](CLI::App& c) {
             AddLoadInputs(c, st->deck, st->options.solver, st->options.kinematics);
-            c.add_option("--json", st->options.json_path, "Write summary and positions as JSON ('-': stdout)")->type_name("FILE|-");
-            c.add_option("--csv", st->options.csv_path, "Write one row per position as CSV")->type_name("FILE|-");
-            c.add_option("--svg", st->options.svg_path, "Draw the TE over the sweep and the load distribution")->type_name("FILE|-");
-            c.add_option("--pattern-csv", st->options.pattern_csv_path,
-                         "Write the contact pattern as CSV: one row per position, pin and slice (force, stress, z)")
-                ->type_name("FILE|-");
+            AddOutput(c, "--json", st->options.json_path, "Write summary and positions as JSON ('-': stdout)");
+            AddOutput(c, "--csv", st->options.csv_path, "Write one row per position as CSV");
+            AddOutput(c, "--svg", st->options.svg_path, "Draw the TE over the sweep and the load distribution");
+            AddOutput(c, "--pattern-csv", st->options.pattern_csv_path,
+                      "Write the contact pattern as CSV: one row per position, pin and slice (force, stress, z)");
           },
           [st] {
             return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path,

@@ -359,11 +359,7 @@ int RunStiffness(const app::Deck& deck_given, const StiffnessOptions& options, c
 }
 
 Command StiffnessCommand() {
-  struct State {
-    DeckInput deck;
-    StiffnessOptions options;
-  };
-  auto st = std::make_shared<State>();
+  auto st = std::make_shared<DeckState<StiffnessOptions>>();
   return {"stiffness",
           "Torsional stiffness, lost motion and backlash (docs/stiffness.md): with the crank locked, the output torque "
           "runs from -T to +T and back (T = |[load] torque_nm|, the rated torque) and the twist of the output (the "
@@ -384,10 +380,10 @@ Command StiffnessCommand() {
                          "Torque of the tangent rigidity in N*m, signed ([stiffness] tangent_torque_nm)");
             c.add_option("--lost-motion-fraction", o.lost_motion_fraction,
                          "Lost motion at +-this fraction of T ([stiffness] lost_motion_fraction, default 0.03)");
-            c.add_option("--json", o.json_path, "Write the positions and the summary as JSON ('-': stdout)")->type_name("FILE|-");
-            c.add_option("--csv", o.csv_path, "Write the curve as CSV: crank_deg, branch, torque_nm, twist_arcmin, status")
-                ->type_name("FILE|-");
-            c.add_option("--svg", o.svg_path, "Draw the loop with the read-off values")->type_name("FILE|-");
+            AddOutput(c, "--json", o.json_path, "Write the positions and the summary as JSON ('-': stdout)");
+            AddOutput(c, "--csv", o.csv_path,
+                      "Write the curve as CSV: crank_deg, branch, torque_nm, twist_arcmin, status");
+            AddOutput(c, "--svg", o.svg_path, "Draw the loop with the read-off values");
           },
           [st] { return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path}; },
           [st](const Streams& streams) { return RunStiffness(st->deck.Read(), st->options, streams); }};

@@ -493,11 +493,7 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
 }
 
 Command ToleranceCommand() {
-  struct State {
-    DeckInput deck;
-    ToleranceOptions options;
-  };
-  auto st = std::make_shared<State>();
+  auto st = std::make_shared<DeckState<ToleranceOptions>>();
   return {"tolerance",
           "Tolerance analysis (docs/tolerance.md): a seeded Monte Carlo over the deck's [tolerances]; every sample builds "
           "its pair and runs the unloaded and the loaded TCA over the sweep (and lost motion when asked). Percentiles "
@@ -528,12 +524,11 @@ Command ToleranceCommand() {
                 ->check(Index());
             c.add_flag("--lost-motion", o.lost_motion, "Also lost motion per sample ([tolerances] lost_motion = true)");
             c.add_flag("--no-worst-case", o.no_worst_case, "Skip the extreme-value (worst-case) runs");
-            c.add_option("--json", o.json_path,
-                         "Write the summary as JSON ('-': stdout): summary {samples, seed, figures {NAME: {mean, std, p1, p5, "
-                         "p50, p95, p99}}, limits, pass_fraction, sensitivity, worst_case}")
-                ->type_name("FILE|-");
-            c.add_option("--csv", o.csv_path, "Write every sample's inputs and figures as CSV")->type_name("FILE|-");
-            c.add_option("--svg", o.svg_path, "Draw histograms of the figures")->type_name("FILE|-");
+            AddOutput(c, "--json", o.json_path,
+                      "Write the summary as JSON ('-': stdout): summary {samples, seed, figures {NAME: {mean, std, p1, p5, "
+                      "p50, p95, p99}}, limits, pass_fraction, sensitivity, worst_case}");
+            AddOutput(c, "--csv", o.csv_path, "Write every sample's inputs and figures as CSV");
+            AddOutput(c, "--svg", o.svg_path, "Draw histograms of the figures");
           },
           [st] { return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path}; },
           [st](const Streams& streams) { return RunTolerance(st->deck.Read(), st->options, streams); }};

@@ -48,7 +48,7 @@ Command ValidateCommand() {
           "docs/validation.md.",
           [o](CLI::App& c) {
             c.add_option("--cases", o->cases_dir, "The cases/ folder (default: the source tree's)");
-            c.add_option("--markdown", o->markdown_path, "Write the tables as Markdown ('-': stdout)")->type_name("FILE|-");
+            AddOutput(c, "--markdown", o->markdown_path, "Write the tables as Markdown ('-': stdout)");
             c.add_option("--write-doc", o->doc_path, "Replace the generated block of this document (docs/validation.md)");
           },
           [o] { return std::vector<std::string>{o->markdown_path}; },

@@ -343,6 +343,14 @@ class Section {
     }
     return static_cast<std::uint64_t>(v.as_integer());
   }
+  bool Bool(const std::string& key, bool fallback) const {
+    if (!Has(key)) return fallback;
+    const toml::value& v = Get(key);
+    if (!v.is_boolean()) {
+      throw std::invalid_argument(fmt::format("[{}] {} = {}: expected true or false ({})", name_, key, toml::format(v), Meaning(key)));
+    }
+    return v.as_boolean();
+  }
   std::string String(const std::string& key) const {
     const toml::value& v = Get(key);
     if (!v.is_string()) {
@@ -661,50 +669,20 @@ ToleranceDistribution ReadDistribution(const std::string& key, bool per_pin, con
 }
 
 ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairParameters& pair) {
-  if (!value.is_table()) throw std::invalid_argument("[tolerances] must be a table (section)");
+  // Its own keys and one distribution per key it may vary (the table of deck keys).
+  std::vector<std::string> known = analysis::SectionKeys("tolerances");
+  const auto& keys = ToleranceSettings::ToleranceKeys();
+  for (const auto& k : keys) known.push_back(k.first);
+  const Section section(&value, "tolerances", known);
   ToleranceSettings s;
   const toml::table& t = value.as_table();
-  const auto& keys = ToleranceSettings::ToleranceKeys();
-  for (const auto& entry : t) {
-    const std::string& key = entry.first;  // not a structured binding: clang 14 cannot capture one in a lambda
-    if (key == "samples" || key == "seed" || key == "lost_motion" || key == "limits" || key == "chains" ||
-        key == "profile_random_per_sample") {
-      continue;
-    }
-    if (std::none_of(keys.begin(), keys.end(), [&](const auto& k) { return k.first == key; })) {
-      std::vector<std::string> names = {"samples", "seed", "lost_motion", "limits", "chains", "profile_random_per_sample"};
-      for (const auto& k : keys) names.push_back(k.first);
-      throw std::invalid_argument(fmt::format("[tolerances] unknown key '{}'; expected one of: {}", key, fmt::join(names, ", ")));
-    }
-  }
   for (const auto& [key, per_pin] : keys) {  // in the fixed order of the key table
     if (const auto it = t.find(key); it != t.end()) s.distributions.push_back(ReadDistribution(key, per_pin, it->second));
   }
-  if (const auto it = t.find("samples"); it != t.end()) {
-    if (!it->second.is_integer()) {
-      throw std::invalid_argument(fmt::format("[tolerances] samples = {}: expected an integer", toml::format(it->second)));
-    }
-    s.samples = it->second.as_integer();
-  }
-  if (const auto it = t.find("seed"); it != t.end()) {
-    if (!it->second.is_integer() || it->second.as_integer() < 0) {
-      throw std::invalid_argument(fmt::format("[tolerances] seed = {}: expected an integer >= 0", toml::format(it->second)));
-    }
-    s.seed = static_cast<std::uint64_t>(it->second.as_integer());
-  }
-  if (const auto it = t.find("lost_motion"); it != t.end()) {
-    if (!it->second.is_boolean()) {
-      throw std::invalid_argument(fmt::format("[tolerances] lost_motion = {}: expected true or false", toml::format(it->second)));
-    }
-    s.lost_motion = it->second.as_boolean();
-  }
-  if (const auto it = t.find("profile_random_per_sample"); it != t.end()) {
-    if (!it->second.is_boolean()) {
-      throw std::invalid_argument(
-          fmt::format("[tolerances] profile_random_per_sample = {}: expected true or false", toml::format(it->second)));
-    }
-    s.profile_random_per_sample = it->second.as_boolean();
-  }
+  s.samples = section.Integer("samples", static_cast<int>(s.samples));
+  s.seed = section.Unsigned("seed", s.seed);
+  s.lost_motion = section.Bool("lost_motion", s.lost_motion);
+  s.profile_random_per_sample = section.Bool("profile_random_per_sample", s.profile_random_per_sample);
   if (const auto it = t.find("limits"); it != t.end()) {
     if (!it->second.is_table()) {
       throw std::invalid_argument(fmt::format(
