@@ -21,6 +21,7 @@
 #include "ltca/geometry/pair.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/friction.hpp"
+#include "ltca/analysis/keys.hpp"
 #include "ltca/analysis/slice_study.hpp"
 #include "ltca/analysis/stage.hpp"
 #include "ltca/analysis/stiffness.hpp"
@@ -49,7 +50,7 @@ struct DeckLimits {
   static constexpr double kMaxCrankDeg = analysis::kMaxCrankDeg;  ///< |crank_start_deg|, |crank_end_deg| (10 turns)
   /// Modifications and manufacturing errors (lengths) larger than this fraction of the pin
   /// radius look like absolute values (a radius, not a change of it) and are rejected.
-  static constexpr double kMaxDeviationFraction = 0.05;
+  static constexpr double kMaxDeviationFraction = analysis::DeckKey::kMaxDeviationFraction;
   /// [errors] profile_measured_csv: the trace file, read with a bounded read (a trace of a
   /// measuring centre has a few hundred to a few thousand rows).
   static constexpr std::uintmax_t kMaxProfileCsvBytes = 4u << 20;
