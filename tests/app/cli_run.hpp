@@ -1,11 +1,11 @@
 #pragma once
 // The command line run in-process, shared by the application-layer tests: its exit code and what it
-// wrote to standard output and standard error (and, from cases.hpp, the path of a deck in cases/).
+// wrote to standard output and standard error (and, from helpers.hpp, the path of a deck in cases/).
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "cases.hpp"
+#include "helpers.hpp"
 #include "cli.hpp"
 
 namespace ltca::test {

@@ -37,10 +37,7 @@ std::filesystem::path TempFile(const std::string& name, const std::string& text)
 
 using ltca::test::Case;
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using ltca::test::ReadText;
 
 /// cases/liu2021_table1.toml with [modification] pin_radius_mm = -0.02: dR_rp - dR_p = -20 um,
 /// every pin overlaps the cycloid by 20 um at the theoretical position.

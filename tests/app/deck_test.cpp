@@ -221,12 +221,7 @@ std::string OverrideErrorOf(const std::vector<std::string>& overrides) {
   return "";
 }
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using ltca::test::ReadText;
 
 }  // namespace
 

@@ -10,13 +10,14 @@
 
 #include <doctest/doctest.h>
 
-#include "cases.hpp"
+#include "helpers.hpp"
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
 #include "ltca/app/deck.hpp"
 #include "deck_runs.hpp"
+#include "problems.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/geometry/units.hpp"
@@ -30,12 +31,6 @@ using ltca::solvers::SolverOptions;
 namespace {
 
 using ltca::test::Case;
-
-SolverOptions Options(const std::string& solver = "bisection") {
-  SolverOptions o;
-  o.name = solver;
-  return o;
-}
 
 /// Liu Table 1 (perfect pair) with Coulomb friction mu, crank 1500 rpm, a short sweep.
 Deck LiuWithFriction(const std::string& mu, std::vector<std::string> more = {}) {
@@ -52,7 +47,7 @@ TEST_CASE("app: efficiency with mu = 0 is exactly 1 and no power is lost") {
       CAPTURE(solver);
       CAPTURE(balance);
       const Deck deck = LiuWithFriction("0", {"friction.torque_balance=" + balance});
-      auto runner = ltca::test::EfficiencyOn(deck, Options(solver), ContactKinematics::kExact);
+      auto runner = ltca::test::EfficiencyOn(deck, ltca::test::Named(solver), ContactKinematics::kExact);
       for (const double crank : runner.cranks()) {
         const EfficiencyPosition p = runner.Solve(crank);
         REQUIRE(p.succeeded());
@@ -76,7 +71,7 @@ TEST_CASE("app: output power is |T| |omega_c| and the crank turns so that the st
   // P_out = 206 * 157.08 / 39 = 829.7 W (1e-9 relative).
   for (const std::string torque : {"206", "-206"}) {
     const Deck deck = LiuWithFriction("0.05", {"load.torque_nm=" + torque});
-    auto runner = ltca::test::EfficiencyOn(deck, Options(), ContactKinematics::kLinearised);
+    auto runner = ltca::test::EfficiencyOn(deck, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
     const EfficiencyPosition p = runner.Solve(0.0);
     REQUIRE(p.succeeded());
     CHECK(p.output_power == doctest::Approx(206.0 * 1500.0 * 2 * M_PI / 60.0 / 39.0).epsilon(1e-9));
@@ -94,7 +89,7 @@ TEST_CASE("app: constant mu on a perfect pair under the linear law: the contact 
   // torque balance is solved to 1e-10.
   const Deck deck = LiuWithFriction("0.05", {"contact.law=linear", "contact.stiffness_n_per_mm2=2e4",
                                              "friction.torque_balance=solve"});
-  auto runner = ltca::test::EfficiencyOn(deck, Options(), ContactKinematics::kLinearised);
+  auto runner = ltca::test::EfficiencyOn(deck, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
   for (const double crank : runner.cranks()) {
     CAPTURE(crank);
     const EfficiencyPosition p = runner.Solve(crank);
@@ -122,8 +117,8 @@ TEST_CASE("app: a pin sleeve moves the sliding to its bore at the ratio of the r
   // the sleeveless one; the first-order figure ignores the sleeve.
   const Deck plain = LiuWithFriction("0.05", {"friction.torque_balance=bound"});
   const Deck sleeve = LiuWithFriction("0.05", {"friction.torque_balance=bound", "friction.sleeve_bore_radius_mm=2.25"});
-  auto a = ltca::test::EfficiencyOn(plain, Options(), ContactKinematics::kLinearised);
-  auto b = ltca::test::EfficiencyOn(sleeve, Options(), ContactKinematics::kLinearised);
+  auto a = ltca::test::EfficiencyOn(plain, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
+  auto b = ltca::test::EfficiencyOn(sleeve, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
   const EfficiencyPosition pa = a.Solve(0.1), pb = b.Solve(0.1);
   REQUIRE(pa.succeeded());
   REQUIRE(pb.succeeded());
@@ -134,7 +129,7 @@ TEST_CASE("app: a pin sleeve moves the sliding to its bore at the ratio of the r
 
 TEST_CASE("app: the Jiang 2022 Table 2 deck runs the mixed model with films of a fraction of a micrometre") {
   const Deck deck = ltca::app::LoadDeck(Case("jiang2022_table2_efficiency.toml"), {"sweep.positions=4"});
-  auto runner = ltca::test::EfficiencyOn(deck, Options(), ContactKinematics::kLinearised);
+  auto runner = ltca::test::EfficiencyOn(deck, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
   for (const double crank : runner.cranks()) {
     const EfficiencyPosition p = runner.Solve(crank);
     REQUIRE(p.succeeded());
@@ -162,7 +157,7 @@ TEST_CASE("app: jiang-mixed: one balance solve and secant steps on interpolated 
   for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     CAPTURE(static_cast<int>(kinematics));
     const Deck deck = ltca::app::LoadDeck(deck_path, {"sweep.positions=3"});
-    auto runner = ltca::test::EfficiencyOn(deck, Options("bisection"), kinematics);
+    auto runner = ltca::test::EfficiencyOn(deck, ltca::test::Named("bisection"), kinematics);
     const double torque_nm = deck.load->torque / 1000.0;
     for (const double crank : runner.cranks()) {
       CAPTURE(crank);
@@ -174,7 +169,7 @@ TEST_CASE("app: jiang-mixed: one balance solve and secant steps on interpolated 
       for (int k = 0; k < 40; ++k) {
         const Deck bound = ltca::app::LoadDeck(
             deck_path, {"sweep.positions=3", "friction.torque_balance=bound", fmt::format("load.torque_nm={:.17g}", carried_nm)});
-        q = ltca::test::EfficiencyOn(bound, Options("bisection"), kinematics).Solve(crank);
+        q = ltca::test::EfficiencyOn(bound, ltca::test::Named("bisection"), kinematics).Solve(crank);
         REQUIRE(q.succeeded());
         const double next_nm = torque_nm + q.friction_moment_ratio * carried_nm;
         const bool done = std::abs(next_nm - carried_nm) < 1e-12 * torque_nm;
@@ -198,7 +193,7 @@ TEST_CASE("app: efficiency's friction_moment_ratio is s of the solved balance an
   // the interpolated tolerance, 1e-8; the first-order ratio is the "bound" run's at T.
   const std::string deck_path = Case("jiang2022_table2_efficiency.toml");
   const Deck deck = ltca::app::LoadDeck(deck_path, {"sweep.positions=3"});
-  auto runner = ltca::test::EfficiencyOn(deck, Options(), ContactKinematics::kLinearised);
+  auto runner = ltca::test::EfficiencyOn(deck, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
   const double torque_nm = deck.load->torque / 1000.0;
   for (const double crank : runner.cranks()) {
     CAPTURE(crank);
@@ -209,7 +204,7 @@ TEST_CASE("app: efficiency's friction_moment_ratio is s of the solved balance an
     for (int k = 0; k < 40; ++k) {
       const Deck bound = ltca::app::LoadDeck(
           deck_path, {"sweep.positions=3", "friction.torque_balance=bound", fmt::format("load.torque_nm={:.17g}", carried_nm)});
-      const EfficiencyPosition q = ltca::test::EfficiencyOn(bound, Options(), ContactKinematics::kLinearised).Solve(crank);
+      const EfficiencyPosition q = ltca::test::EfficiencyOn(bound, ltca::test::Named("bisection"), ContactKinematics::kLinearised).Solve(crank);
       REQUIRE(q.succeeded());
       if (k == 0) first_order = q.friction_moment_ratio;
       const double next_nm = torque_nm + q.friction_moment_ratio * carried_nm;
@@ -274,8 +269,8 @@ TEST_CASE("app: friction that locks the stage is a failed position with no figur
   bound_options.push_back("friction.torque_balance=bound");
   const Deck bound = LiuWithFriction("1", bound_options);
   const Deck solve = LiuWithFriction("1", linear);
-  auto bound_runner = ltca::test::EfficiencyOn(bound, Options(), ContactKinematics::kLinearised);
-  auto runner = ltca::test::EfficiencyOn(solve, Options(), ContactKinematics::kLinearised);
+  auto bound_runner = ltca::test::EfficiencyOn(bound, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
+  auto runner = ltca::test::EfficiencyOn(solve, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
   for (const double crank : runner.cranks()) {
     CAPTURE(crank);
     const EfficiencyPosition r0 = bound_runner.Solve(crank);
@@ -377,7 +372,7 @@ TEST_CASE("app: with friction the stiffness loop opens: the loading branch twist
   ltca::app::StiffnessSettings settings;
   settings.crank = 0.0;
   settings.steps = 9;
-  auto runner = ltca::test::StiffnessOn(deck, Options(), settings, ContactKinematics::kLinearised);
+  auto runner = ltca::test::StiffnessOn(deck, ltca::test::Named("bisection"), settings, ContactKinematics::kLinearised);
   const auto p = runner.Solve(0.0);
   REQUIRE(p.succeeded());
   CHECK(p.branch_difference > 0.0);

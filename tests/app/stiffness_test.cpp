@@ -10,11 +10,12 @@
 
 #include <doctest/doctest.h>
 
-#include "cases.hpp"
+#include "helpers.hpp"
 #include <nlohmann/json.hpp>
 
 #include "ltca/app/deck.hpp"
 #include "deck_runs.hpp"
+#include "problems.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
 #include "ltca/contact/unloaded.hpp"
@@ -32,12 +33,6 @@ using ltca::solvers::SolverOptions;
 namespace {
 
 using ltca::test::Case;
-
-SolverOptions Options(const std::string& solver) {
-  SolverOptions o;
-  o.name = solver;
-  return o;
-}
 
 StiffnessSettings AtCrank(double crank_deg) {
   StiffnessSettings s;
@@ -77,7 +72,7 @@ TEST_CASE("app: stiffness of the linear law without clearance is the closed form
       }
       StiffnessSettings secant = AtCrank(crank_deg);
       secant.steps = 5;
-      auto runner = ltca::test::StiffnessOn(deck, Options(solver), secant, ContactKinematics::kLinearised);
+      auto runner = ltca::test::StiffnessOn(deck, ltca::test::Named(solver), secant, ContactKinematics::kLinearised);
       const StiffnessPosition p = runner.Solve(*secant.crank);
       REQUIRE(p.succeeded());
       CHECK(p.rigidity_drive == doctest::Approx(drive).epsilon(1e-9));
@@ -87,7 +82,7 @@ TEST_CASE("app: stiffness of the linear law without clearance is the closed form
         StiffnessSettings tangent = secant;
         tangent.rigidity = StiffnessSettings::Rigidity::kTangent;
         tangent.tangent_torque = at;
-        auto t = ltca::test::StiffnessOn(deck, Options(solver), tangent, ContactKinematics::kLinearised);
+        auto t = ltca::test::StiffnessOn(deck, ltca::test::Named(solver), tangent, ContactKinematics::kLinearised);
         // The central difference over +-1 % of the torque divides two twists, each balanced to the
         // torque tolerance 1e-10 (bisection stops there): up to 2e-10 x 50 = 1e-8 of the slope.
         CHECK(t.Solve(*tangent.crank).rigidity == doctest::Approx(at > 0.0 ? drive : coast).epsilon(2e-8));
@@ -104,7 +99,7 @@ TEST_CASE("app: stiffness backlash and the zero-torque points are the unloaded a
     for (const double crank_deg : {0.0, 2.5, 4.5, 8.2}) {
       CAPTURE(crank_deg);
       const StiffnessSettings settings = AtCrank(crank_deg);
-      auto runner = ltca::test::StiffnessOn(deck, Options("compatibility"), settings, kinematics);
+      auto runner = ltca::test::StiffnessOn(deck, ltca::test::Named("compatibility"), settings, kinematics);
       const StiffnessPosition p = runner.Solve(*settings.crank);
       REQUIRE(p.succeeded());
       const ltca::contact::UnloadedContact u = ltca::contact::AnalyseUnloaded(model, *settings.crank, kinematics);
@@ -133,7 +128,7 @@ TEST_CASE("app: stiffness of the Liu Table 1 perfect pair: no backlash and a cur
   for (const std::string solver : {"compatibility", "bisection"}) {
     CAPTURE(solver);
     const StiffnessSettings settings = AtCrank(0.0);
-    auto runner = ltca::test::StiffnessOn(deck, Options(solver), settings, ContactKinematics::kLinearised);
+    auto runner = ltca::test::StiffnessOn(deck, ltca::test::Named(solver), settings, ContactKinematics::kLinearised);
     const StiffnessPosition p = runner.Solve(0.0);
     REQUIRE(p.succeeded());
     CHECK(std::abs(p.backlash) < 1e-12);
@@ -145,7 +140,7 @@ TEST_CASE("app: stiffness of the Liu Table 1 perfect pair: no backlash and a cur
       CHECK(up[i]->twist == doctest::Approx(-mirror->twist).epsilon(1e-8));
     }
     CHECK(p.rigidity_drive == doctest::Approx(p.rigidity_coast).epsilon(1e-8));
-    auto sweep = ltca::test::StiffnessOn(deck, Options(solver), StiffnessSettings{}, ContactKinematics::kLinearised);
+    auto sweep = ltca::test::StiffnessOn(deck, ltca::test::Named(solver), StiffnessSettings{}, ContactKinematics::kLinearised);
     for (const double crank : sweep.cranks()) REQUIRE(sweep.Solve(crank).succeeded());
     const ltca::app::StiffnessSummary s = sweep.Summary();
     CHECK(std::abs(s.backlash.max) < 1e-12);
@@ -166,7 +161,7 @@ TEST_CASE("app: stiffness of the Liu 5.2 base: lost motion is the twist between 
       CAPTURE(crank_deg);
       const Deck deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
       const StiffnessSettings settings = AtCrank(crank_deg);
-      auto runner = ltca::test::StiffnessOn(deck, Options("compatibility"), settings, kinematics);
+      auto runner = ltca::test::StiffnessOn(deck, ltca::test::Named("compatibility"), settings, kinematics);
       const StiffnessPosition p = runner.Solve(*settings.crank);
       REQUIRE(p.succeeded());
       double twist[2] = {0.0, 0.0};
@@ -175,7 +170,7 @@ TEST_CASE("app: stiffness of the Liu 5.2 base: lost motion is the twist between 
             Case("liu2021_sec52_base.toml"),
             {side == 0 ? "load.torque_nm=6.18" : "load.torque_nm=-6.18", "sweep.positions=1",
              "sweep.crank_start_deg=" + std::to_string(crank_deg), "sweep.crank_end_deg=" + std::to_string(crank_deg)});
-        const ltca::app::SweepResult r = ltca::test::SolveSweep(ltca::test::WithKinematics(one, kinematics), Options("bisection"));
+        const ltca::app::SweepResult r = ltca::test::SolveSweep(ltca::test::WithKinematics(one, kinematics), ltca::test::Named("bisection"));
         REQUIRE(r.summary.all_succeeded());
         twist[side] = -r.positions.front().result.te;
       }
@@ -204,7 +199,7 @@ TEST_CASE("app: the [stiffness] section is read in internal units and defaults t
   StiffnessSettings five;
   five.steps = 5;
   five.crank = 0.0;
-  const auto runner = ltca::test::StiffnessOn(deck, Options("compatibility"), five, ContactKinematics::kLinearised);
+  const auto runner = ltca::test::StiffnessOn(deck, ltca::test::Named("compatibility"), five, ContactKinematics::kLinearised);
   CHECK(runner.Levels() == std::vector<double>{-206e3, -103e3, 0.0, 103e3, 206e3});
 }
 
@@ -257,7 +252,7 @@ TEST_CASE("app: Coulomb friction loop, linear law without clearance: branches T 
       CAPTURE(steps);
       StiffnessSettings settings = AtCrank(crank_deg);
       settings.steps = steps;
-      auto runner = ltca::test::StiffnessOn(deck, Options(solver), settings, ContactKinematics::kLinearised);
+      auto runner = ltca::test::StiffnessOn(deck, ltca::test::Named(solver), settings, ContactKinematics::kLinearised);
       const StiffnessPosition p = runner.Solve(crank);
       REQUIRE(p.succeeded());
       const double scale = held_high;  // twist tolerance: 1e-8 of the twist at T
@@ -311,7 +306,7 @@ TEST_CASE("app: without friction the loop's hysteresis is zero up to the solver'
   // loop's scale is T x twist(T) (about 206 N*m x 1e-4 rad = 2e-2 J), the residue below 1e-9 of it.
   const Deck deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
   const StiffnessSettings settings = AtCrank(0.0);
-  auto runner = ltca::test::StiffnessOn(deck, Options("compatibility"), settings, ContactKinematics::kLinearised);
+  auto runner = ltca::test::StiffnessOn(deck, ltca::test::Named("compatibility"), settings, ContactKinematics::kLinearised);
   const StiffnessPosition p = runner.Solve(0.0);
   REQUIRE(p.succeeded());
   const double scale = 206e3 * std::abs(p.curve.back().twist);

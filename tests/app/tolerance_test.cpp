@@ -17,7 +17,7 @@
 
 #include <doctest/doctest.h>
 
-#include "cases.hpp"
+#include "helpers.hpp"
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -38,10 +38,7 @@ namespace {
 
 using ltca::test::Case;
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using ltca::test::ReadText;
 
 /// Liu 2021 section 5.2 base modification (dR_rp -4 um, dR_p -17 um: clearance at every pin)
 /// with a [tolerances] section appended.

@@ -10,13 +10,14 @@
 
 #include <doctest/doctest.h>
 
-#include "cases.hpp"
+#include "helpers.hpp"
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "ltca/app/deck.hpp"
 #include "deck_runs.hpp"
+#include "problems.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
@@ -37,12 +38,6 @@ using ltca::solvers::SolverOptions;
 namespace {
 
 using ltca::test::Case;
-
-SolverOptions Options(const std::string& solver = "compatibility") {
-  SolverOptions o;
-  o.name = solver;
-  return o;
-}
 
 /// The message of the std::invalid_argument the deck text throws ("" when it reads).
 std::string Rejection(const std::vector<std::string>& overrides, const std::string& deck = "liu2021_table1.toml") {
@@ -67,7 +62,7 @@ TEST_CASE("app: two identical discs: 50/50 at every position of the sweep, and t
   CHECK(stage.Model().discs == 2);
   CHECK(one.Model().name == "plane");
 
-  auto sweep = ltca::test::SweepOn(stage, Options(), ContactKinematics::kLinearised);
+  auto sweep = ltca::test::SweepOn(stage, ltca::test::Named("compatibility"), ContactKinematics::kLinearised);
   for (const double crank : stage.sweep.CrankAngles()) {
     const ltca::app::PositionResult p = sweep.Solve(crank);
     REQUIRE(p.succeeded());
@@ -88,8 +83,8 @@ TEST_CASE("app: two identical discs: 50/50 at every position of the sweep, and t
       StiffnessSettings settings;
       settings.steps = 5;
       settings.crank = ltca::units::DegToRad(crank_deg);
-      auto two = ltca::test::StiffnessOn(stage, Options(solver), settings, ContactKinematics::kLinearised);
-      auto single = ltca::test::StiffnessOn(one, Options(solver), settings, ContactKinematics::kLinearised);
+      auto two = ltca::test::StiffnessOn(stage, ltca::test::Named(solver), settings, ContactKinematics::kLinearised);
+      auto single = ltca::test::StiffnessOn(one, ltca::test::Named(solver), settings, ContactKinematics::kLinearised);
       const StiffnessPosition a = two.Solve(*settings.crank), b = single.Solve(*settings.crank);
       REQUIRE(a.succeeded());
       REQUIRE(b.succeeded());
@@ -111,7 +106,7 @@ TEST_CASE("app: two identical discs: 50/50 at every position of the sweep, and t
 
 TEST_CASE("app: a second disc indexed 0.5 um ahead carries more of +T and less of -T, reported per crank alike by solve and stiffness") {
   const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"), {"second_disc.indexing_deviation_mm=0.0005"});
-  auto sweep = ltca::test::SweepOn(stage, Options(), ContactKinematics::kLinearised);
+  auto sweep = ltca::test::SweepOn(stage, ltca::test::Named("compatibility"), ContactKinematics::kLinearised);
   StiffnessSettings settings;
   settings.steps = 3;
   for (const double crank_deg : {0.0, 2.5, 6.1}) {
@@ -123,7 +118,7 @@ TEST_CASE("app: a second disc indexed 0.5 um ahead carries more of +T and less o
     CHECK(share > 0.3);  // both carry (observed 0.40 to 0.42)
     CHECK(share < 0.48);
     settings.crank = crank;
-    auto loop = ltca::test::StiffnessOn(stage, Options(), settings, ContactKinematics::kLinearised);
+    auto loop = ltca::test::StiffnessOn(stage, ltca::test::Named("compatibility"), settings, ContactKinematics::kLinearised);
     const StiffnessPosition q = loop.Solve(crank);
     REQUIRE(q.succeeded());
     CHECK(q.first_disc_share_drive == doctest::Approx(share).epsilon(1e-8));  // the same solve at +T
@@ -146,7 +141,7 @@ TEST_CASE("app: the stage's backlash is the nearer first contact of either disc 
       StiffnessSettings settings;
       settings.steps = 3;
       settings.crank = ltca::units::DegToRad(crank_deg);
-      auto loop = ltca::test::StiffnessOn(stage, Options("compatibility"), settings, kinematics);
+      auto loop = ltca::test::StiffnessOn(stage, ltca::test::Named("compatibility"), settings, kinematics);
       const StiffnessPosition p = loop.Solve(*settings.crank);
       REQUIRE(p.succeeded());
       const auto a = ltca::contact::AnalyseUnloaded(first, *settings.crank, kinematics);
@@ -192,9 +187,9 @@ TEST_CASE("app: [second_disc] copies the first disc unless told, and rejects pin
   // Studies that would vary or sum the first disc only say so instead of answering for it.
   const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"),
                                          {"friction.coefficient=0.05", "operation.input_speed_rpm=1500"});
-  CHECK_THROWS_WITH_AS(ltca::test::EfficiencyOn(stage, Options(), ContactKinematics::kLinearised), doctest::Contains("[second_disc]"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(ltca::test::EfficiencyOn(stage, ltca::test::Named("compatibility"), ContactKinematics::kLinearised), doctest::Contains("[second_disc]"), std::invalid_argument);
   ltca::app::ToleranceSettings tolerances;
-  CHECK_THROWS_WITH_AS(ltca::test::ToleranceOn(stage, Options(), tolerances), doctest::Contains("[second_disc]"),
+  CHECK_THROWS_WITH_AS(ltca::test::ToleranceOn(stage, ltca::test::Named("compatibility"), tolerances), doctest::Contains("[second_disc]"),
                        std::invalid_argument);
 }
 
@@ -237,7 +232,7 @@ TEST_CASE("cli: two discs in the JSON and CSV of solve, stiffness and backlash: 
   CHECK(solve.at("model").at("name") == "plane+two-discs");
   CHECK(solve.at("model").at("discs") == 2);
   const Deck stage = ltca::app::LoadDeck(deck, {"second_disc.indexing_deviation_mm=0.0005", "sweep.positions=3"});
-  auto sweep = ltca::test::SweepOn(stage, Options("bisection"), ContactKinematics::kLinearised);
+  auto sweep = ltca::test::SweepOn(stage, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
   double lo = 1.0, hi = 0.0;
   for (const auto& p : solve.at("positions")) {
     const auto torques = p.at("disc_torque_nm").get<std::vector<double>>();

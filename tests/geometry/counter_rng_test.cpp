@@ -10,25 +10,15 @@
 
 #include <doctest/doctest.h>
 
+#include "helpers.hpp"
 #include "ltca/geometry/counter_rng.hpp"
 
 namespace rng = ltca::geometry::rng;
 
 namespace {
 
-struct Moments {
-  double mean = 0.0;
-  double variance = 0.0;  // 1/n normalisation (n is large)
-};
-
-Moments MomentsOf(const std::vector<double>& x) {
-  Moments m;
-  for (const double v : x) m.mean += v;
-  m.mean /= static_cast<double>(x.size());
-  for (const double v : x) m.variance += (v - m.mean) * (v - m.mean);
-  m.variance /= static_cast<double>(x.size());
-  return m;
-}
+using ltca::test::Moments;
+using ltca::test::MomentsOf;
 
 double Correlation(const std::vector<double>& a, const std::vector<double>& b) {
   const Moments ma = MomentsOf(a), mb = MomentsOf(b);

@@ -18,6 +18,7 @@
 #include "ltca/geometry/counter_rng.hpp"
 #include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/geometry/profile_deviation.hpp"
+#include "helpers.hpp"
 #include "pairs.hpp"
 
 using ltca::geometry::CycloidProfile;
@@ -74,27 +75,8 @@ std::vector<double> CentreValues(const ProfileDeviation& dev, double phi, int te
   return v;
 }
 
-struct Moments {
-  double mean = 0.0, variance = 0.0;
-};
-Moments MomentsOf(const std::vector<double>& x) {
-  Moments m;
-  for (const double v : x) m.mean += v;
-  m.mean /= static_cast<double>(x.size());
-  for (const double v : x) m.variance += (v - m.mean) * (v - m.mean);
-  m.variance /= static_cast<double>(x.size());
-  return m;
-}
-
-template <class F>
-std::string ErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using ltca::test::Moments;
+using ltca::test::MomentsOf;
 
 // A CSV row with every digit of both values.
 std::string Row(double x, double y) {
@@ -280,22 +262,22 @@ TEST_CASE("geometry: a zero zone is no deviation; bad random parameters are reje
   CHECK(ProfileDeviation().At(0, 0.0) == 0.0);
   CHECK(ProfileDeviation().MaxAbs() == 0.0);
   r.zone = -0.001;
-  CHECK(Contains(ErrorOf([&] { ProfileDeviation::Random(r, profile); }), "[errors] profile_random_zone_um = -1: expected"));
+  CHECK(Contains(ltca::test::InvalidArgumentMessage([&] { ProfileDeviation::Random(r, profile); }), "[errors] profile_random_zone_um = -1: expected"));
   r.zone = std::numeric_limits<double>::quiet_NaN();
-  CHECK(Contains(ErrorOf([&] { ProfileDeviation::Random(r, profile); }), "[errors] profile_random_zone_um = nan"));
+  CHECK(Contains(ltca::test::InvalidArgumentMessage([&] { ProfileDeviation::Random(r, profile); }), "[errors] profile_random_zone_um = nan"));
   r.zone = 0.006;
   r.elements = 0;
-  CHECK(Contains(ErrorOf([&] { ProfileDeviation::Random(r, profile); }), "[errors] profile_random_elements = 0: expected 1 .. 100000"));
+  CHECK(Contains(ltca::test::InvalidArgumentMessage([&] { ProfileDeviation::Random(r, profile); }), "[errors] profile_random_elements = 0: expected 1 .. 100000"));
   r.elements = 100'001;
-  CHECK(Contains(ErrorOf([&] { ProfileDeviation::Random(r, profile); }), "[errors] profile_random_elements = 100001"));
+  CHECK(Contains(ltca::test::InvalidArgumentMessage([&] { ProfileDeviation::Random(r, profile); }), "[errors] profile_random_elements = 100001"));
   r.elements = 1;  // one element: a random layer per tooth space
   const ProfileDeviation one = ProfileDeviation::Random(r, profile);
   CHECK(one.At(4, -0.05) == one.At(4, 0.07));
   CHECK(one.At(4, 0.0) == doctest::Approx(ExpectedDraw(r, 4, 0)).epsilon(1e-15));
-  CHECK(Contains(ErrorOf([] { ltca::geometry::ParseProfileRandomDistribution("gauss"); }),
+  CHECK(Contains(ltca::test::InvalidArgumentMessage([] { ltca::geometry::ParseProfileRandomDistribution("gauss"); }),
                  "[errors] profile_random_distribution = \"gauss\": expected \"uniform\" or \"normal\""));
   CHECK(ltca::geometry::ParseProfileRandomDistribution("normal") == ProfileRandomDistribution::kNormal);
-  CHECK(Contains(ErrorOf([] { ltca::geometry::ParseProfileElementSpacing("arc"); }),
+  CHECK(Contains(ltca::test::InvalidArgumentMessage([] { ltca::geometry::ParseProfileElementSpacing("arc"); }),
                  "[errors] profile_random_spacing = \"arc\""));
   CHECK(ltca::geometry::ParseProfileElementSpacing("parameter") == ProfileElementSpacing::kParameter);
 }
@@ -361,7 +343,7 @@ TEST_CASE("geometry: the measured-profile CSV reader rejects bad input naming th
   };
   for (const Bad& b : bad) {
     CAPTURE(b.text);
-    const std::string message = ErrorOf([&] { ParseMeasuredProfile(b.text, "m.csv"); });
+    const std::string message = ltca::test::InvalidArgumentMessage([&] { ParseMeasuredProfile(b.text, "m.csv"); });
     CAPTURE(message);
     CHECK(Contains(message, b.message));
   }
@@ -403,11 +385,11 @@ TEST_CASE("geometry: a measured trace applies to every tooth space at its own po
   SUBCASE("points off the flank are rejected naming the line; rounding at the ends is not") {
     const double end_deg = phi * 180.0 / std::numbers::pi;
     const std::string off_angle = "profile_angle_deg, deviation_um\n0, 1\n" + Row(end_deg * 1.01, 2.0);
-    const std::string message = ErrorOf([&] { ProfileDeviation::Measured(ParseMeasuredProfile(off_angle, "o.csv"), profile); });
+    const std::string message = ltca::test::InvalidArgumentMessage([&] { ProfileDeviation::Measured(ParseMeasuredProfile(off_angle, "o.csv"), profile); });
     CHECK(Contains(message, "o.csv: line 3: profile_angle_deg = "));
     CHECK(Contains(message, "is off the flank: expected within [-4.615"));
     const std::string off_arc = "arc_length_mm, deviation_um\n" + Row(-1.01 * flank, 1.0) + "0, 2\n";
-    CHECK(Contains(ErrorOf([&] { ProfileDeviation::Measured(ParseMeasuredProfile(off_arc, "o.csv"), profile); }),
+    CHECK(Contains(ltca::test::InvalidArgumentMessage([&] { ProfileDeviation::Measured(ParseMeasuredProfile(off_arc, "o.csv"), profile); }),
                    "o.csv: line 2: arc_length_mm = "));
     // Ends rounded up in the file by 1e-4 of the flank: accepted, the value sits at the end.
     // (At the ends the line between the two points is 3e-5 of the way in: 1e-4 of the flank
@@ -451,5 +433,5 @@ TEST_CASE("geometry: the sum of a random and a measured deviation is their point
   const CycloidProfile other(ltca::test::ChenPairs()[0].pair);  // 11 teeth
   const ProfileDeviation elsewhere = ProfileDeviation::Measured(
       ParseMeasuredProfile("profile_angle_deg, deviation_um\n-3, -1\n3, 2\n", "m.csv"), other);
-  CHECK(Contains(ErrorOf([&] { ProfileDeviation::Sum(random, elsewhere); }), "39 and 11 tooth spaces"));
+  CHECK(Contains(ltca::test::InvalidArgumentMessage([&] { ProfileDeviation::Sum(random, elsewhere); }), "39 and 11 tooth spaces"));
 }

@@ -8,6 +8,7 @@
 
 #include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/units.hpp"
+#include "helpers.hpp"
 #include "pairs.hpp"
 
 using ltca::geometry::CycloidProfile;
@@ -17,17 +18,6 @@ using ltca::geometry::PairParameters;
 namespace {
 
 double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-// Runs f and returns the std::invalid_argument message ("" if nothing was thrown).
-template <class F>
-std::string ErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
 
 }  // namespace
 
@@ -125,7 +115,7 @@ TEST_CASE("geometry: invalid pairs are rejected with the key, the value and what
   auto with = [&](auto change) {
     PairParameters p = good;
     change(p);
-    return ErrorOf([&] { CycloidProfile profile(p); });
+    return ltca::test::InvalidArgumentMessage([&] { CycloidProfile profile(p); });
   };
   CHECK(with([](PairParameters&) {}) == "");
   CHECK(with([](PairParameters& p) { p.tooth_count = 40; }).find("tooth_count = 40") != std::string::npos);
@@ -144,10 +134,10 @@ TEST_CASE("geometry: invalid pairs are rejected with the key, the value and what
   // A modification that makes the generating radius vanish or K1 reach 1.
   Modification m;
   m.pin_radius = -3.0;
-  CHECK(ErrorOf([&] { CycloidProfile profile(good, m); }).find("[modification] pin_radius_mm") != std::string::npos);
+  CHECK(ltca::test::InvalidArgumentMessage([&] { CycloidProfile profile(good, m); }).find("[modification] pin_radius_mm") != std::string::npos);
   m = {};
   m.pin_circle_radius = -12.0;  // K1 = 52 / 52 = 1
-  CHECK(ErrorOf([&] { CycloidProfile profile(good, m); }).find("[modification] pin_circle_radius_mm") != std::string::npos);
+  CHECK(ltca::test::InvalidArgumentMessage([&] { CycloidProfile profile(good, m); }).find("[modification] pin_circle_radius_mm") != std::string::npos);
 }
 
 TEST_CASE("geometry: undercut is judged on the side the profile is offset to, also for d = -1") {
@@ -163,8 +153,8 @@ TEST_CASE("geometry: undercut is judged on the side the profile is offset to, al
   PairParameters above = p, below = p;
   above.pin_radius = limit * 1.001;
   below.pin_radius = limit * 0.999;
-  CHECK(ErrorOf([&] { CycloidProfile profile(above); }).find("undercut") != std::string::npos);
-  CHECK(ErrorOf([&] { CycloidProfile profile(below); }) == "");
+  CHECK(ltca::test::InvalidArgumentMessage([&] { CycloidProfile profile(above); }).find("undercut") != std::string::npos);
+  CHECK(ltca::test::InvalidArgumentMessage([&] { CycloidProfile profile(below); }) == "");
   // Why: the equidistant x = q + s r n stretches by 1 - r kappa_m (kappa_m: locus curvature toward
   // the material, checked against finite differences above). Past the limit that factor turns
   // negative somewhere on the tooth (a cusp); below it, it stays positive everywhere.

@@ -17,11 +17,11 @@
 #include <doctest/doctest.h>
 
 #include "beam_woodbury.hpp"
-#include "ltca/app/deck.hpp"
 #include "ltca/contact/pin_bending.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/registry.hpp"
+#include "problems.hpp"
 
 using ltca::contact::ContactKinematics;
 using ltca::contact::MeshModel;
@@ -35,12 +35,12 @@ using ltca::solvers::SolverStatus;
 
 namespace {
 
-const ltca::app::Deck& LiuDeck() {
-  static const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_table1.toml");
-  return deck;
+const ltca::test::PaperCase& Liu() {
+  static const ltca::test::PaperCase liu = ltca::test::LiuTable1();
+  return liu;
 }
 std::shared_ptr<const MeshModel> LiuModel() {
-  static const auto model = std::make_shared<const MeshModel>(LiuDeck().MakeModel());
+  static const auto model = Liu().Model();
   return model;
 }
 
@@ -49,34 +49,16 @@ ltca::contact::PinBeam Pin(ltca::contact::PinSupportKind kind, double span = 16.
   support.span = span;
   support.support = kind;
   support.face_offset = offset;
-  return ltca::contact::PinBeam(support, *LiuDeck().material, LiuModel()->pair().pin_radius);
+  return ltca::contact::PinBeam(support, Liu().material, LiuModel()->pair().pin_radius);
 }
 
 // The plane model's state with every pin split into n slices of B / n (pin-major).
-MeshState Sliced(double crank_deg, int n) {
-  MeshState s = LiuModel()->Evaluate(ltca::units::DegToRad(crank_deg));
-  std::vector<ltca::contact::PinContact> points;
-  for (const auto& pin : s.pins) {
-    for (int k = 0; k < n; ++k) {
-      ltca::contact::PinContact p = pin;
-      p.slice = k;
-      p.length = LiuModel()->pair().face_width / n;
-      points.push_back(p);
-    }
-  }
-  s.pins = std::move(points);
-  return s;
-}
-
 LoadProblem SlicedProblem(double crank_deg, int n) {
-  return LoadProblem(LiuModel(), Sliced(crank_deg, n), LiuDeck().contact, *LiuDeck().material, LiuDeck().load->torque);
+  return LoadProblem(LiuModel(), ltca::test::Sliced(*LiuModel(), crank_deg, n), Liu().contact, Liu().material, Liu().torque);
 }
 
 LoadProblem::CheckedCoupling Factored(const LoadProblem& p, const ltca::contact::PinBeam& beam) {
-  const double face = LiuModel()->pair().face_width;
-  ltca::contact::FactoredPinBending f = ltca::contact::PinBendingFactors(p.base_state().pins, beam, face);
-  return LoadProblem::CheckCoupling(ltca::contact::PinBendingCoupling(p.base_state().pins, beam, face), p.point_count(),
-                                    {std::move(f.stiffness), std::move(f.loads), std::move(f.local)});
+  return ltca::test::FactoredBending(p.base_state().pins, beam, LiuModel()->pair().face_width, p.point_count());
 }
 
 double MaxDifference(const std::vector<double>& a, const std::vector<double>& b) {
@@ -171,10 +153,10 @@ TEST_CASE("solvers: beam Woodbury kernel - updown and refactorisations match a d
 }
 
 TEST_CASE("solvers: beam Woodbury - bisection and compatibility give the same answers with the factored coupling") {
-  // Hand-sliced Liu Table 1 (linearised), n = 5 and 20; cases/pin_bending.toml's slice model (20
-  // slices) through Deck::MakeProblem, which gives the factored form, linearised and exact (n = 0).
-  static const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/pin_bending.toml");
-  static const auto model = std::make_shared<const MeshModel>(deck.MakeModel());
+  // Hand-sliced Liu Table 1 (linearised), n = 5 and 20; the slice model of cases/pin_bending.toml
+  // (20 slices, tests/problems.hpp) with its factored coupling, linearised and exact (n = 0).
+  static const ltca::test::PaperCase bending = ltca::test::PinBendingCase();
+  static const auto model = bending.Model();
   for (const int n : {5, 20, 0}) {
     for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
       if (n > 0 && kinematics == ContactKinematics::kExact) continue;  // a hand-made state is linearised only
@@ -186,16 +168,17 @@ TEST_CASE("solvers: beam Woodbury - bisection and compatibility give the same an
         const double crank = 9.0 * k / 5;
         CAPTURE(n);
         CAPTURE(crank);
-        ltca::app::Deck d = deck;
-        d.kinematics = kinematics;
-        const ltca::analysis::Stage stage = d.MakeStage({ltca::units::DegToRad(crank)});
-        const LoadProblem plain = n > 0 ? SlicedProblem(crank, n) : stage.Problem(ltca::units::DegToRad(crank), deck.load->torque);
+        const LoadProblem plain = n > 0 ? SlicedProblem(crank, n)
+                                        : LoadProblem(model, ltca::units::DegToRad(crank), bending.contact,
+                                                      bending.material, bending.torque, kinematics);
         const LoadProblem::CheckedCoupling factored =
-            n > 0 ? Factored(plain, Pin(ltca::contact::PinSupportKind::kClamped)) : stage.coupling();
+            n > 0 ? Factored(plain, Pin(ltca::contact::PinSupportKind::kClamped))
+                  : ltca::test::FactoredBending(plain.base_state().pins, bending.Beam(), bending.pair.face_width,
+                                                plain.point_count());
         LoadProblem::CheckedCoupling matrix_only = factored;
         matrix_only.factors = nullptr;
         const LoadProblem with_matrix = plain.WithCoupling(matrix_only);
-        const LoadProblem with_factors = n > 0 ? plain.WithCoupling(factored) : plain;
+        const LoadProblem with_factors = plain.WithCoupling(factored);
         REQUIRE(with_matrix.coupling_factors() == nullptr);
         REQUIRE(with_factors.coupling_factors() != nullptr);
         for (int s = 0; s < 2; ++s) {

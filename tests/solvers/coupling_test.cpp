@@ -19,12 +19,12 @@
 #include <Eigen/SparseCore>
 #include <doctest/doctest.h>
 
-#include "ltca/app/deck.hpp"
 #include "ltca/contact/pin_bending.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/registry.hpp"
 #include "pairs.hpp"
+#include "problems.hpp"
 
 using ltca::contact::ContactKinematics;
 using ltca::contact::ContactSettings;
@@ -50,12 +50,7 @@ const MeshModel& Model() {
 }
 double PinStiffness() { return kStiffnessPerLength * Model().pair().face_width; }
 
-ContactSettings Linear() {
-  ContactSettings c;
-  c.law = LawKind::kLinear;
-  c.stiffness_per_length = kStiffnessPerLength;
-  return c;
-}
+ContactSettings Linear() { return ltca::test::LinearLaw(kStiffnessPerLength); }
 
 /// A hand-made problem: per pin its arm L (mm) and clearance c (mm), the coupling C (mm/N, dense
 /// here, stored sparse) and the torque (N*mm).
@@ -458,9 +453,9 @@ TEST_CASE("solvers: coupled compliance - a coupling that is not symmetric, posit
 }
 
 TEST_CASE("solvers: coupled compliance - no coupling (absent, empty or all zero) leaves every number bit-identical") {
-  const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
-  const MeshModel model = deck.MakeModel();
-  const LoadProblem plain(model, 0.3, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
+  const ltca::test::PaperCase sec52 = ltca::test::LiuSec52Base();
+  const MeshModel model = *sec52.Model();
+  const LoadProblem plain(model, 0.3, sec52.contact, sec52.material, sec52.torque, ContactKinematics::kLinearised);
   const auto n = static_cast<Eigen::Index>(plain.point_count());
   Eigen::SparseMatrix<double> zeros(n, n);  // explicit zero entries only
   std::vector<Eigen::Triplet<double>> t{{0, 0, 0.0}, {1, 2, 0.0}, {2, 1, 0.0}};
@@ -532,14 +527,14 @@ TEST_CASE("solvers: coupled compliance - energy-qp on a 40-pin pair, linearised 
   // No brute force at 40 pins: the shared residual judges, the exact answer lies within
   // 0.05 arcsec of the linearised one (as uncoupled, judge_test.cpp), and the coupling adds its
   // compliance: the coupled TE is larger than the uncoupled one.
-  const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
-  const MeshModel model = deck.MakeModel();
+  const ltca::test::PaperCase sec52 = ltca::test::LiuSec52Base();
+  const MeshModel model = *sec52.Model();
   const int n = model.pin_count();
   const Eigen::SparseMatrix<double> c = NeighbourRing(n);
   double te[2] = {NAN, NAN}, te_plain = NAN;
   for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     CAPTURE(static_cast<int>(kinematics));
-    const LoadProblem plain(model, 0.3, deck.contact, *deck.material, deck.load->torque, kinematics);
+    const LoadProblem plain(model, 0.3, sec52.contact, sec52.material, sec52.torque, kinematics);
     const LoadProblem problem = plain.WithCoupling(c);
     SolverOptions options;
     options.name = "energy-qp";
@@ -570,43 +565,24 @@ TEST_CASE("solvers: coupled compliance - energy-qp on a 40-pin pair, linearised 
 namespace {
 
 /// Liu Table 1 (cases/liu2021_table1.toml): the pair of the validation section.
-const ltca::app::Deck& LiuDeck() {
-  static const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_table1.toml");
-  return deck;
+const ltca::test::PaperCase& Liu() {
+  static const ltca::test::PaperCase liu = ltca::test::LiuTable1();
+  return liu;
 }
 std::shared_ptr<const MeshModel> LiuModel() {
-  static const auto model = std::make_shared<const MeshModel>(LiuDeck().MakeModel());
+  static const auto model = Liu().Model();
   return model;
 }
 
 /// A clamped pin of the pair's radius, 16 mm between the supports, the 12 mm face 2 mm from the first.
 ltca::contact::PinBeam Pin(const ltca::contact::Material& material, double span = 16.0, double offset = 2.0) {
-  ltca::contact::PinSupport support;
-  support.span = span;
-  support.support = ltca::contact::PinSupportKind::kClamped;
-  support.face_offset = offset;
-  return ltca::contact::PinBeam(support, material, LiuModel()->pair().pin_radius);
+  return ltca::test::ClampedPin(material, LiuModel()->pair().pin_radius, span, offset);
 }
 
-/// The plane model's state at a crank with every pin split into n slices of length B / n
-/// (pin-major points, slice k = k): what the face-width model (issue 11) will produce, emulated.
-MeshState Sliced(double crank_deg, int n) {
-  MeshState s = LiuModel()->Evaluate(ltca::units::DegToRad(crank_deg));
-  std::vector<ltca::contact::PinContact> points;
-  for (const auto& pin : s.pins) {
-    for (int k = 0; k < n; ++k) {
-      ltca::contact::PinContact p = pin;
-      p.slice = k;
-      p.length = LiuModel()->pair().face_width / n;
-      points.push_back(p);
-    }
-  }
-  s.pins = std::move(points);
-  return s;
-}
-
+/// The plane model's state at a crank with every pin split into n slices of length B / n: what the
+/// face-width model (issue 11) produces, emulated.
 LoadProblem SlicedProblem(double crank_deg, int n) {
-  return LoadProblem(LiuModel(), Sliced(crank_deg, n), LiuDeck().contact, *LiuDeck().material, LiuDeck().load->torque);
+  return LoadProblem(LiuModel(), ltca::test::Sliced(*LiuModel(), crank_deg, n), Liu().contact, Liu().material, Liu().torque);
 }
 
 Eigen::SparseMatrix<double> Bending(const LoadProblem& p, const ltca::contact::PinBeam& beam) {
@@ -647,7 +623,7 @@ TEST_CASE("solvers: coupled compliance - Liu Table 1 with pin bending over 10 sl
   for (const double crank : {0.0, 1.7, 4.5}) {
     CAPTURE(crank);
     const LoadProblem plain = SlicedProblem(crank, 10);
-    const LoadProblem problem = plain.WithCoupling(Bending(plain, Pin(*LiuDeck().material)));
+    const LoadProblem problem = plain.WithCoupling(Bending(plain, Pin(Liu().material)));
     const LoadResult r = Agree(problem, ContactKinematics::kLinearised);
     const LoadResult u = SolveWith("bisection", plain, ContactKinematics::kLinearised);
     REQUIRE(u.status == SolverStatus::kSuccess);
@@ -667,9 +643,8 @@ TEST_CASE("solvers: coupled compliance - the plane model with pin bending or nei
     for (const double crank : {0.9, 3.3}) {
       CAPTURE(static_cast<int>(kinematics));
       CAPTURE(crank);
-      const LoadProblem plain(LiuModel(), ltca::units::DegToRad(crank), LiuDeck().contact, *LiuDeck().material,
-                              LiuDeck().load->torque, kinematics);
-      Agree(plain.WithCoupling(Bending(plain, Pin(*LiuDeck().material))), kinematics);
+      const LoadProblem plain = Liu().Problem(LiuModel(), ltca::units::DegToRad(crank), kinematics);
+      Agree(plain.WithCoupling(Bending(plain, Pin(Liu().material))), kinematics);
       Agree(plain.WithCoupling(ring), kinematics);
     }
   }
@@ -678,7 +653,7 @@ TEST_CASE("solvers: coupled compliance - the plane model with pin bending or nei
 TEST_CASE("solvers: coupled compliance - a stiff pin (E x 1e6) gives the uncoupled answer") {
   // The beam's compliance scales with 1 / E: at E x 1e6 the coupled slice model is the uncoupled
   // one to within 1e-6 (TE relative, forces of the largest), for both coupled solvers.
-  ltca::contact::Material stiff = *LiuDeck().material;
+  ltca::contact::Material stiff = Liu().material;
   stiff.pin_young_modulus *= 1e6;
   for (const double crank : {0.0, 2.2}) {
     CAPTURE(crank);
@@ -708,7 +683,7 @@ TEST_CASE("solvers: coupled compliance - 40 pins x 20 slices with pin bending: b
     const double crank = 9.0 * k / positions;
     CAPTURE(crank);
     const LoadProblem plain = SlicedProblem(crank, 20);
-    const LoadProblem problem = plain.WithCoupling(Bending(plain, Pin(*LiuDeck().material)));
+    const LoadProblem problem = plain.WithCoupling(Bending(plain, Pin(Liu().material)));
     LoadResult r[2];
     ltca::solvers::Workspace* ws[2] = {&bisection_ws, &compatibility_ws};
     const char* names[2] = {"bisection", "compatibility"};

@@ -6,32 +6,19 @@
 
 #include <doctest/doctest.h>
 
-#include "cases.hpp"
+#include "problems.hpp"
 
 #include "ltca/geometry/units.hpp"
-#include "ltca/app/deck.hpp"
 #include "ltca/solvers/registry.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
 using ltca::contact::ContactKinematics;
-using ltca::contact::MeshModel;
 using ltca::solvers::LoadProblem;
 using ltca::solvers::LoadResult;
 using ltca::solvers::MakeSolver;
 using ltca::solvers::SolverOptions;
 using ltca::solvers::SolverStatus;
-
-namespace {
-
-using ltca::test::Case;
-
-LoadResult SolveWith(const std::string& name, const LoadProblem& problem) {
-  SolverOptions options;
-  options.name = name;
-  return MakeSolver(name)->Solve(problem, options);
-}
-
-}  // namespace
+using ltca::test::SolveWith;
 
 TEST_CASE("solvers: energy-groups loads the pressed pin of negative arm at the far end of the line of centres") {
   // Issue 10, cases/liu2021_table1.toml with exact kinematics at 2,000 positions over 0-9 deg:
@@ -40,13 +27,12 @@ TEST_CASE("solvers: energy-groups loads the pressed pin of negative arm at the f
   // (bisection loads it with 7e-4 to 2e-2 N). Li's groups, contiguous runs around the first-contact
   // pin of pins the rotation closes, had no place for it: energy-groups left it penetrating and
   // the shared residual said residual-too-large (3.9e-6, 4.7e-5, 9.1e-5).
-  const auto deck = ltca::app::LoadDeck(Case("liu2021_table1.toml"));
-  const MeshModel model = deck.MakeModel();
+  const ltca::test::PaperCase liu = ltca::test::LiuTable1();
+  const auto model = liu.Model();
   for (const int position : {3, 4, 5}) {
     CAPTURE(position);
     const double crank = ltca::units::DegToRad(9.0 * position / 1999.0);
-    const LoadProblem problem(model, crank, deck.contact, *deck.material, deck.load->torque,
-                              ContactKinematics::kExact);
+    const LoadProblem problem = liu.Problem(model, crank, ContactKinematics::kExact);
     const LoadResult reference = SolveWith("bisection", problem);
     REQUIRE(reference.status == SolverStatus::kSuccess);
     REQUIRE(reference.force.size() > 20);

@@ -10,9 +10,8 @@
 
 #include <doctest/doctest.h>
 
-#include "cases.hpp"
+#include "problems.hpp"
 
-#include "ltca/app/deck.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/load_solver.hpp"
@@ -24,26 +23,16 @@ using ltca::solvers::LoadProblem;
 using ltca::solvers::LoadResult;
 using ltca::solvers::SolverOptions;
 using ltca::solvers::SolverStatus;
-
-namespace {
-
-using ltca::test::Case;
-
-LoadResult SolveWith(const std::string& solver, const LoadProblem& problem) {
-  SolverOptions options;
-  options.name = solver;
-  return ltca::solvers::MakeSolver(solver)->Solve(problem, options);
-}
-
-}  // namespace
+using ltca::test::SolveWith;
 
 TEST_CASE("solvers: perfect pair: TE(-T) at crank -theta = -TE(T) at crank theta, on the mirrored (coast) flank") {
   // The perfect pair is symmetric about the line of centres at crank 0: mirrored, the pose at
   // crank theta becomes the pose at -theta with the rotation reversed. Tolerance: the solves
   // balance the torque to 1e-10, which leaves ~1e-10 relative in the TE.
-  const auto deck = ltca::app::LoadDeck(Case("hard/zero_clearance.toml"));
-  const auto model = std::make_shared<const ltca::contact::MeshModel>(deck.MakeModel());
-  const double torque = deck.load->torque;
+  // Liu 2021 Table 1 (as cases/hard/zero_clearance.toml): the perfect pair, zero clearance.
+  const ltca::test::PaperCase perfect = ltca::test::LiuTable1();
+  const auto model = perfect.Model();
+  const double torque = perfect.torque;
   int checked = 0;
   for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     for (const std::string solver : {"bisection", "energy-qp", "energy-groups", "compatibility"}) {
@@ -51,8 +40,8 @@ TEST_CASE("solvers: perfect pair: TE(-T) at crank -theta = -TE(T) at crank theta
         const double crank = ltca::units::DegToRad(deg);
         CAPTURE(solver);
         CAPTURE(deg);
-        const LoadResult drive = SolveWith(solver, LoadProblem(model, crank, deck.contact, *deck.material, torque, kinematics));
-        const LoadResult coast = SolveWith(solver, LoadProblem(model, -crank, deck.contact, *deck.material, -torque, kinematics));
+        const LoadResult drive = SolveWith(solver, LoadProblem(model, crank, perfect.contact, perfect.material, torque, kinematics));
+        const LoadResult coast = SolveWith(solver, LoadProblem(model, -crank, perfect.contact, perfect.material, -torque, kinematics));
         REQUIRE(drive.status == SolverStatus::kSuccess);
         REQUIRE(coast.status == SolverStatus::kSuccess);
         CHECK(drive.flank == Flank::kDrive);
@@ -75,25 +64,27 @@ TEST_CASE("solvers: perfect pair: TE(-T) at crank -theta = -TE(T) at crank theta
 }
 
 TEST_CASE("solvers: modified pair: rotation from the loaded position at -T to the one at +T = backlash + both wind-ups") {
-  // cases/liu2021_table1.toml (modified: backlash of about 75 arcsec). The backlash and the first
+  // Liu 2021 section 5.2's base modification (cases/liu2021_sec52_base.toml: backlash 48.1 arcsec;
+  // until issue 24 this test ran on the unmodified Table 1 pair, whose backlash is 0). The backlash and the first
   // contact both ways come from the unloaded analysis; each wind-up is the loaded rotation beyond
   // that flank's first contact. The -T problem must find its own first contact at -theta_c2,
   // load only pins that a rotation against the load direction closes (arm < 0 on the drive
   // flank), and turn the cycloid the other way.
-  const auto deck = ltca::app::LoadDeck(Case("liu2021_table1.toml"));
-  const auto model = std::make_shared<const ltca::contact::MeshModel>(deck.MakeModel());
-  const double torque = deck.load->torque;
+  const ltca::test::PaperCase modified = ltca::test::LiuSec52Base();
+  const auto model = modified.Model();
+  const double torque = modified.torque;
   int checked = 0;
   for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     for (const std::string solver : {"bisection", "compatibility"}) {
-      const auto cranks = deck.sweep.CrankAngles();
+      const auto cranks = modified.Cranks();
       for (std::size_t k = 0; k < cranks.size(); k += 9) {
         CAPTURE(solver);
         CAPTURE(k);
         const double crank = cranks[k];
         const auto unloaded = ltca::contact::AnalyseUnloaded(*model, crank, kinematics);
-        const LoadProblem plus(model, crank, deck.contact, *deck.material, torque, kinematics);
-        const LoadProblem minus(model, crank, deck.contact, *deck.material, -torque, kinematics);
+        REQUIRE(unloaded.backlash > 0.0);  // the case this test is about: a pair with backlash
+        const LoadProblem plus(model, crank, modified.contact, modified.material, torque, kinematics);
+        const LoadProblem minus(model, crank, modified.contact, modified.material, -torque, kinematics);
         CHECK(plus.LoadedRotationRange().first_contact == doctest::Approx(unloaded.theta_c1).epsilon(1e-12));
         CHECK(minus.LoadedRotationRange().first_contact == doctest::Approx(-unloaded.theta_c2).epsilon(1e-12));
         const LoadResult a = SolveWith(solver, plus), b = SolveWith(solver, minus);

@@ -8,13 +8,11 @@
 
 #include <doctest/doctest.h>
 
-#include "cases.hpp"
-
 #include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "pairs.hpp"
+#include "problems.hpp"
 
 using ltca::contact::ContactKinematics;
 using ltca::contact::MeshModel;
@@ -26,8 +24,6 @@ using ltca::solvers::SolverOptions;
 using ltca::solvers::SolverStatus;
 
 namespace {
-
-using ltca::test::Case;
 
 // A backend that answers with the true solution turned by a whole number of cycloid tooth pitches:
 // the same forces and, on the exact geometry, the same approaches, so the residual is as small as
@@ -60,15 +56,15 @@ TEST_CASE("solvers: exact kinematics at the crank where energy-qp answered 7,956
   // exact one by the second-order change of the contact geometry (about 0.004 arcsec on these
   // pairs, docs/performance.md): every solver must succeed with exact kinematics, lie within
   // 0.05 arcsec of it, and the four must agree to 1e-6 relative.
-  const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
-  const MeshModel model = deck.MakeModel();
+  const ltca::test::PaperCase sec52 = ltca::test::LiuSec52Base();
+  const auto model = sec52.Model();
   const double crank = ltca::units::DegToRad(8.99756997569976);
-  const LoadProblem linear(model, crank, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
+  const LoadProblem linear = sec52.Problem(model, crank, ContactKinematics::kLinearised);
   SolverOptions lin_options;
   lin_options.name = "compatibility";
   const LoadResult reference = MakeSolver("compatibility")->Solve(linear, lin_options);
   REQUIRE(reference.status == SolverStatus::kSuccess);
-  const LoadProblem exact(model, crank, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kExact);
+  const LoadProblem exact = sec52.Problem(model, crank, ContactKinematics::kExact);
   double first_te = NAN;
   for (const auto& name : SolverNames()) {
     CAPTURE(name);
@@ -132,16 +128,16 @@ TEST_CASE("solvers: a contact stress beyond the material limit is a warning, one
   // absolute convention, docs/validation.md): a 500 MPa limit must be exceeded at some position
   // and name the key, the default 4000 MPa (steel) and 2000 MPa must not. A 20-fold torque with a
   // linear law of small stiffness opens half-widths beyond a tenth of the pin radius: a warning.
-  const auto deck = ltca::app::LoadDeck(Case("liu2021_table1_absolute.toml"));
-  const MeshModel model = deck.MakeModel();
+  const ltca::test::PaperCase table1 = ltca::test::LiuTable1Absolute();
+  const auto model = table1.Model();
   for (const double limit : {500.0, 2000.0, 4000.0}) {
     CAPTURE(limit);
-    auto material = *deck.material;
+    auto material = table1.material;
     material.contact_stress_limit = limit;
     bool warned = false;
     for (const double crank : {0.0, 0.03, 0.06, 0.09, 0.12, 0.15}) {
-      const LoadProblem problem(model, crank, deck.contact, material, deck.load->torque, ContactKinematics::kLinearised);
-      const LoadResult r = MakeSolver("compatibility")->Solve(problem, deck.solver);
+      const LoadProblem problem(model, crank, table1.contact, material, table1.torque, ContactKinematics::kLinearised);
+      const LoadResult r = MakeSolver("compatibility")->Solve(problem, SolverOptions{});
       REQUIRE(r.status == SolverStatus::kSuccess);  // a warning does not change the status
       for (const auto& w : r.warnings) {
         if (w.find("contact_stress_limit_mpa") != std::string::npos) warned = true;
@@ -151,46 +147,3 @@ TEST_CASE("solvers: a contact stress beyond the material limit is a warning, one
   }
 }
 
-TEST_CASE("solvers: bisection and compatibility converge with exact kinematics at every position of every loaded deck") {
-  // Issue 10: exact bisection ended in max-iterations at 18 of 100,000 positions of the Liu
-  // section 5.2 deck, compatibility at some positions of ordinary decks. Here every loaded deck in
-  // cases/ at 37 positions over its sweep (other crank angles than the decks' own 0.1 deg grid):
-  // success, or, for the decks built to fail, their honest status at every position
-  // (law_cannot_carry: the load exceeds the laws; d = 2 and 3 pairs: a pressed tip corner until
-  // tip relief exists, issue 12). Both solvers agree to 1e-6 relative in TE.
-  const std::vector<std::string> decks = {
-      "liu2021_table1.toml", "liu2021_table1_absolute.toml", "liu2021_sec52_base.toml", "li_table1.toml",
-      "li_table1_hypothesis.toml", "jiang2022_table2.toml", "hard/dm1_loaded.toml", "hard/inflection_pin.toml",
-      "hard/k1_095.toml", "hard/single_pitch_error.toml", "hard/ten_times_torque.toml", "hard/tiny_torque.toml",
-      "hard/zero_clearance.toml", "hard/zero_torque.toml", "liu2021_table2/case09.toml", "liu2021_table2/case20.toml",
-      "hard/law_cannot_carry.toml", "hard/d2_loaded.toml", "hard/d3_loaded.toml"};
-  for (const auto& file : decks) {
-    CAPTURE(file);
-    const auto deck = ltca::app::LoadDeck(Case(file));
-    const MeshModel model = deck.MakeModel();
-    const int n = 37;
-    for (int k = 0; k < n; ++k) {
-      const double crank = deck.sweep.crank_start + (deck.sweep.crank_end - deck.sweep.crank_start) * (k + 0.37) / n;
-      CAPTURE(crank);
-      const LoadProblem problem(model, crank, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kExact);
-      double te = NAN;
-      for (const std::string name : {"bisection", "compatibility"}) {
-        SolverOptions options = deck.solver;
-        options.name = name;
-        const LoadResult r = MakeSolver(name)->Solve(problem, options);
-        CAPTURE(name);
-        CAPTURE(r.message);
-        if (file == "hard/law_cannot_carry.toml") {
-          CHECK(r.status == SolverStatus::kLawCannotCarry);
-        } else if (file == "hard/d2_loaded.toml" || file == "hard/d3_loaded.toml") {
-          CHECK((r.status == SolverStatus::kSuccess || r.status == SolverStatus::kEdgeContact));
-        } else {
-          REQUIRE(r.status == SolverStatus::kSuccess);
-        }
-        if (r.status != SolverStatus::kSuccess) continue;
-        if (std::isnan(te)) te = r.te;
-        CHECK(r.te == doctest::Approx(te).epsilon(1e-6));
-      }
-    }
-  }
-}

@@ -12,9 +12,9 @@
 
 #include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "pairs.hpp"
+#include "problems.hpp"
 
 using ltca::contact::ContactKinematics;
 using ltca::contact::ContactSettings;
@@ -27,12 +27,6 @@ using ltca::solvers::SolverStatus;
 
 namespace {
 
-ContactSettings Linear() {
-  ContactSettings c;
-  c.law = LawKind::kLinear;
-  c.stiffness_per_length = 2e4;  // N/mm per mm of contact length
-  return c;
-}
 
 }  // namespace
 
@@ -45,7 +39,7 @@ TEST_CASE("solvers: closed form 1 - linear law, no clearance, linearised: F_i = 
   for (const auto& name : ltca::solvers::SolverNames()) {
     CAPTURE(name);
     for (const double crank : {0.0, 0.05}) {
-      const LoadProblem problem(model, crank, Linear(), ltca::contact::Material{}, torque, ContactKinematics::kLinearised);
+      const LoadProblem problem(model, crank, ltca::test::LinearLaw(), ltca::contact::Material{}, torque, ContactKinematics::kLinearised);
       SolverOptions options;
       options.name = name;
       const auto r = MakeSolver(name)->Solve(problem, options);
@@ -67,9 +61,7 @@ TEST_CASE("solvers: closed form 1 - linear law, no clearance, linearised: F_i = 
 }
 
 TEST_CASE("solvers: the liu2021 preset of bisection lands within 1 % in torque, the default within 1e-10") {
-  const auto deck = ltca::app::DefaultDeck();
-  const MeshModel model = deck.MakeModel();
-  const LoadProblem problem(model, 0.3, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
+  const LoadProblem problem = ltca::test::LiuTable1().Problem(0.3, ContactKinematics::kLinearised);
   const auto tight = MakeSolver("bisection")->Solve(problem, SolverOptions{});
   const auto liu = MakeSolver("bisection")->Solve(problem, ltca::solvers::ApplyPreset(SolverOptions{}, "liu2021"));
   CHECK(tight.status == SolverStatus::kSuccess);
@@ -95,72 +87,6 @@ TEST_CASE("solvers: an unknown solver name is rejected with the valid names") {
   CHECK_THROWS_WITH_AS(bad.Validate(), doctest::Contains("torque_tolerance"), std::invalid_argument);
 }
 
-TEST_CASE("solvers: every solver agrees with bisection on the published decks, like with like") {
-  // Cross-check (issue 4): the same law and kinematics; TE to 1e-6 relative, forces to 1e-6 of
-  // the largest, the same active set, and the shared residual below 1e-8 for both. Positions 0,
-  // 30, 60, 90 of each sweep, linearised and exact.
-  // Every deck in cases/ outside cases/hard/ and cases/scaling/ that carries a load, plus Table 1 under the other rho
-  // convention (the hard decks have their own test).
-  std::vector<ltca::app::Deck> decks;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(LTCA_CASES_DIR)) {
-    // cases/hard/ has its own test; cases/scaling/ is benchmark data (the Liu pair scaled up to 320
-    // pins, slow under exact kinematics for every solver) covered by the Liu decks here.
-    const auto folder = entry.path().parent_path().filename();
-    if (entry.path().extension() != ".toml" || folder == "hard" || folder == "scaling") continue;
-    auto deck = ltca::app::LoadDeck(entry.path());
-    if (deck.load && deck.material) decks.push_back(std::move(deck));
-  }
-  auto table1_abs = ltca::app::DefaultDeck();
-  table1_abs.contact.rho_convention = ltca::contact::RhoConvention::kAbsolute;
-  table1_abs.info.title += " (absolute rho)";
-  decks.push_back(table1_abs);
-  CHECK(decks.size() >= 24);
-  for (const auto& deck_ref : decks) {
-    const auto* deck = &deck_ref;
-    for (const auto kin : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
-      const auto cranks = deck->sweep.CrankAngles();
-      ltca::app::Deck d = *deck;
-      d.kinematics = kin;
-      // The stage: both discs' points with [second_disc] (issue 13), pin bending's coupling with [pins].
-      const ltca::analysis::Stage stage = d.MakeStage(cranks);
-      for (std::size_t i = 0; i < cranks.size(); i += 30) {
-        const LoadProblem problem = stage.Problem(cranks[i], deck->load->torque);
-        SolverOptions options;
-        const auto ref = MakeSolver("bisection")->Solve(problem, options);
-        REQUIRE(ref.status == SolverStatus::kSuccess);
-        CHECK(ltca::solvers::ComputeResiduals(problem, ref.rotation, ref.force).Normalised() < 1e-8);
-        double f_max = 0;
-        for (const double f : ref.force) f_max = std::max(f_max, f);
-        for (const auto& name : ltca::solvers::SolverNames()) {
-          if (name == "bisection") continue;
-
-          CAPTURE(name);
-          CAPTURE(deck->info.title);
-          CAPTURE(static_cast<int>(kin));
-          CAPTURE(i);
-          options.name = name;
-          const auto other = MakeSolver(name)->Solve(problem, options);
-          CAPTURE(other.message);
-          if (problem.has_coupling() && !MakeSolver(name)->supports_coupling()) {
-            CHECK(other.status == SolverStatus::kCouplingUnsupported);  // refused, no numbers (docs/solvers.md)
-            continue;
-          }
-          REQUIRE(other.status == SolverStatus::kSuccess);
-          CHECK(ltca::solvers::ComputeResiduals(problem, other.rotation, other.force).Normalised() < 1e-8);
-          CHECK(other.te == doctest::Approx(ref.te).epsilon(1e-6));
-          std::vector<int> a, b;
-          for (std::size_t k = 0; k < ref.force.size(); ++k) {
-            CHECK(std::abs(other.force[k] - ref.force[k]) <= 1e-6 * f_max);
-            if (ref.force[k] > 1e-6 * f_max) a.push_back(static_cast<int>(k));
-            if (other.force[k] > 1e-6 * f_max) b.push_back(static_cast<int>(k));
-          }
-          CHECK(a == b);
-        }
-      }
-    }
-  }
-}
-
 TEST_CASE("solvers: closed form 2 - Kudryavtsev's load-increase factor (Jiang 2022 eq. 11-12)") {
   // Jiang eq. 11-12 with its typos mended (the bracket uses the pin's normalised arm L_i / L_max
   // where it prints sin(theta); "2a sin A" is 2 arcsin A): linear law, clearances
@@ -184,7 +110,7 @@ TEST_CASE("solvers: closed form 2 - Kudryavtsev's load-increase factor (Jiang 20
         const double a = p / (1 + p);
         const double kz = pi / ((1 + p) * (pi - 2 * std::asin(a) - 2 * a * std::sqrt(1 - a * a)));
         const double f_max = 4 * kz * torque / (zp * e * (zp - 1));
-        const ContactSettings law = Linear();
+        const ContactSettings law = ltca::test::LinearLaw();
         const double k = law.stiffness_per_length * pair.face_width;  // N/mm per pin
         const double delta = p * f_max / k;                            // P = Delta / w_max
         auto state = model.Evaluate(0.0);
@@ -208,9 +134,7 @@ TEST_CASE("solvers: closed form 2 - Kudryavtsev's load-increase factor (Jiang 20
 }
 
 TEST_CASE("solvers: each backend fills its own details") {
-  const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml");
-  const MeshModel model = deck.MakeModel();
-  const LoadProblem problem(model, 0.0, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
+  const LoadProblem problem = ltca::test::LiuSec52Base().Problem(0.0, ContactKinematics::kLinearised);
   const auto run = [&](const std::string& name) {
     SolverOptions options;
     options.name = name;
@@ -245,9 +169,7 @@ TEST_CASE("solvers: torque_tolerance is refused above 5 % (the load would not be
 
 TEST_CASE("solvers: bisection stopped by max_iterations says that the iteration limit was reached, not how close it came") {
   // Issue 26 item 16: the message read "torque off by 1e-10 relative", as if it had converged.
-  const auto deck = ltca::app::DefaultDeck();
-  const MeshModel model = deck.MakeModel();
-  const LoadProblem problem(model, 0.3, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
+  const LoadProblem problem = ltca::test::LiuTable1().Problem(0.3, ContactKinematics::kLinearised);
   SolverOptions options;
   options.max_iterations = 3;
   const auto r = MakeSolver("bisection")->Solve(problem, options);
@@ -255,4 +177,43 @@ TEST_CASE("solvers: bisection stopped by max_iterations says that the iteration 
   CHECK(r.message.find("iteration limit") != std::string::npos);
   CHECK(r.message.find("max_iterations = 3") != std::string::npos);
   CHECK(r.message.find("torque_tolerance") != std::string::npos);
+}
+
+TEST_CASE("solvers: at the solution no feasible perturbation of the forces lowers the complementary energy") {
+  // Independent of the solvers: perturb the solution along every pair of pins (i, j) in the
+  // direction that keeps the torque, dF_i = +eps / L_i, dF_j = -eps / L_j, wherever the forces stay
+  // >= 0, and recompute sum_i [E_i^c(F_i) + c_i F_i] from the laws. None may be lower
+  // (beyond 1e-12 relative rounding).
+  const LoadProblem problem = ltca::test::LiuSec52Base().Problem(0.07, ContactKinematics::kLinearised);
+  for (const auto& solver : ltca::solvers::SolverNames()) {
+    CAPTURE(solver);
+    SolverOptions options;
+    options.name = solver;
+    const auto r = MakeSolver(solver)->Solve(problem, options);
+    REQUIRE(r.status == SolverStatus::kSuccess);
+    const auto& pins = problem.base_state().pins;
+    const auto& laws = problem.base_laws();
+    const auto energy = [&](const std::vector<double>& f) {
+      double e = 0;
+      for (std::size_t k = 0; k < f.size(); ++k) e += laws[k].ComplementaryEnergy(f[k]) + pins[k].clearance * f[k];
+      return e;
+    };
+    const double e0 = energy(r.force);
+    double f_max = *std::max_element(r.force.begin(), r.force.end());
+    int tried = 0;
+    for (std::size_t i = 0; i < pins.size(); ++i) {
+      for (std::size_t j = 0; j < pins.size(); ++j) {
+        if (i == j || pins[i].arm <= 1e-6 || pins[j].arm <= 1e-6 || pins[i].edge || pins[j].edge) continue;
+        for (const double eps : {1e-4 * f_max, 1e-2 * f_max}) {
+          auto f = r.force;
+          f[i] += eps / pins[i].arm;
+          f[j] -= eps / pins[j].arm;
+          if (f[j] < 0.0) continue;
+          ++tried;
+          CHECK(energy(f) >= e0 - 1e-12 * std::abs(e0));
+        }
+      }
+    }
+    CHECK(tried > 100);
+  }
 }

@@ -13,9 +13,8 @@
 
 #include <doctest/doctest.h>
 
-#include "cases.hpp"
+#include "problems.hpp"
 
-#include "ltca/app/deck.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/registry.hpp"
 
@@ -28,13 +27,11 @@ using ltca::solvers::SolverStatus;
 
 namespace {
 
-using ltca::test::Case;
-
-LoadResult SolveWith(const std::string& solver, const LoadProblem& problem) {
+/// The named solver with the torque balanced to 1e-13.
+LoadResult SolveTight(const std::string& solver, const LoadProblem& problem) {
   SolverOptions options;
-  options.name = solver;
   options.torque_tolerance = 1e-13;
-  return ltca::solvers::MakeSolver(solver)->Solve(problem, options);
+  return ltca::test::SolveWith(solver, problem, options);
 }
 
 std::vector<double> PinTotals(const LoadProblem& problem, const std::vector<double>& force) {
@@ -54,13 +51,14 @@ TEST_CASE("solvers: n identical slices reproduce the plane model (3D -> 2D limit
   // deformation part, so 1e-10 of the largest force for bisection, compatibility and
   // energy-groups; energy-qp's forces are Ipopt's interior-point iterates (1e-8). The rotation
   // is held to 1e-12 for all.
-  const auto deck = ltca::app::LoadDeck(Case("liu2021_table1.toml"));
-  const auto plane = std::make_shared<const MeshModel>(deck.MakeModel());
+  const ltca::test::PaperCase liu = ltca::test::LiuTable1();
+  const auto plane = liu.Model();
   REQUIRE(plane->slice_count() == 1);
   for (const int n : {1, 3, 20}) {
-    auto geometry = deck.geometry;
+    auto geometry = liu.geometry;
     geometry.width_slices = n;
-    const auto sliced = std::make_shared<const MeshModel>(deck.MakeRealPair(), geometry, /*coupled_along_width=*/true);
+    const auto sliced = std::make_shared<const MeshModel>(ltca::geometry::RealPair(liu.pair, liu.modification, liu.errors, {}),
+                                                          geometry, /*coupled_along_width=*/true);
     REQUIRE(sliced->slice_count() == n);
     for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
       for (const std::string solver : {"bisection", "energy-qp", "energy-groups", "compatibility"}) {
@@ -69,9 +67,9 @@ TEST_CASE("solvers: n identical slices reproduce the plane model (3D -> 2D limit
           CAPTURE(solver);
           CAPTURE(crank);
           CAPTURE(static_cast<int>(kinematics));
-          const LoadProblem p_plane(plane, crank, deck.contact, *deck.material, deck.load->torque, kinematics);
-          const LoadProblem p_sliced(sliced, crank, deck.contact, *deck.material, deck.load->torque, kinematics);
-          const LoadResult a = SolveWith(solver, p_plane), b = SolveWith(solver, p_sliced);
+          const LoadProblem p_plane = liu.Problem(plane, crank, kinematics);
+          const LoadProblem p_sliced = liu.Problem(sliced, crank, kinematics);
+          const LoadResult a = SolveTight(solver, p_plane), b = SolveTight(solver, p_sliced);
           REQUIRE(a.status == SolverStatus::kSuccess);
           REQUIRE(b.status == SolverStatus::kSuccess);
           CHECK(b.rotation == doctest::Approx(a.rotation).epsilon(1e-12));
@@ -102,11 +100,9 @@ TEST_CASE("solvers: pin bending moves load toward the supports: the pin ends car
   // (symmetric): the outer halves of a pin's slices carry more than half its load; the uncoupled
   // identical slices carry exactly half. Moving the face toward the first support (offset 1 mm)
   // moves each loaded pin's load centroid toward face B (z < B / 2).
-  auto deck = ltca::app::LoadDeck(Case("pin_bending.toml"));
-  deck.kinematics = ContactKinematics::kLinearised;
-  const auto bent = std::make_shared<const MeshModel>(deck.MakeModel());
+  ltca::test::PaperCase bending = ltca::test::PinBendingCase();
+  const auto bent = bending.Model();
   REQUIRE(bent->slice_count() == 20);
-  const auto rigid = std::make_shared<const MeshModel>(deck.MakeRealPair(), deck.geometry, /*coupled_along_width=*/true);
   const auto outer_share = [](const LoadProblem& problem, const LoadResult& r) {
     // Of the most loaded pin: the load on slices 0-4 and 15-19 over the pin's total.
     const auto total = PinTotals(problem, r.force);
@@ -119,18 +115,18 @@ TEST_CASE("solvers: pin bending moves load toward the supports: the pin ends car
     return outer / total[static_cast<std::size_t>(heaviest)];
   };
   for (const double crank : {0.0, 0.1}) {
-    const LoadProblem coupled = deck.MakeStage({crank}).Problem(crank, deck.load->torque);
+    const LoadProblem coupled = bending.Problem(bent, crank, ContactKinematics::kLinearised);
     REQUIRE(coupled.has_coupling());
-    const LoadProblem uncoupled(rigid, crank, deck.contact, *deck.material, deck.load->torque, ContactKinematics::kLinearised);
-    const LoadResult a = SolveWith("compatibility", coupled), b = SolveWith("compatibility", uncoupled);
+    const LoadProblem uncoupled(bent, crank, bending.contact, bending.material, bending.torque, ContactKinematics::kLinearised);
+    const LoadResult a = SolveTight("compatibility", coupled), b = SolveTight("compatibility", uncoupled);
     REQUIRE(a.status == SolverStatus::kSuccess);
     REQUIRE(b.status == SolverStatus::kSuccess);
     CHECK(outer_share(uncoupled, b) == doctest::Approx(0.5).epsilon(1e-9));
     CHECK(outer_share(coupled, a) > 0.5 + 1e-3);
   }
-  deck.pins->face_offset = 1.0;
-  const LoadProblem shifted = deck.MakeStage({0.0}).Problem(0.0, deck.load->torque);
-  const LoadResult r = SolveWith("compatibility", shifted);
+  bending.pins->face_offset = 1.0;
+  const LoadProblem shifted = bending.Problem(bent, 0.0, ContactKinematics::kLinearised);
+  const LoadResult r = SolveTight("compatibility", shifted);
   REQUIRE(r.status == SolverStatus::kSuccess);
   const auto total = PinTotals(shifted, r.force);
   std::vector<double> moment(total.size(), 0.0);
@@ -143,7 +139,7 @@ TEST_CASE("solvers: pin bending moves load toward the supports: the pin ends car
   for (std::size_t j = 0; j < total.size(); ++j) {
     if (total[j] < 0.05 * f_max) continue;
     ++loaded;
-    CHECK(moment[j] / total[j] < 0.5 * deck.pair.face_width - 0.1);
+    CHECK(moment[j] / total[j] < 0.5 * bending.pair.face_width - 0.1);
   }
   CHECK(loaded >= 3);
 }

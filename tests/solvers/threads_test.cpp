@@ -9,7 +9,8 @@
 
 #include <doctest/doctest.h>
 
-#include "ltca/app/deck.hpp"
+#include "problems.hpp"
+
 #include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/registry.hpp"
 #include "ltca/solvers/workspace.hpp"
@@ -47,8 +48,8 @@ bool BitIdentical(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 
 }  // namespace
 
 TEST_CASE("solvers: two threads sharing problems and solvers, each with its own workspace, give bit-identical results") {
-  const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/liu2021_table1.toml");
-  const auto model = std::make_shared<const ltca::contact::MeshModel>(deck.MakeModel());
+  const ltca::test::PaperCase liu = ltca::test::LiuTable1();
+  const auto model = liu.Model();
   std::vector<Run> runs;
   for (const auto& name : ltca::solvers::SolverNames()) {
     runs.push_back({name, ContactKinematics::kLinearised});
@@ -57,11 +58,11 @@ TEST_CASE("solvers: two threads sharing problems and solvers, each with its own 
   // Every ninth position of the deck's mesh period (11), built once and shared by both threads.
   std::vector<std::vector<LoadProblem>> problems(runs.size());
   std::vector<std::unique_ptr<LoadSolver>> solvers;
-  const auto cranks = deck.sweep.CrankAngles();
+  const auto cranks = liu.Cranks();
   for (std::size_t r = 0; r < runs.size(); ++r) {
     solvers.push_back(ltca::solvers::MakeSolver(runs[r].solver));
     for (std::size_t i = 0; i < cranks.size(); i += 9) {
-      problems[r].emplace_back(model, cranks[i], deck.contact, *deck.material, deck.load->torque, runs[r].kinematics);
+      problems[r].push_back(liu.Problem(model, cranks[i], runs[r].kinematics));
     }
   }
   std::vector<LoadResult> a, b;

@@ -20,15 +20,15 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using units::kPi;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// z component of a x b.
 double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
-/// The torque balance with friction converges when the ratio moves by less than this.
-constexpr double kBalanceTolerance = 1e-10;
-constexpr int kMaxBalanceSolves = 20;
+/// The torque balance with friction converges when the friction moment ratio moves by less than
+/// this, within at most kMaxRatioSolves solves.
+constexpr double kRatioTolerance = 1e-10;
+constexpr int kMaxRatioSolves = 20;
 /// An interpolated secant step is accepted when its ratio residual is below this.
 constexpr double kInterpolatedTolerance = 1e-8;
 /// At most this many secant steps on the interpolated forces after each solve.
@@ -269,13 +269,13 @@ struct EfficiencyRunner::Impl {
       double s_prev = 0.0, g_prev = pos.friction_moment_ratio_first_order, s_now = pos.friction_moment_ratio_first_order;
       bool converged = false;
       std::vector<std::string> ignored;
-      for (int k = 0; k < kMaxBalanceSolves; ++k) {
+      for (int k = 0; k < kMaxRatioSolves; ++k) {
         const LoadResult rk = Solve(state, torque * (1.0 + s_now));
         ++pos.balance_solves;
         if (rk.status != SolverStatus::kSuccess) return Failed(std::move(pos), rk.status, "torque balance with friction: " + rk.message);
         const double g_now = Evaluate(state, kin, rk.force, sigma, &pos.contacts, &ignored) - s_now;
         pos.balance_residual = std::abs(g_now);
-        if (std::abs(g_now) < kBalanceTolerance) {
+        if (std::abs(g_now) < kRatioTolerance) {
           converged = true;
           pos.friction_moment_ratio = g_now + s_now;  // the ratio of the solved forces: the accepted state
           break;
@@ -336,7 +336,7 @@ struct EfficiencyRunner::Impl {
         return Failed(std::move(pos), SolverStatus::kMaxIterations,
                       fmt::format("efficiency.torque_balance_not_converged: the friction moment ratio moved by {:.3g} "
                                   "(more than {:g}) after {} solves",
-                                  pos.balance_residual, kBalanceTolerance, kMaxBalanceSolves));
+                                  pos.balance_residual, kRatioTolerance, kMaxRatioSolves));
       }
     } else if (friction.torque_balance == FrictionSettings::TorqueBalance::kBound && pos.friction_moment_ratio != 0.0) {
       pos.warnings.push_back(fmt::format(

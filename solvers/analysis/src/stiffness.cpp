@@ -19,7 +19,6 @@ namespace ltca::analysis {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// The tangent is the central difference over +-this fraction of the torque it is taken at.
 constexpr double kTangentStep = 0.01;

@@ -22,7 +22,6 @@
 namespace ltca::analysis {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// The index of a key in ToleranceSettings::ToleranceKeys(): its random stream.
 std::size_t KeyIndex(const std::string& key) {

@@ -7,6 +7,9 @@
 
 namespace ltca::analysis {
 
+/// A figure no valid solve produced: NaN inside, null in the outputs (the output contract).
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 /// Positions (or samples) that succeeded and failed, the first failure, and the wall time.
 struct RunRecord {
   std::int64_t succeeded = 0;  ///< positions whose every solve succeeded
@@ -19,9 +22,9 @@ struct RunRecord {
 
 /// Mean, smallest and largest of a figure over the positions where it is finite.
 struct Spread {
-  double mean = std::numeric_limits<double>::quiet_NaN();
-  double min = std::numeric_limits<double>::quiet_NaN();
-  double max = std::numeric_limits<double>::quiet_NaN();
+  double mean = kNaN;
+  double min = kNaN;
+  double max = kNaN;
   std::int64_t count = 0;          ///< values added
   std::int64_t in_mean_count = 0;  ///< of those, the ones the mean weighs
   /// in_mean false: the value repeats a state already added (the last crank of a closed period,

@@ -38,7 +38,7 @@ Run Solve(const std::string& deck_file, double rho) {
 
 }  // namespace
 
-TEST_CASE("solvers: as the rounding radius shrinks the results reach the sharp tips wherever those are not loaded") {
+TEST_CASE("app: as the rounding radius shrinks the results reach the sharp tips wherever those are not loaded") {
   for (const std::string file : {"hard/d2_loaded.toml", "hard/d3_loaded.toml"}) {
     CAPTURE(file);
     const Run sharp = Solve(file, 0.0);
@@ -69,7 +69,7 @@ TEST_CASE("solvers: as the rounding radius shrinks the results reach the sharp t
   }
 }
 
-TEST_CASE("solvers: a pin on the rounding arc has the gap and arm of the line from the arc centre") {
+TEST_CASE("app: a pin on the rounding arc has the gap and arm of the line from the arc centre") {
   const double rho = 0.5;
   const auto deck = ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/hard/d2_loaded.toml",
                                         {"modification.tip_truncation_mm=0", "modification.tip_rounding_radius_mm=0.5"});

@@ -11,7 +11,7 @@
 
 #include <doctest/doctest.h>
 
-#include "cases.hpp"
+#include "helpers.hpp"
 #include <fmt/format.h>
 
 #include "ltca/app/deck.hpp"
@@ -50,7 +50,7 @@ double MaxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_
 
 }  // namespace
 
-TEST_CASE("solvers: every solver solves the two-disc stage and agrees with bisection, the split included") {
+TEST_CASE("app: every solver solves the two-disc stage and agrees with bisection, the split included") {
   // The stage of cases/rv_two_discs.toml with the second disc 0.5 um ahead (both discs carry) and
   // with the deck's 5 um (the second carries alone): the same law and kinematics, TE to 1e-6
   // relative, forces to 1e-6 of the largest, the shared residual below 1e-8, and the disc torques
@@ -94,7 +94,7 @@ TEST_CASE("solvers: every solver solves the two-disc stage and agrees with bisec
   }
 }
 
-TEST_CASE("solvers: two identical discs each carry T/2 at every crank, and the stage at T is one disc at T/2 (1e-9)") {
+TEST_CASE("app: two identical discs each carry T/2 at every crank, and the stage at T is one disc at T/2 (1e-9)") {
   // Liu Table 1 (z_p = 40: half a crank turn is 20 mesh periods, so both discs see the same mesh
   // state, pin-shifted) perfect and with Liu 5.2's base modification (48 arcsec of backlash). The
   // second disc is the default copy of the first. Reference: one disc at T / 2.
@@ -132,7 +132,7 @@ TEST_CASE("solvers: two identical discs each carry T/2 at every crank, and the s
   }
 }
 
-TEST_CASE("solvers: a second disc indexed s ahead closes its gaps s/R_p earlier; alone under +T it is the one-disc stage shifted by s/R_p") {
+TEST_CASE("app: a second disc indexed s ahead closes its gaps s/R_p earlier; alone under +T it is the one-disc stage shifted by s/R_p") {
   // cases/rv_two_discs.toml: Liu 5.2's base modification, the second disc s = 5 um ahead along the
   // pin circle, s / R_p = 16.1 arcsec, less than the twist the first disc would need to touch at
   // 206 N*m: under +T the second disc carries everything and the stage's TE is the one-disc TE at

@@ -1,0 +1,50 @@
+#pragma once
+// The helpers every layer's tests share (no ltca library needed): the decks of cases/, reading a
+// file, the message of an invalid_argument, sample moments. tests/pairs.hpp adds the papers' pairs
+// (geometry) and tests/problems.hpp their load cases (contact and solvers).
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ltca::test {
+
+/// The path of a deck in cases/ (LTCA_CASES_DIR, a compile definition of every test suite).
+inline std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }
+
+/// The whole file, byte for byte ("" when it cannot be read).
+inline std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// The message of the std::invalid_argument that f() throws; "" when it throws none.
+template <class F>
+std::string InvalidArgumentMessage(F&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// Mean and variance (1/n normalisation: the samples here are large).
+struct Moments {
+  double mean = 0.0;
+  double variance = 0.0;
+};
+inline Moments MomentsOf(const std::vector<double>& x) {
+  Moments m;
+  for (const double v : x) m.mean += v;
+  m.mean /= static_cast<double>(x.size());
+  for (const double v : x) m.variance += (v - m.mean) * (v - m.mean);
+  m.variance /= static_cast<double>(x.size());
+  return m;
+}
+
+}  // namespace ltca::test
