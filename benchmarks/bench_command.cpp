@@ -188,7 +188,7 @@ ToleranceBar RunToleranceBar(bool smoke, std::ostream& out) {
     const auto start = std::chrono::steady_clock::now();
     const auto samples = study.RunRange(0, n, threads);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    for (const auto& s : samples) bar.not_succeeded += s.status == "success" ? 0 : 1;
+    for (const auto& s : samples) bar.not_succeeded += s.status == analysis::RunStatus::kSuccess ? 0 : 1;
     return seconds;
   };
   bar.samples = smoke ? 20 : 10'000;

@@ -2,6 +2,7 @@
 // The helpers every layer's tests share (no ltca library needed): the decks of cases/, reading a
 // file, the message of an invalid_argument, sample moments. tests/pairs.hpp adds the papers' pairs
 // (geometry) and tests/problems.hpp their load cases (contact and solvers).
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -31,6 +32,15 @@ std::string InvalidArgumentMessage(F&& f) {
     return e.what();
   }
   return "";
+}
+
+/// tests/app/check_svg.py --file: the SVG parsed by an XML parser, its panels and series counted;
+/// 0 when it has them.
+inline int CheckSvg(const std::filesystem::path& svg, int panels, int series) {
+  const std::string script = std::string(LTCA_CASES_DIR) + "/../tests/app/check_svg.py";
+  return std::system(("python3 \"" + script + "\" --file \"" + svg.string() + "\" " + std::to_string(panels) + " " +
+                      std::to_string(series))
+                         .c_str());
 }
 
 /// Mean and variance (1/n normalisation: the samples here are large).

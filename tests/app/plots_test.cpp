@@ -11,6 +11,7 @@
 
 #include <doctest/doctest.h>
 
+#include "helpers.hpp"
 #include "ltca/app/plots.hpp"
 
 namespace {
@@ -18,13 +19,7 @@ namespace {
 namespace plots = ltca::app::plots;
 namespace fs = std::filesystem;
 
-/// tests/app/check_svg.py --file: the SVG parsed by an XML parser, its panels and series counted.
-int CheckSvg(const fs::path& svg, int panels, int series) {
-  const std::string script = std::string(LTCA_CASES_DIR) + "/../tests/app/check_svg.py";
-  return std::system(("python3 \"" + script + "\" --file \"" + svg.string() + "\" " + std::to_string(panels) + " " +
-                      std::to_string(series))
-                         .c_str());
-}
+using ltca::test::CheckSvg;
 
 plots::Figure TwoPanels() {
   plots::Figure f;

@@ -90,7 +90,7 @@ TEST_CASE("app: zero tolerances give every sample the deterministic run of the d
   using ltca::units::RadToArcsec;
   for (const ToleranceSample& s : samples) {
     CAPTURE(s.index);
-    CHECK(s.status == "success");
+    CHECK(s.status == ltca::analysis::RunStatus::kSuccess);
     for (const double v : s.inputs) CHECK(v == 0.0);
     CHECK(SameBits(s.figures[ltca::app::kMeanBacklashArcsec], RadToArcsec(mean)));
     CHECK(SameBits(s.figures[ltca::app::kPpBacklashArcsec], RadToArcsec(hi - lo)));
@@ -193,8 +193,8 @@ TEST_CASE("app: profile_random_per_sample gives every sample its own random prof
   const Deck drawn = BaseWith("samples = 2\nprofile_random_per_sample = true\n", set);
   const auto a = ltca::test::ToleranceOn(fixed, fixed.solver, *fixed.tolerances).RunRange(0, 2, 1);
   const auto b = ltca::test::ToleranceOn(drawn, drawn.solver, *drawn.tolerances).RunRange(0, 2, 1);
-  REQUIRE(a[0].status == "success");
-  REQUIRE(b[0].status == "success");
+  REQUIRE(a[0].status == ltca::analysis::RunStatus::kSuccess);
+  REQUIRE(b[0].status == ltca::analysis::RunStatus::kSuccess);
   CHECK(SameBits(a[0].figures[ltca::app::kMeanBacklashArcsec], a[1].figures[ltca::app::kMeanBacklashArcsec]));
   CHECK(b[0].figures[ltca::app::kMeanBacklashArcsec] != b[1].figures[ltca::app::kMeanBacklashArcsec]);
   CHECK(b[0].figures[ltca::app::kMeanBacklashArcsec] != a[0].figures[ltca::app::kMeanBacklashArcsec]);
@@ -407,8 +407,8 @@ TEST_CASE("app: a worst-case input whose run failed is not a zero effect: its fi
     CHECK(std::isnan(w.stack_high));
     CHECK(std::isnan(w.corner_low));
     CHECK(std::isnan(w.corner_high));
-    CHECK(w.corner_low_status != "success");
-    CHECK(w.corner_high_status != "success");
+    CHECK(w.corner_low_status != ltca::analysis::RunStatus::kSuccess);
+    CHECK(w.corner_high_status != ltca::analysis::RunStatus::kSuccess);
   }
   // In the JSON the stack and the corners are null, never a number, and the text says why.
   const auto path = std::filesystem::temp_directory_path() / "ltca_tolerance_failed_corner.toml";
@@ -540,7 +540,7 @@ TEST_CASE("app: the samples are streamed: the summary keeps 73 bytes a sample, s
   ToleranceSample s;
   for (int i = 0; i < 1000; ++i) {
     s.index = 5 + i;
-    s.status = i == 7 ? "rejected" : "success";
+    s.status = i == 7 ? ltca::analysis::RunStatus::kRejected : ltca::analysis::RunStatus::kSuccess;
     s.message = i == 7 ? "interferes" : "";
     table.Add(s);
   }

@@ -8,18 +8,13 @@
 
 #include "bench_command.hpp"
 #include "harness.hpp"
+#include "helpers.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-/// tests/app/check_svg.py --file: the SVG parsed by an XML parser, its panels and series counted.
-int CheckSvg(const fs::path& svg, int panels, int series) {
-  const std::string script = std::string(LTCA_CASES_DIR) + "/../tests/app/check_svg.py";
-  return std::system(("python3 \"" + script + "\" --file \"" + svg.string() + "\" " + std::to_string(panels) + " " +
-                      std::to_string(series))
-                         .c_str());
-}
+using ltca::test::CheckSvg;
 
 }  // namespace
 

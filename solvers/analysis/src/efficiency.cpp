@@ -421,11 +421,7 @@ EfficiencyPosition EfficiencyRunner::Solve(double crank) {
     }
     for (const std::string& w : pos.warnings) m.warnings.emplace(WarningName(w), w);
   } else {
-    ++s.failed;
-    if (s.first_failure.empty()) {
-      s.first_failure = fmt::format("crank {:.6g} deg: {}: {}", units::RadToDeg(crank), solvers::ToString(pos.status),
-                                    pos.message);
-    }
+    s.Fail(fmt::format("crank {:.6g} deg: {}: {}", units::RadToDeg(crank), solvers::ToString(pos.status), pos.message));
   }
   m.elapsed += Clock::now() - start;
   return pos;

@@ -5,6 +5,16 @@
 
 namespace ltca::analysis {
 
+const char* ToString(RunStatus status) {
+  switch (status) {
+    case RunStatus::kSuccess: return "success";
+    case RunStatus::kFailed: return "failed";
+    case RunStatus::kRejected: return "rejected";
+    case RunStatus::kNotRun: return "not run";
+  }
+  return "unknown";
+}
+
 void Spread::Add(double v, bool in_mean) {
   if (!std::isfinite(v)) return;
   if (count == 0) {

@@ -417,10 +417,11 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   StiffnessSummary& s = m.summary;
   s.closed_period = m.closed;
   const bool in_mean = !(m.closed && crank == m.cranks.back());
-  (pos.succeeded() ? s.succeeded : s.failed) += 1;
   s.solves += pos.solves;
-  if (!pos.succeeded() && s.first_failure.empty()) {
-    s.first_failure = fmt::format("crank {:.6g} deg, {}", units::RadToDeg(crank), pos.first_failure);
+  if (pos.succeeded()) {
+    ++s.succeeded;
+  } else {
+    s.Fail(fmt::format("crank {:.6g} deg, {}", units::RadToDeg(crank), pos.first_failure));
   }
   s.rigidity.Add(pos.rigidity, in_mean);
   s.rigidity_drive.Add(pos.rigidity_drive, in_mean);

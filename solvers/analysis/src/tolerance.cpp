@@ -169,8 +169,8 @@ void SampleTable::Add(const ToleranceSample& s) {
   if (s.index != first_ + size()) {
     throw std::logic_error(fmt::format("tolerance: sample {} added after {} samples from {}: expected sample order", s.index, size(), first_));
   }
-  const Status status = s.status == "success" ? kSuccess : s.status == "failed" ? kFailed : kRejected;
-  if (status != kSuccess && first_failure_index_ < 0) first_failure_index_ = s.index, first_failure_message_ = s.message;
+  const RunStatus status = s.status;
+  if (status != RunStatus::kSuccess && first_failure_index_ < 0) first_failure_index_ = s.index, first_failure_message_ = s.message;
   figures_.push_back(s.figures);
   status_.push_back(status);
 }
@@ -352,7 +352,7 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
       s.figures[kContactsMax] = sum_loaded.contacts_max;
     }
     if (!sum_loaded.all_succeeded()) {
-      s.status = "failed";
+      s.status = RunStatus::kFailed;
       s.message = fmt::format("{} of {} loaded positions did not succeed ({}); {}", sum_loaded.failed, sum_loaded.positions(),
                               solvers::ToString(sum_loaded.status), first_failure);
     }
@@ -364,14 +364,14 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
       for (const double crank : loop.cranks()) loop.Solve(crank);
       const StiffnessSummary ss = loop.Summary();
       s.figures[kLostMotionArcmin] = units::RadToArcmin(ss.lost_motion.mean);
-      if (!ss.all_succeeded() && s.status == "success") {
-        s.status = "failed";
+      if (!ss.all_succeeded() && s.status == RunStatus::kSuccess) {
+        s.status = RunStatus::kFailed;
         s.message = fmt::format("lost motion: {}", ss.first_failure);
       }
     }
   } catch (const std::invalid_argument& e) {  // interference, an undercut profile, ...
     s = ToleranceSample{};
-    s.status = "rejected";
+    s.status = RunStatus::kRejected;
     s.message = e.what();
   }
   return s;
@@ -459,9 +459,10 @@ ToleranceSummary Summarise(const ToleranceStudy& study, const SampleTable& sampl
   out.seed = study.settings().seed;
   for (std::int64_t k = 0; k < n_all; ++k) {
     switch (samples.status(k)) {
-      case SampleTable::kSuccess: ++out.succeeded; break;
-      case SampleTable::kFailed: ++out.failed; break;
-      case SampleTable::kRejected: ++out.rejected; break;
+      case RunStatus::kSuccess: ++out.succeeded; break;
+      case RunStatus::kFailed: ++out.failed; break;
+      case RunStatus::kRejected: ++out.rejected; break;
+      case RunStatus::kNotRun: break;  // a sample is always run
     }
   }
   const auto& names = ToleranceSettings::FigureNames();
@@ -714,7 +715,7 @@ WorstCaseResult ExtremeValueWorstCase(const ToleranceStudy& study, int threads,
         [&](std::int64_t i) { r[static_cast<std::size_t>(i)] = study.Evaluate(study.Apply(pts[static_cast<std::size_t>(i)])); },
         progress ? std::function<void(std::int64_t)>([&](std::int64_t done) { progress(before + done, total); }) : nullptr);
     out.runs += static_cast<std::int64_t>(pts.size());
-    for (const auto& s : r) out.failed_runs += s.status == "success" ? 0 : 1;
+    for (const auto& s : r) out.failed_runs += s.status == RunStatus::kSuccess ? 0 : 1;
     return r;
   };
   const std::vector<ToleranceSample> first = run_all(points);
@@ -723,9 +724,9 @@ WorstCaseResult ExtremeValueWorstCase(const ToleranceStudy& study, int threads,
     const double at = centre[c] + ((run - 1) % 2 == 0 ? half[c] : -half[c]);
     return fmt::format("{} at {:g}", inputs[c].name, at);
   };
-  if (first[0].status != "success") out.first_failure = fmt::format("the nominal pair: {}", first[0].message);
+  if (first[0].status != RunStatus::kSuccess) out.first_failure = fmt::format("the nominal pair: {}", first[0].message);
   for (std::size_t run = 1; run < first.size() && out.first_failure.empty(); ++run) {
-    if (first[run].status != "success") out.first_failure = fmt::format("{}: {} ({})", end_name(run), first[run].status, first[run].message);
+    if (first[run].status != RunStatus::kSuccess) out.first_failure = fmt::format("{}: {} ({})", end_name(run), ToString(first[run].status), first[run].message);
   }
   // Stage 2: per figure, the corner the linear stack picks, each way. An input whose effect on the
   // figure is unknown (a run at an end failed or was rejected) is not an effect of 0: the figure
@@ -734,14 +735,14 @@ WorstCaseResult ExtremeValueWorstCase(const ToleranceStudy& study, int threads,
   std::vector<std::size_t> corner_figure;
   for (std::size_t f = 0; f < kToleranceFigureCount; ++f) {
     WorstCaseFigure& w = out.figures[f];
-    w.nominal = first[0].status == "success" ? first[0].figures[f] : kNaN;
+    w.nominal = first[0].status == RunStatus::kSuccess ? first[0].figures[f] : kNaN;
     double stack = 0.0;
     std::vector<double> high = centre, low = centre;
     for (std::size_t c = 0; c < cols && w.note.empty(); ++c) {
       for (const std::size_t run : {1 + 2 * c, 2 + 2 * c}) {
-        if (first[run].status != "success" || !std::isfinite(first[run].figures[f])) {
-          w.note = first[run].status != "success"
-                       ? fmt::format("{} {}: its effect is unknown ({})", end_name(run), first[run].status, first[run].message)
+        if (first[run].status != RunStatus::kSuccess || !std::isfinite(first[run].figures[f])) {
+          w.note = first[run].status != RunStatus::kSuccess
+                       ? fmt::format("{} {}: its effect is unknown ({})", end_name(run), ToString(first[run].status), first[run].message)
                        : fmt::format("{}: no value", end_name(run));
           break;
         }
@@ -755,7 +756,7 @@ WorstCaseResult ExtremeValueWorstCase(const ToleranceStudy& study, int threads,
     }
     if (!w.note.empty()) {
       w.stack_low = w.stack_high = w.corner_low = w.corner_high = kNaN;
-      w.corner_low_status = w.corner_high_status = "not run";
+      w.corner_low_status = w.corner_high_status = RunStatus::kNotRun;
       continue;
     }
     w.stack_low = w.nominal - stack;
@@ -770,14 +771,14 @@ WorstCaseResult ExtremeValueWorstCase(const ToleranceStudy& study, int threads,
     const std::size_t f = corner_figure[k];
     const auto& lo = second[2 * k];
     const auto& hi = second[2 * k + 1];
-    out.figures[f].corner_low = lo.status == "success" ? lo.figures[f] : kNaN;
-    out.figures[f].corner_high = hi.status == "success" ? hi.figures[f] : kNaN;
+    out.figures[f].corner_low = lo.status == RunStatus::kSuccess ? lo.figures[f] : kNaN;
+    out.figures[f].corner_high = hi.status == RunStatus::kSuccess ? hi.figures[f] : kNaN;
     out.figures[f].corner_low_status = lo.status;
     out.figures[f].corner_high_status = hi.status;
     for (const auto* s : {&lo, &hi}) {
-      if (s->status != "success" && out.first_failure.empty()) {
+      if (s->status != RunStatus::kSuccess && out.first_failure.empty()) {
         out.first_failure = fmt::format("the {} corner of {}: {} ({})", s == &lo ? "low" : "high", ToleranceSettings::FigureNames()[f],
-                                        s->status, s->message);
+                                        ToString(s->status), s->message);
       }
     }
   }
@@ -799,8 +800,8 @@ std::array<CornerExceedance, kToleranceFigureCount> CompareWithCorners(const Tol
       // arcmin, pins) plus 1e-9 relative; a figure that is 0 up to round-off (the peak-to-peak of a
       // pair whose pins are all alike, ~1e-11 arcsec) is not "beyond" its corners.
       const auto slack = [](double corner) { return 1e-6 + 1e-9 * std::abs(corner); };
-      const bool beyond = (w.corner_high_status == "success" && v > w.corner_high + slack(w.corner_high)) ||
-                          (w.corner_low_status == "success" && v < w.corner_low - slack(w.corner_low));
+      const bool beyond = (w.corner_high_status == RunStatus::kSuccess && v > w.corner_high + slack(w.corner_high)) ||
+                          (w.corner_low_status == RunStatus::kSuccess && v < w.corner_low - slack(w.corner_low));
       if (!beyond) continue;
       ++out[f].beyond;
       if (drawn.empty()) drawn = study.Draw(samples.index(k));

@@ -208,7 +208,7 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
       for (const double c : r.clearance_at_c1) after.push_back(ok ? Finite(units::MmToUm(c)) : nlohmann::json(nullptr));
       const auto pin_or_null = [&](int pin) { return ok ? nlohmann::json(pin + 1) : nlohmann::json(nullptr); };
       nlohmann::json position = {{"crank_deg", RadToDeg(r.crank)},
-                                 {"status", ok ? "success" : "failed"},
+                                 {"status", ToString(ok ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed)},
                                  {"theta_c1_arcsec", Finite(RadToArcsec(c1))},
                                  {"theta_c2_arcsec", Finite(RadToArcsec(c2))},
                                  {"backlash_arcsec", Finite(RadToArcsec(b))},
@@ -248,7 +248,7 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
   if (json.enabled()) {
     nlohmann::json summary = {{"mean_backlash_arcsec", Finite(RadToArcsec(mean))},
                               {"pp_backlash_arcsec", Finite(RadToArcsec(pp))},
-                              {"status", failed == 0 ? "success" : "failed"},
+                              {"status", ToString(failed == 0 ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed)},
                               {"positions", cranks.size()},
                               {"succeeded_positions", succeeded},
                               {"failed_positions", failed},

@@ -86,7 +86,7 @@ nlohmann::json SummaryJson(const app::EfficiencySummary& s) {
   j["wall_seconds"] = s.wall_seconds;
   j["loaded_solve_seconds"] = s.loaded_solve_seconds;
   j["warnings"] = s.warnings;
-  j["status"] = s.all_succeeded() ? "success" : "failed";
+  j["status"] = ToString(s.status());
   if (!s.first_failure.empty()) j["first_failure"] = s.first_failure;
   return j;
 }
@@ -216,7 +216,7 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
     if (i % every == 0) {
       fmt::print(text, "{:>10.4f} {:>12} {:>12} {:>12} {:>12} {:>8}\n", RadToDeg(p.crank), FormatOrNa(p.power_loss, 4),
                  FormatOrNa(p.efficiency, 6), FormatOrNa(p.efficiency_first_order, 6), FormatOrNa(p.mean_coefficient, 4),
-                 p.succeeded() ? "success" : "failed");
+                 ToString(p.succeeded() ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed));
     }
     if (json.enabled()) json.stream() << (i == 0 ? "\n    " : ",\n    ") << Dump(PositionJson(p), -1);
     if (csv.enabled()) {

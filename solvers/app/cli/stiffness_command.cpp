@@ -66,7 +66,7 @@ nlohmann::json PositionJson(const app::StiffnessPosition& p) {
                       {"backlash_arcmin", FiniteOrNull(RadToArcmin(p.backlash))},
                       {"branch_difference_arcmin", FiniteOrNull(RadToArcmin(p.branch_difference))},
                       {"hysteresis_j", FiniteOrNull(NmmRadToJ(p.hysteresis))},
-                      {"status", p.succeeded() ? "success" : "failed"},
+                      {"status", ToString(p.succeeded() ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed)},
                       {"solves", p.solves},
                       {"failed_solves", p.failed},
                       {"curve", CurveJson(p.curve)}};
@@ -131,7 +131,7 @@ nlohmann::json SummaryJson(const app::StiffnessSummary& s, bool sweep, double fr
   j["failed_positions"] = s.failed;
   j["solves"] = s.solves;
   j["wall_seconds"] = s.wall_seconds;
-  j["status"] = s.all_succeeded() ? "success" : "failed";
+  j["status"] = ToString(s.status());
   if (!s.first_failure.empty()) j["first_failure"] = s.first_failure;
   return j;
 }
@@ -295,7 +295,7 @@ int RunStiffness(const app::Deck& deck_given, const StiffnessOptions& options, c
     if (i % every == 0) {
       progress.Clear();  // a row of the table never lands on the progress line (review issue 26, item 16)
       fmt::print(text, "{:>10.4f} {:>18} {:>18} {:>16} {:>8}\n", RadToDeg(p.crank), FormatOrNa(RigidityNmPerArcmin(p.rigidity), 4),
-                 FormatOrNa(RadToArcmin(p.lost_motion), 5), FormatOrNa(RadToArcmin(p.backlash), 5), p.succeeded() ? "success" : "failed");
+                 FormatOrNa(RadToArcmin(p.lost_motion), 5), FormatOrNa(RadToArcmin(p.backlash), 5), ToString(p.succeeded() ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed));
     }
     if (json.enabled()) json.stream() << (i == 0 ? "\n    " : ",\n    ") << Dump(PositionJson(p), -1);
     if (csv.enabled()) {

@@ -66,10 +66,9 @@ T Take(const std::string& in, std::size_t& at) {
 void Serialise(const ToleranceSample& s, std::string& out) {
   Put(out, s.index);
   for (const double v : s.figures) Put(out, v);
-  for (const std::string* text : {&s.status, &s.message}) {
-    Put(out, static_cast<std::uint64_t>(text->size()));
-    out += *text;
-  }
+  Put(out, s.status);
+  Put(out, static_cast<std::uint64_t>(s.message.size()));
+  out += s.message;
 }
 /// Calls each(sample) for every sample of a rank's bytes, in order, its inputs drawn again.
 void Deserialise(const std::string& in, const app::ToleranceStudy& study, const std::function<void(const ToleranceSample&)>& each) {
@@ -78,12 +77,11 @@ void Deserialise(const std::string& in, const app::ToleranceStudy& study, const 
     ToleranceSample s;
     s.index = Take<std::int64_t>(in, at);
     for (double& v : s.figures) v = Take<double>(in, at);
-    for (std::string* text : {&s.status, &s.message}) {
-      const auto n = Take<std::uint64_t>(in, at);
-      if (at + n > in.size()) throw std::runtime_error("tolerance: a gathered sample is truncated");
-      *text = in.substr(at, n);
-      at += n;
-    }
+    s.status = Take<analysis::RunStatus>(in, at);
+    const auto n = Take<std::uint64_t>(in, at);
+    if (at + n > in.size()) throw std::runtime_error("tolerance: a gathered sample is truncated");
+    s.message = in.substr(at, n);
+    at += n;
     s.inputs = study.Draw(s.index);
     each(s);
   }
@@ -97,7 +95,7 @@ nlohmann::json StatsJson(const app::FigureStats& f) {
 }
 
 /// A worst-case corner in text: the figure, or why there is none ("rejected": the pair interferes).
-std::string Corner(double v, const std::string& status) { return status == "success" ? FormatOrNa(v, 4) : status; }
+std::string Corner(double v, analysis::RunStatus status) { return status == analysis::RunStatus::kSuccess ? FormatOrNa(v, 4) : ToString(status); }
 
 /// The mark of a figure with samples beyond its worst-case corners: '*' when some of them have every
 /// input within the range the worst case uses (the figure is not monotonic in the inputs, e.g. a
@@ -281,12 +279,12 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
   if (root) samples.Reserve(n);
   const auto keep = [&](const ToleranceSample& s) {
     if (!root) {
-      mine_ok = mine_ok && s.status == "success";
+      mine_ok = mine_ok && s.status == analysis::RunStatus::kSuccess;
       return Serialise(s, mine);
     }
     if (csv_os != nullptr) {
       std::ostream& os = *csv_os;
-      os << s.index << ',' << s.status;
+      os << s.index << ',' << ToString(s.status);
       for (const double v : s.inputs) os << ',' << CsvNumber(v);
       for (std::size_t f = 0; f < names.size(); ++f) {
         if (Ran(f, settings)) os << ',' << CsvNumber(s.figures[f]);
@@ -363,8 +361,8 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
         const auto& w = worst->figures[f];
         wc[names[f]] = {{"nominal", FiniteOrNull(w.nominal)},       {"stack_low", FiniteOrNull(w.stack_low)},
                         {"stack_high", FiniteOrNull(w.stack_high)}, {"corner_low", FiniteOrNull(w.corner_low)},
-                        {"corner_high", FiniteOrNull(w.corner_high)}, {"corner_low_status", w.corner_low_status},
-                        {"corner_high_status", w.corner_high_status},
+                        {"corner_high", FiniteOrNull(w.corner_high)}, {"corner_low_status", ToString(w.corner_low_status)},
+                        {"corner_high_status", ToString(w.corner_high_status)},
                         {"monte_carlo_beyond_corners", beyond[f].beyond > 0},
                         {"samples_beyond_corners", beyond[f].beyond},
                         {"samples_beyond_corners_inputs_in_range", beyond[f].beyond_in_range}};

@@ -154,10 +154,10 @@ struct ToleranceSample {
   /// included), in the key's unit.
   std::vector<double> inputs;
   ToleranceFigures figures;  ///< NaN: no valid solve produced the figure
-  /// "success": every solve succeeded; "failed": some position did not succeed (its figures are
-  /// over the successful positions, as `ltca solve` reports them); "rejected": the pair as drawn
+  /// kSuccess: every solve succeeded; kFailed: some position did not succeed (its figures are
+  /// over the successful positions, as `ltca solve` reports them); kRejected: the pair as drawn
   /// interferes or cannot be built (no figure).
-  std::string status = "success";
+  RunStatus status = RunStatus::kSuccess;
   std::string message;  ///< why, when not success
   ToleranceSample() { figures.fill(std::numeric_limits<double>::quiet_NaN()); }
 };
@@ -209,9 +209,8 @@ class ToleranceStudy {
 /// the first one of a sample that did not succeed is kept (the text summary shows it).
 class SampleTable {
  public:
-  enum Status : std::uint8_t { kSuccess = 0, kFailed = 1, kRejected = 2 };
   /// The bytes the table retains a sample (its capacity reserved for the count).
-  static constexpr std::size_t kBytesPerSample = sizeof(ToleranceFigures) + sizeof(std::uint8_t);
+  static constexpr std::size_t kBytesPerSample = sizeof(ToleranceFigures) + sizeof(RunStatus);
 
   explicit SampleTable(std::int64_t first = 0) : first_(first) {}
   void Reserve(std::int64_t count);
@@ -221,8 +220,8 @@ class SampleTable {
   std::int64_t size() const { return static_cast<std::int64_t>(status_.size()); }
   std::int64_t index(std::int64_t k) const { return first_ + k; }
   const ToleranceFigures& figures(std::int64_t k) const { return figures_[static_cast<std::size_t>(k)]; }
-  Status status(std::int64_t k) const { return static_cast<Status>(status_[static_cast<std::size_t>(k)]); }
-  bool succeeded(std::int64_t k) const { return status(k) == kSuccess; }
+  RunStatus status(std::int64_t k) const { return status_[static_cast<std::size_t>(k)]; }
+  bool succeeded(std::int64_t k) const { return status(k) == RunStatus::kSuccess; }
   /// The first sample that did not succeed: its index (-1: none) and message.
   std::int64_t first_failure_index() const { return first_failure_index_; }
   const std::string& first_failure_message() const { return first_failure_message_; }
@@ -232,7 +231,7 @@ class SampleTable {
  private:
   std::int64_t first_ = 0;
   std::vector<ToleranceFigures> figures_;
-  std::vector<std::uint8_t> status_;
+  std::vector<RunStatus> status_;
   std::int64_t first_failure_index_ = -1;
   std::string first_failure_message_;
 };
@@ -333,9 +332,9 @@ struct WorstCaseFigure {
   double nominal = std::numeric_limits<double>::quiet_NaN();  ///< every input at its centre
   double stack_low = nominal, stack_high = nominal;           ///< nominal -+ sum |effect|
   double corner_low = nominal, corner_high = nominal;         ///< the run at the corner
-  /// The corner runs' status ("success", "failed", "rejected": e.g. the corner pair interferes;
-  /// "not run": an input's effect on the figure is unknown, see note).
-  std::string corner_low_status, corner_high_status;
+  /// The corner runs' status (kRejected: e.g. the corner pair interferes; kNotRun: an input's
+  /// effect on the figure is unknown, see note).
+  RunStatus corner_low_status = RunStatus::kNotRun, corner_high_status = RunStatus::kNotRun;
   /// Why there is no stack and no corner: the input whose run at an end did not succeed. The
   /// effect of such an input is unknown, never taken as 0: the stack and both corners are NaN.
   std::string note;
