@@ -3,7 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include <string>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include "ltca/geometry/units.hpp"
+#include "ltca/solvers/registry.hpp"
 
 namespace ltca::analysis {
 namespace {
@@ -14,6 +20,13 @@ using L = DeckKey::Limit;
 // Field accessors: where a number of [modification] or [errors] goes.
 #define LTCA_FIELD(part, member) [](const DiscParts& p) -> double* { return &p.part->member; }
 #define LTCA_LIST(member) [](const DiscParts& p) -> std::vector<double>* { return &p.errors->member; }
+
+/// The registered solvers, "a | b | ...": the [solver] name key follows the registry, so a new
+/// solver needs no entry here.
+const char* SolverChoices() {
+  static const std::string choices = fmt::format("{}", fmt::join(solvers::SolverNames(), " | "));
+  return choices.c_str();
+}
 
 const std::vector<DeckKey> kKeys = {
     // [case]
@@ -146,8 +159,7 @@ const std::vector<DeckKey> kKeys = {
      .default_value = "91"},
     // [solver]
     {.section = "solver", .name = "name", .type = T::kText, .unit = "",
-     .meaning = "bisection | energy-qp | energy-groups | compatibility", .default_value = "\"bisection\"",
-     .choices = "bisection | energy-qp | energy-groups | compatibility"},
+     .meaning = SolverChoices(), .default_value = "\"bisection\"", .choices = SolverChoices()},
     {.section = "solver", .name = "kinematics", .type = T::kText, .unit = "", .meaning = "linearised | exact",
      .default_value = "\"linearised\"", .choices = "linearised | exact"},
     {.section = "solver", .name = "torque_tolerance", .type = T::kReal, .unit = "", .meaning = "relative torque tolerance",
