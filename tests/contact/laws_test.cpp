@@ -178,3 +178,17 @@ TEST_CASE("contact: a tip corner is not a line contact") {
                              std::numeric_limits<double>::infinity(), 3.0, 12.0, 64.0),
                   std::invalid_argument);
 }
+
+TEST_CASE("contact: a pin in a hole (issue 25's output pins) is a conformal line contact: Hertz's half-width and pressure") {
+  // Johnson, Contact Mechanics, 4.3 (two-dimensional Hertz contact): b = sqrt(4 w R* / (pi E*)),
+  // p0 = 2 w / (pi b), 1/R* = 1/r_pin - 1/r_hole for a pin inside a hole (the hole's curvature
+  // enters as the concave -1/r_hole). r_pin 5 mm, r_hole 5.5 mm, steel 206 GPa / 0.3 both,
+  // w = 200 N/mm over 10 mm: R* = 55 mm, b = 0.3517656966 mm, p0 = 361.9567107 MPa (computed
+  // independently). Tolerance 1e-9 relative.
+  ContactSettings settings;
+  settings.law = LawKind::kHertzLine;
+  const ContactLaw law(settings, Material{}, -1.0 / 5.5, 5.0, 10.0, 64.0);
+  CHECK(law.equivalent_radius() == doctest::Approx(55.0).epsilon(1e-12));
+  CHECK(law.HalfWidth(2000.0) == doctest::Approx(0.3517656966).epsilon(1e-9));
+  CHECK(law.MaxPressure(2000.0) == doctest::Approx(361.9567107).epsilon(1e-9));
+}
