@@ -1,0 +1,53 @@
+#pragma once
+// The output pins of a cycloidal drive, the W mechanism (issue 25; docs/stage.md): `count` pins of
+// radius r_w on the output member at radius R_w, each in a hole of radius r_h of the disc. Pin j
+// sits at alpha_j = 2 pi j / count + phase in the output member's frame (from +X at crank 0); its
+// hole sits at the same place in the disc's body frame. At the nominal poses (the output member
+// turned as the disc, geometry::Kinematics) every pin centre is offset from its hole centre by
+// the eccentricity, so the no-load clearance is r_h - r_w - e.
+//
+// A pin touches its hole on the line of the two centres: the contact is an internal line contact
+// (the hertz-line law with the hole's concave curvature -1/r_h). Its approach is
+// |P_j - H_j| - (r_h - r_w); the force on the disc acts along n_j = (P_j - H_j) / |P_j - H_j|, the
+// force on the pin along -n_j.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ltca/geometry/kinematics.hpp"
+
+namespace ltca::contact {
+
+struct OutputPins {
+  int count = 0;               ///< pins (deck: [output] count)
+  double pin_radius = 0.0;     ///< r_w, mm
+  double circle_radius = 0.0;  ///< R_w, mm
+  double hole_radius = 0.0;    ///< r_h, mm
+  double phase = 0.0;          ///< rad, of pin 0 from +X at crank 0
+  /// Throws std::invalid_argument naming the `[output]` key unless count >= 3, the radii are
+  /// finite and positive, and r_h >= r_w + eccentricity (a pin would overlap its hole at no load).
+  void Validate(double eccentricity) const;
+};
+
+/// One pin against its hole, and the first-order change of its approach with the poses.
+struct OutputPinContact {
+  int pin = 0;
+  Eigen::Vector2d pin_centre = Eigen::Vector2d::Zero();   ///< P_j, fixed frame, mm
+  Eigen::Vector2d hole_centre = Eigen::Vector2d::Zero();  ///< H_j, fixed frame, mm
+  Eigen::Vector2d normal = Eigen::Vector2d::UnitX();      ///< n_j, unit, from H_j towards P_j
+  double gap = 0.0;  ///< r_h - r_w - |P_j - H_j|, mm (< 0: pressed)
+  /// d(approach) / d(disc translation) = -n_j (dimensionless).
+  Eigen::Vector2d translation_gradient = Eigen::Vector2d::Zero();
+  /// d(approach) / d(disc rotation) = -n_j . perp(H_j - disc centre), mm/rad.
+  double disc_arm = 0.0;
+  /// d(approach) / d(output rotation) = n_j . perp(P_j), mm/rad (output member about the origin).
+  double output_arm = 0.0;
+};
+
+/// Every pin at the given disc pose (fixed frame) and output-member rotation (rad, about the
+/// pin-circle centre). The centres must not coincide (|P_j - H_j| > 0: then the contact
+/// direction is undefined; throws std::domain_error).
+std::vector<OutputPinContact> EvaluateOutputPins(const OutputPins& pins, const geometry::Pose& disc,
+                                                 double output_rotation);
+
+}  // namespace ltca::contact

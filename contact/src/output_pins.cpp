@@ -1,0 +1,60 @@
+#include "ltca/contact/output_pins.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "ltca/geometry/units.hpp"
+
+namespace ltca::contact {
+namespace {
+
+Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+Eigen::Vector2d Rotated(double angle, const Eigen::Vector2d& v) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+}
+
+}  // namespace
+
+void OutputPins::Validate(double eccentricity) const {
+  const auto require = [](bool ok, const char* key, double value, const std::string& expected) {
+    if (!ok) throw std::invalid_argument(fmt::format("[output] {} = {:g}: expected {}", key, value, expected));
+  };
+  require(count >= 3, "count", count, "at least 3 output pins");
+  require(std::isfinite(pin_radius) && pin_radius > 0.0, "pin_radius_mm", pin_radius, "a finite pin radius > 0 mm");
+  require(std::isfinite(circle_radius) && circle_radius > 0.0, "circle_radius_mm", circle_radius,
+          "a finite pin-circle radius > 0 mm");
+  require(std::isfinite(phase), "phase_deg", units::RadToDeg(phase), "a finite angle");
+  require(std::isfinite(hole_radius) && hole_radius >= pin_radius + eccentricity, "hole_radius_mm", hole_radius,
+          fmt::format("a hole radius >= pin_radius_mm + eccentricity_mm = {:g} mm (a smaller hole overlaps its pin at "
+                      "no load)",
+                      pin_radius + eccentricity));
+}
+
+std::vector<OutputPinContact> EvaluateOutputPins(const OutputPins& pins, const geometry::Pose& disc,
+                                                 double output_rotation) {
+  std::vector<OutputPinContact> out(static_cast<std::size_t>(pins.count));
+  for (int j = 0; j < pins.count; ++j) {
+    const double alpha = 2.0 * units::kPi * j / pins.count + pins.phase;
+    const Eigen::Vector2d local = pins.circle_radius * Eigen::Vector2d(std::cos(alpha), std::sin(alpha));
+    OutputPinContact& c = out[static_cast<std::size_t>(j)];
+    c.pin = j;
+    c.pin_centre = Rotated(output_rotation, local);
+    c.hole_centre = disc.ToFixed(local);
+    const Eigen::Vector2d offset = c.pin_centre - c.hole_centre;
+    const double distance = offset.norm();
+    if (!(distance > 0.0)) {
+      throw std::domain_error(fmt::format("output pin {}: the pin and hole centres coincide (no contact direction)", j + 1));
+    }
+    c.normal = offset / distance;
+    c.gap = pins.hole_radius - pins.pin_radius - distance;
+    c.translation_gradient = -c.normal;
+    c.disc_arm = -c.normal.dot(Perp(c.hole_centre - disc.centre));
+    c.output_arm = c.normal.dot(Perp(c.pin_centre));
+  }
+  return out;
+}
+
+}  // namespace ltca::contact

@@ -1,0 +1,110 @@
+// The output pins in holes of issue 25 (contact/output_pins.hpp). Independent references: the
+// eccentricity as the nominal offset of every pin from its hole (the W mechanism's parallel
+// crank), the textbook load share of a W mechanism, and finite differences of the exact gaps.
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "ltca/contact/output_pins.hpp"
+#include "ltca/geometry/kinematics.hpp"
+#include "ltca/geometry/units.hpp"
+#include "pairs.hpp"
+
+using ltca::contact::EvaluateOutputPins;
+using ltca::contact::OutputPins;
+
+namespace {
+
+/// Eight pins of radius 5 mm on R_w = 40 mm, pin 0 on +X; holes e + clearance larger.
+OutputPins Eight(double eccentricity, double clearance) {
+  OutputPins p;
+  p.count = 8;
+  p.pin_radius = 5.0;
+  p.circle_radius = 40.0;
+  p.hole_radius = 5.0 + eccentricity + clearance;
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("contact: at the nominal poses every output pin is offset from its hole by the eccentricity: its gap is the clearance") {
+  // Liu 2021 Table 1's pair (e = 1.3 mm): the output member turns as the disc, so P_j - H_j is
+  // minus the disc centre's offset at every crank. Tolerance 1e-12 mm.
+  const ltca::geometry::Kinematics kinematics(ltca::test::LiuPair());
+  const OutputPins pins = Eight(1.3, 0.02);
+  CHECK_NOTHROW(pins.Validate(1.3));
+  for (const double crank : {0.0, 0.7, 2.3, -1.1}) {
+    CAPTURE(crank);
+    const ltca::geometry::Pose disc = kinematics.CycloidPose(crank);
+    for (const auto& c : EvaluateOutputPins(pins, disc, disc.rotation)) {
+      CHECK(std::abs(c.gap - 0.02) < 1e-12);
+      CHECK((c.pin_centre - c.hole_centre + disc.centre).norm() < 1e-12);
+    }
+  }
+}
+
+TEST_CASE("contact: the W mechanism with the disc held and linear pins without clearance: F_j = T sin a_j / (R_w sum sin^2 a_k)") {
+  // The textbook load share of the output pins (docs/stage.md): with the disc centre held, the
+  // output member turned by psi loads pin j by k R_w psi sin a_j, a_j its angle from the line of
+  // centres; T = sum F_j R_w sin a_j over the loaded half. Eight pins, T = 100 N*m, R_w = 40 mm,
+  // crank 0 (a pin at a = 90 deg): F_max = 4 T / (n_w R_w) = 1250 N, the pins at 45 and 135 deg
+  // 883.8834765 N. The element's output arm must be R_w sin a_j (1e-12), and the forces of the
+  // linearised balance the textbook's (1e-9).
+  const ltca::geometry::Kinematics kinematics(ltca::test::LiuPair());
+  const OutputPins pins = Eight(1.3, 0.0);
+  const ltca::geometry::Pose disc = kinematics.CycloidPose(0.0);
+  const auto contacts = EvaluateOutputPins(pins, disc, disc.rotation);
+  double sum = 0.0;
+  for (const auto& c : contacts) {
+    const double a = 2.0 * ltca::units::kPi * c.pin / 8;  // from the line of centres (+X at crank 0)
+    CHECK(c.output_arm == doctest::Approx(40.0 * std::sin(a)).epsilon(1e-12).scale(40.0));
+    if (c.output_arm > 0.0) sum += c.output_arm * c.output_arm;
+  }
+  const double torque = 1e5;  // N*mm
+  std::vector<double> force;
+  for (const auto& c : contacts) force.push_back(c.output_arm > 1e-9 ? torque * c.output_arm / sum : 0.0);
+  CHECK(force[2] == doctest::Approx(1250.0).epsilon(1e-9));
+  CHECK(force[1] == doctest::Approx(883.8834765).epsilon(1e-9));
+  CHECK(force[3] == doctest::Approx(883.8834765).epsilon(1e-9));
+  for (const std::size_t j : {std::size_t{0}, std::size_t{4}, std::size_t{5}, std::size_t{6}, std::size_t{7}}) {
+    CHECK(force[j] == 0.0);
+  }
+}
+
+TEST_CASE("contact: the output pins' arms and translation gradient are the derivatives of their exact approach") {
+  // Central differences of the exact gaps (steps 1e-7), 1e-6 relative, at a crank off the axes.
+  const ltca::geometry::Kinematics kinematics(ltca::test::LiuPair());
+  const OutputPins pins = Eight(1.3, 0.01);
+  const ltca::geometry::Pose disc = kinematics.CycloidPose(0.83);
+  const auto base = EvaluateOutputPins(pins, disc, disc.rotation + 1e-4);
+  const auto approach = [&](const ltca::geometry::Pose& d, double out, int j) {
+    return -EvaluateOutputPins(pins, d, out)[static_cast<std::size_t>(j)].gap;
+  };
+  const double h = 1e-7;
+  for (int j = 0; j < 8; ++j) {
+    CAPTURE(j);
+    const auto& c = base[static_cast<std::size_t>(j)];
+    const double out = disc.rotation + 1e-4;
+    CHECK((approach(disc, out + h, j) - approach(disc, out - h, j)) / (2 * h) == doctest::Approx(c.output_arm).epsilon(1e-6).scale(40.0));
+    ltca::geometry::Pose turned = disc, back = disc;
+    turned.rotation += h, back.rotation -= h;
+    CHECK((approach(turned, out, j) - approach(back, out, j)) / (2 * h) == doctest::Approx(c.disc_arm).epsilon(1e-6).scale(40.0));
+    for (int i = 0; i < 2; ++i) {
+      ltca::geometry::Pose plus = disc, minus = disc;
+      plus.centre[i] += h, minus.centre[i] -= h;
+      CHECK((approach(plus, out, j) - approach(minus, out, j)) / (2 * h) == doctest::Approx(c.translation_gradient[i]).epsilon(1e-6).scale(1.0));
+    }
+  }
+}
+
+TEST_CASE("contact: [output] pins are refused with the key, the value and what is expected") {
+  OutputPins p = Eight(1.3, 0.0);
+  p.hole_radius = 6.0;  // < 5 + 1.3: the pin would overlap its hole at no load
+  CHECK_THROWS_WITH_AS(p.Validate(1.3), doctest::Contains("[output] hole_radius_mm = 6: expected a hole radius >= pin_radius_mm + eccentricity_mm = 6.3 mm"),
+                       std::invalid_argument);
+  p = Eight(1.3, 0.0);
+  p.count = 2;
+  CHECK_THROWS_WITH_AS(p.Validate(1.3), doctest::Contains("[output] count = 2"), std::invalid_argument);
+}
