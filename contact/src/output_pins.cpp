@@ -10,11 +10,7 @@
 namespace ltca::contact {
 namespace {
 
-Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
-Eigen::Vector2d Rotated(double angle, const Eigen::Vector2d& v) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
-}
+using geometry::Perp;
 
 }  // namespace
 
@@ -36,12 +32,13 @@ void OutputPins::Validate(double eccentricity) const {
 std::vector<OutputPinContact> EvaluateOutputPins(const OutputPins& pins, const geometry::Pose& disc,
                                                  double output_rotation) {
   std::vector<OutputPinContact> out(static_cast<std::size_t>(pins.count));
+  const geometry::Pose output{Eigen::Vector2d::Zero(), output_rotation};  // about the pin-circle centre
   for (int j = 0; j < pins.count; ++j) {
     const double alpha = 2.0 * units::kPi * j / pins.count + pins.phase;
     const Eigen::Vector2d local = pins.circle_radius * Eigen::Vector2d(std::cos(alpha), std::sin(alpha));
     OutputPinContact& c = out[static_cast<std::size_t>(j)];
     c.pin = j;
-    c.pin_centre = Rotated(output_rotation, local);
+    c.pin_centre = output.ToFixed(local);
     c.hole_centre = disc.ToFixed(local);
     const Eigen::Vector2d offset = c.pin_centre - c.hole_centre;
     const double distance = offset.norm();

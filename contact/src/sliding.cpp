@@ -13,7 +13,7 @@ namespace {
 
 using units::kPi;
 
-Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }  // Rot(+90 deg)
+using geometry::Perp;
 
 /// Simpson's rule on [a, b] with n (even) intervals.
 template <class F>

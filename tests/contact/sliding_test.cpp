@@ -17,7 +17,7 @@ namespace c = ltca::contact;
 
 namespace {
 
-Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+using ltca::geometry::Perp;
 
 // Compares the closed-form velocities of every pin with a central difference of the contact
 // points over crank angle (h = 1e-5 rad: truncation ~1e-10 of the velocity, the foot point's

@@ -23,7 +23,7 @@ using units::kPi;
 
 /// z component of a x b.
 double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+using geometry::Perp;
 
 /// The torque balance with friction converges when the friction moment ratio moves by less than
 /// this, within at most kMaxRatioSolves solves.

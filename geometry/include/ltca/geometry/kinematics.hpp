@@ -12,6 +12,10 @@
 
 namespace ltca::geometry {
 
+/// v turned by +90 deg: (-v_y, v_x). The velocity of a point at v from a centre turning at 1 rad/s,
+/// and the lever of a force in the plane (a . Perp(b) = a x b).
+inline Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
+
 /// Placement of the cycloid body frame in the fixed frame: x_f = centre + Rot(rotation) x_b.
 struct Pose {
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();  ///< mm.
