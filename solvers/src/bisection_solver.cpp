@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "coupled_contact.hpp"
+#include "stage_system.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::solvers {
@@ -133,6 +134,70 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
                                         "before the torque balanced: off by {:.3g} relative, torque_tolerance {:.3g}",
                                         evaluations, miss, options.torque_tolerance);
   }
+}
+
+void BisectionSolver::DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                                   LoadResult* result) const {
+  // Liu's search on the output rotation psi (the stage's TE): the torque the stage returns to the
+  // output member, M(psi), rises with psi (the energy is convex), and at each trial psi the discs
+  // and shafts balance (StageSystem::Minimise with psi held). Illinois' regula falsi on a bracket.
+  const StageSystem system(problem);
+  const int psi = system.output_dof();
+  const double scale = system.rotation_scale();  // psi = scale * q[psi]
+  const double torque = problem.torque();
+  Eigen::VectorXd q = StageStart(system, workspace, "bisection-stage");
+  StageSystem::Evaluation last;
+  int evaluations = 0, inner = 0;
+  StageSystem::Outcome outcome = StageSystem::Outcome::kConverged;
+  const double inner_tolerance = 0.1 * options.torque_tolerance;
+  const auto moment = [&](double rotation) {
+    q(psi) = rotation / scale;
+    int steps = 0;
+    outcome = system.Minimise(&q, true, inner_tolerance, options.max_iterations, nullptr, &steps, &last);
+    inner += steps;
+    ++evaluations;
+    return system.OutputTorque(last) - torque;
+  };
+  // Bracket: lo at no rotation (no element pulls: M(0) <= T), hi doubled from a micro-radian.
+  double lo = 0.0, f_lo = moment(lo), hi = 1e-6, f_hi = 0.0;
+  bool bracketed = f_lo >= 0.0;
+  if (bracketed) hi = lo, f_hi = f_lo;
+  for (int k = 0; !bracketed && k < 80 && outcome != StageSystem::Outcome::kNumerical; ++k, hi *= 2.0) {
+    f_hi = moment(hi);
+    if (f_hi >= 0.0) bracketed = true;
+    else lo = hi, f_lo = f_hi;
+    if (bracketed) break;
+  }
+  double x = hi, fx = f_hi;
+  int side = 0;
+  while (bracketed && std::abs(fx) > options.torque_tolerance * torque && evaluations < options.max_iterations &&
+         outcome != StageSystem::Outcome::kNumerical) {
+    if (!(hi - lo > 4.0 * std::numeric_limits<double>::epsilon() * std::abs(hi))) break;
+    x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+    if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
+    fx = moment(x);
+    if (fx > 0.0) {
+      hi = x, f_hi = fx;
+      if (side == 1) f_lo *= 0.5;  // Illinois: halve the end that stays
+      side = 1;
+    } else {
+      lo = x, f_lo = fx;
+      if (side == -1) f_hi *= 0.5;
+      side = -1;
+    }
+  }
+  if (std::abs(fx) > options.torque_tolerance * torque && outcome == StageSystem::Outcome::kConverged) {
+    outcome = StageSystem::Outcome::kMaxIterations;
+  }
+  if (x != q(psi) * scale) moment(x);  // the solution at the last trial
+  FinishStage(system, q, outcome, last, result);
+  result->iterations = inner;
+  result->torque_evaluations = evaluations;
+  if (!bracketed) {
+    result->status = SolverStatus::kMaxIterations;
+    result->message = "no output rotation found at which the stage carries the torque";
+  }
+  if (result->status == SolverStatus::kSuccess) KeepStageStart(q, workspace, "bisection-stage");
 }
 
 }  // namespace ltca::solvers

@@ -14,6 +14,7 @@
 #include <nlopt.hpp>
 
 #include "coupled_contact.hpp"
+#include "stage_system.hpp"
 
 namespace ltca::solvers {
 namespace {
@@ -355,6 +356,20 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
     result->message = fmt::format("NLopt {} stopped (code {}) with the torque off by {:.3g}", options.nlopt_algorithm,
                                   static_cast<int>(code), mismatch);
   }
+}
+
+void CompatibilitySolver::DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                                       LoadResult* result) const {
+  const StageSystem system(problem);
+  Eigen::VectorXd q = StageStart(system, workspace, "compatibility-stage");
+  StageSystem::Evaluation last;
+  int iterations = 0;
+  const auto outcome = system.Minimise(&q, false, options.torque_tolerance, options.max_iterations, nullptr,
+                                       &iterations, &last);
+  FinishStage(system, q, outcome, last, result);
+  result->iterations = iterations;
+  result->torque_evaluations = iterations;
+  if (result->status == SolverStatus::kSuccess) KeepStageStart(q, workspace, "compatibility-stage");
 }
 
 }  // namespace ltca::solvers

@@ -24,8 +24,13 @@ class CompatibilitySolver final : public LoadSolver {
  public:
   std::string name() const override { return "compatibility"; }
   bool supports_coupling() const override { return true; }
+  bool supports_stage() const override { return true; }
 
  private:
+  /// The stage (issue 25): Newton's method with an active set over the poses (the contacts that
+  /// carry load at each iterate), damped to a trust region (StageSystem::Minimise).
+  void DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                    LoadResult* result) const override;
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                LoadResult* result) const override;
   /// guess_rotation: a rotation near the answer to start NLopt from (NaN: the linear prediction).

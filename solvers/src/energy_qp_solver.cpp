@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "first_contact.hpp"
+#include "stage_system.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -447,6 +448,129 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   result->details = details;
   if (result->status != SolverStatus::kEdgeContact && result->status != SolverStatus::kLawCannotCarry) {
     result->message = fmt::format("Ipopt status {} after {} iterations", result->native_code, total_iterations);
+  }
+}
+
+namespace {
+
+// The stage (issue 25) as Ipopt sees it: the total potential energy Pi(q) over the stage's dofs,
+// unconstrained (m = 0), with the exact gradient and Hessian (lower triangle, dense: a dozen dofs).
+class StageNlp final : public Ipopt::TNLP {
+ public:
+  StageNlp(const StageSystem& system, Eigen::VectorXd start) : system_(system), x_(std::move(start)) {}
+  const Eigen::VectorXd& solution() const { return x_; }
+
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override {
+    n = system_.dof_count();
+    m = 0;
+    nnz_jac_g = 0;
+    nnz_h_lag = n * (n + 1) / 2;
+    style = TNLP::C_STYLE;
+    return true;
+  }
+  bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index, Number*, Number*) override {
+    for (Index i = 0; i < n; ++i) x_l[i] = -1e19, x_u[i] = 1e19;  // Ipopt's "no bound"
+    return true;
+  }
+  bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
+    for (Index i = 0; i < n; ++i) x[i] = x_(i);
+    return true;
+  }
+  bool eval_f(Index n, const Number* x, bool, Number& f) override {
+    Evaluate(n, x, false);
+    f = eval_.energy;
+    return std::isfinite(f);
+  }
+  bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
+    Evaluate(n, x, false);
+    for (Index i = 0; i < n; ++i) g[i] = eval_.gradient(i);
+    return eval_.gradient.allFinite();
+  }
+  bool eval_g(Index, const Number*, bool, Index, Number*) override { return true; }
+  bool eval_jac_g(Index, const Number*, bool, Index, Index, Index*, Index*, Number*) override { return true; }
+  bool eval_h(Index n, const Number* x, bool, Number obj_factor, Index, const Number*, bool, Index, Index* row,
+              Index* col, Number* values) override {
+    Index k = 0;
+    if (values == nullptr) {
+      for (Index i = 0; i < n; ++i) {
+        for (Index j = 0; j <= i; ++j) row[k] = i, col[k] = j, ++k;
+      }
+      return true;
+    }
+    Evaluate(n, x, true);
+    for (Index i = 0; i < n; ++i) {
+      for (Index j = 0; j <= i; ++j) values[k++] = obj_factor * eval_.hessian(i, j);
+    }
+    return true;
+  }
+  void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*, const Number*, Index,
+                         const Number*, const Number*, Number, const Ipopt::IpoptData*,
+                         Ipopt::IpoptCalculatedQuantities*) override {
+    for (Index i = 0; i < n; ++i) x_(i) = x[i];
+  }
+
+ private:
+  void Evaluate(Index n, const Number* x, bool hessian) {
+    Eigen::VectorXd q(n);
+    for (Index i = 0; i < n; ++i) q(i) = x[i];
+    system_.Evaluate(q, hessian, &hints_, &eval_);
+  }
+  const StageSystem& system_;
+  Eigen::VectorXd x_;
+  StageSystem::Evaluation eval_;
+  std::vector<double> hints_;
+};
+
+struct StageIpoptState final : Workspace::BackendState {
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app;
+};
+
+}  // namespace
+
+void EnergyQpSolver::DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                                  LoadResult* result) const {
+  const StageSystem system(problem);
+  const Eigen::VectorXd start = StageStart(system, workspace, "energy-qp-stage-start");
+  std::unique_lock<std::mutex> lock(IpoptMutex());
+  auto* state = dynamic_cast<StageIpoptState*>(workspace.Backend("energy-qp-stage"));
+  if (state == nullptr) {
+    state = static_cast<StageIpoptState*>(workspace.SetBackend("energy-qp-stage", std::make_unique<StageIpoptState>()));
+    state->app = IpoptApplicationFactory();
+    state->app->Options()->SetIntegerValue("print_level", 0);
+    state->app->Options()->SetStringValue("sb", "yes");
+    if (state->app->Initialize("") != Ipopt::Solve_Succeeded) {
+      result->status = SolverStatus::kNumericalFailure;
+      result->message = "Ipopt failed to initialise";
+      return;
+    }
+  }
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = state->app;
+  // Every gradient component is a force in N: Ipopt's tolerance on it is the torque tolerance
+  // times T / R_p, as the stage's other solvers (StageSystem::Minimise).
+  const double force_scale = problem.torque() / problem.model().pair().pin_circle_radius;
+  app->Options()->SetNumericValue("obj_scaling_factor", 1.0 / force_scale);
+  app->Options()->SetStringValue("nlp_scaling_method", "none");
+  app->Options()->SetNumericValue("tol", std::max(options.torque_tolerance, 1e-15));
+  app->Options()->SetNumericValue("acceptable_tol", 1e-9);
+  app->Options()->SetIntegerValue("max_iter", options.max_iterations);
+  Ipopt::SmartPtr<StageNlp> nlp = new StageNlp(system, start);
+  const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
+  const int iterations = Ipopt::IsValid(app->Statistics()) ? app->Statistics()->IterationCount() : 0;
+  lock.unlock();
+  StageSystem::Evaluation last;
+  system.Evaluate(nlp->solution(), false, nullptr, &last);
+  const SolverStatus mapped = MapStatus(status);
+  FinishStage(system, nlp->solution(),
+              mapped == SolverStatus::kSuccess ? StageSystem::Outcome::kConverged
+              : mapped == SolverStatus::kMaxIterations ? StageSystem::Outcome::kMaxIterations
+                                                        : StageSystem::Outcome::kNumerical,
+              last, result);
+  result->native_code = static_cast<int>(status);
+  result->iterations = iterations;
+  result->details["ipopt_iterations"] = iterations;
+  if (result->status == SolverStatus::kSuccess) {
+    result->message = fmt::format("Ipopt status {} after {} iterations", result->native_code, iterations);
+    KeepStageStart(nlp->solution(), workspace, "energy-qp-stage-start");
   }
 }
 

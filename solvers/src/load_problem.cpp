@@ -270,6 +270,13 @@ LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
   return out;
 }
 
+LoadProblem LoadProblem::WithStage(std::shared_ptr<const StageSettings> stage) const {
+  if (stage != nullptr) stage->Validate(model_->pair().eccentricity);
+  LoadProblem out(*this);
+  out.stage_ = std::move(stage);
+  return out;
+}
+
 double LoadProblem::SinglePinBound() const {
   // As in BuildBaseLaws, with the coupling's terms when there is one (LoadedRotationRange).
   const double min_arm = 1e-9 * model_->pair().pin_circle_radius;

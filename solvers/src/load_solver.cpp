@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "ltca/geometry/units.hpp"
+#include "stage_system.hpp"
 
 namespace ltca::solvers {
 namespace {
@@ -81,6 +82,7 @@ const char* ToString(SolverStatus status) {
     case SolverStatus::kInterference: return "interference";
     case SolverStatus::kRotationOutOfRange: return "rotation-out-of-range";
     case SolverStatus::kCouplingUnsupported: return "coupling-unsupported";
+    case SolverStatus::kStageUnsupported: return "stage-unsupported";
   }
   return "?";
 }
@@ -128,6 +130,57 @@ SolverOptions ApplyPreset(SolverOptions options, const std::string& preset) {
   throw std::invalid_argument(fmt::format("[solver] preset = \"{}\": expected \"liu2021\"", preset));
 }
 
+void LoadSolver::DoSolveStage(const LoadProblem&, const SolverOptions&, Workspace&, LoadResult* result) const {
+  result->status = SolverStatus::kStageUnsupported;
+  result->message = fmt::format("solver \"{}\" does not solve the reducer stage", name());
+}
+
+// The shared part of a stage solve (issue 25): the refusals, the zero torque, the backend, and the
+// judge of every balance (StageSystem::Judge). No range judge: the output rotation includes the
+// mechanism's and the bearings' compliance, which the pin ring's single-pin bound does not see.
+void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                            LoadResult* result) const {
+  const LoadSolver& solver = *this;
+  if (!solver.supports_stage()) {
+    result->status = SolverStatus::kStageUnsupported;
+    result->message = fmt::format("solver \"{}\" does not solve the reducer stage ([output]); solvers that do: "
+                                  "compatibility, bisection, energy-qp (docs/stage.md)", solver.name());
+  } else if (const std::string overlaps = contact::JamReport(problem.base_state(), problem.model().interference_tolerance());
+             !overlaps.empty()) {
+    result->status = SolverStatus::kInterference;
+    result->message = fmt::format("interference at the theoretical position: {} overlap the cycloid", overlaps);
+  } else if (StageSolvable(problem, result)) {
+    const StageSystem system(problem);
+    if (problem.torque() == 0.0) {
+      system.Fill(system.Zero(), result);
+      result->status = SolverStatus::kSuccess;
+      result->message = "zero torque: no rotation, no forces";
+    } else {
+      solver.DoSolveStage(problem, options, workspace, result);
+    }
+    if (std::isfinite(result->rotation) && result->stage) {
+      system.Judge(result);
+      const double accepted = std::max(options.residual_tolerance, 2.0 * options.torque_tolerance);
+      if (result->status == SolverStatus::kSuccess && !(result->residuals.Normalised() <= accepted)) {
+        result->status = SolverStatus::kResidualTooLarge;
+        result->message += fmt::format("; shared residual {:.3g} exceeds {:.3g}", result->residuals.Normalised(), accepted);
+      }
+    }
+  }
+  result->te = -problem.direction() * result->rotation;
+  result->flank = problem.torque() == 0.0 ? Flank::kNone : (problem.direction() > 0.0 ? Flank::kDrive : Flank::kCoast);
+  if (!std::isfinite(result->rotation)) return;
+  // The energy of a stage is its strain energy (the potential's elastic part).
+  result->active.clear();
+  result->energy = 0.0;
+  for (std::size_t i = 0; i < result->force.size(); ++i) {
+    if (result->force[i] > 0.0) result->active.push_back(static_cast<int>(i));
+  }
+  if (result->stage) {
+    for (const double e : result->stage->group_energy) result->energy += e;
+  }
+}
+
 LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& options) const {
   Workspace workspace;
   return Solve(problem, options, workspace);
@@ -145,6 +198,11 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
   const auto start = std::chrono::steady_clock::now();
   LoadResult result;
   result.force.assign(static_cast<std::size_t>(problem.point_count()), 0.0);
+  if (problem.has_stage()) {
+    SolveStage(problem, options, workspace, &result);
+    result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  }
   const double capacity = problem.TorqueCapacity();
   if (problem.has_coupling() && !supports_coupling()) {
     // Judged before anything else: this backend would answer the uncoupled problem.

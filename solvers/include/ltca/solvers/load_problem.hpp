@@ -24,6 +24,7 @@
 #include "ltca/contact/material.hpp"
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/contact/unloaded.hpp"
+#include "ltca/solvers/stage.hpp"
 #include "ltca/solvers/workspace.hpp"
 
 namespace ltca::solvers {
@@ -143,6 +144,15 @@ class LoadProblem {
   /// coupling was checked for another number of points.
   LoadProblem WithCoupling(const CheckedCoupling& coupling) const;
   bool has_coupling() const { return coupling_ != nullptr; }
+
+  /// The reducer stage (issue 25, ltca/solvers/stage.hpp): a copy of this problem whose discs
+  /// float on their bearings and drive the output member through the stage's output elements, T
+  /// on the output member. Validates the settings against the pair (std::invalid_argument naming
+  /// the key); nullptr: no stage (the mesh alone, the disc centres fixed).
+  LoadProblem WithStage(std::shared_ptr<const StageSettings> stage) const;
+  /// The stage, or nullptr for the mesh alone.
+  const StageSettings* stage() const { return stage_.get(); }
+  bool has_stage() const { return stage_ != nullptr; }
   /// The coupling matrix, or nullptr when uncoupled.
   const Eigen::SparseMatrix<double>* coupling() const { return coupling_.get(); }
   /// The factored form of the coupling, or nullptr when it came only as a matrix.
@@ -232,6 +242,7 @@ class LoadProblem {
   std::vector<double> closing_;  // rad, per pin (infinite where the arm cannot close it), see BuildBaseLaws
   std::shared_ptr<const Eigen::SparseMatrix<double>> coupling_;  // nullptr: uncoupled
   std::shared_ptr<const CouplingFactors> coupling_factors_;      // nullptr: none (or uncoupled)
+  std::shared_ptr<const StageSettings> stage_;                   // nullptr: the mesh alone
 };
 
 /// The forces of the laws at the approaches of `pins`, their torque, and whether a pressed pin sits
@@ -259,6 +270,9 @@ struct Residuals {
   double force_violation_n = 0.0;   ///< max(0, -F_i), N
   double gap_violation_mm = 0.0;    ///< max(0, -g_i), mm
   double complementarity_nmm = 0.0; ///< max |F_i g_i|, N*mm
+  /// A stage (issue 25): the largest imbalance of a disc's forces (over the largest element force)
+  /// or of a moment (each disc's, the output member's, over T); 0 for the mesh alone.
+  double balance_relative = 0.0;
   /// One normalised number: the torque residual, and the others scaled by the largest force and
   /// the largest approach of the solution.
   double Normalised() const { return normalised; }

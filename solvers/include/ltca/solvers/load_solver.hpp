@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,8 @@ enum class SolverStatus {
                         ///< a quarter tooth pitch: not the physically meaningful solution
   kCouplingUnsupported,  ///< the problem has a compliance coupling (LoadProblem::WithCoupling) and
                          ///< the backend cannot solve it: refused before solving, no numbers
+  kStageUnsupported,  ///< the problem has a reducer stage (LoadProblem::WithStage) and the backend
+                      ///< cannot solve it, or not in this form: refused before solving, no numbers
 };
 const char* ToString(SolverStatus status);
 
@@ -83,6 +86,8 @@ struct LoadResult {
   /// stands for (contact stress above [material] contact_stress_limit_mpa, a Hertz half-width
   /// beyond valid_half_width()): the numbers are solved, but say so. Empty otherwise.
   std::vector<std::string> warnings;
+  /// A stage problem's poses, output-element and bearing forces (issue 25); empty for the mesh alone.
+  std::optional<StageSolution> stage;
 };
 
 /// LoadSolver::Solve calls in this process so far, over every solver and thread (a relaxed atomic
@@ -96,6 +101,9 @@ class LoadSolver {
   /// Whether the backend solves problems with a compliance coupling (LoadProblem::has_coupling).
   /// Solve() refuses a coupled problem with kCouplingUnsupported before a backend without it runs.
   virtual bool supports_coupling() const { return false; }
+  /// Whether the backend solves a reducer stage (LoadProblem::has_stage). Solve() refuses a stage
+  /// problem with kStageUnsupported before a backend without it runs.
+  virtual bool supports_stage() const { return false; }
   /// Validates, solves, fills the shared fields, checks the residual. Never throws for a
   /// failure to converge (that is a status); throws std::invalid_argument for bad options.
   /// A solver object holds no state: one may serve several threads, each with its own
@@ -108,6 +116,13 @@ class LoadSolver {
   /// Sets status, message, native_code, rotation, force, iterations / evaluations.
   virtual void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                        LoadResult* result) const = 0;
+  /// The stage's solve (only called when supports_stage()): sets status, message, iterations and,
+  /// through the shared stage assembly, rotation, forces and the stage's solution.
+  virtual void DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                            LoadResult* result) const;
+  /// Solve()'s path for a stage: refusals, zero torque, DoSolveStage and the stage's judge.
+  void SolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                  LoadResult* result) const;
 };
 
 }  // namespace ltca::solvers

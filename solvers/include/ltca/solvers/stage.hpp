@@ -1,0 +1,83 @@
+#pragma once
+// The reducer stage of issue 25 (docs/stage.md): each disc floats on its eccentric bearing (a
+// cycloidal drive) or on the needle bearings of its crankshafts (an RV stage), and drives the
+// output member through output pins in holes or through the crankshafts. A load problem with a
+// stage (LoadProblem::WithStage) has these unknowns besides the pin-ring forces: per disc the
+// translation t = (x, y) of its centre from the theoretical pose and its rotation phi; the output
+// member's rotation psi, whose moment balance carries T; per crank and disc the shaft's deflection
+// when both the needle bearing and the shaft are compliant. The input is locked at the crank
+// angle, as in a catalogue test.
+//
+// Every element is a contact point whose gap is affine in these unknowns (linearised kinematics)
+// with a convex energy, so the balance is the minimum of the total potential energy
+//   Pi(q) = sum_elements E_e(q) - T psi,
+// whose stationarity is each disc's force and moment balance and the output member's torque
+// balance (Li's minimum-energy principle extended from the pin ring to the stage).
+//
+// Rotations are in the problem's frame (LoadProblem: positive in the direction of the torque,
+// the physical counterclockwise angle is load_direction() * direction() times it); translations
+// and forces are in the fixed frame.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ltca/contact/bearing.hpp"
+#include "ltca/contact/cranks.hpp"
+#include "ltca/contact/output_pins.hpp"
+
+namespace ltca::solvers {
+
+/// How the discs drive the output member.
+enum class OutputKind {
+  kPins,    ///< "pins": output pins in holes of the disc (cycloidal drive, W mechanism)
+  kCranks,  ///< "cranks": crankshafts in crank holes, through needle bearings (RV)
+};
+/// "pins" | "cranks"; throws std::invalid_argument naming `[output] kind`.
+OutputKind ParseOutputKind(const std::string& text);
+const char* ToString(OutputKind kind);
+
+/// The stage's elements besides the pin ring, as data (the deck's [output] and [bearing]).
+struct StageSettings {
+  OutputKind kind = OutputKind::kPins;
+  contact::OutputPins pins;      ///< kPins: the output pins (their law is [contact] law, over the face width)
+  contact::Cranks cranks;        ///< kCranks
+  /// kPins: the eccentric bearing between the locked eccentric and the disc's bore; kCranks: the
+  /// needle bearing of each crank hole. Rollers: roller 0 on the eccentric's direction.
+  contact::BearingSettings bearing;
+  /// Throws std::invalid_argument naming the key (see OutputPins, Cranks, BearingSettings).
+  void Validate(double eccentricity) const;
+};
+
+/// The element groups of the compliance budget.
+enum class StageGroup { kMesh, kOutput, kBearings, kShafts };
+inline constexpr int kStageGroups = 4;
+const char* ToString(StageGroup group);
+
+/// What a stage solve found besides the pin-ring forces (LoadResult::force) and the output
+/// rotation (LoadResult::rotation).
+struct StageSolution {
+  struct Disc {
+    Eigen::Vector2d translation = Eigen::Vector2d::Zero();  ///< mm, fixed frame
+    double rotation = 0.0;  ///< rad, problem frame (the disc's own rotation under load)
+    /// kPins: per output pin, the force the pin puts on the disc (N, magnitude) and its direction
+    /// (unit, fixed frame: from the hole's centre towards the pin's).
+    std::vector<double> output_force;
+    std::vector<Eigen::Vector2d> output_direction;
+    /// Per bearing (kPins: one, the eccentric bearing; kCranks: one per crank), the force the
+    /// eccentric puts on the disc through it (N, fixed frame) and, for rollers, each roller's load.
+    std::vector<Eigen::Vector2d> bearing_force;
+    std::vector<std::vector<double>> roller_load;
+    /// kCranks with a compliant shaft: each shaft's deflection at the eccentric, mm.
+    std::vector<Eigen::Vector2d> shaft_deflection;
+  };
+  std::vector<Disc> discs;
+  /// Strain energy per group (StageGroup order), N*mm: the compliance budget's shares.
+  std::vector<double> group_energy = std::vector<double>(kStageGroups, 0.0);
+  /// The balance the shared judge measured: the largest force imbalance of a disc over the
+  /// largest element force, and the largest moment imbalance (discs and output member) over T.
+  double force_balance_relative = 0.0;
+  double moment_balance_relative = 0.0;
+};
+
+}  // namespace ltca::solvers

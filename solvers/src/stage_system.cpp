@@ -1,0 +1,585 @@
+#include "stage_system.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+#include <fmt/format.h>
+
+#include "ltca/contact/cranks.hpp"
+#include "ltca/contact/output_pins.hpp"
+#include "ltca/geometry/units.hpp"
+
+namespace ltca::solvers {
+
+void StageSystem::Row::Add(int i, double v) {
+  if (v == 0.0 || i < 0) return;
+  for (int k = 0; k < n; ++k) {
+    if (index[static_cast<std::size_t>(k)] == i) {
+      value[static_cast<std::size_t>(k)] += v;
+      return;
+    }
+  }
+  if (n == static_cast<int>(index.size())) throw std::logic_error("StageSystem::Row: more than 6 non-zeros");
+  index[static_cast<std::size_t>(n)] = i;
+  value[static_cast<std::size_t>(n)] = v;
+  ++n;
+}
+
+double StageSystem::Row::Dot(const Eigen::VectorXd& x) const {
+  double s = 0.0;
+  for (int k = 0; k < n; ++k) s += value[static_cast<std::size_t>(k)] * x(index[static_cast<std::size_t>(k)]);
+  return s;
+}
+
+StageSystem::Row StageSystem::ToDofs(const Row& coordinates) const {
+  Row out;
+  for (int k = 0; k < coordinates.n; ++k) {
+    const auto c = static_cast<std::size_t>(coordinates.index[static_cast<std::size_t>(k)]);
+    out.Add(coordinate_dof_[c], coordinates.value[static_cast<std::size_t>(k)] * coordinate_scale_[c]);
+  }
+  return out;
+}
+
+Eigen::VectorXd StageSystem::Coordinates(const Eigen::VectorXd& q) const {
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(coordinate_count());
+  for (std::size_t i = 0; i < coordinate_dof_.size(); ++i) {
+    if (coordinate_dof_[i] >= 0) c(static_cast<Eigen::Index>(i)) = coordinate_scale_[i] * q(coordinate_dof_[i]);
+  }
+  return c;
+}
+
+Eigen::Vector2d StageSystem::Displacement(const Planar& p, const Eigen::VectorXd& q) {
+  return Eigen::Vector2d(p.row[0].Dot(q), p.row[1].Dot(q)) + p.offset;
+}
+
+Eigen::Vector2d StageSystem::DisplacementAt(const Planar& p, const Eigen::VectorXd& c) {
+  return Eigen::Vector2d(p.coordinates[0].Dot(c), p.coordinates[1].Dot(c)) + p.offset;
+}
+
+StageSystem::StageSystem(const LoadProblem& problem) : problem_(&problem) {
+  if (problem.stage() == nullptr) throw std::invalid_argument("StageSystem: the problem has no stage");
+  settings_ = *problem.stage();
+  discs_ = problem.disc_count();
+  radius_ = problem.model().pair().pin_circle_radius;
+  torque_ = problem.torque();
+  // The problem's frame: a rotation in it is s times the counterclockwise angle.
+  const double s = problem.model().load_direction() * problem.direction();
+  const bool cranks = settings_.kind == OutputKind::kCranks;
+  crank_count_ = cranks ? settings_.cranks.count : 0;
+  const bool bearing_compliant = settings_.bearing.kind != contact::BearingKind::kRigid;
+  const bool shaft_compliant = cranks && std::isfinite(settings_.cranks.shaft_stiffness);
+  shaft_coordinates_ = bearing_compliant && shaft_compliant;
+  if (shaft_compliant) {
+    shaft_.kind = contact::BearingKind::kLinear;
+    shaft_.radial_stiffness = settings_.cranks.shaft_stiffness;
+  }
+
+  // Coordinates and dofs: a rigid eccentric bearing holds its disc's centre.
+  psi_coordinate_ = 3 * discs_;
+  const int coordinates = psi_coordinate_ + 1 + (shaft_coordinates_ ? 2 * discs_ * crank_count_ : 0);
+  coordinate_dof_.assign(static_cast<std::size_t>(coordinates), -1);
+  coordinate_scale_.assign(static_cast<std::size_t>(coordinates), 1.0);
+  for (int c = 0; c < coordinates; ++c) {
+    const bool translation = c < psi_coordinate_ && c % 3 != 2;
+    const bool rotation = c == psi_coordinate_ || (c < psi_coordinate_ && c % 3 == 2);
+    if (translation && !cranks && !bearing_compliant) continue;
+    coordinate_dof_[static_cast<std::size_t>(c)] = dofs_++;
+    coordinate_scale_[static_cast<std::size_t>(c)] = rotation ? 1.0 / radius_ : 1.0;
+  }
+
+  // The pin ring: today's points; the disc's translation t closes a gap by n . t.
+  const contact::MeshState& base = problem.base_state();
+  laws_.reserve(base.pins.size() + static_cast<std::size_t>(discs_ * std::max(settings_.pins.count, 0)));
+  for (std::size_t i = 0; i < base.pins.size(); ++i) {
+    const contact::PinContact& pin = base.pins[i];
+    Scalar e;
+    const int d = pin.disc;
+    e.coordinates.Add(3 * d, pin.normal.x());
+    e.coordinates.Add(3 * d + 1, pin.normal.y());
+    e.coordinates.Add(3 * d + 2, pin.arm);
+    e.gap = pin.clearance;
+    if (!pin.edge) {
+      e.law = static_cast<int>(laws_.size());
+      laws_.push_back(problem.base_laws()[i]);
+    }
+    e.group = StageGroup::kMesh;
+    e.disc = d;
+    e.index = static_cast<int>(i);
+    scalars_.push_back(e);
+  }
+
+  // The output member's nominal rotation: the first disc's (the holes and cranks of every disc
+  // sit where the output member's pins and cranks are at the nominal poses).
+  const double output_rotation = problem.model().kinematics().CycloidPose(problem.crank()).rotation;
+  const contact::ContactSettings& contact = problem.contact_settings();
+  const double cap = contact.log_radius_cap > 0.0 ? contact.log_radius_cap : problem.model().pair().pin_circle_radius;
+  const double width = problem.model().pair().face_width;
+  for (int d = 0; d < discs_; ++d) {
+    const geometry::Pose real = problem.DiscModel(d).real_pair().CycloidPose(problem.DiscCrank(d));
+    const geometry::Pose holes{real.centre, output_rotation};
+    const double eccentric_direction = std::atan2(real.centre.y(), real.centre.x());
+    if (!cranks) {
+      const contact::OutputPins& pins = settings_.pins;
+      for (const contact::OutputPinContact& c : contact::EvaluateOutputPins(pins, holes, output_rotation)) {
+        Scalar e;
+        e.coordinates.Add(3 * d, c.translation_gradient.x());
+        e.coordinates.Add(3 * d + 1, c.translation_gradient.y());
+        e.coordinates.Add(3 * d + 2, s * c.disc_arm);
+        e.coordinates.Add(psi_coordinate_, s * c.output_arm);
+        e.gap = c.gap;
+        e.law = static_cast<int>(laws_.size());
+        // A pin inside a hole: the hole's curvature is concave (docs/stage.md, Johnson 4.3).
+        laws_.emplace_back(contact, problem.material(), -1.0 / pins.hole_radius, pins.pin_radius, width, cap);
+        e.direction = c.normal;
+        e.group = StageGroup::kOutput;
+        e.disc = d;
+        e.index = c.pin;
+        scalars_.push_back(e);
+      }
+      if (bearing_compliant) {
+        // The eccentric (inner member) relative to the disc's bore (outer): u = -t.
+        Planar p;
+        p.coordinates[0].Add(3 * d, -1.0);
+        p.coordinates[1].Add(3 * d + 1, -1.0);
+        p.phase = eccentric_direction;
+        p.group = StageGroup::kBearings;
+        p.disc = d;
+        planars_.push_back(p);
+      }
+      continue;
+    }
+    for (const contact::CrankContact& c : contact::EvaluateCranks(settings_.cranks, holes, output_rotation)) {
+      std::array<Row, 2> u;
+      for (int a = 0; a < 2; ++a) {
+        u[static_cast<std::size_t>(a)].Add(3 * d + a, -1.0);
+        u[static_cast<std::size_t>(a)].Add(3 * d + 2, s * c.disc_rotation_gradient(a));
+        u[static_cast<std::size_t>(a)].Add(psi_coordinate_, s * c.output_gradient(a));
+      }
+      Planar p;
+      p.offset = c.offset;
+      p.phase = eccentric_direction;
+      p.disc = d;
+      p.index = c.crank;
+      if (shaft_coordinates_) {
+        // The needle bearing sees u + v, v the shaft's deflection at the eccentric; the shaft
+        // stores k |v|^2 / 2.
+        const int v = psi_coordinate_ + 1 + 2 * (d * crank_count_ + c.crank);
+        Planar shaft = p;
+        shaft.offset.setZero();
+        shaft.shaft = true;
+        shaft.group = StageGroup::kShafts;
+        for (int a = 0; a < 2; ++a) {
+          u[static_cast<std::size_t>(a)].Add(v + a, 1.0);
+          shaft.coordinates[static_cast<std::size_t>(a)].Add(v + a, 1.0);
+        }
+        p.coordinates = u;
+        p.group = StageGroup::kBearings;
+        planars_.push_back(p);
+        planars_.push_back(shaft);
+      } else {
+        p.coordinates = u;
+        p.shaft = !bearing_compliant;
+        p.group = bearing_compliant ? StageGroup::kBearings : StageGroup::kShafts;
+        planars_.push_back(p);
+      }
+    }
+  }
+  for (Scalar& e : scalars_) e.row = ToDofs(e.coordinates);
+  for (Planar& p : planars_) {
+    p.row[0] = ToDofs(p.coordinates[0]);
+    p.row[1] = ToDofs(p.coordinates[1]);
+  }
+}
+
+void StageSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints,
+                           Evaluation* out) const {
+  const Eigen::Index n = dofs_;
+  out->gradient.setZero(n);
+  if (with_hessian) out->hessian.setZero(n, n);
+  out->saturated = false;
+  out->edge = false;
+  const int psi = output_dof();
+  out->energy = -torque_ * q(psi) / radius_;
+  out->gradient(psi) = -torque_ / radius_;
+  if (hints != nullptr && hints->size() != scalars_.size()) hints->assign(scalars_.size(), 0.0);
+  Eigen::VectorXd magnitude = Eigen::VectorXd::Zero(n);
+  magnitude(psi) = torque_ / radius_;
+  for (std::size_t i = 0; i < scalars_.size(); ++i) {
+    const Scalar& e = scalars_[i];
+    const double delta = e.row.Dot(q) - e.gap;
+    if (!(delta > 0.0)) continue;
+    if (e.law < 0) {
+      out->edge = true;
+      continue;
+    }
+    const contact::ContactLaw& law = laws_[static_cast<std::size_t>(e.law)];
+    const double f = hints != nullptr ? law.Force(delta, &(*hints)[i]) : law.Force(delta);
+    double k = 0.0;
+    if (f >= law.max_force()) {
+      out->saturated = true;
+    } else {
+      const double compliance = law.Compliance(f);
+      k = compliance > 0.0 && std::isfinite(compliance) ? 1.0 / compliance : 0.0;
+    }
+    out->energy += f * delta - law.ComplementaryEnergy(f);
+    // The approach is resolved to eps times the terms it sums: a force to k times that.
+    double reach = std::abs(e.gap);
+    for (int a = 0; a < e.row.n; ++a) reach += std::abs(e.row.value[static_cast<std::size_t>(a)] * q(e.row.index[static_cast<std::size_t>(a)]));
+    for (int a = 0; a < e.row.n; ++a) {
+      const auto ia = static_cast<std::size_t>(a);
+      out->gradient(e.row.index[ia]) += f * e.row.value[ia];
+      magnitude(e.row.index[ia]) += (std::abs(f) + k * reach) * std::abs(e.row.value[ia]);
+      if (!with_hessian) continue;
+      for (int b = 0; b < e.row.n; ++b) {
+        const auto ib = static_cast<std::size_t>(b);
+        out->hessian(e.row.index[ia], e.row.index[ib]) += k * e.row.value[ia] * e.row.value[ib];
+      }
+    }
+  }
+  for (const Planar& p : planars_) {
+    const Eigen::Vector2d u = Displacement(p, q);
+    const contact::BearingResponse r = contact::BearingAt(Bearing(p), u, p.phase);
+    out->energy += r.energy;
+    const Eigen::Vector2d du = -r.force;  // dE/du
+    for (int a = 0; a < 2; ++a) {
+      const Row& ra = p.row[static_cast<std::size_t>(a)];
+      for (int i = 0; i < ra.n; ++i) {
+        const auto ii = static_cast<std::size_t>(i);
+        out->gradient(ra.index[ii]) += du(a) * ra.value[ii];
+        magnitude(ra.index[ii]) += std::abs(du(a) * ra.value[ii]);
+        if (!with_hessian) continue;
+        for (int b = 0; b < 2; ++b) {
+          const Row& rb = p.row[static_cast<std::size_t>(b)];
+          for (int j = 0; j < rb.n; ++j) {
+            const auto jj = static_cast<std::size_t>(j);
+            out->hessian(ra.index[ii], rb.index[jj]) += r.stiffness(a, b) * ra.value[ii] * rb.value[jj];
+          }
+        }
+      }
+    }
+  }
+  out->rounding = 16.0 * std::numeric_limits<double>::epsilon() * magnitude.maxCoeff();
+}
+
+StageSystem::Outcome StageSystem::Minimise(Eigen::VectorXd* q, bool hold_output, double tolerance, int max_iterations,
+                                           std::vector<double>* hints, int* iterations, Evaluation* last) const {
+  const int psi = output_dof();
+  // The free dofs, in order.
+  std::vector<int> free;
+  for (int i = 0; i < dofs_; ++i) {
+    if (!(hold_output && i == psi)) free.push_back(i);
+  }
+  const auto m = static_cast<Eigen::Index>(free.size());
+  const double force_tolerance = tolerance * torque_ / radius_;  // N (T > 0: zero torque never gets here)
+  Evaluation& cur = *last;
+  Evaluate(*q, true, hints, &cur);
+  Eigen::VectorXd g(m), dq(m);
+  Eigen::MatrixXd h(m, m);
+  const auto gather = [&](const Evaluation& e) {
+    for (Eigen::Index a = 0; a < m; ++a) {
+      g(a) = e.gradient(free[static_cast<std::size_t>(a)]);
+      for (Eigen::Index b = 0; b < m; ++b) h(a, b) = e.hessian(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
+    }
+  };
+  gather(cur);
+  *iterations = 0;
+  if (m == 0) return Outcome::kConverged;
+  // A trust region of radius `radius` (mm): the Newton step when the Hessian is positive definite
+  // and the step fits, else (H + mu I) dq = -g with mu = |g| / radius, whose step is no longer
+  // than the radius (H is positive semidefinite). The radius starts at a micrometre, grows 4x
+  // after a step that the energy confirms, and shrinks 4x after one it does not.
+  double radius = 1e-3;
+  Evaluation trial;
+  Eigen::LDLT<Eigen::MatrixXd> ldlt;
+  for (int it = 0; it < max_iterations; ++it) {
+    if (!g.allFinite() || !std::isfinite(cur.energy)) return Outcome::kNumerical;
+    const double g_max = g.cwiseAbs().maxCoeff();
+    if (g_max <= std::max(force_tolerance, cur.rounding)) return Outcome::kConverged;
+    *iterations = it + 1;
+    const double scale = h.diagonal().cwiseAbs().maxCoeff();
+    ldlt.compute(h);
+    bool newton = ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.vectorD().minCoeff() > 1e-13 * scale;
+    if (newton) {
+      dq = ldlt.solve(-g);
+      newton = dq.allFinite() && dq.norm() <= radius;
+    }
+    if (!newton) {
+      const double mu = std::max(g.norm() / radius, 1e-13 * scale);
+      ldlt.compute(h + mu * Eigen::MatrixXd::Identity(m, m));
+      dq = ldlt.solve(-g);
+      if (!dq.allFinite()) return Outcome::kNumerical;
+    }
+    const double predicted = -(g.dot(dq) + 0.5 * dq.dot(h * dq));
+    Eigen::VectorXd next = *q;
+    for (Eigen::Index a = 0; a < m; ++a) next(free[static_cast<std::size_t>(a)]) += dq(a);
+    Evaluate(next, true, hints, &trial);
+    const double actual = cur.energy - trial.energy;
+    // Near the minimum the energies agree to rounding: there a step counts when it lowers the gradient.
+    const double rounding = 64.0 * std::numeric_limits<double>::epsilon() *
+                            (std::abs(cur.energy) + torque_ * std::abs(next(psi)) / radius_);
+    double trial_gradient = 0.0;
+    for (Eigen::Index a = 0; a < m; ++a) {
+      trial_gradient = std::max(trial_gradient, std::abs(trial.gradient(free[static_cast<std::size_t>(a)])));
+    }
+    const bool decisive = predicted > rounding || std::abs(actual) > rounding;
+    const bool accept = std::isfinite(trial.energy) &&
+                        (decisive ? predicted > 0.0 && actual >= 0.1 * predicted : trial_gradient < g_max);
+    if (accept) {
+      *q = next;
+      std::swap(cur, trial);
+      gather(cur);
+      if (!decisive || actual >= 0.75 * predicted) radius = std::max(radius, 4.0 * dq.norm());
+      continue;
+    }
+    // The step closed contacts the model at q did not see. The trial point's own Newton step
+    // (its Hessian has them) lands on the minimum of the trial's active set, exactly for linear
+    // laws: an active-set Newton step. Taken when it lowers the energy below q's.
+    const double step = dq.norm();
+    Eigen::MatrixXd ht(m, m);
+    Eigen::VectorXd gt(m);
+    for (Eigen::Index a = 0; a < m; ++a) {
+      gt(a) = trial.gradient(free[static_cast<std::size_t>(a)]);
+      for (Eigen::Index b = 0; b < m; ++b) ht(a, b) = trial.hessian(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
+    }
+    ldlt.compute(ht);
+    const double scale_t = ht.diagonal().cwiseAbs().maxCoeff();
+    if (std::isfinite(trial.energy) && ldlt.info() == Eigen::Success && ldlt.isPositive() &&
+        ldlt.vectorD().minCoeff() > 1e-13 * scale_t) {
+      const Eigen::VectorXd d2 = ldlt.solve(-gt);
+      Eigen::VectorXd candidate = next;
+      for (Eigen::Index a = 0; a < m; ++a) candidate(free[static_cast<std::size_t>(a)]) += d2(a);
+      Evaluate(candidate, true, hints, &trial);
+      if (d2.allFinite() && std::isfinite(trial.energy) && cur.energy - trial.energy > rounding) {
+        radius = std::max(radius, (candidate - *q).norm());
+        *q = candidate;
+        std::swap(cur, trial);
+        gather(cur);
+        continue;
+      }
+    }
+    radius = 0.25 * step;
+    if (!(radius > 0.0)) return Outcome::kNumerical;
+  }
+  return g.cwiseAbs().maxCoeff() <= std::max(force_tolerance, cur.rounding) ? Outcome::kConverged
+                                                                             : Outcome::kMaxIterations;
+}
+
+void StageSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
+  const Eigen::VectorXd c = Coordinates(q);
+  result->rotation = c(psi_coordinate_);
+  result->force.assign(static_cast<std::size_t>(problem_->point_count()), 0.0);
+  result->approach.assign(static_cast<std::size_t>(problem_->point_count()), 0.0);
+  StageSolution stage;
+  stage.discs.resize(static_cast<std::size_t>(discs_));
+  const int bearings = settings_.kind == OutputKind::kPins ? 1 : crank_count_;
+  for (int d = 0; d < discs_; ++d) {
+    StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
+    disc.translation = Eigen::Vector2d(c(3 * d), c(3 * d + 1));
+    disc.rotation = c(3 * d + 2);
+    if (settings_.kind == OutputKind::kPins) {
+      disc.output_force.assign(static_cast<std::size_t>(settings_.pins.count), 0.0);
+      disc.output_direction.assign(static_cast<std::size_t>(settings_.pins.count), Eigen::Vector2d::Zero());
+    }
+    disc.bearing_force.assign(static_cast<std::size_t>(bearings), Eigen::Vector2d::Zero());
+    disc.roller_load.assign(static_cast<std::size_t>(bearings), {});
+    if (shaft_coordinates_) {
+      for (int j = 0; j < crank_count_; ++j) {
+        const int v = psi_coordinate_ + 1 + 2 * (d * crank_count_ + j);
+        disc.shaft_deflection.emplace_back(c(v), c(v + 1));
+      }
+    }
+  }
+  std::vector<Eigen::Vector2d> mesh_force(static_cast<std::size_t>(discs_), Eigen::Vector2d::Zero());
+  for (const Scalar& e : scalars_) {
+    const double delta = e.coordinates.Dot(c) - e.gap;
+    if (e.group == StageGroup::kMesh) result->approach[static_cast<std::size_t>(e.index)] = delta;
+    if (!(delta > 0.0) || e.law < 0) continue;
+    const contact::ContactLaw& law = laws_[static_cast<std::size_t>(e.law)];
+    const double f = law.Force(delta);
+    stage.group_energy[static_cast<std::size_t>(e.group)] += f * delta - law.ComplementaryEnergy(f);
+    StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(e.disc)];
+    if (e.group == StageGroup::kMesh) {
+      result->force[static_cast<std::size_t>(e.index)] = f;
+      // The pin pushes the cycloid along -n (n from the cycloid toward the pin).
+      const contact::PinContact& pin = problem_->base_state().pins[static_cast<std::size_t>(e.index)];
+      mesh_force[static_cast<std::size_t>(e.disc)] -= f * pin.normal;
+    } else {
+      disc.output_force[static_cast<std::size_t>(e.index)] = f;
+      disc.output_direction[static_cast<std::size_t>(e.index)] = e.direction;
+    }
+  }
+  for (const Planar& p : planars_) {
+    const contact::BearingResponse r = contact::BearingAt(Bearing(p), DisplacementAt(p, c), p.phase);
+    stage.group_energy[static_cast<std::size_t>(p.group)] += r.energy;
+    StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(p.disc)];
+    // The force on the outer member (the disc) is the opposite of that on the eccentric. A shaft
+    // in series with a bearing carries the bearing's force: the bearing's own element reports it.
+    if (p.shaft && shaft_coordinates_) continue;
+    disc.bearing_force[static_cast<std::size_t>(p.index)] = -r.force;
+    if (!p.shaft) disc.roller_load[static_cast<std::size_t>(p.index)] = r.roller_load;
+  }
+  if (settings_.kind == OutputKind::kPins && settings_.bearing.kind == contact::BearingKind::kRigid) {
+    // A rigid eccentric bearing holds the disc's centre: its force is the reaction to the others.
+    for (int d = 0; d < discs_; ++d) {
+      StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
+      Eigen::Vector2d others = mesh_force[static_cast<std::size_t>(d)];
+      for (std::size_t j = 0; j < disc.output_force.size(); ++j) others += disc.output_force[j] * disc.output_direction[j];
+      disc.bearing_force[0] = -others;
+    }
+  }
+  result->stage = std::move(stage);
+}
+
+void StageSystem::Judge(LoadResult* result) const {
+  Residuals r;
+  if (!result->stage || !std::isfinite(result->rotation)) {
+    result->residuals = r;
+    return;
+  }
+  StageSolution& stage = *result->stage;
+  // The coordinates as the result reports them.
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(coordinate_count());
+  for (int d = 0; d < discs_ && d < static_cast<int>(stage.discs.size()); ++d) {
+    const StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
+    c(3 * d) = disc.translation.x();
+    c(3 * d + 1) = disc.translation.y();
+    c(3 * d + 2) = disc.rotation;
+    for (int j = 0; shaft_coordinates_ && j < crank_count_ && j < static_cast<int>(disc.shaft_deflection.size()); ++j) {
+      const int v = psi_coordinate_ + 1 + 2 * (d * crank_count_ + j);
+      c(v) = disc.shaft_deflection[static_cast<std::size_t>(j)].x();
+      c(v + 1) = disc.shaft_deflection[static_cast<std::size_t>(j)].y();
+    }
+  }
+  c(psi_coordinate_) = result->rotation;
+  // Generalised forces dPi/dc with the reported forces: each disc's force (N) and moment (N*mm),
+  // the output member's moment minus T, each shaft's force.
+  Eigen::VectorXd balance = Eigen::VectorXd::Zero(coordinate_count());
+  balance(psi_coordinate_) = -torque_;
+  double f_max = 0.0, w_max = 0.0;
+  const auto reported = [&](const Scalar& e) -> double {
+    if (e.group == StageGroup::kMesh) {
+      return static_cast<std::size_t>(e.index) < result->force.size() ? result->force[static_cast<std::size_t>(e.index)] : 0.0;
+    }
+    const auto& forces = stage.discs[static_cast<std::size_t>(e.disc)].output_force;
+    return static_cast<std::size_t>(e.index) < forces.size() ? forces[static_cast<std::size_t>(e.index)] : 0.0;
+  };
+  for (const Scalar& e : scalars_) {
+    const double f = reported(e);
+    const double delta = e.coordinates.Dot(c) - e.gap;
+    for (int k = 0; k < e.coordinates.n; ++k) {
+      balance(e.coordinates.index[static_cast<std::size_t>(k)]) += f * e.coordinates.value[static_cast<std::size_t>(k)];
+    }
+    f_max = std::max(f_max, std::abs(f));
+    if (f > 0.0) w_max = std::max(w_max, std::abs(delta));
+    const double deflection = e.law >= 0 ? laws_[static_cast<std::size_t>(e.law)].Approach(f) : 0.0;
+    const double gap = deflection - delta;
+    r.force_violation_n = std::max(r.force_violation_n, std::max(0.0, -f));
+    r.gap_violation_mm = std::max(r.gap_violation_mm, std::max(0.0, -gap));
+    r.complementarity_nmm = std::max(r.complementarity_nmm, std::max(f, 0.0) * std::abs(gap));
+  }
+  // Planar elements: the reported force (on the disc) must be the law's at the displacement.
+  double planar_miss = 0.0;
+  for (const Planar& p : planars_) {
+    const contact::BearingResponse law = contact::BearingAt(Bearing(p), DisplacementAt(p, c), p.phase);
+    Eigen::Vector2d du = -law.force;  // dE/du by the law
+    if (!(p.shaft && shaft_coordinates_)) {
+      const auto& forces = stage.discs[static_cast<std::size_t>(p.disc)].bearing_force;
+      const Eigen::Vector2d f = static_cast<std::size_t>(p.index) < forces.size()
+                                    ? forces[static_cast<std::size_t>(p.index)]
+                                    : Eigen::Vector2d::Zero();
+      planar_miss = std::max(planar_miss, (f - du).norm());
+      du = f;
+    }
+    f_max = std::max(f_max, du.norm());
+    for (int a = 0; a < 2; ++a) {
+      const Row& row = p.coordinates[static_cast<std::size_t>(a)];
+      for (int k = 0; k < row.n; ++k) balance(row.index[static_cast<std::size_t>(k)]) += du(a) * row.value[static_cast<std::size_t>(k)];
+    }
+  }
+  if (settings_.kind == OutputKind::kPins && settings_.bearing.kind == contact::BearingKind::kRigid) {
+    // The rigid eccentric bearing's reaction, as reported, on the disc's translation.
+    for (int d = 0; d < discs_; ++d) {
+      const Eigen::Vector2d f = stage.discs[static_cast<std::size_t>(d)].bearing_force.at(0);
+      balance(3 * d) -= f.x();
+      balance(3 * d + 1) -= f.y();
+      f_max = std::max(f_max, f.norm());
+    }
+  }
+  const double f_scale = std::max(f_max, 1e-300), w_scale = std::max(w_max, 1e-12);
+  const double t_scale = std::max(torque_, 1.0);
+  double force_balance = planar_miss / f_scale, moment_balance = 0.0;
+  for (int i = 0; i < coordinate_count(); ++i) {
+    const bool moment = i == psi_coordinate_ || (i < psi_coordinate_ && i % 3 == 2);
+    if (moment) {
+      moment_balance = std::max(moment_balance, std::abs(balance(i)) / t_scale);
+    } else {
+      force_balance = std::max(force_balance, std::abs(balance(i)) / f_scale);
+    }
+  }
+  r.torque_relative = std::abs(balance(psi_coordinate_)) / t_scale;
+  r.balance_relative = std::max(force_balance, moment_balance);
+  r.normalised = std::max({r.balance_relative, r.force_violation_n / f_scale, r.gap_violation_mm / w_scale,
+                           r.complementarity_nmm / (f_scale * w_scale)});
+  stage.force_balance_relative = force_balance;
+  stage.moment_balance_relative = moment_balance;
+  result->residuals = r;
+}
+
+void FinishStage(const StageSystem& system, const Eigen::VectorXd& q, StageSystem::Outcome outcome,
+                 const StageSystem::Evaluation& last, LoadResult* result) {
+  system.Fill(q, result);
+  if (outcome == StageSystem::Outcome::kNumerical) {
+    result->status = SolverStatus::kNumericalFailure;
+    result->message = "the stage's minimisation failed (no step lowers the energy)";
+  } else if (last.edge) {
+    result->status = SolverStatus::kEdgeContact;
+    result->message = "a loaded pin sits on a tip corner: edge contact, not solved as line contact";
+  } else if (last.saturated) {
+    result->status = SolverStatus::kLawCannotCarry;
+    result->message = "an element needs more force than its contact law can represent";
+  } else if (outcome == StageSystem::Outcome::kMaxIterations) {
+    result->status = SolverStatus::kMaxIterations;
+    result->message = "the stage's balance did not converge within [solver] max_iterations";
+  } else {
+    result->status = SolverStatus::kSuccess;
+    result->message = "converged";
+  }
+}
+
+namespace {
+struct StageStartState final : Workspace::BackendState {
+  Eigen::VectorXd q;
+};
+}  // namespace
+
+Eigen::VectorXd StageStart(const StageSystem& system, Workspace& workspace, const std::string& key) {
+  const auto* state = dynamic_cast<const StageStartState*>(workspace.Backend(key));
+  if (state != nullptr && state->q.size() == system.dof_count() && state->q.allFinite()) return state->q;
+  return system.Zero();
+}
+
+void KeepStageStart(const Eigen::VectorXd& q, Workspace& workspace, const std::string& key) {
+  auto state = std::make_unique<StageStartState>();
+  state->q = q;
+  workspace.SetBackend(key, std::move(state));
+}
+
+bool StageSolvable(const LoadProblem& problem, LoadResult* result) {
+  if (problem.kinematics() == contact::ContactKinematics::kExact) {
+    result->status = SolverStatus::kStageUnsupported;
+    result->message = "the reducer stage is solved under linearised kinematics only ([solver] kinematics = "
+                      "\"linearised\"); exact kinematics of the stage is not built (docs/stage.md)";
+    return false;
+  }
+  if (problem.has_coupling()) {
+    result->status = SolverStatus::kStageUnsupported;
+    result->message = "the reducer stage does not yet take pin bending's coupling ([pins]); docs/stage.md";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace ltca::solvers

@@ -1,0 +1,151 @@
+#pragma once
+// The reducer stage of a load problem (issue 25, ltca/solvers/stage.hpp) assembled at its crank
+// under linearised kinematics: every element's gap affine in the unknowns, its convex energy, and
+// the total potential energy Pi(q) = sum_e E_e(q) - T psi with its gradient and Hessian. Shared by
+// the backends that solve the stage and by the judge.
+//
+// Coordinates (what the solution reports): per disc x, y (mm, fixed frame) and phi (rad, problem
+// frame), then psi (rad, problem frame), then the shaft deflections (mm) of each disc's cranks when
+// both the needle bearing and the shaft are compliant. Degrees of freedom (what the minimisation
+// moves): the coordinates a rigid element does not hold at zero (a rigid eccentric bearing holds
+// the disc's centre), rotations scaled by the pin-circle radius so that every dof is a length in mm
+// and every component of the gradient a force in N.
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ltca/contact/bearing.hpp"
+#include "ltca/contact/laws.hpp"
+#include "ltca/solvers/load_problem.hpp"
+#include "ltca/solvers/load_solver.hpp"
+#include "ltca/solvers/stage.hpp"
+
+namespace ltca::solvers {
+
+class StageSystem {
+ public:
+  /// Throws std::invalid_argument when the problem has no stage.
+  explicit StageSystem(const LoadProblem& problem);
+  StageSystem(const StageSystem&) = delete;
+  StageSystem& operator=(const StageSystem&) = delete;
+
+  int coordinate_count() const { return static_cast<int>(coordinate_dof_.size()); }
+  int dof_count() const { return dofs_; }
+  /// The dof of the output rotation psi (always free).
+  int output_dof() const { return coordinate_dof_[static_cast<std::size_t>(psi_coordinate_)]; }
+  /// psi = scale * q[output_dof()], rad.
+  double rotation_scale() const { return 1.0 / radius_; }
+  int disc_count() const { return discs_; }
+
+  struct Evaluation {
+    double energy = 0.0;        ///< Pi, N*mm
+    Eigen::VectorXd gradient;   ///< dPi/dq, N
+    Eigen::MatrixXd hessian;    ///< N/mm (only when asked)
+    bool saturated = false;     ///< a loaded element beyond its law's largest force
+    bool edge = false;          ///< a pin-ring point on a tip corner closes (approach > 0)
+    /// How finely the gradient is resolved in double precision, N: 16 eps times the largest sum
+    /// of the magnitudes that add up to one of its components. No balance can be closer.
+    double rounding = 0.0;
+  };
+  /// hints: one per scalar element (law inversions' warm starts), resized as needed.
+  void Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints, Evaluation* out) const;
+
+  enum class Outcome { kConverged, kMaxIterations, kNumerical };
+  /// Minimises Pi over the dofs (all, or all but psi when hold_output) from *q, by Newton's method
+  /// with a Levenberg-Marquardt damping that a ratio of actual to predicted decrease adapts (a
+  /// trust region: it walks through the flat region before first contact, and takes pure Newton
+  /// steps near the minimum). Converged when every component of the gradient (the free ones) is
+  /// within tolerance * T / R_p (N), every balance within `tolerance` relative to T, or within
+  /// the gradient's rounding (Evaluation::rounding).
+  Outcome Minimise(Eigen::VectorXd* q, bool hold_output, double tolerance, int max_iterations,
+                   std::vector<double>* hints, int* iterations, Evaluation* last) const;
+
+  /// The generalised force on psi of every element, N*mm: the torque the stage returns to the
+  /// output member at q (T at a balanced solution).
+  double OutputTorque(const Evaluation& at) const { return at.gradient(output_dof()) * radius_ + torque_; }
+  double torque() const { return torque_; }
+
+  /// The solution at q: rotation (psi, rad), pin-ring forces and the stage's elements
+  /// (LoadResult::stage), without status or residuals.
+  void Fill(const Eigen::VectorXd& q, LoadResult* result) const;
+
+  /// The shared judge of a stage solution: the balance of every coordinate with the forces the
+  /// result reports (each disc's forces and moment, the output member's torque, each shaft), the
+  /// complementarity of each scalar element's force with its approach, and each planar element's
+  /// force against its law at its displacement. Sets result->residuals and the stage's balances.
+  void Judge(LoadResult* result) const;
+
+  /// Start of a solve: zero, or the dofs of an earlier solution of the same layout.
+  Eigen::VectorXd Zero() const { return Eigen::VectorXd::Zero(dofs_); }
+
+ private:
+  /// A row over coordinates (at most 6 non-zeros).
+  struct Row {
+    int n = 0;
+    std::array<int, 6> index{};
+    std::array<double, 6> value{};
+    void Add(int i, double v);
+    double Dot(const Eigen::VectorXd& x) const;
+  };
+  /// A contact point: approach = row . coordinates - gap; its force follows a ContactLaw.
+  struct Scalar {
+    Row row;        // over dofs
+    Row coordinates;  // over coordinates
+    double gap = 0.0;
+    int law = -1;   // into laws_, -1: an edge point (no law: must stay open)
+    Eigen::Vector2d direction = Eigen::Vector2d::Zero();  // output pins: n_j, the force's on the disc
+    StageGroup group = StageGroup::kMesh;
+    int disc = 0, index = 0;  // index: the problem's point, or the output pin
+  };
+  /// A planar element: displacement u = rows . coordinates + offset, energy of a bearing
+  /// (contact::BearingAt: linear spring with clearance, or rollers).
+  struct Planar {
+    std::array<Row, 2> row;          // over dofs
+    std::array<Row, 2> coordinates;  // over coordinates
+    Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+    bool shaft = false;  // the shaft's spring (shaft_), else the stage's bearing
+    double phase = 0.0;
+    StageGroup group = StageGroup::kBearings;
+    int disc = 0, index = 0;  // index: the crank (0 for the eccentric bearing)
+  };
+
+  Row ToDofs(const Row& coordinates) const;
+  const contact::BearingSettings& Bearing(const Planar& p) const { return p.shaft ? shaft_ : settings_.bearing; }
+  Eigen::VectorXd Coordinates(const Eigen::VectorXd& q) const;
+  /// u of a planar element at dofs q, or at coordinates c.
+  static Eigen::Vector2d Displacement(const Planar& p, const Eigen::VectorXd& q);
+  static Eigen::Vector2d DisplacementAt(const Planar& p, const Eigen::VectorXd& c);
+
+  const LoadProblem* problem_;
+  StageSettings settings_;
+  contact::BearingSettings shaft_;  // kCranks with a compliant shaft: a linear spring without play
+  int discs_ = 1;
+  int crank_count_ = 0;  // cranks per disc (0 for output pins)
+  bool shaft_coordinates_ = false;
+  double radius_ = 1.0;  // R_p, mm: the rotations' scale
+  double torque_ = 0.0;  // |T|, N*mm
+  int psi_coordinate_ = 0;
+  int dofs_ = 0;
+  std::vector<int> coordinate_dof_;       // -1: held at zero
+  std::vector<double> coordinate_scale_;  // coordinate = scale * dof
+  std::vector<contact::ContactLaw> laws_;
+  std::vector<Scalar> scalars_;
+  std::vector<Planar> planars_;
+};
+
+/// Sets the status and message of a stage solve from the minimisation's outcome and its last
+/// evaluation (a saturated law, a closed edge point), and fills the solution at q.
+void FinishStage(const StageSystem& system, const Eigen::VectorXd& q, StageSystem::Outcome outcome,
+                 const StageSystem::Evaluation& last, LoadResult* result);
+
+/// A warm start kept in the workspace under `key`: the dofs of the last stage solve with as many
+/// dofs, else zero.
+Eigen::VectorXd StageStart(const StageSystem& system, Workspace& workspace, const std::string& key);
+void KeepStageStart(const Eigen::VectorXd& q, Workspace& workspace, const std::string& key);
+
+/// The stage path every backend that solves the stage shares: the stage's own refusals before a
+/// solve (exact kinematics, a coupling), as a status in *result; returns false when refused.
+bool StageSolvable(const LoadProblem& problem, LoadResult* result);
+
+}  // namespace ltca::solvers
