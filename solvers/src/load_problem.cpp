@@ -501,6 +501,11 @@ Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::ve
 
 Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::vector<double>& forces,
                            Workspace& workspace) {
+  if (problem.has_stage()) {
+    // The pin-ring forces alone cannot show a stage's balance: judge the whole result.
+    throw std::invalid_argument("ComputeResiduals: a stage problem is judged from its whole LoadResult "
+                                "(ComputeResiduals(problem, result))");
+  }
   std::vector<contact::ContactLaw> scratch;
   const auto pins = problem.At(psi, workspace, &scratch);
   Residuals r;

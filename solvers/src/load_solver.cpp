@@ -181,6 +181,13 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
   }
 }
 
+Residuals ComputeResiduals(const LoadProblem& problem, const LoadResult& result) {
+  if (!problem.has_stage()) return ComputeResiduals(problem, result.rotation, result.force);
+  LoadResult judged = result;
+  StageSystem(problem).Judge(&judged);
+  return judged.residuals;
+}
+
 LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& options) const {
   Workspace workspace;
   return Solve(problem, options, workspace);

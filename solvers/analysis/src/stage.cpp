@@ -38,12 +38,20 @@ ModelInfo StageDesign::Model() const {
     m.discs = 2;
     m.name += "+two-discs";
   }
+  if (reducer) {  // issue 25
+    m.stage = fmt::format("{}+{} bearing", solvers::ToString(reducer->kind), contact::ToString(reducer->bearing.kind));
+    m.name += "+stage";
+  }
   return m;
 }
 
 Stage::Stage(StageDesign design, std::vector<double> cranks)
     : design_(std::make_shared<const StageDesign>(std::move(design))) {
   const StageDesign& d = *design_;
+  if (d.reducer) {
+    d.reducer->Validate(d.pair.eccentricity);
+    reducer_ = std::make_shared<const solvers::StageSettings>(*d.reducer);
+  }
   first_ = std::make_shared<const contact::MeshModel>(d.MakeModel());
   if (d.second_disc) {
     second_ = std::make_shared<const contact::MeshModel>(d.MakeSecondRealPair(), d.geometry, d.SlicesForced());
@@ -123,8 +131,12 @@ solvers::LoadProblem Stage::Problem(double crank, double torque) const {
 
 solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) const {
   const StageDesign& d = *design_;
-  if (second_) return {first_, second_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics};
+  if (second_) {
+    const solvers::LoadProblem both(first_, second_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics);
+    return reducer_ ? both.WithStage(reducer_) : both;
+  }
   solvers::LoadProblem problem(first_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics);
+  if (reducer_) problem = problem.WithStage(reducer_);
   if (!coupling_->matrix) return problem;
   return problem.WithCoupling(*coupling_);
 }

@@ -1,5 +1,9 @@
 #include "ltca/analysis/sweep.hpp"
 
+#include "ltca/analysis/stage.hpp"
+#include "ltca/contact/bearing.hpp"
+#include "ltca/geometry/kinematics.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -81,6 +85,35 @@ void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
   s_.contacts_max = std::max(s_.contacts_max, p.contacts);
   for (const double f : p.pin_force) s_.max_pin_force = std::max(s_.max_pin_force, f);
   for (const double q : p.contact_stress) s_.max_contact_stress = std::max(s_.max_contact_stress, q);
+  if (p.result.stage) {  // issue 25
+    const solvers::StageSolution& st = *p.result.stage;
+    if (!s_.stage) {
+      s_.stage = StageSummary{};
+      s_.stage->max_output_force = 0.0;
+      s_.stage->max_bearing_load = 0.0;
+    }
+    StageSummary& g = *s_.stage;
+    std::size_t b = 0;
+    double energy = 0.0;
+    for (const double e : st.group_energy) energy += e;
+    if (share_sums_.size() != st.group_energy.size()) share_sums_.assign(st.group_energy.size(), 0.0);
+    for (const auto& disc : st.discs) {
+      for (const double f : disc.output_force) g.max_output_force = std::max(g.max_output_force, f);
+      for (std::size_t k = 0; k < disc.bearing_force.size(); ++k, ++b) {
+        const double load = disc.bearing_force[k].norm();
+        g.max_bearing_load = std::max(g.max_bearing_load, load);
+        if (bearing_power_sum_.size() <= b) bearing_power_sum_.resize(b + 1, 0.0);
+        if (in_mean) bearing_power_sum_[b] += std::pow(load, contact::kRollerLifeExponent);
+        for (const double q : disc.roller_load[k]) {
+          g.max_roller_load = std::isnan(g.max_roller_load) ? q : std::max(g.max_roller_load, q);
+        }
+      }
+    }
+    if (in_mean) {
+      for (std::size_t k = 0; k < share_sums_.size(); ++k) share_sums_[k] += energy > 0.0 ? st.group_energy[k] / energy : 0.0;
+      ++stage_count_;
+    }
+  }
   if (p.disc_torque.size() == 2 && p.disc_torque[0] + p.disc_torque[1] != 0.0) {
     const double share = p.disc_torque[0] / (p.disc_torque[0] + p.disc_torque[1]);
     s_.first_disc_share_min = shares_ == 0 ? share : std::min(s_.first_disc_share_min, share);
@@ -93,6 +126,30 @@ void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
   }
 }
 
+BearingLife BearingLives(const StageDesign& design, const StageSummary& summary, const Sweep& sweep, bool closed_period,
+                         double input_speed) {
+  BearingLife life;
+  const double swept = std::abs(sweep.crank_end - sweep.crank_start);
+  if (swept >= 2.0 * units::kPi * (1.0 - 1e-12)) {
+    life.basis = "a whole crank turn";
+  } else if (closed_period) {
+    life.basis = "one mesh period, which repeats over the crank turn";
+  } else {
+    life.basis = fmt::format("the swept {:.6g} deg of crank only, not a whole turn", units::RadToDeg(swept));
+  }
+  const double rating = design.reducer ? design.reducer->bearing.dynamic_load_rating : 0.0;
+  const double ratio = geometry::Kinematics(design.pair).TransmissionRatio();
+  const double rpm = std::isfinite(input_speed) ? units::RadPerSToRpm(input_speed) * std::abs(1.0 - 1.0 / ratio)
+                                                : std::numeric_limits<double>::quiet_NaN();
+  for (const double load : summary.mean_equivalent_load) {
+    const double l10 = rating > 0.0 ? contact::RatingLife(rating, load) : std::numeric_limits<double>::quiet_NaN();
+    life.million_revolutions.push_back(l10);
+    life.hours.push_back(std::isfinite(rpm) && std::isfinite(l10) ? contact::RatingLifeHours(l10, rpm)
+                                                                  : std::numeric_limits<double>::quiet_NaN());
+  }
+  return life;
+}
+
 SweepSummary SummaryAccumulator::Summary() const {
   SweepSummary s = s_;
   s.closed_period = closed_period;
@@ -100,6 +157,13 @@ SweepSummary SummaryAccumulator::Summary() const {
     // A sweep's only success may be the repeated last state: it is the mean then.
     s.mean_te = te_count_ > 0 ? te_sum_ / static_cast<double>(te_count_) : te_lo_;
     s.pp_te = te_hi_ - te_lo_;
+  }
+  if (s.stage && stage_count_ > 0) {
+    const double n = static_cast<double>(stage_count_);
+    for (const double sum : bearing_power_sum_) {
+      s.stage->mean_equivalent_load.push_back(std::pow(sum / n, 1.0 / contact::kRollerLifeExponent));
+    }
+    for (const double sum : share_sums_) s.stage->energy_share.push_back(sum / n);
   }
   if (shares_ > 0) {
     s.first_disc_share_mean = share_count_ > 0 ? share_sum_ / static_cast<double>(share_count_) : s.first_disc_share_min;

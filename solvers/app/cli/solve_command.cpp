@@ -12,6 +12,7 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
+#include "ltca/analysis/stage.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::cli {
@@ -22,6 +23,45 @@ using units::RadToArcsec;
 using units::RadToDeg;
 
 double MaxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+
+/// A reducer stage's solution at one position (issue 25): per disc its pose, the output pins' forces
+/// with their direction, the bearings' forces and roller loads; the strain energy per group.
+nlohmann::json StageJson(const solvers::StageSolution& st) {
+  nlohmann::json discs = nlohmann::json::array();
+  const auto angle = [](const Eigen::Vector2d& v) { return FiniteOrNull(RadToDeg(std::atan2(v.y(), v.x()))); };
+  for (const auto& d : st.discs) {
+    nlohmann::json disc = {{"translation_um", {units::MmToUm(d.translation.x()), units::MmToUm(d.translation.y())}},
+                           {"rotation_arcsec", FiniteOrNull(RadToArcsec(d.rotation))}};
+    if (!d.output_force.empty()) {
+      nlohmann::json directions = nlohmann::json::array();
+      for (const auto& n : d.output_direction) directions.push_back(angle(n));
+      disc["output_pin_force_n"] = d.output_force;
+      disc["output_pin_direction_deg"] = directions;
+    }
+    nlohmann::json loads = nlohmann::json::array(), directions = nlohmann::json::array();
+    for (const auto& f : d.bearing_force) {
+      loads.push_back(FiniteOrNull(f.norm()));
+      directions.push_back(f.norm() > 0.0 ? angle(f) : nlohmann::json(nullptr));
+    }
+    disc["bearing_load_n"] = loads;
+    disc["bearing_load_direction_deg"] = directions;
+    bool rollers = false;
+    for (const auto& r : d.roller_load) rollers = rollers || !r.empty();
+    if (rollers) disc["roller_load_n"] = d.roller_load;
+    if (!d.shaft_deflection.empty()) {
+      nlohmann::json shafts = nlohmann::json::array();
+      for (const auto& v : d.shaft_deflection) shafts.push_back({units::MmToUm(v.x()), units::MmToUm(v.y())});
+      disc["shaft_deflection_um"] = shafts;
+    }
+    discs.push_back(std::move(disc));
+  }
+  nlohmann::json energy = nlohmann::json::object();
+  for (int g = 0; g < solvers::kStageGroups; ++g) {
+    energy[solvers::ToString(static_cast<solvers::StageGroup>(g))] = st.group_energy[static_cast<std::size_t>(g)];
+  }
+  return {{"discs", discs}, {"strain_energy_nmm", energy}, {"force_balance", st.force_balance_relative},
+          {"moment_balance", st.moment_balance_relative}};
+}
 
 /// A position as JSON: the figures of a failed solve are null, its status and message kept.
 nlohmann::json PositionJson(const app::PositionResult& p) {
@@ -50,6 +90,7 @@ nlohmann::json PositionJson(const app::PositionResult& p) {
     const double total = p.disc_torque.size() == 2 ? p.disc_torque[0] + p.disc_torque[1] : 0.0;
     j["first_disc_share"] = figure(total != 0.0 ? FiniteOrNull(p.disc_torque[0] / total) : nlohmann::json(nullptr));
   }
+  if (p.result.stage) j["stage"] = figure(StageJson(*p.result.stage));
   if (p.slices > 1) {
     const bool complete = p.result.force.size() == p.pin_force.size() * static_cast<std::size_t>(p.slices);
     // The contact pattern (issue 11): per pin its slice forces and stresses and its load centroid.
@@ -68,6 +109,27 @@ nlohmann::json PositionJson(const app::PositionResult& p) {
     j["load_centroid_mm"] = complete ? figure(centroid) : nlohmann::json(nullptr);
   }
   return j;
+}
+
+/// A reducer stage's summary (issue 25): the largest loads and each bearing's ISO 281 life from its
+/// mean equivalent load over the positions (analysis::BearingLives).
+nlohmann::json StageSummaryJson(const app::Deck& deck, const app::SweepSummary& s) {
+  if (!s.stage || !deck.reducer) return nullptr;
+  const analysis::StageSummary& g = *s.stage;
+  const analysis::BearingLife life = analysis::BearingLives(deck, g, deck.sweep, s.closed_period, deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN());
+  nlohmann::json shares = nlohmann::json::object();
+  for (std::size_t k = 0; k < g.energy_share.size(); ++k) {
+    shares[solvers::ToString(static_cast<solvers::StageGroup>(k))] = FiniteOrNull(g.energy_share[k]);
+  }
+  return {{"max_output_pin_force_n", deck.reducer->kind == solvers::OutputKind::kPins ? FiniteOrNull(g.max_output_force)
+                                                                                      : nlohmann::json(nullptr)},
+          {"max_bearing_load_n", FiniteOrNull(g.max_bearing_load)},
+          {"max_roller_load_n", FiniteOrNull(g.max_roller_load)},
+          {"mean_equivalent_load_n", g.mean_equivalent_load},
+          {"l10_million_revolutions", life.million_revolutions},
+          {"l10_hours", life.hours},
+          {"life_basis", life.basis},
+          {"strain_energy_share", shares}};
 }
 
 nlohmann::json SummaryJson(const app::SweepSummary& s, const app::Deck::ModelInfo& model) {
@@ -369,7 +431,9 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
   const auto& s = sweep.summary;
 
   if (json.enabled()) {
-    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(SummaryJson(s, deck.Model()))) << "\n}" << envelope.after << '\n';
+    nlohmann::json summary = SummaryJson(s, deck.Model());
+    if (deck.reducer) summary["stage"] = StageSummaryJson(deck, s);
+    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(summary)) << "\n}" << envelope.after << '\n';
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
@@ -400,6 +464,18 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
   }
   fmt::print(text, "largest pin force      {} N\n", FormatOrNa(s.max_pin_force, 2));
   fmt::print(text, "largest contact stress {} MPa\n", FormatOrNa(s.max_contact_stress, 2));
+  if (deck.reducer && s.stage) {  // issue 25
+    const analysis::StageSummary& g = *s.stage;
+    const analysis::BearingLife life = analysis::BearingLives(deck, g, deck.sweep, s.closed_period, deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN());
+    if (deck.reducer->kind == solvers::OutputKind::kPins) {
+      fmt::print(text, "largest output pin     {} N\n", FormatOrNa(g.max_output_force, 2));
+    }
+    fmt::print(text, "largest bearing load   {} N{}\n", FormatOrNa(g.max_bearing_load, 2),
+               std::isnan(g.max_roller_load) ? std::string() : fmt::format(" (largest roller {} N)", FormatOrNa(g.max_roller_load, 2)));
+    double shortest = std::numeric_limits<double>::quiet_NaN();
+    for (const double h : life.hours) shortest = std::isnan(shortest) ? h : std::min(shortest, h);
+    fmt::print(text, "bearing L10            {} h, the shortest ({})\n", FormatOrNa(shortest, 4), life.basis);
+  }
   fmt::print(text, "wall time              {:.4f} s for {} positions\n", s.wall_seconds, s.positions());
   return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
 }

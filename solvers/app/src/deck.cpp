@@ -19,6 +19,7 @@
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
+#include "ltca/solvers/stage.hpp"
 
 namespace ltca::app {
 namespace {
@@ -958,6 +959,66 @@ void ReadSecondDisc(const toml::table& root, const toml::value& section, const s
 
 }  // namespace
 
+namespace {
+
+/// [output] and [bearing] (issue 25): the reducer stage's elements. A key of the other kind is an
+/// error, not ignored.
+solvers::StageSettings ReadReducer(const Section& output, const Section& bearing, const geometry::PairParameters& pair) {
+  solvers::StageSettings s;
+  s.kind = solvers::ParseOutputKind(output.String("kind"));
+  const bool pins = s.kind == solvers::OutputKind::kPins;
+  const auto reject = [&](std::initializer_list<const char*> keys, const char* kind) {
+    for (const char* key : keys) {
+      if (output.Has(key)) {
+        throw std::invalid_argument(fmt::format("[output] {}: not a key of kind = \"{}\"", key, kind));
+      }
+    }
+  };
+  if (pins) {
+    reject({"shaft_stiffness_n_per_mm", "crank_turns_per_output_turn"}, "pins");
+    s.pins.count = output.Integer("count");
+    s.pins.circle_radius = output.Real("circle_radius_mm");
+    s.pins.phase = units::DegToRad(output.Real("phase_deg", 0.0));
+    s.pins.pin_radius = output.Real("pin_radius_mm");
+    s.pins.hole_radius = output.Real("hole_radius_mm");
+  } else {
+    reject({"pin_radius_mm", "hole_radius_mm"}, "cranks");
+    s.cranks.count = output.Integer("count");
+    s.cranks.circle_radius = output.Real("circle_radius_mm");
+    s.cranks.phase = units::DegToRad(output.Real("phase_deg", 0.0));
+    s.cranks.shaft_stiffness = output.Real("shaft_stiffness_n_per_mm", std::numeric_limits<double>::infinity());
+    if (output.Has("shaft_stiffness_n_per_mm") && !std::isfinite(s.cranks.shaft_stiffness)) {
+      throw std::invalid_argument("[output] shaft_stiffness_n_per_mm: expected a finite stiffness in N/mm (leave the "
+                                  "key out for a rigid shaft)");
+    }
+    s.cranks.turns_per_output_turn = output.Real("crank_turns_per_output_turn", 0.0);
+  }
+  contact::BearingSettings& b = s.bearing;
+  b.kind = contact::ParseBearingKind(bearing.String("kind", "rigid"));
+  const auto bearing_reject = [&](std::initializer_list<const char*> keys) {
+    for (const char* key : keys) {
+      if (bearing.Has(key)) {
+        throw std::invalid_argument(fmt::format("[bearing] {}: not a key of kind = \"{}\"", key, contact::ToString(b.kind)));
+      }
+    }
+  };
+  if (b.kind != contact::BearingKind::kLinear) bearing_reject({"radial_stiffness_n_per_mm"});
+  if (b.kind != contact::BearingKind::kRollers) bearing_reject({"roller_count", "roller_diameter_mm", "roller_length_mm"});
+  if (b.kind == contact::BearingKind::kRigid) bearing_reject({"radial_clearance_mm"});
+  if (b.kind == contact::BearingKind::kLinear) b.radial_stiffness = bearing.Real("radial_stiffness_n_per_mm");
+  if (b.kind == contact::BearingKind::kRollers) {
+    b.roller_count = bearing.Integer("roller_count");
+    b.roller_diameter = bearing.Real("roller_diameter_mm");
+    b.roller_length = bearing.Real("roller_length_mm");
+  }
+  b.radial_clearance = bearing.Real("radial_clearance_mm", 0.0);
+  b.dynamic_load_rating = bearing.Real("dynamic_load_rating_n", 0.0);
+  s.Validate(pair.eccentricity);
+  return s;
+}
+
+}  // namespace
+
 Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::vector<std::string>& overrides,
                const std::filesystem::path& directory) {
   Deck deck;
@@ -1045,6 +1106,18 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
           "line-contact law covers";
     }
     if (const toml::value* second = Find(root, "second_disc")) ReadSecondDisc(root, *second, directory, &deck);
+    const Section output(Find(root, "output"), "output");
+    const Section bearing(Find(root, "bearing"), "bearing");
+    if (output.Present()) {
+      deck.reducer = ReadReducer(output, bearing, deck.pair);
+      if (deck.pins) {
+        throw std::invalid_argument("[output] with [pins]: the stage does not take pin bending yet (docs/stage.md); "
+                                    "expected one of the two");
+      }
+    } else if (bearing.Present()) {
+      throw std::invalid_argument("[bearing] without [output]: the bearing belongs to the reducer stage; expected an "
+                                  "[output] section (kind = \"pins\" or \"cranks\")");
+    }
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
   } catch (const std::exception& e) {  // TOML syntax errors and the like

@@ -90,6 +90,10 @@ struct LoadResult {
   std::optional<StageSolution> stage;
 };
 
+/// The shared judge on a whole result: a stage problem's every balance (from the result's poses and
+/// element forces, as Solve judges it), else ComputeResiduals(problem, rotation, force).
+Residuals ComputeResiduals(const LoadProblem& problem, const LoadResult& result);
+
 /// LoadSolver::Solve calls in this process so far, over every solver and thread (a relaxed atomic
 /// counter): shows that something, e.g. reading a deck, runs no load solve (issue 24).
 std::uint64_t SolveCallCount();

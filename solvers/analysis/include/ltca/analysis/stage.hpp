@@ -6,7 +6,7 @@
 // checked for interference. It hands out the load problem at a crank and a torque.
 //
 // The output mechanism and the bearings (issue 25) join the stage as elements that are not pins:
-// each adds its data to StageDesign and its compliance to the problems Stage hands out.
+// StageDesign::reducer, handed to every problem (LoadProblem::WithStage).
 #include <memory>
 #include <optional>
 #include <string>
@@ -49,6 +49,9 @@ struct ModelInfo {
   int slices = 1;
   std::string surface;  ///< "analytic" or "elements"
   int discs = 1;
+  /// The reducer stage's elements (issue 25): "" for the mesh alone (disc centres fixed, T on the
+  /// discs), else "<output>+<bearing> bearing", e.g. "pins+rollers bearing", "cranks+linear bearing".
+  std::string stage;
 };
 
 /// What is loaded together, as data (a deck's [pair], [modification], [errors], [geometry],
@@ -67,6 +70,9 @@ struct StageDesign {
   std::optional<contact::PinSupport> pins;     ///< pin bending (issue 11); none: rigid pins
   std::optional<SecondDisc> second_disc;       ///< the two discs of an RV stage (issue 13)
   std::optional<contact::Material> material;  ///< required for load problems
+  /// The reducer stage (issue 25, [output] and [bearing]): output pins or crankshafts and the
+  /// eccentric or needle bearings; none: the mesh alone, every disc about a fixed centre.
+  std::optional<solvers::StageSettings> reducer;
 
   /// The pair as made: modification and errors applied once (geometry::RealPair).
   geometry::RealPair MakeRealPair() const { return {pair, modification, errors, assembly}; }
@@ -143,6 +149,7 @@ class Stage {
   ModelPtr first_, second_;
   std::shared_ptr<const solvers::LoadProblem::CheckedCoupling> coupling_;
   std::shared_ptr<const Checked> checked_;
+  std::shared_ptr<const solvers::StageSettings> reducer_;  // nullptr: the mesh alone
 };
 
 }  // namespace ltca::analysis

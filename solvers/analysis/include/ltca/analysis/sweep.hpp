@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -64,6 +65,35 @@ struct PositionResult {
 
 /// Figures over the successful positions only; NaN (and contacts -1) when none succeeded. The run
 /// record counts positions with status success and with any other status.
+/// A reducer stage's figures over the successful positions (issue 25): the largest output-pin
+/// force, bearing load and roller load, and each bearing's mean equivalent load over the positions
+/// in the mean (ISO 281's averaging of a load that varies over equal steps, exponent 10/3;
+/// contact/bearing.hpp). Bearings run disc-major: one per disc for output pins (the eccentric
+/// bearing), one per crank and disc for cranks.
+struct StageSummary {
+  double max_output_force = std::numeric_limits<double>::quiet_NaN();   ///< N
+  double max_bearing_load = std::numeric_limits<double>::quiet_NaN();   ///< N
+  double max_roller_load = std::numeric_limits<double>::quiet_NaN();    ///< N (NaN without rollers)
+  std::vector<double> mean_equivalent_load;                             ///< N, per bearing
+  /// Mean share of the strain energy per element group (solvers::StageGroup order).
+  std::vector<double> energy_share;
+};
+
+/// ISO 281 basic rating life of each of a stage's bearings (contact::RatingLife, exponent 10/3)
+/// from its mean equivalent load over a sweep (StageSummary), in millions of revolutions of the
+/// bearing's rings relative to each other and in hours at the crank speed: the eccentric turns
+/// against the disc at |1 - 1/I| times the crank speed (I the transmission ratio,
+/// geometry::Kinematics; the disc turns 1/I of a crank turn), for a cycloidal drive's eccentric
+/// bearing and an RV's crank bearings alike. NaN without a rating ([bearing]
+/// dynamic_load_rating_n) or, for hours, without a speed. `basis` says what the mean is over: a
+/// whole crank turn, a mesh period that repeats over the turn (SweepSummary::closed_period), or
+/// only the swept positions.
+struct BearingLife {
+  std::vector<double> million_revolutions;
+  std::vector<double> hours;
+  std::string basis;
+};
+
 struct SweepSummary : RunRecord {
   double mean_te = std::numeric_limits<double>::quiet_NaN();        ///< rad
   double pp_te = std::numeric_limits<double>::quiet_NaN();          ///< rad
@@ -85,7 +115,13 @@ struct SweepSummary : RunRecord {
   /// or a mesh period of a pair that keeps that symmetry), so the means weight that state once
   /// (issue 26); the extremes and counts see every position.
   bool closed_period = false;
+  std::optional<StageSummary> stage;  ///< a reducer stage's figures; none for the mesh alone
 };
+
+struct StageDesign;
+/// input_speed: the crank speed, rad/s ([operation] input_speed_rpm), NaN when none is given.
+BearingLife BearingLives(const StageDesign& design, const StageSummary& summary, const Sweep& sweep, bool closed_period,
+                         double input_speed);
 
 /// Accumulates the summary position by position (the rule of SweepSummary).
 class SummaryAccumulator {
@@ -105,6 +141,9 @@ class SummaryAccumulator {
   std::int64_t te_count_ = 0;
   double share_sum_ = 0.0;
   std::int64_t shares_ = 0, share_count_ = 0;
+  std::vector<double> bearing_power_sum_;  // sum of P^(10/3) per bearing over the positions in the mean
+  std::vector<double> share_sums_;         // per group
+  std::int64_t stage_count_ = 0;
 };
 
 /// One solver over the crank positions of a stage at one torque (N*mm, signed), a position at a
