@@ -170,7 +170,12 @@ void BisectionSolver::DoSolveStage(const LoadProblem& problem, const SolverOptio
   }
   double x = hi, fx = f_hi;
   int side = 0;
-  while (bracketed && std::abs(fx) > options.torque_tolerance * torque && evaluations < options.max_iterations &&
+  // The torque is balanced to the tolerance, or as closely as the arithmetic resolves the torque
+  // the stage returns (the gradient's rounding times R_p, StageSystem::Evaluation::rounding).
+  const auto balanced = [&](double miss) {
+    return std::abs(miss) <= std::max(options.torque_tolerance * torque, last.rounding / scale);
+  };
+  while (bracketed && !balanced(fx) && evaluations < options.max_iterations &&
          outcome != StageSystem::Outcome::kNumerical) {
     if (!(hi - lo > 4.0 * std::numeric_limits<double>::epsilon() * std::abs(hi))) break;
     x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
@@ -186,7 +191,7 @@ void BisectionSolver::DoSolveStage(const LoadProblem& problem, const SolverOptio
       side = -1;
     }
   }
-  if (std::abs(fx) > options.torque_tolerance * torque && outcome == StageSystem::Outcome::kConverged) {
+  if (!balanced(fx) && outcome == StageSystem::Outcome::kConverged) {
     outcome = StageSystem::Outcome::kMaxIterations;
   }
   if (x != q(psi) * scale) moment(x);  // the solution at the last trial

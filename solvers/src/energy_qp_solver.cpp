@@ -559,7 +559,12 @@ void EnergyQpSolver::DoSolveStage(const LoadProblem& problem, const SolverOption
   lock.unlock();
   StageSystem::Evaluation last;
   system.Evaluate(nlp->solution(), false, nullptr, &last);
-  const SolverStatus mapped = MapStatus(status);
+  // Ipopt's verdict, or the balance itself: every gradient component within the torque tolerance's
+  // force (T / R_p) or the gradient's rounding (Ipopt cannot go below that, and may say so with a
+  // failure status at a tiny torque).
+  const double force_tolerance = options.torque_tolerance * force_scale;
+  const bool balanced = last.gradient.allFinite() && last.gradient.cwiseAbs().maxCoeff() <= std::max(force_tolerance, last.rounding);
+  const SolverStatus mapped = balanced ? SolverStatus::kSuccess : MapStatus(status);
   FinishStage(system, nlp->solution(),
               mapped == SolverStatus::kSuccess ? StageSystem::Outcome::kConverged
               : mapped == SolverStatus::kMaxIterations ? StageSystem::Outcome::kMaxIterations

@@ -327,6 +327,9 @@ StageSystem::Outcome StageSystem::Minimise(Eigen::VectorXd* q, bool hold_output,
     const bool decisive = predicted > rounding || std::abs(actual) > rounding;
     const bool accept = std::isfinite(trial.energy) &&
                         (decisive ? predicted > 0.0 && actual >= 0.1 * predicted : trial_gradient < g_max);
+    // Neither the energy nor the gradient can tell the step from staying: the arithmetic's limit.
+    // Stop here; the shared judge decides whether that balance is good enough.
+    if (!accept && !decisive) return Outcome::kConverged;
     if (accept) {
       *q = next;
       std::swap(cur, trial);

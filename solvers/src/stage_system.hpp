@@ -57,7 +57,8 @@ class StageSystem {
   /// trust region: it walks through the flat region before first contact, and takes pure Newton
   /// steps near the minimum). Converged when every component of the gradient (the free ones) is
   /// within tolerance * T / R_p (N), every balance within `tolerance` relative to T, or within
-  /// the gradient's rounding (Evaluation::rounding).
+  /// the gradient's rounding (Evaluation::rounding), or when neither the energy nor the gradient
+  /// can tell a step from staying (the arithmetic's limit; the shared judge then decides).
   Outcome Minimise(Eigen::VectorXd* q, bool hold_output, double tolerance, int max_iterations,
                    std::vector<double>* hints, int* iterations, Evaluation* last) const;
 

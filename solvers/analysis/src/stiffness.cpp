@@ -144,6 +144,14 @@ struct StiffnessRunner::Impl {
       const std::vector<double> parts = Problem(state, torque).DiscTorques(r.rotation, r.force, workspace);
       (torque > 0.0 ? pos->first_disc_share_drive : pos->first_disc_share_coast) = parts[0] / (parts[0] + parts[1]);
     }
+    if (r.stage && on_loop && torque == rated) {  // issue 25: the compliance budget at +T
+      double total = 0.0;
+      for (const double e : r.stage->group_energy) total += e;
+      pos->compliance_share.clear();
+      for (const double e : r.stage->group_energy) {
+        pos->compliance_share.push_back(r.status == SolverStatus::kSuccess && total > 0.0 ? e / total : kNaN);
+      }
+    }
     if (r.status == SolverStatus::kSuccess) return -r.te;
     ++pos->failed;
     if (pos->first_failure.empty()) {
@@ -309,13 +317,32 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   const double t = m.rated;
 
   // The free play: where the output rests at zero torque, coming from either flank.
-  pos.first_contact_drive = m.Problem(state, t).FirstContactRotation();
-  pos.first_contact_coast = m.Problem(state, -t).FirstContactRotation();
+  const auto first_contact = [&](double torque) {
+    const solvers::LoadProblem problem = m.Problem(state, torque);
+    if (!problem.has_stage()) return problem.FirstContactRotation();
+    // A reducer stage (issue 25): its free play takes up the clearances of every element (holes,
+    // bearings), not the mesh's alone: the output's rotation under a vanishing torque, 1e-7 T,
+    // whose elastic part is below 1e-6 of the twist at T (Hertz and Palmgren contacts stiffen:
+    // their approach grows as F^0.9, so (1e-7)^0.9 = 5e-7 of it). NaN when that solve fails.
+    ++pos.solves;
+    const LoadResult r = m.solver->Solve(m.Problem(state, 1e-7 * torque), m.options, m.workspace);
+    if (r.status == SolverStatus::kSuccess) return r.rotation;
+    ++pos.failed;
+    if (pos.first_failure.empty()) {
+      pos.first_failure = fmt::format("torque {:g} N*m (the free play): {}: {}", units::NmmToNm(1e-7 * torque),
+                                      solvers::ToString(r.status), r.message);
+    }
+    return kNaN;
+  };
+  pos.first_contact_drive = first_contact(t);
+  pos.first_contact_coast = first_contact(-t);
   if (!std::isfinite(pos.first_contact_drive) || !std::isfinite(pos.first_contact_coast)) {
     pos.first_contact_drive = std::isfinite(pos.first_contact_drive) ? pos.first_contact_drive : kNaN;
     pos.first_contact_coast = std::isfinite(pos.first_contact_coast) ? pos.first_contact_coast : kNaN;
-    ++pos.failed;
-    pos.first_failure = "zero torque: no pin can close its gap on one of the flanks";
+    if (pos.first_failure.empty()) {  // the mesh alone; a stage's failed solve has counted and named itself
+      ++pos.failed;
+      pos.first_failure = "zero torque: no pin can close its gap on one of the flanks";
+    }
   }
   pos.backlash = pos.first_contact_drive + pos.first_contact_coast;
   const CurvePoint at_drive{0.0, pos.first_contact_drive, Branch::kIncreasing,
@@ -431,6 +458,8 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   s.branch_difference.Add(pos.branch_difference, in_mean);
   s.first_disc_share_drive.Add(pos.first_disc_share_drive, in_mean);
   s.first_disc_share_coast.Add(pos.first_disc_share_coast, in_mean);
+  if (s.compliance_share.size() < pos.compliance_share.size()) s.compliance_share.resize(pos.compliance_share.size());
+  for (std::size_t g = 0; g < pos.compliance_share.size(); ++g) s.compliance_share[g].Add(pos.compliance_share[g], in_mean);
   s.hysteresis.Add(pos.hysteresis, in_mean);
   s.stick_end_drive.Add(pos.stick_end_drive, in_mean);
   s.stick_end_coast.Add(pos.stick_end_coast, in_mean);

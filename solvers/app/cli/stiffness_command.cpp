@@ -32,6 +32,10 @@ double NmmRadToJ(double nmm_rad) { return NmmToNm(nmm_rad); }
 constexpr const char* kScope =
     "mesh only: the rigidity, lost motion and backlash of the cycloid-pin ring mesh alone; bearings, crankshafts and "
     "the output mechanism are not modelled";
+/// The same for a deck with [output] (issue 25, docs/stage.md).
+constexpr const char* kStageScope =
+    "the stage: the mesh, the output mechanism, the bearings and the shafts in one balance (docs/stage.md), the input "
+    "locked at the crank angle; housing, carrier and output flange rigid";
 
 std::string Definition(const app::StiffnessSettings& s) {
   if (s.rigidity == app::StiffnessSettings::Rigidity::kSecant) {
@@ -79,6 +83,13 @@ nlohmann::json PositionJson(const app::StiffnessPosition& p) {
     j["first_disc_share_drive"] = FiniteOrNull(p.first_disc_share_drive);
     j["first_disc_share_coast"] = FiniteOrNull(p.first_disc_share_coast);
   }
+  if (!p.compliance_share.empty()) {  // a reducer stage (issue 25): the compliance budget at +T
+    nlohmann::json budget = nlohmann::json::object();
+    for (std::size_t g = 0; g < p.compliance_share.size(); ++g) {
+      budget[solvers::ToString(static_cast<solvers::StageGroup>(g))] = FiniteOrNull(p.compliance_share[g]);
+    }
+    j["compliance_share"] = budget;
+  }
   return j;
 }
 
@@ -105,6 +116,13 @@ nlohmann::json SummaryJson(const app::StiffnessSummary& s, bool sweep, double fr
     const auto share = [](double v) { return v; };
     AddSpread(j, "first_disc_share", "drive", s.first_disc_share_drive, sweep, share);
     AddSpread(j, "first_disc_share", "coast", s.first_disc_share_coast, sweep, share);
+  }
+  if (!s.compliance_share.empty()) {  // a reducer stage (issue 25): each group's share of the strain energy at +T
+    nlohmann::json budget = nlohmann::json::object();
+    for (std::size_t g = 0; g < s.compliance_share.size(); ++g) {
+      budget[solvers::ToString(static_cast<solvers::StageGroup>(g))] = FiniteOrNull(s.compliance_share[g].mean);
+    }
+    j["compliance_share"] = budget;
   }
   if (sweep) j["closed_period"] = s.closed_period;  // issue 26: the means weigh a repeated last state once
   j["hysteresis"] = friction_mu > 0.0;  // issue 14: friction separates the branches
@@ -263,11 +281,11 @@ int RunStiffness(const app::Deck& deck_given, const StiffnessOptions& options, c
                                  RadToDeg(deck.sweep.crank_end))
                    : fmt::format("crank {:g} deg", RadToDeg(*settings.crank)));
   fmt::print(text, "rigidity  {}\n", Definition(settings));
-  fmt::print(text, "scope     {}\n", kScope);
+  fmt::print(text, "scope     {}\n", deck.reducer ? kStageScope : kScope);
   fmt::print(text, "{:>10} {:>18} {:>18} {:>16} {:>8}\n", "crank_deg", "rigidity_nm/amin", "lost_motion_amin", "backlash_amin", "status");
 
   if (json.enabled()) {
-    nlohmann::json stiffness = {{"scope", kScope},
+    nlohmann::json stiffness = {{"scope", deck.reducer ? kStageScope : kScope},
                                 {"rated_torque_nm", NmmToNm(rated)},
                                 {"steps_per_branch", settings.steps},
                                 {"rigidity_definition", Definition(settings)},
@@ -338,6 +356,14 @@ int RunStiffness(const app::Deck& deck_given, const StiffnessOptions& options, c
     const auto share = [](double v) { return v; };
     fmt::print(text, "first disc's share     {} at +T (disc 2: the rest)\n", range(s.first_disc_share_drive, share, 4, "of T"));
     fmt::print(text, "                       {} at -T\n", range(s.first_disc_share_coast, share, 4, "of T"));
+  }
+  if (!s.compliance_share.empty()) {  // issue 25
+    std::string parts;
+    for (std::size_t g = 0; g < s.compliance_share.size(); ++g) {
+      parts += fmt::format("{}{} {} %", parts.empty() ? "" : ", ", solvers::ToString(static_cast<solvers::StageGroup>(g)),
+                           FormatOrNa(100.0 * s.compliance_share[g].mean, 1));
+    }
+    fmt::print(text, "compliance budget      {} of the strain energy at +T (mean over the positions)\n", parts);
   }
   const auto joules = [](double v) { return NmmRadToJ(v); };
   if (app::LoopFrictionCoefficient(deck.friction) > 0.0) {  // issue 14, review issue 26

@@ -197,7 +197,9 @@ class LoadProblem {
   /// is ulp-sized, far below that for any torque the laws are meant for.
   bool Balanced(double psi, double torque_out, double tolerance, Workspace& workspace) const;
 
-  /// Rotation of first contact in the load direction (the smallest closing rotation), rad.
+  /// Rotation of first contact in the load direction (the smallest closing rotation), rad. The
+  /// pin ring's alone: a stage's free play also takes up its holes' and bearings' clearances
+  /// (analysis::StiffnessRunner solves it).
   double FirstContactRotation() const;
 
   /// Where the loaded rotation must lie (the shared judge's range check, issue 10):

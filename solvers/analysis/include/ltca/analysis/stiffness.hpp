@@ -98,6 +98,11 @@ struct StiffnessPosition {
   /// (drive) and at -T (coast), T_1 / T; NaN for one disc or a failed solve.
   double first_disc_share_drive = std::numeric_limits<double>::quiet_NaN();
   double first_disc_share_coast = std::numeric_limits<double>::quiet_NaN();
+  /// A reducer stage (issue 25): the compliance budget at +T, each element group's share of the
+  /// strain energy (solvers::StageGroup order: mesh, output, bearings, shafts); for linear
+  /// elements the share of the twist T psi / 2 = sum of the energies. Empty for the mesh alone,
+  /// NaN entries when the solve at +T failed.
+  std::vector<double> compliance_share;
   /// The read-off points, each solved at its own torque: secant +T, +T / 2, -T / 2, -T (or the
   /// tangent's two torques), then lost motion +f T, -f T. Branch: increasing without friction;
   /// with friction the rigidity's are on the loading pass (increasing for T > 0, decreasing for
@@ -126,6 +131,7 @@ struct StiffnessPosition {
 struct StiffnessSummary : RunRecord {
   Spread rigidity, rigidity_drive, rigidity_coast, lost_motion, backlash, branch_difference;
   Spread first_disc_share_drive, first_disc_share_coast;  ///< two discs only (issue 13)
+  std::vector<Spread> compliance_share;  ///< a reducer stage only (issue 25), per group
   Spread hysteresis;                        ///< N*mm*rad per cycle
   Spread stick_end_drive, stick_end_coast;  ///< N*mm, friction only
   /// The loop over the positions: per curve point (the layout of StiffnessPosition::curve), the
