@@ -585,3 +585,45 @@ TEST_CASE("app: a slice count or a key given without effect is reported in the m
   const auto bending = ltca::app::LoadDeck(dir + "pin_bending.toml");
   CHECK(bending.Model().name == "slices+pin-bending");
 }
+
+TEST_CASE("app: [output] and [bearing] (issue 25) read into the stage, and what does not apply is an error, not ignored") {
+  const std::string pins = std::string(kGood) + R"(
+[output]
+kind = "pins"
+count = 8
+circle_radius_mm = 40.0
+pin_radius_mm = 5.0
+hole_radius_mm = 6.32
+phase_deg = 22.5
+[bearing]
+kind = "rollers"
+roller_count = 14
+roller_diameter_mm = 8.0
+roller_length_mm = 10.0
+radial_clearance_mm = 0.005
+)";
+  const auto deck = ParseDeck(pins, "t.toml");
+  REQUIRE(deck.reducer.has_value());
+  CHECK(deck.reducer->kind == ltca::solvers::OutputKind::kPins);
+  CHECK(deck.reducer->pins.phase == doctest::Approx(ltca::units::DegToRad(22.5)).epsilon(1e-15));
+  CHECK(deck.reducer->bearing.kind == ltca::contact::BearingKind::kRollers);
+  CHECK(deck.Model().name == "plane+stage");
+  CHECK(deck.Model().stage == "pins+rollers bearing");
+  // Without [output] the model is the mesh alone.
+  CHECK(!ParseDeck(kGood, "t.toml").reducer.has_value());
+  CHECK(Contains(ErrorOf(std::string(kGood) + "[bearing]\nkind = \"linear\"\nradial_stiffness_n_per_mm = 1e5\n"),
+                 "[bearing] without [output]"));
+  CHECK(Contains(ErrorOf(Replace(pins, "phase_deg = 22.5", "shaft_stiffness_n_per_mm = 1e5")),
+                 "[output] shaft_stiffness_n_per_mm: not a key of kind = \"pins\""));
+  CHECK(Contains(ErrorOf(Replace(pins, "kind = \"rollers\"", "kind = \"linear\"\nradial_stiffness_n_per_mm = 1e5")),
+                 "[bearing] roller_count: not a key of kind = \"linear\""));
+  CHECK(Contains(ErrorOf(Replace(pins, "hole_radius_mm = 6.32", "hole_radius_mm = 6.2")), "[output] hole_radius_mm = 6.2"));
+  CHECK(Contains(ErrorOf(Replace(pins, "kind = \"pins\"", "kind = \"gears\"")), "[output] kind = \"gears\""));
+  CHECK(Contains(ErrorOf(pins + "[friction]\ncoefficient = 0.05\n"), "[friction] with [output]"));
+  // Rigid cranks in rigid holes: the crank loads would be statically indeterminate.
+  const std::string cranks = std::string(kGood) + "[output]\nkind = \"cranks\"\ncount = 3\ncircle_radius_mm = 35.0\n";
+  CHECK(Contains(ErrorOf(cranks), "statically indeterminate"));
+  CHECK(ParseDeck(cranks + "shaft_stiffness_n_per_mm = 5e5\n", "t.toml").reducer->cranks.shaft_stiffness == 5e5);
+  CHECK(Contains(ErrorOf(cranks + "pin_radius_mm = 5\n[bearing]\nkind = \"linear\"\nradial_stiffness_n_per_mm = 1e5\n"),
+                 "[output] pin_radius_mm: not a key of kind = \"cranks\""));
+}

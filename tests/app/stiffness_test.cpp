@@ -342,3 +342,50 @@ TEST_CASE("cli: ltca stiffness clears the progress line before each row of its t
   }
   CHECK(rows == 4);
 }
+
+TEST_CASE("app: a stage's backlash adds the holes' free play to the mesh's: theta_c + c / (R_w sin a_max) per flank (issue 25)") {
+  // Liu section 5.2's pair (about 48 arcsec of mesh backlash) with eight output pins in holes of
+  // 10 um clearance, the disc's centre held (rigid eccentric bearing). In series, the disc turns
+  // through the mesh's free play (ltca backlash's unloaded analysis, theta_c1 and theta_c2) and the
+  // output member through the holes' play on top: c / (R_w max_j sin a_j) on the drive flank,
+  // c / (R_w max_j (-sin a_j)) on the coast flank, a_j the pin's angle from the line of centres.
+  // The stage's free play is solved at 1e-7 T: relative 1e-6.
+  const std::string text = ltca::test::ReadText(Case("liu2021_sec52_base.toml")) + R"(
+[output]
+kind = "pins"
+count = 8
+circle_radius_mm = 40.0
+pin_radius_mm = 5.0
+hole_radius_mm = 6.31
+)";
+  const Deck deck = ltca::app::ParseDeck(text, "stage.toml");
+  const ltca::contact::MeshModel model = deck.MakeModel();
+  const double c = 0.01, rw = 40.0;
+  for (const std::string solver : {"compatibility", "bisection"}) {
+    for (const double crank_deg : {0.0, 3.7}) {
+      CAPTURE(solver);
+      CAPTURE(crank_deg);
+      const StiffnessSettings settings = AtCrank(crank_deg);
+      auto runner = ltca::test::StiffnessOn(deck, ltca::test::Named(solver), settings, ContactKinematics::kLinearised);
+      const StiffnessPosition p = runner.Solve(*settings.crank);
+      INFO(p.first_failure);
+      REQUIRE(p.succeeded());
+      const ltca::contact::UnloadedContact u = ltca::contact::AnalyseUnloaded(model, *settings.crank, ContactKinematics::kLinearised);
+      const double out = model.kinematics().CycloidPose(*settings.crank).rotation;
+      double up = 0.0, down = 0.0;
+      for (int j = 0; j < 8; ++j) {
+        const double s = std::sin(2.0 * ltca::units::kPi * j / 8 + out - *settings.crank);
+        up = std::max(up, s);
+        down = std::max(down, -s);
+      }
+      CHECK(p.first_contact_drive == doctest::Approx(u.theta_c1 + c / (rw * up)).epsilon(1e-6));
+      CHECK(p.first_contact_coast == doctest::Approx(-u.theta_c2 + c / (rw * down)).epsilon(1e-6));
+      CHECK(p.backlash == doctest::Approx(u.backlash + c / (rw * up) + c / (rw * down)).epsilon(1e-6));
+      // The compliance budget: the mesh and the output pins only (the bearing is rigid), summing to 1.
+      REQUIRE(p.compliance_share.size() == 4);
+      CHECK(p.compliance_share[0] + p.compliance_share[1] == doctest::Approx(1.0).epsilon(1e-12));
+      CHECK(p.compliance_share[2] == 0.0);
+      CHECK(p.compliance_share[3] == 0.0);
+    }
+  }
+}

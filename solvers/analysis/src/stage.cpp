@@ -69,7 +69,10 @@ Stage::Stage(StageDesign design, std::vector<double> cranks)
     contact::MeshState state = second_ ? contact::EvaluateTwoDiscs(*first_, *second_, crank) : first_->Evaluate(crank, 0.0);
     contact::RequireNoInterference(state, crank, tolerance);
     if (i == 0) first = state;
-    if (i > 0 && i + 1 == n) checked->closed = contact::SameMesh(first, state);
+    // A reducer stage's output pins or cranks turn against the line of centres at 1 - 1/I of the
+    // crank: their pattern does not repeat with the mesh period (nor after one crank turn, which
+    // moves them 2 pi / I along), so its sweep never counts as closed (issue 25).
+    if (i > 0 && i + 1 == n) checked->closed = !d.reducer && contact::SameMesh(first, state);
     if (keep) checked->states.push_back(std::move(state));
   }
   checked->order.resize(n);

@@ -129,8 +129,10 @@ void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
 BearingLife BearingLives(const StageDesign& design, const StageSummary& summary, const Sweep& sweep, bool closed_period,
                          double input_speed) {
   BearingLife life;
+  // Positions evenly spaced over a turn cover it whether or not the last repeats the first.
   const double swept = std::abs(sweep.crank_end - sweep.crank_start);
-  if (swept >= 2.0 * units::kPi * (1.0 - 1e-12)) {
+  const double covered = sweep.positions > 1 ? swept * sweep.positions / (sweep.positions - 1) : 0.0;
+  if (std::max(swept, covered) >= 2.0 * units::kPi * (1.0 - 1e-12)) {
     life.basis = "a whole crank turn";
   } else if (closed_period) {
     life.basis = "one mesh period, which repeats over the crank turn";

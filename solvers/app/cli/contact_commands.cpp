@@ -244,6 +244,10 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
   if (failed > 0) fmt::print(out, "failed                  {} of {} positions, first at {}\n", failed, cranks.size(), first_failure);
   fmt::print(out, "mean backlash           {} arcsec   (Liu eq. 17){}\n", FormatOrNa(RadToArcsec(mean), 4),
              closed ? "; the last position repeats the first: counted once" : "");
+  if (deck.reducer) {  // issue 25
+    fmt::print(out, "note                    the pin ring's mesh alone; the stage's free play (holes, bearings too) is the "
+                    "backlash of ltca stiffness\n");
+  }
   fmt::print(out, "peak-to-peak backlash   {} arcsec\n", FormatOrNa(RadToArcsec(pp), 4));
   if (json.enabled()) {
     nlohmann::json summary = {{"mean_backlash_arcsec", Finite(RadToArcsec(mean))},
@@ -253,6 +257,7 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
                               {"succeeded_positions", succeeded},
                               {"failed_positions", failed},
                               {"closed_period", closed}};
+    if (deck.reducer) summary["scope"] = "the pin ring's mesh alone; the stage's free play is the backlash of ltca stiffness";
     if (failed > 0) summary["first_failure"] = first_failure;
     json.stream() << "\n],\n\"summary\": " << Dump(summary, -1) << "\n}\n";
     json.Commit();

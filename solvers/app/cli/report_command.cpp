@@ -172,6 +172,10 @@ int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams
   html += Table(s["summary"]);
   html += InlineSvg(solve.svg_path);
   html += "<h2>Unloaded: backlash and mesh</h2>\n";
+  if (deck.reducer) {  // issue 25: the unloaded analysis is the pin ring's; the stage's free play is the loop's
+    html += "<p>The pin ring's mesh alone (Liu eq. 17). The stage's free play, which also takes up the output "
+            "mechanism's and the bearings' clearances, is the backlash of the torsional stiffness below.</p>\n";
+  }
   html += Table(b["summary"]);
   html += InlineSvg(backlash.svg_path);
   html += InlineSvg(mesh.svg_path);

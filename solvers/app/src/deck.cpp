@@ -1110,6 +1110,12 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     const Section bearing(Find(root, "bearing"), "bearing");
     if (output.Present()) {
       deck.reducer = ReadReducer(output, bearing, deck.pair);
+      if (deck.friction) {
+        // The efficiency and the loop's hysteresis would count the mesh's losses alone and call
+        // the result the stage's.
+        throw std::invalid_argument("[friction] with [output]: the stage's friction (output pins in their holes, the "
+                                    "bearings) is not modelled yet (docs/stage.md); expected one of the two");
+      }
       if (deck.pins) {
         throw std::invalid_argument("[output] with [pins]: the stage does not take pin bending yet (docs/stage.md); "
                                     "expected one of the two");

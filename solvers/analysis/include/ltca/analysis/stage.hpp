@@ -117,6 +117,7 @@ class Stage {
   const std::vector<double>& cranks() const { return checked_->cranks; }
   /// The last checked crank repeats the state of the first (contact::SameMesh: a whole crank
   /// turn, or a mesh period of a pair that keeps that symmetry), so means weigh it once (issue 26).
+  /// Never for a reducer stage: its output elements do not repeat with the mesh (issue 25).
   bool closed_period() const { return checked_->closed; }
   /// The overlap a check tolerates, mm: the largest of the discs' models'.
   double interference_tolerance() const;
