@@ -360,6 +360,42 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
       }
     }
   }
+  // Issue 25: a stage position against a mesh-only position of the same deck, and two discs
+  // against one on the same cranks: per position over the deck's whole crank turn, mesh states
+  // included, the fastest of the repeats for each solver that solves the stage, the faster solver.
+  struct StageTime {
+    double seconds = 1e300;
+    std::string solver;
+  };
+  const auto stage_time = [&](const app::Deck& deck) {
+    StageTime best;
+    for (const char* solver : {"compatibility", "bisection"}) {
+      solvers::SolverOptions o = deck.solver;
+      o.name = solver;
+      for (int r = 0; r < matrix.repeats; ++r) {
+        const app::SweepResult sweep = app::SolveDeckSweep(deck, o);
+        const double per = sweep.summary.wall_seconds / sweep.summary.positions();
+        if (sweep.summary.all_succeeded() && per < best.seconds) best = {per, solver};
+      }
+    }
+    return best;
+  };
+  app::Deck drive = app::LoadDeck(fs::path(LTCA_CASES_DIR) / "stage/cycloidal_drive.toml");
+  app::Deck drive_mesh = drive;
+  drive_mesh.reducer.reset();
+  app::Deck rv_two = app::LoadDeck(fs::path(LTCA_CASES_DIR) / "stage/rv_two_discs_cranks.toml");
+  app::Deck rv_one = rv_two;
+  rv_one.second_disc.reset();
+  const StageTime t_drive = stage_time(drive), t_drive_mesh = stage_time(drive_mesh), t_rv_one = stage_time(rv_one),
+                  t_rv_two = stage_time(rv_two);
+  {
+    std::ofstream csv(fs::path(options.out_dir) / "stage.csv");
+    csv << "deck,model,fastest_solver,seconds_per_position\n";
+    fmt::print(csv, "cycloidal_drive,mesh alone,{},{:.9g}\n", t_drive_mesh.solver, t_drive_mesh.seconds);
+    fmt::print(csv, "cycloidal_drive,stage,{},{:.9g}\n", t_drive.solver, t_drive.seconds);
+    fmt::print(csv, "rv_cranks,stage one disc,{},{:.9g}\n", t_rv_one.solver, t_rv_one.seconds);
+    fmt::print(csv, "rv_cranks,stage two discs,{},{:.9g}\n", t_rv_two.solver, t_rv_two.seconds);
+  }
   // Peak memory of a full Liu Table 1 sweep in its own process: the ltca beside this executable.
   double rss_mb = -1;
   std::string ltca = options.ltca_path;
@@ -506,6 +542,16 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
     fmt::print(md, "| cost linear in the slice count, exponent <= 1.1 over 5..100, fastest solver (issue 11) | compatibility "
                    "{:.2f} uncoupled, {:.2f} with pin bending (bisection, uncoupled: {:.2f}) | {} |\n",
                exp_compat, exp_bending, exp_bisect, verdict(exp_compat <= 1.1 && exp_bending <= 1.1));
+    const double stage_ratio = t_drive.seconds / t_drive_mesh.seconds, discs_ratio = t_rv_two.seconds / t_rv_one.seconds;
+    fmt::print(md, "| a stage position (cases/stage/cycloidal_drive.toml: 40 pins, 8 output pins, a 14-roller bearing) within 3x "
+                   "a mesh-only position of the same deck, fastest solver, states included (issue 25) | stage {:.0f} us ({}), "
+                   "mesh alone {:.0f} us ({}): {:.2f}x | {} |\n",
+               Us(t_drive.seconds), t_drive.solver, Us(t_drive_mesh.seconds), t_drive_mesh.solver, stage_ratio,
+               verdict(stage_ratio <= 3.0));
+    fmt::print(md, "| two discs within 2x one disc (cases/stage/rv_two_discs_cranks.toml, three cranks, with and without "
+                   "[second_disc]) (issue 25) | two {:.0f} us ({}), one {:.0f} us ({}): {:.2f}x | {} |\n",
+               Us(t_rv_two.seconds), t_rv_two.solver, Us(t_rv_one.seconds), t_rv_one.solver, discs_ratio,
+               verdict(discs_ratio <= 2.0));
     fmt::print(md, "\n## Face-width slices (issue 11)\n\nLinearised kinematics, {} positions over one crank revolution, the "
                    "fastest of {} repeats per position (mesh states included). The PPTE's error is against 200 slices of the "
                    "same deck and solver; the backlash's against the face-edge value of the misaligned deck ({:.4f} arcsec "
