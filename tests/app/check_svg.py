@@ -73,8 +73,15 @@ def check_geometry(path, deck):
     expect(len(panels) == 1, f"{path}: {len(panels)} panels, expected 1")
     p = panels[0]
     expect((p["x"], p["y"]) == ("x_f (mm)", "y_f (mm)"), f"{path}: axes {p['x']}, {p['y']}")
-    # cycloid, pin circle, [pins], first contact, line of centres, cycloid centre
-    expect(len(p["series"]) in (5, 6), f"{path}: {len(p['series'])} series, expected 5 or 6: {p['series']}")
+    # cycloid, pin circle, [pins], first contact, line of centres, cycloid centre; a stage (issue 25,
+    # [output]) adds its holes and output pins (2) or its crank circle and both centres (3)
+    stage = [s for s in p["series"] if s.startswith(("holes r_h", "output pins r_w", "crank circle", "crankshaft centres",
+                                                     "crank-hole centres"))]
+    text = open(deck).read()
+    expected_stage = 0 if "[output]" not in text else (2 if 'kind = "pins"' in text else 3)
+    expect(len(stage) == expected_stage, f"{path}: stage series {stage}, expected {expected_stage}")
+    base = len(p["series"]) - len(stage)
+    expect(base in (5, 6), f"{path}: {base} series besides the stage's, expected 5 or 6: {p['series']}")
     for label in ("line of centres O_p O_c", "first contact (least clearance)"):
         expect(label in p["series"], f"{path}: no series '{label}'")
     expect(re.match(r"clearances drawn x\d", p["title"] or ""), f"{path}: no exaggeration factor in '{p['title']}'")

@@ -124,6 +124,25 @@ TEST_CASE("cli: ltca with no argument runs the built-in Liu 2021 Table 1 case") 
   CHECK(r.out.find("mean TE") != std::string::npos);      // and the loaded sweep
 }
 
+TEST_CASE("cli: ltca geometry of a stage draws its output pins in their holes, or its cranks (issue 25)") {
+  // The SVG's metadata names every series: the holes and the pins for output pins, the crank
+  // circle and both centres for cranks; eight pin-and-hole pairs of the deck's radii.
+  const auto svg = std::filesystem::temp_directory_path() / "ltca_cli_test_stage.svg";
+  const auto read = [&svg] {
+    std::ifstream in(svg);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  REQUIRE(RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--svg", svg.string()}).code == 0);
+  const std::string pins = read();
+  CHECK(pins.find("<ltca:series label=\"holes r_h = 6.32 mm\"") != std::string::npos);
+  CHECK(pins.find("<ltca:series label=\"output pins r_w = 5 mm\"") != std::string::npos);
+  REQUIRE(RunCli({"geometry", Case("stage/rv_two_discs_cranks.toml"), "--svg", svg.string()}).code == 0);
+  const std::string cranks = read();
+  CHECK(cranks.find("<ltca:series label=\"crank circle R_c = 35 mm\"") != std::string::npos);
+  CHECK(cranks.find("<ltca:series label=\"crank-hole centres (the eccentrics)\"") != std::string::npos);
+  std::filesystem::remove(svg);
+}
+
 TEST_CASE("cli: --csv writes the whole profile and --svg draws the pair") {
   const auto csv = std::filesystem::temp_directory_path() / "ltca_cli_test_profile.csv";
   const auto svg = std::filesystem::temp_directory_path() / "ltca_cli_test_pair.svg";
