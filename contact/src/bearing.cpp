@@ -49,7 +49,8 @@ void BearingSettings::Validate() const {
             "a finite radial stiffness > 0 N/mm for kind = \"linear\"");
   }
   if (kind == BearingKind::kRollers) {
-    require(roller_count >= 3, "roller_count", roller_count, "at least 3 rollers for kind = \"rollers\"");
+    require(roller_count >= 3 && roller_count <= kMaxRollers, "roller_count", roller_count,
+            fmt::format("3 to {} rollers for kind = \"rollers\"", kMaxRollers).c_str());
     require(std::isfinite(roller_diameter) && roller_diameter > 0.0, "roller_diameter_mm", roller_diameter,
             "a finite roller diameter > 0 mm for kind = \"rollers\"");
     require(std::isfinite(roller_length) && roller_length > 0.0, "roller_length_mm", roller_length,

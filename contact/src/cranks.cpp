@@ -14,7 +14,8 @@ void Cranks::Validate() const {
   const auto require = [](bool ok, const char* key, double value, const std::string& expected) {
     if (!ok) throw std::invalid_argument(fmt::format("[output] {} = {:g}: expected {}", key, value, expected));
   };
-  require(count >= 2, "count", count, "at least 2 crankshafts for kind = \"cranks\"");
+  require(count >= 2 && count <= kMaxCount, "count", count,
+          fmt::format("2 to {} crankshafts for kind = \"cranks\"", kMaxCount));
   require(std::isfinite(circle_radius) && circle_radius > 0.0, "circle_radius_mm", circle_radius,
           "a finite crank-circle radius > 0 mm");
   require(std::isfinite(phase), "phase_deg", units::RadToDeg(phase), "a finite angle");

@@ -18,7 +18,7 @@ void OutputPins::Validate(double eccentricity) const {
   const auto require = [](bool ok, const char* key, double value, const std::string& expected) {
     if (!ok) throw std::invalid_argument(fmt::format("[output] {} = {:g}: expected {}", key, value, expected));
   };
-  require(count >= 3, "count", count, "at least 3 output pins");
+  require(count >= 3 && count <= kMaxCount, "count", count, fmt::format("3 to {} output pins", kMaxCount));
   require(std::isfinite(pin_radius) && pin_radius > 0.0, "pin_radius_mm", pin_radius, "a finite pin radius > 0 mm");
   require(std::isfinite(circle_radius) && circle_radius > 0.0, "circle_radius_mm", circle_radius,
           "a finite pin-circle radius > 0 mm");
@@ -27,6 +27,11 @@ void OutputPins::Validate(double eccentricity) const {
           fmt::format("a hole radius >= pin_radius_mm + eccentricity_mm = {:g} mm (a smaller hole overlaps its pin at "
                       "no load)",
                       pin_radius + eccentricity));
+  // Neighbouring holes must leave a web between them: their centres 2 R_w sin(pi / n) apart.
+  const double spacing = 2.0 * circle_radius * std::sin(units::kPi / count);
+  require(spacing > 2.0 * hole_radius, "hole_radius_mm", hole_radius,
+          fmt::format("holes that do not overlap: below {:g} mm for {} holes on circle_radius_mm = {:g}", 0.5 * spacing,
+                      count, circle_radius));
 }
 
 std::vector<OutputPinContact> EvaluateOutputPins(const OutputPins& pins, const geometry::Pose& disc,

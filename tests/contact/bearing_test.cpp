@@ -141,8 +141,12 @@ TEST_CASE("contact: [bearing] settings are refused with the key, the value and w
   BearingSettings b = Rollers(0.005);
   CHECK_NOTHROW(b.Validate());
   b.roller_count = 2;
-  CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("[bearing] roller_count = 2: expected at least 3 rollers"),
+  CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("[bearing] roller_count = 2: expected 3 to 200 rollers"),
                        std::invalid_argument);
+  b.roller_count = 201;
+  CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("[bearing] roller_count = 201: expected 3 to 200 rollers"),
+                       std::invalid_argument);
+  b.roller_count = 14;
   b = Rollers(-0.001);
   CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("[bearing] radial_clearance_mm = -0.001"), std::invalid_argument);
   b = Rollers(0.0);

@@ -39,6 +39,7 @@ const char* ToString(BearingKind kind);
 
 /// A bearing's data (the deck's [bearing], in internal units).
 struct BearingSettings {
+  static constexpr int kMaxRollers = 200;  ///< a full-complement needle bearing has a few dozen
   BearingKind kind = BearingKind::kRigid;
   double radial_stiffness = 0.0;     ///< N/mm, linear (deck: radial_stiffness_n_per_mm)
   double radial_clearance = 0.0;     ///< mm, the radial play, >= 0 (deck: radial_clearance_mm)
@@ -47,7 +48,7 @@ struct BearingSettings {
   double roller_length = 0.0;        ///< mm, effective length l (deck: roller_length_mm)
   double dynamic_load_rating = 0.0;  ///< N, C_r of ISO 281; 0: no life (deck: dynamic_load_rating_n)
   /// Throws std::invalid_argument naming the `[bearing]` key, its value and what is expected:
-  /// clearance finite and >= 0; linear: stiffness finite and > 0; rollers: at least 3 rollers,
+  /// clearance finite and >= 0; linear: stiffness finite and > 0; rollers: 3 to kMaxRollers rollers,
   /// diameter and length finite and > 0; the rating finite and >= 0.
   void Validate() const;
 };

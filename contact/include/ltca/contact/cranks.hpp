@@ -26,6 +26,7 @@
 namespace ltca::contact {
 
 struct Cranks {
+  static constexpr int kMaxCount = 12;  ///< RV stages have 2 or 3
   int count = 0;               ///< crankshafts (deck: [output] count)
   double circle_radius = 0.0;  ///< R_c, mm (deck: circle_radius_mm)
   double phase = 0.0;          ///< rad, of crank 0 from +X at crank 0 (deck: phase_deg)
@@ -35,7 +36,7 @@ struct Cranks {
   /// Turns of the eccentric per turn of the carrier with the input locked (deck:
   /// crank_turns_per_output_turn; 0: the eccentric keeps its direction).
   double turns_per_output_turn = 0.0;
-  /// Throws std::invalid_argument naming the `[output]` key unless count >= 2, R_c finite and
+  /// Throws std::invalid_argument naming the `[output]` key unless 2 <= count <= kMaxCount, R_c finite and
   /// > 0, the phase and the turns finite, and the shaft stiffness > 0 (infinite allowed).
   void Validate() const;
 };

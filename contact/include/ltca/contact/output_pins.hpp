@@ -19,13 +19,15 @@
 namespace ltca::contact {
 
 struct OutputPins {
+  static constexpr int kMaxCount = 64;  ///< W mechanisms have 4 to 16
   int count = 0;               ///< pins (deck: [output] count)
   double pin_radius = 0.0;     ///< r_w, mm
   double circle_radius = 0.0;  ///< R_w, mm
   double hole_radius = 0.0;    ///< r_h, mm
   double phase = 0.0;          ///< rad, of pin 0 from +X at crank 0
-  /// Throws std::invalid_argument naming the `[output]` key unless count >= 3, the radii are
-  /// finite and positive, and r_h >= r_w + eccentricity (a pin would overlap its hole at no load).
+  /// Throws std::invalid_argument naming the `[output]` key unless 3 <= count <= kMaxCount, the
+  /// radii are finite and positive, r_h >= r_w + eccentricity (a pin would overlap its hole at no
+  /// load) and neighbouring holes do not overlap.
   void Validate(double eccentricity) const;
 };
 
