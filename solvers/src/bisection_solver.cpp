@@ -136,12 +136,11 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   }
 }
 
-void BisectionSolver::DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                                   LoadResult* result) const {
+void BisectionSolver::DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+                                   Workspace& workspace, LoadResult* result) const {
   // Liu's search on the output rotation psi (the stage's TE): the torque the stage returns to the
   // output member, M(psi), rises with psi (the energy is convex), and at each trial psi the discs
   // and shafts balance (StageSystem::Minimise with psi held). Illinois' regula falsi on a bracket.
-  const StageSystem system(problem);
   const int psi = system.output_dof();
   const double scale = system.rotation_scale();  // psi = scale * q[psi]
   const double torque = problem.torque();

@@ -20,8 +20,8 @@ class BisectionSolver final : public LoadSolver {
  private:
   /// The stage (issue 25): Liu's search on the output rotation; at each trial rotation every
   /// disc's translation and rotation (and the shafts' deflections) balance by Newton's method.
-  void DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                    LoadResult* result) const override;
+  void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+                    Workspace& workspace, LoadResult* result) const override;
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                LoadResult* result) const override;
 };

@@ -358,9 +358,8 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   }
 }
 
-void CompatibilitySolver::DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                                       LoadResult* result) const {
-  const StageSystem system(problem);
+void CompatibilitySolver::DoSolveStage(const LoadProblem&, const StageSystem& system, const SolverOptions& options,
+                                       Workspace& workspace, LoadResult* result) const {
   Eigen::VectorXd q = StageStart(system, workspace, "compatibility-stage");
   StageSystem::Evaluation last;
   int iterations = 0;

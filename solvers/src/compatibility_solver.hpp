@@ -29,8 +29,8 @@ class CompatibilitySolver final : public LoadSolver {
  private:
   /// The stage (issue 25): Newton's method with an active set over the poses (the contacts that
   /// carry load at each iterate), damped to a trust region (StageSystem::Minimise).
-  void DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                    LoadResult* result) const override;
+  void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+                    Workspace& workspace, LoadResult* result) const override;
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                LoadResult* result) const override;
   /// guess_rotation: a rotation near the answer to start NLopt from (NaN: the linear prediction).

@@ -527,9 +527,8 @@ struct StageIpoptState final : Workspace::BackendState {
 
 }  // namespace
 
-void EnergyQpSolver::DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                                  LoadResult* result) const {
-  const StageSystem system(problem);
+void EnergyQpSolver::DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+                                  Workspace& workspace, LoadResult* result) const {
   const Eigen::VectorXd start = StageStart(system, workspace, "energy-qp-stage-start");
   std::unique_lock<std::mutex> lock(IpoptMutex());
   auto* state = dynamic_cast<StageIpoptState*>(workspace.Backend("energy-qp-stage"));

@@ -26,8 +26,8 @@ class EnergyQpSolver final : public LoadSolver {
  private:
   /// The stage (issue 25): Li's minimum-energy principle extended to the stage, the total
   /// potential energy over the poses and the output rotation, one convex program in Ipopt.
-  void DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                    LoadResult* result) const override;
+  void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+                    Workspace& workspace, LoadResult* result) const override;
   // The Ipopt application and the warm start live in the workspace (Workspace::BackendState,
   // defined in the .cpp: Ipopt stays private), created on the first solve of each workspace.
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,

@@ -130,7 +130,8 @@ SolverOptions ApplyPreset(SolverOptions options, const std::string& preset) {
   throw std::invalid_argument(fmt::format("[solver] preset = \"{}\": expected \"liu2021\"", preset));
 }
 
-void LoadSolver::DoSolveStage(const LoadProblem&, const SolverOptions&, Workspace&, LoadResult* result) const {
+void LoadSolver::DoSolveStage(const LoadProblem&, const StageSystem&, const SolverOptions&, Workspace&,
+                              LoadResult* result) const {
   result->status = SolverStatus::kStageUnsupported;
   result->message = fmt::format("solver \"{}\" does not solve the reducer stage", name());
 }
@@ -156,7 +157,7 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
       result->status = SolverStatus::kSuccess;
       result->message = "zero torque: no rotation, no forces";
     } else {
-      solver.DoSolveStage(problem, options, workspace, result);
+      solver.DoSolveStage(problem, system, options, workspace, result);
     }
     if (std::isfinite(result->rotation) && result->stage) {
       system.Judge(result);

@@ -15,6 +15,8 @@
 
 namespace ltca::solvers {
 
+class StageSystem;  // solvers/src/stage_system.hpp: the stage's assembly, private to the solver layer
+
 /// Every native status of every backend maps to one of these (the native code is kept).
 enum class SolverStatus {
   kNotSolved,         ///< Solve() was not called
@@ -120,10 +122,11 @@ class LoadSolver {
   /// Sets status, message, native_code, rotation, force, iterations / evaluations.
   virtual void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                        LoadResult* result) const = 0;
-  /// The stage's solve (only called when supports_stage()): sets status, message, iterations and,
-  /// through the shared stage assembly, rotation, forces and the stage's solution.
-  virtual void DoSolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                            LoadResult* result) const;
+  /// The stage's solve (only called when supports_stage()), on the stage assembled once by Solve()
+  /// (solvers/src/stage_system.hpp): sets status, message, iterations and, through the assembly,
+  /// rotation, forces and the stage's solution.
+  virtual void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+                            Workspace& workspace, LoadResult* result) const;
   /// Solve()'s path for a stage: refusals, zero torque, DoSolveStage and the stage's judge.
   void SolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                   LoadResult* result) const;
