@@ -620,6 +620,7 @@ radial_clearance_mm = 0.005
   CHECK(Contains(ErrorOf(Replace(pins, "hole_radius_mm = 6.32", "hole_radius_mm = 6.2")), "[output] hole_radius_mm = 6.2"));
   CHECK(Contains(ErrorOf(Replace(pins, "kind = \"pins\"", "kind = \"gears\"")), "[output] kind = \"gears\""));
   CHECK(Contains(ErrorOf(pins + "[friction]\ncoefficient = 0.05\n"), "[friction] with [output]"));
+  CHECK(Contains(ErrorOf(pins + "[tolerances]\nsamples = 10\n"), "[tolerances] with [output]"));
   // Bounds a fuzzer or a typo would cross: counts that no reducer has, holes that overlap.
   CHECK(Contains(ErrorOf(Replace(pins, "count = 8", "count = 2000000000")), "[output] count = 2e+09: expected 3 to 64"));
   CHECK(Contains(ErrorOf(Replace(pins, "count = 8", "count = 40")), "holes that do not overlap"));

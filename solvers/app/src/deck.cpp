@@ -1116,6 +1116,12 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
         throw std::invalid_argument("[friction] with [output]: the stage's friction (output pins in their holes, the "
                                     "bearings) is not modelled yet (docs/stage.md); expected one of the two");
       }
+      if (deck.tolerances) {
+        // Its per-sample backlash is the pin ring's unloaded analysis: beside a stage's TE and lost
+        // motion it would read as the reducer's backlash.
+        throw std::invalid_argument("[tolerances] with [output]: the tolerance study's backlash is the pin ring's alone and "
+                                    "does not yet take up the stage's clearances (docs/stage.md); expected one of the two");
+      }
       if (deck.pins) {
         throw std::invalid_argument("[output] with [pins]: the stage does not take pin bending yet (docs/stage.md); "
                                     "expected one of the two");
