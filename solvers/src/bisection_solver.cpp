@@ -149,10 +149,11 @@ void BisectionSolver::DoSolveStage(const LoadProblem& problem, const StageSystem
   int evaluations = 0, inner = 0;
   StageSystem::Outcome outcome = StageSystem::Outcome::kConverged;
   const double inner_tolerance = 0.1 * options.torque_tolerance;
+  std::vector<double> hints;  // the law inversions' warm starts, kept over every trial rotation
   const auto moment = [&](double rotation) {
     q(psi) = rotation / scale;
     int steps = 0;
-    outcome = system.Minimise(&q, true, inner_tolerance, options.max_iterations, nullptr, &steps, &last);
+    outcome = system.Minimise(&q, true, inner_tolerance, options.max_iterations, &hints, &steps, &last);
     inner += steps;
     ++evaluations;
     return system.OutputTorque(last) - torque;

@@ -363,7 +363,8 @@ void CompatibilitySolver::DoSolveStage(const LoadProblem&, const StageSystem& sy
   Eigen::VectorXd q = StageStart(system, workspace, "compatibility-stage");
   StageSystem::Evaluation last;
   int iterations = 0;
-  const auto outcome = system.Minimise(&q, false, options.torque_tolerance, options.max_iterations, nullptr,
+  std::vector<double> hints;  // the law inversions' warm starts, from one evaluation to the next
+  const auto outcome = system.Minimise(&q, false, options.torque_tolerance, options.max_iterations, &hints,
                                        &iterations, &last);
   FinishStage(system, q, outcome, last, result);
   result->iterations = iterations;
