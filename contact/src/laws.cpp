@@ -52,6 +52,59 @@ void ContactSettings::Validate() const {
         "[contact] log_radius_cap_mm = {}: expected a finite length >= 0 (0: the pin-circle radius)",
         log_radius_cap));
   }
+  if (seat.seated() && law == LawKind::kSagitta) {
+    throw std::invalid_argument(fmt::format(
+        "[pins] seat = \"{}\": a seat in series is built for [contact] law = \"hertz-line\" or \"linear\", not "
+        "\"sagitta\" (its approach is not of the hertz-line form the series law keeps)",
+        ToString(seat.kind)));
+  }
+}
+
+void PinSeat::Validate(double pin_radius) const {
+  switch (kind) {
+    case Kind::kRigid: return;
+    case Kind::kLinear:
+      if (!(stiffness_per_length >= ContactSettings::kMinStiffness && stiffness_per_length <= ContactSettings::kMaxStiffness)) {
+        throw std::invalid_argument(fmt::format(
+            "[pins] seat_stiffness_n_per_mm2 = {}: expected the seat's stiffness per mm of pin length from {:g} to {:g} "
+            "N/mm^2",
+            stiffness_per_length, ContactSettings::kMinStiffness, ContactSettings::kMaxStiffness));
+      }
+      return;
+    case Kind::kGroove:
+      if (!(groove_radius > pin_radius) || !std::isfinite(groove_radius)) {
+        throw std::invalid_argument(fmt::format(
+            "[pins] groove_radius_mm = {}: expected a finite groove radius larger than the pin radius {} mm (the "
+            "conformal contact's 1/rho* = 1/r_p - 1/r_g must be > 0)",
+            groove_radius, pin_radius));
+      }
+      if (!(housing_young_modulus > 0.0) || !std::isfinite(housing_young_modulus)) {
+        throw std::invalid_argument(fmt::format(
+            "[pins] housing_young_modulus_mpa = {}: expected a finite modulus > 0 MPa", housing_young_modulus));
+      }
+      if (!(housing_poisson_ratio >= 0.0 && housing_poisson_ratio < 0.5)) {
+        throw std::invalid_argument(fmt::format(
+            "[pins] housing_poisson_ratio = {}: expected 0 <= nu < 0.5", housing_poisson_ratio));
+      }
+      return;
+  }
+}
+
+PinSeat::Kind ParsePinSeatKind(const std::string& text) {
+  if (text == "rigid") return PinSeat::Kind::kRigid;
+  if (text == "linear") return PinSeat::Kind::kLinear;
+  if (text == "groove") return PinSeat::Kind::kGroove;
+  throw std::invalid_argument(fmt::format(
+      "[pins] seat = \"{}\": expected one of \"rigid\", \"linear\", \"groove\"", text));
+}
+
+const char* ToString(PinSeat::Kind kind) {
+  switch (kind) {
+    case PinSeat::Kind::kRigid: return "rigid";
+    case PinSeat::Kind::kLinear: return "linear";
+    case PinSeat::Kind::kGroove: return "groove";
+  }
+  return "?";
 }
 
 LawKind ParseLawKind(const std::string& text) {
@@ -104,19 +157,22 @@ ContactLaw::ContactLaw(const ContactSettings& settings, const Material& material
 
   switch (kind_) {
     case LawKind::kLinear:
+      form_ = Form::kLinear;
       k_lin_ = settings.stiffness_per_length * length;
       max_force_ = kInf;
       max_approach_ = kInf;
       break;
     case LawKind::kHertzLine: {
       // delta = (2F / (pi B)) [A - (C/2) ln F] with b = b1 sqrt(F).
+      form_ = Form::kLog;
       rho_c_abs_ = std::min(rho_c, log_radius_cap);
       const double b1 = std::sqrt(4.0 * rho_eq_ / (kPi * length * e_star_));
       hertz_a_ = cc_ * (std::log(4.0 * rho_c_abs_ / b1) - 0.5) + cp_ * (std::log(4.0 * rho_p_ / b1) - 0.5);
-      const double c = cc_ + cp_;
-      const double x_max = 2.0 * hertz_a_ / c - 1.0;
+      log_a_ = hertz_a_;
+      log_c_ = cc_ + cp_;
+      const double x_max = 2.0 * log_a_ / log_c_ - 1.0;
       max_force_ = std::exp(x_max);
-      max_approach_ = max_force_ * c / (kPi * length);
+      max_approach_ = max_force_ * log_c_ / (kPi * length);
       break;
     }
     case LawKind::kSagitta: {
@@ -125,13 +181,47 @@ ContactLaw::ContactLaw(const ContactSettings& settings, const Material& material
       const double s_max = std::pow(std::min(rho_c, pin_radius), 2);
       max_force_ = s_max / sagitta_factor_;
       max_approach_ = SagittaApproach(s_max);
+      form_ = Form::kSagitta;
       break;
     }
   }
+  const PinSeat& seat = settings.seat;
+  if (!seat.seated()) return;
+  if (kind_ == LawKind::kSagitta) settings.Validate();  // throws: not built
+  // The seat in series (laws.hpp): its A and C, and its own largest force.
+  double seat_max = kInf;
+  if (seat.kind == PinSeat::Kind::kLinear) {
+    seat_a_ = kPi / (2.0 * seat.stiffness_per_length);  // F / (k_s B) = (2F / (pi B)) pi / (2 k_s)
+  } else {
+    seat.Validate(pin_radius);
+    const double ch = (1.0 - seat.housing_poisson_ratio * seat.housing_poisson_ratio) / seat.housing_young_modulus;
+    const double rho_s = 1.0 / (1.0 / pin_radius - 1.0 / seat.groove_radius);
+    seat_b1_ = std::sqrt(4.0 * rho_s * (cp_ + ch) / (kPi * length));
+    seat_a_ = cp_ * (std::log(4.0 * pin_radius / seat_b1_) - 0.5) +
+              ch * (std::log(4.0 * std::min(seat.groove_radius, log_radius_cap) / seat_b1_) - 0.5);
+    seat_c_ = cp_ + ch;
+    seat_max = std::exp(2.0 * seat_a_ / seat_c_ - 1.0);
+    seat_valid_half_width_ = 0.1 * pin_radius;
+  }
+  if (form_ == Form::kLinear && seat.kind == PinSeat::Kind::kLinear) {
+    k_lin_ = 1.0 / (1.0 / k_lin_ + 1.0 / (seat.stiffness_per_length * length));
+    return;
+  }
+  if (form_ == Form::kLinear) {  // a linear contact in the log form: F / k = (2F / (pi B)) pi B / (2 k)
+    log_a_ = kPi * length / (2.0 * k_lin_);
+    log_c_ = 0.0;
+    form_ = Form::kLog;
+  }
+  log_a_ += seat_a_;
+  log_c_ += seat_c_;
+  // Each part rises while ln F < 2 A_i / C_i - 1, so the sum does up to the smaller of the parts'
+  // largest forces (a linear part has none); beyond it a part's formula stops meaning anything.
+  max_force_ = std::min(max_force_, seat_max);
+  max_approach_ = std::isfinite(max_force_) ? HertzApproach(max_force_) : kInf;
 }
 
 double ContactLaw::HertzApproach(double force) const {
-  return 2.0 * force / (kPi * length_) * (hertz_a_ - 0.5 * (cc_ + cp_) * std::log(force));
+  return 2.0 * force / (kPi * length_) * (log_a_ - 0.5 * log_c_ * std::log(force));
 }
 
 double ContactLaw::SagittaApproach(double s) const {
@@ -140,10 +230,10 @@ double ContactLaw::SagittaApproach(double s) const {
 
 double ContactLaw::Approach(double force) const {
   if (!(force > 0.0)) return 0.0;
-  switch (kind_) {
-    case LawKind::kLinear: return force / k_lin_;
-    case LawKind::kHertzLine: return HertzApproach(std::min(force, max_force_));
-    case LawKind::kSagitta: return SagittaApproach(sagitta_factor_ * std::min(force, max_force_));
+  switch (form_) {
+    case Form::kLinear: return force / k_lin_;
+    case Form::kLog: return HertzApproach(std::min(force, max_force_));
+    case Form::kSagitta: return SagittaApproach(sagitta_factor_ * std::min(force, max_force_));
   }
   return 0.0;
 }
@@ -156,30 +246,32 @@ double ContactLaw::Force(double approach) const {
 double ContactLaw::Force(double approach, double* hint) const {
   if (!(approach > 0.0)) return 0.0;
   if (approach >= max_approach_) return max_force_;
-  switch (kind_) {
-    case LawKind::kLinear:
+  switch (form_) {
+    case Form::kLinear:
       return *hint = k_lin_ * approach;
-    case LawKind::kHertzLine: {
+    case Form::kLog: {
       // Solve h(x) = x + ln(A - (C/2) x) + ln(2 / (pi B)) - ln(delta) = 0 for x = ln F. h is
       // increasing and concave below x_max, so Newton from the left converges monotonically.
-      const double c = cc_ + cp_;
-      const double x_max = 2.0 * hertz_a_ / c - 1.0;
+      // (C > 0 here: a linear contact on a linear seat stays in the linear form, and a groove
+      // adds its C.)
+      const double c = log_c_;
+      const double x_max = 2.0 * log_a_ / c - 1.0;
       const double shift = std::log(2.0 / (kPi * length_)) - std::log(approach);
-      const auto h = [&](double x) { return x + std::log(hertz_a_ - 0.5 * c * x) + shift; };
+      const auto h = [&](double x) { return x + std::log(log_a_ - 0.5 * c * x) + shift; };
       // From either side the first Newton iterate of a concave increasing function lands left of
       // the root, so a warm start from a nearby earlier force is as safe as the cold one.
       double x = (*hint > 0.0 && *hint < max_force_) ? std::log(*hint)
-                                                     : std::log(approach * kPi * length_ / (2.0 * hertz_a_));
+                                                     : std::log(approach * kPi * length_ / (2.0 * log_a_));
       x = std::min(x, x_max - 1.0);
       for (int it = 0; it < 100; ++it) {
-        const double step = -h(x) / (1.0 - 0.5 * c / (hertz_a_ - 0.5 * c * x));
+        const double step = -h(x) / (1.0 - 0.5 * c / (log_a_ - 0.5 * c * x));
         x = std::min(x + step, 0.5 * (x + x_max));  // stay left of x_max
         if (std::abs(step) <= 1e-15 * std::max(1.0, std::abs(x))) break;
       }
       *hint = std::exp(x);
       return *hint;
     }
-    case LawKind::kSagitta: {
+    case Form::kSagitta: {
       // delta(s) is increasing and convex in s = a^2: Newton from the right converges
       // monotonically. Start at the linearisation (to the right of the root), capped at s_max.
       const double s_max = max_force_ * sagitta_factor_;
@@ -203,14 +295,14 @@ double ContactLaw::Force(double approach, double* hint) const {
 
 double ContactLaw::Stiffness(double approach) const {
   if (!(approach > 0.0) || approach >= max_approach_) return 0.0;
-  switch (kind_) {
-    case LawKind::kLinear: return k_lin_;
-    case LawKind::kHertzLine: {
+  switch (form_) {
+    case Form::kLinear: return k_lin_;
+    case Form::kLog: {
       const double f = Force(approach);
-      const double c = cc_ + cp_;
-      return 1.0 / (2.0 / (kPi * length_) * (hertz_a_ - 0.5 * c * std::log(f) - 0.5 * c));
+      const double c = log_c_;
+      return 1.0 / (2.0 / (kPi * length_) * (log_a_ - 0.5 * c * std::log(f) - 0.5 * c));
     }
-    case LawKind::kSagitta: {
+    case Form::kSagitta: {
       const double s = sagitta_factor_ * Force(approach);
       return 1.0 / (sagitta_factor_ * (SagittaSlope(rho_c_abs_, s) + SagittaSlope(rho_p_, s)));
     }
@@ -220,14 +312,14 @@ double ContactLaw::Stiffness(double approach) const {
 
 double ContactLaw::Compliance(double force) const {
   if (force >= max_force_) return 0.0;
-  switch (kind_) {
-    case LawKind::kLinear: return 1.0 / k_lin_;
-    case LawKind::kHertzLine: {
-      if (!(force > 0.0)) return kInf;
-      const double c = cc_ + cp_;
-      return 2.0 / (kPi * length_) * (hertz_a_ - 0.5 * c * std::log(force) - 0.5 * c);
+  switch (form_) {
+    case Form::kLinear: return 1.0 / k_lin_;
+    case Form::kLog: {
+      if (!(force > 0.0)) return log_c_ > 0.0 ? kInf : 2.0 / (kPi * length_) * log_a_;
+      const double c = log_c_;
+      return 2.0 / (kPi * length_) * (log_a_ - 0.5 * c * std::log(force) - 0.5 * c);
     }
-    case LawKind::kSagitta: {
+    case Form::kSagitta: {
       const double s = sagitta_factor_ * std::max(force, 0.0);
       return sagitta_factor_ * (SagittaSlope(rho_c_abs_, s) + SagittaSlope(rho_p_, s));
     }
@@ -236,30 +328,46 @@ double ContactLaw::Compliance(double force) const {
 }
 
 double ContactLaw::Approach(double force, double* compliance) const {
-  if (kind_ != LawKind::kHertzLine || !(force > 0.0) || force >= max_force_) {
+  if (form_ != Form::kLog || !(force > 0.0) || force >= max_force_) {
     *compliance = Compliance(force);
     return Approach(force);
   }
-  const double c = cc_ + cp_;
+  const double c = log_c_;
   const double log_f = std::log(force);
-  *compliance = 2.0 / (kPi * length_) * (hertz_a_ - 0.5 * c * log_f - 0.5 * c);
-  return 2.0 * force / (kPi * length_) * (hertz_a_ - 0.5 * c * log_f);
+  *compliance = 2.0 / (kPi * length_) * (log_a_ - 0.5 * c * log_f - 0.5 * c);
+  return 2.0 * force / (kPi * length_) * (log_a_ - 0.5 * c * log_f);
 }
 
 double ContactLaw::ComplementaryEnergy(double force) const {
   if (!(force > 0.0)) return 0.0;
-  switch (kind_) {
-    case LawKind::kLinear: return 0.5 * force * force / k_lin_;
-    case LawKind::kHertzLine: {
-      const double c = cc_ + cp_;
-      return force * force / (kPi * length_) * (hertz_a_ - 0.5 * c * std::log(force) + 0.25 * c);
+  switch (form_) {
+    case Form::kLinear: return 0.5 * force * force / k_lin_;
+    case Form::kLog: {
+      const double c = log_c_;
+      return force * force / (kPi * length_) * (log_a_ - 0.5 * c * std::log(force) + 0.25 * c);
     }
-    case LawKind::kSagitta: {
+    case Form::kSagitta: {
       const double s = sagitta_factor_ * force;
       return (SagittaIntegral(rho_c_abs_, s) + SagittaIntegral(rho_p_, s)) / sagitta_factor_;
     }
   }
   return 0.0;
+}
+
+double ContactLaw::SeatApproach(double force) const {
+  if (!(force > 0.0) || (seat_a_ == 0.0 && seat_c_ == 0.0)) return 0.0;
+  const double f = std::min(force, max_force_);
+  return 2.0 * f / (kPi * length_) * (seat_a_ - 0.5 * seat_c_ * std::log(f));
+}
+
+double ContactLaw::SeatComplementaryEnergy(double force) const {
+  if (!(force > 0.0) || (seat_a_ == 0.0 && seat_c_ == 0.0)) return 0.0;
+  return force * force / (kPi * length_) * (seat_a_ - 0.5 * seat_c_ * std::log(force) + 0.25 * seat_c_);
+}
+
+double ContactLaw::SeatHalfWidth(double force) const {
+  if (!(force > 0.0) || seat_b1_ == 0.0) return 0.0;
+  return seat_b1_ * std::sqrt(force);
 }
 
 double ContactLaw::HalfWidth(double force) const {

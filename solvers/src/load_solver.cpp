@@ -42,28 +42,45 @@ void JudgeRange(const LoadProblem& problem, const SolverOptions& options, LoadRe
 
 // A solved result whose figures lie beyond the material or the law's idealisation keeps its
 // status and carries warnings (one per kind, naming the worst pin).
-void JudgeValidity(const LoadProblem& problem, const std::vector<LoadProblem::PinAt>& pins, LoadResult* result) {
-  double worst_stress = 0.0, worst_ratio = 0.0;
-  int stress_pin = -1, width_pin = -1;
-  for (std::size_t i = 0; i < pins.size(); ++i) {
+// A point as the warnings name it: its pin, and its disc when there are two.
+std::string PointName(const LoadProblem& problem, int point) {
+  const contact::PinContact& p = problem.base_state().pins[static_cast<std::size_t>(point)];
+  if (problem.disc_count() == 1) return fmt::format("pin {}", p.pin + 1);
+  return fmt::format("pin {} of disc {}", p.pin + 1, p.disc + 1);
+}
+
+// laws: each point's law (nullptr for an edge point).
+void JudgeValidity(const LoadProblem& problem, const std::vector<const contact::ContactLaw*>& laws, LoadResult* result) {
+  double worst_stress = 0.0, worst_ratio = 0.0, worst_seat = 0.0;
+  int stress_pin = -1, width_pin = -1, seat_pin = -1;
+  for (std::size_t i = 0; i < laws.size() && i < result->force.size(); ++i) {
     const double f = result->force[i];
-    if (!(f > 0.0) || pins[i].law == nullptr) continue;
-    const double p = pins[i].law->MaxPressure(f);
+    if (!(f > 0.0) || laws[i] == nullptr) continue;
+    const double p = laws[i]->MaxPressure(f);
     if (p > worst_stress) worst_stress = p, stress_pin = static_cast<int>(i);
-    const double ratio = pins[i].law->HalfWidth(f) / pins[i].law->valid_half_width();
+    const double ratio = laws[i]->HalfWidth(f) / laws[i]->valid_half_width();
     if (ratio > worst_ratio) worst_ratio = ratio, width_pin = static_cast<int>(i);
+    const double seat = laws[i]->SeatHalfWidth(f) / laws[i]->seat_valid_half_width();
+    if (seat > worst_seat) worst_seat = seat, seat_pin = static_cast<int>(i);
+  }
+  if (worst_seat > 1.0) {
+    const auto k = static_cast<std::size_t>(seat_pin);
+    result->warnings.push_back(fmt::format(
+        "the groove's Hertz half-width {:.4g} mm at {} exceeds a tenth of the pin radius ({:.4g} mm): a conformal "
+        "contact beyond the validity of the line-contact law ([pins] groove_radius_mm)",
+        laws[k]->SeatHalfWidth(result->force[k]), PointName(problem, seat_pin), laws[k]->seat_valid_half_width()));
   }
   const double limit = problem.material().contact_stress_limit;
   if (worst_stress > limit) {
     result->warnings.push_back(fmt::format(
-        "contact stress {:.6g} MPa at pin {} exceeds the material limit {:.6g} MPa ([material] contact_stress_limit_mpa)",
-        worst_stress, stress_pin + 1, limit));
+        "contact stress {:.6g} MPa at {} exceeds the material limit {:.6g} MPa ([material] contact_stress_limit_mpa)",
+        worst_stress, PointName(problem, stress_pin), limit));
   }
   if (worst_ratio > 1.0) {
-    const double b = pins[static_cast<std::size_t>(width_pin)].law->HalfWidth(result->force[static_cast<std::size_t>(width_pin)]);
+    const double b = laws[static_cast<std::size_t>(width_pin)]->HalfWidth(result->force[static_cast<std::size_t>(width_pin)]);
     result->warnings.push_back(fmt::format(
-        "Hertz half-width {:.4g} mm at pin {} exceeds a tenth of the smaller radius of curvature ({:.4g} mm): "
-        "beyond the validity of the line-contact law", b, width_pin + 1, b / worst_ratio));
+        "Hertz half-width {:.4g} mm at {} exceeds a tenth of the smaller radius of curvature ({:.4g} mm): "
+        "beyond the validity of the line-contact law", b, PointName(problem, width_pin), b / worst_ratio));
   }
 }
 
@@ -166,6 +183,12 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
         result->status = SolverStatus::kResidualTooLarge;
         result->message += fmt::format("; shared residual {:.3g} exceeds {:.3g}", result->residuals.Normalised(), accepted);
       }
+      if (result->status == SolverStatus::kSuccess) {  // the pin ring's stresses and laws, as for the mesh alone
+        const auto& base = problem.base_laws();
+        std::vector<const contact::ContactLaw*> laws(base.size());
+        for (std::size_t i = 0; i < base.size(); ++i) laws[i] = problem.base_state().pins[i].edge ? nullptr : &base[i];
+        JudgeValidity(problem, laws, result);
+      }
     }
   }
   result->te = -problem.direction() * result->rotation;
@@ -266,7 +289,11 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
       result.message += fmt::format("; shared residual {:.3g} exceeds {:.3g}", result.residuals.Normalised(), accepted);
     }
     if (result.status == SolverStatus::kSuccess && problem.torque() != 0.0) JudgeRange(problem, options, &result);
-    if (result.status == SolverStatus::kSuccess) JudgeValidity(problem, pins, &result);
+    if (result.status == SolverStatus::kSuccess) {
+      std::vector<const contact::ContactLaw*> laws(pins.size());
+      for (std::size_t i = 0; i < pins.size(); ++i) laws[i] = pins[i].law;
+      JudgeValidity(problem, laws, &result);
+    }
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

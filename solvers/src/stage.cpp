@@ -21,6 +21,7 @@ const char* ToString(StageGroup group) {
     case StageGroup::kOutput: return "output";
     case StageGroup::kBearings: return "bearings";
     case StageGroup::kShafts: return "shafts";
+    case StageGroup::kSeats: return "pin_seats";
   }
   return "?";
 }

@@ -114,7 +114,9 @@ StageSystem::StageSystem(const LoadProblem& problem) : problem_(&problem) {
   // The output member's nominal rotation: the first disc's (the holes and cranks of every disc
   // sit where the output member's pins and cranks are at the nominal poses).
   const double output_rotation = problem.model().kinematics().CycloidPose(problem.crank()).rotation;
-  const contact::ContactSettings& contact = problem.contact_settings();
+  // The output pins are not seated in the pin ring's grooves: their laws have no seat.
+  contact::ContactSettings contact = problem.contact_settings();
+  contact.seat = contact::PinSeat{};
   const double cap = contact.log_radius_cap > 0.0 ? contact.log_radius_cap : problem.model().pair().pin_circle_radius;
   const double width = problem.model().pair().face_width;
   for (int d = 0; d < discs_; ++d) {
@@ -402,7 +404,11 @@ void StageSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
     if (!(delta > 0.0) || e.law < 0) continue;
     const contact::ContactLaw& law = laws_[static_cast<std::size_t>(e.law)];
     const double f = law.Force(delta);
-    stage.group_energy[static_cast<std::size_t>(e.group)] += f * delta - law.ComplementaryEnergy(f);
+    // A seated pin's strain energy splits between its contact and its seat: each part's
+    // F w_part(F) - (complementary energy of the part).
+    const double seat = f * law.SeatApproach(f) - law.SeatComplementaryEnergy(f);
+    stage.group_energy[static_cast<std::size_t>(e.group)] += f * delta - law.ComplementaryEnergy(f) - seat;
+    stage.group_energy[static_cast<std::size_t>(StageGroup::kSeats)] += seat;
     StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(e.disc)];
     if (e.group == StageGroup::kMesh) {
       result->force[static_cast<std::size_t>(e.index)] = f;

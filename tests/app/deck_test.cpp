@@ -632,3 +632,30 @@ radial_clearance_mm = 0.005
   CHECK(Contains(ErrorOf(cranks + "pin_radius_mm = 5\n[bearing]\nkind = \"linear\"\nradial_stiffness_n_per_mm = 1e5\n"),
                  "[output] pin_radius_mm: not a key of kind = \"cranks\""));
 }
+
+TEST_CASE("app: [pins] seat (issue 25) seats the pins in grooves or on a foundation; what does not apply is an error") {
+  const std::string groove = std::string(kGood) + "[pins]\nseat = \"groove\"\ngroove_radius_mm = 3.05\n";
+  const auto deck = ParseDeck(groove, "t.toml");
+  CHECK(deck.contact.seat.kind == ltca::contact::PinSeat::Kind::kGroove);
+  CHECK(deck.contact.seat.groove_radius == 3.05);
+  // The housing takes the disc's elastic constants unless given.
+  CHECK(deck.contact.seat.housing_young_modulus == 206000.0);
+  CHECK(deck.contact.seat.housing_poisson_ratio == 0.3);
+  CHECK(!deck.pins.has_value());  // no pin bending
+  CHECK(deck.Model().name == "plane+pin-seats");
+  CHECK(deck.Model().pin_seat == "groove");
+  const auto iron = ParseDeck(groove + "housing_young_modulus_mpa = 174000\nhousing_poisson_ratio = 0.275\n", "t.toml");
+  CHECK(iron.contact.seat.housing_young_modulus == 174000.0);
+  const auto linear = ParseDeck(std::string(kGood) + "[pins]\nseat = \"linear\"\nseat_stiffness_n_per_mm2 = 3e4\n", "t.toml");
+  CHECK(linear.contact.seat.stiffness_per_length == 3e4);
+  // Errors, each naming its key.
+  CHECK(Contains(ErrorOf(std::string(kGood) + "[pins]\nseat = \"loose\"\n"), "[pins] seat = \"loose\""));
+  CHECK(Contains(ErrorOf(std::string(kGood) + "[pins]\n"), "[pins]: expected span_mm and face_offset_mm"));
+  CHECK(Contains(ErrorOf(groove + "seat_stiffness_n_per_mm2 = 3e4\n"), "[pins] seat_stiffness_n_per_mm2: not a key of seat = \"groove\""));
+  CHECK(Contains(ErrorOf(std::string(kGood) + "[pins]\ngroove_radius_mm = 3.05\n"), "[pins] groove_radius_mm: not a key of seat = \"rigid\""));
+  CHECK(Contains(ErrorOf(Replace(groove, "3.05", "2.9")), "[pins] groove_radius_mm = 2.9"));
+  CHECK(Contains(ErrorOf(groove + "span_mm = 20\nface_offset_mm = 4\n"), "[pins] seat = \"groove\" with span_mm"));
+  CHECK(Contains(ErrorOf(groove + "[contact]\nlaw = \"sagitta\"\n"), "[pins] seat = \"groove\": a seat in series is built for"));
+  CHECK(Contains(ErrorOf(std::string(kGood) + "[pins]\nseat = \"linear\"\nseat_stiffness_n_per_mm2 = -1\n"),
+                 "[pins] seat_stiffness_n_per_mm2 = -1"));
+}

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <doctest/doctest.h>
@@ -37,12 +38,36 @@ ContactSettings Settings(LawKind law, RhoConvention rho) {
   return s;
 }
 
+ltca::contact::PinSeat LinearSeat(double k) {
+  ltca::contact::PinSeat seat;
+  seat.kind = ltca::contact::PinSeat::Kind::kLinear;
+  seat.stiffness_per_length = k;
+  return seat;
+}
+
+ltca::contact::PinSeat Groove(double radius, double e = 206000.0, double nu = 0.3) {
+  ltca::contact::PinSeat seat;
+  seat.kind = ltca::contact::PinSeat::Kind::kGroove;
+  seat.groove_radius = radius;
+  seat.housing_young_modulus = e;
+  seat.housing_poisson_ratio = nu;
+  return seat;
+}
+
 std::vector<ContactLaw> AllLaws() {
   std::vector<ContactLaw> laws;
   const Material steel;  // 206 GPa, 0.3
   for (const LawKind kind : {LawKind::kHertzLine, LawKind::kSagitta, LawKind::kLinear}) {
     for (const RhoConvention rho : {RhoConvention::kSigned, RhoConvention::kAbsolute}) {
       for (const Geometry& g : kGeometries) laws.emplace_back(Settings(kind, rho), steel, g.curvature, 3.0, 12.0, 64.0);
+    }
+  }
+  // Seated pins (issue 25): hertz-line and linear contacts, each on a linear seat and in a groove.
+  for (const LawKind kind : {LawKind::kHertzLine, LawKind::kLinear}) {
+    for (const ltca::contact::PinSeat& seat : {LinearSeat(3e4), Groove(3.01)}) {
+      ContactSettings s = Settings(kind, RhoConvention::kSigned);
+      s.seat = seat;
+      for (const Geometry& g : kGeometries) laws.emplace_back(s, steel, g.curvature, 3.0, 12.0, 64.0);
     }
   }
   return laws;
@@ -191,4 +216,82 @@ TEST_CASE("contact: a pin in a hole (issue 25's output pins) is a conformal line
   CHECK(law.equivalent_radius() == doctest::Approx(55.0).epsilon(1e-12));
   CHECK(law.HalfWidth(2000.0) == doctest::Approx(0.3517656966).epsilon(1e-9));
   CHECK(law.MaxPressure(2000.0) == doctest::Approx(361.9567107).epsilon(1e-9));
+}
+
+TEST_CASE("contact: a seated pin's law is its contact's and its seat's approach in series") {
+  // Issue 25, pin seats. The seat's approach typed in from its sources, independently of the law's
+  // constants: a linear foundation F / (k_s B); a groove, Johnson (Contact Mechanics, eq. 5.37 and
+  // 4.3) for a pin of radius r_p in a concave groove of radius r_g: (2F / (pi B)) [C_p (ln(4 r_p / b)
+  // - 1/2) + C_h (ln(4 r_g / b) - 1/2)], b = sqrt(4 F rho* / (pi B E*)), 1/rho* = 1/r_p - 1/r_g,
+  // 1/E* = C_p + C_h, C = (1 - nu^2) / E. r_p 3 mm, B 12 mm; a cast-iron housing (E 160 GPa, nu
+  // 0.26) in a 3.02 mm groove. Tolerance 1e-12 relative (the same arithmetic in another order).
+  const Material steel;
+  const double rp = 3.0, length = 12.0, rg = 3.02, eh = 160000.0, nuh = 0.26;
+  ContactSettings bare = Settings(LawKind::kHertzLine, RhoConvention::kSigned);
+  ContactSettings grooved = bare, linear = bare;
+  grooved.seat = Groove(rg, eh, nuh);
+  linear.seat = LinearSeat(5e4);
+  const double cp = (1.0 - 0.09) / 206000.0, ch = (1.0 - nuh * nuh) / eh;
+  const double rho = 1.0 / (1.0 / rp - 1.0 / rg);
+  for (const Geometry& g : kGeometries) {
+    CAPTURE(g.name);
+    const ContactLaw contact(bare, steel, g.curvature, rp, length, 64.0);
+    const ContactLaw in_groove(grooved, steel, g.curvature, rp, length, 64.0);
+    const ContactLaw on_spring(linear, steel, g.curvature, rp, length, 64.0);
+    // The groove on its own, through the law of a pin in a hole: the same formula, another path.
+    const ContactLaw groove_alone(bare, Material{eh, nuh, 206000.0, 0.3}, -1.0 / rg, rp, length, 64.0);
+    for (const double f : {1.0, 100.0, 5000.0, 20000.0}) {
+      if (f >= 0.5 * in_groove.max_force()) continue;
+      CAPTURE(f);
+      const double b = std::sqrt(4.0 * f * rho * (cp + ch) / (kPi * length));
+      const double seat = 2.0 * f / (kPi * length) * (cp * (std::log(4.0 * rp / b) - 0.5) + ch * (std::log(4.0 * rg / b) - 0.5));
+      CHECK(in_groove.Approach(f) == doctest::Approx(contact.Approach(f) + seat).epsilon(1e-12));
+      CHECK(in_groove.SeatApproach(f) == doctest::Approx(seat).epsilon(1e-12));
+      CHECK(groove_alone.Approach(f) == doctest::Approx(seat).epsilon(1e-12));
+      CHECK(in_groove.SeatHalfWidth(f) == doctest::Approx(b).epsilon(1e-12));
+      CHECK(on_spring.Approach(f) == doctest::Approx(contact.Approach(f) + f / (5e4 * length)).epsilon(1e-12));
+      CHECK(on_spring.SeatApproach(f) == doctest::Approx(f / (5e4 * length)).epsilon(1e-12));
+      // The complementary energies add as the approaches do.
+      CHECK(in_groove.ComplementaryEnergy(f) ==
+            doctest::Approx(contact.ComplementaryEnergy(f) + groove_alone.ComplementaryEnergy(f)).epsilon(1e-12));
+      CHECK(in_groove.SeatComplementaryEnergy(f) == doctest::Approx(groove_alone.ComplementaryEnergy(f)).epsilon(1e-12));
+      CHECK(on_spring.SeatComplementaryEnergy(f) == doctest::Approx(0.5 * f * f / (5e4 * length)).epsilon(1e-12));
+      // The stress and the half-width stay the pin-cycloid contact's.
+      CHECK(in_groove.MaxPressure(f) == contact.MaxPressure(f));
+      CHECK(in_groove.HalfWidth(f) == contact.HalfWidth(f));
+    }
+    // The series law is as strong as its weaker part: its largest force the smaller of the two.
+    CHECK(in_groove.max_force() == std::min(contact.max_force(), groove_alone.max_force()));
+    CHECK(contact.SeatApproach(100.0) == 0.0);
+    CHECK(contact.SeatHalfWidth(100.0) == 0.0);
+  }
+  // Linear on linear: springs in series, k = k_c k_s / (k_c + k_s).
+  ContactSettings lin = Settings(LawKind::kLinear, RhoConvention::kSigned);
+  lin.seat = LinearSeat(6e4);
+  const ContactLaw series(lin, steel, 0.2, rp, length, 64.0);
+  CHECK(series.Stiffness(1e-3) == doctest::Approx(2e4 * 6e4 / 8e4 * length).epsilon(1e-14));
+}
+
+TEST_CASE("contact: a seat's keys are checked and named") {
+  const auto rejects = [](const ltca::contact::PinSeat& seat, double rp, const char* text) {
+    CAPTURE(text);
+    try {
+      seat.Validate(rp);
+      FAIL("accepted");
+    } catch (const std::invalid_argument& e) {
+      CHECK(std::string(e.what()).find(text) != std::string::npos);
+    }
+  };
+  rejects(LinearSeat(0.0), 3.0, "[pins] seat_stiffness_n_per_mm2 = 0");
+  rejects(LinearSeat(NAN), 3.0, "seat_stiffness_n_per_mm2");
+  rejects(Groove(3.0), 3.0, "[pins] groove_radius_mm = 3: expected a finite groove radius larger than the pin radius 3");
+  rejects(Groove(2.5), 3.0, "groove_radius_mm = 2.5");
+  rejects(Groove(3.1, -1.0), 3.0, "[pins] housing_young_modulus_mpa = -1");
+  rejects(Groove(3.1, 2e5, 0.5), 3.0, "[pins] housing_poisson_ratio = 0.5");
+  CHECK_THROWS_WITH_AS(ltca::contact::ParsePinSeatKind("loose"), doctest::Contains("[pins] seat = \"loose\""),
+                       std::invalid_argument);
+  ContactSettings sagitta = Settings(LawKind::kSagitta, RhoConvention::kSigned);
+  sagitta.seat = LinearSeat(3e4);
+  CHECK_THROWS_WITH_AS(sagitta.Validate(), doctest::Contains("[pins] seat = \"linear\""), std::invalid_argument);
+  CHECK_THROWS_AS(ContactLaw(sagitta, Material{}, 0.2, 3.0, 12.0, 64.0), std::invalid_argument);
 }

@@ -61,9 +61,11 @@ StageSettings Cranks(double bearing_clearance) {
   return s;
 }
 
-LoadProblem Problem(const StageSettings& stage, double crank, double torque, bool two_discs) {
+LoadProblem Problem(const StageSettings& stage, double crank, double torque, bool two_discs,
+                    const ltca::contact::PinSeat& seat = {}) {
   const ModelPtr model = PerfectLiu();
-  const auto law = ltca::test::LinearLaw(kLawStiffness);
+  auto law = ltca::test::LinearLaw(kLawStiffness);
+  law.seat = seat;
   const LoadProblem mesh = two_discs ? LoadProblem(model, model, crank, law, {}, torque, ltca::contact::ContactKinematics::kLinearised)
                                      : LoadProblem(model, crank, law, {}, torque, ltca::contact::ContactKinematics::kLinearised);
   return mesh.WithStage(std::make_shared<const StageSettings>(stage));
@@ -111,7 +113,7 @@ struct Network {
   }
 };
 
-void AddPinRing(const LoadProblem& problem, int dofs, Network* net) {
+void AddPinRing(const LoadProblem& problem, int dofs, Network* net, double stiffness = kLawStiffness) {
   for (std::size_t i = 0; i < problem.base_state().pins.size(); ++i) {
     const auto& p = problem.base_state().pins[i];
     Spring s;
@@ -120,10 +122,39 @@ void AddPinRing(const LoadProblem& problem, int dofs, Network* net) {
     s.a(3 * p.disc + 1) = p.normal.y();
     s.a(3 * p.disc + 2) = p.arm;
     s.gap = p.clearance;
-    s.k = kLawStiffness * p.length;
+    s.k = stiffness * p.length;
     s.index = static_cast<int>(i);
     net->springs.push_back(s);
   }
+}
+
+/// One disc at `crank` on a linear eccentric bearing, the pin ring's springs of `ring` N/mm per mm,
+/// the output pins' of the law's (12 mm of contact).
+Network CycloidalDrive(const LoadProblem& problem, const StageSettings& stage, double crank, double ring) {
+  Network net;
+  net.dofs = 4;
+  AddPinRing(problem, 4, &net, ring);
+  const auto disc = problem.model().real_pair().CycloidPose(crank);
+  const double out = problem.model().kinematics().CycloidPose(crank).rotation;
+  for (const auto& c : ltca::contact::EvaluateOutputPins(stage.pins, {disc.centre, out}, out)) {
+    Spring s;
+    s.a = Eigen::Vector4d(-c.normal.x(), -c.normal.y(), c.disc_arm, c.output_arm);
+    s.gap = c.gap;
+    s.k = kLawStiffness * 12.0;
+    s.kind = 1;
+    s.index = c.pin;
+    net.springs.push_back(s);
+  }
+  net.fixed = Eigen::MatrixXd::Zero(4, 4);
+  net.fixed(0, 0) = net.fixed(1, 1) = stage.bearing.radial_stiffness;
+  return net;
+}
+
+/// A solve by `name` at a torque tolerance of 1e-13.
+LoadResult SolveTight(const std::string& name, const LoadProblem& problem) {
+  ltca::solvers::SolverOptions options = ltca::test::Named(name);
+  options.torque_tolerance = 1e-13;
+  return ltca::solvers::MakeSolver(name)->Solve(problem, options);
 }
 
 double MaxForce(const LoadResult& r) {
@@ -145,28 +176,11 @@ TEST_CASE("solvers: a cycloidal drive with linear laws and no clearance is the l
   const StageSettings stage = Pins(0.0, BearingKind::kLinear);
   const LoadProblem problem = Problem(stage, crank, torque, false);
   REQUIRE(problem.model().load_direction() == 1.0);
-  Network net;
-  net.dofs = 4;
-  AddPinRing(problem, 4, &net);
-  const auto disc = problem.model().real_pair().CycloidPose(crank);
-  const double out = problem.model().kinematics().CycloidPose(crank).rotation;
-  for (const auto& c : ltca::contact::EvaluateOutputPins(stage.pins, {disc.centre, out}, out)) {
-    Spring s;
-    s.a = Eigen::Vector4d(-c.normal.x(), -c.normal.y(), c.disc_arm, c.output_arm);
-    s.gap = c.gap;
-    s.k = kLawStiffness * 12.0;
-    s.kind = 1;
-    s.index = c.pin;
-    net.springs.push_back(s);
-  }
-  net.fixed = Eigen::MatrixXd::Zero(4, 4);
-  net.fixed(0, 0) = net.fixed(1, 1) = stage.bearing.radial_stiffness;
+  const Network net = CycloidalDrive(problem, stage, crank, kLawStiffness);
   const Eigen::VectorXd q = net.Solve(torque);
   for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
     CAPTURE(name);
-    ltca::solvers::SolverOptions options = ltca::test::Named(name);
-    options.torque_tolerance = 1e-13;
-    const LoadResult r = ltca::solvers::MakeSolver(name)->Solve(problem, options);
+    const LoadResult r = SolveTight(name, problem);
     INFO(r.message);
     REQUIRE(r.status == SolverStatus::kSuccess);
     REQUIRE(r.stage.has_value());
@@ -183,6 +197,40 @@ TEST_CASE("solvers: a cycloidal drive with linear laws and no clearance is the l
     // The bearing's force is k |t| against the translation.
     const Eigen::Vector2d t(q(0), q(1));
     CHECK((r.stage->discs[0].bearing_force[0] + stage.bearing.radial_stiffness * t).norm() <= 1e-9 * scale);
+    CHECK(r.residuals.balance_relative < 1e-9);
+  }
+}
+
+TEST_CASE("solvers: seated pins are springs in series with their contacts; the budget splits their energy (1e-9)") {
+  // The cycloidal drive of the test above with every ring pin on a linear seat of 6e4 N/mm per mm
+  // (issue 25, [pins] seat = "linear"): each pin-ring spring becomes k_c k_s / (k_c + k_s) = 1.5e4
+  // N/mm per mm, the output pins keep their 2e4 (they are not seated). In a series pair the
+  // energy divides as the compliances: the seats hold k_c / (k_c + k_s) = 1/4 of the pin ring's.
+  const double crank = 0.3, torque = 2.06e5, ks = 6e4;
+  ltca::contact::PinSeat seat;
+  seat.kind = ltca::contact::PinSeat::Kind::kLinear;
+  seat.stiffness_per_length = ks;
+  const StageSettings stage = Pins(0.0, BearingKind::kLinear);
+  const LoadProblem problem = Problem(stage, crank, torque, false, seat);
+  const Network net = CycloidalDrive(problem, stage, crank, kLawStiffness * ks / (kLawStiffness + ks));
+  const Eigen::VectorXd q = net.Solve(torque);
+  for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+    CAPTURE(name);
+    const LoadResult r = SolveTight(name, problem);
+    INFO(r.message);
+    REQUIRE(r.status == SolverStatus::kSuccess);
+    const double scale = MaxForce(r);
+    CHECK(r.rotation == doctest::Approx(q(3)).epsilon(1e-9));
+    for (const Spring& s : net.springs) {
+      const double f = s.k * std::max(0.0, s.a.dot(q) - s.gap);
+      const double got = s.kind == 0 ? r.force[static_cast<std::size_t>(s.index)]
+                                     : r.stage->discs[0].output_force[static_cast<std::size_t>(s.index)];
+      CHECK(std::abs(got - f) <= 1e-9 * scale);
+    }
+    const auto& e = r.stage->group_energy;
+    const double seats = e[static_cast<std::size_t>(ltca::solvers::StageGroup::kSeats)];
+    const double mesh = e[static_cast<std::size_t>(ltca::solvers::StageGroup::kMesh)];
+    CHECK(seats / (seats + mesh) == doctest::Approx(kLawStiffness / (kLawStiffness + ks)).epsilon(1e-9));
     CHECK(r.residuals.balance_relative < 1e-9);
   }
 }
@@ -214,9 +262,7 @@ TEST_CASE("solvers: an RV stage of two discs on three cranks with linear laws is
   const Eigen::VectorXd q = net.Solve(torque);
   for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
     CAPTURE(name);
-    ltca::solvers::SolverOptions options = ltca::test::Named(name);
-    options.torque_tolerance = 1e-13;
-    const LoadResult r = ltca::solvers::MakeSolver(name)->Solve(problem, options);
+    const LoadResult r = SolveTight(name, problem);
     INFO(r.message);
     REQUIRE(r.status == SolverStatus::kSuccess);
     const double scale = MaxForce(r);

@@ -34,6 +34,10 @@ ModelInfo StageDesign::Model() const {
     m.name = "plane";
     m.slices = 1;
   }
+  if (contact.seat.seated()) {  // issue 25: the pins seated in housing grooves
+    m.pin_seat = contact::ToString(contact.seat.kind);
+    m.name += "+pin-seats";
+  }
   if (second_disc) {  // issue 13
     m.discs = 2;
     m.name += "+two-discs";

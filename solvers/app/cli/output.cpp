@@ -257,6 +257,7 @@ nlohmann::json ModelJson(const app::Deck::ModelInfo& model) {
   if (!model.note.empty()) j["note"] = model.note;
   if (model.discs != 1) j["discs"] = model.discs;  // issue 13: [second_disc]
   if (!model.stage.empty()) j["stage"] = model.stage;  // issue 25: [output], [bearing]
+  if (!model.pin_seat.empty()) j["pin_seat"] = model.pin_seat;  // issue 25: [pins] seat
   if (model.tip_relief_source != "none" || !model.tip_relief_note.empty()) {
     j["tip_relief"] = {{"truncation_mm", model.tip_relief.truncation},
                        {"rounding_radius_mm", model.tip_relief.rounding_radius},

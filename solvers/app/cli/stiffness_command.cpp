@@ -37,6 +37,16 @@ constexpr const char* kStageScope =
     "the stage: the mesh, the output mechanism, the bearings and the shafts in one balance (docs/stage.md), the input "
     "locked at the crank angle; housing, carrier and output flange rigid";
 
+/// The scope line of a deck: the mesh alone or the stage, and the pins' seats when they are in it.
+std::string Scope(const app::Deck& deck) {
+  std::string scope = deck.reducer ? kStageScope : kScope;
+  if (deck.contact.seat.seated()) {
+    scope += fmt::format("; the pins' seats in their housing grooves ([pins] seat = \"{}\") in series with the mesh",
+                         contact::ToString(deck.contact.seat.kind));
+  }
+  return scope;
+}
+
 std::string Definition(const app::StiffnessSettings& s) {
   if (s.rigidity == app::StiffnessSettings::Rigidity::kSecant) {
     return "secant between 50 % and 100 % of T on each flank; both flanks: T / (a_drive + a_coast)";
@@ -281,11 +291,11 @@ int RunStiffness(const app::Deck& deck_given, const StiffnessOptions& options, c
                                  RadToDeg(deck.sweep.crank_end))
                    : fmt::format("crank {:g} deg", RadToDeg(*settings.crank)));
   fmt::print(text, "rigidity  {}\n", Definition(settings));
-  fmt::print(text, "scope     {}\n", deck.reducer ? kStageScope : kScope);
+  fmt::print(text, "scope     {}\n", Scope(deck));
   fmt::print(text, "{:>10} {:>18} {:>18} {:>16} {:>8}\n", "crank_deg", "rigidity_nm/amin", "lost_motion_amin", "backlash_amin", "status");
 
   if (json.enabled()) {
-    nlohmann::json stiffness = {{"scope", deck.reducer ? kStageScope : kScope},
+    nlohmann::json stiffness = {{"scope", Scope(deck)},
                                 {"rated_torque_nm", NmmToNm(rated)},
                                 {"steps_per_branch", settings.steps},
                                 {"rigidity_definition", Definition(settings)},

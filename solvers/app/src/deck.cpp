@@ -1061,12 +1061,57 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     if (material.Present()) deck.material = ReadMaterial(material);
     const Section pins(Find(root, "pins"), "pins");
     if (pins.Present()) {
-      contact::PinSupport p;
-      p.span = pins.Real("span_mm");
-      p.support = contact::ParsePinSupport(pins.String("support", "simply-supported"));
-      p.face_offset = pins.Real("face_offset_mm");
-      p.Validate(deck.pair.face_width);
-      deck.pins = p;
+      // Two ways a pin is held (issue 25): at its two ends, bending between them (span_mm,
+      // support, face_offset_mm: issue 11), or seated along its length in a housing groove (seat).
+      const bool bending = pins.Has("span_mm") || pins.Has("face_offset_mm") || pins.Has("support");
+      contact::PinSeat& seat = deck.contact.seat;
+      seat.kind = contact::ParsePinSeatKind(pins.String("seat", "rigid"));
+      const auto seat_reject = [&](std::initializer_list<const char*> keys) {
+        for (const char* key : keys) {
+          if (pins.Has(key)) {
+            throw std::invalid_argument(fmt::format("[pins] {}: not a key of seat = \"{}\"", key, contact::ToString(seat.kind)));
+          }
+        }
+      };
+      if (seat.kind != contact::PinSeat::Kind::kLinear) seat_reject({"seat_stiffness_n_per_mm2"});
+      if (seat.kind != contact::PinSeat::Kind::kGroove) {
+        seat_reject({"groove_radius_mm", "housing_young_modulus_mpa", "housing_poisson_ratio"});
+      }
+      if (bending && seat.seated()) {
+        throw std::invalid_argument(fmt::format(
+            "[pins] seat = \"{}\" with span_mm: a pin seated along its length in a groove is not also held at its "
+            "ends and bending between them (pin bending); expected one of the two",
+            contact::ToString(seat.kind)));
+      }
+      if (!bending && !seat.seated()) {
+        throw std::invalid_argument("[pins]: expected span_mm and face_offset_mm (pins held at their ends, bending) or "
+                                    "seat = \"linear\" | \"groove\" (pins seated in housing grooves)");
+      }
+      if (bending) {
+        contact::PinSupport p;
+        p.span = pins.Real("span_mm");
+        p.support = contact::ParsePinSupport(pins.String("support", "simply-supported"));
+        p.face_offset = pins.Real("face_offset_mm");
+        p.Validate(deck.pair.face_width);
+        deck.pins = p;
+      }
+      if (seat.kind == contact::PinSeat::Kind::kLinear) seat.stiffness_per_length = pins.Real("seat_stiffness_n_per_mm2");
+      if (seat.kind == contact::PinSeat::Kind::kGroove) {
+        seat.groove_radius = pins.Real("groove_radius_mm");
+        // The housing takes the disc's elastic constants unless given.
+        const bool need = !pins.Has("housing_young_modulus_mpa") || !pins.Has("housing_poisson_ratio");
+        if (need && !deck.material) {
+          throw std::invalid_argument("[pins] seat = \"groove\": expected housing_young_modulus_mpa and "
+                                      "housing_poisson_ratio, or a [material] section whose disc constants the "
+                                      "housing takes");
+        }
+        seat.housing_young_modulus = pins.Has("housing_young_modulus_mpa") ? pins.Real("housing_young_modulus_mpa")
+                                                                           : deck.material->young_modulus;
+        seat.housing_poisson_ratio =
+            pins.Has("housing_poisson_ratio") ? pins.Real("housing_poisson_ratio") : deck.material->poisson_ratio;
+      }
+      seat.Validate(deck.pair.pin_radius);
+      deck.contact.Validate();  // a seat with the sagitta law
     }
     const Section load(Find(root, "load"), "load");
     if (load.Present()) deck.load = ReadLoad(load);
@@ -1123,8 +1168,8 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
                                     "does not yet take up the stage's clearances (docs/stage.md); expected one of the two");
       }
       if (deck.pins) {
-        throw std::invalid_argument("[output] with [pins]: the stage does not take pin bending yet (docs/stage.md); "
-                                    "expected one of the two");
+        throw std::invalid_argument("[output] with [pins] span_mm: the stage does not take pin bending yet "
+                                    "(docs/stage.md; pin seats, [pins] seat, it does); expected one of the two");
       }
     } else if (bearing.Present()) {
       throw std::invalid_argument("[bearing] without [output]: the bearing belongs to the reducer stage; expected an "

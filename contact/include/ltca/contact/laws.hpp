@@ -17,6 +17,18 @@
 //              dimensionally a length; the normal deflection F / K_n is used (docs/validation.md).
 //              Valid while a < min(|rho_c|, r).
 //  linear      F = k B delta, k in N/mm^2 (per mm of contact length): closed-form checks.
+//
+// A pin seat (PinSeat, issue 25; docs/stage.md "Pin seats") adds the compliance of the pin's seat
+// in its housing groove in series: the approach at a force is the contact's plus the seat's,
+// delta(F) = delta_contact(F) + delta_seat(F), one law per contact point (each slice of the face
+// width seated on its own length of groove, as each slice carries its own contact). A linear seat
+// gives delta_seat = F / (k_s B); a groove the hertz-line formula of a pin of radius r_p inside a
+// concave groove of radius r_g > r_p (1/rho* = 1/r_p - 1/r_g; the pin and the housing as the two
+// bodies: C_p (ln(4 r_p / b) - 1/2) + C_h (ln(4 min(r_g, cap) / b) - 1/2)). Both keep the form
+// delta = (2F / (pi B)) [A - (C/2) ln F] of hertz-line, with A and C the sums of the parts'
+// (a linear part adds pi B / (2 k) to A and nothing to C). The stresses and the half-width stay the
+// pin-cycloid contact's.
+#include <limits>
 #include <string>
 
 #include "ltca/contact/material.hpp"
@@ -33,6 +45,24 @@ enum class RhoConvention {
 
 enum class LawKind { kHertzLine, kSagitta, kLinear };
 
+/// The seat of every ring pin in its housing groove ([pins] seat keys): rigid (today's model), a
+/// linear foundation, or the groove's conformal Hertz line contact. In series with each contact.
+struct PinSeat {
+  enum class Kind { kRigid, kLinear, kGroove };
+  Kind kind = Kind::kRigid;
+  double stiffness_per_length = 0.0;   ///< kLinear: N/mm^2 per mm of seat length (deck: seat_stiffness_n_per_mm2)
+  double groove_radius = 0.0;          ///< kGroove: r_g, mm (deck: groove_radius_mm), > the pin radius
+  double housing_young_modulus = 0.0;  ///< kGroove: MPa (deck: housing_young_modulus_mpa)
+  double housing_poisson_ratio = 0.0;  ///< kGroove (deck: housing_poisson_ratio)
+  bool seated() const { return kind != Kind::kRigid; }
+  /// Throws std::invalid_argument naming the `[pins]` key: a linear stiffness from 1 to 1e9
+  /// N/mm^2, a groove radius finite and larger than pin_radius (mm), the housing's E > 0 and
+  /// 0 <= nu < 0.5.
+  void Validate(double pin_radius) const;
+};
+PinSeat::Kind ParsePinSeatKind(const std::string& text);  ///< "rigid" | "linear" | "groove"; names `[pins] seat`
+const char* ToString(PinSeat::Kind kind);
+
 /// The [contact] section.
 struct ContactSettings {
   LawKind law = LawKind::kHertzLine;
@@ -44,6 +74,10 @@ struct ContactSettings {
   /// Largest |rho_c| entering the logarithm of the hertz-line law, mm; 0 = the pin-circle radius
   /// of the pair (deck: log_radius_cap_mm).
   double log_radius_cap = 0.0;
+  /// The pins' seat, in series with every pin-ring contact (deck: [pins] seat keys). The output
+  /// pins of a stage are not seated (their laws are built without it).
+  PinSeat seat;
+  /// Also refuses a seat with the sagitta law (not built: its approach is not of the log form).
   void Validate() const;
 };
 
@@ -76,6 +110,15 @@ class ContactLaw {
   double ComplementaryEnergy(double force) const;
   double max_force() const { return max_force_; }      ///< N (infinite for the linear law)
   double max_approach() const { return max_approach_; }  ///< mm
+  /// The seat's part of Approach(force) and of ComplementaryEnergy(force) (0 when not seated), mm
+  /// and N*mm: the compliance budget's share of the pin seats.
+  double SeatApproach(double force) const;
+  double SeatComplementaryEnergy(double force) const;
+  /// The groove's Hertz half-width at a force, sqrt(4 F rho*_s / (pi B E*_s)), mm (0 unless a
+  /// groove seat), and the largest for which its Hertz idealisation is reasonable (a tenth of the
+  /// pin radius; infinite unless a groove seat).
+  double SeatHalfWidth(double force) const;
+  double seat_valid_half_width() const { return seat_valid_half_width_; }
 
   double equivalent_radius() const { return rho_eq_; }  ///< rho*, mm (may be large: conformal)
   /// Hertz line-contact half-width b = sqrt(4 F rho* / (pi B E*)), Liu eq. 23, mm.
@@ -91,7 +134,16 @@ class ContactLaw {
   double HertzApproach(double force) const;
   double SagittaApproach(double s) const;  // s = a^2
 
+  // How the approach is computed: linear (F / k_lin_), the log form
+  // (2F / (pi B)) [log_a_ - (log_c_ / 2) ln F] (hertz-line, or any law with a seat but sagitta), or
+  // sagitta.
+  enum class Form { kLinear, kLog, kSagitta };
   LawKind kind_;
+  Form form_ = Form::kLinear;
+  double log_a_ = 0.0, log_c_ = 0.0;
+  double seat_a_ = 0.0, seat_c_ = 0.0;  // the seat's part of log_a_, log_c_ (0: no seat)
+  double seat_b1_ = 0.0;                 // groove: b_s = seat_b1_ sqrt(F), mm/N^0.5
+  double seat_valid_half_width_ = std::numeric_limits<double>::infinity();
   double length_;
   double e_star_;      // MPa
   double rho_eq_;      // mm

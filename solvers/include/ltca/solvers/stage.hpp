@@ -50,8 +50,9 @@ struct StageSettings {
 };
 
 /// The element groups of the compliance budget.
-enum class StageGroup { kMesh, kOutput, kBearings, kShafts };
-inline constexpr int kStageGroups = 4;
+/// kMesh: the pin-cycloid contacts; kSeats: the pins' seats in series with them ([pins] seat).
+enum class StageGroup { kMesh, kOutput, kBearings, kShafts, kSeats };
+inline constexpr int kStageGroups = 5;
 const char* ToString(StageGroup group);
 
 /// What a stage solve found besides the pin-ring forces (LoadResult::force) and the output

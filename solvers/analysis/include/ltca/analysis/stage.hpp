@@ -52,6 +52,9 @@ struct ModelInfo {
   /// The reducer stage's elements (issue 25): "" for the mesh alone (disc centres fixed, T on the
   /// discs), else "<output>+<bearing> bearing", e.g. "pins+rollers bearing", "cranks+linear bearing".
   std::string stage;
+  /// The pins' seat in series with every pin-ring contact ([pins] seat, issue 25): "" for rigid,
+  /// else "linear" or "groove".
+  std::string pin_seat;
 };
 
 /// What is loaded together, as data (a deck's [pair], [modification], [errors], [geometry],
