@@ -23,6 +23,7 @@ void Cranks::Validate() const {
           "a shaft stiffness > 0 N/mm (leave the key out for a rigid shaft)");
   require(std::isfinite(turns_per_output_turn), "crank_turns_per_output_turn", turns_per_output_turn,
           "a finite number of turns");
+  ValidateHoleDeviations(hole_deviation, count);
 }
 
 std::vector<CrankContact> EvaluateCranks(const Cranks& cranks, const geometry::Pose& disc, double output_rotation) {
@@ -35,7 +36,7 @@ std::vector<CrankContact> EvaluateCranks(const Cranks& cranks, const geometry::P
     c.crank = j;
     c.crank_centre = carrier.ToFixed(local);
     c.eccentric_centre = c.crank_centre + disc.centre;
-    c.hole_centre = disc.ToFixed(local);
+    c.hole_centre = disc.ToFixed(HoleInDisc(cranks.circle_radius, alpha, cranks.hole_deviation, j));
     c.offset = c.eccentric_centre - c.hole_centre;
     c.output_gradient = geometry::Perp(c.crank_centre) + cranks.turns_per_output_turn * geometry::Perp(disc.centre);
     c.disc_rotation_gradient = -geometry::Perp(c.hole_centre - disc.centre);

@@ -32,6 +32,7 @@ void OutputPins::Validate(double eccentricity) const {
   require(spacing > 2.0 * hole_radius, "hole_radius_mm", hole_radius,
           fmt::format("holes that do not overlap: below {:g} mm for {} holes on circle_radius_mm = {:g}", 0.5 * spacing,
                       count, circle_radius));
+  ValidateHoleDeviations(hole_deviation, count);
 }
 
 std::vector<OutputPinContact> EvaluateOutputPins(const OutputPins& pins, const geometry::Pose& disc,
@@ -44,7 +45,7 @@ std::vector<OutputPinContact> EvaluateOutputPins(const OutputPins& pins, const g
     OutputPinContact& c = out[static_cast<std::size_t>(j)];
     c.pin = j;
     c.pin_centre = output.ToFixed(local);
-    c.hole_centre = disc.ToFixed(local);
+    c.hole_centre = disc.ToFixed(HoleInDisc(pins.circle_radius, alpha, pins.hole_deviation, j));
     const Eigen::Vector2d offset = c.pin_centre - c.hole_centre;
     const double distance = offset.norm();
     if (!(distance > 0.0)) {

@@ -625,6 +625,15 @@ radial_clearance_mm = 0.005
   CHECK(Contains(ErrorOf(Replace(pins, "count = 8", "count = 2000000000")), "[output] count = 2e+09: expected 3 to 64"));
   CHECK(Contains(ErrorOf(Replace(pins, "count = 8", "count = 40")), "holes that do not overlap"));
   CHECK(Contains(ErrorOf(Replace(pins, "roller_count = 14", "roller_count = 100000")), "[bearing] roller_count"));
+  // Per-hole position deviations: one per hole, either list alone, small.
+  const auto holes = ParseDeck(Replace(pins, "phase_deg = 22.5", "hole_radial_deviations_mm = [0.008, 0, 0, 0, 0, 0, 0, -0.004]"), "t.toml");
+  REQUIRE(holes.reducer->pins.hole_deviation.size() == 8);
+  CHECK(holes.reducer->pins.hole_deviation[0] == Eigen::Vector2d(0.008, 0.0));
+  CHECK(holes.reducer->pins.hole_deviation[7] == Eigen::Vector2d(-0.004, 0.0));
+  CHECK(Contains(ErrorOf(Replace(pins, "phase_deg = 22.5", "hole_tangential_deviations_mm = [0.008, 0]")),
+                 "[output] hole_tangential_deviations_mm: 2 values; expected one per hole ([output] count = 8)"));
+  CHECK(Contains(ErrorOf(Replace(pins, "phase_deg = 22.5", "hole_radial_deviations_mm = [0, 0, 0, 2.5, 0, 0, 0, 0]")),
+                 "[output] hole_radial_deviations_mm[3] = 2.5: looks like an absolute value"));
   // Rigid cranks in rigid holes: the crank loads would be statically indeterminate.
   const std::string cranks = std::string(kGood) + "[output]\nkind = \"cranks\"\ncount = 3\ncircle_radius_mm = 35.0\n";
   CHECK(Contains(ErrorOf(cranks), "statically indeterminate"));

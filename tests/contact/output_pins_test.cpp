@@ -108,3 +108,45 @@ TEST_CASE("contact: [output] pins are refused with the key, the value and what i
   p.count = 2;
   CHECK_THROWS_WITH_AS(p.Validate(1.3), doctest::Contains("[output] count = 2"), std::invalid_argument);
 }
+
+TEST_CASE("contact: a hole's position deviation moves only its own hole: the gap is r_h - r_w - |D + R(phi) d_j|") {
+  // At the nominal poses P_j - H_j = -D - R(phi) d_j, d_j = dr (cos a_j, sin a_j) + dt (-sin a_j,
+  // cos a_j) in the disc's frame (derived here from the placement of pin and hole, not from the
+  // code's). Hole 2 radially +8 um, hole 5 tangentially -6 um. 1e-12 mm. The arms stay the
+  // derivatives of the exact gap: the finite differences of the test above, with the deviations.
+  const ltca::geometry::Kinematics kinematics(ltca::test::LiuPair());
+  OutputPins pins = Eight(1.3, 0.02);
+  pins.hole_deviation.assign(8, Eigen::Vector2d::Zero());
+  pins.hole_deviation[2] = Eigen::Vector2d(0.008, 0.0);
+  pins.hole_deviation[5] = Eigen::Vector2d(0.0, -0.006);
+  CHECK_NOTHROW(pins.Validate(1.3));
+  for (const double crank : {0.0, 0.7, 2.3}) {
+    CAPTURE(crank);
+    const ltca::geometry::Pose disc = kinematics.CycloidPose(crank);
+    const auto contacts = EvaluateOutputPins(pins, disc, disc.rotation);
+    for (int j = 0; j < 8; ++j) {
+      CAPTURE(j);
+      const double a = 2.0 * ltca::units::kPi * j / 8 + disc.rotation;  // the hole's direction in the fixed frame
+      const Eigen::Vector2d r(std::cos(a), std::sin(a)), t(-std::sin(a), std::cos(a));
+      const Eigen::Vector2d& d = pins.hole_deviation[static_cast<std::size_t>(j)];
+      const double expected = pins.hole_radius - pins.pin_radius - (disc.centre + d.x() * r + d.y() * t).norm();
+      CHECK(std::abs(contacts[static_cast<std::size_t>(j)].gap - expected) < 1e-12);
+    }
+    const double h = 1e-7;
+    const auto approach = [&](const ltca::geometry::Pose& p, double out, int j) {
+      return -EvaluateOutputPins(pins, p, out)[static_cast<std::size_t>(j)].gap;
+    };
+    for (const int j : {2, 5}) {
+      const auto& c = contacts[static_cast<std::size_t>(j)];
+      ltca::geometry::Pose turned = disc, back = disc;
+      turned.rotation += h, back.rotation -= h;
+      CHECK((approach(turned, disc.rotation, j) - approach(back, disc.rotation, j)) / (2 * h) ==
+            doctest::Approx(c.disc_arm).epsilon(1e-6).scale(40.0));
+    }
+  }
+  // One pair per hole, finite.
+  pins.hole_deviation.resize(7);
+  CHECK_THROWS_WITH_AS(pins.Validate(1.3), doctest::Contains("expected one per hole ([output] count = 8)"), std::invalid_argument);
+  pins.hole_deviation.assign(8, Eigen::Vector2d(0.0, NAN));
+  CHECK_THROWS_WITH_AS(pins.Validate(1.3), doctest::Contains("[output] hole_tangential_deviations_mm[0]"), std::invalid_argument);
+}

@@ -150,6 +150,17 @@ Network CycloidalDrive(const LoadProblem& problem, const StageSettings& stage, d
   return net;
 }
 
+/// Every pin-ring and output-pin force of a one-disc result against the network's at q, 1e-9 of
+/// `scale`.
+void CheckForces(const Network& net, const Eigen::VectorXd& q, const LoadResult& r, double scale) {
+  for (const Spring& s : net.springs) {
+    const double f = s.k * std::max(0.0, s.a.dot(q) - s.gap);
+    const double got = s.kind == 0 ? r.force[static_cast<std::size_t>(s.index)]
+                                   : r.stage->discs[0].output_force[static_cast<std::size_t>(s.index)];
+    CHECK(std::abs(got - f) <= 1e-9 * scale);
+  }
+}
+
 /// A solve by `name` at a torque tolerance of 1e-13.
 LoadResult SolveTight(const std::string& name, const LoadProblem& problem) {
   ltca::solvers::SolverOptions options = ltca::test::Named(name);
@@ -188,12 +199,7 @@ TEST_CASE("solvers: a cycloidal drive with linear laws and no clearance is the l
     CHECK(r.rotation == doctest::Approx(q(3)).epsilon(1e-9));
     CHECK(r.stage->discs[0].rotation == doctest::Approx(q(2)).epsilon(1e-9));
     CHECK(std::abs(r.stage->discs[0].translation.x() - q(0)) < 1e-9 * std::abs(q(0)) + 1e-15);
-    for (const Spring& s : net.springs) {
-      const double f = s.k * std::max(0.0, s.a.dot(q) - s.gap);
-      const double got = s.kind == 0 ? r.force[static_cast<std::size_t>(s.index)]
-                                     : r.stage->discs[0].output_force[static_cast<std::size_t>(s.index)];
-      CHECK(std::abs(got - f) <= 1e-9 * scale);
-    }
+    CheckForces(net, q, r, scale);
     // The bearing's force is k |t| against the translation.
     const Eigen::Vector2d t(q(0), q(1));
     CHECK((r.stage->discs[0].bearing_force[0] + stage.bearing.radial_stiffness * t).norm() <= 1e-9 * scale);
@@ -221,12 +227,7 @@ TEST_CASE("solvers: seated pins are springs in series with their contacts; the b
     REQUIRE(r.status == SolverStatus::kSuccess);
     const double scale = MaxForce(r);
     CHECK(r.rotation == doctest::Approx(q(3)).epsilon(1e-9));
-    for (const Spring& s : net.springs) {
-      const double f = s.k * std::max(0.0, s.a.dot(q) - s.gap);
-      const double got = s.kind == 0 ? r.force[static_cast<std::size_t>(s.index)]
-                                     : r.stage->discs[0].output_force[static_cast<std::size_t>(s.index)];
-      CHECK(std::abs(got - f) <= 1e-9 * scale);
-    }
+    CheckForces(net, q, r, scale);
     const auto& e = r.stage->group_energy;
     const double seats = e[static_cast<std::size_t>(ltca::solvers::StageGroup::kSeats)];
     const double mesh = e[static_cast<std::size_t>(ltca::solvers::StageGroup::kMesh)];
@@ -373,4 +374,47 @@ TEST_CASE("solvers: the stage's solvers agree on a cycloidal drive with Hertz co
     CHECK(refused.status == SolverStatus::kStageUnsupported);
     CHECK(std::isnan(refused.rotation));
   }
+}
+
+TEST_CASE("solvers: crank holes all displaced tangentially by dt turn the carrier by dt / R_c and change no force (1e-7)") {
+  // Every crank hole moved counterclockwise by dt along the crank circle: the eccentric j sits off
+  // its hole by -dt t_j (t_j the circle's tangent at crank j), which the carrier turned by
+  // dt / R_c takes back in the linearised balance (its gradient on the eccentric is
+  // perp(C_j) = R_c t_j). So the carrier turns by dt / R_c more and no force changes, up to the
+  // second-order term of the moved holes' arms for the disc's own rotation: (dt / R_c = 1.4e-4)
+  // times that rotation (~1e-4 rad), about 1e-8 of the forces. dt = 5 um; 1e-7 relative.
+  const double crank = 0.3, dt = 0.005;
+  StageSettings stage = Cranks(0.0);
+  const LoadProblem plain = Problem(stage, crank, 4.12e5, true);
+  stage.cranks.hole_deviation.assign(3, Eigen::Vector2d(0.0, dt));
+  const LoadProblem moved = Problem(stage, crank, 4.12e5, true);
+  REQUIRE(plain.model().load_direction() == 1.0);  // the problem's frame is counterclockwise
+  for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+    CAPTURE(name);
+    const LoadResult a = SolveTight(name, plain), b = SolveTight(name, moved);
+    REQUIRE(a.status == SolverStatus::kSuccess);
+    REQUIRE(b.status == SolverStatus::kSuccess);
+    CHECK(b.rotation - a.rotation == doctest::Approx(dt / stage.cranks.circle_radius).epsilon(1e-7));
+    const double scale = MaxForce(a);
+    for (std::size_t i = 0; i < a.force.size(); ++i) CHECK(std::abs(b.force[i] - a.force[i]) <= 1e-7 * scale);
+  }
+}
+
+TEST_CASE("solvers: a cycloidal drive with displaced holes is the linear network of its displaced holes (1e-9)") {
+  // The network test above with hole 1 radially +8 um and hole 4 tangentially -6 um (their gaps
+  // and normals from contact/output_pins, whose geometry tests/contact checks against the hand
+  // formula): the deviations reach the stage's balance.
+  const double crank = 0.3, torque = 2.06e5;
+  StageSettings stage = Pins(0.0, BearingKind::kLinear);
+  stage.pins.hole_deviation.assign(8, Eigen::Vector2d::Zero());
+  stage.pins.hole_deviation[1] = Eigen::Vector2d(0.008, 0.0);
+  stage.pins.hole_deviation[4] = Eigen::Vector2d(0.0, -0.006);
+  const LoadProblem problem = Problem(stage, crank, torque, false);
+  const Network net = CycloidalDrive(problem, stage, crank, kLawStiffness);
+  const Eigen::VectorXd q = net.Solve(torque);
+  const LoadResult r = SolveTight("compatibility", problem);
+  REQUIRE(r.status == SolverStatus::kSuccess);
+  const double scale = MaxForce(r);
+  CHECK(r.rotation == doctest::Approx(q(3)).epsilon(1e-9));
+  CheckForces(net, q, r, scale);
 }

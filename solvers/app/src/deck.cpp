@@ -993,6 +993,33 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
     }
     s.cranks.turns_per_output_turn = output.Real("crank_turns_per_output_turn", 0.0);
   }
+  // Each hole's position deviation in the disc (both discs alike): one radial and one tangential
+  // value per hole, either list alone (the other zero). Small, as every manufacturing error is.
+  const std::vector<double> radial = output.RealList("hole_radial_deviations_mm");
+  const std::vector<double> tangential = output.RealList("hole_tangential_deviations_mm");
+  const int count = pins ? s.pins.count : s.cranks.count;
+  contact::HoleDeviations deviations;
+  if (!radial.empty() || !tangential.empty()) {
+    for (const auto& [key, list] : {std::pair{"hole_radial_deviations_mm", &radial},
+                                    std::pair{"hole_tangential_deviations_mm", &tangential}}) {
+      if (!list->empty() && static_cast<int>(list->size()) != count) {
+        throw std::invalid_argument(fmt::format("[output] {}: {} values; expected one per hole ([output] count = {})",
+                                                key, list->size(), count));
+      }
+      for (std::size_t j = 0; j < list->size(); ++j) {
+        if (!std::isfinite((*list)[j])) {
+          throw std::invalid_argument(fmt::format("[output] {}[{}] = {}: expected a finite deviation in mm", key, j, (*list)[j]));
+        }
+        RequireSmallDeviation((*list)[j], "output", fmt::format("{}[{}]", key, j), pair);
+      }
+    }
+    deviations.assign(static_cast<std::size_t>(count), Eigen::Vector2d::Zero());
+    for (int j = 0; j < count; ++j) {
+      const auto k = static_cast<std::size_t>(j);
+      deviations[k] = Eigen::Vector2d(radial.empty() ? 0.0 : radial[k], tangential.empty() ? 0.0 : tangential[k]);
+    }
+  }
+  (pins ? s.pins.hole_deviation : s.cranks.hole_deviation) = std::move(deviations);
   contact::BearingSettings& b = s.bearing;
   b.kind = contact::ParseBearingKind(bearing.String("kind", "rigid"));
   const auto bearing_reject = [&](std::initializer_list<const char*> keys) {

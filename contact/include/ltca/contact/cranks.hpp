@@ -21,6 +21,7 @@
 
 #include <Eigen/Core>
 
+#include "ltca/contact/holes.hpp"
 #include "ltca/geometry/kinematics.hpp"
 
 namespace ltca::contact {
@@ -36,6 +37,9 @@ struct Cranks {
   /// Turns of the eccentric per turn of the carrier with the input locked (deck:
   /// crank_turns_per_output_turn; 0: the eccentric keeps its direction).
   double turns_per_output_turn = 0.0;
+  /// Each crank hole's position deviation in the disc (contact/holes.hpp); empty: none. Every
+  /// disc takes the same (discs machined together in a stack).
+  HoleDeviations hole_deviation;
   /// Throws std::invalid_argument naming the `[output]` key unless 2 <= count <= kMaxCount, R_c finite and
   /// > 0, the phase and the turns finite, and the shaft stiffness > 0 (infinite allowed).
   void Validate() const;

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "ltca/contact/holes.hpp"
 #include "ltca/geometry/kinematics.hpp"
 
 namespace ltca::contact {
@@ -25,9 +26,12 @@ struct OutputPins {
   double circle_radius = 0.0;  ///< R_w, mm
   double hole_radius = 0.0;    ///< r_h, mm
   double phase = 0.0;          ///< rad, of pin 0 from +X at crank 0
+  /// Each hole's position deviation in the disc (contact/holes.hpp); empty: none. Every disc
+  /// takes the same (discs machined together in a stack).
+  HoleDeviations hole_deviation;
   /// Throws std::invalid_argument naming the `[output]` key unless 3 <= count <= kMaxCount, the
   /// radii are finite and positive, r_h >= r_w + eccentricity (a pin would overlap its hole at no
-  /// load) and neighbouring holes do not overlap.
+  /// load) and neighbouring holes do not overlap, and the hole deviations are one finite pair per hole.
   void Validate(double eccentricity) const;
 };
 
