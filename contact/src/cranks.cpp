@@ -27,6 +27,11 @@ void Cranks::Validate() const {
 }
 
 std::vector<CrankContact> EvaluateCranks(const Cranks& cranks, const geometry::Pose& disc, double output_rotation) {
+  return EvaluateCranks(cranks, disc, output_rotation, disc.centre);
+}
+
+std::vector<CrankContact> EvaluateCranks(const Cranks& cranks, const geometry::Pose& disc, double output_rotation,
+                                         const Eigen::Vector2d& eccentric) {
   std::vector<CrankContact> out(static_cast<std::size_t>(cranks.count));
   const geometry::Pose carrier{Eigen::Vector2d::Zero(), output_rotation};  // about the pin-circle centre
   for (int j = 0; j < cranks.count; ++j) {
@@ -35,10 +40,10 @@ std::vector<CrankContact> EvaluateCranks(const Cranks& cranks, const geometry::P
     CrankContact& c = out[static_cast<std::size_t>(j)];
     c.crank = j;
     c.crank_centre = carrier.ToFixed(local);
-    c.eccentric_centre = c.crank_centre + disc.centre;
+    c.eccentric_centre = c.crank_centre + eccentric;
     c.hole_centre = disc.ToFixed(HoleInDisc(cranks.circle_radius, alpha, cranks.hole_deviation, j));
     c.offset = c.eccentric_centre - c.hole_centre;
-    c.output_gradient = geometry::Perp(c.crank_centre) + cranks.turns_per_output_turn * geometry::Perp(disc.centre);
+    c.output_gradient = geometry::Perp(c.crank_centre) + cranks.turns_per_output_turn * geometry::Perp(eccentric);
     c.disc_rotation_gradient = -geometry::Perp(c.hole_centre - disc.centre);
   }
   return out;

@@ -456,20 +456,19 @@ MeshModel::MeshModel(geometry::RealPair real, const geometry::GeometrySettings& 
       for (int j = 0; j < pin_count(); ++j) {
         const geometry::MeshSeed seed = real_.kinematics().Seed(j, crank);
         const double analytic = EvaluatePointFrom(j, 0, crank, 0.0, seed.tooth_space, seed.u).clearance;
-        worst = std::max(worst, std::abs(EvaluatePointElements(j, 0, SliceZ(0), crank, 0.0).clearance - analytic));
+        worst = std::max(worst, std::abs(EvaluatePointElements(j, 0, SliceZ(0), crank, CyclePose(crank, 0.0, SliceZ(0))).clearance - analytic));
       }
     }
     interference_tolerance_ = std::max(interference_tolerance_, 2.0 * worst);
   }
 }
 
-PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double crank, double loaded_rotation) const {
+PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double crank, const geometry::Pose& pose) const {
   // Liu 2021 section 3: the element facing the pin (nearest control point) and the gap of its
   // equivalent cylinder (eq. 19, signed for a concave element):
   //   gap = sigma (|p - C| - |rho|) - r,  C = x - rho n (centre of curvature), sigma = sign(rho).
   // Liu searches every width slice; here the search runs per slice of the model that runs, which
   // is one slice (the plane model) unless something varies along the width (MeshModel).
-  const geometry::Pose pose = CyclePose(crank, loaded_rotation, z);
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
   const Eigen::Vector2d p = pose.ToBody(centre_fixed);
   const double r_pin = real_.PinRadius(pin);
@@ -564,7 +563,7 @@ PinContact MeshModel::EvaluateSection(int pin, double z, double crank, double lo
 }
 
 PinContact MeshModel::EvaluateSection(int pin, int slice, double z, double crank, double loaded_rotation) const {
-  if (discrete_) return EvaluatePointElements(pin, slice, z, crank, loaded_rotation);
+  if (discrete_) return EvaluatePointElements(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z));
   // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation,
   // the modifications and the errors move the foot point by little).
   const geometry::MeshSeed seed = real_.kinematics().Seed(pin, crank);
@@ -572,9 +571,17 @@ PinContact MeshModel::EvaluateSection(int pin, int slice, double z, double crank
 }
 
 PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double loaded_rotation) const {
-  if (discrete_) return EvaluatePointElements(near.pin, near.slice, near.z, crank, loaded_rotation);
-  return EvaluatePointAt(near.pin, near.slice, near.z, crank, CyclePose(crank, loaded_rotation, near.z), near.tooth_space,
-                         near.u);
+  const geometry::Pose pose = CyclePose(crank, loaded_rotation, near.z);
+  if (discrete_) return EvaluatePointElements(near.pin, near.slice, near.z, crank, pose);
+  return EvaluatePointAt(near.pin, near.slice, near.z, crank, pose, near.tooth_space, near.u);
+}
+
+PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double loaded_rotation,
+                                    const Eigen::Vector2d& centre_shift) const {
+  geometry::Pose pose = CyclePose(crank, loaded_rotation, near.z);
+  pose.centre += centre_shift;
+  if (discrete_) return EvaluatePointElements(near.pin, near.slice, near.z, crank, pose);
+  return EvaluatePointAt(near.pin, near.slice, near.z, crank, pose, near.tooth_space, near.u);
 }
 
 PinContact MeshModel::EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int seed_space,

@@ -158,10 +158,21 @@ void BisectionSolver::DoSolveStage(const LoadProblem& problem, const StageSystem
     ++evaluations;
     return system.OutputTorque(last) - torque;
   };
-  // Bracket: lo at no rotation (no element pulls: M(0) <= T), hi doubled from a micro-radian.
+  // Bracket: lo at no rotation (at the nominal poses no element pulls: M(0) <= T), hi doubled
+  // from a micro-radian. About an exact-kinematics iterate (the origin a solution already) the
+  // balance may lie below 0: then 0 is hi and lo is doubled downward.
   double lo = 0.0, f_lo = moment(lo), hi = 1e-6, f_hi = 0.0;
-  bool bracketed = f_lo >= 0.0;
+  bool bracketed = f_lo == 0.0;
   if (bracketed) hi = lo, f_hi = f_lo;
+  if (f_lo > 0.0) {
+    hi = 0.0, f_hi = f_lo, lo = -1e-6;
+    for (int k = 0; !bracketed && k < 80 && outcome != StageSystem::Outcome::kNumerical; ++k, lo *= 2.0) {
+      f_lo = moment(lo);
+      if (f_lo <= 0.0) bracketed = true;
+      else hi = lo, f_hi = f_lo;
+      if (bracketed) break;
+    }
+  }
   for (int k = 0; !bracketed && k < 80 && outcome != StageSystem::Outcome::kNumerical; ++k, hi *= 2.0) {
     f_hi = moment(hi);
     if (f_hi >= 0.0) bracketed = true;
@@ -202,7 +213,7 @@ void BisectionSolver::DoSolveStage(const LoadProblem& problem, const StageSystem
     result->status = SolverStatus::kMaxIterations;
     result->message = "no output rotation found at which the stage carries the torque";
   }
-  if (result->status == SolverStatus::kSuccess) KeepStageStart(q, workspace, "bisection-stage");
+  if (result->status == SolverStatus::kSuccess) KeepStageStart(system, q, workspace, "bisection-stage");
 }
 
 }  // namespace ltca::solvers

@@ -369,7 +369,7 @@ void CompatibilitySolver::DoSolveStage(const LoadProblem&, const StageSystem& sy
   FinishStage(system, q, outcome, last, result);
   result->iterations = iterations;
   result->torque_evaluations = iterations;
-  if (result->status == SolverStatus::kSuccess) KeepStageStart(q, workspace, "compatibility-stage");
+  if (result->status == SolverStatus::kSuccess) KeepStageStart(system, q, workspace, "compatibility-stage");
 }
 
 }  // namespace ltca::solvers

@@ -574,7 +574,7 @@ void EnergyQpSolver::DoSolveStage(const LoadProblem& problem, const StageSystem&
   result->details["ipopt_iterations"] = iterations;
   if (result->status == SolverStatus::kSuccess) {
     result->message = fmt::format("Ipopt status {} after {} iterations", result->native_code, iterations);
-    KeepStageStart(nlp->solution(), workspace, "energy-qp-stage-start");
+    KeepStageStart(system, nlp->solution(), workspace, "energy-qp-stage-start");
   }
 }
 

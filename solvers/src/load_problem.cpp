@@ -391,6 +391,19 @@ contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, do
   return pin;
 }
 
+contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, double phi,
+                                             const Eigen::Vector2d& centre_shift) const {
+  contact::PinContact pin =
+      DiscModel(near.disc).EvaluatePoint(near, DiscCrank(near.disc), direction_ * phi, centre_shift);
+  pin.disc = near.disc;
+  pin.arm *= direction_;
+  return pin;
+}
+
+contact::ContactLaw LoadProblem::LawOf(const contact::PinContact& pin) const {
+  return MakeLaw(contact_, material_, pin, pin.length, log_radius_cap_);
+}
+
 Loading LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>* hints) {
   Loading l;
   l.force.assign(pins.size(), 0.0);

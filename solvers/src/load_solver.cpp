@@ -156,6 +156,46 @@ void LoadSolver::DoSolveStage(const LoadProblem&, const StageSystem&, const Solv
 // The shared part of a stage solve (issue 25): the refusals, the zero torque, the backend, and the
 // judge of every balance (StageSystem::Judge). No range judge: the output rotation includes the
 // mechanism's and the bearings' compliance, which the pin ring's single-pin bound does not see.
+Eigen::VectorXd LoadSolver::SolveStageExact(const LoadProblem& problem, const StageSystem& nominal,
+                                            const SolverOptions& options, Workspace& workspace, LoadResult* result) const {
+  // Exact kinematics (issue 25, docs/stage.md): the stage linearised about the poses of the last
+  // iterate, every element re-evaluated where the discs and the output member are, solved by the
+  // backend; repeated until an iterate moves no coordinate by more than 1e-12 of the largest
+  // (rotations times R_p) or than the geometry's resolution, a Newton iteration on the geometry.
+  // The first iterate is the linearised solution.
+  constexpr int kMaxOuter = 30;
+  // The geometry re-evaluated at the poses resolves them to a few eps of the pin-circle radius
+  // (positions of that size subtracted): no iterate can settle closer than that.
+  const double resolution = 16.0 * std::numeric_limits<double>::epsilon() * problem.model().pair().pin_circle_radius;
+  Eigen::VectorXd origin = Eigen::VectorXd::Zero(nominal.coordinate_count());
+  double last_change = std::numeric_limits<double>::infinity(), size = 0.0;
+  for (int outer = 0; outer < kMaxOuter; ++outer) {
+    LoadResult iterate;
+    iterate.force.assign(static_cast<std::size_t>(problem.point_count()), 0.0);
+    const StageSystem system(problem, origin);
+    DoSolveStage(problem, system, options, workspace, &iterate);
+    iterate.iterations += result->iterations;
+    iterate.torque_evaluations += result->torque_evaluations;
+    if (iterate.status != SolverStatus::kSuccess) {
+      // A re-linearisation that no longer solves (near the arithmetic's limit, at a vanishing load)
+      // after one that did, with the poses settled to 1e-6 of their size: the last iterate stands,
+      // and the shared judge at its poses decides. Otherwise the failure is the result.
+      if (outer > 0 && last_change <= 1e-6 * size) return origin;
+      *result = std::move(iterate);
+      return origin;
+    }
+    *result = std::move(iterate);
+    const Eigen::VectorXd next = system.CoordinatesOf(*result);
+    last_change = system.Distance(next, origin);
+    size = system.Distance(next, Eigen::VectorXd::Zero(next.size()));
+    origin = next;
+    if (last_change <= std::max(1e-12 * size, resolution)) return origin;
+  }
+  result->status = SolverStatus::kMaxIterations;
+  result->message = fmt::format("exact kinematics of the stage: the poses still moved after {} re-linearisations", kMaxOuter);
+  return origin;
+}
+
 void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                             LoadResult* result) const {
   const LoadSolver& solver = *this;
@@ -168,16 +208,19 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
     result->status = SolverStatus::kInterference;
     result->message = fmt::format("interference at the theoretical position: {} overlap the cycloid", overlaps);
   } else if (StageSolvable(problem, result)) {
-    const StageSystem system(problem);
+    const StageSystem nominal(problem);
+    std::unique_ptr<StageSystem> judge;  // exact kinematics: the system about the reported poses
     if (problem.torque() == 0.0) {
-      system.Fill(system.Zero(), result);
+      nominal.Fill(nominal.Zero(), result);
       result->status = SolverStatus::kSuccess;
       result->message = "zero torque: no rotation, no forces";
+    } else if (problem.kinematics() != contact::ContactKinematics::kExact) {
+      solver.DoSolveStage(problem, nominal, options, workspace, result);
     } else {
-      solver.DoSolveStage(problem, system, options, workspace, result);
+      judge = std::make_unique<StageSystem>(problem, SolveStageExact(problem, nominal, options, workspace, result));
     }
     if (std::isfinite(result->rotation) && result->stage) {
-      system.Judge(result);
+      (judge ? *judge : nominal).Judge(result);
       const double accepted = std::max(options.residual_tolerance, 2.0 * options.torque_tolerance);
       if (result->status == SolverStatus::kSuccess && !(result->residuals.Normalised() <= accepted)) {
         result->status = SolverStatus::kResidualTooLarge;
@@ -208,7 +251,13 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
 Residuals ComputeResiduals(const LoadProblem& problem, const LoadResult& result) {
   if (!problem.has_stage()) return ComputeResiduals(problem, result.rotation, result.force);
   LoadResult judged = result;
-  StageSystem(problem).Judge(&judged);
+  const StageSystem nominal(problem);
+  if (problem.kinematics() == contact::ContactKinematics::kExact) {
+    // Exact kinematics: judged with the geometry at the poses the result reports.
+    StageSystem(problem, nominal.CoordinatesOf(result)).Judge(&judged);
+  } else {
+    nominal.Judge(&judged);
+  }
   return judged.residuals;
 }
 

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <fmt/format.h>
 
 #include "ltca/contact/cranks.hpp"
@@ -59,7 +60,13 @@ Eigen::Vector2d StageSystem::DisplacementAt(const Planar& p, const Eigen::Vector
   return Eigen::Vector2d(p.coordinates[0].Dot(c), p.coordinates[1].Dot(c)) + p.offset;
 }
 
-StageSystem::StageSystem(const LoadProblem& problem) : problem_(&problem) {
+StageSystem::StageSystem(const LoadProblem& problem) : problem_(&problem) { Build(problem, nullptr); }
+
+StageSystem::StageSystem(const LoadProblem& problem, const Eigen::VectorXd& origin) : problem_(&problem) {
+  Build(problem, &origin);
+}
+
+void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origin) {
   if (problem.stage() == nullptr) throw std::invalid_argument("StageSystem: the problem has no stage");
   settings_ = *problem.stage();
   discs_ = problem.disc_count();
@@ -89,21 +96,32 @@ StageSystem::StageSystem(const LoadProblem& problem) : problem_(&problem) {
     coordinate_dof_[static_cast<std::size_t>(c)] = dofs_++;
     coordinate_scale_[static_cast<std::size_t>(c)] = rotation ? 1.0 / radius_ : 1.0;
   }
+  origin_ = Eigen::VectorXd::Zero(coordinates);
+  exact_ = origin != nullptr;
+  if (origin != nullptr) {
+    if (origin->size() != coordinates) throw std::invalid_argument("StageSystem: the origin has another layout");
+    origin_ = *origin;
+  }
+  const auto translation_of = [&](int d) { return Eigen::Vector2d(origin_(3 * d), origin_(3 * d + 1)); };
+  const double psi0 = origin_(psi_coordinate_);
 
   // The pin ring: today's points; the disc's translation t closes a gap by n . t.
   const contact::MeshState& base = problem.base_state();
   laws_.reserve(base.pins.size() + static_cast<std::size_t>(discs_ * std::max(settings_.pins.count, 0)));
   for (std::size_t i = 0; i < base.pins.size(); ++i) {
-    const contact::PinContact& pin = base.pins[i];
+    // Exact kinematics: the point where the disc is (its rotation and its moved centre).
+    const int d = base.pins[i].disc;
+    const contact::PinContact pin = origin == nullptr ? base.pins[i]
+                                                      : problem.EvaluatePin(base.pins[i], origin_(3 * d + 2), translation_of(d));
     Scalar e;
-    const int d = pin.disc;
     e.coordinates.Add(3 * d, pin.normal.x());
     e.coordinates.Add(3 * d + 1, pin.normal.y());
     e.coordinates.Add(3 * d + 2, pin.arm);
     e.gap = pin.clearance;
+    e.direction = pin.normal;
     if (!pin.edge) {
       e.law = static_cast<int>(laws_.size());
-      laws_.push_back(problem.base_laws()[i]);
+      laws_.push_back(origin == nullptr ? problem.base_laws()[i] : problem.LawOf(pin));
     }
     e.group = StageGroup::kMesh;
     e.disc = d;
@@ -121,11 +139,14 @@ StageSystem::StageSystem(const LoadProblem& problem) : problem_(&problem) {
   const double width = problem.model().pair().face_width;
   for (int d = 0; d < discs_; ++d) {
     const geometry::Pose real = problem.DiscModel(d).real_pair().CycloidPose(problem.DiscCrank(d));
-    const geometry::Pose holes{real.centre, output_rotation};
+    // The disc where it is (nominal, or the origin's pose: its centre moved, its rotation added in
+    // the problem's frame), and the output member turned by the origin's psi.
+    const geometry::Pose holes{real.centre + translation_of(d), output_rotation + s * origin_(3 * d + 2)};
+    const double output_at = output_rotation + s * psi0;
     const double eccentric_direction = std::atan2(real.centre.y(), real.centre.x());
     if (!cranks) {
       const contact::OutputPins& pins = settings_.pins;
-      for (const contact::OutputPinContact& c : contact::EvaluateOutputPins(pins, holes, output_rotation)) {
+      for (const contact::OutputPinContact& c : contact::EvaluateOutputPins(pins, holes, output_at)) {
         Scalar e;
         e.coordinates.Add(3 * d, c.translation_gradient.x());
         e.coordinates.Add(3 * d + 1, c.translation_gradient.y());
@@ -146,6 +167,7 @@ StageSystem::StageSystem(const LoadProblem& problem) : problem_(&problem) {
         Planar p;
         p.coordinates[0].Add(3 * d, -1.0);
         p.coordinates[1].Add(3 * d + 1, -1.0);
+        p.offset = -translation_of(d);
         p.phase = eccentric_direction;
         p.group = StageGroup::kBearings;
         p.disc = d;
@@ -153,7 +175,10 @@ StageSystem::StageSystem(const LoadProblem& problem) : problem_(&problem) {
       }
       continue;
     }
-    for (const contact::CrankContact& c : contact::EvaluateCranks(settings_.cranks, holes, output_rotation)) {
+    // The eccentric keeps its direction, or turns k times the output member's rotation.
+    const double turn = settings_.cranks.turns_per_output_turn * s * psi0;
+    const Eigen::Vector2d eccentric = Eigen::Rotation2Dd(turn) * real.centre;
+    for (const contact::CrankContact& c : contact::EvaluateCranks(settings_.cranks, holes, output_at, eccentric)) {
       std::array<Row, 2> u;
       for (int a = 0; a < 2; ++a) {
         u[static_cast<std::size_t>(a)].Add(3 * d + a, -1.0);
@@ -169,8 +194,10 @@ StageSystem::StageSystem(const LoadProblem& problem) : problem_(&problem) {
         // The needle bearing sees u + v, v the shaft's deflection at the eccentric; the shaft
         // stores k |v|^2 / 2.
         const int v = psi_coordinate_ + 1 + 2 * (d * crank_count_ + c.crank);
+        const Eigen::Vector2d v0(origin_(v), origin_(v + 1));
+        p.offset += v0;
         Planar shaft = p;
-        shaft.offset.setZero();
+        shaft.offset = v0;
         shaft.shaft = true;
         shaft.group = StageGroup::kShafts;
         for (int a = 0; a < 2; ++a) {
@@ -203,6 +230,8 @@ void StageSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vec
   if (with_hessian) out->hessian.setZero(n, n);
   out->saturated = false;
   out->edge = false;
+  out->energy_rounding = 0.0;
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
   const int psi = output_dof();
   out->energy = -torque_ * q(psi) / radius_;
   out->gradient(psi) = -torque_ / radius_;
@@ -230,6 +259,7 @@ void StageSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vec
     // The approach is resolved to eps times the terms it sums: a force to k times that.
     double reach = std::abs(e.gap);
     for (int a = 0; a < e.row.n; ++a) reach += std::abs(e.row.value[static_cast<std::size_t>(a)] * q(e.row.index[static_cast<std::size_t>(a)]));
+    out->energy_rounding += kEps * std::abs(f) * reach;
     for (int a = 0; a < e.row.n; ++a) {
       const auto ia = static_cast<std::size_t>(a);
       out->gradient(e.row.index[ia]) += f * e.row.value[ia];
@@ -245,6 +275,11 @@ void StageSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vec
     const Eigen::Vector2d u = Displacement(p, q);
     const contact::BearingResponse r = contact::BearingAt(Bearing(p), u, p.phase);
     out->energy += r.energy;
+    double reach = p.offset.lpNorm<1>() + Bearing(p).radial_clearance;
+    for (const Row& row : p.row) {
+      for (int a = 0; a < row.n; ++a) reach += std::abs(row.value[static_cast<std::size_t>(a)] * q(row.index[static_cast<std::size_t>(a)]));
+    }
+    out->energy_rounding += kEps * r.force.lpNorm<1>() * reach;
     const Eigen::Vector2d du = -r.force;  // dE/du
     for (int a = 0; a < 2; ++a) {
       const Row& ra = p.row[static_cast<std::size_t>(a)];
@@ -321,7 +356,8 @@ StageSystem::Outcome StageSystem::Minimise(Eigen::VectorXd* q, bool hold_output,
     const double actual = cur.energy - trial.energy;
     // Near the minimum the energies agree to rounding: there a step counts when it lowers the gradient.
     const double rounding = 64.0 * std::numeric_limits<double>::epsilon() *
-                            (std::abs(cur.energy) + torque_ * std::abs(next(psi)) / radius_);
+                                (std::abs(cur.energy) + torque_ * std::abs(next(psi)) / radius_) +
+                            16.0 * std::max(cur.energy_rounding, trial.energy_rounding);
     double trial_gradient = 0.0;
     for (Eigen::Index a = 0; a < m; ++a) {
       trial_gradient = std::max(trial_gradient, std::abs(trial.gradient(free[static_cast<std::size_t>(a)])));
@@ -367,13 +403,18 @@ StageSystem::Outcome StageSystem::Minimise(Eigen::VectorXd* q, bool hold_output,
     }
     radius = 0.25 * step;
     if (!(radius > 0.0)) return Outcome::kNumerical;
+    // A trust region below the resolution of a position (positions of the size of R_p, to a few
+    // eps of it): no step can tell the model from the energy's rounding any more. The arithmetic's
+    // limit, as above; the shared judge decides.
+    if (radius < 4.0 * std::numeric_limits<double>::epsilon() * radius_) return Outcome::kConverged;
   }
   return g.cwiseAbs().maxCoeff() <= std::max(force_tolerance, cur.rounding) ? Outcome::kConverged
                                                                              : Outcome::kMaxIterations;
 }
 
 void StageSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
-  const Eigen::VectorXd c = Coordinates(q);
+  const Eigen::VectorXd relative = Coordinates(q);
+  const Eigen::VectorXd c = origin_ + relative;
   result->rotation = c(psi_coordinate_);
   result->force.assign(static_cast<std::size_t>(problem_->point_count()), 0.0);
   result->approach.assign(static_cast<std::size_t>(problem_->point_count()), 0.0);
@@ -399,7 +440,7 @@ void StageSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
   }
   std::vector<Eigen::Vector2d> mesh_force(static_cast<std::size_t>(discs_), Eigen::Vector2d::Zero());
   for (const Scalar& e : scalars_) {
-    const double delta = e.coordinates.Dot(c) - e.gap;
+    const double delta = e.coordinates.Dot(relative) - e.gap;
     if (e.group == StageGroup::kMesh) result->approach[static_cast<std::size_t>(e.index)] = delta;
     if (!(delta > 0.0) || e.law < 0) continue;
     const contact::ContactLaw& law = laws_[static_cast<std::size_t>(e.law)];
@@ -413,15 +454,14 @@ void StageSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
     if (e.group == StageGroup::kMesh) {
       result->force[static_cast<std::size_t>(e.index)] = f;
       // The pin pushes the cycloid along -n (n from the cycloid toward the pin).
-      const contact::PinContact& pin = problem_->base_state().pins[static_cast<std::size_t>(e.index)];
-      mesh_force[static_cast<std::size_t>(e.disc)] -= f * pin.normal;
+      mesh_force[static_cast<std::size_t>(e.disc)] -= f * e.direction;
     } else {
       disc.output_force[static_cast<std::size_t>(e.index)] = f;
       disc.output_direction[static_cast<std::size_t>(e.index)] = e.direction;
     }
   }
   for (const Planar& p : planars_) {
-    const contact::BearingResponse r = contact::BearingAt(Bearing(p), DisplacementAt(p, c), p.phase);
+    const contact::BearingResponse r = contact::BearingAt(Bearing(p), DisplacementAt(p, relative), p.phase);
     stage.group_energy[static_cast<std::size_t>(p.group)] += r.energy;
     StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(p.disc)];
     // The force on the outer member (the disc) is the opposite of that on the eccentric. A shaft
@@ -449,25 +489,14 @@ void StageSystem::Judge(LoadResult* result) const {
     return;
   }
   StageSolution& stage = *result->stage;
-  // The coordinates as the result reports them.
-  Eigen::VectorXd c = Eigen::VectorXd::Zero(coordinate_count());
-  for (int d = 0; d < discs_ && d < static_cast<int>(stage.discs.size()); ++d) {
-    const StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
-    c(3 * d) = disc.translation.x();
-    c(3 * d + 1) = disc.translation.y();
-    c(3 * d + 2) = disc.rotation;
-    for (int j = 0; shaft_coordinates_ && j < crank_count_ && j < static_cast<int>(disc.shaft_deflection.size()); ++j) {
-      const int v = psi_coordinate_ + 1 + 2 * (d * crank_count_ + j);
-      c(v) = disc.shaft_deflection[static_cast<std::size_t>(j)].x();
-      c(v + 1) = disc.shaft_deflection[static_cast<std::size_t>(j)].y();
-    }
-  }
-  c(psi_coordinate_) = result->rotation;
+  // The coordinates as the result reports them, relative to the origin the system is built about.
+  const Eigen::VectorXd c = CoordinatesOf(*result) - origin_;
   // Generalised forces dPi/dc with the reported forces: each disc's force (N) and moment (N*mm),
   // the output member's moment minus T, each shaft's force.
   Eigen::VectorXd balance = Eigen::VectorXd::Zero(coordinate_count());
   balance(psi_coordinate_) = -torque_;
   double f_max = 0.0, w_max = 0.0;
+  const double geometry_resolution = 16.0 * std::numeric_limits<double>::epsilon() * radius_;
   const auto reported = [&](const Scalar& e) -> double {
     if (e.group == StageGroup::kMesh) {
       return static_cast<std::size_t>(e.index) < result->force.size() ? result->force[static_cast<std::size_t>(e.index)] : 0.0;
@@ -484,7 +513,11 @@ void StageSystem::Judge(LoadResult* result) const {
     f_max = std::max(f_max, std::abs(f));
     if (f > 0.0) w_max = std::max(w_max, std::abs(delta));
     const double deflection = e.law >= 0 ? laws_[static_cast<std::size_t>(e.law)].Approach(f) : 0.0;
-    const double gap = deflection - delta;
+    // About a moved origin (exact kinematics) the gaps are the geometry re-evaluated there, each
+    // resolved to a few eps of the pin-circle radius (positions of that size subtracted): a gap
+    // within that of the solve's is the same gap. The nominal system's gaps are the solve's own.
+    const double raw = deflection - delta;
+    const double gap = exact_ ? std::copysign(std::max(0.0, std::abs(raw) - geometry_resolution), raw) : raw;
     r.force_violation_n = std::max(r.force_violation_n, std::max(0.0, -f));
     r.gap_violation_mm = std::max(r.gap_violation_mm, std::max(0.0, -gap));
     r.complementarity_nmm = std::max(r.complementarity_nmm, std::max(f, 0.0) * std::abs(gap));
@@ -537,6 +570,42 @@ void StageSystem::Judge(LoadResult* result) const {
   result->residuals = r;
 }
 
+Eigen::VectorXd StageSystem::CoordinatesOf(const LoadResult& result) const {
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(coordinate_count());
+  if (!result.stage) return c;
+  const StageSolution& stage = *result.stage;
+  for (int d = 0; d < discs_ && d < static_cast<int>(stage.discs.size()); ++d) {
+    const StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
+    c(3 * d) = disc.translation.x();
+    c(3 * d + 1) = disc.translation.y();
+    c(3 * d + 2) = disc.rotation;
+    for (int j = 0; shaft_coordinates_ && j < crank_count_ && j < static_cast<int>(disc.shaft_deflection.size()); ++j) {
+      const int v = psi_coordinate_ + 1 + 2 * (d * crank_count_ + j);
+      c(v) = disc.shaft_deflection[static_cast<std::size_t>(j)].x();
+      c(v + 1) = disc.shaft_deflection[static_cast<std::size_t>(j)].y();
+    }
+  }
+  c(psi_coordinate_) = result.rotation;
+  return c;
+}
+
+Eigen::VectorXd StageSystem::OriginDofs() const {
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(dofs_);
+  for (std::size_t i = 0; i < coordinate_dof_.size(); ++i) {
+    if (coordinate_dof_[i] >= 0) q(coordinate_dof_[i]) = origin_(static_cast<Eigen::Index>(i)) / coordinate_scale_[i];
+  }
+  return q;
+}
+
+double StageSystem::Distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+  double d = 0.0;
+  for (Eigen::Index i = 0; i < a.size() && i < b.size(); ++i) {
+    const bool rotation = i == psi_coordinate_ || (i < psi_coordinate_ && i % 3 == 2);
+    d = std::max(d, std::abs(a(i) - b(i)) * (rotation ? radius_ : 1.0));
+  }
+  return d;
+}
+
 void FinishStage(const StageSystem& system, const Eigen::VectorXd& q, StageSystem::Outcome outcome,
                  const StageSystem::Evaluation& last, LoadResult* result) {
   system.Fill(q, result);
@@ -566,23 +635,19 @@ struct StageStartState final : Workspace::BackendState {
 
 Eigen::VectorXd StageStart(const StageSystem& system, Workspace& workspace, const std::string& key) {
   const auto* state = dynamic_cast<const StageStartState*>(workspace.Backend(key));
-  if (state != nullptr && state->q.size() == system.dof_count() && state->q.allFinite()) return state->q;
+  if (state != nullptr && state->q.size() == system.dof_count() && state->q.allFinite()) {
+    return state->q - system.OriginDofs();
+  }
   return system.Zero();
 }
 
-void KeepStageStart(const Eigen::VectorXd& q, Workspace& workspace, const std::string& key) {
+void KeepStageStart(const StageSystem& system, const Eigen::VectorXd& q, Workspace& workspace, const std::string& key) {
   auto state = std::make_unique<StageStartState>();
-  state->q = q;
+  state->q = q + system.OriginDofs();
   workspace.SetBackend(key, std::move(state));
 }
 
 bool StageSolvable(const LoadProblem& problem, LoadResult* result) {
-  if (problem.kinematics() == contact::ContactKinematics::kExact) {
-    result->status = SolverStatus::kStageUnsupported;
-    result->message = "the reducer stage is solved under linearised kinematics only ([solver] kinematics = "
-                      "\"linearised\"); exact kinematics of the stage is not built (docs/stage.md)";
-    return false;
-  }
   if (problem.has_coupling()) {
     result->status = SolverStatus::kStageUnsupported;
     result->message = "the reducer stage does not yet take pin bending's coupling ([pins]); docs/stage.md";

@@ -25,8 +25,14 @@ namespace ltca::solvers {
 
 class StageSystem {
  public:
-  /// Throws std::invalid_argument when the problem has no stage.
+  /// The stage at its nominal poses (linearised kinematics). Throws std::invalid_argument when the
+  /// problem has no stage.
   explicit StageSystem(const LoadProblem& problem);
+  /// The stage linearised about the poses `origin` (coordinates, as a result reports them): every
+  /// element re-evaluated there, its gap the exact one at those poses and its gradients the exact
+  /// ones (exact kinematics: each iterate of LoadSolver's outer loop). The coordinates the system
+  /// works in are then relative to the origin; Fill and Judge report and read absolute ones.
+  StageSystem(const LoadProblem& problem, const Eigen::VectorXd& origin);
   StageSystem(const StageSystem&) = delete;
   StageSystem& operator=(const StageSystem&) = delete;
 
@@ -47,6 +53,10 @@ class StageSystem {
     /// How finely the gradient is resolved in double precision, N: 16 eps times the largest sum
     /// of the magnitudes that add up to one of its components. No balance can be closer.
     double rounding = 0.0;
+    /// How finely the energy is resolved, N*mm: each loaded element's force times the rounding of
+    /// its approach (eps times the magnitudes it is the difference of: a clearance taken up almost
+    /// exactly leaves few digits of the approach, and of its energy).
+    double energy_rounding = 0.0;
   };
   /// hints: one per scalar element (law inversions' warm starts), resized as needed.
   void Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints, Evaluation* out) const;
@@ -80,6 +90,14 @@ class StageSystem {
   /// Start of a solve: zero, or the dofs of an earlier solution of the same layout.
   Eigen::VectorXd Zero() const { return Eigen::VectorXd::Zero(dofs_); }
 
+  /// The coordinates a result reports (its disc poses, output rotation and shaft deflections),
+  /// absolute; zero where the result has none.
+  Eigen::VectorXd CoordinatesOf(const LoadResult& result) const;
+  /// The origin in dofs (zero for the nominal system): absolute dofs = OriginDofs() + q.
+  Eigen::VectorXd OriginDofs() const;
+  /// The largest of |a - b| over the coordinates, rotations times R_p: mm.
+  double Distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
+
  private:
   /// A row over coordinates (at most 6 non-zeros).
   struct Row {
@@ -95,7 +113,9 @@ class StageSystem {
     Row coordinates;  // over coordinates
     double gap = 0.0;
     int law = -1;   // into laws_, -1: an edge point (no law: must stay open)
-    Eigen::Vector2d direction = Eigen::Vector2d::Zero();  // output pins: n_j, the force's on the disc
+    // Output pins: n_j, the force's on the disc; pin ring: the contact normal n (from the
+    // cycloid toward the pin; the pin pushes the disc along -n).
+    Eigen::Vector2d direction = Eigen::Vector2d::Zero();
     StageGroup group = StageGroup::kMesh;
     int disc = 0, index = 0;  // index: the problem's point, or the output pin
   };
@@ -118,7 +138,11 @@ class StageSystem {
   static Eigen::Vector2d Displacement(const Planar& p, const Eigen::VectorXd& q);
   static Eigen::Vector2d DisplacementAt(const Planar& p, const Eigen::VectorXd& c);
 
+  void Build(const LoadProblem& problem, const Eigen::VectorXd* origin);
+
   const LoadProblem* problem_;
+  Eigen::VectorXd origin_;  // coordinates about which the system is linearised (zero: nominal)
+  bool exact_ = false;      // built about an origin: its geometry re-evaluated there
   StageSettings settings_;
   contact::BearingSettings shaft_;  // kCranks with a compliant shaft: a linear spring without play
   int discs_ = 1;
@@ -140,13 +164,13 @@ class StageSystem {
 void FinishStage(const StageSystem& system, const Eigen::VectorXd& q, StageSystem::Outcome outcome,
                  const StageSystem::Evaluation& last, LoadResult* result);
 
-/// A warm start kept in the workspace under `key`: the dofs of the last stage solve with as many
-/// dofs, else zero.
+/// A warm start kept in the workspace under `key`: the (absolute) dofs of the last stage solve
+/// with as many dofs, relative to the system's origin; else zero.
 Eigen::VectorXd StageStart(const StageSystem& system, Workspace& workspace, const std::string& key);
-void KeepStageStart(const Eigen::VectorXd& q, Workspace& workspace, const std::string& key);
+void KeepStageStart(const StageSystem& system, const Eigen::VectorXd& q, Workspace& workspace, const std::string& key);
 
 /// The stage path every backend that solves the stage shares: the stage's own refusals before a
-/// solve (exact kinematics, a coupling), as a status in *result; returns false when refused.
+/// solve (a coupling), as a status in *result; returns false when refused.
 bool StageSolvable(const LoadProblem& problem, LoadResult* result);
 
 }  // namespace ltca::solvers

@@ -205,12 +205,6 @@ TEST_CASE("app: every solver agrees with bisection on the published decks, like 
         const LoadProblem problem = stage.Problem(cranks[i], deck->load->torque);
         SolverOptions options;
         const auto ref = MakeSolver("bisection")->Solve(problem, options);
-        if (problem.has_stage() && kin == ContactKinematics::kExact) {
-          // The stage runs under linearised kinematics only (docs/stage.md): a named status, no numbers.
-          CHECK(ref.status == SolverStatus::kStageUnsupported);
-          CHECK(std::isnan(ref.rotation));
-          continue;
-        }
         REQUIRE(ref.status == SolverStatus::kSuccess);
         CHECK(ltca::solvers::ComputeResiduals(problem, ref).Normalised() < 1e-8);
         double f_max = 0;
@@ -296,36 +290,41 @@ TEST_CASE("app: on the stage decks the stage's solvers agree to 1e-9 arcsec with
   // pins), every 10th position of their whole crank turn, torque tolerance 1e-14 (each solver stops at what the arithmetic resolves):
   // the shared judge's balance residuals (each disc's forces and moment, the output torque) below
   // 1e-9 relative for compatibility, bisection and energy-qp, whose output rotations agree to 1e-9
-  // arcsec; energy-groups refuses with stage-unsupported and no numbers.
+  // arcsec, under linearised and exact kinematics; energy-groups refuses with stage-unsupported
+  // and no numbers.
   for (const char* name : {"stage/cycloidal_drive.toml", "stage/rv_two_discs_cranks.toml", "stage/rv_pins_in_grooves.toml"}) {
-    const ltca::app::Deck deck = ltca::app::LoadDeck(ltca::test::Case(name));
-    REQUIRE(deck.reducer.has_value());
-    const auto cranks = deck.sweep.CrankAngles();
-    const ltca::analysis::Stage stage = deck.MakeStage(cranks);
-    for (std::size_t i = 0; i < cranks.size(); i += 10) {
-      CAPTURE(name);
-      CAPTURE(i);
-      const LoadProblem problem = stage.Problem(cranks[i], deck.load->torque);
-      SolverOptions options;
-      options.torque_tolerance = 1e-14;
-      std::vector<double> rotations;
-      for (const std::string solver : {"compatibility", "bisection", "energy-qp"}) {
-        CAPTURE(solver);
-        options.name = solver;
-        const auto r = MakeSolver(solver)->Solve(problem, options);
-        INFO(r.message);
-        REQUIRE(r.status == SolverStatus::kSuccess);
-        REQUIRE(r.stage.has_value());
-        CHECK(r.stage->force_balance_relative < 1e-9);
-        CHECK(r.stage->moment_balance_relative < 1e-9);
-        CHECK(ltca::solvers::ComputeResiduals(problem, r).Normalised() < 1e-9);
-        rotations.push_back(r.rotation);
+    for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
+      ltca::app::Deck deck = ltca::app::LoadDeck(ltca::test::Case(name));
+      REQUIRE(deck.reducer.has_value());
+      deck.kinematics = kinematics;
+      const auto cranks = deck.sweep.CrankAngles();
+      const ltca::analysis::Stage stage = deck.MakeStage(cranks);
+      for (std::size_t i = 0; i < cranks.size(); i += 10) {
+        CAPTURE(name);
+        CAPTURE(static_cast<int>(kinematics));
+        CAPTURE(i);
+        const LoadProblem problem = stage.Problem(cranks[i], deck.load->torque);
+        SolverOptions options;
+        options.torque_tolerance = 1e-14;
+        std::vector<double> rotations;
+        for (const std::string solver : {"compatibility", "bisection", "energy-qp"}) {
+          CAPTURE(solver);
+          options.name = solver;
+          const auto r = MakeSolver(solver)->Solve(problem, options);
+          INFO(r.message);
+          REQUIRE(r.status == SolverStatus::kSuccess);
+          REQUIRE(r.stage.has_value());
+          CHECK(r.stage->force_balance_relative < 1e-9);
+          CHECK(r.stage->moment_balance_relative < 1e-9);
+          CHECK(ltca::solvers::ComputeResiduals(problem, r).Normalised() < 1e-9);
+          rotations.push_back(r.rotation);
+        }
+        for (const double x : rotations) CHECK(std::abs(ltca::units::RadToArcsec(x - rotations[0])) < 1e-9);
+        options.name = "energy-groups";
+        const auto refused = MakeSolver("energy-groups")->Solve(problem, options);
+        CHECK(refused.status == SolverStatus::kStageUnsupported);
+        CHECK(std::isnan(refused.te));
       }
-      for (const double x : rotations) CHECK(std::abs(ltca::units::RadToArcsec(x - rotations[0])) < 1e-9);
-      options.name = "energy-groups";
-      const auto refused = MakeSolver("energy-groups")->Solve(problem, options);
-      CHECK(refused.status == SolverStatus::kStageUnsupported);
-      CHECK(std::isnan(refused.te));
     }
   }
 }

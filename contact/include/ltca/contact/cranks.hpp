@@ -61,5 +61,10 @@ struct CrankContact {
 /// Every crank for a disc at `disc` (its centre D is the eccentrics' offset; its rotation places
 /// the crank holes) and the carrier turned by `output_rotation` (rad, about the pin-circle centre).
 std::vector<CrankContact> EvaluateCranks(const Cranks& cranks, const geometry::Pose& disc, double output_rotation);
+/// The same with the eccentrics' offset from their crank centres given apart from the disc's
+/// centre (fixed frame, mm): a disc moved off its eccentrics under load (issue 25, exact
+/// kinematics). The output gradient's eccentric term is k perp(eccentric).
+std::vector<CrankContact> EvaluateCranks(const Cranks& cranks, const geometry::Pose& disc, double output_rotation,
+                                         const Eigen::Vector2d& eccentric);
 
 }  // namespace ltca::contact

@@ -118,6 +118,11 @@ class MeshModel {
   /// The same, searched from a nearby earlier foot point (tooth space and u of a PinContact of the
   /// same point at a nearby pose) instead of the meshing equation: fewer Newton steps.
   PinContact EvaluatePoint(const PinContact& near, double crank, double loaded_rotation) const;
+  /// The same with the disc's centre moved by `centre_shift` (fixed frame, mm) from its pose at the
+  /// crank: a reducer stage's floating disc under load (issue 25, exact kinematics). The arm is
+  /// about the moved centre.
+  PinContact EvaluatePoint(const PinContact& near, double crank, double loaded_rotation,
+                           const Eigen::Vector2d& centre_shift) const;
   /// Exact state of a pin in the face section at axial position z from face B (mm, in [0, B]),
   /// which need not be a slice centre: the unloaded analysis looks at the face edges too, where
   /// a gap that varies linearly along the width (misalignment) is smallest (issue 26). The point
@@ -131,7 +136,7 @@ class MeshModel {
                                double u) const;
   PinContact EvaluatePointAt(int pin, int slice, double z, double crank, const geometry::Pose& pose, int tooth_space,
                              double u) const;
-  PinContact EvaluatePointElements(int pin, int slice, double z, double crank, double loaded_rotation) const;
+  PinContact EvaluatePointElements(int pin, int slice, double z, double crank, const geometry::Pose& pose) const;
   /// The point's slice data (at axial position z) and the lead layer (normal offset of the flank)
   /// applied to a foot point.
   void FinishPoint(int slice, double z, PinContact* c) const;

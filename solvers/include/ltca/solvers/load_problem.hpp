@@ -94,6 +94,12 @@ class LoadProblem {
   /// pin, e.g. from base_state()): the geometry at the physical rotation direction() * psi, with
   /// the arm signed for this frame.
   contact::PinContact EvaluatePin(const contact::PinContact& near, double psi) const;
+  /// The same with the point's disc rotated by phi (this problem's frame) and its centre moved by
+  /// `centre_shift` (fixed frame, mm): a reducer stage's floating disc (issue 25, exact kinematics).
+  contact::PinContact EvaluatePin(const contact::PinContact& near, double phi, const Eigen::Vector2d& centre_shift) const;
+  /// The contact law of a point (as the problem's own: its curvature, pin radius and length); the
+  /// point must not be an edge point.
+  contact::ContactLaw LawOf(const contact::PinContact& pin) const;
   contact::ContactKinematics kinematics() const { return kinematics_; }
   int point_count() const { return static_cast<int>(base_.pins.size()); }
   /// The unloaded state (psi = 0, arms signed for this problem's frame) and its laws.

@@ -127,6 +127,10 @@ class LoadSolver {
   /// rotation, forces and the stage's solution.
   virtual void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
                             Workspace& workspace, LoadResult* result) const;
+  /// Exact kinematics of the stage: DoSolveStage on the stage re-linearised about each iterate's
+  /// poses until they stay; returns the poses (coordinates) the result reports.
+  Eigen::VectorXd SolveStageExact(const LoadProblem& problem, const StageSystem& nominal, const SolverOptions& options,
+                                  Workspace& workspace, LoadResult* result) const;
   /// Solve()'s path for a stage: refusals, zero torque, DoSolveStage and the stage's judge.
   void SolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                   LoadResult* result) const;
