@@ -71,6 +71,10 @@ double RollerLoad(double approach, double length) {
 }
 
 BearingResponse BearingAt(const BearingSettings& bearing, const Eigen::Vector2d& u, double phase) {
+  return BearingAt(bearing, u, phase, true);
+}
+
+BearingResponse BearingAt(const BearingSettings& bearing, const Eigen::Vector2d& u, double phase, bool roller_loads) {
   BearingResponse r;
   const double c = bearing.radial_clearance;
   switch (bearing.kind) {
@@ -90,16 +94,22 @@ BearingResponse BearingAt(const BearingSettings& bearing, const Eigen::Vector2d&
     case BearingKind::kRollers: {
       const int z = bearing.roller_count;
       const double kn = RollerConstant(bearing.roller_length);
-      r.roller_load.assign(static_cast<std::size_t>(z), 0.0);
-      for (int j = 0; j < z; ++j) {
-        const double psi = phase + 2.0 * units::kPi * j / z;
-        const Eigen::Vector2d e(std::cos(psi), std::sin(psi));
+      if (roller_loads) r.roller_load.assign(static_cast<std::size_t>(z), 0.0);
+      // Roller j on phase + 2 pi j / z: its direction is the first one turned j times by the
+      // pitch (a rotation per roller instead of a sine and a cosine; the same directions to a few
+      // eps).
+      const Eigen::Vector2d first(std::cos(phase), std::sin(phase));
+      const double pitch = 2.0 * units::kPi / z;
+      const double cp = std::cos(pitch), sp = std::sin(pitch);
+      Eigen::Vector2d e = first;
+      for (int j = 0; j < z; ++j, e = Eigen::Vector2d(cp * e.x() - sp * e.y(), sp * e.x() + cp * e.y())) {
         const double delta = u.dot(e) - c;
         if (delta <= 0.0) continue;
-        const double q = kn * std::pow(delta, 10.0 / 9.0);
-        r.roller_load[static_cast<std::size_t>(j)] = q;
+        const double ninth = std::cbrt(std::cbrt(delta));  // delta^(1/9)
+        const double q = kn * delta * ninth;               // K_n delta^(10/9)
+        if (roller_loads) r.roller_load[static_cast<std::size_t>(j)] = q;
         r.force -= q * e;
-        r.stiffness += (10.0 / 9.0) * kn * std::pow(delta, 1.0 / 9.0) * e * e.transpose();
+        r.stiffness += (10.0 / 9.0) * kn * ninth * e * e.transpose();
         r.energy += (9.0 / 19.0) * q * delta;  // integral of K_n x^(10/9) from 0 to delta
       }
       return r;

@@ -273,7 +273,7 @@ void StageSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vec
   }
   for (const Planar& p : planars_) {
     const Eigen::Vector2d u = Displacement(p, q);
-    const contact::BearingResponse r = contact::BearingAt(Bearing(p), u, p.phase);
+    const contact::BearingResponse r = contact::BearingAt(Bearing(p), u, p.phase, false);
     out->energy += r.energy;
     double reach = p.offset.lpNorm<1>() + Bearing(p).radial_clearance;
     for (const Row& row : p.row) {
@@ -525,7 +525,7 @@ void StageSystem::Judge(LoadResult* result) const {
   // Planar elements: the reported force (on the disc) must be the law's at the displacement.
   double planar_miss = 0.0;
   for (const Planar& p : planars_) {
-    const contact::BearingResponse law = contact::BearingAt(Bearing(p), DisplacementAt(p, c), p.phase);
+    const contact::BearingResponse law = contact::BearingAt(Bearing(p), DisplacementAt(p, c), p.phase, false);
     Eigen::Vector2d du = -law.force;  // dE/du by the law
     if (!(p.shaft && shaft_coordinates_)) {
       const auto& forces = stage.discs[static_cast<std::size_t>(p.disc)].bearing_force;

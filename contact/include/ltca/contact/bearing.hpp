@@ -72,6 +72,10 @@ struct BearingResponse {
 };
 /// Not for kRigid (throws std::invalid_argument: a rigid bearing is a constraint, not a force).
 BearingResponse BearingAt(const BearingSettings& bearing, const Eigen::Vector2d& displacement, double phase = 0.0);
+/// The same; without roller_loads, BearingResponse::roller_load stays empty (no allocation: the
+/// solvers' inner loop).
+BearingResponse BearingAt(const BearingSettings& bearing, const Eigen::Vector2d& displacement, double phase,
+                          bool roller_loads);
 
 /// The displacement u of the inner member at which the bearing carries `load` (N, the force the
 /// inner member puts on the bearing: BearingAt(u).force = -load), by Newton's method on the convex
