@@ -252,9 +252,11 @@ Residuals ComputeResiduals(const LoadProblem& problem, const LoadResult& result)
   if (!problem.has_stage()) return ComputeResiduals(problem, result.rotation, result.force);
   LoadResult judged = result;
   const StageSystem nominal(problem);
-  if (problem.kinematics() == contact::ContactKinematics::kExact) {
-    // Exact kinematics: judged with the geometry at the poses the result reports.
-    StageSystem(problem, nominal.CoordinatesOf(result)).Judge(&judged);
+  const Eigen::VectorXd reported = nominal.CoordinatesOf(result);
+  if (problem.kinematics() == contact::ContactKinematics::kExact && reported.allFinite()) {
+    // Exact kinematics: judged with the geometry at the poses the result reports (a result without
+    // finite poses has nothing to judge: the nominal system's judge says so).
+    StageSystem(problem, reported).Judge(&judged);
   } else {
     nominal.Judge(&judged);
   }
