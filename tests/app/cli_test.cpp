@@ -837,3 +837,27 @@ TEST_CASE("cli: two outputs to one file are refused (exit 2, naming both options
   CHECK(ltca::cli::Run({"solve", Case("liu2021_table1.toml"), "--json", same, "--csv", (dir / "other.csv").string()}, out, err) == 0);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("cli: ltca report takes the options of the analyses it runs: --samples, --threads, --no-worst-case, --kinematics (issue 27)") {
+  // cases/jiang2022_tolerances.toml asks 1000 samples and the worst case; the report runs 12 on one
+  // thread without the worst case, and every analysis under exact kinematics. The documents the
+  // page is built from say so; bad values are refused as `ltca tolerance` refuses them.
+  const auto dir = FreshFolder("report_options");
+  const std::string deck = Case("jiang2022_tolerances.toml");
+  const auto run = RunCli({"report", deck, "-o", dir.string(), "--samples", "12", "--threads", "1", "--no-worst-case",
+                           "--kinematics", "exact", "--set", "sweep.positions=5"});
+  INFO(run.err);
+  REQUIRE(run.code == 0);
+  const auto tolerance = nlohmann::json::parse(ReadText(dir / "tolerance.json"));
+  CHECK(tolerance["summary"]["samples"] == 12);
+  CHECK(!tolerance["summary"].contains("worst_case"));
+  const auto solve = nlohmann::json::parse(ReadText(dir / "solve.json"));
+  CHECK(solve["solver"]["kinematics"] == "exact");
+  const auto stiffness = nlohmann::json::parse(ReadText(dir / "stiffness.json"));
+  CHECK(stiffness["solver"]["kinematics"] == "exact");
+  CHECK(ReadText(dir / "index.html").find("worst-case) runs were skipped") != std::string::npos);
+  CHECK(RunCli({"report", deck, "-o", dir.string(), "--samples", "0"}).code == 2);
+  CHECK(RunCli({"report", deck, "-o", dir.string(), "--samples", "3", "--threads", "5000"}).code == 2);
+  CHECK(RunCli({"report", deck, "-o", dir.string(), "--kinematics", "sideways"}).code == 2);
+  std::filesystem::remove_all(dir);
+}

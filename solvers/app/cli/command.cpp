@@ -41,6 +41,25 @@ void AddLoadInputs(CLI::App& command, DeckInput& deck, std::string& solver, std:
   command.add_option("--kinematics", kinematics, kKinematicsHelp)->check(CLI::IsMember({"exact", "linearised"}));
 }
 
+void AddSamplesOption(CLI::App& command, std::optional<std::int64_t>& samples) {
+  command
+      .add_option_function<std::string>(
+          "--samples",
+          [&samples](const std::string& text) {
+            // Said in the option's own words (CLI11's range check printed "Value 0 not in range 0.000000 to 1.797e308").
+            std::int64_t value = 0;
+            const char* end = text.data() + text.size();
+            const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+            if (text.empty() || ptr != end || ec != std::errc() || value < 1 || value > app::ToleranceSettings::kMaxSamples) {
+              throw CLI::ValidationError(fmt::format("--samples {}: expected a whole number from 1 to {}", text,
+                                                     app::ToleranceSettings::kMaxSamples));
+            }
+            samples = value;
+          },
+          "Number of tolerance samples ([tolerances] samples)")
+      ->type_name("INT 1..10000000");
+}
+
 void AddOutput(CLI::App& command, const char* option, std::string& path, const char* help) {
   command.add_option(option, path, help)->type_name("FILE|-");
 }

@@ -2,7 +2,9 @@
 // The table of commands (issue 24): each command is {name, description, options, outputs, run};
 // cli.cpp adds every entry to the command line and runs the one that was given. A new command is
 // one factory in its *_command.cpp, declared and listed in command.cpp (Commands()).
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,6 +50,10 @@ inline constexpr const char* kKinematicsHelp =
     "linearised or exact (default: the deck's [solver] kinematics, which is linearised when the deck does not set it)";
 /// --set and DECK.
 void AddDeckInputs(CLI::App& command, DeckInput& deck, const char* deck_help = "Case deck (TOML); default: the built-in deck");
+/// --samples N of a tolerance study (`ltca tolerance`, `ltca report`): 1 to
+/// app::ToleranceSettings::kMaxSamples, said in the option's own words when not.
+void AddSamplesOption(CLI::App& command, std::optional<std::int64_t>& samples);
+
 /// --set, DECK, --solver and --kinematics: the inputs of a command that solves loads.
 void AddLoadInputs(CLI::App& command, DeckInput& deck, std::string& solver, std::string& kinematics);
 /// An output option (--json, --csv, --svg, ...): a FILE, or '-' for standard output.

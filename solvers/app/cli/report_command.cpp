@@ -78,7 +78,9 @@ std::string InlineSvg(const fs::path& path) {
 
 }  // namespace
 
-int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams& streams) {
+int RunReport(const app::Deck& given, const ReportOptions& options, const Streams& streams) {
+  // Every analysis of the page runs with --kinematics when given (the deck's otherwise).
+  const app::Deck deck = DeckFor(given, options.kinematics);
   if (options.out_dir.empty()) throw std::invalid_argument("report: -o DIR: expected the folder to write index.html into");
   const fs::path dir(options.out_dir);
   std::error_code ec;
@@ -136,6 +138,9 @@ int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams
   const bool tolerance = deck.tolerances.has_value() && !deck.second_disc;
   ToleranceOptions tol;
   tol.solver = options.solver;
+  tol.samples = options.samples;
+  tol.threads = options.threads;
+  tol.no_worst_case = options.no_worst_case;
   tol.json_path = file("tolerance.json");
   tol.svg_path = file("tolerance.svg");
   const int tol_code = tolerance ? RunTolerance(deck, tol, quiet) : kExitSuccess;
@@ -201,6 +206,7 @@ int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams
                             {"failed", ts["failed"]}, {"rejected", ts["rejected"]}, {"pass_fraction", ts["pass_fraction"]},
                             {"figures", ts["figures"]}};
     html += Table(shown);
+    if (options.no_worst_case) html += "<p>The extreme-value (worst-case) runs were skipped (--no-worst-case).</p>\n";
     html += InlineSvg(tol.svg_path);
   }
   html += fmt::format("<p>Built from geometry.json, solve.json, backlash.json, mesh.json{}{}{} in this folder. A static page: "
@@ -231,9 +237,13 @@ Command ReportCommand() {
           "solver, the geometry table, the summaries of the loaded sweep and of the backlash, and the figures inlined as "
           "SVG; the JSON documents it is built from are left beside it.",
           [st](CLI::App& c) {
-            AddDeckInputs(c, st->deck);
-            c.add_option("-o,--out", st->options.out_dir, "Folder of index.html (created when missing)")->required()->type_name("DIR");
-            c.add_option("--solver", st->options.solver, "Solver name (default: the deck's [solver] name)");
+            ReportOptions& o = st->options;
+            AddLoadInputs(c, st->deck, o.solver, o.kinematics);
+            c.add_option("-o,--out", o.out_dir, "Folder of index.html (created when missing)")->required()->type_name("DIR");
+            // The tolerance study's options, as `ltca tolerance` takes them (issue 27).
+            AddSamplesOption(c, o.samples);
+            c.add_option("--threads", o.threads, "Tolerance study: threads, 1 to 1024 (default 0: every hardware thread)");
+            c.add_flag("--no-worst-case", o.no_worst_case, "Tolerance study: skip the extreme-value (worst-case) runs");
           },
           [] { return std::vector<std::string>{}; },
           [st](const Streams& streams) {

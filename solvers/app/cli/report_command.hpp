@@ -1,4 +1,6 @@
 #pragma once
+#include <cstdint>
+#include <optional>
 #include <string>
 
 #include "ltca/app/deck.hpp"
@@ -7,8 +9,14 @@
 namespace ltca::cli {
 
 struct ReportOptions {
-  std::string out_dir;  ///< the folder of index.html (created when missing)
-  std::string solver;   ///< "" = the deck's [solver] name
+  std::string out_dir;     ///< the folder of index.html (created when missing)
+  std::string solver;      ///< "" = the deck's [solver] name
+  std::string kinematics;  ///< "" = the deck's [solver] kinematics; else every analysis of the page runs with it
+  /// The tolerance study's (issue 27): [tolerances] samples unless given, threads (0: every
+  /// hardware thread), and whether to skip the extreme-value runs.
+  std::optional<std::int64_t> samples;
+  int threads = 0;
+  bool no_worst_case = false;
 };
 
 /// `ltca report DECK -o DIR` (issue 16): one static HTML page, DIR/index.html, that a browser

@@ -501,21 +501,7 @@ Command ToleranceCommand() {
           [st](CLI::App& c) {
             ToleranceOptions& o = st->options;
             AddLoadInputs(c, st->deck, o.solver, o.kinematics);
-            c.add_option_function<std::string>(
-                 "--samples",
-                 [&o](const std::string& text) {
-                   // Said in the option's own words (CLI11's range check printed "Value 0 not in range 0.000000 to 1.797e308").
-                   std::int64_t value = 0;
-                   const char* end = text.data() + text.size();
-                   const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-                   if (text.empty() || ptr != end || ec != std::errc() || value < 1 || value > app::ToleranceSettings::kMaxSamples) {
-                     throw CLI::ValidationError(fmt::format("--samples {}: expected a whole number from 1 to {}", text,
-                                                            app::ToleranceSettings::kMaxSamples));
-                   }
-                   o.samples = value;
-                 },
-                 "Number of samples ([tolerances] samples)")
-                ->type_name("INT 1..10000000");
+            AddSamplesOption(c, o.samples);
             c.add_option("--seed", o.seed, "Seed of the counter-based stream ([tolerances] seed)")->check(Index());
             c.add_option("--threads", o.threads, "Threads, 1 to 1024 (default 0: every hardware thread)");
             c.add_option("--first", o.first, "Index of the first sample (re-run sample i of a study: --first i --samples 1)")
