@@ -257,10 +257,15 @@ void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, co
   if (data.peak) {
     const auto& p = *data.peak;
     const double crank = RadToDeg(p.crank);
+    // Two discs (issue 27): both cranks, the second disc's half a turn on.
+    const bool two = deck.disc_count() == 2;
+    const std::string at = two ? fmt::format("cranks {:.4g} / {:.4g} deg", crank, RadToDeg(p.crank + contact::kSecondDiscCrankOffset))
+                               : fmt::format("crank {:.4g} deg", crank);
     figure.panels.push_back(PinBars(p.pin_force, deck.pair.pin_count, "pin force (N)",
-                                    fmt::format("pin forces at crank {:.4g} deg (largest force)", crank)));
+                                    two ? fmt::format("largest pin forces, {}", at)
+                                        : fmt::format("pin forces at {} (largest force)", at)));
     figure.panels.push_back(PinBars(p.contact_stress, deck.pair.pin_count, "contact stress (MPa)",
-                                    fmt::format("contact stress at crank {:.4g} deg", crank)));
+                                    fmt::format("contact stress at {}", at)));
   } else {
     figure.title += ": no position succeeded";
   }
@@ -279,7 +284,8 @@ void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, co
                                const std::string& title) {
       plots::Panel panel;
       panel.title = discs == 2 ? fmt::format("{}, disc {}", title, disc + 1) : title;
-      panel.x_label = "crank angle (deg)";
+      // The crank axis is the first disc's: the second disc's crank is 180 deg on (issue 27).
+      panel.x_label = disc == 1 ? "crank angle (deg); disc 2 at +180 deg" : "crank angle (deg)";
       panel.y_label = "pin number";
       std::vector<std::vector<double>> columns;
       for (const auto& column : z) {

@@ -215,8 +215,9 @@ void DrawSeries(const Series& s, int order, const std::vector<double>& x, const 
   plwidth(1.0);
 }
 
-/// A sequential colour (viridis-like, from dark blue through green to yellow) for t in [0, 1].
-void MapColour(double t) {
+/// A sequential colour (viridis-like, from dark blue through green to yellow) for t in [0, 1], as
+/// the 8-bit RGB the figure gets.
+std::array<int, 3> MapRgb(double t) {
   static constexpr std::array<std::array<double, 3>, 5> stops = {
       {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}}};
   t = std::clamp(t, 0.0, 1.0) * (stops.size() - 1);
@@ -225,9 +226,15 @@ void MapColour(double t) {
   const auto c = [&](int i) {
     return static_cast<int>(std::lround(stops[k][static_cast<std::size_t>(i)] * (1 - f) + stops[k + 1][static_cast<std::size_t>(i)] * f));
   };
-  plscol0(kColours - 1, c(0), c(1), c(2));
+  return {c(0), c(1), c(2)};
+}
+
+void SetRgb(const std::array<int, 3>& rgb) {
+  plscol0(kColours - 1, rgb[0], rgb[1], rgb[2]);
   plcol0(kColours - 1);
 }
+
+void MapColour(double t) { SetRgb(MapRgb(t)); }
 
 /// The range of a map's finite values (0..1 when it has none).
 Range MapRange(const Map& m) {
@@ -248,16 +255,27 @@ double HalfCell(const std::vector<double>& c, std::size_t i, bool upper) {
 }
 
 void DrawMap(const Map& m) {
+  // Cells of one column whose colours are the same 8-bit RGB are one rectangle: the same picture,
+  // with far fewer SVG elements where a map is flat (the unloaded pins' zeros; issue 27: the solve
+  // figure of a two-disc deck was 2.3 MB).
   const Range r = MapRange(m);
   for (std::size_t i = 0; i < m.x.size() && i < m.z.size(); ++i) {
-    for (std::size_t j = 0; j < m.y.size() && j < m.z[i].size(); ++j) {
+    const double x0 = m.x[i] - HalfCell(m.x, i, false), x1 = m.x[i] + HalfCell(m.x, i, true);
+    const std::size_t n = std::min(m.y.size(), m.z[i].size());
+    for (std::size_t j = 0; j < n;) {
       const double v = m.z[i][j];
-      if (!std::isfinite(v)) continue;
-      const double x0 = m.x[i] - HalfCell(m.x, i, false), x1 = m.x[i] + HalfCell(m.x, i, true);
-      const double y0 = m.y[j] - HalfCell(m.y, j, false), y1 = m.y[j] + HalfCell(m.y, j, true);
+      if (!std::isfinite(v)) {
+        ++j;
+        continue;
+      }
+      const std::array<int, 3> rgb = MapRgb((v - r.lo) / (r.hi - r.lo));
+      std::size_t last = j;
+      while (last + 1 < n && std::isfinite(m.z[i][last + 1]) && MapRgb((m.z[i][last + 1] - r.lo) / (r.hi - r.lo)) == rgb) ++last;
+      const double y0 = m.y[j] - HalfCell(m.y, j, false), y1 = m.y[last] + HalfCell(m.y, last, true);
       const std::array<double, 4> bx = {x0, x1, x1, x0}, by = {y0, y0, y1, y1};
-      MapColour((v - r.lo) / (r.hi - r.lo));
+      SetRgb(rgb);
       plfill(4, bx.data(), by.data());
+      j = last + 1;
     }
   }
 }
