@@ -571,9 +571,7 @@ PinContact MeshModel::EvaluateSection(int pin, int slice, double z, double crank
 }
 
 PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double loaded_rotation) const {
-  const geometry::Pose pose = CyclePose(crank, loaded_rotation, near.z);
-  if (discrete_) return EvaluatePointElements(near.pin, near.slice, near.z, crank, pose);
-  return EvaluatePointAt(near.pin, near.slice, near.z, crank, pose, near.tooth_space, near.u);
+  return EvaluatePoint(near, crank, loaded_rotation, Eigen::Vector2d::Zero());
 }
 
 PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double loaded_rotation,

@@ -385,10 +385,7 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace
 }
 
 contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, double psi) const {
-  contact::PinContact pin = DiscModel(near.disc).EvaluatePoint(near, DiscCrank(near.disc), direction_ * psi);
-  pin.disc = near.disc;
-  pin.arm *= direction_;
-  return pin;
+  return EvaluatePin(near, psi, Eigen::Vector2d::Zero());
 }
 
 contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, double phi,
