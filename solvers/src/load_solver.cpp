@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "coupled_contact.hpp"
 #include "ltca/geometry/units.hpp"
 #include "stage_system.hpp"
 
@@ -172,7 +173,7 @@ Eigen::VectorXd LoadSolver::SolveStageExact(const LoadProblem& problem, const St
   for (int outer = 0; outer < kMaxOuter; ++outer) {
     LoadResult iterate;
     iterate.force.assign(static_cast<std::size_t>(problem.point_count()), 0.0);
-    const StageSystem system(problem, origin);
+    const StageSystem system(problem, origin, nominal.coupled());
     DoSolveStage(problem, system, options, workspace, &iterate);
     iterate.iterations += result->iterations;
     iterate.torque_evaluations += result->torque_evaluations;
@@ -207,8 +208,10 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
              !overlaps.empty()) {
     result->status = SolverStatus::kInterference;
     result->message = fmt::format("interference at the theoretical position: {} overlap the cycloid", overlaps);
-  } else if (StageSolvable(problem, result)) {
-    const StageSystem nominal(problem);
+  } else {
+    // Pin bending: the coupled contact solver kept in the workspace (its analysis reused over a sweep).
+    CoupledContact* coupled = problem.has_coupling() ? &CoupledContactFor(problem, workspace) : nullptr;
+    const StageSystem nominal(problem, coupled);
     std::unique_ptr<StageSystem> judge;  // exact kinematics: the system about the reported poses
     if (problem.torque() == 0.0) {
       nominal.Fill(nominal.Zero(), result);
@@ -217,7 +220,7 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
     } else if (problem.kinematics() != contact::ContactKinematics::kExact) {
       solver.DoSolveStage(problem, nominal, options, workspace, result);
     } else {
-      judge = std::make_unique<StageSystem>(problem, SolveStageExact(problem, nominal, options, workspace, result));
+      judge = std::make_unique<StageSystem>(problem, SolveStageExact(problem, nominal, options, workspace, result), coupled);
     }
     if (std::isfinite(result->rotation) && result->stage) {
       (judge ? *judge : nominal).Judge(result);

@@ -22,6 +22,7 @@ const char* ToString(StageGroup group) {
     case StageGroup::kBearings: return "bearings";
     case StageGroup::kShafts: return "shafts";
     case StageGroup::kSeats: return "pin_seats";
+    case StageGroup::kPinBending: return "pin_bending";
   }
   return "?";
 }

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
+#include "coupled_contact.hpp"
 #include "ltca/contact/cranks.hpp"
 #include "ltca/contact/output_pins.hpp"
 #include "ltca/geometry/units.hpp"
@@ -60,9 +61,12 @@ Eigen::Vector2d StageSystem::DisplacementAt(const Planar& p, const Eigen::Vector
   return Eigen::Vector2d(p.coordinates[0].Dot(c), p.coordinates[1].Dot(c)) + p.offset;
 }
 
-StageSystem::StageSystem(const LoadProblem& problem) : problem_(&problem) { Build(problem, nullptr); }
+StageSystem::StageSystem(const LoadProblem& problem, CoupledContact* coupled) : problem_(&problem), coupled_(coupled) {
+  Build(problem, nullptr);
+}
 
-StageSystem::StageSystem(const LoadProblem& problem, const Eigen::VectorXd& origin) : problem_(&problem) {
+StageSystem::StageSystem(const LoadProblem& problem, const Eigen::VectorXd& origin, CoupledContact* coupled)
+    : problem_(&problem), coupled_(coupled) {
   Build(problem, &origin);
 }
 
@@ -127,6 +131,41 @@ void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origi
     e.disc = d;
     e.index = static_cast<int>(i);
     scalars_.push_back(e);
+  }
+  mesh_points_ = static_cast<int>(base.pins.size());
+  if (problem.has_coupling()) {
+    // Pin bending (issue 11): C couples the points of one pin's beam. Its blocks are the connected
+    // sets of its non-zeros (one pin's slices), each kept dense for the Hessian's condensation.
+    coupling_ = problem.coupling();
+    force_scale_ = CoupledForceScale(problem);
+    std::vector<int> parent(static_cast<std::size_t>(mesh_points_));
+    for (int i = 0; i < mesh_points_; ++i) parent[static_cast<std::size_t>(i)] = i;
+    const auto root = [&](int i) {
+      while (parent[static_cast<std::size_t>(i)] != i) i = parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+      return i;
+    };
+    for (int k = 0; k < coupling_->outerSize(); ++k) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(*coupling_, k); it; ++it) {
+        const int a = root(static_cast<int>(it.row())), b = root(static_cast<int>(it.col()));
+        if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+      }
+    }
+    std::vector<int> block_of(static_cast<std::size_t>(mesh_points_), -1);
+    for (int i = 0; i < mesh_points_; ++i) {
+      const int r = root(i);
+      if (block_of[static_cast<std::size_t>(r)] < 0) {
+        block_of[static_cast<std::size_t>(r)] = static_cast<int>(blocks_.size());
+        blocks_.emplace_back();
+      }
+      blocks_[static_cast<std::size_t>(block_of[static_cast<std::size_t>(r)])].points.push_back(i);
+    }
+    for (Block& b : blocks_) {
+      const auto m = static_cast<Eigen::Index>(b.points.size());
+      b.c.resize(m, m);
+      for (Eigen::Index x = 0; x < m; ++x) {
+        for (Eigen::Index y = 0; y < m; ++y) b.c(x, y) = coupling_->coeff(b.points[static_cast<std::size_t>(x)], b.points[static_cast<std::size_t>(y)]);
+      }
+    }
   }
 
   // The output member's nominal rotation: the first disc's (the holes and cranks of every disc
@@ -236,9 +275,14 @@ void StageSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vec
   out->energy = -torque_ * q(psi) / radius_;
   out->gradient(psi) = -torque_ / radius_;
   if (hints != nullptr && hints->size() != scalars_.size()) hints->assign(scalars_.size(), 0.0);
+  out->failure.clear();
   Eigen::VectorXd magnitude = Eigen::VectorXd::Zero(n);
   magnitude(psi) = torque_ / radius_;
-  for (std::size_t i = 0; i < scalars_.size(); ++i) {
+  if (coupling_ != nullptr) {
+    EvaluateCoupled(q, with_hessian, hints, out, &magnitude);
+    if (!out->failure.empty()) return;
+  }
+  for (std::size_t i = coupling_ != nullptr ? static_cast<std::size_t>(mesh_points_) : 0; i < scalars_.size(); ++i) {
     const Scalar& e = scalars_[i];
     const double delta = e.row.Dot(q) - e.gap;
     if (!(delta > 0.0)) continue;
@@ -299,6 +343,90 @@ void StageSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vec
     }
   }
   out->rounding = 16.0 * std::numeric_limits<double>::epsilon() * magnitude.maxCoeff();
+}
+
+StageSystem::CoupledForces StageSystem::SolveCoupled(const std::vector<double>& approach, std::vector<double>* force) const {
+  if (coupled_ == nullptr) throw std::logic_error("StageSystem: pin bending's coupling needs the coupled contact solver");
+  std::vector<CoupledPoint> points(static_cast<std::size_t>(mesh_points_));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const int law = scalars_[i].law;
+    points[i].law = law >= 0 ? &laws_[static_cast<std::size_t>(law)] : nullptr;
+    points[i].approach = approach[i];
+  }
+  const CoupledOutcome o = coupled_->AtRotation(points, force_scale_, force);
+  return {o.converged, o.saturated, o.edge,
+          o.converged ? std::string() : fmt::format("the pins' coupled contact problem (pin bending): {}",
+                                                    o.failure.empty() ? "did not converge" : o.failure)};
+}
+
+// Pin bending in the stage (issue 25 with issue 11's coupling). The deformed gap of pin-ring point
+// i is w_i(F_i) + (C F)_i - delta_i(q), with delta_i = row_i . q - gap_i its approach under the
+// poses. The pin ring's energy at q is the condensed one,
+//   E(delta) = max over F >= 0 of  F . delta - sum_i W*_i(F_i) - F^T C F / 2,
+// (W*_i the complementary energy of point i's law): convex in delta, its maximiser the coupled
+// contact solution at those approaches (CoupledContact::AtRotation), its gradient F (Danskin) and,
+// on the loaded set A, its Hessian (D_A + C_AA)^-1 with D_i = w_i'(F_i) the tangent compliance.
+// C couples the slices of one pin only, so the Hessian's condensation is a dense solve per pin.
+void StageSystem::EvaluateCoupled(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints,
+                                  Evaluation* out, Eigen::VectorXd* magnitude) const {
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  const auto points = static_cast<std::size_t>(mesh_points_);
+  std::vector<double> approach(points), force(points, 0.0);
+  for (std::size_t i = 0; i < points; ++i) {
+    approach[i] = scalars_[i].row.Dot(q) - scalars_[i].gap;
+    if (hints != nullptr) force[i] = (*hints)[i];  // the last evaluation's forces: a warm start
+  }
+  const CoupledForces solved = SolveCoupled(approach, &force);
+  if (!solved.converged) {
+    out->failure = solved.failure;
+    out->energy = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  if (hints != nullptr) std::copy(force.begin(), force.end(), hints->begin());
+  out->saturated = out->saturated || solved.saturated;
+  out->edge = out->edge || solved.edge;
+  const Eigen::Map<const Eigen::VectorXd> f(force.data(), static_cast<Eigen::Index>(points));
+  const Eigen::VectorXd cf = *coupling_ * f;
+  out->energy -= 0.5 * f.dot(cf);
+  for (std::size_t i = 0; i < points; ++i) {
+    const Scalar& e = scalars_[i];
+    const double fi = force[i];
+    if (!(fi > 0.0) || e.law < 0) continue;
+    const contact::ContactLaw& law = laws_[static_cast<std::size_t>(e.law)];
+    out->energy += fi * approach[i] - law.ComplementaryEnergy(fi);
+    const double compliance = law.Compliance(fi) + coupling_->coeff(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i));
+    const double k = compliance > 0.0 && std::isfinite(compliance) ? 1.0 / compliance : 0.0;
+    double reach = std::abs(e.gap) + std::abs(cf(static_cast<Eigen::Index>(i)));
+    for (int a = 0; a < e.row.n; ++a) reach += std::abs(e.row.value[static_cast<std::size_t>(a)] * q(e.row.index[static_cast<std::size_t>(a)]));
+    out->energy_rounding += kEps * fi * reach;
+    for (int a = 0; a < e.row.n; ++a) {
+      const auto ia = static_cast<std::size_t>(a);
+      out->gradient(e.row.index[ia]) += fi * e.row.value[ia];
+      (*magnitude)(e.row.index[ia]) += (fi + k * reach) * std::abs(e.row.value[ia]);
+    }
+  }
+  if (!with_hessian) return;
+  for (const Block& b : blocks_) {
+    std::vector<Eigen::Index> loaded;  // positions in the block
+    for (std::size_t x = 0; x < b.points.size(); ++x) {
+      const auto i = static_cast<std::size_t>(b.points[x]);
+      if (force[i] > 0.0 && scalars_[i].law >= 0) loaded.push_back(static_cast<Eigen::Index>(x));
+    }
+    if (loaded.empty()) continue;
+    const auto m = static_cast<Eigen::Index>(loaded.size());
+    Eigen::MatrixXd compliance(m, m), rows = Eigen::MatrixXd::Zero(m, dofs_);
+    for (Eigen::Index x = 0; x < m; ++x) {
+      const auto i = static_cast<std::size_t>(b.points[static_cast<std::size_t>(loaded[static_cast<std::size_t>(x)])]);
+      for (Eigen::Index y = 0; y < m; ++y) compliance(x, y) = b.c(loaded[static_cast<std::size_t>(x)], loaded[static_cast<std::size_t>(y)]);
+      compliance(x, x) += laws_[static_cast<std::size_t>(scalars_[i].law)].Compliance(force[i]);
+      const Row& row = scalars_[i].row;
+      for (int a = 0; a < row.n; ++a) rows(x, row.index[static_cast<std::size_t>(a)]) += row.value[static_cast<std::size_t>(a)];
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(compliance);
+    if (ldlt.info() != Eigen::Success) continue;  // an infinite tangent compliance: no stiffness
+    const Eigen::MatrixXd stiff = ldlt.solve(rows);
+    if (stiff.allFinite()) out->hessian.noalias() += rows.transpose() * stiff;
+  }
 }
 
 StageSystem::Outcome StageSystem::Minimise(Eigen::VectorXd* q, bool hold_output, double tolerance, int max_iterations,
@@ -439,16 +567,32 @@ void StageSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
     }
   }
   std::vector<Eigen::Vector2d> mesh_force(static_cast<std::size_t>(discs_), Eigen::Vector2d::Zero());
-  for (const Scalar& e : scalars_) {
+  // Pin bending: the pin-ring forces of the coupled contact problem at these approaches; the
+  // beams' strain energy F^T C F / 2, each contact's its own.
+  std::vector<double> coupled;
+  if (coupling_ != nullptr) {
+    std::vector<double> approach(static_cast<std::size_t>(mesh_points_));
+    for (std::size_t i = 0; i < approach.size(); ++i) approach[i] = scalars_[i].coordinates.Dot(relative) - scalars_[i].gap;
+    coupled.assign(approach.size(), 0.0);
+    if (!SolveCoupled(approach, &coupled).converged) std::fill(coupled.begin(), coupled.end(), 0.0);
+    const Eigen::Map<const Eigen::VectorXd> f(coupled.data(), static_cast<Eigen::Index>(coupled.size()));
+    stage.group_energy[static_cast<std::size_t>(StageGroup::kPinBending)] += 0.5 * f.dot(*coupling_ * f);
+  }
+  for (std::size_t i = 0; i < scalars_.size(); ++i) {
+    const Scalar& e = scalars_[i];
     const double delta = e.coordinates.Dot(relative) - e.gap;
     if (e.group == StageGroup::kMesh) result->approach[static_cast<std::size_t>(e.index)] = delta;
-    if (!(delta > 0.0) || e.law < 0) continue;
+    const bool is_coupled = i < coupled.size();
+    if (!(is_coupled || delta > 0.0) || e.law < 0) continue;
     const contact::ContactLaw& law = laws_[static_cast<std::size_t>(e.law)];
-    const double f = law.Force(delta);
+    const double f = is_coupled ? coupled[i] : law.Force(delta);
+    if (!(f > 0.0)) continue;
     // A seated pin's strain energy splits between its contact and its seat: each part's
-    // F w_part(F) - (complementary energy of the part).
+    // F w_part(F) - (complementary energy of the part). The contact's approach is w(F) (with
+    // pin bending, delta less the beam's deflection).
     const double seat = f * law.SeatApproach(f) - law.SeatComplementaryEnergy(f);
-    stage.group_energy[static_cast<std::size_t>(e.group)] += f * delta - law.ComplementaryEnergy(f) - seat;
+    const double contact_approach = is_coupled ? law.Approach(f) : delta;
+    stage.group_energy[static_cast<std::size_t>(e.group)] += f * contact_approach - law.ComplementaryEnergy(f) - seat;
     stage.group_energy[static_cast<std::size_t>(StageGroup::kSeats)] += seat;
     StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(e.disc)];
     if (e.group == StageGroup::kMesh) {
@@ -497,6 +641,13 @@ void StageSystem::Judge(LoadResult* result) const {
   balance(psi_coordinate_) = -torque_;
   double f_max = 0.0, w_max = 0.0;
   const double geometry_resolution = 16.0 * std::numeric_limits<double>::epsilon() * radius_;
+  // Pin bending: each point's beam deflection (C F)_i under the reported forces.
+  Eigen::VectorXd beam;
+  if (coupling_ != nullptr) {
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(mesh_points_);
+    for (int i = 0; i < mesh_points_ && static_cast<std::size_t>(i) < result->force.size(); ++i) f(i) = result->force[static_cast<std::size_t>(i)];
+    beam = *coupling_ * f;
+  }
   const auto reported = [&](const Scalar& e) -> double {
     if (e.group == StageGroup::kMesh) {
       return static_cast<std::size_t>(e.index) < result->force.size() ? result->force[static_cast<std::size_t>(e.index)] : 0.0;
@@ -504,7 +655,8 @@ void StageSystem::Judge(LoadResult* result) const {
     const auto& forces = stage.discs[static_cast<std::size_t>(e.disc)].output_force;
     return static_cast<std::size_t>(e.index) < forces.size() ? forces[static_cast<std::size_t>(e.index)] : 0.0;
   };
-  for (const Scalar& e : scalars_) {
+  for (std::size_t i = 0; i < scalars_.size(); ++i) {
+    const Scalar& e = scalars_[i];
     const double f = reported(e);
     const double delta = e.coordinates.Dot(c) - e.gap;
     for (int k = 0; k < e.coordinates.n; ++k) {
@@ -512,7 +664,8 @@ void StageSystem::Judge(LoadResult* result) const {
     }
     f_max = std::max(f_max, std::abs(f));
     if (f > 0.0) w_max = std::max(w_max, std::abs(delta));
-    const double deflection = e.law >= 0 ? laws_[static_cast<std::size_t>(e.law)].Approach(f) : 0.0;
+    double deflection = e.law >= 0 ? laws_[static_cast<std::size_t>(e.law)].Approach(f) : 0.0;
+    if (static_cast<Eigen::Index>(i) < beam.size()) deflection += beam(static_cast<Eigen::Index>(i));
     // About a moved origin (exact kinematics) the gaps are the geometry re-evaluated there, each
     // resolved to a few eps of the pin-circle radius (positions of that size subtracted): a gap
     // within that of the solve's is the same gap. The nominal system's gaps are the solve's own.
@@ -611,7 +764,7 @@ void FinishStage(const StageSystem& system, const Eigen::VectorXd& q, StageSyste
   system.Fill(q, result);
   if (outcome == StageSystem::Outcome::kNumerical) {
     result->status = SolverStatus::kNumericalFailure;
-    result->message = "the stage's minimisation failed (no step lowers the energy)";
+    result->message = last.failure.empty() ? "the stage's minimisation failed (no step lowers the energy)" : last.failure;
   } else if (last.edge) {
     result->status = SolverStatus::kEdgeContact;
     result->message = "a loaded pin sits on a tip corner: edge contact, not solved as line contact";
@@ -645,15 +798,6 @@ void KeepStageStart(const StageSystem& system, const Eigen::VectorXd& q, Workspa
   auto state = std::make_unique<StageStartState>();
   state->q = q + system.OriginDofs();
   workspace.SetBackend(key, std::move(state));
-}
-
-bool StageSolvable(const LoadProblem& problem, LoadResult* result) {
-  if (problem.has_coupling()) {
-    result->status = SolverStatus::kStageUnsupported;
-    result->message = "the reducer stage does not yet take pin bending's coupling ([pins]); docs/stage.md";
-    return false;
-  }
-  return true;
 }
 
 }  // namespace ltca::solvers

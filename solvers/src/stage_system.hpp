@@ -11,9 +11,11 @@
 // the disc's centre), rotations scaled by the pin-circle radius so that every dof is a length in mm
 // and every component of the gradient a force in N.
 #include <array>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "ltca/contact/bearing.hpp"
 #include "ltca/contact/laws.hpp"
@@ -23,16 +25,22 @@
 
 namespace ltca::solvers {
 
+class CoupledContact;
+
 class StageSystem {
  public:
   /// The stage at its nominal poses (linearised kinematics). Throws std::invalid_argument when the
   /// problem has no stage.
-  explicit StageSystem(const LoadProblem& problem);
+  ///
+  /// With pin bending (the problem's coupling, issue 11) the pin-ring points of one pin share its
+  /// beam: `coupled` solves their contact problem at each evaluation (CoupledContactFor, kept in
+  /// the workspace); a system without it can judge (Judge) but not evaluate.
+  explicit StageSystem(const LoadProblem& problem, CoupledContact* coupled = nullptr);
   /// The stage linearised about the poses `origin` (coordinates, as a result reports them): every
   /// element re-evaluated there, its gap the exact one at those poses and its gradients the exact
   /// ones (exact kinematics: each iterate of LoadSolver's outer loop). The coordinates the system
   /// works in are then relative to the origin; Fill and Judge report and read absolute ones.
-  StageSystem(const LoadProblem& problem, const Eigen::VectorXd& origin);
+  StageSystem(const LoadProblem& problem, const Eigen::VectorXd& origin, CoupledContact* coupled = nullptr);
   StageSystem(const StageSystem&) = delete;
   StageSystem& operator=(const StageSystem&) = delete;
 
@@ -43,6 +51,8 @@ class StageSystem {
   /// psi = scale * q[output_dof()], rad.
   double rotation_scale() const { return 1.0 / radius_; }
   int disc_count() const { return discs_; }
+  /// The coupled contact solver of pin bending (nullptr: none given).
+  CoupledContact* coupled() const { return coupled_; }
 
   struct Evaluation {
     double energy = 0.0;        ///< Pi, N*mm
@@ -57,6 +67,9 @@ class StageSystem {
     /// its approach (eps times the magnitudes it is the difference of: a clearance taken up almost
     /// exactly leaves few digits of the approach, and of its energy).
     double energy_rounding = 0.0;
+    /// Pin bending: why the pins' coupled contact problem did not converge (empty: it did, or
+    /// there is none). The energy is then NaN.
+    std::string failure;
   };
   /// hints: one per scalar element (law inversions' warm starts), resized as needed.
   void Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints, Evaluation* out) const;
@@ -139,6 +152,16 @@ class StageSystem {
   static Eigen::Vector2d DisplacementAt(const Planar& p, const Eigen::VectorXd& c);
 
   void Build(const LoadProblem& problem, const Eigen::VectorXd* origin);
+  /// Pin bending: the pin-ring forces at the approaches `approach` (one per problem point), by
+  /// the coupled contact solver; `force` is the warm start and the answer.
+  struct CoupledForces {
+    bool converged = false, saturated = false, edge = false;
+    std::string failure;
+  };
+  CoupledForces SolveCoupled(const std::vector<double>& approach, std::vector<double>* force) const;
+  /// Pin bending's part of an evaluation at dofs q (the pin-ring points; the others as without).
+  void EvaluateCoupled(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints, Evaluation* out,
+                       Eigen::VectorXd* magnitude) const;
 
   const LoadProblem* problem_;
   Eigen::VectorXd origin_;  // coordinates about which the system is linearised (zero: nominal)
@@ -157,6 +180,17 @@ class StageSystem {
   std::vector<contact::ContactLaw> laws_;
   std::vector<Scalar> scalars_;
   std::vector<Planar> planars_;
+  // Pin bending: the coupling C over the problem's points (scalars_[0..points) are they, in
+  // order), its blocks (the points one beam couples, with C's dense block) and the solver.
+  const Eigen::SparseMatrix<double>* coupling_ = nullptr;
+  struct Block {
+    std::vector<int> points;
+    Eigen::MatrixXd c;
+  };
+  std::vector<Block> blocks_;
+  int mesh_points_ = 0;
+  double force_scale_ = 1.0;  // N, CoupledForceScale
+  CoupledContact* coupled_ = nullptr;
 };
 
 /// Sets the status and message of a stage solve from the minimisation's outcome and its last
@@ -169,8 +203,5 @@ void FinishStage(const StageSystem& system, const Eigen::VectorXd& q, StageSyste
 Eigen::VectorXd StageStart(const StageSystem& system, Workspace& workspace, const std::string& key);
 void KeepStageStart(const StageSystem& system, const Eigen::VectorXd& q, Workspace& workspace, const std::string& key);
 
-/// The stage path every backend that solves the stage shares: the stage's own refusals before a
-/// solve (a coupling), as a status in *result; returns false when refused.
-bool StageSolvable(const LoadProblem& problem, LoadResult* result);
 
 }  // namespace ltca::solvers

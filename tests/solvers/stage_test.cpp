@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 #include <doctest/doctest.h>
 
 #include "ltca/contact/cranks.hpp"
@@ -235,6 +236,111 @@ TEST_CASE("solvers: seated pins are springs in series with their contacts; the b
     CHECK(seats / (seats + mesh) == doctest::Approx(kLawStiffness / (kLawStiffness + ks)).epsilon(1e-9));
     CHECK(r.residuals.balance_relative < 1e-9);
   }
+}
+
+TEST_CASE("solvers: pin bending in the stage is the network with the pin ring's flexibility (W + C) condensed (1e-9)") {
+  // The cycloidal drive of the first test with a compliance coupling C on the pin ring (issue 11's
+  // form: the deflection of point i is sum_j C_ij F_j): pins 2m and 2m+1 share a block
+  // [[c, c/2], [c/2, c]], c = 5e-6 mm/N (the contacts' own compliance is 1 / (2e4 * 12) = 4.2e-6).
+  // Reference, assembled here: on the loaded set A of the pin ring the forces are
+  // F_A = (W + C)_AA^-1 (R_A q - g_A), W = diag(1 / k_i), so the stage's stiffness is
+  // fixed + sum_output k a a^T + R_A^T (W + C)_AA^-1 R_A; A and the closed output pins iterated
+  // until they repeat (a pin leaves A when its force is negative, enters when its approach
+  // exceeds its beam deflection (C F)_i). Every force and the rotation to 1e-9.
+  const double crank = 0.3, torque = 2.06e5, c = 5e-6;
+  const StageSettings stage = Pins(0.0, BearingKind::kLinear);
+  const LoadProblem plain = Problem(stage, crank, torque, false);
+  const int n = plain.point_count();
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int m = 0; m + 1 < n; m += 2) {
+    entries.emplace_back(m, m, c);
+    entries.emplace_back(m + 1, m + 1, c);
+    entries.emplace_back(m, m + 1, 0.5 * c);
+    entries.emplace_back(m + 1, m, 0.5 * c);
+  }
+  if (n % 2 == 1) entries.emplace_back(n - 1, n - 1, c);
+  Eigen::SparseMatrix<double> coupling(n, n);
+  coupling.setFromTriplets(entries.begin(), entries.end());
+  const LoadProblem problem = plain.WithCoupling(coupling);
+  const Network net = CycloidalDrive(plain, stage, crank, kLawStiffness);
+  const Eigen::MatrixXd cd = Eigen::MatrixXd(coupling);
+  // The reference's solve.
+  std::vector<int> ring, output;  // indices into net.springs
+  for (std::size_t e = 0; e < net.springs.size(); ++e) (net.springs[e].kind == 0 ? ring : output).push_back(static_cast<int>(e));
+  std::vector<bool> loaded(ring.size(), true), closed(output.size(), true);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(4), force = Eigen::VectorXd::Zero(n);
+  bool settled = false;
+  for (int round = 0; round < 50 && !settled; ++round) {
+    std::vector<int> a;
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      if (loaded[i]) a.push_back(static_cast<int>(i));
+    }
+    const auto m = static_cast<Eigen::Index>(a.size());
+    Eigen::MatrixXd flex(m, m), rows(m, 4);
+    Eigen::VectorXd gaps(m);
+    for (Eigen::Index x = 0; x < m; ++x) {
+      const Spring& s = net.springs[static_cast<std::size_t>(ring[static_cast<std::size_t>(a[static_cast<std::size_t>(x)])])];
+      for (Eigen::Index y = 0; y < m; ++y) {
+        flex(x, y) = cd(s.index, net.springs[static_cast<std::size_t>(ring[static_cast<std::size_t>(a[static_cast<std::size_t>(y)])])].index);
+      }
+      flex(x, x) += 1.0 / s.k;
+      rows.row(x) = s.a.transpose();
+      gaps(x) = s.gap;
+    }
+    const Eigen::MatrixXd inverse = flex.inverse();
+    Eigen::MatrixXd k = net.fixed + rows.transpose() * inverse * rows;
+    Eigen::VectorXd f = rows.transpose() * (inverse * gaps);
+    f(3) += torque;
+    for (std::size_t j = 0; j < output.size(); ++j) {
+      if (!closed[j]) continue;
+      const Spring& s = net.springs[static_cast<std::size_t>(output[j])];
+      k += s.k * s.a * s.a.transpose();
+      f += s.k * s.gap * s.a;
+    }
+    q = k.ldlt().solve(f);
+    const Eigen::VectorXd fa = inverse * (rows * q - gaps);
+    force.setZero();
+    for (Eigen::Index x = 0; x < m; ++x) {
+      force(net.springs[static_cast<std::size_t>(ring[static_cast<std::size_t>(a[static_cast<std::size_t>(x)])])].index) = fa(x);
+    }
+    const Eigen::VectorXd beam = cd * force;
+    settled = true;
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      const Spring& s = net.springs[static_cast<std::size_t>(ring[i])];
+      const bool now = loaded[i] ? force(s.index) > 0.0 : s.a.dot(q) - s.gap - beam(s.index) > 0.0;
+      settled = settled && now == loaded[i];
+      loaded[i] = now;
+    }
+    for (std::size_t j = 0; j < output.size(); ++j) {
+      const Spring& s = net.springs[static_cast<std::size_t>(output[j])];
+      const bool now = s.a.dot(q) - s.gap > 0.0;
+      settled = settled && now == closed[j];
+      closed[j] = now;
+    }
+  }
+  REQUIRE(settled);
+  for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+    CAPTURE(name);
+    const LoadResult r = SolveTight(name, problem);
+    INFO(r.message);
+    REQUIRE(r.status == SolverStatus::kSuccess);
+    REQUIRE(r.stage.has_value());
+    const double scale = MaxForce(r);
+    CHECK(r.rotation == doctest::Approx(q(3)).epsilon(1e-9));
+    CHECK(r.stage->discs[0].rotation == doctest::Approx(q(2)).epsilon(1e-9));
+    for (int i = 0; i < n; ++i) CHECK(std::abs(r.force[static_cast<std::size_t>(i)] - force(i)) <= 1e-9 * scale);
+    for (const int j : output) {
+      const Spring& s = net.springs[static_cast<std::size_t>(j)];
+      CHECK(std::abs(r.stage->discs[0].output_force[static_cast<std::size_t>(s.index)] - s.k * std::max(0.0, s.a.dot(q) - s.gap)) <=
+            1e-9 * scale);
+    }
+    // The beams hold F^T C F / 2 of the strain energy.
+    const double bending = r.stage->group_energy[static_cast<std::size_t>(ltca::solvers::StageGroup::kPinBending)];
+    CHECK(bending == doctest::Approx(0.5 * force.dot(cd * force)).epsilon(1e-9));
+    CHECK(r.residuals.Normalised() < 1e-9);
+  }
+  // Without the coupling the pin ring is stiffer: the output turns less.
+  CHECK(std::abs(SolveTight("compatibility", plain).rotation) < std::abs(q(3)));
 }
 
 TEST_CASE("solvers: an RV stage of two discs on three cranks with linear laws is the linear network solved directly (1e-9)") {

@@ -1194,10 +1194,6 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
         throw std::invalid_argument("[tolerances] with [output]: the tolerance study's backlash is the pin ring's alone and "
                                     "does not yet take up the stage's clearances (docs/stage.md); expected one of the two");
       }
-      if (deck.pins) {
-        throw std::invalid_argument("[output] with [pins] span_mm: the stage does not take pin bending yet "
-                                    "(docs/stage.md; pin seats, [pins] seat, it does); expected one of the two");
-      }
     } else if (bearing.Present()) {
       throw std::invalid_argument("[bearing] without [output]: the bearing belongs to the reducer stage; expected an "
                                   "[output] section (kind = \"pins\" or \"cranks\")");

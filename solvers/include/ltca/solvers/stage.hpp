@@ -50,9 +50,10 @@ struct StageSettings {
 };
 
 /// The element groups of the compliance budget.
-/// kMesh: the pin-cycloid contacts; kSeats: the pins' seats in series with them ([pins] seat).
-enum class StageGroup { kMesh, kOutput, kBearings, kShafts, kSeats };
-inline constexpr int kStageGroups = 5;
+/// kMesh: the pin-cycloid contacts; kSeats: the pins' seats in series with them ([pins] seat);
+/// kPinBending: the pins' bending between their supports ([pins] span_mm, the coupling).
+enum class StageGroup { kMesh, kOutput, kBearings, kShafts, kSeats, kPinBending };
+inline constexpr int kStageGroups = 6;
 const char* ToString(StageGroup group);
 
 /// What a stage solve found besides the pin-ring forces (LoadResult::force) and the output
