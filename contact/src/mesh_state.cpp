@@ -693,14 +693,17 @@ void RequireSamePinRing(const MeshModel& first, const MeshModel& second) {
 
 MeshState EvaluateTwoDiscs(const MeshModel& first, const MeshModel& second, double crank, double loaded_rotation) {
   RequireSamePinRing(first, second);
-  MeshState state = first.Evaluate(crank, loaded_rotation);
-  MeshState behind = second.Evaluate(crank + kSecondDiscCrankOffset, loaded_rotation);
-  state.pins.reserve(state.pins.size() + behind.pins.size());
+  return CombineTwoDiscs(first.Evaluate(crank, loaded_rotation),
+                         second.Evaluate(crank + kSecondDiscCrankOffset, loaded_rotation));
+}
+
+MeshState CombineTwoDiscs(MeshState first, MeshState behind) {
+  first.pins.reserve(first.pins.size() + behind.pins.size());
   for (PinContact& c : behind.pins) {
     c.disc = 1;
-    state.pins.push_back(std::move(c));
+    first.pins.push_back(std::move(c));
   }
-  return state;
+  return first;
 }
 
 bool SameMesh(const MeshState& a, const MeshState& b) {

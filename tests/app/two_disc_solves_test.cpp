@@ -177,3 +177,41 @@ TEST_CASE("app: a second disc indexed s ahead closes its gaps s/R_p earlier; alo
     }
   }
 }
+
+TEST_CASE("app: two discs of one part over a whole crank turn: the states a sweep keeps equal each crank's own (1e-12)") {
+  // cases/stage/rv_two_discs_cranks.toml (two identical discs, a whole turn in 3 deg steps): the
+  // stage keeps, for the positions whose crank + pi is swept too, the first disc's state there as
+  // the second disc's (analysis::Stage). Each kept state against the two discs evaluated at its
+  // own crank (contact::EvaluateTwoDiscs), point by point: clearance and arm to 1e-12 R_p, normal
+  // and curvature to 1e-12 (relative), the discs and pins in the same order. (The crank theta + pi
+  // matches the swept one to a few ulps, 1e-15 rad, and the foot points' searches stop at 1e-15 of
+  // their arc: arms agree to about 2e-12 mm.) A second disc indexed 1 um
+  // ahead is another part (StageDesign::SecondDiscIsFirst), and so is one with a modification.
+  const Deck deck = ltca::app::LoadDeck(Case("stage/rv_two_discs_cranks.toml"));
+  REQUIRE(deck.SecondDiscIsFirst());
+  const auto cranks = deck.sweep.CrankAngles();
+  const ltca::analysis::Stage stage = deck.MakeStage(cranks);
+  const MeshModel first = deck.MakeModel();
+  const MeshModel second(deck.MakeSecondRealPair(), deck.geometry, deck.SlicesForced());
+  for (std::size_t i = 0; i < cranks.size(); i += 7) {
+    CAPTURE(i);
+    const auto kept = stage.State(cranks[i]);
+    const auto own = ltca::contact::EvaluateTwoDiscs(first, second, cranks[i]);
+    REQUIRE(kept.pins.size() == own.pins.size());
+    for (std::size_t k = 0; k < own.pins.size(); ++k) {
+      const auto &a = kept.pins[k], &b = own.pins[k];
+      REQUIRE(a.disc == b.disc);
+      REQUIRE(a.pin == b.pin);
+      CHECK(std::abs(a.clearance - b.clearance) < 1e-12 * deck.pair.pin_circle_radius);
+      CHECK(std::abs(a.arm - b.arm) < 1e-12 * deck.pair.pin_circle_radius);
+      CHECK((a.normal - b.normal).norm() < 1e-12);
+      CHECK(std::abs(a.cycloid_curvature - b.cycloid_curvature) <= 1e-12 * std::abs(b.cycloid_curvature));
+    }
+  }
+  Deck indexed = deck;
+  indexed.second_disc->indexing_deviation = 0.001;
+  CHECK_FALSE(indexed.SecondDiscIsFirst());
+  Deck modified = deck;
+  modified.second_disc->modification.pin_radius -= 0.001;
+  CHECK_FALSE(modified.SecondDiscIsFirst());
+}

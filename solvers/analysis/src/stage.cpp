@@ -1,7 +1,10 @@
 #include "ltca/analysis/stage.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -19,6 +22,28 @@ bool StageDesign::SlicesForced() const {
   if (!second_disc) return false;
   return errors.VariesAlongWidth() || assembly.VariesAlongWidth() || second_disc->errors.VariesAlongWidth() ||
          second_disc->assembly.VariesAlongWidth();
+}
+
+bool StageDesign::SecondDiscIsFirst() const {
+  if (!second_disc) return false;
+  const SecondDisc& s = *second_disc;
+  const geometry::Modification &a = modification, &b = s.modification;
+  const bool same_modification = a.pin_radius == b.pin_radius && a.pin_circle_radius == b.pin_circle_radius &&
+                                 a.rotation == b.rotation && a.tip_relief.truncation == b.tip_relief.truncation &&
+                                 a.tip_relief.rounding_radius == b.tip_relief.rounding_radius;
+  const geometry::ManufacturingErrors &e = errors, &f = s.errors;
+  const bool same_errors = !e.HasProfileDeviation() && !f.HasProfileDeviation() &&
+                           e.pin_circle_deviation == f.pin_circle_deviation && e.pin_circle_reading == f.pin_circle_reading &&
+                           e.profile_layer == f.profile_layer && e.cumulative_pitch_deviation == f.cumulative_pitch_deviation &&
+                           e.pin_radius_deviations == f.pin_radius_deviations &&
+                           e.pin_radial_deviations == f.pin_radial_deviations && e.lead_crowning == f.lead_crowning &&
+                           e.lead_slope == f.lead_slope;
+  const geometry::AssemblyErrors &g = assembly, &h = s.assembly;
+  const bool same_assembly = g.centre_dx == h.centre_dx && g.centre_dy == h.centre_dy &&
+                             g.eccentricity_deviation == h.eccentricity_deviation &&
+                             g.misalignment_xz == h.misalignment_xz && g.misalignment_yz == h.misalignment_yz &&
+                             g.pivot == h.pivot;
+  return s.indexing_deviation == 0.0 && same_modification && same_errors && same_assembly;
 }
 
 ModelInfo StageDesign::Model() const {
@@ -67,10 +92,37 @@ Stage::Stage(StageDesign design, std::vector<double> cranks)
   const bool keep = n * static_cast<std::size_t>(first_->point_count() * disc_count()) * sizeof(contact::PinContact) <=
                     kKeptStatesBytes;
   const double tolerance = interference_tolerance();
+  checked->order.resize(n);
+  for (std::size_t i = 0; i < n; ++i) checked->order[i] = i;
+  std::stable_sort(checked->order.begin(), checked->order.end(),
+                   [&c = checked->cranks](std::size_t a, std::size_t b) { return c[a] < c[b]; });
+  // Two discs of one part (an RV stage's usual pair): the second disc at crank theta is the
+  // first's model at theta + pi, so where the sweep holds that crank too (a whole crank turn holds
+  // it for half its positions) its state is the first disc's there, evaluated once. The crank
+  // theta + pi matches to a few ulps (the sweep's theta' against theta + pi in floating point).
+  std::vector<contact::MeshState> own;
+  if (keep && second_ && d.SecondDiscIsFirst()) {
+    contact::RequireSamePinRing(*first_, *second_);
+    own.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) own.push_back(first_->Evaluate(checked->cranks[i], 0.0));
+  }
+  const auto swept = [&c = *checked](double crank) -> std::ptrdiff_t {
+    const double tol = 4.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(crank));
+    const auto it = std::lower_bound(c.order.begin(), c.order.end(), crank - tol,
+                                     [&c](std::size_t i, double value) { return c.cranks[i] < value; });
+    return it != c.order.end() && c.cranks[*it] <= crank + tol ? static_cast<std::ptrdiff_t>(*it) : -1;
+  };
   contact::MeshState first;
   for (std::size_t i = 0; i < n; ++i) {
     const double crank = checked->cranks[i];
-    contact::MeshState state = second_ ? contact::EvaluateTwoDiscs(*first_, *second_, crank) : first_->Evaluate(crank, 0.0);
+    contact::MeshState state;
+    if (!own.empty()) {
+      const double behind = crank + contact::kSecondDiscCrankOffset;
+      const std::ptrdiff_t j = swept(behind);
+      state = contact::CombineTwoDiscs(own[i], j >= 0 ? own[static_cast<std::size_t>(j)] : second_->Evaluate(behind, 0.0));
+    } else {
+      state = second_ ? contact::EvaluateTwoDiscs(*first_, *second_, crank) : first_->Evaluate(crank, 0.0);
+    }
     contact::RequireNoInterference(state, crank, tolerance);
     if (i == 0) first = state;
     // A reducer stage's output pins or cranks turn against the line of centres at 1 - 1/I of the
@@ -79,10 +131,6 @@ Stage::Stage(StageDesign design, std::vector<double> cranks)
     if (i > 0 && i + 1 == n) checked->closed = !d.reducer && contact::SameMesh(first, state);
     if (keep) checked->states.push_back(std::move(state));
   }
-  checked->order.resize(n);
-  for (std::size_t i = 0; i < n; ++i) checked->order[i] = i;
-  std::stable_sort(checked->order.begin(), checked->order.end(),
-                   [&c = checked->cranks](std::size_t a, std::size_t b) { return c[a] < c[b]; });
   checked_ = std::move(checked);
   // Pin bending ([pins], issue 11): every pin a Timoshenko beam of the nominal pin radius and the
   // pin material, coupling the model's points; checked once (it does not change with the crank).

@@ -161,6 +161,9 @@ MeshState EvaluateTwoDiscs(const MeshModel& first, const MeshModel& second, doub
                            double loaded_rotation = 0.0);
 /// The check of EvaluateTwoDiscs alone.
 void RequireSamePinRing(const MeshModel& first, const MeshModel& second);
+/// EvaluateTwoDiscs from each disc's own state: `behind` (the second disc's model at
+/// theta_f + kSecondDiscCrankOffset) appended to `first` with disc = 1.
+MeshState CombineTwoDiscs(MeshState first, MeshState behind);
 
 /// Whether two states are one mesh up to the numbering of the pins: the same contact points
 /// (matched by disc, slice and angle from the line of centres) with the same clearance, arm,

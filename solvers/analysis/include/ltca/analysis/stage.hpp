@@ -87,6 +87,10 @@ struct StageDesign {
   /// The slice model is forced on every disc: pin bending couples the slices; with two discs one
   /// that varies along the width makes both run it (one point layout per position).
   bool SlicesForced() const;
+  /// Whether the second disc is the same part as the first: no indexing deviation, the same
+  /// modification, errors and assembly, and no profile deviation (random or measured) on either.
+  /// Its state at crank theta is then the first disc's at theta + pi.
+  bool SecondDiscIsFirst() const;
   /// The model that runs (the rule of contact::MeshModel: slices when something varies along the
   /// face width, or pin bending couples the slices).
   ModelInfo Model() const;
