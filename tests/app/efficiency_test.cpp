@@ -393,3 +393,47 @@ TEST_CASE("app: with friction the stiffness loop opens: the loading branch twist
   }
   CHECK(compared == 8);
 }
+
+TEST_CASE("app: two identical discs: the efficiency is one disc's at T/2, the loss twice its, per crank (1e-9)") {
+  // Issue 27: cases/rv_two_discs.toml with the second disc not indexed (the same part twice, half
+  // a crank turn apart) carries T/2 on each disc at every crank (tests/app/two_disc_solves_test);
+  // the one-disc problem at T/2 has, by the same symmetry, the same forces at theta and at
+  // theta + pi. So the two-disc stage's loss is twice the one disc's at T/2, its output power
+  // twice (the same omega_c at twice the torque), and its efficiency the one disc's, Coulomb and
+  // jiang-mixed, the friction moment in the balance (solve) or bounded, to 1e-9 relative.
+  for (const std::string model : {"coulomb", "jiang-mixed"}) {
+    for (const std::string balance : {"solve", "bound"}) {
+      CAPTURE(model);
+      CAPTURE(balance);
+      const std::vector<std::string> common = {"friction.model=" + model, "friction.coefficient=0.05",
+                                               "operation.input_speed_rpm=1500", "friction.torque_balance=" + balance,
+                                               "sweep.positions=4"};
+      std::vector<std::string> two_keys = common;
+      two_keys.push_back("second_disc.indexing_deviation_mm=0");
+      const Deck two = ltca::app::LoadDeck(Case("rv_two_discs.toml"), two_keys);
+      Deck one = two;
+      one.second_disc.reset();
+      one.load->torque = 0.5 * two.load->torque;
+      auto both = ltca::test::EfficiencyOn(two, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
+      auto single = ltca::test::EfficiencyOn(one, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
+      for (const double crank : both.cranks()) {
+        CAPTURE(crank);
+        const EfficiencyPosition b = both.Solve(crank);
+        const EfficiencyPosition s = single.Solve(crank);
+        REQUIRE(b.succeeded());
+        REQUIRE(s.succeeded());
+        CHECK(b.output_power == doctest::Approx(2.0 * s.output_power).epsilon(1e-9));
+        CHECK(b.power_loss == doctest::Approx(2.0 * s.power_loss).epsilon(1e-9));
+        CHECK(b.efficiency == doctest::Approx(s.efficiency).epsilon(1e-9));
+        CHECK(b.efficiency_first_order == doctest::Approx(s.efficiency_first_order).epsilon(1e-9));
+        CHECK(b.friction_moment_ratio == doctest::Approx(s.friction_moment_ratio).epsilon(1e-9));
+        // Both discs' contacts are summed, each named.
+        int second = 0;
+        for (const auto& c : b.contacts) second += c.disc == 1;
+        CHECK(second > 0);
+        CHECK(b.contacts.size() == 2 * s.contacts.size());
+      }
+      CHECK(both.Summary().efficiency == doctest::Approx(single.Summary().efficiency).epsilon(1e-9));
+    }
+  }
+}

@@ -619,3 +619,68 @@ TEST_CASE("cli: ltca tolerance shows the worst-case phase on its own progress li
   CHECK(e.find(clear, samples_at) < worst_at);                  // the samples' line first
   CHECK(out.str().find("ltca:") == std::string::npos);          // no progress in the summary
 }
+
+TEST_CASE("app: two discs: the ring's keys drawn once move both; with no per-disc spread each sample is one disc's at T/2 (1e-9)") {
+  // Issue 27. cases/rv_two_discs.toml with the second disc not indexed (the same part twice) and
+  // a pin-circle tolerance, a key of the pin ring (drawn once, applied to both discs' copy of the
+  // ring): the discs stay identical, and each sample is then the one-disc deck at T/2 with the
+  // same draw (tests/app/two_disc_solves_test: two identical discs each carry T/2, the TE is one
+  // disc's at T/2; the unloaded free play is one disc's). Every figure to 1e-9 relative, the
+  // contact counts those of both discs (twice one disc's).
+  const std::string tolerances = "samples = 4\nseed = 11\npin_circle_deviation_mm = { distribution = \"normal\", tolerance = 0.003 }\n";
+  const std::string text = ReadText(Case("rv_two_discs.toml")) + "\n[tolerances]\n" + tolerances;
+  const Deck two = ltca::app::ParseDeck(text, "rv_two_discs+tolerances", {"second_disc.indexing_deviation_mm=0", "sweep.positions=10"});
+  Deck one = two;
+  one.second_disc.reset();
+  one.load->torque *= 0.5;
+  const auto both = ltca::test::ToleranceOn(two, two.solver, *two.tolerances);
+  const auto single = ltca::test::ToleranceOn(one, one.solver, *one.tolerances);
+  REQUIRE(both.inputs().size() == 1);  // the ring's key: one column for both discs
+  const auto a = both.RunRange(0, 4, 1), b = single.RunRange(0, 4, 1);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    CAPTURE(i);
+    REQUIRE(a[i].status == ltca::analysis::RunStatus::kSuccess);
+    REQUIRE(b[i].status == ltca::analysis::RunStatus::kSuccess);
+    CHECK(a[i].inputs == b[i].inputs);
+    CHECK(a[i].inputs[0] != 0.0);
+    for (const std::size_t f : {ltca::app::kMeanTeArcsec, ltca::app::kPpTeArcsec, ltca::app::kMaxContactStressMpa,
+                                ltca::app::kMaxPinForceN, ltca::app::kMeanBacklashArcsec, ltca::app::kPpBacklashArcsec}) {
+      CAPTURE(f);
+      CHECK(a[i].figures[f] == doctest::Approx(b[i].figures[f]).epsilon(1e-9));
+    }
+    CHECK(a[i].figures[ltca::app::kContactsMin] == 2 * b[i].figures[ltca::app::kContactsMin]);
+  }
+}
+
+TEST_CASE("app: two discs: a disc's key is drawn for each disc on its own stream; the indexing deviation is a key of the second disc") {
+  // A modification key (a key of one disc) with [second_disc]: two columns, the second named
+  // "(disc 2)", drawn on their own streams (different values), each moving its own disc only.
+  // The indexing deviation turns the second disc by s / R_p in the sense of +T, as the deck does;
+  // without a second disc it is an input error naming the key.
+  const std::string text = ReadText(Case("rv_two_discs.toml")) +
+                           "\n[tolerances]\nsamples = 2\nmodification_pin_radius_mm = { distribution = \"uniform\", tolerance = 0.002 }\n"
+                           "indexing_deviation_mm = { distribution = \"uniform\", tolerance = 0.004 }\n";
+  const Deck two = ltca::app::ParseDeck(text, "rv_two_discs+tolerances", {"sweep.positions=4"});
+  const auto study = ltca::test::ToleranceOn(two, two.solver, *two.tolerances);
+  REQUIRE(study.inputs().size() == 3);
+  CHECK(study.inputs()[0].name == "modification_pin_radius_mm");
+  CHECK(study.inputs()[1].name == "modification_pin_radius_mm (disc 2)");
+  CHECK(study.inputs()[2].name == "indexing_deviation_mm");
+  const std::vector<double> draw = study.Draw(0);
+  CHECK(draw[0] != draw[1]);
+  const auto applied = study.Apply({0.0, 0.001, 0.002});
+  CHECK(applied.design.modification.pin_radius == two.modification.pin_radius);  // the first disc untouched
+  CHECK(applied.design.second_disc->modification.pin_radius == doctest::Approx(two.second_disc->modification.pin_radius + 0.001).epsilon(1e-15));
+  CHECK(applied.design.second_disc->indexing_deviation == doctest::Approx(two.second_disc->indexing_deviation + 0.002).epsilon(1e-15));
+  CHECK(applied.design.second_disc->modification.rotation ==
+        doctest::Approx(two.second_disc->modification.rotation + 0.002 / two.pair.pin_circle_radius).epsilon(1e-12));
+  const auto first = study.Apply({0.001, 0.0, 0.0});
+  CHECK(first.design.modification.pin_radius == doctest::Approx(two.modification.pin_radius + 0.001).epsilon(1e-15));
+  CHECK(first.design.second_disc->modification.pin_radius == two.second_disc->modification.pin_radius);
+
+  const std::string lone = ReadText(Case("liu2021_sec52_base.toml")) +
+                           "\n[tolerances]\nindexing_deviation_mm = { distribution = \"uniform\", tolerance = 0.004 }\n";
+  const Deck one = ltca::app::ParseDeck(lone, "one disc+indexing");
+  CHECK_THROWS_WITH_AS(ltca::test::ToleranceOn(one, one.solver, *one.tolerances), doctest::Contains("indexing_deviation_mm"),
+                       std::invalid_argument);
+}

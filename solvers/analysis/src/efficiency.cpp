@@ -81,12 +81,6 @@ struct EfficiencyRunner::Impl {
   Impl(const Stage& st, const SolverOptions& o, double t, const FrictionSettings& f, const OperationSettings& op)
       : stage(st), design(st.design()), material(st.material()), options(o), solver(solvers::MakeSolver(o.name)), friction(f), operation(op),
         torque(t), cranks(st.cranks()) {
-    if (stage.disc_count() == 2) {
-      throw std::invalid_argument(fmt::format(
-          "deck '{}': [second_disc]: ltca efficiency sums the first disc's contacts only; expected one disc (the "
-          "two-disc efficiency is not built yet)",
-          design.name));
-    }
     if (torque == 0.0) {
       throw std::invalid_argument("[load] torque_nm = 0: expected a non-zero torque (efficiency has no output power "
                                   "at zero torque)");
@@ -141,9 +135,11 @@ struct EfficiencyRunner::Impl {
                   std::vector<std::string>* warn) const {
     out->clear();
     const double e_star = material.EquivalentModulus();
-    const int slices = stage.model().slice_count();
-    std::vector<double> pin_force(static_cast<std::size_t>(stage.model().pin_count()), 0.0);
-    for (std::size_t i = 0; i < f.size(); ++i) pin_force[static_cast<std::size_t>(state.pins[i].pin)] += std::max(0.0, f[i]);
+    // Each disc's force on a pin (two discs touch a pin at two places along it).
+    const auto pins = static_cast<std::size_t>(stage.model().pin_count());
+    std::vector<double> pin_force(pins * static_cast<std::size_t>(stage.disc_count()), 0.0);
+    const auto pin_of = [pins](const contact::PinContact& c) { return static_cast<std::size_t>(c.disc) * pins + static_cast<std::size_t>(c.pin); };
+    for (std::size_t i = 0; i < f.size(); ++i) pin_force[pin_of(state.pins[i])] += std::max(0.0, f[i]);
     // A point carries load above kContactForceFraction of the largest (the rule of ltca solve):
     // below it the force is numerical zero, whose "coefficient" (viscous drag over a vanishing
     // load) means nothing.
@@ -154,6 +150,7 @@ struct EfficiencyRunner::Impl {
       if (!(f[i] > floor)) continue;
       const contact::PinContact& c = state.pins[i];
       ContactFrictionPoint p;
+      p.disc = c.disc;
       p.pin = c.pin;
       p.slice = c.slice;
       p.force = f[i];
@@ -164,12 +161,11 @@ struct EfficiencyRunner::Impl {
       contact::RelativeCurvature curvature;
       contact::ContactShape shape = contact::LineShape(f[i], c.length, rho, e_star);
       if (PointCurvature(c, &curvature)) {
-        const contact::ContactShape ellipse =
-            contact::EllipseShape(curvature, pin_force[static_cast<std::size_t>(c.pin)], e_star);
+        const contact::ContactShape ellipse = contact::EllipseShape(curvature, pin_force[pin_of(c)], e_star);
         if (2.0 * ellipse.semi_major <= design.pair.face_width) {
           shape = ellipse;
           // The pin's ellipse carries the pin's force: this point's share of its area.
-          shape.area *= f[i] / pin_force[static_cast<std::size_t>(c.pin)];
+          shape.area *= f[i] / pin_force[pin_of(c)];
           p.point_contact = true;
         }
       }
@@ -196,7 +192,6 @@ struct EfficiencyRunner::Impl {
       moment += Cross(kin[i].lever, -p.effective_coefficient * f[i] * direction * Perp(c.normal));
       out->push_back(p);
     }
-    (void)slices;
     return sigma * moment / std::abs(torque);
   }
 
@@ -212,14 +207,18 @@ struct EfficiencyRunner::Impl {
     pos.warnings = r.warnings;
 
     // Kinematics per point, per radian of crank first; then the crank's sense that drives the load.
+    // Two discs (issue 27): each point turns about its own disc's centre, the second disc's half a
+    // crank turn on; both turn the output together, so the friction moments add.
     const std::size_t n = state.pins.size();
     std::vector<PointKinematics> kin(n);
     std::vector<contact::PoseRate> rates(n);
-    double reaction = 0.0;  // moment of the normal forces on the cycloid about its centre
+    double reaction = 0.0;  // moment of the normal forces on the cycloids about their centres
     for (std::size_t i = 0; i < n; ++i) {
       const contact::PinContact& c = state.pins[i];
-      const geometry::Pose pose = stage.model().CyclePose(crank, 0.0, c.z);
-      rates[i] = contact::PoseRatePerCrank(stage.model(), crank, 0.0, c.z);
+      const contact::MeshModel& model = stage.model(c.disc);
+      const double at = c.disc == 0 ? crank : crank + contact::kSecondDiscCrankOffset;
+      const geometry::Pose pose = model.CyclePose(at, 0.0, c.z);
+      rates[i] = contact::PoseRatePerCrank(model, at, 0.0, c.z);
       kin[i].lever = c.cycloid_point - pose.centre;
       kin[i].v = contact::Velocities(c, pose, rates[i]);
       reaction += Cross(kin[i].lever, -r.force[i] * c.normal);
@@ -368,7 +367,10 @@ struct EfficiencyRunner::Impl {
     const Eigen::Vector2d u(std::cos(crank), std::sin(crank));
     const Eigen::Vector2d centre = pair.eccentricity * u, ip = pitch * u;
     double loaded_side = 0.0;
-    for (const auto& p : first) loaded_side += p.force * std::sin(k.AngleFromLineOfCentres(p.pin, crank));
+    // (The first disc's: with two discs the classical figures are the first disc's at its crank.)
+    for (const auto& p : first) {
+      if (p.disc == 0) loaded_side += p.force * std::sin(k.AngleFromLineOfCentres(p.pin, crank));
+    }
     double num = 0.0, den = 0.0;
     for (int j = 0; j < pair.pin_count; ++j) {
       if (std::sin(k.AngleFromLineOfCentres(j, crank)) * loaded_side <= 0.0) continue;

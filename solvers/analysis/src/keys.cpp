@@ -232,7 +232,8 @@ const std::vector<DeckKey> kKeys = {
      .default_value = ""},
     // [second_disc]: its own key; the disc keys of [modification] and [errors] too (DeckKey::disc)
     {.section = "second_disc", .name = "indexing_deviation_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "indexing deviation of the second disc in mm along the pin circle", .default_value = "0"},
+     .meaning = "indexing deviation of the second disc in mm along the pin circle", .default_value = "0",
+     .tolerance_stream = 15, .limit = L::kLength},
     // [tolerances]: its own keys; a distribution for each key with a tolerance_stream
     {.section = "tolerances", .name = "samples", .type = T::kInteger, .unit = "", .meaning = "number of samples",
      .default_value = "1000"},

@@ -245,20 +245,28 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
     throw std::invalid_argument(fmt::format("deck '{}': missing required section [material] for this command", nominal_.design.name));
   }
   if (settings_.lost_motion) nominal_.stiffness.Validate();
-  if (nominal_.design.second_disc) {
-    throw std::invalid_argument(fmt::format(
-        "deck '{}': [second_disc] with [tolerances]: the draws would move the first disc only; expected one disc "
-        "(the two-disc tolerance study is not built yet)",
-        nominal_.design.name));
-  }
+  // Two discs (issue 27): a key of one disc (DeckKey::disc: the modification, the disc's own
+  // errors) is drawn for each disc on its own, the pin ring's keys once for both, and the second
+  // disc's indexing deviation is a key of its own.
+  const bool two = nominal_.design.second_disc.has_value();
   const int pins = nominal_.design.pair.pin_count;
   for (std::size_t k = 0; k < settings_.distributions.size(); ++k) {
     const ToleranceDistribution& d = settings_.distributions[k];
     KeyIndex(d.key);  // a known key
-    if (d.per_pin) {
-      for (int j = 0; j < pins; ++j) inputs_.push_back({fmt::format("{}[{}]", d.key, j + 1), k, j});
-    } else {
-      inputs_.push_back({d.key, k, -1});
+    const DeckKey* key = FindToleranceKey(d.key);
+    if (key != nullptr && std::string_view(key->section) == "second_disc" && !two) {
+      throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: the deck has no [second_disc] to index; expected "
+                                              "a [second_disc] section, or no such tolerance",
+                                              nominal_.design.name, d.key));
+    }
+    const int discs = two && key != nullptr && key->disc ? 2 : 1;
+    for (int disc = 0; disc < discs; ++disc) {
+      const std::string suffix = disc == 1 ? " (disc 2)" : "";
+      if (d.per_pin) {
+        for (int j = 0; j < pins; ++j) inputs_.push_back({fmt::format("{}[{}]{}", d.key, j + 1, suffix), k, j, disc});
+      } else {
+        inputs_.push_back({d.key + suffix, k, -1, disc});
+      }
     }
   }
   const double span = nominal_.sweep.crank_end - nominal_.sweep.crank_start;
@@ -283,8 +291,12 @@ std::vector<double> ToleranceStudy::Draw(std::int64_t i) const {
   const auto index = static_cast<std::uint64_t>(i);
   for (std::size_t c = 0; c < inputs_.size(); ++c) {
     const ToleranceDistribution& d = settings_.distributions[inputs_[c].distribution];
-    // Stream: the key's index in the key table (high word) and pin + 1 (low word; 0 for a scalar).
-    const std::uint64_t stream = (static_cast<std::uint64_t>(KeyIndex(d.key)) << 32) | static_cast<std::uint64_t>(inputs_[c].pin + 1);
+    // Stream: the key's index in the key table (high word) and pin + 1 (low word; 0 for a scalar),
+    // bit 31 of the low word set for the second disc's own draw (the first disc's streams are those
+    // of one disc, so a one-disc study draws what it drew before two discs existed).
+    const std::uint64_t disc_bit = inputs_[c].disc == 1 ? std::uint64_t{1} << 31 : 0;
+    const std::uint64_t stream = (static_cast<std::uint64_t>(KeyIndex(d.key)) << 32) |
+                                 (static_cast<std::uint64_t>(inputs_[c].pin + 1) | disc_bit);
     if (Truncated(d)) {
       out[c] = d.mean + d.sigma * TruncatedStandardNormal(geometry::rng::Uniform01(settings_.seed, stream, index));
     } else if (d.kind == ToleranceDistribution::Kind::kNormal) {
@@ -309,10 +321,27 @@ ToleranceCase ToleranceStudy::Apply(const std::vector<double>& inputs) const {
     const std::string& key = settings_.distributions[inputs_[c].distribution].key;
     const int j = inputs_[c].pin;
     const DeckKey* k = FindToleranceKey(key);
-    const DiscParts parts{&d.modification, &d.errors, &d.assembly};
-    if (k != nullptr && k->list != nullptr) AddToPin(*k->list(parts), pins, j, k->ToInternal(v));
-    else if (k != nullptr && k->real != nullptr) *k->real(parts) += k->ToInternal(v);
-    else throw std::logic_error(fmt::format("tolerance: key '{}' has no field in the table of deck keys", key));
+    SecondDisc* second = d.second_disc ? &*d.second_disc : nullptr;
+    if (k != nullptr && std::string_view(k->section) == "second_disc" && second != nullptr) {
+      // The indexing deviation turns the second disc in the sense of +T, as the deck reader does.
+      const double direction = d.pair.ToothDifference() > 0 ? 1.0 : -1.0;
+      second->indexing_deviation += k->ToInternal(v);
+      second->modification.rotation += direction * k->ToInternal(v) / d.pair.pin_circle_radius;
+      continue;
+    }
+    const auto apply = [&](const DiscParts& parts) {
+      if (k != nullptr && k->list != nullptr) AddToPin(*k->list(parts), pins, j, k->ToInternal(v));
+      else if (k != nullptr && k->real != nullptr) *k->real(parts) += k->ToInternal(v);
+      else throw std::logic_error(fmt::format("tolerance: key '{}' has no field in the table of deck keys", key));
+    };
+    const DiscParts first{&d.modification, &d.errors, &d.assembly};
+    if (inputs_[c].disc == 1 && second != nullptr) {
+      apply({&second->modification, &second->errors, &second->assembly});
+    } else {
+      apply(first);
+      // The pin ring is common to both discs: the second disc's copy of it moves with it.
+      if (second != nullptr && k != nullptr && !k->disc) apply({&second->modification, &second->errors, &second->assembly});
+    }
   }
   return out;
 }
@@ -324,6 +353,11 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
     design.errors.Validate(design.pair.pin_count);
     design.assembly.Validate();
     design.modification.Validate(design.pair);
+    if (design.second_disc) {
+      design.second_disc->errors.Validate(design.pair.pin_count);
+      design.second_disc->assembly.Validate();
+      design.second_disc->modification.Validate(design.pair);
+    }
     // One stage for every figure of the sample, checked at the sweep's cranks.
     const Stage stage(design, pair.sweep.CrankAngles());
     const std::vector<double>& cranks = stage.cranks();

@@ -20,7 +20,8 @@ namespace {
 using units::RadToDeg;
 constexpr double kMmPerSToMPerS = 1e-3;
 
-nlohmann::json PositionJson(const app::EfficiencyPosition& p) {
+/// two_discs: each contact names its disc (1 or 2).
+nlohmann::json PositionJson(const app::EfficiencyPosition& p, bool two_discs) {
   nlohmann::json contacts = nlohmann::json::array();
   for (const auto& c : p.contacts) {
     contacts.push_back({{"pin", c.pin + 1},
@@ -36,6 +37,7 @@ nlohmann::json PositionJson(const app::EfficiencyPosition& p) {
                         {"lambda", FiniteOrNull(c.lambda)},
                         {"max_pressure_mpa", c.max_pressure},
                         {"shape", c.point_contact ? "ellipse" : "line"}});
+    if (two_discs) contacts.back()["disc"] = c.disc + 1;
   }
   nlohmann::json pin_mu = nlohmann::json::array();
   for (const double mu : p.pin_coefficient) pin_mu.push_back(FiniteOrNull(mu));
@@ -204,9 +206,12 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
                                               {"positions", deck.sweep.positions}}}};
     json.stream() << OpenObject(header) << ",\n  \"positions\": [";
   }
+  // Two discs (issue 27): every contact names its disc (a last CSV column, a JSON key).
+  const bool two_discs = deck.second_disc.has_value();
   if (csv.enabled()) {
     csv.stream() << "crank_deg,pin,slice,force_n,sliding_speed_m_per_s,entrainment_speed_m_per_s,coefficient,"
-                    "effective_coefficient,power_loss_w,film_thickness_um,lambda,max_pressure_mpa,shape\n";
+                    "effective_coefficient,power_loss_w,film_thickness_um,lambda,max_pressure_mpa,shape"
+                 << (two_discs ? ",disc\n" : "\n");
   }
   Progress progress(streams.err, streams.progress, "efficiency at position", static_cast<std::int64_t>(cranks.size()));
   const std::size_t every = std::max<std::size_t>(1, cranks.size() / 10);
@@ -218,15 +223,17 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
                  FormatOrNa(p.efficiency, 6), FormatOrNa(p.efficiency_first_order, 6), FormatOrNa(p.mean_coefficient, 4),
                  ToString(p.succeeded() ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed));
     }
-    if (json.enabled()) json.stream() << (i == 0 ? "\n    " : ",\n    ") << Dump(PositionJson(p), -1);
+    if (json.enabled()) json.stream() << (i == 0 ? "\n    " : ",\n    ") << Dump(PositionJson(p, two_discs), -1);
     if (csv.enabled()) {
       for (const auto& c : p.contacts) {
-        fmt::print(csv.stream(), "{:.9g},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{},{:.9g},{}\n", RadToDeg(p.crank),
+        fmt::print(csv.stream(), "{:.9g},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{},{:.9g},{}", RadToDeg(p.crank),
                    c.pin + 1, c.slice, c.force, c.sliding * kMmPerSToMPerS, c.entrainment * kMmPerSToMPerS, c.coefficient,
                    c.effective_coefficient, c.loss,
                    std::isfinite(c.film_thickness) ? fmt::format("{:.9g}", units::MmToUm(c.film_thickness)) : std::string(),
                    std::isfinite(c.lambda) ? fmt::format("{:.9g}", c.lambda) : std::string(), c.max_pressure,
                    c.point_contact ? "ellipse" : "line");
+        if (two_discs) fmt::print(csv.stream(), ",{}", c.disc + 1);
+        csv.stream() << '\n';
       }
     }
     if (svg.enabled()) {

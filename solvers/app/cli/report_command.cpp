@@ -2,8 +2,13 @@
 
 #include "command.hpp"
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <iterator>
 #include <sstream>
 #include <stdexcept>
@@ -18,6 +23,7 @@
 #include "contact_commands.hpp"
 #include "efficiency_command.hpp"
 #include "geometry_command.hpp"
+#include "ltca/analysis/keys.hpp"
 #include "ltca/app/plots.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
@@ -46,17 +52,156 @@ std::string Cell(const nlohmann::json& v) {
   return Html(v.dump());
 }
 
-/// A two-column table of the object's scalar members (nested objects: "key.member").
+/// An output key as a reader reads it (issue 27: the page showed raw keys): the unit its name ends
+/// with in parentheses, words for the underscores, a nested key after its parent and a colon.
+/// "tip_relief.land_half_width_mm" -> "tip relief: land half width (mm)",
+/// "pp_te_arcsec" -> "peak-to-peak TE (arcsec)".
+std::string Label(const std::string& key) {
+  static const std::vector<std::pair<std::string, std::string>> kUnits = {
+      {"_nm_per_arcmin", "N*m/arcmin"}, {"_m_per_s", "m/s"}, {"_per_gpa", "1/GPa"}, {"_pa_s", "Pa*s"},
+      {"_arcsec", "arcsec"}, {"_arcmin", "arcmin"}, {"_mpa", "MPa"}, {"_nmm", "N*mm"}, {"_nm", "N*m"},
+      {"_rpm", "rpm"}, {"_deg", "deg"}, {"_mm", "mm"}, {"_um", "um"}, {"_n", "N"}, {"_w", "W"}, {"_j", "J"},
+      {"_h", "h"}, {"_hours", "h"}, {"_mrev", "million revolutions"}};
+  std::string text;
+  std::size_t start = 0;
+  while (start <= key.size()) {
+    const std::size_t dot = key.find('.', start);
+    std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    std::string unit;
+    for (const auto& [suffix, name] : kUnits) {
+      if (part.size() > suffix.size() && part.compare(part.size() - suffix.size(), suffix.size(), suffix) == 0) {
+        unit = name;
+        part.erase(part.size() - suffix.size());
+        break;
+      }
+    }
+    std::string words;
+    std::size_t w = 0;
+    while (w <= part.size()) {
+      const std::size_t u = part.find('_', w);
+      std::string word = part.substr(w, u == std::string::npos ? std::string::npos : u - w);
+      if (word == "pp") word = "peak-to-peak";
+      if (word == "te") word = "TE";
+      if (word == "l10") word = "L10";
+      if (!word.empty()) words += (words.empty() ? "" : " ") + word;
+      if (u == std::string::npos) break;
+      w = u + 1;
+    }
+    text += (text.empty() ? "" : ": ") + words + (unit.empty() ? "" : " (" + unit + ")");
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  return text;
+}
+
+/// Rows that say how long a run took: the page's footnote, not a result (issue 27).
+bool Timing(const std::string& key) {
+  return key.find("seconds") != std::string::npos || key.find("per_second") != std::string::npos;
+}
+
+/// A two-column table of the object's scalar members, labelled (nested objects: "parent: member"),
+/// each row carrying its key (data-key) for the checks that read the page.
 std::string Table(const nlohmann::json& object, const std::string& prefix = "") {
   std::string rows;
   for (const auto& [key, value] : object.items()) {
+    if (Timing(key)) continue;
     if (value.is_object()) {
       rows += Table(value, prefix + key + ".");
     } else if (!value.is_array()) {
-      rows += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", Html(prefix + key), Cell(value));
+      rows += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td></tr>\n", Html(prefix + key), Html(Label(prefix + key)),
+                          Cell(value));
     }
   }
   return prefix.empty() ? "<table>\n" + rows + "</table>\n" : rows;
+}
+
+/// A text line of the commands ("model     plane (...)\nnote      ...") without its labels.
+std::string Unlabelled(const std::string& line) {
+  std::string out;
+  std::istringstream in(line);
+  for (std::string row; std::getline(in, row);) {
+    const std::size_t space = row.find_first_not_of(' ', row.find(' '));
+    out += (out.empty() ? "" : "; ") + (space == std::string::npos ? row : row.substr(space));
+  }
+  return out;
+}
+
+/// The deck's inputs, grouped as the deck is (issue 27): every key of every section the deck has,
+/// its meaning and unit from the key table (analysis::DeckKeys), the value the deck gives or the
+/// default (marked), and the keys a section takes beyond the table ([tolerances] draws, [case]).
+std::string InputsTable(const app::Deck& deck) {
+  std::string html;
+  std::vector<std::string> absent;
+  for (const std::string& section : analysis::DeckSections()) {
+    std::vector<const app::Deck::GivenKey*> given;
+    for (const auto& g : deck.given) {
+      if (g.section == section) given.push_back(&g);
+    }
+    if (given.empty()) {
+      absent.push_back("[" + section + "]");
+      continue;
+    }
+    std::string rows;
+    std::vector<std::string> listed;
+    for (const analysis::DeckKey& k : analysis::DeckKeys()) {
+      if (section != k.section) continue;
+      listed.emplace_back(k.name);
+      const auto it = std::find_if(given.begin(), given.end(), [&](const app::Deck::GivenKey* g) { return g->key == k.name; });
+      const bool from_deck = it != given.end();
+      if (!from_deck && std::string(k.default_value).empty()) continue;  // required elsewhere, or absent: nothing ran with it
+      rows += fmt::format("<tr data-key=\"{}.{}\"{}><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                          Html(section), Html(k.name), from_deck ? "" : " class=\"default\"", Html(k.name),
+                          Html(from_deck ? (*it)->value : std::string(k.default_value)), Html(k.unit), Html(k.meaning),
+                          from_deck ? "deck" : "default");
+    }
+    for (const app::Deck::GivenKey* g : given) {
+      if (std::find(listed.begin(), listed.end(), g->key) != listed.end()) continue;
+      rows += fmt::format("<tr data-key=\"{}.{}\"><th>{}</th><td>{}</td><td></td><td></td><td>deck</td></tr>\n", Html(section),
+                          Html(g->key), Html(g->key), Html(g->value));
+    }
+    html += fmt::format("<h3>[{}]</h3>\n<table class=\"inputs\">\n<tr><th>key</th><th>value</th><th>unit</th><th>meaning</th>"
+                        "<th>from</th></tr>\n{}</table>\n",
+                        Html(section), rows);
+    if (section == "second_disc") {
+      html += "<p class=\"note\">Every key of [modification] and every disc key of [errors] that [second_disc] does not "
+              "give is the first disc's; the pin ring is common to both discs.</p>\n";
+    }
+  }
+  if (!absent.empty()) {
+    html += fmt::format("<p>Not in the deck (nothing of theirs ran): {}.</p>\n", Html(fmt::format("{}", fmt::join(absent, ", "))));
+  }
+  return html;
+}
+
+/// One row of the allowables table: the figure, its value, the allowable (min and / or max), the
+/// margin to the nearer bound (positive: inside) and the verdict; the Monte Carlo's pass fraction
+/// when it ran.
+std::string AllowableRow(const std::string& what, const std::string& key, double value, double min, double max,
+                         const std::string& basis, const nlohmann::json& fraction = nullptr) {
+  const bool has_value = std::isfinite(value);
+  const bool has_limit = std::isfinite(min) || std::isfinite(max);
+  std::string allowable = "none in the deck", margin = "", verdict = has_value ? "no allowable" : "n/a";
+  if (has_limit) {
+    allowable = std::isfinite(min) && std::isfinite(max) ? fmt::format("{:.6g} to {:.6g}", min, max)
+                : std::isfinite(max)                     ? fmt::format("&le; {:.6g}", max)
+                                                         : fmt::format("&ge; {:.6g}", min);
+    if (has_value) {
+      double m = std::numeric_limits<double>::infinity();
+      if (std::isfinite(max)) m = std::min(m, max - value);
+      if (std::isfinite(min)) m = std::min(m, value - min);
+      margin = fmt::format("{:+.4g}", m);
+      verdict = m >= 0.0 ? "<span class=\"pass\">pass</span>" : "<span class=\"fail\">FAIL</span>";
+    }
+  }
+  return fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                     Html(key), Html(what), has_value ? fmt::format("{:.6g}", value) : "n/a", allowable, margin, verdict,
+                     fraction.is_null() ? "" : Cell(fraction), Html(basis));
+}
+
+/// A value of a summary (nullptr or a missing key: NaN).
+double Number(const nlohmann::json& summary, const std::string& key) {
+  if (!summary.is_object() || !summary.contains(key) || !summary[key].is_number()) return std::numeric_limits<double>::quiet_NaN();
+  return summary[key].get<double>();
 }
 
 /// An SVG file inlined into the page: its XML prolog and DOCTYPE dropped, and its element ids
@@ -127,15 +272,15 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const bool loop = deck.RequireLoad().torque != 0.0;
   const int loop_code = loop ? RunStiffness(deck, stiffness, quiet) : kExitSuccess;
   // Efficiency (issue 14) when the deck carries [friction] and [operation]; tolerances (issue 15)
-  // when it carries [tolerances], with the deck's samples on every hardware thread. Both are one
-  // disc's studies: a two-disc deck has neither here (the commands say why).
-  const bool efficiency = deck.friction && deck.operation && !deck.second_disc && deck.RequireLoad().torque != 0.0;
+  // when it carries [tolerances], with the deck's samples on every hardware thread. Both take two
+  // discs (issue 27).
+  const bool efficiency = deck.friction && deck.operation && deck.RequireLoad().torque != 0.0;
   EfficiencyOptions eff;
   eff.solver = options.solver;
   eff.json_path = file("efficiency.json");
   eff.svg_path = file("efficiency.svg");
   const int eff_code = efficiency ? RunEfficiency(deck, eff, quiet) : kExitSuccess;
-  const bool tolerance = deck.tolerances.has_value() && !deck.second_disc;
+  const bool tolerance = deck.tolerances.has_value();
   ToleranceOptions tol;
   tol.solver = options.solver;
   tol.samples = options.samples;
@@ -148,24 +293,117 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const nlohmann::json g = nlohmann::json::parse(ReadFile(geometry.json_path));
   const nlohmann::json s = nlohmann::json::parse(ReadFile(solve.json_path));
   const nlohmann::json b = nlohmann::json::parse(ReadFile(backlash.json_path));
+  const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
+  const nlohmann::json e = efficiency ? nlohmann::json::parse(ReadFile(eff.json_path)) : nlohmann::json();
+  const nlohmann::json tj = tolerance ? nlohmann::json::parse(ReadFile(tol.json_path)) : nlohmann::json();
   const auto& p = deck.pair;
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  char date[32] = {};
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", &utc);
+  // The sections of the page, in order: (id, title, whether it is there).
+  const std::vector<std::tuple<std::string, std::string, bool>> sections = {
+      {"inputs", "Inputs", true},
+      {"allowables", "Results against allowables", true},
+      {"geometry", "Geometry", true},
+      {"loaded", "Loaded tooth contact analysis", true},
+      {"unloaded", "Unloaded: backlash and mesh", true},
+      {"stiffness", "Torsional stiffness", true},
+      {"efficiency", "Friction and meshing efficiency", true},
+      {"tolerance", "Tolerance analysis (Monte Carlo)", true}};
   std::string html = fmt::format(
-      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>ltca report: {0}</title>\n"
-      "<style>body{{font-family:sans-serif;max-width:1500px;margin:1em auto;padding:0 1em;color:#111}}"
-      "table{{border-collapse:collapse;margin:0.5em 0 1.5em}}th,td{{border:1px solid #ccc;padding:2px 8px;text-align:left;"
-      "font-size:0.9em}}th{{background:#f3f3f3;font-weight:normal}}svg{{max-width:100%;height:auto;display:block;"
-      "margin:0.5em 0 2em}}h2{{border-bottom:1px solid #ccc}}.grid{{display:flex;gap:2em;flex-wrap:wrap}}</style>\n"
-      "</head>\n<body>\n<h1>{0}</h1>\n",
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>ltca report: {0}</title>\n"
+      "<style>body{{font-family:sans-serif;max-width:1350px;margin:1em auto;padding:0 1em;color:#111}}"
+      "table{{border-collapse:collapse;margin:0.5em 0 1.5em;max-width:100%}}th,td{{border:1px solid #ccc;padding:2px 8px;"
+      "text-align:left;font-size:0.9em;vertical-align:top;overflow-wrap:anywhere}}th{{background:#f3f3f3;font-weight:normal}}"
+      "svg{{max-width:100%;height:auto;display:block;margin:0.5em 0 2em}}h2{{border-bottom:1px solid #ccc;margin-top:1.5em}}"
+      "h3{{margin:1em 0 0.2em;font-size:1em}}.grid{{display:flex;gap:2em;flex-wrap:wrap}}.grid>div{{min-width:0;flex:1 1 400px}}"
+      "tr.default td{{color:#666}}.pass{{color:#0a6e0a;font-weight:bold}}.fail{{color:#b00000;font-weight:bold}}"
+      "table.inputs th:first-child{{white-space:nowrap}}table.inputs td:nth-child(3){{white-space:nowrap}}"
+      "nav ol{{columns:2;margin:0.3em 0}}.meta{{color:#444}}.note{{color:#444;font-style:italic}}"
+      "@media print{{body{{max-width:none;margin:0;font-size:10pt}}nav{{display:none}}h2{{break-before:page}}"
+      "h2#inputs{{break-before:auto}}svg{{break-inside:avoid;max-height:24cm;width:auto}}table,tr{{break-inside:avoid}}"
+      "@page{{size:A4;margin:15mm}}}}</style>\n"
+      "</head>\n<body>\n<header>\n<h1>{0}</h1>\n",
       Html(deck.info.title));
-  html += "<h2>Case</h2>\n<table>\n";
-  html += fmt::format("<tr><th>deck</th><td>{}</td></tr>\n<tr><th>source</th><td>{}</td></tr>\n", Html(deck.name), Html(deck.info.source));
-  html += fmt::format("<tr><th>model</th><td>{}</td></tr>\n", Html(ModelLine(deck)));
-  html += fmt::format("<tr><th>solver</th><td>{}</td></tr>\n", Html(SolverLine(deck, SolverFor(deck, options.solver))));
+  html += fmt::format("<p class=\"meta\">Deck <code>{}</code> &middot; ltca {} &middot; generated {} &middot; {}</p>\n",
+                      Html(deck.name), LTCA_VERSION, date, Html(deck.info.source));
+  html += "<table>\n";
+  html += fmt::format("<tr><th>model</th><td>{}</td></tr>\n", Html(Unlabelled(ModelLine(deck))));
+  html += fmt::format("<tr><th>solver</th><td>{}</td></tr>\n", Html(Unlabelled(SolverLine(deck, SolverFor(deck, options.solver)))));
   html += fmt::format("<tr><th>load</th><td>T = {:g} N*m</td></tr>\n", units::NmmToNm(deck.RequireLoad().torque));
-  html += fmt::format("<tr><th>sweep</th><td>{} positions, crank {:g} to {:g} deg</td></tr>\n", deck.sweep.positions,
-                      units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end));
-  html += fmt::format("<tr><th>program</th><td>ltca {}</td></tr>\n</table>\n", LTCA_VERSION);
-  html += "<h2>Geometry</h2>\n<div class=\"grid\">\n<div>\n<table>\n";
+  html += fmt::format("<tr><th>sweep</th><td>{} positions, crank {:g} to {:g} deg</td></tr>\n</table>\n</header>\n",
+                      deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end));
+  html += "<nav>\n<h2 id=\"contents\">Contents</h2>\n<ol>\n";
+  for (const auto& [id, title, shown] : sections) {
+    if (shown) html += fmt::format("<li><a href=\"#{}\">{}</a></li>\n", id, Html(title));
+  }
+  html += "</ol>\n</nav>\n";
+
+  // Inputs.
+  html += "<h2 id=\"inputs\">Inputs</h2>\n<p>Every value of the deck, grouped as the deck is; greyed rows are defaults "
+          "(the deck does not give them). Units are those of the deck's keys.</p>\n";
+  html += InputsTable(deck);
+
+  // Results against allowables.
+  html += "<h2 id=\"allowables\">Results against allowables</h2>\n<p>Allowables come from the deck: "
+          "<code>[material] contact_stress_limit_mpa</code> and every <code>[tolerances] limits</code> entry, judged on "
+          "the nominal deck (and, for the limits, as the Monte Carlo's pass fraction). A figure with no allowable in "
+          "the deck is listed with its value.</p>\n<table>\n<tr><th>figure</th><th>value</th><th>allowable</th>"
+          "<th>margin</th><th>verdict</th><th>Monte Carlo pass fraction</th><th>from</th></tr>\n";
+  const nlohmann::json& ss = s["summary"];
+  const nlohmann::json& bs = b["summary"];
+  const nlohmann::json ls = loop ? l["summary"] : nlohmann::json();
+  const nlohmann::json es = efficiency ? e["summary"] : nlohmann::json();
+  const nlohmann::json ts = tolerance ? tj["summary"] : nlohmann::json();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  html += AllowableRow("largest contact stress (MPa)", "max_contact_stress_mpa", Number(ss, "max_contact_stress_mpa"), nan,
+                       deck.RequireMaterial().contact_stress_limit, "ltca solve, the sweep");
+  // Each [tolerances] limit on the nominal figure: the tolerance study's nominal run when it ran
+  // its worst case, else the analysis that reports the same figure.
+  std::vector<std::string> limited;
+  if (deck.tolerances) {
+    for (const auto& limit : deck.tolerances->limits) {
+      limited.push_back(limit.figure);
+      double value = nan;
+      std::string basis;
+      if (tolerance && ts.contains("worst_case") && ts["worst_case"]["figures"].contains(limit.figure)) {
+        value = Number(ts["worst_case"]["figures"][limit.figure], "nominal");
+        basis = "ltca tolerance, the nominal deck";
+      }
+      for (const auto& [summary, name] : {std::pair{&ss, "ltca solve"}, std::pair{&bs, "ltca backlash"}, std::pair{&ls, "ltca stiffness, crank 0"}}) {
+        if (std::isfinite(value)) break;
+        value = Number(*summary, limit.figure);
+        basis = name;
+      }
+      nlohmann::json fraction = nullptr;
+      if (tolerance) {
+        for (const auto& x : ts["limits"]) {
+          if (x["figure"] == limit.figure) fraction = x["fraction"];
+        }
+      }
+      html += AllowableRow(Label(limit.figure), limit.figure, value, limit.min, limit.max, std::isfinite(value) ? basis : "not run", fraction);
+    }
+  }
+  // The figures a reviewer signs without a limit in the deck: listed with their values.
+  const auto listed = [&](const std::string& key) { return std::find(limited.begin(), limited.end(), key) != limited.end(); };
+  for (const auto& [key, summary, basis] :
+       {std::tuple{std::string("pp_te_arcsec"), &ss, "ltca solve"}, std::tuple{std::string("mean_backlash_arcsec"), &bs, "ltca backlash"},
+        std::tuple{std::string("lost_motion_arcmin"), &ls, "ltca stiffness, crank 0"},
+        std::tuple{std::string("torsional_rigidity_nm_per_arcmin"), &ls, "ltca stiffness, crank 0"},
+        std::tuple{std::string("efficiency"), &es, "ltca efficiency"}}) {
+    if (listed(key) || !summary->is_object() || !summary->contains(key)) continue;
+    html += AllowableRow(Label(key), key, Number(*summary, key), nan, nan, basis);
+  }
+  if (ss.contains("stage") && ss["stage"].is_object()) {  // issue 25: the stage's bearings
+    html += AllowableRow("shortest bearing L10 (h)", "stage.shortest_l10_hours", Number(ss["stage"], "shortest_l10_hours"), nan, nan,
+                         "ltca solve, ISO 281 (" + ss["stage"].value("life_basis", std::string("")) + ")");
+  }
+  html += "</table>\n";
+
+  html += "<h2 id=\"geometry\">Geometry</h2>\n<div class=\"grid\">\n<div>\n<table>\n";
   html += fmt::format(
       "<tr><th>z_p (pins)</th><td>{}</td></tr><tr><th>z_c (teeth)</th><td>{}</td></tr><tr><th>r_rp (mm)</th><td>{:g}</td></tr>"
       "<tr><th>R_p (mm)</th><td>{:g}</td></tr><tr><th>e (mm)</th><td>{:g}</td></tr><tr><th>B_c (mm)</th><td>{:g}</td></tr>\n</table>\n",
@@ -173,45 +411,85 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   nlohmann::json derived = g;
   derived.erase("case");
   html += Table(derived) + "</div>\n<div>" + InlineSvg(geometry.svg_path) + "</div>\n</div>\n";
-  html += "<h2>Loaded tooth contact analysis</h2>\n";
-  html += Table(s["summary"]);
+  html += "<h2 id=\"loaded\">Loaded tooth contact analysis</h2>\n";
+  html += Table(ss);
   html += InlineSvg(solve.svg_path);
-  html += "<h2>Unloaded: backlash and mesh</h2>\n";
+  html += "<h2 id=\"unloaded\">Unloaded: backlash and mesh</h2>\n";
   if (deck.reducer) {  // issue 25: the unloaded analysis is the pin ring's; the stage's free play is the loop's
     html += "<p>The pin ring's mesh alone (Liu eq. 17). The stage's free play, which also takes up the output "
             "mechanism's and the bearings' clearances, is the backlash of the torsional stiffness below.</p>\n";
   }
-  html += Table(b["summary"]);
+  html += Table(bs);
   html += InlineSvg(backlash.svg_path);
   html += InlineSvg(mesh.svg_path);
+  html += "<h2 id=\"stiffness\">Torsional stiffness</h2>\n";
   if (loop) {
-    const nlohmann::json l = nlohmann::json::parse(ReadFile(stiffness.json_path));
-    html += "<h2>Torsional stiffness: the torque-twist loop at crank 0</h2>\n";
-    nlohmann::json summary = l["summary"];
+    html += "<p>The torque-twist loop at crank 0.</p>\n";
+    nlohmann::json summary = ls;
     summary.erase("curve");
     html += Table(summary);
     html += InlineSvg(stiffness.svg_path);
+  } else {
+    html += "<p class=\"note\">Not run: the deck's torque is zero, so there is no rated torque to run the loop to.</p>\n";
   }
+  html += "<h2 id=\"efficiency\">Friction and meshing efficiency</h2>\n";
   if (efficiency) {
-    const nlohmann::json e = nlohmann::json::parse(ReadFile(eff.json_path));
-    html += "<h2>Friction and meshing efficiency</h2>\n";
-    html += Table(e["summary"]);
+    html += Table(es);
     html += InlineSvg(eff.svg_path);
+  } else {
+    html += fmt::format("<p class=\"note\">Not run: {}.</p>\n",
+                        !deck.friction    ? "the deck has no [friction] section"
+                        : !deck.operation ? "the deck has no [operation] section (the crank speed)"
+                                          : "the deck's torque is zero (no output power)");
   }
+  html += "<h2 id=\"tolerance\">Tolerance analysis (Monte Carlo)</h2>\n";
   if (tolerance) {
-    const nlohmann::json t = nlohmann::json::parse(ReadFile(tol.json_path));
-    const nlohmann::json& ts = t["summary"];
-    html += "<h2>Tolerance analysis (Monte Carlo)</h2>\n";
-    nlohmann::json shown = {{"samples", ts["samples"]}, {"seed", ts["seed"]}, {"succeeded", ts["succeeded"]},
-                            {"failed", ts["failed"]}, {"rejected", ts["rejected"]}, {"pass_fraction", ts["pass_fraction"]},
-                            {"figures", ts["figures"]}};
-    html += Table(shown);
-    if (options.no_worst_case) html += "<p>The extreme-value (worst-case) runs were skipped (--no-worst-case).</p>\n";
+    html += fmt::format("<p>{} samples (seed {}): {} succeeded, {} failed, {} rejected (interference); all limits passed by "
+                        "a fraction {} of the samples.{}</p>\n",
+                        Cell(ts["samples"]), Cell(ts["seed"]), Cell(ts["succeeded"]), Cell(ts["failed"]), Cell(ts["rejected"]),
+                        Cell(ts["pass_fraction"]),
+                        options.no_worst_case ? " The extreme-value (worst-case) runs were skipped (--no-worst-case)." : "");
+    html += "<h3>Percentiles per figure</h3>\n<table>\n<tr><th>figure</th><th>nominal</th><th>p5</th><th>p50</th><th>p95</th>"
+            "<th>mean</th><th>std</th><th>worst case low</th><th>worst case high</th></tr>\n";
+    for (const auto& [name, f] : ts["figures"].items()) {
+      const nlohmann::json w = ts.contains("worst_case") && ts["worst_case"]["figures"].contains(name) ? ts["worst_case"]["figures"][name]
+                                                                                                       : nlohmann::json::object();
+      html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+                          "<td>{}</td><td>{}</td></tr>\n",
+                          Html(name), Html(Label(name)), Cell(w.value("nominal", nlohmann::json())), Cell(f["p5"]), Cell(f["p50"]),
+                          Cell(f["p95"]), Cell(f["mean"]), Cell(f["std"]), Cell(w.value("corner_low", nlohmann::json())),
+                          Cell(w.value("corner_high", nlohmann::json())));
+    }
+    html += "</table>\n<h3>Pass fraction per limit</h3>\n<table>\n<tr><th>figure</th><th>min</th><th>max</th><th>pass fraction</th></tr>\n";
+    for (const auto& x : ts["limits"]) {
+      html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(Label(x["figure"].get<std::string>())),
+                          Cell(x["min"]), Cell(x["max"]), Cell(x["fraction"]));
+    }
+    html += "</table>\n<h3>Sensitivity: what moves each figure</h3>\n<p>Each input's share of the figure's variance "
+            "(standardised regression coefficients); an input whose share is within the noise floor (the share a random "
+            "input of the same samples gets) is not told from chance.</p>\n<table>\n<tr><th>figure</th><th>R&sup2;</th>"
+            "<th>ranking (share, noise floor)</th></tr>\n";
+    for (const auto& [name, f] : ts["sensitivity"]["figures"].items()) {
+      std::string ranking;
+      int shown = 0;
+      for (const auto& k : f["ranking"]) {
+        if (++shown > 4) break;
+        ranking += fmt::format("{}{} {} ({}{})", ranking.empty() ? "" : "; ", Html(k["key"].get<std::string>()), Cell(k["share"]),
+                               Cell(k["noise_floor"]), k.value("distinguishable_from_chance", false) ? "" : ", within noise");
+      }
+      html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td></tr>\n", Html(Label(name)), Cell(f["r_squared"]),
+                          ranking.empty() ? Html(f.value("note", std::string("no ranking"))) : ranking);
+    }
+    html += "</table>\n";
     html += InlineSvg(tol.svg_path);
+  } else {
+    html += "<p class=\"note\">Not run: the deck has no [tolerances] section.</p>\n";
   }
-  html += fmt::format("<p>Built from geometry.json, solve.json, backlash.json, mesh.json{}{}{} in this folder. A static page: "
-                      "nothing is fetched when it is viewed.</p>\n</body>\n</html>\n",
-                      loop ? ", stiffness.json" : "", efficiency ? ", efficiency.json" : "", tolerance ? ", tolerance.json" : "");
+  const double seconds = Number(ss, "wall_seconds");
+  html += fmt::format("<p class=\"meta\">Built from geometry.json, solve.json, backlash.json, mesh.json{}{}{} in this folder "
+                      "(the loaded sweep took {} s). A static page: nothing is fetched when it is viewed.</p>\n</body>\n</html>\n",
+                      loop ? ", stiffness.json" : "", efficiency ? ", efficiency.json" : "", tolerance ? ", tolerance.json" : "",
+                      std::isfinite(seconds) ? fmt::format("{:.3g}", seconds) : "n/a");
   Output page("-o", file("index.html"), streams.out);
   page.stream() << html;
   page.Commit();

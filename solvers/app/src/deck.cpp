@@ -1046,6 +1046,30 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
 
 }  // namespace
 
+namespace {
+/// A deck value as TOML writes it on one line (a table inline, a string quoted).
+std::string GivenText(const toml::value& v) {
+  if (v.is_string()) return "\"" + v.as_string().str + "\"";
+  if (v.is_table()) {
+    std::vector<std::string> parts;
+    for (const auto& [key, item] : v.as_table()) parts.push_back(key + " = " + GivenText(item));
+    return "{ " + fmt::format("{}", fmt::join(parts, ", ")) + " }";
+  }
+  if (v.is_array()) {
+    std::vector<std::string> parts;
+    for (const auto& item : v.as_array()) parts.push_back(GivenText(item));
+    return "[" + fmt::format("{}", fmt::join(parts, ", ")) + "]";
+  }
+  if (v.is_floating()) return fmt::format("{}", v.as_floating());  // the shortest text that reads back the same
+  if (v.is_integer()) return fmt::format("{}", v.as_integer());
+  std::ostringstream out;
+  out << toml::format(v);
+  std::string text = out.str();
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  return text;
+}
+}  // namespace
+
 Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::vector<std::string>& overrides,
                const std::filesystem::path& directory) {
   Deck deck;
@@ -1062,6 +1086,11 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
         throw std::invalid_argument(fmt::format("unknown section or key '{}'; expected one of: {}",
                                                 key, fmt::join(sections, ", ")));
       }
+    }
+    // Every value the deck gives (after --set), as it gives it: the report's inputs (issue 27).
+    for (const auto& [section, value] : root) {
+      if (!value.is_table()) continue;
+      for (const auto& [key, v] : value.as_table()) deck.given.push_back({section, key, GivenText(v)});
     }
     deck.info = ReadCase(RequiredSection(root, "case"));
     deck.pair = ReadPair(RequiredSection(root, "pair"));

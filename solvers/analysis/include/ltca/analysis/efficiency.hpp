@@ -30,6 +30,7 @@ constexpr double kEfficiencyNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// One loaded contact point at one position. Speeds in mm/s, forces N, power W.
 struct ContactFrictionPoint {
+  int disc = 0;  ///< 0 the first disc, 1 the second ([second_disc])
   int pin = 0;
   int slice = 0;
   double force = 0.0;           ///< normal force, N (with the friction moment in the balance, if solved)

@@ -76,6 +76,12 @@ struct Deck : analysis::StageDesign {
   CaseInfo info;
   bool width_slices_given = false;             ///< [geometry] width_slices is in the deck
   std::vector<std::string> notes;              ///< keys given without effect (reported in Model().note)
+  /// Every key the deck text gives (after the overrides), in its order: section, key and the
+  /// value as TOML writes it (the report's inputs table, issue 27).
+  struct GivenKey {
+    std::string section, key, value;
+  };
+  std::vector<GivenKey> given;
   /// Where the tip relief ([modification] tip_truncation_mm, tip_rounding_radius_mm; issue 12)
   /// came from: "deck" (a key given, also when 0) or "none" (no relief is ever assumed, issue 26);
   /// the note says what sharp tips of a |d| >= 2 pair do (reported with the model).
