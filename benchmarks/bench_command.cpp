@@ -167,6 +167,11 @@ struct ToleranceBar {
   double growth_exponent = 0;
   std::int64_t not_succeeded = 0;
   std::string load_before, load_after;
+  // Issue 27: a sample with [friction] (Coulomb, mu 0.05) against the same sample without, both
+  // with lost motion over the sweep (the part friction enters: the loop's torque balance), one
+  // thread, the fastest of 3 runs each, interleaved.
+  std::int64_t friction_samples = 0;
+  double seconds_per_sample_friction = 0, seconds_per_sample_frictionless = 0, friction_ratio = 0;
 };
 
 ToleranceBar RunToleranceBar(bool smoke, std::ostream& out) {
@@ -210,6 +215,32 @@ ToleranceBar RunToleranceBar(bool smoke, std::ostream& out) {
   bar.growth_samples.push_back(static_cast<double>(bar.samples));
   bar.growth_seconds.push_back(bar.seconds);
   bar.growth_exponent = LogSlope(bar.growth_samples, bar.growth_seconds);
+  {
+    app::ToleranceSettings lost = settings;
+    lost.lost_motion = true;
+    app::ToleranceCase frictionless = deck.MakeToleranceCase();
+    frictionless.stiffness.crank.reset();  // lost motion over the sweep
+    app::ToleranceCase with_friction = frictionless;
+    app::FrictionSettings f;
+    f.coefficient = 0.05;
+    with_friction.friction = f;
+    const app::ToleranceStudy plain(frictionless, o, lost), rubbing(with_friction, o, lost);
+    bar.friction_samples = smoke ? 1 : 10;
+    const auto per_sample = [&](const app::ToleranceStudy& study) {
+      const auto start = std::chrono::steady_clock::now();
+      const auto samples = study.RunRange(0, bar.friction_samples, 1);
+      for (const auto& s : samples) bar.not_succeeded += s.status == analysis::RunStatus::kSuccess ? 0 : 1;
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / static_cast<double>(bar.friction_samples);
+    };
+    bar.seconds_per_sample_friction = bar.seconds_per_sample_frictionless = 1e300;
+    for (int r = 0; r < (smoke ? 1 : 3); ++r) {
+      bar.seconds_per_sample_frictionless = std::min(bar.seconds_per_sample_frictionless, per_sample(plain));
+      bar.seconds_per_sample_friction = std::min(bar.seconds_per_sample_friction, per_sample(rubbing));
+    }
+    bar.friction_ratio = bar.seconds_per_sample_friction / bar.seconds_per_sample_frictionless;
+    fmt::print(out, "tolerance with friction: {:.4f} s a sample against {:.4f} s without ({:.2f} x; lost motion over {} positions, 1 thread)\n",
+               bar.seconds_per_sample_friction, bar.seconds_per_sample_frictionless, bar.friction_ratio, deck.sweep.positions);
+  }
   bar.load_after = Capture("cat /proc/loadavg");
   fmt::print(out, "tolerance: {} samples on 2 threads in {:.2f} s ({:.1f} samples/s); {} samples: 1 thread {:.2f} s, 2 threads {:.2f} s "
                   "({:.2f} x, fastest of 3 each); cost exponent over {} samples {:.2f}; {} samples not succeeded; load before [{}] after [{}]\n",
@@ -227,6 +258,11 @@ void WriteToleranceBar(const ToleranceBar& bar, const BenchHeader& header, const
   };
   row(static_cast<double>(bar.speedup_samples), 1, bar.seconds_1_thread);
   for (std::size_t i = 0; i < bar.growth_samples.size(); ++i) row(bar.growth_samples[i], 2, bar.growth_seconds[i]);
+  // Issue 27's friction row (lost motion on in both): in a file of its own, not mixed with the rows above.
+  std::ofstream friction(path.parent_path() / "tolerance_friction.csv");
+  friction << "date,commit,machine,samples,threads,seconds_per_sample_frictionless,seconds_per_sample_friction,ratio\n";
+  fmt::print(friction, "{},{},\"{}\",{},1,{:.6g},{:.6g},{:.6g}\n", header.date, header.commit, header.machine, bar.friction_samples,
+             bar.seconds_per_sample_frictionless, bar.seconds_per_sample_friction, bar.friction_ratio);
 }
 // --- end of the tolerance bar ---------------------------------------------------------------------
 
@@ -527,6 +563,10 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
                verdict(tolerance_bar.speedup >= 1.7));
     fmt::print(md, "| tolerance: cost linear in the sample count, exponent <= 1.1 over {} samples | {:.2f} | {} |\n",
                fmt::join(tolerance_bar.growth_samples, " / "), tolerance_bar.growth_exponent, verdict(tolerance_bar.growth_exponent <= 1.1));
+    fmt::print(md, "| tolerance: a sample with [friction] (mu 0.05) within 1.5x one without, lost motion over the sweep in both (the same "
+                   "deck, {} samples, 1 thread, fastest of 3) (issue 27) | {:.4f} s against {:.4f} s: {:.2f}x | {} |\n",
+               tolerance_bar.friction_samples, tolerance_bar.seconds_per_sample_friction,
+               tolerance_bar.seconds_per_sample_frictionless, tolerance_bar.friction_ratio, verdict(tolerance_bar.friction_ratio <= 1.5));
     // Issue 11: the slice model.
     const auto at = [](const std::vector<app::SliceStudyRow>& rows, int n) -> const app::SliceStudyRow& {
       return *std::find_if(rows.begin(), rows.end(), [n](const app::SliceStudyRow& r) { return r.slices == n; });
