@@ -55,18 +55,38 @@ void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunne
   all.x_label = "crank angle (deg)";
   all.y_label = "TE (arcsec)";
   all.legend = plots::LegendPlace::kOutsideRight;
-  for (std::size_t r = 0; r < runners.size(); ++r) all.series.push_back({runners[r].options().name, crank_deg, te[r], plots::Style::kLineMarkers});
+  // Solvers that agree draw one curve: each its own marker, the first largest and the later ones
+  // smaller inside it, so that every curve stays visible (issue 27: only the last one was).
+  for (std::size_t r = 0; r < runners.size(); ++r) {
+    plots::Series s{runners[r].options().name, crank_deg, te[r], plots::Style::kLineMarkers};
+    s.marker_size = 1.0 + 0.6 * static_cast<double>(runners.size() - 1 - r);
+    s.dashed = r % 2 == 1;
+    all.series.push_back(std::move(s));
+  }
   figure.panels.push_back(std::move(all));
   if (runners.size() > 1) {
     plots::Panel diff;
     diff.title = fmt::format("difference from {}", ref.name);
     diff.x_label = "crank angle (deg)";
-    diff.y_label = fmt::format("TE - TE of {} (arcsec)", ref.name);
     diff.legend = plots::LegendPlace::kOutsideRight;
+    // The differences in a unit of their own size, named in the axis label (issue 27: PLplot's
+    // "x10^-9" multiplier sat above the panel title, and 1e-9 arcsec read as 1 arcsec).
+    double largest = 0.0;
+    for (std::size_t r = 1; r < runners.size(); ++r) {
+      for (std::size_t i = 0; i < crank_deg.size(); ++i) {
+        const double d = std::abs(te[r][i] - te[0][i]);
+        if (std::isfinite(d)) largest = std::max(largest, d);
+      }
+    }
+    const int exponent = largest > 0.0 && largest < 0.01 ? static_cast<int>(std::floor(std::log10(largest))) : 0;
+    const double scale = std::pow(10.0, -exponent);
+    diff.y_label = exponent == 0 ? fmt::format("TE - TE of {} (arcsec)", ref.name)
+                                 : fmt::format("TE - TE of {} (1e{} arcsec)", ref.name, exponent);
     for (std::size_t r = 1; r < runners.size(); ++r) {
       plots::Series d{runners[r].options().name, crank_deg, {}, plots::Style::kLineMarkers};
       d.colour = static_cast<int>(r);  // the colour and marker it has on the left
-      for (std::size_t i = 0; i < crank_deg.size(); ++i) d.y.push_back(te[r][i] - te[0][i]);  // NaN where either failed
+      d.dashed = r % 2 == 1;
+      for (std::size_t i = 0; i < crank_deg.size(); ++i) d.y.push_back(scale * (te[r][i] - te[0][i]));  // NaN where either failed
       diff.series.push_back(std::move(d));
     }
     diff.marks.push_back({plots::Mark::Axis::kHorizontal, 0.0, "", false});

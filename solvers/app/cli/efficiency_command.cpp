@@ -100,8 +100,15 @@ void WriteEfficiencyFigure(const app::Deck& deck, const solvers::SolverOptions& 
   plots::Figure figure;
   figure.title = fmt::format("{}: efficiency and power loss over crank {:g} to {:g} deg", deck.info.title,
                              RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
-  figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics); {} positions; failed positions are gaps",
-                                                   deck.Model().name, solver.name, contact::ToString(deck.kinematics), positions.size()));
+  // The operating point (issue 27): speed, torque and the friction model the figures hold for.
+  const app::FrictionSettings& f = deck.RequireFriction();
+  const std::string friction = f.model == app::FrictionSettings::Model::kCoulomb ? fmt::format("Coulomb mu {:g}", f.coefficient)
+                                                                             : fmt::format("{} (f_b {:g})", app::ToString(f.model), f.boundary_coefficient);
+  figure.caption = FigureCaption(deck, fmt::format("operating point: input {:g} rpm, T = {:g} N*m, {}{}; model {}, solver {} ({} kinematics); "
+                                                   "{} positions; failed positions are gaps",
+                                                   units::RadPerSToRpm(deck.RequireOperation().input_speed), units::NmmToNm(deck.RequireLoad().torque),
+                                                   friction, f.sleeve_bore_radius ? ", pin sleeves" : "", deck.Model().name, solver.name,
+                                                   contact::ToString(deck.kinematics), positions.size()));
   figure.columns = 3;
   figure.width = 1500;
   figure.height = 520;

@@ -173,7 +173,9 @@ void WriteLoopFigure(const app::Deck& deck, const solvers::SolverOptions& solver
   panel.title = sweep ? "mean over the positions; dashed: their smallest and largest twist" : "";
   panel.x_label = "twist (arcmin, output rotation in the sense of +T)";
   panel.y_label = "torque (N*m)";
-  panel.legend = plots::LegendPlace::kTopLeft;
+  // Outside the axes (issue 27: inside, the legend covered the loop's upper part); short labels,
+  // their definitions in the caption.
+  panel.legend = plots::LegendPlace::kOutsideRight;
   const auto branch = [&](const std::string& label, int colour, bool dashed, auto twist_of) {
     plots::Series series{label, {}, {}, plots::Style::kLine};
     series.colour = colour;
@@ -198,7 +200,7 @@ void WriteLoopFigure(const app::Deck& deck, const solvers::SolverOptions& solver
       if (p.torque == 0.0 && p.branch == app::Branch::kIncreasing && std::isfinite(p.twist)) zero.push_back(RadToArcmin(p.twist));
     }
     if (zero.size() == 2) {
-      plots::Series b{fmt::format("backlash {:.4g} arcmin (width at zero torque)", RadToArcmin(s.backlash.mean)), zero, {0.0, 0.0},
+      plots::Series b{fmt::format("backlash {:.4g} arcmin", RadToArcmin(s.backlash.mean)), zero, {0.0, 0.0},
                       plots::Style::kLineMarkers};
       b.colour = 2;
       panel.series.push_back(std::move(b));
@@ -212,16 +214,14 @@ void WriteLoopFigure(const app::Deck& deck, const solvers::SolverOptions& solver
       if (std::isfinite(a.twist) && std::isfinite(c.twist)) panel.series.push_back(std::move(seg));
     };
     if (r.size() == 6) {  // secant: +T, +T/2, -T/2, -T, then lost motion
-      segment(fmt::format("torsional rigidity {:.4g} N*m/arcmin (secant 50 % .. 100 % of T)", RigidityNmPerArcmin(s.rigidity.mean)),
+      segment(fmt::format("rigidity {:.4g} N*m/arcmin", RigidityNmPerArcmin(s.rigidity.mean)),
               r[1], r[0], 1);
       segment("", r[3], r[2], 1);
     } else if (r.size() == 4) {  // tangent: two torques, then lost motion
-      segment(fmt::format("torsional rigidity {:.4g} N*m/arcmin (tangent)", RigidityNmPerArcmin(s.rigidity.mean)), r[1], r[0], 1);
+      segment(fmt::format("rigidity {:.4g} N*m/arcmin", RigidityNmPerArcmin(s.rigidity.mean)), r[1], r[0], 1);
     }
     if (r.size() >= 2) {
-      segment(fmt::format("lost motion {:.4g} arcmin (at +-{:.3g} % of T)", RadToArcmin(s.lost_motion.mean),
-                          100.0 * NmmToNm(r.back().torque) / -NmmToNm(rated)),
-              r[r.size() - 1], r[r.size() - 2], 3);
+      segment(fmt::format("lost motion {:.4g} arcmin", RadToArcmin(s.lost_motion.mean)), r[r.size() - 1], r[r.size() - 2], 3);
     }
     // A panel shows a legend from two labelled series: with fewer, the one label goes in the title.
     if (panel.LabelledSeries() < 2 && !panel.series.empty()) panel.title = panel.series.front().label;
@@ -237,10 +237,15 @@ void WriteLoopFigure(const app::Deck& deck, const solvers::SolverOptions& solver
           : std::string();
   figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}{}", deck.info.title, t, when, hysteresis,
                              any ? "" : ": no solve succeeded");
-  figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics); {} crank position{}", deck.Model().name,
-                                                   solver.name, contact::ToString(deck.kinematics), positions,
-                                                   positions == 1 ? "" : "s"));
-  figure.width = 1000;
+  const std::string rigidity = deck.stiffness.rigidity == app::StiffnessSettings::Rigidity::kSecant
+                                  ? "the secant from 50 % to 100 % of T on each flank"
+                                  : "the tangent at the deck's tangent torque";
+  figure.caption = FigureCaption(
+      deck, fmt::format("backlash: the loop's width at zero torque; rigidity: {}; lost motion: the width at +-{:g} % of T\n"
+                        "model {}, solver {} ({} kinematics); {} crank position{}",
+                        rigidity, 100.0 * deck.stiffness.lost_motion_fraction, deck.Model().name, solver.name,
+                        contact::ToString(deck.kinematics), positions, positions == 1 ? "" : "s"));
+  figure.width = 1300;
   figure.height = 640;
   figure.panels.push_back(std::move(panel));
   WriteFigure(figure, output);

@@ -144,8 +144,8 @@ void WriteHistograms(const app::Deck& deck, const app::ToleranceStudy& study, co
   figure.title = fmt::format("{}: {} samples (seed {}, {} succeeded), loaded TCA over crank {:g} to {:g} deg", deck.info.title,
                              summary.samples, summary.seed, summary.succeeded, RadToDeg(deck.sweep.crank_start),
                              RadToDeg(deck.sweep.crank_end));
-  figure.caption = FigureCaption(deck, "bars: samples per bin; dashed: p5, p50, p95 and the extreme-value corners (worst case); "
-                                       "solid: the [tolerances] limits");
+  figure.caption = FigureCaption(deck, "bars: samples per bin; dashed: p5, p50, p95; dotted: the extreme-value corners (worst case); "
+                                       "solid: the [tolerances] limits; a limit far beyond the data: an arrow at the axis' edge");
   figure.columns = 3;
   for (std::size_t f = 0; f < app::kToleranceFigureCount; ++f) {
     const auto& st = summary.figures[f];
@@ -155,15 +155,26 @@ void WriteHistograms(const app::Deck& deck, const app::ToleranceStudy& study, co
     panel.x_label = AxisLabel(names[f]);
     panel.y_label = "samples per bin";
     std::vector<double> span = {st.min, st.max};
-    for (const auto& l : summary.limits) {
-      if (l.limit.figure == names[f]) span.push_back(l.limit.min), span.push_back(l.limit.max);
-    }
     if (worst != nullptr) span.push_back(worst->figures[f].corner_low), span.push_back(worst->figures[f].corner_high);
     double lo = INFINITY, hi = -INFINITY;
     for (const double v : span) {
       if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
     }
     if (!(hi > lo)) lo -= 0.5, hi += 0.5;
+    // A limit within a third of the data's span beyond it widens the axis; one further away is an
+    // arrow at the edge (issue 27: a far limit squeezed the histogram into a quarter).
+    std::vector<double> beyond_low, beyond_high, drawn_limits;
+    const double reach = (hi - lo) / 3.0;
+    for (const auto& l : summary.limits) {
+      if (l.limit.figure != names[f]) continue;
+      for (const double v : {l.limit.min, l.limit.max}) {
+        if (!std::isfinite(v)) continue;
+        if (v < lo - reach) beyond_low.push_back(v);
+        else if (v > hi + reach) beyond_high.push_back(v);
+        else drawn_limits.push_back(v);
+      }
+    }
+    for (const double v : drawn_limits) lo = std::min(lo, v), hi = std::max(hi, v);
     const double pad = 0.03 * (hi - lo);
     lo -= pad, hi += pad;
     const int bins = 30;
@@ -182,15 +193,19 @@ void WriteHistograms(const app::Deck& deck, const app::ToleranceStudy& study, co
     for (const auto& [v, label] : {std::pair{st.p5, "p5"}, std::pair{st.p50, "p50"}, std::pair{st.p95, "p95"}}) {
       if (std::isfinite(v)) panel.marks.push_back({Mark::Axis::kVertical, v, label, true});
     }
-    for (const auto& l : summary.limits) {
-      if (l.limit.figure != names[f]) continue;
-      if (std::isfinite(l.limit.min)) panel.marks.push_back({Mark::Axis::kVertical, l.limit.min, "limit", false});
-      if (std::isfinite(l.limit.max)) panel.marks.push_back({Mark::Axis::kVertical, l.limit.max, "limit", false});
-    }
+    for (const double v : drawn_limits) panel.marks.push_back({Mark::Axis::kVertical, v, "limit", false});
     if (worst != nullptr) {
       for (const double v : {worst->figures[f].corner_low, worst->figures[f].corner_high}) {
-        if (std::isfinite(v)) panel.marks.push_back({Mark::Axis::kVertical, v, "corner", true});
+        if (std::isfinite(v)) panel.marks.push_back({Mark::Axis::kVertical, v, "", false, true});
       }
+    }
+    double tallest = 0.0;
+    for (const double c : count) tallest = std::max(tallest, c);
+    for (const double v : beyond_high) {
+      panel.notes.push_back({hi - 0.01 * (hi - lo), 0.55 * tallest, fmt::format("limit {:.4g} ->", v), 1.0, 1.1});
+    }
+    for (const double v : beyond_low) {
+      panel.notes.push_back({lo + 0.01 * (hi - lo), 0.55 * tallest, fmt::format("<- limit {:.4g}", v), 0.0, 1.1});
     }
     panel.x_min = lo, panel.x_max = hi;
     figure.panels.push_back(std::move(panel));
@@ -294,11 +309,23 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
     samples.Add(s);
   };
 
-  // The samples: rank r runs the r-th static block, on its threads.
+  // The samples: rank r runs the r-th static block, on its threads. The first few (two per
+  // thread) run first and give the estimate of the whole run (issue 27: a run said nothing of
+  // what it would cost); samples depend on (seed, i) only, so the split changes no number.
   const auto start = Clock::now();
   {
-    Progress progress(streams.err, streams.progress && root, "tolerance sample", end - begin, options.progress_after_seconds);
-    study.RunStream(begin, end - begin, threads, keep, [&](std::int64_t done) { progress.Update(done); });
+    const std::int64_t count = end - begin;
+    const std::int64_t first = std::min<std::int64_t>(count, 2 * static_cast<std::int64_t>(threads));
+    Progress progress(streams.err, streams.progress && root, "tolerance sample", count, options.progress_after_seconds);
+    study.RunStream(begin, first, threads, keep, [&](std::int64_t done) { progress.Update(done); });
+    if (root && first < count) {
+      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      fmt::print(text, "estimate  about {:.3g} s for the {} samples{} (the first {} took {:.3g} s on {} thread(s)){}\n",
+                 seconds * static_cast<double>(count) / static_cast<double>(first), count, ranks > 1 ? " of this rank" : "",
+                 first, seconds, threads, options.no_worst_case ? "" : "; the worst case runs after them");
+      text.flush();
+    }
+    study.RunStream(begin + first, count - first, threads, keep, [&](std::int64_t done) { progress.Update(first + done); });
     progress.Finish();
   }
   if (farm && ranks > 1) {

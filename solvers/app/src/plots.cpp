@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -206,7 +207,7 @@ void DrawSeries(const Series& s, int order, const std::vector<double>& x, const 
         for (std::size_t i = 0; i < x.size(); ++i) {
           if (std::isfinite(x[i]) && std::isfinite(y[i])) px.push_back(x[i]), py.push_back(y[i]);
         }
-        Chr(0.42);
+        Chr(0.42 * s.marker_size);
         if (!px.empty()) plstring(static_cast<PLINT>(px.size()), px.data(), py.data(), kMarkers[static_cast<std::size_t>(MarkerOf(s, order))]);
       }
     }
@@ -382,9 +383,30 @@ void DrawPanel(const Panel& p, double x0, double x1, double y0, double y1, int p
     if (!s.label.empty()) ++order;
   }
   Chr(0.6);
+  // Vertical marks' labels (rotated, read downward from the top) never overlap (issue 27): a label
+  // closer than 4 % of the axis to the one before it, left to right, starts lower, below that
+  // label's text.
+  std::vector<std::pair<double, double>> placed;  // (x, lowest y) of the vertical labels so far
+  std::vector<const Mark*> vertical;
+  for (const Mark& m : p.marks) {
+    if (m.axis == Mark::Axis::kVertical) vertical.push_back(&m);
+  }
+  std::stable_sort(vertical.begin(), vertical.end(), [](const Mark* a, const Mark* b) { return a->value < b->value; });
+  std::map<const Mark*, double> label_top;
+  for (const Mark* m : vertical) {
+    const double v = Axis(m->value, p.log_x);
+    double top = ry.hi - 0.02 * (ry.hi - ry.lo);
+    for (const auto& [x, low] : placed) {
+      if (std::abs(v - x) < 0.04 * (rx.hi - rx.lo)) top = std::min(top, low - 0.03 * (ry.hi - ry.lo));
+    }
+    // About 0.045 of the height per character at this size.
+    const double bottom = top - 0.045 * (ry.hi - ry.lo) * static_cast<double>(m->label.size());
+    if (!m->label.empty()) placed.emplace_back(v, bottom);
+    label_top[m] = top;
+  }
   for (const Mark& m : p.marks) {
     plcol0(kMarkInk);
-    pllsty(m.dashed ? 2 : 1);
+    pllsty(m.dotted ? 8 : m.dashed ? 2 : 1);
     plwidth(1.2);
     if (m.axis == Mark::Axis::kHorizontal) {
       const double v = Axis(m.value, p.log_y);
@@ -395,7 +417,7 @@ void DrawPanel(const Panel& p, double x0, double x1, double y0, double y1, int p
       const double v = Axis(m.value, p.log_x);
       const std::array<double, 2> x = {v, v}, y = {ry.lo, ry.hi};
       plline(2, x.data(), y.data());
-      plptex(v - 0.012 * (rx.hi - rx.lo), ry.hi - 0.02 * (ry.hi - ry.lo), 0, -1, 0.0, Pl(m.label).c_str());
+      plptex(v - 0.012 * (rx.hi - rx.lo), label_top[&m], 0, -1, 0.0, Pl(m.label).c_str());
     }
     pllsty(1);
     plwidth(1.0);
@@ -516,6 +538,52 @@ std::string CompactPolylines(const std::string& svg) {
   return out;
 }
 
+/// Runs of unfilled polylines with the same attributes, one after another (PLplot draws a dashed
+/// line, a grid or the ticks as one polyline a segment), as one <path> of as many subpaths: the
+/// same pixels (an unfilled path's subpaths are stroked one by one, as the polylines were), a
+/// fraction of the bytes (issue 27: figures under 300 kB).
+std::string MergePolylines(const std::string& svg) {
+  std::string out;
+  out.reserve(svg.size());
+  std::size_t at = 0;
+  std::string attributes, d;  // the run being merged: its attributes and its path data
+  std::size_t count = 0;
+  const auto flush = [&]() {
+    if (count == 0) return;
+    out += "<path" + attributes + " d=\"" + d + "\"/>";
+    attributes.clear(), d.clear(), count = 0;
+  };
+  for (std::size_t open = svg.find("<polyline", at); open != std::string::npos; open = svg.find("<polyline", at)) {
+    const std::size_t close = svg.find("/>", open);
+    if (close == std::string::npos) break;
+    const std::string_view between(svg.data() + at, open - at);
+    const bool adjacent = std::all_of(between.begin(), between.end(), [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; });
+    const std::string element = svg.substr(open + std::string_view("<polyline").size(), close - open - std::string_view("<polyline").size());
+    const std::size_t points = element.find(" points=\"");
+    const std::size_t points_end = points == std::string::npos ? std::string::npos : element.find('"', points + 9);
+    const bool mergeable = points != std::string::npos && points_end != std::string::npos &&
+                           element.find("fill=\"none\"") != std::string::npos;
+    if (!mergeable) {
+      flush();
+      out.append(svg, at, close + 2 - at);
+      at = close + 2;
+      continue;
+    }
+    const std::string own = element.substr(0, points) + element.substr(points_end + 1);
+    if (count > 0 && (!adjacent || own != attributes)) flush();
+    if (count == 0) out.append(svg, at, open - at);
+    if (count > 0) d += ' ';
+    attributes = own;
+    d += 'M';
+    d.append(element, points + 9, points_end - points - 9);
+    ++count;
+    at = close + 2;
+  }
+  flush();
+  out.append(svg, at, std::string::npos);
+  return out;
+}
+
 /// The <title>, <desc> and <metadata> that tests and scripts read (the drawing itself carries
 /// every label as <text>).
 std::string Metadata(const Figure& f) {
@@ -624,7 +692,7 @@ void Write(const Figure& figure, std::ostream& os, Format format) {
       metadata.insert(metadata.begin(), '\n');
       bytes.insert(end + 1, metadata);
     }
-    bytes = CompactPolylines(bytes);
+    bytes = MergePolylines(CompactPolylines(bytes));
   }
   os.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }

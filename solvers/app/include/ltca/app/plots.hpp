@@ -32,6 +32,7 @@ struct Series {
   int marker = -1;   ///< index into the markers (0..7); -1: as colour
   bool dashed = false;
   double bar_width = 0.8;
+  double marker_size = 1.0;  ///< relative: curves that coincide stay visible with nested markers (issue 27)
 };
 
 /// A horizontal (y = value) or vertical (x = value) reference line with its label.
@@ -41,6 +42,7 @@ struct Mark {
   double value = 0.0;
   std::string label;
   bool dashed = false;
+  bool dotted = false;  ///< a third style (e.g. a worst-case corner beside dashed percentiles)
 };
 
 /// Text at a point in the panel's data coordinates; justification 0 left, 0.5 centre, 1 right.
