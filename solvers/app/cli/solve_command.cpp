@@ -227,7 +227,9 @@ plots::Panel PinBars(const std::vector<double>& values, int pin_count, const std
     panel.series.push_back(std::move(bars));
   }
   panel.x_min = 0.0, panel.x_max = n + 1.0;
-  panel.y_min = 0.0, panel.y_max = top > 0.0 ? 1.1 * top : 1.0;
+  // With two discs the legend (top right) sits in headroom above the tallest bar and its number
+  // (issue 27: it covered the tallest contact-stress bar where the loaded pins were the last ones).
+  panel.y_min = 0.0, panel.y_max = top > 0.0 ? (discs == 2 ? 1.5 : 1.1) * top : 1.0;
   return panel;
 }
 
