@@ -134,10 +134,13 @@ void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origi
   }
   mesh_points_ = static_cast<int>(base.pins.size());
   if (problem.has_coupling()) {
-    // Pin bending (issue 11): C couples the points of one pin's beam. Its blocks are the connected
-    // sets of its non-zeros (one pin's slices), each kept dense for the Hessian's condensation.
     coupling_ = problem.coupling();
     force_scale_ = CoupledForceScale(problem);
+  }
+  if (coupling_ != nullptr && coupled_ != nullptr) {
+    // Pin bending (issue 11): C couples the points of one pin's beam. Its blocks are the connected
+    // sets of its non-zeros (one pin's slices), each kept dense for the Hessian's condensation;
+    // only a system that evaluates needs them (a judge's system has no coupled solver).
     std::vector<int> parent(static_cast<std::size_t>(mesh_points_));
     for (int i = 0; i < mesh_points_; ++i) parent[static_cast<std::size_t>(i)] = i;
     const auto root = [&](int i) {

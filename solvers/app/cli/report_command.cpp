@@ -302,16 +302,17 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   std::tm utc{};
   gmtime_r(&now, &utc);
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", &utc);
-  // The sections of the page, in order: (id, title, whether it is there).
-  const std::vector<std::tuple<std::string, std::string, bool>> sections = {
-      {"inputs", "Inputs", true},
-      {"allowables", "Results against allowables", true},
-      {"geometry", "Geometry", true},
-      {"loaded", "Loaded tooth contact analysis", true},
-      {"unloaded", "Unloaded: backlash and mesh", true},
-      {"stiffness", "Torsional stiffness", true},
-      {"efficiency", "Friction and meshing efficiency", true},
-      {"tolerance", "Tolerance analysis (Monte Carlo)", true}};
+  // The sections of the page, in order (id, title): each is always there, with its analysis or a
+  // note why it did not run.
+  const std::vector<std::pair<std::string, std::string>> sections = {
+      {"inputs", "Inputs"},
+      {"allowables", "Results against allowables"},
+      {"geometry", "Geometry"},
+      {"loaded", "Loaded tooth contact analysis"},
+      {"unloaded", "Unloaded: backlash and mesh"},
+      {"stiffness", "Torsional stiffness"},
+      {"efficiency", "Friction and meshing efficiency"},
+      {"tolerance", "Tolerance analysis (Monte Carlo)"}};
   std::string html = fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
       "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>ltca report: {0}</title>\n"
@@ -337,9 +338,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   html += fmt::format("<tr><th>sweep</th><td>{} positions, crank {:g} to {:g} deg</td></tr>\n</table>\n</header>\n",
                       deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end));
   html += "<nav>\n<h2 id=\"contents\">Contents</h2>\n<ol>\n";
-  for (const auto& [id, title, shown] : sections) {
-    if (shown) html += fmt::format("<li><a href=\"#{}\">{}</a></li>\n", id, Html(title));
-  }
+  for (const auto& [id, title] : sections) html += fmt::format("<li><a href=\"#{}\">{}</a></li>\n", id, Html(title));
   html += "</ol>\n</nav>\n";
 
   // Inputs.
