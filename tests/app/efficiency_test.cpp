@@ -304,16 +304,30 @@ TEST_CASE("app: friction that locks the stage is a failed position with no figur
   }
   CHECK(j.at("summary").at("efficiency").is_null());
   // The stiffness loop with the same friction: unloading, the normal forces must carry
-  // T / (1 - r_0) < 0 for r_0 > 1, so the loop has no balance; it fails with a null rigidity.
-  std::ostringstream loop_out, loop_err;
-  const int loop_code = ltca::cli::Run({"stiffness", Case("liu2021_table1.toml"), "--json", "-", "--crank-deg", "0", "--set",
-                                        "friction.coefficient=1", "--set", "contact.law=linear", "--set",
-                                        "contact.stiffness_n_per_mm2=2e4"},
-                                       loop_out, loop_err);
+  // T / (1 - r_0) < 0 for r_0 > 1, so the loop has no balance there; it fails and says it locks.
+  // Loading, they carry T / (1 + r_0) (Liu's pair has no clearance: under the linear law every
+  // force, and so r_0, scales with the torque), so the rigidity read on the loading pass is the
+  // frictionless one times 1 + r_0 (issue 27: before the balance's first step took the slope
+  // -(1 + r_0), its fixed-point step t = T (1 - r_0) < 0 reported a lock on that pass too).
+  const auto loop_run = [](std::vector<std::string> sets) {
+    std::vector<std::string> args = {"stiffness", Case("liu2021_table1.toml"), "--json", "-", "--crank-deg", "0"};
+    for (std::string& s : sets) {
+      args.push_back("--set");
+      args.push_back(std::move(s));
+    }
+    std::ostringstream loop_out, loop_err;
+    const int code = ltca::cli::Run(args, loop_out, loop_err);
+    return std::pair{code, nlohmann::json::parse(loop_out.str())};
+  };
+  const auto [loop_code, loop] = loop_run({"friction.coefficient=1", "contact.law=linear", "contact.stiffness_n_per_mm2=2e4"});
   CHECK(loop_code == 1);
-  const auto loop = nlohmann::json::parse(loop_out.str());
-  CHECK(loop.at("summary").at("torsional_rigidity_nm_per_arcmin").is_null());
   CHECK(loop.at("summary").at("status") != "success");
+  CHECK(loop.at("summary").at("first_failure").get<std::string>().find("locks") != std::string::npos);
+  const auto [plain_code, plain] = loop_run({"contact.law=linear", "contact.stiffness_n_per_mm2=2e4"});
+  REQUIRE(plain_code == 0);
+  const double r0 = bound_runner.Solve(0.0).friction_moment_ratio;
+  CHECK(loop.at("summary").at("torsional_rigidity_drive_nm_per_arcmin").get<double>() ==
+        doctest::Approx((1.0 + r0) * plain.at("summary").at("torsional_rigidity_drive_nm_per_arcmin").get<double>()).epsilon(1e-8));
 }
 
 TEST_CASE("app: [friction] and [operation] are read in internal units and bad values name their key") {

@@ -175,6 +175,11 @@ TEST_CASE("app: stiffness of the Liu 5.2 base: lost motion is the twist between 
         twist[side] = -r.positions.front().result.te;
       }
       CHECK(std::abs(p.lost_motion - (twist[0] - twist[1])) < 1e-12);
+      // Issue 27: the lost motion alone (a tolerance sample's) is the same two solves.
+      auto alone = ltca::test::StiffnessOn(deck, ltca::test::Named("compatibility"), settings, kinematics);
+      const StiffnessPosition q = alone.SolveLostMotion(*settings.crank);
+      CHECK(std::abs(q.lost_motion - (twist[0] - twist[1])) < 1e-12);
+      CHECK(q.solves == 2);
       CHECK(p.lost_motion > p.backlash);
       CHECK(p.lost_motion < 1.2 * p.backlash);  // the wind-up at 3 % is a few per cent of the free play
     }
@@ -297,6 +302,21 @@ TEST_CASE("app: Coulomb friction loop, linear law without clearance: branches T 
       CHECK(p.rigidity_coast == doctest::Approx(kc * (1 + rc)).epsilon(1e-7));
       CHECK(p.rigidity == doctest::Approx(1.0 / (0.5 / (kd * (1 + rd)) + 0.5 / (kc * (1 + rc)))).epsilon(1e-7));
       CHECK(p.lost_motion == doctest::Approx(mid(0.03 * torque) - mid(-0.03 * torque)).epsilon(1e-7));
+      // Issue 27: the lost motion alone (what a tolerance sample runs), without the curve and the
+      // stick-end searches, at 3 % of T (both passes slide) and at 99 % (within both sticks, where
+      // the held twists decide).
+      for (const double f : {0.03, 0.99}) {
+        CAPTURE(f);
+        StiffnessSettings only = settings;
+        only.lost_motion_fraction = f;
+        auto alone = ltca::test::StiffnessOn(deck, ltca::test::Named(solver), only, ContactKinematics::kLinearised);
+        const StiffnessPosition q = alone.SolveLostMotion(crank);
+        REQUIRE(q.succeeded());
+        CHECK((f * torque > end_drive && -f * torque < end_coast) == (f > 0.5));
+        CHECK(q.lost_motion == doctest::Approx(mid(f * torque) - mid(-f * torque)).epsilon(1e-7));
+        CHECK(q.solves <= 6 * 20);  // six balances, none beyond its limit of solves
+        CHECK(alone.Summary().lost_motion.mean == q.lost_motion);
+      }
     }
   }
 }

@@ -76,6 +76,16 @@ PER_POSITION_DROPPED = {"pin_angle_deg", "clearance_um", "clearance_at_first_con
                         "contact_stress_mpa", "slice_stress_mpa"}
 TOO_SLOW_WHOLE = {"scaling/zp160.toml", "scaling/zp320.toml"}
 TIMING = {"wall_seconds", "loaded_solve_seconds", "samples_per_second", "threads", "mpi_ranks"}
+# Issue 27: since the stiffness loop's torque balance with friction starts where the same balance
+# ended at the previous crank angle, and its first step takes the residual's slope -(1 + r) instead
+# of -1, it reaches the same fixed point along another path, to its tolerance (1e-10 of T in the
+# torque the normal forces carry). In the runs that solve that loop (stiffness and report of a
+# deck with [friction]) floats are compared to FRICTION_LOOP_RELATIVE, which covers that tolerance
+# through the rigidity's secant (measured: 2.3e-10 on jiang2022_table2_efficiency.toml), and the
+# count of solves, which the change lowered, is not compared.
+FRICTION_LOOP_COMMANDS = {"stiffness", "report", "tolerance"}
+FRICTION_LOOP_RELATIVE = 1e-8
+FRICTION_LOOP_UNCOMPARED = {"solves"}
 
 
 def deck_sections(path):
@@ -228,29 +238,32 @@ def floor_of(key):
     return ABSOLUTE_DEFAULT
 
 
-def compare(problems, where, key, got, want):
-    """Appends to problems every difference between got and want (key: the field's name)."""
+def compare(problems, where, key, got, want, relative=RELATIVE, uncompared=frozenset()):
+    """Appends to problems every difference between got and want (key: the field's name); floats to
+    `relative`, keys in `uncompared` skipped."""
     if isinstance(want, dict):
         if not isinstance(got, dict):
             problems.append(f"{where}: {type(got).__name__} != object")
             return
         for k in sorted(set(got) | set(want)):
+            if k in uncompared:
+                continue
             if k not in want or k not in got:
                 problems.append(f"{where}.{k}: {'extra' if k not in want else 'missing'}")
             else:
-                compare(problems, f"{where}.{k}", k, got[k], want[k])
+                compare(problems, f"{where}.{k}", k, got[k], want[k], relative, uncompared)
         return
     if isinstance(want, list):
         if not isinstance(got, list) or len(got) != len(want):
             problems.append(f"{where}: length {len(got) if isinstance(got, list) else got!r} != {len(want)}")
             return
         for i, (g, w) in enumerate(zip(got, want)):
-            compare(problems, f"{where}[{i}]", key, g, w)
+            compare(problems, f"{where}[{i}]", key, g, w, relative, uncompared)
         return
     number = (int, float)
     if (isinstance(want, float) and isinstance(got, number) and not isinstance(got, bool)) or \
        (isinstance(got, float) and isinstance(want, number) and not isinstance(want, bool)):
-        if abs(got - want) > max(RELATIVE * abs(want), floor_of(key)):
+        if abs(got - want) > max(relative * abs(want), floor_of(key)):
             problems.append(f"{where}: {got!r} != {want!r} (diff {abs(got - want):.3g})")
         return
     if type(got) is not type(want) or got != want:
@@ -261,8 +274,10 @@ def check_run(exe, cases, want):
     name = f"{want['command']} {want['deck']} {' '.join(want['args'])}"
     code, doc, message, _ = run(exe, cases, want["deck"], want["command"], want["args"])
     problems = []
+    loose = want["command"] in FRICTION_LOOP_COMMANDS and "[friction]" in deck_sections(os.path.join(cases, want["deck"]))
     compare(problems, f"{name}: exit", "exit", code, want["exit"])
-    compare(problems, f"{name}: json", "json", doc, want.get("json"))
+    compare(problems, f"{name}: json", "json", doc, want.get("json"),
+            FRICTION_LOOP_RELATIVE if loose else RELATIVE, FRICTION_LOOP_UNCOMPARED if loose else frozenset())
     compare(problems, f"{name}: message", "message", message, want.get("message"))
     return problems
 

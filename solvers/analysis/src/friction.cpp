@@ -91,8 +91,11 @@ double LoopFrictionCoefficient(const std::optional<FrictionSettings>& friction) 
 
 LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state, double torque,
                                  double sense, double mu, const std::function<LoadResult(double)>& solve, int* solves,
-                                 const contact::MeshModel* second) {
-  LoadResult r = solve(torque);
+                                 const contact::MeshModel* second, LoopFrictionWarmStart* warm) {
+  const bool warm_ratio = warm != nullptr && std::isfinite(warm->ratio) && warm->ratio > 0.0 && mu != 0.0 && sense != 0.0;
+  // The first solve: at T itself, or (warm) where the last balance of this kind ended, t = ratio T.
+  double t_prev = warm_ratio ? warm->ratio * torque : torque;
+  LoadResult r = solve(t_prev);
   if (solves != nullptr) ++*solves;
   if (mu == 0.0 || sense == 0.0 || r.status != SolverStatus::kSuccess) return r;
   // Turning about its centre (crank locked), the cycloid slides every contact along its tangent;
@@ -107,24 +110,44 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
   }
   // The normal forces carry t = T + M_f, M_f = -sense mu sum F_i a_i (the friction resists the
   // motion): a fixed point in t, each step the frictionless problem at t.
-  // g(t) = T - sense mu sum F_i(t) a_i - t, solved by the secant method from t = T.
-  const auto residual = [&](const LoadResult& res, double t) {
-    double moment = 0.0;
+  // g(t) = T - sense mu sum F_i(t) a_i - t, solved by the secant method. Its first step: the
+  // slope of g the last balance of this kind ended with (warm), else -(1 + sense mu M / t), exact
+  // when the friction moment M grows in proportion to t (a linear law on a fixed contact set with
+  // no clearance).
+  const auto moment = [&](const LoadResult& res) {
+    double m = 0.0;
     for (std::size_t i = 0; i < state.pins.size(); ++i) {
-      if (res.force[i] > 0.0) moment += mu * res.force[i] * arm[i];
+      if (res.force[i] > 0.0) m += mu * res.force[i] * arm[i];
     }
-    return torque - sense * moment - t;
+    return m;
   };
-  double t_prev = torque, g_prev = residual(r, torque);
-  double t_now = torque + g_prev;
-  // The normal forces carry torque in the sense of T: a step to the other sense means the friction
-  // moment outgrows the torque (the stage locks under this friction), and no balance exists.
   const auto failed = [](std::string message) {
     LoadResult f;
     f.status = SolverStatus::kMaxIterations;
     f.message = std::move(message);
     return f;
   };
+  const auto converged = [&](double t, double slope) {
+    if (warm != nullptr && torque != 0.0) {
+      warm->ratio = t / torque;
+      warm->slope = slope;
+    }
+  };
+  const double m_prev = moment(r);
+  double g_prev = torque - sense * m_prev - t_prev;
+  if (std::abs(g_prev) <= kBalanceTolerance * std::abs(torque)) {
+    converged(t_prev, warm != nullptr ? warm->slope : kNaN);
+    return r;
+  }
+  // A slope >= 0 (sense mu M / t >= 1 on the way back) sends the step to the other sense: the lock
+  // below.
+  double slope = warm != nullptr && std::isfinite(warm->slope) && warm->slope != 0.0 ? warm->slope
+                 : t_prev != 0.0                                                      ? -(1.0 + sense * m_prev / t_prev)
+                                                                                      : -1.0;
+  if (!(std::isfinite(slope) && slope != 0.0)) slope = -1.0;
+  double t_now = t_prev - g_prev / slope;
+  // The normal forces carry torque in the sense of T: a step to the other sense means the friction
+  // moment outgrows the torque (the stage locks under this friction), and no balance exists.
   for (int k = 0; k < kMaxBalanceSolves; ++k) {
     if (!std::isfinite(t_now) || (torque != 0.0 && t_now * torque <= 0.0)) {
       return failed(fmt::format(
@@ -135,12 +158,16 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
     r = solve(t_now);
     if (solves != nullptr) ++*solves;
     if (r.status != SolverStatus::kSuccess) return r;
-    const double g_now = residual(r, t_now);
-    if (std::abs(g_now) <= kBalanceTolerance * std::abs(torque)) return r;
-    const double slope = (g_now - g_prev) / (t_now - t_prev);
+    const double g_now = torque - sense * moment(r) - t_now;
+    const double secant = (g_now - g_prev) / (t_now - t_prev);
+    if (std::isfinite(secant) && secant != 0.0) slope = secant;
+    if (std::abs(g_now) <= kBalanceTolerance * std::abs(torque)) {
+      converged(t_now, slope);
+      return r;
+    }
     t_prev = t_now;
     g_prev = g_now;
-    t_now = slope != 0.0 && std::isfinite(slope) ? t_now - g_now / slope : t_now + g_now;
+    t_now = t_now - g_now / slope;
   }
   return failed(fmt::format("torque balance with friction (mu {:g}) at {:g} N*m: not converged after {} solves", mu,
                             units::NmmToNm(torque), kMaxBalanceSolves));

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -27,6 +28,9 @@ constexpr double kTangentStep = 0.01;
 /// this fraction of the held twist, or of T in torque, in at most kStickIterations solves.
 constexpr double kStickTolerance = 1e-10;
 constexpr int kStickIterations = 40;
+
+/// The key of the stick-end searches' friction warm start (their torques move from step to step).
+constexpr double kStickKey = std::numeric_limits<double>::infinity();
 
 /// The integral of T d(twist) once round the curve, closed from its last point to its first
 /// (trapezoids), N*mm*rad; NaN when any point is.
@@ -106,6 +110,10 @@ struct StiffnessRunner::Impl {
   bool closed = false;
   double friction_mu = 0.0;
   double sense = 0.0;
+  // Issue 27: the friction balance of each (torque, sense) warm-started from where it ended at the
+  // previous crank; the stick-end searches' torques move, one warm start per sense.
+  std::map<std::pair<double, double>, LoopFrictionWarmStart> friction_warm;
+  bool searching = false;  // within StickEnd
 
   Impl(const Stage& st, const SolverOptions& o, const StiffnessSettings& s, double torque,
        const std::optional<FrictionSettings>& friction)
@@ -133,10 +141,14 @@ struct StiffnessRunner::Impl {
   double Twist(const contact::MeshState& state, double torque, StiffnessPosition* pos, SolverStatus* status,
                bool on_loop = true) {
     int solves = 0;
+    LoopFrictionWarmStart* warm = nullptr;
+    if (friction_mu > 0.0 && sense != 0.0) {
+      warm = &friction_warm[{searching ? kStickKey : torque, sense}];
+    }
     const LoadResult r = SolveWithLoopFriction(
         stage.model(), state, torque, sense, friction_mu,
         [&](double t) { return solver->Solve(Problem(state, t), options, workspace); }, &solves,
-        stage.disc_count() == 2 ? &stage.model(1) : nullptr);
+        stage.disc_count() == 2 ? &stage.model(1) : nullptr, warm);
     pos->solves += solves;
     if (status != nullptr) *status = r.status;
     if (stage.disc_count() == 2 && on_loop && r.status == SolverStatus::kSuccess && std::abs(torque) == rated) {
@@ -174,7 +186,9 @@ struct StiffnessRunner::Impl {
       t = (t_a * h_b - t_b * h_a) / (h_b - h_a);
       if (std::abs(t_b - t_a) <= kStickTolerance * rated) return t;
       SolverStatus status = SolverStatus::kNotSolved;
+      searching = true;
       const double h = sense * (Twist(state, t, pos, &status, false) - held);
+      searching = false;
       if (!std::isfinite(h)) return kNaN;
       if (std::abs(h) <= twist_tol) return t;
       if (h < 0.0) {
@@ -496,6 +510,53 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
     m.readoff_spread.assign(pos.readoffs.size(), Spread{});
   }
   for (std::size_t i = 0; i < pos.readoffs.size(); ++i) m.readoff_spread[i].Add(pos.readoffs[i].twist, in_mean);
+  m.elapsed += Clock::now() - start;
+  return pos;
+}
+
+StiffnessPosition StiffnessRunner::SolveLostMotion(double crank) {
+  const auto start = Clock::now();
+  Impl& m = *impl_;
+  StiffnessPosition pos;
+  pos.crank = crank;
+  const contact::MeshState state = m.State(crank);
+  const double t = m.rated, ft = m.settings.lost_motion_fraction * t;
+  // One twist of the sense `sense` (0 without friction), not a point of a drawn loop.
+  const auto twist = [&](double torque, double sense) {
+    m.sense = sense;
+    SolverStatus status = SolverStatus::kNotSolved;
+    const double v = m.Twist(state, torque, &pos, &status, false);
+    m.sense = 0.0;
+    return v;
+  };
+  double plus = kNaN, minus = kNaN;  // the loop's midpoints at +f T and -f T
+  if (m.friction_mu == 0.0) {
+    plus = twist(ft, 0.0);
+    minus = twist(-ft, 0.0);
+  } else {
+    // The loop starts at -T on the decreasing pass; the reversals hold these twists.
+    const double held_low = twist(-t, -1.0), held_high = twist(t, 1.0);
+    const double rising_plus = twist(ft, 1.0), falling_minus = twist(-ft, -1.0);
+    const double rising_minus = twist(-ft, 1.0), falling_plus = twist(ft, -1.0);
+    if (pos.failed == 0) {
+      plus = 0.5 * (rising_plus + std::min(falling_plus, held_high));
+      minus = 0.5 * (std::max(rising_minus, held_low) + falling_minus);
+    }
+  }
+  pos.lost_motion = pos.failed == 0 ? plus - minus : kNaN;
+  pos.readoffs.push_back({ft, plus, Branch::kIncreasing, pos.failed == 0 ? SolverStatus::kSuccess : SolverStatus::kNumericalFailure});
+  pos.readoffs.push_back({-ft, minus, Branch::kIncreasing, pos.failed == 0 ? SolverStatus::kSuccess : SolverStatus::kNumericalFailure});
+
+  StiffnessSummary& s = m.summary;
+  s.closed_period = m.closed;
+  const bool in_mean = !(m.closed && crank == m.cranks.back());
+  s.solves += pos.solves;
+  if (pos.succeeded()) {
+    ++s.succeeded;
+  } else {
+    s.Fail(fmt::format("crank {:.6g} deg, {}", units::RadToDeg(crank), pos.first_failure));
+  }
+  s.lost_motion.Add(pos.lost_motion, in_mean);
   m.elapsed += Clock::now() - start;
   return pos;
 }

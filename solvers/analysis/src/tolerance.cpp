@@ -391,11 +391,11 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
                               solvers::ToString(sum_loaded.status), first_failure);
     }
     if (settings_.lost_motion) {
-      // Lost motion is solved at its own torques (+-f T); the curve needs only its 3 levels.
+      // Lost motion is solved at its own torques (+-f T), without the loop's curve (issue 27).
       StiffnessSettings st = pair.stiffness;
       st.steps = 3;
       StiffnessRunner loop(stage, options_, st, pair.torque, pair.friction);
-      for (const double crank : loop.cranks()) loop.Solve(crank);
+      for (const double crank : loop.cranks()) loop.SolveLostMotion(crank);
       const StiffnessSummary ss = loop.Summary();
       s.figures[kLostMotionArcmin] = units::RadToArcmin(ss.lost_motion.mean);
       if (!ss.all_succeeded() && s.status == RunStatus::kSuccess) {

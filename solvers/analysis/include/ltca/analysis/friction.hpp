@@ -60,9 +60,18 @@ const char* ToString(FrictionSettings::Model model);
 /// f_b for jiang-mixed: no entrainment, boundary friction). Returns the last result; *solves counts.
 /// second: the second disc of a two-disc stage (issue 13), whose points in state turn about its own
 /// centre, half a crank turn on; nullptr for one disc.
+/// Where the last balance of the same kind ended (issue 27: the same torque and sense at the
+/// neighbouring crank angle): the ratio t / T it converged to and the slope of its residual
+/// g(t) = T - sense M_f(t) - t. The first solve is then at ratio T and the first step uses that
+/// slope; the balance is the same fixed point to the same tolerance, found in fewer solves. NaN:
+/// no warm start (the first solve at T, the first slope -(1 + sense M_f / t)). Updated on success.
+struct LoopFrictionWarmStart {
+  double ratio = std::numeric_limits<double>::quiet_NaN();
+  double slope = std::numeric_limits<double>::quiet_NaN();
+};
 LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state, double torque,
                                  double sense, double mu, const std::function<LoadResult(double)>& solve, int* solves,
-                                 const contact::MeshModel* second = nullptr);
+                                 const contact::MeshModel* second = nullptr, LoopFrictionWarmStart* warm = nullptr);
 /// The static coefficient of the loop: Coulomb's mu, or f_b for jiang-mixed; 0 without [friction].
 double LoopFrictionCoefficient(const std::optional<FrictionSettings>& friction);
 

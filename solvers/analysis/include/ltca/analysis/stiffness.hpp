@@ -166,6 +166,15 @@ class StiffnessRunner {
   double rated_torque() const;  ///< T, N*mm (> 0)
   /// The loop at one crank (rad), added to the summary.
   StiffnessPosition Solve(double crank);
+  /// Only the lost motion at one crank (rad), added to the summary's lost_motion (and its run
+  /// record): what a tolerance sample needs (issue 27). Without friction the twists at +-f T, two
+  /// solves. With friction the loop's width at +-f T on both passes and the twists held after the
+  /// reversals at -T and +T: the rising pass at -f T is max(branch, held at -T) (the stick after
+  /// the reversal holds the twist until the branch of the new sense reaches it, and the branch
+  /// rises with the torque), the falling pass at +f T is min(branch, held at +T); no stick can
+  /// outlast zero torque. The same lost motion as Solve's, without its curve, free play, rigidity
+  /// and stick-end searches. Fills crank, lost_motion, readoffs (+f T, -f T), solves, failed.
+  StiffnessPosition SolveLostMotion(double crank);
   StiffnessSummary Summary() const;
 
  private:
