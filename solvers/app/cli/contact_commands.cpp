@@ -35,11 +35,11 @@ void WriteBacklashFigure(const app::Deck& deck, const BacklashOptions& options, 
   figure.title = fmt::format("{}: unloaded backlash over crank {:.4g} to {:.4g} deg", deck.info.title,
                              crank_deg.empty() ? 0.0 : crank_deg.front(), crank_deg.empty() ? 0.0 : crank_deg.back());
   figure.caption = FigureCaption(deck, fmt::format("unloaded TCA, {} kinematics, {} positions; backlash = theta_c1 - theta_c2 "
-                                                   "(Liu eq. 17){}",
+                                                   "(Liu eq. 17), the first contacts on the drive and coast flanks{}",
                                                    contact::ToString(*options.kinematics),
-                                                   crank_deg.size(), two_discs ? "; two discs: the stage's, the nearer first contact of either" : ""));
+                                                   crank_deg.size(), two_discs ? "; two discs: the nearer of either disc's" : ""));
   figure.columns = 2;
-  figure.width = 1300;
+  figure.width = 1400;
   figure.height = 520;
   plots::Panel b;
   b.title = "backlash";
@@ -53,8 +53,8 @@ void WriteBacklashFigure(const app::Deck& deck, const BacklashOptions& options, 
   r.x_label = "crank angle (deg)";
   r.y_label = "rotation to first contact (arcsec)";
   r.legend = plots::LegendPlace::kOutsideRight;
-  r.series.push_back({"theta_c1 (load direction)", crank_deg, c1, plots::Style::kLineMarkers});
-  r.series.push_back({"theta_c2 (against it)", crank_deg, c2, plots::Style::kLineMarkers});
+  r.series.push_back({"theta_c1 (drive)", crank_deg, c1, plots::Style::kLineMarkers});
+  r.series.push_back({"theta_c2 (coast)", crank_deg, c2, plots::Style::kLineMarkers});
   r.marks.push_back({plots::Mark::Axis::kHorizontal, 0.0, "", false});
   figure.panels.push_back(std::move(r));
   WriteFigure(figure, output);

@@ -178,7 +178,7 @@ struct SvgData {
   double f_peak = -1.0;
   /// The pin x crank maps: every stride-th position's pin forces and stresses (NaN when it
   /// failed), at most about kMapColumns columns whatever the sweep.
-  static constexpr std::int64_t kMapColumns = 90;
+  static constexpr std::int64_t kMapColumns = 120;
   std::int64_t stride = 1, seen = 0;
   std::vector<double> map_crank;
   std::vector<std::vector<double>> map_force, map_stress;

@@ -175,12 +175,25 @@ void WriteHistograms(const app::Deck& deck, const app::ToleranceStudy& study, co
       }
     }
     for (const double v : drawn_limits) lo = std::min(lo, v), hi = std::max(hi, v);
-    const double pad = 0.03 * (hi - lo);
-    lo -= pad, hi += pad;
-    const int bins = 30;
+    // A count (contacts_min, contacts_max: whole numbers of pins over a short range) gets one bar a
+    // value, centred on it; any other figure 30 bins over its padded range.
+    bool whole = true;
+    for (std::int64_t k = 0; k < samples.size() && whole; ++k) {
+      const double v = samples.figures(k)[f];
+      if (samples.succeeded(k) && std::isfinite(v)) whole = v == std::round(v);
+    }
+    whole = whole && std::round(lo) == lo && std::round(hi) == hi && hi - lo <= 29.0;
+    int bins = 30;
+    if (whole) {
+      lo -= 0.5, hi += 0.5;
+      bins = static_cast<int>(std::lround(hi - lo));
+    } else {
+      const double pad = 0.03 * (hi - lo);
+      lo -= pad, hi += pad;
+    }
     const double width = (hi - lo) / bins;
     plots::Series bars{"samples", {}, {}, plots::Style::kBars};
-    bars.bar_width = width;
+    bars.bar_width = whole ? 0.6 * width : width;  // a count's bars apart, one a value
     std::vector<double> count(bins, 0.0);
     for (std::int64_t k = 0; k < samples.size(); ++k) {
       const double v = samples.figures(k)[f];
@@ -201,11 +214,14 @@ void WriteHistograms(const app::Deck& deck, const app::ToleranceStudy& study, co
     }
     double tallest = 0.0;
     for (const double c : count) tallest = std::max(tallest, c);
+    // A far limit's arrow above the tallest bar and below the marks' labels (they hang from the top
+    // of the axes, the longest, p50, over its top 14 %).
+    if (!beyond_high.empty() || !beyond_low.empty()) panel.y_min = 0.0, panel.y_max = 1.35 * std::max(tallest, 1.0);
     for (const double v : beyond_high) {
-      panel.notes.push_back({hi - 0.01 * (hi - lo), 0.55 * tallest, fmt::format("limit {:.4g} ->", v), 1.0, 1.1});
+      panel.notes.push_back({hi - 0.01 * (hi - lo), 1.08 * std::max(tallest, 1.0), fmt::format("limit {:.4g} ->", v), 1.0, 1.1});
     }
     for (const double v : beyond_low) {
-      panel.notes.push_back({lo + 0.01 * (hi - lo), 0.55 * tallest, fmt::format("<- limit {:.4g}", v), 0.0, 1.1});
+      panel.notes.push_back({lo + 0.01 * (hi - lo), 1.08 * std::max(tallest, 1.0), fmt::format("<- limit {:.4g}", v), 0.0, 1.1});
     }
     panel.x_min = lo, panel.x_max = hi;
     figure.panels.push_back(std::move(panel));

@@ -255,30 +255,62 @@ double HalfCell(const std::vector<double>& c, std::size_t i, bool upper) {
   return i > 0 ? (c[i] - c[i - 1]) / 2 : (c[i + 1] - c[i]) / 2;
 }
 
+/// The colour steps of a map and of its colour bar: a cell takes the colour of the bar's step its
+/// value falls in, so that the map shows what the bar can be read to.
+constexpr int kMapSteps = 64;
+
 void DrawMap(const Map& m) {
-  // Cells of one column whose colours are the same 8-bit RGB are one rectangle: the same picture,
-  // with far fewer SVG elements where a map is flat (the unloaded pins' zeros; issue 27: the solve
-  // figure of a two-disc deck was 2.3 MB).
+  // Each cell is coloured by its step of the colour bar (kMapSteps). Cells of one column in the
+  // same step are one run, and runs over the same pins in the same step in neighbouring columns
+  // are one rectangle: the same picture in far fewer SVG elements (issue 27: the solve figure of
+  // a two-disc deck was 2.3 MB; the bands of the loaded pins change little from one crank angle
+  // to the next).
   const Range r = MapRange(m);
-  for (std::size_t i = 0; i < m.x.size() && i < m.z.size(); ++i) {
+  const auto step = [&](double v) {
+    if (!std::isfinite(v)) return -1;
+    return std::clamp(static_cast<int>(std::floor((v - r.lo) / (r.hi - r.lo) * kMapSteps)), 0, kMapSteps - 1);
+  };
+  struct Run {
+    std::size_t j0, j1;
+    int step;
+    double x0, x1;
+  };
+  const auto fill = [&](const Run& run) {
+    const double y0 = m.y[run.j0] - HalfCell(m.y, run.j0, false), y1 = m.y[run.j1] + HalfCell(m.y, run.j1, true);
+    const std::array<double, 4> bx = {run.x0, run.x1, run.x1, run.x0}, by = {y0, y0, y1, y1};
+    SetRgb(MapRgb((run.step + 0.5) / kMapSteps));
+    plfill(4, bx.data(), by.data());
+  };
+  std::vector<Run> open, next;  // the runs of the last column, each from where it began
+  std::vector<Run> done;        // the rectangles, drawn at the end by colour (they do not overlap)
+  const std::size_t columns = std::min(m.x.size(), m.z.size());
+  for (std::size_t i = 0; i < columns; ++i) {
     const double x0 = m.x[i] - HalfCell(m.x, i, false), x1 = m.x[i] + HalfCell(m.x, i, true);
     const std::size_t n = std::min(m.y.size(), m.z[i].size());
+    next.clear();
     for (std::size_t j = 0; j < n;) {
-      const double v = m.z[i][j];
-      if (!std::isfinite(v)) {
-        ++j;
-        continue;
-      }
-      const std::array<int, 3> rgb = MapRgb((v - r.lo) / (r.hi - r.lo));
+      const int k = step(m.z[i][j]);
       std::size_t last = j;
-      while (last + 1 < n && std::isfinite(m.z[i][last + 1]) && MapRgb((m.z[i][last + 1] - r.lo) / (r.hi - r.lo)) == rgb) ++last;
-      const double y0 = m.y[j] - HalfCell(m.y, j, false), y1 = m.y[last] + HalfCell(m.y, last, true);
-      const std::array<double, 4> bx = {x0, x1, x1, x0}, by = {y0, y0, y1, y1};
-      SetRgb(rgb);
-      plfill(4, bx.data(), by.data());
+      while (last + 1 < n && step(m.z[i][last + 1]) == k) ++last;
+      if (k >= 0) next.push_back({j, last, k, x0, x1});
       j = last + 1;
     }
+    // A run of this column that continues one of the last (the same pins, the same step) keeps its
+    // beginning; the last column's runs that do not continue are drawn.
+    std::size_t a = 0;
+    for (Run& run : next) {
+      while (a < open.size() && open[a].j0 < run.j0) done.push_back(open[a++]);
+      if (a < open.size() && open[a].j0 == run.j0 && open[a].j1 == run.j1 && open[a].step == run.step) {
+        run.x0 = open[a++].x0;
+      }
+    }
+    while (a < open.size()) done.push_back(open[a++]);
+    std::swap(open, next);
   }
+  done.insert(done.end(), open.begin(), open.end());
+  // One colour after another: MergePolylines writes each colour's cells as one path.
+  std::stable_sort(done.begin(), done.end(), [](const Run& a, const Run& b) { return a.step < b.step; });
+  for (const Run& run : done) fill(run);
 }
 
 /// The colour bar of a map, in the page box [x0, x1] x [y0, y1], with its ticks and label.
@@ -286,7 +318,7 @@ void DrawColourBar(const Map& m, double x0, double x1, double y0, double y1) {
   const Range r = MapRange(m);
   plvpor(x0, x1, y0, y1);
   plwind(0.0, 1.0, r.lo, r.hi);
-  const int steps = 64;
+  const int steps = kMapSteps;
   for (int k = 0; k < steps; ++k) {
     const double a = r.lo + (r.hi - r.lo) * k / steps, b = r.lo + (r.hi - r.lo) * (k + 1) / steps;
     const std::array<double, 4> bx = {0.0, 1.0, 1.0, 0.0}, by = {a, a, b, b};
@@ -350,7 +382,7 @@ void DrawPanel(const Panel& p, double x0, double x1, double y0, double y1, int p
   const bool outside_legend = p.legend == LegendPlace::kOutsideRight && p.LabelledSeries() > 1;
   std::size_t longest = 0;
   for (const Series& s : p.series) longest = std::max(longest, s.label.size());
-  const double legend_px = std::min(120.0 + 10.5 * static_cast<double>(longest), 0.5 * (x1 - x0) * page_w);
+  const double legend_px = std::min(150.0 + 12.5 * static_cast<double>(longest), 0.5 * (x1 - x0) * page_w);
   const double right = outside_legend ? legend_px : (p.map ? 150.0 : 24.0);  // a map's colour bar and its label
   const double vx0 = x0 + 92.0 / page_w, vx1 = x1 - right / page_w;
   const double vy0 = y0 + 58.0 / page_h, vy1 = y1 - 34.0 / page_h;
@@ -492,6 +524,73 @@ void Draw(const Figure& f) {
   plend();
 }
 
+/// PLplot's SVG texts in fewer bytes, the same drawing (issue 27: a sweep's markers are glyphs,
+/// each a <text>): the opening tag's attributes one space apart and without fill-opacity="1"
+/// (SVG's default), and the characters PLplot writes as references (&#x4c;) written as
+/// themselves in UTF-8, but for the five that XML escapes.
+std::string CompactTexts(const std::string& svg) {
+  std::string out;
+  out.reserve(svg.size());
+  std::size_t at = 0;
+  for (std::size_t open = svg.find("<text", at); open != std::string::npos; open = svg.find("<text", at)) {
+    const std::size_t tag_end = svg.find('>', open);
+    const std::size_t close = tag_end == std::string::npos ? tag_end : svg.find("</text>", tag_end);
+    if (close == std::string::npos) break;
+    out.append(svg, at, open - at);
+    // The opening tag: whitespace runs to one space (its values hold no spaces but the transform's,
+    // which are single), the default opacity dropped.
+    std::string tag;
+    bool space = false;
+    for (std::size_t k = open; k < tag_end; ++k) {
+      const bool is_space = std::isspace(static_cast<unsigned char>(svg[k])) != 0;
+      if (is_space) {
+        space = true;
+        continue;
+      }
+      if (space) tag += ' ';
+      space = false;
+      tag += svg[k];
+    }
+    const std::string opacity = " fill-opacity=\"1.000000\"";
+    if (const std::size_t o = tag.find(opacity); o != std::string::npos) tag.erase(o, opacity.size());
+    out += tag;
+    out += '>';
+    // The body: character references decoded.
+    for (std::size_t k = tag_end + 1; k < close;) {
+      if (svg.compare(k, 3, "&#x") == 0) {
+        const std::size_t semi = svg.find(';', k);
+        if (semi != std::string::npos && semi < close && semi - k <= 9) {
+          const unsigned long c = std::strtoul(svg.substr(k + 3, semi - k - 3).c_str(), nullptr, 16);
+          const bool escaped = c == '<' || c == '>' || c == '&' || c == '"' || c == '\'';
+          if (c >= 0x20 && c != 0x7f && c <= 0x10FFFF && !(c >= 0xD800 && c <= 0xDFFF) && !escaped) {
+            if (c < 0x80) {
+              out += static_cast<char>(c);
+            } else if (c < 0x800) {
+              out += static_cast<char>(0xC0 | (c >> 6));
+              out += static_cast<char>(0x80 | (c & 0x3F));
+            } else if (c < 0x10000) {
+              out += static_cast<char>(0xE0 | (c >> 12));
+              out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+              out += static_cast<char>(0x80 | (c & 0x3F));
+            } else {
+              out += static_cast<char>(0xF0 | (c >> 18));
+              out += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
+              out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+              out += static_cast<char>(0x80 | (c & 0x3F));
+            }
+            k = semi + 1;
+            continue;
+          }
+        }
+      }
+      out += svg[k++];
+    }
+    at = close;
+  }
+  out.append(svg, at, std::string::npos);
+  return out;
+}
+
 /// PLplot's SVG polylines with the attributes that state SVG's defaults left out (stroke-width 1,
 /// stroke-opacity 1, fill-opacity 1, fill-rule nonzero: PLplot's groups carry only transforms and
 /// clip paths, so nothing is inherited instead) and each element on one line: the same drawing in
@@ -538,10 +637,46 @@ std::string CompactPolylines(const std::string& svg) {
   return out;
 }
 
+/// A closed polyline's points ("x,y x,y ...", PLplot's fill of four corners) that trace an
+/// axis-aligned rectangle, as path data of one winding, "Mx0 y0Hx1Vy1Hx0Z" (x0 < x1, y0 < y1), so
+/// that such rectangles merged into one path fill their union under the nonzero rule; empty for
+/// any other shape.
+std::string RectanglePath(std::string_view points) {
+  std::array<std::string_view, 5> x{}, y{};
+  std::size_t n = 0, at = 0;
+  while (at < points.size()) {
+    while (at < points.size() && points[at] == ' ') ++at;
+    if (at >= points.size()) break;
+    const std::size_t end = std::min(points.find(' ', at), points.size());
+    const std::string_view pair = points.substr(at, end - at);
+    const std::size_t comma = pair.find(',');
+    if (n == 5 || comma == std::string_view::npos) return {};
+    x[n] = pair.substr(0, comma);
+    y[n] = pair.substr(comma + 1);
+    ++n;
+    at = end;
+  }
+  if (n != 5 || x[0] != x[4] || y[0] != y[4]) return {};
+  // Edges alternate horizontal and vertical, from either first edge.
+  const bool horizontal_first = y[0] == y[1] && x[1] == x[2] && y[2] == y[3] && x[3] == x[0];
+  const bool vertical_first = x[0] == x[1] && y[1] == y[2] && x[2] == x[3] && y[3] == y[0];
+  if (!horizontal_first && !vertical_first) return {};
+  const auto number = [](std::string_view v) { return std::strtod(std::string(v).c_str(), nullptr); };
+  std::string_view x0 = x[0], x1 = x[2], y0 = y[0], y1 = y[2];
+  if (number(x1) < number(x0)) std::swap(x0, x1);
+  if (number(y1) < number(y0)) std::swap(y0, y1);
+  std::string d = "M";
+  d.append(x0).append(" ").append(y0).append("H").append(x1).append("V").append(y1).append("H").append(x0).append("Z");
+  return d;
+}
+
 /// Runs of unfilled polylines with the same attributes, one after another (PLplot draws a dashed
 /// line, a grid or the ticks as one polyline a segment), as one <path> of as many subpaths: the
 /// same pixels (an unfilled path's subpaths are stroked one by one, as the polylines were), a
-/// fraction of the bytes (issue 27: figures under 300 kB).
+/// fraction of the bytes (issue 27: figures under 300 kB). Runs of filled axis-aligned
+/// rectangles with the same attributes (a map's cells of one colour, which DrawMap draws
+/// together; bars) likewise, each as RectanglePath: one winding, so the path fills their union
+/// (nonzero rule) and strokes each outline as the polylines did.
 std::string MergePolylines(const std::string& svg) {
   std::string out;
   out.reserve(svg.size());
@@ -561,8 +696,11 @@ std::string MergePolylines(const std::string& svg) {
     const std::string element = svg.substr(open + std::string_view("<polyline").size(), close - open - std::string_view("<polyline").size());
     const std::size_t points = element.find(" points=\"");
     const std::size_t points_end = points == std::string::npos ? std::string::npos : element.find('"', points + 9);
-    const bool mergeable = points != std::string::npos && points_end != std::string::npos &&
-                           element.find("fill=\"none\"") != std::string::npos;
+    const bool unfilled = element.find("fill=\"none\"") != std::string::npos;
+    const std::string rectangle = points == std::string::npos || points_end == std::string::npos || unfilled
+                                      ? std::string()
+                                      : RectanglePath(std::string_view(element).substr(points + 9, points_end - points - 9));
+    const bool mergeable = points != std::string::npos && points_end != std::string::npos && (unfilled || !rectangle.empty());
     if (!mergeable) {
       flush();
       out.append(svg, at, close + 2 - at);
@@ -574,8 +712,12 @@ std::string MergePolylines(const std::string& svg) {
     if (count == 0) out.append(svg, at, open - at);
     if (count > 0) d += ' ';
     attributes = own;
-    d += 'M';
-    d.append(element, points + 9, points_end - points - 9);
+    if (unfilled) {
+      d += 'M';
+      d.append(element, points + 9, points_end - points - 9);
+    } else {
+      d += rectangle;
+    }
     ++count;
     at = close + 2;
   }
@@ -692,7 +834,7 @@ void Write(const Figure& figure, std::ostream& os, Format format) {
       metadata.insert(metadata.begin(), '\n');
       bytes.insert(end + 1, metadata);
     }
-    bytes = MergePolylines(CompactPolylines(bytes));
+    bytes = MergePolylines(CompactPolylines(CompactTexts(bytes)));
   }
   os.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
