@@ -19,6 +19,7 @@ Command MeshCommand();
 Command SolveCommand();
 Command StiffnessCommand();
 Command ToleranceCommand();
+Command OptimiseCommand();
 Command EfficiencyCommand();
 Command CompareCommand();
 Command ValidateCommand();
@@ -27,7 +28,7 @@ Command KeysCommand();
 
 std::vector<Command> Commands() {
   return {GeometryCommand(),  BacklashCommand(),  MeshCommand(),    SolveCommand(),     StiffnessCommand(),
-          ToleranceCommand(), EfficiencyCommand(), CompareCommand(), ValidateCommand(), ReportCommand(),      KeysCommand()};
+          ToleranceCommand(), OptimiseCommand(), EfficiencyCommand(), CompareCommand(), ValidateCommand(), ReportCommand(),      KeysCommand()};
 }
 
 void AddDeckInputs(CLI::App& command, DeckInput& deck, const char* deck_help) {

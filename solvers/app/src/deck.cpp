@@ -776,6 +776,84 @@ OperationSettings ReadOperation(const Section& s) {
   return o;
 }
 
+// --- issue 28: reading [optimise] ------------------------------------------------------------------
+OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const std::optional<ToleranceSettings>& tolerances) {
+  OptimiseSettings o;
+  const toml::table& t = value.as_table();
+  const auto number = [](const toml::value& v, const std::string& where, const char* what) {
+    if (v.is_integer()) return static_cast<double>(v.as_integer());
+    if (v.is_floating()) return v.as_floating();
+    throw std::invalid_argument(fmt::format("[optimise] {} = {}: expected a number ({})", where, toml::format(v), what));
+  };
+  if (const auto it = t.find("variables"); it != t.end()) {
+    if (!it->second.is_table()) {
+      throw std::invalid_argument(fmt::format(
+          "[optimise] variables = {}: expected an inline table, e.g. {{ \"modification.pin_radius_mm\" = [-0.03, 0.0] }}",
+          toml::format(it->second)));
+    }
+    for (const auto& [key, bounds] : it->second.as_table()) {
+      if (!bounds.is_array() || bounds.as_array().size() != 2) {
+        throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = {}: expected [lower, upper]", key, toml::format(bounds)));
+      }
+      OptimiseVariable v;
+      v.key = key;
+      v.lower = number(bounds.as_array()[0], "variables.\"" + key + "\"", "the lower bound");
+      v.upper = number(bounds.as_array()[1], "variables.\"" + key + "\"", "the upper bound");
+      o.variables.push_back(v);
+    }
+  }
+  o.objective = s.String("objective");
+  o.maximise = s.Bool("maximise", o.maximise);
+  if (const auto it = t.find("constraints"); it != t.end()) {
+    if (!it->second.is_table()) {
+      throw std::invalid_argument(fmt::format(
+          "[optimise] constraints = {}: expected an inline table, e.g. {{ mean_backlash_arcsec = {{ min = 20, max = 40 }} }}",
+          toml::format(it->second)));
+    }
+    for (const auto& [figure, limit] : it->second.as_table()) {
+      ToleranceLimit l;
+      l.figure = figure;
+      const std::string where = "constraints." + figure;
+      if (limit.is_table()) {
+        for (const auto& [name, bound] : limit.as_table()) {
+          if (name == "min") l.min = number(bound, where + ".min", "lower limit of the figure");
+          else if (name == "max") l.max = number(bound, where + ".max", "upper limit of the figure");
+          else throw std::invalid_argument(fmt::format("[optimise] {}: unknown key '{}'; expected min, max", where, name));
+        }
+      } else {
+        l.max = number(limit, where, "upper limit of the figure, or { min = .., max = .. }");
+      }
+      o.constraints.push_back(l);
+    }
+  }
+  const std::string global = s.String("global", "direct");
+  if (global == "direct") o.global = OptimiseSettings::Global::kDirect;
+  else if (global == "crs2") o.global = OptimiseSettings::Global::kCrs2;
+  else if (global == "isres") o.global = OptimiseSettings::Global::kIsres;
+  else if (global == "none") o.global = OptimiseSettings::Global::kNone;
+  else throw std::invalid_argument(fmt::format("[optimise] global = \"{}\": expected \"direct\", \"crs2\", \"isres\" or \"none\"", global));
+  const std::string local = s.String("local", "cobyla");
+  if (local == "cobyla") o.local = OptimiseSettings::Local::kCobyla;
+  else if (local == "bobyqa") o.local = OptimiseSettings::Local::kBobyqa;
+  else if (local == "none") o.local = OptimiseSettings::Local::kNone;
+  else throw std::invalid_argument(fmt::format("[optimise] local = \"{}\": expected \"cobyla\", \"bobyqa\" or \"none\"", local));
+  o.evaluations = s.Integer("evaluations", o.evaluations);
+  o.global_share = s.Real("global_share", o.global_share);
+  o.tolerance = s.Real("tolerance", o.tolerance);
+  o.seed = s.Unsigned("seed", o.seed);
+  o.robust = s.Bool("robust", o.robust);
+  o.robust_samples = s.Integer("robust_samples", static_cast<int>(o.robust_samples));
+  o.percentile = s.Real("percentile", o.percentile);
+  if (o.robust) {
+    if (!tolerances) {
+      throw std::invalid_argument("[optimise] robust = true: expected a [tolerances] section (the distributions every design is run over)");
+    }
+    o.tolerances = *tolerances;
+  }
+  o.Validate();
+  return o;
+}
+
 FrictionSettings ReadFriction(const Section& s, const geometry::PairParameters& pair) {
   FrictionSettings f;
   const std::string model = s.String("model", "coulomb");
@@ -1186,6 +1264,10 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     if (operation.Present()) deck.operation = ReadOperation(operation);
     const Section friction(Find(root, "friction"), "friction");
     if (friction.Present()) deck.friction = ReadFriction(friction, deck.pair);
+    if (const toml::value* opt = Find(root, "optimise")) {  // issue 28
+      const Section optimise(opt, "optimise");
+      deck.optimise = ReadOptimise(optimise, *opt, deck.tolerances);
+    }
     if (deck.friction && deck.friction->model == FrictionSettings::Model::kJiangMixed && !deck.operation) {
       throw std::invalid_argument(
           "[friction] model = \"jiang-mixed\": expected an [operation] section (input_speed_rpm, the oil, the "

@@ -22,6 +22,7 @@
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/friction.hpp"
 #include "ltca/analysis/keys.hpp"
+#include "ltca/analysis/optimise.hpp"
 #include "ltca/analysis/slice_study.hpp"
 #include "ltca/analysis/stage.hpp"
 #include "ltca/analysis/stiffness.hpp"
@@ -94,6 +95,7 @@ struct Deck : analysis::StageDesign {
   std::optional<analysis::ToleranceSettings> tolerances; ///< [tolerances], optional (ltca tolerance, issue 15)
   std::optional<analysis::OperationSettings> operation;  ///< [operation], optional (ltca efficiency; issue 14)
   std::optional<analysis::FrictionSettings> friction;    ///< [friction], optional: without it no friction anywhere
+  std::optional<analysis::OptimiseSettings> optimise;    ///< [optimise], optional (ltca optimise, issue 28)
 
   /// The stage of this deck checked at its sweep's cranks (or the given ones), for the commands
   /// that load it: requires [material] (std::invalid_argument naming the deck).

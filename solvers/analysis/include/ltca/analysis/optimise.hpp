@@ -1,0 +1,155 @@
+#pragma once
+// Design optimisation (issue 28, docs/optimise.md): the modification that meets a specification,
+// optionally robust to the tolerances.
+//
+// A design is the values of a few real keys of [modification] and [errors] (deck units, within
+// bounds), set on the deck's stage (on both discs with [second_disc]: the discs of one part share
+// their design). Its figures are those of a tolerance sample (ToleranceStudy::Evaluate: backlash,
+// loaded TE, stress, pin force, contacts, lost motion), of the nominal pair or, robust, each
+// figure's percentile over the same seeded samples of [tolerances] for every design (common random
+// numbers). The search is NLopt's: a global method (DIRECT-L, CRS2 or ISRES) over the box, then a
+// local polish (COBYLA or BOBYQA) from the best point, in the box scaled to [0, 1]^n. COBYLA and
+// ISRES take the constraints as NLopt inequality constraints; DIRECT-L, CRS2 and BOBYQA minimise
+// the stated penalty f / |f_0| + kPenaltyWeight * V (V the sum of the relative violations,
+// f_0 the objective at the centre of the box). An evaluation that fails (interference, a solve
+// that does not converge, a robust sample that does) is infeasible, its figures NaN and its
+// reason counted; the search sees a large finite value there.
+//
+// Deterministic: the evaluations follow one another in NLopt's order, and a robust evaluation's
+// samples depend on (seed, i) only, so the result is the same for any number of threads (they
+// share the samples of a robust evaluation, the points of a map and the steps of a Pareto sweep).
+// NLopt stays out of this header.
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ltca/analysis/keys.hpp"
+#include "ltca/analysis/tolerance.hpp"
+
+namespace ltca::analysis {
+
+/// One design variable: a real key of [modification] or [errors] with its bounds.
+struct OptimiseVariable {
+  std::string key;                  ///< "section.name", e.g. "modification.pin_radius_mm"
+  const DeckKey* deck_key = nullptr;  ///< its row of the table of deck keys (set by Validate)
+  double lower = 0.0, upper = 0.0;  ///< bounds, the key's unit (lower < upper)
+};
+
+struct OptimiseSettings {
+  enum class Global { kNone, kDirect, kCrs2, kIsres };
+  enum class Local { kNone, kCobyla, kBobyqa };
+  static constexpr int kMaxVariables = 8;
+  static constexpr int kMaxEvaluations = 1'000'000;
+  /// The penalty weight of the methods without constraints (relative violation against the
+  /// objective scaled by its value at the centre of the box).
+  static constexpr double kPenaltyWeight = 100.0;
+
+  std::vector<OptimiseVariable> variables;
+  /// A figure (ToleranceSettings::FigureNames()) or a variable's key.
+  std::string objective;
+  bool maximise = false;
+  std::vector<ToleranceLimit> constraints;  ///< on figures, as [tolerances] limits
+  Global global = Global::kDirect;
+  Local local = Local::kCobyla;
+  int evaluations = 200;        ///< the budget, global and local together
+  double global_share = 0.6;    ///< of the budget, for the global phase (when there is a local one)
+  double tolerance = 1e-6;      ///< the local phase stops when a step moves x by less (relative to the box)
+  std::uint64_t seed = 1;       ///< CRS2 and ISRES's random numbers
+  /// Robust: every design over the samples of `tolerances` (its distributions and seed; its
+  /// samples replaced by robust_samples), each figure taken at `percentile`: the upper one for a
+  /// maximum or a minimised objective, 100 - percentile for a minimum or a maximised objective.
+  bool robust = false;
+  ToleranceSettings tolerances;
+  std::int64_t robust_samples = 64;
+  double percentile = 95.0;
+  /// Throws std::invalid_argument naming the key, the value and what is expected; finds each
+  /// variable's deck key.
+  void Validate();
+  /// Whether the objective or a constraint needs lost motion.
+  bool NeedsLostMotion() const;
+};
+const char* ToString(OptimiseSettings::Global global);  ///< "direct" | "crs2" | "isres" | "none"
+const char* ToString(OptimiseSettings::Local local);    ///< "cobyla" | "bobyqa" | "none"
+
+/// One evaluated design.
+struct DesignEvaluation {
+  std::int64_t index = 0;
+  std::string phase;       ///< "centre", "global", "local", "map", "pareto"
+  std::vector<double> x;   ///< the variables, their keys' units
+  /// Nominal: the pair's figures; robust: each at its percentile (OptimiseSettings). NaN: none.
+  ToleranceFigures figures{};
+  double objective = std::numeric_limits<double>::quiet_NaN();  ///< NaN when the evaluation failed
+  /// Sum over the constraints of the violation relative to max(|limit|, 1e-9); 0 when feasible,
+  /// NaN when the evaluation failed.
+  double violation = std::numeric_limits<double>::quiet_NaN();
+  bool feasible = false;
+  RunStatus status = RunStatus::kNotRun;  ///< success; failed or rejected (the reason in message)
+  std::string message;
+  std::int64_t samples = 0, samples_failed = 0;  ///< robust only
+  DesignEvaluation() { figures.fill(std::numeric_limits<double>::quiet_NaN()); }
+};
+
+/// What stopped an NLopt phase, in NLopt's words ("maxeval reached", "xtol reached", ...).
+struct OptimisePhase {
+  std::string method;
+  std::string stop;
+  std::int64_t evaluations = 0;
+};
+
+struct OptimiseResult {
+  std::vector<DesignEvaluation> history;  ///< in evaluation order
+  std::int64_t best = -1;  ///< the best feasible evaluation (lowest index among equals), -1: none feasible
+  std::vector<OptimisePhase> phases;
+  std::int64_t failed = 0, rejected = 0;  ///< evaluations by outcome
+  std::string first_failure;              ///< the first failed or rejected evaluation's reason
+  double wall_seconds = 0.0;
+};
+
+/// The Pareto front of the objective against a second figure by epsilon constraints.
+struct ParetoPoint {
+  double epsilon = 0.0;  ///< the bound on the second figure
+  std::int64_t best = -1;  ///< into the step's history; -1: nothing feasible
+  DesignEvaluation design;
+};
+
+/// Samples of a robust evaluation: study.RunRange(0, n, threads) by default; the command line
+/// spreads them over MPI ranks. Must give the same samples whatever it runs them on.
+using SampleRunner = std::function<std::vector<ToleranceSample>(const ToleranceStudy& study, std::int64_t count)>;
+
+/// The search: immutable once built; Evaluate may be called from any number of threads.
+class Optimiser {
+ public:
+  /// Validates the settings (std::invalid_argument naming the key).
+  Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSettings settings, int threads = 1,
+            SampleRunner runner = {});
+  const OptimiseSettings& settings() const { return settings_; }
+  const ToleranceCase& nominal() const { return nominal_; }
+  /// The case of a design: each variable's key set to its value (both discs).
+  ToleranceCase Apply(const std::vector<double>& x) const;
+  /// One design, judged by the objective and constraints (phase and index left to the caller).
+  DesignEvaluation Evaluate(const std::vector<double>& x) const;
+  /// The search. progress(evaluations so far) from the calling thread.
+  OptimiseResult Run(const std::function<void(std::int64_t)>& progress = {}) const;
+  /// Every design of an n x n ... grid over the box (n points per variable, the bounds
+  /// included), in parallel over the threads; index order: the first variable fastest.
+  std::vector<DesignEvaluation> Grid(int n) const;
+  /// The front of the objective against `figure` (epsilon constraints): for `steps` bounds evenly
+  /// from lo to hi, the search with the extra constraint figure <= bound; the steps in parallel
+  /// over the threads (one after another for CRS2 and ISRES, whose random numbers NLopt keeps).
+  std::vector<ParetoPoint> Pareto(const std::string& figure, double lo, double hi, int steps) const;
+
+ private:
+  ToleranceCase nominal_;
+  SolverOptions options_;
+  OptimiseSettings settings_;
+  int threads_ = 1;
+  SampleRunner runner_;
+};
+
+/// The index of a figure in ToleranceSettings::FigureNames(), or -1.
+int FigureIndex(const std::string& figure);
+
+}  // namespace ltca::analysis

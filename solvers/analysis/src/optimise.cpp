@@ -1,0 +1,513 @@
+#include "ltca/analysis/optimise.hpp"
+
+#include <nlopt.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace ltca::analysis {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// The percentile p (0..100) of the values by linear interpolation between order statistics
+/// (Hyndman & Fan type 7, as ComputeStats).
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  const double h = (static_cast<double>(v.size()) - 1.0) * p / 100.0;
+  const auto lo = static_cast<std::size_t>(std::floor(h));
+  const std::size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (h - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+/// The variable index of a key, or -1.
+int VariableIndex(const OptimiseSettings& s, const std::string& key) {
+  for (std::size_t j = 0; j < s.variables.size(); ++j) {
+    if (s.variables[j].key == key) return static_cast<int>(j);
+  }
+  return -1;
+}
+
+const char* NloptStop(nlopt_result r) {
+  switch (r) {
+    case NLOPT_SUCCESS: return "success";
+    case NLOPT_STOPVAL_REACHED: return "stopval reached";
+    case NLOPT_FTOL_REACHED: return "ftol reached";
+    case NLOPT_XTOL_REACHED: return "xtol reached (the step fell below the tolerance)";
+    case NLOPT_MAXEVAL_REACHED: return "maxeval reached (the budget)";
+    case NLOPT_MAXTIME_REACHED: return "maxtime reached";
+    case NLOPT_FAILURE: return "failure";
+    case NLOPT_INVALID_ARGS: return "invalid arguments";
+    case NLOPT_OUT_OF_MEMORY: return "out of memory";
+    case NLOPT_ROUNDOFF_LIMITED: return "roundoff limited";
+    case NLOPT_FORCED_STOP: return "forced stop";
+    default: return "unknown";
+  }
+}
+
+/// The state of one search, handed to NLopt's callbacks.
+struct Search {
+  const Optimiser* optimiser = nullptr;
+  const OptimiseSettings* settings = nullptr;
+  OptimiseResult* result = nullptr;
+  std::string phase;
+  double scale = 1.0;       ///< |f| at the centre (1 when that is 0 or failed)
+  bool penalised = true;    ///< the phase's method takes no constraints: the stated penalty
+  std::int64_t budget = 0;  ///< evaluations this search may make in all
+  std::exception_ptr error;
+  const std::function<void(std::int64_t)>* progress = nullptr;
+
+  std::vector<double> X(const double* u) const {
+    std::vector<double> x(settings->variables.size());
+    for (std::size_t j = 0; j < x.size(); ++j) {
+      const OptimiseVariable& v = settings->variables[j];
+      x[j] = v.lower + std::clamp(u[j], 0.0, 1.0) * (v.upper - v.lower);
+    }
+    return x;
+  }
+  /// The evaluation at u: the last one when u is its point (NLopt asks for the objective and the
+  /// constraints at the same point), else a new one.
+  const DesignEvaluation& At(const double* u) {
+    const std::vector<double> x = X(u);
+    if (!result->history.empty() && result->history.back().x == x) return result->history.back();
+    DesignEvaluation e = optimiser->Evaluate(x);
+    e.index = static_cast<std::int64_t>(result->history.size());
+    e.phase = phase;
+    if (e.status == RunStatus::kRejected) ++result->rejected;
+    if (e.status == RunStatus::kFailed) ++result->failed;
+    if (e.status != RunStatus::kSuccess && result->first_failure.empty()) {
+      result->first_failure = fmt::format("evaluation {}: {}", e.index, e.message);
+    }
+    result->history.push_back(std::move(e));
+    if (progress != nullptr && *progress) (*progress)(static_cast<std::int64_t>(result->history.size()));
+    return result->history.back();
+  }
+  /// The objective as NLopt minimises it: scaled, its sign for maximising, with the penalty in a
+  /// phase without constraints; a failed evaluation a large finite value.
+  double Value(const DesignEvaluation& e) const {
+    if (e.status != RunStatus::kSuccess || !std::isfinite(e.objective)) return 1e6;
+    const double f = (settings->maximise ? -e.objective : e.objective) / scale;
+    return penalised ? f + OptimiseSettings::kPenaltyWeight * e.violation : f;
+  }
+};
+
+double Objective(unsigned /*n*/, const double* u, double* grad, void* data) {
+  auto* s = static_cast<Search*>(data);
+  if (grad != nullptr) return HUGE_VAL;  // derivative-free methods only
+  try {
+    return s->Value(s->At(u));
+  } catch (...) {
+    s->error = std::current_exception();
+    return HUGE_VAL;
+  }
+}
+
+/// One side of one constraint, relative: <= 0 when met.
+struct ConstraintSide {
+  Search* search;
+  int figure;
+  bool upper;
+  double bound;
+};
+
+double Constraint(unsigned /*n*/, const double* u, double* grad, void* data) {
+  auto* c = static_cast<ConstraintSide*>(data);
+  if (grad != nullptr) return HUGE_VAL;
+  try {
+    const DesignEvaluation& e = c->search->At(u);
+    const double g = e.figures[static_cast<std::size_t>(c->figure)];
+    if (e.status != RunStatus::kSuccess || !std::isfinite(g)) return 1.0;
+    const double scale = std::max(std::abs(c->bound), 1e-9);
+    return (c->upper ? g - c->bound : c->bound - g) / scale;
+  } catch (...) {
+    c->search->error = std::current_exception();
+    return HUGE_VAL;
+  }
+}
+
+/// The best evaluation: feasible first (the lowest objective, or highest when maximising), then
+/// the least violation; the lowest index among equals; -1 when every one failed.
+std::int64_t Best(const std::vector<DesignEvaluation>& history, bool maximise, bool feasible_only) {
+  std::int64_t best = -1;
+  for (std::size_t i = 0; i < history.size(); ++i) {
+    const DesignEvaluation& e = history[i];
+    if (e.status != RunStatus::kSuccess || !std::isfinite(e.objective)) continue;
+    if (feasible_only && !e.feasible) continue;
+    if (best < 0) {
+      best = static_cast<std::int64_t>(i);
+      continue;
+    }
+    const DesignEvaluation& b = history[static_cast<std::size_t>(best)];
+    if (e.feasible != b.feasible) {
+      if (e.feasible) best = static_cast<std::int64_t>(i);
+      continue;
+    }
+    const bool better = e.feasible ? (maximise ? e.objective > b.objective : e.objective < b.objective)
+                                   : e.violation < b.violation;
+    if (better) best = static_cast<std::int64_t>(i);
+  }
+  return best;
+}
+
+}  // namespace
+
+const char* ToString(OptimiseSettings::Global global) {
+  switch (global) {
+    case OptimiseSettings::Global::kDirect: return "direct";
+    case OptimiseSettings::Global::kCrs2: return "crs2";
+    case OptimiseSettings::Global::kIsres: return "isres";
+    case OptimiseSettings::Global::kNone: return "none";
+  }
+  return "none";
+}
+
+const char* ToString(OptimiseSettings::Local local) {
+  switch (local) {
+    case OptimiseSettings::Local::kCobyla: return "cobyla";
+    case OptimiseSettings::Local::kBobyqa: return "bobyqa";
+    case OptimiseSettings::Local::kNone: return "none";
+  }
+  return "none";
+}
+
+int FigureIndex(const std::string& figure) {
+  const auto& names = ToleranceSettings::FigureNames();
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    if (names[f] == figure) return static_cast<int>(f);
+  }
+  return -1;
+}
+
+bool OptimiseSettings::NeedsLostMotion() const {
+  if (objective == "lost_motion_arcmin") return true;
+  return std::any_of(constraints.begin(), constraints.end(), [](const ToleranceLimit& l) { return l.figure == "lost_motion_arcmin"; });
+}
+
+void OptimiseSettings::Validate() {
+  const auto figures = [] {
+    std::string names;
+    for (const auto& f : ToleranceSettings::FigureNames()) names += (names.empty() ? "" : ", ") + f;
+    return names;
+  };
+  if (variables.empty() || static_cast<int>(variables.size()) > kMaxVariables) {
+    throw std::invalid_argument(fmt::format(
+        "[optimise] variables: {} given; expected 1 to {} keys with bounds, e.g. {{ \"modification.pin_radius_mm\" = "
+        "[-0.03, 0.0] }}",
+        variables.size(), kMaxVariables));
+  }
+  for (OptimiseVariable& v : variables) {
+    const std::size_t dot = v.key.find('.');
+    const DeckKey* k = dot == std::string::npos ? nullptr : FindKey(v.key.substr(0, dot), v.key.substr(dot + 1));
+    if (k == nullptr || k->real == nullptr) {
+      throw std::invalid_argument(fmt::format(
+          "[optimise] variables.\"{}\": expected a real key of [modification] or [errors] as \"section.key\" (e.g. "
+          "\"modification.pin_radius_mm\", \"errors.lead_crowning_um\"; docs/decks.md)",
+          v.key));
+    }
+    v.deck_key = k;
+    if (!(std::isfinite(v.lower) && std::isfinite(v.upper) && v.lower < v.upper)) {
+      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = [{}, {}]: expected finite bounds [lower, upper] with "
+                                              "lower < upper, in {}",
+                                              v.key, v.lower, v.upper, k->unit));
+    }
+    if (std::count_if(variables.begin(), variables.end(), [&](const OptimiseVariable& o) { return o.key == v.key; }) > 1) {
+      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\": given twice", v.key));
+    }
+  }
+  if (FigureIndex(objective) < 0 && VariableIndex(*this, objective) < 0) {
+    throw std::invalid_argument(fmt::format("[optimise] objective = \"{}\": expected a figure ({}) or one of the variables' keys",
+                                            objective, figures()));
+  }
+  for (const ToleranceLimit& l : constraints) {
+    if (FigureIndex(l.figure) < 0) {
+      throw std::invalid_argument(fmt::format("[optimise] constraints.{}: unknown figure; expected one of {}", l.figure, figures()));
+    }
+    if (std::isnan(l.min) || std::isnan(l.max) || l.min > l.max || (std::isinf(l.min) && std::isinf(l.max))) {
+      throw std::invalid_argument(fmt::format("[optimise] constraints.{}: min = {}, max = {}: expected a bound, min <= max", l.figure,
+                                              l.min, l.max));
+    }
+  }
+  if (evaluations < 1 || evaluations > kMaxEvaluations) {
+    throw std::invalid_argument(fmt::format("[optimise] evaluations = {}: expected 1 to {}", evaluations, kMaxEvaluations));
+  }
+  if (!(global_share > 0.0 && global_share <= 1.0)) {
+    throw std::invalid_argument(fmt::format("[optimise] global_share = {}: expected a fraction of the budget in (0, 1]", global_share));
+  }
+  if (!(std::isfinite(tolerance) && tolerance > 0.0 && tolerance < 1.0)) {
+    throw std::invalid_argument(fmt::format("[optimise] tolerance = {}: expected a step, relative to the box, in (0, 1)", tolerance));
+  }
+  if (global == Global::kNone && local == Local::kNone) {
+    throw std::invalid_argument("[optimise] global = \"none\" and local = \"none\": expected at least one method");
+  }
+  if (robust) {
+    if (tolerances.distributions.empty()) {
+      throw std::invalid_argument(
+          "[optimise] robust = true: the deck's [tolerances] gives no distribution; expected e.g. [tolerances] "
+          "pin_circle_deviation_mm = { distribution = \"normal\", tolerance = 0.003 }");
+    }
+    if (robust_samples < 2 || robust_samples > 1'000'000) {
+      throw std::invalid_argument(fmt::format("[optimise] robust_samples = {}: expected 2 to 1000000", robust_samples));
+    }
+    if (!(percentile > 0.0 && percentile < 100.0)) {
+      throw std::invalid_argument(fmt::format("[optimise] percentile = {}: expected a percentile in (0, 100), e.g. 95", percentile));
+    }
+  }
+}
+
+Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSettings settings, int threads, SampleRunner runner)
+    : nominal_(std::move(nominal)), options_(std::move(options)), settings_(std::move(settings)), threads_(threads),
+      runner_(std::move(runner)) {
+  settings_.Validate();
+  options_.Validate();
+  if (threads_ < 1 || threads_ > kMaxToleranceThreads) {
+    throw std::invalid_argument(fmt::format("threads = {}: expected 1 to {}", threads_, kMaxToleranceThreads));
+  }
+  if (settings_.NeedsLostMotion() && nominal_.torque == 0.0) {
+    throw std::invalid_argument("[optimise] lost_motion_arcmin: expected a non-zero [load] torque_nm (the rated torque of the loop)");
+  }
+}
+
+ToleranceCase Optimiser::Apply(const std::vector<double>& x) const {
+  if (x.size() != settings_.variables.size()) {
+    throw std::invalid_argument(fmt::format("optimise: {} values for {} variables", x.size(), settings_.variables.size()));
+  }
+  ToleranceCase pair = nominal_;
+  StageDesign& d = pair.design;
+  for (std::size_t j = 0; j < x.size(); ++j) {
+    const DeckKey& k = *settings_.variables[j].deck_key;
+    *k.real({&d.modification, &d.errors, &d.assembly}) = k.ToInternal(x[j]);
+    if (d.second_disc) {  // the discs of one part share their design; the pin ring's keys move both
+      *k.real({&d.second_disc->modification, &d.second_disc->errors, &d.second_disc->assembly}) = k.ToInternal(x[j]);
+    }
+  }
+  return pair;
+}
+
+DesignEvaluation Optimiser::Evaluate(const std::vector<double>& x) const {
+  DesignEvaluation e;
+  e.x = x;
+  const ToleranceCase pair = Apply(x);
+  const OptimiseSettings& s = settings_;
+  ToleranceFigures lower{};  // robust: each figure at 100 - percentile
+  lower.fill(kNaN);
+  if (!s.robust) {
+    ToleranceSettings one;
+    one.samples = 1;
+    one.lost_motion = s.NeedsLostMotion();
+    const ToleranceStudy study(pair, options_, one);
+    const ToleranceSample sample = study.Evaluate(pair);
+    e.figures = sample.figures;
+    lower = sample.figures;
+    e.status = sample.status;
+    e.message = sample.message;
+  } else {
+    ToleranceSettings ts = s.tolerances;
+    ts.samples = s.robust_samples;
+    ts.lost_motion = s.NeedsLostMotion();
+    ts.limits.clear();
+    const ToleranceStudy study(pair, options_, ts);
+    const std::vector<ToleranceSample> samples = runner_ ? runner_(study, ts.samples) : study.RunRange(0, ts.samples, threads_);
+    e.samples = static_cast<std::int64_t>(samples.size());
+    e.status = RunStatus::kSuccess;
+    for (const ToleranceSample& t : samples) {
+      if (t.status == RunStatus::kSuccess) continue;
+      if (e.samples_failed++ == 0) e.message = fmt::format("sample {}: {}: {}", t.index, ToString(t.status), t.message);
+    }
+    if (e.samples_failed > 0) {
+      e.status = RunStatus::kFailed;
+      e.message = fmt::format("{} of {} samples did not succeed; the first, {}", e.samples_failed, e.samples, e.message);
+    } else {
+      for (std::size_t f = 0; f < kToleranceFigureCount; ++f) {
+        std::vector<double> v;
+        for (const ToleranceSample& t : samples) {
+          if (std::isfinite(t.figures[f])) v.push_back(t.figures[f]);
+        }
+        e.figures[f] = Percentile(v, s.percentile);
+        lower[f] = Percentile(v, 100.0 - s.percentile);
+      }
+    }
+  }
+  if (e.status != RunStatus::kSuccess) {
+    if (e.status == RunStatus::kFailed && e.message.empty()) e.message = "failed";
+    return e;  // infeasible: objective and violation NaN
+  }
+  const int fo = FigureIndex(s.objective);
+  if (fo >= 0) {
+    const auto f = static_cast<std::size_t>(fo);
+    e.objective = s.maximise ? lower[f] : e.figures[f];
+  } else {
+    e.objective = x[static_cast<std::size_t>(VariableIndex(s, s.objective))];
+  }
+  e.violation = 0.0;
+  for (const ToleranceLimit& l : s.constraints) {
+    const auto f = static_cast<std::size_t>(FigureIndex(l.figure));
+    const double hi = e.figures[f], lo = lower[f];
+    if (!std::isfinite(hi) || !std::isfinite(lo)) {
+      e.violation = kNaN;
+      break;
+    }
+    if (hi > l.max) e.violation += (hi - l.max) / std::max(std::abs(l.max), 1e-9);
+    if (lo < l.min) e.violation += (l.min - lo) / std::max(std::abs(l.min), 1e-9);
+  }
+  if (!std::isfinite(e.objective) || !std::isfinite(e.violation)) {
+    e.status = RunStatus::kFailed;
+    e.message = "a figure of the objective or a constraint is not defined for this design (no valid solve produced it)";
+    e.objective = e.violation = kNaN;
+    return e;
+  }
+  e.feasible = e.violation == 0.0;
+  return e;
+}
+
+OptimiseResult Optimiser::Run(const std::function<void(std::int64_t)>& progress) const {
+  const auto start = Clock::now();
+  const OptimiseSettings& s = settings_;
+  OptimiseResult result;
+  const auto n = static_cast<unsigned>(s.variables.size());
+  Search search;
+  search.optimiser = this;
+  search.settings = &s;
+  search.result = &result;
+  search.progress = &progress;
+  // The centre of the box: the objective's scale.
+  std::vector<double> u(n, 0.5);
+  search.phase = "centre";
+  const DesignEvaluation& centre = search.At(u.data());
+  if (centre.status == RunStatus::kSuccess && std::isfinite(centre.objective) && centre.objective != 0.0) {
+    search.scale = std::abs(centre.objective);
+  }
+  const std::int64_t budget = s.evaluations;
+  const bool has_local = s.local != OptimiseSettings::Local::kNone;
+  const std::int64_t global_budget =
+      s.global == OptimiseSettings::Global::kNone ? 0
+      : has_local ? std::max<std::int64_t>(1, std::llround(s.global_share * static_cast<double>(budget)))
+                  : budget;
+  std::vector<ConstraintSide> sides;
+  for (const ToleranceLimit& l : s.constraints) {
+    const int f = FigureIndex(l.figure);
+    if (std::isfinite(l.max)) sides.push_back({&search, f, true, l.max});
+    if (std::isfinite(l.min)) sides.push_back({&search, f, false, l.min});
+  }
+  const auto run_phase = [&](nlopt_algorithm algorithm, const char* method, const char* phase, std::int64_t evaluations,
+                             std::vector<double>& x0, bool constrained, double step) {
+    const std::int64_t before = static_cast<std::int64_t>(result.history.size());
+    if (evaluations <= 0) return;
+    nlopt_opt opt = nlopt_create(algorithm, n);
+    if (opt == nullptr) throw std::runtime_error(fmt::format("optimise: NLopt could not create {}", method));
+    std::vector<double> lo(n, 0.0), hi(n, 1.0);
+    nlopt_set_lower_bounds(opt, lo.data());
+    nlopt_set_upper_bounds(opt, hi.data());
+    search.phase = phase;
+    search.penalised = !constrained;
+    nlopt_set_min_objective(opt, Objective, &search);
+    if (constrained) {
+      for (ConstraintSide& c : sides) nlopt_add_inequality_constraint(opt, Constraint, &c, 0.0);
+    }
+    nlopt_set_maxeval(opt, static_cast<int>(evaluations));
+    if (std::string(phase) == "local") {
+      nlopt_set_xtol_abs1(opt, s.tolerance);
+      nlopt_set_initial_step1(opt, step);
+    }
+    if (algorithm == NLOPT_GN_CRS2_LM || algorithm == NLOPT_GN_ISRES) nlopt_srand(static_cast<unsigned long>(s.seed));
+    double f = 0.0;
+    const nlopt_result r = nlopt_optimize(opt, x0.data(), &f);
+    nlopt_destroy(opt);
+    if (search.error) std::rethrow_exception(search.error);
+    result.phases.push_back({method, NloptStop(r), static_cast<std::int64_t>(result.history.size()) - before});
+  };
+  std::vector<double> x0(n, 0.5);
+  if (s.global != OptimiseSettings::Global::kNone) {
+    const nlopt_algorithm a = s.global == OptimiseSettings::Global::kDirect ? NLOPT_GN_DIRECT_L
+                              : s.global == OptimiseSettings::Global::kCrs2 ? NLOPT_GN_CRS2_LM
+                                                                             : NLOPT_GN_ISRES;
+    // ISRES takes the constraints; DIRECT-L and CRS2 the stated penalty. The centre counts.
+    run_phase(a, ToString(s.global), "global", global_budget - 1, x0, s.global == OptimiseSettings::Global::kIsres, 0.0);
+  }
+  if (has_local) {
+    const std::int64_t from = Best(result.history, s.maximise, false);
+    std::vector<double> start_u(n, 0.5);
+    if (from >= 0) {
+      const std::vector<double>& x = result.history[static_cast<std::size_t>(from)].x;
+      for (unsigned j = 0; j < n; ++j) {
+        const OptimiseVariable& v = s.variables[j];
+        start_u[j] = (x[j] - v.lower) / (v.upper - v.lower);
+      }
+    }
+    const std::int64_t left = budget - static_cast<std::int64_t>(result.history.size());
+    const bool after_global = s.global != OptimiseSettings::Global::kNone;
+    run_phase(s.local == OptimiseSettings::Local::kCobyla ? NLOPT_LN_COBYLA : NLOPT_LN_BOBYQA, ToString(s.local), "local", left,
+              start_u, s.local == OptimiseSettings::Local::kCobyla, after_global ? 0.05 : 0.25);
+  }
+  result.best = Best(result.history, s.maximise, true);
+  result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return result;
+}
+
+std::vector<DesignEvaluation> Optimiser::Grid(int points) const {
+  if (points < 2 || points > 1001) throw std::invalid_argument(fmt::format("optimise: a map of {} points a variable: expected 2 to 1001", points));
+  const std::size_t n = settings_.variables.size();
+  std::int64_t total = 1;
+  for (std::size_t j = 0; j < n; ++j) {
+    total *= points;
+    if (total > 10'000'000) throw std::invalid_argument("optimise: the map has more than 10,000,000 points");
+  }
+  std::vector<DesignEvaluation> out(static_cast<std::size_t>(total));
+  // One design a thread at a time; a robust design's samples on that thread alone.
+  const Optimiser serial(nominal_, options_, settings_, 1, runner_ ? runner_ : SampleRunner{});
+  ParallelFor(
+      total, threads_,
+      [&](std::int64_t i) {
+        std::vector<double> x(n);
+        std::int64_t rest = i;
+        for (std::size_t j = 0; j < n; ++j) {
+          const OptimiseVariable& v = settings_.variables[j];
+          const std::int64_t k = rest % points;
+          rest /= points;
+          x[j] = v.lower + (v.upper - v.lower) * static_cast<double>(k) / static_cast<double>(points - 1);
+        }
+        DesignEvaluation e = serial.Evaluate(x);
+        e.index = i;
+        e.phase = "map";
+        out[static_cast<std::size_t>(i)] = std::move(e);
+      },
+      {});
+  return out;
+}
+
+std::vector<ParetoPoint> Optimiser::Pareto(const std::string& figure, double lo, double hi, int steps) const {
+  if (FigureIndex(figure) < 0) throw std::invalid_argument(fmt::format("optimise: --pareto {}: unknown figure", figure));
+  if (steps < 2 || steps > 1000 || !(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) {
+    throw std::invalid_argument(fmt::format("optimise: a Pareto sweep of {} steps from {} to {}: expected 2 to 1000 steps, lo < hi",
+                                            steps, lo, hi));
+  }
+  std::vector<ParetoPoint> out(static_cast<std::size_t>(steps));
+  const bool random = settings_.global == OptimiseSettings::Global::kCrs2 || settings_.global == OptimiseSettings::Global::kIsres;
+  ParallelFor(
+      steps, random ? 1 : threads_,
+      [&](std::int64_t k) {
+        OptimiseSettings s = settings_;
+        const double bound = lo + (hi - lo) * static_cast<double>(k) / static_cast<double>(steps - 1);
+        s.constraints.push_back({figure, -std::numeric_limits<double>::infinity(), bound});
+        const Optimiser step(nominal_, options_, s, 1, runner_);
+        const OptimiseResult r = step.Run();
+        ParetoPoint p;
+        p.epsilon = bound;
+        p.best = r.best;
+        if (r.best >= 0) p.design = r.history[static_cast<std::size_t>(r.best)];
+        p.design.phase = "pareto";
+        out[static_cast<std::size_t>(k)] = std::move(p);
+      },
+      {});
+  return out;
+}
+
+}  // namespace ltca::analysis

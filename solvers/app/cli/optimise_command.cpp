@@ -1,0 +1,341 @@
+// `ltca optimise` (issue 28, docs/optimise.md): the design that meets the deck's [optimise]
+// constraints with the best objective, by NLopt's global search and local polish over a few keys
+// of [modification] and [errors]; the history of evaluations, a convergence figure (with the
+// objective's map over two variables), the best design written as a deck, a Pareto front.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "output.hpp"
+#include "solve_command.hpp"
+#include "ltca/app/deck.hpp"
+#include "ltca/app/plots.hpp"
+
+namespace ltca::cli {
+namespace {
+
+struct OptimiseOptions {
+  std::string solver, kinematics;
+  std::string json_path, csv_path, svg_path, deck_path;
+  int threads = 0;
+  std::optional<int> evaluations;
+  int map = 0;  ///< points a variable of the objective's map (two variables), 0: none
+  std::string pareto;  ///< the second figure of a Pareto front, "" none
+  double pareto_from = std::numeric_limits<double>::quiet_NaN(), pareto_to = std::numeric_limits<double>::quiet_NaN();
+  int pareto_steps = 11;
+};
+
+nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json EvaluationJson(const app::OptimiseSettings& s, const app::DesignEvaluation& e) {
+  nlohmann::json j;
+  j["index"] = e.index;
+  j["phase"] = e.phase;
+  nlohmann::json x = nlohmann::json::object();
+  for (std::size_t k = 0; k < s.variables.size() && k < e.x.size(); ++k) x[s.variables[k].key] = e.x[k];
+  j["variables"] = x;
+  j["objective"] = Number(e.objective);
+  j["violation"] = Number(e.violation);
+  j["feasible"] = e.feasible;
+  j["status"] = app::ToString(e.status);
+  j["message"] = e.message;
+  nlohmann::json f = nlohmann::json::object();
+  const auto& names = app::ToleranceSettings::FigureNames();
+  for (std::size_t k = 0; k < names.size(); ++k) f[names[k]] = Number(e.figures[k]);
+  j["figures"] = f;
+  if (s.robust) j["samples_failed"] = e.samples_failed;
+  return j;
+}
+
+/// The deck of a design: every key the deck gave (after --set), the variables' keys set to the
+/// design's values, without [optimise]; `ltca solve` runs it as it is.
+std::string DesignDeck(const app::Deck& deck, const app::OptimiseSettings& s, const std::vector<double>& x,
+                       const std::string& header) {
+  std::string out = header;
+  std::vector<std::string> sections;
+  for (const auto& g : deck.given) {
+    if (std::find(sections.begin(), sections.end(), g.section) == sections.end()) sections.push_back(g.section);
+  }
+  for (const auto& v : s.variables) {  // a variable's section the deck did not give
+    const std::string section = v.key.substr(0, v.key.find('.'));
+    if (std::find(sections.begin(), sections.end(), section) == sections.end()) sections.push_back(section);
+  }
+  for (const std::string& section : sections) {
+    if (section == "optimise") continue;
+    out += fmt::format("\n[{}]\n", section);
+    std::vector<std::string> written;
+    for (const auto& g : deck.given) {
+      if (g.section != section) continue;
+      std::string value = g.value;
+      for (std::size_t k = 0; k < s.variables.size(); ++k) {
+        if (s.variables[k].key == section + "." + g.key) value = fmt::format("{}", x[k]);
+      }
+      out += fmt::format("{} = {}\n", g.key, value);
+      written.push_back(g.key);
+    }
+    for (std::size_t k = 0; k < s.variables.size(); ++k) {
+      const std::string& key = s.variables[k].key;
+      const std::string name = key.substr(key.find('.') + 1);
+      if (key.substr(0, key.find('.')) == section && std::find(written.begin(), written.end(), name) == written.end()) {
+        out += fmt::format("{} = {}  # the optimum\n", name, x[k]);
+      }
+    }
+  }
+  return out;
+}
+
+int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Streams& streams) {
+  const app::Deck deck = DeckFor(deck_given, o.kinematics);
+  if (!deck.optimise) {
+    throw std::invalid_argument(fmt::format(
+        "deck '{}': missing section [optimise] for ltca optimise; expected e.g. [optimise] variables = {{ "
+        "\"modification.pin_radius_mm\" = [-0.03, 0.0] }}, objective = \"pp_te_arcsec\", constraints = {{ "
+        "mean_backlash_arcsec = {{ min = 20, max = 40 }} }} (docs/optimise.md)",
+        deck.name));
+  }
+  app::OptimiseSettings settings = *deck.optimise;
+  if (o.evaluations) settings.evaluations = *o.evaluations;
+  if (o.threads < 0 || o.threads > app::kMaxToleranceThreads) {
+    throw std::invalid_argument(fmt::format("--threads {}: expected 0 (every hardware thread) or 1 to {}", o.threads, app::kMaxToleranceThreads));
+  }
+  if (o.map != 0 && (o.map < 2 || o.map > 201)) throw std::invalid_argument(fmt::format("--map {}: expected 2 to 201 points a variable", o.map));
+  if (o.map != 0 && settings.variables.size() != 2) {
+    throw std::invalid_argument(fmt::format("--map {}: the map is drawn over two variables; [optimise] has {}", o.map, settings.variables.size()));
+  }
+  const int threads = o.threads > 0 ? o.threads : std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, 64);
+  const app::Optimiser optimiser(deck.MakeToleranceCase(), SolverFor(deck, o.solver), settings, threads);
+  if (!o.pareto.empty() && !(std::isfinite(o.pareto_from) && std::isfinite(o.pareto_to))) {
+    throw std::invalid_argument("--pareto FIGURE: expected --pareto-from and --pareto-to, the range of its bound");
+  }
+  RequireDistinctOutputs({{"--json", o.json_path}, {"--csv", o.csv_path}, {"--svg", o.svg_path}, {"--write-deck", o.deck_path}});
+  Output json("--json", o.json_path, streams.out);
+  Output csv("--csv", o.csv_path, streams.out);
+  Output svg("--svg", o.svg_path, streams.out);
+  Output best_deck("--write-deck", o.deck_path, streams.out);
+  std::ostream& text = streams.text;
+  const auto& s = optimiser.settings();
+  fmt::print(text, "case        {}\n", deck.info.title);
+  fmt::print(text, "objective   {} {}{}\n", s.maximise ? "maximise" : "minimise", s.objective,
+             s.robust ? fmt::format(" (robust: p{:g} over {} samples of [tolerances], seed {})", s.percentile, s.robust_samples, s.tolerances.seed) : "");
+  for (const auto& v : s.variables) fmt::print(text, "variable    {} in [{:g}, {:g}]\n", v.key, v.lower, v.upper);
+  for (const auto& l : s.constraints) fmt::print(text, "constraint  {:g} <= {} <= {:g}\n", l.min, l.figure, l.max);
+  fmt::print(text, "method      {} then {}, {} evaluations, {} thread(s)\n", app::ToString(s.global), app::ToString(s.local), s.evaluations, threads);
+
+  const app::OptimiseResult r = optimiser.Run();
+  for (const auto& p : r.phases) fmt::print(text, "phase       {}: {} evaluations, stopped: {}\n", p.method, p.evaluations, p.stop);
+  fmt::print(text, "evaluations {} ({} failed, {} rejected){}\n", r.history.size(), r.failed, r.rejected,
+             r.first_failure.empty() ? "" : "; first: " + r.first_failure);
+  const app::DesignEvaluation* best = r.best >= 0 ? &r.history[static_cast<std::size_t>(r.best)] : nullptr;
+  if (best != nullptr) {
+    fmt::print(text, "best        evaluation {} ({}): {} = {:.10g}\n", best->index, best->phase, s.objective, best->objective);
+    for (std::size_t k = 0; k < s.variables.size(); ++k) fmt::print(text, "            {} = {:.10g}\n", s.variables[k].key, best->x[k]);
+  } else {
+    fmt::print(text, "best        none: no evaluation met the constraints\n");
+  }
+  std::vector<app::DesignEvaluation> grid;
+  if (o.map > 0) grid = optimiser.Grid(o.map);
+  std::vector<app::ParetoPoint> front;
+  if (!o.pareto.empty()) {
+    front = optimiser.Pareto(o.pareto, o.pareto_from, o.pareto_to, o.pareto_steps);
+    for (const auto& p : front) {
+      fmt::print(text, "pareto      {} <= {:g}: {}\n", o.pareto, p.epsilon,
+                 p.best >= 0 ? fmt::format("{} = {:.6g}", s.objective, p.design.objective) : std::string("nothing feasible"));
+    }
+  }
+
+  if (json.enabled()) {
+    nlohmann::json j;
+    j["case"] = {{"title", deck.info.title}, {"deck", deck.name}};
+    nlohmann::json vars = nlohmann::json::array();
+    for (const auto& v : s.variables) vars.push_back({{"key", v.key}, {"lower", v.lower}, {"upper", v.upper}});
+    nlohmann::json cons = nlohmann::json::array();
+    for (const auto& l : s.constraints) cons.push_back({{"figure", l.figure}, {"min", Number(l.min)}, {"max", Number(l.max)}});
+    j["settings"] = {{"variables", vars}, {"objective", s.objective}, {"maximise", s.maximise}, {"constraints", cons},
+                     {"global", app::ToString(s.global)}, {"local", app::ToString(s.local)}, {"evaluations", s.evaluations},
+                     {"global_share", s.global_share}, {"tolerance", s.tolerance}, {"seed", s.seed}, {"robust", s.robust},
+                     {"robust_samples", s.robust ? nlohmann::json(s.robust_samples) : nlohmann::json(nullptr)},
+                     {"percentile", s.robust ? nlohmann::json(s.percentile) : nlohmann::json(nullptr)},
+                     {"penalty_weight", app::OptimiseSettings::kPenaltyWeight}};
+    nlohmann::json phases = nlohmann::json::array();
+    for (const auto& p : r.phases) phases.push_back({{"method", p.method}, {"evaluations", p.evaluations}, {"stop", p.stop}});
+    j["summary"] = {{"status", best != nullptr ? "success" : "failed"},
+                    {"evaluations", r.history.size()},
+                    {"failed", r.failed},
+                    {"rejected", r.rejected},
+                    {"first_failure", r.first_failure},
+                    {"phases", phases},
+                    {"best", best != nullptr ? EvaluationJson(s, *best) : nlohmann::json(nullptr)},
+                    {"wall_seconds", r.wall_seconds}};
+    nlohmann::json history = nlohmann::json::array();
+    for (const auto& e : r.history) history.push_back(EvaluationJson(s, e));
+    j["history"] = history;
+    if (!grid.empty()) {
+      nlohmann::json g = nlohmann::json::array();
+      for (const auto& e : grid) g.push_back(EvaluationJson(s, e));
+      j["map"] = g;
+    }
+    if (!front.empty()) {
+      nlohmann::json f = nlohmann::json::array();
+      for (const auto& p : front) {
+        f.push_back({{"figure", o.pareto}, {"bound", p.epsilon}, {"design", p.best >= 0 ? EvaluationJson(s, p.design) : nlohmann::json(nullptr)}});
+      }
+      j["pareto"] = f;
+    }
+    json.stream() << j.dump(2) << '\n';
+    json.Commit();
+  }
+  if (csv.enabled()) {
+    std::ostream& c = csv.stream();
+    c << "index,phase";
+    for (const auto& v : s.variables) c << ',' << v.key;
+    c << ",objective,violation,feasible,status";
+    for (const auto& f : app::ToleranceSettings::FigureNames()) c << ',' << f;
+    c << ",message\n";
+    const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); };
+    const auto row = [&](const app::DesignEvaluation& e) {
+      c << e.index << ',' << e.phase;
+      for (const double v : e.x) c << ',' << cell(v);
+      c << ',' << cell(e.objective) << ',' << cell(e.violation) << ',' << (e.feasible ? "true" : "false") << ',' << app::ToString(e.status);
+      for (const double v : e.figures) c << ',' << cell(v);
+      std::string m = e.message;
+      std::replace(m.begin(), m.end(), '"', '\'');
+      c << ",\"" << m << "\"\n";
+    };
+    for (const auto& e : r.history) row(e);
+    for (const auto& e : grid) row(e);
+    csv.Commit();
+  }
+  if (svg.enabled()) {
+    namespace plots = app::plots;
+    plots::Figure figure;
+    figure.title = fmt::format("{}: {} {} over {} evaluations ({} then {})", deck.info.title, s.maximise ? "maximise" : "minimise",
+                               s.objective, r.history.size(), app::ToString(s.global), app::ToString(s.local));
+    figure.caption = FigureCaption(deck, fmt::format("{}; infeasible: a constraint not met; failed evaluations are not drawn{}",
+                                                     s.robust ? fmt::format("robust: p{:g} of {} samples", s.percentile, s.robust_samples) : "nominal pair",
+                                                     grid.empty() ? "" : "; map: blank cells are infeasible"));
+    plots::Panel c;
+    c.title = "convergence";
+    c.x_label = "evaluation";
+    c.y_label = s.objective;
+    plots::Series feasible{"feasible", {}, {}, plots::Style::kMarkers}, infeasible{"infeasible", {}, {}, plots::Style::kMarkers},
+        best_line{"best feasible so far", {}, {}, plots::Style::kLine};
+    double best_so_far = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& e : r.history) {
+      if (e.status != app::RunStatus::kSuccess) continue;
+      auto& series = e.feasible ? feasible : infeasible;
+      series.x.push_back(static_cast<double>(e.index));
+      series.y.push_back(e.objective);
+      if (e.feasible && (std::isnan(best_so_far) || (s.maximise ? e.objective > best_so_far : e.objective < best_so_far))) best_so_far = e.objective;
+      if (std::isfinite(best_so_far)) best_line.x.push_back(static_cast<double>(e.index)), best_line.y.push_back(best_so_far);
+    }
+    infeasible.marker_size = 0.6;
+    c.series = {feasible, infeasible, best_line};
+    c.legend = plots::LegendPlace::kOutsideRight;
+    figure.panels.push_back(c);
+    if (!grid.empty()) {
+      plots::Panel m;
+      m.title = "objective over the two variables";
+      m.x_label = s.variables[0].key;
+      m.y_label = s.variables[1].key;
+      plots::Map map;
+      map.z_label = s.objective;
+      const auto n = static_cast<std::size_t>(o.map);
+      for (std::size_t i = 0; i < n; ++i) map.x.push_back(grid[i].x[0]);
+      for (std::size_t k = 0; k < n; ++k) map.y.push_back(grid[k * n].x[1]);
+      map.z.assign(n, std::vector<double>(n, std::numeric_limits<double>::quiet_NaN()));
+      for (std::size_t k = 0; k < n; ++k) {
+        for (std::size_t i = 0; i < n; ++i) {
+          const auto& e = grid[k * n + i];
+          if (e.feasible) map.z[i][k] = e.objective;
+        }
+      }
+      m.map = map;
+      plots::Series path{"evaluations", {}, {}, plots::Style::kMarkers};
+      for (const auto& e : r.history) path.x.push_back(e.x[0]), path.y.push_back(e.x[1]);
+      path.marker_size = 0.4;
+      path.colour = 7;
+      m.series.push_back(path);
+      if (best != nullptr) {
+        plots::Series opt{"optimum", {best->x[0]}, {best->x[1]}, plots::Style::kMarkers};
+        opt.colour = 1;
+        opt.marker_size = 1.6;
+        m.series.push_back(opt);
+      }
+      m.legend = plots::LegendPlace::kBottomRight;  // the colour bar is on the right
+      figure.panels.push_back(m);
+    }
+    if (!front.empty()) {
+      plots::Panel p;
+      p.title = "Pareto front (epsilon constraints)";
+      p.x_label = o.pareto;
+      p.y_label = s.objective;
+      plots::Series pts{"front", {}, {}, plots::Style::kLineMarkers};
+      const int fi = app::FigureIndex(o.pareto);
+      for (const auto& q : front) {
+        if (q.best < 0) continue;
+        pts.x.push_back(q.design.figures[static_cast<std::size_t>(fi)]);
+        pts.y.push_back(q.design.objective);
+      }
+      p.series.push_back(pts);
+      figure.panels.push_back(p);
+    }
+    figure.columns = static_cast<int>(figure.panels.size());
+    figure.width = 700 * figure.columns;
+    figure.height = 600;
+    WriteFigure(figure, svg);
+  }
+  if (best_deck.enabled()) {
+    if (best == nullptr) throw std::invalid_argument("--write-deck: no evaluation met the constraints, so there is no design to write");
+    const std::string header = fmt::format("# Written by ltca optimise from {}: the best of {} evaluations, {} = {:.10g}.\n"
+                                           "# ltca solve runs it as it is; [optimise] is left out.\n",
+                                           deck.name, r.history.size(), s.objective, best->objective);
+    best_deck.stream() << DesignDeck(deck, s, best->x, header);
+    best_deck.Commit();
+  }
+  // Failed and rejected evaluations are designs the search ruled out (counted in the summary);
+  // the run succeeds when it found a design that meets the constraints.
+  return best != nullptr ? kExitSuccess : kExitNotSucceeded;
+}
+
+}  // namespace
+
+Command OptimiseCommand() {
+  auto st = std::make_shared<DeckState<OptimiseOptions>>();
+  return {"optimise",
+          "Design optimisation (docs/optimise.md): the values of the deck's [optimise] variables (keys of [modification] "
+          "and [errors]) that meet its constraints with the best objective, by NLopt's global search then a local "
+          "polish; robust over the samples of [tolerances] when asked. Deterministic: the same result on any number of "
+          "threads.",
+          [st](CLI::App& c) {
+            OptimiseOptions& o = st->options;
+            AddLoadInputs(c, st->deck, o.solver, o.kinematics);
+            c.add_option("--threads", o.threads, "Threads, 1 to 1024 (default 0: every hardware thread): a robust design's samples, the map's points, the Pareto steps");
+            c.add_option("--evaluations", o.evaluations, "The budget ([optimise] evaluations)");
+            c.add_option("--map", o.map, "With two variables: the objective on an N x N grid (drawn with --svg, listed in --json and --csv)");
+            c.add_option("--pareto", o.pareto, "A second figure: the Pareto front of the objective against it (epsilon constraints)");
+            c.add_option("--pareto-from", o.pareto_from, "The first bound on the --pareto figure");
+            c.add_option("--pareto-to", o.pareto_to, "The last bound on the --pareto figure");
+            c.add_option("--pareto-steps", o.pareto_steps, "Bounds from --pareto-from to --pareto-to (default 11)");
+            AddOutput(c, "--json", o.json_path, "Write the settings, the best design, the phases, the history (and map, front) as JSON");
+            AddOutput(c, "--csv", o.csv_path, "Write every evaluation as CSV (the map's after the search's)");
+            AddOutput(c, "--svg", o.svg_path, "Draw the convergence (and the map, the front)");
+            AddOutput(c, "--write-deck", o.deck_path, "Write the best design as a deck that ltca solve runs as it is");
+          },
+          [st] {
+            return std::vector<std::string>{st->options.json_path, st->options.csv_path, st->options.svg_path, st->options.deck_path};
+          },
+          [st](const Streams& streams) { return RunOptimise(st->deck.Read(), st->options, streams); }};
+}
+
+}  // namespace ltca::cli
