@@ -462,7 +462,7 @@ std::vector<DesignEvaluation> Optimiser::Grid(int points) const {
   }
   std::vector<DesignEvaluation> out(static_cast<std::size_t>(total));
   // One design a thread at a time; a robust design's samples on that thread alone.
-  const Optimiser serial(nominal_, options_, settings_, 1, runner_ ? runner_ : SampleRunner{});
+  const Optimiser serial(nominal_, options_, settings_, 1, runner_);
   ParallelFor(
       total, threads_,
       [&](std::int64_t i) {

@@ -128,6 +128,19 @@ struct StiffnessRunner::Impl {
     closed = !s.crank && stage.closed_period();
   }
 
+  /// Counts a solved position in the summary's run record; returns whether the means weigh it
+  /// (the last crank of a closed period repeats the first, issue 26).
+  bool Record(const StiffnessPosition& pos) {
+    summary.closed_period = closed;
+    summary.solves += pos.solves;
+    if (pos.succeeded()) {
+      ++summary.succeeded;
+    } else {
+      summary.Fail(fmt::format("crank {:.6g} deg, {}", units::RadToDeg(pos.crank), pos.first_failure));
+    }
+    return !(closed && pos.crank == cranks.back());
+  }
+
   /// Every contact point of the stage at a crank: one disc, or both.
   contact::MeshState State(double crank) const { return stage.State(crank); }
 
@@ -456,14 +469,7 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
 
   // The summary.
   StiffnessSummary& s = m.summary;
-  s.closed_period = m.closed;
-  const bool in_mean = !(m.closed && crank == m.cranks.back());
-  s.solves += pos.solves;
-  if (pos.succeeded()) {
-    ++s.succeeded;
-  } else {
-    s.Fail(fmt::format("crank {:.6g} deg, {}", units::RadToDeg(crank), pos.first_failure));
-  }
+  const bool in_mean = m.Record(pos);
   s.rigidity.Add(pos.rigidity, in_mean);
   s.rigidity_drive.Add(pos.rigidity_drive, in_mean);
   s.rigidity_coast.Add(pos.rigidity_coast, in_mean);
@@ -547,16 +553,7 @@ StiffnessPosition StiffnessRunner::SolveLostMotion(double crank) {
   pos.readoffs.push_back({ft, plus, Branch::kIncreasing, pos.failed == 0 ? SolverStatus::kSuccess : SolverStatus::kNumericalFailure});
   pos.readoffs.push_back({-ft, minus, Branch::kIncreasing, pos.failed == 0 ? SolverStatus::kSuccess : SolverStatus::kNumericalFailure});
 
-  StiffnessSummary& s = m.summary;
-  s.closed_period = m.closed;
-  const bool in_mean = !(m.closed && crank == m.cranks.back());
-  s.solves += pos.solves;
-  if (pos.succeeded()) {
-    ++s.succeeded;
-  } else {
-    s.Fail(fmt::format("crank {:.6g} deg, {}", units::RadToDeg(crank), pos.first_failure));
-  }
-  s.lost_motion.Add(pos.lost_motion, in_mean);
+  m.summary.lost_motion.Add(pos.lost_motion, m.Record(pos));
   m.elapsed += Clock::now() - start;
   return pos;
 }

@@ -392,9 +392,7 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
     }
     if (settings_.lost_motion) {
       // Lost motion is solved at its own torques (+-f T), without the loop's curve (issue 27).
-      StiffnessSettings st = pair.stiffness;
-      st.steps = 3;
-      StiffnessRunner loop(stage, options_, st, pair.torque, pair.friction);
+      StiffnessRunner loop(stage, options_, pair.stiffness, pair.torque, pair.friction);
       for (const double crank : loop.cranks()) loop.SolveLostMotion(crank);
       const StiffnessSummary ss = loop.Summary();
       s.figures[kLostMotionArcmin] = units::RadToArcmin(ss.lost_motion.mean);

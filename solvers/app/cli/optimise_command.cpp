@@ -36,8 +36,6 @@ struct OptimiseOptions {
   int pareto_steps = 11;
 };
 
-nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
 nlohmann::json EvaluationJson(const app::OptimiseSettings& s, const app::DesignEvaluation& e) {
   nlohmann::json j;
   j["index"] = e.index;
@@ -45,14 +43,14 @@ nlohmann::json EvaluationJson(const app::OptimiseSettings& s, const app::DesignE
   nlohmann::json x = nlohmann::json::object();
   for (std::size_t k = 0; k < s.variables.size() && k < e.x.size(); ++k) x[s.variables[k].key] = e.x[k];
   j["variables"] = x;
-  j["objective"] = Number(e.objective);
-  j["violation"] = Number(e.violation);
+  j["objective"] = FiniteOrNull(e.objective);
+  j["violation"] = FiniteOrNull(e.violation);
   j["feasible"] = e.feasible;
   j["status"] = app::ToString(e.status);
   j["message"] = e.message;
   nlohmann::json f = nlohmann::json::object();
   const auto& names = app::ToleranceSettings::FigureNames();
-  for (std::size_t k = 0; k < names.size(); ++k) f[names[k]] = Number(e.figures[k]);
+  for (std::size_t k = 0; k < names.size(); ++k) f[names[k]] = FiniteOrNull(e.figures[k]);
   j["figures"] = f;
   if (s.robust) j["samples_failed"] = e.samples_failed;
   return j;
@@ -160,7 +158,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     nlohmann::json vars = nlohmann::json::array();
     for (const auto& v : s.variables) vars.push_back({{"key", v.key}, {"lower", v.lower}, {"upper", v.upper}});
     nlohmann::json cons = nlohmann::json::array();
-    for (const auto& l : s.constraints) cons.push_back({{"figure", l.figure}, {"min", Number(l.min)}, {"max", Number(l.max)}});
+    for (const auto& l : s.constraints) cons.push_back({{"figure", l.figure}, {"min", FiniteOrNull(l.min)}, {"max", FiniteOrNull(l.max)}});
     j["settings"] = {{"variables", vars}, {"objective", s.objective}, {"maximise", s.maximise}, {"constraints", cons},
                      {"global", app::ToString(s.global)}, {"local", app::ToString(s.local)}, {"evaluations", s.evaluations},
                      {"global_share", s.global_share}, {"tolerance", s.tolerance}, {"seed", s.seed}, {"robust", s.robust},

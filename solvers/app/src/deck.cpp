@@ -619,10 +619,36 @@ StiffnessSettings ReadStiffness(const Section& s) {
 
 
 // --- issue 15: reading [tolerances] ------------------------------------------------------------
-double Number(const toml::value& v, const std::string& where, const char* what) {
+/// A number of a section's nested value (where: "limits.x.max"); else an error naming it.
+double Number(const toml::value& v, const std::string& where, const char* what, const char* section = "tolerances") {
   if (v.is_integer()) return static_cast<double>(v.as_integer());
   if (v.is_floating()) return v.as_floating();
-  throw std::invalid_argument(fmt::format("[tolerances] {} = {}: expected a number ({})", where, toml::format(v), what));
+  throw std::invalid_argument(fmt::format("[{}] {} = {}: expected a number ({})", section, where, toml::format(v), what));
+}
+
+/// Limits on figures, { figure = max } or { figure = { min = .., max = .. } }: [tolerances] limits
+/// and [optimise] constraints (issue 28). The figures' names are checked by their users.
+std::vector<ToleranceLimit> ReadLimits(const toml::value& v, const char* section, const std::string& key, const char* example) {
+  if (!v.is_table()) {
+    throw std::invalid_argument(fmt::format("[{}] {} = {}: expected an inline table, e.g. {}", section, key, toml::format(v), example));
+  }
+  std::vector<ToleranceLimit> limits;
+  for (const auto& [figure, limit] : v.as_table()) {
+    ToleranceLimit l;
+    l.figure = figure;
+    const std::string where = key + "." + figure;
+    if (limit.is_table()) {
+      for (const auto& [name, bound] : limit.as_table()) {
+        if (name == "min") l.min = Number(bound, where + ".min", "lower limit of the figure", section);
+        else if (name == "max") l.max = Number(bound, where + ".max", "upper limit of the figure", section);
+        else throw std::invalid_argument(fmt::format("[{}] {}: unknown key '{}'; expected min, max", section, where, name));
+      }
+    } else {
+      l.max = Number(limit, where, "upper limit of the figure, or { min = .., max = .. }", section);
+    }
+    limits.push_back(l);
+  }
+  return limits;
 }
 
 ToleranceDistribution ReadDistribution(const std::string& key, bool per_pin, const toml::value& v) {
@@ -685,26 +711,7 @@ ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairP
   s.lost_motion = section.Bool("lost_motion", s.lost_motion);
   s.profile_random_per_sample = section.Bool("profile_random_per_sample", s.profile_random_per_sample);
   if (const auto it = t.find("limits"); it != t.end()) {
-    if (!it->second.is_table()) {
-      throw std::invalid_argument(fmt::format(
-          "[tolerances] limits = {}: expected an inline table, e.g. {{ lost_motion_arcmin = 1.0, contacts_min = {{ min = 4 }} }}",
-          toml::format(it->second)));
-    }
-    for (const auto& [figure, limit] : it->second.as_table()) {
-      ToleranceLimit l;
-      l.figure = figure;
-      const std::string where = "limits." + figure;
-      if (limit.is_table()) {
-        for (const auto& [name, bound] : limit.as_table()) {
-          if (name == "min") l.min = Number(bound, where + ".min", "lower limit of the figure");
-          else if (name == "max") l.max = Number(bound, where + ".max", "upper limit of the figure");
-          else throw std::invalid_argument(fmt::format("[tolerances] {}: unknown key '{}'; expected min, max", where, name));
-        }
-      } else {
-        l.max = Number(limit, where, "upper limit of the figure, or { min = .., max = .. }");
-      }
-      s.limits.push_back(l);
-    }
+    s.limits = ReadLimits(it->second, "tolerances", "limits", "{ lost_motion_arcmin = 1.0, contacts_min = { min = 4 } }");
   }
   if (const auto it = t.find("chains"); it != t.end()) {
     const std::string example =
@@ -780,11 +787,6 @@ OperationSettings ReadOperation(const Section& s) {
 OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const std::optional<ToleranceSettings>& tolerances) {
   OptimiseSettings o;
   const toml::table& t = value.as_table();
-  const auto number = [](const toml::value& v, const std::string& where, const char* what) {
-    if (v.is_integer()) return static_cast<double>(v.as_integer());
-    if (v.is_floating()) return v.as_floating();
-    throw std::invalid_argument(fmt::format("[optimise] {} = {}: expected a number ({})", where, toml::format(v), what));
-  };
   if (const auto it = t.find("variables"); it != t.end()) {
     if (!it->second.is_table()) {
       throw std::invalid_argument(fmt::format(
@@ -797,34 +799,15 @@ OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const 
       }
       OptimiseVariable v;
       v.key = key;
-      v.lower = number(bounds.as_array()[0], "variables.\"" + key + "\"", "the lower bound");
-      v.upper = number(bounds.as_array()[1], "variables.\"" + key + "\"", "the upper bound");
+      v.lower = Number(bounds.as_array()[0], "variables.\"" + key + "\"", "the lower bound", "optimise");
+      v.upper = Number(bounds.as_array()[1], "variables.\"" + key + "\"", "the upper bound", "optimise");
       o.variables.push_back(v);
     }
   }
   o.objective = s.String("objective");
   o.maximise = s.Bool("maximise", o.maximise);
   if (const auto it = t.find("constraints"); it != t.end()) {
-    if (!it->second.is_table()) {
-      throw std::invalid_argument(fmt::format(
-          "[optimise] constraints = {}: expected an inline table, e.g. {{ mean_backlash_arcsec = {{ min = 20, max = 40 }} }}",
-          toml::format(it->second)));
-    }
-    for (const auto& [figure, limit] : it->second.as_table()) {
-      ToleranceLimit l;
-      l.figure = figure;
-      const std::string where = "constraints." + figure;
-      if (limit.is_table()) {
-        for (const auto& [name, bound] : limit.as_table()) {
-          if (name == "min") l.min = number(bound, where + ".min", "lower limit of the figure");
-          else if (name == "max") l.max = number(bound, where + ".max", "upper limit of the figure");
-          else throw std::invalid_argument(fmt::format("[optimise] {}: unknown key '{}'; expected min, max", where, name));
-        }
-      } else {
-        l.max = number(limit, where, "upper limit of the figure, or { min = .., max = .. }");
-      }
-      o.constraints.push_back(l);
-    }
+    o.constraints = ReadLimits(it->second, "optimise", "constraints", "{ mean_backlash_arcsec = { min = 20, max = 40 } }");
   }
   const std::string global = s.String("global", "direct");
   if (global == "direct") o.global = OptimiseSettings::Global::kDirect;
