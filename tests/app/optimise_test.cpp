@@ -165,6 +165,7 @@ TEST_CASE("app: [optimise] bad input names the key, and an evaluation that fails
   const auto r = RunCli({"optimise", Case("liu2021_optimise.toml"), "--evaluations", "20", "--json", "-"});
   CHECK(r.code == 0);
   const auto j = nlohmann::json::parse(r.out);
+  CHECK(j.at("model").at("name").is_string());  // every output names the model that ran
   const auto& first = j.at("history").at(0);
   CHECK(first.at("status") == "rejected");
   CHECK(first.at("objective").is_null());

@@ -124,6 +124,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
   std::ostream& text = streams.text;
   const auto& s = optimiser.settings();
   fmt::print(text, "case        {}\n", deck.info.title);
+  fmt::print(text, "{}", ModelLine(deck));
   fmt::print(text, "objective   {} {}{}\n", s.maximise ? "maximise" : "minimise", s.objective,
              s.robust ? fmt::format(" (robust: p{:g} over {} samples of [tolerances], seed {})", s.percentile, s.robust_samples, s.tolerances.seed) : "");
   for (const auto& v : s.variables) fmt::print(text, "variable    {} in [{:g}, {:g}]\n", v.key, v.lower, v.upper);
@@ -155,6 +156,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
   if (json.enabled()) {
     nlohmann::json j;
     j["case"] = {{"title", deck.info.title}, {"deck", deck.name}};
+    j["model"] = ModelJson(deck.Model());  // every output names the model that ran
     nlohmann::json vars = nlohmann::json::array();
     for (const auto& v : s.variables) vars.push_back({{"key", v.key}, {"lower", v.lower}, {"upper", v.upper}});
     nlohmann::json cons = nlohmann::json::array();
@@ -190,7 +192,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       }
       j["pareto"] = f;
     }
-    json.stream() << j.dump(2) << '\n';
+    json.stream() << Dump(j) << '\n';
     json.Commit();
   }
   if (csv.enabled()) {
