@@ -303,6 +303,8 @@ const std::vector<DeckKey> kKeys = {
      .default_value = "64"},
     {.section = "optimise", .name = "percentile", .type = T::kReal, .unit = "",
      .meaning = "robust: the percentile each figure is taken at", .default_value = "95"},
+    {.section = "optimise", .name = "confidence", .type = T::kReal, .unit = "",
+     .meaning = "robust: confidence that the order statistic taken bounds the percentile (0: point estimate)", .default_value = "0.9"},
 };
 
 #undef LTCA_FIELD

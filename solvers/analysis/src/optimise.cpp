@@ -13,6 +13,8 @@
 
 #include <fmt/format.h>
 
+#include "bytes.hpp"
+
 namespace ltca::analysis {
 namespace {
 
@@ -158,6 +160,60 @@ std::int64_t Best(const std::vector<DesignEvaluation>& history, bool maximise, b
   return best;
 }
 
+void AppendBytes(const DesignEvaluation& e, std::string& out) {
+  bytes::Put(out, e.index);
+  bytes::PutString(out, e.phase);
+  bytes::Put(out, static_cast<std::uint64_t>(e.x.size()));
+  for (const double v : e.x) bytes::Put(out, v);
+  for (const double v : e.figures) bytes::Put(out, v);
+  bytes::Put(out, e.objective);
+  bytes::Put(out, e.violation);
+  bytes::Put(out, static_cast<std::uint8_t>(e.feasible ? 1 : 0));
+  bytes::Put(out, e.status);
+  bytes::PutString(out, e.message);
+  bytes::Put(out, e.samples);
+  bytes::Put(out, e.samples_failed);
+}
+
+DesignEvaluation TakeEvaluation(const std::string& in, std::size_t& at) {
+  DesignEvaluation e;
+  e.index = bytes::Take<std::int64_t>(in, at);
+  e.phase = bytes::TakeString(in, at);
+  const auto n = bytes::Take<std::uint64_t>(in, at);
+  if (n > (in.size() - at) / sizeof(double)) throw std::runtime_error("gathered bytes are truncated");
+  e.x.resize(static_cast<std::size_t>(n));
+  for (double& v : e.x) v = bytes::Take<double>(in, at);
+  for (double& v : e.figures) v = bytes::Take<double>(in, at);
+  e.objective = bytes::Take<double>(in, at);
+  e.violation = bytes::Take<double>(in, at);
+  e.feasible = bytes::Take<std::uint8_t>(in, at) != 0;
+  e.status = bytes::Take<RunStatus>(in, at);
+  e.message = bytes::TakeString(in, at);
+  e.samples = bytes::Take<std::int64_t>(in, at);
+  e.samples_failed = bytes::Take<std::int64_t>(in, at);
+  return e;
+}
+
+/// Items 0 .. count - 1 computed by `one(i)` on this rank's static block (on `threads` threads)
+/// and shared with every rank through `ranks`; `append` and `take` carry an item as bytes.
+template <typename T, typename One, typename Append, typename TakeOne>
+std::vector<T> Divided(std::int64_t count, int threads, const RankGroup& ranks, One one, Append append, TakeOne take) {
+  const std::int64_t begin = count * ranks.rank / ranks.size, end = count * (ranks.rank + 1) / ranks.size;
+  std::vector<T> mine(static_cast<std::size_t>(end - begin));
+  ParallelFor(end - begin, threads, [&](std::int64_t i) { mine[static_cast<std::size_t>(i)] = one(begin + i); }, {});
+  if (ranks.size <= 1) return mine;
+  std::string out;
+  for (const T& t : mine) append(t, out);
+  std::vector<T> all;
+  all.reserve(static_cast<std::size_t>(count));
+  for (const std::string& part : ranks.all_gather(out)) {
+    std::size_t at = 0;
+    while (at < part.size()) all.push_back(take(part, at));
+  }
+  if (static_cast<std::int64_t>(all.size()) != count) throw std::runtime_error("optimise: the ranks gathered a wrong number of items");
+  return all;
+}
+
 }  // namespace
 
 const char* ToString(OptimiseSettings::Global global) {
@@ -177,6 +233,27 @@ const char* ToString(OptimiseSettings::Local local) {
     case OptimiseSettings::Local::kNone: return "none";
   }
   return "none";
+}
+
+std::int64_t ConfidenceRank(std::int64_t n, double q, double c) {
+  if (n < 1 || !(q > 0.0 && q < 1.0) || !(c >= 0.0 && c < 1.0)) return 0;
+  // P(Bin(n, q) <= j) summed from j = 0, each term in logarithms (n up to 10^6).
+  const double nn = static_cast<double>(n), lq = std::log(q), l1q = std::log1p(-q);
+  double cdf = 0.0;
+  for (std::int64_t j = 0; j < n; ++j) {
+    const double jj = static_cast<double>(j);
+    cdf += std::exp(std::lgamma(nn + 1.0) - std::lgamma(jj + 1.0) - std::lgamma(nn - jj + 1.0) + jj * lq + (nn - jj) * l1q);
+    if (cdf >= c) return j + 1;  // X_(j + 1) >= the quantile unless more than j samples fall below it
+  }
+  return 0;  // P(Bin <= n - 1) = 1 - q^n < c: not even the largest sample
+}
+
+std::int64_t ConfidenceSamples(double q, double c) {
+  if (!(q > 0.0 && q < 1.0) || !(c > 0.0 && c < 1.0)) return 1;
+  std::int64_t n = static_cast<std::int64_t>(std::ceil(std::log1p(-c) / std::log(q)));
+  while (n > 1 && ConfidenceRank(n - 1, q, c) > 0) --n;  // rounding of the logarithms
+  while (ConfidenceRank(n, q, c) == 0) ++n;
+  return n;
 }
 
 int FigureIndex(const std::string& figure) {
@@ -260,16 +337,31 @@ void OptimiseSettings::Validate() {
     if (!(percentile > 0.0 && percentile < 100.0)) {
       throw std::invalid_argument(fmt::format("[optimise] percentile = {}: expected a percentile in (0, 100), e.g. 95", percentile));
     }
+    if (!(confidence >= 0.0 && confidence < 1.0)) {
+      throw std::invalid_argument(fmt::format("[optimise] confidence = {}: expected 0 (the point estimate) or a probability in (0, 1), e.g. 0.9",
+                                              confidence));
+    }
+    if (confidence > 0.0 && ConfidenceRank(robust_samples, percentile / 100.0, confidence) == 0) {
+      throw std::invalid_argument(fmt::format(
+          "[optimise] robust_samples = {}: too few to bound the p{:g} with confidence {:g} (even the largest sample does so with "
+          "probability 1 - {:g}^{} = {:.3g}); expected at least {} samples, or a lower confidence",
+          robust_samples, percentile, confidence, percentile / 100.0, robust_samples,
+          1.0 - std::pow(percentile / 100.0, static_cast<double>(robust_samples)), ConfidenceSamples(percentile / 100.0, confidence)));
+    }
   }
 }
 
-Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSettings settings, int threads, SampleRunner runner)
+Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSettings settings, int threads, RankGroup ranks)
     : nominal_(std::move(nominal)), options_(std::move(options)), settings_(std::move(settings)), threads_(threads),
-      runner_(std::move(runner)) {
+      ranks_(std::move(ranks)) {
   settings_.Validate();
   options_.Validate();
   if (threads_ < 1 || threads_ > kMaxToleranceThreads) {
     throw std::invalid_argument(fmt::format("threads = {}: expected 1 to {}", threads_, kMaxToleranceThreads));
+  }
+  if (ranks_.size < 1 || ranks_.rank < 0 || ranks_.rank >= ranks_.size || (ranks_.size > 1 && !ranks_.all_gather)) {
+    throw std::invalid_argument(fmt::format("optimise: rank {} of {}: expected 0 <= rank < size and, for more than one rank, a gather",
+                                            ranks_.rank, ranks_.size));
   }
   if (settings_.NeedsLostMotion() && nominal_.torque == 0.0) {
     throw std::invalid_argument("[optimise] lost_motion_arcmin: expected a non-zero [load] torque_nm (the rated torque of the loop)");
@@ -315,7 +407,18 @@ DesignEvaluation Optimiser::Evaluate(const std::vector<double>& x) const {
     ts.lost_motion = s.NeedsLostMotion();
     ts.limits.clear();
     const ToleranceStudy study(pair, options_, ts);
-    const std::vector<ToleranceSample> samples = runner_ ? runner_(study, ts.samples) : study.RunRange(0, ts.samples, threads_);
+    std::vector<ToleranceSample> samples;
+    if (ranks_.size > 1) {  // this rank's block of the samples, then every rank's
+      const std::int64_t n = ts.samples, begin = n * ranks_.rank / ranks_.size, end = n * (ranks_.rank + 1) / ranks_.size;
+      std::string mine;
+      for (const ToleranceSample& t : study.RunRange(begin, end - begin, threads_)) AppendSampleBytes(t, mine);
+      samples.reserve(static_cast<std::size_t>(n));
+      for (const std::string& part : ranks_.all_gather(mine)) {
+        ReadSampleBytes(part, study, [&](const ToleranceSample& t) { samples.push_back(t); });
+      }
+    } else {
+      samples = study.RunRange(0, ts.samples, threads_);
+    }
     e.samples = static_cast<std::int64_t>(samples.size());
     e.status = RunStatus::kSuccess;
     for (const ToleranceSample& t : samples) {
@@ -331,8 +434,17 @@ DesignEvaluation Optimiser::Evaluate(const std::vector<double>& x) const {
         for (const ToleranceSample& t : samples) {
           if (std::isfinite(t.figures[f])) v.push_back(t.figures[f]);
         }
-        e.figures[f] = Percentile(v, s.percentile);
-        lower[f] = Percentile(v, 100.0 - s.percentile);
+        if (s.confidence > 0.0 && !v.empty()) {
+          // The order statistics that bound the percentile with the stated confidence.
+          const std::int64_t n = static_cast<std::int64_t>(v.size());
+          const std::int64_t k = ConfidenceRank(n, s.percentile / 100.0, s.confidence);
+          std::sort(v.begin(), v.end());
+          e.figures[f] = k > 0 ? v[static_cast<std::size_t>(k - 1)] : kNaN;
+          lower[f] = k > 0 ? v[static_cast<std::size_t>(n - k)] : kNaN;
+        } else {
+          e.figures[f] = Percentile(v, s.percentile);
+          lower[f] = Percentile(v, 100.0 - s.percentile);
+        }
       }
     }
   }
@@ -460,11 +572,11 @@ std::vector<DesignEvaluation> Optimiser::Grid(int points) const {
     total *= points;
     if (total > 10'000'000) throw std::invalid_argument("optimise: the map has more than 10,000,000 points");
   }
-  std::vector<DesignEvaluation> out(static_cast<std::size_t>(total));
-  // One design a thread at a time; a robust design's samples on that thread alone.
-  const Optimiser serial(nominal_, options_, settings_, 1, runner_);
-  ParallelFor(
-      total, threads_,
+  // One design a thread at a time, a robust design's samples on that thread alone; the points in
+  // static blocks by rank.
+  const Optimiser serial(nominal_, options_, settings_, 1);
+  return Divided<DesignEvaluation>(
+      total, threads_, ranks_,
       [&](std::int64_t i) {
         std::vector<double> x(n);
         std::int64_t rest = i;
@@ -477,10 +589,9 @@ std::vector<DesignEvaluation> Optimiser::Grid(int points) const {
         DesignEvaluation e = serial.Evaluate(x);
         e.index = i;
         e.phase = "map";
-        out[static_cast<std::size_t>(i)] = std::move(e);
+        return e;
       },
-      {});
-  return out;
+      AppendBytes, TakeEvaluation);
 }
 
 std::vector<ParetoPoint> Optimiser::Pareto(const std::string& figure, double lo, double hi, int steps) const {
@@ -489,25 +600,34 @@ std::vector<ParetoPoint> Optimiser::Pareto(const std::string& figure, double lo,
     throw std::invalid_argument(fmt::format("optimise: a Pareto sweep of {} steps from {} to {}: expected 2 to 1000 steps, lo < hi",
                                             steps, lo, hi));
   }
-  std::vector<ParetoPoint> out(static_cast<std::size_t>(steps));
   const bool random = settings_.global == OptimiseSettings::Global::kCrs2 || settings_.global == OptimiseSettings::Global::kIsres;
-  ParallelFor(
-      steps, random ? 1 : threads_,
+  return Divided<ParetoPoint>(
+      steps, random ? 1 : threads_, ranks_,
       [&](std::int64_t k) {
         OptimiseSettings s = settings_;
         const double bound = lo + (hi - lo) * static_cast<double>(k) / static_cast<double>(steps - 1);
         s.constraints.push_back({figure, -std::numeric_limits<double>::infinity(), bound});
-        const Optimiser step(nominal_, options_, s, 1, runner_);
+        const Optimiser step(nominal_, options_, s, 1);
         const OptimiseResult r = step.Run();
         ParetoPoint p;
         p.epsilon = bound;
         p.best = r.best;
         if (r.best >= 0) p.design = r.history[static_cast<std::size_t>(r.best)];
         p.design.phase = "pareto";
-        out[static_cast<std::size_t>(k)] = std::move(p);
+        return p;
       },
-      {});
-  return out;
+      [](const ParetoPoint& p, std::string& out) {
+        bytes::Put(out, p.epsilon);
+        bytes::Put(out, p.best);
+        AppendBytes(p.design, out);
+      },
+      [](const std::string& in, std::size_t& at) {
+        ParetoPoint p;
+        p.epsilon = bytes::Take<double>(in, at);
+        p.best = bytes::Take<std::int64_t>(in, at);
+        p.design = TakeEvaluation(in, at);
+        return p;
+      });
 }
 
 }  // namespace ltca::analysis

@@ -18,6 +18,7 @@
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/counter_rng.hpp"
 #include "ltca/geometry/units.hpp"
+#include "bytes.hpp"
 
 namespace ltca::analysis {
 namespace {
@@ -846,6 +847,26 @@ std::array<CornerExceedance, kToleranceFigureCount> CompareWithCorners(const Tol
     }
   }
   return out;
+}
+
+void AppendSampleBytes(const ToleranceSample& s, std::string& out) {
+  bytes::Put(out, s.index);
+  for (const double v : s.figures) bytes::Put(out, v);
+  bytes::Put(out, s.status);
+  bytes::PutString(out, s.message);
+}
+
+void ReadSampleBytes(const std::string& in, const ToleranceStudy& study, const std::function<void(const ToleranceSample&)>& each) {
+  std::size_t at = 0;
+  while (at < in.size()) {
+    ToleranceSample s;
+    s.index = bytes::Take<std::int64_t>(in, at);
+    for (double& v : s.figures) v = bytes::Take<double>(in, at);
+    s.status = bytes::Take<RunStatus>(in, at);
+    s.message = bytes::TakeString(in, at);
+    s.inputs = study.Draw(s.index);
+    each(s);
+  }
 }
 
 }  // namespace ltca::analysis

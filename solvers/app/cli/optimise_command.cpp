@@ -19,6 +19,7 @@
 #include "command.hpp"
 #include "output.hpp"
 #include "solve_command.hpp"
+#include "tolerance_command.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/app/plots.hpp"
 
@@ -54,6 +55,14 @@ nlohmann::json EvaluationJson(const app::OptimiseSettings& s, const app::DesignE
   j["figures"] = f;
   if (s.robust) j["samples_failed"] = e.samples_failed;
   return j;
+}
+
+/// How a robust design's figures are taken: "p95 at confidence 0.9 (the 64th of 64 samples)".
+std::string RobustRule(const app::OptimiseSettings& s) {
+  if (s.confidence <= 0.0) return fmt::format("p{:g} (point estimate)", s.percentile);
+  const std::int64_t k = app::ConfidenceRank(s.robust_samples, s.percentile / 100.0, s.confidence);
+  return fmt::format("p{:g} bounded at confidence {:g} (upper: the {}th smallest, lower: the {}th largest of the {})", s.percentile,
+                     s.confidence, k, k, s.robust_samples);
 }
 
 /// The deck of a design: every key the deck gave (after --set), the variables' keys set to the
@@ -112,24 +121,36 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     throw std::invalid_argument(fmt::format("--map {}: the map is drawn over two variables; [optimise] has {}", o.map, settings.variables.size()));
   }
   const int threads = o.threads > 0 ? o.threads : std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, 64);
-  const app::Optimiser optimiser(deck.MakeToleranceCase(), SolverFor(deck, o.solver), settings, threads);
+  // Under mpirun every rank runs the search in lockstep and shares what divides (a robust design's
+  // samples, the map's points, the Pareto steps); rank 0 alone writes.
+  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+  app::RankGroup ranks;
+  if (farm) {
+    ranks.rank = farm->rank();
+    ranks.size = farm->size();
+    ranks.all_gather = [f = farm.get()](const std::string& mine) { return f->AllGather(mine); };
+  }
+  const bool root = ranks.rank == 0;
+  const app::Optimiser optimiser(deck.MakeToleranceCase(), SolverFor(deck, o.solver), settings, threads, ranks);
   if (!o.pareto.empty() && !(std::isfinite(o.pareto_from) && std::isfinite(o.pareto_to))) {
     throw std::invalid_argument("--pareto FIGURE: expected --pareto-from and --pareto-to, the range of its bound");
   }
   RequireDistinctOutputs({{"--json", o.json_path}, {"--csv", o.csv_path}, {"--svg", o.svg_path}, {"--write-deck", o.deck_path}});
-  Output json("--json", o.json_path, streams.out);
-  Output csv("--csv", o.csv_path, streams.out);
-  Output svg("--svg", o.svg_path, streams.out);
-  Output best_deck("--write-deck", o.deck_path, streams.out);
-  std::ostream& text = streams.text;
+  Output json("--json", root ? o.json_path : "", streams.out);
+  Output csv("--csv", root ? o.csv_path : "", streams.out);
+  Output svg("--svg", root ? o.svg_path : "", streams.out);
+  Output best_deck("--write-deck", root ? o.deck_path : "", streams.out);
+  std::ostringstream quiet;
+  std::ostream& text = root ? streams.text : quiet;
   const auto& s = optimiser.settings();
   fmt::print(text, "case        {}\n", deck.info.title);
   fmt::print(text, "{}", ModelLine(deck));
   fmt::print(text, "objective   {} {}{}\n", s.maximise ? "maximise" : "minimise", s.objective,
-             s.robust ? fmt::format(" (robust: p{:g} over {} samples of [tolerances], seed {})", s.percentile, s.robust_samples, s.tolerances.seed) : "");
+             s.robust ? fmt::format(" (robust: {} over {} samples of [tolerances], seed {})", RobustRule(s), s.robust_samples, s.tolerances.seed) : "");
   for (const auto& v : s.variables) fmt::print(text, "variable    {} in [{:g}, {:g}]\n", v.key, v.lower, v.upper);
   for (const auto& l : s.constraints) fmt::print(text, "constraint  {:g} <= {} <= {:g}\n", l.min, l.figure, l.max);
-  fmt::print(text, "method      {} then {}, {} evaluations, {} thread(s)\n", app::ToString(s.global), app::ToString(s.local), s.evaluations, threads);
+  fmt::print(text, "method      {} then {}, {} evaluations, {} thread(s){}\n", app::ToString(s.global), app::ToString(s.local), s.evaluations,
+             threads, ranks.size > 1 ? fmt::format(" on each of {} MPI ranks", ranks.size) : "");
 
   const app::OptimiseResult r = optimiser.Run();
   for (const auto& p : r.phases) fmt::print(text, "phase       {}: {} evaluations, stopped: {}\n", p.method, p.evaluations, p.stop);
@@ -166,7 +187,11 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
                      {"global_share", s.global_share}, {"tolerance", s.tolerance}, {"seed", s.seed}, {"robust", s.robust},
                      {"robust_samples", s.robust ? nlohmann::json(s.robust_samples) : nlohmann::json(nullptr)},
                      {"percentile", s.robust ? nlohmann::json(s.percentile) : nlohmann::json(nullptr)},
-                     {"penalty_weight", app::OptimiseSettings::kPenaltyWeight}};
+                     {"confidence", s.robust ? nlohmann::json(s.confidence) : nlohmann::json(nullptr)},
+                     {"order_statistic", s.robust && s.confidence > 0.0
+                                             ? nlohmann::json(app::ConfidenceRank(s.robust_samples, s.percentile / 100.0, s.confidence))
+                                             : nlohmann::json(nullptr)},
+                     {"penalty_weight", app::OptimiseSettings::kPenaltyWeight}, {"threads", threads}, {"mpi_ranks", ranks.size}};
     nlohmann::json phases = nlohmann::json::array();
     for (const auto& p : r.phases) phases.push_back({{"method", p.method}, {"evaluations", p.evaluations}, {"stop", p.stop}});
     j["summary"] = {{"status", best != nullptr ? "success" : "failed"},
@@ -222,7 +247,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     figure.title = fmt::format("{}: {} {} over {} evaluations ({} then {})", deck.info.title, s.maximise ? "maximise" : "minimise",
                                s.objective, r.history.size(), app::ToString(s.global), app::ToString(s.local));
     figure.caption = FigureCaption(deck, fmt::format("{}; infeasible: a constraint not met; failed evaluations are not drawn{}",
-                                                     s.robust ? fmt::format("robust: p{:g} of {} samples", s.percentile, s.robust_samples) : "nominal pair",
+                                                     s.robust ? fmt::format("robust: {} of {} samples", RobustRule(s), s.robust_samples) : "nominal pair",
                                                      grid.empty() ? "" : "; map: blank cells are infeasible"));
     plots::Panel c;
     c.title = "convergence";

@@ -7,7 +7,6 @@
 #include <limits>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <optional>
 #include <sstream>
@@ -46,45 +45,6 @@ std::string CsvText(const std::string& s) {
     out += (c == '\n' || c == '\r') ? ' ' : c;
   }
   return out + '"';
-}
-
-// --- Samples as bytes, for the MPI gather (bit for bit: doubles are copied, not printed) -------
-template <typename T>
-void Put(std::string& out, const T& v) {
-  out.append(reinterpret_cast<const char*>(&v), sizeof(T));
-}
-template <typename T>
-T Take(const std::string& in, std::size_t& at) {
-  if (at + sizeof(T) > in.size()) throw std::runtime_error("tolerance: a gathered sample is truncated");
-  T v;
-  std::memcpy(&v, in.data() + at, sizeof(T));
-  at += sizeof(T);
-  return v;
-}
-/// A rank's samples for the gather: index, figures, status and message, not the inputs (rank 0
-/// draws them again: Draw(i) is a pure function of (seed, i)).
-void Serialise(const ToleranceSample& s, std::string& out) {
-  Put(out, s.index);
-  for (const double v : s.figures) Put(out, v);
-  Put(out, s.status);
-  Put(out, static_cast<std::uint64_t>(s.message.size()));
-  out += s.message;
-}
-/// Calls each(sample) for every sample of a rank's bytes, in order, its inputs drawn again.
-void Deserialise(const std::string& in, const app::ToleranceStudy& study, const std::function<void(const ToleranceSample&)>& each) {
-  std::size_t at = 0;
-  while (at < in.size()) {
-    ToleranceSample s;
-    s.index = Take<std::int64_t>(in, at);
-    for (double& v : s.figures) v = Take<double>(in, at);
-    s.status = Take<analysis::RunStatus>(in, at);
-    const auto n = Take<std::uint64_t>(in, at);
-    if (at + n > in.size()) throw std::runtime_error("tolerance: a gathered sample is truncated");
-    s.message = in.substr(at, n);
-    at += n;
-    s.inputs = study.Draw(s.index);
-    each(s);
-  }
 }
 
 nlohmann::json StatsJson(const app::FigureStats& f) {
@@ -311,7 +271,7 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
   const auto keep = [&](const ToleranceSample& s) {
     if (!root) {
       mine_ok = mine_ok && s.status == analysis::RunStatus::kSuccess;
-      return Serialise(s, mine);
+      return app::AppendSampleBytes(s, mine);
     }
     if (csv_os != nullptr) {
       std::ostream& os = *csv_os;
@@ -350,7 +310,7 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
       // This rank's exit code: whether its own samples succeeded (rank 0's is the study's).
       return mine_ok ? kExitSuccess : kExitNotSucceeded;
     }
-    for (std::size_t r = 1; r < parts.size(); ++r) Deserialise(parts[r], study, keep);
+    for (std::size_t r = 1; r < parts.size(); ++r) app::ReadSampleBytes(parts[r], study, keep);
     if (samples.size() != n) throw std::runtime_error(fmt::format("tolerance: gathered {} samples, expected {}", samples.size(), n));
   }
   if (csv_os != nullptr) csv.Commit();

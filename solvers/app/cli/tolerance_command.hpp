@@ -36,6 +36,9 @@ class SampleFarm {
   virtual int size() const = 0;
   /// Every rank passes its bytes; rank 0 gets every rank's bytes in rank order, the others none.
   virtual std::vector<std::string> Gather(const std::string& mine) = 0;
+  /// Every rank passes its bytes and gets every rank's bytes in rank order (ltca optimise: the
+  /// ranks run one search in lockstep and share the work that divides).
+  virtual std::vector<std::string> AllGather(const std::string& mine) = 0;
 };
 /// The MPI job this process is a rank of (started by mpirun), or nullptr: built without MPI, or
 /// not started by mpirun (a plain run is one process with threads).

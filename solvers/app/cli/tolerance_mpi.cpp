@@ -70,6 +70,29 @@ class MpiFarm final : public SampleFarm {
     }
     return out;
   }
+  std::vector<std::string> AllGather(const std::string& mine) override {
+    if (mine.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+      throw std::runtime_error("MPI: a rank's bytes exceed 2 GiB");
+    }
+    const int count = static_cast<int>(mine.size());
+    std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_));
+    Check(PMPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+    long long total = 0;
+    for (int r = 0; r < size_; ++r) {
+      offsets[static_cast<std::size_t>(r)] = static_cast<int>(total);
+      total += counts[static_cast<std::size_t>(r)];
+      if (total > std::numeric_limits<int>::max()) throw std::runtime_error("MPI: the gathered bytes exceed 2 GiB");
+    }
+    std::string all(static_cast<std::size_t>(total), '\0');
+    Check(PMPI_Allgatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, MPI_COMM_WORLD),
+          "MPI_Allgatherv");
+    std::vector<std::string> out;
+    for (int r = 0; r < size_; ++r) {
+      out.push_back(all.substr(static_cast<std::size_t>(offsets[static_cast<std::size_t>(r)]),
+                               static_cast<std::size_t>(counts[static_cast<std::size_t>(r)])));
+    }
+    return out;
+  }
 
  private:
   int rank_ = 0, size_ = 1;

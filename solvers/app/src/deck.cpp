@@ -827,6 +827,7 @@ OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const 
   o.robust = s.Bool("robust", o.robust);
   o.robust_samples = s.Integer("robust_samples", static_cast<int>(o.robust_samples));
   o.percentile = s.Real("percentile", o.percentile);
+  o.confidence = s.Real("confidence", o.confidence);
   if (o.robust) {
     if (!tolerances) {
       throw std::invalid_argument("[optimise] robust = true: expected a [tolerances] section (the distributions every design is run over)");
@@ -1109,11 +1110,40 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
 
 namespace {
 /// A deck value as TOML writes it on one line (a table inline, a string quoted).
+/// A TOML basic string: quotes, backslashes and control characters escaped (TOML 1.0, "String").
+std::string TomlString(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (u < 0x20 || u == 0x7f) {
+      out += fmt::format("\\u{:04X}", static_cast<unsigned>(u));
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+/// A TOML key: bare when it is only A-Z a-z 0-9 _ -, else quoted.
+std::string TomlKey(const std::string& key) {
+  const bool bare = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+  return bare ? key : TomlString(key);
+}
+
 std::string GivenText(const toml::value& v) {
-  if (v.is_string()) return "\"" + v.as_string().str + "\"";
+  if (v.is_string()) return TomlString(v.as_string().str);
   if (v.is_table()) {
     std::vector<std::string> parts;
-    for (const auto& [key, item] : v.as_table()) parts.push_back(key + " = " + GivenText(item));
+    for (const auto& [key, item] : v.as_table()) parts.push_back(TomlKey(key) + " = " + GivenText(item));
     return "{ " + fmt::format("{}", fmt::join(parts, ", ")) + " }";
   }
   if (v.is_array()) {

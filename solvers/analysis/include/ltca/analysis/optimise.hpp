@@ -65,6 +65,13 @@ struct OptimiseSettings {
   ToleranceSettings tolerances;
   std::int64_t robust_samples = 64;
   double percentile = 95.0;
+  /// Robust: the confidence that the figure taken bounds the percentile (distribution-free, from
+  /// the binomial law of the order statistics: the least k with P(Bin(n, p/100) <= k - 1) >= c,
+  /// so the k-th smallest of n samples lies at or above the p-th percentile with probability at
+  /// least c; mirrored for a lower bound). 0: the point estimate instead (linear interpolation
+  /// between order statistics, Hyndman & Fan type 7), which a fresh Monte Carlo exceeds about as
+  /// often as not.
+  double confidence = 0.9;
   /// Throws std::invalid_argument naming the key, the value and what is expected; finds each
   /// variable's deck key.
   void Validate();
@@ -115,16 +122,25 @@ struct ParetoPoint {
   DesignEvaluation design;
 };
 
-/// Samples of a robust evaluation: study.RunRange(0, n, threads) by default; the command line
-/// spreads them over MPI ranks. Must give the same samples whatever it runs them on.
-using SampleRunner = std::function<std::vector<ToleranceSample>(const ToleranceStudy& study, std::int64_t count)>;
+/// The ranks of an MPI job as the optimiser sees them (MPI itself stays in the command line).
+/// Every rank runs the same search in lockstep; what divides (a robust design's samples, the
+/// points of a map, the steps of a Pareto front) is split into static blocks by rank and shared
+/// through all_gather, so the result is the same bit for bit on any number of ranks. A nominal
+/// design is one run: every rank computes it.
+struct RankGroup {
+  int rank = 0;
+  int size = 1;
+  /// Every rank passes its bytes and gets every rank's, in rank order (MPI_Allgatherv).
+  std::function<std::vector<std::string>(const std::string&)> all_gather;
+};
 
-/// The search: immutable once built; Evaluate may be called from any number of threads.
+/// The search: immutable once built. Without ranks, Evaluate may be called from any number of
+/// threads; with ranks, every call that divides its work (Evaluate of a robust design, Run, Grid,
+/// Pareto) is collective: every rank makes it, in the same order, from one thread.
 class Optimiser {
  public:
   /// Validates the settings (std::invalid_argument naming the key).
-  Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSettings settings, int threads = 1,
-            SampleRunner runner = {});
+  Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSettings settings, int threads = 1, RankGroup ranks = {});
   const OptimiseSettings& settings() const { return settings_; }
   const ToleranceCase& nominal() const { return nominal_; }
   /// The case of a design: each variable's key set to its value (both discs).
@@ -146,10 +162,18 @@ class Optimiser {
   SolverOptions options_;
   OptimiseSettings settings_;
   int threads_ = 1;
-  SampleRunner runner_;
+  RankGroup ranks_;
 };
 
 /// The index of a figure in ToleranceSettings::FigureNames(), or -1.
 int FigureIndex(const std::string& figure);
+
+/// The order statistic (1-based) of n samples that bounds the q-quantile (0 < q < 1) from above
+/// with probability at least c: the least k with P(Bin(n, q) <= k - 1) >= c; 0 when even the
+/// largest does not (1 - q^n < c). Distribution-free for a continuous figure (Hahn & Meeker,
+/// Statistical Intervals, Wiley 1991, ch. 5: distribution-free bounds on percentiles).
+std::int64_t ConfidenceRank(std::int64_t n, double q, double c);
+/// The least n for which ConfidenceRank(n, q, c) > 0: ceil(ln(1 - c) / ln q).
+std::int64_t ConfidenceSamples(double q, double c);
 
 }  // namespace ltca::analysis

@@ -206,6 +206,13 @@ class ToleranceStudy {
   std::vector<std::string> notes_;
 };
 
+/// A sample as bytes for an MPI gather (bit for bit: doubles copied, not printed): index,
+/// figures, status and message, not the inputs (ToleranceStudy::Draw(i) gives them again).
+void AppendSampleBytes(const ToleranceSample& s, std::string& out);
+/// Calls each(sample) for every sample of the bytes, in order, its inputs drawn again by the study.
+/// Throws std::runtime_error when the bytes are truncated.
+void ReadSampleBytes(const std::string& in, const ToleranceStudy& study, const std::function<void(const ToleranceSample&)>& each);
+
 /// What the summary keeps of the samples: each one's figures and status, 73 bytes a sample in two
 /// flat arrays (no string or vector per sample). The inputs are not kept: they are drawn again
 /// where needed (ToleranceStudy::Draw(i) is a pure function of (seed, i)). Of the messages only
