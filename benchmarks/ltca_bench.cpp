@@ -19,6 +19,9 @@ int main(int argc, char** argv) {
   app.add_flag("--tolerance-only", options.tolerance_only,
                "Only the tolerance bar: 10,000 samples, 1 vs 2 threads, cost against samples; writes tolerance.csv "
                "(with --smoke: 20 samples)");
+  app.add_flag("--optimise-only", options.optimise_only,
+               "Only the optimisation bars: 2,000 evaluations over 3 variables, 500 robust designs x 64 samples; writes "
+               "optimise.csv (with --smoke: 20 evaluations, 12 designs x 45 samples)");
   CLI11_PARSE(app, argc, argv);
   try {
     return ltca::bench::RunBenchCommand(options, std::cout);

@@ -92,6 +92,51 @@ TEST_CASE("app: optimise on two variables beats the best feasible point of a 41 
   std::filesystem::remove(path);
 }
 
+TEST_CASE("app: the least power loss over the offset modification is at least as good as 11 ltca efficiency runs, and its deck gives it") {
+  // Issue 28: efficiency figures as objectives. The references are `ltca efficiency --json` runs:
+  // on an 11-point grid of the variable, and on the written deck of the optimum.
+  const std::string deck_path = Case("jiang2022_table2_efficiency.toml");
+  const std::vector<std::string> sets = {
+      "optimise.variables={ \"modification.pin_circle_radius_mm\" = [-0.03, -0.002] }", "optimise.objective=\"power_loss_w\"",
+      "optimise.constraints={ efficiency = { min = 0.5 } }", "optimise.evaluations=40", "sweep.positions=7"};
+  const ltca::app::Deck deck = ltca::app::LoadDeck(deck_path, sets);
+  const auto result = Make(deck).Run();
+  REQUIRE(result.best >= 0);
+  const DesignEvaluation& best = result.history[static_cast<std::size_t>(result.best)];
+  const auto loss = [&](double offset) {
+    const auto r = RunCli({"efficiency", deck_path, "--set", "sweep.positions=7", "--set", fmt::format("modification.pin_circle_radius_mm={}", offset),
+                           "--json", "-"});
+    REQUIRE(r.code == 0);
+    const auto s = nlohmann::json::parse(r.out).at("summary");
+    return std::pair{s.at("power_loss_w").get<double>(), s.at("efficiency").get<double>()};
+  };
+  const auto [at_best, efficiency_at_best] = loss(best.x[0]);
+  CHECK(best.figures[ltca::analysis::kPowerLossW] == doctest::Approx(at_best).epsilon(1e-9));
+  CHECK(best.figures[ltca::analysis::kEfficiency] == doctest::Approx(efficiency_at_best).epsilon(1e-9));
+  for (int k = 0; k <= 10; ++k) {
+    const double offset = -0.03 + 0.028 * k / 10.0;
+    CAPTURE(offset);
+    CHECK(best.objective <= loss(offset).first + 1e-9);
+  }
+  // The efficiency needs [friction] and [operation], and is not a robust figure.
+  CHECK_THROWS_WITH_AS(Make(ltca::app::LoadDeck(Case("liu2021_optimise.toml"), {"optimise.objective=\"power_loss_w\""})),
+                       doctest::Contains("[friction]"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(ltca::app::LoadDeck(Case("liu2021_robust.toml"), {"optimise.objective=\"efficiency\"", "optimise.maximise=true"}),
+                       doctest::Contains("robust = true with power_loss_w or efficiency"), std::invalid_argument);
+}
+
+TEST_CASE("app: the written deck keeps a title with quotes and a backslash as the deck gave it") {
+  // TOML 1.0 basic strings: the reader of the written deck is the reference.
+  const std::string title = "a \"quoted\" title \\ with a backslash";
+  const auto path = std::filesystem::temp_directory_path() / ("ltca_optimise_title_" + std::to_string(::getpid()) + ".toml");
+  const auto w = RunCli({"optimise", Case("liu2021_optimise.toml"), "--threads", "1", "--evaluations", "30", "--set",
+                         "case.title=\"a \\\"quoted\\\" title \\\\ with a backslash\"", "--write-deck", path.string()});
+  REQUIRE(w.code == 0);
+  const ltca::app::Deck written = ltca::app::LoadDeck(path.string());
+  CHECK(written.info.title == title);
+  std::filesystem::remove(path);
+}
+
 TEST_CASE("app: optimise finds the closed-form optimum of the least offset at a given mean backlash (1e-3 um)") {
   // Mean backlash grows with the pin circle's deviation (4.76 arcsec/um, docs/validation.md) and
   // as the offset modification dR_p grows more negative. "The least offset (dR_p nearest 0) with

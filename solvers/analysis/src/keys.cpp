@@ -280,7 +280,7 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "design variables with bounds in their unit: { \"modification.pin_radius_mm\" = [-0.03, 0.0], ... }",
      .default_value = ""},
     {.section = "optimise", .name = "objective", .type = T::kText, .unit = "",
-     .meaning = "a figure (as [tolerances] limits name them) or a variable's key", .default_value = ""},
+     .meaning = "a figure ([tolerances] limits' names, power_loss_w, efficiency) or a variable's key", .default_value = ""},
     {.section = "optimise", .name = "maximise", .type = T::kBool, .unit = "", .meaning = "maximise the objective instead",
      .default_value = "false"},
     {.section = "optimise", .name = "constraints", .type = T::kTable, .unit = "",

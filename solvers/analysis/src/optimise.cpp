@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "bytes.hpp"
+#include "ltca/analysis/efficiency.hpp"
 
 namespace ltca::analysis {
 namespace {
@@ -256,8 +257,18 @@ std::int64_t ConfidenceSamples(double q, double c) {
   return n;
 }
 
+const std::vector<std::string>& OptimiseFigureNames() {
+  static const std::vector<std::string> kNames = [] {
+    std::vector<std::string> names = ToleranceSettings::FigureNames();
+    names.push_back("power_loss_w");
+    names.push_back("efficiency");
+    return names;
+  }();
+  return kNames;
+}
+
 int FigureIndex(const std::string& figure) {
-  const auto& names = ToleranceSettings::FigureNames();
+  const auto& names = OptimiseFigureNames();
   for (std::size_t f = 0; f < names.size(); ++f) {
     if (names[f] == figure) return static_cast<int>(f);
   }
@@ -269,10 +280,16 @@ bool OptimiseSettings::NeedsLostMotion() const {
   return std::any_of(constraints.begin(), constraints.end(), [](const ToleranceLimit& l) { return l.figure == "lost_motion_arcmin"; });
 }
 
+bool OptimiseSettings::NeedsEfficiency() const {
+  const auto efficiency = [](const std::string& f) { return f == "power_loss_w" || f == "efficiency"; };
+  return efficiency(objective) ||
+         std::any_of(constraints.begin(), constraints.end(), [&](const ToleranceLimit& l) { return efficiency(l.figure); });
+}
+
 void OptimiseSettings::Validate() {
   const auto figures = [] {
     std::string names;
-    for (const auto& f : ToleranceSettings::FigureNames()) names += (names.empty() ? "" : ", ") + f;
+    for (const auto& f : OptimiseFigureNames()) names += (names.empty() ? "" : ", ") + f;
     return names;
   };
   if (variables.empty() || static_cast<int>(variables.size()) > kMaxVariables) {
@@ -341,6 +358,11 @@ void OptimiseSettings::Validate() {
       throw std::invalid_argument(fmt::format("[optimise] confidence = {}: expected 0 (the point estimate) or a probability in (0, 1), e.g. 0.9",
                                               confidence));
     }
+    if (NeedsEfficiency()) {
+      throw std::invalid_argument(
+          "[optimise] robust = true with power_loss_w or efficiency: expected figures of the tolerance samples (the efficiency "
+          "is run on the nominal pair only; optimise it with robust = false)");
+    }
     if (confidence > 0.0 && ConfidenceRank(robust_samples, percentile / 100.0, confidence) == 0) {
       throw std::invalid_argument(fmt::format(
           "[optimise] robust_samples = {}: too few to bound the p{:g} with confidence {:g} (even the largest sample does so with "
@@ -362,6 +384,15 @@ Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSetti
   if (ranks_.size < 1 || ranks_.rank < 0 || ranks_.rank >= ranks_.size || (ranks_.size > 1 && !ranks_.all_gather)) {
     throw std::invalid_argument(fmt::format("optimise: rank {} of {}: expected 0 <= rank < size and, for more than one rank, a gather",
                                             ranks_.rank, ranks_.size));
+  }
+  if (settings_.NeedsEfficiency()) {
+    if (!nominal_.friction) {
+      throw std::invalid_argument("[optimise] power_loss_w / efficiency: expected a [friction] section (e.g. [friction] coefficient = 0.05)");
+    }
+    if (!nominal_.operation) {
+      throw std::invalid_argument("[optimise] power_loss_w / efficiency: expected an [operation] section (e.g. [operation] input_speed_rpm = 1500)");
+    }
+    if (nominal_.torque == 0.0) throw std::invalid_argument("[optimise] power_loss_w / efficiency: expected a non-zero [load] torque_nm");
   }
   if (settings_.NeedsLostMotion() && nominal_.torque == 0.0) {
     throw std::invalid_argument("[optimise] lost_motion_arcmin: expected a non-zero [load] torque_nm (the rated torque of the loop)");
@@ -389,7 +420,7 @@ DesignEvaluation Optimiser::Evaluate(const std::vector<double>& x) const {
   e.x = x;
   const ToleranceCase pair = Apply(x);
   const OptimiseSettings& s = settings_;
-  ToleranceFigures lower{};  // robust: each figure at 100 - percentile
+  OptimiseFigures lower{};  // robust: each figure at 100 - percentile
   lower.fill(kNaN);
   if (!s.robust) {
     ToleranceSettings one;
@@ -397,10 +428,23 @@ DesignEvaluation Optimiser::Evaluate(const std::vector<double>& x) const {
     one.lost_motion = s.NeedsLostMotion();
     const ToleranceStudy study(pair, options_, one);
     const ToleranceSample sample = study.Evaluate(pair);
-    e.figures = sample.figures;
-    lower = sample.figures;
+    std::copy(sample.figures.begin(), sample.figures.end(), e.figures.begin());
     e.status = sample.status;
     e.message = sample.message;
+    if (s.NeedsEfficiency() && e.status == RunStatus::kSuccess) {
+      // The efficiency over the same sweep: `ltca efficiency`'s summary (both discs with [second_disc]).
+      const Stage stage(pair.design, pair.sweep.CrankAngles());
+      EfficiencyRunner runner(stage, options_, pair.torque, *pair.friction, *pair.operation);
+      for (const double crank : runner.cranks()) runner.Solve(crank);
+      const EfficiencySummary sum = runner.Summary();
+      e.figures[kPowerLossW] = sum.power_loss.mean;
+      e.figures[kEfficiency] = sum.efficiency;
+      if (!sum.all_succeeded()) {
+        e.status = RunStatus::kFailed;
+        e.message = fmt::format("efficiency: {} of {} positions did not succeed", sum.failed, sum.positions());
+      }
+    }
+    lower = e.figures;
   } else {
     ToleranceSettings ts = s.tolerances;
     ts.samples = s.robust_samples;

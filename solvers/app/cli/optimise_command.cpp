@@ -16,6 +16,8 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
+#include "optimise_command.hpp"
+
 #include "command.hpp"
 #include "output.hpp"
 #include "solve_command.hpp"
@@ -25,17 +27,6 @@
 
 namespace ltca::cli {
 namespace {
-
-struct OptimiseOptions {
-  std::string solver, kinematics;
-  std::string json_path, csv_path, svg_path, deck_path;
-  int threads = 0;
-  std::optional<int> evaluations;
-  int map = 0;  ///< points a variable of the objective's map (two variables), 0: none
-  std::string pareto;  ///< the second figure of a Pareto front, "" none
-  double pareto_from = std::numeric_limits<double>::quiet_NaN(), pareto_to = std::numeric_limits<double>::quiet_NaN();
-  int pareto_steps = 11;
-};
 
 nlohmann::json EvaluationJson(const app::OptimiseSettings& s, const app::DesignEvaluation& e) {
   nlohmann::json j;
@@ -50,7 +41,7 @@ nlohmann::json EvaluationJson(const app::OptimiseSettings& s, const app::DesignE
   j["status"] = app::ToString(e.status);
   j["message"] = e.message;
   nlohmann::json f = nlohmann::json::object();
-  const auto& names = app::ToleranceSettings::FigureNames();
+  const auto& names = app::OptimiseFigureNames();
   for (std::size_t k = 0; k < names.size(); ++k) f[names[k]] = FiniteOrNull(e.figures[k]);
   j["figures"] = f;
   if (s.robust) j["samples_failed"] = e.samples_failed;
@@ -102,6 +93,8 @@ std::string DesignDeck(const app::Deck& deck, const app::OptimiseSettings& s, co
   return out;
 }
 
+}  // namespace
+
 int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Streams& streams) {
   const app::Deck deck = DeckFor(deck_given, o.kinematics);
   if (!deck.optimise) {
@@ -131,7 +124,8 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     ranks.all_gather = [f = farm.get()](const std::string& mine) { return f->AllGather(mine); };
   }
   const bool root = ranks.rank == 0;
-  const app::Optimiser optimiser(deck.MakeToleranceCase(), SolverFor(deck, o.solver), settings, threads, ranks);
+  const solvers::SolverOptions solver = SolverFor(deck, o.solver);
+  const app::Optimiser optimiser(deck.MakeToleranceCase(), solver, settings, threads, ranks);
   if (!o.pareto.empty() && !(std::isfinite(o.pareto_from) && std::isfinite(o.pareto_to))) {
     throw std::invalid_argument("--pareto FIGURE: expected --pareto-from and --pareto-to, the range of its bound");
   }
@@ -145,6 +139,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
   const auto& s = optimiser.settings();
   fmt::print(text, "case        {}\n", deck.info.title);
   fmt::print(text, "{}", ModelLine(deck));
+  text << SolverLine(deck, solver);
   fmt::print(text, "objective   {} {}{}\n", s.maximise ? "maximise" : "minimise", s.objective,
              s.robust ? fmt::format(" (robust: {} over {} samples of [tolerances], seed {})", RobustRule(s), s.robust_samples, s.tolerances.seed) : "");
   for (const auto& v : s.variables) fmt::print(text, "variable    {} in [{:g}, {:g}]\n", v.key, v.lower, v.upper);
@@ -178,6 +173,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     nlohmann::json j;
     j["case"] = {{"title", deck.info.title}, {"deck", deck.name}};
     j["model"] = ModelJson(deck.Model());  // every output names the model that ran
+    j["solver"] = SolverJson(deck, solver);
     nlohmann::json vars = nlohmann::json::array();
     for (const auto& v : s.variables) vars.push_back({{"key", v.key}, {"lower", v.lower}, {"upper", v.upper}});
     nlohmann::json cons = nlohmann::json::array();
@@ -225,7 +221,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     c << "index,phase";
     for (const auto& v : s.variables) c << ',' << v.key;
     c << ",objective,violation,feasible,status";
-    for (const auto& f : app::ToleranceSettings::FigureNames()) c << ',' << f;
+    for (const auto& f : app::OptimiseFigureNames()) c << ',' << f;
     c << ",message\n";
     const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); };
     const auto row = [&](const app::DesignEvaluation& e) {
@@ -316,7 +312,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       figure.panels.push_back(p);
     }
     figure.columns = static_cast<int>(figure.panels.size());
-    figure.width = 700 * figure.columns;
+    figure.width = figure.columns == 1 ? 1000 : 700 * figure.columns;  // one panel: room for the legend beside it
     figure.height = 600;
     WriteFigure(figure, svg);
   }
@@ -332,8 +328,6 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
   // the run succeeds when it found a design that meets the constraints.
   return best != nullptr ? kExitSuccess : kExitNotSucceeded;
 }
-
-}  // namespace
 
 Command OptimiseCommand() {
   auto st = std::make_shared<DeckState<OptimiseOptions>>();

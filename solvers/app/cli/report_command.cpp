@@ -23,6 +23,7 @@
 #include "contact_commands.hpp"
 #include "efficiency_command.hpp"
 #include "geometry_command.hpp"
+#include "optimise_command.hpp"
 #include "ltca/analysis/keys.hpp"
 #include "ltca/app/plots.hpp"
 #include "ltca/geometry/units.hpp"
@@ -236,7 +237,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // the way (or a file that cannot be opened) is an error now, not after half the files exist.
   for (const char* name : {"index.html", "geometry.json", "geometry.svg", "solve.json", "solve.svg", "backlash.json",
                            "backlash.svg", "mesh.json", "mesh.svg", "stiffness.json", "stiffness.svg", "efficiency.json",
-                           "efficiency.svg", "tolerance.json", "tolerance.svg"}) {
+                           "efficiency.svg", "tolerance.json", "tolerance.svg", "optimise.json", "optimise.svg"}) {
     if (fs::is_directory(dir / name)) {
       throw OutputError(fmt::format("-o {}: {} is a folder; the report writes a file there", options.out_dir, file(name)));
     }
@@ -289,6 +290,15 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   tol.json_path = file("tolerance.json");
   tol.svg_path = file("tolerance.svg");
   const int tol_code = tolerance ? RunTolerance(deck, tol, quiet) : kExitSuccess;
+  // Design optimisation (issue 28) when the deck carries [optimise]: the search as `ltca optimise`
+  // runs it, on the report's threads.
+  const bool optimise = deck.optimise.has_value();
+  OptimiseOptions opt;
+  opt.solver = options.solver;
+  opt.threads = options.threads;
+  opt.json_path = file("optimise.json");
+  opt.svg_path = file("optimise.svg");
+  const int opt_code = optimise ? RunOptimise(deck, opt, quiet) : kExitSuccess;
 
   const nlohmann::json g = nlohmann::json::parse(ReadFile(geometry.json_path));
   const nlohmann::json s = nlohmann::json::parse(ReadFile(solve.json_path));
@@ -296,6 +306,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
   const nlohmann::json e = efficiency ? nlohmann::json::parse(ReadFile(eff.json_path)) : nlohmann::json();
   const nlohmann::json tj = tolerance ? nlohmann::json::parse(ReadFile(tol.json_path)) : nlohmann::json();
+  const nlohmann::json oj = optimise ? nlohmann::json::parse(ReadFile(opt.json_path)) : nlohmann::json();
   const auto& p = deck.pair;
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char date[32] = {};
@@ -312,7 +323,8 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
       {"unloaded", "Unloaded: backlash and mesh"},
       {"stiffness", "Torsional stiffness"},
       {"efficiency", "Friction and meshing efficiency"},
-      {"tolerance", "Tolerance analysis (Monte Carlo)"}};
+      {"tolerance", "Tolerance analysis (Monte Carlo)"},
+      {"optimise", "Design optimisation"}};
   std::string html = fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
       "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>ltca report: {0}</title>\n"
@@ -484,10 +496,63 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   } else {
     html += "<p class=\"note\">Not run: the deck has no [tolerances] section.</p>\n";
   }
+  html += "<h2 id=\"optimise\">Design optimisation</h2>\n";
+  if (optimise) {
+    const nlohmann::json& st = oj["settings"];
+    const nlohmann::json& os = oj["summary"];
+    const nlohmann::json& best = os["best"];
+    std::string rule = "on the nominal pair";
+    if (st["robust"].get<bool>()) {
+      rule = st["confidence"].is_number() && st["confidence"].get<double>() > 0.0
+                 ? fmt::format("robust: each figure's p{} bounded at confidence {} over {} common samples of [tolerances] (the "
+                               "{}th order statistic)",
+                               Cell(st["percentile"]), Cell(st["confidence"]), Cell(st["robust_samples"]), Cell(st["order_statistic"]))
+                 : fmt::format("robust: each figure's p{} over {} common samples of [tolerances]", Cell(st["percentile"]),
+                               Cell(st["robust_samples"]));
+    }
+    std::string phases;
+    for (const auto& ph : os["phases"]) {
+      phases += fmt::format("{}{}: {} evaluations, stopped: {}", phases.empty() ? "" : "; then ", Html(ph["method"].get<std::string>()),
+                            Cell(ph["evaluations"]), Html(ph["stop"].get<std::string>()));
+    }
+    html += fmt::format("<p>The search of the deck's <code>[optimise]</code> (docs/optimise.md): {} {}, {}; {} evaluations ({} failed, {} "
+                        "rejected: the pair interferes). {}.</p>\n",
+                        st["maximise"].get<bool>() ? "maximise" : "minimise", Html(Label(st["objective"].get<std::string>())), rule,
+                        Cell(os["evaluations"]), Cell(os["failed"]), Cell(os["rejected"]), phases);
+    html += "<table>\n<tr><th>variable</th><th>lower</th><th>upper</th><th>optimum</th></tr>\n";
+    for (const auto& v : st["variables"]) {
+      const std::string key = v["key"].get<std::string>();
+      html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(key), Html(Label(key)),
+                          Cell(v["lower"]), Cell(v["upper"]), best.is_null() ? "none" : Cell(best["variables"][key]));
+    }
+    html += "</table>\n";
+    if (best.is_null()) {
+      html += "<p class=\"note\">No evaluation met the constraints: there is no optimum to judge.</p>\n";
+    } else {
+      html += "<table>\n<tr><th>figure at the optimum</th><th>value</th><th>constraint</th><th>margin</th><th>verdict</th>"
+              "<th></th><th>from</th></tr>\n";
+      const std::string objective = st["objective"].get<std::string>();
+      const std::string basis = st["robust"].get<bool>() ? "ltca optimise, robust" : "ltca optimise, the nominal pair";
+      if (best["figures"].contains(objective)) {
+        html += AllowableRow(Label(objective) + " (objective)", objective, Number(best["figures"], objective), nan, nan, basis);
+      }
+      for (const auto& c : st["constraints"]) {
+        const std::string figure = c["figure"].get<std::string>();
+        const double lo = c["min"].is_number() ? c["min"].get<double>() : -std::numeric_limits<double>::infinity();
+        const double hi = c["max"].is_number() ? c["max"].get<double>() : std::numeric_limits<double>::infinity();
+        html += AllowableRow(Label(figure), figure, Number(best["figures"], figure), lo, hi, basis);
+      }
+      html += "</table>\n";
+    }
+    html += InlineSvg(opt.svg_path);
+  } else {
+    html += "<p class=\"note\">Not run: the deck has no [optimise] section.</p>\n";
+  }
   const double seconds = Number(ss, "wall_seconds");
   html += fmt::format("<p class=\"meta\">Built from geometry.json, solve.json, backlash.json, mesh.json{}{}{} in this folder "
                       "(the loaded sweep took {} s). A static page: nothing is fetched when it is viewed.</p>\n</body>\n</html>\n",
-                      loop ? ", stiffness.json" : "", efficiency ? ", efficiency.json" : "", tolerance ? ", tolerance.json" : "",
+                      loop ? ", stiffness.json" : "", efficiency ? ", efficiency.json" : "",
+                      std::string(tolerance ? ", tolerance.json" : "") + (optimise ? ", optimise.json" : ""),
                       std::isfinite(seconds) ? fmt::format("{:.3g}", seconds) : "n/a");
   Output page("-o", file("index.html"), streams.out);
   page.stream() << html;
@@ -497,7 +562,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   std::string failed;
   int result = kExitSuccess;
   for (const auto& [part, c] : {std::pair{"solve", code}, std::pair{"backlash", backlash_code}, std::pair{"stiffness", loop_code},
-                                std::pair{"efficiency", eff_code}, std::pair{"tolerance", tol_code}}) {
+                                std::pair{"efficiency", eff_code}, std::pair{"tolerance", tol_code}, std::pair{"optimise", opt_code}}) {
     if (c == kExitSuccess) continue;
     failed += fmt::format("{}{}", failed.empty() ? "" : ", ", part);
     if (result == kExitSuccess) result = c;

@@ -896,7 +896,7 @@ analysis::Stage Deck::MakeStage(std::vector<double> cranks) const {
 
 analysis::ToleranceCase Deck::MakeToleranceCase() const {
   RequireMaterial();
-  return {*this, sweep, RequireLoad().torque, stiffness, friction};
+  return {*this, sweep, RequireLoad().torque, stiffness, friction, operation};
 }
 
 const FrictionSettings& Deck::RequireFriction() const {

@@ -31,6 +31,15 @@
 
 namespace ltca::analysis {
 
+/// The figures a design is judged by: those of a tolerance sample (ToleranceSettings::FigureNames,
+/// in that order) and the efficiency's over the sweep (EfficiencyRunner: the mean power loss of the
+/// full model in W, the energy-weighted efficiency), run only when the objective or a constraint
+/// names them, on the nominal pair (not in robust mode), with the deck's [friction] and [operation].
+inline constexpr std::size_t kOptimiseFigureCount = kToleranceFigureCount + 2;
+inline constexpr std::size_t kPowerLossW = kToleranceFigureCount, kEfficiency = kToleranceFigureCount + 1;
+using OptimiseFigures = std::array<double, kOptimiseFigureCount>;
+const std::vector<std::string>& OptimiseFigureNames();
+
 /// One design variable: a real key of [modification] or [errors] with its bounds.
 struct OptimiseVariable {
   std::string key;                  ///< "section.name", e.g. "modification.pin_radius_mm"
@@ -48,7 +57,7 @@ struct OptimiseSettings {
   static constexpr double kPenaltyWeight = 100.0;
 
   std::vector<OptimiseVariable> variables;
-  /// A figure (ToleranceSettings::FigureNames()) or a variable's key.
+  /// A figure (OptimiseFigureNames()) or a variable's key.
   std::string objective;
   bool maximise = false;
   std::vector<ToleranceLimit> constraints;  ///< on figures, as [tolerances] limits
@@ -77,6 +86,8 @@ struct OptimiseSettings {
   void Validate();
   /// Whether the objective or a constraint needs lost motion.
   bool NeedsLostMotion() const;
+  /// Whether the objective or a constraint needs the efficiency (power_loss_w, efficiency).
+  bool NeedsEfficiency() const;
 };
 const char* ToString(OptimiseSettings::Global global);  ///< "direct" | "crs2" | "isres" | "none"
 const char* ToString(OptimiseSettings::Local local);    ///< "cobyla" | "bobyqa" | "none"
@@ -87,7 +98,7 @@ struct DesignEvaluation {
   std::string phase;       ///< "centre", "global", "local", "map", "pareto"
   std::vector<double> x;   ///< the variables, their keys' units
   /// Nominal: the pair's figures; robust: each at its percentile (OptimiseSettings). NaN: none.
-  ToleranceFigures figures{};
+  OptimiseFigures figures{};
   double objective = std::numeric_limits<double>::quiet_NaN();  ///< NaN when the evaluation failed
   /// Sum over the constraints of the violation relative to max(|limit|, 1e-9); 0 when feasible,
   /// NaN when the evaluation failed.
@@ -165,7 +176,7 @@ class Optimiser {
   RankGroup ranks_;
 };
 
-/// The index of a figure in ToleranceSettings::FigureNames(), or -1.
+/// The index of a figure in OptimiseFigureNames(), or -1.
 int FigureIndex(const std::string& figure);
 
 /// The order statistic (1-based) of n samples that bounds the q-quantile (0 < q < 1) from above

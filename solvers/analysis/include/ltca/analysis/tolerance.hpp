@@ -105,6 +105,7 @@ struct ToleranceCase {
   double torque = 0.0;                      ///< N*mm, signed
   StiffnessSettings stiffness;              ///< lost motion's loop (ToleranceSettings::lost_motion)
   std::optional<FrictionSettings> friction; ///< the loop's friction
+  std::optional<OperationSettings> operation;  ///< the efficiency's operating point (ltca optimise)
 };
 
 /// The figures of a sample, in the order of ToleranceSettings::FigureNames(), in the units their
