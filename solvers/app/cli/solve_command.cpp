@@ -377,6 +377,17 @@ std::string FailureNote(const app::SweepSummary& s) {
                      s.failed, s.positions(), s.succeeded);
 }
 
+nlohmann::json SolveJson(const app::Deck& deck, const solvers::SolverOptions& solver, const app::SweepResult& sweep) {
+  nlohmann::json j = {{"case", CaseJson(deck)}, {"model", ModelJson(deck.Model())}, {"solver", SolverJson(deck, solver)}};
+  nlohmann::json positions = nlohmann::json::array();
+  for (const app::PositionResult& p : sweep.positions) positions.push_back(PositionJson(p));
+  j["positions"] = std::move(positions);
+  nlohmann::json summary = SummaryJson(sweep.summary, deck.Model());
+  if (deck.reducer) summary["stage"] = StageSummaryJson(deck, sweep.summary);
+  j["summary"] = std::move(summary);
+  return j;
+}
+
 int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Streams& streams, const JsonEnvelope& envelope) {
   const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
   const solvers::SolverOptions solver = SolverFor(deck, options.solver);

@@ -28,6 +28,10 @@ struct JsonEnvelope {
 int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& streams,
              const JsonEnvelope& envelope = {});
 
+/// The document `ltca solve --json` writes, of a sweep whose positions were kept (the Python
+/// module, issue 30): built by the same functions, so the two agree to the last digit.
+nlohmann::json SolveJson(const app::Deck& deck, const solvers::SolverOptions& solver, const app::SweepResult& sweep);
+
 /// The deck with the command line's --kinematics ("" keeps the deck's [solver] kinematics).
 app::Deck DeckFor(const app::Deck& deck, const std::string& kinematics);
 /// The deck's [solver] with the command line's --solver ("" keeps the deck's).

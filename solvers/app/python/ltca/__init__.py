@@ -1,0 +1,255 @@
+"""ltca from Python: loaded tooth contact analysis of cycloid-pin gear pairs (docs/python.md).
+
+A deck is read by the same reader as the command line (the same keys, the same checks: bad input
+raises ValueError naming the key); an analysis runs the same library and returns the document the
+command line's ``--json`` writes, as dicts (JSON null as None), with NumPy arrays beside it.
+
+    import ltca
+    deck = ltca.Deck.load("cases/liu2021_table1.toml").set("load.torque_nm", 100)
+    result = ltca.solve(deck, solver="compatibility")
+    result.summary["pp_te_arcsec"], result.te_arcsec, result.pin_force_n
+"""
+import json as _json
+import math as _math
+import os as _os
+
+import numpy as _np
+
+from . import _ltca
+
+__all__ = ["Deck", "SolveResult", "Result", "solve", "geometry", "backlash", "mesh", "compare", "stiffness", "efficiency",
+           "tolerance", "optimise"]
+
+
+def _toml_value(value, where):
+    """A Python value as TOML text: bool, int, float, str, list, dict (an inline table)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if _math.isnan(value):
+            return "nan"
+        if _math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return repr(value)  # the shortest text that reads back the same double
+    if isinstance(value, str):
+        return _json.dumps(value)  # JSON's escapes are TOML basic-string escapes
+    if isinstance(value, (list, tuple, _np.ndarray)):
+        return "[" + ", ".join(_toml_value(v.item() if isinstance(v, _np.generic) else v, where) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{ " + ", ".join(f"{_json.dumps(str(k))} = {_toml_value(v, where + '.' + str(k))}" for k, v in value.items()) + " }"
+    if isinstance(value, _np.generic):
+        return _toml_value(value.item(), where)
+    raise ValueError(f"{where} = {value!r}: expected a bool, number, string, list or table")
+
+
+class Deck:
+    """A deck: its TOML text, a name for messages, the folder its relative paths are read from, and
+    ``--set`` overrides. Immutable: ``set`` returns a new deck. Checked when made."""
+
+    def __init__(self, text, name="<python>", directory="", sets=()):
+        self._text, self._name, self._directory, self._sets = str(text), str(name), str(directory), tuple(sets)
+        _ltca.check(self._text, self._name, self._directory, list(self._sets))
+
+    @classmethod
+    def load(cls, path):
+        """The deck file at path (its name as given, as the command line names it)."""
+        path = _os.fspath(path)
+        if not _os.path.isfile(path):
+            raise ValueError(f"deck '{path}': no such file; expected a deck file (TOML)")
+        with open(path, encoding="utf-8", errors="surrogateescape") as f:
+            text = f.read()
+        return cls(text, path, _os.path.dirname(path) or ".")
+
+    @classmethod
+    def from_toml(cls, text, name="<python>", directory=""):
+        return cls(text, name, directory)
+
+    @classmethod
+    def from_dict(cls, sections, name="<python>", directory=""):
+        """A deck from {"section": {"key": value, ...}, ...}: the keys of a deck file."""
+        if not isinstance(sections, dict):
+            raise ValueError(f"deck {name}: expected a dict of sections, got {type(sections).__name__}")
+        lines = []
+        for section, keys in sections.items():
+            if not isinstance(keys, dict):
+                raise ValueError(f"[{section}]: expected a dict of keys, got {type(keys).__name__}")
+            lines.append(f"[{section}]")
+            lines += [f"{_json.dumps(str(k))} = {_toml_value(v, f'{section}.{k}')}" for k, v in keys.items()]
+            lines.append("")
+        return cls("\n".join(lines), name, directory)
+
+    def set(self, key, value):
+        """A new deck with "section.key" set to value, as ``ltca --set section.key=value``."""
+        return Deck(self._text, self._name, self._directory, self._sets + (f"{key}={_toml_value(value, key)}",))
+
+    @property
+    def name(self):
+        return self._name
+
+    @property
+    def text(self):
+        return self._text
+
+    @property
+    def sets(self):
+        return self._sets
+
+    def __repr__(self):
+        return f"ltca.Deck({self._name!r}, {len(self._sets)} override(s))"
+
+
+class SolveResult:
+    """``ltca solve``: ``json`` is the document of ``ltca solve --json`` (dicts, None for null);
+    ``summary`` its summary; the arrays (NumPy, a row per crank position, NaN where the position
+    failed): crank_deg, te_arcsec, contacts, pin_force_n and contact_stress_mpa (positions x pins;
+    two discs: disc 1's pins, then disc 2's), disc_torque_nm (two discs), and position_status (a list)."""
+
+    def __init__(self, doc, arrays):
+        self.json = doc
+        self.summary = doc["summary"]
+        self.status = self.summary["status"]
+        for key, value in arrays.items():
+            setattr(self, key, value)
+
+    @property
+    def succeeded(self):
+        return self.status == "success"
+
+    def __repr__(self):
+        return f"ltca.SolveResult({self.json['case']['deck']!r}, status {self.status!r}, {len(self.crank_deg)} positions)"
+
+
+def _deck(deck):
+    if isinstance(deck, Deck):
+        return deck
+    if isinstance(deck, (str, _os.PathLike)):
+        return Deck.load(deck)
+    raise ValueError(f"deck: expected an ltca.Deck or a path, got {type(deck).__name__}")
+
+
+def solve(deck, solver=None, kinematics=None):
+    """The loaded sweep of the deck (``ltca solve``); solver and kinematics as --solver and
+    --kinematics (None: the deck's). Units as the keys say: deg, arcsec, N, MPa, N*m."""
+    d = _deck(deck)
+    doc, arrays = _ltca.solve(d._text, d._name, d._directory, list(d._sets), solver or "", kinematics or "")
+    return SolveResult(doc, arrays)
+
+
+def _column(values):
+    """A list of JSON values as a NumPy array: numbers (None as NaN), or lists of numbers of one
+    length as rows; None when the values are not numeric."""
+    if all(v is None or (isinstance(v, (int, float)) and not isinstance(v, bool)) for v in values):
+        return _np.array([_np.nan if v is None else float(v) for v in values], dtype=float)
+    if all(isinstance(v, list) for v in values) and len({len(v) for v in values}) == 1:
+        try:
+            return _np.array([[_np.nan if x is None else float(x) for x in v] for v in values], dtype=float)
+        except (TypeError, ValueError):
+            return None
+    return None
+
+
+def _table(rows):
+    """A list of dicts (a document's positions, curve, history, ...) as {key: NumPy array} for the
+    keys whose values are numeric in every row."""
+    keys = []
+    for r in rows:
+        keys += [k for k in r if k not in keys]
+    table = {}
+    for k in keys:
+        column = _column([r.get(k) for r in rows])
+        if column is not None:
+            table[k] = column
+    return table
+
+
+def _csv_table(text):
+    """CSV text as {column: NumPy array} (empty cells NaN); a column that is not numeric stays a list."""
+    import csv
+    import io
+    rows = list(csv.reader(io.StringIO(text)))
+    if not rows:
+        return {}
+    header, body = rows[0], rows[1:]
+    table = {}
+    for i, name in enumerate(header):
+        cells = [r[i] if i < len(r) else "" for r in body]
+        try:
+            table[name] = _np.array([_np.nan if c == "" else float(c) for c in cells], dtype=float)
+        except ValueError:
+            table[name] = cells
+    return table
+
+
+class Result:
+    """An analysis: ``json`` is the document its command writes with ``--json`` (dicts, None for
+    null), produced in this process by the command's own writer; ``summary`` its summary (or None);
+    ``exit_code`` the command's (0: everything succeeded, 1: some part did not); ``tables`` every
+    list of records in the document (positions, curve, history, ...) as {column: NumPy array}; and
+    ``csv`` the per-row table of the command's ``--csv`` where it carries one (tolerance: a row per
+    sample; geometry: the profile; optimise: a row per evaluation), as {column: NumPy array}."""
+
+    def __init__(self, command, code, doc, csv_text=""):
+        self.command = command
+        self.exit_code = code
+        self.json = doc
+        self.summary = doc.get("summary") if isinstance(doc, dict) else None
+        self.tables = {k: _table(v) for k, v in doc.items() if isinstance(v, list) and v and all(isinstance(r, dict) for r in v)}
+        self.csv = _csv_table(csv_text) if csv_text else {}
+
+    @property
+    def succeeded(self):
+        return self.exit_code == 0
+
+    def __repr__(self):
+        return f"ltca.Result({self.command!r}, exit code {self.exit_code}, tables {sorted(self.tables)})"
+
+
+def _run(name, deck, *args):
+    d = _deck(deck)
+    code, doc, csv_text = getattr(_ltca, name)(d._text, d._name, d._directory, list(d._sets), *args)
+    return Result(name, code, doc, csv_text)
+
+
+def geometry(deck, crank_deg=0.0, samples_per_flank=60):
+    """``ltca geometry``: the derived geometry; ``csv`` the profile (mm) at crank_deg (deg)."""
+    return _run("geometry", deck, float(crank_deg), int(samples_per_flank))
+
+
+def backlash(deck, kinematics=None):
+    """``ltca backlash``: unloaded TCA over the sweep (arcsec); ``tables["positions"]``."""
+    return _run("backlash", deck, kinematics or "")
+
+
+def mesh(deck, crank_deg=0.0):
+    """``ltca mesh``: the mesh state of every pin at crank_deg (deg); ``tables["pins"]``."""
+    return _run("mesh", deck, float(crank_deg))
+
+
+def compare(deck, solvers=(), kinematics=None):
+    """``ltca compare``: several solvers on the same sweep (all registered ones by default)."""
+    return _run("compare", deck, list(solvers), kinematics or "")
+
+
+def stiffness(deck, solver=None, kinematics=None, crank_deg=None, steps=None):
+    """``ltca stiffness``: the torque-twist loop (N*m, arcmin); options as --crank-deg, --steps."""
+    return _run("stiffness", deck, solver or "", kinematics or "", None if crank_deg is None else float(crank_deg),
+                None if steps is None else int(steps))
+
+
+def efficiency(deck, solver=None, kinematics=None):
+    """``ltca efficiency``: friction, power loss (W) and efficiency over the sweep."""
+    return _run("efficiency", deck, solver or "", kinematics or "")
+
+
+def tolerance(deck, samples=None, seed=None, threads=0, lost_motion=False, no_worst_case=False, solver=None, kinematics=None):
+    """``ltca tolerance``: the Monte Carlo of [tolerances]; ``csv`` a row per sample (its inputs
+    and figures), as --csv writes it. threads 0: every hardware thread."""
+    return _run("tolerance", deck, solver or "", kinematics or "", None if samples is None else int(samples),
+                None if seed is None else int(seed), int(threads), bool(lost_motion), bool(no_worst_case))
+
+
+def optimise(deck, threads=0, evaluations=None, solver=None, kinematics=None):
+    """``ltca optimise``: the search of [optimise]; ``csv`` a row per evaluation."""
+    return _run("optimise", deck, solver or "", kinematics or "", int(threads), None if evaluations is None else int(evaluations))

@@ -1,0 +1,244 @@
+// The compiled part of the Python module `ltca` (issue 30, docs/python.md): decks read by the same
+// reader as the command line, the analyses run by the same library, and their documents built by
+// the same functions as the command line's JSON, handed to Python as dicts (JSON null as None) with
+// NumPy arrays beside them. The Python API (ltca/__init__.py) wraps these functions.
+//
+// Errors: bad input (std::invalid_argument, naming the key) becomes ValueError, as pybind11
+// translates it; a solve that fails is a status in the result, not an exception. The GIL is
+// released while the library computes, so Python threads may run other decks meanwhile.
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "compare_command.hpp"
+#include "contact_commands.hpp"
+#include "efficiency_command.hpp"
+#include "geometry_command.hpp"
+#include "ltca/app/deck.hpp"
+#include "ltca/geometry/units.hpp"
+#include "optimise_command.hpp"
+#include "solve_command.hpp"
+#include "stiffness_command.hpp"
+#include "tolerance_command.hpp"
+
+namespace py = pybind11;
+
+namespace {
+
+using ltca::app::Deck;
+
+/// A JSON value as Python objects: null None, numbers int or float (a double as it is), arrays
+/// lists, objects dicts.
+py::object ToPython(const nlohmann::json& j) {
+  switch (j.type()) {
+    case nlohmann::json::value_t::null: return py::none();
+    case nlohmann::json::value_t::boolean: return py::bool_(j.get<bool>());
+    case nlohmann::json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
+    case nlohmann::json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
+    case nlohmann::json::value_t::number_float: return py::float_(j.get<double>());
+    case nlohmann::json::value_t::string: return py::str(j.get<std::string>());
+    case nlohmann::json::value_t::array: {
+      py::list list;
+      for (const auto& item : j) list.append(ToPython(item));
+      return list;
+    }
+    case nlohmann::json::value_t::object: {
+      py::dict dict;
+      for (const auto& [key, item] : j.items()) dict[py::str(key)] = ToPython(item);
+      return dict;
+    }
+    default: return py::none();
+  }
+}
+
+/// The deck of a text: the reader of `ltca` (the same keys and checks), --set overrides applied,
+/// relative paths (a measured profile) taken from `directory`.
+Deck Read(const std::string& text, const std::string& name, const std::string& directory, const std::vector<std::string>& sets) {
+  return ltca::app::ParseDeck(text, name, sets, std::filesystem::path(directory));
+}
+
+/// A rows x columns array of doubles (row-major), NaN where a row is shorter.
+py::array_t<double> Matrix(const std::vector<std::vector<double>>& rows) {
+  std::size_t columns = 0;
+  for (const auto& r : rows) columns = std::max(columns, r.size());
+  py::array_t<double> a({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(columns)});
+  auto m = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    for (std::size_t k = 0; k < columns; ++k) {
+      m(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(k)) = k < rows[i].size() ? rows[i][k] : std::nan("");
+    }
+  }
+  return a;
+}
+
+py::array_t<double> Vector(const std::vector<double>& v) {
+  py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+/// `ltca solve`: the document its --json writes and the arrays of the sweep. A failed position's
+/// row of an array is NaN (its JSON figures are null).
+py::tuple Solve(const std::string& text, const std::string& name, const std::string& directory, const std::vector<std::string>& sets,
+                const std::string& solver_name, const std::string& kinematics) {
+  const Deck deck = ltca::cli::DeckFor(Read(text, name, directory, sets), kinematics);
+  const ltca::solvers::SolverOptions solver = ltca::cli::SolverFor(deck, solver_name);
+  deck.RequireMaterial();
+  ltca::app::SweepResult sweep;
+  {
+    py::gil_scoped_release release;
+    sweep = ltca::app::SolveDeckSweep(deck, solver);
+  }
+  const nlohmann::json doc = ltca::cli::SolveJson(deck, solver, sweep);
+  namespace units = ltca::units;
+  std::vector<double> crank, te, contacts;
+  std::vector<std::vector<double>> force, stress, disc_torque;
+  py::list status;
+  for (const auto& p : sweep.positions) {
+    const bool ok = p.succeeded();
+    crank.push_back(units::RadToDeg(p.crank));
+    te.push_back(ok ? units::RadToArcsec(p.result.te) : std::nan(""));
+    contacts.push_back(ok ? static_cast<double>(p.contacts) : std::nan(""));
+    force.push_back(ok ? p.pin_force : std::vector<double>(p.pin_force.size(), std::nan("")));
+    stress.push_back(ok ? p.contact_stress : std::vector<double>(p.contact_stress.size(), std::nan("")));
+    std::vector<double> torques;
+    for (const double t : p.disc_torque) torques.push_back(ok ? units::NmmToNm(t) : std::nan(""));
+    disc_torque.push_back(torques);
+    status.append(py::str(ltca::solvers::ToString(p.result.status)));
+  }
+  py::dict arrays;
+  arrays["crank_deg"] = Vector(crank);
+  arrays["te_arcsec"] = Vector(te);
+  arrays["contacts"] = Vector(contacts);
+  arrays["pin_force_n"] = Matrix(force);
+  arrays["contact_stress_mpa"] = Matrix(stress);
+  if (deck.disc_count() == 2) arrays["disc_torque_nm"] = Matrix(disc_torque);
+  arrays["position_status"] = status;
+  return py::make_tuple(ToPython(doc), arrays);
+}
+
+namespace cli = ltca::cli;
+
+/// A command's document, written by the command's own writer in this process (its JSON to a
+/// string, its text to nowhere), with the GIL released: (exit code, the document as a dict). The
+/// CSV, when asked for, comes back as text beside it (the per-sample rows of a tolerance run).
+template <bool kWithCsv = false, typename Options, typename RunFn>
+py::tuple Document(const Deck& deck, Options options, RunFn run) {
+  std::ostringstream out, sink;
+  std::filesystem::path json_file;
+  if constexpr (kWithCsv) {  // the CSV takes stdout; the JSON a file of its own, removed after
+    static std::atomic<unsigned long> counter{0};
+    json_file = std::filesystem::temp_directory_path() / ("ltca-python-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".json");
+    options.json_path = json_file.string();
+    options.csv_path = "-";
+  } else {
+    options.json_path = "-";
+  }
+  int code = 0;
+  {
+    py::gil_scoped_release release;
+    const cli::Streams streams{out, sink, sink};
+    if constexpr (std::is_same_v<decltype(run(deck, options, streams)), void>) {
+      run(deck, options, streams);
+    } else {
+      code = run(deck, options, streams);
+    }
+  }
+  std::string json_text = out.str(), csv_text;
+  if constexpr (kWithCsv) {
+    csv_text = json_text;
+    std::ifstream in(json_file);
+    json_text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    std::error_code ec;
+    std::filesystem::remove(json_file, ec);
+  }
+  return py::make_tuple(code, ToPython(nlohmann::json::parse(json_text)), py::str(csv_text));
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_ltca, m) {
+  m.doc() = "The compiled part of ltca (docs/python.md): use the package's functions, not these.";
+  m.def(
+      "check", [](const std::string& text, const std::string& name, const std::string& directory, const std::vector<std::string>& sets) {
+        Read(text, name, directory, sets);
+      },
+      "Reads a deck as ltca does; ValueError names the key of bad input.");
+  m.def("solve", &Solve, "ltca solve: (the --json document as a dict, the arrays).");
+  // The other analyses: (exit code, the --json document, the CSV text or "").
+  using Strings = std::vector<std::string>;
+  m.def("geometry", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, double crank_deg,
+                       int samples_per_flank) {
+    cli::GeometryOptions o;
+    o.crank_deg = crank_deg;
+    o.samples_per_flank = samples_per_flank;
+    return Document<true>(Read(t, n, d, sets), o, cli::RunGeometry);
+  });
+  m.def("backlash", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const std::string& kinematics) {
+    cli::BacklashOptions o;
+    if (!kinematics.empty()) o.kinematics = ltca::contact::ParseKinematics(kinematics);
+    return Document(Read(t, n, d, sets), o, cli::RunBacklash);
+  });
+  m.def("mesh", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, double crank_deg) {
+    cli::MeshOptions o;
+    o.crank_deg = crank_deg;
+    return Document(Read(t, n, d, sets), o, cli::RunMesh);
+  });
+  m.def("compare", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const Strings& solvers,
+                      const std::string& kinematics) {
+    cli::CompareOptions o;
+    o.solvers = solvers;
+    o.kinematics = kinematics;
+    return Document(Read(t, n, d, sets), o, cli::RunCompare);
+  });
+  m.def("stiffness", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const std::string& solver,
+                        const std::string& kinematics, std::optional<double> crank_deg, std::optional<int> steps) {
+    cli::StiffnessOptions o;
+    o.solver = solver;
+    o.kinematics = kinematics;
+    o.crank_deg = crank_deg;
+    o.steps = steps;
+    return Document(Read(t, n, d, sets), o, cli::RunStiffness);
+  });
+  m.def("efficiency", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const std::string& solver,
+                         const std::string& kinematics) {
+    cli::EfficiencyOptions o;
+    o.solver = solver;
+    o.kinematics = kinematics;
+    return Document(Read(t, n, d, sets), o, cli::RunEfficiency);
+  });
+  m.def("tolerance", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const std::string& solver,
+                        const std::string& kinematics, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed,
+                        int threads, bool lost_motion, bool no_worst_case) {
+    cli::ToleranceOptions o;
+    o.solver = solver;
+    o.kinematics = kinematics;
+    o.samples = samples;
+    o.seed = seed;
+    o.threads = threads;
+    o.lost_motion = lost_motion;
+    o.no_worst_case = no_worst_case;
+    return Document<true>(Read(t, n, d, sets), o, cli::RunTolerance);
+  });
+  m.def("optimise", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const std::string& solver,
+                       const std::string& kinematics, int threads, std::optional<int> evaluations) {
+    cli::OptimiseOptions o;
+    o.solver = solver;
+    o.kinematics = kinematics;
+    o.threads = threads;
+    o.evaluations = evaluations;
+    return Document<true>(Read(t, n, d, sets), o, cli::RunOptimise);
+  });
+}
