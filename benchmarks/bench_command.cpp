@@ -24,6 +24,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 #include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
 
 #include "ltca/solvers/registry.hpp"
 #include "ltca/geometry/units.hpp"
@@ -332,6 +333,40 @@ void WriteOptimiseBar(const OptimiseBar& bar, const BenchHeader& header, const f
 }
 // --- end of the optimisation bars -----------------------------------------------------------------
 
+// --- Issue 30: the Python module against processes ------------------------------------------------
+/// benchmarks/python_sweep.py, when the module is built: 100 decks built in Python and solved by the
+/// module, against 100 `ltca solve` processes, with each solver of the deck family (the deck's
+/// bisection and the fastest, compatibility). Empty when the module or Python is missing.
+struct PythonSweepRow {
+  std::string solver;
+  double python_seconds = 0, processes_seconds = 0, ratio = 0;
+};
+
+std::vector<PythonSweepRow> RunPythonSweep(const std::string& ltca, std::ostream& out) {
+  std::vector<PythonSweepRow> rows;
+#ifdef LTCA_PYTHON_DIR
+  if (ltca.empty()) return rows;
+  for (const char* solver : {"bisection", "compatibility"}) {
+    const std::string command = fmt::format("PYTHONPATH='{}' '{}' '{}/benchmarks/python_sweep.py' '{}' 100 {} 2>&1", LTCA_PYTHON_DIR,
+                                            LTCA_PYTHON_EXE, LTCA_SOURCE_DIR, ltca, solver);
+    const std::string text = Capture(command);
+    try {
+      const nlohmann::json j = nlohmann::json::parse(text);
+      rows.push_back({solver, j.at("python_seconds").get<double>(), j.at("processes_seconds").get<double>(), j.at("ratio").get<double>()});
+      fmt::print(out, "python: 100 decks ({}) in {:.3f} s against {:.3f} s as processes: {:.2f}x\n", solver, rows.back().python_seconds,
+                 rows.back().processes_seconds, rows.back().ratio);
+    } catch (const std::exception&) {
+      fmt::print(out, "python: benchmarks/python_sweep.py failed: {}\n", text.substr(0, 400));
+    }
+  }
+#else
+  (void)ltca;
+  (void)out;
+#endif
+  return rows;
+}
+// --- end of the Python bar --------------------------------------------------------------------------
+
 }  // namespace
 
 int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
@@ -522,6 +557,9 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
     if (fs::exists(peak)) rss_mb = PeakRssMb(peak.string(), {ltca, "solve", std::string(LTCA_CASES_DIR) + "/liu2021_table1_absolute.toml"});
   }
 
+  // Issue 30: the Python module against processes (when it is built).
+  const std::vector<PythonSweepRow> python_rows = RunPythonSweep(ltca, out);
+
   if (!options.docs_dir.empty()) {
     const fs::path docs(options.docs_dir);
     WriteBenchSvg(report, docs / "performance.svg");
@@ -657,6 +695,17 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
                1e3 * optimise_bar.robust_seconds /
                    static_cast<double>(std::max<std::int64_t>(1, optimise_bar.robust_designs * optimise_bar.robust_samples)),
                verdict(optimise_bar.robust_seconds < 180.0));
+    // Issue 30: the Python module.
+    if (python_rows.empty()) {
+      fmt::print(md, "| Python (issue 30): a sweep of 100 decks built in Python at least 5x faster than 100 `ltca solve` processes | "
+                     "not measured: the module is not built | **missed** |\n");
+    }
+    for (const auto& r : python_rows) {
+      fmt::print(md, "| Python (issue 30): 100 decks built in Python (cases/liu2021_optimise.toml, dR_p stepped, one mesh period at "
+                     "19 positions, {}) at least 5x faster than 100 `ltca solve` processes reading their JSON "
+                     "(benchmarks/python_sweep.py) | {:.3f} s against {:.3f} s: {:.2f}x | {} |\n",
+                 r.solver, r.python_seconds, r.processes_seconds, r.ratio, verdict(r.ratio >= 5.0));
+    }
     // Issue 11: the slice model.
     const auto at = [](const std::vector<app::SliceStudyRow>& rows, int n) -> const app::SliceStudyRow& {
       return *std::find_if(rows.begin(), rows.end(), [n](const app::SliceStudyRow& r) { return r.slices == n; });

@@ -74,6 +74,50 @@ TEST_CASE("solvers: every deck in cases/ loads and names its source") {
   CHECK(count >= 5);
 }
 
+TEST_CASE("app: a deck read from its text parsed once (DeckSource) is the deck ParseDeck reads, overrides and errors alike") {
+  // Issue 30: the Python module parses a deck's TOML once and reads it with each set of overrides.
+  // The reference is ParseDeck of the same text and overrides, for every deck in cases/.
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(LTCA_CASES_DIR)) {
+    if (entry.path().extension() != ".toml") continue;
+    CAPTURE(entry.path().string());
+    std::ifstream in(entry.path());
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string dir = entry.path().parent_path().string();
+    const ltca::app::DeckSource source(text, entry.path().string(), dir);
+    for (const std::vector<std::string>& sets : {std::vector<std::string>{}, std::vector<std::string>{"load.torque_nm=123.5", "sweep.positions=4"}}) {
+      std::string direct_error, source_error;
+      ltca::app::Deck direct, from_source;
+      try {
+        direct = ParseDeck(text, entry.path().string(), sets, dir);
+      } catch (const std::invalid_argument& e) {
+        direct_error = e.what();
+      }
+      try {
+        from_source = source.Read(sets);
+      } catch (const std::invalid_argument& e) {
+        source_error = e.what();
+      }
+      CHECK(source_error == direct_error);
+      if (!direct_error.empty()) continue;
+      REQUIRE(from_source.given.size() == direct.given.size());
+      for (std::size_t i = 0; i < direct.given.size(); ++i) {
+        CHECK(from_source.given[i].section == direct.given[i].section);
+        CHECK(from_source.given[i].key == direct.given[i].key);
+        CHECK(from_source.given[i].value == direct.given[i].value);
+      }
+      CHECK(from_source.sweep.positions == direct.sweep.positions);
+    }
+  }
+  // The source is not changed by a read: an override does not stay for the next.
+  const ltca::app::DeckSource source("[case]\ntitle = \"t\"\n[pair]\npin_count = 40\ntooth_count = 39\npin_radius_mm = 3.0\n"
+                                     "pin_circle_radius_mm = 64.0\neccentricity_mm = 1.3\nface_width_mm = 12.0\n",
+                                     "inline");
+  CHECK(source.Read({"pair.pin_radius_mm=3.5"}).pair.pin_radius == 3.5);
+  CHECK(source.Read().pair.pin_radius == 3.0);
+  CHECK_THROWS_WITH_AS(source.Read({"pair.pin_cuont=40"}), doctest::Contains("pin_cuont"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(ltca::app::DeckSource("[case\n", "broken"), doctest::Contains("deck 'broken'"), std::invalid_argument);
+}
+
 TEST_CASE("app: reading a deck runs no load solve, whatever the deck holds (issue 24)") {
   // Every deck of cases/ (sharp |d| >= 2 tips, tip relief, two discs, pin bending, tolerances,
   // friction) and the built-in one with an override: LoadSolver::Solve is never called. The control:

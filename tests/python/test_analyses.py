@@ -88,3 +88,13 @@ def test_bad_options_raise_value_error_naming_them(monkeypatch):
         ltca.backlash("cases/liu2021_table1.toml", kinematics="exactly")
     with pytest.raises(ValueError, match="optimise"):
         ltca.optimise("cases/liu2021_table1.toml")  # no [optimise]
+
+
+def test_the_stiffness_curve_is_a_table_of_arrays(monkeypatch):
+    monkeypatch.chdir(ROOT)
+    result = ltca.stiffness("cases/liu2021_sec52_base.toml", crank_deg=0, steps=5)
+    curve = result.json["positions"][0]["curve"]
+    table = result.table("positions", 0, "curve")
+    assert table and all(len(column) == len(curve) for column in table.values())
+    key = next(iter(table))
+    assert [r.get(key) for r in curve] == [None if np.isnan(v) else v for v in table[key]]

@@ -377,14 +377,18 @@ std::string FailureNote(const app::SweepSummary& s) {
                      s.failed, s.positions(), s.succeeded);
 }
 
+nlohmann::json SolveSummaryJson(const app::Deck& deck, const app::SweepSummary& summary) {
+  nlohmann::json j = SummaryJson(summary, deck.Model());
+  if (deck.reducer) j["stage"] = StageSummaryJson(deck, summary);
+  return j;
+}
+
 nlohmann::json SolveJson(const app::Deck& deck, const solvers::SolverOptions& solver, const app::SweepResult& sweep) {
   nlohmann::json j = {{"case", CaseJson(deck)}, {"model", ModelJson(deck.Model())}, {"solver", SolverJson(deck, solver)}};
   nlohmann::json positions = nlohmann::json::array();
   for (const app::PositionResult& p : sweep.positions) positions.push_back(PositionJson(p));
   j["positions"] = std::move(positions);
-  nlohmann::json summary = SummaryJson(sweep.summary, deck.Model());
-  if (deck.reducer) summary["stage"] = StageSummaryJson(deck, sweep.summary);
-  j["summary"] = std::move(summary);
+  j["summary"] = SolveSummaryJson(deck, sweep.summary);
   return j;
 }
 
@@ -455,9 +459,7 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
   const auto& s = sweep.summary;
 
   if (json.enabled()) {
-    nlohmann::json summary = SummaryJson(s, deck.Model());
-    if (deck.reducer) summary["stage"] = StageSummaryJson(deck, s);
-    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(summary)) << "\n}" << envelope.after << '\n';
+    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(SolveSummaryJson(deck, s))) << "\n}" << envelope.after << '\n';
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();

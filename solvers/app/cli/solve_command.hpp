@@ -31,6 +31,8 @@ int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& 
 /// The document `ltca solve --json` writes, of a sweep whose positions were kept (the Python
 /// module, issue 30): built by the same functions, so the two agree to the last digit.
 nlohmann::json SolveJson(const app::Deck& deck, const solvers::SolverOptions& solver, const app::SweepResult& sweep);
+/// Its summary alone (the streamed writer's and SolveJson's).
+nlohmann::json SolveSummaryJson(const app::Deck& deck, const app::SweepSummary& summary);
 
 /// The deck with the command line's --kinematics ("" keeps the deck's [solver] kinematics).
 app::Deck DeckFor(const app::Deck& deck, const std::string& kinematics);

@@ -7,10 +7,13 @@
 // translates it; a solve that fails is a status in the result, not an exception. The GIL is
 // released while the library computes, so Python threads may run other decks meanwhile.
 #include <atomic>
+#include <memory>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <tuple>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -69,6 +72,12 @@ Deck Read(const std::string& text, const std::string& name, const std::string& d
   return ltca::app::ParseDeck(text, name, sets, std::filesystem::path(directory));
 }
 
+/// A document kept as JSON until Python asks for it (converting every position's records costs
+/// about as much as a short sweep).
+struct Document {
+  std::function<nlohmann::json()> make;
+};
+
 /// A rows x columns array of doubles (row-major), NaN where a row is shorter.
 py::array_t<double> Matrix(const std::vector<std::vector<double>>& rows) {
   std::size_t columns = 0;
@@ -91,17 +100,25 @@ py::array_t<double> Vector(const std::vector<double>& v) {
 
 /// `ltca solve`: the document its --json writes and the arrays of the sweep. A failed position's
 /// row of an array is NaN (its JSON figures are null).
-py::tuple Solve(const std::string& text, const std::string& name, const std::string& directory, const std::vector<std::string>& sets,
-                const std::string& solver_name, const std::string& kinematics) {
-  const Deck deck = ltca::cli::DeckFor(Read(text, name, directory, sets), kinematics);
+py::tuple Solve(const Deck& given, const std::string& solver_name, const std::string& kinematics, const py::object& progress) {
+  const Deck deck = ltca::cli::DeckFor(given, kinematics);
   const ltca::solvers::SolverOptions solver = ltca::cli::SolverFor(deck, solver_name);
   deck.RequireMaterial();
   ltca::app::SweepResult sweep;
+  ltca::app::SweepCallbacks callbacks;
+  if (!progress.is_none()) {  // progress(done, total) after each position, with the GIL held for it
+    const auto total = static_cast<std::int64_t>(deck.sweep.positions);
+    auto done = std::make_shared<std::int64_t>(0);
+    callbacks.on_position = [&progress, total, done](const ltca::app::PositionResult&) {
+      py::gil_scoped_acquire gil;
+      progress(++*done, total);
+    };
+  }
   {
     py::gil_scoped_release release;
-    sweep = ltca::app::SolveDeckSweep(deck, solver);
+    sweep = ltca::app::SolveDeckSweep(deck, solver, callbacks);
   }
-  const nlohmann::json doc = ltca::cli::SolveJson(deck, solver, sweep);
+  py::object summary = ToPython(ltca::cli::SolveSummaryJson(deck, sweep.summary));
   namespace units = ltca::units;
   std::vector<double> crank, te, contacts;
   std::vector<std::vector<double>> force, stress, disc_torque;
@@ -126,7 +143,10 @@ py::tuple Solve(const std::string& text, const std::string& name, const std::str
   arrays["contact_stress_mpa"] = Matrix(stress);
   if (deck.disc_count() == 2) arrays["disc_torque_nm"] = Matrix(disc_torque);
   arrays["position_status"] = status;
-  return py::make_tuple(ToPython(doc), arrays);
+  // The whole document is built when Python asks for it, from the sweep kept for it.
+  auto kept = std::make_shared<const std::tuple<Deck, ltca::solvers::SolverOptions, ltca::app::SweepResult>>(deck, solver, std::move(sweep));
+  Document document{[kept] { return ltca::cli::SolveJson(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept)); }};
+  return py::make_tuple(document, summary, arrays);
 }
 
 namespace cli = ltca::cli;
@@ -135,7 +155,7 @@ namespace cli = ltca::cli;
 /// string, its text to nowhere), with the GIL released: (exit code, the document as a dict). The
 /// CSV, when asked for, comes back as text beside it (the per-sample rows of a tolerance run).
 template <bool kWithCsv = false, typename Options, typename RunFn>
-py::tuple Document(const Deck& deck, Options options, RunFn run) {
+py::tuple CommandDocument(const Deck& deck, Options options, RunFn run) {
   std::ostringstream out, sink;
   std::filesystem::path json_file;
   if constexpr (kWithCsv) {  // the CSV takes stdout; the JSON a file of its own, removed after
@@ -171,55 +191,57 @@ py::tuple Document(const Deck& deck, Options options, RunFn run) {
 
 PYBIND11_MODULE(_ltca, m) {
   m.doc() = "The compiled part of ltca (docs/python.md): use the package's functions, not these.";
-  m.def(
-      "check", [](const std::string& text, const std::string& name, const std::string& directory, const std::vector<std::string>& sets) {
-        Read(text, name, directory, sets);
-      },
-      "Reads a deck as ltca does; ValueError names the key of bad input.");
-  m.def("solve", &Solve, "ltca solve: (the --json document as a dict, the arrays).");
+  py::class_<Deck>(m, "ParsedDeck", "A deck as the reader of ltca made it (opaque).");
+  py::class_<ltca::app::DeckSource>(m, "DeckSource", "A deck's text parsed once (opaque).")
+      .def(py::init<std::string, std::string, std::string>())
+      .def("read", &ltca::app::DeckSource::Read, "The deck with these overrides; ValueError names the key of bad input.");
+  py::class_<Document>(m, "Document", "A JSON document, converted on request.")
+      .def("to_python", [](const Document& d) { return ToPython(d.make()); });
+  m.def("parse", &Read, "Reads a deck as ltca does; ValueError names the key of bad input.");
+  m.def("solve", &Solve, "ltca solve: (the --json document, its summary as a dict, the arrays).");
   // The other analyses: (exit code, the --json document, the CSV text or "").
   using Strings = std::vector<std::string>;
-  m.def("geometry", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, double crank_deg,
+  m.def("geometry", [](const Deck& deck, double crank_deg,
                        int samples_per_flank) {
     cli::GeometryOptions o;
     o.crank_deg = crank_deg;
     o.samples_per_flank = samples_per_flank;
-    return Document<true>(Read(t, n, d, sets), o, cli::RunGeometry);
+    return CommandDocument<true>(deck, o, cli::RunGeometry);
   });
-  m.def("backlash", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const std::string& kinematics) {
+  m.def("backlash", [](const Deck& deck, const std::string& kinematics) {
     cli::BacklashOptions o;
     if (!kinematics.empty()) o.kinematics = ltca::contact::ParseKinematics(kinematics);
-    return Document(Read(t, n, d, sets), o, cli::RunBacklash);
+    return CommandDocument(deck, o, cli::RunBacklash);
   });
-  m.def("mesh", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, double crank_deg) {
+  m.def("mesh", [](const Deck& deck, double crank_deg) {
     cli::MeshOptions o;
     o.crank_deg = crank_deg;
-    return Document(Read(t, n, d, sets), o, cli::RunMesh);
+    return CommandDocument(deck, o, cli::RunMesh);
   });
-  m.def("compare", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const Strings& solvers,
+  m.def("compare", [](const Deck& deck, const Strings& solvers,
                       const std::string& kinematics) {
     cli::CompareOptions o;
     o.solvers = solvers;
     o.kinematics = kinematics;
-    return Document(Read(t, n, d, sets), o, cli::RunCompare);
+    return CommandDocument(deck, o, cli::RunCompare);
   });
-  m.def("stiffness", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const std::string& solver,
+  m.def("stiffness", [](const Deck& deck, const std::string& solver,
                         const std::string& kinematics, std::optional<double> crank_deg, std::optional<int> steps) {
     cli::StiffnessOptions o;
     o.solver = solver;
     o.kinematics = kinematics;
     o.crank_deg = crank_deg;
     o.steps = steps;
-    return Document(Read(t, n, d, sets), o, cli::RunStiffness);
+    return CommandDocument(deck, o, cli::RunStiffness);
   });
-  m.def("efficiency", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const std::string& solver,
+  m.def("efficiency", [](const Deck& deck, const std::string& solver,
                          const std::string& kinematics) {
     cli::EfficiencyOptions o;
     o.solver = solver;
     o.kinematics = kinematics;
-    return Document(Read(t, n, d, sets), o, cli::RunEfficiency);
+    return CommandDocument(deck, o, cli::RunEfficiency);
   });
-  m.def("tolerance", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const std::string& solver,
+  m.def("tolerance", [](const Deck& deck, const std::string& solver,
                         const std::string& kinematics, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed,
                         int threads, bool lost_motion, bool no_worst_case) {
     cli::ToleranceOptions o;
@@ -230,15 +252,15 @@ PYBIND11_MODULE(_ltca, m) {
     o.threads = threads;
     o.lost_motion = lost_motion;
     o.no_worst_case = no_worst_case;
-    return Document<true>(Read(t, n, d, sets), o, cli::RunTolerance);
+    return CommandDocument<true>(deck, o, cli::RunTolerance);
   });
-  m.def("optimise", [](const std::string& t, const std::string& n, const std::string& d, const Strings& sets, const std::string& solver,
+  m.def("optimise", [](const Deck& deck, const std::string& solver,
                        const std::string& kinematics, int threads, std::optional<int> evaluations) {
     cli::OptimiseOptions o;
     o.solver = solver;
     o.kinematics = kinematics;
     o.threads = threads;
     o.evaluations = evaluations;
-    return Document<true>(Read(t, n, d, sets), o, cli::RunOptimise);
+    return CommandDocument<true>(deck, o, cli::RunOptimise);
   });
 }

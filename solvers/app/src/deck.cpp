@@ -1159,16 +1159,24 @@ std::string GivenText(const toml::value& v) {
   while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
   return text;
 }
-}  // namespace
 
-Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::vector<std::string>& overrides,
-               const std::filesystem::path& directory) {
-  Deck deck;
-  deck.name = name;
+/// The TOML of a deck's text, its shape checked first; errors name the deck.
+toml::value ParseText(std::string_view toml_text, const std::string& name) {
   try {
     CheckTextShape(toml_text);
     std::istringstream stream{std::string(toml_text)};
-    toml::value root_value = toml::parse(stream, name);
+    return toml::parse(stream, name);
+  } catch (const std::exception& e) {  // the shape, TOML syntax errors and the like
+    throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
+  }
+}
+
+/// The deck of parsed TOML with the overrides applied (to this copy of it).
+Deck ReadParsed(toml::value root_value, const std::string& name, const std::vector<std::string>& overrides,
+                const std::filesystem::path& directory) {
+  Deck deck;
+  deck.name = name;
+  try {
     ApplyOverrides(root_value, overrides);
     const toml::table& root = root_value.as_table();
     const std::vector<std::string> sections = analysis::DeckSections();
@@ -1324,11 +1332,38 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
     }
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
-  } catch (const std::exception& e) {  // TOML syntax errors and the like
+  } catch (const std::exception& e) {  // TOML errors of an override and the like
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
   }
   return deck;
 }
+
+}  // namespace
+
+Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::vector<std::string>& overrides,
+               const std::filesystem::path& directory) {
+  return ReadParsed(ParseText(toml_text, name), name, overrides, directory);
+}
+
+struct DeckSource::Impl {
+  toml::value root;
+  std::string name;
+  std::filesystem::path directory;
+};
+
+DeckSource::DeckSource(std::string_view toml_text, std::string name, std::filesystem::path directory) {
+  auto impl = std::make_shared<Impl>();
+  impl->root = ParseText(toml_text, name);
+  impl->name = std::move(name);
+  impl->directory = std::move(directory);
+  impl_ = std::move(impl);
+}
+
+Deck DeckSource::Read(const std::vector<std::string>& overrides) const {
+  return ReadParsed(impl_->root, impl_->name, overrides, impl_->directory);
+}
+
+const std::string& DeckSource::name() const { return impl_->name; }
 
 SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const SweepCallbacks& callbacks) {
   const auto start = std::chrono::steady_clock::now();

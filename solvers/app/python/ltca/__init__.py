@@ -44,13 +44,21 @@ def _toml_value(value, where):
     raise ValueError(f"{where} = {value!r}: expected a bool, number, string, list or table")
 
 
+class _TraceFolder:
+    """A temporary folder of trace files, removed when no deck holds it."""
+
+    def __init__(self, path):
+        self.path = path
+
+
 class Deck:
     """A deck: its TOML text, a name for messages, the folder its relative paths are read from, and
     ``--set`` overrides. Immutable: ``set`` returns a new deck. Checked when made."""
 
     def __init__(self, text, name="<python>", directory="", sets=()):
         self._text, self._name, self._directory, self._sets = str(text), str(name), str(directory), tuple(sets)
-        _ltca.check(self._text, self._name, self._directory, list(self._sets))
+        self._source = _ltca.DeckSource(self._text, self._name, self._directory)  # the TOML parsed once
+        self._parsed = self._source.read(list(self._sets))
 
     @classmethod
     def load(cls, path):
@@ -82,7 +90,44 @@ class Deck:
 
     def set(self, key, value):
         """A new deck with "section.key" set to value, as ``ltca --set section.key=value``."""
-        return Deck(self._text, self._name, self._directory, self._sets + (f"{key}={_toml_value(value, key)}",))
+        return self.update({key: value})
+
+    def update(self, values):
+        """A new deck with every "section.key" of the dict set to its value (one reading of the
+        deck for all of them)."""
+        sets = tuple(f"{k}={_toml_value(v, k)}" for k, v in values.items())
+        deck = Deck.__new__(Deck)
+        deck._text, deck._name, deck._directory, deck._sets = self._text, self._name, self._directory, self._sets + sets
+        deck._source = self._source
+        deck._parsed = self._source.read(list(deck._sets))
+        deck._keep = getattr(self, "_keep", ())  # files the deck reads (a measured trace)
+        return deck
+
+    def with_measured_profile(self, abscissa, deviation_um, abscissa_name="profile_angle_deg"):
+        """A new deck whose [errors] profile_measured_csv is this trace, from NumPy arrays (or
+        lists): the abscissa in deg (abscissa_name "profile_angle_deg") or mm ("arc_length_mm"),
+        the normal deviation in um (+ adds material), as a measuring centre's CSV gives them
+        (docs/decks.md). The trace is written to a file the new deck owns (removed with it) and
+        read by the same reader as a deck's CSV, with the same checks."""
+        if abscissa_name not in ("profile_angle_deg", "arc_length_mm"):
+            raise ValueError(f"abscissa_name = {abscissa_name!r}: expected 'profile_angle_deg' or 'arc_length_mm'")
+        x = _np.asarray(abscissa, dtype=float).ravel()
+        y = _np.asarray(deviation_um, dtype=float).ravel()
+        if x.shape != y.shape:
+            raise ValueError(f"profile trace: {x.size} abscissae for {y.size} deviations; expected as many of each")
+        import tempfile
+        import weakref
+        folder = tempfile.mkdtemp(prefix="ltca-profile-")
+        path = _os.path.join(folder, "trace.csv")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(f"{abscissa_name}, deviation_um\n")
+            f.writelines(f"{a!r}, {b!r}\n" for a, b in zip(x.tolist(), y.tolist()))
+        import shutil
+        holder = _TraceFolder(folder)
+        weakref.finalize(holder, shutil.rmtree, folder, True)
+        deck = self.update({"errors.profile_measured_csv": path})
+        deck._keep = getattr(self, "_keep", ()) + (holder,)  # the file lives as long as a deck that reads it
+        return deck
 
     @property
     def name(self):
@@ -106,19 +151,26 @@ class SolveResult:
     failed): crank_deg, te_arcsec, contacts, pin_force_n and contact_stress_mpa (positions x pins;
     two discs: disc 1's pins, then disc 2's), disc_torque_nm (two discs), and position_status (a list)."""
 
-    def __init__(self, doc, arrays):
-        self.json = doc
-        self.summary = doc["summary"]
+    def __init__(self, document, summary, arrays):
+        self._document, self._json = document, None
+        self.summary = summary
         self.status = self.summary["status"]
         for key, value in arrays.items():
             setattr(self, key, value)
+
+    @property
+    def json(self):
+        """The whole document (converted on first use: its per-position records are many)."""
+        if self._json is None:
+            self._json = self._document.to_python()
+        return self._json
 
     @property
     def succeeded(self):
         return self.status == "success"
 
     def __repr__(self):
-        return f"ltca.SolveResult({self.json['case']['deck']!r}, status {self.status!r}, {len(self.crank_deg)} positions)"
+        return f"ltca.SolveResult(status {self.status!r}, {len(self.crank_deg)} positions)"
 
 
 def _deck(deck):
@@ -129,12 +181,14 @@ def _deck(deck):
     raise ValueError(f"deck: expected an ltca.Deck or a path, got {type(deck).__name__}")
 
 
-def solve(deck, solver=None, kinematics=None):
+def solve(deck, solver=None, kinematics=None, progress=None):
     """The loaded sweep of the deck (``ltca solve``); solver and kinematics as --solver and
-    --kinematics (None: the deck's). Units as the keys say: deg, arcsec, N, MPa, N*m."""
+    --kinematics (None: the deck's); progress: None or a callable progress(done, total) called
+    after each crank position (an exception it raises stops the sweep and propagates). Units as
+    the keys say: deg, arcsec, N, MPa, N*m."""
     d = _deck(deck)
-    doc, arrays = _ltca.solve(d._text, d._name, d._directory, list(d._sets), solver or "", kinematics or "")
-    return SolveResult(doc, arrays)
+    document, summary, arrays = _ltca.solve(d._parsed, solver or "", kinematics or "", progress)
+    return SolveResult(document, summary, arrays)
 
 
 def _column(values):
@@ -202,13 +256,23 @@ class Result:
     def succeeded(self):
         return self.exit_code == 0
 
+    def table(self, *path):
+        """The list of records at path in the document as {column: NumPy array}, e.g. the stiffness
+        loop's curve at the first crank: ``result.table("positions", 0, "curve")``."""
+        node = self.json
+        for step in path:
+            node = node[step]
+        if not (isinstance(node, list) and all(isinstance(r, dict) for r in node)):
+            raise ValueError(f"{path}: expected a list of records in the document")
+        return _table(node)
+
     def __repr__(self):
         return f"ltca.Result({self.command!r}, exit code {self.exit_code}, tables {sorted(self.tables)})"
 
 
 def _run(name, deck, *args):
     d = _deck(deck)
-    code, doc, csv_text = getattr(_ltca, name)(d._text, d._name, d._directory, list(d._sets), *args)
+    code, doc, csv_text = getattr(_ltca, name)(d._parsed, *args)
     return Result(name, code, doc, csv_text)
 
 

@@ -5,6 +5,7 @@
 // rad) on reading.
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <limits>
 #include <optional>
 #include <string>
@@ -137,6 +138,23 @@ SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const
 /// Throws std::invalid_argument with a message that starts with the deck name.
 Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::vector<std::string>& overrides = {},
                const std::filesystem::path& directory = {});
+/// A deck's text parsed once, to read decks from it with different overrides: the TOML parse is
+/// most of the cost of reading a deck (about 1 ms for a short one), and a sweep of decks built in
+/// Python (issue 30) changes a key or two of the same text. Read(overrides) is
+/// ParseDeck(text, name, overrides, directory), the same checks and messages. Immutable; shared
+/// between copies.
+class DeckSource {
+ public:
+  /// Parses the text (std::invalid_argument naming the deck for bad TOML or shape).
+  DeckSource(std::string_view toml_text, std::string name, std::filesystem::path directory = {});
+  Deck Read(const std::vector<std::string>& overrides = {}) const;
+  const std::string& name() const;
+
+ private:
+  struct Impl;
+  std::shared_ptr<const Impl> impl_;
+};
+
 /// The same for a file, which must be a regular file (not a directory, FIFO or device) of at
 /// most DeckLimits::kMaxFileBytes; it is read with a bounded read.
 Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
