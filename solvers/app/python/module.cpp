@@ -66,12 +66,6 @@ py::object ToPython(const nlohmann::json& j) {
   }
 }
 
-/// The deck of a text: the reader of `ltca` (the same keys and checks), --set overrides applied,
-/// relative paths (a measured profile) taken from `directory`.
-Deck Read(const std::string& text, const std::string& name, const std::string& directory, const std::vector<std::string>& sets) {
-  return ltca::app::ParseDeck(text, name, sets, std::filesystem::path(directory));
-}
-
 /// A document kept as JSON until Python asks for it (converting every position's records costs
 /// about as much as a short sweep).
 struct Document {
@@ -197,7 +191,6 @@ PYBIND11_MODULE(_ltca, m) {
       .def("read", &ltca::app::DeckSource::Read, "The deck with these overrides; ValueError names the key of bad input.");
   py::class_<Document>(m, "Document", "A JSON document, converted on request.")
       .def("to_python", [](const Document& d) { return ToPython(d.make()); });
-  m.def("parse", &Read, "Reads a deck as ltca does; ValueError names the key of bad input.");
   m.def("solve", &Solve, "ltca solve: (the --json document, its summary as a dict, the arrays).");
   // The other analyses: (exit code, the --json document, the CSV text or "").
   using Strings = std::vector<std::string>;
