@@ -21,17 +21,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// The percentile p (0..100) of the values by linear interpolation between order statistics
-/// (Hyndman & Fan type 7, as ComputeStats).
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  const double h = (static_cast<double>(v.size()) - 1.0) * p / 100.0;
-  const auto lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (h - static_cast<double>(lo)) * (v[hi] - v[lo]);
-}
-
 /// The variable index of a key, or -1.
 int VariableIndex(const OptimiseSettings& s, const std::string& key) {
   for (std::size_t j = 0; j < s.variables.size(); ++j) {
@@ -478,16 +467,17 @@ DesignEvaluation Optimiser::Evaluate(const std::vector<double>& x) const {
         for (const ToleranceSample& t : samples) {
           if (std::isfinite(t.figures[f])) v.push_back(t.figures[f]);
         }
-        if (s.confidence > 0.0 && !v.empty()) {
+        if (v.empty()) continue;  // NaN: no sample produced the figure
+        std::sort(v.begin(), v.end());
+        if (s.confidence > 0.0) {
           // The order statistics that bound the percentile with the stated confidence.
           const std::int64_t n = static_cast<std::int64_t>(v.size());
           const std::int64_t k = ConfidenceRank(n, s.percentile / 100.0, s.confidence);
-          std::sort(v.begin(), v.end());
           e.figures[f] = k > 0 ? v[static_cast<std::size_t>(k - 1)] : kNaN;
           lower[f] = k > 0 ? v[static_cast<std::size_t>(n - k)] : kNaN;
         } else {
-          e.figures[f] = Percentile(v, s.percentile);
-          lower[f] = Percentile(v, 100.0 - s.percentile);
+          e.figures[f] = SortedQuantile(v, s.percentile / 100.0);
+          lower[f] = SortedQuantile(v, 1.0 - s.percentile / 100.0);
         }
       }
     }

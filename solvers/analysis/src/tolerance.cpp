@@ -453,6 +453,13 @@ void ToleranceStudy::RunStream(std::int64_t first, std::int64_t count, int threa
   }
 }
 
+double SortedQuantile(const std::vector<double>& sorted, double p) {
+  const double h = (static_cast<double>(sorted.size()) - 1.0) * p;
+  const auto lo = static_cast<std::size_t>(std::floor(h));
+  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
+  return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+}
+
 FigureStats ComputeStats(std::vector<double> values) {
   values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }), values.end());
   FigureStats f;
@@ -467,12 +474,7 @@ FigureStats ComputeStats(std::vector<double> values) {
     for (const double v : values) ss += (v - f.mean) * (v - f.mean);
     f.std = std::sqrt(ss / static_cast<double>(values.size() - 1));
   }
-  const auto quantile = [&](double p) {  // type 7: h = (n - 1) p, linear between neighbours
-    const double h = (static_cast<double>(values.size()) - 1.0) * p;
-    const auto lo = static_cast<std::size_t>(std::floor(h));
-    const std::size_t hi = std::min(lo + 1, values.size() - 1);
-    return values[lo] + (h - static_cast<double>(lo)) * (values[hi] - values[lo]);
-  };
+  const auto quantile = [&](double p) { return SortedQuantile(values, p); };
   f.p1 = quantile(0.01), f.p5 = quantile(0.05), f.p50 = quantile(0.5), f.p95 = quantile(0.95), f.p99 = quantile(0.99);
   f.min = values.front(), f.max = values.back();
   return f;

@@ -256,6 +256,9 @@ struct FigureStats {
   double p1 = std::numeric_limits<double>::quiet_NaN(), p5 = p1, p50 = p1, p95 = p1, p99 = p1, min = p1, max = p1;
 };
 FigureStats ComputeStats(std::vector<double> values);
+/// The quantile p (0..1) of values sorted ascending (not empty), type 7: h = (n - 1) p, linear
+/// between the neighbouring order statistics. ComputeStats's and the optimiser's.
+double SortedQuantile(const std::vector<double>& sorted, double p);
 
 struct LimitResult {
   ToleranceLimit limit;
