@@ -367,26 +367,11 @@ std::vector<PythonSweepRow> RunPythonSweep(const std::string& ltca, std::ostream
 }
 // --- end of the Python bar --------------------------------------------------------------------------
 
-}  // namespace
-
-int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
-  const BenchHeader header = Header();
-  if (options.tolerance_only) {  // issue 15: the tolerance bar alone
-    const ToleranceBar bar = RunToleranceBar(options.smoke, out);
-    fs::create_directories(options.out_dir);
-    WriteToleranceBar(bar, header, fs::path(options.out_dir) / "tolerance.csv");
-    return bar.not_succeeded == 0 ? 0 : 1;
-  }
-  if (options.optimise_only) {  // issue 28: the optimisation bars alone
-    const OptimiseBar bar = RunOptimiseBar(options.smoke, out);
-    fs::create_directories(options.out_dir);
-    WriteOptimiseBar(bar, header, fs::path(options.out_dir) / "optimise.csv");
-    return std::isfinite(bar.nominal_best) && std::isfinite(bar.robust_best) ? 0 : 1;
-  }
+/// The matrix of cases and settings (--smoke: the smallest).
+BenchMatrix Matrix(bool smoke) {
   BenchMatrix matrix;
-  matrix.repeats = options.smoke ? 1 : options.repeats;
   const std::vector<std::string> all = solvers::SolverNames();
-  if (options.smoke) {
+  if (smoke) {
     matrix.cases = {Case("liu2021_table1", "liu2021_table1_absolute.toml")};
     matrix.positions = 5;
     matrix.settings = {Setting("bisection", ContactKinematics::kLinearised, 1e-10),
@@ -415,6 +400,74 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
     matrix.settings.push_back(Setting("bisection", ContactKinematics::kExact, 1e-2, "liu2021", elements, "liu2021_table1"));
     matrix.settings.push_back(Setting("bisection", ContactKinematics::kLinearised, 1e-10, "", elements, "liu2021_table1"));
   }
+  return matrix;
+}
+
+/// `--profile CASE/SETTING`: one row of the matrix run `loops` times, for perf (issue 29). Prints the
+/// time per position of the whole sweep and of its two parts: the stage (every position's mesh
+/// state) and the solves.
+int RunProfile(const BenchMatrix& matrix, const BenchOptions& options, std::ostream& out) {
+  for (const BenchCase& c : matrix.cases) {
+    for (const BenchSetting& s : matrix.settings) {
+      if (!s.only_case.empty() && s.only_case != c.name) continue;
+      if (c.name + "/" + s.Label() != options.profile) continue;
+      Deck deck = WithPositions(c.deck, matrix.positions);
+      deck.geometry = s.geometry;
+      deck.kinematics = s.kinematics;
+      SolverOptions o = deck.solver;
+      if (!s.preset.empty()) o = solvers::ApplyPreset(o, s.preset);
+      o.name = s.solver;
+      if (s.preset.empty()) o.torque_tolerance = s.torque_tolerance;
+      std::vector<double> stage_s, solve_s;
+      const double torque = deck.RequireLoad().torque;
+      for (int r = 0; r < options.loops; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const analysis::Stage stage = deck.MakeStage();
+        const auto t1 = std::chrono::steady_clock::now();
+        const app::SweepResult sweep = analysis::SolveSweep(stage, o, torque);
+        const auto t2 = std::chrono::steady_clock::now();
+        const double n = static_cast<double>(sweep.positions.size());
+        stage_s.push_back(std::chrono::duration<double>(t1 - t0).count() / n);
+        solve_s.push_back(std::chrono::duration<double>(t2 - t1).count() / n);
+      }
+      std::sort(stage_s.begin(), stage_s.end());
+      std::sort(solve_s.begin(), solve_s.end());
+      fmt::print(out, "{}: {} loops of {} positions; us/position, median [min]: stage (mesh states) {:.2f} [{:.2f}], solves {:.2f} "
+                      "[{:.2f}], total {:.2f} [{:.2f}]\n",
+                 options.profile, options.loops, matrix.positions, Us(stage_s[stage_s.size() / 2]), Us(stage_s.front()),
+                 Us(solve_s[solve_s.size() / 2]), Us(solve_s.front()), Us(stage_s[stage_s.size() / 2] + solve_s[solve_s.size() / 2]),
+                 Us(stage_s.front() + solve_s.front()));
+      return 0;
+    }
+  }
+  std::string rows;
+  for (const BenchCase& c : matrix.cases) {
+    for (const BenchSetting& s : matrix.settings) {
+      if (s.only_case.empty() || s.only_case == c.name) rows += "\n  " + c.name + "/" + s.Label();
+    }
+  }
+  throw std::invalid_argument(fmt::format("--profile '{}': not a row of the matrix; the rows are:{}", options.profile, rows));
+}
+
+}  // namespace
+
+int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
+  const BenchHeader header = Header();
+  if (options.tolerance_only) {  // issue 15: the tolerance bar alone
+    const ToleranceBar bar = RunToleranceBar(options.smoke, out);
+    fs::create_directories(options.out_dir);
+    WriteToleranceBar(bar, header, fs::path(options.out_dir) / "tolerance.csv");
+    return bar.not_succeeded == 0 ? 0 : 1;
+  }
+  if (options.optimise_only) {  // issue 28: the optimisation bars alone
+    const OptimiseBar bar = RunOptimiseBar(options.smoke, out);
+    fs::create_directories(options.out_dir);
+    WriteOptimiseBar(bar, header, fs::path(options.out_dir) / "optimise.csv");
+    return std::isfinite(bar.nominal_best) && std::isfinite(bar.robust_best) ? 0 : 1;
+  }
+  BenchMatrix matrix = Matrix(options.smoke);
+  matrix.repeats = options.smoke ? 1 : options.repeats;
+  if (!options.profile.empty()) return RunProfile(matrix, options, out);
   fmt::print(out, "ltca-bench: {} cases x {} settings x {} repeats ({})\n", matrix.cases.size(), matrix.settings.size(),
              matrix.repeats, header.build_type);
   const BenchReport report = RunBench(matrix, header);
@@ -611,7 +664,7 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
       fmt::print(md, "| energy-qp (Ipopt) <= 2 ms per position | {:.0f} us | {} |\n", Us(qp->seconds_per_position_median),
                  verdict(qp->seconds_per_position_median <= 2e-3));
     }
-    for (const auto& s : all) {
+    for (const auto& s : solvers::SolverNames()) {
       const auto* lin = find("liu2021_table1", s, ContactKinematics::kLinearised, 1e-10);
       const auto* ex = find("liu2021_table1", s, ContactKinematics::kExact, 1e-10);
       if (lin && ex) {

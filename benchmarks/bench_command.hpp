@@ -11,8 +11,10 @@ struct BenchOptions {
   std::string docs_dir;     ///< "" none; else writes performance.md and performance.svg there
   std::string ltca_path;    ///< the ltca executable, for the memory measurement ("" skips it)
   int repeats = 3;
-  bool tolerance_only = false;
-  bool optimise_only = false;   ///< only the optimisation bars (issue 28)  ///< only the tolerance bar (issue 15), e.g. to re-measure it on a quiet machine
+  bool tolerance_only = false;  ///< only the tolerance bar (issue 15), e.g. to re-measure it on a quiet machine
+  bool optimise_only = false;   ///< only the optimisation bars (issue 28)
+  std::string profile;          ///< "case/setting": run that row `loops` times, for perf (issue 29)
+  int loops = 200;
 };
 
 /// Peak resident memory of one run of a program (args[0] a path, the rest its arguments), MB, as

@@ -56,6 +56,8 @@ double PeakToPeak(const std::vector<double>& v) {
   return *std::max_element(v.begin(), v.end()) - *std::min_element(v.begin(), v.end());
 }
 
+}  // namespace
+
 Deck WithPositions(Deck deck, int positions) {
   if (positions > 0) {
     deck.sweep.crank_start = 0.0;
@@ -64,8 +66,6 @@ Deck WithPositions(Deck deck, int positions) {
   }
   return deck;
 }
-
-}  // namespace
 
 std::string BenchSetting::GeometryLabel() const {
   return geometry.mode == geometry::GeometrySettings::Mode::kElements

@@ -71,6 +71,9 @@ struct BenchReport {
   double peak_rss_mb = 0;  ///< of this process after the runs
 };
 
+/// The deck with its sweep over one mesh period at `positions` positions (0: the deck's own sweep).
+Deck WithPositions(Deck deck, int positions);
+
 /// Runs the matrix. The reference of each case is the analytic geometry with exact kinematics
 /// solved to 1e-12 by bisection, confirmed by compatibility.
 BenchReport RunBench(const BenchMatrix& matrix, const BenchHeader& header);

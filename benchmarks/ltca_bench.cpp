@@ -22,6 +22,11 @@ int main(int argc, char** argv) {
   app.add_flag("--optimise-only", options.optimise_only,
                "Only the optimisation bars: 2,000 evaluations over 3 variables, 500 robust designs x 64 samples; writes "
                "optimise.csv (with --smoke: 20 evaluations, 12 designs x 45 samples)");
+  app.add_option("--profile", options.profile,
+                 "Run one row of the matrix, 'case/setting' as the bench prints it (e.g. 'liu2021_table1/compatibility "
+                 "linearised tol 1e-10'), --loops times and print its time per position split into the stage (mesh "
+                 "states) and the solves: the workload to put under perf");
+  app.add_option("--loops", options.loops, "Loops of the --profile row (default 200)")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   try {
     return ltca::bench::RunBenchCommand(options, std::cout);

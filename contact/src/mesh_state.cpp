@@ -738,14 +738,15 @@ MeshState MeshModel::Evaluate(double crank, double loaded_rotation) const {
   state.crank = crank;
   state.loaded_rotation = loaded_rotation;
   state.pins.reserve(static_cast<std::size_t>(point_count()));
-  if (slices_ == 1 || discrete_) {
+  if (discrete_) {
     for (int j = 0; j < pin_count(); ++j) {
       for (int k = 0; k < slices_; ++k) state.pins.push_back(EvaluatePoint(j, k, crank, loaded_rotation));
     }
     return state;
   }
-  // The slice model: one pose per slice, and each slice of a pin searched from its neighbour's
-  // foot point (the slices differ by micrometres), not from the meshing equation again.
+  // One pose per slice, computed once for every pin (issue 29), and each slice of a pin searched
+  // from its neighbour's foot point (the slices differ by micrometres), not from the meshing
+  // equation again.
   std::vector<geometry::Pose> poses;
   poses.reserve(static_cast<std::size_t>(slices_));
   for (int k = 0; k < slices_; ++k) poses.push_back(CyclePose(crank, loaded_rotation, SliceZ(k)));

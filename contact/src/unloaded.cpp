@@ -86,8 +86,10 @@ double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double
 }
 
 std::string JamReport(const MeshState& state, double tolerance_mm) {
-  const std::string overlaps = InterferenceReport(state, tolerance_mm);
-  if (overlaps.empty()) return {};
+  // The report is formatted only for a jam (issue 29: every position of a sweep asks).
+  if (std::none_of(state.pins.begin(), state.pins.end(), [&](const PinContact& c) { return c.clearance < -tolerance_mm; })) {
+    return {};
+  }
   // Some pins overlap at the theoretical position (a pitch or position error of one pin does
   // that): the pair still fits when a rotation of the cycloid about its centre frees every pin,
   // i.e. when the gaps c_i - L_i psi >= -tolerance have a common psi (linearised about the
@@ -105,7 +107,7 @@ std::string JamReport(const MeshState& state, double tolerance_mm) {
       lo = std::max(lo, slack / c.arm);
     }
   }
-  return stuck || lo > hi ? overlaps : std::string();
+  return stuck || lo > hi ? InterferenceReport(state, tolerance_mm) : std::string();
 }
 
 const char* ToString(ContactKinematics kinematics) {

@@ -44,6 +44,14 @@ CycloidProfile::CycloidProfile(const PairParameters& pair, const Modification& m
   ze_ = static_cast<double>(pair_.pin_count) / d_;
   zd_ = static_cast<double>(pair_.tooth_count) / d_;
   k1_ = e_ * ze_ / R_;  // Chen eq. 12, signed (negative for d < 0)
+  // cos and sin of every tooth space's rotation, once (issue 29: Evaluate rotates four vectors).
+  space_cos_.resize(static_cast<std::size_t>(pair_.tooth_count));
+  space_sin_.resize(static_cast<std::size_t>(pair_.tooth_count));
+  for (int k = 0; k < pair_.tooth_count; ++k) {
+    const double angle = ToothSpaceRotation(k);
+    space_cos_[static_cast<std::size_t>(k)] = std::cos(angle);
+    space_sin_[static_cast<std::size_t>(k)] = std::sin(angle);
+  }
   ComputePhiMax();
   ComputeCurvatureExtremes();
   tip_cap_ = TipCap(*this, modification_.tip_relief);
@@ -121,10 +129,20 @@ ProfilePoint CycloidProfile::Evaluate(double u, int tooth_space) const {
   p.curvature = kappa_m / stretch;  // 1 / (rho_q - r'), Liu eq. 8
   const double rot = ToothSpaceRotation(tooth_space);
   if (rot != 0.0) {
-    p.position = Rotate(p.position, rot);
-    p.d1 = Rotate(p.d1, rot);
-    p.d2 = Rotate(p.d2, rot);
-    p.normal = Rotate(p.normal, rot);
+    double c_rot = 0.0, s_rot = 0.0;
+    if (tooth_space >= 0 && tooth_space < pair_.tooth_count) {
+      c_rot = space_cos_[static_cast<std::size_t>(tooth_space)];
+      s_rot = space_sin_[static_cast<std::size_t>(tooth_space)];
+    } else {
+      c_rot = std::cos(rot), s_rot = std::sin(rot);
+    }
+    const auto turn = [&](const Eigen::Vector2d& v) -> Eigen::Vector2d {
+      return {c_rot * v.x() - s_rot * v.y(), s_rot * v.x() + c_rot * v.y()};
+    };
+    p.position = turn(p.position);
+    p.d1 = turn(p.d1);
+    p.d2 = turn(p.d2);
+    p.normal = turn(p.normal);
   }
   return p;
 }

@@ -57,9 +57,18 @@ RealPair::RealPair(const PairParameters& pair, const Modification& modification,
       profile_(MakeProfile(pair, modification, errors)),
       profile_deviation_(MakeProfileDeviation(errors, profile_)),
       kinematics_(pair),
-      pin_circle_radius_(pair.pin_circle_radius + errors.PinCircleRadiusChange()) {}
+      pin_circle_radius_(pair.pin_circle_radius + errors.PinCircleRadiusChange()) {
+  pin_centres_.reserve(static_cast<std::size_t>(pair.pin_count));
+  for (int j = 0; j < pair.pin_count; ++j) pin_centres_.push_back(ComputePinCentre(j));
+}
 
 Eigen::Vector2d RealPair::PinCentre(int pin) const {
+  // Computed once (issue 29): every mesh state asks for every pin's centre.
+  if (pin >= 0 && static_cast<std::size_t>(pin) < pin_centres_.size()) return pin_centres_[static_cast<std::size_t>(pin)];
+  return ComputePinCentre(pin);
+}
+
+Eigen::Vector2d RealPair::ComputePinCentre(int pin) const {
   // Liu eq. 5: the cumulative pitch deviation moves the pin along its circle.
   const auto& pitch = errors_.cumulative_pitch_deviation;
   const double shift = pitch.empty() ? 0.0 : pitch[static_cast<std::size_t>(pin)] / pin_circle_radius_;

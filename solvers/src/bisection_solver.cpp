@@ -25,12 +25,20 @@ struct Evaluation {
   std::string failure;     // coupled only: the complementarity problem of the trial did not converge
 };
 
-Evaluation Evaluate(const LoadProblem& problem, double psi, Workspace& workspace, std::vector<double>* forces,
-                    std::vector<double>* hints) {
+// Storage reused over the trials of one solve (issue 29: no allocation per trial).
+struct Buffers {
+  std::vector<LoadProblem::PinAt> pins;
   std::vector<contact::ContactLaw> scratch;
-  Loading l = LoadAt(problem.At(psi, workspace, &scratch), hints);
-  *forces = std::move(l.force);
-  return {l.torque, l.edge, l.saturated, {}};
+  Loading loading;
+};
+
+Evaluation Evaluate(const LoadProblem& problem, double psi, Workspace& workspace, std::vector<double>* forces,
+                    std::vector<double>* hints, Buffers& buffers) {
+  problem.At(psi, workspace, &buffers.scratch, &buffers.pins);
+  buffers.loading.force.swap(*forces);  // the trial's storage, filled in place
+  LoadAt(buffers.pins, hints, &buffers.loading);
+  forces->swap(buffers.loading.force);
+  return {buffers.loading.torque, buffers.loading.edge, buffers.loading.saturated, {}};
 }
 
 // Coupled (issue 11): the forces at psi solve the complementarity problem w(F) + C F - delta(psi)
@@ -62,8 +70,9 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   CoupledContact* coupled = problem.has_coupling() ? &CoupledContactFor(problem, workspace) : nullptr;
   const double force_scale = coupled != nullptr ? CoupledForceScale(problem) : 0.0;
   const ActiveSetCholmod::Stats before = coupled != nullptr ? coupled->stats() : ActiveSetCholmod::Stats{};
+  Buffers buffers;
   const auto evaluate = [&](double at_psi, std::vector<double>* out) {
-    if (coupled == nullptr) return Evaluate(problem, at_psi, workspace, out, &hints);
+    if (coupled == nullptr) return Evaluate(problem, at_psi, workspace, out, &hints, buffers);
     if (out != &forces) *out = forces;
     return EvaluateCoupled(problem, at_psi, workspace, *coupled, force_scale, out);
   };

@@ -26,27 +26,40 @@ struct Potential {
   std::exception_ptr error;  // NLopt swallows exceptions thrown in callbacks: keep and rethrow
   bool edge = false;
   std::vector<double> hints;  // warm starts of the law inversions, one per pin
+  // The last evaluation, kept (issue 29): the polish, the torque check and the answer ask for
+  // NLopt's last point again. Storage reused from one evaluation to the next.
+  std::vector<LoadProblem::PinAt> pins;
+  std::vector<contact::ContactLaw> scratch;
+  double last_psi = std::numeric_limits<double>::quiet_NaN(), last_pi = 0.0, last_torque = 0.0;
+  bool last_edge = false;
+  std::vector<double> last_force;
 
   // Pi(psi) and dPi/dpsi.
   double Evaluate(double psi, double* gradient) {
-    ++evaluations;
-    std::vector<contact::ContactLaw> scratch;
-    double pi = -problem->torque() * psi, torque = 0.0;
-    const auto pins = problem->At(psi, *workspace, &scratch);
-    hints.resize(pins.size(), 0.0);
-    for (std::size_t i = 0; i < pins.size(); ++i) {
-      const auto& pin = pins[i];
-      if (pin.approach <= 0.0) continue;
-      if (pin.law == nullptr) {
-        edge = true;
-        continue;
+    if (psi != last_psi) {
+      ++evaluations;
+      double pi = -problem->torque() * psi, torque = 0.0;
+      bool at_edge = false;
+      problem->At(psi, *workspace, &scratch, &pins);
+      hints.resize(pins.size(), 0.0);
+      last_force.assign(pins.size(), 0.0);
+      for (std::size_t i = 0; i < pins.size(); ++i) {
+        const auto& pin = pins[i];
+        if (pin.approach <= 0.0) continue;
+        if (pin.law == nullptr) {
+          at_edge = true;
+          continue;
+        }
+        const double f = pin.law->Force(pin.approach, &hints[i]);
+        pi += pin.law->StrainEnergy(pin.approach, f);  // U = F delta - E^c(F)
+        torque += f * pin.arm;
+        last_force[i] = f;
       }
-      const double f = pin.law->Force(pin.approach, &hints[i]);
-      pi += f * pin.approach - pin.law->ComplementaryEnergy(f);  // U = F delta - E^c(F)
-      torque += f * pin.arm;
+      edge = edge || at_edge;
+      last_psi = psi, last_pi = pi, last_torque = torque, last_edge = at_edge;
     }
-    if (gradient != nullptr) *gradient = torque - problem->torque();
-    return pi;
+    if (gradient != nullptr) *gradient = last_torque - problem->torque();
+    return last_pi;
   }
 };
 
@@ -331,13 +344,13 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   result->details = {{"nlopt_result", static_cast<double>(code)}, {"polish_steps", static_cast<double>(polish)}};
   result->torque_evaluations = potential.evaluations;
   result->iterations = potential.evaluations;
-  std::vector<contact::ContactLaw> scratch;
-  Loading loading = LoadAt(problem.At(x[0], workspace, &scratch));
-  result->force = std::move(loading.force);
-  const double torque = loading.torque;
+  // The answer: the forces of the last evaluation, which the polish or the torque check made at x.
+  potential.Evaluate(x[0], nullptr);
+  result->force = potential.last_force;
+  const double torque = potential.last_torque;
   const double mismatch = std::abs(torque - problem.torque()) / problem.torque();
   // Edge contact is judged at the answer, not at the trial rotations of the search.
-  potential.edge = loading.edge;
+  potential.edge = potential.last_edge;
   // Every NLopt code maps to one status; success is verified on the torque, not believed.
   if (potential.edge) {
     result->status = SolverStatus::kEdgeContact;

@@ -352,13 +352,21 @@ void LoadProblem::BuildBaseLaws() {
 
 std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace,
                                                 std::vector<contact::ContactLaw>* scratch) const {
-  std::vector<PinAt> out(base_.pins.size());
+  std::vector<PinAt> out;
+  At(psi, workspace, scratch, &out);
+  return out;
+}
+
+void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::ContactLaw>* scratch,
+                     std::vector<PinAt>* pins) const {
+  std::vector<PinAt>& out = *pins;
+  out.resize(base_.pins.size());
   if (kinematics_ == contact::ContactKinematics::kLinearised) {
     for (std::size_t i = 0; i < out.size(); ++i) {
       const auto& pin = base_.pins[i];
       out[i] = {contact::LinearisedApproach(pin, psi), pin.arm, pin.edge, pin.edge ? nullptr : &base_laws_[i]};
     }
-    return out;
+    return;
   }
   // Re-evaluate every pin at the rotated pose, searched from its last foot point; build laws only
   // for the pins that are pressed (the others carry no force).
@@ -381,7 +389,6 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace
     }
   }
   feet.psi = psi;
-  return out;
 }
 
 contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, double psi) const {
@@ -403,6 +410,14 @@ contact::ContactLaw LoadProblem::LawOf(const contact::PinContact& pin) const {
 
 Loading LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>* hints) {
   Loading l;
+  LoadAt(pins, hints, &l);
+  return l;
+}
+
+void LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>* hints, Loading* out) {
+  Loading& l = *out;
+  l.torque = 0.0;
+  l.edge = l.saturated = false;
   l.force.assign(pins.size(), 0.0);
   if (hints != nullptr) hints->resize(pins.size(), 0.0);
   for (std::size_t i = 0; i < pins.size(); ++i) {
@@ -415,7 +430,6 @@ Loading LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>*
     l.force[i] = hints != nullptr ? pins[i].law->Force(pins[i].approach, &(*hints)[i]) : pins[i].law->Force(pins[i].approach);
     l.torque += l.force[i] * pins[i].arm;
   }
-  return l;
 }
 
 double LoadProblem::OutputTorque(double psi, Workspace& workspace) const {

@@ -95,6 +95,35 @@ TEST_CASE("contact: every law inverts, F(delta(F)) = F to 1e-12 over 1e-6 N .. 1
   }
 }
 
+TEST_CASE("contact: the warm-started inversion returns F(delta(F)) = F to 8 ulp from any hint, and U = F delta - E^c(F) (issue 29)") {
+  // Issue 29 inverts the log law by Halley's method from the hint: from a hint 1e-12 to 1e12 times
+  // the answer, at the largest force, beyond it, and from none, the force whose approach is given
+  // (the forward formula, Liu eq. 22, is the independent side), and the strain energy without a log
+  // equals the one from the complementary energy.
+  int index = 0;
+  for (const ContactLaw& law : AllLaws()) {
+    CAPTURE(index++);
+    for (double f = 1e-6; f <= 1e6 * 1.0001; f *= 10.0) {
+      if (f >= law.max_force()) break;
+      const double delta = law.Approach(f);
+      for (const double ratio : {0.0, 1e-12, 1e-3, 0.5, 0.999, 1.0, 1.001, 2.0, 1e3, 1e12}) {
+        CAPTURE(f);
+        CAPTURE(ratio);
+        double hint = ratio * f;
+        const double got = law.Force(delta, &hint);
+        CHECK(std::abs(got - f) <= 8.0 * std::numeric_limits<double>::epsilon() * f);
+        CHECK(hint == got);
+      }
+      const double u = law.StrainEnergy(delta, f);
+      CHECK(std::abs(u - (f * delta - law.ComplementaryEnergy(f))) <= 1e-12 * f * delta);
+    }
+    if (std::isfinite(law.max_approach())) {
+      double hint = 1.0;
+      CHECK(law.Force(2.0 * law.max_approach(), &hint) == law.max_force());
+    }
+  }
+}
+
 TEST_CASE("contact: laws stay finite and non-negative for tiny and huge loads and at the inflection") {
   int index = 0;
   for (const ContactLaw& law : AllLaws()) {

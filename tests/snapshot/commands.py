@@ -44,6 +44,7 @@ It is a regression anchor, not a validation: it records what the code computed a
 named in tests/snapshot/README.md, so that a refactoring can show it changed no number.
 """
 import json
+import re
 import lzma
 import os
 import subprocess
@@ -86,6 +87,29 @@ TIMING = {"wall_seconds", "loaded_solve_seconds", "samples_per_second", "threads
 FRICTION_LOOP_COMMANDS = {"stiffness", "report", "tolerance"}
 FRICTION_LOOP_RELATIVE = 1e-8
 FRICTION_LOOP_UNCOMPARED = {"solves"}
+# Issue 29: the law inversion (Halley's method on F from a warm start, where Newton on ln F ran to
+# 1e-15), the compatibility solver's reuse of its last evaluation and the mesh state's pose and pin
+# centres computed once change the last bits of a force, and a solver's stopping decisions follow
+# another path inside the band its torque tolerance allows (1e-10 of T). The commands that solve
+# loads (SOLVE_PATH_COMMANDS) are compared to SOLVE_PATH_RELATIVE with SOLVE_PATH_ABSOLUTE as the
+# least floor of any field, and SOLVE_PATH_FORCE_N of a force (a field ending in _n): the band
+# moves a small force by up to about 1e-10 of the torque over the pin-circle radius (3.2e-7 N at
+# 206 N*m on 64 mm). The counts of evaluations and iterations are not compared, and the numbers
+# inside messages are masked (their words are compared). Measured at the change: the largest
+# absolute difference 1.1e-7 N (2.0e-11 of a 5,352 N force), 3.3e-8 N on a 0.98 N force; statuses,
+# exit codes and array lengths unchanged. The commands that solve no load (geometry, mesh,
+# backlash) keep 1e-12.
+SOLVE_PATH_COMMANDS = {"solve", "compare", "stiffness", "report", "tolerance", "efficiency"}
+SOLVE_PATH_RELATIVE = 1e-8
+SOLVE_PATH_ABSOLUTE = 1e-8
+SOLVE_PATH_FORCE_N = 1e-6
+SOLVE_PATH_UNCOMPARED = {"torque_evaluations", "iterations", "solves"}
+NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def masked(text):
+    """A message with its numbers replaced by '#': its words."""
+    return NUMBER.sub("#", text) if isinstance(text, str) else text
 
 
 def deck_sections(path):
@@ -238,9 +262,10 @@ def floor_of(key):
     return ABSOLUTE_DEFAULT
 
 
-def compare(problems, where, key, got, want, relative=RELATIVE, uncompared=frozenset()):
+def compare(problems, where, key, got, want, relative=RELATIVE, uncompared=frozenset(), floor=0.0):
     """Appends to problems every difference between got and want (key: the field's name); floats to
-    `relative`, keys in `uncompared` skipped."""
+    `relative` (or the larger of the field's absolute floor and `floor`), keys in `uncompared`
+    skipped; with a floor (the solve-path rule), the numbers inside a message are masked."""
     if isinstance(want, dict):
         if not isinstance(got, dict):
             problems.append(f"{where}: {type(got).__name__} != object")
@@ -251,21 +276,24 @@ def compare(problems, where, key, got, want, relative=RELATIVE, uncompared=froze
             if k not in want or k not in got:
                 problems.append(f"{where}.{k}: {'extra' if k not in want else 'missing'}")
             else:
-                compare(problems, f"{where}.{k}", k, got[k], want[k], relative, uncompared)
+                compare(problems, f"{where}.{k}", k, got[k], want[k], relative, uncompared, floor)
         return
     if isinstance(want, list):
         if not isinstance(got, list) or len(got) != len(want):
             problems.append(f"{where}: length {len(got) if isinstance(got, list) else got!r} != {len(want)}")
             return
         for i, (g, w) in enumerate(zip(got, want)):
-            compare(problems, f"{where}[{i}]", key, g, w, relative, uncompared)
+            compare(problems, f"{where}[{i}]", key, g, w, relative, uncompared, floor)
         return
     number = (int, float)
     if (isinstance(want, float) and isinstance(got, number) and not isinstance(got, bool)) or \
        (isinstance(got, float) and isinstance(want, number) and not isinstance(want, bool)):
-        if abs(got - want) > max(relative * abs(want), floor_of(key)):
+        least = floor if floor == 0.0 or not key.endswith("_n") else max(floor, SOLVE_PATH_FORCE_N)
+        if abs(got - want) > max(relative * abs(want), floor_of(key), least):
             problems.append(f"{where}: {got!r} != {want!r} (diff {abs(got - want):.3g})")
         return
+    if floor > 0.0 and key in ("message", "messages", "warnings") and isinstance(want, str):
+        got, want = masked(got), masked(want)
     if type(got) is not type(want) or got != want:
         problems.append(f"{where}: {got!r} != {want!r}")
 
@@ -276,9 +304,12 @@ def check_run(exe, cases, want):
     problems = []
     loose = want["command"] in FRICTION_LOOP_COMMANDS and "[friction]" in deck_sections(os.path.join(cases, want["deck"]))
     compare(problems, f"{name}: exit", "exit", code, want["exit"])
-    compare(problems, f"{name}: json", "json", doc, want.get("json"),
-            FRICTION_LOOP_RELATIVE if loose else RELATIVE, FRICTION_LOOP_UNCOMPARED if loose else frozenset())
-    compare(problems, f"{name}: message", "message", message, want.get("message"))
+    path = want["command"] in SOLVE_PATH_COMMANDS
+    relative = max(FRICTION_LOOP_RELATIVE if loose else RELATIVE, SOLVE_PATH_RELATIVE if path else RELATIVE)
+    uncompared = (FRICTION_LOOP_UNCOMPARED if loose else frozenset()) | (SOLVE_PATH_UNCOMPARED if path else frozenset())
+    floor = SOLVE_PATH_ABSOLUTE if path else 0.0
+    compare(problems, f"{name}: json", "json", doc, want.get("json"), relative, uncompared, floor)
+    compare(problems, f"{name}: message", "message", message, want.get("message"), RELATIVE, frozenset(), floor)
     return problems
 
 

@@ -38,6 +38,13 @@ KINEMATICS = ["linearised", "exact"]
 SAMPLE_SECONDS = 4.0
 RELATIVE = 1e-12
 ABSOLUTE = {"te": 1e-9, "force": 1e-12, "stress": 1e-9, "crank": 1e-12}
+# Issue 29: a faster law inversion and the reuse of a solver's last evaluation move the last bits
+# of a force, and the solvers' stopping decisions then follow another path inside the band their
+# torque tolerance (1e-10 of T) allows: every figure is compared to SOLVE_PATH_RELATIVE, with a
+# force floor of SOLVE_PATH_FORCE_N (about 1e-10 of the torque over the pin-circle radius; see
+# tests/snapshot/README.md and commands.py for what was measured). Statuses and counts stay exact.
+SOLVE_PATH_RELATIVE = 1e-8
+SOLVE_PATH_FORCE_N = 1e-6
 
 
 # Issue 12 gave a |d| >= 2 deck with a load a default tip relief; issue 26 removed it (no relief is
@@ -111,7 +118,8 @@ class Mismatch:
             if got != want:
                 self.lines.append(f"{where}: {got!r} != {want!r}")
             return
-        if abs(got - want) > max(RELATIVE * abs(want), ABSOLUTE[kind]):
+        floor = max(ABSOLUTE[kind], SOLVE_PATH_FORCE_N if kind == "force" else 0.0)
+        if abs(got - want) > max(SOLVE_PATH_RELATIVE * abs(want), floor):
             self.lines.append(f"{where}: {got!r} != {want!r} (diff {abs(got - want):.3g})")
 
 

@@ -108,6 +108,9 @@ class ContactLaw {
   double Approach(double force, double* compliance) const;
   /// Complementary energy int_0^F delta(f) df, N*mm (the energy solvers' objective).
   double ComplementaryEnergy(double force) const;
+  /// Strain energy U(delta) = F delta - E^c(F), N*mm, given the force F = Force(delta) of this
+  /// approach; without a log for the log and linear forms (the law eliminates it).
+  double StrainEnergy(double approach, double force) const;
   double max_force() const { return max_force_; }      ///< N (infinite for the linear law)
   double max_approach() const { return max_approach_; }  ///< mm
   /// The seat's part of Approach(force) and of ComplementaryEnergy(force) (0 when not seated), mm

@@ -1,4 +1,5 @@
 #pragma once
+#include <vector>
 // The cycloid tooth profile of Chen 2008 (universal profile, eq. 10-14) for any nonzero tooth
 // difference, written in Liu 2021's body frame (eq. 1-2) with Liu's modifications (dR_p, dR_rp).
 //
@@ -103,6 +104,7 @@ class CycloidProfile {
   double undercut_margin_ = 0.0;
   double min_curvature_radius_ = 0.0;
   TipCap tip_cap_;
+  std::vector<double> space_cos_, space_sin_;  // of ToothSpaceRotation(k), k = 0 .. z_c - 1
 };
 
 }  // namespace ltca::geometry

@@ -65,6 +65,8 @@ class RealPair {
   ProfileDeviation profile_deviation_;  // after profile_: built against it
   Kinematics kinematics_;
   double pin_circle_radius_;
+  std::vector<Eigen::Vector2d> pin_centres_;  // PinCentre of every pin, computed once
+  Eigen::Vector2d ComputePinCentre(int pin) const;
 };
 
 }  // namespace ltca::geometry

@@ -175,6 +175,8 @@ class LoadProblem {
   /// pointers stay valid until its next use). Exact kinematics searches every foot point from the
   /// workspace's last one for this problem.
   std::vector<PinAt> At(double psi, Workspace& workspace, std::vector<contact::ContactLaw>* scratch) const;
+  /// The same into *pins, whose storage is reused (no allocation in a solver's inner loop).
+  void At(double psi, Workspace& workspace, std::vector<contact::ContactLaw>* scratch, std::vector<PinAt>* pins) const;
 
   /// Output torque sum F_i(delta_i(psi)) L_i(psi), N*mm (forces of the law at each approach).
   double OutputTorque(double psi, Workspace& workspace) const;
@@ -263,6 +265,8 @@ struct Loading {
   bool saturated = false;
 };
 Loading LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>* hints = nullptr);
+/// The same into *out, whose force storage is reused.
+void LoadAt(const std::vector<LoadProblem::PinAt>& pins, std::vector<double>* hints, Loading* out);
 
 /// Pins that can carry load in the linearisation about psi: those whose remaining gap closes
 /// before the rotation at which any single pin alone would carry the whole torque (a rigorous
