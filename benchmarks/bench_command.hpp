@@ -15,6 +15,7 @@ struct BenchOptions {
   bool optimise_only = false;   ///< only the optimisation bars (issue 28)
   std::string profile;          ///< "case/setting": run that row `loops` times, for perf (issue 29)
   int loops = 200;
+  std::string baseline;         ///< an older ltca-bench: issue 29's rows side by side with it (--docs)
 };
 
 /// Peak resident memory of one run of a program (args[0] a path, the rest its arguments), MB, as

@@ -27,6 +27,9 @@ int main(int argc, char** argv) {
                  "linearised tol 1e-10'), --loops times and print its time per position split into the stage (mesh "
                  "states) and the solves: the workload to put under perf");
   app.add_option("--loops", options.loops, "Loops of the --profile row (default 200)")->check(CLI::PositiveNumber);
+  app.add_option("--baseline", options.baseline,
+                 "With --docs: an older ltca-bench (with --profile) whose issue-29 rows are timed beside this one's "
+                 "(benchmarks/side_by_side.py --rows) and written to performance.md");
   CLI11_PARSE(app, argc, argv);
   try {
     return ltca::bench::RunBenchCommand(options, std::cout);

@@ -194,9 +194,10 @@ class EnergyNlp final : public Ipopt::TNLP {
       if (values == nullptr) {
         row[i] = col[i] = i;
       } else {
-        const auto* law = sub_->law[static_cast<std::size_t>(i)];
-        const double k = law->Stiffness(law->Approach(x[i]));
-        values[i] = obj_factor * (k > 0.0 ? 1.0 / k : 1e300);
+        // dw/dF at F directly (issue 29: was 1 / Stiffness(Approach(F)), which inverted the law
+        // again for every pin at every Hessian); 1e300 where the law has no finite compliance.
+        const double compliance = sub_->law[static_cast<std::size_t>(i)]->Compliance(x[i]);
+        values[i] = obj_factor * (compliance > 0.0 && compliance < 1e300 ? compliance : 1e300);
       }
     }
     // Coupled: + C, its diagonal on the diagonal entries and its strictly lower entries after them
@@ -326,6 +327,9 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   app->Options()->SetNumericValue("warm_start_bound_push", 1e-9);
   app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-9);
   app->Options()->SetNumericValue("mu_init", 1e-3);
+  // The torque balance is linear in the forces (issue 29): its Jacobian is evaluated once. The
+  // objective is not quadratic (the log law), so hessian_constant and mehrotra_algorithm do not apply.
+  app->Options()->SetStringValue("jac_c_constant", "yes");
   if (!state->initialised) {
     if (app->Initialize("") != Ipopt::Solve_Succeeded) {  // "": no option file is read
       result->status = SolverStatus::kNumericalFailure;
