@@ -411,13 +411,7 @@ int RunProfile(const BenchMatrix& matrix, const BenchOptions& options, std::ostr
     for (const BenchSetting& s : matrix.settings) {
       if (!s.only_case.empty() && s.only_case != c.name) continue;
       if (c.name + "/" + s.Label() != options.profile) continue;
-      Deck deck = WithPositions(c.deck, matrix.positions);
-      deck.geometry = s.geometry;
-      deck.kinematics = s.kinematics;
-      SolverOptions o = deck.solver;
-      if (!s.preset.empty()) o = solvers::ApplyPreset(o, s.preset);
-      o.name = s.solver;
-      if (s.preset.empty()) o.torque_tolerance = s.torque_tolerance;
+      const auto [deck, o] = s.Apply(WithPositions(c.deck, matrix.positions));
       std::vector<double> stage_s, solve_s;
       const double torque = deck.RequireLoad().torque;
       for (int r = 0; r < options.loops; ++r) {

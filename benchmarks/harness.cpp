@@ -73,6 +73,17 @@ std::string BenchSetting::GeometryLabel() const {
              : "analytic";
 }
 
+std::pair<Deck, SolverOptions> BenchSetting::Apply(const Deck& deck) const {
+  Deck run_deck = deck;
+  run_deck.geometry = geometry;
+  run_deck.kinematics = kinematics;
+  SolverOptions options = deck.solver;
+  if (!preset.empty()) options = ApplyPreset(options, preset);
+  options.name = solver;
+  if (preset.empty()) options.torque_tolerance = torque_tolerance;
+  return {run_deck, options};
+}
+
 std::string BenchSetting::Label() const {
   return fmt::format("{} {} tol {:g}{}{}", solver,
                      kinematics == contact::ContactKinematics::kExact ? "exact" : "linearised", torque_tolerance,
@@ -98,13 +109,7 @@ BenchReport RunBench(const BenchMatrix& matrix, const BenchHeader& header) {
                                  std::abs(RadToArcsec(Mean(ref.te) - Mean(confirm.te)))});
     for (const BenchSetting& s : matrix.settings) {
       if (!s.only_case.empty() && s.only_case != c.name) continue;
-      Deck run_deck = deck;
-      run_deck.geometry = s.geometry;
-      run_deck.kinematics = s.kinematics;
-      SolverOptions options = deck.solver;
-      if (!s.preset.empty()) options = ApplyPreset(options, s.preset);
-      options.name = s.solver;
-      if (s.preset.empty()) options.torque_tolerance = s.torque_tolerance;
+      const auto [run_deck, options] = s.Apply(deck);
       std::vector<double> per_position;
       Figures f;
       for (int r = 0; r < std::max(1, matrix.repeats); ++r) {

@@ -3,6 +3,7 @@
 // writes figures (JSON, CSV, docs/performance.md, an SVG chart); ctest only smoke-runs it.
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ltca/app/deck.hpp"
@@ -22,6 +23,9 @@ struct BenchSetting {
   std::string only_case;                ///< "" all cases; else run on this case only (slow settings)
   std::string Label() const;
   std::string GeometryLabel() const;
+  /// The deck and solver options of this setting on a case's deck (geometry, kinematics, preset,
+  /// solver, tolerance).
+  std::pair<Deck, SolverOptions> Apply(const Deck& deck) const;
 };
 
 struct BenchCase {

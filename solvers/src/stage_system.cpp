@@ -302,7 +302,7 @@ void StageSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vec
       const double compliance = law.Compliance(f);
       k = compliance > 0.0 && std::isfinite(compliance) ? 1.0 / compliance : 0.0;
     }
-    out->energy += f * delta - law.ComplementaryEnergy(f);
+    out->energy += law.StrainEnergy(delta, f);  // F delta - E^c(F), f the law's force at delta
     // The approach is resolved to eps times the terms it sums: a force to k times that.
     double reach = std::abs(e.gap);
     for (int a = 0; a < e.row.n; ++a) reach += std::abs(e.row.value[static_cast<std::size_t>(a)] * q(e.row.index[static_cast<std::size_t>(a)]));
