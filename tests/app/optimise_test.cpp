@@ -20,6 +20,7 @@
 #include "helpers.hpp"
 #include "ltca/analysis/optimise.hpp"
 #include "ltca/app/deck.hpp"
+#include "ltca/geometry/units.hpp"
 #include "solve_command.hpp"
 
 using ltca::analysis::DesignEvaluation;
@@ -169,6 +170,55 @@ TEST_CASE("app: optimise finds the closed-form optimum of the least offset at a 
   CAPTURE(best.x[off]);
   CAPTURE(lo);
   CHECK(std::abs(best.x[off] - 0.5 * (lo + hi)) * 1e3 < 1e-3);  // um
+}
+
+TEST_CASE("app: a stage clearance as a variable: the largest output-pin hole within a lost-motion limit is where ltca stiffness puts the limit, and the holes add 2 / R_w") {
+  // cases/stage/cycloidal_drive_clearance.toml with the hole radius alone (bearing play at the
+  // deck's 5 um), 7 positions: "the largest hole with lost motion <= 5 arcmin". Lost motion grows
+  // with the hole's clearance, so the optimum is the root of LM(r_h) = 5, found here independently
+  // by bisection over `ltca stiffness` runs on the deck with the radius set by --set.
+  const std::string deck_path = Case("stage/cycloidal_drive_clearance.toml");
+  const double limit = 5.0, lo0 = 6.302, hi0 = 6.34;  // arcmin, mm
+  const std::vector<std::string> sweep = {"sweep.positions=7", "sweep.crank_end_deg=9.0"};
+  std::vector<std::string> sets = sweep;
+  sets.push_back(fmt::format("optimise.variables={{ \"output.hole_radius_mm\" = [{}, {}] }}", lo0, hi0));
+  sets.insert(sets.end(), {"optimise.global=\"none\"", "optimise.tolerance=1e-10", "optimise.evaluations=200"});
+  const ltca::app::Deck deck = ltca::app::LoadDeck(deck_path, sets);
+  const Optimiser optimiser = Make(deck);
+  const auto result = optimiser.Run();
+  REQUIRE(result.best >= 0);
+  const DesignEvaluation& best = result.history[static_cast<std::size_t>(result.best)];
+  CHECK(best.feasible);
+  const auto lost_motion = [&](double hole) {
+    std::vector<std::string> args = {"stiffness", deck_path, "--json", "-", "--set", fmt::format("output.hole_radius_mm={:.17g}", hole)};
+    for (const std::string& s : sweep) args.push_back("--set"), args.push_back(s);
+    const auto r = RunCli(args);
+    REQUIRE(r.code == 0);
+    return nlohmann::json::parse(r.out).at("summary").at("lost_motion_arcmin").get<double>();
+  };
+  double lo = lo0, hi = hi0;
+  REQUIRE(lost_motion(lo) < limit);
+  REQUIRE(lost_motion(hi) > limit);
+  for (int k = 0; k < 30; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (lost_motion(mid) < limit ? lo : hi) = mid;
+  }
+  CAPTURE(best.x[0]);
+  CAPTURE(lo);
+  CHECK(std::abs(best.x[0] - 0.5 * (lo + hi)) * 1e3 < 1e-3);  // um
+  // At least as good as every feasible point of a 41-point grid of the same variable.
+  for (const DesignEvaluation& g : optimiser.Grid(41)) {
+    if (g.feasible) CHECK(g.x[0] <= best.x[0] + 1e-12);
+  }
+  // The holes are in series with the rest of the stage: a hole's clearance c adds c / cos(alpha)
+  // of output-pin-circle arc on each flank (R_w psi = c / cos(alpha), alpha the angle between the
+  // eccentric's direction and the tangent of the pin that closes first; small c / e). With 8
+  // pins some tangent lies within 22.5 deg of it, so dLM / dc is within 2 / R_w .. 2 / (R_w cos 22.5 deg).
+  const double r_w = deck.reducer->pins.circle_radius;
+  const double slope = ltca::units::ArcminToRad(lost_motion(6.33) - lost_motion(6.31)) / 0.02;  // rad / mm
+  CAPTURE(slope * r_w / 2.0);
+  CHECK(slope >= 2.0 / r_w * (1.0 - 1e-3));
+  CHECK(slope <= 2.0 / (r_w * std::cos(ltca::units::DegToRad(22.5))));
 }
 
 TEST_CASE("app: a robust optimisation gives the same evaluations on one and two threads, bit for bit") {

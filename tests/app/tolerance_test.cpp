@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.hpp"
+#include "cli_run.hpp"
 #include "tolerance_command.hpp"
 #include "ltca/app/deck.hpp"
 #include "deck_runs.hpp"
@@ -683,4 +684,41 @@ TEST_CASE("app: two discs: a disc's key is drawn for each disc on its own stream
   const Deck one = ltca::app::ParseDeck(lone, "one disc+indexing");
   CHECK_THROWS_WITH_AS(ltca::test::ToleranceOn(one, one.solver, *one.tolerances), doctest::Contains("indexing_deviation_mm"),
                        std::invalid_argument);
+}
+
+TEST_CASE("app: a reducer stage's sample: its backlash is the stage's free play (ltca stiffness's), the pin ring's and the holes' 2 c / R_w in series") {
+  // cases/stage/cycloidal_drive.toml, 7 positions over 9 deg, zero spread: the sample is the deck.
+  // Its backlash must be `ltca stiffness`'s (every clearance of the stage taken up), not `ltca
+  // backlash`'s (the pin ring alone), and the stage's lost motion `ltca stiffness`'s.
+  const std::vector<std::string> sets = {"sweep.positions=7", "sweep.crank_end_deg=9.0"};
+  const std::string text = ReadText(Case("stage/cycloidal_drive.toml")) +
+                           "\n[tolerances]\nsamples = 1\nlost_motion = true\n"
+                           "pin_circle_deviation_mm = { distribution = \"normal\", sigma = 0 }\n";
+  const Deck deck = ltca::app::ParseDeck(text, "cycloidal_drive+tolerances", sets);
+  const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
+  REQUIRE(study.notes().size() >= 1);
+  CHECK(study.notes().back().find("the stage's free play") != std::string::npos);
+  const ToleranceSample s = study.RunRange(0, 1, 1).at(0);
+  REQUIRE(s.status == ltca::analysis::RunStatus::kSuccess);
+  const auto run = [&](const std::string& command) {
+    std::vector<std::string> args = {command, Case("stage/cycloidal_drive.toml"), "--json", "-"};
+    for (const std::string& v : sets) args.push_back("--set"), args.push_back(v);
+    const auto r = ltca::test::RunCli(args);
+    REQUIRE(r.code == 0);
+    return nlohmann::json::parse(r.out).at("summary");
+  };
+  const nlohmann::json loop = run("stiffness"), ring = run("backlash");
+  using ltca::units::RadToArcsec;
+  const double arcmin = 60.0;  // arcsec
+  const double mean = s.figures[ltca::app::kMeanBacklashArcsec], pp = s.figures[ltca::app::kPpBacklashArcsec];
+  CHECK(mean == doctest::Approx(loop.at("backlash_arcmin").get<double>() * arcmin).epsilon(1e-9));
+  CHECK(pp == doctest::Approx((loop.at("backlash_arcmin_max").get<double>() - loop.at("backlash_arcmin_min").get<double>()) * arcmin)
+                  .epsilon(1e-6));
+  CHECK(s.figures[ltca::app::kLostMotionArcmin] == doctest::Approx(loop.at("lost_motion_arcmin").get<double>()).epsilon(1e-9));
+  // In series: the output turns through the pin ring's backlash and, on each flank, the hole's
+  // clearance c = r_h - r_w - e over the pin circle R_w at least (the bearing's play adds more).
+  const auto& w = deck.reducer->pins;
+  const double c = w.hole_radius - w.pin_radius - deck.pair.eccentricity;
+  CAPTURE(mean);
+  CHECK(mean >= ring.at("mean_backlash_arcsec").get<double>() + RadToArcsec(2.0 * c / w.circle_radius));
 }

@@ -277,7 +277,9 @@ const std::vector<DeckKey> kKeys = {
      .default_value = "\"solve\"", .choices = "solve | bound"},
     // [optimise] (issue 28, docs/optimise.md)
     {.section = "optimise", .name = "variables", .type = T::kTable, .unit = "",
-     .meaning = "design variables with bounds in their unit: { \"modification.pin_radius_mm\" = [-0.03, 0.0], ... }",
+     .meaning = "design variables with bounds in their unit: real keys of [modification] and [errors], or a stage's "
+                "clearances (bearing.radial_clearance_mm, output.hole_radius_mm, output.pin_radius_mm): "
+                "{ \"modification.pin_radius_mm\" = [-0.03, 0.0], ... }",
      .default_value = ""},
     {.section = "optimise", .name = "objective", .type = T::kText, .unit = "",
      .meaning = "a figure ([tolerances] limits' names, power_loss_w, efficiency) or a variable's key", .default_value = ""},

@@ -8,6 +8,7 @@
 #include <exception>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -27,6 +28,16 @@ int VariableIndex(const OptimiseSettings& s, const std::string& key) {
     if (s.variables[j].key == key) return static_cast<int>(j);
   }
   return -1;
+}
+
+/// The stage's clearances [optimise] may vary (issue 28): where each goes in the reducer's
+/// settings (internal units, mm), or nullptr for a key that is not one of them. The output pins'
+/// hole and pin radii set the holes' clearance (r_h - r_w - e), the bearing's radial play its own.
+double* StageClearance(solvers::StageSettings& s, std::string_view key) {
+  if (key == "bearing.radial_clearance_mm") return &s.bearing.radial_clearance;
+  if (key == "output.hole_radius_mm") return &s.pins.hole_radius;
+  if (key == "output.pin_radius_mm") return &s.pins.pin_radius;
+  return nullptr;
 }
 
 const char* NloptStop(nlopt_result r) {
@@ -290,10 +301,12 @@ void OptimiseSettings::Validate() {
   for (OptimiseVariable& v : variables) {
     const std::size_t dot = v.key.find('.');
     const DeckKey* k = dot == std::string::npos ? nullptr : FindKey(v.key.substr(0, dot), v.key.substr(dot + 1));
-    if (k == nullptr || k->real == nullptr) {
+    solvers::StageSettings probe;
+    if (k == nullptr || (k->real == nullptr && StageClearance(probe, v.key) == nullptr)) {
       throw std::invalid_argument(fmt::format(
-          "[optimise] variables.\"{}\": expected a real key of [modification] or [errors] as \"section.key\" (e.g. "
-          "\"modification.pin_radius_mm\", \"errors.lead_crowning_um\"; docs/decks.md)",
+          "[optimise] variables.\"{}\": expected a real key of [modification] or [errors], or a clearance of the "
+          "stage (\"bearing.radial_clearance_mm\", \"output.hole_radius_mm\", \"output.pin_radius_mm\"), as "
+          "\"section.key\" (e.g. \"modification.pin_radius_mm\", \"errors.lead_crowning_um\"; docs/decks.md)",
           v.key));
     }
     v.deck_key = k;
@@ -383,6 +396,21 @@ Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSetti
     }
     if (nominal_.torque == 0.0) throw std::invalid_argument("[optimise] power_loss_w / efficiency: expected a non-zero [load] torque_nm");
   }
+  for (const OptimiseVariable& v : settings_.variables) {
+    if (v.deck_key->real != nullptr) continue;  // a key of the discs
+    // A clearance of the reducer stage (issue 28): the deck must have the element it belongs to.
+    const std::optional<solvers::StageSettings>& r = nominal_.design.reducer;
+    if (!r) {
+      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\": expected an [output] section (the reducer stage "
+                                              "whose clearance it is; docs/stage.md)",
+                                              v.key));
+    }
+    if (std::string_view(v.deck_key->section) == "output" && r->kind != solvers::OutputKind::kPins) {
+      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\": expected [output] kind = \"pins\" (crankshafts have "
+                                              "no output pins in holes; their clearance is bearing.radial_clearance_mm)",
+                                              v.key));
+    }
+  }
   if (settings_.NeedsLostMotion() && nominal_.torque == 0.0) {
     throw std::invalid_argument("[optimise] lost_motion_arcmin: expected a non-zero [load] torque_nm (the rated torque of the loop)");
   }
@@ -396,6 +424,10 @@ ToleranceCase Optimiser::Apply(const std::vector<double>& x) const {
   StageDesign& d = pair.design;
   for (std::size_t j = 0; j < x.size(); ++j) {
     const DeckKey& k = *settings_.variables[j].deck_key;
+    if (k.real == nullptr) {  // a clearance of the reducer stage, one for the stage (Validate, the constructor)
+      *StageClearance(*d.reducer, settings_.variables[j].key) = k.ToInternal(x[j]);
+      continue;
+    }
     *k.real({&d.modification, &d.errors, &d.assembly}) = k.ToInternal(x[j]);
     if (d.second_disc) {  // the discs of one part share their design; the pin ring's keys move both
       *k.real({&d.second_disc->modification, &d.second_disc->errors, &d.second_disc->assembly}) = k.ToInternal(x[j]);

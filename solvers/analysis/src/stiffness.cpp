@@ -148,6 +148,39 @@ struct StiffnessRunner::Impl {
     return stage.Problem(state, torque);
   }
 
+  /// The free play at a crank: where the output rests at zero torque, coming from either flank
+  /// (first_contact_drive, first_contact_coast, backlash; NaN where it cannot be found).
+  void FreePlay(const contact::MeshState& state, StiffnessPosition* pos) {
+    const auto first_contact = [&](double torque) {
+      const solvers::LoadProblem problem = Problem(state, torque);
+      if (!problem.has_stage()) return problem.FirstContactRotation();
+      // A reducer stage (issue 25): its free play takes up the clearances of every element (holes,
+      // bearings), not the mesh's alone: the output's rotation under a vanishing torque, 1e-7 T,
+      // whose elastic part is below 1e-6 of the twist at T (Hertz and Palmgren contacts stiffen:
+      // their approach grows as F^0.9, so (1e-7)^0.9 = 5e-7 of it). NaN when that solve fails.
+      ++pos->solves;
+      const LoadResult r = solver->Solve(Problem(state, 1e-7 * torque), options, workspace);
+      if (r.status == SolverStatus::kSuccess) return r.rotation;
+      ++pos->failed;
+      if (pos->first_failure.empty()) {
+        pos->first_failure = fmt::format("torque {:g} N*m (the free play): {}: {}", units::NmmToNm(1e-7 * torque),
+                                        solvers::ToString(r.status), r.message);
+      }
+      return kNaN;
+    };
+    pos->first_contact_drive = first_contact(rated);
+    pos->first_contact_coast = first_contact(-rated);
+    if (!std::isfinite(pos->first_contact_drive) || !std::isfinite(pos->first_contact_coast)) {
+      pos->first_contact_drive = std::isfinite(pos->first_contact_drive) ? pos->first_contact_drive : kNaN;
+      pos->first_contact_coast = std::isfinite(pos->first_contact_coast) ? pos->first_contact_coast : kNaN;
+      if (pos->first_failure.empty()) {  // the mesh alone; a stage's failed solve has counted and named itself
+        ++pos->failed;
+        pos->first_failure = "zero torque: no pin can close its gap on one of the flanks";
+      }
+    }
+    pos->backlash = pos->first_contact_drive + pos->first_contact_coast;
+  }
+
   /// The twist at a non-zero torque (rad, -TE) with friction resisting the motion of the current
   /// sense, NaN when the solve fails (counted in pos). on_loop: false for a probe that is not a
   /// point of the loop (it does not set the two discs' split).
@@ -343,35 +376,7 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   const contact::MeshState state = m.State(crank);
   const double t = m.rated;
 
-  // The free play: where the output rests at zero torque, coming from either flank.
-  const auto first_contact = [&](double torque) {
-    const solvers::LoadProblem problem = m.Problem(state, torque);
-    if (!problem.has_stage()) return problem.FirstContactRotation();
-    // A reducer stage (issue 25): its free play takes up the clearances of every element (holes,
-    // bearings), not the mesh's alone: the output's rotation under a vanishing torque, 1e-7 T,
-    // whose elastic part is below 1e-6 of the twist at T (Hertz and Palmgren contacts stiffen:
-    // their approach grows as F^0.9, so (1e-7)^0.9 = 5e-7 of it). NaN when that solve fails.
-    ++pos.solves;
-    const LoadResult r = m.solver->Solve(m.Problem(state, 1e-7 * torque), m.options, m.workspace);
-    if (r.status == SolverStatus::kSuccess) return r.rotation;
-    ++pos.failed;
-    if (pos.first_failure.empty()) {
-      pos.first_failure = fmt::format("torque {:g} N*m (the free play): {}: {}", units::NmmToNm(1e-7 * torque),
-                                      solvers::ToString(r.status), r.message);
-    }
-    return kNaN;
-  };
-  pos.first_contact_drive = first_contact(t);
-  pos.first_contact_coast = first_contact(-t);
-  if (!std::isfinite(pos.first_contact_drive) || !std::isfinite(pos.first_contact_coast)) {
-    pos.first_contact_drive = std::isfinite(pos.first_contact_drive) ? pos.first_contact_drive : kNaN;
-    pos.first_contact_coast = std::isfinite(pos.first_contact_coast) ? pos.first_contact_coast : kNaN;
-    if (pos.first_failure.empty()) {  // the mesh alone; a stage's failed solve has counted and named itself
-      ++pos.failed;
-      pos.first_failure = "zero torque: no pin can close its gap on one of the flanks";
-    }
-  }
-  pos.backlash = pos.first_contact_drive + pos.first_contact_coast;
+  m.FreePlay(state, &pos);
   const CurvePoint at_drive{0.0, pos.first_contact_drive, Branch::kIncreasing,
                             std::isfinite(pos.first_contact_drive) ? SolverStatus::kSuccess : SolverStatus::kNumericalFailure};
   const CurvePoint at_coast{0.0, -pos.first_contact_coast, Branch::kIncreasing,
@@ -554,6 +559,17 @@ StiffnessPosition StiffnessRunner::SolveLostMotion(double crank) {
   pos.readoffs.push_back({-ft, minus, Branch::kIncreasing, pos.failed == 0 ? SolverStatus::kSuccess : SolverStatus::kNumericalFailure});
 
   m.summary.lost_motion.Add(pos.lost_motion, m.Record(pos));
+  m.elapsed += Clock::now() - start;
+  return pos;
+}
+
+StiffnessPosition StiffnessRunner::SolveFreePlay(double crank) {
+  const auto start = Clock::now();
+  Impl& m = *impl_;
+  StiffnessPosition pos;
+  pos.crank = crank;
+  m.FreePlay(m.State(crank), &pos);
+  m.summary.backlash.Add(pos.backlash, m.Record(pos));
   m.elapsed += Clock::now() - start;
   return pos;
 }

@@ -282,6 +282,16 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
         "step for the whole revolution)",
         units::RadToDeg(span)));
   }
+  if (nominal_.design.reducer) {
+    if (nominal_.torque == 0.0) {
+      throw std::invalid_argument("[tolerances] with [output]: expected a non-zero [load] torque_nm (a stage's backlash is "
+                                  "its free play at +-1e-7 of the rated torque)");
+    }
+    notes_.push_back(
+        "a reducer stage: mean_backlash_arcsec and pp_backlash_arcsec are the stage's free play over the sweep (the "
+        "output's rotation at +-1e-7 T from either flank, `ltca stiffness`'s backlash: every clearance of the stage "
+        "taken up), not the pin ring's unloaded analysis");
+  }
   if (settings_.lost_motion && nominal_.torque == 0.0) {
     throw std::invalid_argument("[tolerances] lost_motion = true: expected a non-zero [load] torque_nm (the rated torque of the loop)");
   }
@@ -364,9 +374,27 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
     const std::vector<double>& cranks = stage.cranks();
     // Unloaded TCA over the sweep: the arithmetic of `ltca backlash` (mean = sum / n).
     // The unloaded sweep's rule: a closed period's repeated state weighs once in the mean (issue 26).
-    const contact::UnloadedSweep backlash = contact::AnalyseUnloadedSweep(stage.model(), cranks, stage.kinematics());
-    s.figures[kMeanBacklashArcsec] = units::RadToArcsec(backlash.mean_backlash);
-    s.figures[kPpBacklashArcsec] = units::RadToArcsec(backlash.pp_backlash);
+    std::string free_play_failure;  // a reducer stage's free play that could not be solved
+    if (!design.reducer) {
+      const contact::UnloadedSweep backlash = contact::AnalyseUnloadedSweep(stage.model(), cranks, stage.kinematics());
+      s.figures[kMeanBacklashArcsec] = units::RadToArcsec(backlash.mean_backlash);
+      s.figures[kPpBacklashArcsec] = units::RadToArcsec(backlash.pp_backlash);
+    } else {
+      // A reducer stage (issue 28): the pin ring's unloaded analysis is not the reducer's backlash.
+      // Its free play takes up every element's clearance: `ltca stiffness`'s backlash (the output's
+      // rotation at +-1e-7 T from either flank), over the same sweep.
+      StiffnessSettings over_sweep = pair.stiffness;
+      over_sweep.crank.reset();
+      StiffnessRunner free_play(stage, options_, over_sweep, pair.torque, std::nullopt);
+      for (const double crank : cranks) free_play.SolveFreePlay(crank);
+      const StiffnessSummary fp = free_play.Summary();
+      if (fp.all_succeeded()) {
+        s.figures[kMeanBacklashArcsec] = units::RadToArcsec(fp.backlash.mean);
+        s.figures[kPpBacklashArcsec] = units::RadToArcsec(fp.backlash.max - fp.backlash.min);
+      } else {
+        free_play_failure = fmt::format("the stage's free play: {}", fp.first_failure);
+      }
+    }
     // Loaded TCA over the sweep: `ltca solve`'s summary.
     SweepRunner runner(stage, options_, pair.torque);
     std::string first_failure;  // the first position that did not succeed: where, and the solver's own words
@@ -390,6 +418,10 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
       s.status = RunStatus::kFailed;
       s.message = fmt::format("{} of {} loaded positions did not succeed ({}); {}", sum_loaded.failed, sum_loaded.positions(),
                               solvers::ToString(sum_loaded.status), first_failure);
+    }
+    if (!free_play_failure.empty() && s.status == RunStatus::kSuccess) {
+      s.status = RunStatus::kFailed;
+      s.message = free_play_failure;
     }
     if (settings_.lost_motion) {
       // Lost motion is solved at its own torques (+-f T), without the loop's curve (issue 27).

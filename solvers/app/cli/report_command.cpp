@@ -460,6 +460,11 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
                         Cell(ts["samples"]), Cell(ts["seed"]), Cell(ts["succeeded"]), Cell(ts["failed"]), Cell(ts["rejected"]),
                         Cell(ts["pass_fraction"]),
                         options.no_worst_case ? " The extreme-value (worst-case) runs were skipped (--no-worst-case)." : "");
+    // The study's notes say what a figure is where it is not what its name suggests (a reducer
+    // stage's backlash is its free play, issue 28) and what part of the revolution was swept.
+    for (const auto& note : tj.value("notes", nlohmann::json::array())) {
+      if (note.is_string()) html += fmt::format("<p class=\"note\">{}</p>\n", Html(note.get<std::string>()));
+    }
     html += "<h3>Percentiles per figure</h3>\n<table>\n<tr><th>figure</th><th>nominal</th><th>p5</th><th>p50</th><th>p95</th>"
             "<th>mean</th><th>std</th><th>worst case low</th><th>worst case high</th></tr>\n";
     for (const auto& [name, f] : ts["figures"].items()) {

@@ -13,6 +13,7 @@ constexpr double RadToDeg(double rad) { return rad * 180.0 / kPi; }
 constexpr double RadToArcsec(double rad) { return rad * 180.0 * 3600.0 / kPi; }
 constexpr double ArcsecToRad(double arcsec) { return arcsec * kPi / (180.0 * 3600.0); }
 constexpr double RadToArcmin(double rad) { return rad * 180.0 * 60.0 / kPi; }
+constexpr double ArcminToRad(double arcmin) { return arcmin * kPi / (180.0 * 60.0); }
 constexpr double NmToNmm(double torque_nm) { return torque_nm * 1000.0; }
 constexpr double NmmToNm(double torque_nmm) { return torque_nmm / 1000.0; }
 constexpr double MmToUm(double mm) { return mm * 1000.0; }

@@ -175,6 +175,12 @@ class StiffnessRunner {
   /// outlast zero torque. The same lost motion as Solve's, without its curve, free play, rigidity
   /// and stick-end searches. Fills crank, lost_motion, readoffs (+f T, -f T), solves, failed.
   StiffnessPosition SolveLostMotion(double crank);
+  /// Only the free play at one crank (rad), added to the summary's backlash (and its run record):
+  /// the unloaded analysis of a tolerance sample of a reducer stage (issue 28), whose free play
+  /// takes up the clearances of every element, not the pin ring's alone. The same first contacts
+  /// as Solve's (two solves at +-1e-7 T for a stage, the first-contact rotations for the mesh
+  /// alone). Fills crank, first_contact_drive, first_contact_coast, backlash, solves, failed.
+  StiffnessPosition SolveFreePlay(double crank);
   StiffnessSummary Summary() const;
 
  private:
