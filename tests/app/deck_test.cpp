@@ -664,11 +664,10 @@ radial_clearance_mm = 0.005
   CHECK(Contains(ErrorOf(Replace(pins, "hole_radius_mm = 6.32", "hole_radius_mm = 6.2")), "[output] hole_radius_mm = 6.2"));
   CHECK(Contains(ErrorOf(Replace(pins, "kind = \"pins\"", "kind = \"gears\"")), "[output] kind = \"gears\""));
   CHECK(Contains(ErrorOf(pins + "[friction]\ncoefficient = 0.05\n"), "[friction] with [output]"));
-  // [tolerances] with [output] (issue 28): a stage's backlash per sample is its free play at
-  // +-1e-7 of the rated torque, so the rated torque must be given and non-zero.
+  // [tolerances] with [output] (issue 28): read, also at zero torque (ltca geometry and backlash
+  // need none; the tolerance study, whose stage backlash is solved at +-1e-7 T, refuses it).
   CHECK(ParseDeck(pins + "[tolerances]\nsamples = 10\n", "t.toml").tolerances.has_value());
-  CHECK(Contains(ErrorOf(Replace(pins, "torque_nm = 206.0", "torque_nm = 0.0") + "[tolerances]\nsamples = 10\n"),
-                 "[tolerances] with [output]: [load] torque_nm = 0: expected a non-zero rated torque"));
+  CHECK(ErrorOf(Replace(pins, "torque_nm = 206.0", "torque_nm = 0.0") + "[tolerances]\nsamples = 10\n") == "");
   // Bounds a fuzzer or a typo would cross: counts that no reducer has, holes that overlap.
   CHECK(Contains(ErrorOf(Replace(pins, "count = 8", "count = 2000000000")), "[output] count = 2e+09: expected 3 to 64"));
   CHECK(Contains(ErrorOf(Replace(pins, "count = 8", "count = 40")), "holes that do not overlap"));

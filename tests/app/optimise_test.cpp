@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <random>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <unistd.h>
@@ -219,6 +220,67 @@ TEST_CASE("app: a stage clearance as a variable: the largest output-pin hole wit
   CAPTURE(slope * r_w / 2.0);
   CHECK(slope >= 2.0 / r_w * (1.0 - 1e-3));
   CHECK(slope <= 2.0 / (r_w * std::cos(ltca::units::DegToRad(22.5))));
+}
+
+TEST_CASE("app: the stage's clearance variables write the fields the deck reader writes, the free play is solved when named, and bad ones name the key") {
+  // Each of the three keys set by Optimiser::Apply against the same value set by the deck reader
+  // (--set): the same stage settings, bit for bit.
+  const std::string deck_path = Case("stage/cycloidal_drive_clearance.toml");
+  const std::vector<std::string> sweep = {"sweep.positions=3", "sweep.crank_end_deg=6.0"};
+  std::vector<std::string> sets = sweep;
+  sets.push_back("optimise.variables={ \"output.hole_radius_mm\" = [6.302, 6.34], \"bearing.radial_clearance_mm\" = [0.002, 0.015], "
+                 "\"output.pin_radius_mm\" = [4.99, 5.0] }");
+  const ltca::app::Deck deck = ltca::app::LoadDeck(deck_path, sets);
+  const Optimiser optimiser = Make(deck);
+  const std::map<std::string, double> value = {
+      {"output.hole_radius_mm", 6.3251}, {"bearing.radial_clearance_mm", 0.0071}, {"output.pin_radius_mm", 4.9937}};
+  std::vector<double> x;
+  std::vector<std::string> read = sweep;
+  for (const auto& v : deck.optimise->variables) {
+    x.push_back(value.at(v.key));
+    read.push_back(fmt::format("{}={:.17g}", v.key, value.at(v.key)));
+  }
+  const auto applied = optimiser.Apply(x);
+  const ltca::app::Deck reference = ltca::app::LoadDeck(deck_path, read);
+  REQUIRE(applied.design.reducer.has_value());
+  CHECK(applied.design.reducer->pins.hole_radius == reference.reducer->pins.hole_radius);
+  CHECK(applied.design.reducer->pins.pin_radius == reference.reducer->pins.pin_radius);
+  CHECK(applied.design.reducer->bearing.radial_clearance == reference.reducer->bearing.radial_clearance);
+  CHECK(reference.reducer->pins.hole_radius == 6.3251);  // the reader's own value: the reference moved
+  // The free play (two stage solves a crank) runs only when a backlash figure is named.
+  const DesignEvaluation lost = optimiser.Evaluate(x);
+  CHECK(lost.status == RunStatus::kSuccess);
+  CHECK(std::isfinite(lost.figures[ltca::analysis::kLostMotionArcmin]));
+  CHECK(std::isnan(lost.figures[ltca::analysis::kMeanBacklashArcsec]));
+  std::vector<std::string> with_backlash = sets;
+  with_backlash.push_back("optimise.constraints={ lost_motion_arcmin = { max = 5.0 }, mean_backlash_arcsec = { max = 400.0 } }");
+  const ltca::app::Deck named = ltca::app::LoadDeck(deck_path, with_backlash);
+  CHECK(std::isfinite(Make(named).Evaluate(x).figures[ltca::analysis::kMeanBacklashArcsec]));
+  // Bad input: std::invalid_argument naming the key and its bounds, before any evaluation.
+  const auto error = [](const std::string& text, std::vector<std::string> overrides) {
+    try {
+      const ltca::app::Deck d = ltca::app::ParseDeck(text, "t", overrides);
+      Make(d);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string stage = ltca::test::ReadText(deck_path);
+  const std::string clearance = "optimise.variables={ \"bearing.radial_clearance_mm\" = [0.0, 0.01] }";
+  CHECK(error(ltca::test::ReadText(Case("liu2021_optimise.toml")), {clearance})
+            .find("variables.\"bearing.radial_clearance_mm\" = [0, 0.01]: expected an [output] section") != std::string::npos);
+  const std::size_t bearing = stage.find("[bearing]"), contact = stage.find("[contact]");
+  REQUIRE(bearing < contact);
+  const std::string rigid = stage.substr(0, bearing) + "[bearing]\nkind = \"rigid\"\n\n" + stage.substr(contact);
+  CHECK(error(rigid, {}).find("variables.\"bearing.radial_clearance_mm\" = [0.002, 0.015]: [bearing] kind = \"rigid\" has no play") !=
+        std::string::npos);
+  CHECK(error(rigid, {"optimise.variables={ \"output.hole_radius_mm\" = [6.302, 6.34] }"}) == "accepted");  // the holes are fine on it
+  const std::string cranks = ltca::test::ReadText(Case("stage/rv_two_discs_cranks.toml")) +
+                             "\n[optimise]\nvariables = { \"output.hole_radius_mm\" = [6.302, 6.34] }\nobjective = \"pp_te_arcsec\"\n";
+  CHECK(error(cranks, {}).find("expected [output] kind = \"pins\"") != std::string::npos);
+  CHECK(error(stage, {"load.torque_nm=0", "optimise.constraints={ mean_backlash_arcsec = { max = 400.0 } }"})
+            .find("torque_nm = 0: expected a non-zero rated torque") != std::string::npos);
 }
 
 TEST_CASE("app: a robust optimisation gives the same evaluations on one and two threads, bit for bit") {

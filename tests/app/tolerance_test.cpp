@@ -722,3 +722,60 @@ TEST_CASE("app: a reducer stage's sample: its backlash is the stage's free play 
   CAPTURE(mean);
   CHECK(mean >= ring.at("mean_backlash_arcsec").get<double>() + RadToArcsec(2.0 * c / w.circle_radius));
 }
+
+TEST_CASE("app: a tolerance on the output pins' holes moves a stage's backlash and lost motion by 2 / R_w per mm of clearance, sample by sample") {
+  // The holes are in series with the rest of the stage: a hole's clearance larger by dc turns the
+  // output through dc / cos(alpha) more arc on the output pin circle R_w on each flank (alpha the
+  // angle between the eccentric's direction and the tangent of the pin that closes first, within
+  // 22.5 deg with 8 pins; small dc / e), so both the free play and the lost motion move by
+  // between 2 dc / R_w and 2 dc / (R_w cos 22.5 deg), whatever the sample draws.
+  const std::vector<std::string> sets = {"sweep.positions=5", "sweep.crank_end_deg=9.0"};
+  const std::string base = ReadText(Case("stage/cycloidal_drive.toml")) + "\n[tolerances]\nsamples = 1\nlost_motion = true\n";
+  const Deck nominal = ltca::app::ParseDeck(base + "pin_circle_deviation_mm = { distribution = \"normal\", sigma = 0 }\n", "n", sets);
+  const Deck deck = ltca::app::ParseDeck(base + "output_hole_radius_mm = { distribution = \"uniform\", tolerance = 0.006 }\n", "t", sets);
+  const ToleranceSample s0 = ltca::test::ToleranceOn(nominal, nominal.solver, *nominal.tolerances).RunRange(0, 1, 1).at(0);
+  REQUIRE(s0.status == ltca::analysis::RunStatus::kSuccess);
+  const auto samples = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances).RunRange(0, 12, 2);
+  const double r_w = deck.reducer->pins.circle_radius, lo = 2.0 / r_w, hi = lo / std::cos(ltca::units::DegToRad(22.5));
+  int far = 0;
+  for (const ToleranceSample& s : samples) {
+    CAPTURE(s.index);
+    REQUIRE(s.status == ltca::analysis::RunStatus::kSuccess);
+    REQUIRE(s.inputs.size() == 1);
+    const double dc = s.inputs[0];  // mm
+    CHECK(std::abs(dc) <= 0.006);
+    if (std::abs(dc) < 1e-4) continue;  // the elastic parts' change is not negligible against a tiny dc
+    ++far;
+    const double backlash = ltca::units::ArcsecToRad(s.figures[ltca::app::kMeanBacklashArcsec] - s0.figures[ltca::app::kMeanBacklashArcsec]) / dc;
+    const double lost = ltca::units::ArcminToRad(s.figures[ltca::app::kLostMotionArcmin] - s0.figures[ltca::app::kLostMotionArcmin]) / dc;
+    CHECK(backlash >= lo * (1.0 - 2e-3));
+    CHECK(backlash <= hi);
+    CHECK(lost >= lo * (1.0 - 2e-3));
+    CHECK(lost <= hi);
+  }
+  CHECK(far >= 8);
+  // The stage's keys need a stage, and the holes output pins.
+  const auto error = [](const std::string& text) {
+    try {
+      const Deck d = ltca::app::ParseDeck(text, "t", {});
+      ltca::test::ToleranceOn(d, d.solver, *d.tolerances);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK(error(ReadText(Case("liu2021_sec52_base.toml")) + "\n[tolerances]\nbearing_radial_clearance_mm = { distribution = \"uniform\", tolerance = 0.002 }\n")
+            .find("[tolerances] bearing_radial_clearance_mm: the deck has no reducer stage") != std::string::npos);
+  CHECK(error(ReadText(Case("stage/rv_two_discs_cranks.toml")) + "\n[tolerances]\noutput_hole_radius_mm = { distribution = \"uniform\", tolerance = 0.002 }\n")
+            .find("expected [output] kind = \"pins\"") != std::string::npos);
+  const std::string stage = ReadText(Case("stage/cycloidal_drive.toml"));
+  const std::size_t bearing = stage.find("[bearing]"), contact = stage.find("[contact]");
+  REQUIRE(bearing < contact);
+  const std::string rigid = stage.substr(0, bearing) + "[bearing]\nkind = \"rigid\"\n\n" + stage.substr(contact);
+  CHECK(error(rigid + "\n[tolerances]\nbearing_radial_clearance_mm = { distribution = \"uniform\", tolerance = 0.002 }\n")
+            .find("[bearing] kind = \"rigid\" has no play") != std::string::npos);
+  // A stage's backlash is solved at +-1e-7 T: the study needs the rated torque.
+  const std::string zero = stage.substr(0, stage.find("torque_nm = 206.0")) + "torque_nm = 0.0" +
+                           stage.substr(stage.find("torque_nm = 206.0") + std::string("torque_nm = 206.0").size());
+  CHECK(error(zero + "\n[tolerances]\nsamples = 2\n").find("[load] torque_nm = 0: expected a non-zero rated torque") != std::string::npos);
+}

@@ -172,9 +172,10 @@ const std::vector<DeckKey> kKeys = {
     {.section = "output", .name = "hole_tangential_deviations_mm", .type = T::kRealList, .unit = "mm",
      .meaning = "one tangential (counterclockwise) position deviation per hole in mm (both discs)", .default_value = "[]"},
     {.section = "output", .name = "pin_radius_mm", .type = T::kReal, .unit = "mm", .meaning = "pins: output pin radius in mm",
-     .default_value = ""},
+     .default_value = "", .tolerance_stream = 18, .limit = L::kLength},
     {.section = "output", .name = "hole_radius_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "pins: radius of the disc's holes in mm (clearance hole - pin - eccentricity)", .default_value = ""},
+     .meaning = "pins: radius of the disc's holes in mm (clearance hole - pin - eccentricity)", .default_value = "",
+     .tolerance_stream = 17, .limit = L::kLength},
     {.section = "output", .name = "shaft_stiffness_n_per_mm", .type = T::kReal, .unit = "N/mm",
      .meaning = "cranks: radial stiffness of a crankshaft at its eccentric in N/mm, in series with the bearing",
      .default_value = "rigid"},
@@ -186,7 +187,8 @@ const std::vector<DeckKey> kKeys = {
     {.section = "bearing", .name = "radial_stiffness_n_per_mm", .type = T::kReal, .unit = "N/mm",
      .meaning = "linear: radial stiffness in N/mm", .default_value = ""},
     {.section = "bearing", .name = "radial_clearance_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "radial clearance (half the diametral play) in mm", .default_value = "0"},
+     .meaning = "radial clearance (half the diametral play) in mm", .default_value = "0", .tolerance_stream = 16,
+     .limit = L::kLength},
     {.section = "bearing", .name = "roller_count", .type = T::kInteger, .unit = "", .meaning = "rollers: number of rollers",
      .default_value = ""},
     {.section = "bearing", .name = "roller_diameter_mm", .type = T::kReal, .unit = "mm", .meaning = "rollers: roller diameter in mm",
@@ -329,7 +331,10 @@ double DeckKey::FromInternal(double value) const {
 }
 
 std::string DeckKey::ToleranceName() const {
-  return std::string_view(section) == "modification" ? std::string("modification_") + name : std::string(name);
+  // [modification] and the stage's keys carry their section: "modification_pin_radius_mm" is not
+  // the pins' radius deviation, "output_pin_radius_mm" not the ring pins' (issue 28).
+  const std::string_view s(section);
+  return s == "modification" || s == "output" || s == "bearing" ? std::string(section) + "_" + name : std::string(name);
 }
 
 double DeckKey::Reach(double internal, const geometry::PairParameters& pair) const {

@@ -30,16 +30,6 @@ int VariableIndex(const OptimiseSettings& s, const std::string& key) {
   return -1;
 }
 
-/// The stage's clearances [optimise] may vary (issue 28): where each goes in the reducer's
-/// settings (internal units, mm), or nullptr for a key that is not one of them. The output pins'
-/// hole and pin radii set the holes' clearance (r_h - r_w - e), the bearing's radial play its own.
-double* StageClearance(solvers::StageSettings& s, std::string_view key) {
-  if (key == "bearing.radial_clearance_mm") return &s.bearing.radial_clearance;
-  if (key == "output.hole_radius_mm") return &s.pins.hole_radius;
-  if (key == "output.pin_radius_mm") return &s.pins.pin_radius;
-  return nullptr;
-}
-
 const char* NloptStop(nlopt_result r) {
   switch (r) {
     case NLOPT_SUCCESS: return "success";
@@ -280,6 +270,11 @@ bool OptimiseSettings::NeedsLostMotion() const {
   return std::any_of(constraints.begin(), constraints.end(), [](const ToleranceLimit& l) { return l.figure == "lost_motion_arcmin"; });
 }
 
+bool OptimiseSettings::NeedsBacklash() const {
+  const auto backlash = [](const std::string& f) { return f == "mean_backlash_arcsec" || f == "pp_backlash_arcsec"; };
+  return backlash(objective) || std::any_of(constraints.begin(), constraints.end(), [&](const ToleranceLimit& l) { return backlash(l.figure); });
+}
+
 bool OptimiseSettings::NeedsEfficiency() const {
   const auto efficiency = [](const std::string& f) { return f == "power_loss_w" || f == "efficiency"; };
   return efficiency(objective) ||
@@ -401,15 +396,25 @@ Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSetti
     // A clearance of the reducer stage (issue 28): the deck must have the element it belongs to.
     const std::optional<solvers::StageSettings>& r = nominal_.design.reducer;
     if (!r) {
-      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\": expected an [output] section (the reducer stage "
-                                              "whose clearance it is; docs/stage.md)",
-                                              v.key));
+      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = [{}, {}]: expected an [output] section (the reducer "
+                                              "stage whose clearance it is; docs/stage.md)",
+                                              v.key, v.lower, v.upper));
     }
     if (std::string_view(v.deck_key->section) == "output" && r->kind != solvers::OutputKind::kPins) {
-      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\": expected [output] kind = \"pins\" (crankshafts have "
-                                              "no output pins in holes; their clearance is bearing.radial_clearance_mm)",
-                                              v.key));
+      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = [{}, {}]: expected [output] kind = \"pins\" "
+                                              "(crankshafts have no output pins in holes; their clearance is "
+                                              "bearing.radial_clearance_mm)",
+                                              v.key, v.lower, v.upper));
     }
+    if (std::string_view(v.deck_key->section) == "bearing" && r->bearing.kind == contact::BearingKind::kRigid) {
+      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = [{}, {}]: [bearing] kind = \"rigid\" has no play; "
+                                              "expected kind = \"linear\" or \"rollers\"",
+                                              v.key, v.lower, v.upper));
+    }
+  }
+  if (nominal_.design.reducer && settings_.NeedsBacklash() && nominal_.torque == 0.0) {
+    throw std::invalid_argument("[optimise] mean_backlash_arcsec / pp_backlash_arcsec on a reducer stage: [load] torque_nm = 0: "
+                                "expected a non-zero rated torque (the stage's backlash is its free play at +-1e-7 of it)");
   }
   if (settings_.NeedsLostMotion() && nominal_.torque == 0.0) {
     throw std::invalid_argument("[optimise] lost_motion_arcmin: expected a non-zero [load] torque_nm (the rated torque of the loop)");
@@ -447,6 +452,7 @@ DesignEvaluation Optimiser::Evaluate(const std::vector<double>& x) const {
     ToleranceSettings one;
     one.samples = 1;
     one.lost_motion = s.NeedsLostMotion();
+    one.stage_free_play = s.NeedsBacklash();
     const ToleranceStudy study(pair, options_, one);
     const ToleranceSample sample = study.Evaluate(pair);
     std::copy(sample.figures.begin(), sample.figures.end(), e.figures.begin());
@@ -470,6 +476,7 @@ DesignEvaluation Optimiser::Evaluate(const std::vector<double>& x) const {
     ToleranceSettings ts = s.tolerances;
     ts.samples = s.robust_samples;
     ts.lost_motion = s.NeedsLostMotion();
+    ts.stage_free_play = s.NeedsBacklash();
     ts.limits.clear();
     const ToleranceStudy study(pair, options_, ts);
     std::vector<ToleranceSample> samples;

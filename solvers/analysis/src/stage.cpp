@@ -46,6 +46,13 @@ bool StageDesign::SecondDiscIsFirst() const {
   return s.indexing_deviation == 0.0 && same_modification && same_errors && same_assembly;
 }
 
+double* StageClearance(solvers::StageSettings& stage, std::string_view key) {
+  if (key == "bearing.radial_clearance_mm") return &stage.bearing.radial_clearance;
+  if (key == "output.hole_radius_mm") return &stage.pins.hole_radius;
+  if (key == "output.pin_radius_mm") return &stage.pins.pin_radius;
+  return nullptr;
+}
+
 ModelInfo StageDesign::Model() const {
   ModelInfo m;
   m.surface = geometry.mode == geometry::GeometrySettings::Mode::kElements ? "elements" : "analytic";

@@ -42,6 +42,12 @@ void AddToPin(std::vector<double>& list, int pins, int j, double v_mm) {
 /// The symmetry the errors break: per-pin keys and the frame-fixed assembly errors (the centre
 /// offset and the tilts stay where they are while the eccentric turns) repeat only after a whole
 /// crank revolution, not after one mesh period.
+/// A key of the reducer stage ([output], [bearing]; issue 28), not of the discs or the pin ring.
+bool IsStageKey(const DeckKey& k) {
+  const std::string_view s(k.section);
+  return s == "output" || s == "bearing";
+}
+
 bool BreaksMeshPeriod(const ToleranceDistribution& d) {
   if (d.IsZero()) return false;
   return d.per_pin || d.key == "centre_dx_mm" || d.key == "centre_dy_mm" || d.key == "misalignment_xz_deg" ||
@@ -260,6 +266,24 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
                                               "a [second_disc] section, or no such tolerance",
                                               nominal_.design.name, d.key));
     }
+    if (key != nullptr && IsStageKey(*key)) {  // a clearance of the reducer stage (issue 28)
+      const auto& r = nominal_.design.reducer;
+      if (!r) {
+        throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: the deck has no reducer stage; expected an [output] "
+                                                "section (docs/stage.md), or no such tolerance",
+                                                nominal_.design.name, d.key));
+      }
+      if (std::string_view(key->section) == "output" && r->kind != solvers::OutputKind::kPins) {
+        throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: expected [output] kind = \"pins\" (crankshafts have "
+                                                "no output pins in holes; their clearance is bearing_radial_clearance_mm)",
+                                                nominal_.design.name, d.key));
+      }
+      if (std::string_view(key->section) == "bearing" && r->bearing.kind == contact::BearingKind::kRigid) {
+        throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: [bearing] kind = \"rigid\" has no play; expected "
+                                                "kind = \"linear\" or \"rollers\", or no such tolerance",
+                                                nominal_.design.name, d.key));
+      }
+    }
     const int discs = two && key != nullptr && key->disc ? 2 : 1;
     for (int disc = 0; disc < discs; ++disc) {
       const std::string suffix = disc == 1 ? " (disc 2)" : "";
@@ -282,10 +306,12 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
         "step for the whole revolution)",
         units::RadToDeg(span)));
   }
-  if (nominal_.design.reducer) {
+  if (nominal_.design.reducer && settings_.stage_free_play) {
     if (nominal_.torque == 0.0) {
-      throw std::invalid_argument("[tolerances] with [output]: expected a non-zero [load] torque_nm (a stage's backlash is "
-                                  "its free play at +-1e-7 of the rated torque)");
+      throw std::invalid_argument(fmt::format("deck '{}': [tolerances] with [output]: [load] torque_nm = 0: expected a non-zero "
+                                              "rated torque (a stage's backlash in each sample is its free play, the output's "
+                                              "rotation at +-1e-7 of that torque; docs/tolerance.md)",
+                                              nominal_.design.name));
     }
     notes_.push_back(
         "a reducer stage: mean_backlash_arcsec and pp_backlash_arcsec are the stage's free play over the sweep (the "
@@ -340,6 +366,12 @@ ToleranceCase ToleranceStudy::Apply(const std::vector<double>& inputs) const {
       second->modification.rotation += direction * k->ToInternal(v) / d.pair.pin_circle_radius;
       continue;
     }
+    if (k != nullptr && IsStageKey(*k)) {  // the stage's, one for the stage (the constructor checked it has one)
+      double* field = StageClearance(*d.reducer, std::string(k->section) + "." + k->name);
+      if (field == nullptr) throw std::logic_error(fmt::format("tolerance: key '{}' has no field in the stage's settings", key));
+      *field += k->ToInternal(v);
+      continue;
+    }
     const auto apply = [&](const DiscParts& parts) {
       if (k != nullptr && k->list != nullptr) AddToPin(*k->list(parts), pins, j, k->ToInternal(v));
       else if (k != nullptr && k->real != nullptr) *k->real(parts) += k->ToInternal(v);
@@ -379,7 +411,7 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
       const contact::UnloadedSweep backlash = contact::AnalyseUnloadedSweep(stage.model(), cranks, stage.kinematics());
       s.figures[kMeanBacklashArcsec] = units::RadToArcsec(backlash.mean_backlash);
       s.figures[kPpBacklashArcsec] = units::RadToArcsec(backlash.pp_backlash);
-    } else {
+    } else if (settings_.stage_free_play) {
       // A reducer stage (issue 28): the pin ring's unloaded analysis is not the reducer's backlash.
       // Its free play takes up every element's clearance: `ltca stiffness`'s backlash (the output's
       // rotation at +-1e-7 T from either flank), over the same sweep.

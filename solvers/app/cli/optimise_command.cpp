@@ -333,7 +333,7 @@ Command OptimiseCommand() {
   auto st = std::make_shared<DeckState<OptimiseOptions>>();
   return {"optimise",
           "Design optimisation (docs/optimise.md): the values of the deck's [optimise] variables (keys of [modification] "
-          "and [errors]) that meet its constraints with the best objective, by NLopt's global search then a local "
+          "and [errors], or a reducer stage's clearances) that meet its constraints with the best objective, by NLopt's global search then a local "
           "polish; robust over the samples of [tolerances] when asked. Deterministic: the same result on any number of "
           "threads.",
           [st](CLI::App& c) {

@@ -239,8 +239,8 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
   fmt::print(text, "samples   {} from index {}, seed {} (counter-based Philox4x32-10: sample i depends on (seed, i) only), "
                    "{} thread(s){}\n",
              n, options.first, settings.seed, threads, ranks > 1 ? fmt::format(" on each of {} MPI ranks", ranks) : "");
-  fmt::print(text, "per sample: unloaded TCA and loaded TCA over {} positions from {:g} to {:g} deg crank{}\n",
-             deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end),
+  fmt::print(text, "per sample: {} and loaded TCA over {} positions from {:g} to {:g} deg crank{}\n",
+             deck.reducer ? "the stage's free play" : "unloaded TCA", deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end),
              settings.lost_motion ? fmt::format(", lost motion at +-{:g} % of T", 100.0 * deck.stiffness.lost_motion_fraction) : "");
   for (const auto& d : settings.distributions) fmt::print(text, "  {:<36} {}\n", d.key, app::Describe(d));
   if (settings.profile_random_per_sample) {

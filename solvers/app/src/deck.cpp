@@ -1320,14 +1320,6 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
         throw std::invalid_argument("[friction] with [output]: the stage's friction (output pins in their holes, the "
                                     "bearings) is not modelled yet (docs/stage.md); expected one of the two");
       }
-      if (deck.tolerances && (!deck.load || deck.load->torque == 0.0)) {
-        // A stage's per-sample backlash is its free play, solved at +-1e-7 of the rated torque
-        // (issue 28, docs/tolerance.md): the pin ring's unloaded analysis is not the reducer's.
-        throw std::invalid_argument(fmt::format(
-            "[tolerances] with [output]: [load] torque_nm = {}: expected a non-zero rated torque (a stage's backlash in "
-            "each sample is its free play, the output's rotation at +-1e-7 of that torque; docs/tolerance.md)",
-            deck.load ? fmt::format("{:g}", units::NmmToNm(deck.load->torque)) : std::string("(no [load])")));
-      }
     } else if (bearing.Present()) {
       throw std::invalid_argument("[bearing] without [output]: the bearing belongs to the reducer stage; expected an "
                                   "[output] section (kind = \"pins\" or \"cranks\")");

@@ -50,7 +50,8 @@ struct DeckKey {
   /// The deck's unit to the internal one (mm, rad): um -> mm, deg -> rad; others unchanged.
   double ToInternal(double value) const;
   double FromInternal(double value) const;
-  /// Its name in [tolerances]: [modification] keys carry the prefix "modification_".
+  /// Its name in [tolerances]: keys of [modification], [output] and [bearing] carry their section
+  /// as a prefix ("modification_pin_radius_mm", "output_hole_radius_mm").
   std::string ToleranceName() const;
   /// The change the value (internal units) makes to the pair's geometry, mm (Limit).
   double Reach(double internal, const geometry::PairParameters& pair) const;

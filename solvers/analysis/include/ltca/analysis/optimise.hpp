@@ -88,6 +88,9 @@ struct OptimiseSettings {
   bool NeedsLostMotion() const;
   /// Whether the objective or a constraint needs the efficiency (power_loss_w, efficiency).
   bool NeedsEfficiency() const;
+  /// Whether the objective or a constraint names a backlash figure (on a reducer stage its free
+  /// play, solved only then: issue 28).
+  bool NeedsBacklash() const;
 };
 const char* ToString(OptimiseSettings::Global global);  ///< "direct" | "crs2" | "isres" | "none"
 const char* ToString(OptimiseSettings::Local local);    ///< "cobyla" | "bobyqa" | "none"

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ltca/contact/laws.hpp"
@@ -42,6 +43,12 @@ struct SecondDisc {
   /// rotation modification).
   double indexing_deviation = 0.0;
 };
+
+/// The reducer stage's clearances that `ltca optimise` and `[tolerances]` may vary (issue 28):
+/// where the deck key ("bearing.radial_clearance_mm", "output.hole_radius_mm",
+/// "output.pin_radius_mm") goes in the stage's settings (internal units, mm), or nullptr for any
+/// other key. The output pins' hole and pin radii set the holes' clearance r_h - r_w - e.
+double* StageClearance(solvers::StageSettings& stage, std::string_view key);
 
 /// The model that runs for a stage, named in every output (issues 9, 11, 13).
 struct ModelInfo {

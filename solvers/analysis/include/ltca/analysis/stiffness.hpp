@@ -179,7 +179,8 @@ class StiffnessRunner {
   /// the unloaded analysis of a tolerance sample of a reducer stage (issue 28), whose free play
   /// takes up the clearances of every element, not the pin ring's alone. The same first contacts
   /// as Solve's (two solves at +-1e-7 T for a stage, the first-contact rotations for the mesh
-  /// alone). Fills crank, first_contact_drive, first_contact_coast, backlash, solves, failed.
+  /// alone). Fills crank, first_contact_drive, first_contact_coast, backlash, solves, failed,
+  /// first_failure.
   StiffnessPosition SolveFreePlay(double crank);
   StiffnessSummary Summary() const;
 

@@ -80,6 +80,10 @@ struct ToleranceSettings {
   std::int64_t samples = 1000;   ///< 1 .. kMaxSamples
   std::uint64_t seed = 1;        ///< of the counter-based stream: sample i depends on (seed, i) only
   bool lost_motion = false;      ///< also run lost motion (issue 13) per sample
+  /// A reducer stage only (issue 28): solve its free play per sample (the backlash figures; two
+  /// stage solves a crank). `ltca tolerance` always does; `ltca optimise` only when the objective
+  /// or a constraint names a backlash figure, else they are null (NaN).
+  bool stage_free_play = true;
   /// [errors] profile_random_*: every sample its own random profile deviation (the zone and the
   /// law of the deck, the seed drawn from (seed, i)) instead of the deck's one profile.
   bool profile_random_per_sample = false;
