@@ -269,7 +269,7 @@ TEST_CASE("app: the stage's clearance variables write the fields the deck reader
   const std::string stage = ltca::test::ReadText(deck_path);
   const std::string clearance = "optimise.variables={ \"bearing.radial_clearance_mm\" = [0.0, 0.01] }";
   CHECK(error(ltca::test::ReadText(Case("liu2021_optimise.toml")), {clearance})
-            .find("variables.\"bearing.radial_clearance_mm\" = [0, 0.01]: expected an [output] section") != std::string::npos);
+            .find("variables.\"bearing.radial_clearance_mm\" = [0, 0.01]: the deck has no reducer stage; expected an [output] section") != std::string::npos);
   const std::size_t bearing = stage.find("[bearing]"), contact = stage.find("[contact]");
   REQUIRE(bearing < contact);
   const std::string rigid = stage.substr(0, bearing) + "[bearing]\nkind = \"rigid\"\n\n" + stage.substr(contact);

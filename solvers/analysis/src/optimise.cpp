@@ -296,8 +296,8 @@ void OptimiseSettings::Validate() {
   for (OptimiseVariable& v : variables) {
     const std::size_t dot = v.key.find('.');
     const DeckKey* k = dot == std::string::npos ? nullptr : FindKey(v.key.substr(0, dot), v.key.substr(dot + 1));
-    solvers::StageSettings probe;
-    if (k == nullptr || (k->real == nullptr && StageClearance(probe, v.key) == nullptr)) {
+    solvers::StageSettings any;  // only asks whether the key is one of the stage's clearances
+    if (k == nullptr || (k->real == nullptr && StageClearance(any, v.key) == nullptr)) {
       throw std::invalid_argument(fmt::format(
           "[optimise] variables.\"{}\": expected a real key of [modification] or [errors], or a clearance of the "
           "stage (\"bearing.radial_clearance_mm\", \"output.hole_radius_mm\", \"output.pin_radius_mm\"), as "
@@ -394,22 +394,8 @@ Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSetti
   for (const OptimiseVariable& v : settings_.variables) {
     if (v.deck_key->real != nullptr) continue;  // a key of the discs
     // A clearance of the reducer stage (issue 28): the deck must have the element it belongs to.
-    const std::optional<solvers::StageSettings>& r = nominal_.design.reducer;
-    if (!r) {
-      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = [{}, {}]: expected an [output] section (the reducer "
-                                              "stage whose clearance it is; docs/stage.md)",
-                                              v.key, v.lower, v.upper));
-    }
-    if (std::string_view(v.deck_key->section) == "output" && r->kind != solvers::OutputKind::kPins) {
-      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = [{}, {}]: expected [output] kind = \"pins\" "
-                                              "(crankshafts have no output pins in holes; their clearance is "
-                                              "bearing.radial_clearance_mm)",
-                                              v.key, v.lower, v.upper));
-    }
-    if (std::string_view(v.deck_key->section) == "bearing" && r->bearing.kind == contact::BearingKind::kRigid) {
-      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = [{}, {}]: [bearing] kind = \"rigid\" has no play; "
-                                              "expected kind = \"linear\" or \"rollers\"",
-                                              v.key, v.lower, v.upper));
+    if (const std::string why = StageClearanceRefusal(nominal_.design.reducer, v.key); !why.empty()) {
+      throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = [{}, {}]: {}", v.key, v.lower, v.upper, why));
     }
   }
   if (nominal_.design.reducer && settings_.NeedsBacklash() && nominal_.torque == 0.0) {

@@ -53,6 +53,18 @@ double* StageClearance(solvers::StageSettings& stage, std::string_view key) {
   return nullptr;
 }
 
+std::string StageClearanceRefusal(const std::optional<solvers::StageSettings>& stage, std::string_view key) {
+  if (!stage) return "the deck has no reducer stage; expected an [output] section (docs/stage.md)";
+  if (key.starts_with("output.") && stage->kind != solvers::OutputKind::kPins) {
+    return "expected [output] kind = \"pins\" (crankshafts have no output pins in holes; their play is [bearing] "
+           "radial_clearance_mm)";
+  }
+  if (key.starts_with("bearing.") && stage->bearing.kind == contact::BearingKind::kRigid) {
+    return "[bearing] kind = \"rigid\" has no play; expected kind = \"linear\" or \"rollers\"";
+  }
+  return "";
+}
+
 ModelInfo StageDesign::Model() const {
   ModelInfo m;
   m.surface = geometry.mode == geometry::GeometrySettings::Mode::kElements ? "elements" : "analytic";

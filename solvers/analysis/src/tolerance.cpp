@@ -39,15 +39,15 @@ void AddToPin(std::vector<double>& list, int pins, int j, double v_mm) {
   list[static_cast<std::size_t>(j)] += v_mm;
 }
 
-/// The symmetry the errors break: per-pin keys and the frame-fixed assembly errors (the centre
-/// offset and the tilts stay where they are while the eccentric turns) repeat only after a whole
-/// crank revolution, not after one mesh period.
 /// A key of the reducer stage ([output], [bearing]; issue 28), not of the discs or the pin ring.
 bool IsStageKey(const DeckKey& k) {
   const std::string_view s(k.section);
   return s == "output" || s == "bearing";
 }
 
+/// The symmetry the errors break: per-pin keys and the frame-fixed assembly errors (the centre
+/// offset and the tilts stay where they are while the eccentric turns) repeat only after a whole
+/// crank revolution, not after one mesh period.
 bool BreaksMeshPeriod(const ToleranceDistribution& d) {
   if (d.IsZero()) return false;
   return d.per_pin || d.key == "centre_dx_mm" || d.key == "centre_dy_mm" || d.key == "misalignment_xz_deg" ||
@@ -267,22 +267,8 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
                                               nominal_.design.name, d.key));
     }
     if (key != nullptr && IsStageKey(*key)) {  // a clearance of the reducer stage (issue 28)
-      const auto& r = nominal_.design.reducer;
-      if (!r) {
-        throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: the deck has no reducer stage; expected an [output] "
-                                                "section (docs/stage.md), or no such tolerance",
-                                                nominal_.design.name, d.key));
-      }
-      if (std::string_view(key->section) == "output" && r->kind != solvers::OutputKind::kPins) {
-        throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: expected [output] kind = \"pins\" (crankshafts have "
-                                                "no output pins in holes; their clearance is bearing_radial_clearance_mm)",
-                                                nominal_.design.name, d.key));
-      }
-      if (std::string_view(key->section) == "bearing" && r->bearing.kind == contact::BearingKind::kRigid) {
-        throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: [bearing] kind = \"rigid\" has no play; expected "
-                                                "kind = \"linear\" or \"rollers\", or no such tolerance",
-                                                nominal_.design.name, d.key));
-      }
+      const std::string why = StageClearanceRefusal(nominal_.design.reducer, std::string(key->section) + "." + key->name);
+      if (!why.empty()) throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: {}", nominal_.design.name, d.key, why));
     }
     const int discs = two && key != nullptr && key->disc ? 2 : 1;
     for (int disc = 0; disc < discs; ++disc) {

@@ -49,6 +49,9 @@ struct SecondDisc {
 /// "output.pin_radius_mm") goes in the stage's settings (internal units, mm), or nullptr for any
 /// other key. The output pins' hole and pin radii set the holes' clearance r_h - r_w - e.
 double* StageClearance(solvers::StageSettings& stage, std::string_view key);
+/// Why a deck with this stage (none: no [output]) cannot vary that clearance, "" when it can: no
+/// stage, output pins' radii with crankshafts, a rigid bearing's play (it has none).
+std::string StageClearanceRefusal(const std::optional<solvers::StageSettings>& stage, std::string_view key);
 
 /// The model that runs for a stage, named in every output (issues 9, 11, 13).
 struct ModelInfo {
