@@ -279,6 +279,10 @@ TEST_CASE("app: the stage's clearance variables write the fields the deck reader
   const std::string cranks = ltca::test::ReadText(Case("stage/rv_two_discs_cranks.toml")) +
                              "\n[optimise]\nvariables = { \"output.hole_radius_mm\" = [6.302, 6.34] }\nobjective = \"pp_te_arcsec\"\n";
   CHECK(error(cranks, {}).find("expected [output] kind = \"pins\"") != std::string::npos);
+  CHECK(error(ltca::test::ReadText(Case("liu2021_optimise.toml")), {"optimise.constraints={ shortest_l10_hours = { min = 1000.0 } }"})
+            .find("[optimise] shortest_l10_hours: a figure of a reducer stage; expected an [output] section") != std::string::npos);
+  CHECK(error(cranks, {"optimise.variables={ \"bearing.radial_clearance_mm\" = [0.0, 0.01] }", "optimise.objective=\"max_output_pin_force_n\""})
+            .find("a figure of a reducer stage with output pins") != std::string::npos);
   CHECK(error(stage, {"load.torque_nm=0", "optimise.constraints={ mean_backlash_arcsec = { max = 400.0 } }"})
             .find("torque_nm = 0: expected a non-zero rated torque") != std::string::npos);
 }

@@ -531,10 +531,10 @@ TEST_CASE("app: the sensitivity reports R^2 and a noise floor, and outputs shuff
   CHECK(ltca::app::InverseNormalCdf(0.5 * std::erfc(3.0 / std::sqrt(2.0))) == doctest::Approx(-3.0).epsilon(1e-14));
 }
 
-TEST_CASE("app: the samples are streamed: the summary keeps 73 bytes a sample, so the sample limit fits in memory") {
+TEST_CASE("app: the samples are streamed: the summary keeps 97 bytes a sample (12 figures and a status), so the sample limit fits in memory") {
   // Issue 26 item 15: every sample was kept whole (about 3.2 kB: its inputs and strings), so the
   // documented limit of 10,000,000 samples needed 32 GB. The table keeps the figures and a status
-  // byte; the inputs are drawn again. The limit then needs 0.73 GB (the machine has 24 GB).
+  // byte; the inputs are drawn again. The limit then needs 0.97 GB (the machine has 24 GB).
   static_assert(ltca::app::SampleTable::kBytesPerSample == ltca::app::kToleranceFigureCount * sizeof(double) + 1);
   ltca::app::SampleTable table(5);
   table.Reserve(1000);
@@ -708,6 +708,18 @@ TEST_CASE("app: a reducer stage's sample: its backlash is the stage's free play 
     return nlohmann::json::parse(r.out).at("summary");
   };
   const nlohmann::json loop = run("stiffness"), ring = run("backlash");
+  // The stage's loads and bearing life: `ltca solve`'s stage summary over the same sweep.
+  {
+    std::vector<std::string> args = {"solve", Case("stage/cycloidal_drive.toml"), "--json", "-"};
+    for (const std::string& v : sets) args.push_back("--set"), args.push_back(v);
+    const auto r = ltca::test::RunCli(args);
+    REQUIRE(r.code == 0);
+    const nlohmann::json stage = nlohmann::json::parse(r.out).at("summary").at("stage");
+    CHECK(s.figures[ltca::app::kMaxOutputPinForceN] == doctest::Approx(stage.at("max_output_pin_force_n").get<double>()).epsilon(1e-9));
+    CHECK(s.figures[ltca::app::kMaxBearingLoadN] == doctest::Approx(stage.at("max_bearing_load_n").get<double>()).epsilon(1e-9));
+    CHECK(s.figures[ltca::app::kShortestL10Hours] == doctest::Approx(stage.at("shortest_l10_hours").get<double>()).epsilon(1e-9));
+    for (std::size_t f = 0; f < ltca::app::kToleranceFigureCount; ++f) CHECK(study.Runs(f));
+  }
   using ltca::units::RadToArcsec;
   const double arcmin = 60.0;  // arcsec
   const double mean = s.figures[ltca::app::kMeanBacklashArcsec], pp = s.figures[ltca::app::kPpBacklashArcsec];
@@ -764,6 +776,16 @@ TEST_CASE("app: a tolerance on the output pins' holes moves a stage's backlash a
     }
     return std::string("accepted");
   };
+  CHECK(error(ReadText(Case("liu2021_sec52_base.toml")) + "\n[tolerances]\nlimits = { shortest_l10_hours = { min = 1000.0 } }\n")
+            .find("[tolerances] limits.shortest_l10_hours: a figure of a reducer stage; expected an [output] section") != std::string::npos);
+  {
+    const Deck ring = BaseWith("samples = 1\n");
+    const auto mesh_only = ltca::test::ToleranceOn(ring, ring.solver, *ring.tolerances);
+    for (const std::size_t f : {ltca::app::kMaxOutputPinForceN, ltca::app::kMaxBearingLoadN, ltca::app::kShortestL10Hours}) {
+      CHECK(!mesh_only.Runs(f));
+    }
+    CHECK(mesh_only.Runs(ltca::app::kMaxPinForceN));
+  }
   CHECK(error(ReadText(Case("liu2021_sec52_base.toml")) + "\n[tolerances]\nbearing_radial_clearance_mm = { distribution = \"uniform\", tolerance = 0.002 }\n")
             .find("[tolerances] bearing_radial_clearance_mm: the deck has no reducer stage") != std::string::npos);
   CHECK(error(ReadText(Case("stage/rv_two_discs_cranks.toml")) + "\n[tolerances]\noutput_hole_radius_mm = { distribution = \"uniform\", tolerance = 0.002 }\n")

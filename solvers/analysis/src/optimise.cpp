@@ -398,6 +398,20 @@ Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSetti
       throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = [{}, {}]: {}", v.key, v.lower, v.upper, why));
     }
   }
+  {  // a figure of a reducer stage (issue 28) needs one; the output pins' force needs output pins
+    const auto& r = nominal_.design.reducer;
+    std::vector<std::string> named = {settings_.objective};
+    for (const ToleranceLimit& l : settings_.constraints) named.push_back(l.figure);
+    for (const std::string& name : named) {
+      const int f = FigureIndex(name);
+      if (f < static_cast<int>(kMaxOutputPinForceN) || f >= static_cast<int>(kToleranceFigureCount)) continue;
+      if (!r || (f == static_cast<int>(kMaxOutputPinForceN) && r->kind != solvers::OutputKind::kPins)) {
+        throw std::invalid_argument(fmt::format("[optimise] {}: a figure of a reducer stage{}; expected an [output] section{} "
+                                                "(docs/stage.md)",
+                                                name, r ? " with output pins" : "", r ? " with kind = \"pins\"" : ""));
+      }
+    }
+  }
   if (nominal_.design.reducer && settings_.NeedsBacklash() && nominal_.torque == 0.0) {
     throw std::invalid_argument("[optimise] mean_backlash_arcsec / pp_backlash_arcsec on a reducer stage: [load] torque_nm = 0: "
                                 "expected a non-zero rated torque (the stage's backlash is its free play at +-1e-7 of it)");

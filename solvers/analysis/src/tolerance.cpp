@@ -209,7 +209,7 @@ const std::vector<std::string>& ToleranceSettings::FigureNames() {
   static const std::vector<std::string> kNames = {
       "mean_backlash_arcsec", "pp_backlash_arcsec", "mean_te_arcsec",         "pp_te_arcsec",
       "max_contact_stress_mpa", "max_pin_force_n",  "contacts_min",           "contacts_max",
-      "lost_motion_arcmin"};
+      "lost_motion_arcmin", "max_output_pin_force_n", "max_bearing_load_n", "shortest_l10_hours"};
   return kNames;
 }
 
@@ -292,6 +292,16 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
         "step for the whole revolution)",
         units::RadToDeg(span)));
   }
+  for (const ToleranceLimit& l : settings_.limits) {
+    const auto& names = ToleranceSettings::FigureNames();
+    const auto f = static_cast<std::size_t>(std::find(names.begin(), names.end(), l.figure) - names.begin());
+    if (f < names.size() && f >= kMaxOutputPinForceN && !Runs(f)) {
+      throw std::invalid_argument(fmt::format("deck '{}': [tolerances] limits.{}: a figure of a reducer stage{}; expected an [output] "
+                                              "section (docs/stage.md), or no such limit",
+                                              nominal_.design.name, l.figure,
+                                              f == kMaxOutputPinForceN && nominal_.design.reducer ? " with output pins" : ""));
+    }
+  }
   if (nominal_.design.reducer && settings_.stage_free_play) {
     if (nominal_.torque == 0.0) {
       throw std::invalid_argument(fmt::format("deck '{}': [tolerances] with [output]: [load] torque_nm = 0: expected a non-zero "
@@ -306,6 +316,17 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
   }
   if (settings_.lost_motion && nominal_.torque == 0.0) {
     throw std::invalid_argument("[tolerances] lost_motion = true: expected a non-zero [load] torque_nm (the rated torque of the loop)");
+  }
+}
+
+bool ToleranceStudy::Runs(std::size_t figure) const {
+  const auto& r = nominal_.design.reducer;
+  switch (figure) {
+    case kLostMotionArcmin: return settings_.lost_motion;
+    case kMaxOutputPinForceN: return r.has_value() && r->kind == solvers::OutputKind::kPins;
+    case kMaxBearingLoadN:
+    case kShortestL10Hours: return r.has_value();
+    default: return figure < kToleranceFigureCount;
   }
 }
 
@@ -431,6 +452,16 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
     if (sum_loaded.succeeded > 0) {
       s.figures[kContactsMin] = sum_loaded.contacts_min;
       s.figures[kContactsMax] = sum_loaded.contacts_max;
+    }
+    if (design.reducer && sum_loaded.stage) {  // a reducer stage's loads and life, as `ltca solve` gives them
+      const StageSummary& g = *sum_loaded.stage;
+      if (design.reducer->kind == solvers::OutputKind::kPins) s.figures[kMaxOutputPinForceN] = g.max_output_force;
+      s.figures[kMaxBearingLoadN] = g.max_bearing_load;
+      const BearingLife life = BearingLives(design, g, pair.sweep, sum_loaded.closed_period,
+                                            pair.operation ? pair.operation->input_speed : kNaN);
+      for (const double h : life.hours) {
+        if (std::isfinite(h) && !(h >= s.figures[kShortestL10Hours])) s.figures[kShortestL10Hours] = h;
+      }
     }
     if (!sum_loaded.all_succeeded()) {
       s.status = RunStatus::kFailed;

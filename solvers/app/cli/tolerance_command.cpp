@@ -67,8 +67,6 @@ std::string BeyondMark(const app::CornerExceedance& e) {
   return e.beyond_in_range > 0 ? " *" : " +";
 }
 
-/// Whether a figure is part of this run (lost motion only when asked for).
-bool Ran(std::size_t f, const app::ToleranceSettings& s) { return f != app::kLostMotionArcmin || s.lost_motion; }
 
 constexpr const char* kWorstCaseMethod =
     "extreme-value method: every input at the end of its range (uniform: +-tolerance, normal: +-3 sigma) about its "
@@ -79,7 +77,7 @@ constexpr const char* kWorstCaseMethod =
 /// "mean_te_arcsec" -> "mean TE (arcsec)": a figure's name as an axis label with its unit.
 std::string AxisLabel(const std::string& name) {
   static const std::vector<std::pair<std::string, std::string>> units = {
-      {"_arcsec", "arcsec"}, {"_arcmin", "arcmin"}, {"_mpa", "MPa"}, {"_n", "N"}};
+      {"_arcsec", "arcsec"}, {"_arcmin", "arcmin"}, {"_mpa", "MPa"}, {"_n", "N"}, {"_hours", "h"}};
   std::string base = name, unit = "pins";
   for (const auto& [suffix, u] : units) {
     if (base.size() > suffix.size() && base.compare(base.size() - suffix.size(), suffix.size(), suffix) == 0) {
@@ -88,7 +86,7 @@ std::string AxisLabel(const std::string& name) {
     }
   }
   std::replace(base.begin(), base.end(), '_', ' ');
-  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{{"pp ", "peak-to-peak "}, {" te", " TE"}}) {
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{{"pp ", "peak-to-peak "}, {" te", " TE"}, {"l10", "L10 life"}}) {
     const auto at = base.find(from);
     if (at != std::string::npos) base.replace(at, from.size(), to);
   }
@@ -109,7 +107,7 @@ void WriteHistograms(const app::Deck& deck, const app::ToleranceStudy& study, co
   figure.columns = 3;
   for (std::size_t f = 0; f < app::kToleranceFigureCount; ++f) {
     const auto& st = summary.figures[f];
-    if (!Ran(f, study.settings()) || st.count == 0) continue;
+    if (!study.Runs(f) || st.count == 0) continue;
     plots::Panel panel;
     panel.title = fmt::format("mean {:.5g}, std {:.3g}", st.mean, st.std);
     panel.x_label = AxisLabel(names[f]);
@@ -259,7 +257,7 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
     os << "sample,status";
     for (const auto& in : study.inputs()) os << ',' << in.name;
     for (std::size_t f = 0; f < names.size(); ++f) {
-      if (Ran(f, settings)) os << ',' << names[f];
+      if (study.Runs(f)) os << ',' << names[f];
     }
     os << ",message\n";
   }
@@ -278,7 +276,7 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
       os << s.index << ',' << ToString(s.status);
       for (const double v : s.inputs) os << ',' << CsvNumber(v);
       for (std::size_t f = 0; f < names.size(); ++f) {
-        if (Ran(f, settings)) os << ',' << CsvNumber(s.figures[f]);
+        if (study.Runs(f)) os << ',' << CsvNumber(s.figures[f]);
       }
       os << ',' << CsvText(s.message) << '\n';
     }
@@ -349,7 +347,7 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
     }
     nlohmann::json figures = nlohmann::json::object(), sens = nlohmann::json::object(), wc = nlohmann::json::object();
     for (std::size_t f = 0; f < names.size(); ++f) {
-      if (!Ran(f, settings)) continue;
+      if (!study.Runs(f)) continue;
       figures[names[f]] = StatsJson(summary.figures[f]);
       const auto& fs = summary.sensitivity[f];
       nlohmann::json keys = nlohmann::json::array();
@@ -421,7 +419,7 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
   fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", "figure", "mean", "std", "p1", "p5", "p50", "p95",
              "p99", worst ? fmt::format(" {:>23}", "worst case (corners)") : std::string());
   for (std::size_t f = 0; f < names.size(); ++f) {
-    if (!Ran(f, settings)) continue;
+    if (!study.Runs(f)) continue;
     const auto& s = summary.figures[f];
     fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", names[f], FormatOrNa(s.mean, 4), FormatOrNa(s.std, 4),
                FormatOrNa(s.p1, 4), FormatOrNa(s.p5, 4), FormatOrNa(s.p50, 4), FormatOrNa(s.p95, 4), FormatOrNa(s.p99, 4),
@@ -441,7 +439,7 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
     }
     const auto any = [&](auto&& pred) {
       for (std::size_t f = 0; f < names.size(); ++f) {
-        if (Ran(f, settings) && pred(beyond[f])) return true;
+        if (study.Runs(f) && pred(beyond[f])) return true;
       }
       return false;
     };
@@ -475,7 +473,7 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
                    "linear fit, beside it the R^2 chance reaches; '~': a share below its noise floor, not distinguishable from "
                    "chance at the 99.9th percentile):\n");
   for (std::size_t f = 0; f < names.size(); ++f) {
-    if (!Ran(f, settings)) continue;
+    if (!study.Runs(f)) continue;
     const auto& fs = summary.sensitivity[f];
     std::string ranking;
     for (std::size_t k = 0; k < std::min<std::size_t>(3, fs.keys.size()); ++k) {

@@ -114,11 +114,14 @@ struct ToleranceCase {
 
 /// The figures of a sample, in the order of ToleranceSettings::FigureNames(), in the units their
 /// names carry (arcsec, MPa, N, arcmin; contacts as counts).
-inline constexpr std::size_t kToleranceFigureCount = 9;
+/// The last three are a reducer stage's (issue 28; `ltca solve`'s stage summary): the largest
+/// output-pin force (output pins only), the largest bearing load and the shortest ISO 281 life
+/// of its bearings in hours (NaN without [bearing] dynamic_load_rating_n or [operation]).
+inline constexpr std::size_t kToleranceFigureCount = 12;
 using ToleranceFigures = std::array<double, kToleranceFigureCount>;
 enum ToleranceFigure : std::size_t {
   kMeanBacklashArcsec, kPpBacklashArcsec, kMeanTeArcsec, kPpTeArcsec, kMaxContactStressMpa, kMaxPinForceN,
-  kContactsMin, kContactsMax, kLostMotionArcmin
+  kContactsMin, kContactsMax, kLostMotionArcmin, kMaxOutputPinForceN, kMaxBearingLoadN, kShortestL10Hours
 };
 
 /// The most threads a study runs on (--threads): beyond it a thread costs its stack (8 MiB of
@@ -183,6 +186,9 @@ class ToleranceStudy {
   const std::vector<ToleranceInput>& inputs() const { return inputs_; }
   /// Notes for the user: a sweep shorter than the symmetry the errors break, etc.
   const std::vector<std::string>& notes() const { return notes_; }
+  /// Whether a sample of this study has the figure: lost motion when asked for, a stage's figures
+  /// on a reducer stage (the output pins' force with output pins).
+  bool Runs(std::size_t figure) const;
 
   /// The input columns of sample i: a pure function of (seed, i).
   std::vector<double> Draw(std::int64_t i) const;
@@ -218,7 +224,7 @@ void AppendSampleBytes(const ToleranceSample& s, std::string& out);
 /// Throws std::runtime_error when the bytes are truncated.
 void ReadSampleBytes(const std::string& in, const ToleranceStudy& study, const std::function<void(const ToleranceSample&)>& each);
 
-/// What the summary keeps of the samples: each one's figures and status, 73 bytes a sample in two
+/// What the summary keeps of the samples: each one's figures and status, 97 bytes a sample in two
 /// flat arrays (no string or vector per sample). The inputs are not kept: they are drawn again
 /// where needed (ToleranceStudy::Draw(i) is a pure function of (seed, i)). Of the messages only
 /// the first one of a sample that did not succeed is kept (the text summary shows it).
