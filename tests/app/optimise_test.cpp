@@ -287,6 +287,37 @@ TEST_CASE("app: the stage's clearance variables write the fields the deck reader
             .find("torque_nm = 0: expected a non-zero rated torque") != std::string::npos);
 }
 
+TEST_CASE("app: a bearing-life constraint on a stage's clearance is active at the optimum, and ltca solve gives the optimum's life") {
+  // cases/stage/cycloidal_drive.toml over a whole crank turn at 12 positions: the least lost
+  // motion over the eccentric bearing's play with its ISO 281 life at least 10,000 h. On this
+  // stage the life grows with the play (the mean bearing load falls as the disc floats), lost
+  // motion too, so the constraint is active: the optimum's life is the limit, and `ltca solve` on
+  // the deck with the play set by --set gives that life (the figure is solve's, not a copy).
+  const std::string deck_path = Case("stage/cycloidal_drive.toml");
+  const std::vector<std::string> sweep = {"sweep.positions=12", "sweep.crank_end_deg=330.0"};
+  std::vector<std::string> sets = sweep;
+  sets.insert(sets.end(), {"optimise.variables={ \"bearing.radial_clearance_mm\" = [0.0, 0.015] }", "optimise.objective=\"lost_motion_arcmin\"",
+                           "optimise.constraints={ shortest_l10_hours = { min = 10000.0 } }", "optimise.global=\"none\"",
+                           "optimise.tolerance=1e-10", "optimise.evaluations=100"});
+  const ltca::app::Deck deck = ltca::app::LoadDeck(deck_path, sets);
+  const auto result = Make(deck).Run();
+  REQUIRE(result.best >= 0);
+  const DesignEvaluation& best = result.history[static_cast<std::size_t>(result.best)];
+  const double life = best.figures[ltca::analysis::kShortestL10Hours];
+  CAPTURE(best.x[0]);
+  CHECK(life >= 10000.0);
+  CHECK(life <= 10000.0 * (1.0 + 1e-4));
+  std::vector<std::string> args = {"solve", deck_path, "--json", "-", "--set", fmt::format("bearing.radial_clearance_mm={:.17g}", best.x[0])};
+  for (const std::string& v : sweep) args.push_back("--set"), args.push_back(v);
+  const auto r = RunCli(args);
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(r.out).at("summary").at("stage").at("shortest_l10_hours").get<double>() == doctest::Approx(life).epsilon(1e-9));
+  // The play at either bound: the life is below the limit at the lower one, the lost motion larger at the upper one.
+  const Optimiser o = Make(deck);
+  CHECK(o.Evaluate({0.0}).figures[ltca::analysis::kShortestL10Hours] < 10000.0);
+  CHECK(o.Evaluate({0.015}).figures[ltca::analysis::kLostMotionArcmin] > best.figures[ltca::analysis::kLostMotionArcmin]);
+}
+
 TEST_CASE("app: a robust optimisation gives the same evaluations on one and two threads, bit for bit") {
   // Common random numbers: every design runs the same samples (seed, i), whatever the threads.
   const std::vector<std::string> sets = {"sweep.positions=3", "optimise.robust=true", "optimise.robust_samples=6",
