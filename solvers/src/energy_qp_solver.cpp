@@ -330,6 +330,11 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   // The torque balance is linear in the forces (issue 29): its Jacobian is evaluated once. The
   // objective is not quadratic (the log law), so hessian_constant and mehrotra_algorithm do not apply.
   app->Options()->SetStringValue("jac_c_constant", "yes");
+  // Issue 29: no iterative refinement unless the residual asks for it (Ipopt's default does one
+  // step on every solve). Each refinement step is one more MUMPS call, and MUMPS 5.x ends every
+  // call by sizing a save file (DMUMPS_COMPUTE_MEMORY_SAVE, 56 % of this solver's time under perf);
+  // the convergence test (tol 1e-12) and the shared residual judge the answer as before.
+  app->Options()->SetIntegerValue("min_refinement_steps", 0);
   if (!state->initialised) {
     if (app->Initialize("") != Ipopt::Solve_Succeeded) {  // "": no option file is read
       result->status = SolverStatus::kNumericalFailure;
