@@ -404,12 +404,11 @@ Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSetti
     for (const ToleranceLimit& l : settings_.constraints) named.push_back(l.figure);
     for (const std::string& name : named) {
       const int f = FigureIndex(name);
-      if (f < static_cast<int>(kMaxOutputPinForceN) || f >= static_cast<int>(kToleranceFigureCount)) continue;
-      if (!r || (f == static_cast<int>(kMaxOutputPinForceN) && r->kind != solvers::OutputKind::kPins)) {
-        throw std::invalid_argument(fmt::format("[optimise] {}: a figure of a reducer stage{}; expected an [output] section{} "
-                                                "(docs/stage.md)",
-                                                name, r ? " with output pins" : "", r ? " with kind = \"pins\"" : ""));
-      }
+      // A variable's key (-1) and the efficiency's figures (beyond the tolerance table) are not a stage's.
+      if (f < 0 || f >= static_cast<int>(kToleranceFigureCount) || StageHasFigure(r, static_cast<std::size_t>(f))) continue;
+      throw std::invalid_argument(fmt::format("[optimise] {}: a figure of a reducer stage{}; expected an [output] section{} "
+                                              "(docs/stage.md)",
+                                              name, r ? " with output pins" : "", r ? " with kind = \"pins\"" : ""));
     }
   }
   if (nominal_.design.reducer && settings_.NeedsBacklash() && nominal_.torque == 0.0) {

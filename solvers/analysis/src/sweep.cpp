@@ -126,6 +126,14 @@ void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
   }
 }
 
+double BearingLife::ShortestHours() const {
+  double shortest = std::numeric_limits<double>::quiet_NaN();
+  for (const double h : hours) {
+    if (std::isfinite(h) && !(h >= shortest)) shortest = h;
+  }
+  return shortest;
+}
+
 BearingLife BearingLives(const StageDesign& design, const StageSummary& summary, const Sweep& sweep, bool closed_period,
                          double input_speed) {
   BearingLife life;

@@ -295,7 +295,7 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
   for (const ToleranceLimit& l : settings_.limits) {
     const auto& names = ToleranceSettings::FigureNames();
     const auto f = static_cast<std::size_t>(std::find(names.begin(), names.end(), l.figure) - names.begin());
-    if (f < names.size() && f >= kMaxOutputPinForceN && !Runs(f)) {
+    if (f < names.size() && !StageHasFigure(nominal_.design.reducer, f)) {
       throw std::invalid_argument(fmt::format("deck '{}': [tolerances] limits.{}: a figure of a reducer stage{}; expected an [output] "
                                               "section (docs/stage.md), or no such limit",
                                               nominal_.design.name, l.figure,
@@ -319,15 +319,18 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
   }
 }
 
-bool ToleranceStudy::Runs(std::size_t figure) const {
-  const auto& r = nominal_.design.reducer;
+bool StageHasFigure(const std::optional<solvers::StageSettings>& reducer, std::size_t figure) {
   switch (figure) {
-    case kLostMotionArcmin: return settings_.lost_motion;
-    case kMaxOutputPinForceN: return r.has_value() && r->kind == solvers::OutputKind::kPins;
+    case kMaxOutputPinForceN: return reducer.has_value() && reducer->kind == solvers::OutputKind::kPins;
     case kMaxBearingLoadN:
-    case kShortestL10Hours: return r.has_value();
+    case kShortestL10Hours: return reducer.has_value();
     default: return figure < kToleranceFigureCount;
   }
+}
+
+bool ToleranceStudy::Runs(std::size_t figure) const {
+  if (figure == kLostMotionArcmin) return settings_.lost_motion;
+  return StageHasFigure(nominal_.design.reducer, figure);
 }
 
 std::vector<double> ToleranceStudy::Draw(std::int64_t i) const {
@@ -455,13 +458,11 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
     }
     if (design.reducer && sum_loaded.stage) {  // a reducer stage's loads and life, as `ltca solve` gives them
       const StageSummary& g = *sum_loaded.stage;
-      if (design.reducer->kind == solvers::OutputKind::kPins) s.figures[kMaxOutputPinForceN] = g.max_output_force;
+      if (StageHasFigure(design.reducer, kMaxOutputPinForceN)) s.figures[kMaxOutputPinForceN] = g.max_output_force;
       s.figures[kMaxBearingLoadN] = g.max_bearing_load;
-      const BearingLife life = BearingLives(design, g, pair.sweep, sum_loaded.closed_period,
-                                            pair.operation ? pair.operation->input_speed : kNaN);
-      for (const double h : life.hours) {
-        if (std::isfinite(h) && !(h >= s.figures[kShortestL10Hours])) s.figures[kShortestL10Hours] = h;
-      }
+      s.figures[kShortestL10Hours] =
+          BearingLives(design, g, pair.sweep, sum_loaded.closed_period, pair.operation ? pair.operation->input_speed : kNaN)
+              .ShortestHours();
     }
     if (!sum_loaded.all_succeeded()) {
       s.status = RunStatus::kFailed;

@@ -117,10 +117,6 @@ nlohmann::json StageSummaryJson(const app::Deck& deck, const app::SweepSummary& 
   if (!s.stage || !deck.reducer) return nullptr;
   const analysis::StageSummary& g = *s.stage;
   const analysis::BearingLife life = analysis::BearingLives(deck, g, deck.sweep, s.closed_period, deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN());
-  nlohmann::json shortest = nullptr;  // null when no bearing has a life (no rating or no speed)
-  for (const double h : life.hours) {
-    if (std::isfinite(h) && (shortest.is_null() || h < shortest.get<double>())) shortest = h;
-  }
   nlohmann::json shares = nlohmann::json::object();
   for (std::size_t k = 0; k < g.energy_share.size(); ++k) {
     shares[solvers::ToString(static_cast<solvers::StageGroup>(k))] = FiniteOrNull(g.energy_share[k]);
@@ -132,7 +128,7 @@ nlohmann::json StageSummaryJson(const app::Deck& deck, const app::SweepSummary& 
           {"mean_equivalent_load_n", g.mean_equivalent_load},
           {"l10_million_revolutions", life.million_revolutions},
           {"l10_hours", life.hours},
-          {"shortest_l10_hours", shortest},
+          {"shortest_l10_hours", FiniteOrNull(life.ShortestHours())},  // null when no bearing has a life
           {"life_basis", life.basis},
           {"strain_energy_share", shares}};
 }

@@ -67,7 +67,6 @@ std::string BeyondMark(const app::CornerExceedance& e) {
   return e.beyond_in_range > 0 ? " *" : " +";
 }
 
-
 constexpr const char* kWorstCaseMethod =
     "extreme-value method: every input at the end of its range (uniform: +-tolerance, normal: +-3 sigma) about its "
     "centre; stack = nominal -+ sum over the inputs of |f(+h) - f(-h)| / 2 (linear stacking, as a dimensional chain "

@@ -92,6 +92,8 @@ struct BearingLife {
   std::vector<double> million_revolutions;
   std::vector<double> hours;
   std::string basis;
+  /// The shortest life in hours of the bearings that have one; NaN when none has (no rating, no speed).
+  double ShortestHours() const;
 };
 
 struct SweepSummary : RunRecord {

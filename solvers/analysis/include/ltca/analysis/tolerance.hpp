@@ -124,6 +124,10 @@ enum ToleranceFigure : std::size_t {
   kContactsMin, kContactsMax, kLostMotionArcmin, kMaxOutputPinForceN, kMaxBearingLoadN, kShortestL10Hours
 };
 
+/// Whether a design has the figure: every figure but a reducer stage's (issue 28); those only with
+/// [output], the output pins' force only with output pins. Lost motion is the settings' matter.
+bool StageHasFigure(const std::optional<solvers::StageSettings>& reducer, std::size_t figure);
+
 /// The most threads a study runs on (--threads): beyond it a thread costs its stack (8 MiB of
 /// address space) and buys nothing on any machine this runs on; starting 40,000 failed.
 inline constexpr int kMaxToleranceThreads = 1024;
