@@ -25,16 +25,28 @@ struct Evaluation {
   std::string failure;     // coupled only: the complementarity problem of the trial did not converge
 };
 
-// Storage reused over the trials of one solve (issue 29: no allocation per trial).
+// Storage reused over the trials of one solve (issue 29: no allocation per trial). The accepted
+// trial's pins and laws are kept (swapped, so the laws' addresses stay valid): the convergence
+// check at the accepted rotation reads its torque resolution from them instead of evaluating
+// every pin at that rotation again after each overshoot (exact kinematics: a closest-point search
+// per pin).
 struct Buffers {
   std::vector<LoadProblem::PinAt> pins;
   std::vector<contact::ContactLaw> scratch;
+  std::vector<LoadProblem::PinAt> accepted_pins;
+  std::vector<contact::ContactLaw> accepted_scratch;
   Loading loading;
+  void Accept() {
+    pins.swap(accepted_pins);
+    scratch.swap(accepted_scratch);
+  }
 };
 
 Evaluation Evaluate(const LoadProblem& problem, double psi, Workspace& workspace, std::vector<double>* forces,
                     std::vector<double>* hints, Buffers& buffers) {
-  problem.At(psi, workspace, &buffers.scratch, &buffers.pins);
+  // Only the pressed pins matter to a trial's torque: a pin that cannot have closed since its last
+  // search is not searched again (exact kinematics; LoadProblem::Freshness).
+  problem.At(psi, workspace, &buffers.scratch, &buffers.pins, LoadProblem::Freshness::kLoadedOnly);
   buffers.loading.force.swap(*forces);  // the trial's storage, filled in place
   LoadAt(buffers.pins, hints, &buffers.loading);
   forces->swap(buffers.loading.force);
@@ -61,7 +73,10 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   double psi = *first_contact;
   const double target = problem.torque();
   double step = units::ArcsecToRad(1.0 / 60.0);  // Liu section 4: 1/60 arcsec
+  Buffers buffers;
+  // Uncoupled, the accepted trial's pins are at hand (Buffers); coupled, evaluated again.
   const auto converged = [&](double psi_now, double torque_now) {
+    if (!problem.has_coupling()) return problem.Balanced(psi_now, torque_now, options.torque_tolerance, buffers.accepted_pins);
     return problem.Balanced(psi_now, torque_now, options.torque_tolerance, workspace);
   };
   std::vector<double> forces, trial_forces, hints;
@@ -70,7 +85,6 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   CoupledContact* coupled = problem.has_coupling() ? &CoupledContactFor(problem, workspace) : nullptr;
   const double force_scale = coupled != nullptr ? CoupledForceScale(problem) : 0.0;
   const ActiveSetCholmod::Stats before = coupled != nullptr ? coupled->stats() : ActiveSetCholmod::Stats{};
-  Buffers buffers;
   const auto evaluate = [&](double at_psi, std::vector<double>* out) {
     if (coupled == nullptr) return Evaluate(problem, at_psi, workspace, out, &hints, buffers);
     if (out != &forces) *out = forces;
@@ -84,6 +98,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   bool edge_blocked = false;
   Evaluation at = evaluate(psi, &forces);
   if (!at.failure.empty()) return fail(at, 1);
+  if (coupled == nullptr) buffers.Accept();
   int evaluations = 1;
   for (; evaluations < options.max_iterations; ++evaluations) {
     if (converged(psi, at.torque)) break;
@@ -101,6 +116,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
       psi += step;
       at = trial;
       forces.swap(trial_forces);
+      if (coupled == nullptr) buffers.Accept();
       if (at.saturated && at.torque < target * (1.0 - options.torque_tolerance)) {
         result->status = SolverStatus::kLawCannotCarry;
         result->message = fmt::format("a pin reached the largest force its contact law can carry at {:.6g} N*m of {:.6g}",

@@ -348,6 +348,20 @@ void LoadProblem::BuildBaseLaws() {
   // Pin m alone reaches the torque at its closing rotation plus w_m(T / L_m) / L_m (exact for
   // linearised kinematics; to first order in the deformation for exact kinematics).
   single_pin_ = SinglePinBound();
+  // The rate bound of At's Freshness::kLoadedOnly: turning the disc by psi about its centre moves
+  // a pin's centre, in the disc's frame, along a circle of radius rho; the gap (its distance to
+  // the profile, less the pin radius and a layer constant in psi) moves by at most rho |psi|.
+  // Analytic surface only: the element surface's gap is measured to the element facing the pin.
+  reach_.clear();
+  const bool analytic = model_->discrete() == nullptr && (second_ == nullptr || second_->discrete() == nullptr);
+  if (kinematics_ == contact::ContactKinematics::kExact && analytic) {
+    reach_.reserve(base_.pins.size());
+    for (const auto& pin : base_.pins) {
+      const contact::MeshModel& model = DiscModel(pin.disc);
+      const double rho = (model.PinCentre(pin.pin) - model.CyclePose(DiscCrank(pin.disc), 0.0, pin.z).centre).norm();
+      reach_.push_back(rho * (1.0 + 1e-9));  // a margin over the rounding of rho
+    }
+  }
 }
 
 std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace,
@@ -359,6 +373,11 @@ std::vector<LoadProblem::PinAt> LoadProblem::At(double psi, Workspace& workspace
 
 void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::ContactLaw>* scratch,
                      std::vector<PinAt>* pins) const {
+  At(psi, workspace, scratch, pins, Freshness::kAll);
+}
+
+void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::ContactLaw>* scratch,
+                     std::vector<PinAt>* pins, Freshness freshness) const {
   std::vector<PinAt>& out = *pins;
   out.resize(base_.pins.size());
   if (kinematics_ == contact::ContactKinematics::kLinearised) {
@@ -371,15 +390,29 @@ void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::Cont
   // Re-evaluate every pin at the rotated pose, searched from its last foot point; build laws only
   // for the pins that are pressed (the others carry no force).
   Workspace::FootPoints& feet = workspace.foot_points();
-  if (feet.problem != id_) feet = {id_, base_.pins, std::numeric_limits<double>::quiet_NaN()};
-  std::vector<contact::PinContact>& last_exact_ = feet.last;
+  if (feet.problem != id_) {
+    feet.problem = id_;
+    feet.last = base_.pins;
+    feet.at.assign(base_.pins.size(), std::numeric_limits<double>::quiet_NaN());
+  }
   scratch->clear();
   scratch->reserve(out.size());
-  const bool same_pose = psi == feet.psi;  // the judge and the sweep ask for the answer again
+  const bool skip = freshness == Freshness::kLoadedOnly && !reach_.empty();
+  // What a fresh search could still resolve as closed (GapResolution), with a margin.
+  const double margin = 4.0 * GapResolution();
   for (std::size_t i = 0; i < out.size(); ++i) {
-    const contact::PinContact pin =
-        same_pose ? last_exact_[i] : EvaluatePin(last_exact_[i], psi);
-    last_exact_[i] = pin;
+    contact::PinContact& pin = feet.last[i];
+    if (feet.at[i] != psi) {  // (the judge and the sweep ask for the answer again: kept)
+      const double closest = skip && std::isfinite(feet.at[i])
+                                 ? pin.clearance - reach_[i] * std::abs(psi - feet.at[i])
+                                 : -INFINITY;
+      if (closest > margin) {  // cannot be closed at psi: no search (Freshness::kLoadedOnly)
+        out[i] = {-closest, pin.arm, pin.edge, pin.edge ? nullptr : &base_laws_[i]};
+        continue;
+      }
+      pin = EvaluatePin(pin, psi);
+      feet.at[i] = psi;
+    }
     out[i] = {-pin.clearance, pin.arm, pin.edge, nullptr};
     if (!pin.edge && pin.clearance < 0.0) {
       scratch->push_back(MakeLaw(contact_, material_, pin, pin.length, log_radius_cap_));
@@ -388,7 +421,6 @@ void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::Cont
       out[i].law = &base_laws_[i];  // unloaded: any law of this pin gives zero force
     }
   }
-  feet.psi = psi;
 }
 
 contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, double psi) const {
@@ -474,6 +506,17 @@ bool LoadProblem::Balanced(double psi, double torque_out, double tolerance, Work
   if (miss <= tolerance * torque_) return true;
   if (miss > 1e-6 * torque_ + 1e-6) return false;
   return miss <= TorqueResolution(psi, workspace);
+}
+
+double LoadProblem::TorqueResolution(double psi, const std::vector<PinAt>& pins) const {
+  return Resolution(pins, psi, GapResolution());
+}
+
+bool LoadProblem::Balanced(double psi, double torque_out, double tolerance, const std::vector<PinAt>& pins) const {
+  const double miss = std::abs(torque_out - torque_);
+  if (miss <= tolerance * torque_) return true;
+  if (miss > 1e-6 * torque_ + 1e-6) return false;
+  return miss <= TorqueResolution(psi, pins);
 }
 
 double LoadProblem::TorqueCapacity() const {

@@ -107,9 +107,21 @@ SOLVE_PATH_UNCOMPARED = {"torque_evaluations", "iterations", "solves"}
 NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 
 
+# Whether bisection's last miss falls just inside the torque tolerance or inside the band below it
+# that double precision cannot resolve is a stopping decision on the path like the counts: both are
+# a success, the second says so in a note, which is not compared (issue 29: the exact kinematics'
+# trials skip the foot-point search of pins that cannot have closed, so their warm starts, and the
+# last bits of each trial's torque, differ).
+PATH_NOTES = (" (limited by the resolution of the rotation in double precision)",)
+
+
 def masked(text):
-    """A message with its numbers replaced by '#': its words."""
-    return NUMBER.sub("#", text) if isinstance(text, str) else text
+    """A message with its numbers replaced by '#' and its path notes dropped: its words."""
+    if not isinstance(text, str):
+        return text
+    for note in PATH_NOTES:
+        text = text.replace(note, "")
+    return NUMBER.sub("#", text)
 
 
 def deck_sections(path):

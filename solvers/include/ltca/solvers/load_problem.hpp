@@ -177,6 +177,17 @@ class LoadProblem {
   std::vector<PinAt> At(double psi, Workspace& workspace, std::vector<contact::ContactLaw>* scratch) const;
   /// The same into *pins, whose storage is reused (no allocation in a solver's inner loop).
   void At(double psi, Workspace& workspace, std::vector<contact::ContactLaw>* scratch, std::vector<PinAt>* pins) const;
+  /// Which pins At evaluates under exact kinematics. kAll: every pin at psi. kLoadedOnly (a
+  /// solver's trials, where only the pressed pins matter): a pin whose last evaluated clearance c
+  /// at psi' is so large that no rotation by |psi - psi'| can close it is not searched again (its
+  /// clearance moves at most rho |psi - psi'|, rho the distance of its centre from the disc's
+  /// centre of rotation: the distance to the profile is 1-Lipschitz in the pin's position); it is
+  /// given the largest approach it can have, -(c - rho |psi - psi'|) < 0, and carries no force.
+  /// Its approach and arm are then bounds, not values: the forces and torque are exact, the
+  /// unloaded pins' approaches are not (ask kAll for those). Linearised kinematics: no difference.
+  enum class Freshness { kAll, kLoadedOnly };
+  void At(double psi, Workspace& workspace, std::vector<contact::ContactLaw>* scratch, std::vector<PinAt>* pins,
+          Freshness freshness) const;
 
   /// Output torque sum F_i(delta_i(psi)) L_i(psi), N*mm (forces of the law at each approach).
   double OutputTorque(double psi, Workspace& workspace) const;
@@ -194,6 +205,8 @@ class LoadProblem {
   /// spacing of doubles at psi (x4), plus sum k_i |L_i| times GapResolution(). Below it no solver
   /// can balance the torque any closer.
   double TorqueResolution(double psi, Workspace& workspace) const;
+  /// The same from the pins already evaluated at psi (At(psi)), without evaluating them again.
+  double TorqueResolution(double psi, const std::vector<PinAt>& pins) const;
 
   /// The largest torque the contact laws can carry at the unrotated geometry: every pin whose gap
   /// closes at its law's largest force, sum F_max,i L_i, N*mm (infinite for the linear law).
@@ -204,6 +217,9 @@ class LoadProblem {
   /// evaluation, so it is only consulted once the miss is below 1e-6 T (+ 1e-6 N*mm): the floor
   /// is ulp-sized, far below that for any torque the laws are meant for.
   bool Balanced(double psi, double torque_out, double tolerance, Workspace& workspace) const;
+  /// The same rule from the pins already evaluated at psi (At(psi)): a solver that keeps its
+  /// accepted evaluation need not evaluate the geometry at psi again for the resolution.
+  bool Balanced(double psi, double torque_out, double tolerance, const std::vector<PinAt>& pins) const;
 
   /// Rotation of first contact in the load direction (the smallest closing rotation), rad. The
   /// pin ring's alone: a stage's free play also takes up its holes' and bearings' clearances
@@ -249,6 +265,9 @@ class LoadProblem {
   std::vector<contact::ContactLaw> base_laws_;  // edge pins get a placeholder (never used)
   double first_contact_ = 0.0;  // rad, see BuildBaseLaws
   double single_pin_ = 0.0;     // rad
+  // Exact kinematics on the analytic surface: per point, the distance of its pin's centre from
+  // the disc's centre of rotation, mm (the rate bound of At's kLoadedOnly); empty otherwise.
+  std::vector<double> reach_;
   std::vector<double> closing_;  // rad, per pin (infinite where the arm cannot close it), see BuildBaseLaws
   std::shared_ptr<const Eigen::SparseMatrix<double>> coupling_;  // nullptr: uncoupled
   std::shared_ptr<const CouplingFactors> coupling_factors_;      // nullptr: none (or uncoupled)

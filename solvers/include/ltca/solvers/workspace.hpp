@@ -41,7 +41,8 @@ class Workspace {
   struct FootPoints {
     std::uint64_t problem = 0;  ///< 0: bound to none
     std::vector<contact::PinContact> last;
-    double psi = std::numeric_limits<double>::quiet_NaN();  ///< `last` is at this rotation
+    /// The rotation each entry of `last` was evaluated at (NaN: not yet at any).
+    std::vector<double> at;
   };
   FootPoints& foot_points() { return foot_points_; }
 

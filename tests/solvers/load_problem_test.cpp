@@ -1,0 +1,70 @@
+// LoadProblem's evaluation of the pins at a trial rotation (issue 29): what a solver's inner loop
+// may leave out, and what it must not.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "ltca/solvers/load_problem.hpp"
+#include "ltca/solvers/load_solver.hpp"
+#include "problems.hpp"
+
+using ltca::contact::ContactKinematics;
+using ltca::contact::ContactLaw;
+using ltca::solvers::LoadProblem;
+using ltca::solvers::Workspace;
+
+TEST_CASE("solvers: exact trials that skip the pins that cannot have closed give every force a full evaluation gives") {
+  // Liu 2021 section 5.2 (clearances of microns, cases/liu2021_sec52_base.toml), exact kinematics,
+  // 206 N*m. One workspace follows a bisection-like path of trial rotations (rising, overshooting,
+  // halving back) with Freshness::kLoadedOnly; each trial is checked against a fresh workspace that
+  // searches every pin (kAll): a pressed pin's approach to 1e-12 mm and its force to 1e-9 relative
+  // (the same search from another warm start), an unpressed pin reported unpressed, and its
+  // reported approach an upper bound of the true one (what kLoadedOnly promises). The path must
+  // skip some pins, or the test shows nothing.
+  const ltca::test::PaperCase sec52 = ltca::test::LiuSec52Base();
+  const auto model = sec52.Model();
+  for (const double crank : {0.0, ltca::units::DegToRad(4.3)}) {
+    CAPTURE(crank);
+    const LoadProblem problem = sec52.Problem(model, crank, ContactKinematics::kExact);
+    const double first = problem.FirstContactRotation();
+    REQUIRE(std::isfinite(first));
+    std::vector<double> path;
+    double psi = first, step = 2e-6;
+    for (int k = 0; k < 40; ++k) {  // rising by doubling steps, then overshoot and halve back
+      path.push_back(psi + step);
+      if (k < 8) psi += step, step *= 2.0;
+      else step *= (k % 3 == 0 ? 1.5 : 0.5);
+    }
+    Workspace trials;
+    std::vector<ContactLaw> scratch, fresh_scratch;
+    std::vector<LoadProblem::PinAt> pins, fresh;
+    int skipped = 0, pressed = 0;
+    for (const double at : path) {
+      CAPTURE(at);
+      problem.At(at, trials, &scratch, &pins, LoadProblem::Freshness::kLoadedOnly);
+      Workspace full;
+      problem.At(at, full, &fresh_scratch, &fresh, LoadProblem::Freshness::kAll);
+      REQUIRE(pins.size() == fresh.size());
+      const ltca::solvers::Loading a = ltca::solvers::LoadAt(pins, nullptr);
+      const ltca::solvers::Loading b = ltca::solvers::LoadAt(fresh, nullptr);
+      CHECK(a.torque == doctest::Approx(b.torque).epsilon(1e-9));
+      for (std::size_t i = 0; i < pins.size(); ++i) {
+        CAPTURE(i);
+        if (fresh[i].approach > 0.0) {
+          ++pressed;
+          CHECK(std::abs(pins[i].approach - fresh[i].approach) <= 1e-12);
+          CHECK(a.force[i] == doctest::Approx(b.force[i]).epsilon(1e-9));
+        } else {
+          CHECK(pins[i].approach <= 1e-12);
+          CHECK(a.force[i] == 0.0);
+          CHECK(pins[i].approach >= fresh[i].approach - 1e-12);
+          if (pins[i].approach > fresh[i].approach + 1e-9) ++skipped;
+        }
+      }
+    }
+    CHECK(pressed > 0);
+    CHECK(skipped > 0);
+  }
+}
