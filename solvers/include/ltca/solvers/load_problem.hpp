@@ -186,6 +186,10 @@ class LoadProblem {
   /// Its approach and arm are then bounds, not values: the forces and torque are exact, the
   /// unloaded pins' approaches are not (ask kAll for those). Linearised kinematics: no difference.
   enum class Freshness { kAll, kLoadedOnly };
+  /// Exact kinematics: every contact point searched at psi (from the workspace's last foot points),
+  /// as EvaluatePin gives them, kept in the workspace: a later At(psi) on the same workspace
+  /// searches nothing again. The reference is valid until the workspace's next evaluation.
+  const std::vector<contact::PinContact>& ExactPins(double psi, Workspace& workspace) const;
   void At(double psi, Workspace& workspace, std::vector<contact::ContactLaw>* scratch, std::vector<PinAt>* pins,
           Freshness freshness) const;
 
@@ -250,6 +254,8 @@ class LoadProblem {
   /// Closing rotation of a pin of base_ (this problem's frame), rad.
   double Closing(const contact::PinContact& pin) const;
   double SinglePinBound() const;  // LoadedRotationRange's upper end, with the coupling's terms
+  /// The workspace's foot points, bound to this problem (from base_ at no rotation when new).
+  Workspace::FootPoints& BoundFootPoints(Workspace& workspace) const;
 
   ModelPtr model_;
   ModelPtr second_;  // the second disc of a two-disc stage, nullptr for one disc
