@@ -516,11 +516,22 @@ double LoadProblem::TorqueResolution(double psi, Workspace& workspace) const {
   return Resolution(At(psi, workspace, &scratch), psi, GapResolution());
 }
 
+namespace {
+
+// The convergence rule of LoadProblem::Balanced; the resolution (a full evaluation, or a pass over
+// pins at hand) is asked for only once the miss is below 1e-6 T.
+template <class ResolutionAt>
+bool BalancedRule(double torque_out, double torque, double tolerance, ResolutionAt resolution) {
+  const double miss = std::abs(torque_out - torque);
+  if (miss <= tolerance * torque) return true;
+  if (miss > 1e-6 * torque + 1e-6) return false;
+  return miss <= resolution();
+}
+
+}  // namespace
+
 bool LoadProblem::Balanced(double psi, double torque_out, double tolerance, Workspace& workspace) const {
-  const double miss = std::abs(torque_out - torque_);
-  if (miss <= tolerance * torque_) return true;
-  if (miss > 1e-6 * torque_ + 1e-6) return false;
-  return miss <= TorqueResolution(psi, workspace);
+  return BalancedRule(torque_out, torque_, tolerance, [&] { return TorqueResolution(psi, workspace); });
 }
 
 double LoadProblem::TorqueResolution(double psi, const std::vector<PinAt>& pins) const {
@@ -528,10 +539,7 @@ double LoadProblem::TorqueResolution(double psi, const std::vector<PinAt>& pins)
 }
 
 bool LoadProblem::Balanced(double psi, double torque_out, double tolerance, const std::vector<PinAt>& pins) const {
-  const double miss = std::abs(torque_out - torque_);
-  if (miss <= tolerance * torque_) return true;
-  if (miss > 1e-6 * torque_ + 1e-6) return false;
-  return miss <= TorqueResolution(psi, pins);
+  return BalancedRule(torque_out, torque_, tolerance, [&] { return TorqueResolution(psi, pins); });
 }
 
 double LoadProblem::TorqueCapacity() const {
