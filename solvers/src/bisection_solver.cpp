@@ -74,12 +74,12 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   const double target = problem.torque();
   double step = units::ArcsecToRad(1.0 / 60.0);  // Liu section 4: 1/60 arcsec
   Buffers buffers;
-  // Uncoupled, the accepted trial's pins are at hand (Buffers); coupled, evaluated again.
+  std::vector<double> forces, trial_forces, hints;  // forces: the accepted trial's
+  // Uncoupled, the accepted trial's pins and forces are at hand (Buffers); coupled, evaluated again.
   const auto converged = [&](double psi_now, double torque_now) {
-    if (!problem.has_coupling()) return problem.Balanced(psi_now, torque_now, options.torque_tolerance, buffers.accepted_pins);
+    if (!problem.has_coupling()) return problem.Balanced(psi_now, torque_now, options.torque_tolerance, buffers.accepted_pins, &forces);
     return problem.Balanced(psi_now, torque_now, options.torque_tolerance, workspace);
   };
-  std::vector<double> forces, trial_forces, hints;
   // Uncoupled: the forces of the laws at the approaches (the published method, unchanged). Coupled:
   // the coupled complementarity problem at each trial rotation, warm-started from the last accepted one.
   CoupledContact* coupled = problem.has_coupling() ? &CoupledContactFor(problem, workspace) : nullptr;
@@ -100,8 +100,12 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   if (!at.failure.empty()) return fail(at, 1);
   if (coupled == nullptr) buffers.Accept();
   int evaluations = 1;
+  // The check is a function of the accepted trial alone: after an overshoot (nothing accepted) its
+  // answer is the last one, so it is asked again only once a trial has been accepted.
+  bool accepted_new = true;
   for (; evaluations < options.max_iterations; ++evaluations) {
-    if (converged(psi, at.torque)) break;
+    if (accepted_new && converged(psi, at.torque)) break;
+    accepted_new = false;
     const Evaluation trial = evaluate(psi + step, &trial_forces);
     if (!trial.failure.empty()) return fail(trial, evaluations + 1);
     if (trial.edge) {
@@ -117,6 +121,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
       at = trial;
       forces.swap(trial_forces);
       if (coupled == nullptr) buffers.Accept();
+      accepted_new = true;
       if (at.saturated && at.torque < target * (1.0 - options.torque_tolerance)) {
         result->status = SolverStatus::kLawCannotCarry;
         result->message = fmt::format("a pin reached the largest force its contact law can carry at {:.6g} N*m of {:.6g}",

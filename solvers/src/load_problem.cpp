@@ -497,11 +497,21 @@ double LoadProblem::GapResolution() const {
 namespace {
 
 // The torque the arithmetic cannot resolve at psi (LoadProblem::TorqueResolution), N*mm.
-double Resolution(const std::vector<LoadProblem::PinAt>& pins, double psi, double gap_resolution) {
+// With the pins' forces at hand (forces != nullptr, F_i = Force(approach_i)), each stiffness is
+// 1 / Compliance(F_i) in closed form instead of a law inversion per pin (Stiffness(approach)).
+double Resolution(const std::vector<LoadProblem::PinAt>& pins, double psi, double gap_resolution,
+                  const std::vector<double>* forces = nullptr) {
   double stiffness = 0.0, gap_stiffness = 0.0;
-  for (const LoadProblem::PinAt& p : pins) {
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    const LoadProblem::PinAt& p = pins[i];
     if (p.law == nullptr || !(p.approach > 0.0)) continue;
-    const double k = p.law->Stiffness(p.approach);
+    double k = 0.0;
+    if (forces == nullptr) {
+      k = p.law->Stiffness(p.approach);
+    } else if (p.approach < p.law->max_approach()) {
+      const double compliance = p.law->Compliance((*forces)[i]);
+      k = compliance > 0.0 ? 1.0 / compliance : 0.0;
+    }
     stiffness += k * p.arm * p.arm;
     gap_stiffness += k * std::abs(p.arm);
   }
@@ -534,12 +544,16 @@ bool LoadProblem::Balanced(double psi, double torque_out, double tolerance, Work
   return BalancedRule(torque_out, torque_, tolerance, [&] { return TorqueResolution(psi, workspace); });
 }
 
-double LoadProblem::TorqueResolution(double psi, const std::vector<PinAt>& pins) const {
-  return Resolution(pins, psi, GapResolution());
+double LoadProblem::TorqueResolution(double psi, const std::vector<PinAt>& pins, const std::vector<double>* forces) const {
+  if (forces != nullptr && forces->size() != pins.size()) {
+    throw std::logic_error("LoadProblem::TorqueResolution: one force a pin expected");
+  }
+  return Resolution(pins, psi, GapResolution(), forces);
 }
 
-bool LoadProblem::Balanced(double psi, double torque_out, double tolerance, const std::vector<PinAt>& pins) const {
-  return BalancedRule(torque_out, torque_, tolerance, [&] { return TorqueResolution(psi, pins); });
+bool LoadProblem::Balanced(double psi, double torque_out, double tolerance, const std::vector<PinAt>& pins,
+                           const std::vector<double>* forces) const {
+  return BalancedRule(torque_out, torque_, tolerance, [&] { return TorqueResolution(psi, pins, forces); });
 }
 
 double LoadProblem::TorqueCapacity() const {

@@ -68,3 +68,28 @@ TEST_CASE("solvers: exact trials that skip the pins that cannot have closed give
     CHECK(skipped > 0);
   }
 }
+
+TEST_CASE("solvers: the torque resolution from the pins' forces is the one from a law inversion per pin") {
+  // Bisection's convergence check takes each pressed pin's stiffness as 1 / Compliance(F_i) from
+  // the forces of its accepted trial (issue 29); Stiffness(approach) inverts the law instead. The
+  // two must agree to rounding (1e-12 relative) at rotations that press few pins and many, under
+  // both kinematics; a wrong closed form (e.g. the compliance without its log term) fails here.
+  const ltca::test::PaperCase sec52 = ltca::test::LiuSec52Base();
+  const auto model = sec52.Model();
+  for (const ContactKinematics kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
+    const LoadProblem problem = sec52.Problem(model, 0.0, kinematics);
+    const double first = problem.FirstContactRotation();
+    REQUIRE(std::isfinite(first));
+    for (const double turn : {1e-6, 1e-5, 1e-4, 5e-4}) {
+      CAPTURE(turn);
+      Workspace workspace;
+      std::vector<ContactLaw> scratch;
+      const std::vector<LoadProblem::PinAt> pins = problem.At(first + turn, workspace, &scratch);
+      const ltca::solvers::Loading loading = ltca::solvers::LoadAt(pins, nullptr);
+      const double by_inversion = problem.TorqueResolution(first + turn, pins);
+      const double by_force = problem.TorqueResolution(first + turn, pins, &loading.force);
+      REQUIRE(by_inversion > 0.0);
+      CHECK(std::abs(by_force / by_inversion - 1.0) <= 1e-12);  // relative: the values are ulp-sized
+    }
+  }
+}

@@ -209,8 +209,9 @@ class LoadProblem {
   /// spacing of doubles at psi (x4), plus sum k_i |L_i| times GapResolution(). Below it no solver
   /// can balance the torque any closer.
   double TorqueResolution(double psi, Workspace& workspace) const;
-  /// The same from the pins already evaluated at psi (At(psi)), without evaluating them again.
-  double TorqueResolution(double psi, const std::vector<PinAt>& pins) const;
+  /// The same from the pins already evaluated at psi (At(psi)), without evaluating them again;
+  /// with their forces (one a pin, the laws' at those approaches) also without inverting a law.
+  double TorqueResolution(double psi, const std::vector<PinAt>& pins, const std::vector<double>* forces = nullptr) const;
 
   /// The largest torque the contact laws can carry at the unrotated geometry: every pin whose gap
   /// closes at its law's largest force, sum F_max,i L_i, N*mm (infinite for the linear law).
@@ -223,7 +224,8 @@ class LoadProblem {
   bool Balanced(double psi, double torque_out, double tolerance, Workspace& workspace) const;
   /// The same rule from the pins already evaluated at psi (At(psi)): a solver that keeps its
   /// accepted evaluation need not evaluate the geometry at psi again for the resolution.
-  bool Balanced(double psi, double torque_out, double tolerance, const std::vector<PinAt>& pins) const;
+  bool Balanced(double psi, double torque_out, double tolerance, const std::vector<PinAt>& pins,
+                const std::vector<double>* forces = nullptr) const;
 
   /// Rotation of first contact in the load direction (the smallest closing rotation), rad. The
   /// pin ring's alone: a stage's free play also takes up its holes' and bearings' clearances
