@@ -220,6 +220,23 @@ ContactLaw::ContactLaw(const ContactSettings& settings, const Material& material
   max_approach_ = std::isfinite(max_force_) ? HertzApproach(max_force_) : kInf;
 }
 
+ContactLaw ContactLaw::Scaled(double w) const {
+  if (!(std::isfinite(w) && w > 0.0)) {
+    throw std::invalid_argument(fmt::format("ContactLaw::Scaled: force scale {}: expected a finite number above 0", w));
+  }
+  ContactLaw law = *this;
+  law.length_ = w * length_;
+  law.max_force_ = w * max_force_;  // the approach at the largest force is unchanged
+  law.k_lin_ = w * k_lin_;
+  law.sagitta_factor_ = sagitta_factor_ / w;
+  // delta = (2F / (pi B)) [A - (C/2) ln F] at F / w: (2F / (pi w B)) [A + (C/2) ln w - (C/2) ln F].
+  const double log_w = std::log(w);
+  law.log_a_ = log_a_ + 0.5 * log_c_ * log_w;
+  law.seat_a_ = seat_a_ + 0.5 * seat_c_ * log_w;
+  law.seat_b1_ = seat_b1_ / std::sqrt(w);  // b_s = b1 sqrt(F / w)
+  return law;
+}
+
 double ContactLaw::HertzApproach(double force) const {
   return 2.0 * force / (kPi * length_) * (log_a_ - 0.5 * log_c_ * std::log(force));
 }

@@ -270,6 +270,29 @@ LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
   return out;
 }
 
+LoadProblem LoadProblem::WithLawScales(const std::vector<double>& scales) const {
+  if (!scalable_laws()) {
+    throw std::invalid_argument(
+        "LoadProblem::WithLawScales: expected linearised kinematics without a coupling or a stage (their laws are "
+        "rebuilt or are not the mesh's alone)");
+  }
+  if (scales.size() != base_laws_.size()) {
+    throw std::invalid_argument(fmt::format("LoadProblem::WithLawScales: {} scales for {} points", scales.size(),
+                                            base_laws_.size()));
+  }
+  LoadProblem out(*this);
+  for (std::size_t i = 0; i < scales.size(); ++i) {
+    if (!(std::isfinite(scales[i]) && scales[i] > 0.0)) {
+      throw std::invalid_argument(fmt::format(
+          "LoadProblem::WithLawScales: point {} (pin {}) has scale {}: expected a finite number above 0", i,
+          base_.pins[i].pin + 1, scales[i]));
+    }
+    out.base_laws_[i] = base_laws_[i].Scaled(scales[i]);
+  }
+  out.single_pin_ = out.SinglePinBound();  // the closing rotations are geometry's; this bound is the laws'
+  return out;
+}
+
 LoadProblem LoadProblem::WithStage(std::shared_ptr<const StageSettings> stage) const {
   if (stage != nullptr) stage->Validate(model_->pair().eccentricity);
   LoadProblem out(*this);

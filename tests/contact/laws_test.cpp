@@ -124,6 +124,45 @@ TEST_CASE("contact: the warm-started inversion returns F(delta(F)) = F to 8 ulp 
   }
 }
 
+TEST_CASE("contact: a law scaled by w carries w times the force at every approach, with the stresses of the unscaled force (issue 27)") {
+  // The definition F_w(delta) = w F(delta) is the independent side: every quantity of the scaled
+  // law at w F is the unscaled law's at F (approach, w x energy, compliance / w), and its Hertz
+  // half-width and pressure at w F are the contact's at F. Tolerance 1e-12 relative.
+  int index = 0;
+  for (const ContactLaw& law : AllLaws()) {
+    CAPTURE(index++);
+    for (const double w : {0.05, 0.6, 1.0, 1.07, 25.0}) {
+      CAPTURE(w);
+      const ContactLaw scaled = law.Scaled(w);
+      if (std::isfinite(law.max_force())) {
+        CHECK(std::abs(scaled.max_force() - w * law.max_force()) <= 1e-12 * w * law.max_force());
+      } else {
+        CHECK(scaled.max_force() == law.max_force());
+      }
+      if (std::isfinite(law.max_approach())) CHECK(scaled.max_approach() == law.max_approach());
+      for (double f = 1e-3; f <= 1e5 * 1.0001; f *= 10.0) {
+        if (f >= law.max_force()) break;
+        CAPTURE(f);
+        const double delta = law.Approach(f);
+        const auto near = [](double got, double want) { return std::abs(got - want) <= 1e-12 * std::abs(want); };
+        CHECK(near(scaled.Force(delta), w * f));
+        CHECK(near(scaled.Approach(w * f), delta));
+        CHECK(near(scaled.Stiffness(delta), w * law.Stiffness(delta)));
+        CHECK(near(w * scaled.Compliance(w * f), law.Compliance(f)));
+        CHECK(near(scaled.ComplementaryEnergy(w * f), w * law.ComplementaryEnergy(f)));
+        CHECK(near(scaled.StrainEnergy(delta, w * f), w * law.StrainEnergy(delta, f)));
+        CHECK(near(scaled.HalfWidth(w * f), law.HalfWidth(f)));
+        CHECK(near(scaled.MaxPressure(w * f), law.MaxPressure(f)));
+        CHECK(near(scaled.SeatApproach(w * f), law.SeatApproach(f)));
+        CHECK(near(scaled.SeatHalfWidth(w * f), law.SeatHalfWidth(f)));
+      }
+    }
+    for (const double w : {0.0, -1.0, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+      CHECK_THROWS_AS(law.Scaled(w), std::invalid_argument);
+    }
+  }
+}
+
 TEST_CASE("contact: laws stay finite and non-negative for tiny and huge loads and at the inflection") {
   int index = 0;
   for (const ContactLaw& law : AllLaws()) {

@@ -90,30 +90,35 @@ double LoopFrictionCoefficient(const std::optional<FrictionSettings>& friction) 
 }
 
 LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state, double torque,
-                                 double sense, double mu, const std::function<LoadResult(double)>& solve, int* solves,
-                                 const contact::MeshModel* second, LoopFrictionWarmStart* warm) {
-  const bool warm_ratio = warm != nullptr && std::isfinite(warm->ratio) && warm->ratio > 0.0 && mu != 0.0 && sense != 0.0;
-  // The first solve: at T itself, or (warm) where the last balance of this kind ended, t = ratio T.
-  double t_prev = warm_ratio ? warm->ratio * torque : torque;
-  LoadResult r = solve(t_prev);
-  if (solves != nullptr) ++*solves;
-  if (mu == 0.0 || sense == 0.0 || r.status != SolverStatus::kSuccess) return r;
+                                 double sense, double mu, const LoadProblemAt& problem, const SolveProblem& solve,
+                                 int* solves, const contact::MeshModel* second, LoopFrictionWarmStart* warm,
+                                 LoopFrictionBalance* balance) {
+  const auto count = [&] {
+    if (solves != nullptr) ++*solves;
+  };
+  if (mu == 0.0 || sense == 0.0) {
+    count();
+    return solve(problem(torque));
+  }
   // Turning about its centre (crank locked), the cycloid slides every contact along its tangent;
   // the friction moment about the centre is mu F_i |(P - O_c) x t_i| = mu F_i |(P - O_c) . n_i|.
+  // The disc's centre is evaluated once per disc and section (a slice's z), not once per point.
   std::vector<double> arm(state.pins.size(), 0.0);
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  int centre_disc = -1;
+  double centre_z = kNaN;
   for (std::size_t i = 0; i < state.pins.size(); ++i) {
     const contact::PinContact& c = state.pins[i];
     const bool on_second = c.disc == 1 && second != nullptr;  // issue 13: each disc about its own centre
-    const contact::MeshModel& disc = on_second ? *second : model;
-    const double crank = state.crank + (on_second ? contact::kSecondDiscCrankOffset : 0.0);
-    arm[i] = std::abs((c.cycloid_point - disc.CyclePose(crank, 0.0, c.z).centre).dot(c.normal));
+    if (centre_disc != (on_second ? 1 : 0) || !(centre_z == c.z)) {
+      const contact::MeshModel& disc = on_second ? *second : model;
+      const double crank = state.crank + (on_second ? contact::kSecondDiscCrankOffset : 0.0);
+      centre = disc.CyclePose(crank, 0.0, c.z).centre;
+      centre_disc = on_second ? 1 : 0;
+      centre_z = c.z;
+    }
+    arm[i] = std::abs((c.cycloid_point - centre).dot(c.normal));
   }
-  // The normal forces carry t = T + M_f, M_f = -sense mu sum F_i a_i (the friction resists the
-  // motion): a fixed point in t, each step the frictionless problem at t.
-  // g(t) = T - sense mu sum F_i(t) a_i - t, solved by the secant method. Its first step: the
-  // slope of g the last balance of this kind ended with (warm), else -(1 + sense mu M / t), exact
-  // when the friction moment M grows in proportion to t (a linear law on a fixed contact set with
-  // no clearance).
   const auto moment = [&](const LoadResult& res) {
     double m = 0.0;
     for (std::size_t i = 0; i < state.pins.size(); ++i) {
@@ -121,23 +126,89 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
     }
     return m;
   };
-  const auto failed = [](std::string message) {
-    LoadResult f;
-    f.status = SolverStatus::kMaxIterations;
-    f.message = std::move(message);
-    return f;
-  };
   const auto converged = [&](double t, double slope) {
     if (warm != nullptr && torque != 0.0) {
       warm->ratio = t / torque;
       warm->slope = slope;
     }
   };
+  solvers::LoadProblem at_torque = problem(torque);
+  // Issue 27: the balance in one solve, sum_i F_i (L_i + d sense mu a_i) = |T| as the frictionless
+  // balance of the laws scaled by w_i = 1 + d sense mu a_i / L_i (friction.hpp).
+  if (at_torque.scalable_laws() && at_torque.base_state().pins.size() == arm.size()) {
+    const std::vector<contact::PinContact>& pins = at_torque.base_state().pins;  // arms signed for the flank
+    const double k = at_torque.direction() * sense * mu;
+    std::vector<double> scales(pins.size(), 1.0);
+    // Pins whose friction arm outgrows the normal arm on the way back (w_i <= 0: near the end of
+    // the engagement, L_i -> 0), and pins of arm L_i <= 0 (they open as psi grows), keep w_i = 1:
+    // the answer leaves out their friction moment mu a_i F_i, which must be below 1e-2 of the
+    // balance's tolerance (a pin touching to rounding on a pair without clearance carries a force
+    // of rounding's size); else the secant iteration below solves the balance.
+    std::vector<std::size_t> must_open;
+    double lowest = std::numeric_limits<double>::infinity();  // the least closing rotation c_i / L_i, L_i > 0
+    for (std::size_t i = 0; i < pins.size(); ++i) {
+      if (pins[i].edge) continue;  // a tip corner carries no force in any solver
+      const double w = pins[i].arm > 0.0 ? 1.0 + k * arm[i] / pins[i].arm : kNaN;
+      if (pins[i].arm > 0.0) lowest = std::min(lowest, pins[i].clearance / pins[i].arm);
+      if (std::isfinite(w) && w > 0.0) {
+        scales[i] = w;
+      } else {
+        must_open.push_back(i);
+      }
+    }
+    LoadResult r = solve(at_torque.WithLawScales(scales));
+    count();
+    if (r.force.size() != scales.size()) return r;  // not solved (the status says why)
+    double left_out = 0.0;
+    for (const std::size_t i : must_open) left_out += r.force[i] > 0.0 ? mu * arm[i] * r.force[i] : 0.0;
+    if (left_out <= 1e-2 * kBalanceTolerance * std::abs(torque)) {
+      const std::vector<contact::ContactLaw>& laws = at_torque.base_laws();
+      r.energy = 0.0;
+      // A positive torque presses a pin of arm L_i > 0, so every answer of this flank has
+      // psi >= lowest, where a pin of arm <= 0 has at most the approach L_i lowest - c_i.
+      double behind = 0.0;
+      for (std::size_t i = 0; i < scales.size(); ++i) {
+        if (pins[i].edge) continue;
+        r.force[i] /= scales[i];
+        r.energy += laws[i].ComplementaryEnergy(r.force[i]);
+        if (pins[i].arm <= 0.0) behind += mu * arm[i] * laws[i].Force(contact::LinearisedApproach(pins[i], lowest));
+      }
+      if (r.status != SolverStatus::kSuccess) return r;
+      const double m = moment(r);
+      converged(torque - sense * m, warm != nullptr ? warm->slope : kNaN);
+      if (balance != nullptr) {
+        balance->moment = m;
+        balance->direct = true;
+        balance->behind = std::isfinite(lowest) ? behind : kNaN;
+      }
+      return r;
+    }
+  }
+  const bool warm_ratio = warm != nullptr && std::isfinite(warm->ratio) && warm->ratio > 0.0;
+  // The first solve: at T itself, or (warm) where the last balance of this kind ended, t = ratio T.
+  double t_prev = warm_ratio ? warm->ratio * torque : torque;
+  LoadResult r = solve(warm_ratio ? problem(t_prev) : at_torque);
+  count();
+  if (r.status != SolverStatus::kSuccess) return r;
+  const auto done = [&](LoadResult res) {
+    if (balance != nullptr) {
+      balance->moment = moment(res);
+      balance->direct = false;
+      balance->behind = kNaN;
+    }
+    return res;
+  };
+  const auto failed = [](std::string message) {
+    LoadResult f;
+    f.status = SolverStatus::kMaxIterations;
+    f.message = std::move(message);
+    return f;
+  };
   const double m_prev = moment(r);
   double g_prev = torque - sense * m_prev - t_prev;
   if (std::abs(g_prev) <= kBalanceTolerance * std::abs(torque)) {
     converged(t_prev, warm != nullptr ? warm->slope : kNaN);
-    return r;
+    return done(std::move(r));
   }
   // A slope >= 0 (sense mu M / t >= 1 on the way back) sends the step to the other sense: the lock
   // below.
@@ -155,15 +226,15 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
           "normal forces carry (step to {:g} N*m): the stage locks under this friction",
           mu, units::NmmToNm(torque), units::NmmToNm(t_now)));
     }
-    r = solve(t_now);
-    if (solves != nullptr) ++*solves;
+    r = solve(problem(t_now));
+    count();
     if (r.status != SolverStatus::kSuccess) return r;
     const double g_now = torque - sense * moment(r) - t_now;
     const double secant = (g_now - g_prev) / (t_now - t_prev);
     if (std::isfinite(secant) && secant != 0.0) slope = secant;
     if (std::abs(g_now) <= kBalanceTolerance * std::abs(torque)) {
       converged(t_now, slope);
-      return r;
+      return done(std::move(r));
     }
     t_prev = t_now;
     g_prev = g_now;

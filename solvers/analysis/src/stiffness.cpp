@@ -185,16 +185,16 @@ struct StiffnessRunner::Impl {
   /// sense, NaN when the solve fails (counted in pos). on_loop: false for a probe that is not a
   /// point of the loop (it does not set the two discs' split).
   double Twist(const contact::MeshState& state, double torque, StiffnessPosition* pos, SolverStatus* status,
-               bool on_loop = true) {
+               bool on_loop = true, LoopFrictionBalance* balance = nullptr) {
     int solves = 0;
     LoopFrictionWarmStart* warm = nullptr;
     if (friction_mu > 0.0 && sense != 0.0) {
       warm = &friction_warm[{searching ? kStickKey : torque, sense}];
     }
     const LoadResult r = SolveWithLoopFriction(
-        stage.model(), state, torque, sense, friction_mu,
-        [&](double t) { return solver->Solve(Problem(state, t), options, workspace); }, &solves,
-        stage.disc_count() == 2 ? &stage.model(1) : nullptr, warm);
+        stage.model(), state, torque, sense, friction_mu, [&](double t) { return Problem(state, t); },
+        [&](const solvers::LoadProblem& p) { return solver->Solve(p, options, workspace); }, &solves,
+        stage.disc_count() == 2 ? &stage.model(1) : nullptr, warm, balance);
     pos->solves += solves;
     if (status != nullptr) *status = r.status;
     if (stage.disc_count() == 2 && on_loop && r.status == SolverStatus::kSuccess && std::abs(torque) == rated) {
@@ -533,10 +533,10 @@ StiffnessPosition StiffnessRunner::SolveLostMotion(double crank) {
   const contact::MeshState state = m.State(crank);
   const double t = m.rated, ft = m.settings.lost_motion_fraction * t;
   // One twist of the sense `sense` (0 without friction), not a point of a drawn loop.
-  const auto twist = [&](double torque, double sense) {
+  const auto twist = [&](double torque, double sense, LoopFrictionBalance* balance = nullptr) {
     m.sense = sense;
     SolverStatus status = SolverStatus::kNotSolved;
-    const double v = m.Twist(state, torque, &pos, &status, false);
+    const double v = m.Twist(state, torque, &pos, &status, false, balance);
     m.sense = 0.0;
     return v;
   };
@@ -545,10 +545,21 @@ StiffnessPosition StiffnessRunner::SolveLostMotion(double crank) {
     plus = twist(ft, 0.0);
     minus = twist(-ft, 0.0);
   } else {
-    // The loop starts at -T on the decreasing pass; the reversals hold these twists.
-    const double held_low = twist(-t, -1.0), held_high = twist(t, 1.0);
-    const double rising_plus = twist(ft, 1.0), falling_minus = twist(-ft, -1.0);
-    const double rising_minus = twist(-ft, 1.0), falling_plus = twist(ft, -1.0);
+    // The loop starts at -T on the decreasing pass and reverses at +T; the reversals hold the
+    // twists held_low and held_high, so the way back at +f T reads min(falling_plus, held_high)
+    // and the way up at -f T max(rising_minus, held_low). Issue 27: the held twist is solved only
+    // when it can be the nearer. On the way back at +f T the normal forces carry
+    // t_fp = f T + M_fp, at the reversal t_hh = T - M(t_hh). Were t_hh < t_fp, the rotation would
+    // be no larger there (it grows with t), so M(t_hh) <= M_+(t_fp) + B <= M_fp + B
+    // (LoopFrictionBalance: M_+ the pins of arm > 0, non-decreasing; B behind), and
+    // T - M_fp - B <= t_hh < f T + M_fp. So f T + 2 M_fp + B <= T gives t_fp <= t_hh, and
+    // falling_plus <= held_high. The same on the other flank with rising_minus and held_low.
+    LoopFrictionBalance falling, rising;
+    const double rising_plus = twist(ft, 1.0), falling_plus = twist(ft, -1.0, &falling);
+    const double falling_minus = twist(-ft, -1.0), rising_minus = twist(-ft, 1.0, &rising);
+    const auto held_needed = [&](const LoopFrictionBalance& b) { return !(b.direct && ft + 2.0 * b.moment + b.behind <= t); };
+    const double held_high = held_needed(falling) ? twist(t, 1.0) : std::numeric_limits<double>::infinity();
+    const double held_low = held_needed(rising) ? twist(-t, -1.0) : -std::numeric_limits<double>::infinity();
     if (pos.failed == 0) {
       plus = 0.5 * (rising_plus + std::min(falling_plus, held_high));
       minus = 0.5 * (std::max(rising_minus, held_low) + falling_minus);

@@ -111,6 +111,15 @@ class ContactLaw {
   /// Strain energy U(delta) = F delta - E^c(F), N*mm, given the force F = Force(delta) of this
   /// approach; without a log for the log and linear forms (the law eliminates it).
   double StrainEnergy(double approach, double force) const;
+  /// Issue 27: the law whose force at every approach is w times this one's, w > 0 (throws
+  /// std::invalid_argument otherwise): F_w(delta) = w F(delta), so delta_w(F) = delta(F / w),
+  /// E^c_w(F) = w E^c(F / w). Exact by re-parameterisation, no wrapper in the hot path: the
+  /// contact length B becomes w B, which keeps the Hertz half-width and pressure at w F those of
+  /// this law at F (they depend on F / B alone); the log form's A becomes A + (C/2) ln w (its
+  /// seat's likewise), the linear stiffness w k, the sagitta factor a^2 / F a w-th of this one's.
+  /// A torque balance with per-pin moment arms other than the kinematic ones (Coulomb friction)
+  /// is a frictionless balance of laws so scaled (ltca/analysis/friction.hpp).
+  ContactLaw Scaled(double w) const;
   double max_force() const { return max_force_; }      ///< N (infinite for the linear law)
   double max_approach() const { return max_approach_; }  ///< mm
   /// The seat's part of Approach(force) and of ComplementaryEnergy(force) (0 when not seated), mm

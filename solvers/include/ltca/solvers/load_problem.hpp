@@ -151,6 +151,20 @@ class LoadProblem {
   LoadProblem WithCoupling(const CheckedCoupling& coupling) const;
   bool has_coupling() const { return coupling_ != nullptr; }
 
+  /// Issue 27: a copy whose point i's law carries scales[i] times its force at every approach
+  /// (contact::ContactLaw::Scaled): its balance sum_i s_i F_i(delta_i) L_i = T is the balance of
+  /// the unscaled forces F_i with the arms s_i L_i (Coulomb friction's moment, analysis/friction).
+  /// A solver's forces on it are s_i F_i; its stresses are the contacts' (the scaled law's length
+  /// keeps F / B). Linearised kinematics, uncoupled, the mesh alone: there the laws are the
+  /// problem's own (exact kinematics rebuilds them at each rotation). Throws
+  /// std::invalid_argument otherwise, or unless scales holds point_count() finite numbers above 0.
+  /// The same points, arms, clearances and id.
+  LoadProblem WithLawScales(const std::vector<double>& scales) const;
+  /// Whether WithLawScales can be asked: linearised, uncoupled, no stage.
+  bool scalable_laws() const {
+    return kinematics_ == contact::ContactKinematics::kLinearised && coupling_ == nullptr && stage_ == nullptr;
+  }
+
   /// The reducer stage (issue 25, ltca/solvers/stage.hpp): a copy of this problem whose discs
   /// float on their bearings and drive the output member through the stage's output elements, T
   /// on the output member. Validates the settings against the pair (std::invalid_argument naming

@@ -55,11 +55,21 @@ const char* ToString(FrictionSettings::Model model);
 /// Coulomb friction (the crank locked, the cycloid turning about its centre): the friction at each
 /// loaded contact resists the turning, so the normal forces carry T - sense mu sum F_i |a_t,i|
 /// (a_t: the tangential arm about the cycloid centre), sense = +1 while the twist grows in +T's
-/// sense (the increasing branch), -1 on the way back. solve(t) solves the frictionless problem at
-/// signed torque t; iterated to a fixed point. mu: [friction]'s static coefficient (Coulomb's, or
-/// f_b for jiang-mixed: no entrainment, boundary friction). Returns the last result; *solves counts.
+/// sense (the increasing branch), -1 on the way back. problem(t) is the frictionless problem at
+/// signed torque t, solve(p) solves one. mu: [friction]'s static coefficient (Coulomb's, or f_b for
+/// jiang-mixed: no entrainment, boundary friction). Returns the last result; *solves counts.
 /// second: the second disc of a two-disc stage (issue 13), whose points in state turn about its own
 /// centre, half a crank turn on; nullptr for one disc.
+///
+/// Issue 27: the balance sum_i F_i (L_i + d sense mu a_i) = |T| (d the flank's sign) is the
+/// frictionless balance of laws scaled by w_i = 1 + d sense mu a_i / L_i (ContactLaw::Scaled):
+/// where the problem's laws are its own (LoadProblem::scalable_laws: linearised, uncoupled, no
+/// stage) and every w_i > 0, it is solved once, and the result's forces are the normal forces
+/// F_i = (w_i F_i) / w_i (its energy theirs, its residuals the judge's on the balance with
+/// friction). Otherwise (exact kinematics, a coupling, a stage, or a pin whose friction arm
+/// outgrows its normal arm on the way back) a fixed point in t, each step the frictionless problem
+/// at t, by the secant method. Both find the same balance.
+///
 /// Where the last balance of the same kind ended (issue 27: the same torque and sense at the
 /// neighbouring crank angle): the ratio t / T it converged to and the slope of its residual
 /// g(t) = T - sense M_f(t) - t. The first solve is then at ratio T and the first step uses that
@@ -69,9 +79,25 @@ struct LoopFrictionWarmStart {
   double ratio = std::numeric_limits<double>::quiet_NaN();
   double slope = std::numeric_limits<double>::quiet_NaN();
 };
+/// What a solved balance tells beyond its result.
+struct LoopFrictionBalance {
+  /// The friction moment mu sum F_i a_i, N*mm (>= 0): the normal forces carry |T| - d sense of it.
+  double moment = std::numeric_limits<double>::quiet_NaN();
+  /// Solved once with scaled laws (linearised, uncoupled, no stage), else by the secant iteration.
+  /// With direct, every force of an arm L_i > 0 grows with the rotation, and so with the torque t
+  /// the normal forces carry; behind bounds the friction moment of the pins of arm <= 0 (which
+  /// open as the rotation grows) at any rotation a torque of this flank gives, N*mm (0 when they
+  /// are open there; NaN without direct). SolveLostMotion's use: M(t) <= M_+(t) + behind, M_+
+  /// non-decreasing in t.
+  bool direct = false;
+  double behind = std::numeric_limits<double>::quiet_NaN();
+};
+using LoadProblemAt = std::function<solvers::LoadProblem(double)>;
+using SolveProblem = std::function<LoadResult(const solvers::LoadProblem&)>;
 LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state, double torque,
-                                 double sense, double mu, const std::function<LoadResult(double)>& solve, int* solves,
-                                 const contact::MeshModel* second = nullptr, LoopFrictionWarmStart* warm = nullptr);
+                                 double sense, double mu, const LoadProblemAt& problem, const SolveProblem& solve,
+                                 int* solves, const contact::MeshModel* second = nullptr,
+                                 LoopFrictionWarmStart* warm = nullptr, LoopFrictionBalance* balance = nullptr);
 /// The static coefficient of the loop: Coulomb's mu, or f_b for jiang-mixed; 0 without [friction].
 double LoopFrictionCoefficient(const std::optional<FrictionSettings>& friction);
 
