@@ -148,6 +148,32 @@ struct StiffnessRunner::Impl {
     return stage.Problem(state, torque);
   }
 
+  // Issue 27: the problems of one crank angle's lost motion by torque, built once (its four
+  // balances with friction ask for two torques, each on both passes); empty outside it.
+  bool keep_problems = false;
+  std::vector<std::pair<double, solvers::LoadProblem>> kept_problems;
+  struct KeepProblems {
+    Impl& impl;
+    explicit KeepProblems(Impl& m) : impl(m) {
+      impl.kept_problems.clear();
+      impl.keep_problems = true;
+    }
+    ~KeepProblems() {
+      impl.keep_problems = false;
+      impl.kept_problems.clear();
+    }
+    KeepProblems(const KeepProblems&) = delete;
+    KeepProblems& operator=(const KeepProblems&) = delete;
+  };
+  solvers::LoadProblem KeptProblem(const contact::MeshState& state, double torque) {
+    if (!keep_problems) return Problem(state, torque);
+    for (const auto& [t, p] : kept_problems) {
+      if (t == torque) return p;
+    }
+    kept_problems.emplace_back(torque, Problem(state, torque));
+    return kept_problems.back().second;
+  }
+
   /// The free play at a crank: where the output rests at zero torque, coming from either flank
   /// (first_contact_drive, first_contact_coast, backlash; NaN where it cannot be found).
   void FreePlay(const contact::MeshState& state, StiffnessPosition* pos) {
@@ -192,7 +218,7 @@ struct StiffnessRunner::Impl {
       warm = &friction_warm[{searching ? kStickKey : torque, sense}];
     }
     const LoadResult r = SolveWithLoopFriction(
-        stage.model(), state, torque, sense, friction_mu, [&](double t) { return Problem(state, t); },
+        stage.model(), state, torque, sense, friction_mu, [&](double t) { return KeptProblem(state, t); },
         [&](const solvers::LoadProblem& p) { return solver->Solve(p, options, workspace); }, &solves,
         stage.disc_count() == 2 ? &stage.model(1) : nullptr, warm, balance);
     pos->solves += solves;
@@ -555,8 +581,12 @@ StiffnessPosition StiffnessRunner::SolveLostMotion(double crank) {
     // T - M_fp - B <= t_hh < f T + M_fp. So f T + 2 M_fp + B <= T gives t_fp <= t_hh, and
     // falling_plus <= held_high. The same on the other flank with rising_minus and held_low.
     LoopFrictionBalance falling, rising;
-    const double rising_plus = twist(ft, 1.0), falling_plus = twist(ft, -1.0, &falling);
-    const double falling_minus = twist(-ft, -1.0), rising_minus = twist(-ft, 1.0, &rising);
+    double rising_plus = kNaN, falling_plus = kNaN, falling_minus = kNaN, rising_minus = kNaN;
+    {
+      const Impl::KeepProblems keep(m);  // this state's problems, dropped on leaving (also by an exception)
+      rising_plus = twist(ft, 1.0), falling_plus = twist(ft, -1.0, &falling);
+      falling_minus = twist(-ft, -1.0), rising_minus = twist(-ft, 1.0, &rising);
+    }
     const auto held_needed = [&](const LoopFrictionBalance& b) { return !(b.direct && ft + 2.0 * b.moment + b.behind <= t); };
     const double held_high = held_needed(falling) ? twist(t, 1.0) : std::numeric_limits<double>::infinity();
     const double held_low = held_needed(rising) ? twist(-t, -1.0) : -std::numeric_limits<double>::infinity();
