@@ -53,6 +53,7 @@ struct WarmStart {  // the previous solution of the same solver: neighbouring po
   double lambda = 0.0;
   bool valid = false;
   double direction = 1.0;  // LoadProblem::direction() of that solution: the other flank loads other pins
+  double solved_rotation = 0.0;  // the rotation psi of that solution (linearisation point + multiplier), rad
 };
 
 struct QpOutcome {
@@ -394,14 +395,19 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     const bool reuse = Ipopt::IsValid(state->nlp) && state->solved_size == size && state->solved_pattern == pattern;
     if (!reuse) state->nlp = new EnergyNlp();
     details["reoptimisations"] += reuse ? 1 : 0;
-    // Warm start from the previous position's solution when it is near (same size, still feasible):
-    // the multiplier is a rotation beyond the linearisation point, similar from position to position.
-    // Only under linearised kinematics: the outer loop of exact kinematics moves the linearisation
-    // point, and a multiplier about another point is a poor start.
+    // Warm start from the previous solution when it is near (same size, still feasible): the
+    // multiplier is a rotation beyond the linearisation point. Linearised kinematics linearises
+    // every position about its first contact, and the previous position's multiplier is taken as
+    // it is (the deflection beyond first contact is alike from position to position). The outer
+    // loop of exact kinematics moves the linearisation point: a start from a solution at rotation
+    // psi_s about the point psi has the multiplier -(psi_s - psi), which is about 0 between the
+    // re-linearisations of one position (issue 29: unshifted, it was a poor start, and every
+    // re-linearisation started cold).
     // Not across a change of flank (ltca stiffness turns the torque through zero): the other half of
     // the pins carried the previous load, and Ipopt started from it failed (status 3, the shared
     // residual 1.3 on Liu Table 1 with the linear law at +-0.5 N*m, tests/app/stiffness_test.cpp).
-    const bool warm = reuse && state->warm.valid && outer_limit == 1 && state->warm.direction == problem.direction();
+    const bool warm = reuse && state->warm.valid && state->warm.direction == problem.direction();
+    if (warm && outer_limit > 1) state->warm.lambda = -(state->warm.solved_rotation - psi);
     state->warm.direction = problem.direction();
     app->Options()->SetStringValue("warm_start_init_point", warm ? "yes" : "no");
     // Issue 29: a warm start is the previous position's optimum, where the barrier parameter had
@@ -424,6 +430,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     for (std::size_t k = 0; k < sub.pin.size(); ++k) result->force[static_cast<std::size_t>(sub.pin[k])] = out.force[k];
     const double change = out.rotation;  // the multiplier is the rotation beyond psi
     psi += out.rotation;
+    state->warm.solved_rotation = psi;
     if (result->status != SolverStatus::kSuccess) break;
     if (std::abs(change) <= options.torque_tolerance * std::max(std::abs(psi), 1e-12)) break;
   }
