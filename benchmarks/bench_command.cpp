@@ -617,7 +617,7 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
     fmt::print(md, "| date | commit | build | compiler | machine |\n|---|---|---|---|---|\n| {} | {} | {} | {} | {} |\n\n",
                header.date, header.commit, header.build_type, header.compiler, header.machine);
     fmt::print(md, "Every time is per crank position and includes the mesh state (the whole `SolveSweep`), the median "
-                   "of {} repeats with min and max. Errors are measured against the reference of the same deck: analytic "
+                   "of {} repeats with min and max, after one untimed run of the same row. Errors are measured against the reference of the same deck: analytic "
                    "geometry, exact kinematics, torque tolerance 1e-12, solved by bisection and confirmed by "
                    "compatibility. They include the physics difference of linearised against exact kinematics.\n\n",
                matrix.repeats);

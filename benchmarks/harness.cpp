@@ -112,6 +112,10 @@ BenchReport RunBench(const BenchMatrix& matrix, const BenchHeader& header) {
       const auto [run_deck, options] = s.Apply(deck);
       std::vector<double> per_position;
       Figures f;
+      // One untimed run first: the first sweep of a row pays its first page faults, cache misses
+      // and the CPU's clock ramp (the first row of the 2026-11-27 run: 66 us a position timed
+      // here, 53 us in `--profile` of the same row).
+      SolveDeckSweep(run_deck, options);
       for (int r = 0; r < std::max(1, matrix.repeats); ++r) {
         const auto start = std::chrono::steady_clock::now();
         const SweepResult sweep = SolveDeckSweep(run_deck, options);  // includes the stage: every position's mesh state
