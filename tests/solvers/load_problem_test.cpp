@@ -2,6 +2,7 @@
 // may leave out, and what it must not.
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include <doctest/doctest.h>
@@ -92,4 +93,43 @@ TEST_CASE("solvers: the torque resolution from the pins' forces is the one from 
       CHECK(std::abs(by_force / by_inversion - 1.0) <= 1e-12);  // relative: the values are ulp-sized
     }
   }
+}
+
+TEST_CASE("solvers: laws scaled by w everywhere balance T as the unscaled laws balance T / w, with w times their forces (issue 27)") {
+  // LoadProblem::WithLawScales (friction's balance in one solve, analysis/friction.hpp): every
+  // law carries w times its force, so sum w F_i(psi) L_i = T is sum F_i(psi) L_i = T / w, the same
+  // rotation (the independent side: the unscaled problem at T / w). Liu 2021 5.2 base, linearised,
+  // both flanks, every solver; the rotation to 1e-9 relative, each force to 1e-8 of the largest.
+  // A problem whose laws are not its own (exact kinematics) and a wrong scale are refused.
+  const ltca::test::PaperCase sec52 = ltca::test::LiuSec52Base();
+  const auto model = sec52.Model();
+  const double w = 1.7;
+  for (const double torque : {206e3, -206e3}) {
+    ltca::test::PaperCase at = sec52;
+    at.torque = torque;
+    const LoadProblem problem = at.Problem(model, 0.0, ContactKinematics::kLinearised);
+    at.torque = torque / w;
+    const LoadProblem reduced = at.Problem(model, 0.0, ContactKinematics::kLinearised);
+    REQUIRE(problem.scalable_laws());
+    const LoadProblem scaled = problem.WithLawScales(std::vector<double>(static_cast<std::size_t>(problem.point_count()), w));
+    for (const char* solver : {"bisection", "compatibility", "energy-qp", "energy-groups"}) {
+      CAPTURE(torque);
+      CAPTURE(solver);
+      const auto got = ltca::test::SolveWith(solver, scaled);
+      const auto want = ltca::test::SolveWith(solver, reduced);
+      REQUIRE(got.status == ltca::solvers::SolverStatus::kSuccess);
+      REQUIRE(want.status == ltca::solvers::SolverStatus::kSuccess);
+      CHECK(std::abs(got.rotation - want.rotation) <= 1e-9 * std::abs(want.rotation));
+      const double largest = *std::max_element(want.force.begin(), want.force.end());
+      for (std::size_t i = 0; i < want.force.size(); ++i) CHECK(std::abs(got.force[i] - w * want.force[i]) <= 1e-8 * w * largest);
+    }
+  }
+  const LoadProblem exact = sec52.Problem(model, 0.0, ContactKinematics::kExact);
+  CHECK_FALSE(exact.scalable_laws());
+  CHECK_THROWS_AS(exact.WithLawScales(std::vector<double>(static_cast<std::size_t>(exact.point_count()), 1.0)), std::invalid_argument);
+  const LoadProblem linear = sec52.Problem(model, 0.0, ContactKinematics::kLinearised);
+  CHECK_THROWS_AS(linear.WithLawScales({1.0}), std::invalid_argument);
+  std::vector<double> zero(static_cast<std::size_t>(linear.point_count()), 1.0);
+  zero[3] = 0.0;
+  CHECK_THROWS_AS(linear.WithLawScales(zero), std::invalid_argument);
 }

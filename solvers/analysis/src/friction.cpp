@@ -184,6 +184,12 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
       return r;
     }
   }
+  // The secant iteration. The normal forces carry t = T + M_f, M_f = -sense mu sum F_i a_i (the
+  // friction resists the motion): a fixed point in t, each step the frictionless problem at t.
+  // g(t) = T - sense mu sum F_i(t) a_i - t, solved by the secant method. Its first step: the
+  // slope of g the last balance of this kind ended with (warm), else -(1 + sense mu M / t), exact
+  // when the friction moment M grows in proportion to t (a linear law on a fixed contact set with
+  // no clearance).
   const bool warm_ratio = warm != nullptr && std::isfinite(warm->ratio) && warm->ratio > 0.0;
   // The first solve: at T itself, or (warm) where the last balance of this kind ended, t = ratio T.
   double t_prev = warm_ratio ? warm->ratio * torque : torque;
