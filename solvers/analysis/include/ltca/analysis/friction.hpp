@@ -64,11 +64,12 @@ const char* ToString(FrictionSettings::Model model);
 /// Issue 27: the balance sum_i F_i (L_i + d sense mu a_i) = |T| (d the flank's sign) is the
 /// frictionless balance of laws scaled by w_i = 1 + d sense mu a_i / L_i (ContactLaw::Scaled):
 /// where the problem's laws are its own (LoadProblem::scalable_laws: linearised, uncoupled, no
-/// stage) and every w_i > 0, it is solved once, and the result's forces are the normal forces
-/// F_i = (w_i F_i) / w_i (its energy theirs, its residuals the judge's on the balance with
-/// friction). Otherwise (exact kinematics, a coupling, a stage, or a pin whose friction arm
-/// outgrows its normal arm on the way back) a fixed point in t, each step the frictionless problem
-/// at t, by the secant method. Both find the same balance.
+/// stage), it is solved once, and the result's forces are the normal forces F_i = (w_i F_i) / w_i
+/// (its energy theirs, its residuals the judge's on the balance with friction). A pin of arm
+/// L_i <= 0, or whose w_i would be <= 0 (its friction arm outgrows its normal arm on the way back),
+/// keeps w_i = 1, and the answer stands only if their friction moment in it is below 1e-12 of T.
+/// Otherwise (exact kinematics, a coupling, a stage, or such a pin pressed) a fixed point in t,
+/// each step the frictionless problem at t, by the secant method. Both find the same balance.
 ///
 /// Where the last balance of the same kind ended (issue 27: the same torque and sense at the
 /// neighbouring crank angle): the ratio t / T it converged to and the slope of its residual
