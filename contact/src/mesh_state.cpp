@@ -106,7 +106,7 @@ double ClosestParameter(const CycloidProfile& profile, int k, const Eigen::Vecto
 /// Places a contact found in the body frame: its point and the normal toward the pin centre in the
 /// fixed frame, the pin's point, and the lever arm of the normal about the cycloid centre, signed
 /// by the load direction (Liu eq. 27). c->pin_radius must be set.
-void PlaceContact(const geometry::Pose& pose, const Eigen::Vector2d& centre_fixed, double load_direction,
+void PlaceContact(const geometry::PoseFrame& pose, const Eigen::Vector2d& centre_fixed, double load_direction,
                   const Eigen::Vector2d& point_body, const Eigen::Vector2d& normal_body, PinContact* c) {
   c->cycloid_point = pose.ToFixed(point_body);
   c->normal = pose.DirectionToFixed(normal_body);
@@ -471,21 +471,21 @@ MeshModel::MeshModel(geometry::RealPair real, const geometry::GeometrySettings& 
       for (int j = 0; j < pin_count(); ++j) {
         const geometry::MeshSeed seed = real_.kinematics().Seed(j, crank);
         const double analytic = EvaluatePointFrom(j, 0, crank, 0.0, seed.tooth_space, seed.u).clearance;
-        worst = std::max(worst, std::abs(EvaluatePointElements(j, 0, SliceZ(0), crank, CyclePose(crank, 0.0, SliceZ(0))).clearance - analytic));
+        worst = std::max(worst, std::abs(EvaluatePointElements(j, 0, SliceZ(0), crank, CyclePose(crank, 0.0, SliceZ(0)).Frame()).clearance - analytic));
       }
     }
     interference_tolerance_ = std::max(interference_tolerance_, 2.0 * worst);
   }
 }
 
-PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double crank, const geometry::Pose& pose) const {
+PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double crank, const geometry::PoseFrame& frame) const {
   // Liu 2021 section 3: the element facing the pin (nearest control point) and the gap of its
   // equivalent cylinder (eq. 19, signed for a concave element):
   //   gap = sigma (|p - C| - |rho|) - r,  C = x - rho n (centre of curvature), sigma = sign(rho).
   // Liu searches every width slice; here the search runs per slice of the model that runs, which
   // is one slice (the plane model) unless something varies along the width (MeshModel).
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
-  const Eigen::Vector2d p = pose.ToBody(centre_fixed);
+  const Eigen::Vector2d p = frame.ToBody(centre_fixed);
   const double r_pin = real_.PinRadius(pin);
   const int zc = pair().tooth_count;
   const double pitch = real_.profile().tooth_pitch();
@@ -494,7 +494,7 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double
     const ElementFoot f = NearestDeviatedElement(*discrete_, real_.profile_deviation(), p, k_polar);
     PinContact c = FootContact(pin, real_.kinematics().AngleFromLineOfCentres(pin, crank), f.k, f.element.u, r_pin,
                                f.curvature, f.distance);
-    PlaceContact(pose, centre_fixed, load_direction_, f.point, f.normal, &c);
+    PlaceContact(frame, centre_fixed, load_direction_, f.point, f.normal, &c);
     FinishPoint(slice, z, &c);
     return c;
   }
@@ -540,7 +540,7 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double
   c.pin_radius = r_pin;
   c.cycloid_curvature = best.curvature;
   c.clearance = best_gap;
-  PlaceContact(pose, centre_fixed, load_direction_, best_point, best_normal, &c);
+  PlaceContact(frame, centre_fixed, load_direction_, best_point, best_normal, &c);
   FinishPoint(slice, z, &c);
   return c;
 }
@@ -578,11 +578,11 @@ PinContact MeshModel::EvaluateSection(int pin, double z, double crank, double lo
 }
 
 PinContact MeshModel::EvaluateSection(int pin, int slice, double z, double crank, double loaded_rotation) const {
-  if (discrete_) return EvaluatePointElements(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z));
+  if (discrete_) return EvaluatePointElements(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z).Frame());
   // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation,
   // the modifications and the errors move the foot point by little).
   const geometry::MeshSeed seed = real_.kinematics().Seed(pin, crank);
-  return EvaluatePointAt(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z), seed.tooth_space, seed.u);
+  return EvaluatePointAt(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z).Frame(), seed.tooth_space, seed.u);
 }
 
 PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double loaded_rotation) const {
@@ -593,20 +593,24 @@ PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double
                                     const Eigen::Vector2d& centre_shift) const {
   geometry::Pose pose = CyclePose(crank, loaded_rotation, near.z);
   pose.centre += centre_shift;
-  if (discrete_) return EvaluatePointElements(near.pin, near.slice, near.z, crank, pose);
-  return EvaluatePointAt(near.pin, near.slice, near.z, crank, pose, near.tooth_space, near.u);
+  return EvaluatePoint(near, crank, pose.Frame());
+}
+
+PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, const geometry::PoseFrame& frame) const {
+  if (discrete_) return EvaluatePointElements(near.pin, near.slice, near.z, crank, frame);
+  return EvaluatePointAt(near.pin, near.slice, near.z, crank, frame, near.tooth_space, near.u);
 }
 
 PinContact MeshModel::EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int seed_space,
                                         double seed_u) const {
   const double z = SliceZ(slice);
-  return EvaluatePointAt(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z), seed_space, seed_u);
+  return EvaluatePointAt(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z).Frame(), seed_space, seed_u);
 }
 
-PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double crank, const geometry::Pose& pose,
+PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double crank, const geometry::PoseFrame& frame,
                                       int seed_space, double seed_u) const {
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
-  const Eigen::Vector2d p = pose.ToBody(centre_fixed);
+  const Eigen::Vector2d p = frame.ToBody(centre_fixed);
   const double r_pin = real_.PinRadius(pin);
   const double phi_max = real_.profile().phi_max();
   const int zc = pair().tooth_count;
@@ -618,7 +622,7 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double crank
                                f.curvature, f.gap);
     c.part = f.part;
     c.edge = f.part == geometry::SurfacePart::kTipCorner;
-    PlaceContact(pose, centre_fixed, load_direction_, f.point, f.normal, &c);
+    PlaceContact(frame, centre_fixed, load_direction_, f.point, f.normal, &c);
     FinishPoint(slice, z, &c);
     return c;
   }
@@ -692,7 +696,7 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double crank
     point_body = f.point;
     normal_body = f.normal;
   }
-  PlaceContact(pose, centre_fixed, load_direction_, point_body, normal_body, &c);
+  PlaceContact(frame, centre_fixed, load_direction_, point_body, normal_body, &c);
   FinishPoint(slice, z, &c);
   return c;
 }
@@ -766,9 +770,9 @@ MeshState MeshModel::Evaluate(double crank, double loaded_rotation) const {
   // One pose per slice, computed once for every pin (issue 29), and each slice of a pin searched
   // from its neighbour's foot point (the slices differ by micrometres), not from the meshing
   // equation again.
-  std::vector<geometry::Pose> poses;
+  std::vector<geometry::PoseFrame> poses;
   poses.reserve(static_cast<std::size_t>(slices_));
-  for (int k = 0; k < slices_; ++k) poses.push_back(CyclePose(crank, loaded_rotation, SliceZ(k)));
+  for (int k = 0; k < slices_; ++k) poses.push_back(CyclePose(crank, loaded_rotation, SliceZ(k)).Frame());
   for (int j = 0; j < pin_count(); ++j) {
     const geometry::MeshSeed seed = real_.kinematics().Seed(j, crank);
     state.pins.push_back(EvaluatePointAt(j, 0, SliceZ(0), crank, poses[0], seed.tooth_space, seed.u));

@@ -16,20 +16,7 @@ double WrapPi(double angle) {  // into (-pi, pi]
 
 }  // namespace
 
-Eigen::Vector2d Pose::ToFixed(const Eigen::Vector2d& body) const {
-  return centre + DirectionToFixed(body);
-}
-
-Eigen::Vector2d Pose::DirectionToFixed(const Eigen::Vector2d& body) const {
-  const double c = std::cos(rotation), s = std::sin(rotation);
-  return {c * body.x() - s * body.y(), s * body.x() + c * body.y()};
-}
-
-Eigen::Vector2d Pose::ToBody(const Eigen::Vector2d& fixed) const {
-  const Eigen::Vector2d v = fixed - centre;
-  const double c = std::cos(rotation), s = std::sin(rotation);
-  return {c * v.x() + s * v.y(), -s * v.x() + c * v.y()};
-}
+PoseFrame Pose::Frame() const { return {centre, std::cos(rotation), std::sin(rotation)}; }
 
 Kinematics::Kinematics(const PairParameters& pair) : pair_(pair) {
   pair_.Validate();

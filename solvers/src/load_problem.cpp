@@ -418,6 +418,7 @@ void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::Cont
   const bool skip = freshness == Freshness::kLoadedOnly && !reach_.empty();
   // What a fresh search could still resolve as closed (GapResolution), with a margin.
   const double margin = 4.0 * GapResolution();
+  PoseAt pose;  // the disc's pose at psi, taken once for the pins of a disc and section
   for (std::size_t i = 0; i < out.size(); ++i) {
     contact::PinContact& pin = feet.last[i];
     if (feet.at[i] != psi) {  // (the judge and the sweep ask for the answer again: kept)
@@ -428,7 +429,7 @@ void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::Cont
         out[i] = {-closest, pin.arm, pin.edge, pin.edge ? nullptr : &base_laws_[i]};
         continue;
       }
-      pin = EvaluatePin(pin, psi);
+      pin = EvaluatePin(pin, psi, &pose);
       feet.at[i] = psi;
     }
     out[i] = {-pin.clearance, pin.arm, pin.edge, nullptr};
@@ -453,9 +454,10 @@ Workspace::FootPoints& LoadProblem::BoundFootPoints(Workspace& workspace) const 
 
 const std::vector<contact::PinContact>& LoadProblem::ExactPins(double psi, Workspace& workspace) const {
   Workspace::FootPoints& feet = BoundFootPoints(workspace);
+  PoseAt pose;
   for (std::size_t i = 0; i < feet.last.size(); ++i) {
     if (feet.at[i] == psi) continue;
-    feet.last[i] = EvaluatePin(feet.last[i], psi);
+    feet.last[i] = EvaluatePin(feet.last[i], psi, &pose);
     feet.at[i] = psi;
   }
   return feet.last;
@@ -469,6 +471,18 @@ contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, do
                                              const Eigen::Vector2d& centre_shift) const {
   contact::PinContact pin =
       DiscModel(near.disc).EvaluatePoint(near, DiscCrank(near.disc), direction_ * phi, centre_shift);
+  pin.disc = near.disc;
+  pin.arm *= direction_;
+  return pin;
+}
+
+contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, double psi, PoseAt* pose) const {
+  const contact::MeshModel& model = DiscModel(near.disc);
+  const double crank = DiscCrank(near.disc);
+  if (near.disc != pose->disc || !(near.z == pose->z)) {
+    *pose = {near.disc, near.z, model.CyclePose(crank, direction_ * psi, near.z).Frame()};
+  }
+  contact::PinContact pin = model.EvaluatePoint(near, crank, pose->frame);
   pin.disc = near.disc;
   pin.arm *= direction_;
   return pin;

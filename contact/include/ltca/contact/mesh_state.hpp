@@ -123,6 +123,10 @@ class MeshModel {
   /// about the moved centre.
   PinContact EvaluatePoint(const PinContact& near, double crank, double loaded_rotation,
                            const Eigen::Vector2d& centre_shift) const;
+  /// The same in a pose the caller has taken once for many pins: `frame` is the Frame() of
+  /// CyclePose(crank, loaded_rotation, near.z) (with its centre moved by any shift). The contact is
+  /// the one the overloads above give, bit for bit.
+  PinContact EvaluatePoint(const PinContact& near, double crank, const geometry::PoseFrame& frame) const;
   /// Exact state of a pin in the face section at axial position z from face B (mm, in [0, B]),
   /// which need not be a slice centre: the unloaded analysis looks at the face edges too, where
   /// a gap that varies linearly along the width (misalignment) is smallest (issue 26). The point
@@ -134,9 +138,9 @@ class MeshModel {
  private:
   PinContact EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int tooth_space,
                                double u) const;
-  PinContact EvaluatePointAt(int pin, int slice, double z, double crank, const geometry::Pose& pose, int tooth_space,
-                             double u) const;
-  PinContact EvaluatePointElements(int pin, int slice, double z, double crank, const geometry::Pose& pose) const;
+  PinContact EvaluatePointAt(int pin, int slice, double z, double crank, const geometry::PoseFrame& frame,
+                             int tooth_space, double u) const;
+  PinContact EvaluatePointElements(int pin, int slice, double z, double crank, const geometry::PoseFrame& frame) const;
   /// The point's slice data (at axial position z) and the lead layer (normal offset of the flank)
   /// applied to a foot point.
   void FinishPoint(int slice, double z, PinContact* c) const;

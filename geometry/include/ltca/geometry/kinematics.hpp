@@ -17,13 +17,32 @@ namespace ltca::geometry {
 inline Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
 /// Placement of the cycloid body frame in the fixed frame: x_f = centre + Rot(rotation) x_b.
+/// A pose with the cosine and sine of its rotation taken once: the maps of a Pose, for a caller
+/// that applies several of them (a pin's closest-point search maps the pin centre into the body
+/// and the foot point and normal back). Pose's own maps go through it, so the two agree bit for bit.
+struct PoseFrame {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  ///< mm.
+  double cos_rotation = 1.0, sin_rotation = 0.0;
+
+  Eigen::Vector2d ToFixed(const Eigen::Vector2d& body) const { return centre + DirectionToFixed(body); }
+  Eigen::Vector2d ToBody(const Eigen::Vector2d& fixed) const {
+    const Eigen::Vector2d v = fixed - centre;
+    return {cos_rotation * v.x() + sin_rotation * v.y(), -sin_rotation * v.x() + cos_rotation * v.y()};
+  }
+  Eigen::Vector2d DirectionToFixed(const Eigen::Vector2d& body) const {
+    return {cos_rotation * body.x() - sin_rotation * body.y(), sin_rotation * body.x() + cos_rotation * body.y()};
+  }
+};
+
 struct Pose {
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();  ///< mm.
   double rotation = 0.0;                             ///< rad, counterclockwise.
 
-  Eigen::Vector2d ToFixed(const Eigen::Vector2d& body) const;
-  Eigen::Vector2d ToBody(const Eigen::Vector2d& fixed) const;
-  Eigen::Vector2d DirectionToFixed(const Eigen::Vector2d& body) const;
+  Eigen::Vector2d ToFixed(const Eigen::Vector2d& body) const { return Frame().ToFixed(body); }
+  Eigen::Vector2d ToBody(const Eigen::Vector2d& fixed) const { return Frame().ToBody(fixed); }
+  Eigen::Vector2d DirectionToFixed(const Eigen::Vector2d& body) const { return Frame().DirectionToFixed(body); }
+  /// The cosine and sine of the rotation, taken once.
+  PoseFrame Frame() const;
   /// The same pose rotated further about the cycloid's own centre by angle (Liu eq. 15).
   Pose RotatedAboutCentre(double angle) const { return {centre, rotation + angle}; }
 };

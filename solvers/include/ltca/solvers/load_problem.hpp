@@ -272,6 +272,16 @@ class LoadProblem {
   double SinglePinBound() const;  // LoadedRotationRange's upper end, with the coupling's terms
   /// The workspace's foot points, bound to this problem (from base_ at no rotation when new).
   Workspace::FootPoints& BoundFootPoints(Workspace& workspace) const;
+  /// The pose of one rotation, taken once for the pins of one disc and section that a loop over
+  /// the pins evaluates in turn (EvaluatePin takes it anew for every pin).
+  struct PoseAt {
+    int disc = -1;
+    double z = std::numeric_limits<double>::quiet_NaN();
+    geometry::PoseFrame frame;
+  };
+  /// EvaluatePin(near, psi) with the pose taken from `pose` when it is of near's disc and section
+  /// (the same contact, bit for bit).
+  contact::PinContact EvaluatePin(const contact::PinContact& near, double psi, PoseAt* pose) const;
 
   ModelPtr model_;
   ModelPtr second_;  // the second disc of a two-disc stage, nullptr for one disc
