@@ -10,6 +10,8 @@
 #include <Eigen/SparseCholesky>
 #include <fmt/format.h>
 
+#include "ltca/geometry/units.hpp"
+
 namespace ltca::solvers {
 namespace {
 
@@ -429,8 +431,7 @@ void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::Cont
         out[i] = {-closest, pin.arm, pin.edge, pin.edge ? nullptr : &base_laws_[i]};
         continue;
       }
-      pin = EvaluatePin(pin, psi, &pose);
-      feet.at[i] = psi;
+      SearchPin(feet, i, psi, &pose);
     }
     out[i] = {-pin.clearance, pin.arm, pin.edge, nullptr};
     if (!pin.edge && pin.clearance < 0.0) {
@@ -448,6 +449,7 @@ Workspace::FootPoints& LoadProblem::BoundFootPoints(Workspace& workspace) const 
     feet.problem = id_;
     feet.last = base_.pins;
     feet.at.assign(base_.pins.size(), std::numeric_limits<double>::quiet_NaN());
+    feet.slope.assign(base_.pins.size(), std::numeric_limits<double>::quiet_NaN());
   }
   return feet;
 }
@@ -457,8 +459,7 @@ const std::vector<contact::PinContact>& LoadProblem::ExactPins(double psi, Works
   PoseAt pose;
   for (std::size_t i = 0; i < feet.last.size(); ++i) {
     if (feet.at[i] == psi) continue;
-    feet.last[i] = EvaluatePin(feet.last[i], psi, &pose);
-    feet.at[i] = psi;
+    SearchPin(feet, i, psi, &pose);
   }
   return feet.last;
 }
@@ -486,6 +487,25 @@ contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, do
   pin.disc = near.disc;
   pin.arm *= direction_;
   return pin;
+}
+
+void LoadProblem::SearchPin(Workspace::FootPoints& feet, std::size_t i, double psi, PoseAt* pose) const {
+  // The foot parameter moves smoothly with psi: start the search from its secant extrapolation,
+  // u + (du/dpsi) (psi - psi_last), where the last two searches of this pin stayed in one tooth
+  // space; the Newton search converges to the same foot point from either start, in fewer steps
+  // from the nearer one. A start moved by more than 1 % of a tooth pitch is not trusted.
+  const contact::PinContact& last = feet.last[i];
+  contact::PinContact near = last;
+  const double move = feet.slope[i] * (psi - feet.at[i]);
+  const double pitch = 2.0 * units::kPi / DiscModel(last.disc).pair().tooth_count;
+  if (std::abs(move) <= 0.01 * pitch) {  // false for a NaN slope
+    near.u += move;
+  }
+  contact::PinContact found = EvaluatePin(near, psi, pose);
+  const bool same_space = found.tooth_space == last.tooth_space && std::isfinite(feet.at[i]) && psi != feet.at[i];
+  feet.slope[i] = same_space ? (found.u - last.u) / (psi - feet.at[i]) : std::numeric_limits<double>::quiet_NaN();
+  feet.last[i] = std::move(found);
+  feet.at[i] = psi;
 }
 
 contact::ContactLaw LoadProblem::LawOf(const contact::PinContact& pin) const {

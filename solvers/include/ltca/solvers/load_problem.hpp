@@ -282,6 +282,8 @@ class LoadProblem {
   /// EvaluatePin(near, psi) with the pose taken from `pose` when it is of near's disc and section
   /// (the same contact, bit for bit).
   contact::PinContact EvaluatePin(const contact::PinContact& near, double psi, PoseAt* pose) const;
+  /// Entry i of `feet` searched at psi (from its extrapolated foot point), with its slope updated.
+  void SearchPin(Workspace::FootPoints& feet, std::size_t i, double psi, PoseAt* pose) const;
 
   ModelPtr model_;
   ModelPtr second_;  // the second disc of a two-disc stage, nullptr for one disc

@@ -43,6 +43,9 @@ class Workspace {
     std::vector<contact::PinContact> last;
     /// The rotation each entry of `last` was evaluated at (NaN: not yet at any).
     std::vector<double> at;
+    /// du/dpsi of each entry's foot parameter from its last two searches in one tooth space (NaN:
+    /// not known): the next search starts from the foot point extrapolated to its rotation.
+    std::vector<double> slope;
   };
   FootPoints& foot_points() { return foot_points_; }
 
