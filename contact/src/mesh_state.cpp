@@ -471,14 +471,15 @@ MeshModel::MeshModel(geometry::RealPair real, const geometry::GeometrySettings& 
       for (int j = 0; j < pin_count(); ++j) {
         const geometry::MeshSeed seed = real_.kinematics().Seed(j, crank);
         const double analytic = EvaluatePointFrom(j, 0, crank, 0.0, seed.tooth_space, seed.u).clearance;
-        worst = std::max(worst, std::abs(EvaluatePointElements(j, 0, SliceZ(0), crank, CyclePose(crank, 0.0, SliceZ(0)).Frame()).clearance - analytic));
+        worst = std::max(worst, std::abs(EvaluatePointElements(j, 0, SliceZ(0), real_.kinematics().AngleFromLineOfCentres(j, crank),
+                                                                  CyclePose(crank, 0.0, SliceZ(0)).Frame()).clearance - analytic));
       }
     }
     interference_tolerance_ = std::max(interference_tolerance_, 2.0 * worst);
   }
 }
 
-PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double crank, const geometry::PoseFrame& frame) const {
+PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double angle, const geometry::PoseFrame& frame) const {
   // Liu 2021 section 3: the element facing the pin (nearest control point) and the gap of its
   // equivalent cylinder (eq. 19, signed for a concave element):
   //   gap = sigma (|p - C| - |rho|) - r,  C = x - rho n (centre of curvature), sigma = sign(rho).
@@ -492,7 +493,7 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double
   const int k_polar = static_cast<int>(std::lround((std::atan2(p.y(), p.x()) - real_.profile().ToothSpaceRotation(0)) / pitch));
   if (!real_.profile_deviation().IsZero()) {
     const ElementFoot f = NearestDeviatedElement(*discrete_, real_.profile_deviation(), p, k_polar);
-    PinContact c = FootContact(pin, real_.kinematics().AngleFromLineOfCentres(pin, crank), f.k, f.element.u, r_pin,
+    PinContact c = FootContact(pin, angle, f.k, f.element.u, r_pin,
                                f.curvature, f.distance);
     PlaceContact(frame, centre_fixed, load_direction_, f.point, f.normal, &c);
     FinishPoint(slice, z, &c);
@@ -534,7 +535,7 @@ PinContact MeshModel::EvaluatePointElements(int pin, int slice, double z, double
   }
   PinContact c;
   c.pin = pin;
-  c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
+  c.angle = angle;
   c.u = best.u;
   c.tooth_space = 0;
   c.pin_radius = r_pin;
@@ -578,11 +579,12 @@ PinContact MeshModel::EvaluateSection(int pin, double z, double crank, double lo
 }
 
 PinContact MeshModel::EvaluateSection(int pin, int slice, double z, double crank, double loaded_rotation) const {
-  if (discrete_) return EvaluatePointElements(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z).Frame());
+  const double angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
+  if (discrete_) return EvaluatePointElements(pin, slice, z, angle, CyclePose(crank, loaded_rotation, z).Frame());
   // Seed from the meshing equation (exact for the nominal pair at psi = 0; the loaded rotation,
   // the modifications and the errors move the foot point by little).
   const geometry::MeshSeed seed = real_.kinematics().Seed(pin, crank);
-  return EvaluatePointAt(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z).Frame(), seed.tooth_space, seed.u);
+  return EvaluatePointAt(pin, slice, z, angle, CyclePose(crank, loaded_rotation, z).Frame(), seed.tooth_space, seed.u);
 }
 
 PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double loaded_rotation) const {
@@ -593,21 +595,22 @@ PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, double
                                     const Eigen::Vector2d& centre_shift) const {
   geometry::Pose pose = CyclePose(crank, loaded_rotation, near.z);
   pose.centre += centre_shift;
-  return EvaluatePoint(near, crank, pose.Frame());
+  return EvaluatePointInFrame(near, pose.Frame(), real_.kinematics().AngleFromLineOfCentres(near.pin, crank));
 }
 
-PinContact MeshModel::EvaluatePoint(const PinContact& near, double crank, const geometry::PoseFrame& frame) const {
-  if (discrete_) return EvaluatePointElements(near.pin, near.slice, near.z, crank, frame);
-  return EvaluatePointAt(near.pin, near.slice, near.z, crank, frame, near.tooth_space, near.u);
+PinContact MeshModel::EvaluatePointInFrame(const PinContact& near, const geometry::PoseFrame& frame, double angle) const {
+  if (discrete_) return EvaluatePointElements(near.pin, near.slice, near.z, angle, frame);
+  return EvaluatePointAt(near.pin, near.slice, near.z, angle, frame, near.tooth_space, near.u);
 }
 
 PinContact MeshModel::EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int seed_space,
                                         double seed_u) const {
   const double z = SliceZ(slice);
-  return EvaluatePointAt(pin, slice, z, crank, CyclePose(crank, loaded_rotation, z).Frame(), seed_space, seed_u);
+  return EvaluatePointAt(pin, slice, z, real_.kinematics().AngleFromLineOfCentres(pin, crank),
+                         CyclePose(crank, loaded_rotation, z).Frame(), seed_space, seed_u);
 }
 
-PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double crank, const geometry::PoseFrame& frame,
+PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double angle, const geometry::PoseFrame& frame,
                                       int seed_space, double seed_u) const {
   const Eigen::Vector2d centre_fixed = PinCentre(pin);
   const Eigen::Vector2d p = frame.ToBody(centre_fixed);
@@ -618,7 +621,7 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double crank
 
   if (real_.profile().tip_cap().active()) {
     const RelievedFoot f = NearestOnRelievedProfile(real_.profile(), p, seed_space, seed_u);
-    PinContact c = FootContact(pin, real_.kinematics().AngleFromLineOfCentres(pin, crank), f.k, f.u, r_pin,
+    PinContact c = FootContact(pin, angle, f.k, f.u, r_pin,
                                f.curvature, f.gap);
     c.part = f.part;
     c.edge = f.part == geometry::SurfacePart::kTipCorner;
@@ -666,7 +669,7 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double crank
 
   PinContact c;
   c.pin = pin;
-  c.angle = real_.kinematics().AngleFromLineOfCentres(pin, crank);
+  c.angle = angle;
   c.tooth_space = k;
   c.u = u;
   c.edge = edge;
@@ -775,11 +778,12 @@ MeshState MeshModel::Evaluate(double crank, double loaded_rotation) const {
   for (int k = 0; k < slices_; ++k) poses.push_back(CyclePose(crank, loaded_rotation, SliceZ(k)).Frame());
   for (int j = 0; j < pin_count(); ++j) {
     const geometry::MeshSeed seed = real_.kinematics().Seed(j, crank);
-    state.pins.push_back(EvaluatePointAt(j, 0, SliceZ(0), crank, poses[0], seed.tooth_space, seed.u));
+    const double angle = real_.kinematics().AngleFromLineOfCentres(j, crank);
+    state.pins.push_back(EvaluatePointAt(j, 0, SliceZ(0), angle, poses[0], seed.tooth_space, seed.u));
     for (int k = 1; k < slices_; ++k) {
       const PinContact& near = state.pins.back();
       state.pins.push_back(
-          EvaluatePointAt(j, k, SliceZ(k), crank, poses[static_cast<std::size_t>(k)], near.tooth_space, near.u));
+          EvaluatePointAt(j, k, SliceZ(k), angle, poses[static_cast<std::size_t>(k)], near.tooth_space, near.u));
     }
   }
   return state;

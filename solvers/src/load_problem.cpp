@@ -483,7 +483,9 @@ contact::PinContact LoadProblem::EvaluatePin(const contact::PinContact& near, do
   if (near.disc != pose->disc || !(near.z == pose->z)) {
     *pose = {near.disc, near.z, model.CyclePose(crank, direction_ * psi, near.z).Frame()};
   }
-  contact::PinContact pin = model.EvaluatePoint(near, crank, pose->frame);
+  // near is a contact of this pin at this problem's crank (the base state's, or a search's from
+  // it), so its angle from the line of centres is the one a search would compute again.
+  contact::PinContact pin = model.EvaluatePointInFrame(near, pose->frame, near.angle);
   pin.disc = near.disc;
   pin.arm *= direction_;
   return pin;

@@ -123,10 +123,11 @@ class MeshModel {
   /// about the moved centre.
   PinContact EvaluatePoint(const PinContact& near, double crank, double loaded_rotation,
                            const Eigen::Vector2d& centre_shift) const;
-  /// The same in a pose the caller has taken once for many pins: `frame` is the Frame() of
-  /// CyclePose(crank, loaded_rotation, near.z) (with its centre moved by any shift). The contact is
-  /// the one the overloads above give, bit for bit.
-  PinContact EvaluatePoint(const PinContact& near, double crank, const geometry::PoseFrame& frame) const;
+  /// The same in a pose the caller has taken once for many pins, with the pin's angle it keeps:
+  /// `frame` is the Frame() of CyclePose(crank, loaded_rotation, near.z) (its centre moved by any
+  /// shift) and `angle` is geometry::Kinematics::AngleFromLineOfCentres(near.pin, crank). The
+  /// contact is the one the overloads above give, bit for bit.
+  PinContact EvaluatePointInFrame(const PinContact& near, const geometry::PoseFrame& frame, double angle) const;
   /// Exact state of a pin in the face section at axial position z from face B (mm, in [0, B]),
   /// which need not be a slice centre: the unloaded analysis looks at the face edges too, where
   /// a gap that varies linearly along the width (misalignment) is smallest (issue 26). The point
@@ -138,9 +139,10 @@ class MeshModel {
  private:
   PinContact EvaluatePointFrom(int pin, int slice, double crank, double loaded_rotation, int tooth_space,
                                double u) const;
-  PinContact EvaluatePointAt(int pin, int slice, double z, double crank, const geometry::PoseFrame& frame,
+  // angle: the pin's angle from the line of centres at the crank (AngleFromLineOfCentres).
+  PinContact EvaluatePointAt(int pin, int slice, double z, double angle, const geometry::PoseFrame& frame,
                              int tooth_space, double u) const;
-  PinContact EvaluatePointElements(int pin, int slice, double z, double crank, const geometry::PoseFrame& frame) const;
+  PinContact EvaluatePointElements(int pin, int slice, double z, double angle, const geometry::PoseFrame& frame) const;
   /// The point's slice data (at axial position z) and the lead layer (normal offset of the flank)
   /// applied to a foot point.
   void FinishPoint(int slice, double z, PinContact* c) const;
