@@ -10,8 +10,6 @@
 #include <Eigen/SparseCholesky>
 #include <fmt/format.h>
 
-#include "ltca/geometry/units.hpp"
-
 namespace ltca::solvers {
 namespace {
 
@@ -499,8 +497,7 @@ void LoadProblem::SearchPin(Workspace::FootPoints& feet, std::size_t i, double p
   const contact::PinContact& last = feet.last[i];
   contact::PinContact near = last;
   const double move = feet.slope[i] * (psi - feet.at[i]);
-  const double pitch = 2.0 * units::kPi / DiscModel(last.disc).pair().tooth_count;
-  if (std::abs(move) <= 0.01 * pitch) {  // false for a NaN slope
+  if (std::abs(move) <= 0.01 * DiscModel(last.disc).profile().tooth_pitch()) {  // false for a NaN slope
     near.u += move;
   }
   contact::PinContact found = EvaluatePin(near, psi, pose);

@@ -105,16 +105,6 @@ SOLVE_PATH_ABSOLUTE = 1e-8
 SOLVE_PATH_FORCE_N = 1e-6
 SOLVE_PATH_UNCOMPARED = {"torque_evaluations", "iterations", "solves"}
 
-
-def stress_floor(obj):
-    """The floor of an object's max_contact_stress_mpa that the force floor gives it (issue 29):
-    Hertz's stress goes as sqrt(F), so a force known to SOLVE_PATH_FORCE_N gives the stress to
-    sigma / 2 * SOLVE_PATH_FORCE_N / F, with F the same object's max_pin_force_n (at least the force
-    of the most stressed pin, so the floor is at most the one that pin's force gives)."""
-    sigma, force = obj.get("max_contact_stress_mpa"), obj.get("max_pin_force_n")
-    if not isinstance(sigma, (int, float)) or not isinstance(force, (int, float)) or not force > 0.0:
-        return 0.0
-    return 0.5 * abs(sigma) * SOLVE_PATH_FORCE_N / force
 NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 
 
@@ -301,7 +291,7 @@ def compare(problems, where, key, got, want, relative=RELATIVE, uncompared=froze
             else:
                 least = floor
                 if floor > 0.0 and k == "max_contact_stress_mpa":  # the solve-path rule: its force's floor
-                    least = max(floor, stress_floor(want))
+                    least = max(floor, snapshot_cli.stress_floor(want, SOLVE_PATH_FORCE_N))
                 compare(problems, f"{where}.{k}", k, got[k], want[k], relative, uncompared, least)
         return
     if isinstance(want, list):

@@ -48,16 +48,6 @@ SOLVE_PATH_RELATIVE = 1e-8
 SOLVE_PATH_FORCE_N = 1e-6
 
 
-def stress_floor(summary):
-    """The floor of a summary's max_contact_stress_mpa that its force's floor gives it (issue 29):
-    Hertz's stress goes as sqrt(F), so a force known to SOLVE_PATH_FORCE_N gives the stress to
-    sigma / 2 * SOLVE_PATH_FORCE_N / F. F is the summary's max_pin_force_n, at least the force of
-    the most stressed pin, so the floor is at most the one that pin's force gives."""
-    sigma, force = summary.get("max_contact_stress_mpa"), summary.get("max_pin_force_n")
-    if not isinstance(sigma, float) or not isinstance(force, (int, float)) or not force > 0.0:
-        return 0.0
-    return 0.5 * abs(sigma) * SOLVE_PATH_FORCE_N / force
-
 
 # Issue 12 gave a |d| >= 2 deck with a load a default tip relief; issue 26 removed it (no relief is
 # assumed). The snapshot recorded their sharp tips, which both relief keys set to 0 keep: these
@@ -177,7 +167,7 @@ def check_run(exe, cases, want):
             if isinstance(value, (dict, list)):
                 continue  # a stage's blocks: the every-command snapshot (commands.py) compares them
             kind = SUMMARY_KIND.get(key, "other" if isinstance(value, float) else None)
-            least = stress_floor(want_summary) if key == "max_contact_stress_mpa" else 0.0
+            least = snapshot_cli.stress_floor(want_summary, SOLVE_PATH_FORCE_N) if key == "max_contact_stress_mpa" else 0.0
             m.close(f"{name}: summary {key}", kind, summary.get(key), value, least)
         m.close(f"{name}: positions", None, len(positions), len(want["positions"]))
         for i, (g, w) in enumerate(zip(positions, want["positions"])):
