@@ -158,77 +158,129 @@ void CompatibilitySolver::SolveCoupled(const LoadProblem& problem, const SolverO
 
 void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                                      LoadResult* result) const {
-  // Re-linearise until the rotation settles (issue 4): about psi_k the linearised problem takes the
-  // exact gaps, arms and laws of the pose psi_k (value and slope of every approach match there);
-  // its solution is psi_{k+1}. The last answer is verified on the exact torque balance.
-  double psi = 0.0;
-  int evaluations = 0, outer = 0;
+  // Issue 4: the linearisation about the base state (psi = 0) is Jiang's problem; its solution psi_1
+  // misses the exact balance by the kinematic nonlinearity only (second order in psi). From psi_1
+  // the exact torque balance M(psi) = T is closed by Newton's method on M itself (issue 29), where
+  // it was closed by re-linearising about each psi_k and minimising the new potential with NLopt
+  // (4 to 5 linearisations a position on Liu Table 1, each 40 laws and a whole NLopt run). The
+  // fixed point is the same: M(psi) = T on the exact geometry, judged by the same rule.
   SolverOptions inner = options;
   // The linearisation about psi_k matches the exact torque at psi_k only: solve it to a quarter of
   // the tolerance, so that the exact torque at the settled rotation meets the tolerance itself
   // (at the requested 1e-10 one d = 3 position ended 1.01e-10 off, issue 10).
   inner.torque_tolerance = 0.25 * options.torque_tolerance;
-  contact::MeshState state = problem.base_state();
-  double guess = std::numeric_limits<double>::quiet_NaN();
-  for (; outer < 30; ++outer) {
-    if (outer > 0) {  // the exact state at psi, every pin searched from its last foot point,
-      // kept in the workspace: the answer's evaluation at the settled psi below (and the shared
-      // judge's) then searches nothing again
+  int evaluations = 0, linearisations = 0;
+  // Jiang's minimisation on the linearisation about the exact state at psi (its pins searched and
+  // kept in the workspace; psi = 0: the base state); the new rotation, or a failure in *result.
+  const auto relinearise = [&](double psi, double guess) -> std::optional<double> {
+    const LoadProblem linear = [&] {
+      if (linearisations == 0) return problem.Linearised();
+      contact::MeshState state = problem.base_state();
       state.pins = problem.ExactPins(psi, workspace);
       state.loaded_rotation = psi;
-    }
-    contact::MeshState shifted = state;
-    for (auto& pin : shifted.pins) pin.clearance += pin.arm * psi;  // L psi' - c~ = approach at psi' (first order)
-    const LoadProblem linear = problem.LinearisedOn(std::move(shifted));
-    if (outer > 0) {  // the linearisation about psi is exact at psi: stop when its torque balances,
-      // with a margin: the final exact evaluation at psi starts its closest-point searches from
-      // other foot points and may round differently (a d = 3 position stopped at 0.99e-10 here
-      // and was judged 1.01e-10 off, issue 10).
-      if (linear.Balanced(psi, linear.OutputTorque(psi, workspace), 0.5 * options.torque_tolerance, workspace)) break;
-    }
+      for (auto& pin : state.pins) pin.clearance += pin.arm * psi;  // L psi' - c~ = approach at psi' (first order)
+      return problem.LinearisedOn(std::move(state));
+    }();
+    ++linearisations;
     LoadResult step;
     step.force.assign(static_cast<std::size_t>(problem.point_count()), 0.0);
     SolveLinearised(linear, inner, workspace, &step, guess);
     evaluations += step.torque_evaluations;
-    // The step is asked for a quarter of the tolerance. Where double precision cannot refine that
-    // far (the polish bracket collapses: cases/hard/inflection_pin.toml at crank
-    // 23.166345849916095 deg stopped 2.5e-11 off, issue 10) but the requested tolerance holds, the
-    // step is usable: the exact verdict below decides.
+    // Where double precision cannot refine to a quarter of the tolerance (the polish bracket
+    // collapses: cases/hard/inflection_pin.toml at crank 23.166345849916095 deg stopped 2.5e-11
+    // off, issue 10) but the requested tolerance holds, the step is usable: the exact verdict decides.
     const bool refined_enough = step.status == SolverStatus::kNumericalFailure && std::isfinite(step.rotation) &&
                                 linear.Balanced(step.rotation, linear.OutputTorque(step.rotation, workspace),
                                                 options.torque_tolerance, workspace);
     if (step.status != SolverStatus::kSuccess && step.status != SolverStatus::kEdgeContact && !refined_enough) {
       *result = step;
-      result->message = fmt::format("re-linearisation {}: {}", outer + 1, step.message);
-      return;
+      result->message = fmt::format("re-linearisation {}: {}", linearisations, step.message);
+      return std::nullopt;
     }
-    const double change = step.rotation - psi;
-    psi = step.rotation;
-    guess = psi;  // the next linearisation starts NLopt here
-    if (std::abs(change) <= 1e-15 * std::max(std::abs(psi), 1e-12)) break;  // cannot move any more
-  }
-  // The answer on the exact geometry: forces of the laws at the exact approaches.
+    return step.rotation;
+  };
+  const std::optional<double> first = relinearise(0.0, std::numeric_limits<double>::quiet_NaN());
+  if (!first) return;
+  double psi = *first;
+  // Newton on M(psi) - T from psi_1. M = sum F_i(delta_i) L_i; its tangent with the geometry and
+  // the laws held, t = sum k_i L_i^2 (d delta_i / d psi = L_i on the exact geometry, k_i =
+  // dF_i / d delta_i = 1 / Compliance(F_i)), misses what turning does to the arms and to the laws
+  // (the curvature at the moving foot point): a few 1e-4 of M' on Liu Table 1, which would leave
+  // the iteration linear at that rate. From the second step on, the slope is t scaled by the
+  // ratio of the secant of M over the last two rotations to the mean of their tangents, the
+  // trapezoidal rule: that ratio carries the missing terms to second order in the step. The
+  // evaluations that bracket the balance keep the iteration inside: a step out of the bracket
+  // bisects it instead.
+  double lo = -INFINITY, hi = INFINITY;
+  double psi_before = std::numeric_limits<double>::quiet_NaN(), torque_before = 0.0, tangent_before = 0.0;
+  std::vector<double> hints(static_cast<std::size_t>(problem.point_count()), 0.0);
+  std::vector<LoadProblem::PinAt> pins;
   std::vector<contact::ContactLaw> scratch;
-  Loading loading = LoadAt(problem.At(psi, workspace, &scratch));
-  result->force = std::move(loading.force);
+  Loading loading;
+  int newton = 0;
+  bool balanced = false;
+  for (; newton < 30; ++newton) {
+    // Only the pins that can be pressed at psi are searched (those whose gap at their last search
+    // is beyond the reach of the rotation since are not): the forces and torque of every pin.
+    problem.At(psi, workspace, &scratch, &pins, LoadProblem::Freshness::kLoadedOnly);
+    LoadAt(pins, &hints, &loading);
+    ++evaluations;
+    if (problem.Balanced(psi, loading.torque, 0.5 * options.torque_tolerance, pins, &loading.force)) {
+      balanced = true;
+      break;
+    }
+    const double miss = problem.torque() - loading.torque;
+    (miss > 0.0 ? lo : hi) = psi;
+    double tangent = 0.0;
+    for (std::size_t i = 0; i < pins.size(); ++i) {
+      const double f = loading.force[i];
+      if (f > 0.0) tangent += pins[i].arm * pins[i].arm / pins[i].law->Compliance(f);
+    }
+    double slope = tangent;
+    if (psi != psi_before && std::isfinite(psi_before)) {
+      const double ratio = (loading.torque - torque_before) / (psi - psi_before) / (0.5 * (tangent + tangent_before));
+      if (ratio > 0.5 && ratio < 2.0) slope *= ratio;  // (a pin closing or opening between them: not)
+    }
+    psi_before = psi, torque_before = loading.torque, tangent_before = tangent;
+    double next = psi + miss / slope;
+    if (!(slope > 0.0) || !(next > lo && next < hi)) {
+      if (std::isfinite(lo) && std::isfinite(hi)) {
+        next = 0.5 * (lo + hi);
+      } else {  // no bracket on that side yet: the linearisation about psi, minimised
+        const std::optional<double> step = relinearise(psi, psi);
+        if (!step) return;
+        next = *step;
+      }
+    }
+    if (std::abs(next - psi) <= 1e-15 * std::max(std::abs(psi), 1e-12)) break;  // cannot move any more
+    psi = next;
+  }
+  // The answer on the exact geometry: forces of the laws at the exact approaches (the last
+  // evaluation, or the one at the rotation the iteration stopped on).
+  if (!balanced) {
+    problem.At(psi, workspace, &scratch, &pins, LoadProblem::Freshness::kLoadedOnly);
+    LoadAt(pins, &hints, &loading);
+  }
+  result->force = loading.force;
   const double torque = loading.torque;
-  const bool edge = loading.edge;
   result->rotation = psi;
   result->torque_evaluations = evaluations;
-  result->iterations = outer + 1;
-  result->details = {{"nlopt_result", 0.0}, {"polish_steps", 0.0}};
+  result->iterations = linearisations + newton;
+  result->details = {{"nlopt_result", 0.0}, {"polish_steps", 0.0}, {"linearisations", static_cast<double>(linearisations)},
+                     {"newton_steps", static_cast<double>(newton)}};
   const double miss = std::abs(torque - problem.torque());
-  if (edge) {
+  if (loading.edge) {
     result->status = SolverStatus::kEdgeContact;
     result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
   } else if (problem.Balanced(psi, torque, options.torque_tolerance, workspace)) {
     result->status = SolverStatus::kSuccess;
-    result->message = fmt::format("{} re-linearisations, torque balanced to {:.3g}", outer + 1, miss / problem.torque());
+    result->message = fmt::format("exact torque balance: linearisations {}, Newton steps {}, torque balanced to {:.3g}",
+                                  linearisations, newton, miss / problem.torque());
   } else {
     result->status = SolverStatus::kMaxIterations;
-    result->message = fmt::format("iteration limit reached ({} re-linearisations) before the torque balanced: off by {:.3g} "
-                                  "relative at the stop, torque_tolerance {:.3g}",
-                                  outer + 1, miss / problem.torque(), options.torque_tolerance);
+    result->message = fmt::format("iteration limit reached (linearisations {}, Newton steps {}) before the torque "
+                                  "balanced: off by {:.3g} relative at the stop, torque_tolerance {:.3g}",
+                                  linearisations, newton, miss / problem.torque(), options.torque_tolerance);
   }
 }
 

@@ -13,8 +13,8 @@ namespace ltca::solvers {
 /// found with NLopt in the bracket [first contact, a rotation that overshoots T]. The algorithm
 /// is selectable by NLopt name (SolverOptions::nlopt_algorithm); gradient-based ones use the
 /// exact derivative (the torque mismatch), derivative-free ones only Pi. Exact kinematics
-/// evaluates Pi on the re-evaluated geometry (dDelta_i/dpsi = L_i(psi) holds exactly), which is
-/// what re-linearising to convergence would reach.
+/// minimises Pi of the linearisation about the unloaded pose, then closes the exact torque balance
+/// by Newton's method from there (SolveExact; docs/solvers.md).
 /// Coupled (issue 11, LoadProblem::WithCoupling): compatibility w_i(F_i) + (C F)_i = delta_i(psi)
 /// on the loaded points and the torque balance, solved by Newton on (psi, F) over the active set
 /// (the bordered matrix [D + C_AA, -L_A; L_A^T, 0], Schur complement on psi; coupled_contact.hpp);

@@ -211,6 +211,28 @@ LoadProblem LoadProblem::LinearisedOn(contact::MeshState state) const {
   return LoadProblem(model_, std::move(state), contact_, material_, torque_);
 }
 
+LoadProblem LoadProblem::Linearised() const {
+  if (coupling_ != nullptr || stage_ != nullptr) {
+    throw std::logic_error("LoadProblem::Linearised: an uncoupled mesh problem expected");
+  }
+  LoadProblem out = *this;
+  out.id_ = NextProblemId();
+  out.kinematics_ = contact::ContactKinematics::kLinearised;
+  out.reach_.clear();
+  // The closing rotations (and from them the first contact and the single-pin bound) of the
+  // linearised kinematics, as BuildBaseLaws computes them: c / L.
+  const double min_arm = 1e-9 * model_->pair().pin_circle_radius;
+  out.first_contact_ = INFINITY;
+  out.closing_.assign(base_.pins.size(), INFINITY);
+  for (std::size_t i = 0; i < base_.pins.size(); ++i) {
+    if (base_.pins[i].arm <= min_arm) continue;
+    out.closing_[i] = out.Closing(base_.pins[i]);
+    out.first_contact_ = std::min(out.first_contact_, out.closing_[i]);
+  }
+  out.single_pin_ = out.SinglePinBound();
+  return out;
+}
+
 std::vector<double> LoadProblem::DiscTorques(double psi, const std::vector<double>& forces,
                                              Workspace& workspace) const {
   std::vector<contact::ContactLaw> scratch;
@@ -446,7 +468,11 @@ Workspace::FootPoints& LoadProblem::BoundFootPoints(Workspace& workspace) const 
   if (feet.problem != id_) {
     feet.problem = id_;
     feet.last = base_.pins;
-    feet.at.assign(base_.pins.size(), std::numeric_limits<double>::quiet_NaN());
+    // The base state is the exact geometry at psi = 0 (the unloaded pose): where the rate bound of
+    // Freshness::kLoadedOnly applies (reach_), the first trial need not search a pin whose gap
+    // there is beyond the reach of its rotation from 0.
+    const bool at_zero = !reach_.empty() && base_.loaded_rotation == 0.0;
+    feet.at.assign(base_.pins.size(), at_zero ? 0.0 : std::numeric_limits<double>::quiet_NaN());
     feet.slope.assign(base_.pins.size(), std::numeric_limits<double>::quiet_NaN());
   }
   return feet;

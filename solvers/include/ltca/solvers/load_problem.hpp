@@ -77,6 +77,9 @@ class LoadProblem {
   /// A linearised problem with |T| on `state`, a state of this problem's points with the arms
   /// already signed for this frame (compatibility's re-linearisation): the same discs.
   LoadProblem LinearisedOn(contact::MeshState state) const;
+  /// This problem under linearised kinematics about its base state: what LinearisedOn(base_state())
+  /// gives, with the base laws copied instead of built again (issue 29). Uncoupled problems only.
+  LoadProblem Linearised() const;
   /// Per disc, the torque its points carry at rotation psi, sum F_i L_i(psi), N*mm, signed as T
   /// (T_1 + T_2 = T at a balanced solution).
   std::vector<double> DiscTorques(double psi, const std::vector<double>& forces, Workspace& workspace) const;
