@@ -63,6 +63,79 @@ Evaluation EvaluateCoupled(const LoadProblem& problem, double psi, Workspace& wo
   return {o.torque, o.edge, o.saturated, o.converged || o.saturated ? std::string() : o.failure};
 }
 
+// Exact kinematics (issue 29): the geometry linearised about the last trial evaluated on it, which
+// decides the trials whose verdict it makes clear. About psi_e each pin's approach is
+// a_i + L_i (psi - psi_e) with the law of psi_e; the torque this predicts is exact but for what
+// turning does to the arms and the laws (first order in the step, a few 1e-4 of the change on Liu
+// Table 1) and the pins that close on the way (their law is the unloaded state's, their gap a
+// bound where the trial skipped them). The prediction carries a bound: `error` times the change
+// it predicts (error at least 1 % and 4 times the largest misprediction measured in this solve)
+// plus the whole torque of the pins it has closing. A trial whose torque +- the bound lies on one
+// side of the target is decided so; any other trial, and every verdict of convergence, is
+// evaluated on the exact geometry.
+struct Linearisation {
+  bool valid = false;
+  double psi = 0.0, torque = 0.0;
+  double error = 0.5;  // before any misprediction is measured: a half
+  double resolution = 0.0;  // the torque the exact geometry's rounding leaves unresolved at psi_e
+  std::vector<LoadProblem::PinAt> pins;
+  std::vector<contact::ContactLaw> laws;
+  std::vector<double> hints;
+
+  struct Prediction {
+    double torque = 0.0, bound = INFINITY;
+    double closing = 0.0;  // the part of the bound that is the pins closing since psi_e
+    bool usable = false;  // false: a pressed tip corner or a law beyond its range in the prediction
+  };
+
+  // The pins and laws of an exact evaluation at `at`, copied (the laws the pins point to in
+  // `scratch` are pointed to in the copy).
+  void Take(double at, double exact_torque, const std::vector<LoadProblem::PinAt>& from,
+            const std::vector<contact::ContactLaw>& scratch, double torque_resolution) {
+    psi = at, torque = exact_torque, resolution = torque_resolution, valid = true;
+    pins = from;
+    laws = scratch;
+    const std::less<const contact::ContactLaw*> before;
+    for (auto& pin : pins) {
+      if (pin.law != nullptr && !scratch.empty() && !before(pin.law, scratch.data()) &&
+          before(pin.law, scratch.data() + scratch.size())) {
+        pin.law = laws.data() + (pin.law - scratch.data());
+      }
+    }
+    hints.assign(pins.size(), 0.0);
+  }
+
+  Prediction At(double at) {
+    Prediction p;
+    p.torque = 0.0;
+    p.usable = valid;
+    for (std::size_t i = 0; i < pins.size() && p.usable; ++i) {
+      const auto& pin = pins[i];
+      const double approach = pin.approach + pin.arm * (at - psi);
+      if (approach <= 0.0) continue;
+      if (pin.law == nullptr || approach >= pin.law->max_approach()) {
+        p.usable = false;
+        break;
+      }
+      const double moment = pin.law->Force(approach, &hints[i]) * pin.arm;
+      p.torque += moment;
+      if (pin.approach <= 0.0) p.closing += std::abs(moment);
+    }
+    // (twice the resolution: that of psi_e's torque, and that of the trial's)
+    p.bound = error * std::abs(p.torque - torque) + p.closing + 2.0 * resolution;
+    return p;
+  }
+
+  // What the exact evaluation at a predicted rotation measured: the misprediction beyond what the
+  // closing pins account for, as a fraction of the predicted change, sets the next bound.
+  void Observe(const Prediction& p, double exact_torque) {
+    const double change = std::abs(p.torque - torque);
+    if (!p.usable || !(change > 0.0)) return;
+    const double missed = std::max(0.0, std::abs(exact_torque - p.torque) - p.closing - 2.0 * resolution) / change;
+    error = std::max(0.01, 4.0 * missed);
+  }
+};
+
 }  // namespace
 
 void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
@@ -96,50 +169,114 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
     result->torque_evaluations = evaluations_done;
   };
   bool edge_blocked = false;
-  Evaluation at = evaluate(psi, &forces);
+  // Exact kinematics, uncoupled: trials the linearisation about the last exact trial decides
+  // (Linearisation). The accepted rotation is then not always one evaluated on the exact
+  // geometry (at_exact false), but never one that may have converged; the last exact one
+  // (safe_psi, its trial `safe`, its forces and pins in `forces` and `buffers`) is the answer
+  // should the loop stop on one that is not and the exact geometry overshoot there.
+  const bool modelled = coupled == nullptr && problem.kinematics() == contact::ContactKinematics::kExact;
+  Linearisation model;
+  int exact_trials = 0;
+  const auto evaluate_exact = [&](double at_psi, std::vector<double>* out, const Linearisation::Prediction* predicted) {
+    const Evaluation e = evaluate(at_psi, out);
+    ++exact_trials;
+    if (modelled && e.failure.empty()) {
+      if (predicted != nullptr) model.Observe(*predicted, e.torque);
+      model.Take(at_psi, e.torque, buffers.pins, buffers.scratch,
+                 problem.TorqueResolution(at_psi, buffers.pins, out));
+    }
+    return e;
+  };
+  Evaluation at = evaluate_exact(psi, &forces, nullptr);
   if (!at.failure.empty()) return fail(at, 1);
   if (coupled == nullptr) buffers.Accept();
+  bool at_exact = true;
+  double safe_psi = psi;
+  Evaluation safe = at;
+  const double limit = target * (1.0 + options.torque_tolerance);
   int evaluations = 1;
   // The check is a function of the accepted trial alone: after an overshoot (nothing accepted) its
   // answer is the last one, so it is asked again only once a trial has been accepted.
   bool accepted_new = true;
-  for (; evaluations < options.max_iterations; ++evaluations) {
-    if (accepted_new && converged(psi, at.torque)) break;
-    accepted_new = false;
-    const Evaluation trial = evaluate(psi + step, &trial_forces);
-    if (!trial.failure.empty()) return fail(trial, evaluations + 1);
-    if (trial.edge) {
-      // A tip corner would be pressed at this trial: treat it as an overshoot. If the load cannot
-      // be reached before a corner engages, the answer is edge contact (below).
-      edge_blocked = true;
-      step *= 0.5;
-      if (step < 1e-17 * std::max(std::abs(psi), 1e-12)) break;
-      continue;
+  // An exact trial at psi + step (or psi itself, step 0, to verify a rotation accepted on the
+  // linearisation): true when it was accepted; an overshoot halves the step. On a failure,
+  // *failed is set.
+  const auto exact_trial = [&](double trial_psi, const Linearisation::Prediction* predicted, bool* failed) -> bool {
+    const Evaluation trial = evaluate_exact(trial_psi, &trial_forces, predicted);
+    if (!trial.failure.empty()) {
+      fail(trial, evaluations + 1);
+      *failed = true;
+      return false;
     }
-    if (trial.torque <= target * (1.0 + options.torque_tolerance)) {
-      psi += step;
-      at = trial;
-      forces.swap(trial_forces);
-      if (coupled == nullptr) buffers.Accept();
-      accepted_new = true;
-      if (at.saturated && at.torque < target * (1.0 - options.torque_tolerance)) {
-        result->status = SolverStatus::kLawCannotCarry;
-        result->message = fmt::format("a pin reached the largest force its contact law can carry at {:.6g} N*m of {:.6g}",
-                                      units::NmmToNm(at.torque), units::NmmToNm(target));
-        result->rotation = psi;
-        result->force = forces;
-        result->torque_evaluations = evaluations + 1;
-        return;
+    if (trial.edge || trial.torque > limit) {
+      // A tip corner pressed at this trial is an overshoot: if the load cannot be reached before a
+      // corner engages, the answer is edge contact (below).
+      if (trial.edge) edge_blocked = true;
+      return false;
+    }
+    psi = trial_psi;
+    at = trial;
+    forces.swap(trial_forces);
+    if (coupled == nullptr) buffers.Accept();
+    at_exact = true, safe_psi = psi, safe = at;
+    return true;
+  };
+  bool failed = false;
+  bool use_model = modelled;
+  // The search; run again, on the exact geometry alone, from the last exact rotation should it
+  // stop on a rotation accepted on the linearisation that the exact geometry overshoots.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (; evaluations < options.max_iterations; ++evaluations) {
+      if (accepted_new && at_exact) {
+        if (at.saturated && at.torque < target * (1.0 - options.torque_tolerance)) {
+          result->status = SolverStatus::kLawCannotCarry;
+          result->message = fmt::format("a pin reached the largest force its contact law can carry at {:.6g} N*m of {:.6g}",
+                                        units::NmmToNm(at.torque), units::NmmToNm(target));
+          result->rotation = psi;
+          result->force = forces;
+          result->torque_evaluations = evaluations;
+          return;
+        }
+        if (converged(psi, at.torque)) break;
       }
-      step *= 2.0;  // increasing steps while below the load
-    } else {
-      step *= 0.5;  // overshoot: bisect the step
+      accepted_new = false;
+      const double trial_psi = psi + step;
+      Linearisation::Prediction p;
+      if (use_model) p = model.At(trial_psi);
+      if (p.usable && p.torque - p.bound > limit) {
+        step *= 0.5;  // overshoot, on the linearisation
+      } else if (p.usable && p.torque + p.bound < target * (1.0 - options.torque_tolerance)) {
+        // Below the load and outside the band of convergence, on the linearisation: accepted without
+        // a verdict to ask (one inside the band is evaluated on the exact geometry, below).
+        psi = trial_psi;
+        at = {p.torque, false, false, {}};
+        at_exact = false;
+        accepted_new = true;
+        step *= 2.0;
+      } else if (exact_trial(trial_psi, use_model ? &p : nullptr, &failed)) {
+        accepted_new = true;
+        step *= 2.0;  // increasing steps while below the load
+      } else {
+        if (failed) return;
+        step *= 0.5;  // overshoot: bisect the step
+      }
+      if (step < 1e-17 * std::max(std::abs(psi), 1e-12)) break;  // cannot refine further in double
     }
-    if (step < 1e-17 * std::max(std::abs(psi), 1e-12)) break;  // cannot refine further in double
+    if (at_exact) break;
+    // The search stopped on a rotation accepted on the linearisation: the exact verdict there.
+    const double accepted = psi;
+    psi = safe_psi;
+    if (exact_trial(accepted, nullptr, &failed)) break;
+    if (failed) return;
+    // It overshoots: from the last exact rotation, as an overshoot of the step that led beyond it.
+    at = safe, at_exact = true, accepted_new = false;
+    step = 0.5 * (accepted - safe_psi);
+    use_model = false;
   }
   result->rotation = psi;
   result->force = forces;
   result->details = {{"final_step_rad", step}};
+  if (modelled) result->details["exact_trials"] = exact_trials;
   if (coupled != nullptr) AddKernelDetails(before, coupled->stats(), &result->details);
   result->torque_evaluations = evaluations;
   result->iterations = evaluations;
