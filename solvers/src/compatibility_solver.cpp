@@ -209,8 +209,8 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
   // the iteration linear at that rate. From the second step on, the slope is t scaled by the
   // ratio of the secant of M over the last two rotations to the mean of their tangents, the
   // trapezoidal rule: that ratio carries the missing terms to second order in the step. The
-  // evaluations that bracket the balance keep the iteration inside: a step out of the bracket
-  // bisects it instead.
+  // confirmed evaluations (below) that bracket the balance keep the iteration inside: a step out
+  // of the bracket bisects it instead.
   double lo = -INFINITY, hi = INFINITY;
   double psi_before = std::numeric_limits<double>::quiet_NaN(), torque_before = 0.0, tangent_before = 0.0;
   std::vector<double> hints(static_cast<std::size_t>(problem.point_count()), 0.0);
@@ -220,17 +220,25 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
   int newton = 0;
   bool balanced = false;
   for (; newton < 30; ++newton) {
-    // Only the pins that can be pressed at psi are searched (those whose gap at their last search
-    // is beyond the reach of the rotation since are not): the forces and torque of every pin.
-    problem.At(psi, workspace, &scratch, &pins, LoadProblem::Freshness::kLoadedOnly);
+    // An iterate searches the pins that may be pressed at psi (Freshness::kNear: a pin clearly
+    // open on its extrapolation from its last search is not searched). One that balances is
+    // confirmed with every pin that can be pressed searched (kLoadedOnly, whose skips are proven):
+    // the forces and torque of every pin.
+    problem.At(psi, workspace, &scratch, &pins, LoadProblem::Freshness::kNear);
     LoadAt(pins, &hints, &loading);
     ++evaluations;
+    bool confirmed = false;  // the torque of every pin that can be pressed (kLoadedOnly)
     if (problem.Balanced(psi, loading.torque, 0.5 * options.torque_tolerance, pins, &loading.force)) {
-      balanced = true;
-      break;
+      problem.At(psi, workspace, &scratch, &pins, LoadProblem::Freshness::kLoadedOnly);
+      LoadAt(pins, &hints, &loading);
+      confirmed = true;
+      if (problem.Balanced(psi, loading.torque, 0.5 * options.torque_tolerance, pins, &loading.force)) {
+        balanced = true;
+        break;
+      }
     }
     const double miss = problem.torque() - loading.torque;
-    (miss > 0.0 ? lo : hi) = psi;
+    if (confirmed) (miss > 0.0 ? lo : hi) = psi;  // (an iterate's torque may miss a pin: no bracket)
     double tangent = 0.0;
     for (std::size_t i = 0; i < pins.size(); ++i) {
       const double f = loading.force[i];

@@ -401,9 +401,16 @@ void LoadProblem::BuildBaseLaws() {
   const bool analytic = model_->discrete() == nullptr && (second_ == nullptr || second_->discrete() == nullptr);
   if (kinematics_ == contact::ContactKinematics::kExact && analytic) {
     reach_.reserve(base_.pins.size());
+    int disc = -1;
+    double z = NAN;
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
     for (const auto& pin : base_.pins) {
       const contact::MeshModel& model = DiscModel(pin.disc);
-      const double rho = (model.PinCentre(pin.pin) - model.CyclePose(DiscCrank(pin.disc), 0.0, pin.z).centre).norm();
+      if (pin.disc != disc || !(pin.z == z)) {  // the disc's centre, once for its points of one section
+        disc = pin.disc, z = pin.z;
+        centre = model.CyclePose(DiscCrank(pin.disc), 0.0, pin.z).centre;
+      }
+      const double rho = (model.PinCentre(pin.pin) - centre).norm();
       reach_.push_back(rho * (1.0 + 1e-9));  // a margin over the rounding of rho
     }
   }
@@ -437,7 +444,8 @@ void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::Cont
   Workspace::FootPoints& feet = BoundFootPoints(workspace);
   scratch->clear();
   scratch->reserve(out.size());
-  const bool skip = freshness == Freshness::kLoadedOnly && !reach_.empty();
+  const bool skip = freshness != Freshness::kAll && !reach_.empty();
+  const bool near = freshness == Freshness::kNear && !reach_.empty();
   // What a fresh search could still resolve as closed (GapResolution), with a margin.
   const double margin = 4.0 * GapResolution();
   PoseAt pose;  // the disc's pose at psi, taken once for the pins of a disc and section
@@ -451,11 +459,23 @@ void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::Cont
         out[i] = {-closest, pin.arm, pin.edge, pin.edge ? nullptr : &base_laws_[i]};
         continue;
       }
+      if (near && std::isfinite(feet.at[i])) {  // clearly open on its extrapolation (Freshness::kNear)
+        const double move = psi - feet.at[i];
+        const double estimate = pin.arm * move - pin.clearance;
+        if (estimate < -(0.5 * std::abs(pin.arm * move) + reach_[i] * reach_[i] * move * move + margin)) {
+          out[i] = {estimate, pin.arm, pin.edge, pin.edge ? nullptr : &base_laws_[i]};
+          continue;
+        }
+      }
       SearchPin(feet, i, psi, &pose);
     }
     out[i] = {-pin.clearance, pin.arm, pin.edge, nullptr};
     if (!pin.edge && pin.clearance < 0.0) {
-      scratch->push_back(MakeLaw(contact_, material_, pin, pin.length, log_radius_cap_));
+      if (!feet.law_fresh[i]) {
+        feet.law[i] = MakeLaw(contact_, material_, pin, pin.length, log_radius_cap_);
+        feet.law_fresh[i] = 1;
+      }
+      scratch->push_back(feet.law[i]);
       out[i].law = &scratch->back();  // stable: reserved above
     } else if (!pin.edge) {
       out[i].law = &base_laws_[i];  // unloaded: any law of this pin gives zero force
@@ -474,6 +494,8 @@ Workspace::FootPoints& LoadProblem::BoundFootPoints(Workspace& workspace) const 
     const bool at_zero = !reach_.empty() && base_.loaded_rotation == 0.0;
     feet.at.assign(base_.pins.size(), at_zero ? 0.0 : std::numeric_limits<double>::quiet_NaN());
     feet.slope.assign(base_.pins.size(), std::numeric_limits<double>::quiet_NaN());
+    feet.law = base_laws_;  // placeholders: built where a pressed pin asks for its law
+    feet.law_fresh.assign(base_.pins.size(), 0);
   }
   return feet;
 }
@@ -531,6 +553,7 @@ void LoadProblem::SearchPin(Workspace::FootPoints& feet, std::size_t i, double p
   feet.slope[i] = same_space ? (found.u - last.u) / (psi - feet.at[i]) : std::numeric_limits<double>::quiet_NaN();
   feet.last[i] = std::move(found);
   feet.at[i] = psi;
+  feet.law_fresh[i] = 0;
 }
 
 contact::ContactLaw LoadProblem::LawOf(const contact::PinContact& pin) const {

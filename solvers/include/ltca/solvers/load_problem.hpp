@@ -201,8 +201,13 @@ class LoadProblem {
   /// centre of rotation: the distance to the profile is 1-Lipschitz in the pin's position); it is
   /// given the largest approach it can have, -(c - rho |psi - psi'|) < 0, and carries no force.
   /// Its approach and arm are then bounds, not values: the forces and torque are exact, the
-  /// unloaded pins' approaches are not (ask kAll for those). Linearised kinematics: no difference.
-  enum class Freshness { kAll, kLoadedOnly };
+  /// unloaded pins' approaches are not (ask kAll for those). kNear (an iterate a solver will
+  /// confirm with kLoadedOnly before it trusts it): besides, a pin whose approach extrapolated from
+  /// its last search with that search's arm, a + L (psi - psi'), stays below minus half its change
+  /// and a second-order allowance (rho (psi - psi'))^2 (per mm of curvature of the gap) is not
+  /// searched either and is given that estimate, which is not a bound. Linearised kinematics: no
+  /// difference.
+  enum class Freshness { kAll, kLoadedOnly, kNear };
   /// Exact kinematics: every contact point searched at psi (from the workspace's last foot points),
   /// as EvaluatePin gives them, kept in the workspace: a later At(psi) on the same workspace
   /// searches nothing again. The reference is valid until the workspace's next evaluation.

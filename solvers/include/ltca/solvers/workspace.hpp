@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "ltca/contact/laws.hpp"
 #include "ltca/contact/mesh_state.hpp"
 
 namespace ltca::solvers {
@@ -46,6 +47,11 @@ class Workspace {
     /// du/dpsi of each entry's foot parameter from its last two searches in one tooth space (NaN:
     /// not known): the next search starts from the foot point extrapolated to its rotation.
     std::vector<double> slope;
+    /// The law of each entry of `last` (valid where law_fresh is set: built since its last search),
+    /// kept because the evaluations at one rotation (a solver's last, the judge's, the outputs')
+    /// ask for the same laws again.
+    std::vector<contact::ContactLaw> law;
+    std::vector<char> law_fresh;
   };
   FootPoints& foot_points() { return foot_points_; }
 
