@@ -14,6 +14,11 @@ Not a timed test: the figures go to docs/performance-notes.md by hand, with this
 Issue 29: its rows of Liu Table 1 (ISSUE29_ROWS), each `ltca-bench --profile ROW` of the two
 binaries alternately ROUNDS times (default 3), the fastest total time per position of each; JSON
 on stdout. `ltca-bench --docs docs --baseline OLD_BENCH` runs this and writes the table.
+
+    benchmarks/side_by_side.py --self BENCH [ROUNDS]
+
+The same rows of one binary alone (JSON rows with `us`): what `ltca-bench --docs` judges issue
+29's bars on when it has no baseline.
 """
 import csv
 import json
@@ -51,12 +56,25 @@ def profile(exe, row, loops):
     return float(total.split("[")[1].split("]")[0])
 
 
+def loops_of(row):
+    return 3 if "elements" in row else (10 if "exact" in row or "energy" in row else 100)
+
+
+def self_mode(exe, rounds):
+    """`--self BENCH [ROUNDS]`: issue 29's rows of one binary, the fastest of ROUNDS runs; JSON."""
+    out = []
+    for row in ISSUE29_ROWS:
+        best = min(profile(exe, row, loops_of(row)) for _ in range(rounds))
+        out.append({"row": row, "us": best, "loops": loops_of(row), "rounds": rounds})
+    json.dump({"rows": out}, sys.stdout)
+
+
 def rows_mode(old_exe, new_exe, rounds):
     """`--rows OLD NEW [ROUNDS]`: issue 29's rows, each `ltca-bench --profile` of the old and the new
     binary alternately ROUNDS times, the fastest of each; JSON on stdout."""
     out = []
     for row in ISSUE29_ROWS:
-        loops = 3 if "elements" in row else (10 if "exact" in row or "energy" in row else 100)
+        loops = loops_of(row)
         best = {"old": float("inf"), "new": float("inf")}
         for _ in range(rounds):
             for tag, exe in (("old", old_exe), ("new", new_exe)):
@@ -66,6 +84,9 @@ def rows_mode(old_exe, new_exe, rounds):
 
 
 def main():
+    if sys.argv[1] == "--self":
+        self_mode(sys.argv[2], int(sys.argv[3]) if len(sys.argv) > 3 else 3)
+        return
     if sys.argv[1] == "--rows":
         rows_mode(sys.argv[2], sys.argv[3], int(sys.argv[4]) if len(sys.argv) > 4 else 3)
         return
