@@ -69,10 +69,10 @@ Evaluation EvaluateCoupled(const LoadProblem& problem, double psi, Workspace& wo
 // turning does to the arms and the laws (first order in the step, a few 1e-4 of the change on Liu
 // Table 1) and the pins that close on the way (their law is the unloaded state's, their gap a
 // bound where the trial skipped them). The prediction carries a bound: `error` times the change
-// it predicts (error at least 1 % and 4 times the largest misprediction measured in this solve)
-// plus the whole torque of the pins it has closing. A trial whose torque +- the bound lies on one
-// side of the target is decided so; any other trial, and every verdict of convergence, is
-// evaluated on the exact geometry.
+// it predicts (1 % at least, and 4 times the last misprediction beyond the other two terms), the
+// whole torque of the pins it has closing, and twice the torque the exact geometry's rounding
+// leaves unresolved. A trial whose torque +- the bound lies on one side of the target is decided
+// so; any other trial, and every verdict of convergence, is evaluated on the exact geometry.
 struct Linearisation {
   bool valid = false;
   double psi = 0.0, torque = 0.0;
@@ -198,9 +198,9 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   // The check is a function of the accepted trial alone: after an overshoot (nothing accepted) its
   // answer is the last one, so it is asked again only once a trial has been accepted.
   bool accepted_new = true;
-  // An exact trial at psi + step (or psi itself, step 0, to verify a rotation accepted on the
-  // linearisation): true when it was accepted; an overshoot halves the step. On a failure,
-  // *failed is set.
+  // A trial on the exact geometry at trial_psi: true when it is accepted (psi, at, forces and the
+  // last exact rotation move there); false on an overshoot or a pressed tip corner, and on a
+  // failure, with *failed set and the result filled.
   const auto exact_trial = [&](double trial_psi, const Linearisation::Prediction* predicted, bool* failed) -> bool {
     const Evaluation trial = evaluate_exact(trial_psi, &trial_forces, predicted);
     if (!trial.failure.empty()) {
