@@ -280,7 +280,7 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
   if (loading.edge) {
     result->status = SolverStatus::kEdgeContact;
     result->message = "a loaded pin sits on a tip corner (edge contact); line-contact laws do not apply";
-  } else if (problem.Balanced(psi, torque, options.torque_tolerance, workspace)) {
+  } else if (problem.Balanced(psi, torque, options.torque_tolerance, pins, &loading.force)) {  // (every pin that can be pressed)
     result->status = SolverStatus::kSuccess;
     result->message = fmt::format("exact torque balance: linearisations {}, Newton steps {}, torque balanced to {:.3g}",
                                   linearisations, newton, miss / problem.torque());
