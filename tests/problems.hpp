@@ -40,6 +40,13 @@ inline solvers::LoadResult SolveWith(const std::string& solver, const solvers::L
   return solvers::MakeSolver(solver)->Solve(problem, Named(solver, options));
 }
 
+/// The named solver's answer with the torque balanced to 1e-13 (the rest default).
+inline solvers::LoadResult SolveTight(const std::string& solver, const solvers::LoadProblem& problem) {
+  solvers::SolverOptions options;
+  options.torque_tolerance = 1e-13;
+  return SolveWith(solver, problem, options);
+}
+
 /// Pin bending's coupling of `points` in the factored form the solvers use (as analysis::Stage
 /// builds it for a deck with [pins]).
 inline solvers::LoadProblem::CheckedCoupling FactoredBending(const std::vector<contact::PinContact>& points,

@@ -27,12 +27,7 @@ using ltca::solvers::SolverStatus;
 
 namespace {
 
-/// The named solver with the torque balanced to 1e-13.
-LoadResult SolveTight(const std::string& solver, const LoadProblem& problem) {
-  SolverOptions options;
-  options.torque_tolerance = 1e-13;
-  return ltca::test::SolveWith(solver, problem, options);
-}
+using ltca::test::SolveTight;
 
 std::vector<double> PinTotals(const LoadProblem& problem, const std::vector<double>& force) {
   std::vector<double> total(static_cast<std::size_t>(problem.model().pin_count()), 0.0);

@@ -163,12 +163,7 @@ void CheckForces(const Network& net, const Eigen::VectorXd& q, const LoadResult&
   }
 }
 
-/// A solve by `name` at a torque tolerance of 1e-13.
-LoadResult SolveTight(const std::string& name, const LoadProblem& problem) {
-  ltca::solvers::SolverOptions options = ltca::test::Named(name);
-  options.torque_tolerance = 1e-13;
-  return ltca::solvers::MakeSolver(name)->Solve(problem, options);
-}
+using ltca::test::SolveTight;
 
 double MaxForce(const LoadResult& r) {
   double f = 0.0;
