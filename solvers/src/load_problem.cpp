@@ -219,18 +219,22 @@ LoadProblem LoadProblem::Linearised() const {
   out.id_ = NextProblemId();
   out.kinematics_ = contact::ContactKinematics::kLinearised;
   out.reach_.clear();
-  // The closing rotations (and from them the first contact and the single-pin bound) of the
-  // linearised kinematics, as BuildBaseLaws computes them: c / L.
+  out.ComputeClosings();  // of the linearised kinematics: c / L
+  return out;
+}
+
+void LoadProblem::ComputeClosings() {
   const double min_arm = 1e-9 * model_->pair().pin_circle_radius;
-  out.first_contact_ = INFINITY;
-  out.closing_.assign(base_.pins.size(), INFINITY);
+  first_contact_ = INFINITY;
+  closing_.assign(base_.pins.size(), INFINITY);
   for (std::size_t i = 0; i < base_.pins.size(); ++i) {
     if (base_.pins[i].arm <= min_arm) continue;
-    out.closing_[i] = out.Closing(base_.pins[i]);
-    out.first_contact_ = std::min(out.first_contact_, out.closing_[i]);
+    closing_[i] = Closing(base_.pins[i]);
+    first_contact_ = std::min(first_contact_, closing_[i]);
   }
-  out.single_pin_ = out.SinglePinBound();
-  return out;
+  // Pin m alone reaches the torque at its closing rotation plus w_m(T / L_m) / L_m (exact for
+  // linearised kinematics; to first order in the deformation for exact kinematics).
+  single_pin_ = SinglePinBound();
 }
 
 std::vector<double> LoadProblem::DiscTorques(double psi, const std::vector<double>& forces,
@@ -382,17 +386,7 @@ void LoadProblem::BuildBaseLaws() {
   // to rounding closes only after a rotation far beyond any other: skipped), computed once and
   // kept: the first contact and the single-pin bound of the judge's range (LoadedRotationRange)
   // come from it, here and again in WithCoupling.
-  const double min_arm = 1e-9 * model_->pair().pin_circle_radius;
-  first_contact_ = INFINITY;
-  closing_.assign(base_.pins.size(), INFINITY);
-  for (std::size_t i = 0; i < base_.pins.size(); ++i) {
-    if (base_.pins[i].arm <= min_arm) continue;
-    closing_[i] = Closing(base_.pins[i]);
-    first_contact_ = std::min(first_contact_, closing_[i]);
-  }
-  // Pin m alone reaches the torque at its closing rotation plus w_m(T / L_m) / L_m (exact for
-  // linearised kinematics; to first order in the deformation for exact kinematics).
-  single_pin_ = SinglePinBound();
+  ComputeClosings();
   // The rate bound of At's Freshness::kLoadedOnly: turning the disc by psi about its centre moves
   // a pin's centre, in the disc's frame, along a circle of radius rho; the gap (its distance to
   // the profile, less the pin radius and a layer constant in psi) moves by at most rho |psi|.
@@ -471,11 +465,8 @@ void LoadProblem::At(double psi, Workspace& workspace, std::vector<contact::Cont
     }
     out[i] = {-pin.clearance, pin.arm, pin.edge, nullptr};
     if (!pin.edge && pin.clearance < 0.0) {
-      if (!feet.law_fresh[i]) {
-        feet.law[i] = MakeLaw(contact_, material_, pin, pin.length, log_radius_cap_);
-        feet.law_fresh[i] = 1;
-      }
-      scratch->push_back(feet.law[i]);
+      if (!feet.law[i]) feet.law[i] = LawOf(pin);
+      scratch->push_back(*feet.law[i]);
       out[i].law = &scratch->back();  // stable: reserved above
     } else if (!pin.edge) {
       out[i].law = &base_laws_[i];  // unloaded: any law of this pin gives zero force
@@ -494,8 +485,7 @@ Workspace::FootPoints& LoadProblem::BoundFootPoints(Workspace& workspace) const 
     const bool at_zero = !reach_.empty() && base_.loaded_rotation == 0.0;
     feet.at.assign(base_.pins.size(), at_zero ? 0.0 : std::numeric_limits<double>::quiet_NaN());
     feet.slope.assign(base_.pins.size(), std::numeric_limits<double>::quiet_NaN());
-    feet.law = base_laws_;  // placeholders: built where a pressed pin asks for its law
-    feet.law_fresh.assign(base_.pins.size(), 0);
+    feet.law.assign(base_.pins.size(), std::nullopt);  // built where a pressed pin asks for its law
   }
   return feet;
 }
@@ -553,7 +543,7 @@ void LoadProblem::SearchPin(Workspace::FootPoints& feet, std::size_t i, double p
   feet.slope[i] = same_space ? (found.u - last.u) / (psi - feet.at[i]) : std::numeric_limits<double>::quiet_NaN();
   feet.last[i] = std::move(found);
   feet.at[i] = psi;
-  feet.law_fresh[i] = 0;
+  feet.law[i].reset();
 }
 
 contact::ContactLaw LoadProblem::LawOf(const contact::PinContact& pin) const {

@@ -275,6 +275,8 @@ class LoadProblem {
 
  private:
   void BuildBaseLaws();
+  /// closing_, first_contact_ and single_pin_ from the base state under this problem's kinematics.
+  void ComputeClosings();
   /// Closing rotation of a pin of base_ (this problem's frame), rad.
   double Closing(const contact::PinContact& pin) const;
   double SinglePinBound() const;  // LoadedRotationRange's upper end, with the coupling's terms

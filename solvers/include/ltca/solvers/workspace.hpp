@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,11 +48,10 @@ class Workspace {
     /// du/dpsi of each entry's foot parameter from its last two searches in one tooth space (NaN:
     /// not known): the next search starts from the foot point extrapolated to its rotation.
     std::vector<double> slope;
-    /// The law of each entry of `last` (valid where law_fresh is set: built since its last search),
+    /// The law of each entry of `last`, built since its last search (none: not asked for yet),
     /// kept because the evaluations at one rotation (a solver's last, the judge's, the outputs')
     /// ask for the same laws again.
-    std::vector<contact::ContactLaw> law;
-    std::vector<char> law_fresh;
+    std::vector<std::optional<contact::ContactLaw>> law;
   };
   FootPoints& foot_points() { return foot_points_; }
 
