@@ -49,9 +49,9 @@ const char* ToString(PinSupportKind kind) {
 }
 
 void PinSupport::Validate(double face_width) const {
-  if (!(std::isfinite(span) && span > 0.0)) {
-    throw std::invalid_argument(
-        fmt::format("[pins] span_mm = {}: expected a finite distance between the pin supports > 0 mm", span));
+  if (!(std::isfinite(span) && span > 0.0 && span <= kMaxSpan)) {
+    throw std::invalid_argument(fmt::format(
+        "[pins] span_mm = {}: expected a finite distance between the pin supports > 0 and at most {:g} mm", span, kMaxSpan));
   }
   if (!(std::isfinite(face_offset) && face_offset >= 0.0)) {
     throw std::invalid_argument(fmt::format(

@@ -737,6 +737,7 @@ Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::ve
   // resolution costs a law inversion per loaded pin, so it is consulted only for a miss that
   // could matter (above 1e-9, far below any acceptance; a typical solve misses by 1e-12).
   double miss = std::abs(torque - problem.torque());
+  r.torque_miss_relative = problem.torque() != 0.0 ? miss / std::abs(problem.torque()) : 0.0;
   if (miss > 1e-9 * std::max(problem.torque(), 1.0)) miss = std::max(0.0, miss - Resolution(pins, psi, resolution));
   r.torque_relative = miss / std::max(problem.torque(), 1.0);
   const double f_scale = std::max(f_max, 1e-300), w_scale = std::max(w_max, 1e-12);

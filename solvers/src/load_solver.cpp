@@ -347,6 +347,14 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
       std::vector<const contact::ContactLaw*> laws(pins.size());
       for (std::size_t i = 0; i < pins.size(); ++i) laws[i] = pins[i].law;
       JudgeValidity(problem, laws, &result);
+      // A balance the arithmetic cannot resolve (a torque so small that its rotation is below what
+      // the geometry resolves in double precision) is the best there is, and said to be that coarse.
+      if (result.residuals.torque_miss_relative > accepted) {
+        result.warnings.push_back(fmt::format(
+            "resolution-limited balance: the forces miss the torque by {:.4g} % of it, below what the geometry resolves "
+            "in double precision at this rotation; the forces are that coarse",
+            100.0 * result.residuals.torque_miss_relative));
+      }
     }
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -131,6 +131,67 @@ REWORDED = {
 }
 
 
+# Issue 46: `ltca compare` of a reducer stage ([output]) lists a solver that does not solve the stage
+# as skipped, with its reason, instead of running it into status stage-unsupported, and its exit
+# code judges the solvers that ran. The recording (52e18cf) has such a solver among `solvers` with
+# that status and the run's exit 1: it is read as the skipped entry it now is, and the exit as
+# what the solvers that ran give. Every figure of the solvers that ran is compared as before.
+STAGE_SKIP_REASON = "does not solve the reducer stage ([output]; docs/stage.md)"
+
+
+def skipped_as_now(want):
+    """The recorded run as issue 46 writes it: `compare` of a stage (see STAGE_SKIP_REASON), and a
+    `report` that failed (exit 2 or more), which now leaves no file where the recording read the
+    documents its parts had written before the failure (all or nothing)."""
+    if want["command"] == "report" and want["exit"] >= 2 and want.get("json") is not None:
+        want = dict(want)
+        want["json"] = None
+        return want
+    doc = want.get("json")
+    if want["command"] != "compare" or not isinstance(doc, dict):
+        return want
+    unsupported = [x for x in doc.get("solvers", []) if x.get("status") == "stage-unsupported"]
+    if not unsupported:
+        return want
+    want = dict(want)
+    doc = dict(doc)
+    doc["solvers"] = [x for x in doc["solvers"] if x.get("status") != "stage-unsupported"]
+    doc["skipped"] = [{"name": x["name"], "reason": STAGE_SKIP_REASON} for x in unsupported]
+    want["json"] = doc
+    if want["exit"] == 1 and all(x.get("failed_positions") == 0 for x in doc["solvers"]):
+        want["exit"] = 0
+    return want
+
+
+# Issue 46: a balance that the arithmetic cannot resolve (a torque so small that its rotation is
+# below what the exact geometry resolves in double precision: hard/tiny_torque.toml under exact
+# kinematics) now carries a warning that says so, where it was a plain success. The recording
+# predates that warning: it is left out of what the program gives before the comparison (from each
+# position's warnings, and a summary's first warning and warned count where the recording had none).
+RESOLUTION_WARNING = "resolution-limited balance"
+
+
+def without_resolution_warnings(got, want):
+    if isinstance(got, dict) and isinstance(want, dict):
+        got = dict(got)
+        if isinstance(got.get("warnings"), list):
+            got["warnings"] = [w for w in got["warnings"] if RESOLUTION_WARNING not in w]
+        first = got.get("first_warning")
+        if isinstance(first, str) and RESOLUTION_WARNING in first and want.get("first_warning") is None:
+            if "first_warning" in want:
+                got["first_warning"] = None
+            else:
+                del got["first_warning"]
+            got["warned_positions"] = want.get("warned_positions", 0)
+        for k in got:
+            if k in want:
+                got[k] = without_resolution_warnings(got[k], want[k])
+        return got
+    if isinstance(got, list) and isinstance(want, list):
+        return [without_resolution_warnings(g, w) for g, w in zip(got, want)] + got[len(want):]
+    return got
+
+
 def masked(text):
     """A message with its numbers replaced by '#' and its path notes dropped: its words (a message
     reworded since the recording: the words it had)."""
@@ -332,6 +393,7 @@ def compare(problems, where, key, got, want, relative=RELATIVE, uncompared=froze
 
 
 def check_run(exe, cases, want):
+    want = skipped_as_now(want)
     name = f"{want['command']} {want['deck']} {' '.join(want['args'])}"
     code, doc, message, _ = run(exe, cases, want["deck"], want["command"], want["args"])
     problems = []
@@ -341,6 +403,7 @@ def check_run(exe, cases, want):
     relative = max(FRICTION_LOOP_RELATIVE if loose else RELATIVE, SOLVE_PATH_RELATIVE if path else RELATIVE)
     uncompared = (FRICTION_LOOP_UNCOMPARED if loose else frozenset()) | (SOLVE_PATH_UNCOMPARED if path else frozenset())
     floor = SOLVE_PATH_ABSOLUTE if path else 0.0
+    doc = without_resolution_warnings(doc, want.get("json"))
     compare(problems, f"{name}: json", "json", doc, want.get("json"), relative, uncompared, floor)
     compare(problems, f"{name}: message", "message", message, want.get("message"), RELATIVE, frozenset(), floor)
     return problems

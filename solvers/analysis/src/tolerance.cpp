@@ -1,4 +1,6 @@
 #include "ltca/analysis/tolerance.hpp"
+
+#include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/keys.hpp"
 
 #include <algorithm>
@@ -6,7 +8,9 @@
 #include <cmath>
 #include <exception>
 #include <mutex>
+#include <new>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 
 #include <Eigen/Dense>
@@ -103,7 +107,14 @@ void ParallelFor(std::int64_t n, int threads, const std::function<void(std::int6
     for (auto& t : pool) {
       if (t.joinable()) t.join();
     }
-    throw;
+    try {
+      throw;
+    } catch (const std::system_error& e) {  // the machine's limit, not a bug: said as such (exit 2)
+      throw std::invalid_argument(fmt::format("threads: the system could not start thread {} of {} ({}); give fewer threads",
+                                              pool.size() + 2, extra + 1, e.what()));
+    } catch (const std::bad_alloc&) {
+      throw std::invalid_argument(fmt::format("threads: no memory for thread {} of {}; give fewer threads", pool.size() + 2, extra + 1));
+    }
   }
   work(true);
   for (auto& t : pool) t.join();
@@ -417,10 +428,13 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
     // Unloaded TCA over the sweep: the arithmetic of `ltca backlash` (mean = sum / n).
     // The unloaded sweep's rule: a closed period's repeated state weighs once in the mean (issue 26).
     std::string free_play_failure;  // a reducer stage's free play that could not be solved
+    std::string backlash_failure;   // a position where no pin closes a flank's gap
     if (!design.reducer) {
-      const contact::UnloadedSweep backlash = contact::AnalyseUnloadedSweep(stage.model(), cranks, stage.kinematics());
-      s.figures[kMeanBacklashArcsec] = units::RadToArcsec(backlash.mean_backlash);
-      s.figures[kPpBacklashArcsec] = units::RadToArcsec(backlash.pp_backlash);
+      // `ltca backlash`'s rule (analysis/backlash.hpp): with two discs the first contact of either.
+      const BacklashSummary backlash = UnloadedBacklash(stage, stage.kinematics());
+      s.figures[kMeanBacklashArcsec] = units::RadToArcsec(backlash.mean());
+      s.figures[kPpBacklashArcsec] = units::RadToArcsec(backlash.pp());
+      if (backlash.failed() > 0) backlash_failure = fmt::format("unloaded backlash: {}", backlash.first_failure());
     } else if (settings_.stage_free_play) {
       // A reducer stage (issue 28): the pin ring's unloaded analysis is not the reducer's backlash.
       // Its free play takes up every element's clearance: `ltca stiffness`'s backlash (the output's
@@ -468,6 +482,10 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
       s.status = RunStatus::kFailed;
       s.message = fmt::format("{} of {} loaded positions did not succeed ({}); {}", sum_loaded.failed, sum_loaded.positions(),
                               solvers::ToString(sum_loaded.status), first_failure);
+    }
+    if (!backlash_failure.empty() && s.status == RunStatus::kSuccess) {
+      s.status = RunStatus::kFailed;
+      s.message = backlash_failure;
     }
     if (!free_play_failure.empty() && s.status == RunStatus::kSuccess) {
       s.status = RunStatus::kFailed;

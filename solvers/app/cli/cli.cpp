@@ -130,6 +130,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   const Streams streams{out, to_stdout ? err : out, err, progress};
 
   int code = kExitSuccess;
+  OutputTransaction files;  // every output of the run is put in place at its end, or none is
   try {
     if (given != nullptr) {
       code = given->run(streams);
@@ -152,15 +153,9 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     }
     out.flush();
     if (!out) throw OutputError("writing standard output failed");
-  } catch (const std::invalid_argument& e) {
-    fmt::print(err, "ltca: error: {}\n", e.what());
-    return kExitBadInput;
-  } catch (const OutputError& e) {
-    fmt::print(err, "ltca: output error: {}\n", e.what());
-    return kExitOutputError;
-  } catch (const std::exception& e) {
-    fmt::print(err, "ltca: internal error: {}\n", e.what());
-    return kExitInternalError;
+    files.CommitAll();
+  } catch (...) {
+    return ReportError(std::current_exception(), err);
   }
   return code;
 }

@@ -10,7 +10,16 @@
 
 namespace ltca::cli {
 
-app::Deck DeckInput::Read() const { return path.empty() ? app::DefaultDeck(overrides) : app::LoadDeck(path, overrides); }
+app::Deck DeckInput::Read() const {
+  app::Deck deck = path.empty() ? app::DefaultDeck(overrides) : app::LoadDeck(path, overrides);
+  // No output of this run may be the deck or a file it reads (a trace).
+  if (OutputTransaction* run = OutputTransaction::Current()) {
+    for (std::size_t i = 0; i < deck.source.files.size(); ++i) {
+      run->ProtectInput(i == 0 && !path.empty() ? "the deck" : "a file the deck reads", deck.source.files[i]);
+    }
+  }
+  return deck;
+}
 
 // The factories, one in each command's source.
 Command GeometryCommand();

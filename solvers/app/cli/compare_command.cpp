@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "contact_commands.hpp"
@@ -39,7 +40,8 @@ struct Differences {
 namespace plots = app::plots;
 
 /// Every solver's TE over crank angle (left) and its difference from the first solver's (right).
-void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunner>& runners, const std::vector<double>& crank_deg,
+void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunner>& runners,
+                        const std::vector<std::pair<std::string, std::string>>& skipped, const std::vector<double>& crank_deg,
                         const std::vector<std::vector<double>>& te, Output& output) {
   plots::Figure figure;
   figure.title = fmt::format("{}: loaded TE of {} solvers over crank {:.4g} to {:.4g} deg", deck.info.title, runners.size(),
@@ -61,6 +63,12 @@ void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunne
     plots::Series s{runners[r].options().name, crank_deg, te[r], plots::Style::kLineMarkers};
     s.marker_size = 1.0 + 0.6 * static_cast<double>(runners.size() - 1 - r);
     s.dashed = r % 2 == 1;
+    all.series.push_back(std::move(s));
+  }
+  // A solver that did not run is in the legend with its reason, and draws nothing.
+  for (const auto& [name, reason] : skipped) {
+    plots::Series s{fmt::format("{}: skipped, {}", name, reason.substr(0, reason.find(" ("))), {}, {}, plots::Style::kLineMarkers};
+    s.colour = static_cast<int>(all.series.size());
     all.series.push_back(std::move(s));
   }
   figure.panels.push_back(std::move(all));
@@ -99,14 +107,30 @@ void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunne
 
 int RunCompare(const app::Deck& deck_given, const CompareOptions& options, const Streams& streams) {
   const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
-  const std::vector<std::string> names = options.solvers.empty() ? solvers::SolverNames() : options.solvers;
+  const std::vector<std::string> asked = options.solvers.empty() ? solvers::SolverNames() : options.solvers;
   RequireDistinctOutputs({{"--json", options.json_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
   // Every solver checked (names, options) and the stage (interference) first; one stage for all.
+  // A solver that does not solve the deck's model (a reducer stage) is skipped with its reason,
+  // named in the text, the JSON and the figure; the exit code judges the solvers that ran.
   deck.RequireMaterial();
   const double torque = deck.RequireLoad().torque;
-  for (const auto& name : names) solvers::MakeSolver(name);
+  std::vector<std::string> names;
+  std::vector<std::pair<std::string, std::string>> skipped;  // name, reason
+  for (const auto& name : asked) {
+    const std::unique_ptr<solvers::LoadSolver> solver = solvers::MakeSolver(name);
+    if (deck.reducer && !solver->supports_stage()) {
+      skipped.emplace_back(name, "does not solve the reducer stage ([output]; docs/stage.md)");
+    } else {
+      names.push_back(name);
+    }
+  }
+  if (names.empty()) {
+    throw std::invalid_argument(fmt::format("--solvers {}: none of them solves the reducer stage of deck '{}' ([output]); "
+                                            "expected one of the solvers that do (docs/stage.md)",
+                                            fmt::join(asked, ","), deck.name));
+  }
   const analysis::Stage stage = deck.MakeStage();
   std::vector<app::SweepRunner> runners;
   for (const auto& name : names) {
@@ -142,12 +166,14 @@ int RunCompare(const app::Deck& deck_given, const CompareOptions& options, const
              deck.Model().name, deck.Model().slices, deck.Model().slices == 1 ? "" : "s", deck.Model().surface,
              contact::ToString(deck.kinematics),
              contact::ToString(deck.contact.law), contact::ToString(deck.contact.rho_convention), ref_options.name);
+  for (const auto& [name, reason] : skipped) fmt::print(text, "skipped   {}: {}\n", name, reason);
   fmt::print(text, "{:<14} {:<18} {:>9} {:>12} {:>10} {:>7} {:>11} {:>11} {:>12} {:>12} {:>9} {:>9}\n", "solver", "status",
              "failed", "mean_te_as", "pp_te_as", "pins", "max_F_N", "max_p_MPa", "d_te_as", "d_F_N", "d_pins", "time_s");
   nlohmann::json doc = {{"case", {{"title", deck.info.title}, {"deck", deck.name}}},
                         {"model", ModelJson(deck.Model())},
                         {"reference", ref_options.name},
                         {"solvers", nlohmann::json::array()}};
+  for (const auto& [name, reason] : skipped) doc["skipped"].push_back({{"name", name}, {"reason", reason}});
   bool all_succeeded = true;
   for (std::size_t r = 0; r < runners.size(); ++r) {
     const app::SweepSummary s = runners[r].Summary();
@@ -198,7 +224,7 @@ int RunCompare(const app::Deck& deck_given, const CompareOptions& options, const
     json.stream() << Dump(doc) << '\n';
     json.Commit();
   }
-  if (svg.enabled()) WriteCompareFigure(deck, runners, plot_crank, plot_te, svg);
+  if (svg.enabled()) WriteCompareFigure(deck, runners, skipped, plot_crank, plot_te, svg);
   return all_succeeded ? kExitSuccess : kExitNotSucceeded;
 }
 

@@ -11,6 +11,7 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
+#include "ltca/analysis/backlash.hpp"
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/geometry/units.hpp"
 #include "output.hpp"
@@ -160,43 +161,21 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
     csv.stream() << "crank_deg,theta_c1_arcsec,theta_c2_arcsec,backlash_arcsec,first_contact_disc,first_contact_pin,status\n";
   }
   const std::size_t step = std::max<std::size_t>(1, cranks.size() / 10);
-  double sum = 0.0, lo = INFINITY, hi = -INFINITY;
-  std::size_t succeeded = 0, in_mean = 0;
-  std::string first_failure;
+  analysis::BacklashSummary tally;  // the rule of every backlash figure (analysis/backlash.hpp)
   for (std::size_t i = 0; i < cranks.size(); ++i) {
-    contact::UnloadedContact r = contact::AnalyseUnloaded(model, cranks[i], kinematics);
-    int disc_c1 = 1, disc_c2 = 1;
-    std::vector<double> second_clearance;
-    if (second) {
-      // Two discs turn the output together: it stops at the first contact of either disc on each
-      // flank.
-      const contact::UnloadedContact r2 =
-          contact::AnalyseUnloaded(*second, cranks[i] + contact::kSecondDiscCrankOffset, kinematics);
-      if (r2.theta_c1 < r.theta_c1) r.theta_c1 = r2.theta_c1, r.first_pin_c1 = r2.first_pin_c1, disc_c1 = 2;
-      if (r2.theta_c2 > r.theta_c2) r.theta_c2 = r2.theta_c2, r.first_pin_c2 = r2.first_pin_c2, disc_c2 = 2;
-      r.backlash = r.theta_c1 - r.theta_c2;
-      second_clearance = r2.clearance;
-    }
-    // No pin closes its gap within the rotation window on a flank (a degenerate pair, e.g. an
-    // eccentricity far below the pin's clearance): no backlash, a failed position (issue 26).
-    const bool ok = std::isfinite(r.theta_c1) && std::isfinite(r.theta_c2) && r.first_pin_c1 >= 0 && r.first_pin_c2 >= 0;
-    const std::string failure =
-        ok ? std::string()
-           : fmt::format("no pin closes its gap {} within a quarter tooth pitch of the theoretical position",
-                         std::isfinite(r.theta_c1) ? "against the load direction" : "in the load direction");
-    if (!ok && first_failure.empty()) first_failure = fmt::format("crank {:.6g} deg: {}", RadToDeg(r.crank), failure);
+    const analysis::BacklashPosition at = analysis::UnloadedBacklashAt(stage, cranks[i], kinematics);
+    tally.Add(at, closed && i + 1 == cranks.size());  // a repeated state weighs once
+    const contact::UnloadedContact& r = at.contact;
+    const bool ok = at.ok;
+    const std::string& failure = at.failure;
+    const int disc_c1 = at.disc_c1, disc_c2 = at.disc_c2;
+    const std::vector<double>& second_clearance = at.second_clearance;
     const double c1 = ok ? r.theta_c1 : NAN, c2 = ok ? r.theta_c2 : NAN, b = ok ? r.backlash : NAN;
     const std::string pin_label = !ok ? "n/a" : second ? fmt::format("{}:{}", disc_c1, r.first_pin_c1 + 1)
                                                        : fmt::format("{}", r.first_pin_c1 + 1);
     if (svg.enabled()) {
       plot_crank.push_back(RadToDeg(r.crank)), plot_c1.push_back(RadToArcsec(c1));
       plot_c2.push_back(RadToArcsec(c2)), plot_backlash.push_back(RadToArcsec(b));
-    }
-    if (ok) {
-      ++succeeded;
-      if (!(closed && i + 1 == cranks.size())) sum += b, ++in_mean;  // a repeated state weighs once
-      lo = std::min(lo, b);
-      hi = std::max(hi, b);
     }
     if (i % step == 0 || !ok) {
       fmt::print(out, "{:>10.4f} {:>14} {:>14} {:>14} {:>6}\n", RadToDeg(r.crank), FormatOrNa(RadToArcsec(c1), 4),
@@ -237,10 +216,10 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
       }
     }
   }
-  // Over the successful positions; a sweep's only success may be its repeated last state.
-  const double mean = in_mean > 0 ? sum / static_cast<double>(in_mean) : (succeeded > 0 ? lo : NAN);
-  const double pp = succeeded > 0 ? hi - lo : NAN;
-  const std::size_t failed = cranks.size() - succeeded;
+  // Over the successful positions.
+  const double mean = tally.mean(), pp = tally.pp();
+  const std::size_t succeeded = tally.succeeded(), failed = tally.failed();
+  const std::string& first_failure = tally.first_failure();
   if (failed > 0) fmt::print(out, "failed                  {} of {} positions, first at {}\n", failed, cranks.size(), first_failure);
   fmt::print(out, "mean backlash           {} arcsec   (Liu eq. 17){}\n", FormatOrNa(RadToArcsec(mean), 4),
              closed ? "; the last position repeats the first: counted once" : "");

@@ -58,39 +58,22 @@ std::string RobustRule(const app::OptimiseSettings& s) {
 
 /// The deck of a design: every key the deck gave (after --set), the variables' keys set to the
 /// design's values, without [optimise]; `ltca solve` runs it as it is.
+/// The best design as a deck: the deck's own text (comments and empty sections kept) with the
+/// optimum of every variable, also where [second_disc] gives its own value of that key (the
+/// discs of one part share their design), and without [optimise].
 std::string DesignDeck(const app::Deck& deck, const app::OptimiseSettings& s, const std::vector<double>& x,
                        const std::string& header) {
-  std::string out = header;
-  std::vector<std::string> sections;
-  for (const auto& g : deck.given) {
-    if (std::find(sections.begin(), sections.end(), g.section) == sections.end()) sections.push_back(g.section);
+  std::vector<app::DeckEdit> edits;
+  for (std::size_t k = 0; k < s.variables.size(); ++k) {
+    const std::string& key = s.variables[k].key;
+    const std::string section = key.substr(0, key.find('.')), name = key.substr(key.find('.') + 1);
+    const std::string value = fmt::format("{}", x[k]);
+    edits.push_back({section, name, value, "the optimum"});
+    const bool own = std::any_of(deck.given.begin(), deck.given.end(),
+                                 [&](const app::Deck::GivenKey& g) { return g.section == "second_disc" && g.key == name; });
+    if (deck.second_disc && own) edits.push_back({"second_disc", name, value, "the optimum"});
   }
-  for (const auto& v : s.variables) {  // a variable's section the deck did not give
-    const std::string section = v.key.substr(0, v.key.find('.'));
-    if (std::find(sections.begin(), sections.end(), section) == sections.end()) sections.push_back(section);
-  }
-  for (const std::string& section : sections) {
-    if (section == "optimise") continue;
-    out += fmt::format("\n[{}]\n", section);
-    std::vector<std::string> written;
-    for (const auto& g : deck.given) {
-      if (g.section != section) continue;
-      std::string value = g.value;
-      for (std::size_t k = 0; k < s.variables.size(); ++k) {
-        if (s.variables[k].key == section + "." + g.key) value = fmt::format("{}", x[k]);
-      }
-      out += fmt::format("{} = {}\n", g.key, value);
-      written.push_back(g.key);
-    }
-    for (std::size_t k = 0; k < s.variables.size(); ++k) {
-      const std::string& key = s.variables[k].key;
-      const std::string name = key.substr(key.find('.') + 1);
-      if (key.substr(0, key.find('.')) == section && std::find(written.begin(), written.end(), name) == written.end()) {
-        out += fmt::format("{} = {}  # the optimum\n", name, x[k]);
-      }
-    }
-  }
-  return out;
+  return app::WriteDeck(deck, edits, {"optimise"}, header);
 }
 
 }  // namespace
@@ -123,210 +106,212 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     ranks.size = farm->size();
     ranks.all_gather = [f = farm.get()](const std::string& mine) { return f->AllGather(mine); };
   }
-  const bool root = ranks.rank == 0;
-  const solvers::SolverOptions solver = SolverFor(deck, o.solver);
-  const app::Optimiser optimiser(deck.MakeToleranceCase(), solver, settings, threads, ranks);
-  if (!o.pareto.empty() && !(std::isfinite(o.pareto_from) && std::isfinite(o.pareto_to))) {
-    throw std::invalid_argument("--pareto FIGURE: expected --pareto-from and --pareto-to, the range of its bound");
-  }
-  RequireDistinctOutputs({{"--json", o.json_path}, {"--csv", o.csv_path}, {"--svg", o.svg_path}, {"--write-deck", o.deck_path}});
-  Output json("--json", root ? o.json_path : "", streams.out);
-  Output csv("--csv", root ? o.csv_path : "", streams.out);
-  Output svg("--svg", root ? o.svg_path : "", streams.out);
-  Output best_deck("--write-deck", root ? o.deck_path : "", streams.out);
-  std::ostringstream quiet;
-  std::ostream& text = root ? streams.text : quiet;
-  const auto& s = optimiser.settings();
-  fmt::print(text, "case        {}\n", deck.info.title);
-  fmt::print(text, "{}", ModelLine(deck));
-  text << SolverLine(deck, solver);
-  fmt::print(text, "objective   {} {}{}\n", s.maximise ? "maximise" : "minimise", s.objective,
-             s.robust ? fmt::format(" (robust: {} over {} samples of [tolerances], seed {})", RobustRule(s), s.robust_samples, s.tolerances.seed) : "");
-  for (const auto& v : s.variables) fmt::print(text, "variable    {} in [{:g}, {:g}]\n", v.key, v.lower, v.upper);
-  for (const auto& l : s.constraints) fmt::print(text, "constraint  {:g} <= {} <= {:g}\n", l.min, l.figure, l.max);
-  fmt::print(text, "method      {} then {}, {} evaluations, {} thread(s){}\n", app::ToString(s.global), app::ToString(s.local), s.evaluations,
-             threads, ranks.size > 1 ? fmt::format(" on each of {} MPI ranks", ranks.size) : "");
-
-  const app::OptimiseResult r = optimiser.Run();
-  for (const auto& p : r.phases) fmt::print(text, "phase       {}: {} evaluations, stopped: {}\n", p.method, p.evaluations, p.stop);
-  fmt::print(text, "evaluations {} ({} failed, {} rejected){}\n", r.history.size(), r.failed, r.rejected,
-             r.first_failure.empty() ? "" : "; first: " + r.first_failure);
-  const app::DesignEvaluation* best = r.best >= 0 ? &r.history[static_cast<std::size_t>(r.best)] : nullptr;
-  if (best != nullptr) {
-    fmt::print(text, "best        evaluation {} ({}): {} = {:.10g}\n", best->index, best->phase, s.objective, best->objective);
-    for (std::size_t k = 0; k < s.variables.size(); ++k) fmt::print(text, "            {} = {:.10g}\n", s.variables[k].key, best->x[k]);
-  } else {
-    fmt::print(text, "best        none: no evaluation met the constraints\n");
-  }
-  std::vector<app::DesignEvaluation> grid;
-  if (o.map > 0) grid = optimiser.Grid(o.map);
-  std::vector<app::ParetoPoint> front;
-  if (!o.pareto.empty()) {
-    front = optimiser.Pareto(o.pareto, o.pareto_from, o.pareto_to, o.pareto_steps);
-    for (const auto& p : front) {
-      fmt::print(text, "pareto      {} <= {:g}: {}\n", o.pareto, p.epsilon,
-                 p.best >= 0 ? fmt::format("{} = {:.6g}", s.objective, p.design.objective) : std::string("nothing feasible"));
+  return FailTogether(farm.get(), streams.err, [&]() -> int {
+    const bool root = ranks.rank == 0;
+    const solvers::SolverOptions solver = SolverFor(deck, o.solver);
+    const app::Optimiser optimiser(deck.MakeToleranceCase(), solver, settings, threads, ranks);
+    if (!o.pareto.empty() && !(std::isfinite(o.pareto_from) && std::isfinite(o.pareto_to))) {
+      throw std::invalid_argument("--pareto FIGURE: expected --pareto-from and --pareto-to, the range of its bound");
     }
-  }
+    RequireDistinctOutputs({{"--json", o.json_path}, {"--csv", o.csv_path}, {"--svg", o.svg_path}, {"--write-deck", o.deck_path}});
+    Output json("--json", root ? o.json_path : "", streams.out);
+    Output csv("--csv", root ? o.csv_path : "", streams.out);
+    Output svg("--svg", root ? o.svg_path : "", streams.out);
+    Output best_deck("--write-deck", root ? o.deck_path : "", streams.out);
+    std::ostringstream quiet;
+    std::ostream& text = root ? streams.text : quiet;
+    const auto& s = optimiser.settings();
+    fmt::print(text, "case        {}\n", deck.info.title);
+    fmt::print(text, "{}", ModelLine(deck));
+    text << SolverLine(deck, solver);
+    fmt::print(text, "objective   {} {}{}\n", s.maximise ? "maximise" : "minimise", s.objective,
+               s.robust ? fmt::format(" (robust: {} over {} samples of [tolerances], seed {})", RobustRule(s), s.robust_samples, s.tolerances.seed) : "");
+    for (const auto& v : s.variables) fmt::print(text, "variable    {} in [{:g}, {:g}]\n", v.key, v.lower, v.upper);
+    for (const auto& l : s.constraints) fmt::print(text, "constraint  {:g} <= {} <= {:g}\n", l.min, l.figure, l.max);
+    fmt::print(text, "method      {} then {}, {} evaluations, {} thread(s){}\n", app::ToString(s.global), app::ToString(s.local), s.evaluations,
+               threads, ranks.size > 1 ? fmt::format(" on each of {} MPI ranks", ranks.size) : "");
 
-  if (json.enabled()) {
-    nlohmann::json j;
-    j["case"] = {{"title", deck.info.title}, {"deck", deck.name}};
-    j["model"] = ModelJson(deck.Model());  // every output names the model that ran
-    j["solver"] = SolverJson(deck, solver);
-    nlohmann::json vars = nlohmann::json::array();
-    for (const auto& v : s.variables) vars.push_back({{"key", v.key}, {"lower", v.lower}, {"upper", v.upper}});
-    nlohmann::json cons = nlohmann::json::array();
-    for (const auto& l : s.constraints) cons.push_back({{"figure", l.figure}, {"min", FiniteOrNull(l.min)}, {"max", FiniteOrNull(l.max)}});
-    j["settings"] = {{"variables", vars}, {"objective", s.objective}, {"maximise", s.maximise}, {"constraints", cons},
-                     {"global", app::ToString(s.global)}, {"local", app::ToString(s.local)}, {"evaluations", s.evaluations},
-                     {"global_share", s.global_share}, {"tolerance", s.tolerance}, {"seed", s.seed}, {"robust", s.robust},
-                     {"robust_samples", s.robust ? nlohmann::json(s.robust_samples) : nlohmann::json(nullptr)},
-                     {"percentile", s.robust ? nlohmann::json(s.percentile) : nlohmann::json(nullptr)},
-                     {"confidence", s.robust ? nlohmann::json(s.confidence) : nlohmann::json(nullptr)},
-                     {"order_statistic", s.robust && s.confidence > 0.0
-                                             ? nlohmann::json(app::ConfidenceRank(s.robust_samples, s.percentile / 100.0, s.confidence))
-                                             : nlohmann::json(nullptr)},
-                     {"penalty_weight", app::OptimiseSettings::kPenaltyWeight}, {"threads", threads}, {"mpi_ranks", ranks.size}};
-    nlohmann::json phases = nlohmann::json::array();
-    for (const auto& p : r.phases) phases.push_back({{"method", p.method}, {"evaluations", p.evaluations}, {"stop", p.stop}});
-    j["summary"] = {{"status", best != nullptr ? "success" : "failed"},
-                    {"evaluations", r.history.size()},
-                    {"failed", r.failed},
-                    {"rejected", r.rejected},
-                    {"first_failure", r.first_failure},
-                    {"phases", phases},
-                    {"best", best != nullptr ? EvaluationJson(s, *best) : nlohmann::json(nullptr)},
-                    {"wall_seconds", r.wall_seconds}};
-    nlohmann::json history = nlohmann::json::array();
-    for (const auto& e : r.history) history.push_back(EvaluationJson(s, e));
-    j["history"] = history;
-    if (!grid.empty()) {
-      nlohmann::json g = nlohmann::json::array();
-      for (const auto& e : grid) g.push_back(EvaluationJson(s, e));
-      j["map"] = g;
+    const app::OptimiseResult r = optimiser.Run();
+    for (const auto& p : r.phases) fmt::print(text, "phase       {}: {} evaluations, stopped: {}\n", p.method, p.evaluations, p.stop);
+    fmt::print(text, "evaluations {} ({} failed, {} rejected){}\n", r.history.size(), r.failed, r.rejected,
+               r.first_failure.empty() ? "" : "; first: " + r.first_failure);
+    const app::DesignEvaluation* best = r.best >= 0 ? &r.history[static_cast<std::size_t>(r.best)] : nullptr;
+    if (best != nullptr) {
+      fmt::print(text, "best        evaluation {} ({}): {} = {:.10g}\n", best->index, best->phase, s.objective, best->objective);
+      for (std::size_t k = 0; k < s.variables.size(); ++k) fmt::print(text, "            {} = {:.10g}\n", s.variables[k].key, best->x[k]);
+    } else {
+      fmt::print(text, "best        none: no evaluation met the constraints\n");
     }
-    if (!front.empty()) {
-      nlohmann::json f = nlohmann::json::array();
+    std::vector<app::DesignEvaluation> grid;
+    if (o.map > 0) grid = optimiser.Grid(o.map);
+    std::vector<app::ParetoPoint> front;
+    if (!o.pareto.empty()) {
+      front = optimiser.Pareto(o.pareto, o.pareto_from, o.pareto_to, o.pareto_steps);
       for (const auto& p : front) {
-        f.push_back({{"figure", o.pareto}, {"bound", p.epsilon}, {"design", p.best >= 0 ? EvaluationJson(s, p.design) : nlohmann::json(nullptr)}});
+        fmt::print(text, "pareto      {} <= {:g}: {}\n", o.pareto, p.epsilon,
+                   p.best >= 0 ? fmt::format("{} = {:.6g}", s.objective, p.design.objective) : std::string("nothing feasible"));
       }
-      j["pareto"] = f;
     }
-    json.stream() << Dump(j) << '\n';
-    json.Commit();
-  }
-  if (csv.enabled()) {
-    std::ostream& c = csv.stream();
-    c << "index,phase";
-    for (const auto& v : s.variables) c << ',' << v.key;
-    c << ",objective,violation,feasible,status";
-    for (const auto& f : app::OptimiseFigureNames()) c << ',' << f;
-    c << ",message\n";
-    const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); };
-    const auto row = [&](const app::DesignEvaluation& e) {
-      c << e.index << ',' << e.phase;
-      for (const double v : e.x) c << ',' << cell(v);
-      c << ',' << cell(e.objective) << ',' << cell(e.violation) << ',' << (e.feasible ? "true" : "false") << ',' << app::ToString(e.status);
-      for (const double v : e.figures) c << ',' << cell(v);
-      std::string m = e.message;
-      std::replace(m.begin(), m.end(), '"', '\'');
-      c << ",\"" << m << "\"\n";
-    };
-    for (const auto& e : r.history) row(e);
-    for (const auto& e : grid) row(e);
-    csv.Commit();
-  }
-  if (svg.enabled()) {
-    namespace plots = app::plots;
-    plots::Figure figure;
-    figure.title = fmt::format("{}: {} {} over {} evaluations ({} then {})", deck.info.title, s.maximise ? "maximise" : "minimise",
-                               s.objective, r.history.size(), app::ToString(s.global), app::ToString(s.local));
-    figure.caption = FigureCaption(deck, fmt::format("{}; infeasible: a constraint not met; failed evaluations are not drawn{}",
-                                                     s.robust ? fmt::format("robust: {} of {} samples", RobustRule(s), s.robust_samples) : "nominal pair",
-                                                     grid.empty() ? "" : "; map: blank cells are infeasible"));
-    plots::Panel c;
-    c.title = "convergence";
-    c.x_label = "evaluation";
-    c.y_label = s.objective;
-    plots::Series feasible{"feasible", {}, {}, plots::Style::kMarkers}, infeasible{"infeasible", {}, {}, plots::Style::kMarkers},
-        best_line{"best feasible so far", {}, {}, plots::Style::kLine};
-    double best_so_far = std::numeric_limits<double>::quiet_NaN();
-    for (const auto& e : r.history) {
-      if (e.status != app::RunStatus::kSuccess) continue;
-      auto& series = e.feasible ? feasible : infeasible;
-      series.x.push_back(static_cast<double>(e.index));
-      series.y.push_back(e.objective);
-      if (e.feasible && (std::isnan(best_so_far) || (s.maximise ? e.objective > best_so_far : e.objective < best_so_far))) best_so_far = e.objective;
-      if (std::isfinite(best_so_far)) best_line.x.push_back(static_cast<double>(e.index)), best_line.y.push_back(best_so_far);
-    }
-    infeasible.marker_size = 0.6;
-    c.series = {feasible, infeasible, best_line};
-    c.legend = plots::LegendPlace::kOutsideRight;
-    figure.panels.push_back(c);
-    if (!grid.empty()) {
-      plots::Panel m;
-      m.title = "objective over the two variables";
-      m.x_label = s.variables[0].key;
-      m.y_label = s.variables[1].key;
-      plots::Map map;
-      map.z_label = s.objective;
-      const auto n = static_cast<std::size_t>(o.map);
-      for (std::size_t i = 0; i < n; ++i) map.x.push_back(grid[i].x[0]);
-      for (std::size_t k = 0; k < n; ++k) map.y.push_back(grid[k * n].x[1]);
-      map.z.assign(n, std::vector<double>(n, std::numeric_limits<double>::quiet_NaN()));
-      for (std::size_t k = 0; k < n; ++k) {
-        for (std::size_t i = 0; i < n; ++i) {
-          const auto& e = grid[k * n + i];
-          if (e.feasible) map.z[i][k] = e.objective;
+
+    if (json.enabled()) {
+      nlohmann::json j;
+      j["case"] = {{"title", deck.info.title}, {"deck", deck.name}};
+      j["model"] = ModelJson(deck.Model());  // every output names the model that ran
+      j["solver"] = SolverJson(deck, solver);
+      nlohmann::json vars = nlohmann::json::array();
+      for (const auto& v : s.variables) vars.push_back({{"key", v.key}, {"lower", v.lower}, {"upper", v.upper}});
+      nlohmann::json cons = nlohmann::json::array();
+      for (const auto& l : s.constraints) cons.push_back({{"figure", l.figure}, {"min", FiniteOrNull(l.min)}, {"max", FiniteOrNull(l.max)}});
+      j["settings"] = {{"variables", vars}, {"objective", s.objective}, {"maximise", s.maximise}, {"constraints", cons},
+                       {"global", app::ToString(s.global)}, {"local", app::ToString(s.local)}, {"evaluations", s.evaluations},
+                       {"global_share", s.global_share}, {"tolerance", s.tolerance}, {"seed", s.seed}, {"robust", s.robust},
+                       {"robust_samples", s.robust ? nlohmann::json(s.robust_samples) : nlohmann::json(nullptr)},
+                       {"percentile", s.robust ? nlohmann::json(s.percentile) : nlohmann::json(nullptr)},
+                       {"confidence", s.robust ? nlohmann::json(s.confidence) : nlohmann::json(nullptr)},
+                       {"order_statistic", s.robust && s.confidence > 0.0
+                                               ? nlohmann::json(app::ConfidenceRank(s.robust_samples, s.percentile / 100.0, s.confidence))
+                                               : nlohmann::json(nullptr)},
+                       {"penalty_weight", app::OptimiseSettings::kPenaltyWeight}, {"threads", threads}, {"mpi_ranks", ranks.size}};
+      nlohmann::json phases = nlohmann::json::array();
+      for (const auto& p : r.phases) phases.push_back({{"method", p.method}, {"evaluations", p.evaluations}, {"stop", p.stop}});
+      j["summary"] = {{"status", best != nullptr ? "success" : "failed"},
+                      {"evaluations", r.history.size()},
+                      {"failed", r.failed},
+                      {"rejected", r.rejected},
+                      {"first_failure", r.first_failure},
+                      {"phases", phases},
+                      {"best", best != nullptr ? EvaluationJson(s, *best) : nlohmann::json(nullptr)},
+                      {"wall_seconds", r.wall_seconds}};
+      nlohmann::json history = nlohmann::json::array();
+      for (const auto& e : r.history) history.push_back(EvaluationJson(s, e));
+      j["history"] = history;
+      if (!grid.empty()) {
+        nlohmann::json g = nlohmann::json::array();
+        for (const auto& e : grid) g.push_back(EvaluationJson(s, e));
+        j["map"] = g;
+      }
+      if (!front.empty()) {
+        nlohmann::json f = nlohmann::json::array();
+        for (const auto& p : front) {
+          f.push_back({{"figure", o.pareto}, {"bound", p.epsilon}, {"design", p.best >= 0 ? EvaluationJson(s, p.design) : nlohmann::json(nullptr)}});
         }
+        j["pareto"] = f;
       }
-      m.map = map;
-      plots::Series path{"evaluations", {}, {}, plots::Style::kMarkers};
-      for (const auto& e : r.history) path.x.push_back(e.x[0]), path.y.push_back(e.x[1]);
-      path.marker_size = 0.4;
-      path.colour = 7;
-      m.series.push_back(path);
-      if (best != nullptr) {
-        plots::Series opt{"optimum", {best->x[0]}, {best->x[1]}, plots::Style::kMarkers};
-        opt.colour = 1;
-        opt.marker_size = 1.6;
-        m.series.push_back(opt);
-      }
-      m.legend = plots::LegendPlace::kBottomRight;  // the colour bar is on the right
-      figure.panels.push_back(m);
+      json.stream() << Dump(j) << '\n';
+      json.Commit();
     }
-    if (!front.empty()) {
-      plots::Panel p;
-      p.title = "Pareto front (epsilon constraints)";
-      p.x_label = o.pareto;
-      p.y_label = s.objective;
-      plots::Series pts{"front", {}, {}, plots::Style::kLineMarkers};
-      const int fi = app::FigureIndex(o.pareto);
-      for (const auto& q : front) {
-        if (q.best < 0) continue;
-        pts.x.push_back(q.design.figures[static_cast<std::size_t>(fi)]);
-        pts.y.push_back(q.design.objective);
-      }
-      p.series.push_back(pts);
-      figure.panels.push_back(p);
+    if (csv.enabled()) {
+      std::ostream& c = csv.stream();
+      c << "index,phase";
+      for (const auto& v : s.variables) c << ',' << v.key;
+      c << ",objective,violation,feasible,status";
+      for (const auto& f : app::OptimiseFigureNames()) c << ',' << f;
+      c << ",message\n";
+      const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); };
+      const auto row = [&](const app::DesignEvaluation& e) {
+        c << e.index << ',' << e.phase;
+        for (const double v : e.x) c << ',' << cell(v);
+        c << ',' << cell(e.objective) << ',' << cell(e.violation) << ',' << (e.feasible ? "true" : "false") << ',' << app::ToString(e.status);
+        for (const double v : e.figures) c << ',' << cell(v);
+        std::string m = e.message;
+        std::replace(m.begin(), m.end(), '"', '\'');
+        c << ",\"" << m << "\"\n";
+      };
+      for (const auto& e : r.history) row(e);
+      for (const auto& e : grid) row(e);
+      csv.Commit();
     }
-    figure.columns = static_cast<int>(figure.panels.size());
-    figure.width = figure.columns == 1 ? 1000 : 700 * figure.columns;  // one panel: room for the legend beside it
-    figure.height = 600;
-    WriteFigure(figure, svg);
-  }
-  if (best_deck.enabled()) {
-    if (best == nullptr) throw std::invalid_argument("--write-deck: no evaluation met the constraints, so there is no design to write");
-    const std::string header = fmt::format("# Written by ltca optimise from {}: the best of {} evaluations, {} = {:.10g}.\n"
-                                           "# ltca solve runs it as it is; [optimise] is left out.\n",
-                                           deck.name, r.history.size(), s.objective, best->objective);
-    best_deck.stream() << DesignDeck(deck, s, best->x, header);
-    best_deck.Commit();
-  }
-  // Failed and rejected evaluations are designs the search ruled out (counted in the summary);
-  // the run succeeds when it found a design that meets the constraints.
-  return best != nullptr ? kExitSuccess : kExitNotSucceeded;
+    if (svg.enabled()) {
+      namespace plots = app::plots;
+      plots::Figure figure;
+      figure.title = fmt::format("{}: {} {} over {} evaluations ({} then {})", deck.info.title, s.maximise ? "maximise" : "minimise",
+                                 s.objective, r.history.size(), app::ToString(s.global), app::ToString(s.local));
+      figure.caption = FigureCaption(deck, fmt::format("{}; infeasible: a constraint not met; failed evaluations are not drawn{}",
+                                                       s.robust ? fmt::format("robust: {} of {} samples", RobustRule(s), s.robust_samples) : "nominal pair",
+                                                       grid.empty() ? "" : "; map: blank cells are infeasible"));
+      plots::Panel c;
+      c.title = "convergence";
+      c.x_label = "evaluation";
+      c.y_label = s.objective;
+      plots::Series feasible{"feasible", {}, {}, plots::Style::kMarkers}, infeasible{"infeasible", {}, {}, plots::Style::kMarkers},
+          best_line{"best feasible so far", {}, {}, plots::Style::kLine};
+      double best_so_far = std::numeric_limits<double>::quiet_NaN();
+      for (const auto& e : r.history) {
+        if (e.status != app::RunStatus::kSuccess) continue;
+        auto& series = e.feasible ? feasible : infeasible;
+        series.x.push_back(static_cast<double>(e.index));
+        series.y.push_back(e.objective);
+        if (e.feasible && (std::isnan(best_so_far) || (s.maximise ? e.objective > best_so_far : e.objective < best_so_far))) best_so_far = e.objective;
+        if (std::isfinite(best_so_far)) best_line.x.push_back(static_cast<double>(e.index)), best_line.y.push_back(best_so_far);
+      }
+      infeasible.marker_size = 0.6;
+      c.series = {feasible, infeasible, best_line};
+      c.legend = plots::LegendPlace::kOutsideRight;
+      figure.panels.push_back(c);
+      if (!grid.empty()) {
+        plots::Panel m;
+        m.title = "objective over the two variables";
+        m.x_label = s.variables[0].key;
+        m.y_label = s.variables[1].key;
+        plots::Map map;
+        map.z_label = s.objective;
+        const auto n = static_cast<std::size_t>(o.map);
+        for (std::size_t i = 0; i < n; ++i) map.x.push_back(grid[i].x[0]);
+        for (std::size_t k = 0; k < n; ++k) map.y.push_back(grid[k * n].x[1]);
+        map.z.assign(n, std::vector<double>(n, std::numeric_limits<double>::quiet_NaN()));
+        for (std::size_t k = 0; k < n; ++k) {
+          for (std::size_t i = 0; i < n; ++i) {
+            const auto& e = grid[k * n + i];
+            if (e.feasible) map.z[i][k] = e.objective;
+          }
+        }
+        m.map = map;
+        plots::Series path{"evaluations", {}, {}, plots::Style::kMarkers};
+        for (const auto& e : r.history) path.x.push_back(e.x[0]), path.y.push_back(e.x[1]);
+        path.marker_size = 0.4;
+        path.colour = 7;
+        m.series.push_back(path);
+        if (best != nullptr) {
+          plots::Series opt{"optimum", {best->x[0]}, {best->x[1]}, plots::Style::kMarkers};
+          opt.colour = 1;
+          opt.marker_size = 1.6;
+          m.series.push_back(opt);
+        }
+        m.legend = plots::LegendPlace::kBottomRight;  // the colour bar is on the right
+        figure.panels.push_back(m);
+      }
+      if (!front.empty()) {
+        plots::Panel p;
+        p.title = "Pareto front (epsilon constraints)";
+        p.x_label = o.pareto;
+        p.y_label = s.objective;
+        plots::Series pts{"front", {}, {}, plots::Style::kLineMarkers};
+        const int fi = app::FigureIndex(o.pareto);
+        for (const auto& q : front) {
+          if (q.best < 0) continue;
+          pts.x.push_back(q.design.figures[static_cast<std::size_t>(fi)]);
+          pts.y.push_back(q.design.objective);
+        }
+        p.series.push_back(pts);
+        figure.panels.push_back(p);
+      }
+      figure.columns = static_cast<int>(figure.panels.size());
+      figure.width = figure.columns == 1 ? 1000 : 700 * figure.columns;  // one panel: room for the legend beside it
+      figure.height = 600;
+      WriteFigure(figure, svg);
+    }
+    if (best_deck.enabled()) {
+      if (best == nullptr) throw std::invalid_argument("--write-deck: no evaluation met the constraints, so there is no design to write");
+      const std::string header = fmt::format("# Written by ltca optimise from {}: the best of {} evaluations, {} = {:.10g}.\n"
+                                             "# ltca solve runs it as it is; [optimise] is left out.\n",
+                                             deck.name, r.history.size(), s.objective, best->objective);
+      best_deck.stream() << DesignDeck(deck, s, best->x, header);
+      best_deck.Commit();
+    }
+    // Failed and rejected evaluations are designs the search ruled out (counted in the summary);
+    // the run succeeds when it found a design that meets the constraints.
+    return best != nullptr ? kExitSuccess : kExitNotSucceeded;
+  });
 }
 
 Command OptimiseCommand() {

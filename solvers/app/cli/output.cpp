@@ -1,5 +1,7 @@
 #include "output.hpp"
 
+#include <pthread.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -10,6 +12,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <thread>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -26,7 +30,224 @@ namespace fs = std::filesystem;
 
 std::string Reason() { return errno != 0 ? std::string(": ") + std::strerror(errno) : std::string(); }
 
+// The temporaries of this process that SIGINT and SIGTERM remove, and the transaction of the run.
+std::mutex g_temporaries_mutex;
+std::vector<std::string> g_temporaries;  // guarded by g_temporaries_mutex
+thread_local OutputTransaction* g_current = nullptr;  // the run of this thread
+
+void ForgetLocked(const std::string& path) {
+  const auto it = std::find(g_temporaries.begin(), g_temporaries.end(), path);
+  if (it != g_temporaries.end()) g_temporaries.erase(it);
+}
+
+/// The file a path names: every symbolic link followed, also a dangling one (an output through a
+/// dangling link is written where the link points, not over the link).
+fs::path FollowLinks(fs::path p) {
+  std::error_code ec;
+  for (int i = 0; i < 40 && fs::is_symlink(fs::symlink_status(p, ec)); ++i) {
+    const fs::path to = fs::read_symlink(p, ec);
+    if (ec) break;
+    p = to.is_absolute() ? to : p.parent_path() / to;
+  }
+  return p;
+}
+
+/// A name beside `target` for a file or folder of this run: ".<name>.ltca-<what>-XXXXXX", made
+/// unique by mkstemp and removed again (the caller creates it at once).
+std::string SiblingName(const fs::path& target, const char* what) {
+  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::string pattern = (folder / fmt::format(".{}.ltca-{}-XXXXXX", target.filename().string(), what)).string();
+  const int fd = mkstemp(pattern.data());
+  if (fd < 0) return {};
+  close(fd);
+  unlink(pattern.c_str());
+  return pattern;
+}
+
 }  // namespace
+
+void RegisterTemporary(const std::string& path) {
+  const std::lock_guard<std::mutex> lock(g_temporaries_mutex);
+  g_temporaries.push_back(path);
+}
+
+void ForgetTemporary(const std::string& path) {
+  const std::lock_guard<std::mutex> lock(g_temporaries_mutex);
+  ForgetLocked(path);
+}
+
+void InstallInterruptCleanup() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGHUP);
+  // Blocked in this thread before any other starts, so every thread inherits it and only the
+  // waiting thread below takes these signals: it may then remove files and take the lock, which
+  // a signal handler may not.
+  if (pthread_sigmask(SIG_BLOCK, &set, nullptr) != 0) return;
+  std::thread([set] {
+    int signal = 0;
+    while (sigwait(&set, &signal) != 0) {
+    }
+    g_temporaries_mutex.lock();  // a CommitAll() under way finishes first; never unlocked
+    for (const std::string& path : g_temporaries) {
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+    _exit(128 + signal);
+  }).detach();
+}
+
+int ReportError(std::exception_ptr error, std::ostream& err) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::invalid_argument& e) {
+    fmt::print(err, "ltca: error: {}\n", e.what());
+    return kExitBadInput;
+  } catch (const OutputError& e) {
+    fmt::print(err, "ltca: output error: {}\n", e.what());
+    return kExitOutputError;
+  } catch (const std::exception& e) {
+    fmt::print(err, "ltca: internal error: {}\n", e.what());
+    return kExitInternalError;
+  } catch (...) {
+    fmt::print(err, "ltca: internal error: an unknown exception\n");
+    return kExitInternalError;
+  }
+}
+
+OutputTransaction::OutputTransaction() {
+  if (g_current != nullptr) throw std::logic_error("OutputTransaction: one run has one");
+  g_current = this;
+}
+
+OutputTransaction::~OutputTransaction() {
+  Abandon();
+  if (g_current == this) g_current = nullptr;
+}
+
+OutputTransaction* OutputTransaction::Current() { return g_current; }
+
+OutputTransaction::Direct::Direct() : saved_(g_current) { g_current = nullptr; }
+OutputTransaction::Direct::~Direct() { g_current = saved_; }
+
+void OutputTransaction::ProtectInput(const std::string& what, const fs::path& path) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return;  // not there: nothing to protect
+  inputs_.push_back({what, path.string(), st.st_dev, st.st_ino});
+  for (const auto& [option, target] : outputs_) CheckOutput(option, target);
+}
+
+void OutputTransaction::CheckOutput(const std::string& option, const fs::path& target) const {
+  struct stat st {};
+  if (stat(target.c_str(), &st) != 0) return;  // a new file is no input
+  for (const Input& in : inputs_) {
+    if (in.device == st.st_dev && in.inode == st.st_ino) {
+      throw std::invalid_argument(fmt::format(
+          "{} {}: is {} '{}' that this run reads (the same file{}); an output never replaces an input: give another file",
+          option, target.string(), in.what, in.path, target.string() == in.path ? "" : ", through a link"));
+    }
+  }
+  if (S_ISDIR(st.st_mode)) {
+    std::error_code ec;
+    const fs::path folder = fs::canonical(target, ec);
+    if (ec) return;
+    for (const Input& in : inputs_) {
+      const fs::path file = fs::canonical(in.path, ec);
+      if (ec) continue;
+      const auto [end, unused] = std::mismatch(folder.begin(), folder.end(), file.begin(), file.end());
+      if (end == folder.end()) {
+        throw std::invalid_argument(fmt::format(
+            "{} {}: the folder holds {} '{}' that this run reads, and the output replaces the folder; give another folder",
+            option, target.string(), in.what, in.path));
+      }
+    }
+  }
+}
+
+void OutputTransaction::OpenOutput(const std::string& option, const fs::path& target) {
+  CheckOutput(option, target);
+  outputs_.emplace_back(option, target.string());
+}
+
+void OutputTransaction::Stage(const std::string& option, const std::string& temp, const std::string& target) {
+  staged_.push_back({option, temp, target, false});
+}
+
+void OutputTransaction::StageFolder(const std::string& option, const std::string& temp, const std::string& target) {
+  staged_.push_back({option, temp, target, true});
+}
+
+void OutputTransaction::Abandon() {
+  const std::lock_guard<std::mutex> lock(g_temporaries_mutex);
+  for (const Staged& s : staged_) {
+    std::error_code ec;
+    fs::remove_all(s.temp, ec);
+    ForgetLocked(s.temp);
+  }
+  staged_.clear();
+}
+
+void OutputTransaction::CommitAll() {
+  const std::lock_guard<std::mutex> lock(g_temporaries_mutex);  // SIGINT waits for the renames
+  for (const Staged& s : staged_) CheckOutput(s.option, s.target);
+  // Each replaced file is kept (a hard link; a folder moved aside) until every output is in place.
+  std::vector<std::string> kept(staged_.size());
+  std::size_t done = 0;
+  std::string failure;
+  for (; done < staged_.size(); ++done) {
+    const Staged& s = staged_[done];
+    struct stat st {};
+    errno = 0;
+    if (lstat(s.target.c_str(), &st) == 0) {
+      kept[done] = SiblingName(s.target, "old");
+      if (!kept[done].empty()) {
+        const bool ok = s.folder ? std::rename(s.target.c_str(), kept[done].c_str()) == 0
+                                 : link(s.target.c_str(), kept[done].c_str()) == 0;
+        if (!ok) kept[done].clear();
+        if (!ok && s.folder) {
+          failure = fmt::format("{} {}: cannot move the old folder aside{}", s.option, s.target, Reason());
+          break;
+        }
+      }
+    }
+    errno = 0;
+    if (std::rename(s.temp.c_str(), s.target.c_str()) != 0) {
+      failure = fmt::format("{} {}: cannot replace the {}{}", s.option, s.target, s.folder ? "folder" : "file", Reason());
+      if (s.folder && !kept[done].empty()) std::rename(kept[done].c_str(), s.target.c_str());
+      kept[done].clear();
+      break;
+    }
+  }
+  if (!failure.empty()) {
+    // Every output put in place so far goes back to what it replaced (or away, when it was new).
+    for (std::size_t i = 0; i < done; ++i) {
+      const Staged& s = staged_[i];
+      std::error_code ec;
+      if (!kept[i].empty()) {
+        if (s.folder) fs::remove_all(s.target, ec);
+        std::rename(kept[i].c_str(), s.target.c_str());
+      } else {
+        fs::remove_all(s.target, ec);
+      }
+      ForgetLocked(s.temp);
+    }
+    for (std::size_t i = done; i < staged_.size(); ++i) {
+      std::error_code ec;
+      fs::remove_all(staged_[i].temp, ec);
+      ForgetLocked(staged_[i].temp);
+    }
+    staged_.clear();
+    throw OutputError(failure);
+  }
+  for (std::size_t i = 0; i < staged_.size(); ++i) {
+    std::error_code ec;
+    if (!kept[i].empty()) fs::remove_all(kept[i], ec);
+    ForgetLocked(staged_[i].temp);
+  }
+  staged_.clear();
+}
 
 void WriteFigure(const app::plots::Figure& figure, Output& output) {
   if (!output.enabled()) return;
@@ -38,7 +259,7 @@ void WriteFigure(const app::plots::Figure& figure, Output& output) {
   output.Commit();
 }
 
-void MarkMeanAndPeakToPeak(app::plots::Panel& panel, const std::vector<double>& values, const std::string& unit) {
+void MarkMeanAndPeakToPeak(app::plots::Panel& panel, const std::vector<double>& values, const std::string& unit, double mean) {
   double lo = INFINITY, hi = -INFINITY, sum = 0.0;
   int n = 0;
   for (const double v : values) {
@@ -47,7 +268,8 @@ void MarkMeanAndPeakToPeak(app::plots::Panel& panel, const std::vector<double>& 
   }
   if (n == 0) return;
   using Mark = app::plots::Mark;
-  panel.marks.push_back({Mark::Axis::kHorizontal, sum / n, fmt::format("mean {:.4f} {}", sum / n, unit), false});
+  if (!std::isfinite(mean)) mean = sum / n;
+  panel.marks.push_back({Mark::Axis::kHorizontal, mean, fmt::format("mean {:.4f} {}", mean, unit), false});
   panel.marks.push_back({Mark::Axis::kHorizontal, hi, fmt::format("max {:.4f}: peak-to-peak {:.4f} {}", hi, hi - lo, unit), true});
   panel.marks.push_back({Mark::Axis::kHorizontal, lo, fmt::format("min {:.4f}", lo), true});
   const double pad = std::max(0.15 * (hi - lo), 1e-3 * std::max(1.0, std::abs(hi)));
@@ -76,11 +298,8 @@ Output::Output(std::string option, std::string path, std::ostream& out)
     return;
   }
   std::error_code ec;
-  fs::path target(path_);
-  if (fs::is_symlink(target, ec)) {
-    const fs::path resolved = fs::canonical(target, ec);
-    if (!ec) target = resolved;
-  }
+  const fs::path target = FollowLinks(path_);
+  if (OutputTransaction* run = OutputTransaction::Current()) run->OpenOutput(option_, target);
   const fs::file_status status = fs::status(target, ec);
   if (fs::is_directory(status)) throw OutputError(fmt::format("{} {}: is a folder, expected a file", option_, path_));
   errno = 0;
@@ -101,6 +320,7 @@ Output::Output(std::string option, std::string path, std::ostream& out)
   if (fd < 0) throw OutputError(fmt::format("{} {}: cannot write in the folder '{}'{}", option_, path_, folder.string(), Reason()));
   close(fd);
   temp_ = pattern;
+  RegisterTemporary(temp_);
   // The permissions a plain new file would get (mkstemp makes 0600), or the replaced file's.
   mode_t mode = 0666;
   struct stat existing {};
@@ -116,6 +336,7 @@ Output::Output(std::string option, std::string path, std::ostream& out)
   file_.open(temp_, std::ios::out | std::ios::trunc);
   if (!file_) {
     std::remove(temp_.c_str());
+    ForgetTemporary(temp_);
     temp_.clear();
     throw OutputError(fmt::format("{} {}: cannot open for writing{}", option_, path_, Reason()));
   }
@@ -125,6 +346,7 @@ Output::~Output() {
   if (committed_ || temp_.empty()) return;
   file_.close();
   std::remove(temp_.c_str());
+  ForgetTemporary(temp_);
 }
 
 std::ostream& Output::stream() { return out_ != nullptr ? *out_ : file_; }
@@ -140,8 +362,16 @@ void Output::Commit() {
   if (!file_.flush()) throw OutputError(fmt::format("{} {}: writing failed{}", option_, path_, Reason()));
   file_.close();
   if (file_.fail()) throw OutputError(fmt::format("{} {}: closing failed{}", option_, path_, Reason()));
-  if (!in_place_ && std::rename(temp_.c_str(), path_.c_str()) != 0) {
-    throw OutputError(fmt::format("{} {}: cannot replace the file{}", option_, path_, Reason()));
+  if (!in_place_) {
+    if (OutputTransaction* run = OutputTransaction::Current()) {
+      run->Stage(option_, temp_, path_);  // put in place with the run's other outputs
+      committed_ = true;
+      return;
+    }
+    if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
+      throw OutputError(fmt::format("{} {}: cannot replace the file{}", option_, path_, Reason()));
+    }
+    ForgetTemporary(temp_);
   }
   committed_ = true;
 }

@@ -3,7 +3,12 @@
 // (before any computation), written to a temporary file in the same folder, flushed and
 // checked, and renamed over the target only on success: a failure leaves no partial file.
 // Devices and FIFOs (/dev/stdout, /dev/full) are written in place, and checked the same way.
+#include <sys/types.h>
+
 #include <chrono>
+#include <cmath>
+#include <exception>
+#include <filesystem>
 #include <cstdint>
 #include <fstream>
 #include <functional>
@@ -31,6 +36,80 @@ inline constexpr int kExitNotSucceeded = 1;   ///< the run finished, something d
 inline constexpr int kExitBadInput = 2;       ///< bad deck or options
 inline constexpr int kExitOutputError = 3;    ///< an output could not be opened or written
 inline constexpr int kExitInternalError = 4;  ///< a bug: please report it
+
+/// The files of one run of `ltca` (cli::Run makes one; a command run in-process without it writes
+/// each output as it completes): the inputs it reads, which no output may be, and the outputs it
+/// writes, all renamed into place together when the run has succeeded, or none.
+/// - An output whose file (links followed, also a hard link: the same device and inode) is an
+///   input is refused with std::invalid_argument naming the option, whichever is named first.
+/// - Output::Commit() completes a file (flushed, closed, checked) and hands its temporary here;
+///   CommitAll() renames every one over its target, keeping each replaced file as a hard link until
+///   all are in place, and puts the replaced files back if a rename fails. A run that ends any
+///   other way (an exception, SIGINT or SIGTERM with InstallInterruptCleanup) removes every
+///   temporary and leaves every existing file as it was.
+class OutputTransaction {
+ public:
+  OutputTransaction();  ///< becomes Current() (one at a time: std::logic_error for a second)
+  ~OutputTransaction();  ///< removes what was not committed
+  OutputTransaction(const OutputTransaction&) = delete;
+  OutputTransaction& operator=(const OutputTransaction&) = delete;
+  static OutputTransaction* Current();
+
+  /// A file the run reads (`what`: "the deck", "[errors] profile_measured_csv", ...). Refuses an
+  /// output already opened that is this file.
+  void ProtectInput(const std::string& what, const std::filesystem::path& path);
+  /// Throws std::invalid_argument when `target` is an input or holds one (a folder).
+  void CheckOutput(const std::string& option, const std::filesystem::path& target) const;
+  /// CheckOutput, and remembered: an input named later is checked against it.
+  void OpenOutput(const std::string& option, const std::filesystem::path& target);
+  /// A completed temporary file to rename over `target` at CommitAll().
+  void Stage(const std::string& option, const std::string& temp, const std::string& target);
+  /// A completed folder to put in place of `target` (which is replaced whole) at CommitAll().
+  void StageFolder(const std::string& option, const std::string& temp, const std::string& target);
+  /// Puts every staged output in place (OutputError when that fails; then none is).
+  void CommitAll();
+  /// Removes every staged temporary now (a run that ends without unwinding: MPI_Abort).
+  void Abandon();
+
+  /// While it lives, outputs are written directly (the report's files in its private folder).
+  class Direct {
+   public:
+    Direct();
+    ~Direct();
+    Direct(const Direct&) = delete;
+    Direct& operator=(const Direct&) = delete;
+
+   private:
+    OutputTransaction* saved_;
+  };
+
+ private:
+  struct Input {
+    std::string what, path;
+    dev_t device;
+    ino_t inode;
+  };
+  struct Staged {
+    std::string option, temp, target;
+    bool folder = false;
+  };
+  std::vector<Input> inputs_;
+  std::vector<std::pair<std::string, std::string>> outputs_;  ///< option and target of every output opened
+  std::vector<Staged> staged_;
+};
+
+/// Registers a temporary file or folder that SIGINT and SIGTERM remove (InstallInterruptCleanup).
+void RegisterTemporary(const std::string& path);
+/// Forgets it (it was renamed into place or removed).
+void ForgetTemporary(const std::string& path);
+/// For the `ltca` executable, first thing in main(): SIGINT, SIGTERM and SIGHUP are taken by a
+/// thread of their own, which removes every registered temporary (waiting for a CommitAll() under
+/// way to finish) and ends the process with 128 + the signal's number.
+void InstallInterruptCleanup();
+
+/// The exit code of the exception being handled, after printing it to `err` as `ltca` does
+/// ("ltca: error: ..." 2, "ltca: output error: ..." 3, "ltca: internal error: ..." 4).
+int ReportError(std::exception_ptr error, std::ostream& err);
 
 /// One output of a command: "" none, "-" the out stream, else a file written atomically.
 class Output {
@@ -68,8 +147,10 @@ std::string FigureCaption(const app::Deck& deck, const std::string& ran);
 
 /// Marks the mean, the largest and the smallest of the finite values on a panel (horizontal lines
 /// labelled with the figure and the unit, the peak-to-peak named on the largest) and sets the y range
-/// to leave room for the labels. Does nothing when no value is finite.
-void MarkMeanAndPeakToPeak(app::plots::Panel& panel, const std::vector<double>& values, const std::string& unit);
+/// to leave room for the labels. Does nothing when no value is finite. `mean`, when finite, is the
+/// mean to mark (the whole sweep's, where the values are its drawn extremes).
+void MarkMeanAndPeakToPeak(app::plots::Panel& panel, const std::vector<double>& values, const std::string& unit,
+                           double mean = NAN);
 
 /// Throws std::invalid_argument when more than one of these outputs is "-" (standard output
 /// carries one document) or two of them name the same file (one would replace the other).

@@ -2,7 +2,12 @@
 
 #include "command.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -228,20 +233,56 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // Every analysis of the page runs with --kinematics when given (the deck's otherwise).
   const app::Deck deck = DeckFor(given, options.kinematics);
   if (options.out_dir.empty()) throw std::invalid_argument("report: -o DIR: expected the folder to write index.html into");
-  const fs::path dir(options.out_dir);
+  // The page and its files are built in a fresh folder beside DIR and put in place of DIR when
+  // complete (with the run's other outputs): a failure or Ctrl-C leaves DIR as it was. DIR is
+  // replaced whole, so it must be new, empty, a report's (the marker file) or given up (--force).
+  const fs::path target(options.out_dir);
   std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (!fs::is_directory(dir)) throw OutputError(fmt::format("-o {}: cannot create the folder{}", options.out_dir, ec ? ": " + ec.message() : ""));
-  const auto file = [&dir](const char* name) { return (dir / name).string(); };
-  // Every file the report may write, checked before anything is computed or written: a folder in
-  // the way (or a file that cannot be opened) is an error now, not after half the files exist.
-  for (const char* name : {"index.html", "geometry.json", "geometry.svg", "solve.json", "solve.svg", "backlash.json",
-                           "backlash.svg", "mesh.json", "mesh.svg", "stiffness.json", "stiffness.svg", "efficiency.json",
-                           "efficiency.svg", "tolerance.json", "tolerance.svg", "optimise.json", "optimise.svg"}) {
-    if (fs::is_directory(dir / name)) {
-      throw OutputError(fmt::format("-o {}: {} is a folder; the report writes a file there", options.out_dir, file(name)));
-    }
+  const fs::file_status status = fs::status(target, ec);
+  if (fs::exists(status) && !fs::is_directory(status)) {
+    throw OutputError(fmt::format("-o {}: is a file; expected a folder (new, empty, or an earlier report's)", options.out_dir));
   }
+  if (fs::is_directory(status) && !fs::is_empty(target, ec) && !fs::exists(target / kReportMarker) && !options.force) {
+    throw std::invalid_argument(fmt::format(
+        "-o {}: the folder holds files that ltca report did not write (no {} in it), and a report replaces the whole "
+        "folder; give a new or empty folder, or --force to replace it",
+        options.out_dir, kReportMarker));
+  }
+  OutputTransaction* const run = OutputTransaction::Current();
+  if (run != nullptr) run->OpenOutput("-o", target);  // no input of the run (the deck, a trace) inside it
+  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  fs::create_directories(parent, ec);
+  if (!fs::is_directory(parent)) {
+    throw OutputError(fmt::format("-o {}: cannot create the folder '{}'{}", options.out_dir, parent.string(), ec ? ": " + ec.message() : ""));
+  }
+  std::string staging = (parent / fmt::format(".{}.ltca-new-XXXXXX", target.filename().string())).string();
+  errno = 0;
+  if (mkdtemp(staging.data()) == nullptr) {
+    throw OutputError(fmt::format("-o {}: cannot write in the folder '{}': {}", options.out_dir, parent.string(), std::strerror(errno)));
+  }
+  RegisterTemporary(staging);
+  {  // the permissions of the folder it replaces, or of a new folder (mkdtemp makes 0700)
+    const mode_t mask = umask(0);
+    umask(mask);
+    struct stat existing {};
+    chmod(staging.c_str(), stat(target.c_str(), &existing) == 0 ? existing.st_mode & 07777 : 0777 & ~mask);
+  }
+  struct Staging {  // removed on every way out until it is handed to the run's outputs
+    std::string path;
+    bool handed = false;
+    ~Staging() {
+      if (handed) return;
+      std::error_code e;
+      fs::remove_all(path, e);
+      ForgetTemporary(path);
+    }
+  } guard{staging};
+  const fs::path dir(staging);
+  const OutputTransaction::Direct direct;  // the files below go straight into the private folder
+  WriteTo("-o", (dir / kReportMarker).string(), streams.out, [](std::ostream& os) {
+    os << "Written by ltca report. `ltca report -o` may replace this folder whole.\n";
+  });
+  const auto file = [&dir](const char* name) { return (dir / name).string(); };
   // The commands write their documents and figures into DIR; their text goes nowhere.
   std::ostringstream sink;
   const Streams quiet{sink, sink, streams.err, streams.progress};
@@ -372,43 +413,59 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const double nan = std::numeric_limits<double>::quiet_NaN();
   html += AllowableRow("largest contact stress (MPa)", "max_contact_stress_mpa", Number(ss, "max_contact_stress_mpa"), nan,
                        deck.RequireMaterial().contact_stress_limit, "ltca solve, the sweep");
-  // Each [tolerances] limit on the nominal figure: the tolerance study's nominal run when it ran
-  // its worst case, else the analysis that reports the same figure.
+  // A figure of the nominal deck, from the analysis of the model that ran: the tolerance study's
+  // nominal run when it ran its worst case, else the analysis that reports the same figure. For a
+  // reducer stage the backlash is the stage's free play (the loop's width at zero torque), never
+  // the pin ring's unloaded analysis, and its loads and lives are the solve's stage summary.
+  const auto nominal = [&](const std::string& figure) -> std::pair<double, std::string> {
+    if (tolerance && ts.contains("worst_case") && ts["worst_case"]["figures"].contains(figure)) {
+      const double v = Number(ts["worst_case"]["figures"][figure], "nominal");
+      if (std::isfinite(v)) return {v, "ltca tolerance, the nominal deck"};
+    }
+    if (deck.reducer) {
+      if (figure == "mean_backlash_arcsec") {
+        const double v = 60.0 * Number(ls, "backlash_arcmin");
+        return {v, std::isfinite(v) ? "ltca stiffness, crank 0: the stage's free play" : "not computed"};
+      }
+      if (figure == "pp_backlash_arcsec") return {nan, "not computed: the stage's free play over the sweep is the tolerance study's"};
+      if (ss.contains("stage") && ss["stage"].is_object() && ss["stage"].contains(figure)) {
+        return {Number(ss["stage"], figure), "ltca solve, the stage"};
+      }
+    }
+    for (const auto& [summary, name] : {std::pair{&ss, "ltca solve"}, std::pair{&bs, "ltca backlash"}, std::pair{&ls, "ltca stiffness, crank 0"}}) {
+      if (summary->is_object() && summary->contains(figure)) return {Number(*summary, figure), name};
+    }
+    return {nan, "not computed"};
+  };
   std::vector<std::string> limited;
   if (deck.tolerances) {
     for (const auto& limit : deck.tolerances->limits) {
       limited.push_back(limit.figure);
-      double value = nan;
-      std::string basis;
-      if (tolerance && ts.contains("worst_case") && ts["worst_case"]["figures"].contains(limit.figure)) {
-        value = Number(ts["worst_case"]["figures"][limit.figure], "nominal");
-        basis = "ltca tolerance, the nominal deck";
-      }
-      for (const auto& [summary, name] : {std::pair{&ss, "ltca solve"}, std::pair{&bs, "ltca backlash"}, std::pair{&ls, "ltca stiffness, crank 0"}}) {
-        if (std::isfinite(value)) break;
-        value = Number(*summary, limit.figure);
-        basis = name;
-      }
+      const auto [value, basis] = nominal(limit.figure);
       nlohmann::json fraction = nullptr;
       if (tolerance) {
         for (const auto& x : ts["limits"]) {
           if (x["figure"] == limit.figure) fraction = x["fraction"];
         }
       }
-      html += AllowableRow(Label(limit.figure), limit.figure, value, limit.min, limit.max, std::isfinite(value) ? basis : "not run", fraction);
+      html += AllowableRow(Label(limit.figure), limit.figure, value, limit.min, limit.max, basis, fraction);
     }
   }
   // The figures a reviewer signs without a limit in the deck: listed with their values.
   const auto listed = [&](const std::string& key) { return std::find(limited.begin(), limited.end(), key) != limited.end(); };
+  for (const std::string key : {"pp_te_arcsec", "mean_backlash_arcsec"}) {
+    if (listed(key)) continue;
+    const auto [value, basis] = nominal(key);
+    html += AllowableRow(Label(key), key, value, nan, nan, basis);
+  }
   for (const auto& [key, summary, basis] :
-       {std::tuple{std::string("pp_te_arcsec"), &ss, "ltca solve"}, std::tuple{std::string("mean_backlash_arcsec"), &bs, "ltca backlash"},
-        std::tuple{std::string("lost_motion_arcmin"), &ls, "ltca stiffness, crank 0"},
+       {std::tuple{std::string("lost_motion_arcmin"), &ls, "ltca stiffness, crank 0"},
         std::tuple{std::string("torsional_rigidity_nm_per_arcmin"), &ls, "ltca stiffness, crank 0"},
         std::tuple{std::string("efficiency"), &es, "ltca efficiency"}}) {
     if (listed(key) || !summary->is_object() || !summary->contains(key)) continue;
     html += AllowableRow(Label(key), key, Number(*summary, key), nan, nan, basis);
   }
-  if (ss.contains("stage") && ss["stage"].is_object()) {  // issue 25: the stage's bearings
+  if (ss.contains("stage") && ss["stage"].is_object() && !listed("shortest_l10_hours")) {  // the stage's bearings
     html += AllowableRow("shortest bearing L10 (h)", "stage.shortest_l10_hours", Number(ss["stage"], "shortest_l10_hours"), nan, nan,
                          "ltca solve, ISO 281 (" + ss["stage"].value("life_basis", std::string("")) + ")");
   }
@@ -559,9 +616,16 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
                       loop ? ", stiffness.json" : "", efficiency ? ", efficiency.json" : "",
                       std::string(tolerance ? ", tolerance.json" : "") + (optimise ? ", optimise.json" : ""),
                       std::isfinite(seconds) ? fmt::format("{:.3g}", seconds) : "n/a");
-  Output page("-o", file("index.html"), streams.out);
-  page.stream() << html;
-  page.Commit();
+  WriteTo("-o", file("index.html"), streams.out, [&html](std::ostream& os) { os << html; });
+  guard.handed = true;
+  if (run != nullptr) {
+    run->StageFolder("-o", staging, target.string());
+  } else {  // in-process, without a run: in place now
+    OutputTransaction::Direct none;
+    OutputTransaction local;
+    local.StageFolder("-o", staging, target.string());
+    local.CommitAll();
+  }
   // The page's status is every part's (issue 26: it said the solve's "success" and exited 1 when the
   // loop failed).
   std::string failed;
@@ -572,7 +636,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     failed += fmt::format("{}{}", failed.empty() ? "" : ", ", part);
     if (result == kExitSuccess) result = c;
   }
-  fmt::print(streams.text, "wrote {} (case {}, {})\n", file("index.html"), deck.info.title,
+  fmt::print(streams.text, "wrote {} (case {}, {})\n", (target / "index.html").string(), deck.info.title,
              failed.empty() ? "every part succeeded" : fmt::format("not every part succeeded: {}; see their sections", failed));
   return result;
 }
@@ -591,6 +655,7 @@ Command ReportCommand() {
             AddSamplesOption(c, o.samples);
             c.add_option("--threads", o.threads, "Tolerance study: threads, 1 to 1024 (default 0: every hardware thread)");
             c.add_flag("--no-worst-case", o.no_worst_case, "Tolerance study: skip the extreme-value (worst-case) runs");
+            c.add_flag("--force", o.force, "Replace DIR even when it holds files that no ltca report wrote");
           },
           [] { return std::vector<std::string>{}; },
           [st](const Streams& streams) {

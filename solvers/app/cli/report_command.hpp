@@ -17,7 +17,12 @@ struct ReportOptions {
   std::optional<std::int64_t> samples;
   int threads = 0;
   bool no_worst_case = false;
+  /// Replace DIR even when it holds files that no `ltca report` wrote (no marker file).
+  bool force = false;
 };
+
+/// The file in a folder that `ltca report` built; a folder with it may be replaced by the next report.
+inline constexpr const char* kReportMarker = ".ltca-report";
 
 /// `ltca report DECK -o DIR` (issue 16): one static HTML page, DIR/index.html, that a browser
 /// opens from disk with nothing fetched: the case, the model and solver that ran, the geometry

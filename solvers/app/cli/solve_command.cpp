@@ -178,8 +178,46 @@ struct SvgData {
   std::int64_t stride = 1, seen = 0;
   std::vector<double> map_crank;
   std::vector<std::vector<double>> map_force, map_stress;
-  explicit SvgData(std::int64_t positions) : stride(std::max<std::int64_t>(1, (positions + kMapColumns - 1) / kMapColumns)) {}
+  /// The TE line: every position up to kTeBuckets of them; beyond, the least and the largest TE
+  /// of every te_stride positions in crank order, and a gap (NaN) where one of them failed, so
+  /// that memory and the figure stay bounded whatever the sweep (100,000 positions drew a 39 MB
+  /// SVG and peaked at 190 MB). The mean and the extremes marked are the sweep's own.
+  static constexpr std::int64_t kTeBuckets = 2000;
+  std::int64_t te_stride = 1, positions = 0;
+  double te_sum = 0.0;
+  std::int64_t te_count = 0;
+  struct Bucket {
+    double lo_crank = NAN, lo = INFINITY, hi_crank = NAN, hi = -INFINITY, failed_crank = NAN;
+    std::int64_t lo_at = 0, hi_at = 0;  ///< the positions they are at (the order they are drawn in)
+  } bucket;
+  explicit SvgData(std::int64_t n)
+      : stride(std::max<std::int64_t>(1, (n + kMapColumns - 1) / kMapColumns)),
+        te_stride(n > kTeBuckets ? (n + kTeBuckets - 1) / kTeBuckets : 1) {}
+  /// Closes the TE bucket that is open (Add does it as the next one starts; the figure at the end).
+  void Flush() {
+    if (std::isfinite(bucket.lo_crank)) {
+      const bool lo_first = bucket.lo_at <= bucket.hi_at;
+      crank_deg.push_back(lo_first ? bucket.lo_crank : bucket.hi_crank);
+      te_arcsec.push_back(lo_first ? bucket.lo : bucket.hi);
+      if (bucket.hi_at != bucket.lo_at) {
+        crank_deg.push_back(lo_first ? bucket.hi_crank : bucket.lo_crank);
+        te_arcsec.push_back(lo_first ? bucket.hi : bucket.lo);
+      }
+    }
+    if (std::isfinite(bucket.failed_crank)) crank_deg.push_back(bucket.failed_crank), te_arcsec.push_back(NAN);
+    bucket = {};
+  }
   void Add(const app::PositionResult& p) {
+    if (positions++ % te_stride == 0) Flush();
+    const double crank = RadToDeg(p.crank);
+    if (p.succeeded()) {
+      const double te = RadToArcsec(p.result.te);
+      te_sum += te, ++te_count;
+      if (te < bucket.lo) bucket.lo = te, bucket.lo_crank = crank, bucket.lo_at = positions;
+      if (te > bucket.hi) bucket.hi = te, bucket.hi_crank = crank, bucket.hi_at = positions;
+    } else if (!std::isfinite(bucket.failed_crank)) {
+      bucket.failed_crank = crank;
+    }
     if (seen++ % stride == 0) {
       const auto or_nan = [&p](const std::vector<double>& v) {
         return p.succeeded() ? v : std::vector<double>(v.size(), NAN);
@@ -188,8 +226,6 @@ struct SvgData {
       map_force.push_back(or_nan(p.pin_force));
       map_stress.push_back(or_nan(p.contact_stress));
     }
-    crank_deg.push_back(RadToDeg(p.crank));
-    te_arcsec.push_back(p.succeeded() ? RadToArcsec(p.result.te) : NAN);
     if (!p.succeeded()) return;
     const double f = MaxOf(p.pin_force);
     if (f > f_peak) f_peak = f, peak = p;
@@ -230,28 +266,33 @@ plots::Panel PinBars(const std::vector<double>& values, int pin_count, const std
 }
 
 /// The TE over the sweep with its mean and peak-to-peak marked.
-plots::Panel TePanel(const std::vector<double>& crank_deg, const std::vector<double>& te_arcsec, const std::string& label) {
+plots::Panel TePanel(const std::vector<double>& crank_deg, const std::vector<double>& te_arcsec, const std::string& label,
+                     double mean = NAN) {
   plots::Panel panel;
   panel.title = "loaded transmission error";
   panel.x_label = "crank angle (deg)";
   panel.y_label = "TE (arcsec)";
   panel.series.push_back({label, crank_deg, te_arcsec, plots::Style::kLineMarkers});
-  MarkMeanAndPeakToPeak(panel, te_arcsec, "arcsec");
+  MarkMeanAndPeakToPeak(panel, te_arcsec, "arcsec", mean);
   return panel;
 }
 
-void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, const SvgData& data, Output& output) {
+void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, SvgData& data, Output& output) {
+  data.Flush();
   plots::Figure figure;
   const double c_lo = data.crank_deg.empty() ? 0.0 : data.crank_deg.front();
   const double c_hi = data.crank_deg.empty() ? 0.0 : data.crank_deg.back();
   figure.title = fmt::format("{}: loaded TE over crank {:.4g} to {:.4g} deg, {} solver", deck.info.title, c_lo, c_hi, solver.name);
   figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics), T = {:g} N*m, {} positions",
                                                    deck.Model().name, solver.name, contact::ToString(deck.kinematics),
-                                                   units::NmmToNm(deck.RequireLoad().torque), data.crank_deg.size()));
+                                                   units::NmmToNm(deck.RequireLoad().torque), data.positions) +
+                   (data.te_stride > 1 ? fmt::format("; TE drawn as the least and largest of every {} positions", data.te_stride)
+                                       : std::string()));
   figure.columns = 3;
   figure.width = 1500;
   figure.height = 520;
-  figure.panels.push_back(TePanel(data.crank_deg, data.te_arcsec, solver.name));
+  figure.panels.push_back(TePanel(data.crank_deg, data.te_arcsec, solver.name,
+                                  data.te_count > 0 ? data.te_sum / static_cast<double>(data.te_count) : NAN));
   if (data.peak) {
     const auto& p = *data.peak;
     const double crank = RadToDeg(p.crank);

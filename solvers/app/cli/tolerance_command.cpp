@@ -192,6 +192,19 @@ void WriteHistograms(const app::Deck& deck, const app::ToleranceStudy& study, co
 
 }  // namespace
 
+int FailTogether(SampleFarm* farm, std::ostream& err, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (...) {
+    if (farm == nullptr || farm->size() < 2) throw;
+    const int code = ReportError(std::current_exception(), err);
+    err.flush();
+    if (OutputTransaction* run = OutputTransaction::Current()) run->Abandon();
+    farm->Abort(code);  // ends the process
+    throw;              // not reached
+  }
+}
+
 int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, const Streams& streams) {
   const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
   if (!deck.tolerances) {
@@ -215,279 +228,281 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
   const app::ToleranceStudy study(deck.MakeToleranceCase(), solver, settings);  // validates everything
 
   std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
-  const int rank = farm ? farm->rank() : 0, ranks = farm ? farm->size() : 1;
-  const bool root = rank == 0;
-  RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
-  // Outputs first (rank 0 only): an unwritable path is an error before anything is computed.
-  Output json("--json", root ? options.json_path : "", streams.out);
-  Output csv("--csv", root ? options.csv_path : "", streams.out);
-  Output svg("--svg", root ? options.svg_path : "", streams.out);
-  std::ostringstream quiet;
-  std::ostream& text = root ? streams.text : quiet;
+  return FailTogether(farm.get(), streams.err, [&]() -> int {
+    const int rank = farm ? farm->rank() : 0, ranks = farm ? farm->size() : 1;
+    const bool root = rank == 0;
+    RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
+    // Outputs first (rank 0 only): an unwritable path is an error before anything is computed.
+    Output json("--json", root ? options.json_path : "", streams.out);
+    Output csv("--csv", root ? options.csv_path : "", streams.out);
+    Output svg("--svg", root ? options.svg_path : "", streams.out);
+    std::ostringstream quiet;
+    std::ostream& text = root ? streams.text : quiet;
 
-  const std::int64_t n = settings.samples;
-  if (options.first > std::numeric_limits<std::int64_t>::max() - n) {
-    throw std::invalid_argument(fmt::format("--first {} with {} samples: the last sample index would pass {}", options.first, n,
-                                            std::numeric_limits<std::int64_t>::max()));
-  }
-  fmt::print(text, "case      {}\n", deck.info.title);
-  text << ModelLine(deck);
-  text << SolverLine(deck, solver);
-  fmt::print(text, "samples   {} from index {}, seed {} (counter-based Philox4x32-10: sample i depends on (seed, i) only), "
-                   "{} thread(s){}\n",
-             n, options.first, settings.seed, threads, ranks > 1 ? fmt::format(" on each of {} MPI ranks", ranks) : "");
-  fmt::print(text, "per sample: {} and loaded TCA over {} positions from {:g} to {:g} deg crank{}\n",
-             deck.reducer ? "the stage's free play" : "unloaded TCA", deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end),
-             settings.lost_motion ? fmt::format(", lost motion at +-{:g} % of T", 100.0 * deck.stiffness.lost_motion_fraction) : "");
-  for (const auto& d : settings.distributions) fmt::print(text, "  {:<36} {}\n", d.key, app::Describe(d));
-  if (settings.profile_random_per_sample) {
-    fmt::print(text, "  profile random deviation: every sample its own, zone {:g} um ({}), seed drawn from (seed, i)\n",
-               units::MmToUm(deck.errors.profile_random.zone),
-               deck.errors.profile_random.distribution == geometry::ProfileRandomDistribution::kNormal ? "normal" : "uniform");
-  }
-  for (const auto& note : study.notes()) fmt::print(text, "note      {}\n", note);
+    const std::int64_t n = settings.samples;
+    if (options.first > std::numeric_limits<std::int64_t>::max() - n) {
+      throw std::invalid_argument(fmt::format("--first {} with {} samples: the last sample index would pass {}", options.first, n,
+                                              std::numeric_limits<std::int64_t>::max()));
+    }
+    fmt::print(text, "case      {}\n", deck.info.title);
+    text << ModelLine(deck);
+    text << SolverLine(deck, solver);
+    fmt::print(text, "samples   {} from index {}, seed {} (counter-based Philox4x32-10: sample i depends on (seed, i) only), "
+                     "{} thread(s){}\n",
+               n, options.first, settings.seed, threads, ranks > 1 ? fmt::format(" on each of {} MPI ranks", ranks) : "");
+    fmt::print(text, "per sample: {} and loaded TCA over {} positions from {:g} to {:g} deg crank{}\n",
+               deck.reducer ? "the stage's free play" : "unloaded TCA", deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end),
+               settings.lost_motion ? fmt::format(", lost motion at +-{:g} % of T", 100.0 * deck.stiffness.lost_motion_fraction) : "");
+    for (const auto& d : settings.distributions) fmt::print(text, "  {:<36} {}\n", d.key, app::Describe(d));
+    if (settings.profile_random_per_sample) {
+      fmt::print(text, "  profile random deviation: every sample its own, zone {:g} um ({}), seed drawn from (seed, i)\n",
+                 units::MmToUm(deck.errors.profile_random.zone),
+                 deck.errors.profile_random.distribution == geometry::ProfileRandomDistribution::kNormal ? "normal" : "uniform");
+    }
+    for (const auto& note : study.notes()) fmt::print(text, "note      {}\n", note);
 
-  const auto& names = app::ToleranceSettings::FigureNames();
-  // The CSV is written as the samples come, in sample order: every sample's inputs and figures,
-  // so that any one can be re-run (--first i --samples 1). Only the table is kept.
-  std::ostream* csv_os = csv.enabled() ? &csv.stream() : nullptr;
-  if (csv_os != nullptr) {
-    std::ostream& os = *csv_os;
-    os << "sample,status";
-    for (const auto& in : study.inputs()) os << ',' << in.name;
-    for (std::size_t f = 0; f < names.size(); ++f) {
-      if (study.Runs(f)) os << ',' << names[f];
-    }
-    os << ",message\n";
-  }
-  const std::int64_t begin = options.first + n * rank / ranks, end = options.first + n * (rank + 1) / ranks;
-  app::SampleTable samples(options.first);
-  std::string mine;      // a rank other than 0: its samples as bytes for the gather
-  bool mine_ok = true;   // and whether they all succeeded (its exit code)
-  if (root) samples.Reserve(n);
-  const auto keep = [&](const ToleranceSample& s) {
-    if (!root) {
-      mine_ok = mine_ok && s.status == analysis::RunStatus::kSuccess;
-      return app::AppendSampleBytes(s, mine);
-    }
+    const auto& names = app::ToleranceSettings::FigureNames();
+    // The CSV is written as the samples come, in sample order: every sample's inputs and figures,
+    // so that any one can be re-run (--first i --samples 1). Only the table is kept.
+    std::ostream* csv_os = csv.enabled() ? &csv.stream() : nullptr;
     if (csv_os != nullptr) {
       std::ostream& os = *csv_os;
-      os << s.index << ',' << ToString(s.status);
-      for (const double v : s.inputs) os << ',' << CsvNumber(v);
+      os << "sample,status";
+      for (const auto& in : study.inputs()) os << ',' << in.name;
       for (std::size_t f = 0; f < names.size(); ++f) {
-        if (study.Runs(f)) os << ',' << CsvNumber(s.figures[f]);
+        if (study.Runs(f)) os << ',' << names[f];
       }
-      os << ',' << CsvText(s.message) << '\n';
+      os << ",message\n";
     }
-    samples.Add(s);
-  };
-
-  // The samples: rank r runs the r-th static block, on its threads. The first few (two per
-  // thread) run first and give the estimate of the whole run (issue 27: a run said nothing of
-  // what it would cost); samples depend on (seed, i) only, so the split changes no number.
-  const auto start = Clock::now();
-  {
-    const std::int64_t count = end - begin;
-    const std::int64_t first = std::min<std::int64_t>(count, 2 * static_cast<std::int64_t>(threads));
-    Progress progress(streams.err, streams.progress && root, "tolerance sample", count, options.progress_after_seconds);
-    study.RunStream(begin, first, threads, keep, [&](std::int64_t done) { progress.Update(done); });
-    if (root && first < count) {
-      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-      fmt::print(text, "estimate  about {:.3g} s for the {} samples{} (the first {} took {:.3g} s on {} thread(s)){}\n",
-                 seconds * static_cast<double>(count) / static_cast<double>(first), count, ranks > 1 ? " of this rank" : "",
-                 first, seconds, threads, options.no_worst_case ? "" : "; the worst case runs after them");
-      text.flush();
-    }
-    study.RunStream(begin + first, count - first, threads, keep, [&](std::int64_t done) { progress.Update(first + done); });
-    progress.Finish();
-  }
-  if (farm && ranks > 1) {
-    const std::vector<std::string> parts = farm->Gather(mine);
-    if (!root) {
-      // This rank's exit code: whether its own samples succeeded (rank 0's is the study's).
-      return mine_ok ? kExitSuccess : kExitNotSucceeded;
-    }
-    for (std::size_t r = 1; r < parts.size(); ++r) app::ReadSampleBytes(parts[r], study, keep);
-    if (samples.size() != n) throw std::runtime_error(fmt::format("tolerance: gathered {} samples, expected {}", samples.size(), n));
-  }
-  if (csv_os != nullptr) csv.Commit();
-  const double sample_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const app::ToleranceSummary summary = app::Summarise(study, samples);
-  std::optional<app::WorstCaseResult> worst;
-  std::array<app::CornerExceedance, app::kToleranceFigureCount> beyond{};
-  const auto worst_start = Clock::now();
-  if (!options.no_worst_case) {
-    // Its own progress line (the samples' reads 100 % by now), cleared before the summary.
-    // At most 1 + 2 x columns + 2 x figures runs (a figure with no stack runs no corner).
-    Progress progress(streams.err, streams.progress && root, "tolerance worst-case run",
-                      1 + 2 * static_cast<std::int64_t>(study.inputs().size() + app::kToleranceFigureCount),
-                      options.progress_after_seconds);
-    worst = app::ExtremeValueWorstCase(study, threads, [&](std::int64_t done, std::int64_t) { progress.Update(done); });
-    progress.Finish();
-    beyond = app::CompareWithCorners(study, samples, *worst);
-  }
-  const double worst_seconds = std::chrono::duration<double>(Clock::now() - worst_start).count();
-
-  if (svg.enabled()) {
-    WriteHistograms(deck, study, samples, summary, worst ? &*worst : nullptr, svg);
-  }
-  if (json.enabled()) {
-    nlohmann::json dists = nlohmann::json::array();
-    for (const auto& d : settings.distributions) {
-      nlohmann::json j = {{"key", d.key}, {"distribution", KindName(d.kind)}, {"mean", d.mean}, {"per_pin", d.per_pin},
-                          {"std", d.StandardDeviation()}, {"worst_case_half_width", d.WorstCaseHalfWidth()},
-                          {"description", app::Describe(d)}};
-      if (d.kind == app::ToleranceDistribution::Kind::kNormal) {
-        j["sigma"] = d.sigma;
-        j["truncated_at"] = app::Truncated(d) ? nlohmann::json(d.tolerance) : nlohmann::json();
+    const std::int64_t begin = options.first + n * rank / ranks, end = options.first + n * (rank + 1) / ranks;
+    app::SampleTable samples(options.first);
+    std::string mine;      // a rank other than 0: its samples as bytes for the gather
+    bool mine_ok = true;   // and whether they all succeeded (its exit code)
+    if (root) samples.Reserve(n);
+    const auto keep = [&](const ToleranceSample& s) {
+      if (!root) {
+        mine_ok = mine_ok && s.status == analysis::RunStatus::kSuccess;
+        return app::AppendSampleBytes(s, mine);
       }
-      if (d.tolerance != 0.0 || d.kind == app::ToleranceDistribution::Kind::kUniform) j["tolerance"] = d.tolerance;
-      dists.push_back(std::move(j));
+      if (csv_os != nullptr) {
+        std::ostream& os = *csv_os;
+        os << s.index << ',' << ToString(s.status);
+        for (const double v : s.inputs) os << ',' << CsvNumber(v);
+        for (std::size_t f = 0; f < names.size(); ++f) {
+          if (study.Runs(f)) os << ',' << CsvNumber(s.figures[f]);
+        }
+        os << ',' << CsvText(s.message) << '\n';
+      }
+      samples.Add(s);
+    };
+
+    // The samples: rank r runs the r-th static block, on its threads. The first few (two per
+    // thread) run first and give the estimate of the whole run (issue 27: a run said nothing of
+    // what it would cost); samples depend on (seed, i) only, so the split changes no number.
+    const auto start = Clock::now();
+    {
+      const std::int64_t count = end - begin;
+      const std::int64_t first = std::min<std::int64_t>(count, 2 * static_cast<std::int64_t>(threads));
+      Progress progress(streams.err, streams.progress && root, "tolerance sample", count, options.progress_after_seconds);
+      study.RunStream(begin, first, threads, keep, [&](std::int64_t done) { progress.Update(done); });
+      if (root && first < count) {
+        const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+        fmt::print(text, "estimate  about {:.3g} s for the {} samples{} (the first {} took {:.3g} s on {} thread(s)){}\n",
+                   seconds * static_cast<double>(count) / static_cast<double>(first), count, ranks > 1 ? " of this rank" : "",
+                   first, seconds, threads, options.no_worst_case ? "" : "; the worst case runs after them");
+        text.flush();
+      }
+      study.RunStream(begin + first, count - first, threads, keep, [&](std::int64_t done) { progress.Update(first + done); });
+      progress.Finish();
     }
-    nlohmann::json figures = nlohmann::json::object(), sens = nlohmann::json::object(), wc = nlohmann::json::object();
+    if (farm && ranks > 1) {
+      const std::vector<std::string> parts = farm->Gather(mine);
+      if (!root) {
+        // This rank's exit code: whether its own samples succeeded (rank 0's is the study's).
+        return mine_ok ? kExitSuccess : kExitNotSucceeded;
+      }
+      for (std::size_t r = 1; r < parts.size(); ++r) app::ReadSampleBytes(parts[r], study, keep);
+      if (samples.size() != n) throw std::runtime_error(fmt::format("tolerance: gathered {} samples, expected {}", samples.size(), n));
+    }
+    if (csv_os != nullptr) csv.Commit();
+    const double sample_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const app::ToleranceSummary summary = app::Summarise(study, samples);
+    std::optional<app::WorstCaseResult> worst;
+    std::array<app::CornerExceedance, app::kToleranceFigureCount> beyond{};
+    const auto worst_start = Clock::now();
+    if (!options.no_worst_case) {
+      // Its own progress line (the samples' reads 100 % by now), cleared before the summary.
+      // At most 1 + 2 x columns + 2 x figures runs (a figure with no stack runs no corner).
+      Progress progress(streams.err, streams.progress && root, "tolerance worst-case run",
+                        1 + 2 * static_cast<std::int64_t>(study.inputs().size() + app::kToleranceFigureCount),
+                        options.progress_after_seconds);
+      worst = app::ExtremeValueWorstCase(study, threads, [&](std::int64_t done, std::int64_t) { progress.Update(done); });
+      progress.Finish();
+      beyond = app::CompareWithCorners(study, samples, *worst);
+    }
+    const double worst_seconds = std::chrono::duration<double>(Clock::now() - worst_start).count();
+
+    if (svg.enabled()) {
+      WriteHistograms(deck, study, samples, summary, worst ? &*worst : nullptr, svg);
+    }
+    if (json.enabled()) {
+      nlohmann::json dists = nlohmann::json::array();
+      for (const auto& d : settings.distributions) {
+        nlohmann::json j = {{"key", d.key}, {"distribution", KindName(d.kind)}, {"mean", d.mean}, {"per_pin", d.per_pin},
+                            {"std", d.StandardDeviation()}, {"worst_case_half_width", d.WorstCaseHalfWidth()},
+                            {"description", app::Describe(d)}};
+        if (d.kind == app::ToleranceDistribution::Kind::kNormal) {
+          j["sigma"] = d.sigma;
+          j["truncated_at"] = app::Truncated(d) ? nlohmann::json(d.tolerance) : nlohmann::json();
+        }
+        if (d.tolerance != 0.0 || d.kind == app::ToleranceDistribution::Kind::kUniform) j["tolerance"] = d.tolerance;
+        dists.push_back(std::move(j));
+      }
+      nlohmann::json figures = nlohmann::json::object(), sens = nlohmann::json::object(), wc = nlohmann::json::object();
+      for (std::size_t f = 0; f < names.size(); ++f) {
+        if (!study.Runs(f)) continue;
+        figures[names[f]] = StatsJson(summary.figures[f]);
+        const auto& fs = summary.sensitivity[f];
+        nlohmann::json keys = nlohmann::json::array();
+        for (const auto& k : fs.keys) {
+          keys.push_back({{"key", k.key}, {"src", FiniteOrNull(k.src)}, {"share", FiniteOrNull(k.share)}, {"columns", k.columns},
+                          {"noise_floor", FiniteOrNull(k.noise_floor)}, {"distinguishable_from_chance", k.distinguishable}});
+        }
+        sens[names[f]] = {{"samples", fs.samples}, {"r_squared", FiniteOrNull(fs.r_squared)},
+                          {"r_squared_noise_floor", FiniteOrNull(fs.r_squared_floor)}, {"ranking", keys}};
+        if (!fs.note.empty()) sens[names[f]]["note"] = fs.note;
+        if (worst) {
+          const auto& w = worst->figures[f];
+          wc[names[f]] = {{"nominal", FiniteOrNull(w.nominal)},       {"stack_low", FiniteOrNull(w.stack_low)},
+                          {"stack_high", FiniteOrNull(w.stack_high)}, {"corner_low", FiniteOrNull(w.corner_low)},
+                          {"corner_high", FiniteOrNull(w.corner_high)}, {"corner_low_status", ToString(w.corner_low_status)},
+                          {"corner_high_status", ToString(w.corner_high_status)},
+                          {"monte_carlo_beyond_corners", beyond[f].beyond > 0},
+                          {"samples_beyond_corners", beyond[f].beyond},
+                          {"samples_beyond_corners_inputs_in_range", beyond[f].beyond_in_range}};
+          if (!w.note.empty()) wc[names[f]]["note"] = w.note;
+        }
+      }
+      nlohmann::json limits = nlohmann::json::array();
+      for (const auto& l : summary.limits) {
+        limits.push_back({{"figure", l.limit.figure}, {"min", FiniteOrNull(l.limit.min)}, {"max", FiniteOrNull(l.limit.max)},
+                          {"passed", l.passed}, {"fraction", l.fraction}});
+      }
+      nlohmann::json doc = {
+          {"case", CaseJson(deck)},
+          {"model", ModelJson(deck.Model())},
+          {"solver", SolverJson(deck, solver)},
+          {"tolerances",
+           {{"samples", n}, {"first", options.first}, {"seed", settings.seed}, {"threads", threads}, {"mpi_ranks", ranks},
+            {"lost_motion", settings.lost_motion}, {"profile_random_per_sample", settings.profile_random_per_sample},
+            {"distributions", dists},
+            {"sweep", {{"crank_start_deg", units::RadToDeg(deck.sweep.crank_start)}, {"crank_end_deg", units::RadToDeg(deck.sweep.crank_end)},
+                       {"positions", deck.sweep.positions}}},
+            {"random_stream", "Philox4x32-10 (counter-based): draw (key, pin) of sample i is a pure function of (seed, i); a normal "
+                              "given as +-tolerance is the normal truncated there, drawn by the inverse distribution function"}}},
+          {"notes", study.notes()},
+          {"summary",
+           {{"samples", summary.samples}, {"seed", summary.seed}, {"succeeded", summary.succeeded}, {"failed", summary.failed},
+            {"rejected", summary.rejected}, {"figures", figures}, {"limits", limits},
+            {"pass_fraction", FiniteOrNull(summary.pass_fraction)},
+            {"sensitivity", {{"method", app::kSensitivityMethod}, {"figures", sens}}},
+            {"wall_seconds", sample_seconds},
+            {"samples_per_second", FiniteOrNull(static_cast<double>(n) / sample_seconds)}}}};
+      if (!settings.chains.empty()) {
+        nlohmann::json chains = nlohmann::json::object();
+        for (std::size_t c = 0; c < settings.chains.size(); ++c) {
+          const auto& chain = settings.chains[c];
+          const app::ClosingLink ev = app::ExtremeValueClosingLink(chain.links);
+          nlohmann::json mc = StatsJson(app::ChainMonteCarlo(chain.links, n, settings.seed, c));
+          chains[chain.name] = {{"extreme_value_um", {{"min", ev.min}, {"max", ev.max}}}, {"monte_carlo_um", mc},
+                                {"method", "extreme-value method (Jiang 2022 section 5.1) and Monte Carlo with every link uniform within its limits"}};
+        }
+        doc["summary"]["chains"] = chains;
+      }
+      if (worst) {
+        doc["summary"]["worst_case"] = {{"method", kWorstCaseMethod}, {"figures", wc}, {"runs", worst->runs},
+                                        {"failed_runs", worst->failed_runs}, {"wall_seconds", worst_seconds}};
+        if (!worst->first_failure.empty()) doc["summary"]["worst_case"]["first_failure"] = worst->first_failure;
+      }
+      json.stream() << Dump(doc) << '\n';
+      json.Commit();
+    }
+
+    // The text summary.
+    fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", "figure", "mean", "std", "p1", "p5", "p50", "p95",
+               "p99", worst ? fmt::format(" {:>23}", "worst case (corners)") : std::string());
     for (std::size_t f = 0; f < names.size(); ++f) {
       if (!study.Runs(f)) continue;
-      figures[names[f]] = StatsJson(summary.figures[f]);
-      const auto& fs = summary.sensitivity[f];
-      nlohmann::json keys = nlohmann::json::array();
-      for (const auto& k : fs.keys) {
-        keys.push_back({{"key", k.key}, {"src", FiniteOrNull(k.src)}, {"share", FiniteOrNull(k.share)}, {"columns", k.columns},
-                        {"noise_floor", FiniteOrNull(k.noise_floor)}, {"distinguishable_from_chance", k.distinguishable}});
-      }
-      sens[names[f]] = {{"samples", fs.samples}, {"r_squared", FiniteOrNull(fs.r_squared)},
-                        {"r_squared_noise_floor", FiniteOrNull(fs.r_squared_floor)}, {"ranking", keys}};
-      if (!fs.note.empty()) sens[names[f]]["note"] = fs.note;
-      if (worst) {
-        const auto& w = worst->figures[f];
-        wc[names[f]] = {{"nominal", FiniteOrNull(w.nominal)},       {"stack_low", FiniteOrNull(w.stack_low)},
-                        {"stack_high", FiniteOrNull(w.stack_high)}, {"corner_low", FiniteOrNull(w.corner_low)},
-                        {"corner_high", FiniteOrNull(w.corner_high)}, {"corner_low_status", ToString(w.corner_low_status)},
-                        {"corner_high_status", ToString(w.corner_high_status)},
-                        {"monte_carlo_beyond_corners", beyond[f].beyond > 0},
-                        {"samples_beyond_corners", beyond[f].beyond},
-                        {"samples_beyond_corners_inputs_in_range", beyond[f].beyond_in_range}};
-        if (!w.note.empty()) wc[names[f]]["note"] = w.note;
-      }
-    }
-    nlohmann::json limits = nlohmann::json::array();
-    for (const auto& l : summary.limits) {
-      limits.push_back({{"figure", l.limit.figure}, {"min", FiniteOrNull(l.limit.min)}, {"max", FiniteOrNull(l.limit.max)},
-                        {"passed", l.passed}, {"fraction", l.fraction}});
-    }
-    nlohmann::json doc = {
-        {"case", CaseJson(deck)},
-        {"model", ModelJson(deck.Model())},
-        {"solver", SolverJson(deck, solver)},
-        {"tolerances",
-         {{"samples", n}, {"first", options.first}, {"seed", settings.seed}, {"threads", threads}, {"mpi_ranks", ranks},
-          {"lost_motion", settings.lost_motion}, {"profile_random_per_sample", settings.profile_random_per_sample},
-          {"distributions", dists},
-          {"sweep", {{"crank_start_deg", units::RadToDeg(deck.sweep.crank_start)}, {"crank_end_deg", units::RadToDeg(deck.sweep.crank_end)},
-                     {"positions", deck.sweep.positions}}},
-          {"random_stream", "Philox4x32-10 (counter-based): draw (key, pin) of sample i is a pure function of (seed, i); a normal "
-                            "given as +-tolerance is the normal truncated there, drawn by the inverse distribution function"}}},
-        {"notes", study.notes()},
-        {"summary",
-         {{"samples", summary.samples}, {"seed", summary.seed}, {"succeeded", summary.succeeded}, {"failed", summary.failed},
-          {"rejected", summary.rejected}, {"figures", figures}, {"limits", limits},
-          {"pass_fraction", FiniteOrNull(summary.pass_fraction)},
-          {"sensitivity", {{"method", app::kSensitivityMethod}, {"figures", sens}}},
-          {"wall_seconds", sample_seconds},
-          {"samples_per_second", FiniteOrNull(static_cast<double>(n) / sample_seconds)}}}};
-    if (!settings.chains.empty()) {
-      nlohmann::json chains = nlohmann::json::object();
-      for (std::size_t c = 0; c < settings.chains.size(); ++c) {
-        const auto& chain = settings.chains[c];
-        const app::ClosingLink ev = app::ExtremeValueClosingLink(chain.links);
-        nlohmann::json mc = StatsJson(app::ChainMonteCarlo(chain.links, n, settings.seed, c));
-        chains[chain.name] = {{"extreme_value_um", {{"min", ev.min}, {"max", ev.max}}}, {"monte_carlo_um", mc},
-                              {"method", "extreme-value method (Jiang 2022 section 5.1) and Monte Carlo with every link uniform within its limits"}};
-      }
-      doc["summary"]["chains"] = chains;
+      const auto& s = summary.figures[f];
+      fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", names[f], FormatOrNa(s.mean, 4), FormatOrNa(s.std, 4),
+                 FormatOrNa(s.p1, 4), FormatOrNa(s.p5, 4), FormatOrNa(s.p50, 4), FormatOrNa(s.p95, 4), FormatOrNa(s.p99, 4),
+                 worst ? fmt::format(" {:>11} {:>11}{}", Corner(worst->figures[f].corner_low, worst->figures[f].corner_low_status),
+                                     Corner(worst->figures[f].corner_high, worst->figures[f].corner_high_status), BeyondMark(beyond[f]))
+                       : std::string());
     }
     if (worst) {
-      doc["summary"]["worst_case"] = {{"method", kWorstCaseMethod}, {"figures", wc}, {"runs", worst->runs},
-                                      {"failed_runs", worst->failed_runs}, {"wall_seconds", worst_seconds}};
-      if (!worst->first_failure.empty()) doc["summary"]["worst_case"]["first_failure"] = worst->first_failure;
-    }
-    json.stream() << Dump(doc) << '\n';
-    json.Commit();
-  }
-
-  // The text summary.
-  fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", "figure", "mean", "std", "p1", "p5", "p50", "p95",
-             "p99", worst ? fmt::format(" {:>23}", "worst case (corners)") : std::string());
-  for (std::size_t f = 0; f < names.size(); ++f) {
-    if (!study.Runs(f)) continue;
-    const auto& s = summary.figures[f];
-    fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", names[f], FormatOrNa(s.mean, 4), FormatOrNa(s.std, 4),
-               FormatOrNa(s.p1, 4), FormatOrNa(s.p5, 4), FormatOrNa(s.p50, 4), FormatOrNa(s.p95, 4), FormatOrNa(s.p99, 4),
-               worst ? fmt::format(" {:>11} {:>11}{}", Corner(worst->figures[f].corner_low, worst->figures[f].corner_low_status),
-                                   Corner(worst->figures[f].corner_high, worst->figures[f].corner_high_status), BeyondMark(beyond[f]))
-                     : std::string());
-  }
-  if (worst) {
-    fmt::print(text, "worst case: extreme-value method (every input at +-tolerance or +-3 sigma about its centre, effects stacked "
-                     "linearly, the corner the stack picks run): {} runs, {} not succeeded\n",
-               worst->runs, worst->failed_runs);
-    if (worst->failed_runs > 0) {
-      fmt::print(text, "  a corner marked 'rejected' could not be built or assembled, one marked 'failed' did not solve; a figure "
-                       "whose effect of an input needs a run that did not succeed has no stack and no corner ('not run'), never "
-                       "an effect of 0; first: {}\n",
-                 worst->first_failure);
-    }
-    const auto any = [&](auto&& pred) {
-      for (std::size_t f = 0; f < names.size(); ++f) {
-        if (study.Runs(f) && pred(beyond[f])) return true;
+      fmt::print(text, "worst case: extreme-value method (every input at +-tolerance or +-3 sigma about its centre, effects stacked "
+                       "linearly, the corner the stack picks run): {} runs, {} not succeeded\n",
+                 worst->runs, worst->failed_runs);
+      if (worst->failed_runs > 0) {
+        fmt::print(text, "  a corner marked 'rejected' could not be built or assembled, one marked 'failed' did not solve; a figure "
+                         "whose effect of an input needs a run that did not succeed has no stack and no corner ('not run'), never "
+                         "an effect of 0; first: {}\n",
+                   worst->first_failure);
       }
-      return false;
-    };
-    if (any([](const app::CornerExceedance& e) { return e.beyond_in_range > 0; })) {
-      fmt::print(text, "  * samples with every input within its range lie beyond the corners: the figure is not monotonic in the "
-                       "inputs (a maximum or range over the pins: its worst case is pins that differ, not every pin at the same "
-                       "limit); the corners bound nothing there\n");
+      const auto any = [&](auto&& pred) {
+        for (std::size_t f = 0; f < names.size(); ++f) {
+          if (study.Runs(f) && pred(beyond[f])) return true;
+        }
+        return false;
+      };
+      if (any([](const app::CornerExceedance& e) { return e.beyond_in_range > 0; })) {
+        fmt::print(text, "  * samples with every input within its range lie beyond the corners: the figure is not monotonic in the "
+                         "inputs (a maximum or range over the pins: its worst case is pins that differ, not every pin at the same "
+                         "limit); the corners bound nothing there\n");
+      }
+      if (any([](const app::CornerExceedance& e) { return e.beyond > 0 && e.beyond_in_range == 0; })) {
+        fmt::print(text, "  + the samples beyond the corners each have an input beyond 3 sigma: a normal given by sigma is not "
+                         "truncated (0.27 % of its draws lie beyond the +-3 sigma of the worst case); give it as a tolerance to "
+                         "truncate it there\n");
+      }
     }
-    if (any([](const app::CornerExceedance& e) { return e.beyond > 0 && e.beyond_in_range == 0; })) {
-      fmt::print(text, "  + the samples beyond the corners each have an input beyond 3 sigma: a normal given by sigma is not "
-                       "truncated (0.27 % of its draws lie beyond the +-3 sigma of the worst case); give it as a tolerance to "
-                       "truncate it there\n");
+    for (std::size_t c = 0; c < settings.chains.size(); ++c) {
+      const auto& chain = settings.chains[c];
+      const app::ClosingLink ev = app::ExtremeValueClosingLink(chain.links);
+      const app::FigureStats mc = app::ChainMonteCarlo(chain.links, n, settings.seed, c);
+      fmt::print(text, "chain {}: closing link by the extreme-value method {:g} .. {:g} um; Monte Carlo (links uniform) mean {:.3f}, "
+                       "p1 {:.3f}, p50 {:.3f}, p99 {:.3f} um\n",
+                 chain.name, ev.min, ev.max, mc.mean, mc.p1, mc.p50, mc.p99);
     }
-  }
-  for (std::size_t c = 0; c < settings.chains.size(); ++c) {
-    const auto& chain = settings.chains[c];
-    const app::ClosingLink ev = app::ExtremeValueClosingLink(chain.links);
-    const app::FigureStats mc = app::ChainMonteCarlo(chain.links, n, settings.seed, c);
-    fmt::print(text, "chain {}: closing link by the extreme-value method {:g} .. {:g} um; Monte Carlo (links uniform) mean {:.3f}, "
-                     "p1 {:.3f}, p50 {:.3f}, p99 {:.3f} um\n",
-               chain.name, ev.min, ev.max, mc.mean, mc.p1, mc.p50, mc.p99);
-  }
-  for (const auto& l : summary.limits) {
-    fmt::print(text, "limit     {} in [{:g}, {:g}]: {} of {} samples ({:.2f} %)\n", l.limit.figure, l.limit.min, l.limit.max, l.passed,
-               summary.samples, 100.0 * l.fraction);
-  }
-  if (!summary.limits.empty()) {
-    fmt::print(text, "all limits met by {} of {} samples ({:.2f} %)\n", summary.passed_all, summary.samples, 100.0 * summary.pass_fraction);
-  }
-  fmt::print(text, "sensitivity (standardised regression coefficients; share = sum of SRC^2 over the key's columns; R^2 of the "
-                   "linear fit, beside it the R^2 chance reaches; '~': a share below its noise floor, not distinguishable from "
-                   "chance at the 99.9th percentile):\n");
-  for (std::size_t f = 0; f < names.size(); ++f) {
-    if (!study.Runs(f)) continue;
-    const auto& fs = summary.sensitivity[f];
-    std::string ranking;
-    for (std::size_t k = 0; k < std::min<std::size_t>(3, fs.keys.size()); ++k) {
-      ranking += fmt::format("{}{} {:.3f}{}", k == 0 ? "" : ", ", fs.keys[k].key, fs.keys[k].share, fs.keys[k].distinguishable ? "" : " ~");
+    for (const auto& l : summary.limits) {
+      fmt::print(text, "limit     {} in [{:g}, {:g}]: {} of {} samples ({:.2f} %)\n", l.limit.figure, l.limit.min, l.limit.max, l.passed,
+                 summary.samples, 100.0 * l.fraction);
     }
-    fmt::print(text, "  {:<24} R^2 {:>6} (chance {:>5})  {}\n", names[f], FormatOrNa(fs.r_squared, 3), FormatOrNa(fs.r_squared_floor, 3),
-               fs.note.empty() ? ranking : fs.note);
-  }
-  if (summary.failed + summary.rejected > 0) {
-    fmt::print(text, "not succeeded: {} failed, {} rejected of {} samples; first: sample {}: {}\n", summary.failed, summary.rejected,
-               summary.samples, samples.first_failure_index(), samples.first_failure_message());
-  }
-  fmt::print(text, "wall time {:.3f} s for {} samples ({:.1f} samples/s){}\n", sample_seconds, n, static_cast<double>(n) / sample_seconds,
-             worst ? fmt::format("; worst case {:.3f} s for {} runs", worst_seconds, worst->runs) : std::string());
-  return summary.succeeded == summary.samples ? kExitSuccess : kExitNotSucceeded;
+    if (!summary.limits.empty()) {
+      fmt::print(text, "all limits met by {} of {} samples ({:.2f} %)\n", summary.passed_all, summary.samples, 100.0 * summary.pass_fraction);
+    }
+    fmt::print(text, "sensitivity (standardised regression coefficients; share = sum of SRC^2 over the key's columns; R^2 of the "
+                     "linear fit, beside it the R^2 chance reaches; '~': a share below its noise floor, not distinguishable from "
+                     "chance at the 99.9th percentile):\n");
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      if (!study.Runs(f)) continue;
+      const auto& fs = summary.sensitivity[f];
+      std::string ranking;
+      for (std::size_t k = 0; k < std::min<std::size_t>(3, fs.keys.size()); ++k) {
+        ranking += fmt::format("{}{} {:.3f}{}", k == 0 ? "" : ", ", fs.keys[k].key, fs.keys[k].share, fs.keys[k].distinguishable ? "" : " ~");
+      }
+      fmt::print(text, "  {:<24} R^2 {:>6} (chance {:>5})  {}\n", names[f], FormatOrNa(fs.r_squared, 3), FormatOrNa(fs.r_squared_floor, 3),
+                 fs.note.empty() ? ranking : fs.note);
+    }
+    if (summary.failed + summary.rejected > 0) {
+      fmt::print(text, "not succeeded: {} failed, {} rejected of {} samples; first: sample {}: {}\n", summary.failed, summary.rejected,
+                 summary.samples, samples.first_failure_index(), samples.first_failure_message());
+    }
+    fmt::print(text, "wall time {:.3f} s for {} samples ({:.1f} samples/s){}\n", sample_seconds, n, static_cast<double>(n) / sample_seconds,
+               worst ? fmt::format("; worst case {:.3f} s for {} runs", worst_seconds, worst->runs) : std::string());
+    return summary.succeeded == summary.samples ? kExitSuccess : kExitNotSucceeded;
+  });
 }
 
 Command ToleranceCommand() {

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -39,7 +40,15 @@ class SampleFarm {
   /// Every rank passes its bytes and gets every rank's bytes in rank order (ltca optimise: the
   /// ranks run one search in lockstep and share the work that divides).
   virtual std::vector<std::string> AllGather(const std::string& mine) = 0;
+  /// Ends every rank of the job with this exit code (MPI_Abort): a rank that fails must not leave
+  /// the others waiting in a collective.
+  [[noreturn]] virtual void Abort(int code) = 0;
 };
+
+/// Runs `body`, the part of a command after its farm is made. When it throws on a rank of a job of
+/// several, the message is printed as `ltca` prints it, the run's temporaries are removed and
+/// every rank ends with the exit code (SampleFarm::Abort); alone, the exception goes on.
+int FailTogether(SampleFarm* farm, std::ostream& err, const std::function<int()>& body);
 /// The MPI job this process is a rank of (started by mpirun), or nullptr: built without MPI, or
 /// not started by mpirun (a plain run is one process with threads).
 std::unique_ptr<SampleFarm> MakeSampleFarm();

@@ -70,6 +70,10 @@ class MpiFarm final : public SampleFarm {
     }
     return out;
   }
+  [[noreturn]] void Abort(int code) override {
+    PMPI_Abort(MPI_COMM_WORLD, code);
+    std::_Exit(code);  // MPI_Abort does not return; should it, this rank ends all the same
+  }
   std::vector<std::string> AllGather(const std::string& mine) override {
     if (mine.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
       throw std::runtime_error("MPI: a rank's bytes exceed 2 GiB");

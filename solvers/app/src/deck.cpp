@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <tuple>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -17,6 +19,7 @@
 
 #include "ltca/analysis/keys.hpp"
 #include "ltca/contact/mesh_state.hpp"
+#include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
 #include "ltca/solvers/stage.hpp"
@@ -488,6 +491,10 @@ geometry::Modification ReadModification(const Section& s, const geometry::PairPa
   return m;
 }
 
+/// The files the deck being read opens beyond itself (its measured traces), for Deck::source.files;
+/// set by ReadParsed for the duration of one read on this thread.
+thread_local std::vector<std::filesystem::path>* tl_files_read = nullptr;
+
 /// [errors] profile_measured_csv: the trace, read from `directory` when the path is relative.
 geometry::MeasuredProfile ReadMeasuredProfile(const std::string& value, const std::filesystem::path& directory) {
   const std::string key = fmt::format("[errors] profile_measured_csv = \"{}\"", value);
@@ -499,6 +506,7 @@ geometry::MeasuredProfile ReadMeasuredProfile(const std::string& value, const st
       path, path.string() == value ? key : fmt::format("{} (read as '{}')", key, path.string()),
       "CSV file of a measured profile (profile_angle_deg or arc_length_mm, deviation_um)",
       DeckLimits::kMaxProfileCsvBytes, "a profile trace");
+  if (tl_files_read != nullptr) tl_files_read->push_back(path);
   return geometry::ParseMeasuredProfile(text, key);
 }
 
@@ -1103,6 +1111,37 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
   b.radial_clearance = bearing.Real("radial_clearance_mm", 0.0);
   b.dynamic_load_rating = bearing.Real("dynamic_load_rating_n", 0.0);
   s.Validate(pair.eccentricity);
+  // Limits of physical sense (docs/decks.md, Limits). The holes lie inside the disc: within its
+  // root circle, the profile's nearest point to the disc centre (u = 0, the root of a tooth space).
+  const double root = geometry::CycloidProfile(pair).Position(0.0).norm();
+  const double reach = pins ? s.pins.circle_radius + s.pins.hole_radius : s.cranks.circle_radius;
+  if (!(reach < root)) {
+    throw std::invalid_argument(fmt::format(
+        "[output] circle_radius_mm = {}: the {} reach {:.6g} mm from the disc centre; expected them inside the disc, within "
+        "its root circle of {:.6g} mm",
+        pins ? s.pins.circle_radius : s.cranks.circle_radius, pins ? "holes (circle_radius_mm + hole_radius_mm)" : "crank holes' centres",
+        reach, root));
+  }
+  // The stage's elements are linearised about their unloaded pose: a play that moves the disc by
+  // more than a small fraction of the pin radius is beyond the model (1 mm of play moved the disc
+  // 1.04 mm, and the linearised and exact forces differed by 80 %).
+  const double play_limit = DeckLimits::kMaxDeviationFraction * pair.pin_radius;
+  if (b.radial_clearance > play_limit) {
+    throw std::invalid_argument(fmt::format(
+        "[bearing] radial_clearance_mm = {}: expected a radial play of at most {:.6g} mm ({:g} % of [pair] pin_radius_mm = {}): the "
+        "stage's model holds for small displacements of the disc (docs/decks.md, Limits)",
+        b.radial_clearance, play_limit, 100.0 * DeckLimits::kMaxDeviationFraction, pair.pin_radius));
+  }
+  if (pins) {
+    const double clearance = s.pins.hole_radius - s.pins.pin_radius - pair.eccentricity;
+    if (clearance > play_limit) {
+      throw std::invalid_argument(fmt::format(
+          "[output] hole_radius_mm = {}: its clearance hole_radius_mm - pin_radius_mm - eccentricity_mm = {:.6g} mm; expected "
+          "at most {:.6g} mm ({:g} % of [pair] pin_radius_mm): the stage's model holds for small displacements of the disc "
+          "(docs/decks.md, Limits)",
+          s.pins.hole_radius, clearance, play_limit, 100.0 * DeckLimits::kMaxDeviationFraction));
+    }
+  }
   return s;
 }
 
@@ -1173,9 +1212,19 @@ toml::value ParseText(std::string_view toml_text, const std::string& name) {
 
 /// The deck of parsed TOML with the overrides applied (to this copy of it).
 Deck ReadParsed(toml::value root_value, const std::string& name, const std::vector<std::string>& overrides,
-                const std::filesystem::path& directory) {
+                const std::filesystem::path& directory, std::string_view text) {
   Deck deck;
   deck.name = name;
+  deck.source.text = std::string(text);
+  deck.source.overrides = overrides;
+  deck.source.directory = directory;
+  struct FilesRead {  // collects the traces this read opens, on every way out
+    explicit FilesRead(std::vector<std::filesystem::path>* files) : previous(tl_files_read) { tl_files_read = files; }
+    ~FilesRead() { tl_files_read = previous; }
+    FilesRead(const FilesRead&) = delete;
+    FilesRead& operator=(const FilesRead&) = delete;
+    std::vector<std::filesystem::path>* previous;
+  } files_read(&deck.source.files);
   try {
     ApplyOverrides(root_value, overrides);
     const toml::table& root = root_value.as_table();
@@ -1336,11 +1385,12 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
 
 Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::vector<std::string>& overrides,
                const std::filesystem::path& directory) {
-  return ReadParsed(ParseText(toml_text, name), name, overrides, directory);
+  return ReadParsed(ParseText(toml_text, name), name, overrides, directory, toml_text);
 }
 
 struct DeckSource::Impl {
   toml::value root;
+  std::string text;
   std::string name;
   std::filesystem::path directory;
 };
@@ -1348,13 +1398,14 @@ struct DeckSource::Impl {
 DeckSource::DeckSource(std::string_view toml_text, std::string name, std::filesystem::path directory) {
   auto impl = std::make_shared<Impl>();
   impl->root = ParseText(toml_text, name);
+  impl->text = std::string(toml_text);
   impl->name = std::move(name);
   impl->directory = std::move(directory);
   impl_ = std::move(impl);
 }
 
 Deck DeckSource::Read(const std::vector<std::string>& overrides) const {
-  return ReadParsed(impl_->root, impl_->name, overrides, impl_->directory);
+  return ReadParsed(impl_->root, impl_->name, overrides, impl_->directory, impl_->text);
 }
 
 const std::string& DeckSource::name() const { return impl_->name; }
@@ -1376,11 +1427,226 @@ Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>&
   const std::string text = ReadBoundedFile(path, fmt::format("deck '{}'", name), "deck file (TOML)",
                                            DeckLimits::kMaxFileBytes, "a deck");
   // Relative paths in the deck (profile_measured_csv) are read from the deck's own directory.
-  return ParseDeck(text, name, overrides, path.parent_path());
+  Deck deck = ParseDeck(text, name, overrides, path.parent_path());
+  deck.source.files.insert(deck.source.files.begin(), path);
+  return deck;
 }
 
 Deck DefaultDeck(const std::vector<std::string>& overrides) {
   return ParseDeck(DefaultDeckText(), "built-in default (Liu 2021 Table 1)", overrides);
+}
+
+}  // namespace ltca::app
+
+// --- the deck writer ----------------------------------------------------------------------------
+namespace ltca::app {
+namespace {
+
+/// TOML text as lines, with the table each key line is in: enough to edit a deck in place and keep
+/// its comments, order and empty tables (TOML 1.0: strings of four kinds, arrays and inline tables
+/// that span lines, comments from '#' outside strings).
+struct TomlLines {
+  struct KeyAt {
+    std::string table, key;
+    std::size_t first = 0, last = 0;   ///< the lines of key = value
+    std::size_t comment = std::string::npos;  ///< where a comment starts on the last line
+  };
+  struct TableAt {
+    std::string name;       ///< "" for the keys before the first header
+    std::size_t header = std::string::npos;  ///< its header line
+    std::size_t end = 0;    ///< one past its last line
+  };
+  std::vector<std::string> lines;
+  std::vector<KeyAt> keys;
+  std::vector<TableAt> tables;
+
+  explicit TomlLines(std::string_view text) {
+    std::size_t start = 0;
+    while (start < text.size()) {
+      const std::size_t nl = text.find('\n', start);
+      const std::size_t stop = nl == std::string_view::npos ? text.size() : nl;
+      std::string line(text.substr(start, stop - start));
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      lines.push_back(std::move(line));
+      start = stop + 1;
+    }
+    tables.push_back({"", std::string::npos, 0});
+    enum class In { kNone, kBasic, kLiteral, kMultiBasic, kMultiLiteral } in = In::kNone;
+    int depth = 0;
+    KeyAt* open = nullptr;  // a key whose value has not ended yet
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const std::string& l = lines[i];
+      const bool top = depth == 0 && in == In::kNone;
+      std::size_t comment = std::string::npos;
+      if (top) {
+        const std::string t = Trim(l);
+        if (!t.empty() && t[0] == '[') {
+          const bool array = t.size() > 1 && t[1] == '[';
+          const std::size_t close = t.find(']');
+          tables.back().end = i;
+          tables.push_back({Trim(std::string_view(t).substr(array ? 2 : 1, close == std::string::npos ? 0 : close - (array ? 2 : 1))), i, 0});
+        } else if (!t.empty() && t[0] != '#') {
+          const std::size_t eq = t.find('=');
+          std::string key = Trim(std::string_view(t).substr(0, eq == std::string::npos ? 0 : eq));
+          if (key.size() >= 2 && (key.front() == '"' || key.front() == '\'') && key.back() == key.front()) key = key.substr(1, key.size() - 2);
+          keys.push_back({tables.back().name, key, i, i, std::string::npos});
+          open = &keys.back();
+        }
+      }
+      // The characters: strings, comments and the depth of [ ] and { }.
+      for (std::size_t c = 0; c < l.size(); ++c) {
+        const auto at = [&](const char* s) { return l.compare(c, std::strlen(s), s) == 0; };
+        switch (in) {
+          case In::kNone:
+            if (l[c] == '#') { comment = c; c = l.size(); break; }
+            if (at("\"\"\"")) { in = In::kMultiBasic; c += 2; break; }
+            if (at("'''")) { in = In::kMultiLiteral; c += 2; break; }
+            if (l[c] == '"') { in = In::kBasic; break; }
+            if (l[c] == '\'') { in = In::kLiteral; break; }
+            if (l[c] == '[' || l[c] == '{') ++depth;
+            if (l[c] == ']' || l[c] == '}') depth = std::max(0, depth - 1);
+            break;
+          case In::kBasic:
+            if (l[c] == '\\') { ++c; break; }
+            if (l[c] == '"') in = In::kNone;
+            break;
+          case In::kLiteral:
+            if (l[c] == '\'') in = In::kNone;
+            break;
+          case In::kMultiBasic:
+            if (l[c] == '\\') { ++c; break; }
+            if (at("\"\"\"")) { in = In::kNone; c += 2; }
+            break;
+          case In::kMultiLiteral:
+            if (at("'''")) { in = In::kNone; c += 2; }
+            break;
+        }
+      }
+      if (in == In::kBasic || in == In::kLiteral) in = In::kNone;  // a one-line string cannot span lines
+      if (open != nullptr) {
+        open->last = i;
+        open->comment = comment;
+        if (depth == 0 && in == In::kNone) open = nullptr;
+      }
+    }
+    tables.back().end = lines.size();
+  }
+
+  const TableAt* Table(const std::string& name) const {
+    for (const TableAt& t : tables) {
+      if (t.name == name && (t.header != std::string::npos || name.empty())) return &t;
+    }
+    return nullptr;
+  }
+};
+
+/// The deck's text with `edits` written in (a key replaced in place, its comment kept; a new key
+/// after its table's last key; a new table at the end) and the tables `drop` left out.
+std::string EditToml(std::string_view text, const std::vector<DeckEdit>& edits, const std::vector<std::string>& drop) {
+  std::string current(text);
+  for (const DeckEdit& e : edits) {
+    TomlLines t(current);
+    std::vector<std::string> out = t.lines;
+    const auto key = std::find_if(t.keys.begin(), t.keys.end(), [&](const TomlLines::KeyAt& k) { return k.table == e.section && k.key == e.key; });
+    const std::string line = TomlKey(e.key) + " = " + e.value;
+    if (key != t.keys.end()) {
+      const std::string& last = t.lines[key->last];
+      std::string comment;
+      if (key->comment != std::string::npos) {
+        std::size_t from = key->comment;
+        while (from > 0 && (last[from - 1] == ' ' || last[from - 1] == '\t')) --from;
+        comment = last.substr(from);
+      }
+      out.erase(out.begin() + static_cast<std::ptrdiff_t>(key->first), out.begin() + static_cast<std::ptrdiff_t>(key->last) + 1);
+      out.insert(out.begin() + static_cast<std::ptrdiff_t>(key->first), line + comment);
+    } else if (const TomlLines::TableAt* table = t.Table(e.section)) {
+      std::size_t after = table->header == std::string::npos ? 0 : table->header + 1;
+      for (const TomlLines::KeyAt& k : t.keys) {
+        if (k.table == e.section) after = std::max(after, k.last + 1);
+      }
+      out.insert(out.begin() + static_cast<std::ptrdiff_t>(after), line + (e.comment.empty() ? "" : "  # " + e.comment));
+    } else {
+      if (!out.empty() && !Trim(out.back()).empty()) out.emplace_back();
+      out.push_back("[" + TomlKey(e.section) + "]");
+      out.push_back(line + (e.comment.empty() ? "" : "  # " + e.comment));
+    }
+    current.clear();
+    for (const std::string& l : out) current += l + "\n";
+  }
+  if (!drop.empty()) {
+    TomlLines t(current);
+    std::vector<bool> keep(t.lines.size(), true);
+    for (std::size_t k = 0; k < t.tables.size(); ++k) {
+      const TomlLines::TableAt& table = t.tables[k];
+      if (table.header == std::string::npos) continue;
+      const std::string root = table.name.substr(0, table.name.find('.'));
+      if (std::find(drop.begin(), drop.end(), root) == drop.end()) continue;
+      // The comment lines just above the next header are that table's.
+      std::size_t end = table.end;
+      if (k + 1 < t.tables.size()) {
+        while (end > table.header + 1 && Trim(t.lines[end - 1]).rfind('#', 0) == 0) --end;
+      }
+      for (std::size_t i = table.header; i < end; ++i) keep[i] = false;
+    }
+    std::string kept;
+    for (std::size_t i = 0; i < t.lines.size(); ++i) {
+      if (keep[i]) kept += t.lines[i] + "\n";
+    }
+    current = kept;
+  }
+  return current;
+}
+
+}  // namespace
+
+std::string WriteDeck(const Deck& deck, const std::vector<DeckEdit>& edits, const std::vector<std::string>& drop,
+                      const std::string& header) {
+  // The overrides first, as the deck that ran had them, then the edits.
+  std::vector<DeckEdit> all;
+  for (const std::string& text : deck.source.overrides) {
+    const Override o = ParseOverride(text);
+    all.push_back({o.section, o.key, GivenText(o.value), "--set"});
+  }
+  all.insert(all.end(), edits.begin(), edits.end());
+  std::string text = header;
+  if (!text.empty() && text.back() != '\n') text += '\n';
+  text += EditToml(deck.source.text, all, drop);
+
+  // Read back: the same keys with the same values, the same discs and stage.
+  const Deck back = ParseDeck(text, deck.name + " (as written)", {}, deck.source.directory);
+  std::vector<std::tuple<std::string, std::string, std::string>> expected, written;
+  for (const Deck::GivenKey& g : deck.given) {
+    if (std::find(drop.begin(), drop.end(), g.section) != drop.end()) continue;
+    std::string value = g.value;
+    for (const DeckEdit& e : edits) {
+      if (e.section == g.section && e.key == g.key) value = e.value;
+    }
+    expected.emplace_back(g.section, g.key, value);
+  }
+  for (const DeckEdit& e : edits) {
+    if (std::none_of(deck.given.begin(), deck.given.end(), [&](const Deck::GivenKey& g) { return g.section == e.section && g.key == e.key; })) {
+      expected.emplace_back(e.section, e.key, e.value);
+    }
+  }
+  for (const Deck::GivenKey& g : back.given) written.emplace_back(g.section, g.key, g.value);
+  std::sort(expected.begin(), expected.end());
+  std::sort(written.begin(), written.end());
+  if (expected != written) {
+    std::string what = "a key";
+    for (const auto& x : expected) {
+      if (!std::binary_search(written.begin(), written.end(), x)) {
+        what = fmt::format("[{}] {} = {}", std::get<0>(x), std::get<1>(x), std::get<2>(x));
+        break;
+      }
+    }
+    throw std::invalid_argument(fmt::format("deck '{}': the written deck does not read back as the deck: {} is missing or "
+                                            "differs", deck.name, what));
+  }
+  if (back.disc_count() != deck.disc_count() || back.reducer.has_value() != deck.reducer.has_value()) {
+    throw std::invalid_argument(fmt::format("deck '{}': the written deck does not read back with the deck's {} disc(s) and stage",
+                                            deck.name, deck.disc_count()));
+  }
+  return text;
 }
 
 }  // namespace ltca::app

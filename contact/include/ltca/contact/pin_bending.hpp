@@ -45,9 +45,12 @@ struct PinSupport {
   double span = 0.0;  ///< distance between the two supports, mm (deck: span_mm); > 0
   PinSupportKind support = PinSupportKind::kSimplySupported;  ///< deck: support
   double face_offset = 0.0;  ///< from the first support to face B of the cycloid, mm (deck: face_offset_mm); >= 0
+  /// The longest span a deck may give, mm (10 m: far beyond any reducer's pin, and short enough
+  /// that the beam's compliance, ~ span^3, stays a finite number).
+  static constexpr double kMaxSpan = 1e4;
   /// Throws std::invalid_argument naming the key (`[pins] span_mm`, `face_offset_mm`, `support`),
-  /// its value and what is expected unless span > 0, face_offset >= 0 (both finite), the support
-  /// is a known kind, and, for face_width > 0, face_offset + face_width <= span.
+  /// its value and what is expected unless 0 < span <= kMaxSpan, face_offset >= 0 (both finite), the
+  /// support is a known kind, and, for face_width > 0, face_offset + face_width <= span.
   void Validate(double face_width = 0.0) const;
 };
 

@@ -44,6 +44,72 @@ def _toml_value(value, where):
     raise ValueError(f"{where} = {value!r}: expected a bool, number, string, list or table")
 
 
+# The command line's limits and words for the options every analysis takes (docs/decks.md, Limits):
+# a value beyond them is a ValueError naming the argument, a wrong type a TypeError, before any work.
+_MAX_CRANK_DEG = 3600.0          # --crank-deg (analysis::kMaxCrankDeg)
+_MAX_THREADS = 1024              # --threads (analysis::kMaxToleranceThreads)
+_MAX_SAMPLES = 10_000_000        # --samples (ToleranceSettings::kMaxSamples)
+_MAX_EVALUATIONS = 1_000_000     # --evaluations (OptimiseSettings::kMaxEvaluations)
+_MAX_STEPS = 10_001              # --steps (StiffnessSettings::kMaxSteps), odd
+_MAX_SAMPLES_PER_FLANK = 10_000  # the profile table's points per flank (the command line writes 60)
+_MAX_SEED = 2**63 - 1            # --seed
+_MAX_DECK_BYTES = 4 << 20        # DeckLimits::kMaxFileBytes
+
+
+def _integer(name, value, low, high, what="a whole number"):
+    if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
+        raise TypeError(f"{name} = {value!r}: expected {what} from {low} to {high}, got {type(value).__name__}")
+    value = int(value)
+    if not low <= value <= high:
+        raise ValueError(f"{name} = {value}: expected {what} from {low} to {high}")
+    return value
+
+
+def _angle(name, value):
+    if isinstance(value, bool) or not isinstance(value, (int, float, _np.integer, _np.floating)):
+        raise TypeError(f"{name} = {value!r}: expected a number of degrees, got {type(value).__name__}")
+    value = float(value)
+    if not (_math.isfinite(value) and abs(value) <= _MAX_CRANK_DEG):
+        raise ValueError(f"{name} = {value}: expected a finite crank angle within +-{_MAX_CRANK_DEG:g} deg")
+    return value
+
+
+def _flag(name, value):
+    if not isinstance(value, (bool, _np.bool_)):
+        raise TypeError(f"{name} = {value!r}: expected True or False, got {type(value).__name__}")
+    return bool(value)
+
+
+def _kinematics(value):
+    if value is None:
+        return ""
+    if not isinstance(value, str):
+        raise TypeError(f"kinematics = {value!r}: expected 'exact' or 'linearised', got {type(value).__name__}")
+    if value not in ("exact", "linearised"):
+        raise ValueError(f"kinematics = {value!r}: expected 'exact' or 'linearised'")
+    return value
+
+
+def _solver(value):
+    if value is None:
+        return ""
+    if not isinstance(value, str):
+        raise TypeError(f"solver = {value!r}: expected a solver's name, got {type(value).__name__}")
+    if not value:
+        raise ValueError("solver = '': expected a solver's name, or None for the deck's")
+    return value
+
+
+def _solvers(value):
+    if isinstance(value, str) or not isinstance(value, (list, tuple)):
+        raise TypeError(f"solvers = {value!r}: expected a list of solver names, got {type(value).__name__}")
+    return [_solver(v) for v in value]
+
+
+def _threads(value):
+    return _integer("threads", value, 0, _MAX_THREADS, "0 (every hardware thread) or a thread count")
+
+
 class _TraceFolder:
     """A temporary folder of trace files, removed when no deck holds it."""
 
@@ -63,11 +129,17 @@ class Deck:
     @classmethod
     def load(cls, path):
         """The deck file at path (its name as given, as the command line names it)."""
+        if not isinstance(path, (str, _os.PathLike)):
+            raise TypeError(f"path = {path!r}: expected the path of a deck file, got {type(path).__name__}")
         path = _os.fspath(path)
         if not _os.path.isfile(path):
             raise ValueError(f"deck '{path}': no such file; expected a deck file (TOML)")
+        size = _os.path.getsize(path)  # before reading: a deck is small
+        if size > _MAX_DECK_BYTES:
+            raise ValueError(f"deck '{path}': the file is {size} bytes; expected a deck of at most {_MAX_DECK_BYTES} bytes "
+                             f"({_MAX_DECK_BYTES >> 20} MiB; docs/decks.md, Limits)")
         with open(path, encoding="utf-8", errors="surrogateescape") as f:
-            text = f.read()
+            text = f.read(_MAX_DECK_BYTES + 1)
         return cls(text, path, _os.path.dirname(path) or ".")
 
     @classmethod
@@ -178,7 +250,7 @@ def _deck(deck):
         return deck
     if isinstance(deck, (str, _os.PathLike)):
         return Deck.load(deck)
-    raise ValueError(f"deck: expected an ltca.Deck or a path, got {type(deck).__name__}")
+    raise TypeError(f"deck = {deck!r}: expected an ltca.Deck or the path of a deck file, got {type(deck).__name__}")
 
 
 def solve(deck, solver=None, kinematics=None, progress=None):
@@ -187,7 +259,9 @@ def solve(deck, solver=None, kinematics=None, progress=None):
     after each crank position (an exception it raises stops the sweep and propagates). Units as
     the keys say: deg, arcsec, N, MPa, N*m."""
     d = _deck(deck)
-    document, summary, arrays = _ltca.solve(d._parsed, solver or "", kinematics or "", progress)
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress = {progress!r}: expected None or a callable progress(done, total)")
+    document, summary, arrays = _ltca.solve(d._parsed, _solver(solver), _kinematics(kinematics), progress)
     return SolveResult(document, summary, arrays)
 
 
@@ -278,42 +352,50 @@ def _run(name, deck, *args):
 
 def geometry(deck, crank_deg=0.0, samples_per_flank=60):
     """``ltca geometry``: the derived geometry; ``csv`` the profile (mm) at crank_deg (deg)."""
-    return _run("geometry", deck, float(crank_deg), int(samples_per_flank))
+    return _run("geometry", deck, _angle("crank_deg", crank_deg),
+                _integer("samples_per_flank", samples_per_flank, 2, _MAX_SAMPLES_PER_FLANK))
 
 
 def backlash(deck, kinematics=None):
     """``ltca backlash``: unloaded TCA over the sweep (arcsec); ``tables["positions"]``."""
-    return _run("backlash", deck, kinematics or "")
+    return _run("backlash", deck, _kinematics(kinematics))
 
 
 def mesh(deck, crank_deg=0.0):
     """``ltca mesh``: the mesh state of every pin at crank_deg (deg); ``tables["pins"]``."""
-    return _run("mesh", deck, float(crank_deg))
+    return _run("mesh", deck, _angle("crank_deg", crank_deg))
 
 
 def compare(deck, solvers=(), kinematics=None):
     """``ltca compare``: several solvers on the same sweep (all registered ones by default)."""
-    return _run("compare", deck, list(solvers), kinematics or "")
+    return _run("compare", deck, _solvers(solvers), _kinematics(kinematics))
 
 
 def stiffness(deck, solver=None, kinematics=None, crank_deg=None, steps=None):
     """``ltca stiffness``: the torque-twist loop (N*m, arcmin); options as --crank-deg, --steps."""
-    return _run("stiffness", deck, solver or "", kinematics or "", None if crank_deg is None else float(crank_deg),
-                None if steps is None else int(steps))
+    if steps is not None:
+        steps = _integer("steps", steps, 3, _MAX_STEPS, "an odd number of torque levels")
+        if steps % 2 == 0:
+            raise ValueError(f"steps = {steps}: expected an odd number of torque levels from 3 to {_MAX_STEPS}")
+    return _run("stiffness", deck, _solver(solver), _kinematics(kinematics), None if crank_deg is None else _angle("crank_deg", crank_deg),
+                steps)
 
 
 def efficiency(deck, solver=None, kinematics=None):
     """``ltca efficiency``: friction, power loss (W) and efficiency over the sweep."""
-    return _run("efficiency", deck, solver or "", kinematics or "")
+    return _run("efficiency", deck, _solver(solver), _kinematics(kinematics))
 
 
 def tolerance(deck, samples=None, seed=None, threads=0, lost_motion=False, no_worst_case=False, solver=None, kinematics=None):
     """``ltca tolerance``: the Monte Carlo of [tolerances]; ``csv`` a row per sample (its inputs
     and figures), as --csv writes it. threads 0: every hardware thread."""
-    return _run("tolerance", deck, solver or "", kinematics or "", None if samples is None else int(samples),
-                None if seed is None else int(seed), int(threads), bool(lost_motion), bool(no_worst_case))
+    return _run("tolerance", deck, _solver(solver), _kinematics(kinematics),
+                None if samples is None else _integer("samples", samples, 1, _MAX_SAMPLES),
+                None if seed is None else _integer("seed", seed, 0, _MAX_SEED), _threads(threads),
+                _flag("lost_motion", lost_motion), _flag("no_worst_case", no_worst_case))
 
 
 def optimise(deck, threads=0, evaluations=None, solver=None, kinematics=None):
     """``ltca optimise``: the search of [optimise]; ``csv`` a row per evaluation."""
-    return _run("optimise", deck, solver or "", kinematics or "", int(threads), None if evaluations is None else int(evaluations))
+    return _run("optimise", deck, _solver(solver), _kinematics(kinematics), _threads(threads),
+                None if evaluations is None else _integer("evaluations", evaluations, 1, _MAX_EVALUATIONS))

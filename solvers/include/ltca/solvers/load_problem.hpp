@@ -341,7 +341,12 @@ std::vector<std::size_t> CandidatePins(const std::vector<LoadProblem::PinAt>& pi
 /// The shared judge: residuals of a candidate (psi, F) recomputed from the problem data, with the
 /// coupled gap when the problem has a coupling.
 struct Residuals {
-  double torque_relative = 0.0;     ///< |sum F_i L_i - T| / max(T, 1 N*mm)
+  double torque_relative = 0.0;     ///< |sum F_i L_i - T| / max(T, 1 N*mm), less what the arithmetic resolves
+  /// |sum F_i L_i - T| / |T| as the forces carry it at the pose they act in, nothing subtracted and
+  /// no floor on T: the share of the torque the forces miss (0 for T = 0). Above the acceptance
+  /// while torque_relative is within it, the balance is limited by the resolution of the geometry
+  /// in double precision, and the solve says so in a warning.
+  double torque_miss_relative = 0.0;
   double force_violation_n = 0.0;   ///< max(0, -F_i), N
   double gap_violation_mm = 0.0;    ///< max(0, -g_i), mm
   double complementarity_nmm = 0.0; ///< max |F_i g_i|, N*mm

@@ -76,6 +76,17 @@ struct LoadCase {
 /// the analyses.
 struct Deck : analysis::StageDesign {
   CaseInfo info;
+  /// Where the deck came from, as read: its TOML text (before the overrides), the --set
+  /// overrides, the folder its relative paths are read from, and every file the reading opened
+  /// (the deck itself, measured traces). WriteDeck edits the text; the command line refuses an
+  /// output that is one of the files.
+  struct Source {
+    std::string text;
+    std::vector<std::string> overrides;
+    std::filesystem::path directory;
+    std::vector<std::filesystem::path> files;
+  };
+  Source source;
   bool width_slices_given = false;             ///< [geometry] width_slices is in the deck
   std::vector<std::string> notes;              ///< keys given without effect (reported in Model().note)
   /// Every key the deck text gives (after the overrides), in its order: section, key and the
@@ -158,6 +169,22 @@ class DeckSource {
 /// The same for a file, which must be a regular file (not a directory, FIFO or device) of at
 /// most DeckLimits::kMaxFileBytes; it is read with a bounded read.
 Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
+
+/// One key written into a deck: `[section] key = value`, the value as TOML text; `comment` (without
+/// the '#') is put after a key the deck did not have.
+struct DeckEdit {
+  std::string section, key, value, comment;
+};
+
+/// The deck as a file that reads back as this deck: its own text (comments, order, empty sections
+/// such as an identical [second_disc], kept) with the --set overrides and then `edits` written into
+/// it, the sections `drop` left out, and `header` (comment lines) first. The one deck writer
+/// (`ltca optimise --write-deck`). The text is read back before it is returned: every key it
+/// gives must be the deck's (after the edits, without the dropped sections) with the same value,
+/// and the disc count and the stage must be the deck's; std::invalid_argument naming the key
+/// otherwise.
+std::string WriteDeck(const Deck& deck, const std::vector<DeckEdit>& edits, const std::vector<std::string>& drop = {},
+                      const std::string& header = {});
 
 /// The built-in default case: Liu 2021 Table 1 (the text of cases/liu2021_table1.toml).
 std::string_view DefaultDeckText();

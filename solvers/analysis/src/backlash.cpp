@@ -1,0 +1,64 @@
+#include "ltca/analysis/backlash.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "ltca/contact/mesh_state.hpp"
+#include "ltca/geometry/units.hpp"
+
+namespace ltca::analysis {
+
+BacklashPosition UnloadedBacklashAt(const Stage& stage, double crank, contact::ContactKinematics kinematics) {
+  BacklashPosition p;
+  contact::UnloadedContact& r = p.contact;
+  r = contact::AnalyseUnloaded(stage.model(), crank, kinematics);
+  if (stage.disc_count() == 2) {
+    const contact::UnloadedContact r2 = contact::AnalyseUnloaded(stage.model(1), crank + contact::kSecondDiscCrankOffset, kinematics);
+    if (r2.theta_c1 < r.theta_c1) r.theta_c1 = r2.theta_c1, r.first_pin_c1 = r2.first_pin_c1, p.disc_c1 = 2;
+    if (r2.theta_c2 > r.theta_c2) r.theta_c2 = r2.theta_c2, r.first_pin_c2 = r2.first_pin_c2, p.disc_c2 = 2;
+    r.backlash = r.theta_c1 - r.theta_c2;
+    p.second_clearance = r2.clearance;
+  }
+  // No pin closes its gap within the rotation window on a flank (a degenerate pair, e.g. an
+  // eccentricity far below the pin's clearance): no backlash, a failed position.
+  p.ok = std::isfinite(r.theta_c1) && std::isfinite(r.theta_c2) && r.first_pin_c1 >= 0 && r.first_pin_c2 >= 0;
+  if (!p.ok) {
+    p.failure = fmt::format("no pin closes its gap {} within a quarter tooth pitch of the theoretical position",
+                            std::isfinite(r.theta_c1) ? "against the load direction" : "in the load direction");
+  }
+  return p;
+}
+
+void BacklashSummary::Add(const BacklashPosition& p, bool repeated_state) {
+  ++positions_;
+  if (!p.ok) {
+    if (first_failure_.empty()) first_failure_ = fmt::format("crank {:.6g} deg: {}", units::RadToDeg(p.contact.crank), p.failure);
+    return;
+  }
+  ++succeeded_;
+  const double b = p.contact.backlash;
+  if (!repeated_state) sum_ += b, ++in_mean_;
+  lo_ = std::min(lo_, b);
+  hi_ = std::max(hi_, b);
+}
+
+double BacklashSummary::mean() const {
+  // A sweep's only success may be its repeated last state.
+  if (in_mean_ > 0) return sum_ / static_cast<double>(in_mean_);
+  return succeeded_ > 0 ? lo_ : std::numeric_limits<double>::quiet_NaN();
+}
+
+double BacklashSummary::pp() const { return succeeded_ > 0 ? hi_ - lo_ : std::numeric_limits<double>::quiet_NaN(); }
+
+BacklashSummary UnloadedBacklash(const Stage& stage, contact::ContactKinematics kinematics) {
+  BacklashSummary summary;
+  const std::vector<double>& cranks = stage.cranks();
+  for (std::size_t i = 0; i < cranks.size(); ++i) {
+    summary.Add(UnloadedBacklashAt(stage, cranks[i], kinematics), stage.closed_period() && i + 1 == cranks.size());
+  }
+  return summary;
+}
+
+}  // namespace ltca::analysis
