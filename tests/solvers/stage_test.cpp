@@ -489,7 +489,7 @@ TEST_CASE("solvers: the stage's output pins bear as a cylinder in a hole under e
   // 4.2(b); eq. 5.37), C = (1 - nu^2) / E, E* = 1 / (2C), B = 12 mm. With b = b1 sqrt(F),
   // delta = (2F / (pi B)) [A - C ln F] and int_0^F delta = (2 / (pi B)) [A F^2 / 2 - C (F^2 ln F / 2
   // - F^2 / 4)]. 1e-9 relative. Before the fix the "absolute" stage took 1/rho* = 1/r_w + 1/r_h:
-  // about 20 % more approach at the same force.
+  // 24 % more approach at 1 kN, 29 % at 5 kN.
   for (const bool absolute : {false, true}) {
     CAPTURE(absolute);
     const auto paper = absolute ? ltca::test::LiuTable1Absolute() : ltca::test::LiuTable1();
