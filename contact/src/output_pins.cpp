@@ -35,6 +35,16 @@ void OutputPins::Validate(double eccentricity) const {
   ValidateHoleDeviations(hole_deviation, count);
 }
 
+ContactLaw OutputPinLaw(const ContactSettings& contact, const Material& material, const OutputPins& pins,
+                        double length, double log_radius_cap) {
+  ContactSettings own = contact;
+  // The hole's curvature enters with its sign whatever the mesh's convention (the absolute one
+  // would make the pin and its hole two convex cylinders, 1/rho* = 1/r_w + 1/r_h: issue 46).
+  own.rho_convention = RhoConvention::kSigned;
+  own.seat = PinSeat{};
+  return ContactLaw(own, material, -1.0 / pins.hole_radius, pins.pin_radius, length, log_radius_cap);
+}
+
 std::vector<OutputPinContact> EvaluateOutputPins(const OutputPins& pins, const geometry::Pose& disc,
                                                  double output_rotation) {
   std::vector<OutputPinContact> out(static_cast<std::size_t>(pins.count));

@@ -174,9 +174,8 @@ void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origi
   // The output member's nominal rotation: the first disc's (the holes and cranks of every disc
   // sit where the output member's pins and cranks are at the nominal poses).
   const double output_rotation = problem.model().kinematics().CycloidPose(problem.crank()).rotation;
-  // The output pins are not seated in the pin ring's grooves: their laws have no seat.
-  contact::ContactSettings contact = problem.contact_settings();
-  contact.seat = contact::PinSeat{};
+  // The output pins' law: the deck's [contact] law, conformal and unseated (contact::OutputPinLaw).
+  const contact::ContactSettings& contact = problem.contact_settings();
   const double cap = contact.log_radius_cap > 0.0 ? contact.log_radius_cap : problem.model().pair().pin_circle_radius;
   const double width = problem.model().pair().face_width;
   for (int d = 0; d < discs_; ++d) {
@@ -196,8 +195,7 @@ void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origi
         e.coordinates.Add(psi_coordinate_, s * c.output_arm);
         e.gap = c.gap;
         e.law = static_cast<int>(laws_.size());
-        // A pin inside a hole: the hole's curvature is concave (docs/stage.md, Johnson 4.3).
-        laws_.emplace_back(contact, problem.material(), -1.0 / pins.hole_radius, pins.pin_radius, width, cap);
+        laws_.push_back(contact::OutputPinLaw(contact, problem.material(), pins, width, cap));
         e.direction = c.normal;
         e.group = StageGroup::kOutput;
         e.disc = d;

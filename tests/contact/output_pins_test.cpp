@@ -3,10 +3,12 @@
 // crank), the textbook load share of a W mechanism, and finite differences of the exact gaps.
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <doctest/doctest.h>
 
+#include "ltca/contact/laws.hpp"
 #include "ltca/contact/output_pins.hpp"
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/units.hpp"
@@ -71,6 +73,54 @@ TEST_CASE("contact: the W mechanism with the disc held and linear pins without c
   for (const std::size_t j : {std::size_t{0}, std::size_t{4}, std::size_t{5}, std::size_t{6}, std::size_t{7}}) {
     CHECK(force[j] == 0.0);
   }
+}
+
+TEST_CASE("contact: an output pin in its hole is a conformal line contact under either rho_convention: Johnson's internal contact") {
+  // Issue 46. A pin of radius r_w inside a hole of radius r_h touches it from inside: Johnson,
+  // Contact Mechanics (1985), section 4.1 takes the relative curvature 1/R = 1/R_1 + 1/R_2 with
+  // the radius of a concave surface negative, so 1/R = 1/r_w - 1/r_h; section 4.2(b), the line
+  // contact of cylinders: b = sqrt(4 F R / (pi B E*)), p0 = 2 F / (pi b B), 1/E* = C_d + C_w,
+  // C = (1 - nu^2) / E; the approach of the two bodies, each to a depth of the order of its own
+  // radius (eq. 5.37, as the hertz-line law and the groove seat take it): (2F / (pi B))
+  // [C_w (ln(4 r_w / b) - 1/2) + C_d (ln(4 r_h / b) - 1/2)]. [contact] rho_convention = "absolute"
+  // (|kappa_c| for the cycloid, Liu's convention) must not turn the hole convex: before the fix the
+  // stage built the law with the mesh's convention and got 1/R = 1/r_w + 1/r_h (2.79 mm instead of
+  // 23.94 mm on cases/stage/cycloidal_drive.toml). The deck's pins (r_w 5, r_h 6.32 mm, B 12 mm);
+  // the disc of a steel 206 GPa / 0.3 and the pins of 210 GPa / 0.28, so that a body's compliance
+  // meets its own radius. Typed in here from Johnson; 1e-12 relative.
+  const OutputPins pins = Eight(1.3, 0.02);
+  const double rw = pins.pin_radius, rh = pins.hole_radius, length = 12.0, cap = 64.0;
+  const ltca::contact::Material material{206000.0, 0.3, 210000.0, 0.28};
+  const double cd = (1.0 - 0.3 * 0.3) / 206000.0, cw = (1.0 - 0.28 * 0.28) / 210000.0;
+  const double conformal = 1.0 / (1.0 / rw - 1.0 / rh);  // Johnson's R of a cylinder in a hole
+  CHECK(conformal == doctest::Approx(23.939393939393939).epsilon(1e-15));
+  for (const auto convention : {ltca::contact::RhoConvention::kSigned, ltca::contact::RhoConvention::kAbsolute}) {
+    for (const auto kind : {ltca::contact::LawKind::kHertzLine, ltca::contact::LawKind::kSagitta, ltca::contact::LawKind::kLinear}) {
+      const std::string names = std::string(ltca::contact::ToString(convention)) + ", " + ltca::contact::ToString(kind);
+      CAPTURE(names);
+      ltca::contact::ContactSettings settings;
+      settings.law = kind;
+      settings.rho_convention = convention;
+      settings.stiffness_per_length = kind == ltca::contact::LawKind::kLinear ? 2e4 : 0.0;
+      const ltca::contact::ContactLaw law = ltca::contact::OutputPinLaw(settings, material, pins, length, cap);
+      CHECK(law.equivalent_radius() == doctest::Approx(conformal).epsilon(1e-12));
+      if (kind != ltca::contact::LawKind::kHertzLine) continue;
+      for (const double f : {10.0, 1000.0, 5150.0, 20000.0}) {
+        CAPTURE(f);
+        const double b = std::sqrt(4.0 * f * conformal * (cd + cw) / (ltca::units::kPi * length));
+        const double approach = 2.0 * f / (ltca::units::kPi * length) *
+                                (cw * (std::log(4.0 * rw / b) - 0.5) + cd * (std::log(4.0 * rh / b) - 0.5));
+        CHECK(law.HalfWidth(f) == doctest::Approx(b).epsilon(1e-12));
+        CHECK(law.MaxPressure(f) == doctest::Approx(2.0 * f / (ltca::units::kPi * b * length)).epsilon(1e-12));
+        CHECK(law.Approach(f) == doctest::Approx(approach).epsilon(1e-12));
+      }
+    }
+  }
+  // A seat belongs to the ring pins in their grooves: the output pins' law has none.
+  ltca::contact::ContactSettings seated;
+  seated.seat.kind = ltca::contact::PinSeat::Kind::kLinear;
+  seated.seat.stiffness_per_length = 5e4;
+  CHECK(ltca::contact::OutputPinLaw(seated, material, pins, length, cap).SeatApproach(1000.0) == 0.0);
 }
 
 TEST_CASE("contact: the output pins' arms and translation gradient are the derivatives of their exact approach") {

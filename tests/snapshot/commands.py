@@ -3,6 +3,7 @@
 
     commands.py make  LTCA CASES OUT.jsonl          # record (then: xz -9 OUT.jsonl)
     commands.py check LTCA CASES SNAPSHOT.jsonl.xz DECK
+    commands.py remake LTCA CASES OLD.jsonl.xz OUT.jsonl DECK...   # re-record DECKs only (then: xz -9)
 
 `make` runs, for every deck in CASES (ltca's working directory is CASES and the deck is given
 relative to it, so `case.deck` and messages read the same wherever the tree is):
@@ -321,16 +322,23 @@ def add_samples(exe, cases, records, every):
         return [s for samples in pool.map(sample, slow) for s in samples]
 
 
+def records_of(exe, cases, decks):
+    """Every run of `decks` (the whole runs, then the samples of the slow ones), sorted by deck."""
+    every = [(d, c, a) for d in decks for c, a in runs_of(cases, d)]
+    jobs = [j for j in every if not too_slow_whole(*j)]
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        records = list(pool.map(lambda j: record(exe, cases, *j), jobs))
+    records += add_samples(exe, cases, records, every)
+    records.sort(key=lambda r: r["deck"])
+    return records
+
+
 def make(exe, cases, out):
     exe = os.path.abspath(exe)
     start = time.monotonic()
     decks = sorted(os.path.relpath(os.path.join(d, f), cases)
                    for d, _, files in os.walk(cases) for f in files if f.endswith(".toml"))
-    every = [(d, c, a) for d in decks for c, a in runs_of(cases, d)]
-    jobs = [j for j in every if not too_slow_whole(*j)]
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        records = list(pool.map(lambda j: record(exe, cases, *j), jobs))
-    write(records + add_samples(exe, cases, records, every), out, len(decks))
+    write(records_of(exe, cases, decks), out, len(decks))
     print(f"recording took {time.monotonic() - start:.1f} s")
 
 
@@ -423,4 +431,4 @@ def check(exe, cases, snapshot, deck):
 
 
 if __name__ == "__main__":
-    sys.exit(snapshot_cli.main(make, check, __doc__))
+    sys.exit(snapshot_cli.main(make, check, __doc__, records_of))

@@ -3,6 +3,7 @@
 
     snapshot.py make  LTCA CASES OUT.jsonl          # record (then: xz -9 OUT.jsonl)
     snapshot.py check LTCA CASES SNAPSHOT.jsonl.xz DECK
+    snapshot.py remake LTCA CASES OLD.jsonl.xz OUT.jsonl DECK...   # re-record DECKs only (then: xz -9)
 
 `make` runs `ltca solve DECK --solver S --kinematics K --json FILE` for every deck in CASES,
 every solver and both kinematics, and writes one JSON line per run: the deck (relative to
@@ -104,12 +105,17 @@ def record(exe, cases, deck, solver, kinematics):
     return r
 
 
+def records_of(exe, cases, decks):
+    """Every run of `decks`, in deck, solver and kinematics order."""
+    jobs = [(d, s, k) for d in decks for s in SOLVERS for k in KINEMATICS]
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
+        return list(pool.map(lambda j: record(exe, cases, *j), jobs))
+
+
 def make(exe, cases, out):
     decks = sorted(os.path.relpath(os.path.join(d, f), cases)
                    for d, _, files in os.walk(cases) for f in files if f.endswith(".toml"))
-    jobs = [(d, s, k) for d in decks for s in SOLVERS for k in KINEMATICS]
-    with ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
-        records = list(pool.map(lambda j: record(exe, cases, *j), jobs))
+    records = records_of(exe, cases, decks)
     with open(out, "w", encoding="utf-8") as f:
         for r in records:
             f.write(json.dumps(r, sort_keys=True, separators=(",", ":")) + "\n")
@@ -206,4 +212,4 @@ def check(exe, cases, snapshot, deck):
 
 
 if __name__ == "__main__":
-    sys.exit(snapshot_cli.main(make, check, __doc__))
+    sys.exit(snapshot_cli.main(make, check, __doc__, records_of))

@@ -478,6 +478,52 @@ TEST_CASE("solvers: the stage's solvers agree on a cycloidal drive with Hertz co
   }
 }
 
+TEST_CASE("solvers: the stage's output pins bear as a cylinder in a hole under either rho_convention (Johnson's conformal contact)") {
+  // Issue 46. Liu Table 1's pair with the hertz-line law, rho_convention "signed" and "absolute"
+  // (the stage decks' convention, meant for the cycloid's curvature only), 8 output pins r_w 5 mm
+  // in holes r_h 6.32 mm (20 um of clearance), a 14-roller eccentric bearing with 5 um of play,
+  // T = 206 N*m, crank 0.11 rad. The output group's strain energy must be, over the loaded pins,
+  // sum F delta(F) - int_0^F delta, with Johnson's line contact of a cylinder inside a concave hole
+  // typed in here: delta(F) = (2F / (pi B)) [C (ln(4 r_w / b) - 1/2) + C (ln(4 r_h / b) - 1/2)],
+  // b = sqrt(4 F rho* / (pi B E*)), 1/rho* = 1/r_w - 1/r_h (Contact Mechanics, 1985, sections 4.1 and
+  // 4.2(b); eq. 5.37), C = (1 - nu^2) / E, E* = 1 / (2C), B = 12 mm. With b = b1 sqrt(F),
+  // delta = (2F / (pi B)) [A - C ln F] and int_0^F delta = (2 / (pi B)) [A F^2 / 2 - C (F^2 ln F / 2
+  // - F^2 / 4)]. 1e-9 relative. Before the fix the "absolute" stage took 1/rho* = 1/r_w + 1/r_h:
+  // 24 % more approach at 1 kN, 29 % at 5 kN.
+  for (const bool absolute : {false, true}) {
+    CAPTURE(absolute);
+    const auto paper = absolute ? ltca::test::LiuTable1Absolute() : ltca::test::LiuTable1();
+    StageSettings stage = Pins(0.02, BearingKind::kRollers);
+    stage.bearing.roller_count = 14;
+    stage.bearing.roller_diameter = 8.0;
+    stage.bearing.roller_length = 10.0;
+    stage.bearing.radial_clearance = 0.005;
+    const LoadProblem problem = paper.Problem(0.11, ltca::contact::ContactKinematics::kLinearised)
+                                    .WithStage(std::make_shared<const StageSettings>(stage));
+    const LoadResult r = SolveTight("compatibility", problem);
+    INFO(r.message);
+    REQUIRE(r.status == SolverStatus::kSuccess);
+    const double rw = 5.0, rh = 6.32, length = 12.0, c = (1.0 - 0.3 * 0.3) / 206000.0;
+    const double rho = 1.0 / (1.0 / rw - 1.0 / rh);
+    const double b1 = std::sqrt(4.0 * rho * 2.0 * c / (ltca::units::kPi * length));
+    const double a = c * (std::log(4.0 * rw / b1) - 0.5) + c * (std::log(4.0 * rh / b1) - 0.5);
+    double energy = 0.0;
+    int loaded = 0;
+    for (const double f : r.stage->discs[0].output_force) {
+      if (!(f > 0.0)) continue;
+      ++loaded;
+      const double b = b1 * std::sqrt(f);
+      const double delta = 2.0 * f / (ltca::units::kPi * length) * (c * (std::log(4.0 * rw / b) - 0.5) + c * (std::log(4.0 * rh / b) - 0.5));
+      CHECK(delta == doctest::Approx(2.0 * f / (ltca::units::kPi * length) * (a - c * std::log(f))).epsilon(1e-12));
+      const double complementary = 2.0 / (ltca::units::kPi * length) * (a * f * f / 2.0 - c * (f * f * std::log(f) / 2.0 - f * f / 4.0));
+      energy += f * delta - complementary;
+    }
+    CHECK(loaded >= 2);
+    const double output = r.stage->group_energy[static_cast<std::size_t>(ltca::solvers::StageGroup::kOutput)];
+    CHECK(output == doctest::Approx(energy).epsilon(1e-9));
+  }
+}
+
 TEST_CASE("solvers: crank holes all displaced tangentially by dt turn the carrier by dt / R_c and change no force (1e-7)") {
   // Every crank hole moved counterclockwise by dt along the crank circle: the eccentric j sits off
   // its hole by -dt t_j (t_j the circle's tangent at crank j), which the carrier turned by

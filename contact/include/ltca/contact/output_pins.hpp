@@ -7,7 +7,7 @@
 // the eccentricity, so the no-load clearance is r_h - r_w - e.
 //
 // A pin touches its hole on the line of the two centres: the contact is an internal line contact
-// (the hertz-line law with the hole's concave curvature -1/r_h). Its approach is
+// (the [contact] law with the hole's concave curvature -1/r_h: OutputPinLaw). Its approach is
 // |P_j - H_j| - (r_h - r_w); the force on the disc acts along n_j = (P_j - H_j) / |P_j - H_j|, the
 // force on the pin along -n_j.
 #include <vector>
@@ -15,6 +15,8 @@
 #include <Eigen/Core>
 
 #include "ltca/contact/holes.hpp"
+#include "ltca/contact/laws.hpp"
+#include "ltca/contact/material.hpp"
 #include "ltca/geometry/kinematics.hpp"
 
 namespace ltca::contact {
@@ -49,6 +51,18 @@ struct OutputPinContact {
   /// d(approach) / d(output rotation) = n_j . perp(P_j), mm/rad (output member about the origin).
   double output_arm = 0.0;
 };
+
+/// The law of an output pin in its hole (issue 46): a conformal line contact, the pin of radius
+/// r_w inside the hole's concave radius r_h, 1/rho* = 1/r_w - 1/r_h (Johnson, Contact Mechanics,
+/// 1985, section 4.1: a concave surface's radius of curvature is negative in the relative
+/// curvature 1/R = 1/R_1 + 1/R_2; section 4.2(b) for the cylinders' line contact). Under either
+/// [contact] rho_convention: the convention is how the pin-ring mesh takes the cycloid's curvature
+/// (docs/contact.md), never the hole's, whose sign is its geometry. The deck's law kind, linear
+/// stiffness and log cap (log_radius_cap resolved, > 0); the disc is the law's first body and the
+/// pin its second (material's cycloid and pin constants); never seated (a seat is the ring pins').
+/// length: the pin's contact length, mm.
+ContactLaw OutputPinLaw(const ContactSettings& contact, const Material& material, const OutputPins& pins,
+                        double length, double log_radius_cap);
 
 /// Every pin at the given disc pose (fixed frame) and output-member rotation (rad, about the
 /// pin-circle centre). The centres must not coincide (|P_j - H_j| > 0: then the contact
