@@ -234,6 +234,49 @@ TEST_CASE("app: Ctrl-C (SIGINT) and SIGTERM remove the run's temporary files and
   }
 }
 
+TEST_CASE("app: Ctrl-C while a figure is drawn removes the plotting library's temporary file too") {
+  // The figure is drawn for a fraction of a second after the solves: a run whose drawing the poll
+  // did not catch (a loaded machine) is tried again, up to five times.
+  Scratch s;
+  const auto drawing = [&] {
+    for (const auto& e : fs::directory_iterator(s.dir)) {
+      if (e.path().filename().string().rfind("ltca_plot_", 0) == 0) return true;
+    }
+    return false;
+  };
+  bool caught = false;
+  for (int attempt = 0; attempt < 5 && !caught; ++attempt) {
+    fs::remove(s / "out.svg");  // a run whose drawing was missed wrote it
+    const pid_t pid = fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+      const std::string dir = s.dir.string();
+      if (chdir(dir.c_str()) != 0 || setenv("TMPDIR", dir.c_str(), 1) != 0) _exit(127);  // the figure's temporary here
+      const int null = ::open("/dev/null", O_WRONLY);
+      dup2(null, 1);
+      dup2(null, 2);
+      execl(LTCA_EXE, LTCA_EXE, "solve", LTCA_CASES_DIR "/liu2021_table1.toml", "--set", "sweep.positions=3000", "--svg", "out.svg",
+            static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    int status = 0;
+    bool exited = false;
+    while (!caught && !exited) {
+      caught = drawing();
+      if (!caught) exited = waitpid(pid, &status, WNOHANG) == pid;
+    }
+    if (!caught) continue;
+    kill(pid, SIGINT);
+    waitpid(pid, &status, 0);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 128 + SIGINT);
+    CHECK_FALSE(drawing());
+    CHECK(s.Hidden().empty());
+    CHECK_FALSE(fs::exists(s / "out.svg"));
+  }
+  CHECK(caught);
+}
+
 TEST_CASE("app: the written deck reads back as the deck: comments, order and an empty [second_disc] kept, edits in place") {
   const std::string text = ReadFile(LTCA_CASES_DIR "/stage/rv_two_discs_cranks.toml");
   REQUIRE(text.find("[second_disc]") != std::string::npos);

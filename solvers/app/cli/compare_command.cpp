@@ -47,8 +47,10 @@ void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunne
   figure.title = fmt::format("{}: loaded TE of {} solvers over crank {:.4g} to {:.4g} deg", deck.info.title, runners.size(),
                              crank_deg.empty() ? 0.0 : crank_deg.front(), crank_deg.empty() ? 0.0 : crank_deg.back());
   const auto& ref = runners.front().options();
-  figure.caption = FigureCaption(deck, fmt::format("model {}, {} kinematics, {} positions; a failed position is a gap",
-                                                   deck.Model().name, contact::ToString(deck.kinematics), crank_deg.size()));
+  std::string skips;
+  for (const auto& [name, reason] : skipped) skips += fmt::format("; skipped: {} ({})", name, reason.substr(0, reason.find(" (")));
+  figure.caption = FigureCaption(deck, fmt::format("model {}, {} kinematics, {} positions; a failed position is a gap{}",
+                                                   deck.Model().name, contact::ToString(deck.kinematics), crank_deg.size(), skips));
   figure.columns = runners.size() > 1 ? 2 : 1;
   figure.width = runners.size() > 1 ? 1500 : 900;
   figure.height = 560;
@@ -67,7 +69,7 @@ void WriteCompareFigure(const app::Deck& deck, const std::vector<app::SweepRunne
   }
   // A solver that did not run is in the legend with its reason, and draws nothing.
   for (const auto& [name, reason] : skipped) {
-    plots::Series s{fmt::format("{}: skipped, {}", name, reason.substr(0, reason.find(" ("))), {}, {}, plots::Style::kLineMarkers};
+    plots::Series s{fmt::format("{} (skipped)", name), {}, {}, plots::Style::kLineMarkers};
     s.colour = static_cast<int>(all.series.size());
     all.series.push_back(std::move(s));
   }

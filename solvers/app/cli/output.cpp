@@ -30,15 +30,8 @@ namespace fs = std::filesystem;
 
 std::string Reason() { return errno != 0 ? std::string(": ") + std::strerror(errno) : std::string(); }
 
-// The temporaries of this process that SIGINT and SIGTERM remove, and the transaction of the run.
-std::mutex g_temporaries_mutex;
-std::vector<std::string> g_temporaries;  // guarded by g_temporaries_mutex
-thread_local OutputTransaction* g_current = nullptr;  // the run of this thread
-
-void ForgetLocked(const std::string& path) {
-  const auto it = std::find(g_temporaries.begin(), g_temporaries.end(), path);
-  if (it != g_temporaries.end()) g_temporaries.erase(it);
-}
+// The transaction of the run on this thread.
+thread_local OutputTransaction* g_current = nullptr;
 
 /// The file a path names: every symbolic link followed, also a dangling one (an output through a
 /// dangling link is written where the link points, not over the link).
@@ -66,16 +59,6 @@ std::string SiblingName(const fs::path& target, const char* what) {
 
 }  // namespace
 
-void RegisterTemporary(const std::string& path) {
-  const std::lock_guard<std::mutex> lock(g_temporaries_mutex);
-  g_temporaries.push_back(path);
-}
-
-void ForgetTemporary(const std::string& path) {
-  const std::lock_guard<std::mutex> lock(g_temporaries_mutex);
-  ForgetLocked(path);
-}
-
 void InstallInterruptCleanup() {
   sigset_t set;
   sigemptyset(&set);
@@ -90,11 +73,8 @@ void InstallInterruptCleanup() {
     int signal = 0;
     while (sigwait(&set, &signal) != 0) {
     }
-    g_temporaries_mutex.lock();  // a CommitAll() under way finishes first; never unlocked
-    for (const std::string& path : g_temporaries) {
-      std::error_code ec;
-      fs::remove_all(path, ec);
-    }
+    auto lock = app::LockTemporaries();  // a CommitAll() under way finishes first; never unlocked
+    app::RemoveTemporariesLocked();
     _exit(128 + signal);
   }).detach();
 }
@@ -180,17 +160,17 @@ void OutputTransaction::StageFolder(const std::string& option, const std::string
 }
 
 void OutputTransaction::Abandon() {
-  const std::lock_guard<std::mutex> lock(g_temporaries_mutex);
+  const auto lock = app::LockTemporaries();
   for (const Staged& s : staged_) {
     std::error_code ec;
     fs::remove_all(s.temp, ec);
-    ForgetLocked(s.temp);
+    app::ForgetTemporaryLocked(s.temp);
   }
   staged_.clear();
 }
 
 void OutputTransaction::CommitAll() {
-  const std::lock_guard<std::mutex> lock(g_temporaries_mutex);  // SIGINT waits for the renames
+  const auto lock = app::LockTemporaries();  // SIGINT waits for the renames
   for (const Staged& s : staged_) CheckOutput(s.option, s.target);
   // Each replaced file is kept (a hard link; a folder moved aside) until every output is in place.
   std::vector<std::string> kept(staged_.size());
@@ -231,12 +211,12 @@ void OutputTransaction::CommitAll() {
       } else {
         fs::remove_all(s.target, ec);
       }
-      ForgetLocked(s.temp);
+      app::ForgetTemporaryLocked(s.temp);
     }
     for (std::size_t i = done; i < staged_.size(); ++i) {
       std::error_code ec;
       fs::remove_all(staged_[i].temp, ec);
-      ForgetLocked(staged_[i].temp);
+      app::ForgetTemporaryLocked(staged_[i].temp);
     }
     staged_.clear();
     throw OutputError(failure);
@@ -244,7 +224,7 @@ void OutputTransaction::CommitAll() {
   for (std::size_t i = 0; i < staged_.size(); ++i) {
     std::error_code ec;
     if (!kept[i].empty()) fs::remove_all(kept[i], ec);
-    ForgetLocked(staged_[i].temp);
+    app::ForgetTemporaryLocked(staged_[i].temp);
   }
   staged_.clear();
 }

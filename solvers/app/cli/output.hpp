@@ -21,6 +21,7 @@
 
 #include "ltca/app/deck.hpp"
 #include "ltca/app/plots.hpp"
+#include "ltca/app/temporaries.hpp"
 
 namespace ltca::cli {
 
@@ -98,10 +99,8 @@ class OutputTransaction {
   std::vector<Staged> staged_;
 };
 
-/// Registers a temporary file or folder that SIGINT and SIGTERM remove (InstallInterruptCleanup).
-void RegisterTemporary(const std::string& path);
-/// Forgets it (it was renamed into place or removed).
-void ForgetTemporary(const std::string& path);
+using app::ForgetTemporary;   // the temporaries an interrupt removes (ltca/app/temporaries.hpp)
+using app::RegisterTemporary;
 /// For the `ltca` executable, first thing in main(): SIGINT, SIGTERM and SIGHUP are taken by a
 /// thread of their own, which removes every registered temporary (waiting for a CommitAll() under
 /// way to finish) and ends the process with 128 + the signal's number.

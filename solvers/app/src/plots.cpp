@@ -3,6 +3,8 @@
 // into a temporary file, which is then copied to the stream (SVG with its metadata added).
 #include "ltca/app/plots.hpp"
 
+#include "ltca/app/temporaries.hpp"
+
 #include <plplot.h>
 #include <unistd.h>
 
@@ -815,9 +817,13 @@ void Write(const Figure& figure, std::ostream& os, Format format) {
     const int fd = mkstemp(name.data());
     if (fd < 0) throw std::runtime_error("cannot create a temporary file for a plot in " + std::filesystem::temp_directory_path().string());
     close(fd);
+    RegisterTemporary(name);  // an interrupt removes it (a figure of a long sweep can be large)
     struct Remove {
       std::string path;
-      ~Remove() { std::remove(path.c_str()); }
+      ~Remove() {
+        std::remove(path.c_str());
+        ForgetTemporary(path);
+      }
     } remove{name};
     plsdev(device);
     plsfnam(name.c_str());

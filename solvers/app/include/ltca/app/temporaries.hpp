@@ -1,0 +1,23 @@
+#pragma once
+// The temporary files and folders of this process (an output being written, a figure being drawn,
+// a report's folder being built), so that an interrupted run can remove them: the `ltca`
+// executable's signal thread (cli::InstallInterruptCleanup) takes the lock, removes every one and
+// ends the process. Thread-safe.
+#include <mutex>
+#include <string>
+
+namespace ltca::app {
+
+/// Registers a temporary file or folder (removed whole) that an interrupt removes.
+void RegisterTemporary(const std::string& path);
+/// Forgets it (it was renamed into place or removed).
+void ForgetTemporary(const std::string& path);
+
+/// The registry's lock: held, no temporary is added, forgotten or removed by an interrupt (a
+/// commit of outputs holds it while it renames them, so an interrupt waits for the commit).
+std::unique_lock<std::mutex> LockTemporaries();
+/// With the lock held: forgets one, or removes every one (the interrupt).
+void ForgetTemporaryLocked(const std::string& path);
+void RemoveTemporariesLocked();
+
+}  // namespace ltca::app

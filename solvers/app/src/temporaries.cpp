@@ -1,0 +1,49 @@
+#include "ltca/app/temporaries.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <system_error>
+#include <vector>
+
+namespace ltca::app {
+namespace {
+
+std::mutex& Mutex() {
+  static std::mutex m;
+  return m;
+}
+
+std::vector<std::string>& Paths() {  // guarded by Mutex()
+  static std::vector<std::string> paths;
+  return paths;
+}
+
+}  // namespace
+
+void RegisterTemporary(const std::string& path) {
+  const std::lock_guard<std::mutex> lock(Mutex());
+  Paths().push_back(path);
+}
+
+void ForgetTemporary(const std::string& path) {
+  const std::lock_guard<std::mutex> lock(Mutex());
+  ForgetTemporaryLocked(path);
+}
+
+std::unique_lock<std::mutex> LockTemporaries() { return std::unique_lock<std::mutex>(Mutex()); }
+
+void ForgetTemporaryLocked(const std::string& path) {
+  auto& paths = Paths();
+  const auto it = std::find(paths.begin(), paths.end(), path);
+  if (it != paths.end()) paths.erase(it);
+}
+
+void RemoveTemporariesLocked() {
+  for (const std::string& path : Paths()) {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  Paths().clear();
+}
+
+}  // namespace ltca::app
