@@ -715,3 +715,30 @@ TEST_CASE("app: [pins] seat (issue 25) seats the pins in grooves or on a foundat
   CHECK(Contains(ErrorOf(std::string(kGood) + "[pins]\nseat = \"linear\"\nseat_stiffness_n_per_mm2 = -1\n"),
                  "[pins] seat_stiffness_n_per_mm2 = -1"));
 }
+
+TEST_CASE("app: a stage key beyond physical sense is refused naming the key, with no NaN in the message") {
+  // Issue 46 item 10: --set output.circle_radius_mm=1e17 was an internal error (exit 4), 1 mm of
+  // bearing play solved to a success the linearised model cannot give, span_mm = 1e200 said "-nan".
+  const std::string drive = ltca::test::Case("stage/cycloidal_drive.toml");
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"output.circle_radius_mm=1e17", "[output] circle_radius_mm"},
+      {"output.circle_radius_mm=55", "root circle"},
+      {"output.hole_radius_mm=6.6", "[output] hole_radius_mm"},
+      {"bearing.radial_clearance_mm=1", "[bearing] radial_clearance_mm"}};
+  for (const auto& [set, key] : bad) {
+    CAPTURE(set);
+    try {
+      ltca::app::LoadDeck(drive, {set});
+      FAIL("accepted");
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      CHECK(what.find(key) != std::string::npos);
+      CHECK(what.find("nan") == std::string::npos);
+    }
+  }
+  CHECK_THROWS_WITH_AS(ltca::app::LoadDeck(ltca::test::Case("pin_bending.toml"), {"pins.span_mm=1e200"}),
+                       doctest::Contains("[pins] span_mm = 1e+200: expected a finite distance between the pin supports > 0 and at most 10000 mm"),
+                       std::invalid_argument);
+  // The decks as they are read.
+  CHECK_NOTHROW(ltca::app::LoadDeck(drive));
+}

@@ -182,22 +182,24 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
                       {"phases", phases},
                       {"best", best != nullptr ? EvaluationJson(s, *best) : nlohmann::json(nullptr)},
                       {"wall_seconds", r.wall_seconds}};
-      nlohmann::json history = nlohmann::json::array();
-      for (const auto& e : r.history) history.push_back(EvaluationJson(s, e));
-      j["history"] = history;
-      if (!grid.empty()) {
-        nlohmann::json g = nlohmann::json::array();
-        for (const auto& e : grid) g.push_back(EvaluationJson(s, e));
-        j["map"] = g;
-      }
+      // The history, the map and the front are streamed one evaluation at a time after the rest of
+      // the document: the whole document as one JSON value took about 9 KB an evaluation.
+      std::ostream& os = json.stream();
+      os << OpenObject(j);
+      const auto stream_array = [&os](const char* key, std::size_t n, const auto& item) {
+        os << ",\n  \"" << key << "\": [";
+        for (std::size_t i = 0; i < n; ++i) os << (i == 0 ? "\n    " : ",\n    ") << Dump(item(i), -1);
+        os << (n == 0 ? "]" : "\n  ]");
+      };
+      stream_array("history", r.history.size(), [&](std::size_t i) { return EvaluationJson(s, r.history[i]); });
+      if (!grid.empty()) stream_array("map", grid.size(), [&](std::size_t i) { return EvaluationJson(s, grid[i]); });
       if (!front.empty()) {
-        nlohmann::json f = nlohmann::json::array();
-        for (const auto& p : front) {
-          f.push_back({{"figure", o.pareto}, {"bound", p.epsilon}, {"design", p.best >= 0 ? EvaluationJson(s, p.design) : nlohmann::json(nullptr)}});
-        }
-        j["pareto"] = f;
+        stream_array("pareto", front.size(), [&](std::size_t i) {
+          const auto& p = front[i];
+          return nlohmann::json{{"figure", o.pareto}, {"bound", p.epsilon}, {"design", p.best >= 0 ? EvaluationJson(s, p.design) : nlohmann::json(nullptr)}};
+        });
       }
-      json.stream() << Dump(j) << '\n';
+      os << "\n}\n";
       json.Commit();
     }
     if (csv.enabled()) {
