@@ -10,6 +10,7 @@
 
 #include "coupled_contact.hpp"
 #include "ltca/geometry/units.hpp"
+#include "ltca/contact/output_pins.hpp"
 #include "stage_system.hpp"
 
 namespace ltca::solvers {
@@ -82,6 +83,34 @@ void JudgeValidity(const LoadProblem& problem, const std::vector<const contact::
     result->warnings.push_back(fmt::format(
         "Hertz half-width {:.4g} mm at {} exceeds a tenth of the smaller radius of curvature ({:.4g} mm): "
         "beyond the validity of the line-contact law", b, PointName(problem, width_pin), b / worst_ratio));
+  }
+}
+
+// The output pins of a stage: the largest contact stress of a pin in its hole (the conformal law the
+// stage solves with, contact::OutputPinLaw) against the material's limit, named like the pin ring's.
+void JudgeOutputPins(const LoadProblem& problem, LoadResult* result) {
+  const StageSettings* stage = problem.stage();
+  if (stage == nullptr || stage->kind != OutputKind::kPins || !result->stage) return;
+  const contact::ContactSettings& contact = problem.contact_settings();
+  const double cap = contact.log_radius_cap > 0.0 ? contact.log_radius_cap : problem.model().pair().pin_circle_radius;
+  const contact::ContactLaw law =
+      contact::OutputPinLaw(contact, problem.material(), stage->pins, problem.model().pair().face_width, cap);
+  double worst = 0.0;
+  int worst_pin = -1, worst_disc = -1;
+  for (std::size_t d = 0; d < result->stage->discs.size(); ++d) {
+    const std::vector<double>& forces = result->stage->discs[d].output_force;
+    for (std::size_t j = 0; j < forces.size(); ++j) {
+      if (!(forces[j] > 0.0)) continue;
+      const double p = law.MaxPressure(forces[j]);
+      if (p > worst) worst = p, worst_pin = static_cast<int>(j), worst_disc = static_cast<int>(d);
+    }
+  }
+  const double limit = problem.material().contact_stress_limit;
+  if (worst > limit) {
+    result->warnings.push_back(fmt::format(
+        "contact stress {:.6g} MPa at output pin {}{} in its hole exceeds the material limit {:.6g} MPa ([material] "
+        "contact_stress_limit_mpa)",
+        worst, worst_pin + 1, problem.disc_count() > 1 ? fmt::format(" of disc {}", worst_disc + 1) : std::string(), limit));
   }
 }
 
@@ -234,6 +263,7 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
         std::vector<const contact::ContactLaw*> laws(base.size());
         for (std::size_t i = 0; i < base.size(); ++i) laws[i] = problem.base_state().pins[i].edge ? nullptr : &base[i];
         JudgeValidity(problem, laws, result);
+        JudgeOutputPins(problem, result);
       }
     }
   }

@@ -12,6 +12,9 @@
 
 #include <doctest/doctest.h>
 
+#include <nlohmann/json.hpp>
+
+#include "cli_run.hpp"
 #include "helpers.hpp"
 #include "problems.hpp"
 
@@ -328,4 +331,28 @@ TEST_CASE("app: on the stage decks the stage's solvers agree to 1e-9 arcsec with
       }
     }
   }
+}
+
+TEST_CASE("app: an output pin whose contact stress exceeds the material's limit is a warning naming the pin") {
+  // Issue 46 item 10: a 1 um output pin carrying 5 kN solved to a plain success. Johnson's
+  // conformal line contact (Contact Mechanics, 1985, eq. 4.45 with 1/R = 1/r_w - 1/r_h):
+  // p0 = sqrt(F E* / (pi l R)), about 1.2e5 MPa for 5.15 kN on 12 mm at R = 1.0 um.
+  const auto run = ltca::test::RunCli({"solve", ltca::test::Case("stage/cycloidal_drive.toml"), "--set", "output.pin_radius_mm=0.001",
+                                       "--set", "output.hole_radius_mm=1.321", "--set", "sweep.positions=2", "--json", "-"});
+  REQUIRE(run.code == 0);
+  const nlohmann::json s = nlohmann::json::parse(run.out)["summary"];
+  CHECK(s["warned_positions"] == 2);
+  const std::string warning = s["first_warning"].get<std::string>();
+  CHECK(warning.find("at output pin") != std::string::npos);
+  // The stress it names against Johnson's p0 at the largest output-pin force of the sweep.
+  const double force = s["stage"]["max_output_pin_force_n"].get<double>();
+  const double e_star = 1.0 / (2.0 * (1.0 - 0.3 * 0.3) / 206000.0);
+  const double radius = 1.0 / (1.0 / 0.001 - 1.0 / 1.321);
+  const double p0 = std::sqrt(force * e_star / (3.141592653589793 * 12.0 * radius));
+  const double named = std::stod(warning.substr(warning.find("contact stress ") + 15));
+  CHECK(named <= p0 * (1.0 + 1e-6));
+  CHECK(named >= 0.8 * p0);
+  // The deck as it is: no warning.
+  const auto plain = ltca::test::RunCli({"solve", ltca::test::Case("stage/cycloidal_drive.toml"), "--set", "sweep.positions=2", "--json", "-"});
+  CHECK(nlohmann::json::parse(plain.out)["summary"]["warned_positions"] == 0);
 }
