@@ -302,17 +302,28 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       figure.height = 600;
       WriteFigure(figure, svg);
     }
-    if (best_deck.enabled()) {
-      if (best == nullptr) throw std::invalid_argument("--write-deck: no evaluation met the constraints, so there is no design to write");
+    // The search's documents are kept whatever becomes of the deck: a deck that cannot be written
+    // (no design met the constraints, or the deck's text does not take the edit) is said, is not
+    // written, and the run is one that did not wholly succeed (exit 1), not an input error that
+    // would discard the search.
+    bool deck_written = !best_deck.enabled();
+    if (best_deck.enabled() && best == nullptr) {
+      fmt::print(streams.err, "ltca: --write-deck {}: no evaluation met the constraints, so there is no design to write\n", o.deck_path);
+    } else if (best_deck.enabled()) {
       const std::string header = fmt::format("# Written by ltca optimise from {}: the best of {} evaluations, {} = {:.10g}.\n"
                                              "# ltca solve runs it as it is; [optimise] is left out.\n",
                                              deck.name, r.history.size(), s.objective, best->objective);
-      best_deck.stream() << DesignDeck(deck, s, best->x, header);
-      best_deck.Commit();
+      try {
+        best_deck.stream() << DesignDeck(deck, s, best->x, header);
+        best_deck.Commit();
+        deck_written = true;
+      } catch (const std::invalid_argument& e) {
+        fmt::print(streams.err, "ltca: --write-deck {}: not written: {}\n", o.deck_path, e.what());
+      }
     }
     // Failed and rejected evaluations are designs the search ruled out (counted in the summary);
     // the run succeeds when it found a design that meets the constraints.
-    return best != nullptr ? kExitSuccess : kExitNotSucceeded;
+    return best != nullptr && deck_written ? kExitSuccess : kExitNotSucceeded;
   });
 }
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
@@ -45,11 +46,12 @@ fs::path FollowLinks(fs::path p) {
   return p;
 }
 
-/// A name beside `target` for a file or folder of this run: ".<name>.ltca-<what>-XXXXXX", made
+/// A name beside `target` for a file or folder of this run: ".ltca-<what>-XXXXXX" (short, so that
+/// it fits beside a target whose own name is as long as a name may be), made
 /// unique by mkstemp and removed again (the caller creates it at once).
 std::string SiblingName(const fs::path& target, const char* what) {
   const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string pattern = (folder / fmt::format(".{}.ltca-{}-XXXXXX", target.filename().string(), what)).string();
+  std::string pattern = (folder / fmt::format(".ltca-{}-XXXXXX", what)).string();  // short: any name fits
   const int fd = mkstemp(pattern.data());
   if (fd < 0) return {};
   close(fd);
@@ -62,9 +64,13 @@ std::string SiblingName(const fs::path& target, const char* what) {
 void InstallInterruptCleanup() {
   sigset_t set;
   sigemptyset(&set);
-  sigaddset(&set, SIGINT);
-  sigaddset(&set, SIGTERM);
-  sigaddset(&set, SIGHUP);
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
+    // A signal the process inherits as ignored (nohup's SIGHUP, SIGINT of a shell's background job)
+    // stays ignored: a blocked ignored signal would still reach sigwait.
+    struct sigaction now {};
+    if (sigaction(signal, nullptr, &now) == 0 && now.sa_handler == SIG_IGN) continue;
+    sigaddset(&set, signal);
+  }
   // Blocked in this thread before any other starts, so every thread inherits it and only the
   // waiting thread below takes these signals: it may then remove files and take the lock, which
   // a signal handler may not.
@@ -75,9 +81,19 @@ void InstallInterruptCleanup() {
     }
     auto lock = app::LockTemporaries();  // a CommitAll() under way finishes first; never unlocked
     app::RemoveTemporariesLocked();
-    _exit(128 + signal);
+    // Ended by the signal, as a shell expects of an interrupted program: its default action,
+    // unblocked in this thread.
+    std::signal(signal, SIG_DFL);
+    sigset_t one;
+    sigemptyset(&one);
+    sigaddset(&one, signal);
+    pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
+    raise(signal);
+    _exit(128 + signal);  // should the default action not end it
   }).detach();
 }
+
+fs::path OutputTarget(const std::string& path) { return FollowLinks(path); }
 
 int ReportError(std::exception_ptr error, std::ostream& err) {
   try {
@@ -103,7 +119,10 @@ OutputTransaction::OutputTransaction() {
 }
 
 OutputTransaction::~OutputTransaction() {
-  Abandon();
+  try {
+    Abandon();
+  } catch (...) {  // a destructor never throws
+  }
   if (g_current == this) g_current = nullptr;
 }
 
@@ -125,8 +144,9 @@ void OutputTransaction::CheckOutput(const std::string& option, const fs::path& t
   for (const Input& in : inputs_) {
     if (in.device == st.st_dev && in.inode == st.st_ino) {
       throw std::invalid_argument(fmt::format(
-          "{} {}: is {} '{}' that this run reads (the same file{}); an output never replaces an input: give another file",
-          option, target.string(), in.what, in.path, target.string() == in.path ? "" : ", through a link"));
+          "{} {}: is {} '{}' that this run reads (the same file, by device and inode); an output never replaces an input: "
+          "give another file",
+          option, target.string(), in.what, in.path));
     }
   }
   if (S_ISDIR(st.st_mode)) {
@@ -172,50 +192,74 @@ void OutputTransaction::Abandon() {
 void OutputTransaction::CommitAll() {
   const auto lock = app::LockTemporaries();  // SIGINT waits for the renames
   for (const Staged& s : staged_) CheckOutput(s.option, s.target);
-  // Each replaced file is kept (a hard link; a folder moved aside) until every output is in place.
+  // First pass, before anything is replaced: every existing target is kept (a file: a hard link,
+  // else a copy; a folder: moved aside at its turn), or nothing is replaced at all.
   std::vector<std::string> kept(staged_.size());
-  std::size_t done = 0;
+  std::vector<bool> existed(staged_.size(), false);
   std::string failure;
-  for (; done < staged_.size(); ++done) {
-    const Staged& s = staged_[done];
-    struct stat st {};
-    errno = 0;
-    if (lstat(s.target.c_str(), &st) == 0) {
-      kept[done] = SiblingName(s.target, "old");
-      if (!kept[done].empty()) {
-        const bool ok = s.folder ? std::rename(s.target.c_str(), kept[done].c_str()) == 0
-                                 : link(s.target.c_str(), kept[done].c_str()) == 0;
-        if (!ok) kept[done].clear();
-        if (!ok && s.folder) {
-          failure = fmt::format("{} {}: cannot move the old folder aside{}", s.option, s.target, Reason());
-          break;
-        }
-      }
+  const auto give_up = [&](std::size_t upto) {
+    for (std::size_t i = 0; i < upto; ++i) {
+      std::error_code ec;
+      if (!staged_[i].folder && !kept[i].empty()) fs::remove(kept[i], ec);
     }
+  };
+  for (std::size_t i = 0; i < staged_.size(); ++i) {
+    const Staged& s = staged_[i];
+    struct stat st {};
+    if (lstat(s.target.c_str(), &st) != 0) continue;  // a new file
+    existed[i] = true;
+    kept[i] = SiblingName(s.target, "old");
+    if (s.folder) continue;  // moved aside when its turn comes
     errno = 0;
-    if (std::rename(s.temp.c_str(), s.target.c_str()) != 0) {
-      failure = fmt::format("{} {}: cannot replace the {}{}", s.option, s.target, s.folder ? "folder" : "file", Reason());
-      if (s.folder && !kept[done].empty()) std::rename(kept[done].c_str(), s.target.c_str());
-      kept[done].clear();
+    bool ok = !kept[i].empty() && link(s.target.c_str(), kept[i].c_str()) == 0;
+    if (!ok && !kept[i].empty()) {  // no hard links here: a copy
+      std::error_code ec;
+      ok = fs::copy_file(s.target, kept[i], ec) && !ec;
+    }
+    if (!ok) {
+      failure = fmt::format("{} {}: cannot keep the file it would replace until every output is in place{}; nothing "
+                            "was replaced", s.option, s.target, Reason());
+      give_up(i + 1);
       break;
     }
   }
+  std::size_t done = 0;
+  if (failure.empty()) {
+    for (; done < staged_.size(); ++done) {
+      const Staged& s = staged_[done];
+      errno = 0;
+      if (s.folder && existed[done] && (kept[done].empty() || std::rename(s.target.c_str(), kept[done].c_str()) != 0)) {
+        failure = fmt::format("{} {}: cannot move the old folder aside{}", s.option, s.target, Reason());
+        kept[done].clear();
+        break;
+      }
+      errno = 0;
+      if (std::rename(s.temp.c_str(), s.target.c_str()) != 0) {
+        failure = fmt::format("{} {}: cannot replace the {}{}", s.option, s.target, s.folder ? "folder" : "file", Reason());
+        if (s.folder && existed[done]) std::rename(kept[done].c_str(), s.target.c_str());
+        if (s.folder) kept[done].clear();
+        break;
+      }
+    }
+  }
   if (!failure.empty()) {
-    // Every output put in place so far goes back to what it replaced (or away, when it was new).
-    for (std::size_t i = 0; i < done; ++i) {
+    // Every output put in place so far goes back to what it replaced (or away, when it was new),
+    // the last first (two outputs to one target restore the oldest).
+    for (std::size_t i = done; i-- > 0;) {
       const Staged& s = staged_[i];
       std::error_code ec;
-      if (!kept[i].empty()) {
+      if (existed[i]) {
         if (s.folder) fs::remove_all(s.target, ec);
         std::rename(kept[i].c_str(), s.target.c_str());
+        kept[i].clear();
       } else {
         fs::remove_all(s.target, ec);
       }
-      app::ForgetTemporaryLocked(s.temp);
     }
-    for (std::size_t i = done; i < staged_.size(); ++i) {
+    for (std::size_t i = 0; i < staged_.size(); ++i) {
       std::error_code ec;
-      fs::remove_all(staged_[i].temp, ec);
+      if (i >= done) fs::remove_all(staged_[i].temp, ec);
+      if (!staged_[i].folder && !kept[i].empty()) fs::remove(kept[i], ec);  // the unused copies
       app::ForgetTemporaryLocked(staged_[i].temp);
     }
     staged_.clear();
@@ -294,7 +338,7 @@ Output::Output(std::string option, std::string path, std::ostream& out)
   if (!fs::is_directory(folder, ec)) {
     throw OutputError(fmt::format("{} {}: the folder '{}' does not exist", option_, path_, folder.string()));
   }
-  std::string pattern = (folder / fmt::format(".{}.ltca-XXXXXX", target.filename().string())).string();
+  std::string pattern = (folder / ".ltca-tmp-XXXXXX").string();  // short: beside any name
   errno = 0;
   const int fd = mkstemp(pattern.data());
   if (fd < 0) throw OutputError(fmt::format("{} {}: cannot write in the folder '{}'{}", option_, path_, folder.string(), Reason()));

@@ -106,6 +106,9 @@ using app::RegisterTemporary;
 /// way to finish) and ends the process with 128 + the signal's number.
 void InstallInterruptCleanup();
 
+/// The file or folder an output path names: every symbolic link followed, also a dangling one.
+std::filesystem::path OutputTarget(const std::string& path);
+
 /// The exit code of the exception being handled, after printing it to `err` as `ltca` does
 /// ("ltca: error: ..." 2, "ltca: output error: ..." 3, "ltca: internal error: ..." 4).
 int ReportError(std::exception_ptr error, std::ostream& err);

@@ -236,7 +236,16 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // The page and its files are built in a fresh folder beside DIR and put in place of DIR when
   // complete (with the run's other outputs): a failure or Ctrl-C leaves DIR as it was. DIR is
   // replaced whole, so it must be new, empty, a report's (the marker file) or given up (--force).
-  const fs::path target(options.out_dir);
+  // The folder itself: its links followed (a report through a link replaces where it points, as
+  // a file output is written through one), "out/", "out/." and "./out" all the folder out.
+  const fs::path target = [&] {
+    fs::path t = OutputTarget(options.out_dir);
+    std::error_code e;
+    t = fs::absolute(t, e).lexically_normal();
+    while (!t.empty() && t.filename().empty() && t.has_parent_path() && t != t.root_path()) t = t.parent_path();
+    return t;
+  }();
+  if (target == target.root_path()) throw std::invalid_argument(fmt::format("-o {}: expected a folder other than the root", options.out_dir));
   std::error_code ec;
   const fs::file_status status = fs::status(target, ec);
   if (fs::exists(status) && !fs::is_directory(status)) {
@@ -255,7 +264,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   if (!fs::is_directory(parent)) {
     throw OutputError(fmt::format("-o {}: cannot create the folder '{}'{}", options.out_dir, parent.string(), ec ? ": " + ec.message() : ""));
   }
-  std::string staging = (parent / fmt::format(".{}.ltca-new-XXXXXX", target.filename().string())).string();
+  std::string staging = (parent / ".ltca-new-XXXXXX").string();
   errno = 0;
   if (mkdtemp(staging.data()) == nullptr) {
     throw OutputError(fmt::format("-o {}: cannot write in the folder '{}': {}", options.out_dir, parent.string(), std::strerror(errno)));
@@ -618,7 +627,9 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
                       std::isfinite(seconds) ? fmt::format("{:.3g}", seconds) : "n/a");
   WriteTo("-o", file("index.html"), streams.out, [&html](std::ostream& os) { os << html; });
   guard.handed = true;
-  if (run != nullptr) {
+  if (!IsFirstRank()) {  // under mpirun every rank builds the page; the first alone puts it in place
+    guard.handed = false;
+  } else if (run != nullptr) {
     run->StageFolder("-o", staging, target.string());
   } else {  // in-process, without a run: in place now
     OutputTransaction::Direct none;
@@ -636,7 +647,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     failed += fmt::format("{}{}", failed.empty() ? "" : ", ", part);
     if (result == kExitSuccess) result = c;
   }
-  fmt::print(streams.text, "wrote {} (case {}, {})\n", (target / "index.html").string(), deck.info.title,
+  fmt::print(streams.text, "{} {} (case {}, {})\n", run != nullptr ? "writes" : "wrote", (target / "index.html").string(), deck.info.title,
              failed.empty() ? "every part succeeded" : fmt::format("not every part succeeded: {}; see their sections", failed));
   return result;
 }

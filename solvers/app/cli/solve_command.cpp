@@ -3,6 +3,7 @@
 #include "command.hpp"
 
 #include <algorithm>
+#include <tuple>
 #include <cmath>
 #include <optional>
 #include <utility>
@@ -184,39 +185,39 @@ struct SvgData {
   /// SVG and peaked at 190 MB). The mean and the extremes marked are the sweep's own.
   static constexpr std::int64_t kTeBuckets = 2000;
   std::int64_t te_stride = 1, positions = 0;
-  double te_sum = 0.0;
-  std::int64_t te_count = 0;
+  double first_crank = NAN, last_crank = NAN;  ///< the sweep's, deg (the title's range)
   struct Bucket {
     double lo_crank = NAN, lo = INFINITY, hi_crank = NAN, hi = -INFINITY, failed_crank = NAN;
-    std::int64_t lo_at = 0, hi_at = 0;  ///< the positions they are at (the order they are drawn in)
+    std::int64_t lo_at = 0, hi_at = 0, failed_at = 0;  ///< the positions they are at (the order they are drawn in)
   } bucket;
   explicit SvgData(std::int64_t n)
       : stride(std::max<std::int64_t>(1, (n + kMapColumns - 1) / kMapColumns)),
         te_stride(n > kTeBuckets ? (n + kTeBuckets - 1) / kTeBuckets : 1) {}
   /// Closes the TE bucket that is open (Add does it as the next one starts; the figure at the end).
   void Flush() {
+    // The bucket's points in the order of their positions: its least and largest TE, and its first
+    // failed position as a gap.
+    std::vector<std::tuple<std::int64_t, double, double>> points;
     if (std::isfinite(bucket.lo_crank)) {
-      const bool lo_first = bucket.lo_at <= bucket.hi_at;
-      crank_deg.push_back(lo_first ? bucket.lo_crank : bucket.hi_crank);
-      te_arcsec.push_back(lo_first ? bucket.lo : bucket.hi);
-      if (bucket.hi_at != bucket.lo_at) {
-        crank_deg.push_back(lo_first ? bucket.hi_crank : bucket.lo_crank);
-        te_arcsec.push_back(lo_first ? bucket.hi : bucket.lo);
-      }
+      points.emplace_back(bucket.lo_at, bucket.lo_crank, bucket.lo);
+      if (bucket.hi_at != bucket.lo_at) points.emplace_back(bucket.hi_at, bucket.hi_crank, bucket.hi);
     }
-    if (std::isfinite(bucket.failed_crank)) crank_deg.push_back(bucket.failed_crank), te_arcsec.push_back(NAN);
+    if (std::isfinite(bucket.failed_crank)) points.emplace_back(bucket.failed_at, bucket.failed_crank, NAN);
+    std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
+    for (const auto& [at, crank, te] : points) crank_deg.push_back(crank), te_arcsec.push_back(te);
     bucket = {};
   }
   void Add(const app::PositionResult& p) {
     if (positions++ % te_stride == 0) Flush();
     const double crank = RadToDeg(p.crank);
+    if (positions == 1) first_crank = crank;
+    last_crank = crank;
     if (p.succeeded()) {
       const double te = RadToArcsec(p.result.te);
-      te_sum += te, ++te_count;
       if (te < bucket.lo) bucket.lo = te, bucket.lo_crank = crank, bucket.lo_at = positions;
       if (te > bucket.hi) bucket.hi = te, bucket.hi_crank = crank, bucket.hi_at = positions;
     } else if (!std::isfinite(bucket.failed_crank)) {
-      bucket.failed_crank = crank;
+      bucket.failed_crank = crank, bucket.failed_at = positions;
     }
     if (seen++ % stride == 0) {
       const auto or_nan = [&p](const std::vector<double>& v) {
@@ -277,11 +278,11 @@ plots::Panel TePanel(const std::vector<double>& crank_deg, const std::vector<dou
   return panel;
 }
 
-void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, SvgData& data, Output& output) {
+void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, SvgData& data, double mean_te_arcsec, Output& output) {
   data.Flush();
   plots::Figure figure;
-  const double c_lo = data.crank_deg.empty() ? 0.0 : data.crank_deg.front();
-  const double c_hi = data.crank_deg.empty() ? 0.0 : data.crank_deg.back();
+  const double c_lo = std::isfinite(data.first_crank) ? data.first_crank : 0.0;
+  const double c_hi = std::isfinite(data.last_crank) ? data.last_crank : 0.0;
   figure.title = fmt::format("{}: loaded TE over crank {:.4g} to {:.4g} deg, {} solver", deck.info.title, c_lo, c_hi, solver.name);
   figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics), T = {:g} N*m, {} positions",
                                                    deck.Model().name, solver.name, contact::ToString(deck.kinematics),
@@ -291,8 +292,8 @@ void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, Sv
   figure.columns = 3;
   figure.width = 1500;
   figure.height = 520;
-  figure.panels.push_back(TePanel(data.crank_deg, data.te_arcsec, solver.name,
-                                  data.te_count > 0 ? data.te_sum / static_cast<double>(data.te_count) : NAN));
+  // The mean marked is the summary's (a closed period's repeated state weighs once in it).
+  figure.panels.push_back(TePanel(data.crank_deg, data.te_arcsec, solver.name, mean_te_arcsec));
   if (data.peak) {
     const auto& p = *data.peak;
     const double crank = RadToDeg(p.crank);
@@ -501,7 +502,7 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
   }
   if (csv.enabled()) csv.Commit();
   if (pattern.enabled()) pattern.Commit();
-  if (svg.enabled()) WriteFigure(deck, solver, svg_data, svg);
+  if (svg.enabled()) WriteFigure(deck, solver, svg_data, RadToArcsec(sweep.summary.mean_te), svg);
 
   std::ostream& text = streams.text;
   fmt::print(text, "case      {}\n", deck.info.title);

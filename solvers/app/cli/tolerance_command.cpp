@@ -3,6 +3,7 @@
 #include "command.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <charconv>
 #include <limits>
 #include <chrono>
@@ -192,6 +193,13 @@ void WriteHistograms(const app::Deck& deck, const app::ToleranceStudy& study, co
 
 }  // namespace
 
+bool IsFirstRank() {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"}) {
+    if (const char* rank = std::getenv(name)) return std::string(rank) == "0";
+  }
+  return true;
+}
+
 int FailTogether(SampleFarm* farm, std::ostream& err, const std::function<int()>& body) {
   try {
     return body();
@@ -200,6 +208,10 @@ int FailTogether(SampleFarm* farm, std::ostream& err, const std::function<int()>
     const int code = ReportError(std::current_exception(), err);
     err.flush();
     if (OutputTransaction* run = OutputTransaction::Current()) run->Abandon();
+    {
+      auto lock = app::LockTemporaries();  // and every other temporary (a report's folder)
+      app::RemoveTemporariesLocked();
+    }
     farm->Abort(code);  // ends the process
     throw;              // not reached
   }

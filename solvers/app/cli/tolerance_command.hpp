@@ -45,6 +45,10 @@ class SampleFarm {
   [[noreturn]] virtual void Abort(int code) = 0;
 };
 
+/// False on the ranks other than the first of an mpirun job (OpenMPI's or PMIx's rank in the
+/// environment): the ranks that compute but do not write.
+bool IsFirstRank();
+
 /// Runs `body`, the part of a command after its farm is made. When it throws on a rank of a job of
 /// several, the message is printed as `ltca` prints it, the run's temporaries are removed and
 /// every rank ends with the exit code (SampleFarm::Abort); alone, the exception goes on.

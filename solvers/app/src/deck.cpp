@@ -1450,7 +1450,30 @@ struct TomlLines {
     std::string table, key;
     std::size_t first = 0, last = 0;   ///< the lines of key = value
     std::size_t comment = std::string::npos;  ///< where a comment starts on the last line
+    bool dotted = false;  ///< written as table.key = value (in the table it is under)
   };
+  /// A name as TOML compares it: each dotted part without its quotes and the spaces around it
+  /// (["modification"] is [modification]; simple quoted parts only).
+  static std::string Unquoted(const std::string& name) {
+    std::string out;
+    std::size_t start = 0;
+    while (start <= name.size()) {
+      std::size_t dot = std::string::npos;
+      for (std::size_t c = start, quote = 0; c < name.size(); ++c) {  // a dot outside quotes
+        if ((name[c] == '"' || name[c] == '\'') && (quote == 0 || name[c] == static_cast<char>(quote))) quote = quote == 0 ? name[c] : 0;
+        if (name[c] == '.' && quote == 0) {
+          dot = c;
+          break;
+        }
+      }
+      std::string part = Trim(std::string_view(name).substr(start, dot == std::string::npos ? std::string::npos : dot - start));
+      if (part.size() >= 2 && (part.front() == '"' || part.front() == '\'') && part.back() == part.front()) part = part.substr(1, part.size() - 2);
+      out += (out.empty() ? "" : ".") + part;
+      if (dot == std::string::npos) break;
+      start = dot + 1;
+    }
+    return out;
+  }
   struct TableAt {
     std::string name;       ///< "" for the keys before the first header
     std::size_t header = std::string::npos;  ///< its header line
@@ -1484,12 +1507,20 @@ struct TomlLines {
           const bool array = t.size() > 1 && t[1] == '[';
           const std::size_t close = t.find(']');
           tables.back().end = i;
-          tables.push_back({Trim(std::string_view(t).substr(array ? 2 : 1, close == std::string::npos ? 0 : close - (array ? 2 : 1))), i, 0});
+          tables.push_back({Unquoted(Trim(std::string_view(t).substr(array ? 2 : 1, close == std::string::npos ? 0 : close - (array ? 2 : 1)))), i, 0});
         } else if (!t.empty() && t[0] != '#') {
           const std::size_t eq = t.find('=');
-          std::string key = Trim(std::string_view(t).substr(0, eq == std::string::npos ? 0 : eq));
-          if (key.size() >= 2 && (key.front() == '"' || key.front() == '\'') && key.back() == key.front()) key = key.substr(1, key.size() - 2);
-          keys.push_back({tables.back().name, key, i, i, std::string::npos});
+          std::string key = Unquoted(Trim(std::string_view(t).substr(0, eq == std::string::npos ? 0 : eq)));
+          // A dotted key (modification.pin_radius_mm = ... at the root) is a key of the table it names.
+          std::string table = tables.back().name;
+          const std::size_t dot = key.rfind('.');
+          bool dotted = false;
+          if (dot != std::string::npos) {
+            table = table.empty() ? key.substr(0, dot) : table + "." + key.substr(0, dot);
+            key = key.substr(dot + 1);
+            dotted = true;
+          }
+          keys.push_back({table, key, i, i, std::string::npos, dotted});
           open = &keys.back();
         }
       }
@@ -1557,8 +1588,17 @@ std::string EditToml(std::string_view text, const std::vector<DeckEdit>& edits, 
         while (from > 0 && (last[from - 1] == ' ' || last[from - 1] == '\t')) --from;
         comment = last.substr(from);
       }
+      // The key as the deck writes it (a dotted or quoted key stays so), then the new value.
+      const std::string& head = t.lines[key->first];
+      const std::string written = key->dotted ? Trim(std::string_view(head).substr(0, head.find('='))) + " = " + e.value : line;
       out.erase(out.begin() + static_cast<std::ptrdiff_t>(key->first), out.begin() + static_cast<std::ptrdiff_t>(key->last) + 1);
-      out.insert(out.begin() + static_cast<std::ptrdiff_t>(key->first), line + comment);
+      out.insert(out.begin() + static_cast<std::ptrdiff_t>(key->first), written + comment);
+    } else if (const auto dotted = std::find_if(t.keys.rbegin(), t.keys.rend(),
+                                                [&](const TomlLines::KeyAt& k) { return k.table == e.section && k.dotted; });
+               dotted != t.keys.rend() && t.Table(e.section) == nullptr) {
+      // The table exists only as dotted keys: one more beside its last.
+      out.insert(out.begin() + static_cast<std::ptrdiff_t>(dotted->last) + 1,
+                 TomlKey(e.section) + "." + line + (e.comment.empty() ? "" : "  # " + e.comment));
     } else if (const TomlLines::TableAt* table = t.Table(e.section)) {
       std::size_t after = table->header == std::string::npos ? 0 : table->header + 1;
       for (const TomlLines::KeyAt& k : t.keys) {
@@ -1612,20 +1652,29 @@ std::string WriteDeck(const Deck& deck, const std::vector<DeckEdit>& edits, cons
   if (!text.empty() && text.back() != '\n') text += '\n';
   text += EditToml(deck.source.text, all, drop);
 
-  // Read back: the same keys with the same values, the same discs and stage.
+  // Read back: the same keys with the same values, the same discs and stage. An edit's value is
+  // compared as the reader gives it back (100.0 reads back as 100).
+  const auto as_given = [](const std::string& value) {
+    try {
+      std::istringstream stream("value = " + value + "\n");
+      return GivenText(toml::parse(stream, "value").as_table().at("value"));
+    } catch (const std::exception&) {
+      return value;
+    }
+  };
   const Deck back = ParseDeck(text, deck.name + " (as written)", {}, deck.source.directory);
   std::vector<std::tuple<std::string, std::string, std::string>> expected, written;
   for (const Deck::GivenKey& g : deck.given) {
     if (std::find(drop.begin(), drop.end(), g.section) != drop.end()) continue;
     std::string value = g.value;
     for (const DeckEdit& e : edits) {
-      if (e.section == g.section && e.key == g.key) value = e.value;
+      if (e.section == g.section && e.key == g.key) value = as_given(e.value);
     }
     expected.emplace_back(g.section, g.key, value);
   }
   for (const DeckEdit& e : edits) {
     if (std::none_of(deck.given.begin(), deck.given.end(), [&](const Deck::GivenKey& g) { return g.section == e.section && g.key == e.key; })) {
-      expected.emplace_back(e.section, e.key, e.value);
+      expected.emplace_back(e.section, e.key, as_given(e.value));
     }
   }
   for (const Deck::GivenKey& g : back.given) written.emplace_back(g.section, g.key, g.value);

@@ -8,14 +8,15 @@
 namespace ltca::app {
 namespace {
 
+// Never destroyed: the signal thread may use them while the process's statics are destroyed.
 std::mutex& Mutex() {
-  static std::mutex m;
-  return m;
+  static auto* m = new std::mutex;
+  return *m;
 }
 
 std::vector<std::string>& Paths() {  // guarded by Mutex()
-  static std::vector<std::string> paths;
-  return paths;
+  static auto* paths = new std::vector<std::string>;
+  return *paths;
 }
 
 }  // namespace
