@@ -10,7 +10,6 @@
 
 #include "coupled_contact.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/contact/output_pins.hpp"
 #include "stage_system.hpp"
 
 namespace ltca::solvers {
@@ -91,10 +90,7 @@ void JudgeValidity(const LoadProblem& problem, const std::vector<const contact::
 void JudgeOutputPins(const LoadProblem& problem, LoadResult* result) {
   const StageSettings* stage = problem.stage();
   if (stage == nullptr || stage->kind != OutputKind::kPins || !result->stage) return;
-  const contact::ContactSettings& contact = problem.contact_settings();
-  const double cap = contact.log_radius_cap > 0.0 ? contact.log_radius_cap : problem.model().pair().pin_circle_radius;
-  const contact::ContactLaw law =
-      contact::OutputPinLaw(contact, problem.material(), stage->pins, problem.model().pair().face_width, cap);
+  const contact::ContactLaw law = StageSystem::OutputPinLaw(problem);
   double worst = 0.0;
   int worst_pin = -1, worst_disc = -1;
   for (std::size_t d = 0; d < result->stage->discs.size(); ++d) {

@@ -1,6 +1,7 @@
 #include "stage_system.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -51,6 +52,11 @@ Eigen::VectorXd StageSystem::Coordinates(const Eigen::VectorXd& q) const {
     if (coordinate_dof_[i] >= 0) c(static_cast<Eigen::Index>(i)) = coordinate_scale_[i] * q(coordinate_dof_[i]);
   }
   return c;
+}
+
+contact::ContactLaw StageSystem::OutputPinLaw(const LoadProblem& problem) {
+  return contact::OutputPinLaw(problem.contact_settings(), problem.material(), problem.stage()->pins,
+                               problem.model().pair().face_width, problem.log_radius_cap());
 }
 
 Eigen::Vector2d StageSystem::Displacement(const Planar& p, const Eigen::VectorXd& q) {
@@ -174,10 +180,8 @@ void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origi
   // The output member's nominal rotation: the first disc's (the holes and cranks of every disc
   // sit where the output member's pins and cranks are at the nominal poses).
   const double output_rotation = problem.model().kinematics().CycloidPose(problem.crank()).rotation;
-  // The output pins' law: the deck's [contact] law, conformal and unseated (contact::OutputPinLaw).
-  const contact::ContactSettings& contact = problem.contact_settings();
-  const double cap = contact.log_radius_cap > 0.0 ? contact.log_radius_cap : problem.model().pair().pin_circle_radius;
-  const double width = problem.model().pair().face_width;
+  // The output pins' law, one for every pin of every disc.
+  const std::optional<contact::ContactLaw> pin_law = cranks ? std::nullopt : std::optional(OutputPinLaw(problem));
   for (int d = 0; d < discs_; ++d) {
     const geometry::Pose real = problem.DiscModel(d).real_pair().CycloidPose(problem.DiscCrank(d));
     // The disc where it is (nominal, or the origin's pose: its centre moved, its rotation added in
@@ -195,7 +199,7 @@ void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origi
         e.coordinates.Add(psi_coordinate_, s * c.output_arm);
         e.gap = c.gap;
         e.law = static_cast<int>(laws_.size());
-        laws_.push_back(contact::OutputPinLaw(contact, problem.material(), pins, width, cap));
+        laws_.push_back(*pin_law);
         e.direction = c.normal;
         e.group = StageGroup::kOutput;
         e.disc = d;

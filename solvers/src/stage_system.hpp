@@ -29,6 +29,10 @@ class CoupledContact;
 
 class StageSystem {
  public:
+  /// The law of every output pin in its hole (a stage of kind pins): the deck's [contact] law,
+  /// conformal and unseated (contact::OutputPinLaw), over the face width, with the problem's cap.
+  static contact::ContactLaw OutputPinLaw(const LoadProblem& problem);
+
   /// The stage at its nominal poses (linearised kinematics). Throws std::invalid_argument when the
   /// problem has no stage.
   ///

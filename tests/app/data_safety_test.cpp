@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -76,6 +77,24 @@ int Ltca(const fs::path& dir, const std::string& args) {
 }
 
 std::string Stderr(const Scratch& s) { return ReadFile(s / "ltca-stderr.txt"); }
+
+/// Starts `ltca solve <Liu Table 1> --set sweep.positions=POSITIONS OPTION FILE` in `dir` as a child
+/// process with its output streams discarded; `prepare` runs in the child just before the exec.
+pid_t StartSolve(const fs::path& dir, const char* positions, const char* option, const char* file,
+                 const std::function<void()>& prepare = {}) {
+  const std::string folder = dir.string();
+  const std::string set = std::string("sweep.positions=") + positions;
+  const pid_t pid = fork();
+  if (pid != 0) return pid;
+  if (chdir(folder.c_str()) != 0) _exit(127);
+  if (prepare) prepare();
+  const int null = ::open("/dev/null", O_WRONLY);
+  dup2(null, 1);
+  dup2(null, 2);
+  execl(LTCA_EXE, LTCA_EXE, "solve", LTCA_CASES_DIR "/liu2021_table1.toml", "--set", set.c_str(), option, file,
+        static_cast<char*>(nullptr));
+  _exit(127);
+}
 
 const std::string kTable1 = ReadFile(LTCA_CASES_DIR "/liu2021_table1.toml");
 constexpr const char* kFew = " --set sweep.positions=3";
@@ -207,18 +226,8 @@ TEST_CASE("app: Ctrl-C (SIGINT) and SIGTERM remove the run's temporary files and
     CAPTURE(signal);
     Scratch s;
     WriteFile(s / "out.json", "KEEP");
-    const pid_t pid = fork();
+    const pid_t pid = StartSolve(s.dir, "1000000", "--json", "out.json");
     REQUIRE(pid >= 0);
-    if (pid == 0) {
-      const std::string dir = s.dir.string();
-      if (chdir(dir.c_str()) != 0) _exit(127);
-      const int null = ::open("/dev/null", O_WRONLY);
-      dup2(null, 1);
-      dup2(null, 2);
-      execl(LTCA_EXE, LTCA_EXE, "solve", LTCA_CASES_DIR "/liu2021_table1.toml", "--set", "sweep.positions=1000000", "--json",
-            "out.json", static_cast<char*>(nullptr));
-      _exit(127);
-    }
     // Wait for the temporary file (the run has started writing), at most 60 s.
     bool started = false;
     for (int i = 0; i < 6000 && !started; ++i) {
@@ -249,18 +258,9 @@ TEST_CASE("app: Ctrl-C while a figure is drawn removes the plotting library's te
   bool caught = false;
   for (int attempt = 0; attempt < 5 && !caught; ++attempt) {
     fs::remove(s / "out.svg");  // a run whose drawing was missed wrote it
-    const pid_t pid = fork();
+    const std::string tmp = s.dir.string();
+    const pid_t pid = StartSolve(s.dir, "3000", "--svg", "out.svg", [&tmp] { setenv("TMPDIR", tmp.c_str(), 1); });  // the figure's temporary here
     REQUIRE(pid >= 0);
-    if (pid == 0) {
-      const std::string dir = s.dir.string();
-      if (chdir(dir.c_str()) != 0 || setenv("TMPDIR", dir.c_str(), 1) != 0) _exit(127);  // the figure's temporary here
-      const int null = ::open("/dev/null", O_WRONLY);
-      dup2(null, 1);
-      dup2(null, 2);
-      execl(LTCA_EXE, LTCA_EXE, "solve", LTCA_CASES_DIR "/liu2021_table1.toml", "--set", "sweep.positions=3000", "--svg", "out.svg",
-            static_cast<char*>(nullptr));
-      _exit(127);
-    }
     int status = 0;
     bool exited = false;
     while (!caught && !exited) {
@@ -372,19 +372,8 @@ TEST_CASE("app: ltca report -o takes the folder however it is spelled: a trailin
 
 TEST_CASE("app: a signal the run inherits as ignored stays ignored (nohup)") {
   Scratch s;
-  const pid_t pid = fork();
+  const pid_t pid = StartSolve(s.dir, "3000", "--json", "out.json", [] { std::signal(SIGHUP, SIG_IGN); });  // as nohup leaves it
   REQUIRE(pid >= 0);
-  if (pid == 0) {
-    const std::string dir = s.dir.string();
-    if (chdir(dir.c_str()) != 0) _exit(127);
-    std::signal(SIGHUP, SIG_IGN);  // as nohup leaves it
-    const int null = ::open("/dev/null", O_WRONLY);
-    dup2(null, 1);
-    dup2(null, 2);
-    execl(LTCA_EXE, LTCA_EXE, "solve", LTCA_CASES_DIR "/liu2021_table1.toml", "--set", "sweep.positions=3000", "--json", "out.json",
-          static_cast<char*>(nullptr));
-    _exit(127);
-  }
   for (int i = 0; i < 60000 && s.Hidden().empty(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   kill(pid, SIGHUP);
   int status = 0;

@@ -207,9 +207,8 @@ int FailTogether(SampleFarm* farm, std::ostream& err, const std::function<int()>
     if (farm == nullptr || farm->size() < 2) throw;
     const int code = ReportError(std::current_exception(), err);
     err.flush();
-    if (OutputTransaction* run = OutputTransaction::Current()) run->Abandon();
     {
-      auto lock = app::LockTemporaries();  // and every other temporary (a report's folder)
+      auto lock = app::LockTemporaries();  // every temporary: the staged outputs, a report's folder
       app::RemoveTemporariesLocked();
     }
     farm->Abort(code);  // ends the process

@@ -109,6 +109,9 @@ class LoadProblem {
   const contact::MeshState& base_state() const { return base_; }
   const std::vector<contact::ContactLaw>& base_laws() const { return base_laws_; }
   const contact::ContactSettings& contact_settings() const { return contact_; }
+  /// The largest cycloid radius in the hertz-line logarithm, mm: [contact] log_radius_cap_mm, or
+  /// the pin-circle radius when the deck leaves it 0 (every law of the problem takes this one).
+  double log_radius_cap() const { return log_radius_cap_; }
   const contact::Material& material() const { return material_; }
 
   /// Coupled compliance (issue 9 item 2): the deflection of pin i is its law's w_i(F_i) plus
