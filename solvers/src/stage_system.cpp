@@ -462,53 +462,63 @@ StageSystem::Outcome StageSystem::Minimise(Eigen::VectorXd* q, bool hold_output,
   // than the radius (H is positive semidefinite). The radius starts at a micrometre, grows 4x
   // after a step that the energy confirms, and shrinks 4x after one it does not.
   double radius = 1e-3;
-  Evaluation trial;
+  Evaluation trial, second;
   Eigen::LDLT<Eigen::MatrixXd> ldlt;
+  // The finest step that still moves a position. About an origin (exact kinematics) the gaps are
+  // positions of the size of R_p re-evaluated there, known to a few eps of it; in the nominal
+  // system they are the solve's own, and a step resolves to a few eps of the largest dof or gap.
+  double gap_scale = 0.0;
+  for (const Scalar& e : scalars_) gap_scale = std::max(gap_scale, std::abs(e.gap));
+  for (const Planar& p : planars_) gap_scale = std::max(gap_scale, p.offset.cwiseAbs().maxCoeff());
+  const auto resolution = [&](const Eigen::VectorXd& at) {
+    return 4.0 * std::numeric_limits<double>::epsilon() *
+           (exact_ ? radius_ : std::max(gap_scale, at.size() > 0 ? at.cwiseAbs().maxCoeff() : 0.0));
+  };
+  // The free part of a gradient.
+  const auto free_gradient = [&](const Evaluation& e, Eigen::VectorXd* out) {
+    out->resize(m);
+    for (Eigen::Index a = 0; a < m; ++a) (*out)(a) = e.gradient(free[static_cast<std::size_t>(a)]);
+  };
+  // The step of the model (g, h) within the trust region: Newton's when h is positive definite
+  // and its step fits, else Levenberg-Marquardt's (h + mu I) dq = -g with mu = |g| / radius.
+  const auto model_step = [&](const Eigen::MatrixXd& hm, const Eigen::VectorXd& gm, double within, Eigen::VectorXd* step) {
+    const double scale = hm.diagonal().cwiseAbs().maxCoeff();
+    ldlt.compute(hm);
+    bool newton = ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.vectorD().minCoeff() > 1e-13 * scale;
+    if (newton) {
+      *step = ldlt.solve(-gm);
+      newton = step->allFinite() && step->norm() <= within;
+    }
+    if (!newton) {
+      const double mu = std::max(gm.norm() / within, 1e-13 * scale);
+      ldlt.compute(hm + mu * Eigen::MatrixXd::Identity(m, m));
+      *step = ldlt.solve(-gm);
+    }
+    return newton;
+  };
+  Eigen::VectorXd gt(m), g2(m);
+  Eigen::MatrixXd ht(m, m);
   for (int it = 0; it < max_iterations; ++it) {
     if (!g.allFinite() || !std::isfinite(cur.energy)) return Outcome::kNumerical;
     const double g_max = g.cwiseAbs().maxCoeff();
     if (g_max <= std::max(force_tolerance, cur.rounding)) return Outcome::kConverged;
     *iterations = it + 1;
-    const double scale = h.diagonal().cwiseAbs().maxCoeff();
-    ldlt.compute(h);
-    bool newton = ldlt.info() == Eigen::Success && ldlt.isPositive() && ldlt.vectorD().minCoeff() > 1e-13 * scale;
-    if (newton) {
-      dq = ldlt.solve(-g);
-      newton = dq.allFinite() && dq.norm() <= radius;
-    }
-    if (!newton) {
-      const double mu = std::max(g.norm() / radius, 1e-13 * scale);
-      ldlt.compute(h + mu * Eigen::MatrixXd::Identity(m, m));
-      dq = ldlt.solve(-g);
-      if (!dq.allFinite()) return Outcome::kNumerical;
-    }
+    model_step(h, g, radius, &dq);
+    if (!dq.allFinite()) return Outcome::kNumerical;
     const double predicted = -(g.dot(dq) + 0.5 * dq.dot(h * dq));
     Eigen::VectorXd next = *q;
     for (Eigen::Index a = 0; a < m; ++a) next(free[static_cast<std::size_t>(a)]) += dq(a);
     Evaluate(next, true, hints, &trial);
+    free_gradient(trial, &gt);
     const double actual = cur.energy - trial.energy;
-    // Near the minimum the energies agree to rounding: there a step counts when it lowers the gradient.
+    // Near the minimum the energies agree to rounding: there a step counts when it lowers the
+    // gradient (its 2-norm, which the model's step lowers wherever the model holds).
     const double rounding = 64.0 * std::numeric_limits<double>::epsilon() *
                                 (std::abs(cur.energy) + torque_ * std::abs(next(psi)) / radius_) +
                             16.0 * std::max(cur.energy_rounding, trial.energy_rounding);
-    double trial_gradient = 0.0;
-    for (Eigen::Index a = 0; a < m; ++a) {
-      trial_gradient = std::max(trial_gradient, std::abs(trial.gradient(free[static_cast<std::size_t>(a)])));
-    }
     const bool decisive = predicted > rounding || std::abs(actual) > rounding;
     const bool accept = std::isfinite(trial.energy) &&
-                        (decisive ? predicted > 0.0 && actual >= 0.1 * predicted : trial_gradient < g_max);
-    // Neither the energy nor the gradient says the step helps. The energy is below its rounding
-    // here (a free-play solve at 1e-7 T), but the gradient still tells: a shorter step lowers it
-    // where this one closed or opened a contact the Newton model at q did not see (crank 144 deg of
-    // cases/stage/rv_two_discs_cranks.toml stopped here with the balance off by 7.7e-5). Shrink
-    // until the step is below the resolution of a position: the arithmetic's limit, where the
-    // shared judge decides.
-    if (!accept && !decisive) {
-      radius = 0.25 * dq.norm();
-      if (!(radius >= 4.0 * std::numeric_limits<double>::epsilon() * radius_)) return Outcome::kConverged;
-      continue;
-    }
+                        (decisive ? predicted > 0.0 && actual >= 0.1 * predicted : gt.norm() < g.norm());
     if (accept) {
       *q = next;
       std::swap(cur, trial);
@@ -516,38 +526,41 @@ StageSystem::Outcome StageSystem::Minimise(Eigen::VectorXd* q, bool hold_output,
       if (!decisive || actual >= 0.75 * predicted) radius = std::max(radius, 4.0 * dq.norm());
       continue;
     }
-    // The step closed contacts the model at q did not see. The trial point's own Newton step
+    // The step closed or opened contacts the model at q did not see. The trial point's own step
     // (its Hessian has them) lands on the minimum of the trial's active set, exactly for linear
-    // laws: an active-set Newton step. Taken when it lowers the energy below q's.
+    // laws: an active-set Newton step. Taken when it lowers the energy below q's, or, where the
+    // energy cannot tell (a free-play solve at 1e-7 T), the gradient.
     const double step = dq.norm();
-    Eigen::MatrixXd ht(m, m);
-    Eigen::VectorXd gt(m);
-    for (Eigen::Index a = 0; a < m; ++a) {
-      gt(a) = trial.gradient(free[static_cast<std::size_t>(a)]);
-      for (Eigen::Index b = 0; b < m; ++b) ht(a, b) = trial.hessian(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
-    }
-    ldlt.compute(ht);
-    const double scale_t = ht.diagonal().cwiseAbs().maxCoeff();
-    if (std::isfinite(trial.energy) && ldlt.info() == Eigen::Success && ldlt.isPositive() &&
-        ldlt.vectorD().minCoeff() > 1e-13 * scale_t) {
-      const Eigen::VectorXd d2 = ldlt.solve(-gt);
-      Eigen::VectorXd candidate = next;
-      for (Eigen::Index a = 0; a < m; ++a) candidate(free[static_cast<std::size_t>(a)]) += d2(a);
-      Evaluate(candidate, true, hints, &trial);
-      if (d2.allFinite() && std::isfinite(trial.energy) && cur.energy - trial.energy > rounding) {
-        radius = std::max(radius, (candidate - *q).norm());
-        *q = candidate;
-        std::swap(cur, trial);
-        gather(cur);
-        continue;
+    if (std::isfinite(trial.energy)) {
+      for (Eigen::Index a = 0; a < m; ++a) {
+        for (Eigen::Index b = 0; b < m; ++b) ht(a, b) = trial.hessian(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
+      }
+      Eigen::VectorXd d2;
+      // (Newton's step unbounded, as the minimum of the trial's active set; where the energy cannot
+      // tell, Levenberg-Marquardt's within the region the step just crossed, judged by the gradient.)
+      const bool trial_newton =
+          model_step(ht, gt, decisive ? std::numeric_limits<double>::infinity() : std::max(radius, step), &d2);
+      if ((trial_newton || !decisive) && d2.allFinite()) {
+        Eigen::VectorXd candidate = next;
+        for (Eigen::Index a = 0; a < m; ++a) candidate(free[static_cast<std::size_t>(a)]) += d2(a);
+        Evaluate(candidate, true, hints, &second);
+        free_gradient(second, &g2);
+        const bool better = std::isfinite(second.energy) &&
+                            (decisive ? cur.energy - second.energy > rounding : g2.norm() < g.norm());
+        if (better) {
+          radius = std::max(radius, (candidate - *q).norm());
+          *q = candidate;
+          std::swap(cur, second);
+          gather(cur);
+          continue;
+        }
       }
     }
     radius = 0.25 * step;
     if (!(radius > 0.0)) return Outcome::kNumerical;
-    // A trust region below the resolution of a position (positions of the size of R_p, to a few
-    // eps of it): no step can tell the model from the energy's rounding any more. The arithmetic's
-    // limit, as above; the shared judge decides.
-    if (radius < 4.0 * std::numeric_limits<double>::epsilon() * radius_) return Outcome::kConverged;
+    // A trust region below the resolution of a position: no step can tell the model from the
+    // arithmetic's rounding any more. The arithmetic's limit; the shared judge decides.
+    if (radius < resolution(*q)) return Outcome::kConverged;
   }
   return g.cwiseAbs().maxCoeff() <= std::max(force_tolerance, cur.rounding) ? Outcome::kConverged
                                                                              : Outcome::kMaxIterations;

@@ -85,7 +85,9 @@ class StageSystem {
   /// steps near the minimum). Converged when every component of the gradient (the free ones) is
   /// within tolerance * T / R_p (N), every balance within `tolerance` relative to T, or within
   /// the gradient's rounding (Evaluation::rounding), or when neither the energy nor the gradient
-  /// can tell a step from staying (the arithmetic's limit; the shared judge then decides).
+  /// (its 2-norm, where the energy is below its rounding) can tell a step from staying: a trust
+  /// region below the resolution of a position (a few eps of R_p about an origin, of the largest
+  /// dof or gap in the nominal system). The arithmetic's limit; the shared judge then decides.
   Outcome Minimise(Eigen::VectorXd* q, bool hold_output, double tolerance, int max_iterations,
                    std::vector<double>* hints, int* iterations, Evaluation* last) const;
 
