@@ -1,6 +1,7 @@
 #include "ltca/analysis/backlash.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -52,13 +53,21 @@ double BacklashSummary::mean() const {
 
 double BacklashSummary::pp() const { return succeeded_ > 0 ? hi_ - lo_ : std::numeric_limits<double>::quiet_NaN(); }
 
-BacklashSummary UnloadedBacklash(const Stage& stage, contact::ContactKinematics kinematics) {
-  BacklashSummary summary;
+BacklashResult Backlash(const Stage& stage, contact::ContactKinematics kinematics, const BacklashSink& sink) {
+  const auto start = std::chrono::steady_clock::now();
+  BacklashResult result;
+  result.kinematics = kinematics;
+  result.discs = stage.disc_count();
+  result.closed_period = stage.closed_period();
   const std::vector<double>& cranks = stage.cranks();
+  result.positions = cranks.size();
   for (std::size_t i = 0; i < cranks.size(); ++i) {
-    summary.Add(UnloadedBacklashAt(stage, cranks[i], kinematics), stage.closed_period() && i + 1 == cranks.size());
+    const BacklashPosition p = UnloadedBacklashAt(stage, cranks[i], kinematics);
+    result.summary.Add(p, result.closed_period && i + 1 == cranks.size());
+    if (sink) sink(p);
   }
-  return summary;
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
 }
 
 }  // namespace ltca::analysis

@@ -431,7 +431,7 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
     std::string backlash_failure;   // a position where no pin closes a flank's gap
     if (!design.reducer) {
       // `ltca backlash`'s rule (analysis/backlash.hpp): with two discs the first contact of either.
-      const BacklashSummary backlash = UnloadedBacklash(stage, stage.kinematics());
+      const BacklashSummary backlash = Backlash(stage, stage.kinematics()).summary;
       s.figures[kMeanBacklashArcsec] = units::RadToArcsec(backlash.mean());
       s.figures[kPpBacklashArcsec] = units::RadToArcsec(backlash.pp());
       if (backlash.failed() > 0) backlash_failure = fmt::format("unloaded backlash: {}", backlash.first_failure());

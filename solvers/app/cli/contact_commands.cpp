@@ -11,6 +11,7 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
+#include "documents/backlash.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/geometry/units.hpp"
@@ -18,6 +19,7 @@
 #include "solve_command.hpp"
 
 namespace ltca::cli {
+namespace documents = app::documents;
 namespace {
 
 using units::RadToArcsec;
@@ -26,40 +28,6 @@ using units::RadToDeg;
 nlohmann::json Finite(double v) { return FiniteOrNull(v); }
 
 namespace plots = app::plots;
-
-/// Backlash over crank angle with its mean and peak-to-peak (left); the rotations to first contact
-/// both ways (right).
-void WriteBacklashFigure(const app::Deck& deck, const BacklashOptions& options, const std::vector<double>& crank_deg,
-                         const std::vector<double>& c1, const std::vector<double>& c2, const std::vector<double>& backlash,
-                         bool two_discs, Output& output) {
-  plots::Figure figure;
-  figure.title = fmt::format("{}: unloaded backlash over crank {:.4g} to {:.4g} deg", deck.info.title,
-                             crank_deg.empty() ? 0.0 : crank_deg.front(), crank_deg.empty() ? 0.0 : crank_deg.back());
-  figure.caption = FigureCaption(deck, fmt::format("unloaded TCA, {} kinematics, {} positions; backlash = theta_c1 - theta_c2 "
-                                                   "(Liu eq. 17), the first contacts on the drive and coast flanks{}",
-                                                   contact::ToString(*options.kinematics),
-                                                   crank_deg.size(), two_discs ? "; two discs: the nearer of either disc's" : ""));
-  figure.columns = 2;
-  figure.width = 1400;
-  figure.height = 520;
-  plots::Panel b;
-  b.title = "backlash";
-  b.x_label = "crank angle (deg)";
-  b.y_label = "backlash (arcsec)";
-  b.series.push_back({"backlash", crank_deg, backlash, plots::Style::kLineMarkers});
-  MarkMeanAndPeakToPeak(b, backlash, "arcsec");
-  figure.panels.push_back(std::move(b));
-  plots::Panel r;
-  r.title = "rotation of the output to first contact";
-  r.x_label = "crank angle (deg)";
-  r.y_label = "rotation to first contact (arcsec)";
-  r.legend = plots::LegendPlace::kOutsideRight;
-  r.series.push_back({"theta_c1 (drive)", crank_deg, c1, plots::Style::kLineMarkers});
-  r.series.push_back({"theta_c2 (coast)", crank_deg, c2, plots::Style::kLineMarkers});
-  r.marks.push_back({plots::Mark::Axis::kHorizontal, 0.0, "", false});
-  figure.panels.push_back(std::move(r));
-  WriteFigure(figure, output);
-}
 
 /// The clearance of every pin around the ring (log scale: it runs from microns in the mesh to
 /// millimetres away from it) and its moment arm, at one crank angle.
@@ -123,127 +91,39 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output csv("--csv", options.csv_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
-  // One rule for every command (issue 26): --kinematics, else the deck's [solver] kinematics.
-  BacklashOptions run = options;
-  if (!run.kinematics) run.kinematics = deck.kinematics;
-  const contact::ContactKinematics kinematics = *run.kinematics;
-  std::vector<double> plot_crank, plot_c1, plot_c2, plot_backlash;  // for the figure (a double each per position)
-  std::ostream& out = streams.text;
+  // --kinematics, else the deck's [solver] kinematics (the rule of every command).
+  const contact::ContactKinematics kinematics = options.kinematics.value_or(deck.kinematics);
   // The stage checks every crank for interference before anything is computed or written.
   const analysis::Stage stage(deck, deck.sweep.CrankAngles());
-  const contact::MeshModel& model = stage.model();
-  const contact::MeshModel* second = stage.disc_count() == 2 ? &stage.model(1) : nullptr;  // [second_disc] (issue 13)
-  const std::vector<double>& cranks = stage.cranks();
-  // A sweep whose last state repeats its first (a closed period) weights it once in the mean.
-  const bool closed = stage.closed_period();
-  fmt::print(out, "case      {}\n", deck.info.title);
-  out << ModelLine(deck);
-  fmt::print(out, "unloaded TCA, {} kinematics, {} positions from {:g} to {:g} deg crank\n", contact::ToString(kinematics),
-             cranks.size(), RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
-  if (model.slice_count() > 1) {
-    fmt::print(out, "first contact sought at both face edges and the {} slice centres\n", model.slice_count());
-  }
-  if (second) {
-    fmt::print(out, "two discs: the stage's free play, on each flank the nearer first contact of either disc "
-                    "(pin column: disc:pin)\n");
-  }
-  fmt::print(out, "{:>10} {:>14} {:>14} {:>14} {:>6}\n", "crank_deg", "theta_c1_as", "theta_c2_as",
-             "backlash_as", "pin");
-  // Streamed, one position at a time, so memory does not grow with the sweep (issue 10): the JSON
-  // holds the positions, then the summary.
+  const bool two_discs = stage.disc_count() == 2;
+  std::ostream& out = streams.text;
+  out << documents::BacklashTextHead(deck, stage, kinematics);
+  // Streamed, one position at a time, so memory does not grow with the sweep: the JSON holds the
+  // positions, then the summary; the text a row for every tenth position and every failed one.
   if (json.enabled()) {
-    json.stream() << "{\n\"case\": "
-                  << Dump({{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}, -1)
-                  << ",\n\"model\": " << Dump(ModelJson(deck.Model()), -1)
-                  << ",\n\"kinematics\": " << Dump(contact::ToString(kinematics), -1) << ",\n\"positions\": [";
+    const nlohmann::json head = documents::BacklashHead(deck, kinematics);
+    json.stream() << "{\n\"case\": " << Dump(head.at("case"), -1) << ",\n\"model\": " << Dump(head.at("model"), -1)
+                  << ",\n\"kinematics\": " << Dump(head.at("kinematics"), -1) << ",\n\"positions\": [";
   }
-  if (csv.enabled()) {
-    csv.stream() << "crank_deg,theta_c1_arcsec,theta_c2_arcsec,backlash_arcsec,first_contact_disc,first_contact_pin,status\n";
-  }
-  const std::size_t step = std::max<std::size_t>(1, cranks.size() / 10);
-  analysis::BacklashSummary tally;  // the rule of every backlash figure (analysis/backlash.hpp)
-  for (std::size_t i = 0; i < cranks.size(); ++i) {
-    const analysis::BacklashPosition at = analysis::UnloadedBacklashAt(stage, cranks[i], kinematics);
-    tally.Add(at, closed && i + 1 == cranks.size());  // a repeated state weighs once
-    const contact::UnloadedContact& r = at.contact;
-    const bool ok = at.ok;
-    const std::string& failure = at.failure;
-    const int disc_c1 = at.disc_c1, disc_c2 = at.disc_c2;
-    const std::vector<double>& second_clearance = at.second_clearance;
-    const double c1 = ok ? r.theta_c1 : NAN, c2 = ok ? r.theta_c2 : NAN, b = ok ? r.backlash : NAN;
-    const std::string pin_label = !ok ? "n/a" : second ? fmt::format("{}:{}", disc_c1, r.first_pin_c1 + 1)
-                                                       : fmt::format("{}", r.first_pin_c1 + 1);
-    if (svg.enabled()) {
-      plot_crank.push_back(RadToDeg(r.crank)), plot_c1.push_back(RadToArcsec(c1));
-      plot_c2.push_back(RadToArcsec(c2)), plot_backlash.push_back(RadToArcsec(b));
-    }
-    if (i % step == 0 || !ok) {
-      fmt::print(out, "{:>10.4f} {:>14} {:>14} {:>14} {:>6}\n", RadToDeg(r.crank), FormatOrNa(RadToArcsec(c1), 4),
-                 FormatOrNa(RadToArcsec(c2), 4), FormatOrNa(RadToArcsec(b), 4), pin_label);
-    }
-    if (json.enabled()) {
-      nlohmann::json clearance = nlohmann::json::array(), after = nlohmann::json::array();
-      for (const double c : r.clearance) clearance.push_back(Finite(units::MmToUm(c)));
-      for (const double c : r.clearance_at_c1) after.push_back(ok ? Finite(units::MmToUm(c)) : nlohmann::json(nullptr));
-      const auto pin_or_null = [&](int pin) { return ok ? nlohmann::json(pin + 1) : nlohmann::json(nullptr); };
-      nlohmann::json position = {{"crank_deg", RadToDeg(r.crank)},
-                                 {"status", ToString(ok ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed)},
-                                 {"theta_c1_arcsec", Finite(RadToArcsec(c1))},
-                                 {"theta_c2_arcsec", Finite(RadToArcsec(c2))},
-                                 {"backlash_arcsec", Finite(RadToArcsec(b))},
-                                 {"first_contact_pin", pin_or_null(r.first_pin_c1)},
-                                 {"first_contact_pin_reverse", pin_or_null(r.first_pin_c2)},
-                                 {"clearance_um", clearance},
-                                 {"clearance_at_first_contact_um", after}};
-      if (!ok) position["message"] = failure;
-      if (second) {
-        position["first_contact_disc"] = ok ? nlohmann::json(disc_c1) : nlohmann::json(nullptr);
-        position["first_contact_disc_reverse"] = ok ? nlohmann::json(disc_c2) : nlohmann::json(nullptr);
-        nlohmann::json c2j = nlohmann::json::array();
-        for (const double c : second_clearance) c2j.push_back(Finite(units::MmToUm(c)));
-        position["second_disc_clearance_um"] = c2j;
-        // Each disc's own first contact is not the stage's: no figure rather than a misleading one.
-        position["clearance_at_first_contact_um"] = nullptr;
-      }
-      json.stream() << (i == 0 ? "\n" : ",\n") << Dump(position, -1);
-    }
-    if (csv.enabled()) {
-      if (ok) {
-        fmt::print(csv.stream(), "{:.9g},{:.9g},{:.9g},{:.9g},{},{},success\n", RadToDeg(r.crank), RadToArcsec(c1),
-                   RadToArcsec(c2), RadToArcsec(b), disc_c1, r.first_pin_c1 + 1);
-      } else {
-        fmt::print(csv.stream(), "{:.9g},,,,,,failed\n", RadToDeg(r.crank));
-      }
-    }
-  }
-  // Over the successful positions.
-  const double mean = tally.mean(), pp = tally.pp();
-  const std::size_t succeeded = tally.succeeded(), failed = tally.failed();
-  const std::string& first_failure = tally.first_failure();
-  if (failed > 0) fmt::print(out, "failed                  {} of {} positions, first at {}\n", failed, cranks.size(), first_failure);
-  fmt::print(out, "mean backlash           {} arcsec   (Liu eq. 17){}\n", FormatOrNa(RadToArcsec(mean), 4),
-             closed ? "; the last position repeats the first: counted once" : "");
-  if (deck.reducer) {  // issue 25
-    fmt::print(out, "note                    the pin ring's mesh alone; the stage's free play (holes, bearings too) is the "
-                    "backlash of ltca stiffness\n");
-  }
-  fmt::print(out, "peak-to-peak backlash   {} arcsec\n", FormatOrNa(RadToArcsec(pp), 4));
+  if (csv.enabled()) csv.stream() << documents::BacklashCsvHead();
+  const std::size_t step = std::max<std::size_t>(1, stage.cranks().size() / 10);
+  std::size_t i = 0;
+  documents::BacklashSeries series;
+  const analysis::BacklashResult result = analysis::Backlash(stage, kinematics, [&](const analysis::BacklashPosition& p) {
+    if (svg.enabled()) series.Add(p);
+    if (i % step == 0 || !p.ok) out << documents::Text(p, two_discs);
+    if (json.enabled()) json.stream() << (i == 0 ? "\n" : ",\n") << Dump(documents::Json(p, two_discs), -1);
+    if (csv.enabled()) csv.stream() << documents::Csv(p);
+    ++i;
+  });
+  out << documents::Text(deck, result);
   if (json.enabled()) {
-    nlohmann::json summary = {{"mean_backlash_arcsec", Finite(RadToArcsec(mean))},
-                              {"pp_backlash_arcsec", Finite(RadToArcsec(pp))},
-                              {"status", ToString(failed == 0 ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed)},
-                              {"positions", cranks.size()},
-                              {"succeeded_positions", succeeded},
-                              {"failed_positions", failed},
-                              {"closed_period", closed}};
-    if (deck.reducer) summary["scope"] = "the pin ring's mesh alone; the stage's free play is the backlash of ltca stiffness";
-    if (failed > 0) summary["first_failure"] = first_failure;
-    json.stream() << "\n],\n\"summary\": " << Dump(summary, -1) << "\n}\n";
+    json.stream() << "\n],\n\"summary\": " << Dump(documents::Json(deck, result), -1) << "\n}\n";
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
-  if (svg.enabled()) WriteBacklashFigure(deck, run, plot_crank, plot_c1, plot_c2, plot_backlash, second != nullptr, svg);
-  return failed == 0 ? kExitSuccess : kExitNotSucceeded;
+  if (svg.enabled()) WriteFigure(documents::Figure(deck, series, result), svg);
+  return result.summary.failed() == 0 ? kExitSuccess : kExitNotSucceeded;
 }
 
 void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& streams) {

@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "documents/common.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/app/plots.hpp"
 #include "ltca/app/temporaries.hpp"
@@ -144,22 +145,21 @@ void WriteTo(const std::string& option, const std::string& path, std::ostream& o
 /// Draws a figure (issue 16) into an output, SVG or, by the path's extension, PNG or PDF, and
 /// commits it.
 void WriteFigure(const app::plots::Figure& figure, Output& output);
-/// A figure's caption: the deck and its source on one line, then `ran` (the model and solver).
-std::string FigureCaption(const app::Deck& deck, const std::string& ran);
 
-/// Marks the mean, the largest and the smallest of the finite values on a panel (horizontal lines
-/// labelled with the figure and the unit, the peak-to-peak named on the largest) and sets the y range
-/// to leave room for the labels. Does nothing when no value is finite. `mean`, when finite, is the
-/// mean to mark (the whole sweep's, where the values are its drawn extremes).
-void MarkMeanAndPeakToPeak(app::plots::Panel& panel, const std::vector<double>& values, const std::string& unit,
-                           double mean = NAN);
 
 /// Throws std::invalid_argument when more than one of these outputs is "-" (standard output
 /// carries one document) or two of them name the same file (one would replace the other).
 void RequireDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& option_paths);
 
-/// JSON text of a document: invalid UTF-8 (a deck path with other bytes) is replaced, never an error.
-std::string Dump(const nlohmann::json& doc, int indent = 2);
+// The documents' shared pieces (documents/common.hpp), as the commands name them.
+using app::documents::Dump;
+using app::documents::FigureCaption;
+using app::documents::FiniteOrNull;
+using app::documents::FormatOrNa;
+using app::documents::MarkMeanAndPeakToPeak;
+using app::documents::ModelJson;
+using app::documents::ModelLine;
+
 
 /// Indents every line but the first by two spaces (a document nested one level).
 std::string Nested(const std::string& text);
@@ -167,17 +167,7 @@ std::string Nested(const std::string& text);
 /// document can go on with more members (positions, then the summary).
 std::string OpenObject(const nlohmann::json& header);
 
-/// NaN or infinite: JSON null.
-nlohmann::json FiniteOrNull(double v);
-/// A figure in text, or "n/a" when it is not finite (no valid solve produced it).
-std::string FormatOrNa(double v, int decimals);
 
-/// The model that ran (issue 11): {name, slices, surface} and a note when a given slice count
-/// was not used.
-nlohmann::json ModelJson(const app::Deck::ModelInfo& model);
-/// "model     slices (20 slices of 1.5 mm over the 30 mm face width, analytic surface)\n", with
-/// the note on a line of its own.
-std::string ModelLine(const app::Deck& deck);
 
 /// The streams of a command: documents go to out ("-"); the human text to text, which is the
 /// error stream when any output of the command is "-" (so stdout carries only the document).

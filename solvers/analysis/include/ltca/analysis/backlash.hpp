@@ -6,6 +6,7 @@
 // either disc on each flank: theta_c1 is the smaller of the discs', theta_c2 the larger, and the
 // stage's backlash is their difference (never one disc's alone).
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -49,7 +50,20 @@ class BacklashSummary {
   std::string first_failure_;
 };
 
-/// The whole sweep at the stage's checked cranks.
-BacklashSummary UnloadedBacklash(const Stage& stage, contact::ContactKinematics kinematics);
+/// The unloaded backlash of a stage over its checked cranks: what ran and what it found.
+struct BacklashResult {
+  contact::ContactKinematics kinematics = contact::ContactKinematics::kLinearised;
+  int discs = 1;
+  std::size_t positions = 0;
+  /// The last crank repeats the first crank's state (Stage::closed_period): it weighs once in the mean.
+  bool closed_period = false;
+  BacklashSummary summary;
+  double wall_seconds = 0.0;
+};
+/// Receives every position in crank order as it is computed (memory stays bounded in positions).
+using BacklashSink = std::function<void(const BacklashPosition&)>;
+
+/// The sweep at the stage's checked cranks, each position to `sink` when given.
+BacklashResult Backlash(const Stage& stage, contact::ContactKinematics kinematics, const BacklashSink& sink = {});
 
 }  // namespace ltca::analysis

@@ -1,0 +1,44 @@
+#pragma once
+// The documents of the unloaded backlash (analysis::Backlash): its JSON, text, CSV and figure,
+// built position by position from the analysis's sink and closed with its result. `ltca backlash`,
+// `ltca report` and the Python module all build theirs here.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "ltca/analysis/backlash.hpp"
+#include "ltca/app/deck.hpp"
+#include "ltca/app/plots.hpp"
+
+namespace ltca::app::documents {
+
+/// The JSON document's members before its positions: case, model, kinematics.
+nlohmann::json BacklashHead(const Deck& deck, contact::ContactKinematics kinematics);
+/// One position of the JSON document (angles in arcsec, clearances in um; null where it failed).
+nlohmann::json Json(const analysis::BacklashPosition& p, bool two_discs);
+/// The JSON document's summary.
+nlohmann::json Json(const Deck& deck, const analysis::BacklashResult& result);
+/// The whole JSON document from positions kept in memory (the Python module; the command streams).
+nlohmann::json Json(const Deck& deck, const std::vector<analysis::BacklashPosition>& positions,
+                    const analysis::BacklashResult& result);
+
+/// The text: the head (case, model, the table's header), a row per position, the summary.
+std::string BacklashTextHead(const Deck& deck, const analysis::Stage& stage, contact::ContactKinematics kinematics);
+std::string Text(const analysis::BacklashPosition& p, bool two_discs);
+std::string Text(const Deck& deck, const analysis::BacklashResult& result);
+
+/// The CSV: its header line and a row per position.
+std::string BacklashCsvHead();
+std::string Csv(const analysis::BacklashPosition& p);
+
+/// The figure's series, gathered position by position (four doubles a position).
+struct BacklashSeries {
+  std::vector<double> crank_deg, theta_c1_arcsec, theta_c2_arcsec, backlash_arcsec;
+  void Add(const analysis::BacklashPosition& p);
+};
+/// Backlash over crank angle with its mean and peak-to-peak (left); the rotations to first contact
+/// both ways (right).
+plots::Figure Figure(const Deck& deck, const BacklashSeries& series, const analysis::BacklashResult& result);
+
+}  // namespace ltca::app::documents

@@ -1,0 +1,83 @@
+#include "documents/common.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#ifndef LTCA_VERSION
+#define LTCA_VERSION "unknown"
+#endif
+
+namespace ltca::app::documents {
+
+std::string Dump(const nlohmann::json& doc, int indent) {
+  return doc.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+std::string FormatOrNa(double v, int decimals) {
+  return std::isfinite(v) ? fmt::format("{:.{}f}", v, decimals) : std::string("n/a");
+}
+
+nlohmann::json CaseJson(const Deck& deck) {
+  return {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}};
+}
+
+nlohmann::json ModelJson(const Deck::ModelInfo& model) {
+  nlohmann::json j = {{"name", model.name}, {"slices", model.slices}, {"surface", model.surface}};
+  if (!model.note.empty()) j["note"] = model.note;
+  if (model.discs != 1) j["discs"] = model.discs;  // [second_disc]
+  if (!model.stage.empty()) j["stage"] = model.stage;  // [output], [bearing]
+  if (!model.pin_seat.empty()) j["pin_seat"] = model.pin_seat;  // [pins] seat
+  if (model.tip_relief_source != "none" || !model.tip_relief_note.empty()) {
+    j["tip_relief"] = {{"truncation_mm", model.tip_relief.truncation},
+                       {"rounding_radius_mm", model.tip_relief.rounding_radius},
+                       {"source", model.tip_relief_source}};
+    if (!model.tip_relief_note.empty()) j["tip_relief"]["note"] = model.tip_relief_note;
+  }
+  return j;
+}
+
+std::string ModelLine(const Deck& deck) {
+  const Deck::ModelInfo m = deck.Model();
+  std::string line =
+      m.slices == 1
+          ? fmt::format("model     {} (1 slice over the {:g} mm face width, {} surface)\n", m.name, deck.pair.face_width,
+                        m.surface)
+          : fmt::format("model     {} ({} slices of {:g} mm over the {:g} mm face width, {} surface)\n", m.name,
+                        m.slices, deck.pair.face_width / m.slices, deck.pair.face_width, m.surface);
+  if (!m.note.empty()) line += fmt::format("note      {}\n", m.note);
+  if (m.tip_relief_source != "none") {
+    line += fmt::format("tip       relief {} mm truncation, {} mm rounding radius (from the deck)\n", m.tip_relief.truncation,
+                        m.tip_relief.rounding_radius);
+  }
+  if (!m.tip_relief_note.empty()) line += fmt::format("tip note  {}\n", m.tip_relief_note);
+  return line;
+}
+
+std::string FigureCaption(const Deck& deck, const std::string& ran) {
+  std::string caption = fmt::format("deck: {}", deck.name);
+  if (!deck.info.source.empty()) caption += fmt::format("   source: {}", deck.info.source);
+  if (!ran.empty()) caption += "\n" + ran;
+  return caption + fmt::format("\nltca {}", LTCA_VERSION);
+}
+
+void MarkMeanAndPeakToPeak(plots::Panel& panel, const std::vector<double>& values, const std::string& unit, double mean) {
+  double lo = INFINITY, hi = -INFINITY, sum = 0.0;
+  int n = 0;
+  for (const double v : values) {
+    if (!std::isfinite(v)) continue;
+    lo = std::min(lo, v), hi = std::max(hi, v), sum += v, ++n;
+  }
+  if (n == 0) return;
+  using Mark = plots::Mark;
+  if (!std::isfinite(mean)) mean = sum / n;
+  panel.marks.push_back({Mark::Axis::kHorizontal, mean, fmt::format("mean {:.4f} {}", mean, unit), false});
+  panel.marks.push_back({Mark::Axis::kHorizontal, hi, fmt::format("max {:.4f}: peak-to-peak {:.4f} {}", hi, hi - lo, unit), true});
+  panel.marks.push_back({Mark::Axis::kHorizontal, lo, fmt::format("min {:.4f}", lo), true});
+  const double pad = std::max(0.15 * (hi - lo), 1e-3 * std::max(1.0, std::abs(hi)));
+  panel.y_min = lo - pad, panel.y_max = hi + 2 * pad;
+}
+
+}  // namespace ltca::app::documents
