@@ -131,11 +131,12 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     fmt::print(text, "method      {} then {}, {} evaluations, {} thread(s){}\n", app::ToString(s.global), app::ToString(s.local), s.evaluations,
                threads, ranks.size > 1 ? fmt::format(" on each of {} MPI ranks", ranks.size) : "");
 
-    const app::OptimiseResult r = optimiser.Run();
+    std::vector<app::DesignEvaluation> history;  // every evaluation, as the search hands it over
+    const app::OptimiseResult r = optimiser.Run([&history](const app::DesignEvaluation& e) { history.push_back(e); });
     for (const auto& p : r.phases) fmt::print(text, "phase       {}: {} evaluations, stopped: {}\n", p.method, p.evaluations, p.stop);
-    fmt::print(text, "evaluations {} ({} failed, {} rejected){}\n", r.history.size(), r.failed, r.rejected,
+    fmt::print(text, "evaluations {} ({} failed, {} rejected){}\n", r.evaluations, r.failed, r.rejected,
                r.first_failure.empty() ? "" : "; first: " + r.first_failure);
-    const app::DesignEvaluation* best = r.best >= 0 ? &r.history[static_cast<std::size_t>(r.best)] : nullptr;
+    const app::DesignEvaluation* best = r.best >= 0 ? &r.best_design : nullptr;
     if (best != nullptr) {
       fmt::print(text, "best        evaluation {} ({}): {} = {:.10g}\n", best->index, best->phase, s.objective, best->objective);
       for (std::size_t k = 0; k < s.variables.size(); ++k) fmt::print(text, "            {} = {:.10g}\n", s.variables[k].key, best->x[k]);
@@ -175,7 +176,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       nlohmann::json phases = nlohmann::json::array();
       for (const auto& p : r.phases) phases.push_back({{"method", p.method}, {"evaluations", p.evaluations}, {"stop", p.stop}});
       j["summary"] = {{"status", best != nullptr ? "success" : "failed"},
-                      {"evaluations", r.history.size()},
+                      {"evaluations", r.evaluations},
                       {"failed", r.failed},
                       {"rejected", r.rejected},
                       {"first_failure", r.first_failure},
@@ -191,7 +192,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
         for (std::size_t i = 0; i < n; ++i) os << (i == 0 ? "\n    " : ",\n    ") << Dump(item(i), -1);
         os << (n == 0 ? "]" : "\n  ]");
       };
-      stream_array("history", r.history.size(), [&](std::size_t i) { return EvaluationJson(s, r.history[i]); });
+      stream_array("history", history.size(), [&](std::size_t i) { return EvaluationJson(s, history[i]); });
       if (!grid.empty()) stream_array("map", grid.size(), [&](std::size_t i) { return EvaluationJson(s, grid[i]); });
       if (!front.empty()) {
         stream_array("pareto", front.size(), [&](std::size_t i) {
@@ -219,7 +220,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
         std::replace(m.begin(), m.end(), '"', '\'');
         c << ",\"" << m << "\"\n";
       };
-      for (const auto& e : r.history) row(e);
+      for (const auto& e : history) row(e);
       for (const auto& e : grid) row(e);
       csv.Commit();
     }
@@ -227,7 +228,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       namespace plots = app::plots;
       plots::Figure figure;
       figure.title = fmt::format("{}: {} {} over {} evaluations ({} then {})", deck.info.title, s.maximise ? "maximise" : "minimise",
-                                 s.objective, r.history.size(), app::ToString(s.global), app::ToString(s.local));
+                                 s.objective, r.evaluations, app::ToString(s.global), app::ToString(s.local));
       figure.caption = FigureCaption(deck, fmt::format("{}; infeasible: a constraint not met; failed evaluations are not drawn{}",
                                                        s.robust ? fmt::format("robust: {} of {} samples", RobustRule(s), s.robust_samples) : "nominal pair",
                                                        grid.empty() ? "" : "; map: blank cells are infeasible"));
@@ -238,7 +239,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       plots::Series feasible{"feasible", {}, {}, plots::Style::kMarkers}, infeasible{"infeasible", {}, {}, plots::Style::kMarkers},
           best_line{"best feasible so far", {}, {}, plots::Style::kLine};
       double best_so_far = std::numeric_limits<double>::quiet_NaN();
-      for (const auto& e : r.history) {
+      for (const auto& e : history) {
         if (e.status != app::RunStatus::kSuccess) continue;
         auto& series = e.feasible ? feasible : infeasible;
         series.x.push_back(static_cast<double>(e.index));
@@ -269,7 +270,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
         }
         m.map = map;
         plots::Series path{"evaluations", {}, {}, plots::Style::kMarkers};
-        for (const auto& e : r.history) path.x.push_back(e.x[0]), path.y.push_back(e.x[1]);
+        for (const auto& e : history) path.x.push_back(e.x[0]), path.y.push_back(e.x[1]);
         path.marker_size = 0.4;
         path.colour = 7;
         m.series.push_back(path);
@@ -312,7 +313,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     } else if (best_deck.enabled()) {
       const std::string header = fmt::format("# Written by ltca optimise from {}: the best of {} evaluations, {} = {:.10g}.\n"
                                              "# ltca solve runs it as it is; [optimise] is left out.\n",
-                                             deck.name, r.history.size(), s.objective, best->objective);
+                                             deck.name, r.evaluations, s.objective, best->objective);
       try {
         best_deck.stream() << DesignDeck(deck, s, best->x, header);
         best_deck.Commit();
