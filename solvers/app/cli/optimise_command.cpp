@@ -131,8 +131,54 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     fmt::print(text, "method      {} then {}, {} evaluations, {} thread(s){}\n", app::ToString(s.global), app::ToString(s.local), s.evaluations,
                threads, ranks.size > 1 ? fmt::format(" on each of {} MPI ranks", ranks.size) : "");
 
-    std::vector<app::DesignEvaluation> history;  // every evaluation, as the search hands it over
-    const app::OptimiseResult r = optimiser.Run([&history](const app::DesignEvaluation& e) { history.push_back(e); });
+    // The history goes out as the evaluations are made (issue 46): the search keeps none of them.
+    // The CSV's rows into the output's own (staged) file; the JSON's items into a spool, copied
+    // after the summary, which comes first in the document and is known only at the end; the
+    // figure's series decimated (DecimatedSeries: at most about 2,000 runs of evaluations).
+    std::unique_ptr<Spool> history;
+    if (json.enabled()) history = std::make_unique<Spool>("--json", o.json_path);
+    const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); };
+    const auto row = [&](const app::DesignEvaluation& e) {
+      std::ostream& c = csv.stream();
+      c << e.index << ',' << e.phase;
+      for (const double v : e.x) c << ',' << cell(v);
+      c << ',' << cell(e.objective) << ',' << cell(e.violation) << ',' << (e.feasible ? "true" : "false") << ',' << app::ToString(e.status);
+      for (const double v : e.figures) c << ',' << cell(v);
+      std::string m = e.message;
+      std::replace(m.begin(), m.end(), '"', '\'');
+      c << ",\"" << m << "\"\n";
+    };
+    if (csv.enabled()) {
+      std::ostream& c = csv.stream();
+      c << "index,phase";
+      for (const auto& v : s.variables) c << ',' << v.key;
+      c << ",objective,violation,feasible,status";
+      for (const auto& f : app::OptimiseFigureNames()) c << ',' << f;
+      c << ",message\n";
+    }
+    const std::int64_t expected = s.evaluations;
+    DecimatedSeries drawn_feasible(expected), drawn_infeasible(expected), drawn_best(expected), drawn_path(expected);
+    double best_so_far = std::numeric_limits<double>::quiet_NaN();
+    const app::EvaluationSink sink = [&](const app::DesignEvaluation& e) {
+      if (history) {
+        history->stream() << (e.index == 0 ? "\n    " : ",\n    ") << Dump(EvaluationJson(s, e), -1);
+        history->Check();
+      }
+      if (csv.enabled()) {
+        row(e);
+        csv.Check();  // a full disk ends the search now, not at its end
+      }
+      if (!svg.enabled()) return;
+      // The path over the first two variables (with --map): every evaluation, failed ones too,
+      // judged by the objective.
+      if (o.map > 0) drawn_path.Add(e.index, e.x[0], e.x[1], e.status == app::RunStatus::kSuccess ? e.objective : NAN);
+      if (e.status != app::RunStatus::kSuccess) return;  // failed evaluations are not drawn
+      const auto at = static_cast<double>(e.index);
+      (e.feasible ? drawn_feasible : drawn_infeasible).Add(e.index, at, e.objective);
+      if (e.feasible && (std::isnan(best_so_far) || (s.maximise ? e.objective > best_so_far : e.objective < best_so_far))) best_so_far = e.objective;
+      if (std::isfinite(best_so_far)) drawn_best.Add(e.index, at, best_so_far);
+    };
+    const app::OptimiseResult r = optimiser.Run(sink);
     for (const auto& p : r.phases) fmt::print(text, "phase       {}: {} evaluations, stopped: {}\n", p.method, p.evaluations, p.stop);
     fmt::print(text, "evaluations {} ({} failed, {} rejected){}\n", r.evaluations, r.failed, r.rejected,
                r.first_failure.empty() ? "" : "; first: " + r.first_failure);
@@ -183,8 +229,9 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
                       {"phases", phases},
                       {"best", best != nullptr ? EvaluationJson(s, *best) : nlohmann::json(nullptr)},
                       {"wall_seconds", r.wall_seconds}};
-      // The history, the map and the front are streamed one evaluation at a time after the rest of
-      // the document: the whole document as one JSON value took about 9 KB an evaluation.
+      // The history (spooled as the search made it), the map and the front are streamed one
+      // evaluation at a time after the rest of the document: the whole document as one JSON value
+      // took about 9 KB an evaluation.
       std::ostream& os = json.stream();
       os << OpenObject(j);
       const auto stream_array = [&os](const char* key, std::size_t n, const auto& item) {
@@ -192,7 +239,10 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
         for (std::size_t i = 0; i < n; ++i) os << (i == 0 ? "\n    " : ",\n    ") << Dump(item(i), -1);
         os << (n == 0 ? "]" : "\n  ]");
       };
-      stream_array("history", history.size(), [&](std::size_t i) { return EvaluationJson(s, history[i]); });
+      os << ",\n  \"history\": [";
+      history->CopyTo(os);
+      os << (r.evaluations == 0 ? "]" : "\n  ]");
+      history.reset();  // removed now, not with the run's end
       if (!grid.empty()) stream_array("map", grid.size(), [&](std::size_t i) { return EvaluationJson(s, grid[i]); });
       if (!front.empty()) {
         stream_array("pareto", front.size(), [&](std::size_t i) {
@@ -204,23 +254,6 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       json.Commit();
     }
     if (csv.enabled()) {
-      std::ostream& c = csv.stream();
-      c << "index,phase";
-      for (const auto& v : s.variables) c << ',' << v.key;
-      c << ",objective,violation,feasible,status";
-      for (const auto& f : app::OptimiseFigureNames()) c << ',' << f;
-      c << ",message\n";
-      const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); };
-      const auto row = [&](const app::DesignEvaluation& e) {
-        c << e.index << ',' << e.phase;
-        for (const double v : e.x) c << ',' << cell(v);
-        c << ',' << cell(e.objective) << ',' << cell(e.violation) << ',' << (e.feasible ? "true" : "false") << ',' << app::ToString(e.status);
-        for (const double v : e.figures) c << ',' << cell(v);
-        std::string m = e.message;
-        std::replace(m.begin(), m.end(), '"', '\'');
-        c << ",\"" << m << "\"\n";
-      };
-      for (const auto& e : history) row(e);
       for (const auto& e : grid) row(e);
       csv.Commit();
     }
@@ -229,24 +262,19 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       plots::Figure figure;
       figure.title = fmt::format("{}: {} {} over {} evaluations ({} then {})", deck.info.title, s.maximise ? "maximise" : "minimise",
                                  s.objective, r.evaluations, app::ToString(s.global), app::ToString(s.local));
-      figure.caption = FigureCaption(deck, fmt::format("{}; infeasible: a constraint not met; failed evaluations are not drawn{}",
+      const std::int64_t stride = drawn_feasible.stride();
+      figure.caption = FigureCaption(deck, fmt::format("{}; infeasible: a constraint not met; failed evaluations are not drawn{}{}",
                                                        s.robust ? fmt::format("robust: {} of {} samples", RobustRule(s), s.robust_samples) : "nominal pair",
-                                                       grid.empty() ? "" : "; map: blank cells are infeasible"));
+                                                       grid.empty() ? "" : "; map: blank cells are infeasible",
+                                                       stride > 1 ? fmt::format("; drawn: the least and largest objective of every {} evaluations", stride)
+                                                                  : std::string()));
       plots::Panel c;
       c.title = "convergence";
       c.x_label = "evaluation";
       c.y_label = s.objective;
-      plots::Series feasible{"feasible", {}, {}, plots::Style::kMarkers}, infeasible{"infeasible", {}, {}, plots::Style::kMarkers},
-          best_line{"best feasible so far", {}, {}, plots::Style::kLine};
-      double best_so_far = std::numeric_limits<double>::quiet_NaN();
-      for (const auto& e : history) {
-        if (e.status != app::RunStatus::kSuccess) continue;
-        auto& series = e.feasible ? feasible : infeasible;
-        series.x.push_back(static_cast<double>(e.index));
-        series.y.push_back(e.objective);
-        if (e.feasible && (std::isnan(best_so_far) || (s.maximise ? e.objective > best_so_far : e.objective < best_so_far))) best_so_far = e.objective;
-        if (std::isfinite(best_so_far)) best_line.x.push_back(static_cast<double>(e.index)), best_line.y.push_back(best_so_far);
-      }
+      plots::Series feasible{"feasible", drawn_feasible.x(), drawn_feasible.y(), plots::Style::kMarkers},
+          infeasible{"infeasible", drawn_infeasible.x(), drawn_infeasible.y(), plots::Style::kMarkers},
+          best_line{"best feasible so far", drawn_best.x(), drawn_best.y(), plots::Style::kLine};
       infeasible.marker_size = 0.6;
       c.series = {feasible, infeasible, best_line};
       c.legend = plots::LegendPlace::kOutsideRight;
@@ -269,8 +297,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
           }
         }
         m.map = map;
-        plots::Series path{"evaluations", {}, {}, plots::Style::kMarkers};
-        for (const auto& e : history) path.x.push_back(e.x[0]), path.y.push_back(e.x[1]);
+        plots::Series path{"evaluations", drawn_path.x(), drawn_path.y(), plots::Style::kMarkers};
         path.marker_size = 0.4;
         path.colour = 7;
         m.series.push_back(path);

@@ -416,6 +416,11 @@ Output::~Output() {
 
 std::ostream& Output::stream() { return out_ != nullptr ? *out_ : file_; }
 
+void Output::Check() {
+  if (path_.empty() || stream()) return;
+  throw OutputError(fmt::format("{} {}: writing failed", option_, path_));
+}
+
 void Output::Commit() {
   if (path_.empty() || committed_) return;
   errno = 0;
@@ -439,6 +444,59 @@ void Output::Commit() {
     ForgetTemporary(temp_);
   }
   committed_ = true;
+}
+
+Spool::Spool(const std::string& option, const std::string& output_path) : option_(option) {
+  fs::path folder = fs::temp_directory_path();
+  if (!output_path.empty() && output_path != "-") {
+    std::error_code ec;
+    const fs::path target = FollowLinks(output_path);
+    const fs::file_status status = fs::status(target, ec);
+    if (!fs::exists(status) || fs::is_regular_file(status)) folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  }
+  std::string pattern = (folder / ".ltca-spool-XXXXXX").string();
+  errno = 0;
+  const int fd = mkstemp(pattern.data());
+  if (fd < 0) {
+    throw OutputError(fmt::format("{} {}: cannot make a temporary file in the folder '{}'{}", option_, output_path, folder.string(), Reason()));
+  }
+  close(fd);
+  path_ = pattern;
+  RegisterTemporary(path_);
+  file_.open(path_, std::ios::in | std::ios::out | std::ios::trunc | std::ios::binary);
+  if (!file_) {
+    std::remove(path_.c_str());
+    ForgetTemporary(path_);
+    throw OutputError(fmt::format("{} {}: cannot open the temporary file '{}'{}", option_, output_path, path_, Reason()));
+  }
+}
+
+Spool::~Spool() {
+  file_.close();
+  std::remove(path_.c_str());
+  ForgetTemporary(path_);
+}
+
+void Spool::Check() {
+  if (!file_) throw OutputError(fmt::format("{}: writing the temporary file '{}' failed", option_, path_));
+}
+
+void Spool::CopyTo(std::ostream& os) {
+  errno = 0;
+  if (!file_.flush()) throw OutputError(fmt::format("{}: writing the temporary file '{}' failed{}", option_, path_, Reason()));
+  const std::streamoff size = file_.tellp();
+  if (size < 0) throw OutputError(fmt::format("{}: the temporary file '{}' cannot be read back{}", option_, path_, Reason()));
+  file_.seekg(0);
+  char buffer[1 << 16];
+  std::streamoff copied = 0;
+  while (copied < size && file_) {
+    file_.read(buffer, static_cast<std::streamsize>(std::min<std::streamoff>(sizeof buffer, size - copied)));
+    const std::streamsize n = file_.gcount();
+    if (n <= 0) break;
+    os.write(buffer, n);
+    copied += n;
+  }
+  if (copied != size) throw OutputError(fmt::format("{}: reading the temporary file '{}' failed{}", option_, path_, Reason()));
 }
 
 void WriteTo(const std::string& option, const std::string& path, std::ostream& out,

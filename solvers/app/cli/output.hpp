@@ -126,6 +126,9 @@ class Output {
   bool enabled() const { return !path_.empty(); }
   const std::string& path() const { return path_; }
   std::ostream& stream();
+  /// Throws OutputError, as Commit would, when writing has already failed (a long run that writes
+  /// as it goes stops at once on a full disk instead of at its end).
+  void Check();
   /// Flushes and checks the stream, closes and renames the file into place. Throws OutputError.
   void Commit();
 
@@ -185,6 +188,29 @@ class DecimatedSeries {
   std::int64_t stride_ = 1, run_ = -1;
   Point least_, largest_, gap_;
   std::vector<double> x_, y_;
+};
+
+/// A temporary file for a part of a document written before its place in the document comes (the
+/// history of `ltca optimise --json`, which follows the summary known only at the end): beside the
+/// output's file (the same folder, so the same file system as the document), or in the system's
+/// temporary folder when the output is "-" or a device. Registered, so that an interrupt removes
+/// it; removed when it goes out of scope.
+class Spool {
+ public:
+  /// OutputError naming the option when it cannot be made.
+  Spool(const std::string& option, const std::string& output_path);
+  ~Spool();
+  Spool(const Spool&) = delete;
+  Spool& operator=(const Spool&) = delete;
+  std::ostream& stream() { return file_; }
+  /// Throws OutputError when writing has already failed (Output::Check).
+  void Check();
+  /// Copies what was written into `os`; OutputError when writing or reading the spool failed.
+  void CopyTo(std::ostream& os);
+
+ private:
+  std::string option_, path_;
+  std::fstream file_;
 };
 
 /// Throws std::invalid_argument when more than one of these outputs is "-" (standard output
