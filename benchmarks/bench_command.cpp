@@ -298,9 +298,9 @@ OptimiseBar RunOptimiseBar(bool smoke, std::ostream& out) {
     const analysis::Optimiser optimiser(deck.MakeToleranceCase(), o, *deck.optimise, 2);
     const analysis::OptimiseResult r = optimiser.Run();
     seconds = r.wall_seconds;
-    best = r.best >= 0 ? r.history[static_cast<std::size_t>(r.best)].objective : std::nan("");
+    best = r.best >= 0 ? r.best_design.objective : std::nan("");
     failed = r.failed;
-    return static_cast<std::int64_t>(r.history.size());
+    return r.evaluations;
   };
   bar.nominal_budget = smoke ? 20 : 2000;
   bar.robust_budget = smoke ? 12 : 500;

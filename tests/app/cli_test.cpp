@@ -1,4 +1,5 @@
 // The `ltca` command line, run in-process: outputs, keys and exit codes.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -894,4 +895,42 @@ TEST_CASE("cli: the solve figure of a two-disc deck over its 91 positions stays 
     CHECK(svg.find("position in") == std::string::npos);
   }
   std::filesystem::remove(path);
+}
+
+TEST_CASE("cli: a decimated series keeps every point up to its buckets, and beyond them each run's least, largest and first gap, at most three a run (issue 46)") {
+  using ltca::cli::DecimatedSeries;
+  // No more points than buckets: every point, as given.
+  DecimatedSeries all(5, 10);
+  const std::vector<double> y = {3.0, NAN, 1.0, 4.0, 1.0};
+  for (std::size_t i = 0; i < y.size(); ++i) all.Add(static_cast<std::int64_t>(i), 10.0 * static_cast<double>(i), y[i]);
+  CHECK(all.stride() == 1);
+  REQUIRE(all.x() == std::vector<double>{0.0, 10.0, 20.0, 30.0, 40.0});
+  CHECK(all.y()[0] == 3.0);
+  CHECK(std::isnan(all.y()[1]));  // a failed point: a gap
+  CHECK(all.y()[4] == 1.0);
+  // Runs of 4 (12 points in 3 buckets): of 0..3 the least (1 at 2) and the largest (5 at 1), in
+  // their order; of 4..7 the first gap (5), the least (0 at 6) and the largest (9 at 7); of 8..11
+  // the largest (7 at 8), the first gap (9) and the least (0 at 10, the first of equals).
+  CHECK(DecimatedSeries(9, 3).stride() == 3);
+  DecimatedSeries fours(12, 3);
+  CHECK(fours.stride() == 4);
+  const std::vector<double> v = {2.0, 5.0, 1.0, 3.0, 4.0, NAN, 0.0, 9.0, 7.0, NAN, 0.0, 0.0};
+  for (std::size_t i = 0; i < v.size(); ++i) fours.Add(static_cast<std::int64_t>(i), static_cast<double>(i), v[i]);
+  CHECK(fours.x() == std::vector<double>{1.0, 2.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0});
+  // A million points in at most 2,000 runs, some numbers skipped (an evaluation not drawn): at
+  // most two kept a run without gaps, the extremes among them.
+  DecimatedSeries many(1'000'000);
+  double lo = INFINITY, hi = -INFINITY;
+  for (std::int64_t i = 0; i < 1'000'000; ++i) {
+    if (i % 3 == 1) continue;
+    const double value = std::sin(0.001 * static_cast<double>(i)) * static_cast<double>(i % 977);
+    lo = std::min(lo, value), hi = std::max(hi, value);
+    many.Add(i, static_cast<double>(i), value);
+  }
+  CHECK(many.stride() == 500);
+  CHECK(many.x().size() <= 2u * 2000u);
+  CHECK(many.x().size() > 2000u);
+  CHECK(std::is_sorted(many.x().begin(), many.x().end()));
+  CHECK(*std::min_element(many.y().begin(), many.y().end()) == lo);
+  CHECK(*std::max_element(many.y().begin(), many.y().end()) == hi);
 }

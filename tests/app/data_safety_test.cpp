@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
@@ -78,12 +79,13 @@ int Ltca(const fs::path& dir, const std::string& args) {
 
 std::string Stderr(const Scratch& s) { return ReadFile(s / "ltca-stderr.txt"); }
 
-/// Starts `ltca solve <Liu Table 1> --set sweep.positions=POSITIONS OPTION FILE` in `dir` as a child
-/// process with its output streams discarded; `prepare` runs in the child just before the exec.
-pid_t StartSolve(const fs::path& dir, const char* positions, const char* option, const char* file,
-                 const std::function<void()>& prepare = {}) {
+/// Starts `ltca ARGS` in `dir` as a child process with its output streams discarded; `prepare` runs
+/// in the child just before the exec.
+pid_t StartLtca(const fs::path& dir, const std::vector<std::string>& args, const std::function<void()>& prepare = {}) {
   const std::string folder = dir.string();
-  const std::string set = std::string("sweep.positions=") + positions;
+  std::vector<char*> argv = {const_cast<char*>(LTCA_EXE)};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
   const pid_t pid = fork();
   if (pid != 0) return pid;
   if (chdir(folder.c_str()) != 0) _exit(127);
@@ -91,9 +93,15 @@ pid_t StartSolve(const fs::path& dir, const char* positions, const char* option,
   const int null = ::open("/dev/null", O_WRONLY);
   dup2(null, 1);
   dup2(null, 2);
-  execl(LTCA_EXE, LTCA_EXE, "solve", LTCA_CASES_DIR "/liu2021_table1.toml", "--set", set.c_str(), option, file,
-        static_cast<char*>(nullptr));
+  execv(LTCA_EXE, argv.data());
   _exit(127);
+}
+
+/// Starts `ltca solve <Liu Table 1> --set sweep.positions=POSITIONS OPTION FILE` (StartLtca).
+pid_t StartSolve(const fs::path& dir, const char* positions, const char* option, const char* file,
+                 const std::function<void()>& prepare = {}) {
+  return StartLtca(dir, {"solve", LTCA_CASES_DIR "/liu2021_table1.toml", "--set", std::string("sweep.positions=") + positions, option, file},
+                   prepare);
 }
 
 const std::string kTable1 = ReadFile(LTCA_CASES_DIR "/liu2021_table1.toml");
@@ -243,6 +251,48 @@ TEST_CASE("app: Ctrl-C (SIGINT) and SIGTERM remove the run's temporary files and
     CHECK(s.Hidden().empty());
     CHECK(ReadFile(s / "out.json") == "KEEP");
   }
+}
+
+TEST_CASE("app: Ctrl-C during ltca optimise removes the spooled history with the staged outputs; a finished run leaves no spool (issue 46)") {
+  // The history of --json is spooled beside it while the search runs (the summary comes first in
+  // the document), the CSV's rows go into its staged temporary.
+  const std::vector<std::string> run = {"optimise", LTCA_CASES_DIR "/liu2021_optimise.toml", "--threads", "1",
+                                        "--set", "optimise.global=\"crs2\"", "--set", "optimise.local=\"none\"",
+                                        "--json", "out.json", "--csv", "out.csv"};
+  Scratch s;
+  WriteFile(s / "out.json", "KEEP");
+  WriteFile(s / "out.csv", "KEEP");
+  std::vector<std::string> long_run = run;
+  long_run.insert(long_run.end(), {"--evaluations", "1000000"});
+  const pid_t pid = StartLtca(s.dir, long_run);
+  REQUIRE(pid >= 0);
+  // Wait for the spool and the two staged files (the search has started), at most 60 s.
+  const auto spooling = [&] {
+    const auto hidden = s.Hidden();
+    const bool spool = std::any_of(hidden.begin(), hidden.end(), [](const std::string& n) { return n.rfind(".ltca-spool-", 0) == 0; });
+    return spool && hidden.size() == 3;
+  };
+  bool started = false;
+  for (int i = 0; i < 6000 && !started; ++i) {
+    started = spooling();
+    if (!started) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  CHECK(started);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // some evaluations spooled
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  CHECK(WIFSIGNALED(status));
+  CHECK(WTERMSIG(status) == SIGINT);
+  CHECK(s.Hidden().empty());
+  CHECK(ReadFile(s / "out.json") == "KEEP");
+  CHECK(ReadFile(s / "out.csv") == "KEEP");
+  // A run that ends: its documents in place, nothing else left.
+  std::string args;
+  for (const std::string& a : run) args += " '" + a + "'";
+  CHECK(Ltca(s.dir, args + " --evaluations 30") == 0);
+  CHECK(s.Hidden().empty());
+  CHECK(ReadFile(s / "out.json").find("\"history\": [") != std::string::npos);
 }
 
 TEST_CASE("app: Ctrl-C while a figure is drawn removes the plotting library's temporary file too") {

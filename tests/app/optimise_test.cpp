@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <random>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -55,9 +56,10 @@ TEST_CASE("app: optimise on two variables beats the best feasible point of a 41 
   // optimum's figures are then checked against ltca solve and ltca backlash on its written deck.
   const ltca::app::Deck deck = ltca::app::LoadDeck(Case("liu2021_optimise.toml"));
   const Optimiser optimiser = Make(deck, 2);
-  const auto result = optimiser.Run();
+  std::vector<DesignEvaluation> history;
+  const auto result = optimiser.Run([&](const DesignEvaluation& e) { history.push_back(e); });
   REQUIRE(result.best >= 0);
-  const DesignEvaluation& best = result.history[static_cast<std::size_t>(result.best)];
+  const DesignEvaluation& best = result.best_design;
   CHECK(best.feasible);
   const std::vector<DesignEvaluation> grid = optimiser.Grid(41);
   REQUIRE(grid.size() == 41u * 41u);
@@ -79,7 +81,7 @@ TEST_CASE("app: optimise on two variables beats the best feasible point of a 41 
   CHECK(backlash(best) == doctest::Approx(60.0).epsilon(2e-3));
   CHECK(backlash(*grid_best) < 60.0 + 0.05 * 60.0);
   // Every rejected evaluation has no figure.
-  for (const DesignEvaluation& e : result.history) {
+  for (const DesignEvaluation& e : history) {
     if (e.status != RunStatus::kSuccess) CHECK(std::isnan(e.objective));
   }
   // The written deck: ltca solve and ltca backlash give the optimum's figures.
@@ -104,7 +106,7 @@ TEST_CASE("app: the least power loss over the offset modification is at least as
   const ltca::app::Deck deck = ltca::app::LoadDeck(deck_path, sets);
   const auto result = Make(deck).Run();
   REQUIRE(result.best >= 0);
-  const DesignEvaluation& best = result.history[static_cast<std::size_t>(result.best)];
+  const DesignEvaluation& best = result.best_design;
   const auto loss = [&](double offset) {
     const auto r = RunCli({"efficiency", deck_path, "--set", "sweep.positions=7", "--set", fmt::format("modification.pin_circle_radius_mm={}", offset),
                            "--json", "-"});
@@ -154,7 +156,7 @@ TEST_CASE("app: optimise finds the closed-form optimum of the least offset at a 
   const ltca::app::Deck deck = ltca::app::LoadDeck(deck_path, sets);
   const auto result = Make(deck).Run();
   REQUIRE(result.best >= 0);
-  const DesignEvaluation& best = result.history[static_cast<std::size_t>(result.best)];
+  const DesignEvaluation& best = result.best_design;
   // Variables in key order: errors.pin_circle_deviation_mm, modification.pin_circle_radius_mm.
   const auto& vars = deck.optimise->variables;
   const std::size_t dev = vars[0].key == "errors.pin_circle_deviation_mm" ? 0 : 1, off = 1 - dev;
@@ -188,7 +190,7 @@ TEST_CASE("app: a stage clearance as a variable: the largest output-pin hole wit
   const Optimiser optimiser = Make(deck);
   const auto result = optimiser.Run();
   REQUIRE(result.best >= 0);
-  const DesignEvaluation& best = result.history[static_cast<std::size_t>(result.best)];
+  const DesignEvaluation& best = result.best_design;
   CHECK(best.feasible);
   const auto lost_motion = [&](double hole) {
     std::vector<std::string> args = {"stiffness", deck_path, "--json", "-", "--set", fmt::format("output.hole_radius_mm={:.17g}", hole)};
@@ -302,7 +304,7 @@ TEST_CASE("app: a bearing-life constraint on a stage's clearance is active at th
   const ltca::app::Deck deck = ltca::app::LoadDeck(deck_path, sets);
   const auto result = Make(deck).Run();
   REQUIRE(result.best >= 0);
-  const DesignEvaluation& best = result.history[static_cast<std::size_t>(result.best)];
+  const DesignEvaluation& best = result.best_design;
   const double life = best.figures[ltca::analysis::kShortestL10Hours];
   CAPTURE(best.x[0]);
   CHECK(life >= 10000.0);
@@ -325,16 +327,17 @@ TEST_CASE("app: a robust optimisation gives the same evaluations on one and two 
                                          "tolerances.pin_circle_deviation_mm={ distribution = \"normal\", tolerance = 0.003 }",
                                          "tolerances.seed=7"};
   const ltca::app::Deck deck = ltca::app::LoadDeck(Case("liu2021_optimise.toml"), sets);
-  const auto one = Make(deck, 1).Run();
-  const auto two = Make(deck, 2).Run();
-  REQUIRE(one.history.size() == two.history.size());
-  CHECK(one.best == two.best);
-  for (std::size_t i = 0; i < one.history.size(); ++i) {
+  std::vector<DesignEvaluation> one, two;
+  const auto one_result = Make(deck, 1).Run([&](const DesignEvaluation& e) { one.push_back(e); });
+  const auto two_result = Make(deck, 2).Run([&](const DesignEvaluation& e) { two.push_back(e); });
+  REQUIRE(one.size() == two.size());
+  CHECK(one_result.best == two_result.best);
+  for (std::size_t i = 0; i < one.size(); ++i) {
     CAPTURE(i);
-    CHECK(one.history[i].x == two.history[i].x);
-    const double a = one.history[i].objective, b = two.history[i].objective;
+    CHECK(one[i].x == two[i].x);
+    const double a = one[i].objective, b = two[i].objective;
     CHECK(((std::isnan(a) && std::isnan(b)) || a == b));
-    CHECK(one.history[i].samples == (one.history[i].status == RunStatus::kRejected ? 0 : 6));
+    CHECK(one[i].samples == (one[i].status == RunStatus::kRejected ? 0 : 6));
   }
 }
 
@@ -388,11 +391,11 @@ TEST_CASE("app: the robust optimum keeps its constraints at the 95th percentile 
   const ltca::app::Deck robust_deck = ltca::app::LoadDeck(deck_path);
   const auto robust = Make(robust_deck, 2).Run();
   REQUIRE(robust.best >= 0);
-  const auto r = fresh(robust.history[static_cast<std::size_t>(robust.best)], robust_deck);
+  const auto r = fresh(robust.best_design, robust_deck);
   const ltca::app::Deck nominal_deck = ltca::app::LoadDeck(deck_path, {"optimise.robust=false"});
   const auto nominal = Make(nominal_deck).Run();
   REQUIRE(nominal.best >= 0);
-  const auto n = fresh(nominal.history[static_cast<std::size_t>(nominal.best)], nominal_deck);
+  const auto n = fresh(nominal.best_design, nominal_deck);
   CAPTURE(r.dump());
   CAPTURE(n.dump());
   CHECK(r.at("mean_backlash_arcsec").at("p5").get<double>() >= 60.0);
@@ -400,7 +403,7 @@ TEST_CASE("app: the robust optimum keeps its constraints at the 95th percentile 
   CHECK(r.at("max_contact_stress_mpa").at("p95").get<double>() <= 2100.0);
   // The nominal optimum meets the constraints on the nominal pair, on the backlash bound, and so
   // misses it for a large share of the reducers built.
-  const DesignEvaluation& nb = nominal.history[static_cast<std::size_t>(nominal.best)];
+  const DesignEvaluation& nb = nominal.best_design;
   CHECK(nb.figures[0] == doctest::Approx(60.0).epsilon(1e-3));  // mean_backlash_arcsec, active
   CHECK(n.at("mean_backlash_arcsec").at("p5").get<double>() < 60.0);
 }
@@ -439,4 +442,122 @@ TEST_CASE("app: [optimise] bad input names the key, and an evaluation that fails
   CHECK(first.at("objective").is_null());
   CHECK(first.at("figures").at("pp_te_arcsec").is_null());
   CHECK(j.at("summary").at("rejected").get<int>() >= 1);
+}
+
+namespace {
+
+/// The best of a whole history as Optimiser::Run chose it when it kept every evaluation (before
+/// issue 46): a successful evaluation with an objective; feasible before infeasible; the lower
+/// objective (higher when maximising) among feasible ones, the less violation among infeasible
+/// ones; the lowest index among equals. Over the first `upto` evaluations; -1 when none.
+std::int64_t BestOfHistory(const std::vector<DesignEvaluation>& history, bool maximise, bool feasible_only,
+                           std::size_t upto = static_cast<std::size_t>(-1)) {
+  std::int64_t best = -1;
+  for (std::size_t i = 0; i < history.size() && i < upto; ++i) {
+    const DesignEvaluation& e = history[i];
+    if (e.status != RunStatus::kSuccess || !std::isfinite(e.objective) || (feasible_only && !e.feasible)) continue;
+    if (best < 0) {
+      best = static_cast<std::int64_t>(i);
+      continue;
+    }
+    const DesignEvaluation& b = history[static_cast<std::size_t>(best)];
+    if (e.feasible != b.feasible) {
+      if (e.feasible) best = static_cast<std::int64_t>(i);
+    } else if (e.feasible ? (maximise ? e.objective > b.objective : e.objective < b.objective) : e.violation < b.violation) {
+      best = static_cast<std::int64_t>(i);
+    }
+  }
+  return best;
+}
+
+/// Two evaluations the same bit for bit (NaN equal to NaN).
+void CheckSame(const DesignEvaluation& a, const DesignEvaluation& b) {
+  const auto same = [](double x, double y) { return (std::isnan(x) && std::isnan(y)) || x == y; };
+  CHECK(a.index == b.index);
+  CHECK(a.phase == b.phase);
+  CHECK(a.x == b.x);
+  CHECK(same(a.objective, b.objective));
+  CHECK(same(a.violation, b.violation));
+  CHECK(a.feasible == b.feasible);
+  CHECK(a.status == b.status);
+  for (std::size_t f = 0; f < a.figures.size(); ++f) CHECK(same(a.figures[f], b.figures[f]));
+}
+
+}  // namespace
+
+TEST_CASE("app: the search hands every evaluation to its sink once, in order, and keeps only the best: the best, the local start, the phases and the counts of the whole history (issue 46)") {
+  // Issue 46 item 13: Optimiser::Run keeps no history. The reference is the whole history as the
+  // sink collects it, judged by the rule the search applied to its kept history before (BestOfHistory).
+  for (const std::vector<std::string>& method :
+       {std::vector<std::string>{"optimise.global=\"direct\"", "optimise.local=\"cobyla\""},
+        std::vector<std::string>{"optimise.global=\"crs2\"", "optimise.local=\"bobyqa\"", "optimise.objective=\"mean_backlash_arcsec\"",
+                                 "optimise.maximise=true"}}) {
+    std::vector<std::string> sets = {"sweep.positions=5", "optimise.evaluations=200"};
+    sets.insert(sets.end(), method.begin(), method.end());
+    CAPTURE(sets.back());
+    const ltca::app::Deck deck = ltca::app::LoadDeck(Case("liu2021_optimise.toml"), sets);
+    const Optimiser optimiser = Make(deck);
+    const bool maximise = optimiser.settings().maximise;
+    std::vector<DesignEvaluation> history;
+    const auto r = optimiser.Run([&](const DesignEvaluation& e) { history.push_back(e); });
+    // Every evaluation once, in index order.
+    REQUIRE(static_cast<std::int64_t>(history.size()) == r.evaluations);
+    REQUIRE(r.evaluations > 20);
+    for (std::size_t i = 0; i < history.size(); ++i) CHECK(history[i].index == static_cast<std::int64_t>(i));
+    std::int64_t in_phases = 0;
+    for (const auto& p : r.phases) in_phases += p.evaluations;
+    CHECK(in_phases + 1 == r.evaluations);  // and the centre
+    std::int64_t failed = 0, rejected = 0;
+    for (const DesignEvaluation& e : history) failed += e.status == RunStatus::kFailed, rejected += e.status == RunStatus::kRejected;
+    CHECK(r.failed == failed);
+    CHECK(r.rejected == rejected);
+    CHECK(rejected > 0);  // the centre interferes: the rule's infeasible branch is exercised
+    // The best feasible one, as the whole history gives it.
+    const std::int64_t best = BestOfHistory(history, maximise, true);
+    REQUIRE(best >= 0);
+    CHECK(r.best == best);
+    CheckSame(r.best_design, history[static_cast<std::size_t>(best)]);
+    // The local phase starts from the best of all evaluations before it, feasible or not.
+    const auto local = std::find_if(history.begin(), history.end(), [](const DesignEvaluation& e) { return e.phase == "local"; });
+    REQUIRE(local != history.end());
+    const std::int64_t from = BestOfHistory(history, maximise, false, static_cast<std::size_t>(local - history.begin()));
+    REQUIRE(from >= 0);
+    for (std::size_t j = 0; j < local->x.size(); ++j) {
+      CHECK(local->x[j] == doctest::Approx(history[static_cast<std::size_t>(from)].x[j]).epsilon(1e-12));
+    }
+    // The sink changes nothing: the same search without one.
+    const auto plain = optimiser.Run();
+    CHECK(plain.evaluations == r.evaluations);
+    CHECK(plain.best == r.best);
+    CheckSame(plain.best_design, r.best_design);
+    CHECK(plain.failed == r.failed);
+    CHECK(plain.first_failure == r.first_failure);
+    REQUIRE(plain.phases.size() == r.phases.size());
+    for (std::size_t k = 0; k < r.phases.size(); ++k) {
+      CHECK(plain.phases[k].method == r.phases[k].method);
+      CHECK(plain.phases[k].stop == r.phases[k].stop);
+      CHECK(plain.phases[k].evaluations == r.phases[k].evaluations);
+    }
+  }
+}
+
+TEST_CASE("app: a Pareto step keeps the best of its search, the one its whole history gives (issue 46)") {
+  const ltca::app::Deck deck = ltca::app::LoadDeck(Case("liu2021_optimise.toml"), {"sweep.positions=5", "optimise.evaluations=40"});
+  const Optimiser optimiser = Make(deck);
+  const double lo = 70.0, hi = 110.0;  // arcsec, within the deck's backlash window
+  const auto front = optimiser.Pareto("mean_backlash_arcsec", lo, hi, 2);
+  REQUIRE(front.size() == 2u);
+  // The last step again as a search of its own, its history collected.
+  OptimiseSettings s = *deck.optimise;
+  s.constraints.push_back({"mean_backlash_arcsec", -std::numeric_limits<double>::infinity(), hi});
+  const Optimiser step(deck.MakeToleranceCase(), ltca::cli::SolverFor(deck, ""), s, 1);
+  std::vector<DesignEvaluation> history;
+  step.Run([&](const DesignEvaluation& e) { history.push_back(e); });
+  const std::int64_t best = BestOfHistory(history, s.maximise, true);
+  REQUIRE(best >= 0);
+  CHECK(front[1].epsilon == hi);
+  CHECK(front[1].best == best);
+  DesignEvaluation expected = history[static_cast<std::size_t>(best)];
+  expected.phase = "pareto";
+  CheckSame(front[1].design, expected);
 }

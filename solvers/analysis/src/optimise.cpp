@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -47,7 +48,30 @@ const char* NloptStop(nlopt_result r) {
   }
 }
 
-/// The state of one search, handed to NLopt's callbacks.
+/// Whether e is a better design than b (both successful): a feasible one before an infeasible one;
+/// among feasible ones the lower objective (higher when maximising), among infeasible ones the
+/// less violation. Equals are not better, so a fold in index order keeps the lowest index.
+bool Better(const DesignEvaluation& e, const DesignEvaluation& b, bool maximise) {
+  if (e.feasible != b.feasible) return e.feasible;
+  return e.feasible ? (maximise ? e.objective > b.objective : e.objective < b.objective) : e.violation < b.violation;
+}
+
+/// The best evaluation so far (Better, over the successful ones with an objective; only the feasible
+/// ones when feasible_only), kept as the evaluations go by: the fold over the history in index
+/// order that the search once made over the whole kept history, so it picks the same one.
+struct BestSoFar {
+  bool feasible_only = false;
+  std::optional<DesignEvaluation> best;
+  void Offer(const DesignEvaluation& e, bool maximise) {
+    if (e.status != RunStatus::kSuccess || !std::isfinite(e.objective)) return;
+    if (feasible_only && !e.feasible) return;
+    if (!best || Better(e, *best, maximise)) best = e;
+  }
+};
+
+/// The state of one search, handed to NLopt's callbacks. Of the evaluations it keeps the last (NLopt
+/// asks for the objective and the constraints at one point), the best of all (the local phase
+/// starts there) and the best feasible one (the result); each goes to the sink as it is made.
 struct Search {
   const Optimiser* optimiser = nullptr;
   const OptimiseSettings* settings = nullptr;
@@ -57,7 +81,10 @@ struct Search {
   bool penalised = true;    ///< the phase's method takes no constraints: the stated penalty
   std::int64_t budget = 0;  ///< evaluations this search may make in all
   std::exception_ptr error;
-  const std::function<void(std::int64_t)>* progress = nullptr;
+  nlopt_opt opt = nullptr;  ///< the phase under way: stopped when an evaluation throws
+  const EvaluationSink* sink = nullptr;
+  std::optional<DesignEvaluation> last;
+  BestSoFar best_any{false, {}}, best_feasible{true, {}};
 
   std::vector<double> X(const double* u) const {
     std::vector<double> x(settings->variables.size());
@@ -71,18 +98,26 @@ struct Search {
   /// constraints at the same point), else a new one.
   const DesignEvaluation& At(const double* u) {
     const std::vector<double> x = X(u);
-    if (!result->history.empty() && result->history.back().x == x) return result->history.back();
+    if (last && last->x == x) return *last;
     DesignEvaluation e = optimiser->Evaluate(x);
-    e.index = static_cast<std::int64_t>(result->history.size());
+    e.index = result->evaluations++;
     e.phase = phase;
     if (e.status == RunStatus::kRejected) ++result->rejected;
     if (e.status == RunStatus::kFailed) ++result->failed;
     if (e.status != RunStatus::kSuccess && result->first_failure.empty()) {
       result->first_failure = fmt::format("evaluation {}: {}", e.index, e.message);
     }
-    result->history.push_back(std::move(e));
-    if (progress != nullptr && *progress) (*progress)(static_cast<std::int64_t>(result->history.size()));
-    return result->history.back();
+    best_any.Offer(e, settings->maximise);
+    best_feasible.Offer(e, settings->maximise);
+    last = std::move(e);
+    if (sink != nullptr && *sink) (*sink)(*last);
+    return *last;
+  }
+  /// After an exception in a callback: kept for Run to rethrow, and the phase stopped (no more
+  /// evaluations).
+  void Fail() {
+    error = std::current_exception();
+    if (opt != nullptr) nlopt_force_stop(opt);
   }
   /// The objective as NLopt minimises it: scaled, its sign for maximising, with the penalty in a
   /// phase without constraints; a failed evaluation a large finite value.
@@ -95,11 +130,11 @@ struct Search {
 
 double Objective(unsigned /*n*/, const double* u, double* grad, void* data) {
   auto* s = static_cast<Search*>(data);
-  if (grad != nullptr) return HUGE_VAL;  // derivative-free methods only
+  if (grad != nullptr || s->error) return HUGE_VAL;  // derivative-free methods only; nothing after an error
   try {
     return s->Value(s->At(u));
   } catch (...) {
-    s->error = std::current_exception();
+    s->Fail();
     return HUGE_VAL;
   }
 }
@@ -114,7 +149,7 @@ struct ConstraintSide {
 
 double Constraint(unsigned /*n*/, const double* u, double* grad, void* data) {
   auto* c = static_cast<ConstraintSide*>(data);
-  if (grad != nullptr) return HUGE_VAL;
+  if (grad != nullptr || c->search->error) return HUGE_VAL;
   try {
     const DesignEvaluation& e = c->search->At(u);
     const double g = e.figures[static_cast<std::size_t>(c->figure)];
@@ -122,33 +157,9 @@ double Constraint(unsigned /*n*/, const double* u, double* grad, void* data) {
     const double scale = std::max(std::abs(c->bound), 1e-9);
     return (c->upper ? g - c->bound : c->bound - g) / scale;
   } catch (...) {
-    c->search->error = std::current_exception();
+    c->search->Fail();
     return HUGE_VAL;
   }
-}
-
-/// The best evaluation: feasible first (the lowest objective, or highest when maximising), then
-/// the least violation; the lowest index among equals; -1 when every one failed.
-std::int64_t Best(const std::vector<DesignEvaluation>& history, bool maximise, bool feasible_only) {
-  std::int64_t best = -1;
-  for (std::size_t i = 0; i < history.size(); ++i) {
-    const DesignEvaluation& e = history[i];
-    if (e.status != RunStatus::kSuccess || !std::isfinite(e.objective)) continue;
-    if (feasible_only && !e.feasible) continue;
-    if (best < 0) {
-      best = static_cast<std::int64_t>(i);
-      continue;
-    }
-    const DesignEvaluation& b = history[static_cast<std::size_t>(best)];
-    if (e.feasible != b.feasible) {
-      if (e.feasible) best = static_cast<std::int64_t>(i);
-      continue;
-    }
-    const bool better = e.feasible ? (maximise ? e.objective > b.objective : e.objective < b.objective)
-                                   : e.violation < b.violation;
-    if (better) best = static_cast<std::int64_t>(i);
-  }
-  return best;
 }
 
 void AppendBytes(const DesignEvaluation& e, std::string& out) {
@@ -552,7 +563,7 @@ DesignEvaluation Optimiser::Evaluate(const std::vector<double>& x) const {
   return e;
 }
 
-OptimiseResult Optimiser::Run(const std::function<void(std::int64_t)>& progress) const {
+OptimiseResult Optimiser::Run(const EvaluationSink& sink) const {
   const auto start = Clock::now();
   const OptimiseSettings& s = settings_;
   OptimiseResult result;
@@ -561,7 +572,7 @@ OptimiseResult Optimiser::Run(const std::function<void(std::int64_t)>& progress)
   search.optimiser = this;
   search.settings = &s;
   search.result = &result;
-  search.progress = &progress;
+  search.sink = &sink;
   // The centre of the box: the objective's scale.
   std::vector<double> u(n, 0.5);
   search.phase = "centre";
@@ -583,7 +594,7 @@ OptimiseResult Optimiser::Run(const std::function<void(std::int64_t)>& progress)
   }
   const auto run_phase = [&](nlopt_algorithm algorithm, const char* method, const char* phase, std::int64_t evaluations,
                              std::vector<double>& x0, bool constrained, double step) {
-    const std::int64_t before = static_cast<std::int64_t>(result.history.size());
+    const std::int64_t before = result.evaluations;
     if (evaluations <= 0) return;
     nlopt_opt opt = nlopt_create(algorithm, n);
     if (opt == nullptr) throw std::runtime_error(fmt::format("optimise: NLopt could not create {}", method));
@@ -592,6 +603,7 @@ OptimiseResult Optimiser::Run(const std::function<void(std::int64_t)>& progress)
     nlopt_set_upper_bounds(opt, hi.data());
     search.phase = phase;
     search.penalised = !constrained;
+    search.opt = opt;
     nlopt_set_min_objective(opt, Objective, &search);
     if (constrained) {
       for (ConstraintSide& c : sides) nlopt_add_inequality_constraint(opt, Constraint, &c, 0.0);
@@ -604,9 +616,10 @@ OptimiseResult Optimiser::Run(const std::function<void(std::int64_t)>& progress)
     if (algorithm == NLOPT_GN_CRS2_LM || algorithm == NLOPT_GN_ISRES) nlopt_srand(static_cast<unsigned long>(s.seed));
     double f = 0.0;
     const nlopt_result r = nlopt_optimize(opt, x0.data(), &f);
+    search.opt = nullptr;
     nlopt_destroy(opt);
     if (search.error) std::rethrow_exception(search.error);
-    result.phases.push_back({method, NloptStop(r), static_cast<std::int64_t>(result.history.size()) - before});
+    result.phases.push_back({method, NloptStop(r), result.evaluations - before});
   };
   std::vector<double> x0(n, 0.5);
   if (s.global != OptimiseSettings::Global::kNone) {
@@ -617,21 +630,24 @@ OptimiseResult Optimiser::Run(const std::function<void(std::int64_t)>& progress)
     run_phase(a, ToString(s.global), "global", global_budget - 1, x0, s.global == OptimiseSettings::Global::kIsres, 0.0);
   }
   if (has_local) {
-    const std::int64_t from = Best(result.history, s.maximise, false);
+    // From the best evaluation so far, feasible or not.
     std::vector<double> start_u(n, 0.5);
-    if (from >= 0) {
-      const std::vector<double>& x = result.history[static_cast<std::size_t>(from)].x;
+    if (search.best_any.best) {
+      const std::vector<double>& x = search.best_any.best->x;
       for (unsigned j = 0; j < n; ++j) {
         const OptimiseVariable& v = s.variables[j];
         start_u[j] = (x[j] - v.lower) / (v.upper - v.lower);
       }
     }
-    const std::int64_t left = budget - static_cast<std::int64_t>(result.history.size());
+    const std::int64_t left = budget - result.evaluations;
     const bool after_global = s.global != OptimiseSettings::Global::kNone;
     run_phase(s.local == OptimiseSettings::Local::kCobyla ? NLOPT_LN_COBYLA : NLOPT_LN_BOBYQA, ToString(s.local), "local", left,
               start_u, s.local == OptimiseSettings::Local::kCobyla, after_global ? 0.05 : 0.25);
   }
-  result.best = Best(result.history, s.maximise, true);
+  if (search.best_feasible.best) {
+    result.best = search.best_feasible.best->index;
+    result.best_design = std::move(*search.best_feasible.best);
+  }
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }
@@ -684,7 +700,7 @@ std::vector<ParetoPoint> Optimiser::Pareto(const std::string& figure, double lo,
         ParetoPoint p;
         p.epsilon = bound;
         p.best = r.best;
-        if (r.best >= 0) p.design = r.history[static_cast<std::size_t>(r.best)];
+        if (r.best >= 0) p.design = r.best_design;
         p.design.phase = "pareto";
         return p;
       },

@@ -131,11 +131,58 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     fmt::print(text, "method      {} then {}, {} evaluations, {} thread(s){}\n", app::ToString(s.global), app::ToString(s.local), s.evaluations,
                threads, ranks.size > 1 ? fmt::format(" on each of {} MPI ranks", ranks.size) : "");
 
-    const app::OptimiseResult r = optimiser.Run();
+    // The history goes out as the evaluations are made (issue 46): the search keeps none of them.
+    // The CSV's rows into the output's own (staged) file; the JSON's items into a spool, copied
+    // after the summary, which comes first in the document and is known only at the end; the
+    // figure's series decimated (DecimatedSeries: at most about 2,000 runs of evaluations).
+    std::unique_ptr<Spool> history;
+    if (json.enabled()) history = std::make_unique<Spool>("--json", o.json_path);
+    const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); };
+    const auto row = [&](const app::DesignEvaluation& e) {
+      std::ostream& c = csv.stream();
+      c << e.index << ',' << e.phase;
+      for (const double v : e.x) c << ',' << cell(v);
+      c << ',' << cell(e.objective) << ',' << cell(e.violation) << ',' << (e.feasible ? "true" : "false") << ',' << app::ToString(e.status);
+      for (const double v : e.figures) c << ',' << cell(v);
+      std::string m = e.message;
+      std::replace(m.begin(), m.end(), '"', '\'');
+      c << ",\"" << m << "\"\n";
+    };
+    if (csv.enabled()) {
+      std::ostream& c = csv.stream();
+      c << "index,phase";
+      for (const auto& v : s.variables) c << ',' << v.key;
+      c << ",objective,violation,feasible,status";
+      for (const auto& f : app::OptimiseFigureNames()) c << ',' << f;
+      c << ",message\n";
+    }
+    const std::int64_t expected = s.evaluations;
+    DecimatedSeries drawn_feasible(expected), drawn_infeasible(expected), drawn_best(expected), drawn_path(expected);
+    double best_so_far = std::numeric_limits<double>::quiet_NaN();
+    const app::EvaluationSink sink = [&](const app::DesignEvaluation& e) {
+      if (history) {
+        history->stream() << (e.index == 0 ? "\n    " : ",\n    ") << Dump(EvaluationJson(s, e), -1);
+        history->Check();
+      }
+      if (csv.enabled()) {
+        row(e);
+        csv.Check();  // a full disk ends the search now, not at its end
+      }
+      if (!svg.enabled()) return;
+      // The path over the first two variables (with --map): every evaluation, failed ones too,
+      // judged by the objective.
+      if (o.map > 0) drawn_path.Add(e.index, e.x[0], e.x[1], e.status == app::RunStatus::kSuccess ? e.objective : NAN);
+      if (e.status != app::RunStatus::kSuccess) return;  // failed evaluations are not drawn
+      const auto at = static_cast<double>(e.index);
+      (e.feasible ? drawn_feasible : drawn_infeasible).Add(e.index, at, e.objective);
+      if (e.feasible && (std::isnan(best_so_far) || (s.maximise ? e.objective > best_so_far : e.objective < best_so_far))) best_so_far = e.objective;
+      if (std::isfinite(best_so_far)) drawn_best.Add(e.index, at, best_so_far);
+    };
+    const app::OptimiseResult r = optimiser.Run(sink);
     for (const auto& p : r.phases) fmt::print(text, "phase       {}: {} evaluations, stopped: {}\n", p.method, p.evaluations, p.stop);
-    fmt::print(text, "evaluations {} ({} failed, {} rejected){}\n", r.history.size(), r.failed, r.rejected,
+    fmt::print(text, "evaluations {} ({} failed, {} rejected){}\n", r.evaluations, r.failed, r.rejected,
                r.first_failure.empty() ? "" : "; first: " + r.first_failure);
-    const app::DesignEvaluation* best = r.best >= 0 ? &r.history[static_cast<std::size_t>(r.best)] : nullptr;
+    const app::DesignEvaluation* best = r.best >= 0 ? &r.best_design : nullptr;
     if (best != nullptr) {
       fmt::print(text, "best        evaluation {} ({}): {} = {:.10g}\n", best->index, best->phase, s.objective, best->objective);
       for (std::size_t k = 0; k < s.variables.size(); ++k) fmt::print(text, "            {} = {:.10g}\n", s.variables[k].key, best->x[k]);
@@ -175,15 +222,16 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       nlohmann::json phases = nlohmann::json::array();
       for (const auto& p : r.phases) phases.push_back({{"method", p.method}, {"evaluations", p.evaluations}, {"stop", p.stop}});
       j["summary"] = {{"status", best != nullptr ? "success" : "failed"},
-                      {"evaluations", r.history.size()},
+                      {"evaluations", r.evaluations},
                       {"failed", r.failed},
                       {"rejected", r.rejected},
                       {"first_failure", r.first_failure},
                       {"phases", phases},
                       {"best", best != nullptr ? EvaluationJson(s, *best) : nlohmann::json(nullptr)},
                       {"wall_seconds", r.wall_seconds}};
-      // The history, the map and the front are streamed one evaluation at a time after the rest of
-      // the document: the whole document as one JSON value took about 9 KB an evaluation.
+      // The history (spooled as the search made it), the map and the front are streamed one
+      // evaluation at a time after the rest of the document: the whole document as one JSON value
+      // took about 9 KB an evaluation.
       std::ostream& os = json.stream();
       os << OpenObject(j);
       const auto stream_array = [&os](const char* key, std::size_t n, const auto& item) {
@@ -191,7 +239,10 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
         for (std::size_t i = 0; i < n; ++i) os << (i == 0 ? "\n    " : ",\n    ") << Dump(item(i), -1);
         os << (n == 0 ? "]" : "\n  ]");
       };
-      stream_array("history", r.history.size(), [&](std::size_t i) { return EvaluationJson(s, r.history[i]); });
+      os << ",\n  \"history\": [";
+      history->CopyTo(os);
+      os << (r.evaluations == 0 ? "]" : "\n  ]");
+      history.reset();  // removed now, not with the run's end
       if (!grid.empty()) stream_array("map", grid.size(), [&](std::size_t i) { return EvaluationJson(s, grid[i]); });
       if (!front.empty()) {
         stream_array("pareto", front.size(), [&](std::size_t i) {
@@ -203,23 +254,6 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       json.Commit();
     }
     if (csv.enabled()) {
-      std::ostream& c = csv.stream();
-      c << "index,phase";
-      for (const auto& v : s.variables) c << ',' << v.key;
-      c << ",objective,violation,feasible,status";
-      for (const auto& f : app::OptimiseFigureNames()) c << ',' << f;
-      c << ",message\n";
-      const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); };
-      const auto row = [&](const app::DesignEvaluation& e) {
-        c << e.index << ',' << e.phase;
-        for (const double v : e.x) c << ',' << cell(v);
-        c << ',' << cell(e.objective) << ',' << cell(e.violation) << ',' << (e.feasible ? "true" : "false") << ',' << app::ToString(e.status);
-        for (const double v : e.figures) c << ',' << cell(v);
-        std::string m = e.message;
-        std::replace(m.begin(), m.end(), '"', '\'');
-        c << ",\"" << m << "\"\n";
-      };
-      for (const auto& e : r.history) row(e);
       for (const auto& e : grid) row(e);
       csv.Commit();
     }
@@ -227,25 +261,20 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
       namespace plots = app::plots;
       plots::Figure figure;
       figure.title = fmt::format("{}: {} {} over {} evaluations ({} then {})", deck.info.title, s.maximise ? "maximise" : "minimise",
-                                 s.objective, r.history.size(), app::ToString(s.global), app::ToString(s.local));
-      figure.caption = FigureCaption(deck, fmt::format("{}; infeasible: a constraint not met; failed evaluations are not drawn{}",
+                                 s.objective, r.evaluations, app::ToString(s.global), app::ToString(s.local));
+      const std::int64_t stride = drawn_feasible.stride();
+      figure.caption = FigureCaption(deck, fmt::format("{}; infeasible: a constraint not met; failed evaluations are not drawn{}{}",
                                                        s.robust ? fmt::format("robust: {} of {} samples", RobustRule(s), s.robust_samples) : "nominal pair",
-                                                       grid.empty() ? "" : "; map: blank cells are infeasible"));
+                                                       grid.empty() ? "" : "; map: blank cells are infeasible",
+                                                       stride > 1 ? fmt::format("; drawn: the least and largest objective of every {} evaluations", stride)
+                                                                  : std::string()));
       plots::Panel c;
       c.title = "convergence";
       c.x_label = "evaluation";
       c.y_label = s.objective;
-      plots::Series feasible{"feasible", {}, {}, plots::Style::kMarkers}, infeasible{"infeasible", {}, {}, plots::Style::kMarkers},
-          best_line{"best feasible so far", {}, {}, plots::Style::kLine};
-      double best_so_far = std::numeric_limits<double>::quiet_NaN();
-      for (const auto& e : r.history) {
-        if (e.status != app::RunStatus::kSuccess) continue;
-        auto& series = e.feasible ? feasible : infeasible;
-        series.x.push_back(static_cast<double>(e.index));
-        series.y.push_back(e.objective);
-        if (e.feasible && (std::isnan(best_so_far) || (s.maximise ? e.objective > best_so_far : e.objective < best_so_far))) best_so_far = e.objective;
-        if (std::isfinite(best_so_far)) best_line.x.push_back(static_cast<double>(e.index)), best_line.y.push_back(best_so_far);
-      }
+      plots::Series feasible{"feasible", drawn_feasible.x(), drawn_feasible.y(), plots::Style::kMarkers},
+          infeasible{"infeasible", drawn_infeasible.x(), drawn_infeasible.y(), plots::Style::kMarkers},
+          best_line{"best feasible so far", drawn_best.x(), drawn_best.y(), plots::Style::kLine};
       infeasible.marker_size = 0.6;
       c.series = {feasible, infeasible, best_line};
       c.legend = plots::LegendPlace::kOutsideRight;
@@ -268,8 +297,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
           }
         }
         m.map = map;
-        plots::Series path{"evaluations", {}, {}, plots::Style::kMarkers};
-        for (const auto& e : r.history) path.x.push_back(e.x[0]), path.y.push_back(e.x[1]);
+        plots::Series path{"evaluations", drawn_path.x(), drawn_path.y(), plots::Style::kMarkers};
         path.marker_size = 0.4;
         path.colour = 7;
         m.series.push_back(path);
@@ -312,7 +340,7 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
     } else if (best_deck.enabled()) {
       const std::string header = fmt::format("# Written by ltca optimise from {}: the best of {} evaluations, {} = {:.10g}.\n"
                                              "# ltca solve runs it as it is; [optimise] is left out.\n",
-                                             deck.name, r.history.size(), s.objective, best->objective);
+                                             deck.name, r.evaluations, s.objective, best->objective);
       try {
         best_deck.stream() << DesignDeck(deck, s, best->x, header);
         best_deck.Commit();

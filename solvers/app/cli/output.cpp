@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <iterator>
 #include <mutex>
 #include <thread>
 #include <stdexcept>
@@ -283,6 +284,46 @@ void WriteFigure(const app::plots::Figure& figure, Output& output) {
   output.Commit();
 }
 
+DecimatedSeries::DecimatedSeries(std::int64_t expected, std::int64_t buckets)
+    : stride_(std::max<std::int64_t>(1, (expected + buckets - 1) / std::max<std::int64_t>(1, buckets))) {}
+
+void DecimatedSeries::Add(std::int64_t at, double x, double y, double value) {
+  if (at / stride_ != run_) {
+    Close();
+    run_ = at / stride_;
+  }
+  const Point p{at, x, y, value};
+  if (!std::isfinite(value)) {
+    if (gap_.at < 0) gap_ = p;
+    return;
+  }
+  if (least_.at < 0 || value < least_.value) least_ = p;  // the first of equals
+  if (largest_.at < 0 || value > largest_.value) largest_ = p;
+}
+
+void DecimatedSeries::Close() {
+  Point kept[3] = {least_, largest_, gap_};
+  std::sort(std::begin(kept), std::end(kept), [](const Point& a, const Point& b) { return a.at < b.at; });
+  std::int64_t last = -1;
+  for (const Point& p : kept) {
+    if (p.at < 0 || p.at == last) continue;  // none, or the least and the largest are one point
+    last = p.at;
+    x_.push_back(p.x);
+    y_.push_back(p.y);
+  }
+  least_ = largest_ = gap_ = Point{};
+}
+
+const std::vector<double>& DecimatedSeries::x() {
+  Close();
+  return x_;
+}
+
+const std::vector<double>& DecimatedSeries::y() {
+  Close();
+  return y_;
+}
+
 Output::Output(std::string option, std::string path, std::ostream& out)
     : option_(std::move(option)), path_(std::move(path)) {
   if (path_.empty()) return;
@@ -351,6 +392,11 @@ Output::~Output() {
 
 std::ostream& Output::stream() { return out_ != nullptr ? *out_ : file_; }
 
+void Output::Check() {
+  if (path_.empty() || stream()) return;
+  throw OutputError(fmt::format("{} {}: writing failed", option_, path_));
+}
+
 void Output::Commit() {
   if (path_.empty() || committed_) return;
   errno = 0;
@@ -374,6 +420,59 @@ void Output::Commit() {
     ForgetTemporary(temp_);
   }
   committed_ = true;
+}
+
+Spool::Spool(const std::string& option, const std::string& output_path) : option_(option) {
+  fs::path folder = fs::temp_directory_path();
+  if (!output_path.empty() && output_path != "-") {
+    std::error_code ec;
+    const fs::path target = FollowLinks(output_path);
+    const fs::file_status status = fs::status(target, ec);
+    if (!fs::exists(status) || fs::is_regular_file(status)) folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  }
+  std::string pattern = (folder / ".ltca-spool-XXXXXX").string();
+  errno = 0;
+  const int fd = mkstemp(pattern.data());
+  if (fd < 0) {
+    throw OutputError(fmt::format("{} {}: cannot make a temporary file in the folder '{}'{}", option_, output_path, folder.string(), Reason()));
+  }
+  close(fd);
+  path_ = pattern;
+  RegisterTemporary(path_);
+  file_.open(path_, std::ios::in | std::ios::out | std::ios::trunc | std::ios::binary);
+  if (!file_) {
+    std::remove(path_.c_str());
+    ForgetTemporary(path_);
+    throw OutputError(fmt::format("{} {}: cannot open the temporary file '{}'{}", option_, output_path, path_, Reason()));
+  }
+}
+
+Spool::~Spool() {
+  file_.close();
+  std::remove(path_.c_str());
+  ForgetTemporary(path_);
+}
+
+void Spool::Check() {
+  if (!file_) throw OutputError(fmt::format("{}: writing the temporary file '{}' failed", option_, path_));
+}
+
+void Spool::CopyTo(std::ostream& os) {
+  errno = 0;
+  if (!file_.flush()) throw OutputError(fmt::format("{}: writing the temporary file '{}' failed{}", option_, path_, Reason()));
+  const std::streamoff size = file_.tellp();
+  if (size < 0) throw OutputError(fmt::format("{}: the temporary file '{}' cannot be read back{}", option_, path_, Reason()));
+  file_.seekg(0);
+  char buffer[1 << 16];
+  std::streamoff copied = 0;
+  while (copied < size && file_) {
+    file_.read(buffer, static_cast<std::streamsize>(std::min<std::streamoff>(sizeof buffer, size - copied)));
+    const std::streamsize n = file_.gcount();
+    if (n <= 0) break;
+    os.write(buffer, n);
+    copied += n;
+  }
+  if (copied != size) throw OutputError(fmt::format("{}: reading the temporary file '{}' failed{}", option_, path_, Reason()));
 }
 
 void WriteTo(const std::string& option, const std::string& path, std::ostream& out,

@@ -48,6 +48,17 @@ std::string ReadFile(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+/// The document of `ltca optimise` without its history (the report reads the settings and the
+/// summary): parsed as the file is read, the history's items skipped, so that what the report holds
+/// does not grow with the evaluations (issue 46).
+nlohmann::json ReadWithoutHistory(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw OutputError(fmt::format("report: cannot read back {}", path.string()));
+  return nlohmann::json::parse(in, [](int depth, nlohmann::json::parse_event_t event, const nlohmann::json& parsed) {
+    return !(depth == 1 && event == nlohmann::json::parse_event_t::key && parsed == "history");
+  });
+}
+
 std::string Html(const std::string& text) { return app::plots::XmlEscape(text); }
 
 /// A JSON value as table text: numbers to 6 significant digits, null as n/a.
@@ -356,7 +367,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
   const nlohmann::json e = efficiency ? nlohmann::json::parse(ReadFile(eff.json_path)) : nlohmann::json();
   const nlohmann::json tj = tolerance ? nlohmann::json::parse(ReadFile(tol.json_path)) : nlohmann::json();
-  const nlohmann::json oj = optimise ? nlohmann::json::parse(ReadFile(opt.json_path)) : nlohmann::json();
+  const nlohmann::json oj = optimise ? ReadWithoutHistory(opt.json_path) : nlohmann::json();
   const auto& p = deck.pair;
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char date[32] = {};

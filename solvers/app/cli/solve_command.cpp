@@ -170,7 +170,6 @@ nlohmann::json SummaryJson(const app::SweepSummary& s, const app::Deck::ModelInf
 /// What the figure needs, kept compactly while the sweep streams by: the TE of every position
 /// (NaN where the solve failed: a gap in the curve) and the position of the largest pin force.
 struct SvgData {
-  std::vector<double> crank_deg, te_arcsec;
   std::optional<app::PositionResult> peak;
   double f_peak = -1.0;
   /// The pin x crank maps: every stride-th position's pin forces and stresses (NaN when it
@@ -179,46 +178,20 @@ struct SvgData {
   std::int64_t stride = 1, seen = 0;
   std::vector<double> map_crank;
   std::vector<std::vector<double>> map_force, map_stress;
-  /// The TE line: every position up to kTeBuckets of them; beyond, the least and the largest TE
-  /// of every te_stride positions in crank order, and a gap (NaN) where one of them failed, so
-  /// that memory and the figure stay bounded whatever the sweep (100,000 positions drew a 39 MB
-  /// SVG and peaked at 190 MB). The mean and the extremes marked are the sweep's own.
-  static constexpr std::int64_t kTeBuckets = 2000;
-  std::int64_t te_stride = 1, positions = 0;
+  /// The TE line (crank deg, TE arcsec): every position up to DecimatedSeries::kBuckets of them;
+  /// beyond, the least and the largest TE of every te.stride() positions in crank order, and a gap
+  /// (NaN) where one of them failed, so that memory and the figure stay bounded whatever the sweep
+  /// (100,000 positions drew a 39 MB SVG and peaked at 190 MB). The mean and the extremes marked
+  /// are the sweep's own.
+  DecimatedSeries te;
+  std::int64_t positions = 0;
   double first_crank = NAN, last_crank = NAN;  ///< the sweep's, deg (the title's range)
-  struct Bucket {
-    double lo_crank = NAN, lo = INFINITY, hi_crank = NAN, hi = -INFINITY, failed_crank = NAN;
-    std::int64_t lo_at = 0, hi_at = 0, failed_at = 0;  ///< the positions they are at (the order they are drawn in)
-  } bucket;
-  explicit SvgData(std::int64_t n)
-      : stride(std::max<std::int64_t>(1, (n + kMapColumns - 1) / kMapColumns)),
-        te_stride(n > kTeBuckets ? (n + kTeBuckets - 1) / kTeBuckets : 1) {}
-  /// Closes the TE bucket that is open (Add does it as the next one starts; the figure at the end).
-  void Flush() {
-    // The bucket's points in the order of their positions: its least and largest TE, and its first
-    // failed position as a gap.
-    std::vector<std::tuple<std::int64_t, double, double>> points;
-    if (std::isfinite(bucket.lo_crank)) {
-      points.emplace_back(bucket.lo_at, bucket.lo_crank, bucket.lo);
-      if (bucket.hi_at != bucket.lo_at) points.emplace_back(bucket.hi_at, bucket.hi_crank, bucket.hi);
-    }
-    if (std::isfinite(bucket.failed_crank)) points.emplace_back(bucket.failed_at, bucket.failed_crank, NAN);
-    std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
-    for (const auto& [at, crank, te] : points) crank_deg.push_back(crank), te_arcsec.push_back(te);
-    bucket = {};
-  }
+  explicit SvgData(std::int64_t n) : stride(std::max<std::int64_t>(1, (n + kMapColumns - 1) / kMapColumns)), te(n) {}
   void Add(const app::PositionResult& p) {
-    if (positions++ % te_stride == 0) Flush();
     const double crank = RadToDeg(p.crank);
-    if (positions == 1) first_crank = crank;
+    if (positions == 0) first_crank = crank;
     last_crank = crank;
-    if (p.succeeded()) {
-      const double te = RadToArcsec(p.result.te);
-      if (te < bucket.lo) bucket.lo = te, bucket.lo_crank = crank, bucket.lo_at = positions;
-      if (te > bucket.hi) bucket.hi = te, bucket.hi_crank = crank, bucket.hi_at = positions;
-    } else if (!std::isfinite(bucket.failed_crank)) {
-      bucket.failed_crank = crank, bucket.failed_at = positions;
-    }
+    te.Add(positions++, crank, p.succeeded() ? RadToArcsec(p.result.te) : NAN);
     if (seen++ % stride == 0) {
       const auto or_nan = [&p](const std::vector<double>& v) {
         return p.succeeded() ? v : std::vector<double>(v.size(), NAN);
@@ -279,7 +252,6 @@ plots::Panel TePanel(const std::vector<double>& crank_deg, const std::vector<dou
 }
 
 void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, SvgData& data, double mean_te_arcsec, Output& output) {
-  data.Flush();
   plots::Figure figure;
   const double c_lo = std::isfinite(data.first_crank) ? data.first_crank : 0.0;
   const double c_hi = std::isfinite(data.last_crank) ? data.last_crank : 0.0;
@@ -287,13 +259,13 @@ void WriteFigure(const app::Deck& deck, const solvers::SolverOptions& solver, Sv
   figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics), T = {:g} N*m, {} positions",
                                                    deck.Model().name, solver.name, contact::ToString(deck.kinematics),
                                                    units::NmmToNm(deck.RequireLoad().torque), data.positions) +
-                   (data.te_stride > 1 ? fmt::format("; TE drawn as the least and largest of every {} positions", data.te_stride)
+                   (data.te.stride() > 1 ? fmt::format("; TE drawn as the least and largest of every {} positions", data.te.stride())
                                        : std::string()));
   figure.columns = 3;
   figure.width = 1500;
   figure.height = 520;
   // The mean marked is the summary's (a closed period's repeated state weighs once in it).
-  figure.panels.push_back(TePanel(data.crank_deg, data.te_arcsec, solver.name, mean_te_arcsec));
+  figure.panels.push_back(TePanel(data.te.x(), data.te.y(), solver.name, mean_te_arcsec));
   if (data.peak) {
     const auto& p = *data.peak;
     const double crank = RadToDeg(p.crank);

@@ -120,9 +120,16 @@ struct OptimisePhase {
   std::int64_t evaluations = 0;
 };
 
+/// Where a search hands its evaluations (issue 46): each one, once, in index order, from the thread
+/// that called Optimiser::Run, as soon as it is made. The search keeps none of them but the last
+/// and the best, so its memory does not grow with the evaluations; whoever wants the history
+/// writes or keeps it here.
+using EvaluationSink = std::function<void(const DesignEvaluation&)>;
+
 struct OptimiseResult {
-  std::vector<DesignEvaluation> history;  ///< in evaluation order
-  std::int64_t best = -1;  ///< the best feasible evaluation (lowest index among equals), -1: none feasible
+  std::int64_t evaluations = 0;  ///< how many were made (the sink saw each, indices 0 .. evaluations - 1)
+  std::int64_t best = -1;  ///< the best feasible evaluation's index (lowest index among equals), -1: none feasible
+  DesignEvaluation best_design;  ///< that evaluation (when best >= 0)
   std::vector<OptimisePhase> phases;
   std::int64_t failed = 0, rejected = 0;  ///< evaluations by outcome
   std::string first_failure;              ///< the first failed or rejected evaluation's reason
@@ -132,7 +139,7 @@ struct OptimiseResult {
 /// The Pareto front of the objective against a second figure by epsilon constraints.
 struct ParetoPoint {
   double epsilon = 0.0;  ///< the bound on the second figure
-  std::int64_t best = -1;  ///< into the step's history; -1: nothing feasible
+  std::int64_t best = -1;  ///< the index of the step's best evaluation in its search; -1: nothing feasible
   DesignEvaluation design;
 };
 
@@ -161,8 +168,8 @@ class Optimiser {
   ToleranceCase Apply(const std::vector<double>& x) const;
   /// One design, judged by the objective and constraints (phase and index left to the caller).
   DesignEvaluation Evaluate(const std::vector<double>& x) const;
-  /// The search. progress(evaluations so far) from the calling thread.
-  OptimiseResult Run(const std::function<void(std::int64_t)>& progress = {}) const;
+  /// The search: every evaluation to `sink` as it is made (EvaluationSink), none kept.
+  OptimiseResult Run(const EvaluationSink& sink = {}) const;
   /// Every design of an n x n ... grid over the box (n points per variable, the bounds
   /// included), in parallel over the threads; index order: the first variable fastest.
   std::vector<DesignEvaluation> Grid(int n) const;
