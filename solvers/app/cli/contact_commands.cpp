@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -100,11 +101,8 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
   out << documents::BacklashTextHead(deck, stage, kinematics);
   // Streamed, one position at a time, so memory does not grow with the sweep: the JSON holds the
   // positions, then the summary; the text a row for every tenth position and every failed one.
-  if (json.enabled()) {
-    const nlohmann::json head = documents::BacklashHead(deck, kinematics);
-    json.stream() << "{\n\"case\": " << Dump(head.at("case"), -1) << ",\n\"model\": " << Dump(head.at("model"), -1)
-                  << ",\n\"kinematics\": " << Dump(head.at("kinematics"), -1) << ",\n\"positions\": [";
-  }
+  std::optional<documents::BacklashJsonWriter> writer;
+  if (json.enabled()) writer.emplace(json.stream(), deck, kinematics, two_discs);
   if (csv.enabled()) csv.stream() << documents::BacklashCsvHead();
   const std::size_t step = std::max<std::size_t>(1, stage.cranks().size() / 10);
   std::size_t i = 0;
@@ -112,13 +110,13 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
   const analysis::BacklashResult result = analysis::Backlash(stage, kinematics, [&](const analysis::BacklashPosition& p) {
     if (svg.enabled()) series.Add(p);
     if (i % step == 0 || !p.ok) out << documents::Text(p, two_discs);
-    if (json.enabled()) json.stream() << (i == 0 ? "\n" : ",\n") << Dump(documents::Json(p, two_discs), -1);
+    if (writer) writer->Add(p);
     if (csv.enabled()) csv.stream() << documents::Csv(p);
     ++i;
   });
   out << documents::Text(deck, result);
-  if (json.enabled()) {
-    json.stream() << "\n],\n\"summary\": " << Dump(documents::Json(deck, result), -1) << "\n}\n";
+  if (writer) {
+    writer->Finish(deck, result);
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <iterator>
 #include <sstream>
 #include <stdexcept>
@@ -26,6 +27,8 @@
 #include <nlohmann/json.hpp>
 
 #include "contact_commands.hpp"
+#include "documents/backlash.hpp"
+#include "ltca/analysis/backlash.hpp"
 #include "efficiency_command.hpp"
 #include "geometry_command.hpp"
 #include "optimise_command.hpp"
@@ -38,6 +41,7 @@
 #include "tolerance_command.hpp"
 
 namespace ltca::cli {
+namespace documents = app::documents;
 namespace {
 
 namespace fs = std::filesystem;
@@ -224,12 +228,23 @@ double Number(const nlohmann::json& summary, const std::string& key) {
 /// An SVG file inlined into the page: its XML prolog and DOCTYPE dropped, and its element ids
 /// (PLplot's "text-clipping<n>") given the figure's prefix, since one page holds several figures
 /// and an id must be unique in it (else a later figure's text is clipped by an earlier one's).
-std::string InlineSvg(const fs::path& path) {
-  std::string svg = ReadFile(path);
+/// A figure as SVG text (an error drawing it is an output error, as for a file).
+std::string SvgOf(const app::plots::Figure& figure) {
+  std::ostringstream os;
+  try {
+    app::plots::Write(figure, os, app::plots::Format::kSvg);
+  } catch (const std::runtime_error& e) {
+    throw OutputError(fmt::format("report: drawing '{}': {}", figure.title, e.what()));
+  }
+  return os.str();
+}
+
+/// An SVG document inlined in the page: from its <svg> element, its ids prefixed with `stem`.
+std::string InlineSvgText(std::string svg, const std::string& stem) {
   const auto at = svg.find("<svg");
   if (at == std::string::npos) return {};
   svg.erase(0, at);
-  const std::string prefix = path.stem().string() + "-";
+  const std::string prefix = stem + "-";
   for (const std::string from : {"id=\"", "url(#"}) {
     for (auto pos = svg.find(from); pos != std::string::npos; pos = svg.find(from, pos + from.size() + prefix.size())) {
       svg.insert(pos + from.size(), prefix);
@@ -237,6 +252,8 @@ std::string InlineSvg(const fs::path& path) {
   }
   return svg;
 }
+
+std::string InlineSvg(const fs::path& path) { return InlineSvgText(ReadFile(path), path.stem().string()); }
 
 }  // namespace
 
@@ -316,10 +333,22 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   solve.json_path = file("solve.json");
   solve.svg_path = file("solve.svg");
   const int code = RunSolve(deck, solve, quiet);
-  BacklashOptions backlash;
-  backlash.json_path = file("backlash.json");
-  backlash.svg_path = file("backlash.svg");
-  const int backlash_code = RunBacklash(deck, backlash, quiet);
+  // The unloaded backlash: its result in this process (analysis::Backlash), its JSON streamed and
+  // its figure drawn by the documents `ltca backlash` writes, beside the page.
+  const analysis::Stage unloaded(deck, deck.sweep.CrankAngles());
+  documents::BacklashSeries backlash_series;
+  std::optional<analysis::BacklashResult> backlash;
+  WriteTo("-o", file("backlash.json"), streams.out, [&](std::ostream& os) {
+    documents::BacklashJsonWriter writer(os, deck, deck.kinematics, unloaded.disc_count() == 2);
+    backlash = analysis::Backlash(unloaded, deck.kinematics, [&](const analysis::BacklashPosition& p) {
+      writer.Add(p);
+      backlash_series.Add(p);
+    });
+    writer.Finish(deck, *backlash);
+  });
+  const std::string backlash_svg = SvgOf(documents::Figure(deck, backlash_series, *backlash));
+  WriteTo("-o", file("backlash.svg"), streams.out, [&](std::ostream& os) { os << backlash_svg; });
+  const int backlash_code = backlash->summary.failed() == 0 ? kExitSuccess : kExitNotSucceeded;
   MeshOptions mesh;
   mesh.json_path = file("mesh.json");
   mesh.svg_path = file("mesh.svg");
@@ -363,7 +392,6 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
 
   const nlohmann::json g = nlohmann::json::parse(ReadFile(geometry.json_path));
   const nlohmann::json s = nlohmann::json::parse(ReadFile(solve.json_path));
-  const nlohmann::json b = nlohmann::json::parse(ReadFile(backlash.json_path));
   const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
   const nlohmann::json e = efficiency ? nlohmann::json::parse(ReadFile(eff.json_path)) : nlohmann::json();
   const nlohmann::json tj = tolerance ? nlohmann::json::parse(ReadFile(tol.json_path)) : nlohmann::json();
@@ -426,7 +454,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
           "the deck is listed with its value.</p>\n<table>\n<tr><th>figure</th><th>value</th><th>allowable</th>"
           "<th>margin</th><th>verdict</th><th>Monte Carlo pass fraction</th><th>from</th></tr>\n";
   const nlohmann::json& ss = s["summary"];
-  const nlohmann::json& bs = b["summary"];
+  const nlohmann::json bs = documents::Json(deck, *backlash);  // the backlash's summary, from its result
   const nlohmann::json ls = loop ? l["summary"] : nlohmann::json();
   const nlohmann::json es = efficiency ? e["summary"] : nlohmann::json();
   const nlohmann::json ts = tolerance ? tj["summary"] : nlohmann::json();
@@ -452,7 +480,9 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
         return {Number(ss["stage"], figure), "ltca solve, the stage"};
       }
     }
-    for (const auto& [summary, name] : {std::pair{&ss, "ltca solve"}, std::pair{&bs, "ltca backlash"}, std::pair{&ls, "ltca stiffness, crank 0"}}) {
+    if (figure == "mean_backlash_arcsec") return {units::RadToArcsec(backlash->summary.mean()), "ltca backlash"};
+    if (figure == "pp_backlash_arcsec") return {units::RadToArcsec(backlash->summary.pp()), "ltca backlash"};
+    for (const auto& [summary, name] : {std::pair{&ss, "ltca solve"}, std::pair{&ls, "ltca stiffness, crank 0"}}) {
       if (summary->is_object() && summary->contains(figure)) return {Number(*summary, figure), name};
     }
     return {nan, "not computed"};
@@ -508,7 +538,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
             "mechanism's and the bearings' clearances, is the backlash of the torsional stiffness below.</p>\n";
   }
   html += Table(bs);
-  html += InlineSvg(backlash.svg_path);
+  html += InlineSvgText(backlash_svg, "backlash");
   html += InlineSvg(mesh.svg_path);
   html += "<h2 id=\"stiffness\">Torsional stiffness</h2>\n";
   if (loop) {

@@ -81,6 +81,21 @@ nlohmann::json Json(const Deck& deck, const std::vector<analysis::BacklashPositi
   return doc;
 }
 
+BacklashJsonWriter::BacklashJsonWriter(std::ostream& os, const Deck& deck, contact::ContactKinematics kinematics, bool two_discs)
+    : os_(os), two_discs_(two_discs) {
+  const nlohmann::json head = BacklashHead(deck, kinematics);
+  os_ << "{\n\"case\": " << Dump(head.at("case"), -1) << ",\n\"model\": " << Dump(head.at("model"), -1)
+      << ",\n\"kinematics\": " << Dump(head.at("kinematics"), -1) << ",\n\"positions\": [";
+}
+
+void BacklashJsonWriter::Add(const analysis::BacklashPosition& p) {
+  os_ << (written_++ == 0 ? "\n" : ",\n") << Dump(Json(p, two_discs_), -1);
+}
+
+void BacklashJsonWriter::Finish(const Deck& deck, const analysis::BacklashResult& result) {
+  os_ << "\n],\n\"summary\": " << Dump(Json(deck, result), -1) << "\n}\n";
+}
+
 std::string BacklashTextHead(const Deck& deck, const analysis::Stage& stage, contact::ContactKinematics kinematics) {
   std::string text = fmt::format("case      {}\n", deck.info.title) + ModelLine(deck);
   text += fmt::format("unloaded TCA, {} kinematics, {} positions from {:g} to {:g} deg crank\n", contact::ToString(kinematics),

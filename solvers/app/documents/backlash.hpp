@@ -2,6 +2,8 @@
 // The documents of the unloaded backlash (analysis::Backlash): its JSON, text, CSV and figure,
 // built position by position from the analysis's sink and closed with its result. `ltca backlash`,
 // `ltca report` and the Python module all build theirs here.
+#include <cstddef>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,20 @@ nlohmann::json Json(const Deck& deck, const analysis::BacklashResult& result);
 /// The whole JSON document from positions kept in memory (the Python module; the command streams).
 nlohmann::json Json(const Deck& deck, const std::vector<analysis::BacklashPosition>& positions,
                     const analysis::BacklashResult& result);
+
+/// The JSON document streamed to `os` as the positions come (bounded memory in positions): the
+/// head when built, a position per Add, the summary and the closing brace at Finish.
+class BacklashJsonWriter {
+ public:
+  BacklashJsonWriter(std::ostream& os, const Deck& deck, contact::ContactKinematics kinematics, bool two_discs);
+  void Add(const analysis::BacklashPosition& p);
+  void Finish(const Deck& deck, const analysis::BacklashResult& result);
+
+ private:
+  std::ostream& os_;
+  bool two_discs_;
+  std::size_t written_ = 0;
+};
 
 /// The text: the head (case, model, the table's header), a row per position, the summary.
 std::string BacklashTextHead(const Deck& deck, const analysis::Stage& stage, contact::ContactKinematics kinematics);

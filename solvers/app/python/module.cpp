@@ -27,6 +27,8 @@
 
 #include "compare_command.hpp"
 #include "contact_commands.hpp"
+#include "documents/backlash.hpp"
+#include "ltca/analysis/backlash.hpp"
 #include "efficiency_command.hpp"
 #include "geometry_command.hpp"
 #include "ltca/app/deck.hpp"
@@ -201,10 +203,18 @@ PYBIND11_MODULE(_ltca, m) {
     o.samples_per_flank = samples_per_flank;
     return CommandDocument<true>(deck, o, cli::RunGeometry);
   });
+  // The unloaded backlash from its result in this process, its document by the command's builder.
   m.def("backlash", [](const Deck& deck, const std::string& kinematics) {
-    cli::BacklashOptions o;
-    if (!kinematics.empty()) o.kinematics = ltca::contact::ParseKinematics(kinematics);
-    return CommandDocument(deck, o, cli::RunBacklash);
+    const ltca::contact::ContactKinematics k = kinematics.empty() ? deck.kinematics : ltca::contact::ParseKinematics(kinematics);
+    std::vector<ltca::analysis::BacklashPosition> positions;
+    std::optional<ltca::analysis::BacklashResult> result;
+    {
+      py::gil_scoped_release release;
+      const ltca::analysis::Stage stage(deck, deck.sweep.CrankAngles());
+      result = ltca::analysis::Backlash(stage, k, [&](const ltca::analysis::BacklashPosition& p) { positions.push_back(p); });
+    }
+    const int code = result->summary.failed() == 0 ? cli::kExitSuccess : cli::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(deck, positions, *result)), py::str(""));
   });
   m.def("mesh", [](const Deck& deck, double crank_deg) {
     cli::MeshOptions o;
