@@ -445,7 +445,31 @@ int RunProfile(const BenchMatrix& matrix, const BenchOptions& options, std::ostr
 
 }  // namespace
 
+namespace {
+
+/// --baseline is an input (an older ltca-bench, run beside this one): no file this run writes may
+/// be it, through a link, `..` or a hard link (std::invalid_argument naming both, before any work).
+void RequireBaselineNotWritten(const BenchOptions& options) {
+  if (options.baseline.empty()) return;
+  std::vector<fs::path> outputs;
+  for (const char* name : {"bench.json", "bench.csv", "tolerance.csv", "optimise.csv"}) outputs.push_back(fs::path(options.out_dir) / name);
+  if (!options.docs_dir.empty()) {
+    for (const char* name : {"performance.md", "performance.svg"}) outputs.push_back(fs::path(options.docs_dir) / name);
+  }
+  for (const fs::path& output : outputs) {
+    std::error_code ec;
+    if (fs::equivalent(output, options.baseline, ec)) {
+      throw std::invalid_argument(fmt::format("--baseline {}: is the file this run writes as {}; expected an older ltca-bench "
+                                              "that no output replaces",
+                                              options.baseline, output.string()));
+    }
+  }
+}
+
+}  // namespace
+
 int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
+  RequireBaselineNotWritten(options);
   const BenchHeader header = Header();
   if (options.tolerance_only) {  // issue 15: the tolerance bar alone
     const ToleranceBar bar = RunToleranceBar(options.smoke, out);

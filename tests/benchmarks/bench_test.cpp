@@ -2,6 +2,9 @@
 // smoke-run by ctest (ltca-bench --smoke); no timing is asserted anywhere.
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include <doctest/doctest.h>
@@ -47,4 +50,39 @@ TEST_CASE("bench: the peak memory of a run is that process's, not the largest ch
   CHECK(small > 0.0);
   CHECK(small < 5.0);
   CHECK(ltca::bench::PeakRssMb(LTCA_PEAK_RSS_EXE, {"/bin/false"}) == -1.0);
+}
+
+TEST_CASE("bench: an output that is the --baseline binary (a link or a hard link to it included) is refused before any work") {
+  // Issue 46 item 1: every file a run reads is protected from its outputs, --baseline included.
+  const fs::path dir = fs::temp_directory_path() / "ltca_bench_baseline_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "docs");
+  const fs::path binary = dir / "old-ltca-bench";
+  {
+    std::ofstream f(binary);
+    f << "#!/bin/sh\n";
+  }
+  const auto refused = [&](const ltca::bench::BenchOptions& options) {
+    std::ostringstream out;
+    CHECK_THROWS_AS(ltca::bench::RunBenchCommand(options, out), std::invalid_argument);
+    CHECK(out.str().empty());  // nothing ran
+  };
+  ltca::bench::BenchOptions options;
+  options.smoke = true;
+  options.out_dir = dir.string();
+  fs::rename(binary, dir / "bench.csv");  // the baseline where the CSV goes
+  options.baseline = (dir / "bench.csv").string();
+  refused(options);
+  fs::create_hard_link(dir / "bench.csv", dir / "docs" / "performance.md");  // a hard link the docs would replace
+  options.baseline = (dir / "docs" / "performance.md").string();
+  options.out_dir = (dir / "elsewhere").string();
+  options.docs_dir = (dir / "docs" / "..").string() + "/docs";
+  refused(options);
+  fs::create_symlink(dir / "bench.csv", dir / "link");  // through a symbolic link
+  options.baseline = (dir / "link").string();
+  options.out_dir = dir.string();
+  options.docs_dir.clear();
+  refused(options);
+  CHECK(ltca::test::ReadText(dir / "bench.csv") == "#!/bin/sh\n");
+  fs::remove_all(dir);
 }
