@@ -13,7 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "documents/backlash.hpp"
+#include "documents/mesh.hpp"
 #include "ltca/analysis/backlash.hpp"
+#include "ltca/analysis/mesh.hpp"
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/geometry/units.hpp"
 #include "output.hpp"
@@ -21,72 +23,6 @@
 
 namespace ltca::cli {
 namespace documents = app::documents;
-namespace {
-
-using units::RadToArcsec;
-using units::RadToDeg;
-
-nlohmann::json Finite(double v) { return FiniteOrNull(v); }
-
-namespace plots = app::plots;
-
-/// The clearance of every pin around the ring (log scale: it runs from microns in the mesh to
-/// millimetres away from it) and its moment arm, at one crank angle.
-void WriteMeshFigure(const app::Deck& deck, double crank_deg, const contact::MeshState& state, int pin_count, Output& output) {
-  std::vector<double> pin, clearance(static_cast<std::size_t>(pin_count), INFINITY), arm(static_cast<std::size_t>(pin_count), NAN);
-  for (const auto& c : state.pins) {  // the slice model: per pin, the slice of least clearance
-    const auto j = static_cast<std::size_t>(c.pin);
-    if (c.disc != 0 || j >= clearance.size()) continue;
-    if (units::MmToUm(c.clearance) < clearance[j]) clearance[j] = units::MmToUm(c.clearance), arm[j] = c.arm;
-  }
-  // A log axis when the clearances span more than two decades (microns in the mesh, millimetres
-  // away from it); a contact (below floor_um) is then drawn at floor_um.
-  const double floor_um = 1e-3;
-  double least = INFINITY, most = -INFINITY;
-  int least_pin = 0;
-  for (int j = 0; j < pin_count; ++j) {
-    pin.push_back(j + 1);
-    const double c = clearance[static_cast<std::size_t>(j)];
-    if (c < least) least = c, least_pin = j + 1;
-    if (std::isfinite(c)) most = std::max(most, c);
-  }
-  const bool log = most > 100.0 * std::max(least, floor_um);
-  if (log) {
-    for (double& c : clearance) c = std::max(c, floor_um);
-  }
-  plots::Figure figure;
-  figure.title = fmt::format("{}: mesh state at crank {:g} deg (unloaded)", deck.info.title, crank_deg);
-  figure.caption = FigureCaption(deck, fmt::format("model {}; pins numbered from +x_f counter-clockwise{}{}",
-                                                   deck.Model().name,
-                                                   log ? fmt::format("; clearance on a log scale, below {:g} um (contact) drawn at {:g} um",
-                                                                     floor_um, floor_um)
-                                                       : "",
-                                                   deck.disc_count() == 2 ? "; [second_disc]: the first disc's mesh" : ""));
-  figure.columns = 2;
-  figure.width = 1300;
-  figure.height = 520;
-  plots::Panel c;
-  c.title = fmt::format("least clearance {:.4g} um at pin {}", least, least_pin);
-  c.x_label = "pin number";
-  c.y_label = "clearance (um)";
-  c.log_y = log;
-  c.series.push_back({"clearance", pin, clearance, plots::Style::kLineMarkers});
-  c.x_min = 0.0, c.x_max = pin_count + 1.0;
-  figure.panels.push_back(std::move(c));
-  plots::Panel a;
-  a.title = "moment arm of the contact normal about O_c";
-  a.x_label = "pin number";
-  a.y_label = "arm L_i (mm)";
-  plots::Series arms{"arm", pin, arm, plots::Style::kBars};
-  arms.colour = 2;
-  a.series.push_back(std::move(arms));
-  a.x_min = 0.0, a.x_max = pin_count + 1.0;
-  figure.panels.push_back(std::move(a));
-  WriteFigure(figure, output);
-}
-
-}  // namespace
-
 int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Streams& streams) {
   RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
@@ -128,58 +64,13 @@ void RunMesh(const app::Deck& deck, const MeshOptions& options, const Streams& s
   RequireDistinctOutputs({{"--json", options.json_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output svg("--svg", options.svg_path, streams.out);
-  std::ostream& out = streams.text;
-  const contact::MeshModel model = deck.MakeModel();
-  const double crank = units::DegToRad(options.crank_deg);
-  const contact::MeshState state = model.Evaluate(crank);
-  // A table of an interfering pair would show negative clearances as if they were a mesh state.
-  contact::RequireNoInterference(state, crank, model.interference_tolerance());
-  fmt::print(out, "case      {}\n", deck.info.title);
-  fmt::print(out, "mesh state at crank {:g} deg (unloaded pose)\n", options.crank_deg);
-  if (deck.disc_count() == 2) fmt::print(out, "note      [second_disc]: the first disc's mesh only\n");
-  // The slice model has a row per pin and slice (issue 11): the slice and its z are named.
-  const bool sliced = model.slice_count() > 1;
-  out << ModelLine(deck);
-  fmt::print(out, "{:>4} {}{:>9} {:>12} {:>10} {:>12} {:>8} {:>11} {:>11} {:>5}\n", "pin",
-             sliced ? fmt::format("{:>5} {:>7} ", "slice", "z_mm") : std::string(), "angle_deg", "c_um", "L_mm",
-             "rho_c_mm", "rho_p_mm", "x_mm", "y_mm", "edge");
-  for (const auto& c : state.pins) {
-    fmt::print(out, "{:>4} {}{:>9.3f} {:>12.4f} {:>10.4f} {:>12.4f} {:>8.4f} {:>11.5f} {:>11.5f} {:>5}\n", c.pin + 1,
-               sliced ? fmt::format("{:>5} {:>7.3f} ", c.slice + 1, c.z) : std::string(), RadToDeg(c.angle),
-               units::MmToUm(c.clearance), c.arm,
-               c.cycloid_curvature == 0.0 ? INFINITY : 1.0 / c.cycloid_curvature, c.pin_radius,
-               c.cycloid_point.x(), c.cycloid_point.y(), c.edge ? "yes" : "");
-  }
+  const analysis::MeshResult mesh = analysis::MeshAt(deck.MakeModel(), options.crank_deg);
+  streams.text << documents::Text(deck, mesh);
   if (json.enabled()) {
-    {
-      std::ostream& os = json.stream();
-      nlohmann::json pins = nlohmann::json::array();
-      for (const auto& c : state.pins) {
-        nlohmann::json row = {{"pin", c.pin + 1},
-                        {"pin_angle_deg", RadToDeg(c.angle)},
-                        {"clearance_um", units::MmToUm(c.clearance)},
-                        {"arm_mm", c.arm},
-                        {"cycloid_curvature_radius_mm", Finite(c.cycloid_curvature == 0.0 ? INFINITY : 1.0 / c.cycloid_curvature)},
-                        {"pin_radius_mm", c.pin_radius},
-                        {"cycloid_point_mm", {c.cycloid_point.x(), c.cycloid_point.y()}},
-                        {"pin_point_mm", {c.pin_point.x(), c.pin_point.y()}},
-                        {"normal", {c.normal.x(), c.normal.y()}},
-                        {"edge_contact", c.edge}};
-        if (sliced) {
-          row["slice"] = c.slice + 1;
-          row["z_mm"] = c.z;
-        }
-        pins.push_back(std::move(row));
-      }
-      os << Dump(nlohmann::json{{"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
-                                {"crank_deg", options.crank_deg},
-                                {"model", ModelJson(deck.Model())},
-                                {"pins", pins}})
-         << '\n';
-    }
+    json.stream() << Dump(documents::Json(deck, mesh)) << '\n';
     json.Commit();
   }
-  if (svg.enabled()) WriteMeshFigure(deck, options.crank_deg, state, deck.pair.pin_count, svg);
+  if (svg.enabled()) WriteFigure(documents::Figure(deck, mesh), svg);
 }
 
 Command BacklashCommand() {

@@ -28,7 +28,9 @@
 
 #include "contact_commands.hpp"
 #include "documents/backlash.hpp"
+#include "documents/mesh.hpp"
 #include "ltca/analysis/backlash.hpp"
+#include "ltca/analysis/mesh.hpp"
 #include "efficiency_command.hpp"
 #include "geometry_command.hpp"
 #include "optimise_command.hpp"
@@ -349,10 +351,12 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const std::string backlash_svg = SvgOf(documents::Figure(deck, backlash_series, *backlash));
   WriteTo("-o", file("backlash.svg"), streams.out, [&](std::ostream& os) { os << backlash_svg; });
   const int backlash_code = backlash->summary.failed() == 0 ? kExitSuccess : kExitNotSucceeded;
-  MeshOptions mesh;
-  mesh.json_path = file("mesh.json");
-  mesh.svg_path = file("mesh.svg");
-  RunMesh(deck, mesh, quiet);
+  // The mesh state at crank 0: its result in this process, its JSON and figure by the documents
+  // `ltca mesh` writes, beside the page.
+  const analysis::MeshResult mesh = analysis::MeshAt(deck.MakeModel(), 0.0);
+  WriteTo("-o", file("mesh.json"), streams.out, [&](std::ostream& os) { os << Dump(documents::Json(deck, mesh)) << '\n'; });
+  const std::string mesh_svg = SvgOf(documents::Figure(deck, mesh));
+  WriteTo("-o", file("mesh.svg"), streams.out, [&](std::ostream& os) { os << mesh_svg; });
   // The torque-twist loop at crank 0 (one position of the deck's [stiffness] steps); none at
   // zero torque, where there is no rated torque to run the loop to.
   StiffnessOptions stiffness;
@@ -539,7 +543,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   }
   html += Table(bs);
   html += InlineSvgText(backlash_svg, "backlash");
-  html += InlineSvg(mesh.svg_path);
+  html += InlineSvgText(mesh_svg, "mesh");
   html += "<h2 id=\"stiffness\">Torsional stiffness</h2>\n";
   if (loop) {
     html += "<p>The torque-twist loop at crank 0.</p>\n";

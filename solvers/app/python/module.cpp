@@ -28,7 +28,9 @@
 #include "compare_command.hpp"
 #include "contact_commands.hpp"
 #include "documents/backlash.hpp"
+#include "documents/mesh.hpp"
 #include "ltca/analysis/backlash.hpp"
+#include "ltca/analysis/mesh.hpp"
 #include "efficiency_command.hpp"
 #include "geometry_command.hpp"
 #include "ltca/app/deck.hpp"
@@ -216,10 +218,14 @@ PYBIND11_MODULE(_ltca, m) {
     const int code = result->summary.failed() == 0 ? cli::kExitSuccess : cli::kExitNotSucceeded;
     return py::make_tuple(code, ToPython(ltca::app::documents::Json(deck, positions, *result)), py::str(""));
   });
+  // The mesh state at one crank from its result in this process, its document by the command's builder.
   m.def("mesh", [](const Deck& deck, double crank_deg) {
-    cli::MeshOptions o;
-    o.crank_deg = crank_deg;
-    return CommandDocument(deck, o, cli::RunMesh);
+    std::optional<ltca::analysis::MeshResult> mesh;
+    {
+      py::gil_scoped_release release;
+      mesh = ltca::analysis::MeshAt(deck.MakeModel(), crank_deg);
+    }
+    return py::make_tuple(cli::kExitSuccess, ToPython(ltca::app::documents::Json(deck, *mesh)), py::str(""));
   });
   m.def("compare", [](const Deck& deck, const Strings& solvers,
                       const std::string& kinematics) {
