@@ -19,6 +19,7 @@
 #include <fmt/ranges.h>
 
 #include "command.hpp"
+#include "documents/geometry.hpp"
 #include "geometry_command.hpp"
 #include "output.hpp"
 #include "solve_command.hpp"
@@ -147,7 +148,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
       RunGeometry(deck, GeometryOptions{}, streams);
       streams.text << '\n';
       JsonEnvelope envelope;
-      envelope.before = "{\n\"geometry\": " + Dump(GeometryJson(deck), -1) + ",\n\"solve\": ";
+      envelope.before = "{\n\"geometry\": " + Dump(app::documents::Json(deck, deck.MakeRealPair()), -1) + ",\n\"solve\": ";
       envelope.after = "\n}";
       code = RunSolve(deck, default_options, streams, envelope);
     }

@@ -2,358 +2,37 @@
 
 #include "command.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <limits>
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-#include <fmt/ostream.h>
-#include <nlohmann/json.hpp>
-
-#include "ltca/contact/mesh_state.hpp"
-#include "ltca/geometry/kinematics.hpp"
-#include "ltca/geometry/profile.hpp"
+#include "documents/geometry.hpp"
 #include "ltca/geometry/real_pair.hpp"
-#include "ltca/contact/cranks.hpp"
-#include "ltca/contact/output_pins.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/solvers/stage.hpp"
 #include "output.hpp"
 
 namespace ltca::cli {
-namespace {
-
-using geometry::CycloidProfile;
-using geometry::Kinematics;
-using units::RadToDeg;
-
-nlohmann::json SummaryJson(const app::Deck& deck, const geometry::RealPair& real) {
-  const CycloidProfile& profile = real.profile();
-  const Kinematics& kinematics = real.kinematics();
-  const auto finite_or_null = [](double v) -> nlohmann::json {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-  };
-  return {
-      {"case", {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}}},
-      {"tooth_difference", profile.tooth_difference()},
-      {"k1", profile.k1()},
-      {"phi_max_deg", RadToDeg(profile.phi_max())},
-      {"contact_ratio", profile.contact_ratio()},
-      {"theta_max_deg", RadToDeg(profile.theta_max())},
-      {"alpha_max_deg", RadToDeg(profile.alpha_max())},
-      {"min_curvature_radius_mm", profile.min_curvature_radius()},
-      {"undercut_margin_mm", finite_or_null(profile.undercut_margin())},
-      {"mesh_period_deg", RadToDeg(kinematics.MeshPeriod())},
-      {"transmission_ratio", kinematics.TransmissionRatio()},
-      // The figures above are of the cycloid as made: modification and [errors] applied.
-      {"errors_applied", !real.errors().IsZero()},
-      {"pin_circle_radius_as_assembled_mm", real.pin_circle_radius()},
-      // Issue 12: the relief that runs (from the deck, or none: issue 26 assumes none), and
-      // what it cuts: the flank ends at +-junction_deg of every space.
-      {"tip_relief",
-       {{"truncation_mm", profile.tip_cap().relief().truncation},
-        {"rounding_radius_mm", profile.tip_cap().relief().rounding_radius},
-        {"source", deck.tip_relief_source},
-        {"note", deck.tip_relief_note.empty() ? nlohmann::json(nullptr) : nlohmann::json(deck.tip_relief_note)},
-        {"active", profile.tip_cap().active()},
-        {"junction_deg", RadToDeg(profile.tip_cap().junction())},
-        {"land_half_width_mm", profile.tip_cap().land_half_width()},
-        {"depth_mm", profile.tip_cap().depth()}}},
-  };
-}
-
-/// The outline of the cycloid as made, tooth space by tooth space: the flank from -u_j to u_j
-/// (u_j = phi_max without a tip relief), then, with a relief, the cap of the tip it runs into.
-/// f(tooth_space, u or NaN on the cap, position, normal, curvature, part) per point.
-template <class F>
-void ForEachOutlinePoint(const CycloidProfile& profile, int samples, const F& f) {
-  const geometry::TipCap& cap = profile.tip_cap();
-  const auto flank = [&](int k, double lo, double hi) {
-    for (int i = 0; i <= 2 * samples; ++i) {
-      const double u = lo + (hi - lo) * i / (2 * samples);
-      const auto p = profile.Evaluate(u, k);
-      f(k, u, p.position, p.normal, p.curvature, geometry::SurfacePart::kFlank);
-    }
-  };
-  // Tip `tip`'s cap from w_from to w_to (exclusive of the junctions, which the flanks draw).
-  const auto tip_cap = [&](int k, int tip, double direction) {
-    for (int i = samples - 1; i > -samples; --i) {
-      const geometry::CapFoot c = cap.Point(direction * static_cast<double>(i) / samples, tip);
-      f(k, std::numeric_limits<double>::quiet_NaN(), c.point, c.normal, c.curvature, c.part);
-    }
-  };
-  for (int k = 0; k < profile.pair().tooth_count; ++k) {
-    if (!cap.active()) {
-      flank(k, -profile.phi_max(), profile.phi_max());
-    } else if (profile.tooth_difference() > 0) {
-      // Space k's flank, then the cap of tip k from space k's junction (w = 1) to space k + 1's.
-      flank(k, -cap.junction(), cap.junction());
-      tip_cap(k, k, 1.0);
-    } else {
-      // A ring: the flank u < 0, the cap of its tip at u = 0 (w = -1 on the u < 0 side), the flank u > 0.
-      flank(k, -profile.phi_max(), -cap.junction());
-      tip_cap(k, k, -1.0);
-      flank(k, cap.junction(), profile.phi_max());
-    }
-  }
-}
-
-void WriteCsv(const CycloidProfile& profile, int samples, std::ostream& os) {
-  // The whole profile, tooth space by tooth space; u_deg is empty on a tip relief's cap.
-  os << "tooth_space,u_deg,x_mm,y_mm,normal_x,normal_y,curvature_radius_mm,part\n";
-  ForEachOutlinePoint(profile, samples, [&](int k, double u, const Eigen::Vector2d& x, const Eigen::Vector2d& n,
-                                            double curvature, geometry::SurfacePart part) {
-    const double radius = curvature == 0.0 ? std::numeric_limits<double>::infinity() : 1.0 / curvature;
-    fmt::print(os, "{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{}\n", k,
-               std::isnan(u) ? std::string() : fmt::format("{:.9g}", RadToDeg(u)), x.x(), x.y(), n.x(), n.y(), radius,
-               geometry::SurfacePartName(part));
-  });
-}
-
-/// A round exaggeration factor (1, 2 or 5 x 10^k) that draws a typical mesh clearance (the
-/// median over the pins of the working flank side) about 1.5 % of the drawing's extent.
-double ExaggerationFactor(const std::vector<double>& clearance, double extent) {
-  std::vector<double> c;
-  for (const double v : clearance) {
-    if (std::isfinite(v) && v > 1e-5) c.push_back(v);  // below 0.01 um: in contact, nothing to exaggerate
-  }
-  if (c.empty()) return 1.0;
-  std::sort(c.begin(), c.end());
-  const double typical = c[c.size() / 4];  // the tighter quarter: the pins that mesh
-  const double want = 0.015 * extent / typical;
-  if (want <= 1.0) return 1.0;
-  if (want >= 1e4) return 1e4;
-  const double decade = std::pow(10.0, std::floor(std::log10(want)));
-  for (const double m : {5.0, 2.0, 1.0}) {
-    if (m * decade <= want) return m * decade;
-  }
-  return decade;
-}
-
-void WriteDrawing(const app::Deck& deck, const geometry::RealPair& real, double crank, int samples, Output& output) {
-  namespace plots = app::plots;
-  const CycloidProfile& profile = real.profile();
-  const Kinematics& kinematics = real.kinematics();
-  const auto& pair = profile.pair();
-  const geometry::Pose pose = kinematics.CycloidPose(crank);
-  const bool ring = profile.tooth_difference() < 0;  // the cycloid is the outer member
-  const double outer = pair.pin_circle_radius + pair.pin_radius + 2.0 * pair.eccentricity;
-  const double extent = (ring ? 1.15 * outer : outer) + 2.0;
-
-  // The unloaded clearance of every pin (the smallest over its slices), from the contact layer.
-  const contact::MeshModel model = deck.MakeModel();
-  const contact::MeshState state = model.Evaluate(crank);
-  std::vector<double> clearance(static_cast<std::size_t>(pair.pin_count), INFINITY);
-  for (const auto& c : state.pins) {
-    auto& v = clearance[static_cast<std::size_t>(c.pin)];
-    v = std::min(v, c.clearance);
-  }
-  const double c_min = *std::min_element(clearance.begin(), clearance.end());
-  const double factor = ExaggerationFactor(clearance, extent);
-
-  plots::Panel panel;
-  panel.x_label = "x_f (mm)";
-  panel.y_label = "y_f (mm)";
-  panel.equal_scale = true;
-  panel.legend = plots::LegendPlace::kOutsideRight;
-  panel.title = fmt::format("clearances drawn x{:g}", factor);
-  plots::Series disc{ring ? "cycloid ring (as made)" : "cycloid disc (as made)", {}, {}, ring ? plots::Style::kOutline : plots::Style::kPolygon};
-  disc.colour = 1;
-  ForEachOutlinePoint(profile, samples, [&](int, double, const Eigen::Vector2d& body, const Eigen::Vector2d&, double,
-                                            geometry::SurfacePart) {
-    const Eigen::Vector2d x = pose.ToFixed(body);
-    disc.x.push_back(x.x()), disc.y.push_back(x.y());
-  });
-  panel.series.push_back(std::move(disc));
-  plots::Series pin_circle{fmt::format("pin circle R_p = {:g} mm", real.pin_circle_radius()), {}, {}, plots::Style::kOutline};
-  pin_circle.colour = 6;
-  pin_circle.dashed = true;
-  for (int i = 0; i < 360; ++i) {
-    pin_circle.x.push_back(real.pin_circle_radius() * std::cos(i * M_PI / 180.0));
-    pin_circle.y.push_back(real.pin_circle_radius() * std::sin(i * M_PI / 180.0));
-  }
-  panel.series.push_back(std::move(pin_circle));
-  bool first_pin = true, first_contact = true;
-  std::string contact_pins;
-  int touching_pins = 0;
-  for (int j = 0; j < pair.pin_count; ++j) {
-    const Eigen::Vector2d c = real.PinCentre(j);  // as assembled: pin-circle and pitch deviations
-    const double g = std::max(0.0, clearance[static_cast<std::size_t>(j)]);
-    const double r = std::max(pair.pin_radius - (factor - 1.0) * g, 0.3 * pair.pin_radius);
-    const bool touching = clearance[static_cast<std::size_t>(j)] <= c_min + 1e-4;  // within 0.1 um of the first contact
-    plots::Series pin{"", {}, {}, plots::Style::kPolygon};
-    pin.colour = touching ? 2 : 0;
-    if (touching && first_contact) pin.label = "first contact (least clearance)", first_contact = false;
-    if (!touching && first_pin) pin.label = "pins", first_pin = false;
-    if (touching) ++touching_pins;
-    if (touching && touching_pins <= 6) contact_pins += fmt::format("{}{}", contact_pins.empty() ? "" : ", ", j + 1);
-    if (touching && touching_pins == 7) contact_pins += ", ...";
-    for (int i = 0; i < 48; ++i) {
-      pin.x.push_back(c.x() + r * std::cos(i * M_PI / 24.0));
-      pin.y.push_back(c.y() + r * std::sin(i * M_PI / 24.0));
-    }
-    panel.series.push_back(std::move(pin));
-    // Outside the pins; inside them for a ring, whose outline runs outside the pin circle.
-    const double label_radius = ring ? c.norm() - pair.pin_radius - 0.05 * extent : c.norm() + pair.pin_radius + 0.06 * extent;
-    const double a = std::atan2(c.y(), c.x());
-    panel.notes.push_back({label_radius * std::cos(a), label_radius * std::sin(a) - 0.012 * extent, fmt::format("{}", j + 1), 0.5, 0.7});
-  }
-  if (deck.reducer) {
-    // The stage's output elements (issue 25), to scale (their clearances not exaggerated): output
-    // pins in the disc's holes, or the crank holes' and the crankshafts' centres on their circle.
-    const geometry::Pose holes{pose.centre, pose.rotation};  // the output member turned as the disc
-    if (deck.reducer->kind == solvers::OutputKind::kPins) {
-      const contact::OutputPins& w = deck.reducer->pins;
-      bool first = true;
-      for (const contact::OutputPinContact& c : contact::EvaluateOutputPins(w, holes, pose.rotation)) {
-        plots::Series hole{first ? fmt::format("holes r_h = {:g} mm", w.hole_radius) : "", {}, {}, plots::Style::kOutline};
-        plots::Series pin{first ? fmt::format("output pins r_w = {:g} mm", w.pin_radius) : "", {}, {}, plots::Style::kPolygon};
-        hole.colour = 3;
-        pin.colour = 5;
-        for (int i = 0; i <= 96; ++i) {
-          const double a = i * M_PI / 48.0;
-          hole.x.push_back(c.hole_centre.x() + w.hole_radius * std::cos(a));
-          hole.y.push_back(c.hole_centre.y() + w.hole_radius * std::sin(a));
-          pin.x.push_back(c.pin_centre.x() + w.pin_radius * std::cos(a));
-          pin.y.push_back(c.pin_centre.y() + w.pin_radius * std::sin(a));
-        }
-        panel.series.push_back(std::move(hole));
-        panel.series.push_back(std::move(pin));
-        first = false;
-      }
-    } else {
-      const contact::Cranks& k = deck.reducer->cranks;
-      plots::Series circle{fmt::format("crank circle R_c = {:g} mm", k.circle_radius), {}, {}, plots::Style::kOutline};
-      circle.colour = 3;
-      circle.dashed = true;
-      for (int i = 0; i <= 360; ++i) {
-        circle.x.push_back(k.circle_radius * std::cos(i * M_PI / 180.0));
-        circle.y.push_back(k.circle_radius * std::sin(i * M_PI / 180.0));
-      }
-      panel.series.push_back(std::move(circle));
-      plots::Series cranks{"crankshaft centres", {}, {}, plots::Style::kMarkers};
-      plots::Series holes_mark{"crank-hole centres (the eccentrics)", {}, {}, plots::Style::kMarkers};
-      cranks.colour = 3;
-      holes_mark.colour = 5;
-      for (const contact::CrankContact& c : contact::EvaluateCranks(k, holes, pose.rotation)) {
-        cranks.x.push_back(c.crank_centre.x()), cranks.y.push_back(c.crank_centre.y());
-        holes_mark.x.push_back(c.hole_centre.x()), holes_mark.y.push_back(c.hole_centre.y());
-      }
-      panel.series.push_back(std::move(cranks));
-      panel.series.push_back(std::move(holes_mark));
-    }
-  }
-  // The line of centres: from the pin-circle centre O_p through the cycloid centre O_c.
-  plots::Series centres{"line of centres O_p O_c", {}, {}, plots::Style::kLine};
-  centres.colour = 4;
-  centres.dashed = true;
-  const Eigen::Vector2d oc = pose.centre;
-  const Eigen::Vector2d dir = oc.norm() > 0.0 ? Eigen::Vector2d(oc / oc.norm()) : Eigen::Vector2d(1.0, 0.0);
-  centres.x = {-extent * dir.x(), extent * dir.x()};
-  centres.y = {-extent * dir.y(), extent * dir.y()};
-  panel.series.push_back(std::move(centres));
-  plots::Series centre_mark{"cycloid centre O_c", {oc.x()}, {oc.y()}, plots::Style::kMarkers};
-  centre_mark.colour = 4;
-  panel.series.push_back(std::move(centre_mark));
-  const double limit = extent + 0.1 * extent;
-  panel.x_min = -limit, panel.x_max = limit, panel.y_min = -limit, panel.y_max = limit;
-
-  plots::Figure figure;
-  figure.title = fmt::format("{}: cycloid and pins at crank {:.4g} deg (unloaded)", deck.info.title, RadToDeg(crank));
-  figure.caption = FigureCaption(
-      deck, fmt::format("z_p = {}, z_c = {}, R_p = {:g} mm, r_rp = {:g} mm, e = {:g} mm; least clearance {:.3f} um (pin {}); "
-                        "pins numbered from +x_f counter-clockwise\n"
-                        "clearances exaggerated x{:g}: each pin's radius is reduced by ({:g} - 1) x its clearance (at least 30 % kept)",
-                        pair.pin_count, pair.tooth_count, pair.pin_circle_radius, pair.pin_radius, pair.eccentricity,
-                        units::MmToUm(c_min) + 0.0, contact_pins, factor, factor));
-  figure.panels.push_back(std::move(panel));
-  figure.width = 1000;
-  figure.height = 800;
-  WriteFigure(figure, output);
-}
-
-}  // namespace
-
-nlohmann::json GeometryJson(const app::Deck& deck) {
-  return SummaryJson(deck, deck.MakeRealPair());
-}
+namespace documents = app::documents;
 
 void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const Streams& streams) {
   RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   Output json("--json", options.json_path, streams.out);  // checked before computing
   Output csv("--csv", options.csv_path, streams.out);
   Output svg("--svg", options.svg_path, streams.out);
-  std::ostream& out = streams.text;
   const geometry::RealPair real = deck.MakeRealPair();  // the pair as made: what every command sees
-  const CycloidProfile& profile = real.profile();
-  const Kinematics& kinematics = real.kinematics();
-  const auto& p = deck.pair;
-  const auto& m = deck.modification;
-  fmt::print(out, "case      {}\n", deck.info.title);
-  if (!deck.info.source.empty()) fmt::print(out, "source    {}\n", deck.info.source);
-  fmt::print(out, "pair      z_p = {}, z_c = {}, d = {}, r_rp = {} mm, R_p = {} mm, e = {} mm, B_c = {} mm\n",
-             p.pin_count, p.tooth_count, p.ToothDifference(), p.pin_radius, p.pin_circle_radius,
-             p.eccentricity, p.face_width);
-  fmt::print(out, "modif.    dR_rp = {:g} um, dR_p = {:g} um, rotation = {:g} arcsec\n",
-             units::MmToUm(m.pin_radius), units::MmToUm(m.pin_circle_radius),
-             units::RadToArcsec(m.rotation));
-  if (!deck.errors.IsZero()) {
-    const auto& e = deck.errors;
-    fmt::print(out, "errors    profile layer = {:g} um, pin circle radius as assembled = {:.6f} mm, pitch deviations: {}\n",
-               units::MmToUm(e.profile_layer), real.pin_circle_radius(),
-               e.cumulative_pitch_deviation.empty() ? "none" : "per pin (Liu eq. 5)");
-    if (e.HasProfileDeviation()) {
-      const auto& r = e.profile_random;
-      fmt::print(out, "          profile deviation along the profile: {}{}{}, |delta| <= {:g} um (Liu eq. 4; not in the figures below)\n",
-                 r.zone == 0.0 ? "" : fmt::format("random zone {:g} um ({} elements, {}, {}, seed {})", units::MmToUm(r.zone),
-                                                   r.elements,
-                                                   r.distribution == geometry::ProfileRandomDistribution::kUniform ? "uniform" : "normal",
-                                                   r.spacing == geometry::ProfileElementSpacing::kArcLength ? "arc_length" : "parameter",
-                                                   r.seed),
-                 r.zone != 0.0 && e.profile_measured ? " plus " : "",
-                 e.profile_measured ? fmt::format("measured trace ({} points)", e.profile_measured->x.size()) : "",
-                 units::MmToUm(real.profile_deviation().MaxAbs()));
-    }
-    fmt::print(out, "          the figures below are of the cycloid as made ([errors] applied)\n");
-  }
-  fmt::print(out, "K1                     {:.6f}       curtate coefficient (Chen eq. 12)\n", profile.k1());
-  fmt::print(out, "phi_max                {:.6f} deg   tooth-space half width (Chen eq. 16)\n",
-             RadToDeg(profile.phi_max()));
-  fmt::print(out, "contact ratio          {:.4f}       (Chen eq. 27)\n", profile.contact_ratio());
-  fmt::print(out, "theta_max              {:.4f} deg   pin's maximum contact angle (Chen eq. 20)\n",
-             RadToDeg(profile.theta_max()));
-  fmt::print(out, "alpha_max              {:.4f} deg   = arcsin K1 (Liu eq. 2)\n",
-             RadToDeg(profile.alpha_max()));
-  fmt::print(out, "min curvature radius   {:.4f} mm\n", profile.min_curvature_radius());
-  if (std::isfinite(profile.undercut_margin())) {
-    fmt::print(out, "undercut margin        {:.4f} mm    (> 0: no undercut)\n", profile.undercut_margin());
-  } else {
-    fmt::print(out, "undercut margin        none (no convex part on the offset side)\n");
-  }
-  const geometry::TipCap& cap = profile.tip_cap();
-  if (cap.active()) {
-    fmt::print(out, "tip relief             truncation {:g} mm, rounding radius {:g} mm (from the deck): the flank ends at "
-                    "u = +-{:.6f} deg, {:.4g} mm cut off the tip{}\n",
-               cap.relief().truncation, cap.relief().rounding_radius, RadToDeg(cap.junction()), cap.depth(),
-               cap.truncated() ? fmt::format(", land {:.4g} mm wide", 2.0 * cap.land_half_width()) : "");
-  } else {
-    fmt::print(out, "tip relief             none{}\n", profile.has_tip_corners() ? " (sharp tip corners)" : "");
-  }
-  if (!deck.tip_relief_note.empty()) fmt::print(out, "                       {}\n", deck.tip_relief_note);
-  fmt::print(out, "mesh period            {:.6f} deg crank\n", RadToDeg(kinematics.MeshPeriod()));
-  fmt::print(out, "transmission ratio     {:.6g} (crank / cycloid)\n", kinematics.TransmissionRatio());
-
+  streams.text << documents::Text(deck, real);
   if (json.enabled()) {
-    json.stream() << Dump(SummaryJson(deck, real)) << '\n';
+    json.stream() << Dump(documents::Json(deck, real)) << '\n';
     json.Commit();
   }
   if (csv.enabled()) {
-    WriteCsv(profile, options.samples_per_flank, csv.stream());
+    csv.stream() << documents::Csv(real.profile(), options.samples_per_flank);
     csv.Commit();
   }
-  if (svg.enabled()) WriteDrawing(deck, real, units::DegToRad(options.crank_deg), options.samples_per_flank, svg);
+  if (svg.enabled()) {
+    // The drawing's clearances: the unloaded mesh state at its crank.
+    const contact::MeshState unloaded = deck.MakeModel().Evaluate(units::DegToRad(options.crank_deg));
+    WriteFigure(documents::Figure(deck, real, unloaded, options.samples_per_flank), svg);
+  }
 }
 
 Command GeometryCommand() {

@@ -2,8 +2,6 @@
 #include <ostream>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "ltca/app/deck.hpp"
 #include "output.hpp"
 
@@ -19,8 +17,5 @@ struct GeometryOptions {
 
 /// `ltca geometry`: the derived geometry of the deck's pair, its profile and a drawing.
 void RunGeometry(const app::Deck& deck, const GeometryOptions& options, const Streams& streams);
-
-/// The summary document of `ltca geometry --json` (the default job nests it).
-nlohmann::json GeometryJson(const app::Deck& deck);
 
 }  // namespace ltca::cli

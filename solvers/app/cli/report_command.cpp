@@ -28,6 +28,7 @@
 
 #include "contact_commands.hpp"
 #include "documents/backlash.hpp"
+#include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/mesh.hpp"
@@ -325,11 +326,14 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // The commands write their documents and figures into DIR; their text goes nowhere.
   std::ostringstream sink;
   const Streams quiet{sink, sink, streams.err, streams.progress};
-  GeometryOptions geometry;
-  geometry.json_path = file("geometry.json");
-  geometry.svg_path = file("geometry.svg");
-  geometry.crank_deg = 0.0;
-  RunGeometry(deck, geometry, quiet);
+  // The derived geometry of the pair as made, and its drawing at crank 0: the documents `ltca
+  // geometry` writes, built in this process, beside the page.
+  const geometry::RealPair real = deck.MakeRealPair();
+  const nlohmann::json geometry_json = documents::Json(deck, real);
+  WriteTo("-o", file("geometry.json"), streams.out, [&](std::ostream& os) { os << Dump(geometry_json) << '\n'; });
+  const std::string geometry_svg =
+      SvgOf(documents::Figure(deck, real, deck.MakeModel().Evaluate(0.0), GeometryOptions{}.samples_per_flank));
+  WriteTo("-o", file("geometry.svg"), streams.out, [&](std::ostream& os) { os << geometry_svg; });
   SolveOptions solve;
   solve.solver = options.solver;
   solve.json_path = file("solve.json");
@@ -394,7 +398,6 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   opt.svg_path = file("optimise.svg");
   const int opt_code = optimise ? RunOptimise(deck, opt, quiet) : kExitSuccess;
 
-  const nlohmann::json g = nlohmann::json::parse(ReadFile(geometry.json_path));
   const nlohmann::json s = nlohmann::json::parse(ReadFile(solve.json_path));
   const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
   const nlohmann::json e = efficiency ? nlohmann::json::parse(ReadFile(eff.json_path)) : nlohmann::json();
@@ -530,9 +533,9 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
       "<tr><th>z_p (pins)</th><td>{}</td></tr><tr><th>z_c (teeth)</th><td>{}</td></tr><tr><th>r_rp (mm)</th><td>{:g}</td></tr>"
       "<tr><th>R_p (mm)</th><td>{:g}</td></tr><tr><th>e (mm)</th><td>{:g}</td></tr><tr><th>B_c (mm)</th><td>{:g}</td></tr>\n</table>\n",
       p.pin_count, p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width);
-  nlohmann::json derived = g;
+  nlohmann::json derived = geometry_json;
   derived.erase("case");
-  html += Table(derived) + "</div>\n<div>" + InlineSvg(geometry.svg_path) + "</div>\n</div>\n";
+  html += Table(derived) + "</div>\n<div>" + InlineSvgText(geometry_svg, "geometry") + "</div>\n</div>\n";
   html += "<h2 id=\"loaded\">Loaded tooth contact analysis</h2>\n";
   html += Table(ss);
   html += InlineSvg(solve.svg_path);

@@ -28,6 +28,7 @@
 #include "compare_command.hpp"
 #include "contact_commands.hpp"
 #include "documents/backlash.hpp"
+#include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/mesh.hpp"
@@ -198,12 +199,18 @@ PYBIND11_MODULE(_ltca, m) {
   m.def("solve", &Solve, "ltca solve: (the --json document, its summary as a dict, the arrays).");
   // The other analyses: (exit code, the --json document, the CSV text or "").
   using Strings = std::vector<std::string>;
-  m.def("geometry", [](const Deck& deck, double crank_deg,
-                       int samples_per_flank) {
-    cli::GeometryOptions o;
-    o.crank_deg = crank_deg;
-    o.samples_per_flank = samples_per_flank;
-    return CommandDocument<true>(deck, o, cli::RunGeometry);
+  // The derived geometry of the pair as made, in this process: its document and the profile's CSV
+  // by the command's builders. (The crank is the drawing's, which Python does not draw.)
+  m.def("geometry", [](const Deck& deck, double /*crank_deg*/, int samples_per_flank) {
+    nlohmann::json doc;
+    std::string csv;
+    {
+      py::gil_scoped_release release;
+      const ltca::geometry::RealPair real = deck.MakeRealPair();
+      doc = ltca::app::documents::Json(deck, real);
+      csv = ltca::app::documents::Csv(real.profile(), samples_per_flank);
+    }
+    return py::make_tuple(cli::kExitSuccess, ToPython(doc), py::str(csv));
   });
   // The unloaded backlash from its result in this process, its document by the command's builder.
   m.def("backlash", [](const Deck& deck, const std::string& kinematics) {
