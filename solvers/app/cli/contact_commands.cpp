@@ -42,7 +42,7 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
   if (csv.enabled()) csv.stream() << documents::BacklashCsvHead();
   const std::size_t step = std::max<std::size_t>(1, stage.cranks().size() / 10);
   std::size_t i = 0;
-  documents::BacklashSeries series;
+  documents::BacklashSeries series(stage.cranks().size());
   const analysis::BacklashResult result = analysis::Backlash(stage, kinematics, [&](const analysis::BacklashPosition& p) {
     if (svg.enabled()) series.Add(p);
     if (i % step == 0 || !p.ok) out << documents::Text(p, two_discs);

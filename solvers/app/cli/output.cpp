@@ -284,45 +284,6 @@ void WriteFigure(const app::plots::Figure& figure, Output& output) {
   output.Commit();
 }
 
-DecimatedSeries::DecimatedSeries(std::int64_t expected, std::int64_t buckets)
-    : stride_(std::max<std::int64_t>(1, (expected + buckets - 1) / std::max<std::int64_t>(1, buckets))) {}
-
-void DecimatedSeries::Add(std::int64_t at, double x, double y, double value) {
-  if (at / stride_ != run_) {
-    Close();
-    run_ = at / stride_;
-  }
-  const Point p{at, x, y, value};
-  if (!std::isfinite(value)) {
-    if (gap_.at < 0) gap_ = p;
-    return;
-  }
-  if (least_.at < 0 || value < least_.value) least_ = p;  // the first of equals
-  if (largest_.at < 0 || value > largest_.value) largest_ = p;
-}
-
-void DecimatedSeries::Close() {
-  Point kept[3] = {least_, largest_, gap_};
-  std::sort(std::begin(kept), std::end(kept), [](const Point& a, const Point& b) { return a.at < b.at; });
-  std::int64_t last = -1;
-  for (const Point& p : kept) {
-    if (p.at < 0 || p.at == last) continue;  // none, or the least and the largest are one point
-    last = p.at;
-    x_.push_back(p.x);
-    y_.push_back(p.y);
-  }
-  least_ = largest_ = gap_ = Point{};
-}
-
-const std::vector<double>& DecimatedSeries::x() {
-  Close();
-  return x_;
-}
-
-const std::vector<double>& DecimatedSeries::y() {
-  Close();
-  return y_;
-}
 
 Output::Output(std::string option, std::string path, std::ostream& out)
     : option_(std::move(option)), path_(std::move(path)) {

@@ -149,40 +149,6 @@ void WriteTo(const std::string& option, const std::string& path, std::ostream& o
 /// commits it.
 void WriteFigure(const app::plots::Figure& figure, Output& output);
 
-
-/// A figure's series of a run too long to keep whole, kept as it streams by (issue 46): the points,
-/// numbered 0, 1, ... in the order they come, fall into runs of `stride` consecutive numbers, at
-/// most `buckets` runs for the points expected (stride 1, every point kept, when there are no more
-/// points than buckets); a run keeps its point of least value, its point of largest value and its
-/// first point without a value (NaN: a failed position, a gap in a line), in their order. So the
-/// figure and its memory stay bounded whatever the run; a monotone series (a best so far) keeps
-/// the first and last point of each run. Used by `solve --svg` (the TE line) and
-/// `optimise --svg` (the convergence, the path of the evaluations).
-class DecimatedSeries {
- public:
-  static constexpr std::int64_t kBuckets = 2000;
-  /// `expected`: how many points will come (more only make more runs of the same stride).
-  explicit DecimatedSeries(std::int64_t expected, std::int64_t buckets = kBuckets);
-  /// Point number `at` (increasing from call to call; numbers may be skipped) at (x, y), judged by
-  /// `value` (not finite: a point without a value).
-  void Add(std::int64_t at, double x, double y, double value);
-  void Add(std::int64_t at, double x, double y) { Add(at, x, y, y); }
-  /// The points kept, in their order (the run still open included).
-  const std::vector<double>& x();
-  const std::vector<double>& y();
-  std::int64_t stride() const { return stride_; }
-
- private:
-  struct Point {
-    std::int64_t at = -1;
-    double x = NAN, y = NAN, value = NAN;
-  };
-  void Close();
-  std::int64_t stride_ = 1, run_ = -1;
-  Point least_, largest_, gap_;
-  std::vector<double> x_, y_;
-};
-
 /// A temporary file for a part of a document written before its place in the document comes (the
 /// history of `ltca optimise --json`, which follows the summary known only at the end): beside the
 /// output's file (the same folder, so the same file system as the document), or in the system's
@@ -211,6 +177,7 @@ class Spool {
 void RequireDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& option_paths);
 
 // The documents' shared pieces (documents/common.hpp), as the commands name them.
+using app::documents::DecimatedSeries;
 using app::documents::Dump;
 using app::documents::FigureCaption;
 using app::documents::FiniteOrNull;

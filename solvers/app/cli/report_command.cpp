@@ -55,14 +55,15 @@ std::string ReadFile(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-/// The document of `ltca optimise` without its history (the report reads the settings and the
-/// summary): parsed as the file is read, the history's items skipped, so that what the report holds
-/// does not grow with the evaluations (issue 46).
-nlohmann::json ReadWithoutHistory(const fs::path& path) {
+/// A document of ltca's without one of its top-level members (the report reads the settings and
+/// the summary): parsed as the file is read, the member's items skipped, so that what the report
+/// holds does not grow with the evaluations (`ltca optimise`'s history) or the positions (`ltca
+/// solve`'s).
+nlohmann::json ReadWithout(const fs::path& path, const std::string& member) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw OutputError(fmt::format("report: cannot read back {}", path.string()));
-  return nlohmann::json::parse(in, [](int depth, nlohmann::json::parse_event_t event, const nlohmann::json& parsed) {
-    return !(depth == 1 && event == nlohmann::json::parse_event_t::key && parsed == "history");
+  return nlohmann::json::parse(in, [&member](int depth, nlohmann::json::parse_event_t event, const nlohmann::json& parsed) {
+    return !(depth == 1 && event == nlohmann::json::parse_event_t::key && parsed == member);
   });
 }
 
@@ -242,18 +243,24 @@ std::string SvgOf(const app::plots::Figure& figure) {
   return os.str();
 }
 
-/// An SVG document inlined in the page: from its <svg> element, its ids prefixed with `stem`.
-std::string InlineSvgText(std::string svg, const std::string& stem) {
+/// An SVG document inlined in the page: from its <svg> element, every id and url(#...) reference
+/// prefixed with `stem` (the page holds several figures), in one pass.
+std::string InlineSvgText(const std::string& svg, const std::string& stem) {
   const auto at = svg.find("<svg");
   if (at == std::string::npos) return {};
-  svg.erase(0, at);
   const std::string prefix = stem + "-";
-  for (const std::string from : {"id=\"", "url(#"}) {
-    for (auto pos = svg.find(from); pos != std::string::npos; pos = svg.find(from, pos + from.size() + prefix.size())) {
-      svg.insert(pos + from.size(), prefix);
-    }
+  std::string out;
+  out.reserve(svg.size() - at + svg.size() / 16);
+  std::size_t from = at;
+  while (true) {
+    const std::size_t id = svg.find("id=\"", from), url = svg.find("url(#", from);
+    const std::size_t next = std::min(id, url);
+    if (next == std::string::npos) break;
+    const std::size_t end = next + (next == id ? 4 : 5);
+    out.append(svg, from, end - from).append(prefix);
+    from = end;
   }
-  return svg;
+  return out.append(svg, from, std::string::npos);
 }
 
 std::string InlineSvg(const fs::path& path) { return InlineSvgText(ReadFile(path), path.stem().string()); }
@@ -342,7 +349,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // The unloaded backlash: its result in this process (analysis::Backlash), its JSON streamed and
   // its figure drawn by the documents `ltca backlash` writes, beside the page.
   const analysis::Stage unloaded(deck, deck.sweep.CrankAngles());
-  documents::BacklashSeries backlash_series;
+  documents::BacklashSeries backlash_series(unloaded.cranks().size());
   std::optional<analysis::BacklashResult> backlash;
   WriteTo("-o", file("backlash.json"), streams.out, [&](std::ostream& os) {
     documents::BacklashJsonWriter writer(os, deck, deck.kinematics, unloaded.disc_count() == 2);
@@ -398,11 +405,11 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   opt.svg_path = file("optimise.svg");
   const int opt_code = optimise ? RunOptimise(deck, opt, quiet) : kExitSuccess;
 
-  const nlohmann::json s = nlohmann::json::parse(ReadFile(solve.json_path));
+  const nlohmann::json s = ReadWithout(solve.json_path, "positions");
   const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
   const nlohmann::json e = efficiency ? nlohmann::json::parse(ReadFile(eff.json_path)) : nlohmann::json();
   const nlohmann::json tj = tolerance ? nlohmann::json::parse(ReadFile(tol.json_path)) : nlohmann::json();
-  const nlohmann::json oj = optimise ? ReadWithoutHistory(opt.json_path) : nlohmann::json();
+  const nlohmann::json oj = optimise ? ReadWithout(opt.json_path, "history") : nlohmann::json();
   const auto& p = deck.pair;
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char date[32] = {};

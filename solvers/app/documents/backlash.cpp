@@ -141,23 +141,31 @@ std::string Csv(const analysis::BacklashPosition& p) {
                      RadToArcsec(r.theta_c2), RadToArcsec(r.backlash), p.disc_c1, r.first_pin_c1 + 1);
 }
 
+BacklashSeries::BacklashSeries(std::size_t positions)
+    : backlash_(static_cast<std::int64_t>(positions)), c1_(static_cast<std::int64_t>(positions)), c2_(static_cast<std::int64_t>(positions)) {}
+
 void BacklashSeries::Add(const analysis::BacklashPosition& p) {
   const Angles a = AnglesOf(p);
-  crank_deg.push_back(RadToDeg(p.contact.crank));
-  theta_c1_arcsec.push_back(RadToArcsec(a.c1));
-  theta_c2_arcsec.push_back(RadToArcsec(a.c2));
-  backlash_arcsec.push_back(RadToArcsec(a.backlash));
+  const double crank = RadToDeg(p.contact.crank);
+  backlash_.Add(added_, crank, RadToArcsec(a.backlash));
+  c1_.Add(added_, crank, RadToArcsec(a.c1));
+  c2_.Add(added_, crank, RadToArcsec(a.c2));
+  ++added_;
 }
 
-plots::Figure Figure(const Deck& deck, const BacklashSeries& series, const analysis::BacklashResult& result) {
-  const std::vector<double>& crank = series.crank_deg;
+plots::Figure Figure(const Deck& deck, BacklashSeries& series, const analysis::BacklashResult& result) {
+  const std::vector<double>& crank = series.backlash().x();
   plots::Figure figure;
   figure.title = fmt::format("{}: unloaded backlash over crank {:.4g} to {:.4g} deg", deck.info.title,
                              crank.empty() ? 0.0 : crank.front(), crank.empty() ? 0.0 : crank.back());
+  const std::string decimated =
+      series.backlash().stride() > 1
+          ? fmt::format("; drawn: the least and largest of each {} positions", series.backlash().stride())
+          : std::string();
   figure.caption = FigureCaption(deck, fmt::format("unloaded TCA, {} kinematics, {} positions; backlash = theta_c1 - theta_c2 "
-                                                   "(Liu eq. 17), the first contacts on the drive and coast flanks{}",
-                                                   contact::ToString(result.kinematics), crank.size(),
-                                                   result.discs == 2 ? "; two discs: the nearer of either disc's" : ""));
+                                                   "(Liu eq. 17), the first contacts on the drive and coast flanks{}{}",
+                                                   contact::ToString(result.kinematics), series.added(),
+                                                   result.discs == 2 ? "; two discs: the nearer of either disc's" : "", decimated));
   figure.columns = 2;
   figure.width = 1400;
   figure.height = 520;
@@ -165,16 +173,18 @@ plots::Figure Figure(const Deck& deck, const BacklashSeries& series, const analy
   b.title = "backlash";
   b.x_label = "crank angle (deg)";
   b.y_label = "backlash (arcsec)";
-  b.series.push_back({"backlash", crank, series.backlash_arcsec, plots::Style::kLineMarkers});
-  MarkMeanAndPeakToPeak(b, series.backlash_arcsec, "arcsec");
+  b.series.push_back({"backlash", crank, series.backlash().y(), plots::Style::kLineMarkers});
+  // The sweep's own mean (the repeated state of a closed period once), not the drawn points'.
+  MarkMeanAndPeakToPeak(b, series.backlash().y(), "arcsec",
+                        series.backlash().stride() > 1 ? RadToArcsec(result.summary.mean()) : NAN);
   figure.panels.push_back(std::move(b));
   plots::Panel r;
   r.title = "rotation of the output to first contact";
   r.x_label = "crank angle (deg)";
   r.y_label = "rotation to first contact (arcsec)";
   r.legend = plots::LegendPlace::kOutsideRight;
-  r.series.push_back({"theta_c1 (drive)", crank, series.theta_c1_arcsec, plots::Style::kLineMarkers});
-  r.series.push_back({"theta_c2 (coast)", crank, series.theta_c2_arcsec, plots::Style::kLineMarkers});
+  r.series.push_back({"theta_c1 (drive)", series.theta_c1().x(), series.theta_c1().y(), plots::Style::kLineMarkers});
+  r.series.push_back({"theta_c2 (coast)", series.theta_c2().x(), series.theta_c2().y(), plots::Style::kLineMarkers});
   r.marks.push_back({plots::Mark::Axis::kHorizontal, 0.0, "", false});
   figure.panels.push_back(std::move(r));
   return figure;

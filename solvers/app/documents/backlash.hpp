@@ -3,6 +3,7 @@
 // built position by position from the analysis's sink and closed with its result. `ltca backlash`,
 // `ltca report` and the Python module all build theirs here.
 #include <cstddef>
+#include <cstdint>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/app/deck.hpp"
+#include "documents/common.hpp"
 #include "ltca/app/plots.hpp"
 
 namespace ltca::app::documents {
@@ -48,13 +50,24 @@ std::string Text(const Deck& deck, const analysis::BacklashResult& result);
 std::string BacklashCsvHead();
 std::string Csv(const analysis::BacklashPosition& p);
 
-/// The figure's series, gathered position by position (four doubles a position).
-struct BacklashSeries {
-  std::vector<double> crank_deg, theta_c1_arcsec, theta_c2_arcsec, backlash_arcsec;
+/// The figure's series, gathered position by position and decimated (DecimatedSeries: at most
+/// about 2,000 runs of positions, each its least and largest value), so that the figure and its
+/// memory stay bounded in positions.
+class BacklashSeries {
+ public:
+  explicit BacklashSeries(std::size_t positions);
   void Add(const analysis::BacklashPosition& p);
+  DecimatedSeries& backlash() { return backlash_; }
+  DecimatedSeries& theta_c1() { return c1_; }
+  DecimatedSeries& theta_c2() { return c2_; }
+  std::int64_t added() const { return added_; }
+
+ private:
+  DecimatedSeries backlash_, c1_, c2_;
+  std::int64_t added_ = 0;
 };
 /// Backlash over crank angle with its mean and peak-to-peak (left); the rotations to first contact
 /// both ways (right).
-plots::Figure Figure(const Deck& deck, const BacklashSeries& series, const analysis::BacklashResult& result);
+plots::Figure Figure(const Deck& deck, BacklashSeries& series, const analysis::BacklashResult& result);
 
 }  // namespace ltca::app::documents

@@ -2,6 +2,7 @@
 // What every document of ltca shares (JSON, text and figures built from the analyses' results):
 // null for a figure no valid solve produced, the model line, a figure's caption.
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -37,5 +38,38 @@ std::string FigureCaption(const Deck& deck, const std::string& ran);
 /// mean to mark (the whole sweep's, where the values are its drawn extremes).
 void MarkMeanAndPeakToPeak(plots::Panel& panel, const std::vector<double>& values, const std::string& unit,
                            double mean = NAN);
+
+/// A figure's series of a run too long to keep whole, kept as it streams by: the points,
+/// numbered 0, 1, ... in the order they come, fall into runs of `stride` consecutive numbers, at
+/// most `buckets` runs for the points expected (stride 1, every point kept, when there are no more
+/// points than buckets); a run keeps its point of least value, its point of largest value and its
+/// first point without a value (NaN: a failed position, a gap in a line), in their order. So the
+/// figure and its memory stay bounded whatever the run; a monotone series (a best so far) keeps
+/// the first and last point of each run. Used by `solve --svg` (the TE line),
+/// `optimise --svg` (the convergence, the path of the evaluations) and the backlash figure.
+class DecimatedSeries {
+ public:
+  static constexpr std::int64_t kBuckets = 2000;
+  /// `expected`: how many points will come (more only make more runs of the same stride).
+  explicit DecimatedSeries(std::int64_t expected, std::int64_t buckets = kBuckets);
+  /// Point number `at` (increasing from call to call; numbers may be skipped) at (x, y), judged by
+  /// `value` (not finite: a point without a value).
+  void Add(std::int64_t at, double x, double y, double value);
+  void Add(std::int64_t at, double x, double y) { Add(at, x, y, y); }
+  /// The points kept, in their order (the run still open included).
+  const std::vector<double>& x();
+  const std::vector<double>& y();
+  std::int64_t stride() const { return stride_; }
+
+ private:
+  struct Point {
+    std::int64_t at = -1;
+    double x = NAN, y = NAN, value = NAN;
+  };
+  void Close();
+  std::int64_t stride_ = 1, run_ = -1;
+  Point least_, largest_, gap_;
+  std::vector<double> x_, y_;
+};
 
 }  // namespace ltca::app::documents
