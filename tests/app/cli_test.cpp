@@ -364,7 +364,7 @@ TEST_CASE("cli: a failed position exits 1 with its status, null figures and n/a 
   CHECK(nlohmann::json::parse(cmp.out).at("solvers").at(0).at("mean_te_arcsec").is_null());
 }
 
-TEST_CASE("sweep: the summary is taken over the successful positions only and counts the failed") {
+TEST_CASE("app: the summary is taken over the successful positions only and counts the failed") {
   using ltca::app::PositionResult;
   using ltca::solvers::SolverStatus;
   const auto position = [](SolverStatus status, double te, double force, double stress, int contacts) {
@@ -404,7 +404,7 @@ TEST_CASE("sweep: the summary is taken over the successful positions only and co
   CHECK(std::isnan(n.max_contact_stress));
 }
 
-TEST_CASE("sweep: streaming calls back every position in order and keeps none, with the same summary") {
+TEST_CASE("app: streaming calls back every position in order and keeps none, with the same summary") {
   const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
   const auto kept = ltca::test::SolveSweep(deck, deck.solver);
   std::vector<double> cranks, tes;
@@ -437,7 +437,7 @@ TEST_CASE("cli: the solve JSON streams its positions and ends with the summary")
   CHECK(json.at("positions").size() == sweep.positions.size());
 }
 
-TEST_CASE("contact: RequireNoInterference names the pins and overlaps, and accepts clearance") {
+TEST_CASE("app: RequireNoInterference names the pins and overlaps, and accepts clearance") {
   const auto deck = ltca::app::LoadDeck(InterferingDeck().string());
   const auto model = deck.MakeModel();
   CHECK_THROWS_WITH_AS(ltca::contact::RequireNoInterference(model, 0.0), doctest::Contains("pin 1 by 20 um"),

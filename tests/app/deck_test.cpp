@@ -61,7 +61,7 @@ bool Contains(const std::string& haystack, const std::string& needle) {
 
 }  // namespace
 
-TEST_CASE("solvers: every deck in cases/ loads and names its source") {
+TEST_CASE("app: every deck in cases/ loads and names its source") {
   int count = 0;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(LTCA_CASES_DIR)) {
     if (entry.path().extension() != ".toml") continue;
@@ -168,7 +168,7 @@ TEST_CASE("app: the random streams of [tolerances] keep their order (issue 15), 
   for (std::size_t k = 0; k < issue15.size(); ++k) CHECK(keys[k] == issue15[k]);
 }
 
-TEST_CASE("solvers: the built-in default deck is cases/liu2021_table1.toml") {
+TEST_CASE("app: the built-in default deck is cases/liu2021_table1.toml") {
   std::ifstream in(std::string(LTCA_CASES_DIR) + "/liu2021_table1.toml");
   std::ostringstream text;
   text << in.rdbuf();
@@ -178,7 +178,7 @@ TEST_CASE("solvers: the built-in default deck is cases/liu2021_table1.toml") {
   CHECK(deck.pair.tooth_count == 39);
 }
 
-TEST_CASE("solvers: deck values are converted to the internal units once") {
+TEST_CASE("app: deck values are converted to the internal units once") {
   auto text = std::string(kGood) + "[modification]\nrotation_deg = 0.01\npin_radius_mm = 0.002\n"
                                    "[sweep]\ncrank_start_deg = 1.0\ncrank_end_deg = 2.0\npositions = 3\n";
   const auto deck = ParseDeck(text, "t.toml");
@@ -196,7 +196,7 @@ TEST_CASE("solvers: deck values are converted to the internal units once") {
   CHECK(plain.sweep.crank_end == doctest::Approx(9.0 * ltca::units::kPi / 180));
 }
 
-TEST_CASE("solvers: bad decks name the key, the value and what is expected") {
+TEST_CASE("app: bad decks name the key, the value and what is expected") {
   const std::string good = kGood;
   CHECK(ErrorOf(good) == "");
   // Unknown key, unknown section, missing key, missing section, wrong type.
@@ -226,7 +226,7 @@ TEST_CASE("solvers: bad decks name the key, the value and what is expected") {
   CHECK(Contains(ErrorOf(Replace(good, "pin_radius_mm = 3", "pin_radius_mm = -3")), "deck 't.toml': "));
 }
 
-TEST_CASE("solvers: a geometry-only deck has no load, and load commands say so") {
+TEST_CASE("app: a geometry-only deck has no load, and load commands say so") {
   const auto deck = ParseDeck(Replace(kGood, "[load]\ntorque_nm = 206.0", ""), "t.toml");
   CHECK(!deck.load);
   CHECK_THROWS_WITH_AS(deck.RequireLoad(), doctest::Contains("missing required section [load]"), std::invalid_argument);
@@ -269,7 +269,7 @@ using ltca::test::ReadText;
 
 }  // namespace
 
-TEST_CASE("solvers: deck rejects a directory as the deck file") {
+TEST_CASE("app: deck rejects a directory as the deck file") {
   const auto dir = TempPath("dir");
   std::filesystem::create_directories(dir);
   const std::string error = LoadErrorOf(dir);
@@ -280,7 +280,7 @@ TEST_CASE("solvers: deck rejects a directory as the deck file") {
   CHECK(Contains(LoadErrorOf(TempPath("no_such_deck.toml")), "no such file"));
 }
 
-TEST_CASE("solvers: deck rejects a device and a FIFO without reading them") {
+TEST_CASE("app: deck rejects a device and a FIFO without reading them") {
   if (std::filesystem::exists("/dev/zero")) {  // endless: an unbounded read never returns
     CHECK(Contains(LoadErrorOf("/dev/zero"), "is a character device; expected a regular deck file"));
   }
@@ -291,7 +291,7 @@ TEST_CASE("solvers: deck rejects a device and a FIFO without reading them") {
   std::filesystem::remove(fifo);
 }
 
-TEST_CASE("solvers: deck files and texts above 4 MiB are rejected, 4 MiB loads") {
+TEST_CASE("app: deck files and texts above 4 MiB are rejected, 4 MiB loads") {
   const std::size_t limit = 4u << 20;
   std::string padded = std::string(kGood) + "# ";
   padded += std::string(limit - padded.size() - 1, 'x') + "\n";
@@ -304,7 +304,7 @@ TEST_CASE("solvers: deck files and texts above 4 MiB are rejected, 4 MiB loads")
   std::filesystem::remove(big);
 }
 
-TEST_CASE("solvers: deeply nested TOML is rejected before the parser sees it") {
+TEST_CASE("app: deeply nested TOML is rejected before the parser sees it") {
   // 10,000 nested arrays overflowed the stack of the TOML parser (SIGSEGV).
   const std::string deep = std::string(kGood) + "[sweep]\nx = " + std::string(10000, '[') + std::string(10000, ']') + "\n";
   const std::string error = ErrorOf(deep);
@@ -323,7 +323,7 @@ TEST_CASE("solvers: deeply nested TOML is rejected before the parser sees it") {
   CHECK(ParseDeck(quoted, "t.toml").info.title == std::string(100, '['));
 }
 
-TEST_CASE("solvers: a deck that is not UTF-8 is rejected before the parser, naming the line and key") {
+TEST_CASE("app: a deck that is not UTF-8 is rejected before the parser, naming the line and key") {
   // toml11 3.7 read past its buffer on one invalid byte in a literal string (the deck fuzzer's
   // finding, tests/fuzz/regressions/literal_string_invalid_utf8.toml); TOML requires UTF-8.
   const std::string bad_title = Replace(kGood, "title = \"test\"", "title = '\xcb'");
@@ -339,7 +339,7 @@ TEST_CASE("solvers: a deck that is not UTF-8 is rejected before the parser, nami
   CHECK(ErrorOf(umlaut) == "");
 }
 
-TEST_CASE("solvers: deck limits on pins, positions, slices and elements name the key") {
+TEST_CASE("app: deck limits on pins, positions, slices and elements name the key") {
   const std::string good = kGood;
   // 10,000 pins: R_p = 1.6 z_p keeps the pin spacing and K1 of the Liu pair.
   const std::string pins10k = Replace(Replace(Replace(good, "pin_count = 40", "pin_count = 10000"),
@@ -363,7 +363,7 @@ TEST_CASE("solvers: deck limits on pins, positions, slices and elements name the
   CHECK(ErrorOf(good + "[geometry]\ngeometry_mode = \"elements\"\nprofile_elements = 2000\nwidth_slices = 500\n") == "");
 }
 
-TEST_CASE("solvers: deck crank angles must be finite and within 3600 deg") {
+TEST_CASE("app: deck crank angles must be finite and within 3600 deg") {
   const std::string good = kGood;
   CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_end_deg = 1e300\n"), "[sweep] crank_end_deg = 1e+300: expected a finite crank angle within +-3600 deg"));
   CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_start_deg = -3601.0\ncrank_end_deg = 0.0\n"), "[sweep] crank_start_deg = -3601"));
@@ -372,7 +372,7 @@ TEST_CASE("solvers: deck crank angles must be finite and within 3600 deg") {
   CHECK(ErrorOf(good + "[sweep]\ncrank_start_deg = -3600.0\ncrank_end_deg = 3600.0\n") == "");
 }
 
-TEST_CASE("solvers: deck rejects a tooth difference outside the checked geometry") {
+TEST_CASE("app: deck rejects a tooth difference outside the checked geometry") {
   const std::string good = kGood;
   const std::string error = ErrorOf(Replace(good, "tooth_count = 39", "tooth_count = 2"));
   CHECK(Contains(error, "[pair] tooth_count = 2: the tooth difference d = pin_count - tooth_count = 40 - 2 = 38 is outside"));
@@ -385,7 +385,7 @@ TEST_CASE("solvers: deck rejects a tooth difference outside the checked geometry
   }
 }
 
-TEST_CASE("solvers: deck rejects modifications and errors that look like absolute values") {
+TEST_CASE("app: deck rejects modifications and errors that look like absolute values") {
   // r_rp = 3 mm: at most 5 % = 0.15 mm.
   const std::string good = kGood;
   const std::string mod_error = ErrorOf(good + "[modification]\npin_radius_mm = -1.0\n");
@@ -404,7 +404,7 @@ TEST_CASE("solvers: deck rejects modifications and errors that look like absolut
   CHECK(Contains(ErrorOf(good + pitch), "[errors] cumulative_pitch_deviation_mm[3] = 0.5: looks like an absolute value"));
 }
 
-TEST_CASE("solvers: a profile layer that makes the profile invalid is blamed on the layer") {
+TEST_CASE("app: a profile layer that makes the profile invalid is blamed on the layer") {
   // r_rp = 4.5 mm is below the undercut limit of the Liu pair (between 4.5 and 4.7 mm, see the
   // bad-deck test); a layer of -0.22 mm (within 5 % of 4.5 mm) generates with 4.72 mm: undercut.
   const std::string pair45 = Replace(kGood, "pin_radius_mm = 3", "pin_radius_mm = 4.5");
@@ -418,7 +418,7 @@ TEST_CASE("solvers: a profile layer that makes the profile invalid is blamed on 
   CHECK(Contains(mod, "[pair] pin_radius_mm = 4.5 with [modification] pin_radius_mm = 0.22: the profile is undercut"));
 }
 
-TEST_CASE("solvers: deck contact-law and material values must be physical") {
+TEST_CASE("app: deck contact-law and material values must be physical") {
   const std::string good = kGood;
   CHECK(Contains(ErrorOf(good + "[contact]\nlaw = \"linear\"\nstiffness_n_per_mm2 = 1e-300\n"),
                  "[contact] stiffness_n_per_mm2 = 1e-300: the linear law needs a stiffness per mm of contact length from 1 to"));
@@ -430,7 +430,7 @@ TEST_CASE("solvers: deck contact-law and material values must be physical") {
                  "[material] pin_young_modulus_mpa = 20000000: expected a finite positive modulus from 1 to 1e+07 MPa"));
 }
 
-TEST_CASE("solvers: deck [material] contact_stress_limit_mpa defaults to 4000 MPa and is validated") {
+TEST_CASE("app: deck [material] contact_stress_limit_mpa defaults to 4000 MPa and is validated") {
   const std::string good = kGood;
   CHECK(ParseDeck(good, "t.toml").RequireMaterial().contact_stress_limit == 4000.0);
   const std::string with = Replace(good, "poisson_ratio = 0.3", "poisson_ratio = 0.3\ncontact_stress_limit_mpa = 2500");
@@ -442,7 +442,7 @@ TEST_CASE("solvers: deck [material] contact_stress_limit_mpa defaults to 4000 MP
   }
 }
 
-TEST_CASE("solvers: --set load.torque_nm=100 gives the same deck as editing the deck text") {
+TEST_CASE("app: --set load.torque_nm=100 gives the same deck as editing the deck text") {
   const std::filesystem::path original = std::string(LTCA_CASES_DIR) + "/liu2021_table1.toml";
   const std::string text = ReadText(original);
   REQUIRE(Contains(text, "torque_nm = 206.0"));
@@ -482,7 +482,7 @@ TEST_CASE("solvers: --set load.torque_nm=100 gives the same deck as editing the 
   for (const auto& p : {edited_path, json_a, json_b, json_c}) std::filesystem::remove(p);
 }
 
-TEST_CASE("solvers: --set reads TOML values, creates sections, and is checked like the file") {
+TEST_CASE("app: --set reads TOML values, creates sections, and is checked like the file") {
   // Numbers, strings (quoted or a bare word), arrays; a section the deck lacks is created.
   const auto deck = ParseDeck(kGood, "t.toml",
                               {"contact.law=linear", "contact.stiffness_n_per_mm2 = 2e4", "case.title=\"set title\"",
@@ -516,7 +516,7 @@ TEST_CASE("solvers: --set reads TOML values, creates sections, and is checked li
 // Issue 11: the cycloid profile deviation along the profile ([errors] profile_random_*,
 // profile_measured_csv).
 
-TEST_CASE("solvers: deck [errors] profile_random_* keys give the random profile deviation") {
+TEST_CASE("app: deck [errors] profile_random_* keys give the random profile deviation") {
   const std::string good = kGood;
   const auto deck = ParseDeck(good + "[errors]\nprofile_random_zone_um = 6\nprofile_random_elements = 400\n"
                                      "profile_random_seed = 7\nprofile_random_distribution = \"normal\"\n"
@@ -545,7 +545,7 @@ TEST_CASE("solvers: deck [errors] profile_random_* keys give the random profile 
         doctest::Approx(0.006).epsilon(1e-15));
 }
 
-TEST_CASE("solvers: deck rejects bad profile deviation keys, naming the key and the value") {
+TEST_CASE("app: deck rejects bad profile deviation keys, naming the key and the value") {
   // {the [errors] line, what the message must hold}
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"profile_random_zone_um = -1", "deck 't.toml': [errors] profile_random_zone_um = -1: expected a finite tolerance zone width >= 0"},
@@ -567,7 +567,7 @@ TEST_CASE("solvers: deck rejects bad profile deviation keys, naming the key and 
   }
 }
 
-TEST_CASE("solvers: deck reads profile_measured_csv relative to the deck's directory, naming key, path and line") {
+TEST_CASE("app: deck reads profile_measured_csv relative to the deck's directory, naming key, path and line") {
   namespace fs = std::filesystem;
   const fs::path dir = TempPath("profile");
   fs::remove_all(dir);

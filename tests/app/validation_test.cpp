@@ -80,7 +80,7 @@ const std::map<std::string, Verdict> kExpected = {
 
 }  // namespace
 
-TEST_CASE("validation: every published number keeps its verdict, and docs/validation.md lists it") {
+TEST_CASE("app: every published number keeps its verdict, and docs/validation.md lists it") {
   const auto report = ltca::app::Validate(LTCA_CASES_DIR);
   std::ifstream in(std::string(LTCA_DOCS_DIR) + "/validation.md");
   std::stringstream text;
@@ -102,7 +102,7 @@ TEST_CASE("validation: every published number keeps its verdict, and docs/valida
   REQUIRE(report.liu_table2.size() == 20);
 }
 
-TEST_CASE("validation: the Table 2 amounts are read from the decks, which hold Liu's Table 2") {
+TEST_CASE("app: the Table 2 amounts are read from the decks, which hold Liu's Table 2") {
   // Liu 2021 Table 2 (section 5.1), dR_rp and dR_p in um per case: the independent source the
   // decks in cases/liu2021_table2/ were written from.
   const double rrp[20] = {2, 3, 4, 5, 0, 0, 0, 0, -4, -3, -2, -1, 1, 2, 3, 4, 6, 7, 8, 9};

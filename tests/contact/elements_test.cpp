@@ -11,7 +11,7 @@ using ltca::contact::MeshModel;
 using ltca::geometry::DiscreteProfile;
 using ltca::geometry::GeometrySettings;
 
-TEST_CASE("geometry: Liu's elements have equal arc length (eq. 3) and lie on the profile") {
+TEST_CASE("contact: Liu's elements have equal arc length (eq. 3) and lie on the profile") {
   // Control points at equal arc length S / n: the chord between neighbours equals the spacing to
   // 1e-3 (chord against arc on elements of 0.06 mm); each lies on the analytic curve (1e-12 mm).
   // The polynomial of eq. 3 alone would miss: its fit error is reported (> 1e-4 rad at order 9),

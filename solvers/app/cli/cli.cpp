@@ -110,8 +110,8 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     }
     std::string joined;
     for (const std::string& x : extras) joined += (joined.empty() ? "" : " ") + x;
-    fmt::print(err, "ltca: error: {}: '{}' {} not an option or argument of this command; `{} --help` lists what it takes\n",
-               command, joined, extras.size() == 1 ? "is" : "are", command);
+    fmt::print(err, "ltca: error: {}: '{}' {} of this command; `{} --help` lists what it takes\n", command, joined,
+               extras.size() == 1 ? "is not an option or argument" : "are not options or arguments", command);
     return kExitBadInput;
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e, out, err);
