@@ -479,22 +479,6 @@ void RequireDistinctOutputs(const std::vector<std::pair<std::string, std::string
   }
 }
 
-std::string Nested(const std::string& text) {
-  std::string r;
-  for (const char c : text) {
-    r += c;
-    if (c == '\n') r += "  ";
-  }
-  return r;
-}
-
-std::string OpenObject(const nlohmann::json& header) {
-  std::string text = Dump(header);
-  text.erase(text.rfind('}'));
-  while (!text.empty() && text.back() == '\n') text.pop_back();
-  return text;
-}
-
 Progress::Progress(std::ostream& os, bool enabled, std::string what, std::int64_t total, double min_seconds)
     : os_(os), enabled_(enabled), what_(std::move(what)), total_(total), min_seconds_(min_seconds),
       start_(std::chrono::steady_clock::now()), last_(start_) {}

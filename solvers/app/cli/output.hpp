@@ -178,6 +178,7 @@ void RequireDistinctOutputs(const std::vector<std::pair<std::string, std::string
 
 // The documents' shared pieces (documents/common.hpp), as the commands name them.
 using app::documents::DecimatedSeries;
+using app::documents::CaseJson;
 using app::documents::Dump;
 using app::documents::FigureCaption;
 using app::documents::FiniteOrNull;
@@ -187,11 +188,8 @@ using app::documents::ModelJson;
 using app::documents::ModelLine;
 
 
-/// Indents every line but the first by two spaces (a document nested one level).
-std::string Nested(const std::string& text);
-/// The text of a JSON object (Dump, indent 2) without its closing brace, so that a streamed
-/// document can go on with more members (positions, then the summary).
-std::string OpenObject(const nlohmann::json& header);
+using app::documents::Nested;
+using app::documents::OpenObject;
 
 
 

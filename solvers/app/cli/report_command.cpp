@@ -39,6 +39,7 @@
 #include "ltca/app/plots.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
+#include "documents/solve.hpp"
 #include "solve_command.hpp"
 #include "stiffness_command.hpp"
 #include "tolerance_command.hpp"
@@ -263,6 +264,38 @@ std::string InlineSvgText(const std::string& svg, const std::string& stem) {
   return out.append(svg, from, std::string::npos);
 }
 
+/// A figure as the page judges it: NaN where it is not finite (as the summary's JSON gives null).
+double Finite(double v) { return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN(); }
+
+/// The loaded sweep's figure of a tolerance study's name (analysis::ToleranceSettings::FigureNames:
+/// TE in arcsec, force N, stress MPa, pin counts), from its result; none when the sweep does not
+/// report that figure. NaN where no position succeeded.
+std::optional<double> SolveFigure(const app::SweepSummary& s, const std::string& figure) {
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  if (figure == "mean_te_arcsec") return Finite(units::RadToArcsec(s.mean_te));
+  if (figure == "pp_te_arcsec") return Finite(units::RadToArcsec(s.pp_te));
+  if (figure == "max_contact_stress_mpa") return Finite(s.max_contact_stress);
+  if (figure == "max_pin_force_n") return Finite(s.max_pin_force);
+  if (figure == "contacts_min") return s.succeeded > 0 ? static_cast<double>(s.contacts_min) : none;
+  if (figure == "contacts_max") return s.succeeded > 0 ? static_cast<double>(s.contacts_max) : none;
+  return std::nullopt;
+}
+
+/// A reducer stage's figure of the loaded sweep (its largest loads, N; its shortest bearing L10, h,
+/// ISO 281 from SweepSummary::bearing_life); none for the mesh alone or a figure the stage does not
+/// report.
+std::optional<double> StageFigure(const app::Deck& deck, const app::SweepSummary& s, const std::string& figure) {
+  if (!deck.reducer || !s.stage) return std::nullopt;
+  const analysis::StageSummary& g = *s.stage;
+  if (figure == "max_output_pin_force_n") {
+    return deck.reducer->kind == solvers::OutputKind::kPins ? Finite(g.max_output_force) : std::numeric_limits<double>::quiet_NaN();
+  }
+  if (figure == "max_bearing_load_n") return Finite(g.max_bearing_load);
+  if (figure == "max_roller_load_n") return Finite(g.max_roller_load);
+  if (figure == "shortest_l10_hours") return s.bearing_life.value_or(analysis::BearingLife{}).ShortestHours();
+  return std::nullopt;
+}
+
 std::string InlineSvg(const fs::path& path) { return InlineSvgText(ReadFile(path), path.stem().string()); }
 
 }  // namespace
@@ -341,11 +374,30 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const std::string geometry_svg =
       SvgOf(documents::Figure(deck, real, deck.MakeModel().Evaluate(0.0), GeometryOptions{}.samples_per_flank));
   WriteTo("-o", file("geometry.svg"), streams.out, [&](std::ostream& os) { os << geometry_svg; });
-  SolveOptions solve;
-  solve.solver = options.solver;
-  solve.json_path = file("solve.json");
-  solve.svg_path = file("solve.svg");
-  const int code = RunSolve(deck, solve, quiet);
+  // The loaded sweep: its result in this process (app::SolveDeckSweep), its JSON streamed and its
+  // figure drawn by the documents `ltca solve` writes, beside the page.
+  const solvers::SolverOptions solver = SolverFor(deck, options.solver);
+  documents::SolveSeries solve_series(deck.sweep.positions);
+  std::optional<app::SweepResult> solved;
+  WriteTo("-o", file("solve.json"), streams.out, [&](std::ostream& os) {
+    documents::SolveJsonWriter writer(os, deck, solver);
+    std::int64_t done = 0;
+    Progress progress(streams.err, streams.progress, "solving position", deck.sweep.positions);
+    app::SweepCallbacks callbacks;
+    callbacks.keep_positions = false;
+    callbacks.on_position = [&](const app::PositionResult& p) {
+      writer.Add(p);
+      solve_series.Add(p);
+      progress.Update(++done);
+    };
+    solved = app::SolveDeckSweep(deck, solver, callbacks);
+    progress.Finish();
+    writer.Finish(deck, solved->summary);
+  });
+  const app::SweepSummary& ss = solved->summary;
+  const std::string solve_svg = SvgOf(documents::Figure(deck, solver, solve_series, ss));
+  WriteTo("-o", file("solve.svg"), streams.out, [&](std::ostream& os) { os << solve_svg; });
+  const int code = ss.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
   // The unloaded backlash: its result in this process (analysis::Backlash), its JSON streamed and
   // its figure drawn by the documents `ltca backlash` writes, beside the page.
   const analysis::Stage unloaded(deck, deck.sweep.CrankAngles());
@@ -405,7 +457,6 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   opt.svg_path = file("optimise.svg");
   const int opt_code = optimise ? RunOptimise(deck, opt, quiet) : kExitSuccess;
 
-  const nlohmann::json s = ReadWithout(solve.json_path, "positions");
   const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
   const nlohmann::json e = efficiency ? nlohmann::json::parse(ReadFile(eff.json_path)) : nlohmann::json();
   const nlohmann::json tj = tolerance ? nlohmann::json::parse(ReadFile(tol.json_path)) : nlohmann::json();
@@ -467,13 +518,12 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
           "the nominal deck (and, for the limits, as the Monte Carlo's pass fraction). A figure with no allowable in "
           "the deck is listed with its value.</p>\n<table>\n<tr><th>figure</th><th>value</th><th>allowable</th>"
           "<th>margin</th><th>verdict</th><th>Monte Carlo pass fraction</th><th>from</th></tr>\n";
-  const nlohmann::json& ss = s["summary"];
   const nlohmann::json bs = documents::Json(deck, *backlash);  // the backlash's summary, from its result
   const nlohmann::json ls = loop ? l["summary"] : nlohmann::json();
   const nlohmann::json es = efficiency ? e["summary"] : nlohmann::json();
   const nlohmann::json ts = tolerance ? tj["summary"] : nlohmann::json();
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  html += AllowableRow("largest contact stress (MPa)", "max_contact_stress_mpa", Number(ss, "max_contact_stress_mpa"), nan,
+  html += AllowableRow("largest contact stress (MPa)", "max_contact_stress_mpa", Finite(ss.max_contact_stress), nan,
                        deck.RequireMaterial().contact_stress_limit, "ltca solve, the sweep");
   // A figure of the nominal deck, from the analysis of the model that ran: the tolerance study's
   // nominal run when it ran its worst case, else the analysis that reports the same figure. For a
@@ -490,15 +540,12 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
         return {v, std::isfinite(v) ? "ltca stiffness, crank 0: the stage's free play" : "not computed"};
       }
       if (figure == "pp_backlash_arcsec") return {nan, "not computed: the stage's free play over the sweep is the tolerance study's"};
-      if (ss.contains("stage") && ss["stage"].is_object() && ss["stage"].contains(figure)) {
-        return {Number(ss["stage"], figure), "ltca solve, the stage"};
-      }
+      if (const std::optional<double> v = StageFigure(deck, ss, figure)) return {*v, "ltca solve, the stage"};
     }
     if (figure == "mean_backlash_arcsec") return {units::RadToArcsec(backlash->summary.mean()), "ltca backlash"};
     if (figure == "pp_backlash_arcsec") return {units::RadToArcsec(backlash->summary.pp()), "ltca backlash"};
-    for (const auto& [summary, name] : {std::pair{&ss, "ltca solve"}, std::pair{&ls, "ltca stiffness, crank 0"}}) {
-      if (summary->is_object() && summary->contains(figure)) return {Number(*summary, figure), name};
-    }
+    if (const std::optional<double> v = SolveFigure(ss, figure)) return {*v, "ltca solve"};
+    if (ls.is_object() && ls.contains(figure)) return {Number(ls, figure), "ltca stiffness, crank 0"};
     return {nan, "not computed"};
   };
   std::vector<std::string> limited;
@@ -529,9 +576,10 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     if (listed(key) || !summary->is_object() || !summary->contains(key)) continue;
     html += AllowableRow(Label(key), key, Number(*summary, key), nan, nan, basis);
   }
-  if (ss.contains("stage") && ss["stage"].is_object() && !listed("shortest_l10_hours")) {  // the stage's bearings
-    html += AllowableRow("shortest bearing L10 (h)", "stage.shortest_l10_hours", Number(ss["stage"], "shortest_l10_hours"), nan, nan,
-                         "ltca solve, ISO 281 (" + ss["stage"].value("life_basis", std::string("")) + ")");
+  if (deck.reducer && ss.stage && !listed("shortest_l10_hours")) {  // the stage's bearings
+    const analysis::BearingLife life = ss.bearing_life.value_or(analysis::BearingLife{});
+    html += AllowableRow("shortest bearing L10 (h)", "stage.shortest_l10_hours", life.ShortestHours(), nan, nan,
+                         "ltca solve, ISO 281 (" + life.basis + ")");
   }
   html += "</table>\n";
 
@@ -544,8 +592,8 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   derived.erase("case");
   html += Table(derived) + "</div>\n<div>" + InlineSvgText(geometry_svg, "geometry") + "</div>\n</div>\n";
   html += "<h2 id=\"loaded\">Loaded tooth contact analysis</h2>\n";
-  html += Table(ss);
-  html += InlineSvg(solve.svg_path);
+  html += Table(documents::Json(deck, ss));
+  html += InlineSvgText(solve_svg, "solve");
   html += "<h2 id=\"unloaded\">Unloaded: backlash and mesh</h2>\n";
   if (deck.reducer) {  // issue 25: the unloaded analysis is the pin ring's; the stage's free play is the loop's
     html += "<p>The pin ring's mesh alone (Liu eq. 17). The stage's free play, which also takes up the output "
@@ -674,7 +722,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   } else {
     html += "<p class=\"note\">Not run: the deck has no [optimise] section.</p>\n";
   }
-  const double seconds = Number(ss, "wall_seconds");
+  const double seconds = ss.wall_seconds;
   html += fmt::format("<p class=\"meta\">Built from geometry.json, solve.json, backlash.json, mesh.json{}{}{} in this folder "
                       "(the loaded sweep took {} s). A static page: nothing is fetched when it is viewed.</p>\n</body>\n</html>\n",
                       loop ? ", stiffness.json" : "", efficiency ? ", efficiency.json" : "",

@@ -6,6 +6,7 @@
 
 #include "ltca/app/deck.hpp"
 #include "ltca/analysis/sweep.hpp"
+#include "documents/solve.hpp"
 #include "output.hpp"
 
 namespace ltca::cli {
@@ -28,24 +29,11 @@ struct JsonEnvelope {
 int RunSolve(const app::Deck& deck, const SolveOptions& options, const Streams& streams,
              const JsonEnvelope& envelope = {});
 
-/// The document `ltca solve --json` writes, of a sweep whose positions were kept (the Python
-/// module, issue 30): built by the same functions, so the two agree to the last digit.
-nlohmann::json SolveJson(const app::Deck& deck, const solvers::SolverOptions& solver, const app::SweepResult& sweep);
-/// Its summary alone (the streamed writer's and SolveJson's).
-nlohmann::json SolveSummaryJson(const app::Deck& deck, const app::SweepSummary& summary);
-
-/// The deck with the command line's --kinematics ("" keeps the deck's [solver] kinematics).
-app::Deck DeckFor(const app::Deck& deck, const std::string& kinematics);
-/// The deck's [solver] with the command line's --solver ("" keeps the deck's).
-solvers::SolverOptions SolverFor(const app::Deck& deck, const std::string& name);
-/// The solver that ran as JSON: {name, kinematics, torque_tolerance, law, rho_convention}.
-nlohmann::json SolverJson(const app::Deck& deck, const solvers::SolverOptions& solver);
-/// "solver    name (kinematics, torque tolerance), law / rho convention\n".
-std::string SolverLine(const app::Deck& deck, const solvers::SolverOptions& solver);
-/// The deck as JSON: {title, source, deck}.
-nlohmann::json CaseJson(const app::Deck& deck);
-
-/// The "n of m positions failed" lines of the text summary ("" when none failed).
-std::string FailureNote(const app::SweepSummary& summary);
+// The commands' --kinematics and --solver over the deck's, and the solver's JSON and text line
+// (the solve's documents), shared by every command that solves.
+using app::DeckFor;
+using app::SolverFor;
+using app::documents::SolverJson;
+using app::documents::SolverLine;
 
 }  // namespace ltca::cli

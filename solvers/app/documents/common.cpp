@@ -21,6 +21,22 @@ std::string FormatOrNa(double v, int decimals) {
   return std::isfinite(v) ? fmt::format("{:.{}f}", v, decimals) : std::string("n/a");
 }
 
+std::string Nested(const std::string& text) {
+  std::string r;
+  for (const char c : text) {
+    r += c;
+    if (c == '\n') r += "  ";
+  }
+  return r;
+}
+
+std::string OpenObject(const nlohmann::json& header) {
+  std::string text = Dump(header);
+  text.erase(text.rfind('}'));
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  return text;
+}
+
 nlohmann::json CaseJson(const Deck& deck) {
   return {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}};
 }

@@ -20,6 +20,12 @@ nlohmann::json FiniteOrNull(double v);
 /// A figure in text, or "n/a" when it is not finite (no valid solve produced it).
 std::string FormatOrNa(double v, int decimals);
 
+/// Indents every line but the first by two spaces (a document nested one level).
+std::string Nested(const std::string& text);
+/// The text of a JSON object (Dump, indent 2) without its closing brace, so that a streamed
+/// document can go on with more members (positions, then the summary).
+std::string OpenObject(const nlohmann::json& header);
+
 /// {title, source, deck}: the case a document is of.
 nlohmann::json CaseJson(const Deck& deck);
 /// The model that ran: {name, slices, surface}, with a note when a given slice count was not used,

@@ -30,6 +30,7 @@
 #include "documents/backlash.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
+#include "documents/solve.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/mesh.hpp"
 #include "efficiency_command.hpp"
@@ -37,7 +38,6 @@
 #include "ltca/app/deck.hpp"
 #include "ltca/geometry/units.hpp"
 #include "optimise_command.hpp"
-#include "solve_command.hpp"
 #include "stiffness_command.hpp"
 #include "tolerance_command.hpp"
 
@@ -100,8 +100,8 @@ py::array_t<double> Vector(const std::vector<double>& v) {
 /// `ltca solve`: the document its --json writes and the arrays of the sweep. A failed position's
 /// row of an array is NaN (its JSON figures are null).
 py::tuple Solve(const Deck& given, const std::string& solver_name, const std::string& kinematics, const py::object& progress) {
-  const Deck deck = ltca::cli::DeckFor(given, kinematics);
-  const ltca::solvers::SolverOptions solver = ltca::cli::SolverFor(deck, solver_name);
+  const Deck deck = ltca::app::DeckFor(given, kinematics);
+  const ltca::solvers::SolverOptions solver = ltca::app::SolverFor(deck, solver_name);
   deck.RequireMaterial();
   ltca::app::SweepResult sweep;
   ltca::app::SweepCallbacks callbacks;
@@ -117,7 +117,7 @@ py::tuple Solve(const Deck& given, const std::string& solver_name, const std::st
     py::gil_scoped_release release;
     sweep = ltca::app::SolveDeckSweep(deck, solver, callbacks);
   }
-  py::object summary = ToPython(ltca::cli::SolveSummaryJson(deck, sweep.summary));
+  py::object summary = ToPython(ltca::app::documents::Json(deck, sweep.summary));
   namespace units = ltca::units;
   std::vector<double> crank, te, contacts;
   std::vector<std::vector<double>> force, stress, disc_torque;
@@ -144,7 +144,7 @@ py::tuple Solve(const Deck& given, const std::string& solver_name, const std::st
   arrays["position_status"] = status;
   // The whole document is built when Python asks for it, from the sweep kept for it.
   auto kept = std::make_shared<const std::tuple<Deck, ltca::solvers::SolverOptions, ltca::app::SweepResult>>(deck, solver, std::move(sweep));
-  Document document{[kept] { return ltca::cli::SolveJson(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept)); }};
+  Document document{[kept] { return ltca::app::documents::Json(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept)); }};
   return py::make_tuple(document, summary, arrays);
 }
 

@@ -1419,7 +1419,24 @@ SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const
   const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   SweepResult sweep = analysis::SolveSweep(stage, options, torque, callbacks);
   sweep.summary.wall_seconds += build;
+  if (deck.reducer && sweep.summary.stage) {  // the stage's bearing lives, once, at the deck's crank speed
+    sweep.summary.bearing_life =
+        analysis::BearingLives(deck, *sweep.summary.stage, deck.sweep, sweep.summary.closed_period,
+                               deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN());
+  }
   return sweep;
+}
+
+Deck DeckFor(const Deck& deck, const std::string& kinematics) {
+  Deck d = deck;
+  if (!kinematics.empty()) d.kinematics = contact::ParseKinematics(kinematics);
+  return d;
+}
+
+SolverOptions SolverFor(const Deck& deck, const std::string& name) {
+  SolverOptions solver = deck.solver;
+  if (!name.empty()) solver.name = name;
+  return solver;
 }
 
 Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>& overrides) {

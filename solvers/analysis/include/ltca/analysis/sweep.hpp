@@ -118,6 +118,10 @@ struct SweepSummary : RunRecord {
   /// (issue 26); the extremes and counts see every position.
   bool closed_period = false;
   std::optional<StageSummary> stage;  ///< a reducer stage's figures; none for the mesh alone
+  /// A reducer stage's bearing lives (ISO 281, BearingLives) from `stage`'s mean equivalent loads,
+  /// computed once by app::SolveDeckSweep, which knows the deck's bearings and crank speed; none
+  /// for the mesh alone and from a SweepRunner alone.
+  std::optional<BearingLife> bearing_life;
 };
 
 struct StageDesign;

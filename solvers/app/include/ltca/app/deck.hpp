@@ -135,8 +135,16 @@ struct Deck : analysis::StageDesign {
 
 /// The deck's sweep: its stage at its [sweep] cranks (under the deck's kinematics), solved at its
 /// [load] torque with `options`; the summary's wall time includes building the stage (the mesh
-/// state of every position). Requires [material] and [load].
+/// state of every position). For a reducer stage the summary carries its bearings' lives
+/// (SweepSummary::bearing_life, at [operation] input_speed_rpm; no hours without it). Requires
+/// [material] and [load].
 SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const SweepCallbacks& callbacks = {});
+
+/// The deck with a front-end's kinematics by name (contact::ParseKinematics; "" keeps the deck's
+/// [solver] kinematics).
+Deck DeckFor(const Deck& deck, const std::string& kinematics);
+/// The deck's [solver] options with a front-end's solver by name ("" keeps the deck's).
+SolverOptions SolverFor(const Deck& deck, const std::string& name);
 
 /// Parses and validates a deck, including the geometry (an undercut profile is rejected).
 /// overrides: "section.key=value" (the CLI's --set), each value read as a TOML value (a bare

@@ -1,0 +1,463 @@
+#include "documents/solve.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "ltca/analysis/stage.hpp"
+#include "ltca/geometry/units.hpp"
+
+namespace ltca::app::documents {
+namespace {
+
+using units::RadToArcsec;
+using units::RadToDeg;
+
+double MaxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+
+/// A reducer stage's solution at one position: per disc its pose, the output pins' forces
+/// with their direction, the bearings' forces and roller loads; the strain energy per group.
+nlohmann::json StageJson(const solvers::StageSolution& st) {
+  nlohmann::json discs = nlohmann::json::array();
+  const auto angle = [](const Eigen::Vector2d& v) { return FiniteOrNull(RadToDeg(std::atan2(v.y(), v.x()))); };
+  for (const auto& d : st.discs) {
+    nlohmann::json disc = {{"translation_um", {units::MmToUm(d.translation.x()), units::MmToUm(d.translation.y())}},
+                           {"rotation_arcsec", FiniteOrNull(RadToArcsec(d.rotation))}};
+    if (!d.output_force.empty()) {
+      nlohmann::json directions = nlohmann::json::array();
+      for (const auto& n : d.output_direction) directions.push_back(angle(n));
+      disc["output_pin_force_n"] = d.output_force;
+      disc["output_pin_direction_deg"] = directions;
+    }
+    nlohmann::json loads = nlohmann::json::array(), directions = nlohmann::json::array();
+    for (const auto& f : d.bearing_force) {
+      loads.push_back(FiniteOrNull(f.norm()));
+      directions.push_back(f.norm() > 0.0 ? angle(f) : nlohmann::json(nullptr));
+    }
+    disc["bearing_load_n"] = loads;
+    disc["bearing_load_direction_deg"] = directions;
+    bool rollers = false;
+    for (const auto& r : d.roller_load) rollers = rollers || !r.empty();
+    if (rollers) disc["roller_load_n"] = d.roller_load;
+    if (!d.shaft_deflection.empty()) {
+      nlohmann::json shafts = nlohmann::json::array();
+      for (const auto& v : d.shaft_deflection) shafts.push_back({units::MmToUm(v.x()), units::MmToUm(v.y())});
+      disc["shaft_deflection_um"] = shafts;
+    }
+    discs.push_back(std::move(disc));
+  }
+  nlohmann::json energy = nlohmann::json::object();
+  for (int g = 0; g < solvers::kStageGroups; ++g) {
+    energy[solvers::ToString(static_cast<solvers::StageGroup>(g))] = st.group_energy[static_cast<std::size_t>(g)];
+  }
+  return {{"discs", discs}, {"strain_energy_nmm", energy}, {"force_balance", st.force_balance_relative},
+          {"moment_balance", st.moment_balance_relative}};
+}
+
+/// A reducer stage's summary: the largest loads (N) and each bearing's ISO 281 life from its mean
+/// equivalent load over the positions, as the sweep's summary carries it (SweepSummary::bearing_life).
+nlohmann::json StageSummaryJson(const Deck& deck, const analysis::SweepSummary& s) {
+  if (!s.stage || !deck.reducer) return nullptr;
+  const analysis::StageSummary& g = *s.stage;
+  const analysis::BearingLife life = s.bearing_life.value_or(analysis::BearingLife{});
+  nlohmann::json shares = nlohmann::json::object();
+  for (std::size_t k = 0; k < g.energy_share.size(); ++k) {
+    shares[solvers::ToString(static_cast<solvers::StageGroup>(k))] = FiniteOrNull(g.energy_share[k]);
+  }
+  return {{"max_output_pin_force_n", deck.reducer->kind == solvers::OutputKind::kPins ? FiniteOrNull(g.max_output_force)
+                                                                                      : nlohmann::json(nullptr)},
+          {"max_bearing_load_n", FiniteOrNull(g.max_bearing_load)},
+          {"max_roller_load_n", FiniteOrNull(g.max_roller_load)},
+          {"mean_equivalent_load_n", g.mean_equivalent_load},
+          {"l10_million_revolutions", life.million_revolutions},
+          {"l10_hours", life.hours},
+          {"shortest_l10_hours", FiniteOrNull(life.ShortestHours())},  // null when no bearing has a life
+          {"life_basis", life.basis},
+          {"strain_energy_share", shares}};
+}
+
+nlohmann::json SummaryJson(const analysis::SweepSummary& s, const Deck::ModelInfo& model) {
+  const auto count = [&s](int v) { return s.succeeded > 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  nlohmann::json j = {{"model", model.name},
+                      {"width_slices", model.slices},
+                      {"mean_te_arcsec", FiniteOrNull(RadToArcsec(s.mean_te))},
+                      {"pp_te_arcsec", FiniteOrNull(RadToArcsec(s.pp_te))},
+                      {"contacts_min", count(s.contacts_min)},
+                      {"contacts_max", count(s.contacts_max)},
+                      {"max_pin_force_n", FiniteOrNull(s.max_pin_force)},
+                      {"max_contact_stress_mpa", FiniteOrNull(s.max_contact_stress)},
+                      {"wall_seconds", s.wall_seconds},
+                      {"status", solvers::ToString(s.status)},
+                      {"positions", s.positions()},
+                      {"succeeded_positions", s.succeeded},
+                      {"failed_positions", s.failed},
+                      {"warned_positions", s.warned},
+                      {"closed_period", s.closed_period}};
+  if (s.warned > 0) j["first_warning"] = s.first_warning;
+  if (model.discs == 2) {  // the share of T the first disc carries, over the successful positions
+    j["discs"] = 2;
+    j["first_disc_share_mean"] = FiniteOrNull(s.first_disc_share_mean);
+    j["first_disc_share_min"] = FiniteOrNull(s.first_disc_share_min);
+    j["first_disc_share_max"] = FiniteOrNull(s.first_disc_share_max);
+  }
+  if (s.failed > 0) {
+    j["note"] = s.succeeded > 0
+                    ? fmt::format("{} of {} positions failed: the figures are over the {} successful positions only",
+                                  s.failed, s.positions(), s.succeeded)
+                    : fmt::format("all {} positions failed: no figure", s.positions());
+  }
+  return j;
+}
+/// Bars of one quantity per pin, numbered j + 1 (docs/conventions.md), one series per disc;
+/// the loaded pins carry their number above the bar.
+plots::Panel PinBars(const std::vector<double>& values, int pin_count, const std::string& y_label, const std::string& title) {
+  plots::Panel panel;
+  panel.title = title;
+  panel.x_label = "pin number";
+  panel.y_label = y_label;
+  const int discs = pin_count > 0 && values.size() == 2 * static_cast<std::size_t>(pin_count) ? 2 : 1;
+  const int n = discs == 2 ? pin_count : static_cast<int>(values.size());
+  double top = 0.0;
+  for (const double v : values) top = std::max(top, std::isfinite(v) ? v : 0.0);
+  for (int d = 0; d < discs; ++d) {
+    plots::Series bars;
+    bars.label = discs == 2 ? fmt::format("disc {}", d + 1) : "";
+    bars.style = plots::Style::kBars;
+    bars.colour = d;
+    bars.bar_width = discs == 2 ? 0.4 : 0.7;
+    for (int j = 0; j < n; ++j) {
+      const double v = values[static_cast<std::size_t>(d * n + j)];
+      const double x = j + 1 + (discs == 2 ? (d == 0 ? -0.2 : 0.2) : 0.0);
+      bars.x.push_back(x);
+      bars.y.push_back(v);
+      if (std::isfinite(v) && v > 0.0) panel.notes.push_back({x, v + 0.02 * top, fmt::format("{}", j + 1), 0.5, 0.75});
+    }
+    panel.series.push_back(std::move(bars));
+  }
+  panel.x_min = 0.0, panel.x_max = n + 1.0;
+  // With two discs the legend (top right) sits in headroom above the tallest bar and its number
+  // (it covered the tallest contact-stress bar where the loaded pins were the last ones).
+  panel.y_min = 0.0, panel.y_max = top > 0.0 ? (discs == 2 ? 1.5 : 1.1) * top : 1.0;
+  return panel;
+}
+
+/// The TE over the sweep with its mean and peak-to-peak marked.
+plots::Panel TePanel(const std::vector<double>& crank_deg, const std::vector<double>& te_arcsec, const std::string& label,
+                     double mean = NAN) {
+  plots::Panel panel;
+  panel.title = "loaded transmission error";
+  panel.x_label = "crank angle (deg)";
+  panel.y_label = "TE (arcsec)";
+  panel.series.push_back({label, crank_deg, te_arcsec, plots::Style::kLineMarkers});
+  MarkMeanAndPeakToPeak(panel, te_arcsec, "arcsec", mean);
+  return panel;
+}
+
+/// A CSV field: the figure, or empty when no valid solve produced it.
+std::string CsvFigure(bool ok, double v) { return ok && std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string(); }
+
+}  // namespace
+
+nlohmann::json SolverJson(const Deck& deck, const SolverOptions& solver) {
+  return {{"name", solver.name},
+          {"kinematics", contact::ToString(deck.kinematics)},
+          {"torque_tolerance", solver.torque_tolerance},
+          {"law", contact::ToString(deck.contact.law)},
+          {"rho_convention", contact::ToString(deck.contact.rho_convention)}};
+}
+
+std::string SolverLine(const Deck& deck, const SolverOptions& solver) {
+  return fmt::format("solver    {} ({} kinematics, torque tolerance {:g}), law {} / {}\n", solver.name,
+                     contact::ToString(deck.kinematics), solver.torque_tolerance, contact::ToString(deck.contact.law),
+                     contact::ToString(deck.contact.rho_convention));
+}
+
+nlohmann::json SolveHead(const Deck& deck, const SolverOptions& solver) {
+  return {{"case", CaseJson(deck)}, {"model", ModelJson(deck.Model())}, {"solver", SolverJson(deck, solver)}};
+}
+
+std::string FailureNote(const analysis::SweepSummary& s) {
+  if (s.failed == 0) return {};
+  if (s.succeeded == 0) return fmt::format("failed positions       all {} (no figure below is an answer)\n", s.positions());
+  return fmt::format("failed positions       {} of {}; the figures below are over the {} successful positions only\n",
+                     s.failed, s.positions(), s.succeeded);
+}
+
+nlohmann::json Json(const Deck& deck, const analysis::SweepSummary& summary) {
+  nlohmann::json j = SummaryJson(summary, deck.Model());
+  if (deck.reducer) j["stage"] = StageSummaryJson(deck, summary);
+  return j;
+}
+
+nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysis::SweepResult& sweep) {
+  nlohmann::json j = SolveHead(deck, solver);
+  nlohmann::json positions = nlohmann::json::array();
+  for (const analysis::PositionResult& p : sweep.positions) positions.push_back(Json(p));
+  j["positions"] = std::move(positions);
+  j["summary"] = Json(deck, sweep.summary);
+  return j;
+}
+
+nlohmann::json Json(const analysis::PositionResult& p) {
+  const bool ok = p.succeeded();
+  nlohmann::json angles = nlohmann::json::array();
+  for (const double a : p.angle) angles.push_back(RadToDeg(a));
+  const auto figure = [ok](nlohmann::json value) { return ok ? std::move(value) : nlohmann::json(nullptr); };
+  nlohmann::json j = {{"crank_deg", RadToDeg(p.crank)},
+                      {"te_arcsec", figure(FiniteOrNull(RadToArcsec(p.result.te)))},
+                      {"contacts", figure(p.contacts)},
+                      {"pin_force_n", figure(p.pin_force)},
+                      {"pin_angle_deg", angles},
+                      {"contact_stress_mpa", figure(p.contact_stress)},
+                      {"status", solvers::ToString(p.result.status)},
+                      {"flank", solvers::ToString(p.result.flank)},
+                      {"message", p.result.message},
+                      {"warnings", p.result.warnings},
+                      {"torque_evaluations", p.result.torque_evaluations},
+                      {"residual", FiniteOrNull(p.result.residuals.Normalised())}};
+  if (!p.disc_torque.empty()) {
+    // Two discs: the torque each carries, N*m, signed as T; pin arrays run over disc 1's
+    // pins, then disc 2's.
+    nlohmann::json torques = nlohmann::json::array();
+    for (const double t : p.disc_torque) torques.push_back(FiniteOrNull(units::NmmToNm(t)));
+    j["disc_torque_nm"] = figure(torques);
+    const double total = p.disc_torque.size() == 2 ? p.disc_torque[0] + p.disc_torque[1] : 0.0;
+    j["first_disc_share"] = figure(total != 0.0 ? FiniteOrNull(p.disc_torque[0] / total) : nlohmann::json(nullptr));
+  }
+  if (p.result.stage) j["stage"] = figure(StageJson(*p.result.stage));
+  if (p.slices > 1) {
+    const bool complete = p.result.force.size() == p.pin_force.size() * static_cast<std::size_t>(p.slices);
+    // The contact pattern: per pin its slice forces and stresses and its load centroid.
+    nlohmann::json forces = nlohmann::json::array(), stresses = nlohmann::json::array(), centroid = nlohmann::json::array();
+    const auto n = static_cast<std::size_t>(p.slices);
+    for (std::size_t j = 0; complete && j < p.pin_force.size(); ++j) {
+      const auto first = p.result.force.begin() + static_cast<std::ptrdiff_t>(j * n);
+      forces.push_back(std::vector<double>(first, first + static_cast<std::ptrdiff_t>(n)));
+      const auto s0 = p.point_stress.begin() + static_cast<std::ptrdiff_t>(j * n);
+      stresses.push_back(std::vector<double>(s0, s0 + static_cast<std::ptrdiff_t>(n)));
+      centroid.push_back(FiniteOrNull(p.load_centroid[j]));
+    }
+    // Always present in the slice model; null for a position no valid solve produced.
+    j["slice_force_n"] = complete ? figure(forces) : nlohmann::json(nullptr);
+    j["slice_stress_mpa"] = complete ? figure(stresses) : nlohmann::json(nullptr);
+    j["load_centroid_mm"] = complete ? figure(centroid) : nlohmann::json(nullptr);
+  }
+  return j;
+}
+
+
+SolveJsonWriter::SolveJsonWriter(std::ostream& os, const Deck& deck, const SolverOptions& solver, std::string before,
+                                 std::string after)
+    : os_(os), head_(SolveHead(deck, solver)), before_(std::move(before)), after_(std::move(after)) {}
+
+void SolveJsonWriter::Start() {
+  if (started_) return;
+  started_ = true;
+  os_ << before_ << OpenObject(head_) << ",\n  \"positions\": [";
+}
+
+void SolveJsonWriter::Add(const analysis::PositionResult& p) {
+  Start();
+  os_ << (written_++ == 0 ? "\n    " : ",\n    ") << Dump(Json(p), -1);
+}
+
+void SolveJsonWriter::Finish(const Deck& deck, const analysis::SweepSummary& summary) {
+  Start();
+  os_ << "\n  ],\n  \"summary\": " << Nested(Dump(Json(deck, summary))) << "\n}" << after_ << '\n';
+}
+
+std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::SweepSummary& s) {
+  std::string text = fmt::format("case      {}\n", deck.info.title);
+  text += ModelLine(deck);
+  text += SolverLine(deck, solver);
+  text += fmt::format("status                 {}\n", solvers::ToString(s.status));
+  text += FailureNote(s);
+  if (s.warned > 0) text += fmt::format("warnings               {} positions, first at {}\n", s.warned, s.first_warning);
+  const double torque = deck.RequireLoad().torque;
+  text += fmt::format("loaded flank           {}\n", torque > 0.0 ? "drive (torque > 0)" : (torque < 0.0 ? "coast (torque < 0)" : "none (zero torque)"));
+  text += fmt::format("mean TE                {} arcsec   (Liu eq. 16; < 0 on the drive flank, > 0 on the coast flank)\n", FormatOrNa(RadToArcsec(s.mean_te), 4));
+  text += fmt::format("peak-to-peak TE        {} arcsec\n", FormatOrNa(RadToArcsec(s.pp_te), 4));
+  if (s.closed_period) text += "                       (the last position repeats the first: the mean counts it once)\n";
+  if (s.succeeded > 0) {
+    text += fmt::format("pins in contact        {} to {}\n", s.contacts_min, s.contacts_max);
+  } else {
+    text += "pins in contact        n/a\n";
+  }
+  if (deck.disc_count() == 2) {
+    text += fmt::format("first disc's share     {} mean, {} to {} of T (disc 2: the rest; per crank in --json/--csv)\n",
+                        FormatOrNa(s.first_disc_share_mean, 4), FormatOrNa(s.first_disc_share_min, 4),
+                        FormatOrNa(s.first_disc_share_max, 4));
+  }
+  text += fmt::format("largest pin force      {} N\n", FormatOrNa(s.max_pin_force, 2));
+  text += fmt::format("largest contact stress {} MPa\n", FormatOrNa(s.max_contact_stress, 2));
+  if (deck.reducer && s.stage) {
+    const analysis::StageSummary& g = *s.stage;
+    const analysis::BearingLife life = s.bearing_life.value_or(analysis::BearingLife{});
+    if (deck.reducer->kind == solvers::OutputKind::kPins) {
+      text += fmt::format("largest output pin     {} N\n", FormatOrNa(g.max_output_force, 2));
+    }
+    text += fmt::format("largest bearing load   {} N{}\n", FormatOrNa(g.max_bearing_load, 2),
+                        std::isnan(g.max_roller_load) ? std::string() : fmt::format(" (largest roller {} N)", FormatOrNa(g.max_roller_load, 2)));
+    // The first bearing's life where it is not a number, else the least (as the text always gave it).
+    double shortest = std::numeric_limits<double>::quiet_NaN();
+    for (const double h : life.hours) shortest = std::isnan(shortest) ? h : std::min(shortest, h);
+    text += fmt::format("bearing L10            {} h, the shortest ({})\n", FormatOrNa(shortest, 4), life.basis);
+  }
+  text += fmt::format("wall time              {:.4f} s for {} positions\n", s.wall_seconds, s.positions());
+  return text;
+}
+
+std::string SolveCsvHead(const Deck& deck) {
+  return std::string("crank_deg,te_arcsec,contacts,max_pin_force_n,max_contact_stress_mpa,status") +
+         (deck.disc_count() == 2 ? ",disc1_torque_nm,disc2_torque_nm\n" : "\n");
+}
+
+std::string Csv(const analysis::PositionResult& p) {
+  const bool ok = p.succeeded();
+  std::string row = fmt::format("{:.9g},{},{},{},{},{}", RadToDeg(p.crank), CsvFigure(ok, RadToArcsec(p.result.te)),
+                                ok ? fmt::format("{}", p.contacts) : std::string(), CsvFigure(ok, MaxOf(p.pin_force)),
+                                CsvFigure(ok, MaxOf(p.contact_stress)), solvers::ToString(p.result.status));
+  if (p.disc_torque.size() == 2) {  // two discs: each disc's torque, N*m
+    row += fmt::format(",{},{}", CsvFigure(ok, units::NmmToNm(p.disc_torque[0])), CsvFigure(ok, units::NmmToNm(p.disc_torque[1])));
+  }
+  return row + '\n';
+}
+
+std::string PatternCsvHead() { return "crank_deg,pin,slice,z_mm,force_n,contact_stress_mpa,status\n"; }
+
+std::string PatternCsv(const Deck& deck, const analysis::PositionResult& p) {
+  // Pin (1-based) x slice (1-based) of the model that ran; figures empty for a failed position.
+  const bool ok = p.succeeded();
+  const auto n = static_cast<std::size_t>(p.slices);
+  const double width = deck.pair.face_width / static_cast<double>(p.slices);
+  std::string rows;
+  for (std::size_t j = 0; j < p.pin_force.size(); ++j) {
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = j * n + k;
+      rows += fmt::format("{:.9g},{},{},{:.9g},{},{},{}\n", RadToDeg(p.crank), j + 1, k + 1, (static_cast<double>(k) + 0.5) * width,
+                          CsvFigure(ok, i < p.result.force.size() ? p.result.force[i] : NAN),
+                          CsvFigure(ok, i < p.point_stress.size() ? p.point_stress[i] : NAN), solvers::ToString(p.result.status));
+    }
+  }
+  return rows;
+}
+
+SolveSeries::SolveSeries(std::int64_t n)
+    : stride_(std::max<std::int64_t>(1, (n + kMapColumns - 1) / kMapColumns)), te_(n) {}
+
+void SolveSeries::Add(const analysis::PositionResult& p) {
+  const double crank = RadToDeg(p.crank);
+  if (positions_ == 0) first_crank_ = crank;
+  last_crank_ = crank;
+  te_.Add(positions_++, crank, p.succeeded() ? RadToArcsec(p.result.te) : NAN);
+  if (seen_++ % stride_ == 0) {
+    const auto or_nan = [&p](const std::vector<double>& v) { return p.succeeded() ? v : std::vector<double>(v.size(), NAN); };
+    map_crank_.push_back(RadToDeg(p.crank));
+    map_force_.push_back(or_nan(p.pin_force));
+    map_stress_.push_back(or_nan(p.contact_stress));
+  }
+  if (!p.succeeded()) return;
+  const double f = MaxOf(p.pin_force);
+  if (f > f_peak_) f_peak_ = f, peak_ = p;
+}
+
+plots::Figure Figure(const Deck& deck, const SolverOptions& solver, SolveSeries& data, const analysis::SweepSummary& summary) {
+  const double mean_te_arcsec = RadToArcsec(summary.mean_te);
+  plots::Figure figure;
+  const double c_lo = std::isfinite(data.first_crank_) ? data.first_crank_ : 0.0;
+  const double c_hi = std::isfinite(data.last_crank_) ? data.last_crank_ : 0.0;
+  figure.title = fmt::format("{}: loaded TE over crank {:.4g} to {:.4g} deg, {} solver", deck.info.title, c_lo, c_hi, solver.name);
+  figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics), T = {:g} N*m, {} positions",
+                                                   deck.Model().name, solver.name, contact::ToString(deck.kinematics),
+                                                   units::NmmToNm(deck.RequireLoad().torque), data.positions_) +
+                   (data.te_.stride() > 1 ? fmt::format("; TE drawn as the least and largest of every {} positions", data.te_.stride())
+                                       : std::string()));
+  figure.columns = 3;
+  figure.width = 1500;
+  figure.height = 520;
+  // The mean marked is the summary's (a closed period's repeated state weighs once in it).
+  figure.panels.push_back(TePanel(data.te_.x(), data.te_.y(), solver.name, mean_te_arcsec));
+  if (data.peak_) {
+    const auto& p = *data.peak_;
+    const double crank = RadToDeg(p.crank);
+    // Two discs: both cranks, the second disc's half a turn on.
+    const bool two = deck.disc_count() == 2;
+    const std::string at = two ? fmt::format("cranks {:.4g} / {:.4g} deg", crank, RadToDeg(p.crank + contact::kSecondDiscCrankOffset))
+                               : fmt::format("crank {:.4g} deg", crank);
+    figure.panels.push_back(PinBars(p.pin_force, deck.pair.pin_count, "pin force (N)",
+                                    two ? fmt::format("largest pin forces, {}", at)
+                                        : fmt::format("pin forces at {} (largest force)", at)));
+    figure.panels.push_back(PinBars(p.contact_stress, deck.pair.pin_count, "contact stress (MPa)",
+                                    fmt::format("contact stress at {}", at)));
+  } else {
+    figure.title += ": no position succeeded";
+  }
+  // Pin x crank-angle maps of force and contact stress. Both discs bear on one pin ring, so the pins
+  // are numbered 1 .. z_p for each disc, with a map per disc (disc 2's were z_p + 1 ..).
+  std::size_t pins = 0;
+  for (const auto& f : data.map_force_) pins = std::max(pins, f.size());
+  if (data.peak_ && pins > 0) {
+    const std::size_t per_disc = deck.disc_count() == 2 && pins == 2 * static_cast<std::size_t>(deck.pair.pin_count)
+                                     ? static_cast<std::size_t>(deck.pair.pin_count)
+                                     : pins;
+    const std::size_t discs = pins / per_disc;
+    std::vector<double> pin_numbers;
+    for (std::size_t j = 0; j < per_disc; ++j) pin_numbers.push_back(static_cast<double>(j + 1));
+    const auto map_panel = [&](const std::vector<std::vector<double>>& z, std::size_t disc, const std::string& label,
+                               const std::string& title) {
+      plots::Panel panel;
+      panel.title = discs == 2 ? fmt::format("{}, disc {}", title, disc + 1) : title;
+      // The crank axis is the first disc's: the second disc's crank is 180 deg on.
+      panel.x_label = disc == 1 ? "crank angle (deg); disc 2 at +180 deg" : "crank angle (deg)";
+      panel.y_label = "pin number";
+      std::vector<std::vector<double>> columns;
+      for (const auto& column : z) {
+        std::vector<double> part(per_disc, NAN);
+        for (std::size_t j = 0; j < per_disc && disc * per_disc + j < column.size(); ++j) part[j] = column[disc * per_disc + j];
+        columns.push_back(std::move(part));
+      }
+      panel.map = plots::Map{data.map_crank_, pin_numbers, std::move(columns), label};
+      const double half = data.map_crank_.size() > 1 ? (data.map_crank_[1] - data.map_crank_[0]) / 2 : 0.5;
+      panel.x_min = data.map_crank_.front() - half, panel.x_max = data.map_crank_.back() + half;
+      panel.y_min = 0.5, panel.y_max = static_cast<double>(per_disc) + 0.5;
+      return panel;
+    };
+    const std::string every = data.stride_ > 1 ? fmt::format(" (1 position in {})", data.stride_) : "";
+    for (std::size_t d = 0; d < discs; ++d) figure.panels.push_back(map_panel(data.map_force_, d, "pin force (N)", "pin force map" + every));
+    for (std::size_t d = 0; d < discs; ++d) {
+      figure.panels.push_back(map_panel(data.map_stress_, d, "contact stress (MPa)", "contact stress map" + every));
+    }
+    figure.height = discs == 2 ? 1480 : 1000;
+  }
+  // The contact pattern across the face width (the slice model): pin x slice forces at
+  // the position of the largest pin force.
+  if (data.peak_ && data.peak_->slices > 1 &&
+      data.peak_->result.force.size() == data.peak_->pin_force.size() * static_cast<std::size_t>(data.peak_->slices)) {
+    const auto& p = *data.peak_;
+    const auto n = static_cast<std::size_t>(p.slices);
+    plots::Map map;
+    map.z_label = "slice force (N)";
+    for (std::size_t k = 0; k < n; ++k) map.x.push_back((static_cast<double>(k) + 0.5) * deck.pair.face_width / static_cast<double>(n));
+    for (std::size_t j = 0; j < p.pin_force.size(); ++j) map.y.push_back(static_cast<double>(j + 1));
+    for (std::size_t k = 0; k < n; ++k) {
+      std::vector<double> column;
+      for (std::size_t j = 0; j < p.pin_force.size(); ++j) column.push_back(p.result.force[j * n + k]);
+      map.z.push_back(std::move(column));
+    }
+    plots::Panel panel;
+    panel.title = fmt::format("contact pattern at crank {:.4g} deg", RadToDeg(p.crank));
+    panel.x_label = "face width position z (mm)";
+    panel.y_label = "pin number";
+    panel.x_min = 0.0, panel.x_max = deck.pair.face_width;
+    panel.y_min = 0.5, panel.y_max = static_cast<double>(p.pin_force.size()) + 0.5;
+    panel.map = std::move(map);
+    figure.panels.push_back(std::move(panel));
+  }
+  return figure;
+}
+
+}  // namespace ltca::app::documents
