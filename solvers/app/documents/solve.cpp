@@ -302,10 +302,8 @@ std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::
     }
     text += fmt::format("largest bearing load   {} N{}\n", FormatOrNa(g.max_bearing_load, 2),
                         std::isnan(g.max_roller_load) ? std::string() : fmt::format(" (largest roller {} N)", FormatOrNa(g.max_roller_load, 2)));
-    // The first bearing's life where it is not a number, else the least (as the text always gave it).
-    double shortest = std::numeric_limits<double>::quiet_NaN();
-    for (const double h : life.hours) shortest = std::isnan(shortest) ? h : std::min(shortest, h);
-    text += fmt::format("bearing L10            {} h, the shortest ({})\n", FormatOrNa(shortest, 4), life.basis);
+    // The JSON's figure (BearingLife::ShortestHours: the least finite life), one rule for both.
+    text += fmt::format("bearing L10            {} h, the shortest ({})\n", FormatOrNa(life.ShortestHours(), 4), life.basis);
   }
   text += fmt::format("wall time              {:.4f} s for {} positions\n", s.wall_seconds, s.positions());
   return text;
