@@ -3,162 +3,18 @@
 #include "command.hpp"
 
 #include <algorithm>
-#include <cmath>
+#include <cstdint>
+#include <optional>
 #include <vector>
 
-#include <fmt/format.h>
-#include <fmt/ostream.h>
-#include <nlohmann/json.hpp>
-
+#include "documents/efficiency.hpp"
 #include "ltca/analysis/efficiency.hpp"
-#include "ltca/geometry/units.hpp"
 #include "solve_command.hpp"
 
 namespace ltca::cli {
-namespace {
-
-using units::RadToDeg;
-constexpr double kMmPerSToMPerS = 1e-3;
-
-/// two_discs: each contact names its disc (1 or 2).
-nlohmann::json PositionJson(const app::EfficiencyPosition& p, bool two_discs) {
-  nlohmann::json contacts = nlohmann::json::array();
-  for (const auto& c : p.contacts) {
-    contacts.push_back({{"pin", c.pin + 1},
-                        {"slice", c.slice},
-                        {"force_n", c.force},
-                        {"sliding_speed_m_per_s", c.sliding * kMmPerSToMPerS},
-                        {"entrainment_speed_m_per_s", c.entrainment * kMmPerSToMPerS},
-                        {"coefficient", c.coefficient},
-                        {"effective_coefficient", c.effective_coefficient},
-                        {"power_loss_w", c.loss},
-                        {"power_loss_first_order_w", c.loss_first_order},
-                        {"film_thickness_um", FiniteOrNull(units::MmToUm(c.film_thickness))},
-                        {"lambda", FiniteOrNull(c.lambda)},
-                        {"max_pressure_mpa", c.max_pressure},
-                        {"shape", c.point_contact ? "ellipse" : "line"}});
-    if (two_discs) contacts.back()["disc"] = c.disc + 1;
-  }
-  nlohmann::json pin_mu = nlohmann::json::array();
-  for (const double mu : p.pin_coefficient) pin_mu.push_back(FiniteOrNull(mu));
-  nlohmann::json j = {{"crank_deg", RadToDeg(p.crank)},
-                      {"status", solvers::ToString(p.status)},
-                      {"output_power_w", FiniteOrNull(p.output_power)},
-                      {"power_loss_w", FiniteOrNull(p.power_loss)},
-                      {"power_loss_first_order_w", FiniteOrNull(p.power_loss_first_order)},
-                      {"efficiency", FiniteOrNull(p.efficiency)},
-                      {"efficiency_first_order", FiniteOrNull(p.efficiency_first_order)},
-                      {"efficiency_malhotra_parameswaran", FiniteOrNull(p.efficiency_malhotra_parameswaran)},
-                      {"efficiency_sensinger", FiniteOrNull(p.efficiency_sensinger)},
-                      {"mean_coefficient", FiniteOrNull(p.mean_coefficient)},
-                      {"friction_moment_ratio", FiniteOrNull(p.friction_moment_ratio)},
-                      {"friction_moment_ratio_first_order", FiniteOrNull(p.friction_moment_ratio_first_order)},
-                      {"balance_solves", p.balance_solves},
-                      {"balance_residual", FiniteOrNull(p.balance_residual)},
-                      {"pin_coefficient", pin_mu},
-                      {"contacts", contacts}};
-  if (!p.succeeded()) j["message"] = p.message;
-  if (!p.warnings.empty()) j["warnings"] = p.warnings;
-  return j;
-}
-
-nlohmann::json SummaryJson(const app::EfficiencySummary& s) {
-  const auto spread = [](nlohmann::json& j, const std::string& key, const app::EfficiencySpread& v) {
-    j[key] = FiniteOrNull(v.mean);
-    j[key + "_min"] = FiniteOrNull(v.min);
-    j[key + "_max"] = FiniteOrNull(v.max);
-  };
-  nlohmann::json j = nlohmann::json::object();
-  spread(j, "power_loss_w", s.power_loss);
-  spread(j, "power_loss_first_order_w", s.power_loss_first_order);
-  spread(j, "output_power_w", s.output_power);
-  j["efficiency"] = FiniteOrNull(s.efficiency);
-  j["efficiency_first_order"] = FiniteOrNull(s.efficiency_first_order);
-  j["efficiency_malhotra_parameswaran"] = FiniteOrNull(s.efficiency_malhotra_parameswaran);
-  j["efficiency_sensinger"] = FiniteOrNull(s.efficiency_sensinger);
-  spread(j, "mean_coefficient", s.mean_coefficient);
-  spread(j, "friction_moment_ratio", s.friction_moment_ratio);
-  spread(j, "friction_moment_ratio_first_order", s.friction_moment_ratio_first_order);
-  j["energy_loss_per_revolution_j"] = FiniteOrNull(s.energy_loss_per_revolution);
-  j["positions"] = s.succeeded + s.failed;
-  j["succeeded_positions"] = s.succeeded;
-  j["failed_positions"] = s.failed;
-  j["solves"] = s.solves;
-  j["balance_solves"] = s.balance_solves;
-  j["wall_seconds"] = s.wall_seconds;
-  j["loaded_solve_seconds"] = s.loaded_solve_seconds;
-  j["warnings"] = s.warnings;
-  j["status"] = ToString(s.status());
-  if (!s.first_failure.empty()) j["first_failure"] = s.first_failure;
-  return j;
-}
-
-/// Efficiency, power loss and the friction coefficient per pin over crank angle, one panel each.
-void WriteEfficiencyFigure(const app::Deck& deck, const solvers::SolverOptions& solver,
-                           const std::vector<app::EfficiencyPosition>& positions, const app::EfficiencySummary& s, Output& output) {
-  namespace plots = app::plots;
-  plots::Figure figure;
-  figure.title = fmt::format("{}: efficiency and power loss over crank {:g} to {:g} deg", deck.info.title,
-                             RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
-  // The operating point (issue 27): speed, torque and the friction model the figures hold for.
-  const app::FrictionSettings& f = deck.RequireFriction();
-  const std::string friction = f.model == app::FrictionSettings::Model::kCoulomb ? fmt::format("Coulomb mu {:g}", f.coefficient)
-                                                                             : fmt::format("{} (f_b {:g})", app::ToString(f.model), f.boundary_coefficient);
-  figure.caption = FigureCaption(deck, fmt::format("operating point: input {:g} rpm, T = {:g} N*m, {}{}; model {}, solver {} ({} kinematics); "
-                                                   "{} positions; failed positions are gaps",
-                                                   units::RadPerSToRpm(deck.RequireOperation().input_speed), units::NmmToNm(deck.RequireLoad().torque),
-                                                   friction, f.sleeve_bore_radius ? ", pin sleeves" : "", deck.Model().name, solver.name,
-                                                   contact::ToString(deck.kinematics), positions.size()));
-  figure.columns = 3;
-  figure.width = 1500;
-  figure.height = 520;
-  std::vector<double> crank;
-  for (const auto& p : positions) crank.push_back(RadToDeg(p.crank));
-  const auto values = [&](auto get) {
-    std::vector<double> v;
-    for (const auto& p : positions) v.push_back(p.succeeded() ? get(p) : NAN);
-    return v;
-  };
-  plots::Panel eff;
-  eff.title = fmt::format("efficiency, mean {}", FormatOrNa(s.efficiency, 6));
-  eff.x_label = "crank angle (deg)";
-  eff.y_label = "efficiency (-)";
-  eff.legend = plots::LegendPlace::kBottomRight;
-  eff.series.push_back({"efficiency", crank, values([](const app::EfficiencyPosition& p) { return p.efficiency; }), plots::Style::kLine});
-  plots::Series first{"first order", crank, values([](const app::EfficiencyPosition& p) { return p.efficiency_first_order; }),
-                      plots::Style::kLine};
-  first.dashed = true;
-  eff.series.push_back(std::move(first));
-  figure.panels.push_back(std::move(eff));
-  plots::Panel loss;
-  loss.title = fmt::format("power loss, mean {} W", FormatOrNa(s.power_loss.mean, 4));
-  loss.x_label = "crank angle (deg)";
-  loss.y_label = "power loss (W)";
-  plots::Series l{"power loss", crank, values([](const app::EfficiencyPosition& p) { return p.power_loss; }), plots::Style::kLine};
-  l.colour = 1;
-  loss.series.push_back(std::move(l));
-  figure.panels.push_back(std::move(loss));
-  plots::Panel mu;
-  mu.title = "friction coefficient per pin (one line each)";
-  mu.x_label = "crank angle (deg)";
-  mu.y_label = "friction coefficient (-)";
-  std::size_t pins = 0;
-  for (const auto& p : positions) pins = std::max(pins, p.pin_coefficient.size());
-  for (std::size_t j = 0; j < pins; ++j) {
-    plots::Series line{j == 0 ? "pins" : "", crank, values([j](const app::EfficiencyPosition& p) {
-                         return j < p.pin_coefficient.size() ? p.pin_coefficient[j] : NAN;
-                       }),
-                       plots::Style::kLine};
-    line.colour = 2;
-    mu.series.push_back(std::move(line));
-  }
-  figure.panels.push_back(std::move(mu));
-  WriteFigure(figure, output);
-}
-
-}  // namespace
 
 int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options, const Streams& streams) {
+  namespace documents = app::documents;
   const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
   const solvers::SolverOptions solver = SolverFor(deck, options.solver);
   RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
@@ -170,110 +26,39 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
   const app::FrictionSettings& friction = deck.RequireFriction();
   const app::OperationSettings& operation = deck.RequireOperation();
   const double torque = deck.RequireLoad().torque;
-  app::EfficiencyRunner runner(deck.MakeStage(), solver, torque, friction, operation);
-  const app::FrictionSettings& f = *deck.friction;
-  const app::OperationSettings& op = *deck.operation;
+  analysis::EfficiencyRunner runner(deck.MakeStage(), solver, torque, friction, operation);
   const std::vector<double>& cranks = runner.cranks();
 
   std::ostream& text = streams.text;
-  fmt::print(text, "case      {}\n", deck.info.title);
-  text << ModelLine(deck);
-  text << SolverLine(deck, solver);
-  const std::string mu = f.model == app::FrictionSettings::Model::kCoulomb ? fmt::format("coulomb, mu = {:g}", f.coefficient)
-                                                                          : fmt::format("jiang-mixed, f_b = {:g}", f.boundary_coefficient);
-  fmt::print(text, "friction  {}; {}; torque balance: {}\n", mu,
-             f.sleeve_bore_radius ? fmt::format("pin sleeve, bore radius {:g} mm, mu_bore {}", *f.sleeve_bore_radius,
-                                                          std::isnan(f.sleeve_coefficient) ? std::string("= the contact's")
-                                                                                           : fmt::format("{:g}", f.sleeve_coefficient))
-                                  : std::string("no sleeve"),
-             f.torque_balance == app::FrictionSettings::TorqueBalance::kSolve ? "solved" : "bounded");
-  fmt::print(text, "operation crank {:g} rpm, oil {:g} Pa*s, alpha {:g} 1/GPa, Ra {:g} / {:g} um\n", units::RadPerSToRpm(op.input_speed),
-             units::MPaSToPaS(op.viscosity), units::PerMPaToPerGPa(op.pressure_viscosity), units::MmToUm(op.roughness_cycloid), units::MmToUm(op.roughness_pin));
-  fmt::print(text, "{:>10} {:>12} {:>12} {:>12} {:>12} {:>8}\n", "crank_deg", "loss_w", "efficiency", "first_order", "mean_mu", "status");
-
-  if (json.enabled()) {
-    nlohmann::json friction = {{"model", app::ToString(f.model)},
-                               {"coefficient", FiniteOrNull(f.coefficient)},
-                               {"boundary_coefficient", f.boundary_coefficient},
-                               {"sleeve_bore_radius_mm", f.sleeve_bore_radius ? nlohmann::json(*f.sleeve_bore_radius) : nlohmann::json(nullptr)},
-                               {"sleeve_coefficient", FiniteOrNull(f.sleeve_coefficient)},
-                               {"torque_balance", f.torque_balance == app::FrictionSettings::TorqueBalance::kSolve ? "solve" : "bound"}};
-    nlohmann::json operation = {{"input_speed_rpm", units::RadPerSToRpm(op.input_speed)},
-                                {"oil_viscosity_pa_s", op.viscosity * 1e6},
-                                {"pressure_viscosity_per_gpa", units::PerMPaToPerGPa(op.pressure_viscosity)},
-                                {"roughness_ra_cycloid_um", units::MmToUm(op.roughness_cycloid)},
-                                {"roughness_ra_pin_um", units::MmToUm(op.roughness_pin)}};
-    const nlohmann::json header = {{"case", CaseJson(deck)},
-                                   {"model", ModelJson(deck.Model())},
-                                   {"solver", SolverJson(deck, solver)},
-                                   {"friction", friction},
-                                   {"operation", operation},
-                                   {"sweep", {{"crank_start_deg", RadToDeg(deck.sweep.crank_start)},
-                                              {"crank_end_deg", RadToDeg(deck.sweep.crank_end)},
-                                              {"positions", deck.sweep.positions}}}};
-    json.stream() << OpenObject(header) << ",\n  \"positions\": [";
-  }
-  // Two discs (issue 27): every contact names its disc (a last CSV column, a JSON key).
+  text << documents::EfficiencyTextHead(deck, solver);
+  // Two discs: every contact names its disc (a last CSV column, a JSON key).
   const bool two_discs = deck.second_disc.has_value();
-  if (csv.enabled()) {
-    csv.stream() << "crank_deg,pin,slice,force_n,sliding_speed_m_per_s,entrainment_speed_m_per_s,coefficient,"
-                    "effective_coefficient,power_loss_w,film_thickness_um,lambda,max_pressure_mpa,shape"
-                 << (two_discs ? ",disc\n" : "\n");
-  }
+  std::optional<documents::EfficiencyJsonWriter> writer;
+  if (json.enabled()) writer.emplace(json.stream(), deck, solver, two_discs);
+  if (csv.enabled()) csv.stream() << documents::EfficiencyCsvHead(two_discs);
   Progress progress(streams.err, streams.progress, "efficiency at position", static_cast<std::int64_t>(cranks.size()));
   const std::size_t every = std::max<std::size_t>(1, cranks.size() / 10);
-  std::vector<app::EfficiencyPosition> kept;
+  std::vector<analysis::EfficiencyPosition> kept;  // for the figure
   for (std::size_t i = 0; i < cranks.size(); ++i) {
-    app::EfficiencyPosition p = runner.Solve(cranks[i]);
-    if (i % every == 0) {
-      fmt::print(text, "{:>10.4f} {:>12} {:>12} {:>12} {:>12} {:>8}\n", RadToDeg(p.crank), FormatOrNa(p.power_loss, 4),
-                 FormatOrNa(p.efficiency, 6), FormatOrNa(p.efficiency_first_order, 6), FormatOrNa(p.mean_coefficient, 4),
-                 ToString(p.succeeded() ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed));
-    }
-    if (json.enabled()) json.stream() << (i == 0 ? "\n    " : ",\n    ") << Dump(PositionJson(p, two_discs), -1);
-    if (csv.enabled()) {
-      for (const auto& c : p.contacts) {
-        fmt::print(csv.stream(), "{:.9g},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{},{:.9g},{}", RadToDeg(p.crank),
-                   c.pin + 1, c.slice, c.force, c.sliding * kMmPerSToMPerS, c.entrainment * kMmPerSToMPerS, c.coefficient,
-                   c.effective_coefficient, c.loss,
-                   std::isfinite(c.film_thickness) ? fmt::format("{:.9g}", units::MmToUm(c.film_thickness)) : std::string(),
-                   std::isfinite(c.lambda) ? fmt::format("{:.9g}", c.lambda) : std::string(), c.max_pressure,
-                   c.point_contact ? "ellipse" : "line");
-        if (two_discs) fmt::print(csv.stream(), ",{}", c.disc + 1);
-        csv.stream() << '\n';
-      }
-    }
+    analysis::EfficiencyPosition p = runner.Solve(cranks[i]);
+    if (i % every == 0) text << documents::Text(p);
+    if (writer) writer->Add(p);
+    if (csv.enabled()) csv.stream() << documents::Csv(p, two_discs);
     if (svg.enabled()) {
-      p.contacts.clear();  // the plot needs the per-pin figures only
+      p.contacts.clear();  // the figure needs the per-pin figures only
       kept.push_back(std::move(p));
     }
     progress.Update(static_cast<std::int64_t>(i + 1));
   }
   progress.Finish();
-  const app::EfficiencySummary s = runner.Summary();
-  if (json.enabled()) {
-    json.stream() << "\n  ],\n  \"summary\": " << Nested(Dump(SummaryJson(s))) << "\n}\n";
+  const analysis::EfficiencySummary s = runner.Summary();
+  if (writer) {
+    writer->Finish(s);
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
-  if (svg.enabled()) {
-    WriteEfficiencyFigure(deck, solver, kept, s, svg);
-  }
-  if (s.failed > 0) fmt::print(text, "failed positions       {} of {}; first: {}\n", s.failed, s.succeeded + s.failed, s.first_failure);
-  fmt::print(text, "output power           {} W (|T| |omega_c|)\n", FormatOrNa(s.output_power.mean, 4));
-  fmt::print(text, "power loss             {} W (mean; {} .. {} over the positions)\n", FormatOrNa(s.power_loss.mean, 4),
-             FormatOrNa(s.power_loss.min, 4), FormatOrNa(s.power_loss.max, 4));
-  fmt::print(text, "efficiency             {} (full model)\n", FormatOrNa(s.efficiency, 6));
-  fmt::print(text, "efficiency_first_order {} (pins fixed, no sleeve, frictionless forces)\n", FormatOrNa(s.efficiency_first_order, 6));
-  fmt::print(text, "classical estimates    {} (Malhotra-Parameswaran load distribution), {} (continuum closed form), "
-                   "mean mu {}\n",
-             FormatOrNa(s.efficiency_malhotra_parameswaran, 6), FormatOrNa(s.efficiency_sensinger, 6), FormatOrNa(s.mean_coefficient.mean, 4));
-  fmt::print(text, "friction moment / T    {} (mean; {} .. {}; the accepted forces), {} with the frictionless forces\n",
-             FormatOrNa(s.friction_moment_ratio.mean, 5), FormatOrNa(s.friction_moment_ratio.min, 5),
-             FormatOrNa(s.friction_moment_ratio.max, 5), FormatOrNa(s.friction_moment_ratio_first_order.mean, 5));
-  for (const auto& w : s.warnings) fmt::print(text, "warning                {}\n", w);
-  fmt::print(text, "wall time              {:.4f} s ({:.4f} s in {} load solves + {} balance solves)\n", s.wall_seconds,
-             s.loaded_solve_seconds, s.solves, s.balance_solves);
+  if (svg.enabled()) WriteFigure(documents::Figure(deck, solver, kept, s), svg);
+  text << documents::Text(s);
   return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
 }
 

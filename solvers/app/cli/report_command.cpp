@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <chrono>
@@ -28,11 +30,12 @@
 
 #include "contact_commands.hpp"
 #include "documents/backlash.hpp"
+#include "documents/efficiency.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
 #include "ltca/analysis/backlash.hpp"
+#include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
-#include "efficiency_command.hpp"
 #include "geometry_command.hpp"
 #include "optimise_command.hpp"
 #include "ltca/analysis/keys.hpp"
@@ -429,15 +432,36 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   stiffness.svg_path = file("stiffness.svg");
   const bool loop = deck.RequireLoad().torque != 0.0;
   const int loop_code = loop ? RunStiffness(deck, stiffness, quiet) : kExitSuccess;
-  // Efficiency (issue 14) when the deck carries [friction] and [operation]; tolerances (issue 15)
-  // when it carries [tolerances], with the deck's samples on every hardware thread. Both take two
-  // discs (issue 27).
+  // Efficiency when the deck carries [friction] and [operation] and a torque (one disc or two): its
+  // result in this process (analysis::EfficiencyRunner over the deck's sweep), its JSON streamed and
+  // its figure drawn by the documents `ltca efficiency` writes, beside the page.
   const bool efficiency = deck.friction && deck.operation && deck.RequireLoad().torque != 0.0;
-  EfficiencyOptions eff;
-  eff.solver = options.solver;
-  eff.json_path = file("efficiency.json");
-  eff.svg_path = file("efficiency.svg");
-  const int eff_code = efficiency ? RunEfficiency(deck, eff, quiet) : kExitSuccess;
+  std::optional<analysis::EfficiencySummary> eff;
+  std::string eff_svg;
+  if (efficiency) {
+    analysis::EfficiencyRunner runner(deck.MakeStage(), solver, deck.RequireLoad().torque, *deck.friction, *deck.operation);
+    std::vector<analysis::EfficiencyPosition> kept;  // for the figure, without their contacts
+    WriteTo("-o", file("efficiency.json"), streams.out, [&](std::ostream& os) {
+      documents::EfficiencyJsonWriter writer(os, deck, solver, deck.second_disc.has_value());
+      const std::vector<double>& cranks = runner.cranks();
+      Progress progress(streams.err, streams.progress, "efficiency at position", static_cast<std::int64_t>(cranks.size()));
+      for (std::size_t i = 0; i < cranks.size(); ++i) {
+        analysis::EfficiencyPosition p = runner.Solve(cranks[i]);
+        writer.Add(p);
+        p.contacts.clear();
+        kept.push_back(std::move(p));
+        progress.Update(static_cast<std::int64_t>(i + 1));
+      }
+      progress.Finish();
+      eff = runner.Summary();
+      writer.Finish(*eff);
+    });
+    eff_svg = SvgOf(documents::Figure(deck, solver, kept, *eff));
+    WriteTo("-o", file("efficiency.svg"), streams.out, [&](std::ostream& os) { os << eff_svg; });
+  }
+  const int eff_code = !eff || eff->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+  // Tolerances (issue 15) when the deck carries [tolerances], with the deck's samples on every
+  // hardware thread; two discs too (issue 27).
   const bool tolerance = deck.tolerances.has_value();
   ToleranceOptions tol;
   tol.solver = options.solver;
@@ -458,7 +482,6 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const int opt_code = optimise ? RunOptimise(deck, opt, quiet) : kExitSuccess;
 
   const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
-  const nlohmann::json e = efficiency ? nlohmann::json::parse(ReadFile(eff.json_path)) : nlohmann::json();
   const nlohmann::json tj = tolerance ? nlohmann::json::parse(ReadFile(tol.json_path)) : nlohmann::json();
   const nlohmann::json oj = optimise ? ReadWithout(opt.json_path, "history") : nlohmann::json();
   const auto& p = deck.pair;
@@ -520,7 +543,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
           "<th>margin</th><th>verdict</th><th>Monte Carlo pass fraction</th><th>from</th></tr>\n";
   const nlohmann::json bs = documents::Json(deck, *backlash);  // the backlash's summary, from its result
   const nlohmann::json ls = loop ? l["summary"] : nlohmann::json();
-  const nlohmann::json es = efficiency ? e["summary"] : nlohmann::json();
+  const nlohmann::json es = eff ? documents::Json(*eff) : nlohmann::json();  // the efficiency's summary, from its result
   const nlohmann::json ts = tolerance ? tj["summary"] : nlohmann::json();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   html += AllowableRow("largest contact stress (MPa)", "max_contact_stress_mpa", Finite(ss.max_contact_stress), nan,
@@ -571,10 +594,12 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   }
   for (const auto& [key, summary, basis] :
        {std::tuple{std::string("lost_motion_arcmin"), &ls, "ltca stiffness, crank 0"},
-        std::tuple{std::string("torsional_rigidity_nm_per_arcmin"), &ls, "ltca stiffness, crank 0"},
-        std::tuple{std::string("efficiency"), &es, "ltca efficiency"}}) {
+        std::tuple{std::string("torsional_rigidity_nm_per_arcmin"), &ls, "ltca stiffness, crank 0"}}) {
     if (listed(key) || !summary->is_object() || !summary->contains(key)) continue;
     html += AllowableRow(Label(key), key, Number(*summary, key), nan, nan, basis);
+  }
+  if (eff && !listed("efficiency")) {  // the sweep's efficiency (full model), from its result
+    html += AllowableRow(Label("efficiency"), "efficiency", Finite(eff->efficiency), nan, nan, "ltca efficiency");
   }
   if (deck.reducer && ss.stage && !listed("shortest_l10_hours")) {  // the stage's bearings
     const analysis::BearingLife life = ss.bearing_life.value_or(analysis::BearingLife{});
@@ -615,7 +640,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   html += "<h2 id=\"efficiency\">Friction and meshing efficiency</h2>\n";
   if (efficiency) {
     html += Table(es);
-    html += InlineSvg(eff.svg_path);
+    html += InlineSvgText(eff_svg, "efficiency");
   } else {
     html += fmt::format("<p class=\"note\">Not run: {}.</p>\n",
                         !deck.friction    ? "the deck has no [friction] section"

@@ -28,12 +28,13 @@
 #include "compare_command.hpp"
 #include "contact_commands.hpp"
 #include "documents/backlash.hpp"
+#include "documents/efficiency.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
 #include "documents/solve.hpp"
 #include "ltca/analysis/backlash.hpp"
+#include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
-#include "efficiency_command.hpp"
 #include "geometry_command.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/geometry/units.hpp"
@@ -250,12 +251,28 @@ PYBIND11_MODULE(_ltca, m) {
     o.steps = steps;
     return CommandDocument(deck, o, cli::RunStiffness);
   });
-  m.def("efficiency", [](const Deck& deck, const std::string& solver,
-                         const std::string& kinematics) {
-    cli::EfficiencyOptions o;
-    o.solver = solver;
-    o.kinematics = kinematics;
-    return CommandDocument(deck, o, cli::RunEfficiency);
+  // Friction, power loss and efficiency over the sweep from its result in this process, its
+  // document by the command's builder.
+  m.def("efficiency", [](const Deck& given, const std::string& solver_name, const std::string& kinematics) {
+    std::optional<ltca::app::Deck> deck;
+    std::optional<ltca::solvers::SolverOptions> solver;
+    std::vector<ltca::analysis::EfficiencyPosition> positions;
+    std::optional<ltca::analysis::EfficiencySummary> summary;
+    {
+      py::gil_scoped_release release;
+      deck = ltca::app::DeckFor(given, kinematics);
+      solver = ltca::app::SolverFor(*deck, solver_name);
+      // The command's order of the checks: [material], [friction], [operation], [load].
+      deck->RequireMaterial();
+      const ltca::app::FrictionSettings& friction = deck->RequireFriction();
+      const ltca::app::OperationSettings& operation = deck->RequireOperation();
+      const double torque = deck->RequireLoad().torque;
+      ltca::analysis::EfficiencyRunner runner(deck->MakeStage(), *solver, torque, friction, operation);
+      for (const double crank : runner.cranks()) positions.push_back(runner.Solve(crank));
+      summary = runner.Summary();
+    }
+    const int code = summary->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, positions, *summary)), py::str(""));
   });
   m.def("tolerance", [](const Deck& deck, const std::string& solver,
                         const std::string& kinematics, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed,
