@@ -154,13 +154,8 @@ nlohmann::json SummaryJson(const app::StiffnessSummary& s, bool sweep, double fr
                 "found between them (the solver's tolerance)";
   }
   j["curve"] = sweep ? CurveJson(s.curve, &s.curve_min, &s.curve_max) : CurveJson(s.curve);
-  j["positions"] = s.positions();
-  j["succeeded_positions"] = s.succeeded;
-  j["failed_positions"] = s.failed;
+  app::documents::AddRunRecord(j, s);
   j["solves"] = s.solves;
-  j["wall_seconds"] = s.wall_seconds;
-  j["status"] = ToString(s.status());
-  if (!s.first_failure.empty()) j["first_failure"] = s.first_failure;
   return j;
 }
 

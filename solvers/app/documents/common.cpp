@@ -37,6 +37,15 @@ std::string OpenObject(const nlohmann::json& header) {
   return text;
 }
 
+void AddRunRecord(nlohmann::json& summary, const analysis::RunRecord& record) {
+  summary["positions"] = record.positions();
+  summary["succeeded_positions"] = record.succeeded;
+  summary["failed_positions"] = record.failed;
+  summary["wall_seconds"] = record.wall_seconds;
+  summary["status"] = ToString(record.status());
+  if (!record.first_failure.empty()) summary["first_failure"] = record.first_failure;
+}
+
 nlohmann::json CaseJson(const Deck& deck) {
   return {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}};
 }

@@ -10,6 +10,7 @@
 
 #include "ltca/app/deck.hpp"
 #include "ltca/app/plots.hpp"
+#include "ltca/analysis/run.hpp"
 
 namespace ltca::app::documents {
 
@@ -25,6 +26,10 @@ std::string Nested(const std::string& text);
 /// The text of a JSON object (Dump, indent 2) without its closing brace, so that a streamed
 /// document can go on with more members (positions, then the summary).
 std::string OpenObject(const nlohmann::json& header);
+
+/// A run's record in a summary: positions, succeeded_positions, failed_positions, wall_seconds,
+/// status and, when something failed, first_failure.
+void AddRunRecord(nlohmann::json& summary, const analysis::RunRecord& record);
 
 /// {title, source, deck}: the case a document is of.
 nlohmann::json CaseJson(const Deck& deck);

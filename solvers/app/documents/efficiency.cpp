@@ -104,16 +104,11 @@ nlohmann::json Json(const analysis::EfficiencySummary& s) {
   spread(j, "friction_moment_ratio", s.friction_moment_ratio);
   spread(j, "friction_moment_ratio_first_order", s.friction_moment_ratio_first_order);
   j["energy_loss_per_revolution_j"] = FiniteOrNull(s.energy_loss_per_revolution);
-  j["positions"] = s.succeeded + s.failed;
-  j["succeeded_positions"] = s.succeeded;
-  j["failed_positions"] = s.failed;
+  AddRunRecord(j, s);
   j["solves"] = s.solves;
   j["balance_solves"] = s.balance_solves;
-  j["wall_seconds"] = s.wall_seconds;
   j["loaded_solve_seconds"] = s.loaded_solve_seconds;
   j["warnings"] = s.warnings;
-  j["status"] = ToString(s.status());
-  if (!s.first_failure.empty()) j["first_failure"] = s.first_failure;
   return j;
 }
 
