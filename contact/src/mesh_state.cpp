@@ -28,7 +28,7 @@ double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 /// [a, b] with g(a) < 0 < g(b) is kept, and a Newton step that leaves it is replaced by
 /// bisection. Returns the parameter; an end of the arc when the distance decreases up to it.
 // The foot parameter u in [lo, hi] of tooth space k nearest to p (the root of r . d1), and in
-// *point the profile at that u (issue 29: the converged Newton step's own evaluation, not one more).
+// *point the profile at that u (the converged Newton step's own evaluation, not one more).
 double ClosestParameter(const CycloidProfile& profile, int k, const Eigen::Vector2d& p, double u0,
                         double lo, double hi, geometry::ProfilePoint* point) {
   geometry::ProfilePoint x;
@@ -114,7 +114,7 @@ void PlaceContact(const geometry::PoseFrame& pose, const Eigen::Vector2d& centre
   c->arm = load_direction * Cross(c->cycloid_point - pose.centre, c->normal);
 }
 
-/// The closest point of a profile with relieved tips (issue 12, geometry/tip_relief.hpp) to the
+/// The closest point of a profile with relieved tips (geometry/tip_relief.hpp) to the
 /// body-frame pin centre p: the flanks |u| <= u_j of the tooth space the pin's polar angle falls in
 /// and of both neighbours (the safeguarded Newton search, the seed kept when it is on one of them),
 /// and the caps of the four tips around them (closed form). The smallest distance wins; a cap
@@ -770,7 +770,7 @@ MeshState MeshModel::Evaluate(double crank, double loaded_rotation) const {
     }
     return state;
   }
-  // One pose per slice, computed once for every pin (issue 29), and each slice of a pin searched
+  // One pose per slice, computed once for every pin, and each slice of a pin searched
   // from its neighbour's foot point (the slices differ by micrometres), not from the meshing
   // equation again.
   std::vector<geometry::PoseFrame> poses;

@@ -39,7 +39,7 @@ ContactLaw OutputPinLaw(const ContactSettings& contact, const Material& material
                         double length, double log_radius_cap) {
   ContactSettings own = contact;
   // The hole's curvature enters with its sign whatever the mesh's convention (the absolute one
-  // would make the pin and its hole two convex cylinders, 1/rho* = 1/r_w + 1/r_h: issue 46).
+  // would make the pin and its hole two convex cylinders, 1/rho* = 1/r_w + 1/r_h, which is wrong for a pin in a hole).
   own.rho_convention = RhoConvention::kSigned;
   own.seat = PinSeat{};
   return ContactLaw(own, material, -1.0 / pins.hole_radius, pins.pin_radius, length, log_radius_cap);

@@ -42,7 +42,7 @@ double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double
   // Exact: the root of the pin's gap c(psi), searched only within a quarter of a cycloid tooth
   // pitch of the theoretical position. The exact geometry repeats every pitch, so an unguarded
   // Newton step from a pin with a tiny arm (c/L of order 1 rad) lands whole pitches away and
-  // finds a root there: a rotation thousands of pitches off (issue 10). Within the window the
+  // finds a root there: a rotation thousands of pitches off. Within the window the
   // gap falls monotonically in the closing direction s = sign(L(0)) while L keeps its sign
   // (dc/dpsi = -L(psi), envelope theorem), so a bracketed Newton iteration on
   // g(x) = c(s x), g'(x) = -s L(s x), converges; x > 0 closes, x < 0 opens.
@@ -86,7 +86,7 @@ double ClosingRotation(const MeshModel& model, const PinContact& at_zero, double
 }
 
 std::string JamReport(const MeshState& state, double tolerance_mm) {
-  // The report is formatted only for a jam (issue 29: every position of a sweep asks).
+  // The report is formatted only for a jam (every position of a sweep asks).
   if (std::none_of(state.pins.begin(), state.pins.end(), [&](const PinContact& c) { return c.clearance < -tolerance_mm; })) {
     return {};
   }
@@ -141,8 +141,7 @@ namespace {
 /// The face sections the first contact is sought in: every point of the state (the slice
 /// centres) and, in the slice model, each pin's two face edges (z = 0 and z = B). Under
 /// misalignment a pin's gap varies linearly along the face, so its first contact lies at an edge,
-/// which the slice centres miss by B / (2 n): the backlash would depend on the slice count
-/// (issue 26).
+/// which the slice centres miss by B / (2 n): the backlash would depend on the slice count.
 std::vector<PinContact> FaceSections(const MeshModel& model, const MeshState& state) {
   std::vector<PinContact> sections = state.pins;
   if (model.slice_count() == 1) return sections;
@@ -207,7 +206,7 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKin
   // A pin whose arm is tiny closes only after a rotation far beyond any other: skip it.
   const double min_arm = 1e-9 * model.pair().pin_circle_radius;
   // Beyond a quarter tooth pitch a closing is a pin jumping teeth, not a contact (RotationWindow):
-  // the exact search stops there, and so does the linearised c / L (issue 26: a degenerate pair's
+  // the exact search stops there, and so does the linearised c / L (a degenerate pair's
   // c / L of 3 rad was reported as its backlash).
   const double window = RotationWindow(model);
   const PinContact* best_c1 = nullptr;

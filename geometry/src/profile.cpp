@@ -44,7 +44,7 @@ CycloidProfile::CycloidProfile(const PairParameters& pair, const Modification& m
   ze_ = static_cast<double>(pair_.pin_count) / d_;
   zd_ = static_cast<double>(pair_.tooth_count) / d_;
   k1_ = e_ * ze_ / R_;  // Chen eq. 12, signed (negative for d < 0)
-  // cos and sin of every tooth space's rotation, once (issue 29: Evaluate rotates four vectors).
+  // cos and sin of every tooth space's rotation, once (Evaluate rotates four vectors).
   space_cos_.resize(static_cast<std::size_t>(pair_.tooth_count));
   space_sin_.resize(static_cast<std::size_t>(pair_.tooth_count));
   for (int k = 0; k < pair_.tooth_count; ++k) {
@@ -168,8 +168,8 @@ void CycloidProfile::ComputePhiMax() {
   // polar angle starts at 0 at the root and reaches |d| pi / z_c at the lobe tip of the locus.
   // The first sign change from a uniform scan is refined by bisection to machine precision.
   // Measured from the root axis of space 0, which the rotation modification turns: the tooth's
-  // symmetry axis turns with it (before issue 12 the rotation was not taken off here, and a
-  // rotated |d| >= 2 profile got the wrong phi_max; no deck had one).
+  // symmetry axis turns with it (the rotation is taken off here: without it a rotated |d| >= 2
+  // profile gets the wrong phi_max).
   const auto polar_excess = [&](double u) {
     const Eigen::Vector2d x = Position(u, 0);
     return std::remainder(std::atan2(x.y(), x.x()) - modification_.rotation, 2.0 * kPi) - half_pitch;

@@ -63,7 +63,7 @@ RealPair::RealPair(const PairParameters& pair, const Modification& modification,
 }
 
 Eigen::Vector2d RealPair::PinCentre(int pin) const {
-  // Computed once (issue 29): every mesh state asks for every pin's centre.
+  // Computed once: every mesh state asks for every pin's centre.
   if (pin >= 0 && static_cast<std::size_t>(pin) < pin_centres_.size()) return pin_centres_[static_cast<std::size_t>(pin)];
   return ComputePinCentre(pin);
 }

@@ -1,6 +1,6 @@
 #pragma once
 // Private to ltca_solvers (no CHOLMOD header here: CHOLMOD is linked PRIVATE). The linear algebra
-// of the coupled solves (issue 11): M = D + C over all contact points, D diagonal (the laws'
+// of the coupled solves: M = D + C over all contact points, D diagonal (the laws'
 // tangent compliances, mm/N), C the coupling (LoadProblem::coupling()), factorised with CHOLMOD
 // (simplicial LDL^T) restricted to an active set: the rows and columns of inactive points are
 // replaced by the identity. A point entering or leaving the active set changes the factor by
@@ -49,7 +49,7 @@ class ActiveSetKernel {
   const Stats& stats() const { return state_.stats; }
 
  protected:
-  /// The bookkeeping both kernels share (issue 24): the active set, the diagonal, whether the
+  /// The bookkeeping both kernels share: the active set, the diagonal, whether the
   /// factor is stale (it does not hold the current D and active set), the counts.
   struct State {
     std::vector<char> active;

@@ -1,6 +1,6 @@
 #pragma once
 // Private to ltca_solvers (no CHOLMOD header here: CHOLMOD is linked PRIVATE). The coupled solves'
-// linear algebra for a coupling given in factored form (issue 11, pin bending):
+// linear algebra for a coupling given in factored form (pin bending):
 //   C = B K^-1 B^T + E,  K the beams' banded stiffness (dofs x dofs), B (points x dofs), E diagonal.
 // The Newton matrix on the active set A, M_AA = D_A + C_AA = D'_A + B_A K^-1 B_A^T with the
 // diagonal D' = D + E, is solved by Woodbury:

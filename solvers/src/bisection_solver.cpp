@@ -25,7 +25,7 @@ struct Evaluation {
   std::string failure;     // coupled only: the complementarity problem of the trial did not converge
 };
 
-// Storage reused over the trials of one solve (issue 29: no allocation per trial). The accepted
+// Storage reused over the trials of one solve (no allocation per trial). The accepted
 // trial's pins and laws are kept (swapped, so the laws' addresses stay valid): the convergence
 // check at the accepted rotation reads its torque resolution from them instead of evaluating
 // every pin at that rotation again after each overshoot (exact kinematics: a closest-point search
@@ -53,7 +53,7 @@ Evaluation Evaluate(const LoadProblem& problem, double psi, Workspace& workspace
   return {buffers.loading.torque, buffers.loading.edge, buffers.loading.saturated, {}};
 }
 
-// Coupled (issue 11): the forces at psi solve the complementarity problem w(F) + C F - delta(psi)
+// Coupled: the forces at psi solve the complementarity problem w(F) + C F - delta(psi)
 // >= 0, F >= 0, complementary (coupled_contact.hpp), started from *forces (the last accepted
 // trial's forces: a warm start).
 Evaluation EvaluateCoupled(const LoadProblem& problem, double psi, Workspace& workspace, CoupledContact& coupled,
@@ -63,7 +63,7 @@ Evaluation EvaluateCoupled(const LoadProblem& problem, double psi, Workspace& wo
   return {o.torque, o.edge, o.saturated, o.converged || o.saturated ? std::string() : o.failure};
 }
 
-// Exact kinematics (issue 29): the geometry linearised about the last trial evaluated on it, which
+// Exact kinematics: the geometry linearised about the last trial evaluated on it, which
 // decides the trials whose verdict it makes clear. About psi_e each pin's approach is
 // a_i + L_i (psi - psi_e) with the law of psi_e; the torque this predicts is exact but for what
 // turning does to the arms and the laws (first order in the step, a few 1e-4 of the change on Liu

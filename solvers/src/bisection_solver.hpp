@@ -8,7 +8,7 @@ namespace ltca::solvers {
 /// load and halving it (bisection) when it overshoots, until |T_out - T| / T <= torque_tolerance.
 /// Departures: the first step is Liu's 1/60 arcsec but steps grow (Liu keeps them fixed), and
 /// the general default tolerance is 1e-10 (the `liu2021` preset restores his 1 %).
-/// Coupled (issue 11, LoadProblem::WithCoupling): the same search over psi; the forces at each
+/// Coupled (LoadProblem::WithCoupling): the same search over psi; the forces at each
 /// trial rotation solve the coupled complementarity problem (coupled_contact.hpp) instead of
 /// following from each pin's law alone. Uncoupled problems take the published path unchanged.
 class BisectionSolver final : public LoadSolver {
@@ -18,7 +18,7 @@ class BisectionSolver final : public LoadSolver {
   bool supports_stage() const override { return true; }
 
  private:
-  /// The stage (issue 25): Liu's search on the output rotation; at each trial rotation every
+  /// The stage: Liu's search on the output rotation; at each trial rotation every
   /// disc's translation and rotation (and the shafts' deflections) balance by Newton's method.
   void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
                     Workspace& workspace, LoadResult* result) const override;

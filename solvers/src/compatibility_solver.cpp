@@ -26,7 +26,7 @@ struct Potential {
   std::exception_ptr error;  // NLopt swallows exceptions thrown in callbacks: keep and rethrow
   bool edge = false;
   std::vector<double> hints;  // warm starts of the law inversions, one per pin
-  // The last evaluation, kept (issue 29): the polish, the torque check and the answer ask for
+  // The last evaluation, kept: the polish, the torque check and the answer ask for
   // NLopt's last point again. Storage reused from one evaluation to the next.
   std::vector<LoadProblem::PinAt> pins;
   std::vector<contact::ContactLaw> scratch;
@@ -160,14 +160,14 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
                                      LoadResult* result) const {
   // Issue 4: the linearisation about the base state (psi = 0) is Jiang's problem; its solution psi_1
   // misses the exact balance by the kinematic nonlinearity only (second order in psi). From psi_1
-  // the exact torque balance M(psi) = T is closed by Newton's method on M itself (issue 29), where
+  // the exact torque balance M(psi) = T is closed by Newton's method on M itself, where
   // it was closed by re-linearising about each psi_k and minimising the new potential with NLopt
   // (4 to 5 linearisations a position on Liu Table 1, each 40 laws and a whole NLopt run). The
   // fixed point is the same: M(psi) = T on the exact geometry, judged by the same rule.
   SolverOptions inner = options;
   // The linearisation about psi_k matches the exact torque at psi_k only: solve it to a quarter of
   // the tolerance, so that the exact torque at the settled rotation meets the tolerance itself
-  // (at the requested 1e-10 one d = 3 position ended 1.01e-10 off, issue 10).
+  // (at the requested 1e-10 one d = 3 position ended 1.01e-10 off).
   inner.torque_tolerance = 0.25 * options.torque_tolerance;
   int evaluations = 0, linearisations = 0;
   // Jiang's minimisation on the linearisation about the exact state at psi (its pins searched and
@@ -188,7 +188,7 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
     evaluations += step.torque_evaluations;
     // Where double precision cannot refine to a quarter of the tolerance (the polish bracket
     // collapses: cases/hard/inflection_pin.toml at crank 23.166345849916095 deg stopped 2.5e-11
-    // off, issue 10) but the requested tolerance holds, the step is usable: the exact verdict decides.
+    // off) but the requested tolerance holds, the step is usable: the exact verdict decides.
     const bool refined_enough = step.status == SolverStatus::kNumericalFailure && std::isfinite(step.rotation) &&
                                 linear.Balanced(step.rotation, linear.OutputTorque(step.rotation, workspace),
                                                 options.torque_tolerance, workspace);

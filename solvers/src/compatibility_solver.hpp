@@ -15,7 +15,7 @@ namespace ltca::solvers {
 /// exact derivative (the torque mismatch), derivative-free ones only Pi. Exact kinematics
 /// minimises Pi of the linearisation about the unloaded pose, then closes the exact torque balance
 /// by Newton's method from there (SolveExact; docs/solvers.md).
-/// Coupled (issue 11, LoadProblem::WithCoupling): compatibility w_i(F_i) + (C F)_i = delta_i(psi)
+/// Coupled (LoadProblem::WithCoupling): compatibility w_i(F_i) + (C F)_i = delta_i(psi)
 /// on the loaded points and the torque balance, solved by Newton on (psi, F) over the active set
 /// (the bordered matrix [D + C_AA, -L_A; L_A^T, 0], Schur complement on psi; coupled_contact.hpp);
 /// exact kinematics re-linearises about each new psi until the exact torque balances. Uncoupled
@@ -27,7 +27,7 @@ class CompatibilitySolver final : public LoadSolver {
   bool supports_stage() const override { return true; }
 
  private:
-  /// The stage (issue 25): Newton's method with an active set over the poses (the contacts that
+  /// The stage: Newton's method with an active set over the poses (the contacts that
   /// carry load at each iterate), damped to a trust region (StageSystem::Minimise).
   void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
                     Workspace& workspace, LoadResult* result) const override;

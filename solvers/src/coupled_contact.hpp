@@ -1,5 +1,5 @@
 #pragma once
-// Private to ltca_solvers: the coupled contact problem of one crank position (issue 11), shared by
+// Private to ltca_solvers: the coupled contact problem of one crank position, shared by
 // the coupled paths of `bisection` and `compatibility`. With the coupling C (LoadProblem::coupling)
 // the deformed gap of point i is g_i = w_i(F_i) + (C F)_i - delta_i, and
 //   at a given rotation (one bisection trial, Liu 2021):  F >= 0, g >= 0, F g = 0;

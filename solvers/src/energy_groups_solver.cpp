@@ -45,8 +45,8 @@ struct GroupSolution {
 };
 
 // Every member tooth in contact: solve sum_{G} F_i(approach_i(psi)) L_i = T by bisection on psi
-// (the left side is non-decreasing), then check feasibility. A tooth is a pin with its slices
-// (issue 11): the slices of a member carry the force of their law (none where the slice is open:
+// (the left side is non-decreasing), then check feasibility. A tooth is a pin with its slices:
+// the slices of a member carry the force of their law (none where the slice is open:
 // complementary by construction), and a member must have a pressed slice.
 GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& group, int pins, double torque,
                          double tolerance) {
@@ -96,7 +96,7 @@ GroupSolution SolveGroup(const Linearised& lin, const std::vector<std::size_t>& 
   return s;
 }
 
-// Coupled (issue 11, pin bending): the group's points, and the pressed points of non-positive arm,
+// Coupled (pin bending): the group's points, and the pressed points of non-positive arm,
 // are the only ones allowed to carry force; among them the coupled complementarity problem with
 // the torque balance is solved (CoupledContact::ForTorque, the compatibility backend's kernel:
 // members may open, as the slices of a member do uncoupled). Feasible when it converges, every
@@ -147,7 +147,7 @@ GroupSolution SolveGroupCoupled(const Linearised& lin, const std::vector<std::si
 void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                                  LoadResult* result) const {
   const int n = problem.point_count();
-  // A tooth: a pin with its slices, of one disc (two discs, issue 13: tooth = disc z_p + pin).
+  // A tooth: a pin with its slices, of one disc (two discs: tooth = disc z_p + pin).
   const int pins_per_disc = problem.model().pin_count();
   const int teeth = pins_per_disc * problem.disc_count();
   const auto& points = problem.base_state().pins;

@@ -22,7 +22,7 @@ class EnergyGroupsSolver final : public LoadSolver {
  public:
   static constexpr int kMaxGroups = 5000;
   std::string name() const override { return "energy-groups"; }
-  /// Coupled (pin bending, issue 11): each group's coupled problem is solved by the
+  /// Coupled (pin bending): each group's coupled problem is solved by the
   /// compatibility backend's kernel (docs/solvers.md).
   bool supports_coupling() const override { return true; }
 

@@ -195,7 +195,7 @@ class EnergyNlp final : public Ipopt::TNLP {
       if (values == nullptr) {
         row[i] = col[i] = i;
       } else {
-        // dw/dF at F directly (issue 29: was 1 / Stiffness(Approach(F)), which inverted the law
+        // dw/dF at F directly (was 1 / Stiffness(Approach(F)), which inverted the law
         // again for every pin at every Hessian); 1e300 where the law has no finite compliance.
         const double compliance = sub_->law[static_cast<std::size_t>(i)]->Compliance(x[i]);
         values[i] = obj_factor * (compliance > 0.0 && compliance < 1e300 ? compliance : 1e300);
@@ -327,7 +327,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   app->Options()->SetStringValue("mu_strategy", "monotone");
   app->Options()->SetNumericValue("warm_start_bound_push", 1e-9);
   app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-9);
-  // The torque balance is linear in the forces (issue 29): its Jacobian is evaluated once. The
+  // The torque balance is linear in the forces: its Jacobian is evaluated once. The
   // objective is not quadratic (the log law), so hessian_constant and mehrotra_algorithm do not apply.
   app->Options()->SetStringValue("jac_c_constant", "yes");
   // Issue 29: no iterative refinement unless the residual asks for it (Ipopt's default does one
@@ -401,7 +401,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     // it is (the deflection beyond first contact is alike from position to position). The outer
     // loop of exact kinematics moves the linearisation point: a start from a solution at rotation
     // psi_s about the point psi has the multiplier -(psi_s - psi), which is about 0 between the
-    // re-linearisations of one position (issue 29: unshifted, it was a poor start, and every
+    // re-linearisations of one position (unshifted, it was a poor start, and every
     // re-linearisation started cold).
     // Not across a change of flank (ltca stiffness turns the torque through zero): the other half of
     // the pins carried the previous load, and Ipopt started from it failed (status 3, the shared
@@ -475,7 +475,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
 
 namespace {
 
-// The stage (issue 25) as Ipopt sees it: the total potential energy Pi(q) over the stage's dofs,
+// The stage as Ipopt sees it: the total potential energy Pi(q) over the stage's dofs,
 // unconstrained (m = 0), with the exact gradient and Hessian (lower triangle, dense: a dozen dofs).
 class StageNlp final : public Ipopt::TNLP {
  public:

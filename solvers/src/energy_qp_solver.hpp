@@ -24,7 +24,7 @@ class EnergyQpSolver final : public LoadSolver {
   bool supports_stage() const override { return true; }
 
  private:
-  /// The stage (issue 25): Li's minimum-energy principle extended to the stage, the total
+  /// The stage: Li's minimum-energy principle extended to the stage, the total
   /// potential energy over the poses and the output rotation, one convex program in Ipopt.
   void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
                     Workspace& workspace, LoadResult* result) const override;

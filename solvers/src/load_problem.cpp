@@ -283,7 +283,7 @@ LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<doub
 
 LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
   if (second_ != nullptr && coupling.matrix != nullptr) {
-    throw std::invalid_argument("LoadProblem coupling: not supported for two discs (issue 13): pin bending couples one disc's points only");
+    throw std::invalid_argument("LoadProblem coupling: not supported for two discs: pin bending couples one disc's points only");
   }
   if (coupling.points != point_count()) {
     throw std::invalid_argument(fmt::format("LoadProblem coupling: checked for {} points, the problem has {}",

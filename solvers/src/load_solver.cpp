@@ -16,7 +16,7 @@ namespace ltca::solvers {
 namespace {
 
 // The residual cannot tell a rotation whole tooth pitches off (the exact geometry repeats every
-// pitch), so a success must also lie where the physical answer lies (issue 10):
+// pitch), so a success must also lie where the physical answer lies:
 // first contact <= psi <= single-pin bound, and |psi| within a quarter tooth pitch. The range is
 // met to the torque tolerance; under exact kinematics the single-pin bound is a first-order
 // estimate, allowed 5 % of the range. Both ends lie within a quarter pitch of the linearised
@@ -179,12 +179,12 @@ void LoadSolver::DoSolveStage(const LoadProblem&, const StageSystem&, const Solv
   result->message = fmt::format("solver \"{}\" does not solve the reducer stage", name());
 }
 
-// The shared part of a stage solve (issue 25): the refusals, the zero torque, the backend, and the
+// The shared part of a stage solve: the refusals, the zero torque, the backend, and the
 // judge of every balance (StageSystem::Judge). No range judge: the output rotation includes the
 // mechanism's and the bearings' compliance, which the pin ring's single-pin bound does not see.
 Eigen::VectorXd LoadSolver::SolveStageExact(const LoadProblem& problem, const StageSystem& nominal,
                                             const SolverOptions& options, Workspace& workspace, LoadResult* result) const {
-  // Exact kinematics (issue 25, docs/stage.md): the stage linearised about the poses of the last
+  // Exact kinematics (docs/stage.md): the stage linearised about the poses of the last
   // iterate, every element re-evaluated where the discs and the output member are, solved by the
   // backend; repeated until an iterate moves no coordinate by more than 1e-12 of the largest
   // (rotations times R_p) or than the geometry's resolution, a Newton iteration on the geometry.

@@ -144,7 +144,7 @@ void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origi
     force_scale_ = CoupledForceScale(problem);
   }
   if (coupling_ != nullptr && coupled_ != nullptr) {
-    // Pin bending (issue 11): C couples the points of one pin's beam. Its blocks are the connected
+    // Pin bending: C couples the points of one pin's beam. Its blocks are the connected
     // sets of its non-zeros (one pin's slices), each kept dense for the Hessian's condensation;
     // only a system that evaluates needs them (a judge's system has no coupled solver).
     std::vector<int> parent(static_cast<std::size_t>(mesh_points_));
@@ -364,7 +364,7 @@ StageSystem::CoupledForces StageSystem::SolveCoupled(const std::vector<double>& 
                                                     o.failure.empty() ? "did not converge" : o.failure)};
 }
 
-// Pin bending in the stage (issue 25 with issue 11's coupling). The deformed gap of pin-ring point
+// Pin bending in the stage (the stage with the pin-bending coupling). The deformed gap of pin-ring point
 // i is w_i(F_i) + (C F)_i - delta_i(q), with delta_i = row_i . q - gap_i its approach under the
 // poses. The pin ring's energy at q is the condensed one,
 //   E(delta) = max over F >= 0 of  F . delta - sum_i W*_i(F_i) - F^T C F / 2,

@@ -1,5 +1,5 @@
 #pragma once
-// The reducer stage of a load problem (issue 25, ltca/solvers/stage.hpp) assembled at its crank
+// The reducer stage of a load problem (ltca/solvers/stage.hpp) assembled at its crank
 // under linearised kinematics: every element's gap affine in the unknowns, its convex energy, and
 // the total potential energy Pi(q) = sum_e E_e(q) - T psi with its gradient and Hessian. Shared by
 // the backends that solve the stage and by the judge.
@@ -36,7 +36,7 @@ class StageSystem {
   /// The stage at its nominal poses (linearised kinematics). Throws std::invalid_argument when the
   /// problem has no stage.
   ///
-  /// With pin bending (the problem's coupling, issue 11) the pin-ring points of one pin share its
+  /// With pin bending (the problem's coupling) the pin-ring points of one pin share its
   /// beam: `coupled` solves their contact problem at each evaluation (CoupledContactFor, kept in
   /// the workspace); a system without it can judge (Judge) but not evaluate.
   explicit StageSystem(const LoadProblem& problem, CoupledContact* coupled = nullptr);

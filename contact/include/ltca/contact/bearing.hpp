@@ -1,5 +1,5 @@
 #pragma once
-// Rolling bearings of the reducer stage (issue 25): the eccentric bearing of a cycloidal drive,
+// Rolling bearings of the reducer stage: the eccentric bearing of a cycloidal drive,
 // or the needle bearing of an RV crankshaft in the disc's crank hole, as a force element between
 // an inner member (the eccentric) and an outer one (the disc's bore).
 //

@@ -1,5 +1,5 @@
 #pragma once
-// The crankshafts of an RV stage (issue 25; docs/stage.md): `count` crankshafts on the output
+// The crankshafts of an RV stage (docs/stage.md): `count` crankshafts on the output
 // member (the carrier) at radius R_c, crank j at alpha_j = 2 pi j / count + phase in the carrier's
 // frame (from +X at crank 0). Each crankshaft's eccentric sits in a crank hole of the disc, through
 // a needle bearing (contact/bearing.hpp), with the shaft's own radial compliance at the eccentric
@@ -62,7 +62,7 @@ struct CrankContact {
 /// the crank holes) and the carrier turned by `output_rotation` (rad, about the pin-circle centre).
 std::vector<CrankContact> EvaluateCranks(const Cranks& cranks, const geometry::Pose& disc, double output_rotation);
 /// The same with the eccentrics' offset from their crank centres given apart from the disc's
-/// centre (fixed frame, mm): a disc moved off its eccentrics under load (issue 25, exact
+/// centre (fixed frame, mm): a disc moved off its eccentrics under load (exact
 /// kinematics). The output gradient's eccentric term is k perp(eccentric).
 std::vector<CrankContact> EvaluateCranks(const Cranks& cranks, const geometry::Pose& disc, double output_rotation,
                                          const Eigen::Vector2d& eccentric);

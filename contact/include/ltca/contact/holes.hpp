@@ -1,5 +1,5 @@
 #pragma once
-// The holes of a disc's output mechanism (issue 25; docs/stage.md "Hole position errors"): the
+// The holes of a disc's output mechanism (docs/stage.md "Hole position errors"): the
 // holes of the output pins, or the crank holes, element j nominally at R (cos alpha_j,
 // sin alpha_j) in the disc's body frame. A hole as made is displaced from there by its position
 // deviation (radial dr_j along (cos alpha_j, sin alpha_j), tangential dt_j along

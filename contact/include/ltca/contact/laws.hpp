@@ -18,7 +18,7 @@
 //              Valid while a < min(|rho_c|, r).
 //  linear      F = k B delta, k in N/mm^2 (per mm of contact length): closed-form checks.
 //
-// A pin seat (PinSeat, issue 25; docs/stage.md "Pin seats") adds the compliance of the pin's seat
+// A pin seat (PinSeat; docs/stage.md "Pin seats") adds the compliance of the pin's seat
 // in its housing groove in series: the approach at a force is the contact's plus the seat's,
 // delta(F) = delta_contact(F) + delta_seat(F), one law per contact point (each slice of the face
 // width seated on its own length of groove, as each slice carries its own contact). A linear seat

@@ -28,12 +28,12 @@ namespace ltca::contact {
 
 /// One contact point at one pose: a pin in one face-width slice. The plane model has one slice
 /// over the whole face width, so there is one point per pin and the point index is the pin
-/// index; the slice model (issue 11) has a point per pin and slice, pin-major: point index
+/// index; the slice model has a point per pin and slice, pin-major: point index
 /// pin * slice_count + slice.
 struct PinContact {
   int pin = 0;                    ///< 0-based index (printed + 1).
   int slice = 0;                  ///< 0-based face-width slice (0: the plane model's only one).
-  /// 0-based cycloid disc of the stage (issue 13): 0 for a single disc and for the first of two;
+  /// 0-based cycloid disc of the stage: 0 for a single disc and for the first of two;
   /// 1 for the second disc of an RV stage, half a crank turn behind (EvaluateTwoDiscs).
   int disc = 0;
   double length = 0.0;            ///< contact length of this point along the face width, mm.
@@ -68,7 +68,7 @@ struct MeshState {
 /// The pair as the contact layer sees it: profile (with modifications and the profile layer),
 /// pins (with their errors), kinematics (with the assembly errors), and the face-width slices.
 ///
-/// Model only what the scene needs (issue 11): the slice model (width_slices slices of width
+/// Model only what the scene needs: the slice model (width_slices slices of width
 /// B / n, slice k a plane state at z_k = (k + 1/2) B / n from face B) runs when something varies
 /// along the width (misalignment, lead crowning or slope) or when something couples the slices
 /// (pin bending: `coupled_along_width`); otherwise the plane model runs, one slice over the whole
@@ -119,7 +119,7 @@ class MeshModel {
   /// same point at a nearby pose) instead of the meshing equation: fewer Newton steps.
   PinContact EvaluatePoint(const PinContact& near, double crank, double loaded_rotation) const;
   /// The same with the disc's centre moved by `centre_shift` (fixed frame, mm) from its pose at the
-  /// crank: a reducer stage's floating disc under load (issue 25, exact kinematics). The arm is
+  /// crank: a reducer stage's floating disc under load (exact kinematics). The arm is
   /// about the moved centre.
   PinContact EvaluatePoint(const PinContact& near, double crank, double loaded_rotation,
                            const Eigen::Vector2d& centre_shift) const;
@@ -130,7 +130,7 @@ class MeshModel {
   PinContact EvaluatePointInFrame(const PinContact& near, const geometry::PoseFrame& frame, double angle) const;
   /// Exact state of a pin in the face section at axial position z from face B (mm, in [0, B]),
   /// which need not be a slice centre: the unloaded analysis looks at the face edges too, where
-  /// a gap that varies linearly along the width (misalignment) is smallest (issue 26). The point
+  /// a gap that varies linearly along the width (misalignment) is smallest. The point
   /// is labelled with the slice that contains z (its length is that slice's).
   PinContact EvaluateSection(int pin, double z, double crank, double loaded_rotation = 0.0) const;
   /// The same with the slice label given (EvaluatePoint is the section at the slice's centre).
@@ -155,10 +155,10 @@ class MeshModel {
   double interference_tolerance_ = 1e-9;  // mm
 };
 
-/// The second disc of an RV stage sits on the crank half a turn from the first (issue 13).
+/// The second disc of an RV stage sits on the crank half a turn from the first.
 inline constexpr double kSecondDiscCrankOffset = 3.14159265358979323846;
 
-/// The two discs of an RV stage on one pin ring at crank theta_f (issue 13): every contact point
+/// The two discs of an RV stage on one pin ring at crank theta_f: every contact point
 /// of `first` at theta_f, then every point of `second` at theta_f + kSecondDiscCrankOffset with
 /// disc = 1, both at loaded rotation psi (the one output rotation they share). Throws
 /// std::invalid_argument unless both models have the same pin ring (pin count, pin-circle radius,
@@ -176,7 +176,7 @@ MeshState CombineTwoDiscs(MeshState first, MeshState behind);
 /// curvature, pin radius and length, to 1e-9 (mm, rad, relative for the curvature). The states
 /// of a sweep's first and last crank are one mesh when the sweep closes a period: a whole crank
 /// turn, or a mesh period of a pair whose errors keep that symmetry. A mean over such a sweep
-/// weights that state once (issue 26).
+/// weights that state once.
 bool SameMesh(const MeshState& a, const MeshState& b);
 
 /// Linearised approach of a pin at loaded rotation psi: L_i psi - c_i (mm).

@@ -1,5 +1,5 @@
 #pragma once
-// The output pins of a cycloidal drive, the W mechanism (issue 25; docs/stage.md): `count` pins of
+// The output pins of a cycloidal drive, the W mechanism (docs/stage.md): `count` pins of
 // radius r_w on the output member at radius R_w, each in a hole of radius r_h of the disc. Pin j
 // sits at alpha_j = 2 pi j / count + phase in the output member's frame (from +X at crank 0); its
 // hole sits at the same place in the disc's body frame. At the nominal poses (the output member
@@ -52,7 +52,7 @@ struct OutputPinContact {
   double output_arm = 0.0;
 };
 
-/// The law of an output pin in its hole (issue 46): a conformal line contact, the pin of radius
+/// The law of an output pin in its hole: a conformal line contact, the pin of radius
 /// r_w inside the hole's concave radius r_h, 1/rho* = 1/r_w - 1/r_h (Johnson, Contact Mechanics,
 /// 1985, section 4.1: a concave surface's radius of curvature is negative in the relative
 /// curvature 1/R = 1/R_1 + 1/R_2; section 4.2(b) for the cylinders' line contact). Under either

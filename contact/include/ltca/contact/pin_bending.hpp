@@ -1,5 +1,5 @@
 #pragma once
-// Pin bending (issue 11): every pin is a Timoshenko beam of solid circular section (radius r_p,
+// Pin bending: every pin is a Timoshenko beam of solid circular section (radius r_p,
 // the pin radius) between its two supports in the pin housing, loaded by its contact slices over
 // the cycloid's face width. Its compliance couples the slices of one pin: the deflection of slice
 // i is sum_j C_ij F_j (mm), C the slice compliance of the pin (mm/N), which enters the contact
@@ -14,7 +14,7 @@
 // stiffness, see Deflection()).
 //
 // Axial positions x are measured from the first support; the cycloid's face B starts at
-// face_offset, and slice k of n (issue 11's slice model, pin-major point order
+// face_offset, and slice k of n (the slice model, pin-major point order
 // pin * n + slice) occupies [face_offset + k B / n, face_offset + (k + 1) B / n].
 //
 // Direction: the slice forces of one pin are taken to act along one direction. The normals of
@@ -80,7 +80,7 @@ class PinBeam {
   /// std::invalid_argument for face_width <= 0, n_slices < 1, or face_offset + face_width > span.
   Eigen::MatrixXd SliceCompliance(double face_width, int n_slices) const;
 
-  /// The same compliance in factored form (issue 11, the linear-cost coupled solves):
+  /// The same compliance in factored form (the linear-cost coupled solves):
   /// SliceCompliance = loads K^-1 loads^T + diag(local), exactly. K (`stiffness`) is the banded
   /// finite-element stiffness of the pin with Przemieniecki's two-node Timoshenko element (exact at
   /// the nodes), nodes at the supports, face B, every slice boundary and the far face (coinciding

@@ -1,5 +1,5 @@
 #pragma once
-// Sliding, rolling and friction at one pin-cycloid contact (issue 14, docs/efficiency.md):
+// Sliding, rolling and friction at one pin-cycloid contact (docs/efficiency.md):
 //  - the kinematics of sliding (Jiang 2022 eq. 13-14): the relative velocity of the cycloid and
 //    the pin at the contact point, the speed of the contact point over each surface and the
 //    entrainment (mean rolling) speed, from the pose's rate of change and the curvatures;

@@ -40,7 +40,7 @@ struct UnloadedContact {
 /// the cycloid about its centre frees them all (linearised about the pose; a pin whose arm
 /// vanishes cannot be freed). Returns the overlapping pins (InterferenceReport), or empty when
 /// the pair fits. A pin that overlaps at the theoretical position while a rotation frees it (a
-/// pitch or position error of that pin, issue 11) is no interference: the unloaded cycloid just
+/// pitch or position error of that pin) is no interference: the unloaded cycloid just
 /// sits elsewhere, and the load solves start from its first contact.
 std::string JamReport(const MeshState& state, double tolerance_mm);
 
@@ -60,7 +60,7 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank,
 
 /// The unloaded TCA over a sweep of crank angles, with the mean and peak-to-peak backlash (rad).
 /// A sweep whose last crank repeats the state of its first (SameMesh: a closed period) weights
-/// that state once in the mean (issue 26).
+/// that state once in the mean.
 struct UnloadedSweep {
   std::vector<UnloadedContact> positions;
   double mean_backlash = 0.0;

@@ -1,5 +1,5 @@
 #pragma once
-// Manufacturing and assembly errors (the [errors] section, issue 11): what Liu 2021 section 2
+// Manufacturing and assembly errors (the [errors] section): what Liu 2021 section 2
 // (eq. 4-7) puts on the error tooth surfaces. Signs and figures: docs/conventions.md.
 #include <optional>
 #include <string>

@@ -45,7 +45,7 @@ struct Modification {
   double rotation = 0.0;           ///< angle-rotation modification, rad: a rigid rotation of the
                                    ///< whole generated profile, counterclockwise in the body frame.
 
-  TipRelief tip_relief;            ///< of the generated profile (issue 12); not a generating change.
+  TipRelief tip_relief;            ///< of the generated profile; not a generating change.
 
   /// No generating modification (dR_rp, dR_p, rotation); the tip relief is not one.
   bool IsZero() const { return pin_radius == 0.0 && pin_circle_radius == 0.0 && rotation == 0.0; }

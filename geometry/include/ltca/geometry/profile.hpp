@@ -68,7 +68,7 @@ class CycloidProfile {
   bool has_tip_corners() const {
     return tip_cap_.active() ? tip_cap_.relief().rounding_radius == 0.0 : std::abs(d_) >= 2;
   }
-  /// The relieved tips ([modification] tip_truncation_mm, tip_rounding_radius_mm; issue 12):
+  /// The relieved tips ([modification] tip_truncation_mm, tip_rounding_radius_mm):
   /// inactive without a relief. With one, the flank of every space runs over
   /// |u| <= tip_cap().junction() and the cap replaces the rest. phi_max, the contact ratio and the
   /// curvature extremes stay those of the flank (Chen's checks).

@@ -1,9 +1,9 @@
 #pragma once
 // The pair as made: the nominal pair with its profile modification and its manufacturing and
-// assembly errors applied, once, here (issue 9). Every consumer (the contact layer, `ltca
+// assembly errors applied, once, here. Every consumer (the contact layer, `ltca
 // geometry` and its drawing, validation) builds this one object, so that none of them sees a
 // different pair. Liu 2021 eq. 1 (modification), eq. 4-5 (manufacturing errors), eq. 6-7
-// (assembly errors; issue 11: per-pin radius and position, lead crowning and slope, centre offset,
+// (assembly errors: per-pin radius and position, lead crowning and slope, centre offset,
 // eccentricity deviation, misalignment).
 #include <vector>
 

@@ -1,5 +1,5 @@
 #pragma once
-// The relieved tooth tip (issue 12): what replaces the sharp tip corner of a |d| >= 2 profile
+// The relieved tooth tip: what replaces the sharp tip corner of a |d| >= 2 profile
 // (Chen 2008 section 2.2 leaves the addendum open) or cuts back the smooth tip of a |d| = 1 one.
 //
 // Local frame of tip k, for d > 0 between tooth space k at u = +phi_max and space k + 1 at

@@ -3,7 +3,7 @@
 // that judges every solver's answer (torque balance plus complementarity of gap and force).
 //
 // Unknowns: the loaded rotation psi (in the direction of the torque) and the pin forces F_i.
-// The torque is signed (issue 9): its sign picks the flank. T >= 0 turns the cycloid in the
+// The torque is signed: its sign picks the flank. T >= 0 turns the cycloid in the
 // model's load direction (docs/conventions.md) and loads the drive flank; T < 0 turns it the other
 // way and loads the coast flank. The problem works in the frame of its torque: psi >= 0 turns
 // toward the loaded flank, every arm L_i is signed so that L_i > 0 closes a gap in that frame,
@@ -11,7 +11,7 @@
 // approach delta_i(psi) (exact or linearised, contact/mesh_state.hpp) and the law's deflection
 // w_i(F) = law_i.Approach(F), the deformed gap is g_i = w_i(F_i) - delta_i(psi), and a solution has
 //   F_i >= 0,  g_i >= 0,  F_i g_i = 0,  sum_i F_i L_i(psi) = T.
-// With a compliance coupling C (issue 9 item 2, WithCoupling) the deflection of pin i is
+// With a compliance coupling C (WithCoupling) the deflection of pin i is
 // w_i(F_i) + (C F)_i: g_i = w_i(F_i) + (C F)_i - delta_i(psi).
 #include <cstdint>
 #include <limits>
@@ -53,7 +53,7 @@ class LoadProblem {
   LoadProblem(ModelPtr model, contact::MeshState evaluated, const contact::ContactSettings& contact,
               const contact::Material& material, double torque, contact::ContactKinematics kinematics);
 
-  /// Two discs of an RV stage on one pin ring (issue 13): `first` at the crank and `second` at
+  /// Two discs of an RV stage on one pin ring: `first` at the crank and `second` at
   /// crank + pi (contact::EvaluateTwoDiscs), turned by one output rotation psi, so that the sum
   /// over both discs' points of F_i L_i balances T = T_1 + T_2. The points are the first disc's,
   /// then the second's (PinContact::disc = 1); the split T_1 : T_2 is a result (DiscTorques). No
@@ -78,7 +78,7 @@ class LoadProblem {
   /// already signed for this frame (compatibility's re-linearisation): the same discs.
   LoadProblem LinearisedOn(contact::MeshState state) const;
   /// This problem under linearised kinematics about its base state: what LinearisedOn(base_state())
-  /// gives, with the base laws copied instead of built again (issue 29). Uncoupled problems only.
+  /// gives, with the base laws copied instead of built again. Uncoupled problems only.
   LoadProblem Linearised() const;
   /// Per disc, the torque its points carry at rotation psi, sum F_i L_i(psi), N*mm, signed as T
   /// (T_1 + T_2 = T at a balanced solution).
@@ -98,7 +98,7 @@ class LoadProblem {
   /// the arm signed for this frame.
   contact::PinContact EvaluatePin(const contact::PinContact& near, double psi) const;
   /// The same with the point's disc rotated by phi (this problem's frame) and its centre moved by
-  /// `centre_shift` (fixed frame, mm): a reducer stage's floating disc (issue 25, exact kinematics).
+  /// `centre_shift` (fixed frame, mm): a reducer stage's floating disc (exact kinematics).
   contact::PinContact EvaluatePin(const contact::PinContact& near, double phi, const Eigen::Vector2d& centre_shift) const;
   /// The contact law of a point (as the problem's own: its curvature, pin radius and length); the
   /// point must not be an edge point.
@@ -114,7 +114,7 @@ class LoadProblem {
   double log_radius_cap() const { return log_radius_cap_; }
   const contact::Material& material() const { return material_; }
 
-  /// Coupled compliance (issue 9 item 2): the deflection of pin i is its law's w_i(F_i) plus
+  /// Coupled compliance: the deflection of pin i is its law's w_i(F_i) plus
   /// (C F)_i, C a sparse symmetric positive semidefinite n x n matrix over the pins, mm/N (e.g. pin
   /// bending, where one pin's force moves its neighbours). Returns a copy of this problem with C
   /// (the same model, state, laws and id). A 0 x 0 matrix, or one without a non-zero entry,
@@ -130,7 +130,7 @@ class LoadProblem {
   /// A coupling checked once as WithCoupling checks it, to be shared by the problems of one point
   /// layout (a sweep: pin bending's matrix does not change with the crank). The matrix is nullptr
   /// for no coupling.
-  /// The coupling in factored form (issue 11, pin bending): C = loads K^-1 loads^T + diag(local)
+  /// The coupling in factored form (pin bending): C = loads K^-1 loads^T + diag(local)
   /// exactly, K sparse symmetric positive definite (banded per pin), loads points x dofs. With it
   /// the coupled solves of `bisection` and `compatibility` work in O(points) per Newton step
   /// (Woodbury on the active set, CHOLMOD on K + B_A^T (D + E)_A^-1 B_A); everything else uses
@@ -171,7 +171,7 @@ class LoadProblem {
     return kinematics_ == contact::ContactKinematics::kLinearised && coupling_ == nullptr && stage_ == nullptr;
   }
 
-  /// The reducer stage (issue 25, ltca/solvers/stage.hpp): a copy of this problem whose discs
+  /// The reducer stage (ltca/solvers/stage.hpp): a copy of this problem whose discs
   /// float on their bearings and drive the output member through the stage's output elements, T
   /// on the output member. Validates the settings against the pair (std::invalid_argument naming
   /// the key); nullptr: no stage (the mesh alone, the disc centres fixed).
@@ -257,7 +257,7 @@ class LoadProblem {
   /// (analysis::StiffnessRunner solves it).
   double FirstContactRotation() const;
 
-  /// Where the loaded rotation must lie (the shared judge's range check, issue 10):
+  /// Where the loaded rotation must lie (the shared judge's range check):
   /// first contact <= psi <= the rotation at which any single pin alone would carry the whole
   /// torque (more loaded pins only turn the cycloid less): min over pins of the closing rotation
   /// plus w(T / L) / L (rigorous for linearised kinematics, first order in the deformation for
@@ -353,7 +353,7 @@ struct Residuals {
   double force_violation_n = 0.0;   ///< max(0, -F_i), N
   double gap_violation_mm = 0.0;    ///< max(0, -g_i), mm
   double complementarity_nmm = 0.0; ///< max |F_i g_i|, N*mm
-  /// A stage (issue 25): the largest imbalance of a disc's forces (over the largest element force)
+  /// A stage: the largest imbalance of a disc's forces (over the largest element force)
   /// or of a moment (each disc's, the output member's, over T); 0 for the mesh alone.
   double balance_relative = 0.0;
   /// One normalised number: the torque residual, and the others scaled by the largest force and

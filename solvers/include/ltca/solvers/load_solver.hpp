@@ -88,7 +88,7 @@ struct LoadResult {
   /// stands for (contact stress above [material] contact_stress_limit_mpa, a Hertz half-width
   /// beyond valid_half_width()): the numbers are solved, but say so. Empty otherwise.
   std::vector<std::string> warnings;
-  /// A stage problem's poses, output-element and bearing forces (issue 25); empty for the mesh alone.
+  /// A stage problem's poses, output-element and bearing forces; empty for the mesh alone.
   std::optional<StageSolution> stage;
 };
 
@@ -97,7 +97,7 @@ struct LoadResult {
 Residuals ComputeResiduals(const LoadProblem& problem, const LoadResult& result);
 
 /// LoadSolver::Solve calls in this process so far, over every solver and thread (a relaxed atomic
-/// counter): shows that something, e.g. reading a deck, runs no load solve (issue 24).
+/// counter): shows that something, e.g. reading a deck, runs no load solve.
 std::uint64_t SolveCallCount();
 
 class LoadSolver {

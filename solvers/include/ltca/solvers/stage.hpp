@@ -1,5 +1,5 @@
 #pragma once
-// The reducer stage of issue 25 (docs/stage.md): each disc floats on its eccentric bearing (a
+// The reducer stage (docs/stage.md): each disc floats on its eccentric bearing (a
 // cycloidal drive) or on the needle bearings of its crankshafts (an RV stage), and drives the
 // output member through output pins in holes or through the crankshafts. A load problem with a
 // stage (LoadProblem::WithStage) has these unknowns besides the pin-ring forces: per disc the
