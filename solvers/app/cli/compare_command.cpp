@@ -2,6 +2,7 @@
 
 #include "command.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 

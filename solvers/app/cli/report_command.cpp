@@ -613,8 +613,8 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     const auto [value, basis] = nominal(key);
     html += AllowableRow(Label(key), key, value, nan, nan, basis);
   }
-  if (stiff) {  // the loop's figures at crank 0 (arcmin; N*m/arcmin = N*mm/rad * 1e-3 / (rad per arcmin))
-    const double rigidity = units::NmmToNm(stiff->summary.rigidity.mean) / units::RadToArcmin(1.0);
+  if (stiff) {  // the loop's figures at crank 0, in the units of its JSON (arcmin, N*m/arcmin)
+    const double rigidity = documents::RigidityNmPerArcmin(stiff->summary.rigidity.mean);
     for (const auto& [key, value] : {std::pair{std::string("lost_motion_arcmin"), units::RadToArcmin(stiff->summary.lost_motion.mean)},
                                      std::pair{std::string("torsional_rigidity_nm_per_arcmin"), rigidity}}) {
       if (!listed(key)) html += AllowableRow(Label(key), key, Finite(value), nan, nan, "ltca stiffness, crank 0");

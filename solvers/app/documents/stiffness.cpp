@@ -16,8 +16,6 @@ using units::NmmToNm;
 using units::RadToArcmin;
 using units::RadToDeg;
 
-/// N*mm/rad to N*m/arcmin.
-double RigidityNmPerArcmin(double nmm_per_rad) { return NmmToNm(nmm_per_rad) / RadToArcmin(1.0); }
 /// N*mm*rad (the loop's work per cycle) to J.
 double NmmRadToJ(double nmm_rad) { return NmmToNm(nmm_rad); }
 double Arcmin(double rad) { return RadToArcmin(rad); }
@@ -69,6 +67,8 @@ std::string When(const Deck& deck, const analysis::StiffnessSettings& settings) 
 }
 
 }  // namespace
+
+double RigidityNmPerArcmin(double nmm_per_rad) { return NmmToNm(nmm_per_rad) / RadToArcmin(1.0); }
 
 std::string StiffnessScope(const Deck& deck) {
   std::string scope = deck.reducer ? kStageScope : kScope;

@@ -16,6 +16,9 @@
 
 namespace ltca::app::documents {
 
+/// A rigidity in the documents' unit: N*mm/rad to N*m/arcmin.
+double RigidityNmPerArcmin(double nmm_per_rad);
+
 /// What the figures cover: the mesh alone or the reducer stage ([output]), and the pins' seats
 /// when the deck seats them.
 std::string StiffnessScope(const Deck& deck);
