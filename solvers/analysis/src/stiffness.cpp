@@ -640,4 +640,27 @@ StiffnessSummary StiffnessRunner::Summary() const {
   return s;
 }
 
+StiffnessResult StiffnessRunner::Run(const StiffnessSink& sink) {
+  StiffnessResult result;
+  result.settings = impl_->settings;
+  result.rated_torque = impl_->rated;
+  result.friction_coefficient = impl_->friction_mu;
+  result.cranks = impl_->cranks;
+  for (const double crank : impl_->cranks) {
+    StiffnessPosition p = Solve(crank);
+    if (sink) {
+      sink(p);
+    } else {
+      result.positions.push_back(std::move(p));
+    }
+  }
+  result.summary = Summary();
+  return result;
+}
+
+StiffnessResult Stiffness(const Stage& stage, const SolverOptions& options, const StiffnessSettings& settings, double torque,
+                          const std::optional<FrictionSettings>& friction) {
+  return StiffnessRunner(stage, options, settings, torque, friction).Run();
+}
+
 }  // namespace ltca::analysis

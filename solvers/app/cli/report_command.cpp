@@ -33,9 +33,11 @@
 #include "documents/efficiency.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
+#include "documents/stiffness.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
+#include "ltca/analysis/stiffness.hpp"
 #include "geometry_command.hpp"
 #include "optimise_command.hpp"
 #include "ltca/analysis/keys.hpp"
@@ -44,7 +46,6 @@
 #include "ltca/solvers/registry.hpp"
 #include "documents/solve.hpp"
 #include "solve_command.hpp"
-#include "stiffness_command.hpp"
 #include "tolerance_command.hpp"
 
 namespace ltca::cli {
@@ -423,15 +424,35 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   WriteTo("-o", file("mesh.json"), streams.out, [&](std::ostream& os) { os << Dump(documents::Json(deck, mesh)) << '\n'; });
   const std::string mesh_svg = SvgOf(documents::Figure(deck, mesh));
   WriteTo("-o", file("mesh.svg"), streams.out, [&](std::ostream& os) { os << mesh_svg; });
-  // The torque-twist loop at crank 0 (one position of the deck's [stiffness] steps); none at
-  // zero torque, where there is no rated torque to run the loop to.
-  StiffnessOptions stiffness;
-  stiffness.solver = options.solver;
-  stiffness.crank_deg = 0.0;
-  stiffness.json_path = file("stiffness.json");
-  stiffness.svg_path = file("stiffness.svg");
+  // The torque-twist loop at crank 0 (the deck's [stiffness] steps): its result in this process
+  // (analysis::StiffnessRunner), its JSON streamed and its figure drawn by the documents `ltca
+  // stiffness` writes, beside the page. None at zero torque, where there is no rated torque to run
+  // the loop to.
   const bool loop = deck.RequireLoad().torque != 0.0;
-  const int loop_code = loop ? RunStiffness(deck, stiffness, quiet) : kExitSuccess;
+  std::optional<analysis::StiffnessResult> stiff;
+  std::string stiff_svg;
+  if (loop) {
+    app::StiffnessSettings settings = deck.stiffness;
+    settings.crank = 0.0;
+    settings.Validate();
+    deck.RequireMaterial();
+    analysis::StiffnessRunner runner(deck.MakeStage({0.0}), solver, settings, deck.RequireLoad().torque, deck.friction);
+    WriteTo("-o", file("stiffness.json"), streams.out, [&](std::ostream& os) {
+      documents::StiffnessJsonWriter writer(os, deck, solver, settings, runner.rated_torque());
+      Progress progress(streams.err, streams.progress, "stiffness loop at position",
+                        static_cast<std::int64_t>(runner.cranks().size()));
+      std::int64_t done = 0;
+      stiff = runner.Run([&](const analysis::StiffnessPosition& p) {
+        writer.Add(p);
+        progress.Update(++done);
+      });
+      progress.Finish();
+      writer.Finish(*stiff);
+    });
+    stiff_svg = SvgOf(documents::Figure(deck, solver, *stiff));
+    WriteTo("-o", file("stiffness.svg"), streams.out, [&](std::ostream& os) { os << stiff_svg; });
+  }
+  const int loop_code = !stiff || stiff->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
   // Efficiency when the deck carries [friction] and [operation] and a torque (one disc or two): its
   // result in this process (analysis::EfficiencyRunner over the deck's sweep), its JSON streamed and
   // its figure drawn by the documents `ltca efficiency` writes, beside the page.
@@ -481,7 +502,6 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   opt.svg_path = file("optimise.svg");
   const int opt_code = optimise ? RunOptimise(deck, opt, quiet) : kExitSuccess;
 
-  const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
   const nlohmann::json tj = tolerance ? nlohmann::json::parse(ReadFile(tol.json_path)) : nlohmann::json();
   const nlohmann::json oj = optimise ? ReadWithout(opt.json_path, "history") : nlohmann::json();
   const auto& p = deck.pair;
@@ -542,7 +562,6 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
           "the deck is listed with its value.</p>\n<table>\n<tr><th>figure</th><th>value</th><th>allowable</th>"
           "<th>margin</th><th>verdict</th><th>Monte Carlo pass fraction</th><th>from</th></tr>\n";
   const nlohmann::json bs = documents::Json(deck, *backlash);  // the backlash's summary, from its result
-  const nlohmann::json ls = loop ? l["summary"] : nlohmann::json();
   const nlohmann::json es = eff ? documents::Json(*eff) : nlohmann::json();  // the efficiency's summary, from its result
   const nlohmann::json ts = tolerance ? tj["summary"] : nlohmann::json();
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -559,7 +578,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     }
     if (deck.reducer) {
       if (figure == "mean_backlash_arcsec") {
-        const double v = 60.0 * Number(ls, "backlash_arcmin");
+        const double v = stiff ? 60.0 * Finite(units::RadToArcmin(stiff->summary.backlash.mean)) : nan;
         return {v, std::isfinite(v) ? "ltca stiffness, crank 0: the stage's free play" : "not computed"};
       }
       if (figure == "pp_backlash_arcsec") return {nan, "not computed: the stage's free play over the sweep is the tolerance study's"};
@@ -568,7 +587,9 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     if (figure == "mean_backlash_arcsec") return {units::RadToArcsec(backlash->summary.mean()), "ltca backlash"};
     if (figure == "pp_backlash_arcsec") return {units::RadToArcsec(backlash->summary.pp()), "ltca backlash"};
     if (const std::optional<double> v = SolveFigure(ss, figure)) return {*v, "ltca solve"};
-    if (ls.is_object() && ls.contains(figure)) return {Number(ls, figure), "ltca stiffness, crank 0"};
+    if (stiff && figure == "lost_motion_arcmin") {  // the one tolerance figure the loop gives
+      return {Finite(units::RadToArcmin(stiff->summary.lost_motion.mean)), "ltca stiffness, crank 0"};
+    }
     return {nan, "not computed"};
   };
   std::vector<std::string> limited;
@@ -592,11 +613,12 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     const auto [value, basis] = nominal(key);
     html += AllowableRow(Label(key), key, value, nan, nan, basis);
   }
-  for (const auto& [key, summary, basis] :
-       {std::tuple{std::string("lost_motion_arcmin"), &ls, "ltca stiffness, crank 0"},
-        std::tuple{std::string("torsional_rigidity_nm_per_arcmin"), &ls, "ltca stiffness, crank 0"}}) {
-    if (listed(key) || !summary->is_object() || !summary->contains(key)) continue;
-    html += AllowableRow(Label(key), key, Number(*summary, key), nan, nan, basis);
+  if (stiff) {  // the loop's figures at crank 0, in the units of its JSON (arcmin, N*m/arcmin)
+    const double rigidity = documents::RigidityNmPerArcmin(stiff->summary.rigidity.mean);
+    for (const auto& [key, value] : {std::pair{std::string("lost_motion_arcmin"), units::RadToArcmin(stiff->summary.lost_motion.mean)},
+                                     std::pair{std::string("torsional_rigidity_nm_per_arcmin"), rigidity}}) {
+      if (!listed(key)) html += AllowableRow(Label(key), key, Finite(value), nan, nan, "ltca stiffness, crank 0");
+    }
   }
   if (eff && !listed("efficiency")) {  // the sweep's efficiency (full model), from its result
     html += AllowableRow(Label("efficiency"), "efficiency", Finite(eff->efficiency), nan, nan, "ltca efficiency");
@@ -630,10 +652,10 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   html += "<h2 id=\"stiffness\">Torsional stiffness</h2>\n";
   if (loop) {
     html += "<p>The torque-twist loop at crank 0.</p>\n";
-    nlohmann::json summary = ls;
+    nlohmann::json summary = documents::Json(*stiff);  // the loop's summary, from its result
     summary.erase("curve");
     html += Table(summary);
-    html += InlineSvg(stiffness.svg_path);
+    html += InlineSvgText(stiff_svg, "stiffness");
   } else {
     html += "<p class=\"note\">Not run: the deck's torque is zero, so there is no rated torque to run the loop to.</p>\n";
   }

@@ -25,21 +25,24 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "compare_command.hpp"
 #include "contact_commands.hpp"
 #include "documents/backlash.hpp"
+#include "documents/compare.hpp"
 #include "documents/efficiency.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
 #include "documents/solve.hpp"
+#include "documents/stiffness.hpp"
 #include "ltca/analysis/backlash.hpp"
+#include "ltca/analysis/compare.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
+#include "ltca/analysis/stiffness.hpp"
 #include "geometry_command.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/geometry/units.hpp"
+#include "ltca/solvers/registry.hpp"
 #include "optimise_command.hpp"
-#include "stiffness_command.hpp"
 #include "tolerance_command.hpp"
 
 namespace py = pybind11;
@@ -235,21 +238,48 @@ PYBIND11_MODULE(_ltca, m) {
     }
     return py::make_tuple(cli::kExitSuccess, ToPython(ltca::app::documents::Json(deck, *mesh)), py::str(""));
   });
-  m.def("compare", [](const Deck& deck, const Strings& solvers,
-                      const std::string& kinematics) {
-    cli::CompareOptions o;
-    o.solvers = solvers;
-    o.kinematics = kinematics;
-    return CommandDocument(deck, o, cli::RunCompare);
+  // Several solvers on the deck's sweep from their result in this process, its document by the
+  // command's builder (every registered solver when `solvers` is empty).
+  m.def("compare", [](const Deck& given, const Strings& names, const std::string& kinematics) {
+    std::optional<ltca::app::Deck> deck;
+    std::optional<ltca::analysis::CompareResult> result;
+    {
+      py::gil_scoped_release release;
+      deck = ltca::app::DeckFor(given, kinematics);
+      const Strings asked = names.empty() ? ltca::solvers::SolverNames() : names;
+      // The command's order of the checks: [material], [load], the solvers, then the stage.
+      deck->RequireMaterial();
+      const double torque = deck->RequireLoad().torque;
+      const ltca::analysis::SolverSelection selection = ltca::analysis::SelectSolvers(asked, deck->reducer.has_value(), deck->name);
+      result = ltca::analysis::Compare(deck->MakeStage(), deck->solver, selection.run, torque, selection.skipped);
+    }
+    const int code = result->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *result)), py::str(""));
   });
-  m.def("stiffness", [](const Deck& deck, const std::string& solver,
-                        const std::string& kinematics, std::optional<double> crank_deg, std::optional<int> steps) {
-    cli::StiffnessOptions o;
-    o.solver = solver;
-    o.kinematics = kinematics;
-    o.crank_deg = crank_deg;
-    o.steps = steps;
-    return CommandDocument(deck, o, cli::RunStiffness);
+  // The torque-twist loop from its result in this process, its document by the command's builder.
+  // crank_deg (deg) and steps replace the deck's [stiffness] crank_deg and steps_per_branch.
+  m.def("stiffness", [](const Deck& given, const std::string& solver_name, const std::string& kinematics,
+                        std::optional<double> crank_deg, std::optional<int> steps) {
+    std::optional<ltca::app::Deck> deck;
+    std::optional<ltca::solvers::SolverOptions> solver;
+    std::optional<ltca::analysis::StiffnessResult> result;
+    {
+      py::gil_scoped_release release;
+      deck = ltca::app::DeckFor(given, kinematics);
+      solver = ltca::app::SolverFor(*deck, solver_name);
+      ltca::analysis::StiffnessSettings settings = deck->stiffness;
+      if (crank_deg) settings.crank = ltca::units::DegToRad(*crank_deg);
+      if (steps) settings.steps = *steps;
+      settings.Validate();
+      // The command's order of the checks: [material], [load], then the stage and the runner.
+      deck->RequireMaterial();
+      const double torque = deck->RequireLoad().torque;
+      result = ltca::analysis::Stiffness(
+          deck->MakeStage(settings.crank ? std::vector<double>{*settings.crank} : deck->sweep.CrankAngles()), *solver, settings,
+          torque, deck->friction);
+    }
+    const int code = result->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, *result)), py::str(""));
   });
   // Friction, power loss and efficiency over the sweep from its result in this process, its
   // document by the command's builder.

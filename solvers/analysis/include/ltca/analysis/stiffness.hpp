@@ -21,6 +21,7 @@
 // Everything here is the pin-ring mesh alone: bearings, crankshafts and the output mechanism are
 // not modelled.
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -146,6 +147,26 @@ struct StiffnessSummary : RunRecord {
   bool closed_period = false;
 };
 
+/// The torque-twist loop of a stage: what ran and what it found (one result for `ltca stiffness`,
+/// the report and the Python module).
+struct StiffnessResult {
+  StiffnessSettings settings;  ///< as run: settings.crank one crank, empty the stage's sweep
+  double rated_torque = 0.0;   ///< T, N*mm (> 0): the loop runs from -T to +T and back
+  /// The loop's Coulomb coefficient (LoopFrictionCoefficient): 0 without [friction], where the
+  /// branches coincide and the hysteresis is zero up to the solver's tolerance.
+  double friction_coefficient = 0.0;
+  std::vector<double> cranks;  ///< rad, in the order solved
+  /// Every position in crank order; empty when they went to a sink instead (bounded memory).
+  std::vector<StiffnessPosition> positions;
+  /// The spreads over the positions, the mean loop, the run record (positions, failures, the
+  /// first failure, wall_seconds of the whole run) and the solve count.
+  StiffnessSummary summary;
+  bool sweep() const { return !settings.crank.has_value(); }  ///< over the stage's cranks
+  bool all_succeeded() const { return summary.all_succeeded(); }
+};
+/// Receives every position in crank order as it is solved.
+using StiffnessSink = std::function<void(const StiffnessPosition&)>;
+
 /// The loop position by position with one solver and one workspace: every torque step starts from
 /// what the previous one left in the workspace (warm starts). The constructor validates the
 /// options and the settings and requires a non-zero rated torque T (N*mm; its sign is not used),
@@ -183,10 +204,18 @@ class StiffnessRunner {
   /// first_failure.
   StiffnessPosition SolveFreePlay(double crank);
   StiffnessSummary Summary() const;
+  /// The loop at every crank of cranks(), in order (Solve each), then the summary: each position
+  /// to `sink` when given, else kept in the result's positions. Once per runner (the summary
+  /// accumulates).
+  StiffnessResult Run(const StiffnessSink& sink = {});
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// The loop of a stage at once (StiffnessRunner(...).Run()): every position kept in the result.
+StiffnessResult Stiffness(const Stage& stage, const SolverOptions& options, const StiffnessSettings& settings, double torque,
+                          const std::optional<FrictionSettings>& friction = std::nullopt);
 
 }  // namespace ltca::analysis
