@@ -11,8 +11,10 @@
 #include <doctest/doctest.h>
 
 #include "documents/backlash.hpp"
+#include "documents/stiffness.hpp"
 #include "helpers.hpp"
 #include "ltca/analysis/backlash.hpp"
+#include "ltca/analysis/stiffness.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/geometry/units.hpp"
 
@@ -59,4 +61,24 @@ TEST_CASE("app: the backlash JSON streamed position by position is the document 
   const nlohmann::json whole = ltca::app::documents::Json(deck, kept, result);
   CHECK(nlohmann::json::parse(streamed.str()) == whole);
   CHECK(whole.at("positions").at(0).contains("first_contact_disc"));  // two discs: the disc of each first contact
+}
+
+TEST_CASE("app: the stiffness figure's caption names the definition the loop was read with, not the deck's") {
+  // The deck reads the secant at +-3 % (its defaults); the loop is read here as the tangent at
+  // 100 N*m with lost motion at +-5 %, as --rigidity tangent --tangent-torque-nm 100
+  // --lost-motion-fraction 0.05 ask. The caption must say what was computed.
+  const ltca::app::Deck deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
+  REQUIRE(deck.stiffness.rigidity == ltca::analysis::StiffnessSettings::Rigidity::kSecant);
+  ltca::analysis::StiffnessSettings settings = deck.stiffness;
+  settings.steps = 21;
+  settings.crank = 0.0;
+  settings.rigidity = ltca::analysis::StiffnessSettings::Rigidity::kTangent;
+  settings.tangent_torque = ltca::units::NmToNmm(100.0);
+  settings.lost_motion_fraction = 0.05;
+  const ltca::solvers::SolverOptions solver = ltca::app::SolverFor(deck, "");
+  const auto result = ltca::analysis::Stiffness(deck.MakeStage({0.0}), solver, settings, deck.RequireLoad().torque);
+  const std::string caption = ltca::app::documents::Figure(deck, solver, result).caption;
+  CHECK(caption.find("rigidity: the tangent at 100 N*m") != std::string::npos);
+  CHECK(caption.find("+-5 % of T") != std::string::npos);
+  CHECK(caption.find("secant") == std::string::npos);
 }

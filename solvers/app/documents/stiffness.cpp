@@ -363,14 +363,16 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, const analys
           : std::string();
   figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}{}", deck.info.title, t,
                              When(deck, result.settings), hysteresis, any ? "" : ": no solve succeeded");
-  // The caption names the deck's [stiffness] definition and fraction (not the command line's).
-  const std::string rigidity = deck.stiffness.rigidity == analysis::StiffnessSettings::Rigidity::kSecant
+  // The caption names the definition and fraction the loop was read with (the deck's, or the
+  // command line's --rigidity, --tangent-torque-nm and --lost-motion-fraction where given).
+  const analysis::StiffnessSettings& read = result.settings;
+  const std::string rigidity = read.rigidity == analysis::StiffnessSettings::Rigidity::kSecant
                                    ? "the secant from 50 % to 100 % of T on each flank"
-                                   : "the tangent at the deck's tangent torque";
+                                   : fmt::format("the tangent at {:g} N*m", NmmToNm(read.tangent_torque));
   figure.caption = FigureCaption(
       deck, fmt::format("backlash: the loop's width at zero torque; rigidity: {}; lost motion: the width at +-{:g} % of T\n"
                         "model {}, solver {} ({} kinematics); {} crank position{}",
-                        rigidity, 100.0 * deck.stiffness.lost_motion_fraction, deck.Model().name, solver.name,
+                        rigidity, 100.0 * read.lost_motion_fraction, deck.Model().name, solver.name,
                         contact::ToString(deck.kinematics), positions, positions == 1 ? "" : "s"));
   figure.width = 1300;
   figure.height = 640;
