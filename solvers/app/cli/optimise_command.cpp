@@ -9,7 +9,6 @@
 #include <memory>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -22,6 +21,7 @@
 #include "output.hpp"
 #include "solve_command.hpp"
 #include "tolerance_command.hpp"
+#include "ltca/analysis/tolerance_run.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/app/plots.hpp"
 
@@ -89,14 +89,11 @@ int RunOptimise(const app::Deck& deck_given, const OptimiseOptions& o, const Str
   }
   app::OptimiseSettings settings = *deck.optimise;
   if (o.evaluations) settings.evaluations = *o.evaluations;
-  if (o.threads < 0 || o.threads > app::kMaxToleranceThreads) {
-    throw std::invalid_argument(fmt::format("--threads {}: expected 0 (every hardware thread) or 1 to {}", o.threads, app::kMaxToleranceThreads));
-  }
+  const int threads = analysis::ResolveThreads(o.threads);  // the rule of every command with threads
   if (o.map != 0 && (o.map < 2 || o.map > 201)) throw std::invalid_argument(fmt::format("--map {}: expected 2 to 201 points a variable", o.map));
   if (o.map != 0 && settings.variables.size() != 2) {
     throw std::invalid_argument(fmt::format("--map {}: the map is drawn over two variables; [optimise] has {}", o.map, settings.variables.size()));
   }
-  const int threads = o.threads > 0 ? o.threads : std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, 64);
   // Under mpirun every rank runs the search in lockstep and shares what divides (a robust design's
   // samples, the map's points, the Pareto steps); rank 0 alone writes.
   std::unique_ptr<SampleFarm> farm = MakeSampleFarm();

@@ -33,9 +33,11 @@
 #include "documents/efficiency.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
+#include "documents/tolerance.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
+#include "ltca/analysis/tolerance_run.hpp"
 #include "geometry_command.hpp"
 #include "optimise_command.hpp"
 #include "ltca/analysis/keys.hpp"
@@ -80,6 +82,8 @@ std::string Cell(const nlohmann::json& v) {
   if (v.is_string()) return Html(v.get<std::string>());
   return Html(v.dump());
 }
+/// A number as table text: 6 significant digits, n/a when not finite.
+std::string CellOf(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : "n/a"; }
 
 /// An output key as a reader reads it (issue 27: the page showed raw keys): the unit its name ends
 /// with in parentheses, words for the underscores, a nested key after its parent and a colon.
@@ -206,7 +210,7 @@ std::string InputsTable(const app::Deck& deck) {
 /// margin to the nearer bound (positive: inside) and the verdict; the Monte Carlo's pass fraction
 /// when it ran.
 std::string AllowableRow(const std::string& what, const std::string& key, double value, double min, double max,
-                         const std::string& basis, const nlohmann::json& fraction = nullptr) {
+                         const std::string& basis, std::optional<double> fraction = std::nullopt) {
   const bool has_value = std::isfinite(value);
   const bool has_limit = std::isfinite(min) || std::isfinite(max);
   std::string allowable = "none in the deck", margin = "", verdict = has_value ? "no allowable" : "n/a";
@@ -224,7 +228,7 @@ std::string AllowableRow(const std::string& what, const std::string& key, double
   }
   return fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
                      Html(key), Html(what), has_value ? fmt::format("{:.6g}", value) : "n/a", allowable, margin, verdict,
-                     fraction.is_null() ? "" : Cell(fraction), Html(basis));
+                     fraction ? CellOf(*fraction) : "", Html(basis));
 }
 
 /// A value of a summary (nullptr or a missing key: NaN).
@@ -463,14 +467,34 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // Tolerances (issue 15) when the deck carries [tolerances], with the deck's samples on every
   // hardware thread; two discs too (issue 27).
   const bool tolerance = deck.tolerances.has_value();
-  ToleranceOptions tol;
-  tol.solver = options.solver;
-  tol.samples = options.samples;
-  tol.threads = options.threads;
-  tol.no_worst_case = options.no_worst_case;
-  tol.json_path = file("tolerance.json");
-  tol.svg_path = file("tolerance.svg");
-  const int tol_code = tolerance ? RunTolerance(deck, tol, quiet) : kExitSuccess;
+  std::optional<analysis::ToleranceStudy> tol_study;
+  std::optional<analysis::ToleranceResult> tol;
+  std::string tol_svg;
+  if (tolerance) {
+    const analysis::ToleranceSettings settings = documents::ToleranceSettingsFor(deck, options.samples, std::nullopt, false);
+    const int threads = analysis::ResolveThreads(options.threads);
+    tol_study.emplace(deck.MakeToleranceCase(), solver, settings);
+    std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+    FailTogether(farm.get(), streams.err, [&]() -> int {
+      const bool root = !farm || farm->rank() == 0;
+      analysis::ToleranceRunPlan plan;
+      plan.threads = threads;
+      plan.ranks = farm.get();
+      plan.worst_case = !options.no_worst_case;
+      std::ostringstream unseen;  // the estimate, which the page does not show
+      ToleranceProgressLines progress(quiet, quiet.progress && root, unseen, 2.0, threads, farm && farm->size() > 1, plan.worst_case);
+      plan.progress = &progress;
+      tol = analysis::RunToleranceStudy(*tol_study, plan);
+      return kExitSuccess;
+    });
+    if (tol->rank == 0) {
+      WriteTo("-o", file("tolerance.json"), streams.out,
+              [&](std::ostream& os) { os << Dump(documents::Json(deck, solver, *tol_study, *tol)) << '\n'; });
+      tol_svg = SvgOf(documents::Figure(deck, *tol_study, *tol));
+      WriteTo("-o", file("tolerance.svg"), streams.out, [&](std::ostream& os) { os << tol_svg; });
+    }
+  }
+  const int tol_code = !tol || tol->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
   // Design optimisation (issue 28) when the deck carries [optimise]: the search as `ltca optimise`
   // runs it, on the report's threads.
   const bool optimise = deck.optimise.has_value();
@@ -482,7 +506,6 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const int opt_code = optimise ? RunOptimise(deck, opt, quiet) : kExitSuccess;
 
   const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
-  const nlohmann::json tj = tolerance ? nlohmann::json::parse(ReadFile(tol.json_path)) : nlohmann::json();
   const nlohmann::json oj = optimise ? ReadWithout(opt.json_path, "history") : nlohmann::json();
   const auto& p = deck.pair;
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
@@ -544,7 +567,22 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const nlohmann::json bs = documents::Json(deck, *backlash);  // the backlash's summary, from its result
   const nlohmann::json ls = loop ? l["summary"] : nlohmann::json();
   const nlohmann::json es = eff ? documents::Json(*eff) : nlohmann::json();  // the efficiency's summary, from its result
-  const nlohmann::json ts = tolerance ? tj["summary"] : nlohmann::json();
+  const auto& names = analysis::ToleranceSettings::FigureNames();
+  // The figures the tolerance study ran (rank 0 holds its summary), in the order of their names.
+  std::vector<std::size_t> tol_figures;
+  if (tol && tol->rank == 0) {
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      if (tol_study->Runs(f)) tol_figures.push_back(f);
+    }
+    std::sort(tol_figures.begin(), tol_figures.end(), [&](std::size_t a, std::size_t b) { return names[a] < names[b]; });
+  }
+  const auto runs = [&](const std::string& figure) -> const analysis::WorstCaseFigure* {
+    if (!tol || !tol->worst_case) return nullptr;
+    for (const std::size_t f : tol_figures) {
+      if (names[f] == figure) return &tol->worst_case->figures[f];
+    }
+    return nullptr;
+  };
   const double nan = std::numeric_limits<double>::quiet_NaN();
   html += AllowableRow("largest contact stress (MPa)", "max_contact_stress_mpa", Finite(ss.max_contact_stress), nan,
                        deck.RequireMaterial().contact_stress_limit, "ltca solve, the sweep");
@@ -553,9 +591,8 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // reducer stage the backlash is the stage's free play (the loop's width at zero torque), never
   // the pin ring's unloaded analysis, and its loads and lives are the solve's stage summary.
   const auto nominal = [&](const std::string& figure) -> std::pair<double, std::string> {
-    if (tolerance && ts.contains("worst_case") && ts["worst_case"]["figures"].contains(figure)) {
-      const double v = Number(ts["worst_case"]["figures"][figure], "nominal");
-      if (std::isfinite(v)) return {v, "ltca tolerance, the nominal deck"};
+    if (const analysis::WorstCaseFigure* w = runs(figure)) {
+      if (std::isfinite(w->nominal)) return {w->nominal, "ltca tolerance, the nominal deck"};
     }
     if (deck.reducer) {
       if (figure == "mean_backlash_arcsec") {
@@ -576,10 +613,10 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     for (const auto& limit : deck.tolerances->limits) {
       limited.push_back(limit.figure);
       const auto [value, basis] = nominal(limit.figure);
-      nlohmann::json fraction = nullptr;
-      if (tolerance) {
-        for (const auto& x : ts["limits"]) {
-          if (x["figure"] == limit.figure) fraction = x["fraction"];
+      std::optional<double> fraction;  // the Monte Carlo's pass fraction of this limit
+      if (tol && tol->rank == 0) {
+        for (const analysis::LimitResult& x : tol->summary.limits) {
+          if (x.limit.figure == limit.figure) fraction = x.fraction;
         }
       }
       html += AllowableRow(Label(limit.figure), limit.figure, value, limit.min, limit.max, basis, fraction);
@@ -648,50 +685,48 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
                                           : "the deck's torque is zero (no output power)");
   }
   html += "<h2 id=\"tolerance\">Tolerance analysis (Monte Carlo)</h2>\n";
-  if (tolerance) {
+  if (tol && tol->rank == 0) {
+    const analysis::ToleranceSummary& ts = tol->summary;
     html += fmt::format("<p>{} samples (seed {}): {} succeeded, {} failed, {} rejected (interference); all limits passed by "
                         "a fraction {} of the samples.{}</p>\n",
-                        Cell(ts["samples"]), Cell(ts["seed"]), Cell(ts["succeeded"]), Cell(ts["failed"]), Cell(ts["rejected"]),
-                        Cell(ts["pass_fraction"]),
+                        ts.samples, ts.seed, ts.succeeded, ts.failed, ts.rejected, CellOf(ts.pass_fraction),
                         options.no_worst_case ? " The extreme-value (worst-case) runs were skipped (--no-worst-case)." : "");
     // The study's notes say what a figure is where it is not what its name suggests (a reducer
-    // stage's backlash is its free play, issue 28) and what part of the revolution was swept.
-    for (const auto& note : tj.value("notes", nlohmann::json::array())) {
-      if (note.is_string()) html += fmt::format("<p class=\"note\">{}</p>\n", Html(note.get<std::string>()));
-    }
+    // stage's backlash is its free play) and what part of the revolution was swept.
+    for (const std::string& note : tol_study->notes()) html += fmt::format("<p class=\"note\">{}</p>\n", Html(note));
     html += "<h3>Percentiles per figure</h3>\n<table>\n<tr><th>figure</th><th>nominal</th><th>p5</th><th>p50</th><th>p95</th>"
             "<th>mean</th><th>std</th><th>worst case low</th><th>worst case high</th></tr>\n";
-    for (const auto& [name, f] : ts["figures"].items()) {
-      const nlohmann::json w = ts.contains("worst_case") && ts["worst_case"]["figures"].contains(name) ? ts["worst_case"]["figures"][name]
-                                                                                                       : nlohmann::json::object();
+    for (const std::size_t f : tol_figures) {
+      const analysis::FigureStats& st = ts.figures[f];
+      const analysis::WorstCaseFigure none;  // without the worst case: every figure n/a
+      const analysis::WorstCaseFigure& w = tol->worst_case ? tol->worst_case->figures[f] : none;
       html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
                           "<td>{}</td><td>{}</td></tr>\n",
-                          Html(name), Html(Label(name)), Cell(w.value("nominal", nlohmann::json())), Cell(f["p5"]), Cell(f["p50"]),
-                          Cell(f["p95"]), Cell(f["mean"]), Cell(f["std"]), Cell(w.value("corner_low", nlohmann::json())),
-                          Cell(w.value("corner_high", nlohmann::json())));
+                          Html(names[f]), Html(Label(names[f])), CellOf(w.nominal), CellOf(st.p5), CellOf(st.p50), CellOf(st.p95),
+                          CellOf(st.mean), CellOf(st.std), CellOf(w.corner_low), CellOf(w.corner_high));
     }
     html += "</table>\n<h3>Pass fraction per limit</h3>\n<table>\n<tr><th>figure</th><th>min</th><th>max</th><th>pass fraction</th></tr>\n";
-    for (const auto& x : ts["limits"]) {
-      html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(Label(x["figure"].get<std::string>())),
-                          Cell(x["min"]), Cell(x["max"]), Cell(x["fraction"]));
+    for (const analysis::LimitResult& x : ts.limits) {
+      html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(Label(x.limit.figure)), CellOf(x.limit.min),
+                          CellOf(x.limit.max), CellOf(x.fraction));
     }
     html += "</table>\n<h3>Sensitivity: what moves each figure</h3>\n<p>Each input's share of the figure's variance "
             "(standardised regression coefficients); an input whose share is within the noise floor (the share a random "
             "input of the same samples gets) is not told from chance.</p>\n<table>\n<tr><th>figure</th><th>R&sup2;</th>"
             "<th>ranking (share, noise floor)</th></tr>\n";
-    for (const auto& [name, f] : ts["sensitivity"]["figures"].items()) {
+    for (const std::size_t f : tol_figures) {
+      const analysis::FigureSensitivity& fs = ts.sensitivity[f];
       std::string ranking;
-      int shown = 0;
-      for (const auto& k : f["ranking"]) {
-        if (++shown > 4) break;
-        ranking += fmt::format("{}{} {} ({}{})", ranking.empty() ? "" : "; ", Html(k["key"].get<std::string>()), Cell(k["share"]),
-                               Cell(k["noise_floor"]), k.value("distinguishable_from_chance", false) ? "" : ", within noise");
+      for (std::size_t k = 0; k < std::min<std::size_t>(4, fs.keys.size()); ++k) {
+        const analysis::KeySensitivity& key = fs.keys[k];
+        ranking += fmt::format("{}{} {} ({}{})", ranking.empty() ? "" : "; ", Html(key.key), CellOf(key.share), CellOf(key.noise_floor),
+                               key.distinguishable ? "" : ", within noise");
       }
-      html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td></tr>\n", Html(Label(name)), Cell(f["r_squared"]),
-                          ranking.empty() ? Html(f.value("note", std::string("no ranking"))) : ranking);
+      html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td></tr>\n", Html(Label(names[f])), CellOf(fs.r_squared),
+                          ranking.empty() ? Html(fs.note.empty() ? std::string("no ranking") : fs.note) : ranking);
     }
     html += "</table>\n";
-    html += InlineSvg(tol.svg_path);
+    html += InlineSvgText(tol_svg, "tolerance");
   } else {
     html += "<p class=\"note\">Not run: the deck has no [tolerances] section.</p>\n";
   }

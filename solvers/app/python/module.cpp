@@ -32,15 +32,16 @@
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
 #include "documents/solve.hpp"
+#include "documents/tolerance.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
+#include "ltca/analysis/tolerance_run.hpp"
 #include "geometry_command.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/geometry/units.hpp"
 #include "optimise_command.hpp"
 #include "stiffness_command.hpp"
-#include "tolerance_command.hpp"
 
 namespace py = pybind11;
 
@@ -274,18 +275,66 @@ PYBIND11_MODULE(_ltca, m) {
     const int code = summary->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
     return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, positions, *summary)), py::str(""));
   });
-  m.def("tolerance", [](const Deck& deck, const std::string& solver,
-                        const std::string& kinematics, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed,
-                        int threads, bool lost_motion, bool no_worst_case) {
-    cli::ToleranceOptions o;
-    o.solver = solver;
-    o.kinematics = kinematics;
-    o.samples = samples;
-    o.seed = seed;
-    o.threads = threads;
-    o.lost_motion = lost_motion;
-    o.no_worst_case = no_worst_case;
-    return CommandDocument<true>(deck, o, cli::RunTolerance);
+  // The tolerance study from its result in this process: its document by the command's builder,
+  // and the samples as the --csv columns (sample, status, every input, every figure the study
+  // runs, message): NumPy arrays of numbers (NaN where not finite), status and messages as lists
+  // of text (the messages an array of NaN when every sample succeeded).
+  m.def("tolerance", [](const Deck& given, const std::string& solver_name, const std::string& kinematics,
+                        std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed, int threads, bool lost_motion,
+                        bool no_worst_case) {
+    namespace analysis = ltca::analysis;
+    std::optional<ltca::app::Deck> deck;
+    std::optional<ltca::solvers::SolverOptions> solver;
+    std::optional<analysis::ToleranceStudy> study;
+    std::optional<analysis::ToleranceResult> result;
+    std::vector<analysis::ToleranceSample> kept;
+    {
+      py::gil_scoped_release release;
+      deck = ltca::app::DeckFor(given, kinematics);
+      // The command's order of the checks: [tolerances], --threads, the solver, the study's.
+      const analysis::ToleranceSettings settings = ltca::app::documents::ToleranceSettingsFor(*deck, samples, seed, lost_motion);
+      analysis::ToleranceRunPlan plan;
+      plan.threads = analysis::ResolveThreads(threads);
+      solver = ltca::app::SolverFor(*deck, solver_name);
+      study.emplace(deck->MakeToleranceCase(), *solver, settings);
+      plan.worst_case = !no_worst_case;
+      plan.sink = [&kept](const analysis::ToleranceSample& s) { kept.push_back(s); };
+      result = analysis::RunToleranceStudy(*study, plan);
+    }
+    const auto finite = [](double v) { return std::isfinite(v) ? v : NAN; };
+    py::dict columns;
+    std::vector<double> index;
+    py::list status, messages;
+    bool any_message = false;
+    for (const auto& s : kept) {
+      index.push_back(static_cast<double>(s.index));
+      status.append(py::str(analysis::ToString(s.status)));
+      std::string message = s.message;  // as the CSV carries it: line breaks as spaces
+      for (char& c : message) c = (c == '\n' || c == '\r') ? ' ' : c;
+      any_message = any_message || !message.empty();
+      messages.append(py::str(message));
+    }
+    columns["sample"] = Vector(index);
+    columns["status"] = status;
+    for (std::size_t i = 0; i < study->inputs().size(); ++i) {
+      std::vector<double> v;
+      for (const auto& s : kept) v.push_back(finite(s.inputs[i]));
+      columns[py::str(study->inputs()[i].name)] = Vector(v);
+    }
+    const auto& names = analysis::ToleranceSettings::FigureNames();
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      if (!study->Runs(f)) continue;
+      std::vector<double> v;
+      for (const auto& s : kept) v.push_back(finite(s.figures[f]));
+      columns[py::str(names[f])] = Vector(v);
+    }
+    if (any_message) {
+      columns["message"] = messages;
+    } else {
+      columns["message"] = Vector(std::vector<double>(kept.size(), NAN));
+    }
+    const int code = result->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, *study, *result)), columns);
   });
   m.def("optimise", [](const Deck& deck, const std::string& solver,
                        const std::string& kinematics, int threads, std::optional<int> evaluations) {
