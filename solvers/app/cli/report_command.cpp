@@ -33,6 +33,7 @@
 #include "documents/efficiency.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
+#include "documents/optimise.hpp"
 #include "documents/tolerance.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/efficiency.hpp"
@@ -59,18 +60,6 @@ std::string ReadFile(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw OutputError(fmt::format("report: cannot read back {}", path.string()));
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-/// A document of ltca's without one of its top-level members (the report reads the settings and
-/// the summary): parsed as the file is read, the member's items skipped, so that what the report
-/// holds does not grow with the evaluations (`ltca optimise`'s history) or the positions (`ltca
-/// solve`'s).
-nlohmann::json ReadWithout(const fs::path& path, const std::string& member) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw OutputError(fmt::format("report: cannot read back {}", path.string()));
-  return nlohmann::json::parse(in, [&member](int depth, nlohmann::json::parse_event_t event, const nlohmann::json& parsed) {
-    return !(depth == 1 && event == nlohmann::json::parse_event_t::key && parsed == member);
-  });
 }
 
 std::string Html(const std::string& text) { return app::plots::XmlEscape(text); }
@@ -498,15 +487,46 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // Design optimisation (issue 28) when the deck carries [optimise]: the search as `ltca optimise`
   // runs it, on the report's threads.
   const bool optimise = deck.optimise.has_value();
-  OptimiseOptions opt;
-  opt.solver = options.solver;
-  opt.threads = options.threads;
-  opt.json_path = file("optimise.json");
-  opt.svg_path = file("optimise.svg");
-  const int opt_code = optimise ? RunOptimise(deck, opt, quiet) : kExitSuccess;
+  std::optional<analysis::Optimiser> optimiser;
+  std::optional<analysis::OptimiseRun> opt;
+  std::string opt_svg;
+  if (optimise) {
+    const analysis::OptimiseSettings settings = documents::OptimiseSettingsFor(deck, std::nullopt);
+    const int threads = analysis::ResolveThreads(options.threads);
+    std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+    FailTogether(farm.get(), streams.err, [&]() -> int {
+      optimiser.emplace(deck.MakeToleranceCase(), solver, settings, threads, RankGroupOf(farm.get()));
+      const bool root = optimiser->ranks().rank == 0;
+      const analysis::OptimiseSettings& s = optimiser->settings();
+      // The history into a spool as the search makes it (the search keeps none), copied into
+      // optimise.json after the summary; the figure's series decimated as they come.
+      std::unique_ptr<Spool> history;
+      if (root) history = std::make_unique<Spool>("-o", file("optimise.json"));
+      documents::OptimiseSeries series(s, false);
+      analysis::OptimiseRunPlan plan;
+      plan.sink = [&](const analysis::DesignEvaluation& e) {
+        if (history) {
+          history->stream() << documents::HistoryItem(s, e);
+          history->Check();
+        }
+        series.Add(e);
+      };
+      opt = analysis::RunOptimisation(*optimiser, plan);
+      if (root) {
+        WriteTo("-o", file("optimise.json"), streams.out, [&](std::ostream& os) {
+          documents::WriteOptimiseJson(os, documents::OptimiseJsonHead(deck, solver, s, *opt),
+                                       [&](std::ostream& items) { history->CopyTo(items); }, s, *opt);
+        });
+        history.reset();
+        opt_svg = SvgOf(documents::Figure(deck, s, *opt, series));
+        WriteTo("-o", file("optimise.svg"), streams.out, [&](std::ostream& os) { os << opt_svg; });
+      }
+      return kExitSuccess;
+    });
+  }
+  const int opt_code = !opt || opt->best() != nullptr ? kExitSuccess : kExitNotSucceeded;
 
   const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
-  const nlohmann::json oj = optimise ? ReadWithout(opt.json_path, "history") : nlohmann::json();
   const auto& p = deck.pair;
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char date[32] = {};
@@ -731,54 +751,54 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     html += "<p class=\"note\">Not run: the deck has no [tolerances] section.</p>\n";
   }
   html += "<h2 id=\"optimise\">Design optimisation</h2>\n";
-  if (optimise) {
-    const nlohmann::json& st = oj["settings"];
-    const nlohmann::json& os = oj["summary"];
-    const nlohmann::json& best = os["best"];
+  if (opt && optimiser->ranks().rank == 0) {
+    const analysis::OptimiseSettings& st = optimiser->settings();
+    const analysis::OptimiseResult& os = opt->search;
+    const analysis::DesignEvaluation* best = opt->best();
     std::string rule = "on the nominal pair";
-    if (st["robust"].get<bool>()) {
-      rule = st["confidence"].is_number() && st["confidence"].get<double>() > 0.0
+    if (st.robust) {
+      rule = st.confidence > 0.0
                  ? fmt::format("robust: each figure's p{} bounded at confidence {} over {} common samples of [tolerances] (the "
                                "{}th order statistic)",
-                               Cell(st["percentile"]), Cell(st["confidence"]), Cell(st["robust_samples"]), Cell(st["order_statistic"]))
-                 : fmt::format("robust: each figure's p{} over {} common samples of [tolerances]", Cell(st["percentile"]),
-                               Cell(st["robust_samples"]));
+                               CellOf(st.percentile), CellOf(st.confidence), st.robust_samples,
+                               analysis::ConfidenceRank(st.robust_samples, st.percentile / 100.0, st.confidence))
+                 : fmt::format("robust: each figure's p{} over {} common samples of [tolerances]", CellOf(st.percentile),
+                               st.robust_samples);
     }
     std::string phases;
-    for (const auto& ph : os["phases"]) {
-      phases += fmt::format("{}{}: {} evaluations, stopped: {}", phases.empty() ? "" : "; then ", Html(ph["method"].get<std::string>()),
-                            Cell(ph["evaluations"]), Html(ph["stop"].get<std::string>()));
+    for (const analysis::OptimisePhase& ph : os.phases) {
+      phases += fmt::format("{}{}: {} evaluations, stopped: {}", phases.empty() ? "" : "; then ", Html(ph.method), ph.evaluations, Html(ph.stop));
     }
     html += fmt::format("<p>The search of the deck's <code>[optimise]</code> (docs/optimise.md): {} {}, {}; {} evaluations ({} failed, {} "
                         "rejected: the pair interferes). {}.</p>\n",
-                        st["maximise"].get<bool>() ? "maximise" : "minimise", Html(Label(st["objective"].get<std::string>())), rule,
-                        Cell(os["evaluations"]), Cell(os["failed"]), Cell(os["rejected"]), phases);
+                        st.maximise ? "maximise" : "minimise", Html(Label(st.objective)), rule, os.evaluations, os.failed, os.rejected, phases);
     html += "<table>\n<tr><th>variable</th><th>lower</th><th>upper</th><th>optimum</th></tr>\n";
-    for (const auto& v : st["variables"]) {
-      const std::string key = v["key"].get<std::string>();
-      html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(key), Html(Label(key)),
-                          Cell(v["lower"]), Cell(v["upper"]), best.is_null() ? "none" : Cell(best["variables"][key]));
+    for (std::size_t k = 0; k < st.variables.size(); ++k) {
+      const analysis::OptimiseVariable& v = st.variables[k];
+      html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(v.key), Html(Label(v.key)),
+                          CellOf(v.lower), CellOf(v.upper), best == nullptr ? "none" : CellOf(best->x[k]));
     }
     html += "</table>\n";
-    if (best.is_null()) {
+    if (best == nullptr) {
       html += "<p class=\"note\">No evaluation met the constraints: there is no optimum to judge.</p>\n";
     } else {
       html += "<table>\n<tr><th>figure at the optimum</th><th>value</th><th>constraint</th><th>margin</th><th>verdict</th>"
               "<th></th><th>from</th></tr>\n";
-      const std::string objective = st["objective"].get<std::string>();
-      const std::string basis = st["robust"].get<bool>() ? "ltca optimise, robust" : "ltca optimise, the nominal pair";
-      if (best["figures"].contains(objective)) {
-        html += AllowableRow(Label(objective) + " (objective)", objective, Number(best["figures"], objective), nan, nan, basis);
+      const std::string basis = st.robust ? "ltca optimise, robust" : "ltca optimise, the nominal pair";
+      // A figure of the best design (NaN: none, or not a figure).
+      const auto at_best = [&](const std::string& figure) {
+        const int f = analysis::FigureIndex(figure);
+        return f >= 0 ? best->figures[static_cast<std::size_t>(f)] : nan;
+      };
+      if (analysis::FigureIndex(st.objective) >= 0) {
+        html += AllowableRow(Label(st.objective) + " (objective)", st.objective, at_best(st.objective), nan, nan, basis);
       }
-      for (const auto& c : st["constraints"]) {
-        const std::string figure = c["figure"].get<std::string>();
-        const double lo = c["min"].is_number() ? c["min"].get<double>() : -std::numeric_limits<double>::infinity();
-        const double hi = c["max"].is_number() ? c["max"].get<double>() : std::numeric_limits<double>::infinity();
-        html += AllowableRow(Label(figure), figure, Number(best["figures"], figure), lo, hi, basis);
+      for (const analysis::ToleranceLimit& c : st.constraints) {
+        html += AllowableRow(Label(c.figure), c.figure, at_best(c.figure), c.min, c.max, basis);
       }
       html += "</table>\n";
     }
-    html += InlineSvg(opt.svg_path);
+    html += InlineSvgText(opt_svg, "optimise");
   } else {
     html += "<p class=\"note\">Not run: the deck has no [optimise] section.</p>\n";
   }

@@ -6,6 +6,7 @@
 // Errors: bad input (std::invalid_argument, naming the key) becomes ValueError, as pybind11
 // translates it; a solve that fails is a status in the result, not an exception. The GIL is
 // released while the library computes, so Python threads may run other decks meanwhile.
+#include <algorithm>
 #include <atomic>
 #include <memory>
 #include <cmath>
@@ -29,6 +30,7 @@
 #include "contact_commands.hpp"
 #include "documents/backlash.hpp"
 #include "documents/efficiency.hpp"
+#include "documents/optimise.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
 #include "documents/solve.hpp"
@@ -36,11 +38,11 @@
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
+#include "ltca/analysis/optimise.hpp"
 #include "ltca/analysis/tolerance_run.hpp"
 #include "geometry_command.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/geometry/units.hpp"
-#include "optimise_command.hpp"
 #include "stiffness_command.hpp"
 
 namespace py = pybind11;
@@ -336,13 +338,69 @@ PYBIND11_MODULE(_ltca, m) {
     const int code = result->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
     return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, *study, *result)), columns);
   });
-  m.def("optimise", [](const Deck& deck, const std::string& solver,
-                       const std::string& kinematics, int threads, std::optional<int> evaluations) {
-    cli::OptimiseOptions o;
-    o.solver = solver;
-    o.kinematics = kinematics;
-    o.threads = threads;
-    o.evaluations = evaluations;
-    return CommandDocument<true>(deck, o, cli::RunOptimise);
+  // The search of [optimise] from its result in this process: its document by the command's
+  // builder (the history kept from the sink), and every evaluation as the --csv columns (index,
+  // phase, the variables, objective, violation, feasible, status, every figure, message): NumPy
+  // arrays of numbers (NaN where not finite), the others lists of text (the messages an array of
+  // NaN when none has one).
+  m.def("optimise", [](const Deck& given, const std::string& solver_name, const std::string& kinematics, int threads,
+                       std::optional<int> evaluations) {
+    namespace analysis = ltca::analysis;
+    std::optional<ltca::app::Deck> deck;
+    std::optional<ltca::solvers::SolverOptions> solver;
+    std::optional<analysis::Optimiser> optimiser;
+    std::optional<analysis::OptimiseRun> run;
+    std::vector<analysis::DesignEvaluation> history;
+    {
+      py::gil_scoped_release release;
+      deck = ltca::app::DeckFor(given, kinematics);
+      // The command's order of the checks: [optimise], --threads, the solver, the search's.
+      const analysis::OptimiseSettings settings = ltca::app::documents::OptimiseSettingsFor(*deck, evaluations);
+      const int resolved = analysis::ResolveThreads(threads);
+      solver = ltca::app::SolverFor(*deck, solver_name);
+      optimiser.emplace(deck->MakeToleranceCase(), *solver, settings, resolved);
+      analysis::OptimiseRunPlan plan;
+      plan.sink = [&history](const analysis::DesignEvaluation& e) { history.push_back(e); };
+      run = analysis::RunOptimisation(*optimiser, plan);
+    }
+    const analysis::OptimiseSettings& s = optimiser->settings();
+    const auto finite = [](double v) { return std::isfinite(v) ? v : NAN; };
+    const auto numbers = [&](const auto& value) {
+      std::vector<double> v;
+      for (const auto& e : history) v.push_back(finite(value(e)));
+      return Vector(v);
+    };
+    py::dict columns;
+    py::list phase, feasible, status, messages;
+    bool any_message = false;
+    for (const auto& e : history) {
+      phase.append(py::str(e.phase));
+      feasible.append(py::str(e.feasible ? "true" : "false"));
+      status.append(py::str(analysis::ToString(e.status)));
+      std::string message = e.message;  // as the CSV carries it: double quotes as single ones
+      std::replace(message.begin(), message.end(), '"', '\'');
+      any_message = any_message || !message.empty();
+      messages.append(py::str(message));
+    }
+    columns["index"] = numbers([](const analysis::DesignEvaluation& e) { return static_cast<double>(e.index); });
+    columns["phase"] = phase;
+    for (std::size_t k = 0; k < s.variables.size(); ++k) {
+      columns[py::str(s.variables[k].key)] = numbers([k](const analysis::DesignEvaluation& e) { return e.x[k]; });
+    }
+    columns["objective"] = numbers([](const analysis::DesignEvaluation& e) { return e.objective; });
+    columns["violation"] = numbers([](const analysis::DesignEvaluation& e) { return e.violation; });
+    columns["feasible"] = feasible;
+    columns["status"] = status;
+    const auto& names = analysis::OptimiseFigureNames();
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      columns[py::str(names[f])] = numbers([f](const analysis::DesignEvaluation& e) { return e.figures[f]; });
+    }
+    if (any_message) {
+      columns["message"] = messages;
+    } else {
+      columns["message"] = Vector(std::vector<double>(history.size(), NAN));
+    }
+    const int code = run->best() != nullptr ? cli::kExitSuccess : cli::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, s, *run, history)), columns);
   });
 }
