@@ -27,7 +27,7 @@ using analysis::ToleranceSample;
 
 /// Liu 2021 Table 1 (40 pins, R_p 64 mm, r_rp 3 mm, e 1.3 mm, B 12 mm) with section 5.2's base
 /// modification (dR_rp -4 um, dR_p -17 um), steel, 100 N*m on the output over 0 .. 9 deg crank.
-analysis::ToleranceCase Liu52(bool two_discs) {
+analysis::ToleranceCase TolerancedLiu52(bool two_discs) {
   analysis::ToleranceCase c;
   c.design.name = "Liu 2021 Table 1, section 5.2 base modification";
   c.design.pair = {40, 39, 3.0, 64.0, 1.3, 12.0};
@@ -49,7 +49,7 @@ analysis::ToleranceCase Liu52(bool two_discs) {
 
 /// Pin-circle radius deviation drawn normal, eccentricity deviation uniform (mm), six samples, limits on the
 /// peak-to-peak TE and the largest contact stress that some samples miss.
-analysis::ToleranceSettings Settings() {
+analysis::ToleranceSettings StudySettings() {
   analysis::ToleranceSettings s;
   analysis::ToleranceDistribution circle;
   circle.key = "pin_circle_deviation_mm";
@@ -72,7 +72,7 @@ analysis::ToleranceSettings Settings() {
 TEST_CASE("analysis: a tolerance study's samples are the backlash and the loaded sweep of each sample's pair, its pass fractions their counts") {
   for (const bool two_discs : {false, true}) {
     CAPTURE(two_discs);
-    const analysis::ToleranceStudy study(Liu52(two_discs), analysis::SolverOptions{}, Settings());
+    const analysis::ToleranceStudy study(TolerancedLiu52(two_discs), analysis::SolverOptions{}, StudySettings());
     std::vector<ToleranceSample> streamed;
     analysis::ToleranceRunPlan plan;
     plan.threads = 2;
@@ -139,7 +139,7 @@ TEST_CASE("analysis: a tolerance study's samples are the backlash and the loaded
 }
 
 TEST_CASE("analysis: a tolerance study's result does not depend on its threads or its first block; the worst case runs when asked") {
-  const analysis::ToleranceStudy study(Liu52(false), analysis::SolverOptions{}, Settings());
+  const analysis::ToleranceStudy study(TolerancedLiu52(false), analysis::SolverOptions{}, StudySettings());
   analysis::ToleranceRunPlan one;
   one.threads = 1;
   one.first = 3;
