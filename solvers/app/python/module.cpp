@@ -7,18 +7,15 @@
 // translates it; a solve that fails is a status in the result, not an exception. The GIL is
 // released while the library computes, so Python threads may run other decks meanwhile.
 #include <algorithm>
-#include <atomic>
 #include <memory>
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
 #include <functional>
 #include <tuple>
+#include <type_traits>
 #include <optional>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -155,20 +152,11 @@ py::tuple Solve(const Deck& given, const std::string& solver_name, const std::st
 namespace cli = ltca::cli;
 
 /// A command's document, written by the command's own writer in this process (its JSON to a
-/// string, its text to nowhere), with the GIL released: (exit code, the document as a dict). The
-/// CSV, when asked for, comes back as text beside it (the per-sample rows of a tolerance run).
-template <bool kWithCsv = false, typename Options, typename RunFn>
+/// string, its text to nowhere), with the GIL released: (exit code, the document as a dict, "").
+template <typename Options, typename RunFn>
 py::tuple CommandDocument(const Deck& deck, Options options, RunFn run) {
   std::ostringstream out, sink;
-  std::filesystem::path json_file;
-  if constexpr (kWithCsv) {  // the CSV takes stdout; the JSON a file of its own, removed after
-    static std::atomic<unsigned long> counter{0};
-    json_file = std::filesystem::temp_directory_path() / ("ltca-python-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".json");
-    options.json_path = json_file.string();
-    options.csv_path = "-";
-  } else {
-    options.json_path = "-";
-  }
+  options.json_path = "-";
   int code = 0;
   {
     py::gil_scoped_release release;
@@ -179,15 +167,7 @@ py::tuple CommandDocument(const Deck& deck, Options options, RunFn run) {
       code = run(deck, options, streams);
     }
   }
-  std::string json_text = out.str(), csv_text;
-  if constexpr (kWithCsv) {
-    csv_text = json_text;
-    std::ifstream in(json_file);
-    json_text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    std::error_code ec;
-    std::filesystem::remove(json_file, ec);
-  }
-  return py::make_tuple(code, ToPython(nlohmann::json::parse(json_text)), py::str(csv_text));
+  return py::make_tuple(code, ToPython(nlohmann::json::parse(out.str())), py::str(""));
 }
 
 }  // namespace
