@@ -15,6 +15,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <iterator>
@@ -294,6 +295,215 @@ std::optional<double> StageFigure(const app::Deck& deck, const app::SweepSummary
 
 std::string InlineSvg(const fs::path& path) { return InlineSvgText(ReadFile(path), path.stem().string()); }
 
+/// Where the report writes a file of its folder: the name's path in the staging folder.
+using FileIn = std::function<std::string(const char*)>;
+
+/// The report's tolerance study: its study and result (rank 0 holds the summary) and its figure
+/// as SVG text for the page.
+struct ReportTolerance {
+  std::optional<analysis::ToleranceStudy> study;
+  std::optional<analysis::ToleranceResult> result;
+  std::string svg;
+  bool root() const { return result && result->rank == 0; }
+  /// The worst case of a figure the study ran, or nullptr (no worst case, or not its figure).
+  const analysis::WorstCaseFigure* WorstCase(const std::string& figure) const {
+    if (!root() || !result->worst_case) return nullptr;
+    const auto& names = analysis::ToleranceSettings::FigureNames();
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      if (names[f] == figure && study->Runs(f)) return &result->worst_case->figures[f];
+    }
+    return nullptr;
+  }
+};
+
+/// The study as `ltca tolerance` runs it, in this process: the deck's samples (or --samples) on
+/// the report's threads and, under mpirun, its ranks; tolerance.json and tolerance.svg written by
+/// the command's builders (rank 0).
+ReportTolerance RunToleranceForReport(const app::Deck& deck, const solvers::SolverOptions& solver, const ReportOptions& options,
+                                      const Streams& quiet, const Streams& streams, const FileIn& file) {
+  namespace documents = app::documents;
+  ReportTolerance tol;
+  const analysis::ToleranceSettings settings = documents::ToleranceSettingsFor(deck, options.samples, std::nullopt, false);
+  const int threads = analysis::ResolveThreads(options.threads);
+  tol.study.emplace(deck.MakeToleranceCase(), solver, settings);
+  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+  FailTogether(farm.get(), streams.err, [&]() -> int {
+    const bool root = !farm || farm->rank() == 0;
+    analysis::ToleranceRunPlan plan;
+    plan.threads = threads;
+    plan.ranks = farm.get();
+    plan.worst_case = !options.no_worst_case;
+    std::ostringstream unseen;  // the estimate, which the page does not show
+    ToleranceProgressLines progress(quiet, quiet.progress && root, unseen, 2.0, threads, farm && farm->size() > 1, plan.worst_case);
+    plan.progress = &progress;
+    tol.result = analysis::RunToleranceStudy(*tol.study, plan);
+    return kExitSuccess;
+  });
+  if (tol.root()) {
+    WriteTo("-o", file("tolerance.json"), streams.out,
+            [&](std::ostream& os) { os << Dump(documents::Json(deck, solver, *tol.study, *tol.result)) << '\n'; });
+    tol.svg = SvgOf(documents::Figure(deck, *tol.study, *tol.result));
+    WriteTo("-o", file("tolerance.svg"), streams.out, [&](std::ostream& os) { os << tol.svg; });
+  }
+  return tol;
+}
+
+/// The page's tolerance section (rank 0): the counts, the study's notes, the percentiles and the
+/// worst-case corners, the limits' pass fractions, the sensitivity ranking and the histograms.
+std::string ToleranceHtml(const ReportTolerance& tol, const ReportOptions& options) {
+  const analysis::ToleranceSummary& ts = tol.result->summary;
+  const auto& names = analysis::ToleranceSettings::FigureNames();
+  // The figures the study ran, in the order of their names.
+  std::vector<std::size_t> figures;
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    if (tol.study->Runs(f)) figures.push_back(f);
+  }
+  std::sort(figures.begin(), figures.end(), [&](std::size_t a, std::size_t b) { return names[a] < names[b]; });
+  std::string html = fmt::format("<p>{} samples (seed {}): {} succeeded, {} failed, {} rejected (interference); all limits passed by "
+                                 "a fraction {} of the samples.{}</p>\n",
+                                 ts.samples, ts.seed, ts.succeeded, ts.failed, ts.rejected, CellOf(ts.pass_fraction),
+                                 options.no_worst_case ? " The extreme-value (worst-case) runs were skipped (--no-worst-case)." : "");
+  // The study's notes say what a figure is where it is not what its name suggests (a reducer
+  // stage's backlash is its free play) and what part of the revolution was swept.
+  for (const std::string& note : tol.study->notes()) html += fmt::format("<p class=\"note\">{}</p>\n", Html(note));
+  html += "<h3>Percentiles per figure</h3>\n<table>\n<tr><th>figure</th><th>nominal</th><th>p5</th><th>p50</th><th>p95</th>"
+          "<th>mean</th><th>std</th><th>worst case low</th><th>worst case high</th></tr>\n";
+  for (const std::size_t f : figures) {
+    const analysis::FigureStats& st = ts.figures[f];
+    const analysis::WorstCaseFigure none;  // without the worst case: every figure n/a
+    const analysis::WorstCaseFigure& w = tol.result->worst_case ? tol.result->worst_case->figures[f] : none;
+    html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+                        "<td>{}</td><td>{}</td></tr>\n",
+                        Html(names[f]), Html(Label(names[f])), CellOf(w.nominal), CellOf(st.p5), CellOf(st.p50), CellOf(st.p95),
+                        CellOf(st.mean), CellOf(st.std), CellOf(w.corner_low), CellOf(w.corner_high));
+  }
+  html += "</table>\n<h3>Pass fraction per limit</h3>\n<table>\n<tr><th>figure</th><th>min</th><th>max</th><th>pass fraction</th></tr>\n";
+  for (const analysis::LimitResult& x : ts.limits) {
+    html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(Label(x.limit.figure)), CellOf(x.limit.min),
+                        CellOf(x.limit.max), CellOf(x.fraction));
+  }
+  html += "</table>\n<h3>Sensitivity: what moves each figure</h3>\n<p>Each input's share of the figure's variance "
+          "(standardised regression coefficients); an input whose share is within the noise floor (the share a random "
+          "input of the same samples gets) is not told from chance.</p>\n<table>\n<tr><th>figure</th><th>R&sup2;</th>"
+          "<th>ranking (share, noise floor)</th></tr>\n";
+  for (const std::size_t f : figures) {
+    const analysis::FigureSensitivity& fs = ts.sensitivity[f];
+    std::string ranking;
+    for (std::size_t k = 0; k < std::min<std::size_t>(4, fs.keys.size()); ++k) {
+      const analysis::KeySensitivity& key = fs.keys[k];
+      ranking += fmt::format("{}{} {} ({}{})", ranking.empty() ? "" : "; ", Html(key.key), CellOf(key.share), CellOf(key.noise_floor),
+                             key.distinguishable ? "" : ", within noise");
+    }
+    html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td></tr>\n", Html(Label(names[f])), CellOf(fs.r_squared),
+                        ranking.empty() ? Html(fs.note.empty() ? std::string("no ranking") : fs.note) : ranking);
+  }
+  html += "</table>\n";
+  return html + InlineSvgText(tol.svg, "tolerance");
+}
+
+/// The report's design optimisation: its search and run (rank 0 writes) and its figure as SVG
+/// text for the page.
+struct ReportOptimisation {
+  std::optional<analysis::Optimiser> optimiser;
+  std::optional<analysis::OptimiseRun> run;
+  std::string svg;
+  bool root() const { return run && optimiser->ranks().rank == 0; }
+};
+
+/// The search as `ltca optimise` runs it, in this process, on the report's threads (and, under
+/// mpirun, its ranks): optimise.json (its history spooled as the search makes it, so that the
+/// page's memory does not grow with the evaluations) and optimise.svg by the command's builders.
+ReportOptimisation RunOptimiseForReport(const app::Deck& deck, const solvers::SolverOptions& solver, const ReportOptions& options,
+                                        const Streams& streams, const FileIn& file) {
+  namespace documents = app::documents;
+  ReportOptimisation opt;
+  const analysis::OptimiseSettings settings = documents::OptimiseSettingsFor(deck, std::nullopt);
+  const int threads = analysis::ResolveThreads(options.threads);
+  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+  FailTogether(farm.get(), streams.err, [&]() -> int {
+    opt.optimiser.emplace(deck.MakeToleranceCase(), solver, settings, threads, RankGroupOf(farm.get()));
+    const bool root = opt.optimiser->ranks().rank == 0;
+    const analysis::OptimiseSettings& s = opt.optimiser->settings();
+    std::unique_ptr<Spool> history;
+    if (root) history = std::make_unique<Spool>("-o", file("optimise.json"));
+    documents::OptimiseSeries series(s, false);
+    analysis::OptimiseRunPlan plan;
+    plan.sink = [&](const analysis::DesignEvaluation& e) {
+      if (history) {
+        history->stream() << documents::HistoryItem(s, e);
+        history->Check();
+      }
+      series.Add(e);
+    };
+    opt.run = analysis::RunOptimisation(*opt.optimiser, plan);
+    if (root) {
+      WriteTo("-o", file("optimise.json"), streams.out, [&](std::ostream& os) {
+        documents::WriteOptimiseJson(os, documents::OptimiseJsonHead(deck, solver, s, *opt.run),
+                                     [&](std::ostream& items) { history->CopyTo(items); }, s, *opt.run);
+      });
+      history.reset();
+      opt.svg = SvgOf(documents::Figure(deck, s, *opt.run, series));
+      WriteTo("-o", file("optimise.svg"), streams.out, [&](std::ostream& os) { os << opt.svg; });
+    }
+    return kExitSuccess;
+  });
+  return opt;
+}
+
+/// The page's optimisation section (rank 0): the objective and the rule, the phases, the variables
+/// with the optimum, the optimum's objective and constraints judged, the convergence figure.
+std::string OptimiseHtml(const ReportOptimisation& opt) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const analysis::OptimiseSettings& st = opt.optimiser->settings();
+  const analysis::OptimiseResult& os = opt.run->search;
+  const analysis::DesignEvaluation* best = opt.run->best();
+  std::string rule = "on the nominal pair";
+  if (st.robust) {
+    rule = st.confidence > 0.0
+               ? fmt::format("robust: each figure's p{} bounded at confidence {} over {} common samples of [tolerances] (the "
+                             "{}th order statistic)",
+                             CellOf(st.percentile), CellOf(st.confidence), st.robust_samples,
+                             analysis::ConfidenceRank(st.robust_samples, st.percentile / 100.0, st.confidence))
+               : fmt::format("robust: each figure's p{} over {} common samples of [tolerances]", CellOf(st.percentile),
+                             st.robust_samples);
+  }
+  std::string phases;
+  for (const analysis::OptimisePhase& ph : os.phases) {
+    phases += fmt::format("{}{}: {} evaluations, stopped: {}", phases.empty() ? "" : "; then ", Html(ph.method), ph.evaluations, Html(ph.stop));
+  }
+  std::string html = fmt::format("<p>The search of the deck's <code>[optimise]</code> (docs/optimise.md): {} {}, {}; {} evaluations ({} failed, {} "
+                                 "rejected: the pair interferes). {}.</p>\n",
+                                 st.maximise ? "maximise" : "minimise", Html(Label(st.objective)), rule, os.evaluations, os.failed, os.rejected,
+                                 phases);
+  html += "<table>\n<tr><th>variable</th><th>lower</th><th>upper</th><th>optimum</th></tr>\n";
+  for (std::size_t k = 0; k < st.variables.size(); ++k) {
+    const analysis::OptimiseVariable& v = st.variables[k];
+    html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(v.key), Html(Label(v.key)),
+                        CellOf(v.lower), CellOf(v.upper), best == nullptr ? "none" : CellOf(best->x[k]));
+  }
+  html += "</table>\n";
+  if (best == nullptr) {
+    html += "<p class=\"note\">No evaluation met the constraints: there is no optimum to judge.</p>\n";
+  } else {
+    html += "<table>\n<tr><th>figure at the optimum</th><th>value</th><th>constraint</th><th>margin</th><th>verdict</th>"
+            "<th></th><th>from</th></tr>\n";
+    const std::string basis = st.robust ? "ltca optimise, robust" : "ltca optimise, the nominal pair";
+    // A figure of the best design (NaN: none, or not a figure).
+    const auto at_best = [&](const std::string& figure) {
+      const int f = analysis::FigureIndex(figure);
+      return f >= 0 ? best->figures[static_cast<std::size_t>(f)] : nan;
+    };
+    if (analysis::FigureIndex(st.objective) >= 0) {
+      html += AllowableRow(Label(st.objective) + " (objective)", st.objective, at_best(st.objective), nan, nan, basis);
+    }
+    for (const analysis::ToleranceLimit& c : st.constraints) {
+      html += AllowableRow(Label(c.figure), c.figure, at_best(c.figure), c.min, c.max, basis);
+    }
+    html += "</table>\n";
+  }
+  return html + InlineSvgText(opt.svg, "optimise");
+}
+
 }  // namespace
 
 int RunReport(const app::Deck& given, const ReportOptions& options, const Streams& streams) {
@@ -456,75 +666,13 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // Tolerances (issue 15) when the deck carries [tolerances], with the deck's samples on every
   // hardware thread; two discs too (issue 27).
   const bool tolerance = deck.tolerances.has_value();
-  std::optional<analysis::ToleranceStudy> tol_study;
-  std::optional<analysis::ToleranceResult> tol;
-  std::string tol_svg;
-  if (tolerance) {
-    const analysis::ToleranceSettings settings = documents::ToleranceSettingsFor(deck, options.samples, std::nullopt, false);
-    const int threads = analysis::ResolveThreads(options.threads);
-    tol_study.emplace(deck.MakeToleranceCase(), solver, settings);
-    std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
-    FailTogether(farm.get(), streams.err, [&]() -> int {
-      const bool root = !farm || farm->rank() == 0;
-      analysis::ToleranceRunPlan plan;
-      plan.threads = threads;
-      plan.ranks = farm.get();
-      plan.worst_case = !options.no_worst_case;
-      std::ostringstream unseen;  // the estimate, which the page does not show
-      ToleranceProgressLines progress(quiet, quiet.progress && root, unseen, 2.0, threads, farm && farm->size() > 1, plan.worst_case);
-      plan.progress = &progress;
-      tol = analysis::RunToleranceStudy(*tol_study, plan);
-      return kExitSuccess;
-    });
-    if (tol->rank == 0) {
-      WriteTo("-o", file("tolerance.json"), streams.out,
-              [&](std::ostream& os) { os << Dump(documents::Json(deck, solver, *tol_study, *tol)) << '\n'; });
-      tol_svg = SvgOf(documents::Figure(deck, *tol_study, *tol));
-      WriteTo("-o", file("tolerance.svg"), streams.out, [&](std::ostream& os) { os << tol_svg; });
-    }
-  }
-  const int tol_code = !tol || tol->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+  const ReportTolerance tol = tolerance ? RunToleranceForReport(deck, solver, options, quiet, streams, file) : ReportTolerance{};
+  const int tol_code = !tol.result || tol.result->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
   // Design optimisation (issue 28) when the deck carries [optimise]: the search as `ltca optimise`
   // runs it, on the report's threads.
   const bool optimise = deck.optimise.has_value();
-  std::optional<analysis::Optimiser> optimiser;
-  std::optional<analysis::OptimiseRun> opt;
-  std::string opt_svg;
-  if (optimise) {
-    const analysis::OptimiseSettings settings = documents::OptimiseSettingsFor(deck, std::nullopt);
-    const int threads = analysis::ResolveThreads(options.threads);
-    std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
-    FailTogether(farm.get(), streams.err, [&]() -> int {
-      optimiser.emplace(deck.MakeToleranceCase(), solver, settings, threads, RankGroupOf(farm.get()));
-      const bool root = optimiser->ranks().rank == 0;
-      const analysis::OptimiseSettings& s = optimiser->settings();
-      // The history into a spool as the search makes it (the search keeps none), copied into
-      // optimise.json after the summary; the figure's series decimated as they come.
-      std::unique_ptr<Spool> history;
-      if (root) history = std::make_unique<Spool>("-o", file("optimise.json"));
-      documents::OptimiseSeries series(s, false);
-      analysis::OptimiseRunPlan plan;
-      plan.sink = [&](const analysis::DesignEvaluation& e) {
-        if (history) {
-          history->stream() << documents::HistoryItem(s, e);
-          history->Check();
-        }
-        series.Add(e);
-      };
-      opt = analysis::RunOptimisation(*optimiser, plan);
-      if (root) {
-        WriteTo("-o", file("optimise.json"), streams.out, [&](std::ostream& os) {
-          documents::WriteOptimiseJson(os, documents::OptimiseJsonHead(deck, solver, s, *opt),
-                                       [&](std::ostream& items) { history->CopyTo(items); }, s, *opt);
-        });
-        history.reset();
-        opt_svg = SvgOf(documents::Figure(deck, s, *opt, series));
-        WriteTo("-o", file("optimise.svg"), streams.out, [&](std::ostream& os) { os << opt_svg; });
-      }
-      return kExitSuccess;
-    });
-  }
-  const int opt_code = !opt || opt->best() != nullptr ? kExitSuccess : kExitNotSucceeded;
+  const ReportOptimisation opt = optimise ? RunOptimiseForReport(deck, solver, options, streams, file) : ReportOptimisation{};
+  const int opt_code = !opt.run || opt.run->best() != nullptr ? kExitSuccess : kExitNotSucceeded;
 
   const nlohmann::json l = loop ? nlohmann::json::parse(ReadFile(stiffness.json_path)) : nlohmann::json();
   const auto& p = deck.pair;
@@ -587,22 +735,6 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   const nlohmann::json bs = documents::Json(deck, *backlash);  // the backlash's summary, from its result
   const nlohmann::json ls = loop ? l["summary"] : nlohmann::json();
   const nlohmann::json es = eff ? documents::Json(*eff) : nlohmann::json();  // the efficiency's summary, from its result
-  const auto& names = analysis::ToleranceSettings::FigureNames();
-  // The figures the tolerance study ran (rank 0 holds its summary), in the order of their names.
-  std::vector<std::size_t> tol_figures;
-  if (tol && tol->rank == 0) {
-    for (std::size_t f = 0; f < names.size(); ++f) {
-      if (tol_study->Runs(f)) tol_figures.push_back(f);
-    }
-    std::sort(tol_figures.begin(), tol_figures.end(), [&](std::size_t a, std::size_t b) { return names[a] < names[b]; });
-  }
-  const auto runs = [&](const std::string& figure) -> const analysis::WorstCaseFigure* {
-    if (!tol || !tol->worst_case) return nullptr;
-    for (const std::size_t f : tol_figures) {
-      if (names[f] == figure) return &tol->worst_case->figures[f];
-    }
-    return nullptr;
-  };
   const double nan = std::numeric_limits<double>::quiet_NaN();
   html += AllowableRow("largest contact stress (MPa)", "max_contact_stress_mpa", Finite(ss.max_contact_stress), nan,
                        deck.RequireMaterial().contact_stress_limit, "ltca solve, the sweep");
@@ -611,7 +743,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // reducer stage the backlash is the stage's free play (the loop's width at zero torque), never
   // the pin ring's unloaded analysis, and its loads and lives are the solve's stage summary.
   const auto nominal = [&](const std::string& figure) -> std::pair<double, std::string> {
-    if (const analysis::WorstCaseFigure* w = runs(figure)) {
+    if (const analysis::WorstCaseFigure* w = tol.WorstCase(figure)) {
       if (std::isfinite(w->nominal)) return {w->nominal, "ltca tolerance, the nominal deck"};
     }
     if (deck.reducer) {
@@ -634,8 +766,8 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
       limited.push_back(limit.figure);
       const auto [value, basis] = nominal(limit.figure);
       std::optional<double> fraction;  // the Monte Carlo's pass fraction of this limit
-      if (tol && tol->rank == 0) {
-        for (const analysis::LimitResult& x : tol->summary.limits) {
+      if (tol.root()) {
+        for (const analysis::LimitResult& x : tol.result->summary.limits) {
           if (x.limit.figure == limit.figure) fraction = x.fraction;
         }
       }
@@ -705,100 +837,14 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
                                           : "the deck's torque is zero (no output power)");
   }
   html += "<h2 id=\"tolerance\">Tolerance analysis (Monte Carlo)</h2>\n";
-  if (tol && tol->rank == 0) {
-    const analysis::ToleranceSummary& ts = tol->summary;
-    html += fmt::format("<p>{} samples (seed {}): {} succeeded, {} failed, {} rejected (interference); all limits passed by "
-                        "a fraction {} of the samples.{}</p>\n",
-                        ts.samples, ts.seed, ts.succeeded, ts.failed, ts.rejected, CellOf(ts.pass_fraction),
-                        options.no_worst_case ? " The extreme-value (worst-case) runs were skipped (--no-worst-case)." : "");
-    // The study's notes say what a figure is where it is not what its name suggests (a reducer
-    // stage's backlash is its free play) and what part of the revolution was swept.
-    for (const std::string& note : tol_study->notes()) html += fmt::format("<p class=\"note\">{}</p>\n", Html(note));
-    html += "<h3>Percentiles per figure</h3>\n<table>\n<tr><th>figure</th><th>nominal</th><th>p5</th><th>p50</th><th>p95</th>"
-            "<th>mean</th><th>std</th><th>worst case low</th><th>worst case high</th></tr>\n";
-    for (const std::size_t f : tol_figures) {
-      const analysis::FigureStats& st = ts.figures[f];
-      const analysis::WorstCaseFigure none;  // without the worst case: every figure n/a
-      const analysis::WorstCaseFigure& w = tol->worst_case ? tol->worst_case->figures[f] : none;
-      html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
-                          "<td>{}</td><td>{}</td></tr>\n",
-                          Html(names[f]), Html(Label(names[f])), CellOf(w.nominal), CellOf(st.p5), CellOf(st.p50), CellOf(st.p95),
-                          CellOf(st.mean), CellOf(st.std), CellOf(w.corner_low), CellOf(w.corner_high));
-    }
-    html += "</table>\n<h3>Pass fraction per limit</h3>\n<table>\n<tr><th>figure</th><th>min</th><th>max</th><th>pass fraction</th></tr>\n";
-    for (const analysis::LimitResult& x : ts.limits) {
-      html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(Label(x.limit.figure)), CellOf(x.limit.min),
-                          CellOf(x.limit.max), CellOf(x.fraction));
-    }
-    html += "</table>\n<h3>Sensitivity: what moves each figure</h3>\n<p>Each input's share of the figure's variance "
-            "(standardised regression coefficients); an input whose share is within the noise floor (the share a random "
-            "input of the same samples gets) is not told from chance.</p>\n<table>\n<tr><th>figure</th><th>R&sup2;</th>"
-            "<th>ranking (share, noise floor)</th></tr>\n";
-    for (const std::size_t f : tol_figures) {
-      const analysis::FigureSensitivity& fs = ts.sensitivity[f];
-      std::string ranking;
-      for (std::size_t k = 0; k < std::min<std::size_t>(4, fs.keys.size()); ++k) {
-        const analysis::KeySensitivity& key = fs.keys[k];
-        ranking += fmt::format("{}{} {} ({}{})", ranking.empty() ? "" : "; ", Html(key.key), CellOf(key.share), CellOf(key.noise_floor),
-                               key.distinguishable ? "" : ", within noise");
-      }
-      html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td></tr>\n", Html(Label(names[f])), CellOf(fs.r_squared),
-                          ranking.empty() ? Html(fs.note.empty() ? std::string("no ranking") : fs.note) : ranking);
-    }
-    html += "</table>\n";
-    html += InlineSvgText(tol_svg, "tolerance");
+  if (tol.root()) {
+    html += ToleranceHtml(tol, options);
   } else {
     html += "<p class=\"note\">Not run: the deck has no [tolerances] section.</p>\n";
   }
   html += "<h2 id=\"optimise\">Design optimisation</h2>\n";
-  if (opt && optimiser->ranks().rank == 0) {
-    const analysis::OptimiseSettings& st = optimiser->settings();
-    const analysis::OptimiseResult& os = opt->search;
-    const analysis::DesignEvaluation* best = opt->best();
-    std::string rule = "on the nominal pair";
-    if (st.robust) {
-      rule = st.confidence > 0.0
-                 ? fmt::format("robust: each figure's p{} bounded at confidence {} over {} common samples of [tolerances] (the "
-                               "{}th order statistic)",
-                               CellOf(st.percentile), CellOf(st.confidence), st.robust_samples,
-                               analysis::ConfidenceRank(st.robust_samples, st.percentile / 100.0, st.confidence))
-                 : fmt::format("robust: each figure's p{} over {} common samples of [tolerances]", CellOf(st.percentile),
-                               st.robust_samples);
-    }
-    std::string phases;
-    for (const analysis::OptimisePhase& ph : os.phases) {
-      phases += fmt::format("{}{}: {} evaluations, stopped: {}", phases.empty() ? "" : "; then ", Html(ph.method), ph.evaluations, Html(ph.stop));
-    }
-    html += fmt::format("<p>The search of the deck's <code>[optimise]</code> (docs/optimise.md): {} {}, {}; {} evaluations ({} failed, {} "
-                        "rejected: the pair interferes). {}.</p>\n",
-                        st.maximise ? "maximise" : "minimise", Html(Label(st.objective)), rule, os.evaluations, os.failed, os.rejected, phases);
-    html += "<table>\n<tr><th>variable</th><th>lower</th><th>upper</th><th>optimum</th></tr>\n";
-    for (std::size_t k = 0; k < st.variables.size(); ++k) {
-      const analysis::OptimiseVariable& v = st.variables[k];
-      html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(v.key), Html(Label(v.key)),
-                          CellOf(v.lower), CellOf(v.upper), best == nullptr ? "none" : CellOf(best->x[k]));
-    }
-    html += "</table>\n";
-    if (best == nullptr) {
-      html += "<p class=\"note\">No evaluation met the constraints: there is no optimum to judge.</p>\n";
-    } else {
-      html += "<table>\n<tr><th>figure at the optimum</th><th>value</th><th>constraint</th><th>margin</th><th>verdict</th>"
-              "<th></th><th>from</th></tr>\n";
-      const std::string basis = st.robust ? "ltca optimise, robust" : "ltca optimise, the nominal pair";
-      // A figure of the best design (NaN: none, or not a figure).
-      const auto at_best = [&](const std::string& figure) {
-        const int f = analysis::FigureIndex(figure);
-        return f >= 0 ? best->figures[static_cast<std::size_t>(f)] : nan;
-      };
-      if (analysis::FigureIndex(st.objective) >= 0) {
-        html += AllowableRow(Label(st.objective) + " (objective)", st.objective, at_best(st.objective), nan, nan, basis);
-      }
-      for (const analysis::ToleranceLimit& c : st.constraints) {
-        html += AllowableRow(Label(c.figure), c.figure, at_best(c.figure), c.min, c.max, basis);
-      }
-      html += "</table>\n";
-    }
-    html += InlineSvgText(opt_svg, "optimise");
+  if (opt.root()) {
+    html += OptimiseHtml(opt);
   } else {
     html += "<p class=\"note\">Not run: the deck has no [optimise] section.</p>\n";
   }
