@@ -1,3 +1,5 @@
+// `ltca tolerance` (docs/tolerance.md): options -> run plan -> analysis::RunToleranceStudy ->
+// documents (documents/tolerance.hpp); the ranks of an MPI job failing together, and the progress lines.
 #include "tolerance_command.hpp"
 
 #include "command.hpp"
@@ -17,6 +19,7 @@
 #include "solve_command.hpp"
 
 namespace ltca::cli {
+
 ToleranceProgressLines::ToleranceProgressLines(const Streams& streams, bool shown, std::ostream& text, double after_seconds, int threads,
                                                bool several_ranks, bool worst_case)
     : streams_(streams), shown_(shown), text_(text), after_seconds_(after_seconds), threads_(threads), several_ranks_(several_ranks),
