@@ -718,4 +718,16 @@ std::vector<ParetoPoint> Optimiser::Pareto(const std::string& figure, double lo,
       });
 }
 
+OptimiseRun RunOptimisation(const Optimiser& optimiser, const OptimiseRunPlan& plan) {
+  OptimiseRun run;
+  run.threads = optimiser.threads();
+  run.ranks = optimiser.ranks().size;
+  run.search = optimiser.Run(plan.sink);
+  run.map = plan.map;
+  if (plan.map > 0) run.grid = optimiser.Grid(plan.map);
+  run.pareto = plan.pareto;
+  if (!plan.pareto.empty()) run.front = optimiser.Pareto(plan.pareto, plan.pareto_from, plan.pareto_to, plan.pareto_steps);
+  return run;
+}
+
 }  // namespace ltca::analysis

@@ -3,6 +3,7 @@
 #include <optional>
 #include <string>
 
+#include "ltca/analysis/optimise.hpp"
 #include "ltca/app/deck.hpp"
 #include "output.hpp"
 
@@ -19,6 +20,11 @@ struct OptimiseOptions {
   double pareto_from = std::numeric_limits<double>::quiet_NaN(), pareto_to = std::numeric_limits<double>::quiet_NaN();
   int pareto_steps = 11;
 };
+
+class SampleFarm;
+/// The optimiser's view of the ranks of an MPI job (nullptr: this process alone): every rank runs
+/// the search in lockstep and shares what divides through the farm's AllGather.
+analysis::RankGroup RankGroupOf(SampleFarm* farm);
 
 /// `ltca optimise`: the search of the deck's [optimise] (on MPI ranks under mpirun), its history,
 /// convergence figure, best design as a deck, map and Pareto front. Returns kExitSuccess when a

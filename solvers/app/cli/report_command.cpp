@@ -15,6 +15,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <iterator>
@@ -33,11 +34,14 @@
 #include "documents/efficiency.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
+#include "documents/optimise.hpp"
 #include "documents/stiffness.hpp"
+#include "documents/tolerance.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
 #include "ltca/analysis/stiffness.hpp"
+#include "ltca/analysis/tolerance_run.hpp"
 #include "geometry_command.hpp"
 #include "optimise_command.hpp"
 #include "ltca/analysis/keys.hpp"
@@ -60,18 +64,6 @@ std::string ReadFile(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-/// A document of ltca's without one of its top-level members (the report reads the settings and
-/// the summary): parsed as the file is read, the member's items skipped, so that what the report
-/// holds does not grow with the evaluations (`ltca optimise`'s history) or the positions (`ltca
-/// solve`'s).
-nlohmann::json ReadWithout(const fs::path& path, const std::string& member) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw OutputError(fmt::format("report: cannot read back {}", path.string()));
-  return nlohmann::json::parse(in, [&member](int depth, nlohmann::json::parse_event_t event, const nlohmann::json& parsed) {
-    return !(depth == 1 && event == nlohmann::json::parse_event_t::key && parsed == member);
-  });
-}
-
 std::string Html(const std::string& text) { return app::plots::XmlEscape(text); }
 
 /// A JSON value as table text: numbers to 6 significant digits, null as n/a.
@@ -81,6 +73,8 @@ std::string Cell(const nlohmann::json& v) {
   if (v.is_string()) return Html(v.get<std::string>());
   return Html(v.dump());
 }
+/// A number as table text: 6 significant digits, n/a when not finite.
+std::string CellOf(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : "n/a"; }
 
 /// An output key as a reader reads it (issue 27: the page showed raw keys): the unit its name ends
 /// with in parentheses, words for the underscores, a nested key after its parent and a colon.
@@ -207,7 +201,7 @@ std::string InputsTable(const app::Deck& deck) {
 /// margin to the nearer bound (positive: inside) and the verdict; the Monte Carlo's pass fraction
 /// when it ran.
 std::string AllowableRow(const std::string& what, const std::string& key, double value, double min, double max,
-                         const std::string& basis, const nlohmann::json& fraction = nullptr) {
+                         const std::string& basis, std::optional<double> fraction = std::nullopt) {
   const bool has_value = std::isfinite(value);
   const bool has_limit = std::isfinite(min) || std::isfinite(max);
   std::string allowable = "none in the deck", margin = "", verdict = has_value ? "no allowable" : "n/a";
@@ -225,7 +219,7 @@ std::string AllowableRow(const std::string& what, const std::string& key, double
   }
   return fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
                      Html(key), Html(what), has_value ? fmt::format("{:.6g}", value) : "n/a", allowable, margin, verdict,
-                     fraction.is_null() ? "" : Cell(fraction), Html(basis));
+                     fraction ? CellOf(*fraction) : "", Html(basis));
 }
 
 /// A value of a summary (nullptr or a missing key: NaN).
@@ -301,6 +295,215 @@ std::optional<double> StageFigure(const app::Deck& deck, const app::SweepSummary
 }
 
 std::string InlineSvg(const fs::path& path) { return InlineSvgText(ReadFile(path), path.stem().string()); }
+
+/// Where the report writes a file of its folder: the name's path in the staging folder.
+using FileIn = std::function<std::string(const char*)>;
+
+/// The report's tolerance study: its study and result (rank 0 holds the summary) and its figure
+/// as SVG text for the page.
+struct ReportTolerance {
+  std::optional<analysis::ToleranceStudy> study;
+  std::optional<analysis::ToleranceResult> result;
+  std::string svg;
+  bool root() const { return result && result->rank == 0; }
+  /// The worst case of a figure the study ran, or nullptr (no worst case, or not its figure).
+  const analysis::WorstCaseFigure* WorstCase(const std::string& figure) const {
+    if (!root() || !result->worst_case) return nullptr;
+    const auto& names = analysis::ToleranceSettings::FigureNames();
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      if (names[f] == figure && study->Runs(f)) return &result->worst_case->figures[f];
+    }
+    return nullptr;
+  }
+};
+
+/// The study as `ltca tolerance` runs it, in this process: the deck's samples (or --samples) on
+/// the report's threads and, under mpirun, its ranks; tolerance.json and tolerance.svg written by
+/// the command's builders (rank 0).
+ReportTolerance RunToleranceForReport(const app::Deck& deck, const solvers::SolverOptions& solver, const ReportOptions& options,
+                                      const Streams& quiet, const Streams& streams, const FileIn& file) {
+  namespace documents = app::documents;
+  ReportTolerance tol;
+  const analysis::ToleranceSettings settings = documents::ToleranceSettingsFor(deck, options.samples, std::nullopt, false);
+  const int threads = analysis::ResolveThreads(options.threads);
+  tol.study.emplace(deck.MakeToleranceCase(), solver, settings);
+  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+  FailTogether(farm.get(), streams.err, [&]() -> int {
+    const bool root = !farm || farm->rank() == 0;
+    analysis::ToleranceRunPlan plan;
+    plan.threads = threads;
+    plan.ranks = farm.get();
+    plan.worst_case = !options.no_worst_case;
+    std::ostringstream unseen;  // the estimate, which the page does not show
+    ToleranceProgressLines progress(quiet, quiet.progress && root, unseen, 2.0, threads, farm && farm->size() > 1, plan.worst_case);
+    plan.progress = &progress;
+    tol.result = analysis::RunToleranceStudy(*tol.study, plan);
+    return kExitSuccess;
+  });
+  if (tol.root()) {
+    WriteTo("-o", file("tolerance.json"), streams.out,
+            [&](std::ostream& os) { os << Dump(documents::Json(deck, solver, *tol.study, *tol.result)) << '\n'; });
+    tol.svg = SvgOf(documents::Figure(deck, *tol.study, *tol.result));
+    WriteTo("-o", file("tolerance.svg"), streams.out, [&](std::ostream& os) { os << tol.svg; });
+  }
+  return tol;
+}
+
+/// The page's tolerance section (rank 0): the counts, the study's notes, the percentiles and the
+/// worst-case corners, the limits' pass fractions, the sensitivity ranking and the histograms.
+std::string ToleranceHtml(const ReportTolerance& tol, const ReportOptions& options) {
+  const analysis::ToleranceSummary& ts = tol.result->summary;
+  const auto& names = analysis::ToleranceSettings::FigureNames();
+  // The figures the study ran, in the order of their names.
+  std::vector<std::size_t> figures;
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    if (tol.study->Runs(f)) figures.push_back(f);
+  }
+  std::sort(figures.begin(), figures.end(), [&](std::size_t a, std::size_t b) { return names[a] < names[b]; });
+  std::string html = fmt::format("<p>{} samples (seed {}): {} succeeded, {} failed, {} rejected (interference); all limits passed by "
+                                 "a fraction {} of the samples.{}</p>\n",
+                                 ts.samples, ts.seed, ts.succeeded, ts.failed, ts.rejected, CellOf(ts.pass_fraction),
+                                 options.no_worst_case ? " The extreme-value (worst-case) runs were skipped (--no-worst-case)." : "");
+  // The study's notes say what a figure is where it is not what its name suggests (a reducer
+  // stage's backlash is its free play) and what part of the revolution was swept.
+  for (const std::string& note : tol.study->notes()) html += fmt::format("<p class=\"note\">{}</p>\n", Html(note));
+  html += "<h3>Percentiles per figure</h3>\n<table>\n<tr><th>figure</th><th>nominal</th><th>p5</th><th>p50</th><th>p95</th>"
+          "<th>mean</th><th>std</th><th>worst case low</th><th>worst case high</th></tr>\n";
+  for (const std::size_t f : figures) {
+    const analysis::FigureStats& st = ts.figures[f];
+    const analysis::WorstCaseFigure none;  // without the worst case: every figure n/a
+    const analysis::WorstCaseFigure& w = tol.result->worst_case ? tol.result->worst_case->figures[f] : none;
+    html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+                        "<td>{}</td><td>{}</td></tr>\n",
+                        Html(names[f]), Html(Label(names[f])), CellOf(w.nominal), CellOf(st.p5), CellOf(st.p50), CellOf(st.p95),
+                        CellOf(st.mean), CellOf(st.std), CellOf(w.corner_low), CellOf(w.corner_high));
+  }
+  html += "</table>\n<h3>Pass fraction per limit</h3>\n<table>\n<tr><th>figure</th><th>min</th><th>max</th><th>pass fraction</th></tr>\n";
+  for (const analysis::LimitResult& x : ts.limits) {
+    html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(Label(x.limit.figure)), CellOf(x.limit.min),
+                        CellOf(x.limit.max), CellOf(x.fraction));
+  }
+  html += "</table>\n<h3>Sensitivity: what moves each figure</h3>\n<p>Each input's share of the figure's variance "
+          "(standardised regression coefficients); an input whose share is within the noise floor (the share a random "
+          "input of the same samples gets) is not told from chance.</p>\n<table>\n<tr><th>figure</th><th>R&sup2;</th>"
+          "<th>ranking (share, noise floor)</th></tr>\n";
+  for (const std::size_t f : figures) {
+    const analysis::FigureSensitivity& fs = ts.sensitivity[f];
+    std::string ranking;
+    for (std::size_t k = 0; k < std::min<std::size_t>(4, fs.keys.size()); ++k) {
+      const analysis::KeySensitivity& key = fs.keys[k];
+      ranking += fmt::format("{}{} {} ({}{})", ranking.empty() ? "" : "; ", Html(key.key), CellOf(key.share), CellOf(key.noise_floor),
+                             key.distinguishable ? "" : ", within noise");
+    }
+    html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td></tr>\n", Html(Label(names[f])), CellOf(fs.r_squared),
+                        ranking.empty() ? Html(fs.note.empty() ? std::string("no ranking") : fs.note) : ranking);
+  }
+  html += "</table>\n";
+  return html + InlineSvgText(tol.svg, "tolerance");
+}
+
+/// The report's design optimisation: its search and run (rank 0 writes) and its figure as SVG
+/// text for the page.
+struct ReportOptimisation {
+  std::optional<analysis::Optimiser> optimiser;
+  std::optional<analysis::OptimiseRun> run;
+  std::string svg;
+  bool root() const { return run && optimiser->ranks().rank == 0; }
+};
+
+/// The search as `ltca optimise` runs it, in this process, on the report's threads (and, under
+/// mpirun, its ranks): optimise.json (its history spooled as the search makes it, so that the
+/// page's memory does not grow with the evaluations) and optimise.svg by the command's builders.
+ReportOptimisation RunOptimiseForReport(const app::Deck& deck, const solvers::SolverOptions& solver, const ReportOptions& options,
+                                        const Streams& streams, const FileIn& file) {
+  namespace documents = app::documents;
+  ReportOptimisation opt;
+  const analysis::OptimiseSettings settings = documents::OptimiseSettingsFor(deck, std::nullopt);
+  const int threads = analysis::ResolveThreads(options.threads);
+  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+  FailTogether(farm.get(), streams.err, [&]() -> int {
+    opt.optimiser.emplace(deck.MakeToleranceCase(), solver, settings, threads, RankGroupOf(farm.get()));
+    const bool root = opt.optimiser->ranks().rank == 0;
+    const analysis::OptimiseSettings& s = opt.optimiser->settings();
+    std::unique_ptr<Spool> history;
+    if (root) history = std::make_unique<Spool>("-o", file("optimise.json"));
+    documents::OptimiseSeries series(s, false);
+    analysis::OptimiseRunPlan plan;
+    plan.sink = [&](const analysis::DesignEvaluation& e) {
+      if (history) {
+        history->stream() << documents::HistoryItem(s, e);
+        history->Check();
+      }
+      series.Add(e);
+    };
+    opt.run = analysis::RunOptimisation(*opt.optimiser, plan);
+    if (root) {
+      WriteTo("-o", file("optimise.json"), streams.out, [&](std::ostream& os) {
+        documents::WriteOptimiseJson(os, documents::OptimiseJsonHead(deck, solver, s, *opt.run),
+                                     [&](std::ostream& items) { history->CopyTo(items); }, s, *opt.run);
+      });
+      history.reset();
+      opt.svg = SvgOf(documents::Figure(deck, s, *opt.run, series));
+      WriteTo("-o", file("optimise.svg"), streams.out, [&](std::ostream& os) { os << opt.svg; });
+    }
+    return kExitSuccess;
+  });
+  return opt;
+}
+
+/// The page's optimisation section (rank 0): the objective and the rule, the phases, the variables
+/// with the optimum, the optimum's objective and constraints judged, the convergence figure.
+std::string OptimiseHtml(const ReportOptimisation& opt) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const analysis::OptimiseSettings& st = opt.optimiser->settings();
+  const analysis::OptimiseResult& os = opt.run->search;
+  const analysis::DesignEvaluation* best = opt.run->best();
+  std::string rule = "on the nominal pair";
+  if (st.robust) {
+    rule = st.confidence > 0.0
+               ? fmt::format("robust: each figure's p{} bounded at confidence {} over {} common samples of [tolerances] (the "
+                             "{}th order statistic)",
+                             CellOf(st.percentile), CellOf(st.confidence), st.robust_samples,
+                             analysis::ConfidenceRank(st.robust_samples, st.percentile / 100.0, st.confidence))
+               : fmt::format("robust: each figure's p{} over {} common samples of [tolerances]", CellOf(st.percentile),
+                             st.robust_samples);
+  }
+  std::string phases;
+  for (const analysis::OptimisePhase& ph : os.phases) {
+    phases += fmt::format("{}{}: {} evaluations, stopped: {}", phases.empty() ? "" : "; then ", Html(ph.method), ph.evaluations, Html(ph.stop));
+  }
+  std::string html = fmt::format("<p>The search of the deck's <code>[optimise]</code> (docs/optimise.md): {} {}, {}; {} evaluations ({} failed, {} "
+                                 "rejected: the pair interferes). {}.</p>\n",
+                                 st.maximise ? "maximise" : "minimise", Html(Label(st.objective)), rule, os.evaluations, os.failed, os.rejected,
+                                 phases);
+  html += "<table>\n<tr><th>variable</th><th>lower</th><th>upper</th><th>optimum</th></tr>\n";
+  for (std::size_t k = 0; k < st.variables.size(); ++k) {
+    const analysis::OptimiseVariable& v = st.variables[k];
+    html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(v.key), Html(Label(v.key)),
+                        CellOf(v.lower), CellOf(v.upper), best == nullptr ? "none" : CellOf(best->x[k]));
+  }
+  html += "</table>\n";
+  if (best == nullptr) {
+    html += "<p class=\"note\">No evaluation met the constraints: there is no optimum to judge.</p>\n";
+  } else {
+    html += "<table>\n<tr><th>figure at the optimum</th><th>value</th><th>constraint</th><th>margin</th><th>verdict</th>"
+            "<th></th><th>from</th></tr>\n";
+    const std::string basis = st.robust ? "ltca optimise, robust" : "ltca optimise, the nominal pair";
+    // A figure of the best design (NaN: none, or not a figure).
+    const auto at_best = [&](const std::string& figure) {
+      const int f = analysis::FigureIndex(figure);
+      return f >= 0 ? best->figures[static_cast<std::size_t>(f)] : nan;
+    };
+    if (analysis::FigureIndex(st.objective) >= 0) {
+      html += AllowableRow(Label(st.objective) + " (objective)", st.objective, at_best(st.objective), nan, nan, basis);
+    }
+    for (const analysis::ToleranceLimit& c : st.constraints) {
+      html += AllowableRow(Label(c.figure), c.figure, at_best(c.figure), c.min, c.max, basis);
+    }
+    html += "</table>\n";
+  }
+  return html + InlineSvgText(opt.svg, "optimise");
+}
 
 }  // namespace
 
@@ -484,26 +687,14 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // Tolerances (issue 15) when the deck carries [tolerances], with the deck's samples on every
   // hardware thread; two discs too (issue 27).
   const bool tolerance = deck.tolerances.has_value();
-  ToleranceOptions tol;
-  tol.solver = options.solver;
-  tol.samples = options.samples;
-  tol.threads = options.threads;
-  tol.no_worst_case = options.no_worst_case;
-  tol.json_path = file("tolerance.json");
-  tol.svg_path = file("tolerance.svg");
-  const int tol_code = tolerance ? RunTolerance(deck, tol, quiet) : kExitSuccess;
+  const ReportTolerance tol = tolerance ? RunToleranceForReport(deck, solver, options, quiet, streams, file) : ReportTolerance{};
+  const int tol_code = !tol.result || tol.result->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
   // Design optimisation (issue 28) when the deck carries [optimise]: the search as `ltca optimise`
   // runs it, on the report's threads.
   const bool optimise = deck.optimise.has_value();
-  OptimiseOptions opt;
-  opt.solver = options.solver;
-  opt.threads = options.threads;
-  opt.json_path = file("optimise.json");
-  opt.svg_path = file("optimise.svg");
-  const int opt_code = optimise ? RunOptimise(deck, opt, quiet) : kExitSuccess;
+  const ReportOptimisation opt = optimise ? RunOptimiseForReport(deck, solver, options, streams, file) : ReportOptimisation{};
+  const int opt_code = !opt.run || opt.run->best() != nullptr ? kExitSuccess : kExitNotSucceeded;
 
-  const nlohmann::json tj = tolerance ? nlohmann::json::parse(ReadFile(tol.json_path)) : nlohmann::json();
-  const nlohmann::json oj = optimise ? ReadWithout(opt.json_path, "history") : nlohmann::json();
   const auto& p = deck.pair;
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char date[32] = {};
@@ -563,7 +754,6 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
           "<th>margin</th><th>verdict</th><th>Monte Carlo pass fraction</th><th>from</th></tr>\n";
   const nlohmann::json bs = documents::Json(deck, *backlash);  // the backlash's summary, from its result
   const nlohmann::json es = eff ? documents::Json(*eff) : nlohmann::json();  // the efficiency's summary, from its result
-  const nlohmann::json ts = tolerance ? tj["summary"] : nlohmann::json();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   html += AllowableRow("largest contact stress (MPa)", "max_contact_stress_mpa", Finite(ss.max_contact_stress), nan,
                        deck.RequireMaterial().contact_stress_limit, "ltca solve, the sweep");
@@ -572,9 +762,8 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   // reducer stage the backlash is the stage's free play (the loop's width at zero torque), never
   // the pin ring's unloaded analysis, and its loads and lives are the solve's stage summary.
   const auto nominal = [&](const std::string& figure) -> std::pair<double, std::string> {
-    if (tolerance && ts.contains("worst_case") && ts["worst_case"]["figures"].contains(figure)) {
-      const double v = Number(ts["worst_case"]["figures"][figure], "nominal");
-      if (std::isfinite(v)) return {v, "ltca tolerance, the nominal deck"};
+    if (const analysis::WorstCaseFigure* w = tol.WorstCase(figure)) {
+      if (std::isfinite(w->nominal)) return {w->nominal, "ltca tolerance, the nominal deck"};
     }
     if (deck.reducer) {
       if (figure == "mean_backlash_arcsec") {
@@ -597,10 +786,10 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     for (const auto& limit : deck.tolerances->limits) {
       limited.push_back(limit.figure);
       const auto [value, basis] = nominal(limit.figure);
-      nlohmann::json fraction = nullptr;
-      if (tolerance) {
-        for (const auto& x : ts["limits"]) {
-          if (x["figure"] == limit.figure) fraction = x["fraction"];
+      std::optional<double> fraction;  // the Monte Carlo's pass fraction of this limit
+      if (tol.root()) {
+        for (const analysis::LimitResult& x : tol.result->summary.limits) {
+          if (x.limit.figure == limit.figure) fraction = x.fraction;
         }
       }
       html += AllowableRow(Label(limit.figure), limit.figure, value, limit.min, limit.max, basis, fraction);
@@ -670,102 +859,14 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
                                           : "the deck's torque is zero (no output power)");
   }
   html += "<h2 id=\"tolerance\">Tolerance analysis (Monte Carlo)</h2>\n";
-  if (tolerance) {
-    html += fmt::format("<p>{} samples (seed {}): {} succeeded, {} failed, {} rejected (interference); all limits passed by "
-                        "a fraction {} of the samples.{}</p>\n",
-                        Cell(ts["samples"]), Cell(ts["seed"]), Cell(ts["succeeded"]), Cell(ts["failed"]), Cell(ts["rejected"]),
-                        Cell(ts["pass_fraction"]),
-                        options.no_worst_case ? " The extreme-value (worst-case) runs were skipped (--no-worst-case)." : "");
-    // The study's notes say what a figure is where it is not what its name suggests (a reducer
-    // stage's backlash is its free play, issue 28) and what part of the revolution was swept.
-    for (const auto& note : tj.value("notes", nlohmann::json::array())) {
-      if (note.is_string()) html += fmt::format("<p class=\"note\">{}</p>\n", Html(note.get<std::string>()));
-    }
-    html += "<h3>Percentiles per figure</h3>\n<table>\n<tr><th>figure</th><th>nominal</th><th>p5</th><th>p50</th><th>p95</th>"
-            "<th>mean</th><th>std</th><th>worst case low</th><th>worst case high</th></tr>\n";
-    for (const auto& [name, f] : ts["figures"].items()) {
-      const nlohmann::json w = ts.contains("worst_case") && ts["worst_case"]["figures"].contains(name) ? ts["worst_case"]["figures"][name]
-                                                                                                       : nlohmann::json::object();
-      html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
-                          "<td>{}</td><td>{}</td></tr>\n",
-                          Html(name), Html(Label(name)), Cell(w.value("nominal", nlohmann::json())), Cell(f["p5"]), Cell(f["p50"]),
-                          Cell(f["p95"]), Cell(f["mean"]), Cell(f["std"]), Cell(w.value("corner_low", nlohmann::json())),
-                          Cell(w.value("corner_high", nlohmann::json())));
-    }
-    html += "</table>\n<h3>Pass fraction per limit</h3>\n<table>\n<tr><th>figure</th><th>min</th><th>max</th><th>pass fraction</th></tr>\n";
-    for (const auto& x : ts["limits"]) {
-      html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(Label(x["figure"].get<std::string>())),
-                          Cell(x["min"]), Cell(x["max"]), Cell(x["fraction"]));
-    }
-    html += "</table>\n<h3>Sensitivity: what moves each figure</h3>\n<p>Each input's share of the figure's variance "
-            "(standardised regression coefficients); an input whose share is within the noise floor (the share a random "
-            "input of the same samples gets) is not told from chance.</p>\n<table>\n<tr><th>figure</th><th>R&sup2;</th>"
-            "<th>ranking (share, noise floor)</th></tr>\n";
-    for (const auto& [name, f] : ts["sensitivity"]["figures"].items()) {
-      std::string ranking;
-      int shown = 0;
-      for (const auto& k : f["ranking"]) {
-        if (++shown > 4) break;
-        ranking += fmt::format("{}{} {} ({}{})", ranking.empty() ? "" : "; ", Html(k["key"].get<std::string>()), Cell(k["share"]),
-                               Cell(k["noise_floor"]), k.value("distinguishable_from_chance", false) ? "" : ", within noise");
-      }
-      html += fmt::format("<tr><th>{}</th><td>{}</td><td>{}</td></tr>\n", Html(Label(name)), Cell(f["r_squared"]),
-                          ranking.empty() ? Html(f.value("note", std::string("no ranking"))) : ranking);
-    }
-    html += "</table>\n";
-    html += InlineSvg(tol.svg_path);
+  if (tol.root()) {
+    html += ToleranceHtml(tol, options);
   } else {
     html += "<p class=\"note\">Not run: the deck has no [tolerances] section.</p>\n";
   }
   html += "<h2 id=\"optimise\">Design optimisation</h2>\n";
-  if (optimise) {
-    const nlohmann::json& st = oj["settings"];
-    const nlohmann::json& os = oj["summary"];
-    const nlohmann::json& best = os["best"];
-    std::string rule = "on the nominal pair";
-    if (st["robust"].get<bool>()) {
-      rule = st["confidence"].is_number() && st["confidence"].get<double>() > 0.0
-                 ? fmt::format("robust: each figure's p{} bounded at confidence {} over {} common samples of [tolerances] (the "
-                               "{}th order statistic)",
-                               Cell(st["percentile"]), Cell(st["confidence"]), Cell(st["robust_samples"]), Cell(st["order_statistic"]))
-                 : fmt::format("robust: each figure's p{} over {} common samples of [tolerances]", Cell(st["percentile"]),
-                               Cell(st["robust_samples"]));
-    }
-    std::string phases;
-    for (const auto& ph : os["phases"]) {
-      phases += fmt::format("{}{}: {} evaluations, stopped: {}", phases.empty() ? "" : "; then ", Html(ph["method"].get<std::string>()),
-                            Cell(ph["evaluations"]), Html(ph["stop"].get<std::string>()));
-    }
-    html += fmt::format("<p>The search of the deck's <code>[optimise]</code> (docs/optimise.md): {} {}, {}; {} evaluations ({} failed, {} "
-                        "rejected: the pair interferes). {}.</p>\n",
-                        st["maximise"].get<bool>() ? "maximise" : "minimise", Html(Label(st["objective"].get<std::string>())), rule,
-                        Cell(os["evaluations"]), Cell(os["failed"]), Cell(os["rejected"]), phases);
-    html += "<table>\n<tr><th>variable</th><th>lower</th><th>upper</th><th>optimum</th></tr>\n";
-    for (const auto& v : st["variables"]) {
-      const std::string key = v["key"].get<std::string>();
-      html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td></tr>\n", Html(key), Html(Label(key)),
-                          Cell(v["lower"]), Cell(v["upper"]), best.is_null() ? "none" : Cell(best["variables"][key]));
-    }
-    html += "</table>\n";
-    if (best.is_null()) {
-      html += "<p class=\"note\">No evaluation met the constraints: there is no optimum to judge.</p>\n";
-    } else {
-      html += "<table>\n<tr><th>figure at the optimum</th><th>value</th><th>constraint</th><th>margin</th><th>verdict</th>"
-              "<th></th><th>from</th></tr>\n";
-      const std::string objective = st["objective"].get<std::string>();
-      const std::string basis = st["robust"].get<bool>() ? "ltca optimise, robust" : "ltca optimise, the nominal pair";
-      if (best["figures"].contains(objective)) {
-        html += AllowableRow(Label(objective) + " (objective)", objective, Number(best["figures"], objective), nan, nan, basis);
-      }
-      for (const auto& c : st["constraints"]) {
-        const std::string figure = c["figure"].get<std::string>();
-        const double lo = c["min"].is_number() ? c["min"].get<double>() : -std::numeric_limits<double>::infinity();
-        const double hi = c["max"].is_number() ? c["max"].get<double>() : std::numeric_limits<double>::infinity();
-        html += AllowableRow(Label(figure), figure, Number(best["figures"], figure), lo, hi, basis);
-      }
-      html += "</table>\n";
-    }
-    html += InlineSvg(opt.svg_path);
+  if (opt.root()) {
+    html += OptimiseHtml(opt);
   } else {
     html += "<p class=\"note\">Not run: the deck has no [optimise] section.</p>\n";
   }

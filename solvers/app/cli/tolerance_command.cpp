@@ -1,197 +1,46 @@
+// `ltca tolerance` (docs/tolerance.md): options -> run plan -> analysis::RunToleranceStudy ->
+// documents (documents/tolerance.hpp); the ranks of an MPI job failing together, and the progress lines.
 #include "tolerance_command.hpp"
 
 #include "command.hpp"
 
-#include <algorithm>
 #include <cstdlib>
-#include <charconv>
-#include <limits>
-#include <chrono>
-#include <cmath>
 #include <functional>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
-#include <thread>
-#include <utility>
-#include <vector>
+#include <string>
 
 #include <fmt/format.h>
-#include <fmt/ostream.h>
-#include <nlohmann/json.hpp>
 
+#include "documents/tolerance.hpp"
 #include "ltca/analysis/tolerance.hpp"
-#include "ltca/geometry/units.hpp"
+#include "ltca/analysis/tolerance_run.hpp"
 #include "solve_command.hpp"
 
 namespace ltca::cli {
-namespace {
 
-using app::ToleranceSample;
-using units::RadToDeg;
-using Clock = std::chrono::steady_clock;
+ToleranceProgressLines::ToleranceProgressLines(const Streams& streams, bool shown, std::ostream& text, double after_seconds, int threads,
+                                               bool several_ranks, bool worst_case)
+    : streams_(streams), shown_(shown), text_(text), after_seconds_(after_seconds), threads_(threads), several_ranks_(several_ranks),
+      worst_case_(worst_case) {}
 
-const char* KindName(app::ToleranceDistribution::Kind k) {
-  return k == app::ToleranceDistribution::Kind::kNormal ? "normal" : "uniform";
+void ToleranceProgressLines::Start(analysis::TolerancePhase phase, std::int64_t total) {
+  line_.emplace(streams_.err, shown_, phase == analysis::TolerancePhase::kSamples ? "tolerance sample" : "tolerance worst-case run", total,
+                after_seconds_);
 }
 
-/// A number in the CSV: every bit (17 significant digits), empty when not finite.
-std::string CsvNumber(double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : std::string(); }
+void ToleranceProgressLines::Update(analysis::TolerancePhase, std::int64_t done) { line_->Update(done); }
 
-std::string CsvText(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"') out += '"';
-    out += (c == '\n' || c == '\r') ? ' ' : c;
-  }
-  return out + '"';
+void ToleranceProgressLines::Finish(analysis::TolerancePhase) {
+  line_->Finish();
+  line_.reset();
 }
 
-nlohmann::json StatsJson(const app::FigureStats& f) {
-  return {{"mean", FiniteOrNull(f.mean)}, {"std", FiniteOrNull(f.std)}, {"p1", FiniteOrNull(f.p1)},
-          {"p5", FiniteOrNull(f.p5)},     {"p50", FiniteOrNull(f.p50)}, {"p95", FiniteOrNull(f.p95)},
-          {"p99", FiniteOrNull(f.p99)},   {"min", FiniteOrNull(f.min)}, {"max", FiniteOrNull(f.max)},
-          {"count", f.count}};
+void ToleranceProgressLines::Estimate(double seconds, std::int64_t done, std::int64_t count) {
+  text_ << app::documents::ToleranceEstimateText(seconds, done, count, threads_, several_ranks_, worst_case_);
+  text_.flush();
 }
-
-/// A worst-case corner in text: the figure, or why there is none ("rejected": the pair interferes).
-std::string Corner(double v, analysis::RunStatus status) { return status == analysis::RunStatus::kSuccess ? FormatOrNa(v, 4) : ToString(status); }
-
-/// The mark of a figure with samples beyond its worst-case corners: '*' when some of them have every
-/// input within the range the worst case uses (the figure is not monotonic in the inputs, e.g. a
-/// maximum over the pins, whose worst case is pins that differ, not every pin at the same limit);
-/// '+' when each of them has an input beyond it (a normal given by sigma, drawn beyond 3 sigma);
-/// "" when none lies beyond.
-std::string BeyondMark(const app::CornerExceedance& e) {
-  if (e.beyond == 0) return "";
-  return e.beyond_in_range > 0 ? " *" : " +";
-}
-
-constexpr const char* kWorstCaseMethod =
-    "extreme-value method: every input at the end of its range (uniform: +-tolerance, normal: +-3 sigma) about its "
-    "centre; stack = nominal -+ sum over the inputs of |f(+h) - f(-h)| / 2 (linear stacking, as a dimensional chain "
-    "by the extreme-value method, Jiang 2022 section 5.1); corner = the deterministic run at the corner that the "
-    "stack picks";
-
-/// "mean_te_arcsec" -> "mean TE (arcsec)": a figure's name as an axis label with its unit.
-std::string AxisLabel(const std::string& name) {
-  static const std::vector<std::pair<std::string, std::string>> units = {
-      {"_arcsec", "arcsec"}, {"_arcmin", "arcmin"}, {"_mpa", "MPa"}, {"_n", "N"}, {"_hours", "h"}};
-  std::string base = name, unit = "pins";
-  for (const auto& [suffix, u] : units) {
-    if (base.size() > suffix.size() && base.compare(base.size() - suffix.size(), suffix.size(), suffix) == 0) {
-      base.resize(base.size() - suffix.size()), unit = u;
-      break;
-    }
-  }
-  std::replace(base.begin(), base.end(), '_', ' ');
-  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{{"pp ", "peak-to-peak "}, {" te", " TE"}, {"l10", "L10 life"}}) {
-    const auto at = base.find(from);
-    if (at != std::string::npos) base.replace(at, from.size(), to);
-  }
-  return fmt::format("{} ({})", base, unit);
-}
-
-/// Histograms of the figures, one panel each, with p5 / p50 / p95, the limits and the worst case.
-void WriteHistograms(const app::Deck& deck, const app::ToleranceStudy& study, const app::SampleTable& samples,
-                     const app::ToleranceSummary& summary, const app::WorstCaseResult* worst, Output& output) {
-  namespace plots = app::plots;
-  const auto& names = app::ToleranceSettings::FigureNames();
-  plots::Figure figure;
-  figure.title = fmt::format("{}: {} samples (seed {}, {} succeeded), loaded TCA over crank {:g} to {:g} deg", deck.info.title,
-                             summary.samples, summary.seed, summary.succeeded, RadToDeg(deck.sweep.crank_start),
-                             RadToDeg(deck.sweep.crank_end));
-  figure.caption = FigureCaption(deck, "bars: samples per bin; dashed: p5, p50, p95; dotted: the extreme-value corners (worst case); "
-                                       "solid: the [tolerances] limits; a limit far beyond the data: an arrow at the axis' edge");
-  figure.columns = 3;
-  for (std::size_t f = 0; f < app::kToleranceFigureCount; ++f) {
-    const auto& st = summary.figures[f];
-    if (!study.Runs(f) || st.count == 0) continue;
-    plots::Panel panel;
-    panel.title = fmt::format("mean {:.5g}, std {:.3g}", st.mean, st.std);
-    panel.x_label = AxisLabel(names[f]);
-    panel.y_label = "samples per bin";
-    std::vector<double> span = {st.min, st.max};
-    if (worst != nullptr) span.push_back(worst->figures[f].corner_low), span.push_back(worst->figures[f].corner_high);
-    double lo = INFINITY, hi = -INFINITY;
-    for (const double v : span) {
-      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
-    }
-    if (!(hi > lo)) lo -= 0.5, hi += 0.5;
-    // A limit within a third of the data's span beyond it widens the axis; one further away is an
-    // arrow at the edge (issue 27: a far limit squeezed the histogram into a quarter).
-    std::vector<double> beyond_low, beyond_high, drawn_limits;
-    const double reach = (hi - lo) / 3.0;
-    for (const auto& l : summary.limits) {
-      if (l.limit.figure != names[f]) continue;
-      for (const double v : {l.limit.min, l.limit.max}) {
-        if (!std::isfinite(v)) continue;
-        if (v < lo - reach) beyond_low.push_back(v);
-        else if (v > hi + reach) beyond_high.push_back(v);
-        else drawn_limits.push_back(v);
-      }
-    }
-    for (const double v : drawn_limits) lo = std::min(lo, v), hi = std::max(hi, v);
-    // A count (contacts_min, contacts_max: whole numbers of pins over a short range) gets one bar a
-    // value, centred on it; any other figure 30 bins over its padded range.
-    bool whole = true;
-    for (std::int64_t k = 0; k < samples.size() && whole; ++k) {
-      const double v = samples.figures(k)[f];
-      if (samples.succeeded(k) && std::isfinite(v)) whole = v == std::round(v);
-    }
-    whole = whole && std::round(lo) == lo && std::round(hi) == hi && hi - lo <= 29.0;
-    int bins = 30;
-    if (whole) {
-      lo -= 0.5, hi += 0.5;
-      bins = static_cast<int>(std::lround(hi - lo));
-    } else {
-      const double pad = 0.03 * (hi - lo);
-      lo -= pad, hi += pad;
-    }
-    const double width = (hi - lo) / bins;
-    plots::Series bars{"samples", {}, {}, plots::Style::kBars};
-    bars.bar_width = whole ? 0.6 * width : width;  // a count's bars apart, one a value
-    std::vector<double> count(bins, 0.0);
-    for (std::int64_t k = 0; k < samples.size(); ++k) {
-      const double v = samples.figures(k)[f];
-      if (!samples.succeeded(k) || !std::isfinite(v)) continue;
-      count[static_cast<std::size_t>(std::clamp(static_cast<int>((v - lo) / width), 0, bins - 1))] += 1.0;
-    }
-    for (int b = 0; b < bins; ++b) bars.x.push_back(lo + (b + 0.5) * width), bars.y.push_back(count[static_cast<std::size_t>(b)]);
-    panel.series.push_back(std::move(bars));
-    using Mark = plots::Mark;
-    for (const auto& [v, label] : {std::pair{st.p5, "p5"}, std::pair{st.p50, "p50"}, std::pair{st.p95, "p95"}}) {
-      if (std::isfinite(v)) panel.marks.push_back({Mark::Axis::kVertical, v, label, true});
-    }
-    for (const double v : drawn_limits) panel.marks.push_back({Mark::Axis::kVertical, v, "limit", false});
-    if (worst != nullptr) {
-      for (const double v : {worst->figures[f].corner_low, worst->figures[f].corner_high}) {
-        if (std::isfinite(v)) panel.marks.push_back({Mark::Axis::kVertical, v, "", false, true});
-      }
-    }
-    double tallest = 0.0;
-    for (const double c : count) tallest = std::max(tallest, c);
-    // A far limit's arrow above the tallest bar and below the marks' labels (they hang from the top
-    // of the axes, the longest, p50, over its top 14 %).
-    if (!beyond_high.empty() || !beyond_low.empty()) panel.y_min = 0.0, panel.y_max = 1.35 * std::max(tallest, 1.0);
-    for (const double v : beyond_high) {
-      panel.notes.push_back({hi - 0.01 * (hi - lo), 1.08 * std::max(tallest, 1.0), fmt::format("limit {:.4g} ->", v), 1.0, 1.1});
-    }
-    for (const double v : beyond_low) {
-      panel.notes.push_back({lo + 0.01 * (hi - lo), 1.08 * std::max(tallest, 1.0), fmt::format("<- limit {:.4g}", v), 0.0, 1.1});
-    }
-    panel.x_min = lo, panel.x_max = hi;
-    figure.panels.push_back(std::move(panel));
-  }
-  if (figure.panels.empty()) figure.title += ": no sample succeeded";
-  const int rows = static_cast<int>((figure.panels.size() + 2) / 3);
-  figure.width = 1500;
-  figure.height = 140 + 330 * std::max(rows, 1);
-  WriteFigure(figure, output);
-}
-
-}  // namespace
 
 bool IsFirstRank() {
   for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"}) {
@@ -217,31 +66,18 @@ int FailTogether(SampleFarm* farm, std::ostream& err, const std::function<int()>
 }
 
 int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, const Streams& streams) {
+  namespace documents = app::documents;
   const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
-  if (!deck.tolerances) {
-    throw std::invalid_argument(fmt::format(
-        "deck '{}': missing section [tolerances] for ltca tolerance; expected e.g. [tolerances] samples = 1000, seed = 1, "
-        "pin_circle_deviation_mm = {{ distribution = \"normal\", sigma = 0.002 }} (docs/tolerance.md)",
-        deck.name));
-  }
-  app::ToleranceSettings settings = *deck.tolerances;
-  if (options.samples) settings.samples = *options.samples;
-  if (options.seed) settings.seed = *options.seed;
-  if (options.lost_motion) settings.lost_motion = true;
+  const analysis::ToleranceSettings settings = documents::ToleranceSettingsFor(deck, options.samples, options.seed, options.lost_motion);
   if (options.first < 0) throw std::invalid_argument(fmt::format("--first {}: expected a sample index >= 0", options.first));
-  if (options.threads < 0 || options.threads > app::kMaxToleranceThreads) {
-    throw std::invalid_argument(fmt::format("--threads {}: expected 0 (every hardware thread) or 1 to {}", options.threads,
-                                            app::kMaxToleranceThreads));
-  }
-  const int threads = options.threads > 0 ? options.threads
-                                          : std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, app::kMaxToleranceThreads);
+  const int threads = analysis::ResolveThreads(options.threads);
   const solvers::SolverOptions solver = SolverFor(deck, options.solver);
-  const app::ToleranceStudy study(deck.MakeToleranceCase(), solver, settings);  // validates everything
+  const analysis::ToleranceStudy study(deck.MakeToleranceCase(), solver, settings);  // validates everything
 
   std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
   return FailTogether(farm.get(), streams.err, [&]() -> int {
-    const int rank = farm ? farm->rank() : 0, ranks = farm ? farm->size() : 1;
-    const bool root = rank == 0;
+    const int ranks = farm ? farm->size() : 1;
+    const bool root = !farm || farm->rank() == 0;
     RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
     // Outputs first (rank 0 only): an unwritable path is an error before anything is computed.
     Output json("--json", root ? options.json_path : "", streams.out);
@@ -250,269 +86,32 @@ int RunTolerance(const app::Deck& deck_given, const ToleranceOptions& options, c
     std::ostringstream quiet;
     std::ostream& text = root ? streams.text : quiet;
 
-    const std::int64_t n = settings.samples;
-    if (options.first > std::numeric_limits<std::int64_t>::max() - n) {
-      throw std::invalid_argument(fmt::format("--first {} with {} samples: the last sample index would pass {}", options.first, n,
-                                              std::numeric_limits<std::int64_t>::max()));
-    }
-    fmt::print(text, "case      {}\n", deck.info.title);
-    text << ModelLine(deck);
-    text << SolverLine(deck, solver);
-    fmt::print(text, "samples   {} from index {}, seed {} (counter-based Philox4x32-10: sample i depends on (seed, i) only), "
-                     "{} thread(s){}\n",
-               n, options.first, settings.seed, threads, ranks > 1 ? fmt::format(" on each of {} MPI ranks", ranks) : "");
-    fmt::print(text, "per sample: {} and loaded TCA over {} positions from {:g} to {:g} deg crank{}\n",
-               deck.reducer ? "the stage's free play" : "unloaded TCA", deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end),
-               settings.lost_motion ? fmt::format(", lost motion at +-{:g} % of T", 100.0 * deck.stiffness.lost_motion_fraction) : "");
-    for (const auto& d : settings.distributions) fmt::print(text, "  {:<36} {}\n", d.key, app::Describe(d));
-    if (settings.profile_random_per_sample) {
-      fmt::print(text, "  profile random deviation: every sample its own, zone {:g} um ({}), seed drawn from (seed, i)\n",
-                 units::MmToUm(deck.errors.profile_random.zone),
-                 deck.errors.profile_random.distribution == geometry::ProfileRandomDistribution::kNormal ? "normal" : "uniform");
-    }
-    for (const auto& note : study.notes()) fmt::print(text, "note      {}\n", note);
-
-    const auto& names = app::ToleranceSettings::FigureNames();
+    analysis::ToleranceRunPlan plan;
+    plan.first = options.first;
+    plan.threads = threads;
+    plan.ranks = farm.get();
+    plan.worst_case = !options.no_worst_case;
+    plan.Validate(settings);
+    text << documents::ToleranceTextHead(deck, solver, study, options.first, threads, ranks);
     // The CSV is written as the samples come, in sample order: every sample's inputs and figures,
-    // so that any one can be re-run (--first i --samples 1). Only the table is kept.
-    std::ostream* csv_os = csv.enabled() ? &csv.stream() : nullptr;
-    if (csv_os != nullptr) {
-      std::ostream& os = *csv_os;
-      os << "sample,status";
-      for (const auto& in : study.inputs()) os << ',' << in.name;
-      for (std::size_t f = 0; f < names.size(); ++f) {
-        if (study.Runs(f)) os << ',' << names[f];
-      }
-      os << ",message\n";
+    // so that any one can be re-run (--first i --samples 1).
+    if (csv.enabled()) {
+      csv.stream() << documents::ToleranceCsvHead(study);
+      plan.sink = [&](const analysis::ToleranceSample& s) { csv.stream() << documents::Csv(study, s); };
     }
-    const std::int64_t begin = options.first + n * rank / ranks, end = options.first + n * (rank + 1) / ranks;
-    app::SampleTable samples(options.first);
-    std::string mine;      // a rank other than 0: its samples as bytes for the gather
-    bool mine_ok = true;   // and whether they all succeeded (its exit code)
-    if (root) samples.Reserve(n);
-    const auto keep = [&](const ToleranceSample& s) {
-      if (!root) {
-        mine_ok = mine_ok && s.status == analysis::RunStatus::kSuccess;
-        return app::AppendSampleBytes(s, mine);
-      }
-      if (csv_os != nullptr) {
-        std::ostream& os = *csv_os;
-        os << s.index << ',' << ToString(s.status);
-        for (const double v : s.inputs) os << ',' << CsvNumber(v);
-        for (std::size_t f = 0; f < names.size(); ++f) {
-          if (study.Runs(f)) os << ',' << CsvNumber(s.figures[f]);
-        }
-        os << ',' << CsvText(s.message) << '\n';
-      }
-      samples.Add(s);
-    };
-
-    // The samples: rank r runs the r-th static block, on its threads. The first few (two per
-    // thread) run first and give the estimate of the whole run (issue 27: a run said nothing of
-    // what it would cost); samples depend on (seed, i) only, so the split changes no number.
-    const auto start = Clock::now();
-    {
-      const std::int64_t count = end - begin;
-      const std::int64_t first = std::min<std::int64_t>(count, 2 * static_cast<std::int64_t>(threads));
-      Progress progress(streams.err, streams.progress && root, "tolerance sample", count, options.progress_after_seconds);
-      study.RunStream(begin, first, threads, keep, [&](std::int64_t done) { progress.Update(done); });
-      if (root && first < count) {
-        const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        fmt::print(text, "estimate  about {:.3g} s for the {} samples{} (the first {} took {:.3g} s on {} thread(s)){}\n",
-                   seconds * static_cast<double>(count) / static_cast<double>(first), count, ranks > 1 ? " of this rank" : "",
-                   first, seconds, threads, options.no_worst_case ? "" : "; the worst case runs after them");
-        text.flush();
-      }
-      study.RunStream(begin + first, count - first, threads, keep, [&](std::int64_t done) { progress.Update(first + done); });
-      progress.Finish();
-    }
-    if (farm && ranks > 1) {
-      const std::vector<std::string> parts = farm->Gather(mine);
-      if (!root) {
-        // This rank's exit code: whether its own samples succeeded (rank 0's is the study's).
-        return mine_ok ? kExitSuccess : kExitNotSucceeded;
-      }
-      for (std::size_t r = 1; r < parts.size(); ++r) app::ReadSampleBytes(parts[r], study, keep);
-      if (samples.size() != n) throw std::runtime_error(fmt::format("tolerance: gathered {} samples, expected {}", samples.size(), n));
-    }
-    if (csv_os != nullptr) csv.Commit();
-    const double sample_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    const app::ToleranceSummary summary = app::Summarise(study, samples);
-    std::optional<app::WorstCaseResult> worst;
-    std::array<app::CornerExceedance, app::kToleranceFigureCount> beyond{};
-    const auto worst_start = Clock::now();
-    if (!options.no_worst_case) {
-      // Its own progress line (the samples' reads 100 % by now), cleared before the summary.
-      // At most 1 + 2 x columns + 2 x figures runs (a figure with no stack runs no corner).
-      Progress progress(streams.err, streams.progress && root, "tolerance worst-case run",
-                        1 + 2 * static_cast<std::int64_t>(study.inputs().size() + app::kToleranceFigureCount),
-                        options.progress_after_seconds);
-      worst = app::ExtremeValueWorstCase(study, threads, [&](std::int64_t done, std::int64_t) { progress.Update(done); });
-      progress.Finish();
-      beyond = app::CompareWithCorners(study, samples, *worst);
-    }
-    const double worst_seconds = std::chrono::duration<double>(Clock::now() - worst_start).count();
-
-    if (svg.enabled()) {
-      WriteHistograms(deck, study, samples, summary, worst ? &*worst : nullptr, svg);
-    }
+    ToleranceProgressLines progress(streams, streams.progress && root, text, options.progress_after_seconds, threads, ranks > 1, plan.worst_case);
+    plan.progress = &progress;
+    const analysis::ToleranceResult result = analysis::RunToleranceStudy(study, plan);
+    // A rank other than the first: its exit code is whether its own samples succeeded.
+    if (!root) return result.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+    if (csv.enabled()) csv.Commit();
+    if (svg.enabled()) WriteFigure(documents::Figure(deck, study, result), svg);
     if (json.enabled()) {
-      nlohmann::json dists = nlohmann::json::array();
-      for (const auto& d : settings.distributions) {
-        nlohmann::json j = {{"key", d.key}, {"distribution", KindName(d.kind)}, {"mean", d.mean}, {"per_pin", d.per_pin},
-                            {"std", d.StandardDeviation()}, {"worst_case_half_width", d.WorstCaseHalfWidth()},
-                            {"description", app::Describe(d)}};
-        if (d.kind == app::ToleranceDistribution::Kind::kNormal) {
-          j["sigma"] = d.sigma;
-          j["truncated_at"] = app::Truncated(d) ? nlohmann::json(d.tolerance) : nlohmann::json();
-        }
-        if (d.tolerance != 0.0 || d.kind == app::ToleranceDistribution::Kind::kUniform) j["tolerance"] = d.tolerance;
-        dists.push_back(std::move(j));
-      }
-      nlohmann::json figures = nlohmann::json::object(), sens = nlohmann::json::object(), wc = nlohmann::json::object();
-      for (std::size_t f = 0; f < names.size(); ++f) {
-        if (!study.Runs(f)) continue;
-        figures[names[f]] = StatsJson(summary.figures[f]);
-        const auto& fs = summary.sensitivity[f];
-        nlohmann::json keys = nlohmann::json::array();
-        for (const auto& k : fs.keys) {
-          keys.push_back({{"key", k.key}, {"src", FiniteOrNull(k.src)}, {"share", FiniteOrNull(k.share)}, {"columns", k.columns},
-                          {"noise_floor", FiniteOrNull(k.noise_floor)}, {"distinguishable_from_chance", k.distinguishable}});
-        }
-        sens[names[f]] = {{"samples", fs.samples}, {"r_squared", FiniteOrNull(fs.r_squared)},
-                          {"r_squared_noise_floor", FiniteOrNull(fs.r_squared_floor)}, {"ranking", keys}};
-        if (!fs.note.empty()) sens[names[f]]["note"] = fs.note;
-        if (worst) {
-          const auto& w = worst->figures[f];
-          wc[names[f]] = {{"nominal", FiniteOrNull(w.nominal)},       {"stack_low", FiniteOrNull(w.stack_low)},
-                          {"stack_high", FiniteOrNull(w.stack_high)}, {"corner_low", FiniteOrNull(w.corner_low)},
-                          {"corner_high", FiniteOrNull(w.corner_high)}, {"corner_low_status", ToString(w.corner_low_status)},
-                          {"corner_high_status", ToString(w.corner_high_status)},
-                          {"monte_carlo_beyond_corners", beyond[f].beyond > 0},
-                          {"samples_beyond_corners", beyond[f].beyond},
-                          {"samples_beyond_corners_inputs_in_range", beyond[f].beyond_in_range}};
-          if (!w.note.empty()) wc[names[f]]["note"] = w.note;
-        }
-      }
-      nlohmann::json limits = nlohmann::json::array();
-      for (const auto& l : summary.limits) {
-        limits.push_back({{"figure", l.limit.figure}, {"min", FiniteOrNull(l.limit.min)}, {"max", FiniteOrNull(l.limit.max)},
-                          {"passed", l.passed}, {"fraction", l.fraction}});
-      }
-      nlohmann::json doc = {
-          {"case", CaseJson(deck)},
-          {"model", ModelJson(deck.Model())},
-          {"solver", SolverJson(deck, solver)},
-          {"tolerances",
-           {{"samples", n}, {"first", options.first}, {"seed", settings.seed}, {"threads", threads}, {"mpi_ranks", ranks},
-            {"lost_motion", settings.lost_motion}, {"profile_random_per_sample", settings.profile_random_per_sample},
-            {"distributions", dists},
-            {"sweep", {{"crank_start_deg", units::RadToDeg(deck.sweep.crank_start)}, {"crank_end_deg", units::RadToDeg(deck.sweep.crank_end)},
-                       {"positions", deck.sweep.positions}}},
-            {"random_stream", "Philox4x32-10 (counter-based): draw (key, pin) of sample i is a pure function of (seed, i); a normal "
-                              "given as +-tolerance is the normal truncated there, drawn by the inverse distribution function"}}},
-          {"notes", study.notes()},
-          {"summary",
-           {{"samples", summary.samples}, {"seed", summary.seed}, {"succeeded", summary.succeeded}, {"failed", summary.failed},
-            {"rejected", summary.rejected}, {"figures", figures}, {"limits", limits},
-            {"pass_fraction", FiniteOrNull(summary.pass_fraction)},
-            {"sensitivity", {{"method", app::kSensitivityMethod}, {"figures", sens}}},
-            {"wall_seconds", sample_seconds},
-            {"samples_per_second", FiniteOrNull(static_cast<double>(n) / sample_seconds)}}}};
-      if (!settings.chains.empty()) {
-        nlohmann::json chains = nlohmann::json::object();
-        for (std::size_t c = 0; c < settings.chains.size(); ++c) {
-          const auto& chain = settings.chains[c];
-          const app::ClosingLink ev = app::ExtremeValueClosingLink(chain.links);
-          nlohmann::json mc = StatsJson(app::ChainMonteCarlo(chain.links, n, settings.seed, c));
-          chains[chain.name] = {{"extreme_value_um", {{"min", ev.min}, {"max", ev.max}}}, {"monte_carlo_um", mc},
-                                {"method", "extreme-value method (Jiang 2022 section 5.1) and Monte Carlo with every link uniform within its limits"}};
-        }
-        doc["summary"]["chains"] = chains;
-      }
-      if (worst) {
-        doc["summary"]["worst_case"] = {{"method", kWorstCaseMethod}, {"figures", wc}, {"runs", worst->runs},
-                                        {"failed_runs", worst->failed_runs}, {"wall_seconds", worst_seconds}};
-        if (!worst->first_failure.empty()) doc["summary"]["worst_case"]["first_failure"] = worst->first_failure;
-      }
-      json.stream() << Dump(doc) << '\n';
+      json.stream() << documents::Dump(documents::Json(deck, solver, study, result)) << '\n';
       json.Commit();
     }
-
-    // The text summary.
-    fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", "figure", "mean", "std", "p1", "p5", "p50", "p95",
-               "p99", worst ? fmt::format(" {:>23}", "worst case (corners)") : std::string());
-    for (std::size_t f = 0; f < names.size(); ++f) {
-      if (!study.Runs(f)) continue;
-      const auto& s = summary.figures[f];
-      fmt::print(text, "{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", names[f], FormatOrNa(s.mean, 4), FormatOrNa(s.std, 4),
-                 FormatOrNa(s.p1, 4), FormatOrNa(s.p5, 4), FormatOrNa(s.p50, 4), FormatOrNa(s.p95, 4), FormatOrNa(s.p99, 4),
-                 worst ? fmt::format(" {:>11} {:>11}{}", Corner(worst->figures[f].corner_low, worst->figures[f].corner_low_status),
-                                     Corner(worst->figures[f].corner_high, worst->figures[f].corner_high_status), BeyondMark(beyond[f]))
-                       : std::string());
-    }
-    if (worst) {
-      fmt::print(text, "worst case: extreme-value method (every input at +-tolerance or +-3 sigma about its centre, effects stacked "
-                       "linearly, the corner the stack picks run): {} runs, {} not succeeded\n",
-                 worst->runs, worst->failed_runs);
-      if (worst->failed_runs > 0) {
-        fmt::print(text, "  a corner marked 'rejected' could not be built or assembled, one marked 'failed' did not solve; a figure "
-                         "whose effect of an input needs a run that did not succeed has no stack and no corner ('not run'), never "
-                         "an effect of 0; first: {}\n",
-                   worst->first_failure);
-      }
-      const auto any = [&](auto&& pred) {
-        for (std::size_t f = 0; f < names.size(); ++f) {
-          if (study.Runs(f) && pred(beyond[f])) return true;
-        }
-        return false;
-      };
-      if (any([](const app::CornerExceedance& e) { return e.beyond_in_range > 0; })) {
-        fmt::print(text, "  * samples with every input within its range lie beyond the corners: the figure is not monotonic in the "
-                         "inputs (a maximum or range over the pins: its worst case is pins that differ, not every pin at the same "
-                         "limit); the corners bound nothing there\n");
-      }
-      if (any([](const app::CornerExceedance& e) { return e.beyond > 0 && e.beyond_in_range == 0; })) {
-        fmt::print(text, "  + the samples beyond the corners each have an input beyond 3 sigma: a normal given by sigma is not "
-                         "truncated (0.27 % of its draws lie beyond the +-3 sigma of the worst case); give it as a tolerance to "
-                         "truncate it there\n");
-      }
-    }
-    for (std::size_t c = 0; c < settings.chains.size(); ++c) {
-      const auto& chain = settings.chains[c];
-      const app::ClosingLink ev = app::ExtremeValueClosingLink(chain.links);
-      const app::FigureStats mc = app::ChainMonteCarlo(chain.links, n, settings.seed, c);
-      fmt::print(text, "chain {}: closing link by the extreme-value method {:g} .. {:g} um; Monte Carlo (links uniform) mean {:.3f}, "
-                       "p1 {:.3f}, p50 {:.3f}, p99 {:.3f} um\n",
-                 chain.name, ev.min, ev.max, mc.mean, mc.p1, mc.p50, mc.p99);
-    }
-    for (const auto& l : summary.limits) {
-      fmt::print(text, "limit     {} in [{:g}, {:g}]: {} of {} samples ({:.2f} %)\n", l.limit.figure, l.limit.min, l.limit.max, l.passed,
-                 summary.samples, 100.0 * l.fraction);
-    }
-    if (!summary.limits.empty()) {
-      fmt::print(text, "all limits met by {} of {} samples ({:.2f} %)\n", summary.passed_all, summary.samples, 100.0 * summary.pass_fraction);
-    }
-    fmt::print(text, "sensitivity (standardised regression coefficients; share = sum of SRC^2 over the key's columns; R^2 of the "
-                     "linear fit, beside it the R^2 chance reaches; '~': a share below its noise floor, not distinguishable from "
-                     "chance at the 99.9th percentile):\n");
-    for (std::size_t f = 0; f < names.size(); ++f) {
-      if (!study.Runs(f)) continue;
-      const auto& fs = summary.sensitivity[f];
-      std::string ranking;
-      for (std::size_t k = 0; k < std::min<std::size_t>(3, fs.keys.size()); ++k) {
-        ranking += fmt::format("{}{} {:.3f}{}", k == 0 ? "" : ", ", fs.keys[k].key, fs.keys[k].share, fs.keys[k].distinguishable ? "" : " ~");
-      }
-      fmt::print(text, "  {:<24} R^2 {:>6} (chance {:>5})  {}\n", names[f], FormatOrNa(fs.r_squared, 3), FormatOrNa(fs.r_squared_floor, 3),
-                 fs.note.empty() ? ranking : fs.note);
-    }
-    if (summary.failed + summary.rejected > 0) {
-      fmt::print(text, "not succeeded: {} failed, {} rejected of {} samples; first: sample {}: {}\n", summary.failed, summary.rejected,
-                 summary.samples, samples.first_failure_index(), samples.first_failure_message());
-    }
-    fmt::print(text, "wall time {:.3f} s for {} samples ({:.1f} samples/s){}\n", sample_seconds, n, static_cast<double>(n) / sample_seconds,
-               worst ? fmt::format("; worst case {:.3f} s for {} runs", worst_seconds, worst->runs) : std::string());
-    return summary.succeeded == summary.samples ? kExitSuccess : kExitNotSucceeded;
+    text << documents::Text(study, result);
+    return result.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
   });
 }
 

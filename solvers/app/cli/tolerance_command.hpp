@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ltca/analysis/tolerance_run.hpp"
 #include "ltca/app/deck.hpp"
 #include "output.hpp"
 
@@ -29,20 +30,38 @@ struct ToleranceOptions {
 };
 
 /// The ranks of one MPI job, behind an interface so that MPI stays out of every header
-/// (tolerance_mpi.cpp implements it when MPI is found; tolerance_nompi.cpp otherwise).
-class SampleFarm {
+/// (tolerance_mpi.cpp implements it when MPI is found; tolerance_nompi.cpp otherwise). A tolerance
+/// study distributes its samples over them (analysis::SampleRanks: rank, size, Gather).
+class SampleFarm : public analysis::SampleRanks {
  public:
-  virtual ~SampleFarm() = default;
-  virtual int rank() const = 0;
-  virtual int size() const = 0;
-  /// Every rank passes its bytes; rank 0 gets every rank's bytes in rank order, the others none.
-  virtual std::vector<std::string> Gather(const std::string& mine) = 0;
   /// Every rank passes its bytes and gets every rank's bytes in rank order (ltca optimise: the
   /// ranks run one search in lockstep and share the work that divides).
   virtual std::vector<std::string> AllGather(const std::string& mine) = 0;
   /// Ends every rank of the job with this exit code (MPI_Abort): a rank that fails must not leave
   /// the others waiting in a collective.
   [[noreturn]] virtual void Abort(int code) = 0;
+};
+
+/// A tolerance study's account as `ltca tolerance` gives it: a progress line on `streams.err` for
+/// each phase ("tolerance sample", then "tolerance worst-case run") when `shown`, once a phase has
+/// run `after_seconds` (s), and the estimate from the first samples written to `text`.
+class ToleranceProgressLines final : public analysis::ToleranceProgress {
+ public:
+  ToleranceProgressLines(const Streams& streams, bool shown, std::ostream& text, double after_seconds, int threads, bool several_ranks,
+                         bool worst_case);
+  void Start(analysis::TolerancePhase phase, std::int64_t total) override;
+  void Update(analysis::TolerancePhase phase, std::int64_t done) override;
+  void Finish(analysis::TolerancePhase phase) override;
+  void Estimate(double seconds, std::int64_t done, std::int64_t count) override;
+
+ private:
+  const Streams& streams_;
+  bool shown_;
+  std::ostream& text_;
+  double after_seconds_;
+  int threads_;
+  bool several_ranks_, worst_case_;
+  std::optional<Progress> line_;
 };
 
 /// False on the ranks other than the first of an mpirun job (OpenMPI's or PMIx's rank in the

@@ -6,18 +6,16 @@
 // Errors: bad input (std::invalid_argument, naming the key) becomes ValueError, as pybind11
 // translates it; a solve that fails is a status in the result, not an exception. The GIL is
 // released while the library computes, so Python threads may run other decks meanwhile.
-#include <atomic>
+#include <algorithm>
 #include <memory>
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
 #include <functional>
 #include <tuple>
+#include <type_traits>
 #include <optional>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -29,21 +27,23 @@
 #include "documents/backlash.hpp"
 #include "documents/compare.hpp"
 #include "documents/efficiency.hpp"
+#include "documents/optimise.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
 #include "documents/solve.hpp"
 #include "documents/stiffness.hpp"
+#include "documents/tolerance.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/compare.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
+#include "ltca/analysis/optimise.hpp"
 #include "ltca/analysis/stiffness.hpp"
+#include "ltca/analysis/tolerance_run.hpp"
 #include "geometry_command.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
-#include "optimise_command.hpp"
-#include "tolerance_command.hpp"
 
 namespace py = pybind11;
 
@@ -153,42 +153,6 @@ py::tuple Solve(const Deck& given, const std::string& solver_name, const std::st
 }
 
 namespace cli = ltca::cli;
-
-/// A command's document, written by the command's own writer in this process (its JSON to a
-/// string, its text to nowhere), with the GIL released: (exit code, the document as a dict). The
-/// CSV, when asked for, comes back as text beside it (the per-sample rows of a tolerance run).
-template <bool kWithCsv = false, typename Options, typename RunFn>
-py::tuple CommandDocument(const Deck& deck, Options options, RunFn run) {
-  std::ostringstream out, sink;
-  std::filesystem::path json_file;
-  if constexpr (kWithCsv) {  // the CSV takes stdout; the JSON a file of its own, removed after
-    static std::atomic<unsigned long> counter{0};
-    json_file = std::filesystem::temp_directory_path() / ("ltca-python-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".json");
-    options.json_path = json_file.string();
-    options.csv_path = "-";
-  } else {
-    options.json_path = "-";
-  }
-  int code = 0;
-  {
-    py::gil_scoped_release release;
-    const cli::Streams streams{out, sink, sink};
-    if constexpr (std::is_same_v<decltype(run(deck, options, streams)), void>) {
-      run(deck, options, streams);
-    } else {
-      code = run(deck, options, streams);
-    }
-  }
-  std::string json_text = out.str(), csv_text;
-  if constexpr (kWithCsv) {
-    csv_text = json_text;
-    std::ifstream in(json_file);
-    json_text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    std::error_code ec;
-    std::filesystem::remove(json_file, ec);
-  }
-  return py::make_tuple(code, ToPython(nlohmann::json::parse(json_text)), py::str(csv_text));
-}
 
 }  // namespace
 
@@ -304,26 +268,130 @@ PYBIND11_MODULE(_ltca, m) {
     const int code = summary->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
     return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, positions, *summary)), py::str(""));
   });
-  m.def("tolerance", [](const Deck& deck, const std::string& solver,
-                        const std::string& kinematics, std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed,
-                        int threads, bool lost_motion, bool no_worst_case) {
-    cli::ToleranceOptions o;
-    o.solver = solver;
-    o.kinematics = kinematics;
-    o.samples = samples;
-    o.seed = seed;
-    o.threads = threads;
-    o.lost_motion = lost_motion;
-    o.no_worst_case = no_worst_case;
-    return CommandDocument<true>(deck, o, cli::RunTolerance);
+  // The tolerance study from its result in this process: its document by the command's builder,
+  // and the samples as the --csv columns (sample, status, every input, every figure the study
+  // runs, message): NumPy arrays of numbers (NaN where not finite), status and messages as lists
+  // of text (the messages an array of NaN when every sample succeeded).
+  m.def("tolerance", [](const Deck& given, const std::string& solver_name, const std::string& kinematics,
+                        std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed, int threads, bool lost_motion,
+                        bool no_worst_case) {
+    namespace analysis = ltca::analysis;
+    std::optional<ltca::app::Deck> deck;
+    std::optional<ltca::solvers::SolverOptions> solver;
+    std::optional<analysis::ToleranceStudy> study;
+    std::optional<analysis::ToleranceResult> result;
+    std::vector<analysis::ToleranceSample> kept;
+    {
+      py::gil_scoped_release release;
+      deck = ltca::app::DeckFor(given, kinematics);
+      // The command's order of the checks: [tolerances], --threads, the solver, the study's.
+      const analysis::ToleranceSettings settings = ltca::app::documents::ToleranceSettingsFor(*deck, samples, seed, lost_motion);
+      analysis::ToleranceRunPlan plan;
+      plan.threads = analysis::ResolveThreads(threads);
+      solver = ltca::app::SolverFor(*deck, solver_name);
+      study.emplace(deck->MakeToleranceCase(), *solver, settings);
+      plan.worst_case = !no_worst_case;
+      plan.sink = [&kept](const analysis::ToleranceSample& s) { kept.push_back(s); };
+      result = analysis::RunToleranceStudy(*study, plan);
+    }
+    const auto finite = [](double v) { return std::isfinite(v) ? v : NAN; };
+    py::dict columns;
+    std::vector<double> index;
+    py::list status, messages;
+    bool any_message = false;
+    for (const auto& s : kept) {
+      index.push_back(static_cast<double>(s.index));
+      status.append(py::str(analysis::ToString(s.status)));
+      std::string message = s.message;  // as the CSV carries it: line breaks as spaces
+      for (char& c : message) c = (c == '\n' || c == '\r') ? ' ' : c;
+      any_message = any_message || !message.empty();
+      messages.append(py::str(message));
+    }
+    columns["sample"] = Vector(index);
+    columns["status"] = status;
+    for (std::size_t i = 0; i < study->inputs().size(); ++i) {
+      std::vector<double> v;
+      for (const auto& s : kept) v.push_back(finite(s.inputs[i]));
+      columns[py::str(study->inputs()[i].name)] = Vector(v);
+    }
+    const auto& names = analysis::ToleranceSettings::FigureNames();
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      if (!study->Runs(f)) continue;
+      std::vector<double> v;
+      for (const auto& s : kept) v.push_back(finite(s.figures[f]));
+      columns[py::str(names[f])] = Vector(v);
+    }
+    if (any_message) {
+      columns["message"] = messages;
+    } else {
+      columns["message"] = Vector(std::vector<double>(kept.size(), NAN));
+    }
+    const int code = result->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, *study, *result)), columns);
   });
-  m.def("optimise", [](const Deck& deck, const std::string& solver,
-                       const std::string& kinematics, int threads, std::optional<int> evaluations) {
-    cli::OptimiseOptions o;
-    o.solver = solver;
-    o.kinematics = kinematics;
-    o.threads = threads;
-    o.evaluations = evaluations;
-    return CommandDocument<true>(deck, o, cli::RunOptimise);
+  // The search of [optimise] from its result in this process: its document by the command's
+  // builder (the history kept from the sink), and every evaluation as the --csv columns (index,
+  // phase, the variables, objective, violation, feasible, status, every figure, message): NumPy
+  // arrays of numbers (NaN where not finite), the others lists of text (the messages an array of
+  // NaN when none has one).
+  m.def("optimise", [](const Deck& given, const std::string& solver_name, const std::string& kinematics, int threads,
+                       std::optional<int> evaluations) {
+    namespace analysis = ltca::analysis;
+    std::optional<ltca::app::Deck> deck;
+    std::optional<ltca::solvers::SolverOptions> solver;
+    std::optional<analysis::Optimiser> optimiser;
+    std::optional<analysis::OptimiseRun> run;
+    std::vector<analysis::DesignEvaluation> history;
+    {
+      py::gil_scoped_release release;
+      deck = ltca::app::DeckFor(given, kinematics);
+      // The command's order of the checks: [optimise], --threads, the solver, the search's.
+      const analysis::OptimiseSettings settings = ltca::app::documents::OptimiseSettingsFor(*deck, evaluations);
+      const int resolved = analysis::ResolveThreads(threads);
+      solver = ltca::app::SolverFor(*deck, solver_name);
+      optimiser.emplace(deck->MakeToleranceCase(), *solver, settings, resolved);
+      analysis::OptimiseRunPlan plan;
+      plan.sink = [&history](const analysis::DesignEvaluation& e) { history.push_back(e); };
+      run = analysis::RunOptimisation(*optimiser, plan);
+    }
+    const analysis::OptimiseSettings& s = optimiser->settings();
+    const auto finite = [](double v) { return std::isfinite(v) ? v : NAN; };
+    const auto numbers = [&](const auto& value) {
+      std::vector<double> v;
+      for (const auto& e : history) v.push_back(finite(value(e)));
+      return Vector(v);
+    };
+    py::dict columns;
+    py::list phase, feasible, status, messages;
+    bool any_message = false;
+    for (const auto& e : history) {
+      phase.append(py::str(e.phase));
+      feasible.append(py::str(e.feasible ? "true" : "false"));
+      status.append(py::str(analysis::ToString(e.status)));
+      std::string message = e.message;  // as the CSV carries it: double quotes as single ones
+      std::replace(message.begin(), message.end(), '"', '\'');
+      any_message = any_message || !message.empty();
+      messages.append(py::str(message));
+    }
+    columns["index"] = numbers([](const analysis::DesignEvaluation& e) { return static_cast<double>(e.index); });
+    columns["phase"] = phase;
+    for (std::size_t k = 0; k < s.variables.size(); ++k) {
+      columns[py::str(s.variables[k].key)] = numbers([k](const analysis::DesignEvaluation& e) { return e.x[k]; });
+    }
+    columns["objective"] = numbers([](const analysis::DesignEvaluation& e) { return e.objective; });
+    columns["violation"] = numbers([](const analysis::DesignEvaluation& e) { return e.violation; });
+    columns["feasible"] = feasible;
+    columns["status"] = status;
+    const auto& names = analysis::OptimiseFigureNames();
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      columns[py::str(names[f])] = numbers([f](const analysis::DesignEvaluation& e) { return e.figures[f]; });
+    }
+    if (any_message) {
+      columns["message"] = messages;
+    } else {
+      columns["message"] = Vector(std::vector<double>(history.size(), NAN));
+    }
+    const int code = run->best() != nullptr ? cli::kExitSuccess : cli::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, s, *run, history)), columns);
   });
 }

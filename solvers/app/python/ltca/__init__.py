@@ -324,7 +324,8 @@ class Result:
         self.json = doc
         self.summary = doc.get("summary") if isinstance(doc, dict) else None
         self.tables = {k: _table(v) for k, v in doc.items() if isinstance(v, list) and v and all(isinstance(r, dict) for r in v)}
-        self.csv = _csv_table(csv_text) if csv_text else {}
+        # The module gives the per-row table as text (CSV) or, built from the result, as columns.
+        self.csv = csv_text if isinstance(csv_text, dict) else (_csv_table(csv_text) if csv_text else {})
 
     @property
     def succeeded(self):

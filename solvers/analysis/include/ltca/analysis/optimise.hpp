@@ -164,6 +164,9 @@ class Optimiser {
   Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSettings settings, int threads = 1, RankGroup ranks = {});
   const OptimiseSettings& settings() const { return settings_; }
   const ToleranceCase& nominal() const { return nominal_; }
+  const SolverOptions& options() const { return options_; }
+  int threads() const { return threads_; }
+  const RankGroup& ranks() const { return ranks_; }
   /// The case of a design: each variable's key set to its value (both discs).
   ToleranceCase Apply(const std::vector<double>& x) const;
   /// One design, judged by the objective and constraints (phase and index left to the caller).
@@ -185,6 +188,33 @@ class Optimiser {
   int threads_ = 1;
   RankGroup ranks_;
 };
+
+/// What a whole optimisation runs besides the search: the objective's map over the two variables
+/// and a Pareto front, and where the search's evaluations go.
+struct OptimiseRunPlan {
+  int map = 0;         ///< points a variable of the map (2 .. 201, two variables), 0: none
+  std::string pareto;  ///< the second figure of a Pareto front, "": none
+  double pareto_from = std::numeric_limits<double>::quiet_NaN();  ///< its first bound, the figure's unit
+  double pareto_to = std::numeric_limits<double>::quiet_NaN();    ///< its last bound
+  int pareto_steps = 11;  ///< bounds from pareto_from to pareto_to
+  EvaluationSink sink;    ///< every evaluation of the search, in index order (the map's are in the result)
+};
+
+/// A whole optimisation: the search's result, the map's designs (first variable fastest) and the
+/// Pareto front, with the threads and ranks it ran on.
+struct OptimiseRun {
+  OptimiseResult search;
+  int map = 0;                         ///< points a variable of the map, 0: none
+  std::vector<DesignEvaluation> grid;  ///< the map's designs, map x map of them
+  std::string pareto;                  ///< the front's second figure, "": none
+  std::vector<ParetoPoint> front;
+  int threads = 1, ranks = 1;
+  /// The best feasible design of the search, or nullptr when none met the constraints.
+  const DesignEvaluation* best() const { return search.best >= 0 ? &search.best_design : nullptr; }
+};
+
+/// The search (collective with ranks), then the map and the front when the plan asks for them.
+OptimiseRun RunOptimisation(const Optimiser& optimiser, const OptimiseRunPlan& plan);
 
 /// The index of a figure in OptimiseFigureNames(), or -1.
 int FigureIndex(const std::string& figure);
