@@ -14,7 +14,6 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <optional>
@@ -57,12 +56,6 @@ namespace documents = app::documents;
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw OutputError(fmt::format("report: cannot read back {}", path.string()));
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 std::string Html(const std::string& text) { return app::plots::XmlEscape(text); }
 
@@ -222,12 +215,6 @@ std::string AllowableRow(const std::string& what, const std::string& key, double
                      fraction ? CellOf(*fraction) : "", Html(basis));
 }
 
-/// A value of a summary (nullptr or a missing key: NaN).
-double Number(const nlohmann::json& summary, const std::string& key) {
-  if (!summary.is_object() || !summary.contains(key) || !summary[key].is_number()) return std::numeric_limits<double>::quiet_NaN();
-  return summary[key].get<double>();
-}
-
 /// An SVG file inlined into the page: its XML prolog and DOCTYPE dropped, and its element ids
 /// (PLplot's "text-clipping<n>") given the figure's prefix, since one page holds several figures
 /// and an id must be unique in it (else a later figure's text is clipped by an earlier one's).
@@ -293,8 +280,6 @@ std::optional<double> StageFigure(const app::Deck& deck, const app::SweepSummary
   if (figure == "shortest_l10_hours") return s.bearing_life.value_or(analysis::BearingLife{}).ShortestHours();
   return std::nullopt;
 }
-
-std::string InlineSvg(const fs::path& path) { return InlineSvgText(ReadFile(path), path.stem().string()); }
 
 /// Where the report writes a file of its folder: the name's path in the staging folder.
 using FileIn = std::function<std::string(const char*)>;
