@@ -73,6 +73,26 @@ def test_tolerance_samples_are_the_csv_of_the_command_line(monkeypatch):
             assert np.array_equal(column, np.array([float(r[i]) if r[i] else np.nan for r in rows]), equal_nan=True)
 
 
+def test_geometry_profile_columns_are_the_csv_of_the_command_line(monkeypatch):
+    # The module's columns are built from the profile (no CSV parsed); the command's CSV prints the
+    # same points to 9 significant digits, so the numbers agree to that rounding and the part
+    # names exactly (an empty u_deg, a tip relief's cap, is NaN in the module).
+    monkeypatch.chdir(ROOT)
+    for deck in ("cases/liu2021_table1.toml", "cases/li_table1.toml"):
+        run = subprocess.run([LTCA, "geometry", deck, "--csv", "-"], cwd=ROOT, capture_output=True, text=True)
+        assert run.returncode == 0
+        header, *rows = [line.split(",") for line in run.stdout.strip().splitlines()]
+        result = ltca.geometry(deck)
+        assert list(result.csv) == header
+        for i, name in enumerate(header):
+            column = result.csv[name]
+            if name == "part":
+                assert column == [r[i] for r in rows]
+                continue
+            expected = np.array([float(r[i]) if r[i] else np.nan for r in rows])
+            assert np.allclose(column, expected, rtol=1e-8, atol=1e-12, equal_nan=True), name
+
+
 def test_tables_hold_the_documents_records_as_arrays(monkeypatch):
     monkeypatch.chdir(ROOT)
     result = ltca.backlash("cases/liu2021_table1.toml")

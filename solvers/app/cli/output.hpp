@@ -21,6 +21,7 @@
 
 #include "documents/common.hpp"
 #include "ltca/app/deck.hpp"
+#include "ltca/app/exit_codes.hpp"
 #include "ltca/app/plots.hpp"
 #include "ltca/app/temporaries.hpp"
 
@@ -32,12 +33,11 @@ class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Exit codes of `ltca` (README "Use", `ltca --help`).
-inline constexpr int kExitSuccess = 0;        ///< every position of every solver succeeded
-inline constexpr int kExitNotSucceeded = 1;   ///< the run finished, something did not succeed
-inline constexpr int kExitBadInput = 2;       ///< bad deck or options
-inline constexpr int kExitOutputError = 3;    ///< an output could not be opened or written
-inline constexpr int kExitInternalError = 4;  ///< a bug: please report it
+using app::kExitBadInput;
+using app::kExitInternalError;
+using app::kExitNotSucceeded;
+using app::kExitOutputError;
+using app::kExitSuccess;
 
 /// The files of one run of `ltca` (cli::Run makes one; a command run in-process without it writes
 /// each output as it completes): the inputs it reads, which no output may be, and the outputs it

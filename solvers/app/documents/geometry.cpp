@@ -187,6 +187,22 @@ std::string Csv(const CycloidProfile& profile, int samples_per_flank) {
   return csv;
 }
 
+ProfileColumns Columns(const CycloidProfile& profile, int samples_per_flank) {
+  ProfileColumns c;
+  ForEachOutlinePoint(profile, samples_per_flank, [&](int k, double u, const Eigen::Vector2d& x, const Eigen::Vector2d& n,
+                                                       double curvature, geometry::SurfacePart part) {
+    c.tooth_space.push_back(k);
+    c.u_deg.push_back(RadToDeg(u));  // NaN on a cap stays NaN
+    c.x_mm.push_back(x.x());
+    c.y_mm.push_back(x.y());
+    c.normal_x.push_back(n.x());
+    c.normal_y.push_back(n.y());
+    c.curvature_radius_mm.push_back(curvature == 0.0 ? std::numeric_limits<double>::infinity() : 1.0 / curvature);
+    c.part.emplace_back(geometry::SurfacePartName(part));
+  });
+  return c;
+}
+
 plots::Figure Figure(const Deck& deck, const geometry::RealPair& real, const contact::MeshState& unloaded, int samples_per_flank) {
   const int samples = samples_per_flank;
   const double crank = unloaded.crank;

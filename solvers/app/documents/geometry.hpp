@@ -3,6 +3,7 @@
 // modification and [errors] applied): its JSON summary, text, the profile as CSV and the drawing.
 // `ltca geometry`, the default job, `ltca report` and the Python module all build theirs here.
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -25,6 +26,14 @@ std::string Text(const Deck& deck, const geometry::RealPair& real);
 /// The whole profile as CSV, tooth space by tooth space in the body frame (mm; u_deg empty on a tip
 /// relief's cap), 2 x `samples_per_flank` + 1 points a flank.
 std::string Csv(const geometry::CycloidProfile& profile, int samples_per_flank);
+
+/// The CSV's columns as numbers (u_deg NaN on a tip relief's cap, curvature_radius_mm infinite
+/// on a straight part) and the part names: what the Python module hands out as arrays.
+struct ProfileColumns {
+  std::vector<double> tooth_space, u_deg, x_mm, y_mm, normal_x, normal_y, curvature_radius_mm;
+  std::vector<std::string> part;
+};
+ProfileColumns Columns(const geometry::CycloidProfile& profile, int samples_per_flank);
 
 /// The cycloid as made and the pins at `unloaded.crank` (rad), each pin's radius reduced by its
 /// unloaded clearance (the least over its slices, from `unloaded`, the mesh state at that crank)

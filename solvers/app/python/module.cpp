@@ -23,7 +23,6 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "contact_commands.hpp"
 #include "documents/backlash.hpp"
 #include "documents/compare.hpp"
 #include "documents/efficiency.hpp"
@@ -40,8 +39,8 @@
 #include "ltca/analysis/optimise.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/tolerance_run.hpp"
-#include "geometry_command.hpp"
 #include "ltca/app/deck.hpp"
+#include "ltca/app/exit_codes.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
 
@@ -152,8 +151,6 @@ py::tuple Solve(const Deck& given, const std::string& solver_name, const std::st
   return py::make_tuple(document, summary, arrays);
 }
 
-namespace cli = ltca::cli;
-
 }  // namespace
 
 PYBIND11_MODULE(_ltca, m) {
@@ -165,20 +162,29 @@ PYBIND11_MODULE(_ltca, m) {
   py::class_<Document>(m, "Document", "A JSON document, converted on request.")
       .def("to_python", [](const Document& d) { return ToPython(d.make()); });
   m.def("solve", &Solve, "ltca solve: (the --json document, its summary as a dict, the arrays).");
-  // The other analyses: (exit code, the --json document, the CSV text or "").
+  // The other analyses: (exit code, the --json document, the --csv columns as {name: array} or {}).
   using Strings = std::vector<std::string>;
-  // The derived geometry of the pair as made, in this process: its document and the profile's CSV
+  // The derived geometry of the pair as made, in this process: its document and the profile's columns
   // by the command's builders. (The crank is the drawing's, which Python does not draw.)
   m.def("geometry", [](const Deck& deck, double /*crank_deg*/, int samples_per_flank) {
     nlohmann::json doc;
-    std::string csv;
+    ltca::app::documents::ProfileColumns profile;
     {
       py::gil_scoped_release release;
       const ltca::geometry::RealPair real = deck.MakeRealPair();
       doc = ltca::app::documents::Json(deck, real);
-      csv = ltca::app::documents::Csv(real.profile(), samples_per_flank);
+      profile = ltca::app::documents::Columns(real.profile(), samples_per_flank);
     }
-    return py::make_tuple(cli::kExitSuccess, ToPython(doc), py::str(csv));
+    py::dict columns;  // the --csv columns, numbers as arrays
+    columns["tooth_space"] = Vector(profile.tooth_space);
+    columns["u_deg"] = Vector(profile.u_deg);
+    columns["x_mm"] = Vector(profile.x_mm);
+    columns["y_mm"] = Vector(profile.y_mm);
+    columns["normal_x"] = Vector(profile.normal_x);
+    columns["normal_y"] = Vector(profile.normal_y);
+    columns["curvature_radius_mm"] = Vector(profile.curvature_radius_mm);
+    columns["part"] = py::cast(profile.part);
+    return py::make_tuple(ltca::app::kExitSuccess, ToPython(doc), columns);
   });
   // The unloaded backlash from its result in this process, its document by the command's builder.
   m.def("backlash", [](const Deck& deck, const std::string& kinematics) {
@@ -190,8 +196,8 @@ PYBIND11_MODULE(_ltca, m) {
       const ltca::analysis::Stage stage(deck, deck.sweep.CrankAngles());
       result = ltca::analysis::Backlash(stage, k, [&](const ltca::analysis::BacklashPosition& p) { positions.push_back(p); });
     }
-    const int code = result->summary.failed() == 0 ? cli::kExitSuccess : cli::kExitNotSucceeded;
-    return py::make_tuple(code, ToPython(ltca::app::documents::Json(deck, positions, *result)), py::str(""));
+    const int code = result->summary.failed() == 0 ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(deck, positions, *result)), py::dict());
   });
   // The mesh state at one crank from its result in this process, its document by the command's builder.
   m.def("mesh", [](const Deck& deck, double crank_deg) {
@@ -200,7 +206,7 @@ PYBIND11_MODULE(_ltca, m) {
       py::gil_scoped_release release;
       mesh = ltca::analysis::MeshAt(deck.MakeModel(), crank_deg);
     }
-    return py::make_tuple(cli::kExitSuccess, ToPython(ltca::app::documents::Json(deck, *mesh)), py::str(""));
+    return py::make_tuple(ltca::app::kExitSuccess, ToPython(ltca::app::documents::Json(deck, *mesh)), py::dict());
   });
   // Several solvers on the deck's sweep from their result in this process, its document by the
   // command's builder (every registered solver when `solvers` is empty).
@@ -217,8 +223,8 @@ PYBIND11_MODULE(_ltca, m) {
       const ltca::analysis::SolverSelection selection = ltca::analysis::SelectSolvers(asked, deck->reducer.has_value(), deck->name);
       result = ltca::analysis::Compare(deck->MakeStage(), deck->solver, selection.run, torque, selection.skipped);
     }
-    const int code = result->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
-    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *result)), py::str(""));
+    const int code = result->all_succeeded() ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *result)), py::dict());
   });
   // The torque-twist loop from its result in this process, its document by the command's builder.
   // crank_deg (deg) and steps replace the deck's [stiffness] crank_deg and steps_per_branch.
@@ -242,8 +248,8 @@ PYBIND11_MODULE(_ltca, m) {
           deck->MakeStage(settings.crank ? std::vector<double>{*settings.crank} : deck->sweep.CrankAngles()), *solver, settings,
           torque, deck->friction);
     }
-    const int code = result->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
-    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, *result)), py::str(""));
+    const int code = result->all_succeeded() ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, *result)), py::dict());
   });
   // Friction, power loss and efficiency over the sweep from its result in this process, its
   // document by the command's builder.
@@ -265,8 +271,8 @@ PYBIND11_MODULE(_ltca, m) {
       for (const double crank : runner.cranks()) positions.push_back(runner.Solve(crank));
       summary = runner.Summary();
     }
-    const int code = summary->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
-    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, positions, *summary)), py::str(""));
+    const int code = summary->all_succeeded() ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
+    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, positions, *summary)), py::dict());
   });
   // The tolerance study from its result in this process: its document by the command's builder,
   // and the samples as the --csv columns (sample, status, every input, every figure the study
@@ -326,7 +332,7 @@ PYBIND11_MODULE(_ltca, m) {
     } else {
       columns["message"] = Vector(std::vector<double>(kept.size(), NAN));
     }
-    const int code = result->all_succeeded() ? cli::kExitSuccess : cli::kExitNotSucceeded;
+    const int code = result->all_succeeded() ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
     return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, *study, *result)), columns);
   });
   // The search of [optimise] from its result in this process: its document by the command's
@@ -391,7 +397,7 @@ PYBIND11_MODULE(_ltca, m) {
     } else {
       columns["message"] = Vector(std::vector<double>(history.size(), NAN));
     }
-    const int code = run->best() != nullptr ? cli::kExitSuccess : cli::kExitNotSucceeded;
+    const int code = run->best() != nullptr ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
     return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, s, *run, history)), columns);
   });
 }

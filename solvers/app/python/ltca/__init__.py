@@ -292,24 +292,6 @@ def _table(rows):
     return table
 
 
-def _csv_table(text):
-    """CSV text as {column: NumPy array} (empty cells NaN); a column that is not numeric stays a list."""
-    import csv
-    import io
-    rows = list(csv.reader(io.StringIO(text)))
-    if not rows:
-        return {}
-    header, body = rows[0], rows[1:]
-    table = {}
-    for i, name in enumerate(header):
-        cells = [r[i] if i < len(r) else "" for r in body]
-        try:
-            table[name] = _np.array([_np.nan if c == "" else float(c) for c in cells], dtype=float)
-        except ValueError:
-            table[name] = cells
-    return table
-
-
 class Result:
     """An analysis: ``json`` is the document its command writes with ``--json`` (dicts, None for
     null), produced in this process by the command's own writer; ``summary`` its summary (or None);
@@ -318,14 +300,13 @@ class Result:
     ``csv`` the per-row table of the command's ``--csv`` where it carries one (tolerance: a row per
     sample; geometry: the profile; optimise: a row per evaluation), as {column: NumPy array}."""
 
-    def __init__(self, command, code, doc, csv_text=""):
+    def __init__(self, command, code, doc, columns):
         self.command = command
         self.exit_code = code
         self.json = doc
         self.summary = doc.get("summary") if isinstance(doc, dict) else None
         self.tables = {k: _table(v) for k, v in doc.items() if isinstance(v, list) and v and all(isinstance(r, dict) for r in v)}
-        # The module gives the per-row table as text (CSV) or, built from the result, as columns.
-        self.csv = csv_text if isinstance(csv_text, dict) else (_csv_table(csv_text) if csv_text else {})
+        self.csv = dict(columns)  # the per-row table, built from the result as columns (no CSV parsed)
 
     @property
     def succeeded(self):
@@ -347,8 +328,8 @@ class Result:
 
 def _run(name, deck, *args):
     d = _deck(deck)
-    code, doc, csv_text = getattr(_ltca, name)(d._parsed, *args)
-    return Result(name, code, doc, csv_text)
+    code, doc, columns = getattr(_ltca, name)(d._parsed, *args)
+    return Result(name, code, doc, columns)
 
 
 def geometry(deck, crank_deg=0.0, samples_per_flank=60):
