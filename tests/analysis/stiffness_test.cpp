@@ -16,6 +16,7 @@
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
 #include "ltca/geometry/units.hpp"
+#include "designs.hpp"
 
 namespace {
 
@@ -28,27 +29,8 @@ using ltca::solvers::SolverOptions;
 
 constexpr double kTorque = 206'000.0;  ///< N*mm: Liu 2021 section 5.2's 206 N*m
 
-/// Liu 2021 Table 1 (40 pins, R_p 64 mm, r_rp 3 mm, e 1.3 mm, B 12 mm) with section 5.2's base
-/// modification (dR_rp -4 um, dR_p -17 um): clearance at every pin; steel.
-StageDesign SteelLiu52() {
-  StageDesign d;
-  d.name = "Liu 2021 Table 1, section 5.2 base modification";
-  d.pair = {40, 39, 3.0, 64.0, 1.3, 12.0};
-  d.modification.pin_radius = -0.004;
-  d.modification.pin_circle_radius = -0.017;
-  d.material = ltca::contact::Material{};
-  return d;
-}
-
-/// The same pair with a second disc half a crank turn on, 5 um ahead along the pin circle.
-StageDesign SteelLiu52TwoDiscs() {
-  StageDesign d = SteelLiu52();
-  ltca::analysis::SecondDisc second;
-  second.modification = d.modification;
-  second.indexing_deviation = 0.005;
-  d.second_disc = second;
-  return d;
-}
+using ltca::test::SteelLiu52;
+using ltca::test::SteelLiu52TwoDiscs;
 
 /// The twist (rad, -TE) of the stage at `crank` under `torque` (N*mm) by one loaded solve of its own.
 double LoadedTwist(const Stage& stage, double crank, double torque, double* first_disc_share = nullptr) {

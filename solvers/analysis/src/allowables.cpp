@@ -4,6 +4,13 @@
 #include <cmath>
 #include <utility>
 
+#include "ltca/analysis/backlash.hpp"
+#include "ltca/analysis/efficiency.hpp"
+#include "ltca/analysis/stiffness.hpp"
+#include "ltca/analysis/sweep.hpp"
+#include "ltca/analysis/tolerance_run.hpp"
+#include "ltca/geometry/units.hpp"
+
 namespace ltca::analysis {
 
 bool AllowableRange::Given() const { return std::isfinite(min) || std::isfinite(max); }
@@ -41,6 +48,114 @@ AllowableRow Judge(std::string figure, double value, std::string basis, Allowabl
                 : range.Holds(value)  ? AllowableVerdict::kPass
                                       : AllowableVerdict::kFail;
   return row;
+}
+
+namespace {
+
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
+
+/// NaN where not finite (as the documents give null).
+double FiniteOrNaN(double v) { return std::isfinite(v) ? v : kNoValue; }
+
+/// The loaded sweep's figure of that name (TE arcsec, force N, stress MPa, pin counts); none when
+/// the sweep does not report it, NaN where no position succeeded.
+std::optional<double> SweepFigure(const SweepSummary& s, const std::string& figure) {
+  if (figure == "mean_te_arcsec") return FiniteOrNaN(units::RadToArcsec(s.mean_te));
+  if (figure == "pp_te_arcsec") return FiniteOrNaN(units::RadToArcsec(s.pp_te));
+  if (figure == "max_contact_stress_mpa") return FiniteOrNaN(s.max_contact_stress);
+  if (figure == "max_pin_force_n") return FiniteOrNaN(s.max_pin_force);
+  if (figure == "contacts_min") return s.succeeded > 0 ? static_cast<double>(s.contacts_min) : kNoValue;
+  if (figure == "contacts_max") return s.succeeded > 0 ? static_cast<double>(s.contacts_max) : kNoValue;
+  return std::nullopt;
+}
+
+/// A reducer stage's figure of the loaded sweep (its largest loads, N; its shortest bearing L10,
+/// h, from SweepSummary::bearing_life); none for a figure the stage does not report.
+std::optional<double> StageFigure(const NominalResults& r, const std::string& figure) {
+  if (!r.reducer || !r.solve->stage) return std::nullopt;
+  const StageSummary& g = *r.solve->stage;
+  if (figure == "max_output_pin_force_n") return r.output_pins ? FiniteOrNaN(g.max_output_force) : kNoValue;
+  if (figure == "max_bearing_load_n") return FiniteOrNaN(g.max_bearing_load);
+  if (figure == "max_roller_load_n") return FiniteOrNaN(g.max_roller_load);
+  if (figure == "shortest_l10_hours") return r.solve->bearing_life.value_or(BearingLife{}).ShortestHours();
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::pair<double, std::string> NominalFigure(const NominalResults& r, const std::string& figure) {
+  if (r.tolerance != nullptr && r.study != nullptr && r.tolerance->worst_case) {
+    const auto& names = ToleranceSettings::FigureNames();
+    for (std::size_t f = 0; f < names.size(); ++f) {
+      if (names[f] != figure || !r.study->Runs(f)) continue;
+      const double v = r.tolerance->worst_case->figures[f].nominal;
+      if (std::isfinite(v)) return {v, "ltca tolerance, the nominal deck"};
+    }
+  }
+  if (r.reducer) {
+    if (figure == "mean_backlash_arcsec") {
+      const double v = r.stiffness != nullptr ? 60.0 * FiniteOrNaN(units::RadToArcmin(r.stiffness->summary.backlash.mean)) : kNoValue;
+      return {v, std::isfinite(v) ? "ltca stiffness, crank 0: the stage's free play" : "not computed"};
+    }
+    if (figure == "pp_backlash_arcsec") return {kNoValue, "not computed: the stage's free play over the sweep is the tolerance study's"};
+    if (const std::optional<double> v = StageFigure(r, figure)) return {*v, "ltca solve, the stage"};
+  }
+  if (r.backlash != nullptr) {
+    if (figure == "mean_backlash_arcsec") return {units::RadToArcsec(r.backlash->summary.mean()), "ltca backlash"};
+    if (figure == "pp_backlash_arcsec") return {units::RadToArcsec(r.backlash->summary.pp()), "ltca backlash"};
+  }
+  if (r.solve != nullptr) {
+    if (const std::optional<double> v = SweepFigure(*r.solve, figure)) return {*v, "ltca solve"};
+  }
+  if (r.stiffness != nullptr && figure == "lost_motion_arcmin") {  // the one tolerance figure the loop gives
+    return {FiniteOrNaN(units::RadToArcmin(r.stiffness->summary.lost_motion.mean)), "ltca stiffness, crank 0"};
+  }
+  return {kNoValue, "not computed"};
+}
+
+std::vector<AllowableRow> CheckAllowables(const NominalResults& r, const Allowables& a) {
+  std::vector<AllowableRow> rows;
+  if (r.solve != nullptr) {
+    rows.push_back(Judge("max_contact_stress_mpa", FiniteOrNaN(r.solve->max_contact_stress), "ltca solve, the sweep",
+                         AllowableRange{-std::numeric_limits<double>::infinity(), a.contact_stress_limit}));
+    rows.back().name = "largest contact stress (MPa)";
+  }
+  std::vector<std::string> limited;
+  for (const ToleranceLimit& limit : a.limits) {
+    limited.push_back(limit.figure);
+    auto [value, basis] = NominalFigure(r, limit.figure);
+    std::optional<double> fraction;  // the Monte Carlo's pass fraction of this limit
+    if (r.tolerance != nullptr) {
+      for (const LimitResult& x : r.tolerance->summary.limits) {
+        if (x.limit.figure == limit.figure) fraction = x.fraction;
+      }
+    }
+    rows.push_back(Judge(limit.figure, value, std::move(basis), AllowableRange{limit.min, limit.max}, fraction));
+  }
+  // The figures a reviewer signs without a limit in the deck: listed with their values.
+  const auto listed = [&](const std::string& key) { return std::find(limited.begin(), limited.end(), key) != limited.end(); };
+  for (const std::string key : {"pp_te_arcsec", "mean_backlash_arcsec"}) {
+    if (listed(key)) continue;
+    auto [value, basis] = NominalFigure(r, key);
+    rows.push_back(Judge(key, value, std::move(basis)));
+  }
+  if (r.stiffness != nullptr) {  // the loop's figures at crank 0 (arcmin, N*m/arcmin)
+    const StiffnessSummary& s = r.stiffness->summary;
+    const double rigidity = units::NmmPerRadToNmPerArcmin(s.rigidity.mean);
+    for (const auto& [key, value] : {std::pair{std::string("lost_motion_arcmin"), units::RadToArcmin(s.lost_motion.mean)},
+                                     std::pair{std::string("torsional_rigidity_nm_per_arcmin"), rigidity}}) {
+      if (!listed(key)) rows.push_back(Judge(key, FiniteOrNaN(value), "ltca stiffness, crank 0"));
+    }
+  }
+  if (r.efficiency != nullptr && !listed("efficiency")) {  // the sweep's efficiency (full model)
+    rows.push_back(Judge("efficiency", FiniteOrNaN(r.efficiency->efficiency), "ltca efficiency"));
+  }
+  if (r.reducer && r.solve != nullptr && r.solve->stage && !listed("shortest_l10_hours")) {  // the stage's bearings
+    const BearingLife life = r.solve->bearing_life.value_or(BearingLife{});
+    rows.push_back(Judge("stage.shortest_l10_hours", life.ShortestHours(), "ltca solve, ISO 281 (" + life.basis + ")"));
+    rows.back().name = "shortest bearing L10 (h)";
+  }
+  return rows;
 }
 
 }  // namespace ltca::analysis

@@ -1,5 +1,7 @@
 #include "ltca/analysis/tolerance.hpp"
 
+#include "ltca/analysis/allowables.hpp"
+
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/keys.hpp"
 
@@ -615,9 +617,8 @@ ToleranceSummary Summarise(const ToleranceStudy& study, const SampleTable& sampl
   const auto figure_index = [&](const std::string& name) {
     return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
   };
-  const auto within = [&](std::int64_t k, const ToleranceLimit& l) {
-    const double v = value(k, figure_index(l.figure));
-    return std::isfinite(v) && v >= l.min && v <= l.max;
+  const auto within = [&](std::int64_t k, const ToleranceLimit& l) {  // the allowables check's rule
+    return AllowableRange{l.min, l.max}.Holds(value(k, figure_index(l.figure)));
   };
   for (const ToleranceLimit& l : study.settings().limits) {
     LimitResult r;

@@ -36,6 +36,7 @@
 #include "documents/optimise.hpp"
 #include "documents/stiffness.hpp"
 #include "documents/tolerance.hpp"
+#include "ltca/analysis/allowables.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
@@ -190,29 +191,22 @@ std::string InputsTable(const app::Deck& deck) {
   return html;
 }
 
-/// One row of the allowables table: the figure, its value, the allowable (min and / or max), the
-/// margin to the nearer bound (positive: inside) and the verdict; the Monte Carlo's pass fraction
-/// when it ran.
-std::string AllowableRow(const std::string& what, const std::string& key, double value, double min, double max,
-                         const std::string& basis, std::optional<double> fraction = std::nullopt) {
-  const bool has_value = std::isfinite(value);
-  const bool has_limit = std::isfinite(min) || std::isfinite(max);
-  std::string allowable = "none in the deck", margin = "", verdict = has_value ? "no allowable" : "n/a";
-  if (has_limit) {
-    allowable = std::isfinite(min) && std::isfinite(max) ? fmt::format("{:.6g} to {:.6g}", min, max)
-                : std::isfinite(max)                     ? fmt::format("&le; {:.6g}", max)
-                                                         : fmt::format("&ge; {:.6g}", min);
-    if (has_value) {
-      double m = std::numeric_limits<double>::infinity();
-      if (std::isfinite(max)) m = std::min(m, max - value);
-      if (std::isfinite(min)) m = std::min(m, value - min);
-      margin = fmt::format("{:+.4g}", m);
-      verdict = m >= 0.0 ? "<span class=\"pass\">pass</span>" : "<span class=\"fail\">FAIL</span>";
-    }
-  }
+/// One row of the allowables table (analysis::CheckAllowables, the rule of analysis::Judge): the
+/// figure, its value, the allowable (min and / or max), the margin to the nearer bound (positive:
+/// inside) and the verdict; the Monte Carlo's pass fraction when it ran.
+std::string AllowableRow(const analysis::AllowableRow& row) {
+  const analysis::AllowableRange& r = row.range;
+  const std::string allowable = !r.Given()                                  ? "none in the deck"
+                                : std::isfinite(r.min) && std::isfinite(r.max) ? fmt::format("{:.6g} to {:.6g}", r.min, r.max)
+                                : std::isfinite(r.max)                         ? fmt::format("&le; {:.6g}", r.max)
+                                                                               : fmt::format("&ge; {:.6g}", r.min);
+  const std::string margin = std::isfinite(row.margin) ? fmt::format("{:+.4g}", row.margin) : "";
+  const std::string verdict = row.verdict == analysis::AllowableVerdict::kPass   ? "<span class=\"pass\">pass</span>"
+                              : row.verdict == analysis::AllowableVerdict::kFail ? "<span class=\"fail\">FAIL</span>"
+                                                                                 : analysis::ToString(row.verdict);
   return fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-                     Html(key), Html(what), has_value ? fmt::format("{:.6g}", value) : "n/a", allowable, margin, verdict,
-                     fraction ? CellOf(*fraction) : "", Html(basis));
+                     Html(row.figure), Html(row.name.empty() ? Label(row.figure) : row.name), CellOf(row.value), allowable,
+                     margin, verdict, row.pass_fraction ? CellOf(*row.pass_fraction) : "", Html(row.basis));
 }
 
 /// An SVG file inlined into the page: its XML prolog and DOCTYPE dropped, and its element ids
@@ -247,38 +241,6 @@ std::string InlineSvgText(const std::string& svg, const std::string& stem) {
     from = end;
   }
   return out.append(svg, from, std::string::npos);
-}
-
-/// A figure as the page judges it: NaN where it is not finite (as the summary's JSON gives null).
-double Finite(double v) { return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN(); }
-
-/// The loaded sweep's figure of a tolerance study's name (analysis::ToleranceSettings::FigureNames:
-/// TE in arcsec, force N, stress MPa, pin counts), from its result; none when the sweep does not
-/// report that figure. NaN where no position succeeded.
-std::optional<double> SolveFigure(const app::SweepSummary& s, const std::string& figure) {
-  const double none = std::numeric_limits<double>::quiet_NaN();
-  if (figure == "mean_te_arcsec") return Finite(units::RadToArcsec(s.mean_te));
-  if (figure == "pp_te_arcsec") return Finite(units::RadToArcsec(s.pp_te));
-  if (figure == "max_contact_stress_mpa") return Finite(s.max_contact_stress);
-  if (figure == "max_pin_force_n") return Finite(s.max_pin_force);
-  if (figure == "contacts_min") return s.succeeded > 0 ? static_cast<double>(s.contacts_min) : none;
-  if (figure == "contacts_max") return s.succeeded > 0 ? static_cast<double>(s.contacts_max) : none;
-  return std::nullopt;
-}
-
-/// A reducer stage's figure of the loaded sweep (its largest loads, N; its shortest bearing L10, h,
-/// ISO 281 from SweepSummary::bearing_life); none for the mesh alone or a figure the stage does not
-/// report.
-std::optional<double> StageFigure(const app::Deck& deck, const app::SweepSummary& s, const std::string& figure) {
-  if (!deck.reducer || !s.stage) return std::nullopt;
-  const analysis::StageSummary& g = *s.stage;
-  if (figure == "max_output_pin_force_n") {
-    return deck.reducer->kind == solvers::OutputKind::kPins ? Finite(g.max_output_force) : std::numeric_limits<double>::quiet_NaN();
-  }
-  if (figure == "max_bearing_load_n") return Finite(g.max_bearing_load);
-  if (figure == "max_roller_load_n") return Finite(g.max_roller_load);
-  if (figure == "shortest_l10_hours") return s.bearing_life.value_or(analysis::BearingLife{}).ShortestHours();
-  return std::nullopt;
 }
 
 /// Where the report writes a file of its folder: the name's path in the staging folder.
@@ -480,10 +442,12 @@ std::string OptimiseHtml(const ReportOptimisation& opt) {
       return f >= 0 ? best->figures[static_cast<std::size_t>(f)] : nan;
     };
     if (analysis::FigureIndex(st.objective) >= 0) {
-      html += AllowableRow(Label(st.objective) + " (objective)", st.objective, at_best(st.objective), nan, nan, basis);
+      analysis::AllowableRow objective = analysis::Judge(st.objective, at_best(st.objective), basis);
+      objective.name = Label(st.objective) + " (objective)";
+      html += AllowableRow(objective);
     }
     for (const analysis::ToleranceLimit& c : st.constraints) {
-      html += AllowableRow(Label(c.figure), c.figure, at_best(c.figure), c.min, c.max, basis);
+      html += AllowableRow(analysis::Judge(c.figure, at_best(c.figure), basis, {c.min, c.max}));
     }
     html += "</table>\n";
   }
@@ -737,71 +701,21 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
           "the nominal deck (and, for the limits, as the Monte Carlo's pass fraction). A figure with no allowable in "
           "the deck is listed with its value.</p>\n<table>\n<tr><th>figure</th><th>value</th><th>allowable</th>"
           "<th>margin</th><th>verdict</th><th>Monte Carlo pass fraction</th><th>from</th></tr>\n";
-  const nlohmann::json bs = documents::Json(deck, *backlash);  // the backlash's summary, from its result
-  const nlohmann::json es = eff ? documents::Json(*eff) : nlohmann::json();  // the efficiency's summary, from its result
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  html += AllowableRow("largest contact stress (MPa)", "max_contact_stress_mpa", Finite(ss.max_contact_stress), nan,
-                       deck.RequireMaterial().contact_stress_limit, "ltca solve, the sweep");
-  // A figure of the nominal deck, from the analysis of the model that ran: the tolerance study's
-  // nominal run when it ran its worst case, else the analysis that reports the same figure. For a
-  // reducer stage the backlash is the stage's free play (the loop's width at zero torque), never
-  // the pin ring's unloaded analysis, and its loads and lives are the solve's stage summary.
-  const auto nominal = [&](const std::string& figure) -> std::pair<double, std::string> {
-    if (const analysis::WorstCaseFigure* w = tol.WorstCase(figure)) {
-      if (std::isfinite(w->nominal)) return {w->nominal, "ltca tolerance, the nominal deck"};
-    }
-    if (deck.reducer) {
-      if (figure == "mean_backlash_arcsec") {
-        const double v = stiff ? 60.0 * Finite(units::RadToArcmin(stiff->summary.backlash.mean)) : nan;
-        return {v, std::isfinite(v) ? "ltca stiffness, crank 0: the stage's free play" : "not computed"};
-      }
-      if (figure == "pp_backlash_arcsec") return {nan, "not computed: the stage's free play over the sweep is the tolerance study's"};
-      if (const std::optional<double> v = StageFigure(deck, ss, figure)) return {*v, "ltca solve, the stage"};
-    }
-    if (figure == "mean_backlash_arcsec") return {units::RadToArcsec(backlash->summary.mean()), "ltca backlash"};
-    if (figure == "pp_backlash_arcsec") return {units::RadToArcsec(backlash->summary.pp()), "ltca backlash"};
-    if (const std::optional<double> v = SolveFigure(ss, figure)) return {*v, "ltca solve"};
-    if (stiff && figure == "lost_motion_arcmin") {  // the one tolerance figure the loop gives
-      return {Finite(units::RadToArcmin(stiff->summary.lost_motion.mean)), "ltca stiffness, crank 0"};
-    }
-    return {nan, "not computed"};
-  };
-  std::vector<std::string> limited;
-  if (deck.tolerances) {
-    for (const auto& limit : deck.tolerances->limits) {
-      limited.push_back(limit.figure);
-      const auto [value, basis] = nominal(limit.figure);
-      std::optional<double> fraction;  // the Monte Carlo's pass fraction of this limit
-      if (tol.root()) {
-        for (const analysis::LimitResult& x : tol.result->summary.limits) {
-          if (x.limit.figure == limit.figure) fraction = x.fraction;
-        }
-      }
-      html += AllowableRow(Label(limit.figure), limit.figure, value, limit.min, limit.max, basis, fraction);
-    }
+  analysis::NominalResults nominal;
+  nominal.reducer = deck.reducer.has_value();
+  nominal.output_pins = deck.reducer && deck.reducer->kind == solvers::OutputKind::kPins;
+  nominal.solve = &ss;
+  nominal.backlash = &*backlash;
+  nominal.stiffness = stiff ? &*stiff : nullptr;
+  nominal.efficiency = eff ? &*eff : nullptr;
+  if (tol.root()) {
+    nominal.study = &*tol.study;
+    nominal.tolerance = &*tol.result;
   }
-  // The figures a reviewer signs without a limit in the deck: listed with their values.
-  const auto listed = [&](const std::string& key) { return std::find(limited.begin(), limited.end(), key) != limited.end(); };
-  for (const std::string key : {"pp_te_arcsec", "mean_backlash_arcsec"}) {
-    if (listed(key)) continue;
-    const auto [value, basis] = nominal(key);
-    html += AllowableRow(Label(key), key, value, nan, nan, basis);
-  }
-  if (stiff) {  // the loop's figures at crank 0, in the units of its JSON (arcmin, N*m/arcmin)
-    const double rigidity = documents::RigidityNmPerArcmin(stiff->summary.rigidity.mean);
-    for (const auto& [key, value] : {std::pair{std::string("lost_motion_arcmin"), units::RadToArcmin(stiff->summary.lost_motion.mean)},
-                                     std::pair{std::string("torsional_rigidity_nm_per_arcmin"), rigidity}}) {
-      if (!listed(key)) html += AllowableRow(Label(key), key, Finite(value), nan, nan, "ltca stiffness, crank 0");
-    }
-  }
-  if (eff && !listed("efficiency")) {  // the sweep's efficiency (full model), from its result
-    html += AllowableRow(Label("efficiency"), "efficiency", Finite(eff->efficiency), nan, nan, "ltca efficiency");
-  }
-  if (deck.reducer && ss.stage && !listed("shortest_l10_hours")) {  // the stage's bearings
-    const analysis::BearingLife life = ss.bearing_life.value_or(analysis::BearingLife{});
-    html += AllowableRow("shortest bearing L10 (h)", "stage.shortest_l10_hours", life.ShortestHours(), nan, nan,
-                         "ltca solve, ISO 281 (" + life.basis + ")");
-  }
+  analysis::Allowables allowables;
+  allowables.contact_stress_limit = deck.RequireMaterial().contact_stress_limit;
+  if (deck.tolerances) allowables.limits = deck.tolerances->limits;
+  for (const analysis::AllowableRow& row : analysis::CheckAllowables(nominal, allowables)) html += AllowableRow(row);
   html += "</table>\n";
 
   html += "<h2 id=\"geometry\">Geometry</h2>\n<div class=\"grid\">\n<div>\n<table>\n";
@@ -820,7 +734,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     html += "<p>The pin ring's mesh alone (Liu eq. 17). The stage's free play, which also takes up the output "
             "mechanism's and the bearings' clearances, is the backlash of the torsional stiffness below.</p>\n";
   }
-  html += Table(bs);
+  html += Table(documents::Json(deck, *backlash));  // the backlash's summary, from its result
   html += InlineSvgText(backlash_svg, "backlash");
   html += InlineSvgText(mesh_svg, "mesh");
   html += "<h2 id=\"stiffness\">Torsional stiffness</h2>\n";
@@ -835,7 +749,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   }
   html += "<h2 id=\"efficiency\">Friction and meshing efficiency</h2>\n";
   if (efficiency) {
-    html += Table(es);
+    html += Table(documents::Json(*eff));  // the efficiency's summary, from its result
     html += InlineSvgText(eff_svg, "efficiency");
   } else {
     html += fmt::format("<p class=\"note\">Not run: {}.</p>\n",

@@ -68,7 +68,7 @@ std::string When(const Deck& deck, const analysis::StiffnessSettings& settings) 
 
 }  // namespace
 
-double RigidityNmPerArcmin(double nmm_per_rad) { return NmmToNm(nmm_per_rad) / RadToArcmin(1.0); }
+double RigidityNmPerArcmin(double nmm_per_rad) { return units::NmmPerRadToNmPerArcmin(nmm_per_rad); }
 
 std::string StiffnessScope(const Deck& deck) {
   std::string scope = deck.reducer ? kStageScope : kScope;

@@ -16,6 +16,8 @@ constexpr double RadToArcmin(double rad) { return rad * 180.0 * 60.0 / kPi; }
 constexpr double ArcminToRad(double arcmin) { return arcmin * kPi / (180.0 * 60.0); }
 constexpr double NmToNmm(double torque_nm) { return torque_nm * 1000.0; }
 constexpr double NmmToNm(double torque_nmm) { return torque_nmm / 1000.0; }
+/// Torsional rigidity: N*mm/rad to N*m/arcmin (the catalogue unit of a reducer's rigidity).
+constexpr double NmmPerRadToNmPerArcmin(double nmm_per_rad) { return NmmToNm(nmm_per_rad) / RadToArcmin(1.0); }
 constexpr double MmToUm(double mm) { return mm * 1000.0; }
 constexpr double UmToMm(double um) { return um / 1000.0; }
 /// Speeds: internal rad/s (the crank's), decks and outputs rpm.

@@ -7,7 +7,10 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "ltca/analysis/tolerance.hpp"
 
 namespace ltca::analysis {
 
@@ -37,6 +40,7 @@ const char* ToString(AllowableVerdict verdict);
 /// One row of the check: a figure of the nominal design with its allowable and verdict.
 struct AllowableRow {
   std::string figure;  ///< the figure's key, e.g. "pp_te_arcsec" (its unit in its name)
+  std::string name;    ///< how a reader names it where the key does not say it well; empty: the key's
   double value = std::numeric_limits<double>::quiet_NaN();  ///< the nominal value; NaN: not computed
   std::string basis;                                        ///< the analysis (and model) the value is from
   AllowableRange range;
@@ -48,5 +52,46 @@ struct AllowableRow {
 /// The row of one figure: its margin and verdict by the rule above.
 AllowableRow Judge(std::string figure, double value, std::string basis, AllowableRange range = {},
                    std::optional<double> pass_fraction = std::nullopt);
+
+struct BacklashResult;
+struct EfficiencySummary;
+struct StiffnessResult;
+struct SweepSummary;
+struct ToleranceResult;
+
+/// The results of the nominal design the check reads; nullptr where that analysis did not run.
+struct NominalResults {
+  bool reducer = false;        ///< the design has a reducer stage (its free play is the backlash)
+  bool output_pins = false;    ///< the stage's output is pins in holes (it has an output-pin force)
+  const SweepSummary* solve = nullptr;            ///< the loaded sweep (required)
+  const BacklashResult* backlash = nullptr;       ///< the pin ring's unloaded backlash over the sweep
+  const StiffnessResult* stiffness = nullptr;     ///< the torque-twist loop at crank 0
+  const EfficiencySummary* efficiency = nullptr;  ///< the sweep's efficiency
+  /// The tolerance study (rank 0's result): its worst case's nominal figures and its limits' pass
+  /// fractions; `study` names the figures it ran.
+  const ToleranceStudy* study = nullptr;
+  const ToleranceResult* tolerance = nullptr;
+};
+
+/// The allowables of a design: the largest contact stress (MPa, infinite: none) and the limits
+/// of [tolerances] (each a figure of ToleranceSettings::FigureNames with its range).
+struct Allowables {
+  double contact_stress_limit = std::numeric_limits<double>::infinity();
+  std::vector<ToleranceLimit> limits;
+};
+
+/// A figure of the nominal design (a name of ToleranceSettings::FigureNames) and the analysis it
+/// is taken from: the tolerance study's nominal run when it ran its worst case, else the analysis
+/// that reports it. For a reducer stage the backlash is the stage's free play (the loop's width at
+/// zero torque, x 60 in arcsec), never the pin ring's unloaded analysis, and its loads and lives
+/// are the loaded sweep's stage summary. NaN and "not computed" when nothing that ran gives it.
+std::pair<double, std::string> NominalFigure(const NominalResults& results, const std::string& figure);
+
+/// The check, in the order a reviewer signs it: the largest contact stress against its limit;
+/// every limit with its nominal value and Monte Carlo pass fraction; then, without an allowable
+/// unless a limit named them, pp TE and the mean backlash, the loop's lost motion and rigidity
+/// (arcmin, N*m/arcmin), the efficiency and a stage's shortest bearing L10 (h, key
+/// "stage.shortest_l10_hours").
+std::vector<AllowableRow> CheckAllowables(const NominalResults& results, const Allowables& allowables);
 
 }  // namespace ltca::analysis
