@@ -303,7 +303,12 @@ class Section {
   }
 
   bool Present() const { return table_ != nullptr; }
-  bool Has(const std::string& key) const { return Table().count(key) != 0; }
+  /// Whether the deck gives the key; a key the section does not know (not in the table of deck
+  /// keys) is a bug of the reader: std::logic_error.
+  bool Has(const std::string& key) const {
+    Known(key);
+    return Table().count(key) != 0;
+  }
 
   double Real(const std::string& key) const {
     const toml::value& v = Get(key);
@@ -390,7 +395,14 @@ class Section {
     static const toml::table kEmpty;
     return table_ != nullptr ? *table_ : kEmpty;
   }
+  void Known(const std::string& key) const {
+    if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
+      throw std::logic_error(fmt::format("[{}] {}: read, but not a key of the section in the table of deck keys "
+                                         "(analysis/keys.cpp)", name_, key));
+    }
+  }
   const toml::value& Get(const std::string& key) const {
+    Known(key);
     const auto it = Table().find(key);
     if (it == Table().end()) {
       throw std::invalid_argument(
@@ -415,6 +427,35 @@ Section RequiredSection(const toml::table& root, const std::string& name) {
   return Section(v, name);
 }
 
+/// The numbers of the section that the table binds to a setting (DeckKey::setting), in table order,
+/// into `parts` in internal units (DeckKey::ToInternal): a key given is checked for its type; a
+/// required key missing is named; a key not given keeps the field's value (the struct's default,
+/// the table's default_value), or takes the value of the key its default_value names
+/// (pin_young_modulus_mpa = young_modulus_mpa).
+void ReadSettings(const Section& s, const analysis::SettingsParts& parts) {
+  for (const analysis::DeckKey& k : analysis::DeckKeys()) {
+    if (s.name() != k.section || k.setting == nullptr) continue;
+    const analysis::SettingField field = k.setting(parts);
+    if (s.Has(k.name) || k.required) {
+      if (field.integer != nullptr) *field.integer = s.Integer(k.name);
+      else *field.real = k.ToInternal(s.Real(k.name));
+    } else if (const analysis::DeckKey* named = analysis::FindKey(k.section, k.default_value);
+               named != nullptr && named->setting != nullptr) {
+      const analysis::SettingField from = named->setting(parts);
+      if (field.integer != nullptr) *field.integer = *from.integer;
+      else *field.real = *from.real;
+    }
+  }
+}
+
+/// A number of the section in the internal unit (DeckKey::ToInternal), for a key the table does
+/// not bind to a setting (an optional one, or one of the front-end's structs).
+double Internal(const Section& s, const std::string& key) {
+  const analysis::DeckKey* k = analysis::FindKey(s.name(), key);
+  const double value = s.Real(key);  // asks the table first: a key not in it is a logic_error
+  return k->ToInternal(value);
+}
+
 CaseInfo ReadCase(const Section& s) {
   CaseInfo info;
   info.title = s.String("title");
@@ -424,12 +465,7 @@ CaseInfo ReadCase(const Section& s) {
 
 geometry::PairParameters ReadPair(const Section& s) {
   geometry::PairParameters p;
-  p.pin_count = s.Integer("pin_count");
-  p.tooth_count = s.Integer("tooth_count");
-  p.pin_radius = s.Real("pin_radius_mm");
-  p.pin_circle_radius = s.Real("pin_circle_radius_mm");
-  p.eccentricity = s.Real("eccentricity_mm");
-  p.face_width = s.Real("face_width_mm");
+  ReadSettings(s, {.pair = &p});
   if (p.pin_count > DeckLimits::kMaxPins) {
     throw std::invalid_argument(fmt::format(
         "[pair] pin_count = {}: expected at most {} pins (docs/decks.md, Limits)", p.pin_count,
@@ -547,8 +583,7 @@ contact::ContactSettings ReadContact(const Section& s) {
   contact::ContactSettings c;
   c.law = contact::ParseLawKind(s.String("law", "hertz-line"));
   c.rho_convention = contact::ParseRhoConvention(s.String("rho_convention", "signed"));
-  c.stiffness_per_length = s.Real("stiffness_n_per_mm2", 0.0);
-  c.log_radius_cap = s.Real("log_radius_cap_mm", 0.0);
+  ReadSettings(s, {.contact = &c});
   c.Validate();
   return c;
 }
@@ -559,8 +594,7 @@ geometry::GeometrySettings ReadGeometry(const Section& s) {
   if (mode == "analytic") g.mode = geometry::GeometrySettings::Mode::kAnalytic;
   else if (mode == "elements") g.mode = geometry::GeometrySettings::Mode::kElements;
   else throw std::invalid_argument(fmt::format("[geometry] geometry_mode = \"{}\": expected \"analytic\" or \"elements\"", mode));
-  g.profile_elements = s.Integer("profile_elements", g.profile_elements);
-  g.width_slices = s.Integer("width_slices", g.width_slices);
+  ReadSettings(s, {.geometry = &g});
   g.Validate();
   return g;
 }
@@ -571,8 +605,7 @@ SolverOptions ReadSolver(const Section& s, contact::ContactKinematics* kinematic
   o.name = s.String("name", o.name);
   solvers::MakeSolver(o.name);  // rejects an unknown name, listing the valid ones
   *kinematics = contact::ParseKinematics(s.String("kinematics", "linearised"));
-  o.torque_tolerance = s.Real("torque_tolerance", o.torque_tolerance);
-  o.max_iterations = s.Integer("max_iterations", o.max_iterations);
+  ReadSettings(s, {.solver = &o});  // over the preset's values
   o.nlopt_algorithm = s.String("nlopt_algorithm", o.nlopt_algorithm);
   o.Validate();
   return o;
@@ -580,19 +613,14 @@ SolverOptions ReadSolver(const Section& s, contact::ContactKinematics* kinematic
 
 contact::Material ReadMaterial(const Section& s) {
   contact::Material m;
-  m.young_modulus = s.Real("young_modulus_mpa");
-  m.poisson_ratio = s.Real("poisson_ratio");
-  m.pin_young_modulus =
-      s.Real("pin_young_modulus_mpa", m.young_modulus);
-  m.pin_poisson_ratio = s.Real("pin_poisson_ratio", m.poisson_ratio);
-  m.contact_stress_limit = s.Real("contact_stress_limit_mpa", m.contact_stress_limit);
+  ReadSettings(s, {.material = &m});
   m.Validate();
   return m;
 }
 
 LoadCase ReadLoad(const Section& s) {
   LoadCase load;
-  load.torque = units::NmToNmm(s.Real("torque_nm"));
+  load.torque = Internal(s, "torque_nm");
   load.Validate();
   return load;
 }
@@ -600,27 +628,21 @@ LoadCase ReadLoad(const Section& s) {
 Sweep ReadSweep(const Section& s, const geometry::PairParameters& pair) {
   Sweep sweep;
   const double period_deg = 360.0 / pair.pin_count;
-  sweep.crank_start = units::DegToRad(s.Real("crank_start_deg", 0.0));
-  sweep.crank_end = units::DegToRad(
-      s.Real("crank_end_deg", units::RadToDeg(sweep.crank_start) + period_deg));
-  sweep.positions = s.Integer("positions", 91);
+  ReadSettings(s, {.sweep = &sweep});
+  // By default one mesh period from the start.
+  if (!s.Has("crank_end_deg")) sweep.crank_end = units::DegToRad(units::RadToDeg(sweep.crank_start) + period_deg);
   sweep.Validate();
   return sweep;
 }
 
 StiffnessSettings ReadStiffness(const Section& s) {
   StiffnessSettings st;
-  st.steps = s.Integer("steps_per_branch", st.steps);
+  ReadSettings(s, {.stiffness = &st});
   const std::string rigidity = s.String("rigidity", "secant");
   if (rigidity == "secant") st.rigidity = StiffnessSettings::Rigidity::kSecant;
   else if (rigidity == "tangent") st.rigidity = StiffnessSettings::Rigidity::kTangent;
   else throw std::invalid_argument(fmt::format("[stiffness] rigidity = \"{}\": expected \"secant\" or \"tangent\"", rigidity));
-  if (s.Has("tangent_torque_nm")) {
-    st.tangent_torque = units::NmToNmm(s.Real("tangent_torque_nm"));
-  }
-  st.lost_motion_fraction =
-      s.Real("lost_motion_fraction", st.lost_motion_fraction);
-  if (s.Has("crank_deg")) st.crank = units::DegToRad(s.Real("crank_deg"));
+  if (s.Has("crank_deg")) st.crank = Internal(s, "crank_deg");
   st.Validate();
   return st;
 }
@@ -782,11 +804,7 @@ ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairP
 // --- issue 14: [operation] and [friction] ----------------------------------------------------------
 OperationSettings ReadOperation(const Section& s) {
   OperationSettings o;
-  o.input_speed = units::RpmToRadPerS(s.Real("input_speed_rpm"));
-  o.viscosity = units::PaSToMPaS(s.Real("oil_viscosity_pa_s", 0.03));
-  o.pressure_viscosity = units::PerGPaToPerMPa(s.Real("pressure_viscosity_per_gpa", 10.0));
-  o.roughness_cycloid = units::UmToMm(s.Real("roughness_ra_cycloid_um", 0.3));
-  o.roughness_pin = units::UmToMm(s.Real("roughness_ra_pin_um", 0.3));
+  ReadSettings(s, {.operation = &o});
   o.Validate();
   return o;
 }
@@ -828,14 +846,10 @@ OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const 
   else if (local == "bobyqa") o.local = OptimiseSettings::Local::kBobyqa;
   else if (local == "none") o.local = OptimiseSettings::Local::kNone;
   else throw std::invalid_argument(fmt::format("[optimise] local = \"{}\": expected \"cobyla\", \"bobyqa\" or \"none\"", local));
-  o.evaluations = s.Integer("evaluations", o.evaluations);
-  o.global_share = s.Real("global_share", o.global_share);
-  o.tolerance = s.Real("tolerance", o.tolerance);
+  ReadSettings(s, {.optimise = &o});
   o.seed = s.Unsigned("seed", o.seed);
   o.robust = s.Bool("robust", o.robust);
   o.robust_samples = s.Integer("robust_samples", static_cast<int>(o.robust_samples));
-  o.percentile = s.Real("percentile", o.percentile);
-  o.confidence = s.Real("confidence", o.confidence);
   if (o.robust) {
     if (!tolerances) {
       throw std::invalid_argument("[optimise] robust = true: expected a [tolerances] section (the distributions every design is run over)");
@@ -852,17 +866,10 @@ FrictionSettings ReadFriction(const Section& s, const geometry::PairParameters& 
   if (model == "coulomb") f.model = FrictionSettings::Model::kCoulomb;
   else if (model == "jiang-mixed") f.model = FrictionSettings::Model::kJiangMixed;
   else throw std::invalid_argument(fmt::format("[friction] model = \"{}\": expected \"coulomb\" or \"jiang-mixed\"", model));
-  if (f.model == FrictionSettings::Model::kCoulomb || s.Has("coefficient")) {
-    f.coefficient = s.Real("coefficient");
-  }
-  f.boundary_coefficient = s.Real("boundary_coefficient", f.boundary_coefficient);
-  f.limiting_shear_modulus =
-      s.Real("limiting_shear_modulus_mpa", f.limiting_shear_modulus);
-  f.power_law_exponent = s.Real("power_law_exponent", f.power_law_exponent);
-  if (s.Has("sleeve_bore_radius_mm")) {
-    f.sleeve_bore_radius = s.Real("sleeve_bore_radius_mm");
-  }
-  if (s.Has("sleeve_coefficient")) f.sleeve_coefficient = s.Real("sleeve_coefficient");
+  // Coulomb's law needs its coefficient; jiang-mixed does without.
+  if (f.model == FrictionSettings::Model::kCoulomb && !s.Has("coefficient")) (void)s.Real("coefficient");  // names it missing
+  ReadSettings(s, {.friction = &f});
+  if (s.Has("sleeve_bore_radius_mm")) f.sleeve_bore_radius = Internal(s, "sleeve_bore_radius_mm");
   const std::string balance = s.String("torque_balance", "solve");
   if (balance == "solve") f.torque_balance = FrictionSettings::TorqueBalance::kSolve;
   else if (balance == "bound") f.torque_balance = FrictionSettings::TorqueBalance::kBound;

@@ -11,13 +11,54 @@
 #include "ltca/geometry/errors.hpp"
 #include "ltca/geometry/pair.hpp"
 
+namespace ltca::contact {
+struct ContactSettings;
+struct Material;
+}  // namespace ltca::contact
+namespace ltca::geometry {
+struct GeometrySettings;
+}  // namespace ltca::geometry
+namespace ltca::solvers {
+struct SolverOptions;
+}  // namespace ltca::solvers
+
 namespace ltca::analysis {
+
+struct Sweep;
+struct StiffnessSettings;
+struct OperationSettings;
+struct FrictionSettings;
+struct OptimiseSettings;
 
 /// The parts of one disc a key of [modification] or [errors] writes to (a second disc has its own).
 struct DiscParts {
   geometry::Modification* modification;
   geometry::ManufacturingErrors* errors;
   geometry::AssemblyErrors* assembly;
+};
+
+/// The settings of one deck the numbers of the other sections write to ([pair], [contact],
+/// [geometry], [material], [sweep], [solver], [stiffness], [operation], [friction], [optimise]);
+/// nullptr: that section is not being read.
+struct SettingsParts {
+  geometry::PairParameters* pair = nullptr;
+  contact::ContactSettings* contact = nullptr;
+  geometry::GeometrySettings* geometry = nullptr;
+  contact::Material* material = nullptr;
+  Sweep* sweep = nullptr;
+  solvers::SolverOptions* solver = nullptr;
+  StiffnessSettings* stiffness = nullptr;
+  OperationSettings* operation = nullptr;
+  FrictionSettings* friction = nullptr;
+  OptimiseSettings* optimise = nullptr;
+};
+
+/// The field a key of SettingsParts fills: a number (internal unit) or an integer, by the key's type.
+struct SettingField {
+  SettingField(double* r) : real(r) {}  // NOLINT(google-explicit-constructor): the binders return a member's address
+  SettingField(int* i) : integer(i) {}  // NOLINT(google-explicit-constructor)
+  double* real = nullptr;
+  int* integer = nullptr;
 };
 
 struct DeckKey {
@@ -46,8 +87,14 @@ struct DeckKey {
   /// Where a number of [modification] or [errors] goes (nullptr: read by its section's reader).
   double* (*real)(const DiscParts&) = nullptr;
   std::vector<double>* (*list)(const DiscParts&) = nullptr;
+  /// Where a number of the other sections goes (nullptr: read by its section's reader). A key not
+  /// given keeps the field's value: the struct's default, which is default_value in the internal unit.
+  SettingField (*setting)(const SettingsParts&) = nullptr;
+  /// A key the deck must give when its section is present (a reader names it as missing).
+  bool required = false;
 
-  /// The deck's unit to the internal one (mm, rad): um -> mm, deg -> rad; others unchanged.
+  /// The deck's unit to the internal one (mm, rad, N*mm, rad/s, MPa*s, 1/MPa): um -> mm, deg -> rad,
+  /// N*m -> N*mm, rpm -> rad/s, Pa*s -> MPa*s, 1/GPa -> 1/MPa (geometry/units.hpp); others unchanged.
   double ToInternal(double value) const;
   double FromInternal(double value) const;
   /// Its name in [tolerances]: keys of [modification], [output] and [bearing] carry their section
