@@ -19,8 +19,10 @@
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
 #include "ltca/app/deck.hpp"
+#include "ltca/contact/bearing.hpp"
 #include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
+#include "ltca/contact/pin_bending.hpp"
 #include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
@@ -125,8 +127,22 @@ TEST_CASE("app: a number the table binds to a setting defaults to the table's de
   ltca::analysis::OperationSettings operation;
   ltca::analysis::FrictionSettings friction;
   ltca::analysis::OptimiseSettings optimise;
-  const ltca::analysis::SettingsParts parts{&pair,      &contact,   &geometry, &material, &sweep,
-                                            &solver,    &stiffness, &operation, &friction, &optimise};
+  ltca::contact::PinSupport pin_support;
+  ltca::contact::PinSeat pin_seat;
+  ltca::contact::BearingSettings bearing;
+  const ltca::analysis::SettingsParts parts{.pair = &pair,
+                                            .contact = &contact,
+                                            .geometry = &geometry,
+                                            .material = &material,
+                                            .pin_support = &pin_support,
+                                            .pin_seat = &pin_seat,
+                                            .bearing = &bearing,
+                                            .sweep = &sweep,
+                                            .solver = &solver,
+                                            .stiffness = &stiffness,
+                                            .operation = &operation,
+                                            .friction = &friction,
+                                            .optimise = &optimise};
   int bound = 0, numeric_defaults = 0;
   for (const DeckKey& k : ltca::analysis::DeckKeys()) {
     if (k.setting == nullptr) continue;
@@ -162,6 +178,6 @@ TEST_CASE("app: a number the table binds to a setting defaults to the table's de
     if (field.real != nullptr) CHECK(*field.real == k.ToInternal(value));
     else CHECK(*field.integer == static_cast<int>(value));
   }
-  CHECK(bound >= 30);
+  CHECK(bound >= 40);
   CHECK(numeric_defaults >= 15);
 }

@@ -12,8 +12,10 @@
 #include "ltca/analysis/optimise.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
+#include "ltca/contact/bearing.hpp"
 #include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
+#include "ltca/contact/pin_bending.hpp"
 #include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/load_solver.hpp"
@@ -167,22 +169,28 @@ const std::vector<DeckKey> kKeys = {
      .setting = LTCA_SETTING(material, contact_stress_limit)},
     // [pins]
     {.section = "pins", .name = "span_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "pin bending: distance between the two supports of a pin in mm", .default_value = ""},
+     .meaning = "pin bending: distance between the two supports of a pin in mm", .default_value = "",
+     .setting = LTCA_SETTING(pin_support, span)},
     {.section = "pins", .name = "support", .type = T::kText, .unit = "", .meaning = "simply-supported | clamped",
      .default_value = "\"simply-supported\"", .choices = "simply-supported | clamped"},
     {.section = "pins", .name = "face_offset_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "pin bending: from the first support to face B of the cycloid in mm", .default_value = ""},
+     .meaning = "pin bending: from the first support to face B of the cycloid in mm", .default_value = "",
+     .setting = LTCA_SETTING(pin_support, face_offset)},
     {.section = "pins", .name = "seat", .type = T::kText, .unit = "",
      .meaning = "pins seated along their length: rigid | linear | groove (not with span_mm)", .default_value = "\"rigid\"",
      .choices = "rigid | linear | groove"},
     {.section = "pins", .name = "seat_stiffness_n_per_mm2", .type = T::kReal, .unit = "N/mm^2",
-     .meaning = "linear seat: stiffness per mm of pin length in N/mm^2", .default_value = ""},
+     .meaning = "linear seat: stiffness per mm of pin length in N/mm^2", .default_value = "",
+     .setting = LTCA_SETTING(pin_seat, stiffness_per_length)},
     {.section = "pins", .name = "groove_radius_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "groove seat: radius of the housing groove in mm (> pin radius)", .default_value = ""},
+     .meaning = "groove seat: radius of the housing groove in mm (> pin radius)", .default_value = "",
+     .setting = LTCA_SETTING(pin_seat, groove_radius)},
     {.section = "pins", .name = "housing_young_modulus_mpa", .type = T::kReal, .unit = "MPa",
-     .meaning = "groove seat: Young's modulus of the housing in MPa", .default_value = "young_modulus_mpa"},
+     .meaning = "groove seat: Young's modulus of the housing in MPa", .default_value = "young_modulus_mpa",
+     .setting = LTCA_SETTING(pin_seat, housing_young_modulus)},
     {.section = "pins", .name = "housing_poisson_ratio", .type = T::kReal, .unit = "",
-     .meaning = "groove seat: Poisson's ratio of the housing", .default_value = "poisson_ratio"},
+     .meaning = "groove seat: Poisson's ratio of the housing", .default_value = "poisson_ratio",
+     .setting = LTCA_SETTING(pin_seat, housing_poisson_ratio)},
     // [output] (issue 25, docs/stage.md): the output mechanism of the reducer stage
     {.section = "output", .name = "kind", .type = T::kText, .unit = "",
      .meaning = "pins (output pins in holes of the disc) | cranks (crankshafts in crank holes, RV)", .default_value = "",
@@ -211,18 +219,24 @@ const std::vector<DeckKey> kKeys = {
     {.section = "bearing", .name = "kind", .type = T::kText, .unit = "", .meaning = "rigid | linear | rollers",
      .default_value = "\"rigid\"", .choices = "rigid | linear | rollers"},
     {.section = "bearing", .name = "radial_stiffness_n_per_mm", .type = T::kReal, .unit = "N/mm",
-     .meaning = "linear: radial stiffness in N/mm", .default_value = ""},
+     .meaning = "linear: radial stiffness in N/mm", .default_value = "",
+     .setting = LTCA_SETTING(bearing, radial_stiffness)},
     {.section = "bearing", .name = "radial_clearance_mm", .type = T::kReal, .unit = "mm",
      .meaning = "radial clearance (half the diametral play) in mm", .default_value = "0", .tolerance_stream = 16,
-     .limit = L::kLength},
+     .limit = L::kLength,
+     .setting = LTCA_SETTING(bearing, radial_clearance)},
     {.section = "bearing", .name = "roller_count", .type = T::kInteger, .unit = "", .meaning = "rollers: number of rollers",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(bearing, roller_count)},
     {.section = "bearing", .name = "roller_diameter_mm", .type = T::kReal, .unit = "mm", .meaning = "rollers: roller diameter in mm",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(bearing, roller_diameter)},
     {.section = "bearing", .name = "roller_length_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "rollers: effective roller length in mm (Palmgren's line contact)", .default_value = ""},
+     .meaning = "rollers: effective roller length in mm (Palmgren's line contact)", .default_value = "",
+     .setting = LTCA_SETTING(bearing, roller_length)},
     {.section = "bearing", .name = "dynamic_load_rating_n", .type = T::kReal, .unit = "N",
-     .meaning = "basic dynamic load rating C_r in N (ISO 281 life; 0: no life)", .default_value = "0"},
+     .meaning = "basic dynamic load rating C_r in N (ISO 281 life; 0: no life)", .default_value = "0",
+     .setting = LTCA_SETTING(bearing, dynamic_load_rating)},
     // [load]
     {.section = "load", .name = "torque_nm", .type = T::kReal, .unit = "N*m",
      .meaning = "output torque of the stage in N*m: one disc's, or with [second_disc] both discs' together",

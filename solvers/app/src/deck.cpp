@@ -448,6 +448,14 @@ void ReadSettings(const Section& s, const analysis::SettingsParts& parts) {
   }
 }
 
+/// Keys a section needs in the form it takes (a bearing's kind, the way pins are held): the first
+/// missing one is named as a missing required key.
+void RequireKeys(const Section& s, std::initializer_list<const char*> keys) {
+  for (const char* key : keys) {
+    if (!s.Has(key)) (void)s.Real(key);  // throws "[section] missing required key ..."
+  }
+}
+
 /// A number of the section in the internal unit (DeckKey::ToInternal), for a key the table does
 /// not bind to a setting (an optional one, or one of the front-end's structs).
 double Internal(const Section& s, const std::string& key) {
@@ -1109,14 +1117,10 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
   if (b.kind != contact::BearingKind::kLinear) bearing_reject({"radial_stiffness_n_per_mm"});
   if (b.kind != contact::BearingKind::kRollers) bearing_reject({"roller_count", "roller_diameter_mm", "roller_length_mm"});
   if (b.kind == contact::BearingKind::kRigid) bearing_reject({"radial_clearance_mm"});
-  if (b.kind == contact::BearingKind::kLinear) b.radial_stiffness = bearing.Real("radial_stiffness_n_per_mm");
-  if (b.kind == contact::BearingKind::kRollers) {
-    b.roller_count = bearing.Integer("roller_count");
-    b.roller_diameter = bearing.Real("roller_diameter_mm");
-    b.roller_length = bearing.Real("roller_length_mm");
-  }
-  b.radial_clearance = bearing.Real("radial_clearance_mm", 0.0);
-  b.dynamic_load_rating = bearing.Real("dynamic_load_rating_n", 0.0);
+  // The keys its kind needs, named when missing; then every number given.
+  if (b.kind == contact::BearingKind::kLinear) RequireKeys(bearing, {"radial_stiffness_n_per_mm"});
+  if (b.kind == contact::BearingKind::kRollers) RequireKeys(bearing, {"roller_count", "roller_diameter_mm", "roller_length_mm"});
+  ReadSettings(bearing, {.bearing = &b});
   s.Validate(pair.eccentricity);
   // Limits of physical sense (docs/decks.md, Limits). The holes lie inside the disc: within its
   // root circle, the profile's nearest point to the disc centre (u = 0, the root of a tooth space).
@@ -1298,17 +1302,11 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
         throw std::invalid_argument("[pins]: expected span_mm and face_offset_mm (pins held at their ends, bending) or "
                                     "seat = \"linear\" | \"groove\" (pins seated in housing grooves)");
       }
-      if (bending) {
-        contact::PinSupport p;
-        p.span = pins.Real("span_mm");
-        p.support = contact::ParsePinSupport(pins.String("support", "simply-supported"));
-        p.face_offset = pins.Real("face_offset_mm");
-        p.Validate(deck.pair.face_width);
-        deck.pins = p;
-      }
-      if (seat.kind == contact::PinSeat::Kind::kLinear) seat.stiffness_per_length = pins.Real("seat_stiffness_n_per_mm2");
+      // The keys of the way the pins are held, named when missing; then every number given.
+      if (bending) RequireKeys(pins, {"span_mm", "face_offset_mm"});
+      if (seat.kind == contact::PinSeat::Kind::kLinear) RequireKeys(pins, {"seat_stiffness_n_per_mm2"});
       if (seat.kind == contact::PinSeat::Kind::kGroove) {
-        seat.groove_radius = pins.Real("groove_radius_mm");
+        RequireKeys(pins, {"groove_radius_mm"});
         // The housing takes the disc's elastic constants unless given.
         const bool need = !pins.Has("housing_young_modulus_mpa") || !pins.Has("housing_poisson_ratio");
         if (need && !deck.material) {
@@ -1316,10 +1314,15 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
                                       "housing_poisson_ratio, or a [material] section whose disc constants the "
                                       "housing takes");
         }
-        seat.housing_young_modulus = pins.Has("housing_young_modulus_mpa") ? pins.Real("housing_young_modulus_mpa")
-                                                                           : deck.material->young_modulus;
-        seat.housing_poisson_ratio =
-            pins.Has("housing_poisson_ratio") ? pins.Real("housing_poisson_ratio") : deck.material->poisson_ratio;
+        if (!pins.Has("housing_young_modulus_mpa")) seat.housing_young_modulus = deck.material->young_modulus;
+        if (!pins.Has("housing_poisson_ratio")) seat.housing_poisson_ratio = deck.material->poisson_ratio;
+      }
+      contact::PinSupport p;
+      ReadSettings(pins, {.pin_support = &p, .pin_seat = &seat});
+      if (bending) {
+        p.support = contact::ParsePinSupport(pins.String("support", "simply-supported"));
+        p.Validate(deck.pair.face_width);
+        deck.pins = p;
       }
       seat.Validate(deck.pair.pin_radius);
       deck.contact.Validate();  // a seat with the sagitta law

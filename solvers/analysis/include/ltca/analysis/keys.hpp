@@ -12,8 +12,11 @@
 #include "ltca/geometry/pair.hpp"
 
 namespace ltca::contact {
+struct BearingSettings;
 struct ContactSettings;
 struct Material;
+struct PinSeat;
+struct PinSupport;
 }  // namespace ltca::contact
 namespace ltca::geometry {
 struct GeometrySettings;
@@ -38,13 +41,17 @@ struct DiscParts {
 };
 
 /// The settings of one deck the numbers of the other sections write to ([pair], [contact],
-/// [geometry], [material], [sweep], [solver], [stiffness], [operation], [friction], [optimise]);
+/// [geometry], [material], [pins], [bearing], [sweep], [solver], [stiffness], [operation], [friction],
+/// [optimise]);
 /// nullptr: that section is not being read.
 struct SettingsParts {
   geometry::PairParameters* pair = nullptr;
   contact::ContactSettings* contact = nullptr;
   geometry::GeometrySettings* geometry = nullptr;
   contact::Material* material = nullptr;
+  contact::PinSupport* pin_support = nullptr;  ///< [pins] held at their ends (span_mm, face_offset_mm)
+  contact::PinSeat* pin_seat = nullptr;        ///< [pins] seated in housing grooves
+  contact::BearingSettings* bearing = nullptr;
   Sweep* sweep = nullptr;
   solvers::SolverOptions* solver = nullptr;
   StiffnessSettings* stiffness = nullptr;
