@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <stdexcept>
 #include <string>
 
 #include <fmt/format.h>
@@ -417,6 +418,37 @@ double DeckKey::Reach(double internal, const geometry::PairParameters& pair) con
     case Limit::kNone: break;
   }
   return internal;
+}
+
+void RequireSmallDeviation(double reach, std::string_view section, std::string_view key,
+                           const geometry::PairParameters& pair, const std::string& shown) {
+  const double limit = DeckKey::kMaxDeviationFraction * pair.pin_radius;
+  if (std::isfinite(reach) && std::abs(reach) > limit) {
+    throw std::invalid_argument(fmt::format(
+        "[{}] {} = {}: looks like an absolute value; a modification or manufacturing error is a "
+        "small change of the geometry, at most {:g} % of [pair] pin_radius_mm = {} ({:.6g} mm){} "
+        "(docs/decks.md, Limits)",
+        section, key, shown.empty() ? fmt::format("{}", reach) : shown, 100.0 * DeckKey::kMaxDeviationFraction,
+        pair.pin_radius, limit, shown.empty() ? "" : fmt::format("; this one moves the profile by {:.6g} mm", std::abs(reach))));
+  }
+}
+
+void RequireSmallDeviations(std::string_view section, std::string_view table_section, const DiscParts& parts,
+                            const geometry::PairParameters& pair) {
+  for (const DeckKey& k : kKeys) {
+    if (k.section != table_section || k.limit == DeckKey::Limit::kNone) continue;
+    const bool mm = std::string_view(k.unit) == "mm";
+    if (k.real != nullptr) {
+      const double v = *k.real(parts);
+      RequireSmallDeviation(k.Reach(v, pair), section, k.name, pair, mm ? "" : fmt::format("{}", k.FromInternal(v)));
+    } else if (k.list != nullptr) {
+      const std::vector<double>& list = *k.list(parts);
+      for (std::size_t j = 0; j < list.size(); ++j) {
+        RequireSmallDeviation(k.Reach(list[j], pair), section, fmt::format("{}[{}]", k.name, j), pair,
+                              mm ? "" : fmt::format("{}", k.FromInternal(list[j])));
+      }
+    }
+  }
 }
 
 const std::vector<DeckKey>& DeckKeys() { return kKeys; }

@@ -263,22 +263,6 @@ std::string ReadBoundedFile(const std::filesystem::path& path, const std::string
   return text;
 }
 
-/// The "looks like an absolute value" rule: a modification or manufacturing error is a small
-/// change of the geometry, at most DeckLimits::kMaxDeviationFraction of the pin radius.
-void RequireSmallDeviation(double value, const std::string& section, const std::string& key,
-                           const geometry::PairParameters& pair, const std::string& shown = "") {
-  const double limit = DeckLimits::kMaxDeviationFraction * pair.pin_radius;
-  if (std::isfinite(value) && std::abs(value) > limit) {
-    throw std::invalid_argument(fmt::format(
-        "[{}] {} = {}: looks like an absolute value; a modification or manufacturing error is a "
-        "small change of the geometry, at most {:g} % of [pair] pin_radius_mm = {} ({:.6g} mm){} "
-        "(docs/decks.md, Limits)",
-        section, key, shown.empty() ? fmt::format("{}", value) : shown,
-        100.0 * DeckLimits::kMaxDeviationFraction, pair.pin_radius, limit,
-        shown.empty() ? "" : fmt::format("; this one moves the profile by {:.6g} mm", std::abs(value))));
-  }
-}
-
 /// One section of the deck: typed access to its keys, and a final check that every key present
 /// was one the program knows.
 class Section {
@@ -499,25 +483,6 @@ void ReadNumbers(const Section& s, std::string_view section, const analysis::Dis
   }
 }
 
-/// The rule of DeckKey::Limit on every number of the section that has one (docs/decks.md, Limits).
-void RequireSmallDeviations(const Section& s, std::string_view section, const analysis::DiscParts& parts,
-                            const geometry::PairParameters& pair) {
-  for (const analysis::DeckKey& k : analysis::DeckKeys()) {
-    if (k.section != section || k.limit == analysis::DeckKey::Limit::kNone) continue;
-    const bool mm = std::string_view(k.unit) == "mm";
-    if (k.real != nullptr) {
-      const double v = *k.real(parts);
-      RequireSmallDeviation(k.Reach(v, pair), s.name(), k.name, pair, mm ? "" : fmt::format("{}", k.FromInternal(v)));
-    } else if (k.list != nullptr) {
-      const std::vector<double>& list = *k.list(parts);
-      for (std::size_t j = 0; j < list.size(); ++j) {
-        RequireSmallDeviation(k.Reach(list[j], pair), s.name(), fmt::format("{}[{}]", k.name, j), pair,
-                              mm ? "" : fmt::format("{}", k.FromInternal(list[j])));
-      }
-    }
-  }
-}
-
 geometry::Modification ReadModification(const Section& s, const geometry::PairParameters& pair) {
   geometry::Modification m;
   const analysis::DiscParts parts{&m, nullptr, nullptr};
@@ -531,7 +496,7 @@ geometry::Modification ReadModification(const Section& s, const geometry::PairPa
     }
     throw std::invalid_argument(message);
   }
-  RequireSmallDeviations(s, "modification", parts, pair);
+  analysis::RequireSmallDeviations(s.name(), "modification", parts, pair);
   return m;
 }
 
@@ -576,11 +541,11 @@ void ReadErrors(const Section& s, const geometry::PairParameters& pair, const st
   e.Validate(pair.pin_count);
   a.pivot = geometry::ParseMisalignmentPivot(s.String("misalignment_pivot", "face"));
   a.Validate();
-  RequireSmallDeviations(s, "errors", parts, pair);
+  analysis::RequireSmallDeviations(s.name(), "errors", parts, pair);
   if (e.profile_measured) {
     for (std::size_t i = 0; i < e.profile_measured->deviation.size(); ++i) {
       const double v = e.profile_measured->deviation[i];
-      RequireSmallDeviation(v, s.name(),
+      analysis::RequireSmallDeviation(v, s.name(),
                             fmt::format("profile_measured_csv (line {} of the file, deviation_um)", e.profile_measured->line[i]),
                             pair, fmt::format("{}", units::MmToUm(v)));
     }
@@ -803,7 +768,7 @@ ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairP
     const analysis::DeckKey& k = *analysis::FindToleranceKey(d.key);  // a known key (checked above)
     // A tilt's shift over the face width, taken at 45 deg at most (tan grows without bound).
     const double internal = k.ToInternal(k.limit == analysis::DeckKey::Limit::kTilt ? std::min(reach, 45.0) : reach);
-    RequireSmallDeviation(k.Reach(internal, pair), "tolerances", d.key, pair, shown);
+    analysis::RequireSmallDeviation(k.Reach(internal, pair), "tolerances", d.key, pair, shown);
   }
   return s;
 }
@@ -1035,7 +1000,7 @@ void ReadSecondDisc(const toml::table& root, const toml::value& section, const s
   // The indexing deviation turns the disc in the sense of +T: counterclockwise for d > 0.
   const double load_direction = deck->pair.ToothDifference() > 0 ? 1.0 : -1.0;
   disc.modification.rotation += load_direction * disc.indexing_deviation / deck->pair.pin_circle_radius;
-  RequireSmallDeviation(disc.indexing_deviation, "second_disc", "indexing_deviation_mm", deck->pair);
+  analysis::RequireSmallDeviation(disc.indexing_deviation, "second_disc", "indexing_deviation_mm", deck->pair);
   disc.modification.Validate(deck->pair);
   deck->second_disc = std::move(disc);
   const geometry::RealPair realisable = deck->MakeSecondRealPair();  // rejects an undercut second disc
@@ -1095,7 +1060,7 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
         if (!std::isfinite((*list)[j])) {
           throw std::invalid_argument(fmt::format("[output] {}[{}] = {}: expected a finite deviation in mm", key, j, (*list)[j]));
         }
-        RequireSmallDeviation((*list)[j], "output", fmt::format("{}[{}]", key, j), pair);
+        analysis::RequireSmallDeviation((*list)[j], "output", fmt::format("{}[{}]", key, j), pair);
       }
     }
     deviations.assign(static_cast<std::size_t>(count), Eigen::Vector2d::Zero());

@@ -111,6 +111,20 @@ struct DeckKey {
   double Reach(double internal, const geometry::PairParameters& pair) const;
 };
 
+/// The rule of DeckKey::Limit (docs/decks.md, Limits): a modification or a manufacturing error is a
+/// small change of the geometry, its reach (mm, DeckKey::Reach) at most
+/// DeckKey::kMaxDeviationFraction of [pair] pin_radius_mm. Throws std::invalid_argument
+/// "[section] key = value: looks like an absolute value; ..." otherwise; `shown` is the value as the
+/// deck gives it when that is not the reach in mm ("" : the reach). NaN and infinities pass (the
+/// part's own Validate() names them).
+void RequireSmallDeviation(double reach, std::string_view section, std::string_view key,
+                           const geometry::PairParameters& pair, const std::string& shown = "");
+/// The rule on every number of the table's section `table_section` ([modification] or [errors])
+/// that has a Limit, as the disc's parts hold it (internal units), named as a key of [section]
+/// (a second disc's are keys of [second_disc]); a list's values as key[j].
+void RequireSmallDeviations(std::string_view section, std::string_view table_section, const DiscParts& parts,
+                            const geometry::PairParameters& pair);
+
 /// Every key of every section, in the order of docs/decks.md.
 const std::vector<DeckKey>& DeckKeys();
 /// The sections, in that order.
