@@ -887,6 +887,25 @@ analysis::ToleranceCase Deck::MakeToleranceCase() const {
   return {*this, sweep, RequireLoad().torque, stiffness, friction, operation};
 }
 
+void Deck::ValidateSettings() const {
+  if (tolerances && tolerances->profile_random_per_sample && errors.profile_random.zone == 0.0) {
+    throw std::invalid_argument(
+        "[tolerances] profile_random_per_sample = true: [errors] profile_random_zone_um is 0; expected a random profile "
+        "zone to draw per sample");
+  }
+  if (friction && friction->model == FrictionSettings::Model::kJiangMixed && !operation) {
+    throw std::invalid_argument(
+        "[friction] model = \"jiang-mixed\": expected an [operation] section (input_speed_rpm, the oil, the "
+        "roughness) for the film thickness");
+  }
+  if (friction && reducer) {
+    // The efficiency and the loop's hysteresis would count the mesh's losses alone and call the
+    // result the stage's.
+    throw std::invalid_argument("[friction] with [output]: the stage's friction (output pins in their holes, the "
+                                "bearings) is not modelled yet (docs/stage.md); expected one of the two");
+  }
+}
+
 const FrictionSettings& Deck::RequireFriction() const {
   if (!friction) {
     throw std::invalid_argument(fmt::format(
@@ -954,11 +973,6 @@ void ReadSecondDisc(const toml::table& root, const toml::value& section, const s
   const std::vector<std::string> kDiscErrorKeys = DiscKeys("errors", true);
   if (!section.is_table()) {
     throw std::invalid_argument("[second_disc]: expected a table of the second disc's keys");
-  }
-  if (deck->pins) {
-    throw std::invalid_argument(
-        "[second_disc] with [pins]: pin bending with two discs is not supported yet (the pin beams would couple "
-        "both discs' contacts); expected one of the two sections");
   }
   const auto table_of = [&](const char* name) {
     const toml::value* v = Find(root, name);
@@ -1298,11 +1312,6 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     deck.stiffness = ReadStiffness(Section(Find(root, "stiffness"), "stiffness"));
     if (const toml::value* t = Find(root, "tolerances")) {  // issue 15
       deck.tolerances = ReadTolerances(*t, deck.pair);
-      if (deck.tolerances->profile_random_per_sample && deck.errors.profile_random.zone == 0.0) {
-        throw std::invalid_argument(
-            "[tolerances] profile_random_per_sample = true: [errors] profile_random_zone_um is 0; expected a random profile "
-            "zone to draw per sample");
-      }
     }
     // issue 14: [operation] and [friction], both optional.
     const Section operation(Find(root, "operation"), "operation");
@@ -1312,11 +1321,6 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     if (const toml::value* opt = Find(root, "optimise")) {  // issue 28
       const Section optimise(opt, "optimise");
       deck.optimise = ReadOptimise(optimise, *opt, deck.tolerances);
-    }
-    if (deck.friction && deck.friction->model == FrictionSettings::Model::kJiangMixed && !deck.operation) {
-      throw std::invalid_argument(
-          "[friction] model = \"jiang-mixed\": expected an [operation] section (input_speed_rpm, the oil, the "
-          "roughness) for the film thickness");
     }
     // The geometry must be realisable: this rejects undercut (looped) profiles, also when the
     // profile layer of [errors] is what makes them loop.
@@ -1334,20 +1338,16 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
           "line-contact law covers";
     }
     if (const toml::value* second = Find(root, "second_disc")) ReadSecondDisc(root, *second, directory, &deck);
+    deck.StageDesign::Validate();
     const Section output(Find(root, "output"), "output");
     const Section bearing(Find(root, "bearing"), "bearing");
     if (output.Present()) {
       deck.reducer = ReadReducer(output, bearing, deck.pair);
-      if (deck.friction) {
-        // The efficiency and the loop's hysteresis would count the mesh's losses alone and call
-        // the result the stage's.
-        throw std::invalid_argument("[friction] with [output]: the stage's friction (output pins in their holes, the "
-                                    "bearings) is not modelled yet (docs/stage.md); expected one of the two");
-      }
     } else if (bearing.Present()) {
       throw std::invalid_argument("[bearing] without [output]: the bearing belongs to the reducer stage; expected an "
                                   "[output] section (kind = \"pins\" or \"cranks\")");
     }
+    deck.ValidateSettings();
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
   } catch (const std::exception& e) {  // TOML errors of an override and the like
