@@ -20,8 +20,10 @@
 #include "ltca/analysis/sweep.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/contact/bearing.hpp"
+#include "ltca/contact/cranks.hpp"
 #include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
+#include "ltca/contact/output_pins.hpp"
 #include "ltca/contact/pin_bending.hpp"
 #include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/solvers/load_solver.hpp"
@@ -129,6 +131,8 @@ TEST_CASE("app: a number the table binds to a setting defaults to the table's de
   ltca::analysis::OptimiseSettings optimise;
   ltca::contact::PinSupport pin_support;
   ltca::contact::PinSeat pin_seat;
+  ltca::contact::OutputPins output_pins;
+  ltca::contact::Cranks cranks;
   ltca::contact::BearingSettings bearing;
   const ltca::analysis::SettingsParts parts{.pair = &pair,
                                             .contact = &contact,
@@ -136,6 +140,8 @@ TEST_CASE("app: a number the table binds to a setting defaults to the table's de
                                             .material = &material,
                                             .pin_support = &pin_support,
                                             .pin_seat = &pin_seat,
+                                            .output_pins = &output_pins,
+                                            .cranks = &cranks,
                                             .bearing = &bearing,
                                             .sweep = &sweep,
                                             .solver = &solver,

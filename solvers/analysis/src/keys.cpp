@@ -14,8 +14,10 @@
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
 #include "ltca/contact/bearing.hpp"
+#include "ltca/contact/cranks.hpp"
 #include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
+#include "ltca/contact/output_pins.hpp"
 #include "ltca/contact/pin_bending.hpp"
 #include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/geometry/units.hpp"
@@ -33,6 +35,9 @@ using L = DeckKey::Limit;
 #define LTCA_LIST(member) [](const DiscParts& p) -> std::vector<double>* { return &p.errors->member; }
 // Where a number of the other sections goes: a member of one of the deck's settings (SettingsParts).
 #define LTCA_SETTING(part, member) [](const SettingsParts& p) -> SettingField { return &p.part->member; }
+// A key of [output] common to both kinds: the member of the output pins, or else of the cranks.
+#define LTCA_OUTPUT(member) \
+  [](const SettingsParts& p) -> SettingField { return p.output_pins != nullptr ? &p.output_pins->member : &p.cranks->member; }
 
 /// The registered solvers, "a | b | ...": the [solver] name key follows the registry, so a new
 /// solver needs no entry here.
@@ -197,25 +202,32 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "pins (output pins in holes of the disc) | cranks (crankshafts in crank holes, RV)", .default_value = "",
      .choices = "pins | cranks"},
     {.section = "output", .name = "count", .type = T::kInteger, .unit = "", .meaning = "output pins or crankshafts",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_OUTPUT(count)},
     {.section = "output", .name = "circle_radius_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "radius of the output pins' or the cranks' circle in mm", .default_value = ""},
+     .meaning = "radius of the output pins' or the cranks' circle in mm", .default_value = "",
+     .setting = LTCA_OUTPUT(circle_radius)},
     {.section = "output", .name = "phase_deg", .type = T::kReal, .unit = "deg",
-     .meaning = "angle of element 0 from +X at crank 0 in deg", .default_value = "0"},
+     .meaning = "angle of element 0 from +X at crank 0 in deg", .default_value = "0",
+     .setting = LTCA_OUTPUT(phase)},
     {.section = "output", .name = "hole_radial_deviations_mm", .type = T::kRealList, .unit = "mm",
      .meaning = "one radial position deviation per hole of the disc in mm (both discs)", .default_value = "[]"},
     {.section = "output", .name = "hole_tangential_deviations_mm", .type = T::kRealList, .unit = "mm",
      .meaning = "one tangential (counterclockwise) position deviation per hole in mm (both discs)", .default_value = "[]"},
     {.section = "output", .name = "pin_radius_mm", .type = T::kReal, .unit = "mm", .meaning = "pins: output pin radius in mm",
-     .default_value = "", .tolerance_stream = 18, .limit = L::kLength},
+     .default_value = "", .tolerance_stream = 18, .limit = L::kLength,
+     .setting = LTCA_SETTING(output_pins, pin_radius)},
     {.section = "output", .name = "hole_radius_mm", .type = T::kReal, .unit = "mm",
      .meaning = "pins: radius of the disc's holes in mm (clearance hole - pin - eccentricity)", .default_value = "",
-     .tolerance_stream = 17, .limit = L::kLength},
+     .tolerance_stream = 17, .limit = L::kLength,
+     .setting = LTCA_SETTING(output_pins, hole_radius)},
     {.section = "output", .name = "shaft_stiffness_n_per_mm", .type = T::kReal, .unit = "N/mm",
      .meaning = "cranks: radial stiffness of a crankshaft at its eccentric in N/mm, in series with the bearing",
-     .default_value = "rigid"},
+     .default_value = "rigid",
+     .setting = LTCA_SETTING(cranks, shaft_stiffness)},
     {.section = "output", .name = "crank_turns_per_output_turn", .type = T::kReal, .unit = "",
-     .meaning = "cranks: turns of the eccentrics per output turn with the input locked", .default_value = "0"},
+     .meaning = "cranks: turns of the eccentrics per output turn with the input locked", .default_value = "0",
+     .setting = LTCA_SETTING(cranks, turns_per_output_turn)},
     // [bearing] (issue 25): the eccentric bearing (pins) or the needle bearing of each crank hole (cranks)
     {.section = "bearing", .name = "kind", .type = T::kText, .unit = "", .meaning = "rigid | linear | rollers",
      .default_value = "\"rigid\"", .choices = "rigid | linear | rollers"},
@@ -378,6 +390,7 @@ const std::vector<DeckKey> kKeys = {
 #undef LTCA_FIELD
 #undef LTCA_LIST
 #undef LTCA_SETTING
+#undef LTCA_OUTPUT
 
 }  // namespace
 

@@ -419,12 +419,14 @@ Section RequiredSection(const toml::table& root, const std::string& name) {
 void ReadSettings(const Section& s, const analysis::SettingsParts& parts) {
   for (const analysis::DeckKey& k : analysis::DeckKeys()) {
     if (s.name() != k.section || k.setting == nullptr) continue;
+    const bool read = s.Has(k.name) || k.required;
+    const analysis::DeckKey* named = read ? nullptr : analysis::FindKey(k.section, k.default_value);
+    if (!read && (named == nullptr || named->setting == nullptr)) continue;  // keeps the field (its part may be absent)
     const analysis::SettingField field = k.setting(parts);
-    if (s.Has(k.name) || k.required) {
+    if (read) {
       if (field.integer != nullptr) *field.integer = s.Integer(k.name);
       else *field.real = k.ToInternal(s.Real(k.name));
-    } else if (const analysis::DeckKey* named = analysis::FindKey(k.section, k.default_value);
-               named != nullptr && named->setting != nullptr) {
+    } else {
       const analysis::SettingField from = named->setting(parts);
       if (field.integer != nullptr) *field.integer = *from.integer;
       else *field.real = *from.real;
@@ -1038,24 +1040,19 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
       }
     }
   };
+  // The keys its kind needs, named when missing; then every number given, into the pins or the cranks.
   if (pins) {
     reject({"shaft_stiffness_n_per_mm", "crank_turns_per_output_turn"}, "pins");
-    s.pins.count = output.Integer("count");
-    s.pins.circle_radius = output.Real("circle_radius_mm");
-    s.pins.phase = units::DegToRad(output.Real("phase_deg", 0.0));
-    s.pins.pin_radius = output.Real("pin_radius_mm");
-    s.pins.hole_radius = output.Real("hole_radius_mm");
+    RequireKeys(output, {"count", "circle_radius_mm", "pin_radius_mm", "hole_radius_mm"});
+    ReadSettings(output, {.output_pins = &s.pins});
   } else {
     reject({"pin_radius_mm", "hole_radius_mm"}, "cranks");
-    s.cranks.count = output.Integer("count");
-    s.cranks.circle_radius = output.Real("circle_radius_mm");
-    s.cranks.phase = units::DegToRad(output.Real("phase_deg", 0.0));
-    s.cranks.shaft_stiffness = output.Real("shaft_stiffness_n_per_mm", std::numeric_limits<double>::infinity());
+    RequireKeys(output, {"count", "circle_radius_mm"});
+    ReadSettings(output, {.cranks = &s.cranks});
     if (output.Has("shaft_stiffness_n_per_mm") && !std::isfinite(s.cranks.shaft_stiffness)) {
       throw std::invalid_argument("[output] shaft_stiffness_n_per_mm: expected a finite stiffness in N/mm (leave the "
                                   "key out for a rigid shaft)");
     }
-    s.cranks.turns_per_output_turn = output.Real("crank_turns_per_output_turn", 0.0);
   }
   // Each hole's position deviation in the disc (both discs alike): one radial and one tangential
   // value per hole, either list alone (the other zero). Small, as every manufacturing error is.

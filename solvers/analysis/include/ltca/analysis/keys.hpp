@@ -14,7 +14,9 @@
 namespace ltca::contact {
 struct BearingSettings;
 struct ContactSettings;
+struct Cranks;
 struct Material;
+struct OutputPins;
 struct PinSeat;
 struct PinSupport;
 }  // namespace ltca::contact
@@ -41,8 +43,8 @@ struct DiscParts {
 };
 
 /// The settings of one deck the numbers of the other sections write to ([pair], [contact],
-/// [geometry], [material], [pins], [bearing], [sweep], [solver], [stiffness], [operation], [friction],
-/// [optimise]);
+/// [geometry], [material], [pins], [output], [bearing], [sweep], [solver], [stiffness], [operation],
+/// [friction], [optimise]);
 /// nullptr: that section is not being read.
 struct SettingsParts {
   geometry::PairParameters* pair = nullptr;
@@ -51,6 +53,10 @@ struct SettingsParts {
   contact::Material* material = nullptr;
   contact::PinSupport* pin_support = nullptr;  ///< [pins] held at their ends (span_mm, face_offset_mm)
   contact::PinSeat* pin_seat = nullptr;        ///< [pins] seated in housing grooves
+  /// [output]: the output pins or the crankshafts (one of the two, by its kind); its keys common
+  /// to both kinds fill the one given.
+  contact::OutputPins* output_pins = nullptr;
+  contact::Cranks* cranks = nullptr;
   contact::BearingSettings* bearing = nullptr;
   Sweep* sweep = nullptr;
   solvers::SolverOptions* solver = nullptr;
