@@ -3,12 +3,25 @@
 #include <algorithm>
 #include <cmath>
 
+#include <stdexcept>
 #include <string>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "ltca/analysis/friction.hpp"
+#include "ltca/analysis/optimise.hpp"
+#include "ltca/analysis/stiffness.hpp"
+#include "ltca/analysis/sweep.hpp"
+#include "ltca/contact/bearing.hpp"
+#include "ltca/contact/cranks.hpp"
+#include "ltca/contact/laws.hpp"
+#include "ltca/contact/material.hpp"
+#include "ltca/contact/output_pins.hpp"
+#include "ltca/contact/pin_bending.hpp"
+#include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/geometry/units.hpp"
+#include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/registry.hpp"
 
 namespace ltca::analysis {
@@ -20,6 +33,11 @@ using L = DeckKey::Limit;
 // Field accessors: where a number of [modification] or [errors] goes.
 #define LTCA_FIELD(part, member) [](const DiscParts& p) -> double* { return &p.part->member; }
 #define LTCA_LIST(member) [](const DiscParts& p) -> std::vector<double>* { return &p.errors->member; }
+// Where a number of the other sections goes: a member of one of the deck's settings (SettingsParts).
+#define LTCA_SETTING(part, member) [](const SettingsParts& p) -> SettingField { return &p.part->member; }
+// A key of [output] common to both kinds: the member of the output pins, or else of the cranks.
+#define LTCA_OUTPUT(member) \
+  [](const SettingsParts& p) -> SettingField { return p.output_pins != nullptr ? &p.output_pins->member : &p.cranks->member; }
 
 /// The registered solvers, "a | b | ...": the [solver] name key follows the registry, so a new
 /// solver needs no entry here.
@@ -30,18 +48,25 @@ const char* SolverChoices() {
 
 const std::vector<DeckKey> kKeys = {
     // [case]
-    {.section = "case", .name = "title", .type = T::kText, .unit = "", .meaning = "a short title of the case", .default_value = ""},
+    {.section = "case", .name = "title", .type = T::kText, .unit = "", .meaning = "a short title of the case", .default_value = "",
+     .required = true},
     {.section = "case", .name = "source", .type = T::kText, .unit = "", .meaning = "provenance: paper, table / section",
      .default_value = "\"\""},
     // [pair]
-    {.section = "pair", .name = "pin_count", .type = T::kInteger, .unit = "", .meaning = "number of pins z_p", .default_value = ""},
+    {.section = "pair", .name = "pin_count", .type = T::kInteger, .unit = "", .meaning = "number of pins z_p", .default_value = "",
+     .setting = LTCA_SETTING(pair, pin_count), .required = true},
     {.section = "pair", .name = "tooth_count", .type = T::kInteger, .unit = "", .meaning = "number of cycloid teeth z_c",
-     .default_value = ""},
-    {.section = "pair", .name = "pin_radius_mm", .type = T::kReal, .unit = "mm", .meaning = "pin radius r_rp in mm", .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(pair, tooth_count), .required = true},
+    {.section = "pair", .name = "pin_radius_mm", .type = T::kReal, .unit = "mm", .meaning = "pin radius r_rp in mm", .default_value = "",
+     .setting = LTCA_SETTING(pair, pin_radius), .required = true},
     {.section = "pair", .name = "pin_circle_radius_mm", .type = T::kReal, .unit = "mm", .meaning = "pin-circle radius R_p in mm",
-     .default_value = ""},
-    {.section = "pair", .name = "eccentricity_mm", .type = T::kReal, .unit = "mm", .meaning = "eccentricity e in mm", .default_value = ""},
-    {.section = "pair", .name = "face_width_mm", .type = T::kReal, .unit = "mm", .meaning = "face width B_c in mm", .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(pair, pin_circle_radius), .required = true},
+    {.section = "pair", .name = "eccentricity_mm", .type = T::kReal, .unit = "mm", .meaning = "eccentricity e in mm", .default_value = "",
+     .setting = LTCA_SETTING(pair, eccentricity), .required = true},
+    {.section = "pair", .name = "face_width_mm", .type = T::kReal, .unit = "mm", .meaning = "face width B_c in mm", .default_value = "",
+     .setting = LTCA_SETTING(pair, face_width), .required = true},
     // [modification]: every key is the disc's
     {.section = "modification", .name = "pin_radius_mm", .type = T::kReal, .unit = "mm",
      .meaning = "isometric modification dR_rp in mm", .default_value = "0", .disc = true, .tolerance_stream = 12,
@@ -118,118 +143,154 @@ const std::vector<DeckKey> kKeys = {
     {.section = "contact", .name = "rho_convention", .type = T::kText, .unit = "", .meaning = "signed | absolute",
      .default_value = "\"signed\"", .choices = "signed | absolute"},
     {.section = "contact", .name = "stiffness_n_per_mm2", .type = T::kReal, .unit = "N/mm^2",
-     .meaning = "linear law: stiffness per mm of contact length", .default_value = "0"},
+     .meaning = "linear law: stiffness per mm of contact length", .default_value = "0",
+     .setting = LTCA_SETTING(contact, stiffness_per_length)},
     {.section = "contact", .name = "log_radius_cap_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "largest cycloid radius in the hertz-line logarithm, mm", .default_value = "0"},
+     .meaning = "largest cycloid radius in the hertz-line logarithm, mm", .default_value = "0",
+     .setting = LTCA_SETTING(contact, log_radius_cap)},
     // [geometry]
     {.section = "geometry", .name = "geometry_mode", .type = T::kText, .unit = "",
      .meaning = "analytic | elements (Liu's discrete surface)", .default_value = "\"analytic\"", .choices = "analytic | elements"},
     {.section = "geometry", .name = "profile_elements", .type = T::kInteger, .unit = "", .meaning = "elements along one tooth space",
-     .default_value = "800"},
+     .default_value = "800",
+     .setting = LTCA_SETTING(geometry, profile_elements)},
     {.section = "geometry", .name = "width_slices", .type = T::kInteger, .unit = "", .meaning = "slices across the face width",
-     .default_value = "100"},
+     .default_value = "100",
+     .setting = LTCA_SETTING(geometry, width_slices)},
     // [material]
     {.section = "material", .name = "young_modulus_mpa", .type = T::kReal, .unit = "MPa",
-     .meaning = "Young's modulus of the cycloid in MPa", .default_value = ""},
+     .meaning = "Young's modulus of the cycloid in MPa", .default_value = "",
+     .setting = LTCA_SETTING(material, young_modulus), .required = true},
     {.section = "material", .name = "poisson_ratio", .type = T::kReal, .unit = "", .meaning = "Poisson's ratio of the cycloid",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(material, poisson_ratio), .required = true},
     {.section = "material", .name = "pin_young_modulus_mpa", .type = T::kReal, .unit = "MPa",
-     .meaning = "Young's modulus of the pins in MPa", .default_value = "young_modulus_mpa"},
+     .meaning = "Young's modulus of the pins in MPa", .default_value = "young_modulus_mpa",
+     .setting = LTCA_SETTING(material, pin_young_modulus)},
     {.section = "material", .name = "pin_poisson_ratio", .type = T::kReal, .unit = "", .meaning = "Poisson's ratio of the pins",
-     .default_value = "poisson_ratio"},
+     .default_value = "poisson_ratio",
+     .setting = LTCA_SETTING(material, pin_poisson_ratio)},
     {.section = "material", .name = "contact_stress_limit_mpa", .type = T::kReal, .unit = "MPa",
-     .meaning = "contact stress above which a result is flagged, MPa", .default_value = "4000"},
+     .meaning = "contact stress above which a result is flagged, MPa", .default_value = "4000",
+     .setting = LTCA_SETTING(material, contact_stress_limit)},
     // [pins]
     {.section = "pins", .name = "span_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "pin bending: distance between the two supports of a pin in mm", .default_value = ""},
+     .meaning = "pin bending: distance between the two supports of a pin in mm", .default_value = "",
+     .setting = LTCA_SETTING(pin_support, span)},
     {.section = "pins", .name = "support", .type = T::kText, .unit = "", .meaning = "simply-supported | clamped",
      .default_value = "\"simply-supported\"", .choices = "simply-supported | clamped"},
     {.section = "pins", .name = "face_offset_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "pin bending: from the first support to face B of the cycloid in mm", .default_value = ""},
+     .meaning = "pin bending: from the first support to face B of the cycloid in mm", .default_value = "",
+     .setting = LTCA_SETTING(pin_support, face_offset)},
     {.section = "pins", .name = "seat", .type = T::kText, .unit = "",
      .meaning = "pins seated along their length: rigid | linear | groove (not with span_mm)", .default_value = "\"rigid\"",
      .choices = "rigid | linear | groove"},
     {.section = "pins", .name = "seat_stiffness_n_per_mm2", .type = T::kReal, .unit = "N/mm^2",
-     .meaning = "linear seat: stiffness per mm of pin length in N/mm^2", .default_value = ""},
+     .meaning = "linear seat: stiffness per mm of pin length in N/mm^2", .default_value = "",
+     .setting = LTCA_SETTING(pin_seat, stiffness_per_length)},
     {.section = "pins", .name = "groove_radius_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "groove seat: radius of the housing groove in mm (> pin radius)", .default_value = ""},
+     .meaning = "groove seat: radius of the housing groove in mm (> pin radius)", .default_value = "",
+     .setting = LTCA_SETTING(pin_seat, groove_radius)},
     {.section = "pins", .name = "housing_young_modulus_mpa", .type = T::kReal, .unit = "MPa",
-     .meaning = "groove seat: Young's modulus of the housing in MPa", .default_value = "young_modulus_mpa"},
+     .meaning = "groove seat: Young's modulus of the housing in MPa", .default_value = "young_modulus_mpa",
+     .setting = LTCA_SETTING(pin_seat, housing_young_modulus)},
     {.section = "pins", .name = "housing_poisson_ratio", .type = T::kReal, .unit = "",
-     .meaning = "groove seat: Poisson's ratio of the housing", .default_value = "poisson_ratio"},
+     .meaning = "groove seat: Poisson's ratio of the housing", .default_value = "poisson_ratio",
+     .setting = LTCA_SETTING(pin_seat, housing_poisson_ratio)},
     // [output] (issue 25, docs/stage.md): the output mechanism of the reducer stage
     {.section = "output", .name = "kind", .type = T::kText, .unit = "",
      .meaning = "pins (output pins in holes of the disc) | cranks (crankshafts in crank holes, RV)", .default_value = "",
      .choices = "pins | cranks"},
     {.section = "output", .name = "count", .type = T::kInteger, .unit = "", .meaning = "output pins or crankshafts",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_OUTPUT(count)},
     {.section = "output", .name = "circle_radius_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "radius of the output pins' or the cranks' circle in mm", .default_value = ""},
+     .meaning = "radius of the output pins' or the cranks' circle in mm", .default_value = "",
+     .setting = LTCA_OUTPUT(circle_radius)},
     {.section = "output", .name = "phase_deg", .type = T::kReal, .unit = "deg",
-     .meaning = "angle of element 0 from +X at crank 0 in deg", .default_value = "0"},
+     .meaning = "angle of element 0 from +X at crank 0 in deg", .default_value = "0",
+     .setting = LTCA_OUTPUT(phase)},
     {.section = "output", .name = "hole_radial_deviations_mm", .type = T::kRealList, .unit = "mm",
      .meaning = "one radial position deviation per hole of the disc in mm (both discs)", .default_value = "[]"},
     {.section = "output", .name = "hole_tangential_deviations_mm", .type = T::kRealList, .unit = "mm",
      .meaning = "one tangential (counterclockwise) position deviation per hole in mm (both discs)", .default_value = "[]"},
     {.section = "output", .name = "pin_radius_mm", .type = T::kReal, .unit = "mm", .meaning = "pins: output pin radius in mm",
-     .default_value = "", .tolerance_stream = 18, .limit = L::kLength},
+     .default_value = "", .tolerance_stream = 18, .limit = L::kLength,
+     .setting = LTCA_SETTING(output_pins, pin_radius)},
     {.section = "output", .name = "hole_radius_mm", .type = T::kReal, .unit = "mm",
      .meaning = "pins: radius of the disc's holes in mm (clearance hole - pin - eccentricity)", .default_value = "",
-     .tolerance_stream = 17, .limit = L::kLength},
+     .tolerance_stream = 17, .limit = L::kLength,
+     .setting = LTCA_SETTING(output_pins, hole_radius)},
     {.section = "output", .name = "shaft_stiffness_n_per_mm", .type = T::kReal, .unit = "N/mm",
      .meaning = "cranks: radial stiffness of a crankshaft at its eccentric in N/mm, in series with the bearing",
-     .default_value = "rigid"},
+     .default_value = "rigid",
+     .setting = LTCA_SETTING(cranks, shaft_stiffness)},
     {.section = "output", .name = "crank_turns_per_output_turn", .type = T::kReal, .unit = "",
-     .meaning = "cranks: turns of the eccentrics per output turn with the input locked", .default_value = "0"},
+     .meaning = "cranks: turns of the eccentrics per output turn with the input locked", .default_value = "0",
+     .setting = LTCA_SETTING(cranks, turns_per_output_turn)},
     // [bearing] (issue 25): the eccentric bearing (pins) or the needle bearing of each crank hole (cranks)
     {.section = "bearing", .name = "kind", .type = T::kText, .unit = "", .meaning = "rigid | linear | rollers",
      .default_value = "\"rigid\"", .choices = "rigid | linear | rollers"},
     {.section = "bearing", .name = "radial_stiffness_n_per_mm", .type = T::kReal, .unit = "N/mm",
-     .meaning = "linear: radial stiffness in N/mm", .default_value = ""},
+     .meaning = "linear: radial stiffness in N/mm", .default_value = "",
+     .setting = LTCA_SETTING(bearing, radial_stiffness)},
     {.section = "bearing", .name = "radial_clearance_mm", .type = T::kReal, .unit = "mm",
      .meaning = "radial clearance (half the diametral play) in mm", .default_value = "0", .tolerance_stream = 16,
-     .limit = L::kLength},
+     .limit = L::kLength,
+     .setting = LTCA_SETTING(bearing, radial_clearance)},
     {.section = "bearing", .name = "roller_count", .type = T::kInteger, .unit = "", .meaning = "rollers: number of rollers",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(bearing, roller_count)},
     {.section = "bearing", .name = "roller_diameter_mm", .type = T::kReal, .unit = "mm", .meaning = "rollers: roller diameter in mm",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(bearing, roller_diameter)},
     {.section = "bearing", .name = "roller_length_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "rollers: effective roller length in mm (Palmgren's line contact)", .default_value = ""},
+     .meaning = "rollers: effective roller length in mm (Palmgren's line contact)", .default_value = "",
+     .setting = LTCA_SETTING(bearing, roller_length)},
     {.section = "bearing", .name = "dynamic_load_rating_n", .type = T::kReal, .unit = "N",
-     .meaning = "basic dynamic load rating C_r in N (ISO 281 life; 0: no life)", .default_value = "0"},
+     .meaning = "basic dynamic load rating C_r in N (ISO 281 life; 0: no life)", .default_value = "0",
+     .setting = LTCA_SETTING(bearing, dynamic_load_rating)},
     // [load]
     {.section = "load", .name = "torque_nm", .type = T::kReal, .unit = "N*m",
      .meaning = "output torque of the stage in N*m: one disc's, or with [second_disc] both discs' together",
-     .default_value = ""},
+     .default_value = "", .required = true},
     // [sweep]
     {.section = "sweep", .name = "crank_start_deg", .type = T::kReal, .unit = "deg", .meaning = "first crank angle in deg",
-     .default_value = "0"},
+     .default_value = "0",
+     .setting = LTCA_SETTING(sweep, crank_start)},
     {.section = "sweep", .name = "crank_end_deg", .type = T::kReal, .unit = "deg",
-     .meaning = "last crank angle in deg (inclusive)", .default_value = "crank_start_deg + 360 / pin_count"},
+     .meaning = "last crank angle in deg (inclusive)", .default_value = "crank_start_deg + 360 / pin_count",
+     .setting = LTCA_SETTING(sweep, crank_end)},
     {.section = "sweep", .name = "positions", .type = T::kInteger, .unit = "", .meaning = "number of crank positions",
-     .default_value = "91"},
+     .default_value = "91",
+     .setting = LTCA_SETTING(sweep, positions)},
     // [solver]
     {.section = "solver", .name = "name", .type = T::kText, .unit = "",
      .meaning = SolverChoices(), .default_value = "\"bisection\"", .choices = SolverChoices()},
     {.section = "solver", .name = "kinematics", .type = T::kText, .unit = "", .meaning = "linearised | exact",
      .default_value = "\"linearised\"", .choices = "linearised | exact"},
     {.section = "solver", .name = "torque_tolerance", .type = T::kReal, .unit = "", .meaning = "relative torque tolerance",
-     .default_value = "1e-10"},
+     .default_value = "1e-10",
+     .setting = LTCA_SETTING(solver, torque_tolerance)},
     {.section = "solver", .name = "max_iterations", .type = T::kInteger, .unit = "", .meaning = "iteration limit",
-     .default_value = "500"},
+     .default_value = "500",
+     .setting = LTCA_SETTING(solver, max_iterations)},
     {.section = "solver", .name = "preset", .type = T::kText, .unit = "", .meaning = "a named preset: liu2021", .default_value = "",
      .choices = "liu2021"},
     {.section = "solver", .name = "nlopt_algorithm", .type = T::kText, .unit = "", .meaning = "compatibility: NLopt algorithm name",
      .default_value = "\"LD_LBFGS\""},
     // [stiffness]
     {.section = "stiffness", .name = "steps_per_branch", .type = T::kInteger, .unit = "",
-     .meaning = "torque levels per branch from -T to +T, odd", .default_value = "41"},
+     .meaning = "torque levels per branch from -T to +T, odd", .default_value = "41",
+     .setting = LTCA_SETTING(stiffness, steps)},
     {.section = "stiffness", .name = "rigidity", .type = T::kText, .unit = "", .meaning = "secant | tangent",
      .default_value = "\"secant\"", .choices = "secant | tangent"},
     {.section = "stiffness", .name = "tangent_torque_nm", .type = T::kReal, .unit = "N*m",
-     .meaning = "torque of the tangent rigidity in N*m", .default_value = ""},
+     .meaning = "torque of the tangent rigidity in N*m", .default_value = "",
+     .setting = LTCA_SETTING(stiffness, tangent_torque)},
     {.section = "stiffness", .name = "lost_motion_fraction", .type = T::kReal, .unit = "",
-     .meaning = "fraction of T at which lost motion is read", .default_value = "0.03"},
+     .meaning = "fraction of T at which lost motion is read", .default_value = "0.03",
+     .setting = LTCA_SETTING(stiffness, lost_motion_fraction)},
     {.section = "stiffness", .name = "crank_deg", .type = T::kReal, .unit = "deg", .meaning = "one crank angle in deg",
      .default_value = ""},
     // [second_disc]: its own key; the disc keys of [modification] and [errors] too (DeckKey::disc)
@@ -251,30 +312,40 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "every sample its own random profile deviation", .default_value = "false"},
     // [operation]
     {.section = "operation", .name = "input_speed_rpm", .type = T::kReal, .unit = "rpm", .meaning = "crank (input) speed in rpm",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(operation, input_speed), .required = true},
     {.section = "operation", .name = "oil_viscosity_pa_s", .type = T::kReal, .unit = "Pa*s",
-     .meaning = "dynamic viscosity of the oil in Pa*s", .default_value = "0.03"},
+     .meaning = "dynamic viscosity of the oil in Pa*s", .default_value = "0.03",
+     .setting = LTCA_SETTING(operation, viscosity)},
     {.section = "operation", .name = "pressure_viscosity_per_gpa", .type = T::kReal, .unit = "1/GPa",
-     .meaning = "pressure-viscosity coefficient in 1/GPa", .default_value = "10"},
+     .meaning = "pressure-viscosity coefficient in 1/GPa", .default_value = "10",
+     .setting = LTCA_SETTING(operation, pressure_viscosity)},
     {.section = "operation", .name = "roughness_ra_cycloid_um", .type = T::kReal, .unit = "um",
-     .meaning = "Ra of the cycloid flank in um", .default_value = "0.3"},
+     .meaning = "Ra of the cycloid flank in um", .default_value = "0.3",
+     .setting = LTCA_SETTING(operation, roughness_cycloid)},
     {.section = "operation", .name = "roughness_ra_pin_um", .type = T::kReal, .unit = "um", .meaning = "Ra of the pin (or sleeve) in um",
-     .default_value = "0.3"},
+     .default_value = "0.3",
+     .setting = LTCA_SETTING(operation, roughness_pin)},
     // [friction]
     {.section = "friction", .name = "model", .type = T::kText, .unit = "", .meaning = "coulomb | jiang-mixed",
      .default_value = "\"coulomb\"", .choices = "coulomb | jiang-mixed"},
     {.section = "friction", .name = "coefficient", .type = T::kReal, .unit = "", .meaning = "Coulomb friction coefficient mu",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(friction, coefficient)},
     {.section = "friction", .name = "boundary_coefficient", .type = T::kReal, .unit = "",
-     .meaning = "boundary friction coefficient f_b", .default_value = "0.1"},
+     .meaning = "boundary friction coefficient f_b", .default_value = "0.1",
+     .setting = LTCA_SETTING(friction, boundary_coefficient)},
     {.section = "friction", .name = "limiting_shear_modulus_mpa", .type = T::kReal, .unit = "MPa",
-     .meaning = "G of Jiang eq. 23 in MPa", .default_value = "1"},
+     .meaning = "G of Jiang eq. 23 in MPa", .default_value = "1",
+     .setting = LTCA_SETTING(friction, limiting_shear_modulus)},
     {.section = "friction", .name = "power_law_exponent", .type = T::kReal, .unit = "", .meaning = "n of Jiang eq. 22-23",
-     .default_value = "0.5"},
+     .default_value = "0.5",
+     .setting = LTCA_SETTING(friction, power_law_exponent)},
     {.section = "friction", .name = "sleeve_bore_radius_mm", .type = T::kReal, .unit = "mm",
      .meaning = "radius of the pin inside its sleeve in mm", .default_value = ""},
     {.section = "friction", .name = "sleeve_coefficient", .type = T::kReal, .unit = "", .meaning = "mu at the sleeve bore",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(friction, sleeve_coefficient)},
     {.section = "friction", .name = "torque_balance", .type = T::kText, .unit = "", .meaning = "solve | bound",
      .default_value = "\"solve\"", .choices = "solve | bound"},
     // [optimise] (issue 28, docs/optimise.md)
@@ -294,11 +365,14 @@ const std::vector<DeckKey> kKeys = {
     {.section = "optimise", .name = "local", .type = T::kText, .unit = "", .meaning = "the local polish (NLopt)",
      .default_value = "\"cobyla\"", .choices = "cobyla | bobyqa | none"},
     {.section = "optimise", .name = "evaluations", .type = T::kInteger, .unit = "", .meaning = "the budget of evaluations",
-     .default_value = "200"},
+     .default_value = "200",
+     .setting = LTCA_SETTING(optimise, evaluations)},
     {.section = "optimise", .name = "global_share", .type = T::kReal, .unit = "", .meaning = "share of the budget for the global search",
-     .default_value = "0.6"},
+     .default_value = "0.6",
+     .setting = LTCA_SETTING(optimise, global_share)},
     {.section = "optimise", .name = "tolerance", .type = T::kReal, .unit = "",
-     .meaning = "the local search stops at a step below this fraction of the box", .default_value = "1e-6"},
+     .meaning = "the local search stops at a step below this fraction of the box", .default_value = "1e-6",
+     .setting = LTCA_SETTING(optimise, tolerance)},
     {.section = "optimise", .name = "seed", .type = T::kUnsigned, .unit = "", .meaning = "random numbers of crs2 and isres",
      .default_value = "1"},
     {.section = "optimise", .name = "robust", .type = T::kBool, .unit = "",
@@ -306,13 +380,17 @@ const std::vector<DeckKey> kKeys = {
     {.section = "optimise", .name = "robust_samples", .type = T::kInteger, .unit = "", .meaning = "samples a robust design",
      .default_value = "64"},
     {.section = "optimise", .name = "percentile", .type = T::kReal, .unit = "",
-     .meaning = "robust: the percentile each figure is taken at", .default_value = "95"},
+     .meaning = "robust: the percentile each figure is taken at", .default_value = "95",
+     .setting = LTCA_SETTING(optimise, percentile)},
     {.section = "optimise", .name = "confidence", .type = T::kReal, .unit = "",
-     .meaning = "robust: confidence that the order statistic taken bounds the percentile (0: point estimate)", .default_value = "0.9"},
+     .meaning = "robust: confidence that the order statistic taken bounds the percentile (0: point estimate)", .default_value = "0.9",
+     .setting = LTCA_SETTING(optimise, confidence)},
 };
 
 #undef LTCA_FIELD
 #undef LTCA_LIST
+#undef LTCA_SETTING
+#undef LTCA_OUTPUT
 
 }  // namespace
 
@@ -320,6 +398,10 @@ double DeckKey::ToInternal(double value) const {
   const std::string_view u = unit;
   if (u == "um") return units::UmToMm(value);
   if (u == "deg") return units::DegToRad(value);
+  if (u == "N*m") return units::NmToNmm(value);
+  if (u == "rpm") return units::RpmToRadPerS(value);
+  if (u == "Pa*s") return units::PaSToMPaS(value);
+  if (u == "1/GPa") return units::PerGPaToPerMPa(value);
   return value;
 }
 
@@ -327,6 +409,10 @@ double DeckKey::FromInternal(double value) const {
   const std::string_view u = unit;
   if (u == "um") return units::MmToUm(value);
   if (u == "deg") return units::RadToDeg(value);
+  if (u == "N*m") return units::NmmToNm(value);
+  if (u == "rpm") return units::RadPerSToRpm(value);
+  if (u == "Pa*s") return units::MPaSToPaS(value);
+  if (u == "1/GPa") return units::PerMPaToPerGPa(value);
   return value;
 }
 
@@ -345,6 +431,37 @@ double DeckKey::Reach(double internal, const geometry::PairParameters& pair) con
     case Limit::kNone: break;
   }
   return internal;
+}
+
+void RequireSmallDeviation(double reach, std::string_view section, std::string_view key,
+                           const geometry::PairParameters& pair, const std::string& shown) {
+  const double limit = DeckKey::kMaxDeviationFraction * pair.pin_radius;
+  if (std::isfinite(reach) && std::abs(reach) > limit) {
+    throw std::invalid_argument(fmt::format(
+        "[{}] {} = {}: looks like an absolute value; a modification or manufacturing error is a "
+        "small change of the geometry, at most {:g} % of [pair] pin_radius_mm = {} ({:.6g} mm){} "
+        "(docs/decks.md, Limits)",
+        section, key, shown.empty() ? fmt::format("{}", reach) : shown, 100.0 * DeckKey::kMaxDeviationFraction,
+        pair.pin_radius, limit, shown.empty() ? "" : fmt::format("; this one moves the profile by {:.6g} mm", std::abs(reach))));
+  }
+}
+
+void RequireSmallDeviations(std::string_view section, std::string_view table_section, const DiscParts& parts,
+                            const geometry::PairParameters& pair) {
+  for (const DeckKey& k : kKeys) {
+    if (k.section != table_section || k.limit == DeckKey::Limit::kNone) continue;
+    const bool mm = std::string_view(k.unit) == "mm";
+    if (k.real != nullptr) {
+      const double v = *k.real(parts);
+      RequireSmallDeviation(k.Reach(v, pair), section, k.name, pair, mm ? "" : fmt::format("{}", k.FromInternal(v)));
+    } else if (k.list != nullptr) {
+      const std::vector<double>& list = *k.list(parts);
+      for (std::size_t j = 0; j < list.size(); ++j) {
+        RequireSmallDeviation(k.Reach(list[j], pair), section, fmt::format("{}[{}]", k.name, j), pair,
+                              mm ? "" : fmt::format("{}", k.FromInternal(list[j])));
+      }
+    }
+  }
 }
 
 const std::vector<DeckKey>& DeckKeys() { return kKeys; }

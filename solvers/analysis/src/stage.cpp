@@ -17,6 +17,14 @@ geometry::RealPair StageDesign::MakeSecondRealPair() const {
   return {pair, second_disc->modification, second_disc->errors, second_disc->assembly};
 }
 
+void StageDesign::Validate() const {
+  if (second_disc && pins) {
+    throw std::invalid_argument(
+        "[second_disc] with [pins]: pin bending with two discs is not supported yet (the pin beams would couple "
+        "both discs' contacts); expected one of the two sections");
+  }
+}
+
 bool StageDesign::SlicesForced() const {
   if (pins) return true;
   if (!second_disc) return false;

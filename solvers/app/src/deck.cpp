@@ -263,22 +263,6 @@ std::string ReadBoundedFile(const std::filesystem::path& path, const std::string
   return text;
 }
 
-/// The "looks like an absolute value" rule: a modification or manufacturing error is a small
-/// change of the geometry, at most DeckLimits::kMaxDeviationFraction of the pin radius.
-void RequireSmallDeviation(double value, const std::string& section, const std::string& key,
-                           const geometry::PairParameters& pair, const std::string& shown = "") {
-  const double limit = DeckLimits::kMaxDeviationFraction * pair.pin_radius;
-  if (std::isfinite(value) && std::abs(value) > limit) {
-    throw std::invalid_argument(fmt::format(
-        "[{}] {} = {}: looks like an absolute value; a modification or manufacturing error is a "
-        "small change of the geometry, at most {:g} % of [pair] pin_radius_mm = {} ({:.6g} mm){} "
-        "(docs/decks.md, Limits)",
-        section, key, shown.empty() ? fmt::format("{}", value) : shown,
-        100.0 * DeckLimits::kMaxDeviationFraction, pair.pin_radius, limit,
-        shown.empty() ? "" : fmt::format("; this one moves the profile by {:.6g} mm", std::abs(value))));
-  }
-}
-
 /// One section of the deck: typed access to its keys, and a final check that every key present
 /// was one the program knows.
 class Section {
@@ -303,7 +287,12 @@ class Section {
   }
 
   bool Present() const { return table_ != nullptr; }
-  bool Has(const std::string& key) const { return Table().count(key) != 0; }
+  /// Whether the deck gives the key; a key the section does not know (not in the table of deck
+  /// keys) is a bug of the reader: std::logic_error.
+  bool Has(const std::string& key) const {
+    Known(key);
+    return Table().count(key) != 0;
+  }
 
   double Real(const std::string& key) const {
     const toml::value& v = Get(key);
@@ -390,7 +379,14 @@ class Section {
     static const toml::table kEmpty;
     return table_ != nullptr ? *table_ : kEmpty;
   }
+  void Known(const std::string& key) const {
+    if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
+      throw std::logic_error(fmt::format("[{}] {}: read, but not a key of the section in the table of deck keys "
+                                         "(analysis/keys.cpp)", name_, key));
+    }
+  }
   const toml::value& Get(const std::string& key) const {
+    Known(key);
     const auto it = Table().find(key);
     if (it == Table().end()) {
       throw std::invalid_argument(
@@ -415,6 +411,45 @@ Section RequiredSection(const toml::table& root, const std::string& name) {
   return Section(v, name);
 }
 
+/// The numbers of the section that the table binds to a setting (DeckKey::setting), in table order,
+/// into `parts` in internal units (DeckKey::ToInternal): a key given is checked for its type; a
+/// required key missing is named; a key not given keeps the field's value (the struct's default,
+/// the table's default_value), or takes the value of the key its default_value names
+/// (pin_young_modulus_mpa = young_modulus_mpa).
+void ReadSettings(const Section& s, const analysis::SettingsParts& parts) {
+  for (const analysis::DeckKey& k : analysis::DeckKeys()) {
+    if (s.name() != k.section || k.setting == nullptr) continue;
+    const bool read = s.Has(k.name) || k.required;
+    const analysis::DeckKey* named = read ? nullptr : analysis::FindKey(k.section, k.default_value);
+    if (!read && (named == nullptr || named->setting == nullptr)) continue;  // keeps the field (its part may be absent)
+    const analysis::SettingField field = k.setting(parts);
+    if (read) {
+      if (field.integer != nullptr) *field.integer = s.Integer(k.name);
+      else *field.real = k.ToInternal(s.Real(k.name));
+    } else {
+      const analysis::SettingField from = named->setting(parts);
+      if (field.integer != nullptr) *field.integer = *from.integer;
+      else *field.real = *from.real;
+    }
+  }
+}
+
+/// Keys a section needs in the form it takes (a bearing's kind, the way pins are held): the first
+/// missing one is named as a missing required key.
+void RequireKeys(const Section& s, std::initializer_list<const char*> keys) {
+  for (const char* key : keys) {
+    if (!s.Has(key)) (void)s.Real(key);  // throws "[section] missing required key ..."
+  }
+}
+
+/// A number of the section in the internal unit (DeckKey::ToInternal), for a key the table does
+/// not bind to a setting (an optional one, or one of the front-end's structs).
+double Internal(const Section& s, const std::string& key) {
+  const analysis::DeckKey* k = analysis::FindKey(s.name(), key);
+  const double value = s.Real(key);  // asks the table first: a key not in it is a logic_error
+  return k->ToInternal(value);
+}
+
 CaseInfo ReadCase(const Section& s) {
   CaseInfo info;
   info.title = s.String("title");
@@ -424,12 +459,7 @@ CaseInfo ReadCase(const Section& s) {
 
 geometry::PairParameters ReadPair(const Section& s) {
   geometry::PairParameters p;
-  p.pin_count = s.Integer("pin_count");
-  p.tooth_count = s.Integer("tooth_count");
-  p.pin_radius = s.Real("pin_radius_mm");
-  p.pin_circle_radius = s.Real("pin_circle_radius_mm");
-  p.eccentricity = s.Real("eccentricity_mm");
-  p.face_width = s.Real("face_width_mm");
+  ReadSettings(s, {.pair = &p});
   if (p.pin_count > DeckLimits::kMaxPins) {
     throw std::invalid_argument(fmt::format(
         "[pair] pin_count = {}: expected at most {} pins (docs/decks.md, Limits)", p.pin_count,
@@ -455,25 +485,6 @@ void ReadNumbers(const Section& s, std::string_view section, const analysis::Dis
   }
 }
 
-/// The rule of DeckKey::Limit on every number of the section that has one (docs/decks.md, Limits).
-void RequireSmallDeviations(const Section& s, std::string_view section, const analysis::DiscParts& parts,
-                            const geometry::PairParameters& pair) {
-  for (const analysis::DeckKey& k : analysis::DeckKeys()) {
-    if (k.section != section || k.limit == analysis::DeckKey::Limit::kNone) continue;
-    const bool mm = std::string_view(k.unit) == "mm";
-    if (k.real != nullptr) {
-      const double v = *k.real(parts);
-      RequireSmallDeviation(k.Reach(v, pair), s.name(), k.name, pair, mm ? "" : fmt::format("{}", k.FromInternal(v)));
-    } else if (k.list != nullptr) {
-      const std::vector<double>& list = *k.list(parts);
-      for (std::size_t j = 0; j < list.size(); ++j) {
-        RequireSmallDeviation(k.Reach(list[j], pair), s.name(), fmt::format("{}[{}]", k.name, j), pair,
-                              mm ? "" : fmt::format("{}", k.FromInternal(list[j])));
-      }
-    }
-  }
-}
-
 geometry::Modification ReadModification(const Section& s, const geometry::PairParameters& pair) {
   geometry::Modification m;
   const analysis::DiscParts parts{&m, nullptr, nullptr};
@@ -487,7 +498,7 @@ geometry::Modification ReadModification(const Section& s, const geometry::PairPa
     }
     throw std::invalid_argument(message);
   }
-  RequireSmallDeviations(s, "modification", parts, pair);
+  analysis::RequireSmallDeviations(s.name(), "modification", parts, pair);
   return m;
 }
 
@@ -532,11 +543,11 @@ void ReadErrors(const Section& s, const geometry::PairParameters& pair, const st
   e.Validate(pair.pin_count);
   a.pivot = geometry::ParseMisalignmentPivot(s.String("misalignment_pivot", "face"));
   a.Validate();
-  RequireSmallDeviations(s, "errors", parts, pair);
+  analysis::RequireSmallDeviations(s.name(), "errors", parts, pair);
   if (e.profile_measured) {
     for (std::size_t i = 0; i < e.profile_measured->deviation.size(); ++i) {
       const double v = e.profile_measured->deviation[i];
-      RequireSmallDeviation(v, s.name(),
+      analysis::RequireSmallDeviation(v, s.name(),
                             fmt::format("profile_measured_csv (line {} of the file, deviation_um)", e.profile_measured->line[i]),
                             pair, fmt::format("{}", units::MmToUm(v)));
     }
@@ -547,8 +558,7 @@ contact::ContactSettings ReadContact(const Section& s) {
   contact::ContactSettings c;
   c.law = contact::ParseLawKind(s.String("law", "hertz-line"));
   c.rho_convention = contact::ParseRhoConvention(s.String("rho_convention", "signed"));
-  c.stiffness_per_length = s.Real("stiffness_n_per_mm2", 0.0);
-  c.log_radius_cap = s.Real("log_radius_cap_mm", 0.0);
+  ReadSettings(s, {.contact = &c});
   c.Validate();
   return c;
 }
@@ -559,8 +569,7 @@ geometry::GeometrySettings ReadGeometry(const Section& s) {
   if (mode == "analytic") g.mode = geometry::GeometrySettings::Mode::kAnalytic;
   else if (mode == "elements") g.mode = geometry::GeometrySettings::Mode::kElements;
   else throw std::invalid_argument(fmt::format("[geometry] geometry_mode = \"{}\": expected \"analytic\" or \"elements\"", mode));
-  g.profile_elements = s.Integer("profile_elements", g.profile_elements);
-  g.width_slices = s.Integer("width_slices", g.width_slices);
+  ReadSettings(s, {.geometry = &g});
   g.Validate();
   return g;
 }
@@ -571,8 +580,7 @@ SolverOptions ReadSolver(const Section& s, contact::ContactKinematics* kinematic
   o.name = s.String("name", o.name);
   solvers::MakeSolver(o.name);  // rejects an unknown name, listing the valid ones
   *kinematics = contact::ParseKinematics(s.String("kinematics", "linearised"));
-  o.torque_tolerance = s.Real("torque_tolerance", o.torque_tolerance);
-  o.max_iterations = s.Integer("max_iterations", o.max_iterations);
+  ReadSettings(s, {.solver = &o});  // over the preset's values
   o.nlopt_algorithm = s.String("nlopt_algorithm", o.nlopt_algorithm);
   o.Validate();
   return o;
@@ -580,19 +588,14 @@ SolverOptions ReadSolver(const Section& s, contact::ContactKinematics* kinematic
 
 contact::Material ReadMaterial(const Section& s) {
   contact::Material m;
-  m.young_modulus = s.Real("young_modulus_mpa");
-  m.poisson_ratio = s.Real("poisson_ratio");
-  m.pin_young_modulus =
-      s.Real("pin_young_modulus_mpa", m.young_modulus);
-  m.pin_poisson_ratio = s.Real("pin_poisson_ratio", m.poisson_ratio);
-  m.contact_stress_limit = s.Real("contact_stress_limit_mpa", m.contact_stress_limit);
+  ReadSettings(s, {.material = &m});
   m.Validate();
   return m;
 }
 
 LoadCase ReadLoad(const Section& s) {
   LoadCase load;
-  load.torque = units::NmToNmm(s.Real("torque_nm"));
+  load.torque = Internal(s, "torque_nm");
   load.Validate();
   return load;
 }
@@ -600,27 +603,21 @@ LoadCase ReadLoad(const Section& s) {
 Sweep ReadSweep(const Section& s, const geometry::PairParameters& pair) {
   Sweep sweep;
   const double period_deg = 360.0 / pair.pin_count;
-  sweep.crank_start = units::DegToRad(s.Real("crank_start_deg", 0.0));
-  sweep.crank_end = units::DegToRad(
-      s.Real("crank_end_deg", units::RadToDeg(sweep.crank_start) + period_deg));
-  sweep.positions = s.Integer("positions", 91);
+  ReadSettings(s, {.sweep = &sweep});
+  // By default one mesh period from the start.
+  if (!s.Has("crank_end_deg")) sweep.crank_end = units::DegToRad(units::RadToDeg(sweep.crank_start) + period_deg);
   sweep.Validate();
   return sweep;
 }
 
 StiffnessSettings ReadStiffness(const Section& s) {
   StiffnessSettings st;
-  st.steps = s.Integer("steps_per_branch", st.steps);
+  ReadSettings(s, {.stiffness = &st});
   const std::string rigidity = s.String("rigidity", "secant");
   if (rigidity == "secant") st.rigidity = StiffnessSettings::Rigidity::kSecant;
   else if (rigidity == "tangent") st.rigidity = StiffnessSettings::Rigidity::kTangent;
   else throw std::invalid_argument(fmt::format("[stiffness] rigidity = \"{}\": expected \"secant\" or \"tangent\"", rigidity));
-  if (s.Has("tangent_torque_nm")) {
-    st.tangent_torque = units::NmToNmm(s.Real("tangent_torque_nm"));
-  }
-  st.lost_motion_fraction =
-      s.Real("lost_motion_fraction", st.lost_motion_fraction);
-  if (s.Has("crank_deg")) st.crank = units::DegToRad(s.Real("crank_deg"));
+  if (s.Has("crank_deg")) st.crank = Internal(s, "crank_deg");
   st.Validate();
   return st;
 }
@@ -773,7 +770,7 @@ ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairP
     const analysis::DeckKey& k = *analysis::FindToleranceKey(d.key);  // a known key (checked above)
     // A tilt's shift over the face width, taken at 45 deg at most (tan grows without bound).
     const double internal = k.ToInternal(k.limit == analysis::DeckKey::Limit::kTilt ? std::min(reach, 45.0) : reach);
-    RequireSmallDeviation(k.Reach(internal, pair), "tolerances", d.key, pair, shown);
+    analysis::RequireSmallDeviation(k.Reach(internal, pair), "tolerances", d.key, pair, shown);
   }
   return s;
 }
@@ -782,11 +779,7 @@ ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairP
 // --- issue 14: [operation] and [friction] ----------------------------------------------------------
 OperationSettings ReadOperation(const Section& s) {
   OperationSettings o;
-  o.input_speed = units::RpmToRadPerS(s.Real("input_speed_rpm"));
-  o.viscosity = units::PaSToMPaS(s.Real("oil_viscosity_pa_s", 0.03));
-  o.pressure_viscosity = units::PerGPaToPerMPa(s.Real("pressure_viscosity_per_gpa", 10.0));
-  o.roughness_cycloid = units::UmToMm(s.Real("roughness_ra_cycloid_um", 0.3));
-  o.roughness_pin = units::UmToMm(s.Real("roughness_ra_pin_um", 0.3));
+  ReadSettings(s, {.operation = &o});
   o.Validate();
   return o;
 }
@@ -828,14 +821,10 @@ OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const 
   else if (local == "bobyqa") o.local = OptimiseSettings::Local::kBobyqa;
   else if (local == "none") o.local = OptimiseSettings::Local::kNone;
   else throw std::invalid_argument(fmt::format("[optimise] local = \"{}\": expected \"cobyla\", \"bobyqa\" or \"none\"", local));
-  o.evaluations = s.Integer("evaluations", o.evaluations);
-  o.global_share = s.Real("global_share", o.global_share);
-  o.tolerance = s.Real("tolerance", o.tolerance);
+  ReadSettings(s, {.optimise = &o});
   o.seed = s.Unsigned("seed", o.seed);
   o.robust = s.Bool("robust", o.robust);
   o.robust_samples = s.Integer("robust_samples", static_cast<int>(o.robust_samples));
-  o.percentile = s.Real("percentile", o.percentile);
-  o.confidence = s.Real("confidence", o.confidence);
   if (o.robust) {
     if (!tolerances) {
       throw std::invalid_argument("[optimise] robust = true: expected a [tolerances] section (the distributions every design is run over)");
@@ -852,17 +841,10 @@ FrictionSettings ReadFriction(const Section& s, const geometry::PairParameters& 
   if (model == "coulomb") f.model = FrictionSettings::Model::kCoulomb;
   else if (model == "jiang-mixed") f.model = FrictionSettings::Model::kJiangMixed;
   else throw std::invalid_argument(fmt::format("[friction] model = \"{}\": expected \"coulomb\" or \"jiang-mixed\"", model));
-  if (f.model == FrictionSettings::Model::kCoulomb || s.Has("coefficient")) {
-    f.coefficient = s.Real("coefficient");
-  }
-  f.boundary_coefficient = s.Real("boundary_coefficient", f.boundary_coefficient);
-  f.limiting_shear_modulus =
-      s.Real("limiting_shear_modulus_mpa", f.limiting_shear_modulus);
-  f.power_law_exponent = s.Real("power_law_exponent", f.power_law_exponent);
-  if (s.Has("sleeve_bore_radius_mm")) {
-    f.sleeve_bore_radius = s.Real("sleeve_bore_radius_mm");
-  }
-  if (s.Has("sleeve_coefficient")) f.sleeve_coefficient = s.Real("sleeve_coefficient");
+  // Coulomb's law needs its coefficient; jiang-mixed does without.
+  if (f.model == FrictionSettings::Model::kCoulomb && !s.Has("coefficient")) (void)s.Real("coefficient");  // names it missing
+  ReadSettings(s, {.friction = &f});
+  if (s.Has("sleeve_bore_radius_mm")) f.sleeve_bore_radius = Internal(s, "sleeve_bore_radius_mm");
   const std::string balance = s.String("torque_balance", "solve");
   if (balance == "solve") f.torque_balance = FrictionSettings::TorqueBalance::kSolve;
   else if (balance == "bound") f.torque_balance = FrictionSettings::TorqueBalance::kBound;
@@ -905,6 +887,25 @@ analysis::Stage Deck::MakeStage(std::vector<double> cranks) const {
 analysis::ToleranceCase Deck::MakeToleranceCase() const {
   RequireMaterial();
   return {*this, sweep, RequireLoad().torque, stiffness, friction, operation};
+}
+
+void Deck::ValidateSettings() const {
+  if (tolerances && tolerances->profile_random_per_sample && errors.profile_random.zone == 0.0) {
+    throw std::invalid_argument(
+        "[tolerances] profile_random_per_sample = true: [errors] profile_random_zone_um is 0; expected a random profile "
+        "zone to draw per sample");
+  }
+  if (friction && friction->model == FrictionSettings::Model::kJiangMixed && !operation) {
+    throw std::invalid_argument(
+        "[friction] model = \"jiang-mixed\": expected an [operation] section (input_speed_rpm, the oil, the "
+        "roughness) for the film thickness");
+  }
+  if (friction && reducer) {
+    // The efficiency and the loop's hysteresis would count the mesh's losses alone and call the
+    // result the stage's.
+    throw std::invalid_argument("[friction] with [output]: the stage's friction (output pins in their holes, the "
+                                "bearings) is not modelled yet (docs/stage.md); expected one of the two");
+  }
 }
 
 const FrictionSettings& Deck::RequireFriction() const {
@@ -975,11 +976,6 @@ void ReadSecondDisc(const toml::table& root, const toml::value& section, const s
   if (!section.is_table()) {
     throw std::invalid_argument("[second_disc]: expected a table of the second disc's keys");
   }
-  if (deck->pins) {
-    throw std::invalid_argument(
-        "[second_disc] with [pins]: pin bending with two discs is not supported yet (the pin beams would couple "
-        "both discs' contacts); expected one of the two sections");
-  }
   const auto table_of = [&](const char* name) {
     const toml::value* v = Find(root, name);
     return v != nullptr && v->is_table() ? v->as_table() : toml::table{};
@@ -1020,7 +1016,7 @@ void ReadSecondDisc(const toml::table& root, const toml::value& section, const s
   // The indexing deviation turns the disc in the sense of +T: counterclockwise for d > 0.
   const double load_direction = deck->pair.ToothDifference() > 0 ? 1.0 : -1.0;
   disc.modification.rotation += load_direction * disc.indexing_deviation / deck->pair.pin_circle_radius;
-  RequireSmallDeviation(disc.indexing_deviation, "second_disc", "indexing_deviation_mm", deck->pair);
+  analysis::RequireSmallDeviation(disc.indexing_deviation, "second_disc", "indexing_deviation_mm", deck->pair);
   disc.modification.Validate(deck->pair);
   deck->second_disc = std::move(disc);
   const geometry::RealPair realisable = deck->MakeSecondRealPair();  // rejects an undercut second disc
@@ -1044,24 +1040,19 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
       }
     }
   };
+  // The keys its kind needs, named when missing; then every number given, into the pins or the cranks.
   if (pins) {
     reject({"shaft_stiffness_n_per_mm", "crank_turns_per_output_turn"}, "pins");
-    s.pins.count = output.Integer("count");
-    s.pins.circle_radius = output.Real("circle_radius_mm");
-    s.pins.phase = units::DegToRad(output.Real("phase_deg", 0.0));
-    s.pins.pin_radius = output.Real("pin_radius_mm");
-    s.pins.hole_radius = output.Real("hole_radius_mm");
+    RequireKeys(output, {"count", "circle_radius_mm", "pin_radius_mm", "hole_radius_mm"});
+    ReadSettings(output, {.output_pins = &s.pins});
   } else {
     reject({"pin_radius_mm", "hole_radius_mm"}, "cranks");
-    s.cranks.count = output.Integer("count");
-    s.cranks.circle_radius = output.Real("circle_radius_mm");
-    s.cranks.phase = units::DegToRad(output.Real("phase_deg", 0.0));
-    s.cranks.shaft_stiffness = output.Real("shaft_stiffness_n_per_mm", std::numeric_limits<double>::infinity());
+    RequireKeys(output, {"count", "circle_radius_mm"});
+    ReadSettings(output, {.cranks = &s.cranks});
     if (output.Has("shaft_stiffness_n_per_mm") && !std::isfinite(s.cranks.shaft_stiffness)) {
       throw std::invalid_argument("[output] shaft_stiffness_n_per_mm: expected a finite stiffness in N/mm (leave the "
                                   "key out for a rigid shaft)");
     }
-    s.cranks.turns_per_output_turn = output.Real("crank_turns_per_output_turn", 0.0);
   }
   // Each hole's position deviation in the disc (both discs alike): one radial and one tangential
   // value per hole, either list alone (the other zero). Small, as every manufacturing error is.
@@ -1080,7 +1071,7 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
         if (!std::isfinite((*list)[j])) {
           throw std::invalid_argument(fmt::format("[output] {}[{}] = {}: expected a finite deviation in mm", key, j, (*list)[j]));
         }
-        RequireSmallDeviation((*list)[j], "output", fmt::format("{}[{}]", key, j), pair);
+        analysis::RequireSmallDeviation((*list)[j], "output", fmt::format("{}[{}]", key, j), pair);
       }
     }
     deviations.assign(static_cast<std::size_t>(count), Eigen::Vector2d::Zero());
@@ -1102,14 +1093,10 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
   if (b.kind != contact::BearingKind::kLinear) bearing_reject({"radial_stiffness_n_per_mm"});
   if (b.kind != contact::BearingKind::kRollers) bearing_reject({"roller_count", "roller_diameter_mm", "roller_length_mm"});
   if (b.kind == contact::BearingKind::kRigid) bearing_reject({"radial_clearance_mm"});
-  if (b.kind == contact::BearingKind::kLinear) b.radial_stiffness = bearing.Real("radial_stiffness_n_per_mm");
-  if (b.kind == contact::BearingKind::kRollers) {
-    b.roller_count = bearing.Integer("roller_count");
-    b.roller_diameter = bearing.Real("roller_diameter_mm");
-    b.roller_length = bearing.Real("roller_length_mm");
-  }
-  b.radial_clearance = bearing.Real("radial_clearance_mm", 0.0);
-  b.dynamic_load_rating = bearing.Real("dynamic_load_rating_n", 0.0);
+  // The keys its kind needs, named when missing; then every number given.
+  if (b.kind == contact::BearingKind::kLinear) RequireKeys(bearing, {"radial_stiffness_n_per_mm"});
+  if (b.kind == contact::BearingKind::kRollers) RequireKeys(bearing, {"roller_count", "roller_diameter_mm", "roller_length_mm"});
+  ReadSettings(bearing, {.bearing = &b});
   s.Validate(pair.eccentricity);
   // Limits of physical sense (docs/decks.md, Limits). The holes lie inside the disc: within its
   // root circle, the profile's nearest point to the disc centre (u = 0, the root of a tooth space).
@@ -1291,17 +1278,11 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
         throw std::invalid_argument("[pins]: expected span_mm and face_offset_mm (pins held at their ends, bending) or "
                                     "seat = \"linear\" | \"groove\" (pins seated in housing grooves)");
       }
-      if (bending) {
-        contact::PinSupport p;
-        p.span = pins.Real("span_mm");
-        p.support = contact::ParsePinSupport(pins.String("support", "simply-supported"));
-        p.face_offset = pins.Real("face_offset_mm");
-        p.Validate(deck.pair.face_width);
-        deck.pins = p;
-      }
-      if (seat.kind == contact::PinSeat::Kind::kLinear) seat.stiffness_per_length = pins.Real("seat_stiffness_n_per_mm2");
+      // The keys of the way the pins are held, named when missing; then every number given.
+      if (bending) RequireKeys(pins, {"span_mm", "face_offset_mm"});
+      if (seat.kind == contact::PinSeat::Kind::kLinear) RequireKeys(pins, {"seat_stiffness_n_per_mm2"});
       if (seat.kind == contact::PinSeat::Kind::kGroove) {
-        seat.groove_radius = pins.Real("groove_radius_mm");
+        RequireKeys(pins, {"groove_radius_mm"});
         // The housing takes the disc's elastic constants unless given.
         const bool need = !pins.Has("housing_young_modulus_mpa") || !pins.Has("housing_poisson_ratio");
         if (need && !deck.material) {
@@ -1309,10 +1290,15 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
                                       "housing_poisson_ratio, or a [material] section whose disc constants the "
                                       "housing takes");
         }
-        seat.housing_young_modulus = pins.Has("housing_young_modulus_mpa") ? pins.Real("housing_young_modulus_mpa")
-                                                                           : deck.material->young_modulus;
-        seat.housing_poisson_ratio =
-            pins.Has("housing_poisson_ratio") ? pins.Real("housing_poisson_ratio") : deck.material->poisson_ratio;
+        if (!pins.Has("housing_young_modulus_mpa")) seat.housing_young_modulus = deck.material->young_modulus;
+        if (!pins.Has("housing_poisson_ratio")) seat.housing_poisson_ratio = deck.material->poisson_ratio;
+      }
+      contact::PinSupport p;
+      ReadSettings(pins, {.pin_support = &p, .pin_seat = &seat});
+      if (bending) {
+        p.support = contact::ParsePinSupport(pins.String("support", "simply-supported"));
+        p.Validate(deck.pair.face_width);
+        deck.pins = p;
       }
       seat.Validate(deck.pair.pin_radius);
       deck.contact.Validate();  // a seat with the sagitta law
@@ -1323,11 +1309,6 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     deck.stiffness = ReadStiffness(Section(Find(root, "stiffness"), "stiffness"));
     if (const toml::value* t = Find(root, "tolerances")) {  // issue 15
       deck.tolerances = ReadTolerances(*t, deck.pair);
-      if (deck.tolerances->profile_random_per_sample && deck.errors.profile_random.zone == 0.0) {
-        throw std::invalid_argument(
-            "[tolerances] profile_random_per_sample = true: [errors] profile_random_zone_um is 0; expected a random profile "
-            "zone to draw per sample");
-      }
     }
     // issue 14: [operation] and [friction], both optional.
     const Section operation(Find(root, "operation"), "operation");
@@ -1337,11 +1318,6 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     if (const toml::value* opt = Find(root, "optimise")) {  // issue 28
       const Section optimise(opt, "optimise");
       deck.optimise = ReadOptimise(optimise, *opt, deck.tolerances);
-    }
-    if (deck.friction && deck.friction->model == FrictionSettings::Model::kJiangMixed && !deck.operation) {
-      throw std::invalid_argument(
-          "[friction] model = \"jiang-mixed\": expected an [operation] section (input_speed_rpm, the oil, the "
-          "roughness) for the film thickness");
     }
     // The geometry must be realisable: this rejects undercut (looped) profiles, also when the
     // profile layer of [errors] is what makes them loop.
@@ -1359,20 +1335,16 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
           "line-contact law covers";
     }
     if (const toml::value* second = Find(root, "second_disc")) ReadSecondDisc(root, *second, directory, &deck);
+    deck.StageDesign::Validate();
     const Section output(Find(root, "output"), "output");
     const Section bearing(Find(root, "bearing"), "bearing");
     if (output.Present()) {
       deck.reducer = ReadReducer(output, bearing, deck.pair);
-      if (deck.friction) {
-        // The efficiency and the loop's hysteresis would count the mesh's losses alone and call
-        // the result the stage's.
-        throw std::invalid_argument("[friction] with [output]: the stage's friction (output pins in their holes, the "
-                                    "bearings) is not modelled yet (docs/stage.md); expected one of the two");
-      }
     } else if (bearing.Present()) {
       throw std::invalid_argument("[bearing] without [output]: the bearing belongs to the reducer stage; expected an "
                                   "[output] section (kind = \"pins\" or \"cranks\")");
     }
+    deck.ValidateSettings();
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));
   } catch (const std::exception& e) {  // TOML errors of an override and the like

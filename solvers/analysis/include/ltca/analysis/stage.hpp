@@ -104,6 +104,10 @@ struct StageDesign {
   /// The model that runs (the rule of contact::MeshModel: slices when something varies along the
   /// face width, or pin bending couples the slices).
   ModelInfo Model() const;
+  /// What the stage's models can run as one design: pin bending with two discs is not supported
+  /// yet (the pin beams would couple both discs' contacts). Throws std::invalid_argument naming
+  /// the deck's sections ([second_disc], [pins]).
+  void Validate() const;
 };
 
 /// Immutable once built; copies share the models and the coupling, and a Stage may be shared

@@ -126,6 +126,12 @@ struct Deck : analysis::StageDesign {
   };
   ModelInfo Model() const;
 
+  /// The analyses' settings together: [friction] model = "jiang-mixed" needs [operation] (the film
+  /// thickness); the stage's friction is not modelled ([friction] with [output]); [tolerances]
+  /// profile_random_per_sample needs [errors] profile_random_zone_um > 0. Throws
+  /// std::invalid_argument naming the sections and keys.
+  void ValidateSettings() const;
+
   /// Throws std::invalid_argument naming the deck and the missing section.
   const contact::Material& RequireMaterial() const;
   const LoadCase& RequireLoad() const;
