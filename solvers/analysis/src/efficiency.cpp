@@ -85,7 +85,7 @@ struct EfficiencyRunner::Impl {
       throw std::invalid_argument("[load] torque_nm = 0: expected a non-zero torque (efficiency has no output power "
                                   "at zero torque)");
     }
-    // The last crank repeats the first's state (a closed period): the means weigh it once (issue 26).
+    // The last crank repeats the first's state (a closed period): the means weigh it once.
     closed = stage.closed_period();
     lubrication.viscosity = operation.viscosity;
     lubrication.pressure_viscosity = operation.pressure_viscosity;
@@ -207,7 +207,7 @@ struct EfficiencyRunner::Impl {
     pos.warnings = r.warnings;
 
     // Kinematics per point, per radian of crank first; then the crank's sense that drives the load.
-    // Two discs (issue 27): each point turns about its own disc's centre, the second disc's half a
+    // Two discs: each point turns about its own disc's centre, the second disc's half a
     // crank turn on; both turn the output together, so the friction moments add.
     const std::size_t n = state.pins.size();
     std::vector<PointKinematics> kin(n);

@@ -109,7 +109,7 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
   double centre_z = kNaN;
   for (std::size_t i = 0; i < state.pins.size(); ++i) {
     const contact::PinContact& c = state.pins[i];
-    const bool on_second = c.disc == 1 && second != nullptr;  // issue 13: each disc about its own centre
+    const bool on_second = c.disc == 1 && second != nullptr;  // two discs: each about its own centre
     if (centre_disc != (on_second ? 1 : 0) || !(centre_z == c.z)) {
       const contact::MeshModel& disc = on_second ? *second : model;
       const double crank = state.crank + (on_second ? contact::kSecondDiscCrankOffset : 0.0);

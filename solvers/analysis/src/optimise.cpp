@@ -404,12 +404,12 @@ Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSetti
   }
   for (const OptimiseVariable& v : settings_.variables) {
     if (v.deck_key->real != nullptr) continue;  // a key of the discs
-    // A clearance of the reducer stage (issue 28): the deck must have the element it belongs to.
+    // A clearance of the reducer stage: the deck must have the element it belongs to.
     if (const std::string why = StageClearanceRefusal(nominal_.design.reducer, v.key); !why.empty()) {
       throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = [{}, {}]: {}", v.key, v.lower, v.upper, why));
     }
   }
-  {  // a figure of a reducer stage (issue 28) needs one; the output pins' force needs output pins
+  {  // a figure of a reducer stage needs one; the output pins' force needs output pins
     const auto& r = nominal_.design.reducer;
     std::vector<std::string> named = {settings_.objective};
     for (const ToleranceLimit& l : settings_.constraints) named.push_back(l.figure);

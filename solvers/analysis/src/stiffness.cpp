@@ -105,7 +105,7 @@ struct StiffnessRunner::Impl {
   std::vector<Spread> readoff_spread;
   Spread stick_torque[2], stick_twist[2];  // the stick_end points over the positions: [increasing, decreasing]
   Clock::duration elapsed{};
-  // issue 14: Coulomb friction in the loop (0 without [friction]); sense of the twist's motion on
+  // Coulomb friction in the loop (0 without [friction]); sense of the twist's motion on
   // the branch being solved (+1 increasing, -1 decreasing, 0: the loop's midpoint, both).
   bool closed = false;
   double friction_mu = 0.0;
@@ -124,12 +124,12 @@ struct StiffnessRunner::Impl {
           "[load] torque_nm = 0: expected the rated torque of the stiffness loop, not zero (the loop runs from "
           "-|T| to +|T|)");
     }
-    // The last crank repeats the first's state (a closed period): the means weigh it once (issue 26).
+    // The last crank repeats the first's state (a closed period): the means weigh it once.
     closed = !s.crank && stage.closed_period();
   }
 
   /// Counts a solved position in the summary's run record; returns whether the means weigh it
-  /// (the last crank of a closed period repeats the first, issue 26).
+  /// (the last crank of a closed period repeats the first).
   bool Record(const StiffnessPosition& pos) {
     summary.closed_period = closed;
     summary.solves += pos.solves;
@@ -180,7 +180,7 @@ struct StiffnessRunner::Impl {
     const auto first_contact = [&](double torque) {
       const solvers::LoadProblem problem = Problem(state, torque);
       if (!problem.has_stage()) return problem.FirstContactRotation();
-      // A reducer stage (issue 25): its free play takes up the clearances of every element (holes,
+      // A reducer stage: its free play takes up the clearances of every element (holes,
       // bearings), not the mesh's alone: the output's rotation under a vanishing torque, 1e-7 T,
       // whose elastic part is below 1e-6 of the twist at T (Hertz and Palmgren contacts stiffen:
       // their approach grows as F^0.9, so (1e-7)^0.9 = 5e-7 of it). NaN when that solve fails.
@@ -224,11 +224,11 @@ struct StiffnessRunner::Impl {
     pos->solves += solves;
     if (status != nullptr) *status = r.status;
     if (stage.disc_count() == 2 && on_loop && r.status == SolverStatus::kSuccess && std::abs(torque) == rated) {
-      // Two discs (issue 13): the split at +-T; with friction, of the loop's pass through it.
+      // Two discs: the split at +-T; with friction, of the loop's pass through it.
       const std::vector<double> parts = Problem(state, torque).DiscTorques(r.rotation, r.force, workspace);
       (torque > 0.0 ? pos->first_disc_share_drive : pos->first_disc_share_coast) = parts[0] / (parts[0] + parts[1]);
     }
-    if (r.stage && on_loop && torque == rated) {  // issue 25: the compliance budget at +T
+    if (r.stage && on_loop && torque == rated) {  // a stage: the compliance budget at +T
       double total = 0.0;
       for (const double e : r.stage->group_energy) total += e;
       pos->compliance_share.clear();
@@ -244,7 +244,7 @@ struct StiffnessRunner::Impl {
     return kNaN;
   }
 
-  /// Review issue 26, item 4: the torque at which the stick after a reversal ends, the root of
+  /// The torque at which the stick after a reversal ends, the root of
   /// h(t) = sense (twist_sense(t) - held) between t_a (h_a < 0: still stuck) and t_b (h_b >= 0),
   /// by regula falsi with the Illinois modification (each step one solve of the current sense).
   /// Under the linear law h is linear in t and the first step is the root. NaN when a solve fails.
@@ -276,7 +276,7 @@ struct StiffnessRunner::Impl {
     return t;
   }
 
-  /// Review issue 26, item 4: the loop with Coulomb friction, path dependent. It starts at -T with
+  /// The loop with Coulomb friction, path dependent. It starts at -T with
   /// the twist the decreasing pass arrives with (that branch solved at -T); on each branch the
   /// twist holds at its reversal value over the levels where the branch of the new sense (friction
   /// resisting that motion) stays short of it, up to the stick_end point (StickEnd), then follows
@@ -417,7 +417,7 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   for (const Branch branch : {Branch::kIncreasing, Branch::kDecreasing}) {
     if (m.friction_mu > 0.0) break;  // the loop above
     const bool increasing = branch == Branch::kIncreasing;
-    m.sense = increasing ? 1.0 : -1.0;  // issue 14: friction resists the twist's motion
+    m.sense = increasing ? 1.0 : -1.0;  // friction resists the twist's motion
     for (std::size_t i = 0; i < levels.size(); ++i) {
       const std::size_t k = increasing ? i : levels.size() - 1 - i;
       const double torque = levels[k];
@@ -445,7 +445,7 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   pos.hysteresis = LoopWork(pos.curve);
 
   // The read-offs, each solved at its own torque (the levels need not contain it). Without
-  // friction a torque has one twist. With friction (review issue 26) the loop has two there:
+  // friction a torque has one twist. With friction the loop has two there:
   //  - the rigidity (secant or tangent) is read on the loading pass, the twist moving away from
   //    zero in the sense of the torque (the increasing pass for T > 0, the decreasing one for
   //    T < 0), the curve a catalogue's test traces from 50 % to 100 % of the rated torque (Harmonic

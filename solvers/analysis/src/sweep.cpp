@@ -85,7 +85,7 @@ void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
   s_.contacts_max = std::max(s_.contacts_max, p.contacts);
   for (const double f : p.pin_force) s_.max_pin_force = std::max(s_.max_pin_force, f);
   for (const double q : p.contact_stress) s_.max_contact_stress = std::max(s_.max_contact_stress, q);
-  if (p.result.stage) {  // issue 25
+  if (p.result.stage) {  // a reducer stage: its element and bearing forces
     const solvers::StageSolution& st = *p.result.stage;
     if (!s_.stage) {
       s_.stage = StageSummary{};
@@ -190,7 +190,7 @@ struct SweepRunner::Impl {
   SummaryAccumulator summary;
   Clock::duration elapsed{};
   // The last crank's state repeats the first's (a closed period, contact::SameMesh): the mean
-  // weights it once (issue 26).
+  // weights it once.
   double last_crank = 0.0;
 
   Impl(const Stage& s, const SolverOptions& o, double t)
@@ -222,7 +222,7 @@ PositionResult SweepRunner::Solve(double crank) {
   std::vector<contact::ContactLaw> scratch;
   const auto points = problem.At(std::isfinite(pos.result.rotation) ? pos.result.rotation : 0.0, m.workspace, &scratch);
   const auto& base = problem.base_state().pins;
-  // Per pin of every disc: disc 1's pins, then disc 2's (issue 13).
+  // Per pin of every disc: disc 1's pins, then disc 2's.
   const contact::MeshModel& model = m.stage.model();
   const auto pins = static_cast<std::size_t>(model.pin_count() * problem.disc_count());
   const auto per_disc = static_cast<std::size_t>(model.pin_count());
@@ -247,7 +247,7 @@ PositionResult SweepRunner::Solve(double crank) {
     if (pos.pin_force[j] > kContactForceFraction * f_max && f_max > 0.0) ++pos.contacts;
     if (pos.pin_force[j] > 0.0) pos.load_centroid[j] = moment[j] / pos.pin_force[j];
   }
-  // A relieved tip that carries load is reported as such (issue 26): the user's relief is used as
+  // A relieved tip that carries load is reported as such: the user's relief is used as
   // given, and its contact (a small convex radius: a high stress) is a fact the user must see.
   const bool relieved = model.profile().tip_cap().active() ||
                         (m.stage.disc_count() == 2 && m.stage.model(1).profile().tip_cap().active());

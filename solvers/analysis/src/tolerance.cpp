@@ -45,7 +45,7 @@ void AddToPin(std::vector<double>& list, int pins, int j, double v_mm) {
   list[static_cast<std::size_t>(j)] += v_mm;
 }
 
-/// A key of the reducer stage ([output], [bearing]; issue 28), not of the discs or the pin ring.
+/// A key of the reducer stage ([output], [bearing]), not of the discs or the pin ring.
 bool IsStageKey(const DeckKey& k) {
   const std::string_view s(k.section);
   return s == "output" || s == "bearing";
@@ -265,7 +265,7 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
     throw std::invalid_argument(fmt::format("deck '{}': missing required section [material] for this command", nominal_.design.name));
   }
   if (settings_.lost_motion) nominal_.stiffness.Validate();
-  // Two discs (issue 27): a key of one disc (DeckKey::disc: the modification, the disc's own
+  // Two discs: a key of one disc (DeckKey::disc: the modification, the disc's own
   // errors) is drawn for each disc on its own, the pin ring's keys once for both, and the second
   // disc's indexing deviation is a key of its own.
   const bool two = nominal_.design.second_disc.has_value();
@@ -279,7 +279,7 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
                                               "a [second_disc] section, or no such tolerance",
                                               nominal_.design.name, d.key));
     }
-    if (key != nullptr && IsStageKey(*key)) {  // a clearance of the reducer stage (issue 28)
+    if (key != nullptr && IsStageKey(*key)) {  // a clearance of the reducer stage
       const std::string why = StageClearanceRefusal(nominal_.design.reducer, std::string(key->section) + "." + key->name);
       if (!why.empty()) throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: {}", nominal_.design.name, d.key, why));
     }
@@ -428,7 +428,7 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
     const Stage stage(design, pair.sweep.CrankAngles());
     const std::vector<double>& cranks = stage.cranks();
     // Unloaded TCA over the sweep: the arithmetic of `ltca backlash` (mean = sum / n).
-    // The unloaded sweep's rule: a closed period's repeated state weighs once in the mean (issue 26).
+    // The unloaded sweep's rule: a closed period's repeated state weighs once in the mean.
     std::string free_play_failure;  // a reducer stage's free play that could not be solved
     std::string backlash_failure;   // a position where no pin closes a flank's gap
     if (!design.reducer) {
@@ -438,7 +438,7 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
       s.figures[kPpBacklashArcsec] = units::RadToArcsec(backlash.pp());
       if (backlash.failed() > 0) backlash_failure = fmt::format("unloaded backlash: {}", backlash.first_failure());
     } else if (settings_.stage_free_play) {
-      // A reducer stage (issue 28): the pin ring's unloaded analysis is not the reducer's backlash.
+      // A reducer stage: the pin ring's unloaded analysis is not the reducer's backlash.
       // Its free play takes up every element's clearance: `ltca stiffness`'s backlash (the output's
       // rotation at +-1e-7 T from either flank), over the same sweep.
       StiffnessSettings over_sweep = pair.stiffness;
@@ -494,7 +494,7 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
       s.message = free_play_failure;
     }
     if (settings_.lost_motion) {
-      // Lost motion is solved at its own torques (+-f T), without the loop's curve (issue 27).
+      // Lost motion is solved at its own torques (+-f T), without the loop's curve.
       StiffnessRunner loop(stage, options_, pair.stiffness, pair.torque, pair.friction);
       for (const double crank : loop.cranks()) loop.SolveLostMotion(crank);
       const StiffnessSummary ss = loop.Summary();

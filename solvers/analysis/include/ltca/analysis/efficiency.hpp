@@ -1,5 +1,5 @@
 #pragma once
-// Friction, power loss and meshing efficiency of the cycloid-pin mesh (issue 14, docs/efficiency.md).
+// Friction, power loss and meshing efficiency of the cycloid-pin mesh (docs/efficiency.md).
 // At every crank position of the deck's sweep the loaded problem is solved (frictionless forces);
 // at every loaded contact point the sliding and entrainment speeds (Jiang 2022 eq. 13-14), the
 // friction coefficient ([friction] model: Coulomb or Jiang's mixed lubrication, eq. 20-26) and

@@ -1,5 +1,5 @@
 #pragma once
-// Friction (issue 14, docs/efficiency.md): the operating point and the friction model of a deck
+// Friction (docs/efficiency.md): the operating point and the friction model of a deck
 // ([operation], [friction]), and the quasi-static torque balance of the torque-twist loop with
 // Coulomb friction, which both `ltca stiffness` and `ltca tolerance` (lost motion) run.
 #include <functional>
@@ -50,7 +50,7 @@ struct FrictionSettings {
   void Validate(const geometry::PairParameters& pair) const;
 };
 const char* ToString(FrictionSettings::Model model);
-// --- the stiffness loop with friction (issue 13 + 14) -------------------------------------------
+// --- the stiffness loop with friction --------------------------------------------------------
 /// The signed torque the normal forces carry at a quasi-static step of the torque-twist loop with
 /// Coulomb friction (the crank locked, the cycloid turning about its centre): the friction at each
 /// loaded contact resists the turning, so the normal forces carry T - sense mu sum F_i |a_t,i|
@@ -58,7 +58,7 @@ const char* ToString(FrictionSettings::Model model);
 /// sense (the increasing branch), -1 on the way back. problem(t) is the frictionless problem at
 /// signed torque t, solve(p) solves one. mu: [friction]'s static coefficient (Coulomb's, or f_b for
 /// jiang-mixed: no entrainment, boundary friction). Returns the last result; *solves counts.
-/// second: the second disc of a two-disc stage (issue 13), whose points in state turn about its own
+/// second: the second disc of a two-disc stage, whose points in state turn about its own
 /// centre, half a crank turn on; nullptr for one disc.
 ///
 /// Issue 27: the balance sum_i F_i (L_i + d sense mu a_i) = |T| (d the flank's sign) is the
@@ -71,7 +71,7 @@ const char* ToString(FrictionSettings::Model model);
 /// Otherwise (exact kinematics, a coupling, a stage, or such a pin pressed) a fixed point in t,
 /// each step the frictionless problem at t, by the secant method. Both find the same balance.
 ///
-/// Where the last balance of the same kind ended (issue 27: the same torque and sense at the
+/// Where the last balance of the same kind ended (the same torque and sense at the
 /// neighbouring crank angle): the ratio t / T it converged to and the slope of its residual
 /// g(t) = T - sense M_f(t) - t. The first solve is then at ratio T and the first step uses that
 /// slope; the balance is the same fixed point to the same tolerance, found in fewer solves. NaN:

@@ -1,5 +1,5 @@
 #pragma once
-// Design optimisation (issue 28, docs/optimise.md): the modification that meets a specification,
+// Design optimisation (docs/optimise.md): the modification that meets a specification,
 // optionally robust to the tolerances.
 //
 // A design is the values of a few real keys of [modification] and [errors] (deck units, within
@@ -89,7 +89,7 @@ struct OptimiseSettings {
   /// Whether the objective or a constraint needs the efficiency (power_loss_w, efficiency).
   bool NeedsEfficiency() const;
   /// Whether the objective or a constraint names a backlash figure (on a reducer stage its free
-  /// play, solved only then: issue 28).
+  /// play, solved only then).
   bool NeedsBacklash() const;
 };
 const char* ToString(OptimiseSettings::Global global);  ///< "direct" | "crs2" | "isres" | "none"
@@ -120,7 +120,7 @@ struct OptimisePhase {
   std::int64_t evaluations = 0;
 };
 
-/// Where a search hands its evaluations (issue 46): each one, once, in index order, from the thread
+/// Where a search hands its evaluations: each one, once, in index order, from the thread
 /// that called Optimiser::Run, as soon as it is made. The search keeps none of them but the last
 /// and the best, so its memory does not grow with the evaluations; whoever wants the history
 /// writes or keeps it here.

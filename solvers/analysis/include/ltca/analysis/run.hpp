@@ -1,5 +1,5 @@
 #pragma once
-// What every analysis reports about its own run (issue 24): one run record, and the spread of a
+// What every analysis reports about its own run: one run record, and the spread of a
 // figure over the positions.
 #include <cstdint>
 #include <limits>
@@ -44,8 +44,8 @@ struct Spread {
   double max = kNaN;
   std::int64_t count = 0;          ///< values added
   std::int64_t in_mean_count = 0;  ///< of those, the ones the mean weighs
-  /// in_mean false: the value repeats a state already added (the last crank of a closed period,
-  /// issue 26); it counts in min and max, not in the mean.
+  /// in_mean false: the value repeats a state already added (the last crank of a closed period);
+  /// it counts in min and max, not in the mean.
   void Add(double v, bool in_mean = true);
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// The slice-count study (issue 11): how the figures of the slice model converge with the number of
+// The slice-count study: how the figures of the slice model converge with the number of
 // face-width slices, and what each slice count costs. `ltca-bench` reports the times beside the
 // errors (docs/performance.md); `ltca validate` reports the convergence (docs/validation.md).
 // Not a timed test.
@@ -26,7 +26,7 @@ std::vector<SliceStudyRow> RunSliceStudy(const StageDesign& design, const std::v
                                          const SolverOptions& options, const std::vector<int>& slice_counts,
                                          int repeats);
 
-/// The unloaded figures of a misaligned deck from its face edges alone (issue 26): the plane pair
+/// The unloaded figures of a misaligned deck from its face edges alone: the plane pair
 /// with the cycloid centre where the tilted axis puts it at face B, and the one at the far face
 /// (AssemblyErrors::SliceShift at z = 0 and z = B added to the centre offset); at each crank the
 /// first contact both ways is the nearer of the two. The gap of a tilted axis is linear along the

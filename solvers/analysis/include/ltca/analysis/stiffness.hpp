@@ -1,5 +1,5 @@
 #pragma once
-// The torque-twist loop of a stage (issue 13, docs/stiffness.md): with the input (crank) locked,
+// The torque-twist loop of a stage (docs/stiffness.md): with the input (crank) locked,
 // the output torque runs from -T to +T and back, T the rated torque (|[load] torque_nm|), and the
 // twist of the output is read at every level. Twist: the cycloid's rotation about its centre in
 // the sense of +T, measured from the theoretical position (= -TE, docs/conventions.md), the
@@ -13,8 +13,8 @@
 // At exactly zero torque the output rests at the first contact of the flank it comes from, so
 // the loop's width there is the backlash of the unloaded analysis (Liu 2021 eq. 17). Without
 // [friction] the loading and unloading branches coincide (no hysteresis), and the result says so
-// with the largest difference found between them. With Coulomb friction (issue 14, review issue
-// 26) the loop is path dependent: after each reversal (+T, -T) the output sticks at the twist it
+// with the largest difference found between them. With Coulomb friction the loop is
+// path dependent: after each reversal (+T, -T) the output sticks at the twist it
 // reached while the torque falls back, until the branch of the other sense (friction resisting
 // that motion) reaches the same twist; only then does the twist move along that branch. The loop
 // closes at -T, and its area (the work friction dissipates per cycle) is the hysteresis.
@@ -35,7 +35,7 @@
 
 namespace ltca::analysis {
 
-/// [stiffness]: the torque-twist loop of `ltca stiffness` (issue 13, docs/stiffness.md). The torque
+/// [stiffness]: the torque-twist loop of `ltca stiffness` (docs/stiffness.md). The torque
 /// runs from -T to +T and back, T = |[load] torque_nm| (the rated torque).
 struct StiffnessSettings {
   static constexpr int kMaxSteps = 10'001;
@@ -95,11 +95,11 @@ struct StiffnessPosition {
   double rigidity_drive = std::numeric_limits<double>::quiet_NaN();  ///< N*mm/rad, secant on the drive flank
   double rigidity_coast = std::numeric_limits<double>::quiet_NaN();  ///< N*mm/rad, secant on the coast flank
   double lost_motion = std::numeric_limits<double>::quiet_NaN();     ///< rad
-  /// Two discs ([second_disc], issue 13): the share of the torque the first disc carries at +T
+  /// Two discs ([second_disc]): the share of the torque the first disc carries at +T
   /// (drive) and at -T (coast), T_1 / T; NaN for one disc or a failed solve.
   double first_disc_share_drive = std::numeric_limits<double>::quiet_NaN();
   double first_disc_share_coast = std::numeric_limits<double>::quiet_NaN();
-  /// A reducer stage (issue 25): the compliance budget at +T, each element group's share of the
+  /// A reducer stage: the compliance budget at +T, each element group's share of the
   /// strain energy (solvers::StageGroup order: mesh, output, bearings, shafts); for linear
   /// elements the share of the twist T psi / 2 = sum of the energies. Empty for the mesh alone,
   /// NaN entries when the solve at +T failed.
@@ -131,8 +131,8 @@ struct StiffnessPosition {
 /// torque y N*m: ..." of the first failed solve.
 struct StiffnessSummary : RunRecord {
   Spread rigidity, rigidity_drive, rigidity_coast, lost_motion, backlash, branch_difference;
-  Spread first_disc_share_drive, first_disc_share_coast;  ///< two discs only (issue 13)
-  std::vector<Spread> compliance_share;  ///< a reducer stage only (issue 25), per group
+  Spread first_disc_share_drive, first_disc_share_coast;  ///< two discs only
+  std::vector<Spread> compliance_share;  ///< a reducer stage only, per group
   Spread hysteresis;                        ///< N*mm*rad per cycle
   Spread stick_end_drive, stick_end_coast;  ///< N*mm, friction only
   /// The loop over the positions: per curve point (the layout of StiffnessPosition::curve), the
@@ -188,7 +188,7 @@ class StiffnessRunner {
   /// The loop at one crank (rad), added to the summary.
   StiffnessPosition Solve(double crank);
   /// Only the lost motion at one crank (rad), added to the summary's lost_motion (and its run
-  /// record): what a tolerance sample needs (issue 27). Without friction the twists at +-f T, two
+  /// record): what a tolerance sample needs. Without friction the twists at +-f T, two
   /// solves. With friction the loop's width at +-f T on both passes and the twists held after the
   /// reversals at -T and +T: the rising pass at -f T is max(branch, held at -T) (the stick after
   /// the reversal holds the twist until the branch of the new sense reaches it, and the branch
@@ -197,7 +197,7 @@ class StiffnessRunner {
   /// and stick-end searches. Fills crank, lost_motion, readoffs (+f T, -f T), solves, failed.
   StiffnessPosition SolveLostMotion(double crank);
   /// Only the free play at one crank (rad), added to the summary's backlash (and its run record):
-  /// the unloaded analysis of a tolerance sample of a reducer stage (issue 28), whose free play
+  /// the unloaded analysis of a tolerance sample of a reducer stage, whose free play
   /// takes up the clearances of every element, not the pin ring's alone. The same first contacts
   /// as Solve's (two solves at +-1e-7 T for a stage, the first-contact rotations for the mesh
   /// alone). Fills crank, first_contact_drive, first_contact_coast, backlash, solves, failed,

@@ -54,7 +54,7 @@ struct PositionResult {
   /// per pin: the axial centroid of its load from face B, mm (NaN when the pin is unloaded)
   std::vector<double> load_centroid;
   int contacts = 0;                     ///< pins above kContactForceFraction of the largest pin force
-  /// Two discs ([second_disc], issue 13): the torque each disc carries, N*mm, signed as T (NaN for
+  /// Two discs ([second_disc]): the torque each disc carries, N*mm, signed as T (NaN for
   /// a failed position); empty for one disc. The per-pin figures above then run over disc 1's pins,
   /// then disc 2's (2 z_p entries).
   std::vector<double> disc_torque;
@@ -65,7 +65,7 @@ struct PositionResult {
 
 /// Figures over the successful positions only; NaN (and contacts -1) when none succeeded. The run
 /// record counts positions with status success and with any other status.
-/// A reducer stage's figures over the successful positions (issue 25): the largest output-pin
+/// A reducer stage's figures over the successful positions: the largest output-pin
 /// force, bearing load and roller load, and each bearing's mean equivalent load over the positions
 /// in the mean (ISO 281's averaging of a load that varies over equal steps, exponent 10/3;
 /// contact/bearing.hpp). Bearings run disc-major: one per disc for output pins (the eccentric
@@ -114,8 +114,8 @@ struct SweepSummary : RunRecord {
   double first_disc_share_max = std::numeric_limits<double>::quiet_NaN();
   SolverStatus status = SolverStatus::kNotSolved;  ///< the worst status over the sweep
   /// The sweep's last crank repeats the state of its first (contact::SameMesh: a whole crank turn,
-  /// or a mesh period of a pair that keeps that symmetry), so the means weight that state once
-  /// (issue 26); the extremes and counts see every position.
+  /// or a mesh period of a pair that keeps that symmetry), so the means weight that state once;
+  /// the extremes and counts see every position.
   bool closed_period = false;
   std::optional<StageSummary> stage;  ///< a reducer stage's figures; none for the mesh alone
   /// A reducer stage's bearing lives (ISO 281, BearingLives) from `stage`'s mean equivalent loads,

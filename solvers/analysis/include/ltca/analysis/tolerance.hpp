@@ -1,5 +1,5 @@
 #pragma once
-// Tolerance analysis (issue 15, docs/tolerance.md): a seeded Monte Carlo over the manufacturing
+// Tolerance analysis (docs/tolerance.md): a seeded Monte Carlo over the manufacturing
 // and assembly errors of [tolerances], and the extreme-value (worst-case) counterpart.
 //
 // Every sample is a pair as made: the deck's [errors] and [modification] values plus the draws of
@@ -11,7 +11,7 @@
 //  - the unloaded TCA over the deck's sweep: mean and peak-to-peak backlash (Liu 2021 eq. 17);
 //  - the loaded TCA over the sweep (ltca solve's summary): mean and peak-to-peak TE, the largest
 //    contact stress and pin force, the pins in contact;
-//  - when asked ([tolerances] lost_motion = true), lost motion at +-f T (issue 13, ltca stiffness).
+//  - when asked ([tolerances] lost_motion = true), lost motion at +-f T (ltca stiffness).
 // MPI stays out of this header (solvers/app/cli/tolerance_mpi.cpp).
 #include <array>
 #include <cstdint>
@@ -73,14 +73,14 @@ struct DimensionChain {
   std::vector<DimensionLink> links;
 };
 
-/// [tolerances]: the Monte Carlo of `ltca tolerance` (issue 15).
+/// [tolerances]: the Monte Carlo of `ltca tolerance`.
 struct ToleranceSettings {
   static constexpr std::int64_t kMaxSamples = 10'000'000;
   std::vector<ToleranceDistribution> distributions;  ///< in the order of ToleranceKeys()
   std::int64_t samples = 1000;   ///< 1 .. kMaxSamples
   std::uint64_t seed = 1;        ///< of the counter-based stream: sample i depends on (seed, i) only
-  bool lost_motion = false;      ///< also run lost motion (issue 13) per sample
-  /// A reducer stage only (issue 28): solve its free play per sample (the backlash figures; two
+  bool lost_motion = false;      ///< also run lost motion per sample
+  /// A reducer stage only: solve its free play per sample (the backlash figures; two
   /// stage solves a crank). `ltca tolerance` always does; `ltca optimise` only when the objective
   /// or a constraint names a backlash figure, else they are null (NaN).
   bool stage_free_play = true;
@@ -100,7 +100,7 @@ struct ToleranceSettings {
   /// Throws std::invalid_argument naming the key, the value and what is expected.
   void Validate() const;
 };
-// --- end of issue 15's [tolerances] ----------------------------------------------------------------
+// --- end of [tolerances] --------------------------------------------------------------------------
 
 /// The nominal case a study varies: the stage as the deck gives it, and what every sample runs.
 struct ToleranceCase {
@@ -114,7 +114,7 @@ struct ToleranceCase {
 
 /// The figures of a sample, in the order of ToleranceSettings::FigureNames(), in the units their
 /// names carry (arcsec, MPa, N, arcmin; contacts as counts).
-/// The last three are a reducer stage's (issue 28; `ltca solve`'s stage summary): the largest
+/// The last three are a reducer stage's (`ltca solve`'s stage summary): the largest
 /// output-pin force (output pins only), the largest bearing load and the shortest ISO 281 life
 /// of its bearings in hours (NaN without [bearing] dynamic_load_rating_n or [operation]).
 inline constexpr std::size_t kToleranceFigureCount = 12;
@@ -124,7 +124,7 @@ enum ToleranceFigure : std::size_t {
   kContactsMin, kContactsMax, kLostMotionArcmin, kMaxOutputPinForceN, kMaxBearingLoadN, kShortestL10Hours
 };
 
-/// Whether a design has the figure: every figure but a reducer stage's (issue 28); those only with
+/// Whether a design has the figure: every figure but a reducer stage's; those only with
 /// [output], the output pins' force only with output pins. Lost motion is the settings' matter.
 bool StageHasFigure(const std::optional<solvers::StageSettings>& reducer, std::size_t figure);
 
@@ -158,7 +158,7 @@ struct ToleranceInput {
   std::string name;          ///< "pin_circle_deviation_mm" or "pin_radius_deviations_mm[7]" (pin 7, 1-based)
   std::size_t distribution;  ///< index into ToleranceSettings::distributions
   int pin = -1;              ///< 0-based pin of a per-pin key, -1 for a scalar key
-  /// With [second_disc] (issue 27): 1 for the second disc's own draw of a disc key (its name ends
+  /// With [second_disc]: 1 for the second disc's own draw of a disc key (its name ends
   /// " (disc 2)"), else 0 (the first disc's, or the pin ring's, which both discs share).
   int disc = 0;
 };
