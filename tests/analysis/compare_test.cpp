@@ -16,6 +16,7 @@
 #include "ltca/analysis/stage.hpp"
 #include "ltca/analysis/sweep.hpp"
 #include "ltca/geometry/units.hpp"
+#include "designs.hpp"
 
 namespace {
 
@@ -29,21 +30,7 @@ constexpr double kCompareTorque = 206'000.0;  ///< N*mm: Liu 2021 section 5.2's 
 
 /// Liu 2021 Table 1 with section 5.2's base modification, steel; two discs: a second disc half a
 /// crank turn on, 5 um ahead along the pin circle.
-StageDesign ComparedLiu52(bool two_discs) {
-  StageDesign d;
-  d.name = "Liu 2021 Table 1, section 5.2 base modification";
-  d.pair = {40, 39, 3.0, 64.0, 1.3, 12.0};
-  d.modification.pin_radius = -0.004;
-  d.modification.pin_circle_radius = -0.017;
-  d.material = ltca::contact::Material{};
-  if (two_discs) {
-    ltca::analysis::SecondDisc second;
-    second.modification = d.modification;
-    second.indexing_deviation = 0.005;
-    d.second_disc = second;
-  }
-  return d;
-}
+StageDesign ComparedLiu52(bool two_discs) { return two_discs ? ltca::test::SteelLiu52TwoDiscs() : ltca::test::SteelLiu52(); }
 
 /// Each solver's positions over the stage's cranks, run alone.
 std::vector<PositionResult> RunAlone(const Stage& stage, const std::string& name, ltca::analysis::SweepSummary* summary) {

@@ -5,26 +5,34 @@
 
 namespace ltca::test {
 
-/// Liu 2021 Table 1 (40 pins, R_p 64 mm, r_rp 3 mm, e 1.3 mm, B 12 mm) with section 5.2's base
-/// modification (dR_rp -4 um, dR_p -17 um): clearance at every pin; steel.
-inline analysis::StageDesign SteelLiu52() {
+/// Liu 2021 Table 1 (40 pins, R_p 64 mm, r_rp 3 mm, e 1.3 mm, B 12 mm) unmodified; steel.
+inline analysis::StageDesign SteelLiuTable1() {
   analysis::StageDesign d;
-  d.name = "Liu 2021 Table 1, section 5.2 base modification";
+  d.name = "Liu 2021 Table 1";
   d.pair = {40, 39, 3.0, 64.0, 1.3, 12.0};
-  d.modification.pin_radius = -0.004;
-  d.modification.pin_circle_radius = -0.017;
   d.material = contact::Material{};
   return d;
 }
 
-/// The same pair with a second disc half a crank turn on, 5 um ahead along the pin circle.
-inline analysis::StageDesign SteelLiu52TwoDiscs() {
-  analysis::StageDesign d = SteelLiu52();
+/// The pair with section 5.2's base modification (dR_rp -4 um, dR_p -17 um): clearance at every pin.
+inline analysis::StageDesign SteelLiu52() {
+  analysis::StageDesign d = SteelLiuTable1();
+  d.name = "Liu 2021 Table 1, section 5.2 base modification";
+  d.modification.pin_radius = -0.004;
+  d.modification.pin_circle_radius = -0.017;
+  return d;
+}
+
+/// A design with a second disc of the same modification added half a crank turn on, 5 um ahead
+/// along the pin circle.
+inline analysis::StageDesign WithSecondDisc(analysis::StageDesign d) {
   analysis::SecondDisc second;
   second.modification = d.modification;
   second.indexing_deviation = 0.005;
   d.second_disc = second;
   return d;
 }
+
+inline analysis::StageDesign SteelLiu52TwoDiscs() { return WithSecondDisc(SteelLiu52()); }
 
 }  // namespace ltca::test

@@ -15,6 +15,7 @@
 #include "ltca/analysis/stage.hpp"
 #include "ltca/analysis/sweep.hpp"
 #include "ltca/geometry/units.hpp"
+#include "designs.hpp"
 
 namespace {
 
@@ -25,14 +26,7 @@ using analysis::DesignEvaluation;
 /// output over 0 .. 9 deg crank in 3 positions.
 analysis::ToleranceCase LiuTable1(bool two_discs) {
   analysis::ToleranceCase c;
-  c.design.name = "Liu 2021 Table 1";
-  c.design.pair = {40, 39, 3.0, 64.0, 1.3, 12.0};
-  c.design.material = ltca::contact::Material{};
-  if (two_discs) {
-    analysis::SecondDisc second;
-    second.indexing_deviation = 0.005;  // mm
-    c.design.second_disc = second;
-  }
+  c.design = two_discs ? ltca::test::WithSecondDisc(ltca::test::SteelLiuTable1()) : ltca::test::SteelLiuTable1();
   c.sweep.crank_end = ltca::units::DegToRad(9.0);
   c.sweep.positions = 3;
   c.torque = 100'000.0;  // N*mm

@@ -19,6 +19,7 @@
 #include "ltca/analysis/tolerance.hpp"
 #include "ltca/analysis/tolerance_run.hpp"
 #include "ltca/geometry/units.hpp"
+#include "designs.hpp"
 
 namespace {
 
@@ -29,17 +30,7 @@ using analysis::ToleranceSample;
 /// modification (dR_rp -4 um, dR_p -17 um), steel, 100 N*m on the output over 0 .. 9 deg crank.
 analysis::ToleranceCase TolerancedLiu52(bool two_discs) {
   analysis::ToleranceCase c;
-  c.design.name = "Liu 2021 Table 1, section 5.2 base modification";
-  c.design.pair = {40, 39, 3.0, 64.0, 1.3, 12.0};
-  c.design.modification.pin_radius = -0.004;
-  c.design.modification.pin_circle_radius = -0.017;
-  c.design.material = ltca::contact::Material{};
-  if (two_discs) {
-    analysis::SecondDisc second;
-    second.modification = c.design.modification;
-    second.indexing_deviation = 0.005;  // mm
-    c.design.second_disc = second;
-  }
+  c.design = two_discs ? ltca::test::SteelLiu52TwoDiscs() : ltca::test::SteelLiu52();
   c.sweep.crank_start = 0.0;
   c.sweep.crank_end = ltca::units::DegToRad(9.0);
   c.sweep.positions = 4;
