@@ -454,71 +454,111 @@ std::string OptimiseHtml(const ReportOptimisation& opt) {
   return html + InlineSvgText(opt.svg, "optimise");
 }
 
+/// The report's folder while it is built. The page and its files are written into a fresh folder
+/// beside DIR (mkdtemp, with the permissions of the folder it replaces, or of a new folder) and put
+/// in place of DIR when complete (with the run's other outputs): a failure or Ctrl-C leaves DIR as
+/// it was. DIR is replaced whole, so it must be new, empty, a report's (the marker file) or given up
+/// (--force). The folder itself: its links followed (a report through a link replaces where it
+/// points, as a file output is written through one), "out/", "out/." and "./out" all the folder out.
+class ReportFolder {
+ public:
+  /// Checks the target (std::invalid_argument or OutputError naming -o), makes the staging folder
+  /// and writes the marker into it; from here until Commit() the outputs go straight into it.
+  ReportFolder(const ReportOptions& options, const Streams& streams) : run_(OutputTransaction::Current()) {
+    const std::string& out_dir = options.out_dir;
+    target_ = [&] {
+      fs::path t = OutputTarget(out_dir);
+      std::error_code e;
+      t = fs::absolute(t, e).lexically_normal();
+      while (!t.empty() && t.filename().empty() && t.has_parent_path() && t != t.root_path()) t = t.parent_path();
+      return t;
+    }();
+    if (target_ == target_.root_path()) throw std::invalid_argument(fmt::format("-o {}: expected a folder other than the root", out_dir));
+    std::error_code ec;
+    const fs::file_status status = fs::status(target_, ec);
+    if (fs::exists(status) && !fs::is_directory(status)) {
+      throw OutputError(fmt::format("-o {}: is a file; expected a folder (new, empty, or an earlier report's)", out_dir));
+    }
+    if (fs::is_directory(status) && !fs::is_empty(target_, ec) && !fs::exists(target_ / kReportMarker) && !options.force) {
+      throw std::invalid_argument(fmt::format(
+          "-o {}: the folder holds files that ltca report did not write (no {} in it), and a report replaces the whole "
+          "folder; give a new or empty folder, or --force to replace it",
+          out_dir, kReportMarker));
+    }
+    if (run_ != nullptr) run_->OpenOutput("-o", target_);  // no input of the run (the deck, a trace) inside it
+    const fs::path parent = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+    fs::create_directories(parent, ec);
+    if (!fs::is_directory(parent)) {
+      throw OutputError(fmt::format("-o {}: cannot create the folder '{}'{}", out_dir, parent.string(), ec ? ": " + ec.message() : ""));
+    }
+    std::string staging = (parent / ".ltca-new-XXXXXX").string();
+    errno = 0;
+    if (mkdtemp(staging.data()) == nullptr) {
+      throw OutputError(fmt::format("-o {}: cannot write in the folder '{}': {}", out_dir, parent.string(), std::strerror(errno)));
+    }
+    RegisterTemporary(staging);
+    {  // the permissions of the folder it replaces, or of a new folder (mkdtemp makes 0700)
+      const mode_t mask = umask(0);
+      umask(mask);
+      struct stat existing {};
+      chmod(staging.c_str(), stat(target_.c_str(), &existing) == 0 ? existing.st_mode & 07777 : 0777 & ~mask);
+    }
+    guard_.path = staging;
+    direct_.emplace();  // the files below go straight into the private folder
+    WriteTo("-o", File(kReportMarker), streams.out, [](std::ostream& os) {
+      os << "Written by ltca report. `ltca report -o` may replace this folder whole.\n";
+    });
+  }
+  ReportFolder(const ReportFolder&) = delete;
+  ReportFolder& operator=(const ReportFolder&) = delete;
+
+  /// The path of the file `name` in the staging folder.
+  std::string File(const char* name) const { return (fs::path(guard_.path) / name).string(); }
+  /// DIR, absolute and normalised.
+  const fs::path& target() const { return target_; }
+  /// Whether the folder goes in place with the run's outputs (else Commit() put it in place).
+  bool handed_to_run() const { return run_ != nullptr; }
+  /// Puts the complete folder in place of DIR: handed to the run's outputs, or in place now when
+  /// there is no run; under mpirun the first rank's alone (every other rank's is removed).
+  void Commit() {
+    guard_.handed = true;
+    if (!IsFirstRank()) {
+      guard_.handed = false;
+    } else if (run_ != nullptr) {
+      run_->StageFolder("-o", guard_.path, target_.string());
+    } else {
+      OutputTransaction::Direct none;
+      OutputTransaction local;
+      local.StageFolder("-o", guard_.path, target_.string());
+      local.CommitAll();
+    }
+  }
+
+ private:
+  struct Staging {  // removed on every way out until it is handed to the run's outputs
+    std::string path;
+    bool handed = false;
+    ~Staging() {
+      if (handed || path.empty()) return;
+      std::error_code e;
+      fs::remove_all(path, e);
+      ForgetTemporary(path);
+    }
+  };
+  OutputTransaction* run_;
+  fs::path target_;
+  Staging guard_;
+  std::optional<OutputTransaction::Direct> direct_;
+};
+
 }  // namespace
 
 int RunReport(const app::Deck& given, const ReportOptions& options, const Streams& streams) {
   // Every analysis of the page runs with --kinematics when given (the deck's otherwise).
   const app::Deck deck = DeckFor(given, options.kinematics);
   if (options.out_dir.empty()) throw std::invalid_argument("report: -o DIR: expected the folder to write index.html into");
-  // The page and its files are built in a fresh folder beside DIR and put in place of DIR when
-  // complete (with the run's other outputs): a failure or Ctrl-C leaves DIR as it was. DIR is
-  // replaced whole, so it must be new, empty, a report's (the marker file) or given up (--force).
-  // The folder itself: its links followed (a report through a link replaces where it points, as
-  // a file output is written through one), "out/", "out/." and "./out" all the folder out.
-  const fs::path target = [&] {
-    fs::path t = OutputTarget(options.out_dir);
-    std::error_code e;
-    t = fs::absolute(t, e).lexically_normal();
-    while (!t.empty() && t.filename().empty() && t.has_parent_path() && t != t.root_path()) t = t.parent_path();
-    return t;
-  }();
-  if (target == target.root_path()) throw std::invalid_argument(fmt::format("-o {}: expected a folder other than the root", options.out_dir));
-  std::error_code ec;
-  const fs::file_status status = fs::status(target, ec);
-  if (fs::exists(status) && !fs::is_directory(status)) {
-    throw OutputError(fmt::format("-o {}: is a file; expected a folder (new, empty, or an earlier report's)", options.out_dir));
-  }
-  if (fs::is_directory(status) && !fs::is_empty(target, ec) && !fs::exists(target / kReportMarker) && !options.force) {
-    throw std::invalid_argument(fmt::format(
-        "-o {}: the folder holds files that ltca report did not write (no {} in it), and a report replaces the whole "
-        "folder; give a new or empty folder, or --force to replace it",
-        options.out_dir, kReportMarker));
-  }
-  OutputTransaction* const run = OutputTransaction::Current();
-  if (run != nullptr) run->OpenOutput("-o", target);  // no input of the run (the deck, a trace) inside it
-  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  fs::create_directories(parent, ec);
-  if (!fs::is_directory(parent)) {
-    throw OutputError(fmt::format("-o {}: cannot create the folder '{}'{}", options.out_dir, parent.string(), ec ? ": " + ec.message() : ""));
-  }
-  std::string staging = (parent / ".ltca-new-XXXXXX").string();
-  errno = 0;
-  if (mkdtemp(staging.data()) == nullptr) {
-    throw OutputError(fmt::format("-o {}: cannot write in the folder '{}': {}", options.out_dir, parent.string(), std::strerror(errno)));
-  }
-  RegisterTemporary(staging);
-  {  // the permissions of the folder it replaces, or of a new folder (mkdtemp makes 0700)
-    const mode_t mask = umask(0);
-    umask(mask);
-    struct stat existing {};
-    chmod(staging.c_str(), stat(target.c_str(), &existing) == 0 ? existing.st_mode & 07777 : 0777 & ~mask);
-  }
-  struct Staging {  // removed on every way out until it is handed to the run's outputs
-    std::string path;
-    bool handed = false;
-    ~Staging() {
-      if (handed) return;
-      std::error_code e;
-      fs::remove_all(path, e);
-      ForgetTemporary(path);
-    }
-  } guard{staging};
-  const fs::path dir(staging);
-  const OutputTransaction::Direct direct;  // the files below go straight into the private folder
-  WriteTo("-o", (dir / kReportMarker).string(), streams.out, [](std::ostream& os) {
-    os << "Written by ltca report. `ltca report -o` may replace this folder whole.\n";
-  });
-  const auto file = [&dir](const char* name) { return (dir / name).string(); };
+  ReportFolder folder(options, streams);
+  const FileIn file = [&folder](const char* name) { return folder.File(name); };
   // The commands write their documents and figures into DIR; their text goes nowhere.
   std::ostringstream sink;
   const Streams quiet{sink, sink, streams.err, streams.progress};
@@ -776,17 +816,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
                       std::string(tolerance ? ", tolerance.json" : "") + (optimise ? ", optimise.json" : ""),
                       std::isfinite(seconds) ? fmt::format("{:.3g}", seconds) : "n/a");
   WriteTo("-o", file("index.html"), streams.out, [&html](std::ostream& os) { os << html; });
-  guard.handed = true;
-  if (!IsFirstRank()) {  // under mpirun every rank builds the page; the first alone puts it in place
-    guard.handed = false;
-  } else if (run != nullptr) {
-    run->StageFolder("-o", staging, target.string());
-  } else {  // in-process, without a run: in place now
-    OutputTransaction::Direct none;
-    OutputTransaction local;
-    local.StageFolder("-o", staging, target.string());
-    local.CommitAll();
-  }
+  folder.Commit();
   // The page's status is every part's (issue 26: it said the solve's "success" and exited 1 when the
   // loop failed).
   std::string failed;
@@ -797,7 +827,8 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
     failed += fmt::format("{}{}", failed.empty() ? "" : ", ", part);
     if (result == kExitSuccess) result = c;
   }
-  fmt::print(streams.text, "{} {} (case {}, {})\n", run != nullptr ? "writes" : "wrote", (target / "index.html").string(), deck.info.title,
+  fmt::print(streams.text, "{} {} (case {}, {})\n", folder.handed_to_run() ? "writes" : "wrote",
+             (folder.target() / "index.html").string(), deck.info.title,
              failed.empty() ? "every part succeeded" : fmt::format("not every part succeeded: {}; see their sections", failed));
   return result;
 }
