@@ -209,9 +209,6 @@ std::string AllowableRow(const analysis::AllowableRow& row) {
                      margin, verdict, row.pass_fraction ? CellOf(*row.pass_fraction) : "", Html(row.basis));
 }
 
-/// An SVG file inlined into the page: its XML prolog and DOCTYPE dropped, and its element ids
-/// (PLplot's "text-clipping<n>") given the figure's prefix, since one page holds several figures
-/// and an id must be unique in it (else a later figure's text is clipped by an earlier one's).
 /// A figure as SVG text (an error drawing it is an output error, as for a file).
 std::string SvgOf(const app::plots::Figure& figure) {
   std::ostringstream os;
@@ -243,9 +240,6 @@ std::string InlineSvgText(const std::string& svg, const std::string& stem) {
   return out.append(svg, from, std::string::npos);
 }
 
-/// Where the report writes a file of its folder: the name's path in the staging folder.
-using FileIn = std::function<std::string(const char*)>;
-
 /// The report's tolerance study: its study and result (rank 0 holds the summary) and its figure
 /// as SVG text for the page.
 struct ReportTolerance {
@@ -263,35 +257,6 @@ struct ReportTolerance {
     return nullptr;
   }
 };
-
-/// The study as `ltca tolerance` runs it, in this process: the deck's samples (or --samples) on
-/// the report's threads and, under mpirun, its ranks; tolerance.json and tolerance.svg written by
-/// the command's builders (rank 0).
-void RunToleranceForReport(ReportTolerance& tol, const app::Deck& deck, const solvers::SolverOptions& solver,
-                           const ReportOptions& options, const Streams& quiet, const Streams& streams, const FileIn& file) {
-  const analysis::ToleranceSettings settings = documents::ToleranceSettingsFor(deck, options.samples, std::nullopt, false);
-  const int threads = analysis::ResolveThreads(options.threads);
-  tol.study.emplace(deck.MakeToleranceCase(), solver, settings);
-  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
-  FailTogether(farm.get(), streams.err, [&]() -> int {
-    const bool root = !farm || farm->rank() == 0;
-    analysis::ToleranceRunPlan plan;
-    plan.threads = threads;
-    plan.ranks = farm.get();
-    plan.worst_case = !options.no_worst_case;
-    std::ostringstream unseen;  // the estimate, which the page does not show
-    ToleranceProgressLines progress(quiet, quiet.progress && root, unseen, 2.0, threads, farm && farm->size() > 1, plan.worst_case);
-    plan.progress = &progress;
-    tol.result = analysis::RunToleranceStudy(*tol.study, plan);
-    return kExitSuccess;
-  });
-  if (tol.root()) {
-    WriteTo("-o", file("tolerance.json"), streams.out,
-            [&](std::ostream& os) { os << Dump(documents::Json(deck, solver, *tol.study, *tol.result)) << '\n'; });
-    tol.svg = SvgOf(documents::Figure(deck, *tol.study, *tol.result));
-    WriteTo("-o", file("tolerance.svg"), streams.out, [&](std::ostream& os) { os << tol.svg; });
-  }
-}
 
 /// The page's tolerance section (rank 0): the counts, the study's notes, the percentiles and the
 /// worst-case corners, the limits' pass fractions, the sensitivity ranking and the histograms.
@@ -354,43 +319,6 @@ struct ReportOptimisation {
   std::string svg;
   bool root() const { return run && optimiser->ranks().rank == 0; }
 };
-
-/// The search as `ltca optimise` runs it, in this process, on the report's threads (and, under
-/// mpirun, its ranks): optimise.json (its history spooled as the search makes it, so that the
-/// page's memory does not grow with the evaluations) and optimise.svg by the command's builders.
-void RunOptimiseForReport(ReportOptimisation& opt, const app::Deck& deck, const solvers::SolverOptions& solver,
-                          const ReportOptions& options, const Streams& streams, const FileIn& file) {
-  const analysis::OptimiseSettings settings = documents::OptimiseSettingsFor(deck, std::nullopt);
-  const int threads = analysis::ResolveThreads(options.threads);
-  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
-  FailTogether(farm.get(), streams.err, [&]() -> int {
-    opt.optimiser.emplace(deck.MakeToleranceCase(), solver, settings, threads, RankGroupOf(farm.get()));
-    const bool root = opt.optimiser->ranks().rank == 0;
-    const analysis::OptimiseSettings& s = opt.optimiser->settings();
-    std::unique_ptr<Spool> history;
-    if (root) history = std::make_unique<Spool>("-o", file("optimise.json"));
-    documents::OptimiseSeries series(s, false);
-    analysis::OptimiseRunPlan plan;
-    plan.sink = [&](const analysis::DesignEvaluation& e) {
-      if (history) {
-        history->stream() << documents::HistoryItem(s, e);
-        history->Check();
-      }
-      series.Add(e);
-    };
-    opt.run = analysis::RunOptimisation(*opt.optimiser, plan);
-    if (root) {
-      WriteTo("-o", file("optimise.json"), streams.out, [&](std::ostream& os) {
-        documents::WriteOptimiseJson(os, documents::OptimiseJsonHead(deck, solver, s, *opt.run),
-                                     [&](std::ostream& items) { history->CopyTo(items); }, s, *opt.run);
-      });
-      history.reset();
-      opt.svg = SvgOf(documents::Figure(deck, s, *opt.run, series));
-      WriteTo("-o", file("optimise.svg"), streams.out, [&](std::ostream& os) { os << opt.svg; });
-    }
-    return kExitSuccess;
-  });
-}
 
 /// The page's optimisation section (rank 0): the objective and the rule, the phases, the variables
 /// with the optimum, the optimum's objective and constraints judged, the convergence figure.
@@ -553,9 +481,9 @@ struct ReportContext {
   const ReportOptions& options;
   const Streams& streams;
   const Streams& quiet;  ///< for the analyses whose text the page does not show
-  FileIn file;
-  ReportContext(const app::Deck& d, const ReportOptions& o, const Streams& s, const Streams& q, FileIn f)
-      : deck(d), options(o), streams(s), quiet(q), file(std::move(f)) {}
+  const ReportFolder& folder;  ///< where each analysis writes its files
+  ReportContext(const app::Deck& d, const ReportOptions& o, const Streams& s, const Streams& q, const ReportFolder& f)
+      : deck(d), options(o), streams(s), quiet(q), folder(f) {}
   solvers::SolverOptions solver;  ///< SolverFor(deck, --solver), set by the loaded sweep
   nlohmann::json geometry_json;
   std::string geometry_svg;
@@ -613,9 +541,9 @@ int RunGeometry(ReportContext& ctx) {
   const app::Deck& deck = ctx.deck;
   const geometry::RealPair real = deck.MakeRealPair();
   ctx.geometry_json = documents::Json(deck, real);
-  WriteTo("-o", ctx.file("geometry.json"), ctx.streams.out, [&](std::ostream& os) { os << Dump(ctx.geometry_json) << '\n'; });
+  WriteTo("-o", ctx.folder.File("geometry.json"), ctx.streams.out, [&](std::ostream& os) { os << Dump(ctx.geometry_json) << '\n'; });
   ctx.geometry_svg = SvgOf(documents::Figure(deck, real, deck.MakeModel().Evaluate(0.0), GeometryOptions{}.samples_per_flank));
-  WriteTo("-o", ctx.file("geometry.svg"), ctx.streams.out, [&](std::ostream& os) { os << ctx.geometry_svg; });
+  WriteTo("-o", ctx.folder.File("geometry.svg"), ctx.streams.out, [&](std::ostream& os) { os << ctx.geometry_svg; });
   return kExitSuccess;
 }
 
@@ -638,7 +566,7 @@ int RunLoaded(ReportContext& ctx) {
   const Streams& streams = ctx.streams;
   ctx.solver = SolverFor(deck, ctx.options.solver);
   documents::SolveSeries solve_series(deck.sweep.positions);
-  WriteTo("-o", ctx.file("solve.json"), streams.out, [&](std::ostream& os) {
+  WriteTo("-o", ctx.folder.File("solve.json"), streams.out, [&](std::ostream& os) {
     documents::SolveJsonWriter writer(os, deck, ctx.solver);
     std::int64_t done = 0;
     Progress progress(streams.err, streams.progress, "solving position", deck.sweep.positions);
@@ -655,7 +583,7 @@ int RunLoaded(ReportContext& ctx) {
   });
   const app::SweepSummary& ss = ctx.solved->summary;
   ctx.solve_svg = SvgOf(documents::Figure(deck, ctx.solver, solve_series, ss));
-  WriteTo("-o", ctx.file("solve.svg"), streams.out, [&](std::ostream& os) { os << ctx.solve_svg; });
+  WriteTo("-o", ctx.folder.File("solve.svg"), streams.out, [&](std::ostream& os) { os << ctx.solve_svg; });
   return ss.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
 }
 
@@ -670,7 +598,7 @@ int RunUnloaded(ReportContext& ctx) {
   const app::Deck& deck = ctx.deck;
   const analysis::Stage unloaded(deck, deck.sweep.CrankAngles());
   documents::BacklashSeries backlash_series(unloaded.cranks().size());
-  WriteTo("-o", ctx.file("backlash.json"), ctx.streams.out, [&](std::ostream& os) {
+  WriteTo("-o", ctx.folder.File("backlash.json"), ctx.streams.out, [&](std::ostream& os) {
     documents::BacklashJsonWriter writer(os, deck, deck.kinematics, unloaded.disc_count() == 2);
     ctx.backlash = analysis::Backlash(unloaded, deck.kinematics, [&](const analysis::BacklashPosition& p) {
       writer.Add(p);
@@ -679,11 +607,11 @@ int RunUnloaded(ReportContext& ctx) {
     writer.Finish(deck, *ctx.backlash);
   });
   ctx.backlash_svg = SvgOf(documents::Figure(deck, backlash_series, *ctx.backlash));
-  WriteTo("-o", ctx.file("backlash.svg"), ctx.streams.out, [&](std::ostream& os) { os << ctx.backlash_svg; });
+  WriteTo("-o", ctx.folder.File("backlash.svg"), ctx.streams.out, [&](std::ostream& os) { os << ctx.backlash_svg; });
   const analysis::MeshResult mesh = analysis::MeshAt(deck.MakeModel(), 0.0);
-  WriteTo("-o", ctx.file("mesh.json"), ctx.streams.out, [&](std::ostream& os) { os << Dump(documents::Json(deck, mesh)) << '\n'; });
+  WriteTo("-o", ctx.folder.File("mesh.json"), ctx.streams.out, [&](std::ostream& os) { os << Dump(documents::Json(deck, mesh)) << '\n'; });
   ctx.mesh_svg = SvgOf(documents::Figure(deck, mesh));
-  WriteTo("-o", ctx.file("mesh.svg"), ctx.streams.out, [&](std::ostream& os) { os << ctx.mesh_svg; });
+  WriteTo("-o", ctx.folder.File("mesh.svg"), ctx.streams.out, [&](std::ostream& os) { os << ctx.mesh_svg; });
   return ctx.backlash->summary.failed() == 0 ? kExitSuccess : kExitNotSucceeded;
 }
 
@@ -713,7 +641,7 @@ int RunStiffness(ReportContext& ctx) {
   settings.Validate();
   deck.RequireMaterial();
   analysis::StiffnessRunner runner(deck.MakeStage({0.0}), ctx.solver, settings, deck.RequireLoad().torque, deck.friction);
-  WriteTo("-o", ctx.file("stiffness.json"), streams.out, [&](std::ostream& os) {
+  WriteTo("-o", ctx.folder.File("stiffness.json"), streams.out, [&](std::ostream& os) {
     documents::StiffnessJsonWriter writer(os, deck, ctx.solver, settings, runner.rated_torque());
     Progress progress(streams.err, streams.progress, "stiffness loop at position", static_cast<std::int64_t>(runner.cranks().size()));
     std::int64_t done = 0;
@@ -725,7 +653,7 @@ int RunStiffness(ReportContext& ctx) {
     writer.Finish(*ctx.stiff);
   });
   ctx.stiff_svg = SvgOf(documents::Figure(deck, ctx.solver, *ctx.stiff));
-  WriteTo("-o", ctx.file("stiffness.svg"), streams.out, [&](std::ostream& os) { os << ctx.stiff_svg; });
+  WriteTo("-o", ctx.folder.File("stiffness.svg"), streams.out, [&](std::ostream& os) { os << ctx.stiff_svg; });
   return ctx.stiff->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
 }
 
@@ -751,7 +679,7 @@ int RunEfficiency(ReportContext& ctx) {
   const Streams& streams = ctx.streams;
   analysis::EfficiencyRunner runner(deck.MakeStage(), ctx.solver, deck.RequireLoad().torque, *deck.friction, *deck.operation);
   std::vector<analysis::EfficiencyPosition> kept;  // for the figure, without their contacts
-  WriteTo("-o", ctx.file("efficiency.json"), streams.out, [&](std::ostream& os) {
+  WriteTo("-o", ctx.folder.File("efficiency.json"), streams.out, [&](std::ostream& os) {
     documents::EfficiencyJsonWriter writer(os, deck, ctx.solver, deck.second_disc.has_value());
     const std::vector<double>& cranks = runner.cranks();
     Progress progress(streams.err, streams.progress, "efficiency at position", static_cast<std::int64_t>(cranks.size()));
@@ -767,7 +695,7 @@ int RunEfficiency(ReportContext& ctx) {
     writer.Finish(*ctx.eff);
   });
   ctx.eff_svg = SvgOf(documents::Figure(deck, ctx.solver, kept, *ctx.eff));
-  WriteTo("-o", ctx.file("efficiency.svg"), streams.out, [&](std::ostream& os) { os << ctx.eff_svg; });
+  WriteTo("-o", ctx.folder.File("efficiency.svg"), streams.out, [&](std::ostream& os) { os << ctx.eff_svg; });
   return ctx.eff->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
 }
 
@@ -778,16 +706,78 @@ std::string EfficiencyHtml(const ReportContext& ctx) {
 constexpr const char* kNoTolerances = "the deck has no [tolerances] section";
 constexpr const char* kNoOptimise = "the deck has no [optimise] section";
 
-/// The tolerance study (one disc or two) with the deck's samples on the report's threads.
+/// The study as `ltca tolerance` runs it, in this process: the deck's samples (or --samples) on
+/// the report's threads and, under mpirun, its ranks; tolerance.json and tolerance.svg written by
+/// the command's builders (rank 0).
 int RunTolerance(ReportContext& ctx) {
-  RunToleranceForReport(ctx.tol, ctx.deck, ctx.solver, ctx.options, ctx.quiet, ctx.streams, ctx.file);
-  return !ctx.tol.result || ctx.tol.result->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+  const app::Deck& deck = ctx.deck;
+  const ReportOptions& options = ctx.options;
+  const Streams& streams = ctx.streams;
+  ReportTolerance& tol = ctx.tol;
+  const analysis::ToleranceSettings settings = documents::ToleranceSettingsFor(deck, options.samples, std::nullopt, false);
+  const int threads = analysis::ResolveThreads(options.threads);
+  tol.study.emplace(deck.MakeToleranceCase(), ctx.solver, settings);
+  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+  FailTogether(farm.get(), streams.err, [&]() -> int {
+    const bool root = !farm || farm->rank() == 0;
+    analysis::ToleranceRunPlan plan;
+    plan.threads = threads;
+    plan.ranks = farm.get();
+    plan.worst_case = !options.no_worst_case;
+    std::ostringstream unseen;  // the estimate, which the page does not show
+    ToleranceProgressLines progress(ctx.quiet, ctx.quiet.progress && root, unseen, 2.0, threads, farm && farm->size() > 1,
+                                    plan.worst_case);
+    plan.progress = &progress;
+    tol.result = analysis::RunToleranceStudy(*tol.study, plan);
+    return kExitSuccess;
+  });
+  if (tol.root()) {
+    WriteTo("-o", ctx.folder.File("tolerance.json"), streams.out,
+            [&](std::ostream& os) { os << Dump(documents::Json(deck, ctx.solver, *tol.study, *tol.result)) << '\n'; });
+    tol.svg = SvgOf(documents::Figure(deck, *tol.study, *tol.result));
+    WriteTo("-o", ctx.folder.File("tolerance.svg"), streams.out, [&](std::ostream& os) { os << tol.svg; });
+  }
+  return !tol.result || tol.result->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
 }
 
-/// The design optimisation, the search as `ltca optimise` runs it, on the report's threads.
+/// The search as `ltca optimise` runs it, in this process, on the report's threads (and, under
+/// mpirun, its ranks): optimise.json (its history spooled as the search makes it, so that the
+/// page's memory does not grow with the evaluations) and optimise.svg by the command's builders.
 int RunOptimise(ReportContext& ctx) {
-  RunOptimiseForReport(ctx.opt, ctx.deck, ctx.solver, ctx.options, ctx.streams, ctx.file);
-  return !ctx.opt.run || ctx.opt.run->best() != nullptr ? kExitSuccess : kExitNotSucceeded;
+  const app::Deck& deck = ctx.deck;
+  const Streams& streams = ctx.streams;
+  ReportOptimisation& opt = ctx.opt;
+  const analysis::OptimiseSettings settings = documents::OptimiseSettingsFor(deck, std::nullopt);
+  const int threads = analysis::ResolveThreads(ctx.options.threads);
+  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+  FailTogether(farm.get(), streams.err, [&]() -> int {
+    opt.optimiser.emplace(deck.MakeToleranceCase(), ctx.solver, settings, threads, RankGroupOf(farm.get()));
+    const bool root = opt.optimiser->ranks().rank == 0;
+    const analysis::OptimiseSettings& s = opt.optimiser->settings();
+    std::unique_ptr<Spool> history;
+    if (root) history = std::make_unique<Spool>("-o", ctx.folder.File("optimise.json"));
+    documents::OptimiseSeries series(s, false);
+    analysis::OptimiseRunPlan plan;
+    plan.sink = [&](const analysis::DesignEvaluation& e) {
+      if (history) {
+        history->stream() << documents::HistoryItem(s, e);
+        history->Check();
+      }
+      series.Add(e);
+    };
+    opt.run = analysis::RunOptimisation(*opt.optimiser, plan);
+    if (root) {
+      WriteTo("-o", ctx.folder.File("optimise.json"), streams.out, [&](std::ostream& os) {
+        documents::WriteOptimiseJson(os, documents::OptimiseJsonHead(deck, ctx.solver, s, *opt.run),
+                                     [&](std::ostream& items) { history->CopyTo(items); }, s, *opt.run);
+      });
+      history.reset();
+      opt.svg = SvgOf(documents::Figure(deck, s, *opt.run, series));
+      WriteTo("-o", ctx.folder.File("optimise.svg"), streams.out, [&](std::ostream& os) { os << opt.svg; });
+    }
+    return kExitSuccess;
+  });
+  return !opt.run || opt.run->best() != nullptr ? kExitSuccess : kExitNotSucceeded;
 }
 
 /// One section of the page: its anchor and title (the contents list), its name in the status line
@@ -873,7 +863,7 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   ReportFolder folder(options, streams);
   std::ostringstream sink;  // the analyses write their documents and figures into DIR; their text goes nowhere
   const Streams quiet{sink, sink, streams.err, streams.progress};
-  ReportContext ctx{deck, options, streams, quiet, [&folder](const char* name) { return folder.File(name); }};
+  ReportContext ctx{deck, options, streams, quiet, folder};
   // Each section's analysis, in the table's order, when the deck asks for it; then the page from
   // their results, section by section.
   const std::vector<ReportSection>& sections = Sections();
