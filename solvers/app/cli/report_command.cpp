@@ -1,3 +1,7 @@
+// `ltca report`: the page's HTML helpers (labels, tables, the inputs, an allowables row, inlined
+// SVG), the tolerance and optimisation sections, ReportFolder (the output folder's safe staging),
+// ReportContext (the results the sections share), the table of sections (Sections(): each one's
+// analysis and HTML) and RunReport, which runs the table's analyses and builds the page from it.
 #include "report_command.hpp"
 
 #include "command.hpp"
@@ -14,7 +18,6 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
-#include <functional>
 #include <limits>
 #include <optional>
 #include <iterator>
