@@ -1,3 +1,7 @@
+// `ltca report`: the page's HTML helpers (labels, tables, the inputs, an allowables row, inlined
+// SVG), the tolerance and optimisation sections, ReportFolder (the output folder's safe staging),
+// ReportContext (the results the sections share), the table of sections (Sections(): each one's
+// analysis and HTML) and RunReport, which runs the table's analyses and builds the page from it.
 #include "report_command.hpp"
 
 #include "command.hpp"
@@ -14,7 +18,6 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
-#include <functional>
 #include <limits>
 #include <optional>
 #include <iterator>
@@ -209,9 +212,6 @@ std::string AllowableRow(const analysis::AllowableRow& row) {
                      margin, verdict, row.pass_fraction ? CellOf(*row.pass_fraction) : "", Html(row.basis));
 }
 
-/// An SVG file inlined into the page: its XML prolog and DOCTYPE dropped, and its element ids
-/// (PLplot's "text-clipping<n>") given the figure's prefix, since one page holds several figures
-/// and an id must be unique in it (else a later figure's text is clipped by an earlier one's).
 /// A figure as SVG text (an error drawing it is an output error, as for a file).
 std::string SvgOf(const app::plots::Figure& figure) {
   std::ostringstream os;
@@ -243,9 +243,6 @@ std::string InlineSvgText(const std::string& svg, const std::string& stem) {
   return out.append(svg, from, std::string::npos);
 }
 
-/// Where the report writes a file of its folder: the name's path in the staging folder.
-using FileIn = std::function<std::string(const char*)>;
-
 /// The report's tolerance study: its study and result (rank 0 holds the summary) and its figure
 /// as SVG text for the page.
 struct ReportTolerance {
@@ -263,38 +260,6 @@ struct ReportTolerance {
     return nullptr;
   }
 };
-
-/// The study as `ltca tolerance` runs it, in this process: the deck's samples (or --samples) on
-/// the report's threads and, under mpirun, its ranks; tolerance.json and tolerance.svg written by
-/// the command's builders (rank 0).
-ReportTolerance RunToleranceForReport(const app::Deck& deck, const solvers::SolverOptions& solver, const ReportOptions& options,
-                                      const Streams& quiet, const Streams& streams, const FileIn& file) {
-  namespace documents = app::documents;
-  ReportTolerance tol;
-  const analysis::ToleranceSettings settings = documents::ToleranceSettingsFor(deck, options.samples, std::nullopt, false);
-  const int threads = analysis::ResolveThreads(options.threads);
-  tol.study.emplace(deck.MakeToleranceCase(), solver, settings);
-  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
-  FailTogether(farm.get(), streams.err, [&]() -> int {
-    const bool root = !farm || farm->rank() == 0;
-    analysis::ToleranceRunPlan plan;
-    plan.threads = threads;
-    plan.ranks = farm.get();
-    plan.worst_case = !options.no_worst_case;
-    std::ostringstream unseen;  // the estimate, which the page does not show
-    ToleranceProgressLines progress(quiet, quiet.progress && root, unseen, 2.0, threads, farm && farm->size() > 1, plan.worst_case);
-    plan.progress = &progress;
-    tol.result = analysis::RunToleranceStudy(*tol.study, plan);
-    return kExitSuccess;
-  });
-  if (tol.root()) {
-    WriteTo("-o", file("tolerance.json"), streams.out,
-            [&](std::ostream& os) { os << Dump(documents::Json(deck, solver, *tol.study, *tol.result)) << '\n'; });
-    tol.svg = SvgOf(documents::Figure(deck, *tol.study, *tol.result));
-    WriteTo("-o", file("tolerance.svg"), streams.out, [&](std::ostream& os) { os << tol.svg; });
-  }
-  return tol;
-}
 
 /// The page's tolerance section (rank 0): the counts, the study's notes, the percentiles and the
 /// worst-case corners, the limits' pass fractions, the sensitivity ranking and the histograms.
@@ -358,46 +323,6 @@ struct ReportOptimisation {
   bool root() const { return run && optimiser->ranks().rank == 0; }
 };
 
-/// The search as `ltca optimise` runs it, in this process, on the report's threads (and, under
-/// mpirun, its ranks): optimise.json (its history spooled as the search makes it, so that the
-/// page's memory does not grow with the evaluations) and optimise.svg by the command's builders.
-ReportOptimisation RunOptimiseForReport(const app::Deck& deck, const solvers::SolverOptions& solver, const ReportOptions& options,
-                                        const Streams& streams, const FileIn& file) {
-  namespace documents = app::documents;
-  ReportOptimisation opt;
-  const analysis::OptimiseSettings settings = documents::OptimiseSettingsFor(deck, std::nullopt);
-  const int threads = analysis::ResolveThreads(options.threads);
-  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
-  FailTogether(farm.get(), streams.err, [&]() -> int {
-    opt.optimiser.emplace(deck.MakeToleranceCase(), solver, settings, threads, RankGroupOf(farm.get()));
-    const bool root = opt.optimiser->ranks().rank == 0;
-    const analysis::OptimiseSettings& s = opt.optimiser->settings();
-    std::unique_ptr<Spool> history;
-    if (root) history = std::make_unique<Spool>("-o", file("optimise.json"));
-    documents::OptimiseSeries series(s, false);
-    analysis::OptimiseRunPlan plan;
-    plan.sink = [&](const analysis::DesignEvaluation& e) {
-      if (history) {
-        history->stream() << documents::HistoryItem(s, e);
-        history->Check();
-      }
-      series.Add(e);
-    };
-    opt.run = analysis::RunOptimisation(*opt.optimiser, plan);
-    if (root) {
-      WriteTo("-o", file("optimise.json"), streams.out, [&](std::ostream& os) {
-        documents::WriteOptimiseJson(os, documents::OptimiseJsonHead(deck, solver, s, *opt.run),
-                                     [&](std::ostream& items) { history->CopyTo(items); }, s, *opt.run);
-      });
-      history.reset();
-      opt.svg = SvgOf(documents::Figure(deck, s, *opt.run, series));
-      WriteTo("-o", file("optimise.svg"), streams.out, [&](std::ostream& os) { os << opt.svg; });
-    }
-    return kExitSuccess;
-  });
-  return opt;
-}
-
 /// The page's optimisation section (rank 0): the objective and the rule, the phases, the variables
 /// with the optimum, the optimum's objective and constraints judged, the convergence figure.
 std::string OptimiseHtml(const ReportOptimisation& opt) {
@@ -454,89 +379,198 @@ std::string OptimiseHtml(const ReportOptimisation& opt) {
   return html + InlineSvgText(opt.svg, "optimise");
 }
 
-}  // namespace
+/// The report's folder while it is built. The page and its files are written into a fresh folder
+/// beside DIR (mkdtemp, with the permissions of the folder it replaces, or of a new folder) and put
+/// in place of DIR when complete (with the run's other outputs): a failure or Ctrl-C leaves DIR as
+/// it was. DIR is replaced whole, so it must be new, empty, a report's (the marker file) or given up
+/// (--force). The folder itself: its links followed (a report through a link replaces where it
+/// points, as a file output is written through one), "out/", "out/." and "./out" all the folder out.
+class ReportFolder {
+ public:
+  /// Checks the target (std::invalid_argument or OutputError naming -o), makes the staging folder
+  /// and writes the marker into it; from here until Commit() the outputs go straight into it.
+  ReportFolder(const ReportOptions& options, const Streams& streams) : run_(OutputTransaction::Current()) {
+    const std::string& out_dir = options.out_dir;
+    target_ = [&] {
+      fs::path t = OutputTarget(out_dir);
+      std::error_code e;
+      t = fs::absolute(t, e).lexically_normal();
+      while (!t.empty() && t.filename().empty() && t.has_parent_path() && t != t.root_path()) t = t.parent_path();
+      return t;
+    }();
+    if (target_ == target_.root_path()) throw std::invalid_argument(fmt::format("-o {}: expected a folder other than the root", out_dir));
+    std::error_code ec;
+    const fs::file_status status = fs::status(target_, ec);
+    if (fs::exists(status) && !fs::is_directory(status)) {
+      throw OutputError(fmt::format("-o {}: is a file; expected a folder (new, empty, or an earlier report's)", out_dir));
+    }
+    if (fs::is_directory(status) && !fs::is_empty(target_, ec) && !fs::exists(target_ / kReportMarker) && !options.force) {
+      throw std::invalid_argument(fmt::format(
+          "-o {}: the folder holds files that ltca report did not write (no {} in it), and a report replaces the whole "
+          "folder; give a new or empty folder, or --force to replace it",
+          out_dir, kReportMarker));
+    }
+    if (run_ != nullptr) run_->OpenOutput("-o", target_);  // no input of the run (the deck, a trace) inside it
+    const fs::path parent = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+    fs::create_directories(parent, ec);
+    if (!fs::is_directory(parent)) {
+      throw OutputError(fmt::format("-o {}: cannot create the folder '{}'{}", out_dir, parent.string(), ec ? ": " + ec.message() : ""));
+    }
+    std::string staging = (parent / ".ltca-new-XXXXXX").string();
+    errno = 0;
+    if (mkdtemp(staging.data()) == nullptr) {
+      throw OutputError(fmt::format("-o {}: cannot write in the folder '{}': {}", out_dir, parent.string(), std::strerror(errno)));
+    }
+    RegisterTemporary(staging);
+    {  // the permissions of the folder it replaces, or of a new folder (mkdtemp makes 0700)
+      const mode_t mask = umask(0);
+      umask(mask);
+      struct stat existing {};
+      chmod(staging.c_str(), stat(target_.c_str(), &existing) == 0 ? existing.st_mode & 07777 : 0777 & ~mask);
+    }
+    guard_.path = staging;
+    direct_.emplace();  // the files below go straight into the private folder
+    WriteTo("-o", File(kReportMarker), streams.out, [](std::ostream& os) {
+      os << "Written by ltca report. `ltca report -o` may replace this folder whole.\n";
+    });
+  }
+  ReportFolder(const ReportFolder&) = delete;
+  ReportFolder& operator=(const ReportFolder&) = delete;
 
-int RunReport(const app::Deck& given, const ReportOptions& options, const Streams& streams) {
-  // Every analysis of the page runs with --kinematics when given (the deck's otherwise).
-  const app::Deck deck = DeckFor(given, options.kinematics);
-  if (options.out_dir.empty()) throw std::invalid_argument("report: -o DIR: expected the folder to write index.html into");
-  // The page and its files are built in a fresh folder beside DIR and put in place of DIR when
-  // complete (with the run's other outputs): a failure or Ctrl-C leaves DIR as it was. DIR is
-  // replaced whole, so it must be new, empty, a report's (the marker file) or given up (--force).
-  // The folder itself: its links followed (a report through a link replaces where it points, as
-  // a file output is written through one), "out/", "out/." and "./out" all the folder out.
-  const fs::path target = [&] {
-    fs::path t = OutputTarget(options.out_dir);
-    std::error_code e;
-    t = fs::absolute(t, e).lexically_normal();
-    while (!t.empty() && t.filename().empty() && t.has_parent_path() && t != t.root_path()) t = t.parent_path();
-    return t;
-  }();
-  if (target == target.root_path()) throw std::invalid_argument(fmt::format("-o {}: expected a folder other than the root", options.out_dir));
-  std::error_code ec;
-  const fs::file_status status = fs::status(target, ec);
-  if (fs::exists(status) && !fs::is_directory(status)) {
-    throw OutputError(fmt::format("-o {}: is a file; expected a folder (new, empty, or an earlier report's)", options.out_dir));
+  /// The path of the file `name` in the staging folder.
+  std::string File(const char* name) const { return (fs::path(guard_.path) / name).string(); }
+  /// DIR, absolute and normalised.
+  const fs::path& target() const { return target_; }
+  /// Whether the folder goes in place with the run's outputs (else Commit() put it in place).
+  bool handed_to_run() const { return run_ != nullptr; }
+  /// Puts the complete folder in place of DIR: handed to the run's outputs, or in place now when
+  /// there is no run; under mpirun the first rank's alone (every other rank's is removed).
+  void Commit() {
+    guard_.handed = true;
+    if (!IsFirstRank()) {
+      guard_.handed = false;
+    } else if (run_ != nullptr) {
+      run_->StageFolder("-o", guard_.path, target_.string());
+    } else {
+      OutputTransaction::Direct none;
+      OutputTransaction local;
+      local.StageFolder("-o", guard_.path, target_.string());
+      local.CommitAll();
+    }
   }
-  if (fs::is_directory(status) && !fs::is_empty(target, ec) && !fs::exists(target / kReportMarker) && !options.force) {
-    throw std::invalid_argument(fmt::format(
-        "-o {}: the folder holds files that ltca report did not write (no {} in it), and a report replaces the whole "
-        "folder; give a new or empty folder, or --force to replace it",
-        options.out_dir, kReportMarker));
-  }
-  OutputTransaction* const run = OutputTransaction::Current();
-  if (run != nullptr) run->OpenOutput("-o", target);  // no input of the run (the deck, a trace) inside it
-  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  fs::create_directories(parent, ec);
-  if (!fs::is_directory(parent)) {
-    throw OutputError(fmt::format("-o {}: cannot create the folder '{}'{}", options.out_dir, parent.string(), ec ? ": " + ec.message() : ""));
-  }
-  std::string staging = (parent / ".ltca-new-XXXXXX").string();
-  errno = 0;
-  if (mkdtemp(staging.data()) == nullptr) {
-    throw OutputError(fmt::format("-o {}: cannot write in the folder '{}': {}", options.out_dir, parent.string(), std::strerror(errno)));
-  }
-  RegisterTemporary(staging);
-  {  // the permissions of the folder it replaces, or of a new folder (mkdtemp makes 0700)
-    const mode_t mask = umask(0);
-    umask(mask);
-    struct stat existing {};
-    chmod(staging.c_str(), stat(target.c_str(), &existing) == 0 ? existing.st_mode & 07777 : 0777 & ~mask);
-  }
+
+ private:
   struct Staging {  // removed on every way out until it is handed to the run's outputs
     std::string path;
     bool handed = false;
     ~Staging() {
-      if (handed) return;
+      if (handed || path.empty()) return;
       std::error_code e;
       fs::remove_all(path, e);
       ForgetTemporary(path);
     }
-  } guard{staging};
-  const fs::path dir(staging);
-  const OutputTransaction::Direct direct;  // the files below go straight into the private folder
-  WriteTo("-o", (dir / kReportMarker).string(), streams.out, [](std::ostream& os) {
-    os << "Written by ltca report. `ltca report -o` may replace this folder whole.\n";
-  });
-  const auto file = [&dir](const char* name) { return (dir / name).string(); };
-  // The commands write their documents and figures into DIR; their text goes nowhere.
-  std::ostringstream sink;
-  const Streams quiet{sink, sink, streams.err, streams.progress};
-  // The derived geometry of the pair as made, and its drawing at crank 0: the documents `ltca
-  // geometry` writes, built in this process, beside the page.
-  const geometry::RealPair real = deck.MakeRealPair();
-  const nlohmann::json geometry_json = documents::Json(deck, real);
-  WriteTo("-o", file("geometry.json"), streams.out, [&](std::ostream& os) { os << Dump(geometry_json) << '\n'; });
-  const std::string geometry_svg =
-      SvgOf(documents::Figure(deck, real, deck.MakeModel().Evaluate(0.0), GeometryOptions{}.samples_per_flank));
-  WriteTo("-o", file("geometry.svg"), streams.out, [&](std::ostream& os) { os << geometry_svg; });
-  // The loaded sweep: its result in this process (app::SolveDeckSweep), its JSON streamed and its
-  // figure drawn by the documents `ltca solve` writes, beside the page.
-  const solvers::SolverOptions solver = SolverFor(deck, options.solver);
-  documents::SolveSeries solve_series(deck.sweep.positions);
+  };
+  OutputTransaction* run_;
+  fs::path target_;
+  Staging guard_;
+  std::optional<OutputTransaction::Direct> direct_;
+};
+
+/// What the report's sections share: the deck, the options and streams, the staging folder's files,
+/// and each analysis's result and figure (SVG text) once its section has run. The allowables are
+/// judged from these results.
+struct ReportContext {
+  const app::Deck& deck;
+  const ReportOptions& options;
+  const Streams& streams;
+  const Streams& quiet;  ///< for the analyses whose text the page does not show
+  const ReportFolder& folder;  ///< where each analysis writes its files
+  ReportContext(const app::Deck& d, const ReportOptions& o, const Streams& s, const Streams& q, const ReportFolder& f)
+      : deck(d), options(o), streams(s), quiet(q), folder(f) {}
+  solvers::SolverOptions solver;  ///< SolverFor(deck, --solver), set by the loaded sweep
+  nlohmann::json geometry_json;
+  std::string geometry_svg;
   std::optional<app::SweepResult> solved;
-  WriteTo("-o", file("solve.json"), streams.out, [&](std::ostream& os) {
-    documents::SolveJsonWriter writer(os, deck, solver);
+  std::string solve_svg;
+  std::optional<analysis::BacklashResult> backlash;
+  std::string backlash_svg;
+  std::string mesh_svg;
+  std::optional<analysis::StiffnessResult> stiff;
+  std::string stiff_svg;
+  std::optional<analysis::EfficiencySummary> eff;
+  std::string eff_svg;
+  ReportTolerance tol;
+  ReportOptimisation opt;
+};
+
+/// The note of a section whose analysis did not run, and why.
+std::string NotRun(const char* why) { return fmt::format("<p class=\"note\">Not run: {}.</p>\n", why); }
+
+std::string InputsHtml(const ReportContext& ctx) {
+  return "<p>Every value of the deck, grouped as the deck is; greyed rows are defaults (the deck does not give them). "
+         "Units are those of the deck's keys.</p>\n" +
+         InputsTable(ctx.deck);
+}
+
+/// The allowables table: analysis::CheckAllowables over the results of the sections that ran.
+std::string AllowablesHtml(const ReportContext& ctx) {
+  std::string html = "<p>Allowables come from the deck: <code>[material] contact_stress_limit_mpa</code> and every "
+                     "<code>[tolerances] limits</code> entry, judged on the nominal deck (and, for the limits, as the Monte "
+                     "Carlo's pass fraction). A figure with no allowable in the deck is listed with its value.</p>\n<table>\n"
+                     "<tr><th>figure</th><th>value</th><th>allowable</th><th>margin</th><th>verdict</th>"
+                     "<th>Monte Carlo pass fraction</th><th>from</th></tr>\n";
+  const app::Deck& deck = ctx.deck;
+  analysis::NominalResults nominal;
+  nominal.reducer = deck.reducer.has_value();
+  nominal.output_pins = deck.reducer && deck.reducer->kind == solvers::OutputKind::kPins;
+  nominal.solve = &ctx.solved->summary;
+  nominal.backlash = &*ctx.backlash;
+  nominal.stiffness = ctx.stiff ? &*ctx.stiff : nullptr;
+  nominal.efficiency = ctx.eff ? &*ctx.eff : nullptr;
+  if (ctx.tol.root()) {
+    nominal.study = &*ctx.tol.study;
+    nominal.tolerance = &*ctx.tol.result;
+  }
+  analysis::Allowables allowables;
+  allowables.contact_stress_limit = deck.RequireMaterial().contact_stress_limit;
+  if (deck.tolerances) allowables.limits = deck.tolerances->limits;
+  for (const analysis::AllowableRow& row : analysis::CheckAllowables(nominal, allowables)) html += AllowableRow(row);
+  return html + "</table>\n";
+}
+
+/// The derived geometry of the pair as made, and its drawing at crank 0: the documents `ltca
+/// geometry` writes, built in this process, beside the page.
+int RunGeometry(ReportContext& ctx) {
+  const app::Deck& deck = ctx.deck;
+  const geometry::RealPair real = deck.MakeRealPair();
+  ctx.geometry_json = documents::Json(deck, real);
+  WriteTo("-o", ctx.folder.File("geometry.json"), ctx.streams.out, [&](std::ostream& os) { os << Dump(ctx.geometry_json) << '\n'; });
+  ctx.geometry_svg = SvgOf(documents::Figure(deck, real, deck.MakeModel().Evaluate(0.0), GeometryOptions{}.samples_per_flank));
+  WriteTo("-o", ctx.folder.File("geometry.svg"), ctx.streams.out, [&](std::ostream& os) { os << ctx.geometry_svg; });
+  return kExitSuccess;
+}
+
+std::string GeometryHtml(const ReportContext& ctx) {
+  const auto& p = ctx.deck.pair;
+  std::string html = "<div class=\"grid\">\n<div>\n<table>\n";
+  html += fmt::format(
+      "<tr><th>z_p (pins)</th><td>{}</td></tr><tr><th>z_c (teeth)</th><td>{}</td></tr><tr><th>r_rp (mm)</th><td>{:g}</td></tr>"
+      "<tr><th>R_p (mm)</th><td>{:g}</td></tr><tr><th>e (mm)</th><td>{:g}</td></tr><tr><th>B_c (mm)</th><td>{:g}</td></tr>\n</table>\n",
+      p.pin_count, p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width);
+  nlohmann::json derived = ctx.geometry_json;
+  derived.erase("case");
+  return html + Table(derived) + "</div>\n<div>" + InlineSvgText(ctx.geometry_svg, "geometry") + "</div>\n</div>\n";
+}
+
+/// The loaded sweep: its result in this process (app::SolveDeckSweep), its JSON streamed and its
+/// figure drawn by the documents `ltca solve` writes, beside the page.
+int RunLoaded(ReportContext& ctx) {
+  const app::Deck& deck = ctx.deck;
+  const Streams& streams = ctx.streams;
+  ctx.solver = SolverFor(deck, ctx.options.solver);
+  documents::SolveSeries solve_series(deck.sweep.positions);
+  WriteTo("-o", ctx.folder.File("solve.json"), streams.out, [&](std::ostream& os) {
+    documents::SolveJsonWriter writer(os, deck, ctx.solver);
     std::int64_t done = 0;
     Progress progress(streams.err, streams.progress, "solving position", deck.sweep.positions);
     app::SweepCallbacks callbacks;
@@ -546,122 +580,254 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
       solve_series.Add(p);
       progress.Update(++done);
     };
-    solved = app::SolveDeckSweep(deck, solver, callbacks);
+    ctx.solved = app::SolveDeckSweep(deck, ctx.solver, callbacks);
     progress.Finish();
-    writer.Finish(deck, solved->summary);
+    writer.Finish(deck, ctx.solved->summary);
   });
-  const app::SweepSummary& ss = solved->summary;
-  const std::string solve_svg = SvgOf(documents::Figure(deck, solver, solve_series, ss));
-  WriteTo("-o", file("solve.svg"), streams.out, [&](std::ostream& os) { os << solve_svg; });
-  const int code = ss.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
-  // The unloaded backlash: its result in this process (analysis::Backlash), its JSON streamed and
-  // its figure drawn by the documents `ltca backlash` writes, beside the page.
+  const app::SweepSummary& ss = ctx.solved->summary;
+  ctx.solve_svg = SvgOf(documents::Figure(deck, ctx.solver, solve_series, ss));
+  WriteTo("-o", ctx.folder.File("solve.svg"), streams.out, [&](std::ostream& os) { os << ctx.solve_svg; });
+  return ss.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+}
+
+std::string LoadedHtml(const ReportContext& ctx) {
+  return Table(documents::Json(ctx.deck, ctx.solved->summary)) + InlineSvgText(ctx.solve_svg, "solve");
+}
+
+/// The unloaded backlash (analysis::Backlash) and the mesh state at crank 0 (analysis::MeshAt):
+/// their results in this process, their JSON and figures by the documents `ltca backlash` and
+/// `ltca mesh` write, beside the page. Its status is the backlash's.
+int RunUnloaded(ReportContext& ctx) {
+  const app::Deck& deck = ctx.deck;
   const analysis::Stage unloaded(deck, deck.sweep.CrankAngles());
   documents::BacklashSeries backlash_series(unloaded.cranks().size());
-  std::optional<analysis::BacklashResult> backlash;
-  WriteTo("-o", file("backlash.json"), streams.out, [&](std::ostream& os) {
+  WriteTo("-o", ctx.folder.File("backlash.json"), ctx.streams.out, [&](std::ostream& os) {
     documents::BacklashJsonWriter writer(os, deck, deck.kinematics, unloaded.disc_count() == 2);
-    backlash = analysis::Backlash(unloaded, deck.kinematics, [&](const analysis::BacklashPosition& p) {
+    ctx.backlash = analysis::Backlash(unloaded, deck.kinematics, [&](const analysis::BacklashPosition& p) {
       writer.Add(p);
       backlash_series.Add(p);
     });
-    writer.Finish(deck, *backlash);
+    writer.Finish(deck, *ctx.backlash);
   });
-  const std::string backlash_svg = SvgOf(documents::Figure(deck, backlash_series, *backlash));
-  WriteTo("-o", file("backlash.svg"), streams.out, [&](std::ostream& os) { os << backlash_svg; });
-  const int backlash_code = backlash->summary.failed() == 0 ? kExitSuccess : kExitNotSucceeded;
-  // The mesh state at crank 0: its result in this process, its JSON and figure by the documents
-  // `ltca mesh` writes, beside the page.
+  ctx.backlash_svg = SvgOf(documents::Figure(deck, backlash_series, *ctx.backlash));
+  WriteTo("-o", ctx.folder.File("backlash.svg"), ctx.streams.out, [&](std::ostream& os) { os << ctx.backlash_svg; });
   const analysis::MeshResult mesh = analysis::MeshAt(deck.MakeModel(), 0.0);
-  WriteTo("-o", file("mesh.json"), streams.out, [&](std::ostream& os) { os << Dump(documents::Json(deck, mesh)) << '\n'; });
-  const std::string mesh_svg = SvgOf(documents::Figure(deck, mesh));
-  WriteTo("-o", file("mesh.svg"), streams.out, [&](std::ostream& os) { os << mesh_svg; });
-  // The torque-twist loop at crank 0 (the deck's [stiffness] steps): its result in this process
-  // (analysis::StiffnessRunner), its JSON streamed and its figure drawn by the documents `ltca
-  // stiffness` writes, beside the page. None at zero torque, where there is no rated torque to run
-  // the loop to.
-  const bool loop = deck.RequireLoad().torque != 0.0;
-  std::optional<analysis::StiffnessResult> stiff;
-  std::string stiff_svg;
-  if (loop) {
-    app::StiffnessSettings settings = deck.stiffness;
-    settings.crank = 0.0;
-    settings.Validate();
-    deck.RequireMaterial();
-    analysis::StiffnessRunner runner(deck.MakeStage({0.0}), solver, settings, deck.RequireLoad().torque, deck.friction);
-    WriteTo("-o", file("stiffness.json"), streams.out, [&](std::ostream& os) {
-      documents::StiffnessJsonWriter writer(os, deck, solver, settings, runner.rated_torque());
-      Progress progress(streams.err, streams.progress, "stiffness loop at position",
-                        static_cast<std::int64_t>(runner.cranks().size()));
-      std::int64_t done = 0;
-      stiff = runner.Run([&](const analysis::StiffnessPosition& p) {
-        writer.Add(p);
-        progress.Update(++done);
-      });
-      progress.Finish();
-      writer.Finish(*stiff);
-    });
-    stiff_svg = SvgOf(documents::Figure(deck, solver, *stiff));
-    WriteTo("-o", file("stiffness.svg"), streams.out, [&](std::ostream& os) { os << stiff_svg; });
-  }
-  const int loop_code = !stiff || stiff->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
-  // Efficiency when the deck carries [friction] and [operation] and a torque (one disc or two): its
-  // result in this process (analysis::EfficiencyRunner over the deck's sweep), its JSON streamed and
-  // its figure drawn by the documents `ltca efficiency` writes, beside the page.
-  const bool efficiency = deck.friction && deck.operation && deck.RequireLoad().torque != 0.0;
-  std::optional<analysis::EfficiencySummary> eff;
-  std::string eff_svg;
-  if (efficiency) {
-    analysis::EfficiencyRunner runner(deck.MakeStage(), solver, deck.RequireLoad().torque, *deck.friction, *deck.operation);
-    std::vector<analysis::EfficiencyPosition> kept;  // for the figure, without their contacts
-    WriteTo("-o", file("efficiency.json"), streams.out, [&](std::ostream& os) {
-      documents::EfficiencyJsonWriter writer(os, deck, solver, deck.second_disc.has_value());
-      const std::vector<double>& cranks = runner.cranks();
-      Progress progress(streams.err, streams.progress, "efficiency at position", static_cast<std::int64_t>(cranks.size()));
-      for (std::size_t i = 0; i < cranks.size(); ++i) {
-        analysis::EfficiencyPosition p = runner.Solve(cranks[i]);
-        writer.Add(p);
-        p.contacts.clear();
-        kept.push_back(std::move(p));
-        progress.Update(static_cast<std::int64_t>(i + 1));
-      }
-      progress.Finish();
-      eff = runner.Summary();
-      writer.Finish(*eff);
-    });
-    eff_svg = SvgOf(documents::Figure(deck, solver, kept, *eff));
-    WriteTo("-o", file("efficiency.svg"), streams.out, [&](std::ostream& os) { os << eff_svg; });
-  }
-  const int eff_code = !eff || eff->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
-  // Tolerances (issue 15) when the deck carries [tolerances], with the deck's samples on every
-  // hardware thread; two discs too (issue 27).
-  const bool tolerance = deck.tolerances.has_value();
-  const ReportTolerance tol = tolerance ? RunToleranceForReport(deck, solver, options, quiet, streams, file) : ReportTolerance{};
-  const int tol_code = !tol.result || tol.result->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
-  // Design optimisation (issue 28) when the deck carries [optimise]: the search as `ltca optimise`
-  // runs it, on the report's threads.
-  const bool optimise = deck.optimise.has_value();
-  const ReportOptimisation opt = optimise ? RunOptimiseForReport(deck, solver, options, streams, file) : ReportOptimisation{};
-  const int opt_code = !opt.run || opt.run->best() != nullptr ? kExitSuccess : kExitNotSucceeded;
+  WriteTo("-o", ctx.folder.File("mesh.json"), ctx.streams.out, [&](std::ostream& os) { os << Dump(documents::Json(deck, mesh)) << '\n'; });
+  ctx.mesh_svg = SvgOf(documents::Figure(deck, mesh));
+  WriteTo("-o", ctx.folder.File("mesh.svg"), ctx.streams.out, [&](std::ostream& os) { os << ctx.mesh_svg; });
+  return ctx.backlash->summary.failed() == 0 ? kExitSuccess : kExitNotSucceeded;
+}
 
-  const auto& p = deck.pair;
+std::string UnloadedHtml(const ReportContext& ctx) {
+  std::string html;
+  if (ctx.deck.reducer) {  // the unloaded analysis is the pin ring's; the stage's free play is the loop's
+    html += "<p>The pin ring's mesh alone (Liu eq. 17). The stage's free play, which also takes up the output "
+            "mechanism's and the bearings' clearances, is the backlash of the torsional stiffness below.</p>\n";
+  }
+  html += Table(documents::Json(ctx.deck, *ctx.backlash));  // the backlash's summary, from its result
+  return html + InlineSvgText(ctx.backlash_svg, "backlash") + InlineSvgText(ctx.mesh_svg, "mesh");
+}
+
+/// None at zero torque, where there is no rated torque to run the loop to.
+const char* StiffnessSkipped(const app::Deck& deck) {
+  return deck.RequireLoad().torque != 0.0 ? nullptr : "the deck's torque is zero, so there is no rated torque to run the loop to";
+}
+
+/// The torque-twist loop at crank 0 (the deck's [stiffness] steps): its result in this process
+/// (analysis::StiffnessRunner), its JSON streamed and its figure drawn by the documents `ltca
+/// stiffness` writes, beside the page.
+int RunStiffness(ReportContext& ctx) {
+  const app::Deck& deck = ctx.deck;
+  const Streams& streams = ctx.streams;
+  app::StiffnessSettings settings = deck.stiffness;
+  settings.crank = 0.0;
+  settings.Validate();
+  deck.RequireMaterial();
+  analysis::StiffnessRunner runner(deck.MakeStage({0.0}), ctx.solver, settings, deck.RequireLoad().torque, deck.friction);
+  WriteTo("-o", ctx.folder.File("stiffness.json"), streams.out, [&](std::ostream& os) {
+    documents::StiffnessJsonWriter writer(os, deck, ctx.solver, settings, runner.rated_torque());
+    Progress progress(streams.err, streams.progress, "stiffness loop at position", static_cast<std::int64_t>(runner.cranks().size()));
+    std::int64_t done = 0;
+    ctx.stiff = runner.Run([&](const analysis::StiffnessPosition& p) {
+      writer.Add(p);
+      progress.Update(++done);
+    });
+    progress.Finish();
+    writer.Finish(*ctx.stiff);
+  });
+  ctx.stiff_svg = SvgOf(documents::Figure(deck, ctx.solver, *ctx.stiff));
+  WriteTo("-o", ctx.folder.File("stiffness.svg"), streams.out, [&](std::ostream& os) { os << ctx.stiff_svg; });
+  return ctx.stiff->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+}
+
+std::string StiffnessHtml(const ReportContext& ctx) {
+  nlohmann::json summary = documents::Json(*ctx.stiff);  // the loop's summary, from its result
+  summary.erase("curve");
+  return "<p>The torque-twist loop at crank 0.</p>\n" + Table(summary) + InlineSvgText(ctx.stiff_svg, "stiffness");
+}
+
+/// Efficiency needs [friction], [operation] (the crank speed) and a torque (the output power).
+const char* EfficiencySkipped(const app::Deck& deck) {
+  return !deck.friction                     ? "the deck has no [friction] section"
+         : !deck.operation                  ? "the deck has no [operation] section (the crank speed)"
+         : deck.RequireLoad().torque == 0.0 ? "the deck's torque is zero (no output power)"
+                                            : nullptr;
+}
+
+/// The efficiency (one disc or two): its result in this process (analysis::EfficiencyRunner over
+/// the deck's sweep), its JSON streamed and its figure drawn by the documents `ltca efficiency`
+/// writes, beside the page.
+int RunEfficiency(ReportContext& ctx) {
+  const app::Deck& deck = ctx.deck;
+  const Streams& streams = ctx.streams;
+  analysis::EfficiencyRunner runner(deck.MakeStage(), ctx.solver, deck.RequireLoad().torque, *deck.friction, *deck.operation);
+  std::vector<analysis::EfficiencyPosition> kept;  // for the figure, without their contacts
+  WriteTo("-o", ctx.folder.File("efficiency.json"), streams.out, [&](std::ostream& os) {
+    documents::EfficiencyJsonWriter writer(os, deck, ctx.solver, deck.second_disc.has_value());
+    const std::vector<double>& cranks = runner.cranks();
+    Progress progress(streams.err, streams.progress, "efficiency at position", static_cast<std::int64_t>(cranks.size()));
+    for (std::size_t i = 0; i < cranks.size(); ++i) {
+      analysis::EfficiencyPosition p = runner.Solve(cranks[i]);
+      writer.Add(p);
+      p.contacts.clear();
+      kept.push_back(std::move(p));
+      progress.Update(static_cast<std::int64_t>(i + 1));
+    }
+    progress.Finish();
+    ctx.eff = runner.Summary();
+    writer.Finish(*ctx.eff);
+  });
+  ctx.eff_svg = SvgOf(documents::Figure(deck, ctx.solver, kept, *ctx.eff));
+  WriteTo("-o", ctx.folder.File("efficiency.svg"), streams.out, [&](std::ostream& os) { os << ctx.eff_svg; });
+  return ctx.eff->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+}
+
+std::string EfficiencyHtml(const ReportContext& ctx) {
+  return Table(documents::Json(*ctx.eff)) + InlineSvgText(ctx.eff_svg, "efficiency");  // the summary, from its result
+}
+
+constexpr const char* kNoTolerances = "the deck has no [tolerances] section";
+constexpr const char* kNoOptimise = "the deck has no [optimise] section";
+
+/// The study as `ltca tolerance` runs it, in this process: the deck's samples (or --samples) on
+/// the report's threads and, under mpirun, its ranks; tolerance.json and tolerance.svg written by
+/// the command's builders (rank 0).
+int RunTolerance(ReportContext& ctx) {
+  const app::Deck& deck = ctx.deck;
+  const ReportOptions& options = ctx.options;
+  const Streams& streams = ctx.streams;
+  ReportTolerance& tol = ctx.tol;
+  const analysis::ToleranceSettings settings = documents::ToleranceSettingsFor(deck, options.samples, std::nullopt, false);
+  const int threads = analysis::ResolveThreads(options.threads);
+  tol.study.emplace(deck.MakeToleranceCase(), ctx.solver, settings);
+  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+  FailTogether(farm.get(), streams.err, [&]() -> int {
+    const bool root = !farm || farm->rank() == 0;
+    analysis::ToleranceRunPlan plan;
+    plan.threads = threads;
+    plan.ranks = farm.get();
+    plan.worst_case = !options.no_worst_case;
+    std::ostringstream unseen;  // the estimate, which the page does not show
+    ToleranceProgressLines progress(ctx.quiet, ctx.quiet.progress && root, unseen, 2.0, threads, farm && farm->size() > 1,
+                                    plan.worst_case);
+    plan.progress = &progress;
+    tol.result = analysis::RunToleranceStudy(*tol.study, plan);
+    return kExitSuccess;
+  });
+  if (tol.root()) {
+    WriteTo("-o", ctx.folder.File("tolerance.json"), streams.out,
+            [&](std::ostream& os) { os << Dump(documents::Json(deck, ctx.solver, *tol.study, *tol.result)) << '\n'; });
+    tol.svg = SvgOf(documents::Figure(deck, *tol.study, *tol.result));
+    WriteTo("-o", ctx.folder.File("tolerance.svg"), streams.out, [&](std::ostream& os) { os << tol.svg; });
+  }
+  return !tol.result || tol.result->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+}
+
+/// The search as `ltca optimise` runs it, in this process, on the report's threads (and, under
+/// mpirun, its ranks): optimise.json (its history spooled as the search makes it, so that the
+/// page's memory does not grow with the evaluations) and optimise.svg by the command's builders.
+int RunOptimise(ReportContext& ctx) {
+  const app::Deck& deck = ctx.deck;
+  const Streams& streams = ctx.streams;
+  ReportOptimisation& opt = ctx.opt;
+  const analysis::OptimiseSettings settings = documents::OptimiseSettingsFor(deck, std::nullopt);
+  const int threads = analysis::ResolveThreads(ctx.options.threads);
+  std::unique_ptr<SampleFarm> farm = MakeSampleFarm();
+  FailTogether(farm.get(), streams.err, [&]() -> int {
+    opt.optimiser.emplace(deck.MakeToleranceCase(), ctx.solver, settings, threads, RankGroupOf(farm.get()));
+    const bool root = opt.optimiser->ranks().rank == 0;
+    const analysis::OptimiseSettings& s = opt.optimiser->settings();
+    std::unique_ptr<Spool> history;
+    if (root) history = std::make_unique<Spool>("-o", ctx.folder.File("optimise.json"));
+    documents::OptimiseSeries series(s, false);
+    analysis::OptimiseRunPlan plan;
+    plan.sink = [&](const analysis::DesignEvaluation& e) {
+      if (history) {
+        history->stream() << documents::HistoryItem(s, e);
+        history->Check();
+      }
+      series.Add(e);
+    };
+    opt.run = analysis::RunOptimisation(*opt.optimiser, plan);
+    if (root) {
+      WriteTo("-o", ctx.folder.File("optimise.json"), streams.out, [&](std::ostream& os) {
+        documents::WriteOptimiseJson(os, documents::OptimiseJsonHead(deck, ctx.solver, s, *opt.run),
+                                     [&](std::ostream& items) { history->CopyTo(items); }, s, *opt.run);
+      });
+      history.reset();
+      opt.svg = SvgOf(documents::Figure(deck, s, *opt.run, series));
+      WriteTo("-o", ctx.folder.File("optimise.svg"), streams.out, [&](std::ostream& os) { os << opt.svg; });
+    }
+    return kExitSuccess;
+  });
+  return !opt.run || opt.run->best() != nullptr ? kExitSuccess : kExitNotSucceeded;
+}
+
+/// One section of the page: its anchor and title (the contents list), its name in the status line
+/// (nullptr: it has no status of its own), why its analysis does not run for a deck (nullptr:
+/// always runs; the function returns nullptr when it runs), the analysis (writes its files into
+/// the staging folder and keeps its result in the context; returns its exit code), its HTML from
+/// the context, and the JSON documents its analysis leaves beside the page.
+struct ReportSection {
+  const char* id;
+  const char* title;
+  const char* part;
+  const char* (*skipped)(const app::Deck&);
+  int (*run)(ReportContext&);
+  std::string (*html)(const ReportContext&);
+  std::vector<const char*> documents;
+};
+
+/// The sections of the page, in order: each is always there, with its analysis or a note why it did
+/// not run. The analyses run in this order, and the allowables are rendered from all of them.
+const std::vector<ReportSection>& Sections() {
+  static const std::vector<ReportSection> sections = {
+      {"inputs", "Inputs", nullptr, nullptr, nullptr, InputsHtml, {}},
+      {"allowables", "Results against allowables", nullptr, nullptr, nullptr, AllowablesHtml, {}},
+      {"geometry", "Geometry", nullptr, nullptr, RunGeometry, GeometryHtml, {"geometry.json"}},
+      {"loaded", "Loaded tooth contact analysis", "solve", nullptr, RunLoaded, LoadedHtml, {"solve.json"}},
+      {"unloaded", "Unloaded: backlash and mesh", "backlash", nullptr, RunUnloaded, UnloadedHtml, {"backlash.json", "mesh.json"}},
+      {"stiffness", "Torsional stiffness", "stiffness", StiffnessSkipped, RunStiffness, StiffnessHtml, {"stiffness.json"}},
+      {"efficiency", "Friction and meshing efficiency", "efficiency", EfficiencySkipped, RunEfficiency, EfficiencyHtml,
+       {"efficiency.json"}},
+      {"tolerance", "Tolerance analysis (Monte Carlo)", "tolerance",
+       [](const app::Deck& deck) { return deck.tolerances ? nullptr : kNoTolerances; }, RunTolerance,
+       [](const ReportContext& ctx) { return ctx.tol.root() ? ToleranceHtml(ctx.tol, ctx.options) : NotRun(kNoTolerances); },
+       {"tolerance.json"}},
+      {"optimise", "Design optimisation", "optimise", [](const app::Deck& deck) { return deck.optimise ? nullptr : kNoOptimise; },
+       RunOptimise, [](const ReportContext& ctx) { return ctx.opt.root() ? OptimiseHtml(ctx.opt) : NotRun(kNoOptimise); },
+       {"optimise.json"}}};
+  return sections;
+}
+
+/// The page's head: the style, the case, the model and solver, the load and sweep, and the contents
+/// list of the sections.
+std::string PageHead(const app::Deck& deck, const ReportOptions& options) {
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char date[32] = {};
   std::tm utc{};
   gmtime_r(&now, &utc);
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", &utc);
-  // The sections of the page, in order (id, title): each is always there, with its analysis or a
-  // note why it did not run.
-  const std::vector<std::pair<std::string, std::string>> sections = {
-      {"inputs", "Inputs"},
-      {"allowables", "Results against allowables"},
-      {"geometry", "Geometry"},
-      {"loaded", "Loaded tooth contact analysis"},
-      {"unloaded", "Unloaded: backlash and mesh"},
-      {"stiffness", "Torsional stiffness"},
-      {"efficiency", "Friction and meshing efficiency"},
-      {"tolerance", "Tolerance analysis (Monte Carlo)"},
-      {"optimise", "Design optimisation"}};
   std::string html = fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
       "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>ltca report: {0}</title>\n"
@@ -687,117 +853,53 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   html += fmt::format("<tr><th>sweep</th><td>{} positions, crank {:g} to {:g} deg</td></tr>\n</table>\n</header>\n",
                       deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end));
   html += "<nav>\n<h2 id=\"contents\">Contents</h2>\n<ol>\n";
-  for (const auto& [id, title] : sections) html += fmt::format("<li><a href=\"#{}\">{}</a></li>\n", id, Html(title));
-  html += "</ol>\n</nav>\n";
+  for (const ReportSection& s : Sections()) html += fmt::format("<li><a href=\"#{}\">{}</a></li>\n", s.id, Html(s.title));
+  return html + "</ol>\n</nav>\n";
+}
 
-  // Inputs.
-  html += "<h2 id=\"inputs\">Inputs</h2>\n<p>Every value of the deck, grouped as the deck is; greyed rows are defaults "
-          "(the deck does not give them). Units are those of the deck's keys.</p>\n";
-  html += InputsTable(deck);
+}  // namespace
 
-  // Results against allowables.
-  html += "<h2 id=\"allowables\">Results against allowables</h2>\n<p>Allowables come from the deck: "
-          "<code>[material] contact_stress_limit_mpa</code> and every <code>[tolerances] limits</code> entry, judged on "
-          "the nominal deck (and, for the limits, as the Monte Carlo's pass fraction). A figure with no allowable in "
-          "the deck is listed with its value.</p>\n<table>\n<tr><th>figure</th><th>value</th><th>allowable</th>"
-          "<th>margin</th><th>verdict</th><th>Monte Carlo pass fraction</th><th>from</th></tr>\n";
-  analysis::NominalResults nominal;
-  nominal.reducer = deck.reducer.has_value();
-  nominal.output_pins = deck.reducer && deck.reducer->kind == solvers::OutputKind::kPins;
-  nominal.solve = &ss;
-  nominal.backlash = &*backlash;
-  nominal.stiffness = stiff ? &*stiff : nullptr;
-  nominal.efficiency = eff ? &*eff : nullptr;
-  if (tol.root()) {
-    nominal.study = &*tol.study;
-    nominal.tolerance = &*tol.result;
+int RunReport(const app::Deck& given, const ReportOptions& options, const Streams& streams) {
+  // Every analysis of the page runs with --kinematics when given (the deck's otherwise).
+  const app::Deck deck = DeckFor(given, options.kinematics);
+  if (options.out_dir.empty()) throw std::invalid_argument("report: -o DIR: expected the folder to write index.html into");
+  ReportFolder folder(options, streams);
+  std::ostringstream sink;  // the analyses write their documents and figures into DIR; their text goes nowhere
+  const Streams quiet{sink, sink, streams.err, streams.progress};
+  ReportContext ctx{deck, options, streams, quiet, folder};
+  // Each section's analysis, in the table's order, when the deck asks for it; then the page from
+  // their results, section by section.
+  const std::vector<ReportSection>& sections = Sections();
+  std::vector<const char*> not_run(sections.size(), nullptr);  // why, for an analysis that did not run
+  std::vector<int> codes(sections.size(), kExitSuccess);
+  std::string built_from;  // the documents of the analyses that ran
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    const ReportSection& s = sections[i];
+    if (s.skipped != nullptr && (not_run[i] = s.skipped(deck)) != nullptr) continue;
+    if (s.run != nullptr) codes[i] = s.run(ctx);
+    for (const char* name : s.documents) built_from += fmt::format("{}{}", built_from.empty() ? "" : ", ", name);
   }
-  analysis::Allowables allowables;
-  allowables.contact_stress_limit = deck.RequireMaterial().contact_stress_limit;
-  if (deck.tolerances) allowables.limits = deck.tolerances->limits;
-  for (const analysis::AllowableRow& row : analysis::CheckAllowables(nominal, allowables)) html += AllowableRow(row);
-  html += "</table>\n";
-
-  html += "<h2 id=\"geometry\">Geometry</h2>\n<div class=\"grid\">\n<div>\n<table>\n";
-  html += fmt::format(
-      "<tr><th>z_p (pins)</th><td>{}</td></tr><tr><th>z_c (teeth)</th><td>{}</td></tr><tr><th>r_rp (mm)</th><td>{:g}</td></tr>"
-      "<tr><th>R_p (mm)</th><td>{:g}</td></tr><tr><th>e (mm)</th><td>{:g}</td></tr><tr><th>B_c (mm)</th><td>{:g}</td></tr>\n</table>\n",
-      p.pin_count, p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width);
-  nlohmann::json derived = geometry_json;
-  derived.erase("case");
-  html += Table(derived) + "</div>\n<div>" + InlineSvgText(geometry_svg, "geometry") + "</div>\n</div>\n";
-  html += "<h2 id=\"loaded\">Loaded tooth contact analysis</h2>\n";
-  html += Table(documents::Json(deck, ss));
-  html += InlineSvgText(solve_svg, "solve");
-  html += "<h2 id=\"unloaded\">Unloaded: backlash and mesh</h2>\n";
-  if (deck.reducer) {  // issue 25: the unloaded analysis is the pin ring's; the stage's free play is the loop's
-    html += "<p>The pin ring's mesh alone (Liu eq. 17). The stage's free play, which also takes up the output "
-            "mechanism's and the bearings' clearances, is the backlash of the torsional stiffness below.</p>\n";
+  std::string html = PageHead(deck, options);
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    html += fmt::format("<h2 id=\"{}\">{}</h2>\n", sections[i].id, Html(sections[i].title));
+    html += not_run[i] != nullptr ? NotRun(not_run[i]) : sections[i].html(ctx);
   }
-  html += Table(documents::Json(deck, *backlash));  // the backlash's summary, from its result
-  html += InlineSvgText(backlash_svg, "backlash");
-  html += InlineSvgText(mesh_svg, "mesh");
-  html += "<h2 id=\"stiffness\">Torsional stiffness</h2>\n";
-  if (loop) {
-    html += "<p>The torque-twist loop at crank 0.</p>\n";
-    nlohmann::json summary = documents::Json(*stiff);  // the loop's summary, from its result
-    summary.erase("curve");
-    html += Table(summary);
-    html += InlineSvgText(stiff_svg, "stiffness");
-  } else {
-    html += "<p class=\"note\">Not run: the deck's torque is zero, so there is no rated torque to run the loop to.</p>\n";
-  }
-  html += "<h2 id=\"efficiency\">Friction and meshing efficiency</h2>\n";
-  if (efficiency) {
-    html += Table(documents::Json(*eff));  // the efficiency's summary, from its result
-    html += InlineSvgText(eff_svg, "efficiency");
-  } else {
-    html += fmt::format("<p class=\"note\">Not run: {}.</p>\n",
-                        !deck.friction    ? "the deck has no [friction] section"
-                        : !deck.operation ? "the deck has no [operation] section (the crank speed)"
-                                          : "the deck's torque is zero (no output power)");
-  }
-  html += "<h2 id=\"tolerance\">Tolerance analysis (Monte Carlo)</h2>\n";
-  if (tol.root()) {
-    html += ToleranceHtml(tol, options);
-  } else {
-    html += "<p class=\"note\">Not run: the deck has no [tolerances] section.</p>\n";
-  }
-  html += "<h2 id=\"optimise\">Design optimisation</h2>\n";
-  if (opt.root()) {
-    html += OptimiseHtml(opt);
-  } else {
-    html += "<p class=\"note\">Not run: the deck has no [optimise] section.</p>\n";
-  }
-  const double seconds = ss.wall_seconds;
-  html += fmt::format("<p class=\"meta\">Built from geometry.json, solve.json, backlash.json, mesh.json{}{}{} in this folder "
-                      "(the loaded sweep took {} s). A static page: nothing is fetched when it is viewed.</p>\n</body>\n</html>\n",
-                      loop ? ", stiffness.json" : "", efficiency ? ", efficiency.json" : "",
-                      std::string(tolerance ? ", tolerance.json" : "") + (optimise ? ", optimise.json" : ""),
-                      std::isfinite(seconds) ? fmt::format("{:.3g}", seconds) : "n/a");
-  WriteTo("-o", file("index.html"), streams.out, [&html](std::ostream& os) { os << html; });
-  guard.handed = true;
-  if (!IsFirstRank()) {  // under mpirun every rank builds the page; the first alone puts it in place
-    guard.handed = false;
-  } else if (run != nullptr) {
-    run->StageFolder("-o", staging, target.string());
-  } else {  // in-process, without a run: in place now
-    OutputTransaction::Direct none;
-    OutputTransaction local;
-    local.StageFolder("-o", staging, target.string());
-    local.CommitAll();
-  }
-  // The page's status is every part's (issue 26: it said the solve's "success" and exited 1 when the
-  // loop failed).
+  const double seconds = ctx.solved->summary.wall_seconds;
+  html += fmt::format("<p class=\"meta\">Built from {} in this folder (the loaded sweep took {} s). A static page: nothing is "
+                      "fetched when it is viewed.</p>\n</body>\n</html>\n",
+                      built_from, std::isfinite(seconds) ? fmt::format("{:.3g}", seconds) : "n/a");
+  WriteTo("-o", folder.File("index.html"), streams.out, [&html](std::ostream& os) { os << html; });
+  folder.Commit();
+  // The page's status is every part's: the first part's code that is not success, and their names.
   std::string failed;
   int result = kExitSuccess;
-  for (const auto& [part, c] : {std::pair{"solve", code}, std::pair{"backlash", backlash_code}, std::pair{"stiffness", loop_code},
-                                std::pair{"efficiency", eff_code}, std::pair{"tolerance", tol_code}, std::pair{"optimise", opt_code}}) {
-    if (c == kExitSuccess) continue;
-    failed += fmt::format("{}{}", failed.empty() ? "" : ", ", part);
-    if (result == kExitSuccess) result = c;
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    if (codes[i] == kExitSuccess) continue;
+    failed += fmt::format("{}{}", failed.empty() ? "" : ", ", sections[i].part);
+    if (result == kExitSuccess) result = codes[i];
   }
-  fmt::print(streams.text, "{} {} (case {}, {})\n", run != nullptr ? "writes" : "wrote", (target / "index.html").string(), deck.info.title,
+  fmt::print(streams.text, "{} {} (case {}, {})\n", folder.handed_to_run() ? "writes" : "wrote",
+             (folder.target() / "index.html").string(), deck.info.title,
              failed.empty() ? "every part succeeded" : fmt::format("not every part succeeded: {}; see their sections", failed));
   return result;
 }
