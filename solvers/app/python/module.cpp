@@ -1,21 +1,24 @@
-// The compiled part of the Python module `ltca` (issue 30, docs/python.md): decks read by the same
-// reader as the command line, the analyses run by the same library, and their documents built by
-// the same functions as the command line's JSON, handed to Python as dicts (JSON null as None) with
-// NumPy arrays beside them. The Python API (ltca/__init__.py) wraps these functions.
+// The compiled part of the Python module `ltca` (docs/python.md): decks read by the same reader as
+// the command line, the analyses run by the same library, and their documents built by the same
+// functions as the command line's JSON, handed to Python as dicts (JSON null as None) with NumPy
+// arrays beside them. The Python API (ltca/__init__.py) wraps these functions.
+//
+// One function per analysis (Bind*: the command's options in; the result's document and arrays
+// out, built from the result in this process), and one table of them (kBindings) that the module
+// registers, as the command line registers its table of commands (cli/command.hpp, Commands()):
+// an analysis reaches Python by its function and its entry.
 //
 // Errors: bad input (std::invalid_argument, naming the key) becomes ValueError, as pybind11
 // translates it; a solve that fails is a status in the result, not an exception. The GIL is
 // released while the library computes, so Python threads may run other decks meanwhile.
 #include <algorithm>
-#include <memory>
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <tuple>
-#include <type_traits>
+#include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -26,9 +29,9 @@
 #include "documents/backlash.hpp"
 #include "documents/compare.hpp"
 #include "documents/efficiency.hpp"
-#include "documents/optimise.hpp"
 #include "documents/geometry.hpp"
 #include "documents/mesh.hpp"
+#include "documents/optimise.hpp"
 #include "documents/solve.hpp"
 #include "documents/stiffness.hpp"
 #include "documents/tolerance.hpp"
@@ -48,7 +51,12 @@ namespace py = pybind11;
 
 namespace {
 
+namespace analysis = ltca::analysis;
+namespace documents = ltca::app::documents;
 using ltca::app::Deck;
+using Strings = std::vector<std::string>;
+
+// --- Shared by the bindings: Python values from the library's, the GIL, the exit code ---
 
 /// A JSON value as Python objects: null None, numbers int or float (a double as it is), arrays
 /// lists, objects dicts.
@@ -94,33 +102,68 @@ py::array_t<double> Matrix(const std::vector<std::vector<double>>& rows) {
   return a;
 }
 
+/// A vector of doubles as a 1-D NumPy array, the values as they are.
 py::array_t<double> Vector(const std::vector<double>& v) {
   py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
   std::copy(v.begin(), v.end(), a.mutable_data());
   return a;
 }
 
-/// `ltca solve`: the document its --json writes and the arrays of the sweep. A failed position's
-/// row of an array is NaN (its JSON figures are null).
-py::tuple Solve(const Deck& given, const std::string& solver_name, const std::string& kinematics, const py::object& progress) {
-  const Deck deck = ltca::app::DeckFor(given, kinematics);
-  const ltca::solvers::SolverOptions solver = ltca::app::SolverFor(deck, solver_name);
-  deck.RequireMaterial();
-  ltca::app::SweepResult sweep;
-  ltca::app::SweepCallbacks callbacks;
-  if (!progress.is_none()) {  // progress(done, total) after each position, with the GIL held for it
-    const auto total = static_cast<std::int64_t>(deck.sweep.positions);
-    auto done = std::make_shared<std::int64_t>(0);
-    callbacks.on_position = [&progress, total, done](const ltca::app::PositionResult&) {
-      py::gil_scoped_acquire gil;
-      progress(++*done, total);
-    };
+/// A --csv column of numbers: value(row) for each row, NaN where it is not finite (the CSV's empty
+/// cell).
+template <class Row, class Value>
+py::array_t<double> NumberColumn(const std::vector<Row>& rows, const Value& value) {
+  std::vector<double> v;
+  v.reserve(rows.size());
+  for (const Row& row : rows) {
+    const double x = value(row);
+    v.push_back(std::isfinite(x) ? x : NAN);
   }
-  {
-    py::gil_scoped_release release;
-    sweep = ltca::app::SolveDeckSweep(deck, solver, callbacks);
+  return Vector(v);
+}
+
+/// A --csv column of text: text(row) for each row, as a list of str.
+template <class Row, class Text>
+py::list TextColumn(const std::vector<Row>& rows, const Text& text) {
+  py::list list;
+  for (const Row& row : rows) list.append(py::str(text(row)));
+  return list;
+}
+
+/// The --csv message column: the messages as a list of str when any row has one, else an array of
+/// NaN (an empty column, as a CSV reader gives it).
+py::object MessageColumn(const Strings& messages) {
+  if (std::all_of(messages.begin(), messages.end(), [](const std::string& m) { return m.empty(); })) {
+    return Vector(std::vector<double>(messages.size(), NAN));
   }
-  py::object summary = ToPython(ltca::app::documents::Json(deck, sweep.summary));
+  py::list list;
+  for (const std::string& m : messages) list.append(py::str(m));
+  return list;
+}
+
+/// work() run with the GIL released, its value returned: the library computes while other Python
+/// threads run. work touches no Python object (a callback into Python takes the GIL itself).
+template <class Work>
+auto WithoutGil(Work&& work) {
+  py::gil_scoped_release release;
+  return work();
+}
+
+/// The command's exit code for a result: success when every part of it succeeded.
+int ExitCode(bool succeeded) { return succeeded ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded; }
+
+/// What an analysis other than solve gives Python: (exit code, the --json document as dicts, the
+/// --csv columns as {name: array or list of text}, {} for a command without a per-row CSV).
+py::tuple Answer(int code, const nlohmann::json& document, const py::dict& columns = py::dict()) {
+  return py::make_tuple(code, ToPython(document), columns);
+}
+
+// --- The columns of the per-row tables ---
+
+/// The sweep's arrays, a row per crank position, NaN where the position failed: crank_deg (deg),
+/// te_arcsec (arcsec), contacts, pin_force_n (N) and contact_stress_mpa (MPa) as positions x pins,
+/// disc_torque_nm (N*m, positions x discs; two discs only), position_status (a list of text).
+py::dict SweepArrays(const Deck& deck, const ltca::app::SweepResult& sweep) {
   namespace units = ltca::units;
   std::vector<double> crank, te, contacts;
   std::vector<std::vector<double>> force, stress, disc_torque;
@@ -145,11 +188,258 @@ py::tuple Solve(const Deck& given, const std::string& solver_name, const std::st
   arrays["contact_stress_mpa"] = Matrix(stress);
   if (deck.disc_count() == 2) arrays["disc_torque_nm"] = Matrix(disc_torque);
   arrays["position_status"] = status;
-  // The whole document is built when Python asks for it, from the sweep kept for it.
+  return arrays;
+}
+
+/// The profile's --csv columns (tooth_space, u_deg, x_mm, y_mm, normal_x, normal_y,
+/// curvature_radius_mm as arrays; part as a list of text).
+py::dict ProfileColumns(const documents::ProfileColumns& profile) {
+  py::dict columns;
+  columns["tooth_space"] = Vector(profile.tooth_space);
+  columns["u_deg"] = Vector(profile.u_deg);
+  columns["x_mm"] = Vector(profile.x_mm);
+  columns["y_mm"] = Vector(profile.y_mm);
+  columns["normal_x"] = Vector(profile.normal_x);
+  columns["normal_y"] = Vector(profile.normal_y);
+  columns["curvature_radius_mm"] = Vector(profile.curvature_radius_mm);
+  columns["part"] = py::cast(profile.part);
+  return columns;
+}
+
+/// The tolerance study's --csv columns, a row per sample: sample, status, every input, every
+/// figure the study runs, message (line breaks as spaces, as the CSV carries it).
+py::dict ToleranceColumns(const analysis::ToleranceStudy& study, const std::vector<analysis::ToleranceSample>& samples) {
+  using Sample = analysis::ToleranceSample;
+  py::dict columns;
+  columns["sample"] = NumberColumn(samples, [](const Sample& s) { return static_cast<double>(s.index); });
+  columns["status"] = TextColumn(samples, [](const Sample& s) { return analysis::ToString(s.status); });
+  for (std::size_t i = 0; i < study.inputs().size(); ++i) {
+    columns[py::str(study.inputs()[i].name)] = NumberColumn(samples, [i](const Sample& s) { return s.inputs[i]; });
+  }
+  const auto& names = analysis::ToleranceSettings::FigureNames();
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    if (study.Runs(f)) columns[py::str(names[f])] = NumberColumn(samples, [f](const Sample& s) { return s.figures[f]; });
+  }
+  Strings messages;
+  for (const Sample& s : samples) {
+    std::string message = s.message;
+    std::replace_if(message.begin(), message.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+    messages.push_back(message);
+  }
+  columns["message"] = MessageColumn(messages);
+  return columns;
+}
+
+/// The search's --csv columns, a row per evaluation: index, phase, the variables, objective,
+/// violation, feasible, status, every figure, message (double quotes as single ones, as the CSV
+/// carries it).
+py::dict OptimiseColumns(const analysis::OptimiseSettings& settings, const std::vector<analysis::DesignEvaluation>& history) {
+  using Evaluation = analysis::DesignEvaluation;
+  py::dict columns;
+  columns["index"] = NumberColumn(history, [](const Evaluation& e) { return static_cast<double>(e.index); });
+  columns["phase"] = TextColumn(history, [](const Evaluation& e) { return e.phase; });
+  for (std::size_t k = 0; k < settings.variables.size(); ++k) {
+    columns[py::str(settings.variables[k].key)] = NumberColumn(history, [k](const Evaluation& e) { return e.x[k]; });
+  }
+  columns["objective"] = NumberColumn(history, [](const Evaluation& e) { return e.objective; });
+  columns["violation"] = NumberColumn(history, [](const Evaluation& e) { return e.violation; });
+  columns["feasible"] = TextColumn(history, [](const Evaluation& e) { return e.feasible ? "true" : "false"; });
+  columns["status"] = TextColumn(history, [](const Evaluation& e) { return analysis::ToString(e.status); });
+  const auto& names = analysis::OptimiseFigureNames();
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    columns[py::str(names[f])] = NumberColumn(history, [f](const Evaluation& e) { return e.figures[f]; });
+  }
+  Strings messages;
+  for (const Evaluation& e : history) {
+    std::string message = e.message;
+    std::replace(message.begin(), message.end(), '"', '\'');
+    messages.push_back(message);
+  }
+  columns["message"] = MessageColumn(messages);
+  return columns;
+}
+
+// --- One binding per analysis: the command's options in, the result's document and arrays out ---
+// Each runs the command's checks in the command's order, so that bad input names the same key.
+
+/// `ltca solve`: (the whole --json document, built when Python asks for it; its summary as a
+/// dict; the sweep's arrays). progress(done, total), when not None, is called after each position.
+py::tuple BindSolve(const Deck& given, const std::string& solver_name, const std::string& kinematics, const py::object& progress) {
+  const Deck deck = ltca::app::DeckFor(given, kinematics);
+  const ltca::solvers::SolverOptions solver = ltca::app::SolverFor(deck, solver_name);
+  deck.RequireMaterial();
+  ltca::app::SweepCallbacks callbacks;
+  if (!progress.is_none()) {  // with the GIL held for the call
+    const auto total = static_cast<std::int64_t>(deck.sweep.positions);
+    auto done = std::make_shared<std::int64_t>(0);
+    callbacks.on_position = [&progress, total, done](const ltca::app::PositionResult&) {
+      py::gil_scoped_acquire gil;
+      progress(++*done, total);
+    };
+  }
+  ltca::app::SweepResult sweep = WithoutGil([&] { return ltca::app::SolveDeckSweep(deck, solver, callbacks); });
+  py::object summary = ToPython(documents::Json(deck, sweep.summary));
+  py::dict arrays = SweepArrays(deck, sweep);
   auto kept = std::make_shared<const std::tuple<Deck, ltca::solvers::SolverOptions, ltca::app::SweepResult>>(deck, solver, std::move(sweep));
-  Document document{[kept] { return ltca::app::documents::Json(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept)); }};
+  Document document{[kept] { return documents::Json(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept)); }};
   return py::make_tuple(document, summary, arrays);
 }
+
+/// `ltca geometry`: the derived geometry of the pair as made and the profile's columns,
+/// samples_per_flank points per flank. (crank_deg, deg, is the drawing's, which Python does not draw.)
+py::tuple BindGeometry(const Deck& deck, double /*crank_deg*/, int samples_per_flank) {
+  nlohmann::json document;
+  documents::ProfileColumns profile;
+  WithoutGil([&] {
+    const ltca::geometry::RealPair real = deck.MakeRealPair();
+    document = documents::Json(deck, real);
+    profile = documents::Columns(real.profile(), samples_per_flank);
+  });
+  return Answer(ltca::app::kExitSuccess, document, ProfileColumns(profile));
+}
+
+/// `ltca backlash`: the unloaded backlash over the sweep; kinematics "" is the deck's.
+py::tuple BindBacklash(const Deck& deck, const std::string& kinematics) {
+  const ltca::contact::ContactKinematics k = kinematics.empty() ? deck.kinematics : ltca::contact::ParseKinematics(kinematics);
+  std::vector<analysis::BacklashPosition> positions;
+  const analysis::BacklashResult result = WithoutGil([&] {
+    const analysis::Stage stage(deck, deck.sweep.CrankAngles());
+    return analysis::Backlash(stage, k, [&](const analysis::BacklashPosition& p) { positions.push_back(p); });
+  });
+  return Answer(ExitCode(result.summary.failed() == 0), documents::Json(deck, positions, result));
+}
+
+/// `ltca mesh`: the mesh state of every pin at crank_deg (deg).
+py::tuple BindMesh(const Deck& deck, double crank_deg) {
+  const analysis::MeshResult mesh = WithoutGil([&] { return analysis::MeshAt(deck.MakeModel(), crank_deg); });
+  return Answer(ltca::app::kExitSuccess, documents::Json(deck, mesh));
+}
+
+/// `ltca compare`: several solvers on the deck's sweep (every registered solver when `names` is
+/// empty). Checks: [material], [load], the solvers, then the stage.
+py::tuple BindCompare(const Deck& given, const Strings& names, const std::string& kinematics) {
+  const Deck deck = ltca::app::DeckFor(given, kinematics);
+  const analysis::CompareResult result = WithoutGil([&] {
+    const Strings asked = names.empty() ? ltca::solvers::SolverNames() : names;
+    deck.RequireMaterial();
+    const double torque = deck.RequireLoad().torque;
+    const analysis::SolverSelection selection = analysis::SelectSolvers(asked, deck.reducer.has_value(), deck.name);
+    return analysis::Compare(deck.MakeStage(), deck.solver, selection.run, torque, selection.skipped);
+  });
+  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, result));
+}
+
+/// `ltca stiffness`: the torque-twist loop; crank_deg (deg) and steps replace the deck's
+/// [stiffness] crank_deg and steps_per_branch. Checks: the settings, [material], [load], the stage.
+py::tuple BindStiffness(const Deck& given, const std::string& solver_name, const std::string& kinematics,
+                        std::optional<double> crank_deg, std::optional<int> steps) {
+  const Deck deck = ltca::app::DeckFor(given, kinematics);
+  const ltca::solvers::SolverOptions solver = ltca::app::SolverFor(deck, solver_name);
+  const analysis::StiffnessResult result = WithoutGil([&] {
+    analysis::StiffnessSettings settings = deck.stiffness;
+    if (crank_deg) settings.crank = ltca::units::DegToRad(*crank_deg);
+    if (steps) settings.steps = *steps;
+    settings.Validate();
+    deck.RequireMaterial();
+    const double torque = deck.RequireLoad().torque;
+    return analysis::Stiffness(deck.MakeStage(settings.crank ? std::vector<double>{*settings.crank} : deck.sweep.CrankAngles()),
+                               solver, settings, torque, deck.friction);
+  });
+  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, solver, result));
+}
+
+/// `ltca efficiency`: friction, power loss and efficiency over the sweep. Checks: [material],
+/// [friction], [operation], [load].
+py::tuple BindEfficiency(const Deck& given, const std::string& solver_name, const std::string& kinematics) {
+  const Deck deck = ltca::app::DeckFor(given, kinematics);
+  const ltca::solvers::SolverOptions solver = ltca::app::SolverFor(deck, solver_name);
+  std::vector<analysis::EfficiencyPosition> positions;
+  const analysis::EfficiencySummary summary = WithoutGil([&] {
+    deck.RequireMaterial();
+    const ltca::app::FrictionSettings& friction = deck.RequireFriction();
+    const ltca::app::OperationSettings& operation = deck.RequireOperation();
+    const double torque = deck.RequireLoad().torque;
+    analysis::EfficiencyRunner runner(deck.MakeStage(), solver, torque, friction, operation);
+    for (const double crank : runner.cranks()) positions.push_back(runner.Solve(crank));
+    return runner.Summary();
+  });
+  return Answer(ExitCode(summary.all_succeeded()), documents::Json(deck, solver, positions, summary));
+}
+
+/// `ltca tolerance`: the Monte Carlo of [tolerances] and the samples' columns; samples and seed
+/// replace the deck's, threads 0 is every hardware thread. Checks: [tolerances], threads, the
+/// solver, the study's.
+py::tuple BindTolerance(const Deck& given, const std::string& solver_name, const std::string& kinematics,
+                        std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed, int threads, bool lost_motion,
+                        bool no_worst_case) {
+  const Deck deck = ltca::app::DeckFor(given, kinematics);
+  std::optional<ltca::solvers::SolverOptions> solver;
+  std::optional<analysis::ToleranceStudy> study;
+  std::vector<analysis::ToleranceSample> kept;
+  const analysis::ToleranceResult result = WithoutGil([&] {
+    const analysis::ToleranceSettings settings = documents::ToleranceSettingsFor(deck, samples, seed, lost_motion);
+    analysis::ToleranceRunPlan plan;
+    plan.threads = analysis::ResolveThreads(threads);
+    solver = ltca::app::SolverFor(deck, solver_name);
+    study.emplace(deck.MakeToleranceCase(), *solver, settings);
+    plan.worst_case = !no_worst_case;
+    plan.sink = [&kept](const analysis::ToleranceSample& s) { kept.push_back(s); };
+    return analysis::RunToleranceStudy(*study, plan);
+  });
+  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, *solver, *study, result), ToleranceColumns(*study, kept));
+}
+
+/// `ltca optimise`: the search of [optimise] and every evaluation's columns; evaluations replaces
+/// the deck's budget, threads 0 is every hardware thread. Checks: [optimise], threads, the
+/// solver, the search's.
+py::tuple BindOptimise(const Deck& given, const std::string& solver_name, const std::string& kinematics, int threads,
+                       std::optional<int> evaluations) {
+  const Deck deck = ltca::app::DeckFor(given, kinematics);
+  std::optional<ltca::solvers::SolverOptions> solver;
+  std::optional<analysis::Optimiser> optimiser;
+  std::vector<analysis::DesignEvaluation> history;
+  const analysis::OptimiseRun run = WithoutGil([&] {
+    const analysis::OptimiseSettings settings = documents::OptimiseSettingsFor(deck, evaluations);
+    const int resolved = analysis::ResolveThreads(threads);
+    solver = ltca::app::SolverFor(deck, solver_name);
+    optimiser.emplace(deck.MakeToleranceCase(), *solver, settings, resolved);
+    analysis::OptimiseRunPlan plan;
+    plan.sink = [&history](const analysis::DesignEvaluation& e) { history.push_back(e); };
+    return analysis::RunOptimisation(*optimiser, plan);
+  });
+  const analysis::OptimiseSettings& settings = optimiser->settings();
+  return Answer(ExitCode(run.best() != nullptr), documents::Json(deck, *solver, settings, run, history),
+                OptimiseColumns(settings, history));
+}
+
+// --- The table ---
+
+/// An analysis's entry: its name in the module, the function that defines its binding there, its
+/// docstring.
+struct Binding {
+  const char* name;
+  void (*define)(py::module_& m, const char* name, const char* doc);
+  const char* doc;
+};
+
+/// Defines Bind as the module's function `name` (pybind11 reads its parameter and return types).
+template <auto Bind>
+void Define(py::module_& m, const char* name, const char* doc) {
+  m.def(name, Bind, doc);
+}
+
+/// Every analysis the module binds: one entry each, in the order of the package's functions.
+constexpr Binding kBindings[] = {
+    {"solve", &Define<&BindSolve>, "ltca solve: (the --json document, its summary as a dict, the arrays)."},
+    {"geometry", &Define<&BindGeometry>, "ltca geometry: (exit code, the --json document, the profile's --csv columns)."},
+    {"backlash", &Define<&BindBacklash>, "ltca backlash: (exit code, the --json document, {})."},
+    {"mesh", &Define<&BindMesh>, "ltca mesh: (exit code, the --json document, {})."},
+    {"compare", &Define<&BindCompare>, "ltca compare: (exit code, the --json document, {})."},
+    {"stiffness", &Define<&BindStiffness>, "ltca stiffness: (exit code, the --json document, {})."},
+    {"efficiency", &Define<&BindEfficiency>, "ltca efficiency: (exit code, the --json document, {})."},
+    {"tolerance", &Define<&BindTolerance>, "ltca tolerance: (exit code, the --json document, the --csv columns, a row per sample)."},
+    {"optimise", &Define<&BindOptimise>, "ltca optimise: (exit code, the --json document, the --csv columns, a row per evaluation)."},
+};
 
 }  // namespace
 
@@ -161,243 +451,5 @@ PYBIND11_MODULE(_ltca, m) {
       .def("read", &ltca::app::DeckSource::Read, "The deck with these overrides; ValueError names the key of bad input.");
   py::class_<Document>(m, "Document", "A JSON document, converted on request.")
       .def("to_python", [](const Document& d) { return ToPython(d.make()); });
-  m.def("solve", &Solve, "ltca solve: (the --json document, its summary as a dict, the arrays).");
-  // The other analyses: (exit code, the --json document, the --csv columns as {name: array} or {}).
-  using Strings = std::vector<std::string>;
-  // The derived geometry of the pair as made, in this process: its document and the profile's columns
-  // by the command's builders. (The crank is the drawing's, which Python does not draw.)
-  m.def("geometry", [](const Deck& deck, double /*crank_deg*/, int samples_per_flank) {
-    nlohmann::json doc;
-    ltca::app::documents::ProfileColumns profile;
-    {
-      py::gil_scoped_release release;
-      const ltca::geometry::RealPair real = deck.MakeRealPair();
-      doc = ltca::app::documents::Json(deck, real);
-      profile = ltca::app::documents::Columns(real.profile(), samples_per_flank);
-    }
-    py::dict columns;  // the --csv columns, numbers as arrays
-    columns["tooth_space"] = Vector(profile.tooth_space);
-    columns["u_deg"] = Vector(profile.u_deg);
-    columns["x_mm"] = Vector(profile.x_mm);
-    columns["y_mm"] = Vector(profile.y_mm);
-    columns["normal_x"] = Vector(profile.normal_x);
-    columns["normal_y"] = Vector(profile.normal_y);
-    columns["curvature_radius_mm"] = Vector(profile.curvature_radius_mm);
-    columns["part"] = py::cast(profile.part);
-    return py::make_tuple(ltca::app::kExitSuccess, ToPython(doc), columns);
-  });
-  // The unloaded backlash from its result in this process, its document by the command's builder.
-  m.def("backlash", [](const Deck& deck, const std::string& kinematics) {
-    const ltca::contact::ContactKinematics k = kinematics.empty() ? deck.kinematics : ltca::contact::ParseKinematics(kinematics);
-    std::vector<ltca::analysis::BacklashPosition> positions;
-    std::optional<ltca::analysis::BacklashResult> result;
-    {
-      py::gil_scoped_release release;
-      const ltca::analysis::Stage stage(deck, deck.sweep.CrankAngles());
-      result = ltca::analysis::Backlash(stage, k, [&](const ltca::analysis::BacklashPosition& p) { positions.push_back(p); });
-    }
-    const int code = result->summary.failed() == 0 ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
-    return py::make_tuple(code, ToPython(ltca::app::documents::Json(deck, positions, *result)), py::dict());
-  });
-  // The mesh state at one crank from its result in this process, its document by the command's builder.
-  m.def("mesh", [](const Deck& deck, double crank_deg) {
-    std::optional<ltca::analysis::MeshResult> mesh;
-    {
-      py::gil_scoped_release release;
-      mesh = ltca::analysis::MeshAt(deck.MakeModel(), crank_deg);
-    }
-    return py::make_tuple(ltca::app::kExitSuccess, ToPython(ltca::app::documents::Json(deck, *mesh)), py::dict());
-  });
-  // Several solvers on the deck's sweep from their result in this process, its document by the
-  // command's builder (every registered solver when `solvers` is empty).
-  m.def("compare", [](const Deck& given, const Strings& names, const std::string& kinematics) {
-    std::optional<ltca::app::Deck> deck;
-    std::optional<ltca::analysis::CompareResult> result;
-    {
-      py::gil_scoped_release release;
-      deck = ltca::app::DeckFor(given, kinematics);
-      const Strings asked = names.empty() ? ltca::solvers::SolverNames() : names;
-      // The command's order of the checks: [material], [load], the solvers, then the stage.
-      deck->RequireMaterial();
-      const double torque = deck->RequireLoad().torque;
-      const ltca::analysis::SolverSelection selection = ltca::analysis::SelectSolvers(asked, deck->reducer.has_value(), deck->name);
-      result = ltca::analysis::Compare(deck->MakeStage(), deck->solver, selection.run, torque, selection.skipped);
-    }
-    const int code = result->all_succeeded() ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
-    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *result)), py::dict());
-  });
-  // The torque-twist loop from its result in this process, its document by the command's builder.
-  // crank_deg (deg) and steps replace the deck's [stiffness] crank_deg and steps_per_branch.
-  m.def("stiffness", [](const Deck& given, const std::string& solver_name, const std::string& kinematics,
-                        std::optional<double> crank_deg, std::optional<int> steps) {
-    std::optional<ltca::app::Deck> deck;
-    std::optional<ltca::solvers::SolverOptions> solver;
-    std::optional<ltca::analysis::StiffnessResult> result;
-    {
-      py::gil_scoped_release release;
-      deck = ltca::app::DeckFor(given, kinematics);
-      solver = ltca::app::SolverFor(*deck, solver_name);
-      ltca::analysis::StiffnessSettings settings = deck->stiffness;
-      if (crank_deg) settings.crank = ltca::units::DegToRad(*crank_deg);
-      if (steps) settings.steps = *steps;
-      settings.Validate();
-      // The command's order of the checks: [material], [load], then the stage and the runner.
-      deck->RequireMaterial();
-      const double torque = deck->RequireLoad().torque;
-      result = ltca::analysis::Stiffness(
-          deck->MakeStage(settings.crank ? std::vector<double>{*settings.crank} : deck->sweep.CrankAngles()), *solver, settings,
-          torque, deck->friction);
-    }
-    const int code = result->all_succeeded() ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
-    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, *result)), py::dict());
-  });
-  // Friction, power loss and efficiency over the sweep from its result in this process, its
-  // document by the command's builder.
-  m.def("efficiency", [](const Deck& given, const std::string& solver_name, const std::string& kinematics) {
-    std::optional<ltca::app::Deck> deck;
-    std::optional<ltca::solvers::SolverOptions> solver;
-    std::vector<ltca::analysis::EfficiencyPosition> positions;
-    std::optional<ltca::analysis::EfficiencySummary> summary;
-    {
-      py::gil_scoped_release release;
-      deck = ltca::app::DeckFor(given, kinematics);
-      solver = ltca::app::SolverFor(*deck, solver_name);
-      // The command's order of the checks: [material], [friction], [operation], [load].
-      deck->RequireMaterial();
-      const ltca::app::FrictionSettings& friction = deck->RequireFriction();
-      const ltca::app::OperationSettings& operation = deck->RequireOperation();
-      const double torque = deck->RequireLoad().torque;
-      ltca::analysis::EfficiencyRunner runner(deck->MakeStage(), *solver, torque, friction, operation);
-      for (const double crank : runner.cranks()) positions.push_back(runner.Solve(crank));
-      summary = runner.Summary();
-    }
-    const int code = summary->all_succeeded() ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
-    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, positions, *summary)), py::dict());
-  });
-  // The tolerance study from its result in this process: its document by the command's builder,
-  // and the samples as the --csv columns (sample, status, every input, every figure the study
-  // runs, message): NumPy arrays of numbers (NaN where not finite), status and messages as lists
-  // of text (the messages an array of NaN when every sample succeeded).
-  m.def("tolerance", [](const Deck& given, const std::string& solver_name, const std::string& kinematics,
-                        std::optional<std::int64_t> samples, std::optional<std::uint64_t> seed, int threads, bool lost_motion,
-                        bool no_worst_case) {
-    namespace analysis = ltca::analysis;
-    std::optional<ltca::app::Deck> deck;
-    std::optional<ltca::solvers::SolverOptions> solver;
-    std::optional<analysis::ToleranceStudy> study;
-    std::optional<analysis::ToleranceResult> result;
-    std::vector<analysis::ToleranceSample> kept;
-    {
-      py::gil_scoped_release release;
-      deck = ltca::app::DeckFor(given, kinematics);
-      // The command's order of the checks: [tolerances], --threads, the solver, the study's.
-      const analysis::ToleranceSettings settings = ltca::app::documents::ToleranceSettingsFor(*deck, samples, seed, lost_motion);
-      analysis::ToleranceRunPlan plan;
-      plan.threads = analysis::ResolveThreads(threads);
-      solver = ltca::app::SolverFor(*deck, solver_name);
-      study.emplace(deck->MakeToleranceCase(), *solver, settings);
-      plan.worst_case = !no_worst_case;
-      plan.sink = [&kept](const analysis::ToleranceSample& s) { kept.push_back(s); };
-      result = analysis::RunToleranceStudy(*study, plan);
-    }
-    const auto finite = [](double v) { return std::isfinite(v) ? v : NAN; };
-    py::dict columns;
-    std::vector<double> index;
-    py::list status, messages;
-    bool any_message = false;
-    for (const auto& s : kept) {
-      index.push_back(static_cast<double>(s.index));
-      status.append(py::str(analysis::ToString(s.status)));
-      std::string message = s.message;  // as the CSV carries it: line breaks as spaces
-      for (char& c : message) c = (c == '\n' || c == '\r') ? ' ' : c;
-      any_message = any_message || !message.empty();
-      messages.append(py::str(message));
-    }
-    columns["sample"] = Vector(index);
-    columns["status"] = status;
-    for (std::size_t i = 0; i < study->inputs().size(); ++i) {
-      std::vector<double> v;
-      for (const auto& s : kept) v.push_back(finite(s.inputs[i]));
-      columns[py::str(study->inputs()[i].name)] = Vector(v);
-    }
-    const auto& names = analysis::ToleranceSettings::FigureNames();
-    for (std::size_t f = 0; f < names.size(); ++f) {
-      if (!study->Runs(f)) continue;
-      std::vector<double> v;
-      for (const auto& s : kept) v.push_back(finite(s.figures[f]));
-      columns[py::str(names[f])] = Vector(v);
-    }
-    if (any_message) {
-      columns["message"] = messages;
-    } else {
-      columns["message"] = Vector(std::vector<double>(kept.size(), NAN));
-    }
-    const int code = result->all_succeeded() ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
-    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, *study, *result)), columns);
-  });
-  // The search of [optimise] from its result in this process: its document by the command's
-  // builder (the history kept from the sink), and every evaluation as the --csv columns (index,
-  // phase, the variables, objective, violation, feasible, status, every figure, message): NumPy
-  // arrays of numbers (NaN where not finite), the others lists of text (the messages an array of
-  // NaN when none has one).
-  m.def("optimise", [](const Deck& given, const std::string& solver_name, const std::string& kinematics, int threads,
-                       std::optional<int> evaluations) {
-    namespace analysis = ltca::analysis;
-    std::optional<ltca::app::Deck> deck;
-    std::optional<ltca::solvers::SolverOptions> solver;
-    std::optional<analysis::Optimiser> optimiser;
-    std::optional<analysis::OptimiseRun> run;
-    std::vector<analysis::DesignEvaluation> history;
-    {
-      py::gil_scoped_release release;
-      deck = ltca::app::DeckFor(given, kinematics);
-      // The command's order of the checks: [optimise], --threads, the solver, the search's.
-      const analysis::OptimiseSettings settings = ltca::app::documents::OptimiseSettingsFor(*deck, evaluations);
-      const int resolved = analysis::ResolveThreads(threads);
-      solver = ltca::app::SolverFor(*deck, solver_name);
-      optimiser.emplace(deck->MakeToleranceCase(), *solver, settings, resolved);
-      analysis::OptimiseRunPlan plan;
-      plan.sink = [&history](const analysis::DesignEvaluation& e) { history.push_back(e); };
-      run = analysis::RunOptimisation(*optimiser, plan);
-    }
-    const analysis::OptimiseSettings& s = optimiser->settings();
-    const auto finite = [](double v) { return std::isfinite(v) ? v : NAN; };
-    const auto numbers = [&](const auto& value) {
-      std::vector<double> v;
-      for (const auto& e : history) v.push_back(finite(value(e)));
-      return Vector(v);
-    };
-    py::dict columns;
-    py::list phase, feasible, status, messages;
-    bool any_message = false;
-    for (const auto& e : history) {
-      phase.append(py::str(e.phase));
-      feasible.append(py::str(e.feasible ? "true" : "false"));
-      status.append(py::str(analysis::ToString(e.status)));
-      std::string message = e.message;  // as the CSV carries it: double quotes as single ones
-      std::replace(message.begin(), message.end(), '"', '\'');
-      any_message = any_message || !message.empty();
-      messages.append(py::str(message));
-    }
-    columns["index"] = numbers([](const analysis::DesignEvaluation& e) { return static_cast<double>(e.index); });
-    columns["phase"] = phase;
-    for (std::size_t k = 0; k < s.variables.size(); ++k) {
-      columns[py::str(s.variables[k].key)] = numbers([k](const analysis::DesignEvaluation& e) { return e.x[k]; });
-    }
-    columns["objective"] = numbers([](const analysis::DesignEvaluation& e) { return e.objective; });
-    columns["violation"] = numbers([](const analysis::DesignEvaluation& e) { return e.violation; });
-    columns["feasible"] = feasible;
-    columns["status"] = status;
-    const auto& names = analysis::OptimiseFigureNames();
-    for (std::size_t f = 0; f < names.size(); ++f) {
-      columns[py::str(names[f])] = numbers([f](const analysis::DesignEvaluation& e) { return e.figures[f]; });
-    }
-    if (any_message) {
-      columns["message"] = messages;
-    } else {
-      columns["message"] = Vector(std::vector<double>(history.size(), NAN));
-    }
-    const int code = run->best() != nullptr ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded;
-    return py::make_tuple(code, ToPython(ltca::app::documents::Json(*deck, *solver, s, *run, history)), columns);
-  });
+  for (const Binding& binding : kBindings) binding.define(m, binding.name, binding.doc);
 }
