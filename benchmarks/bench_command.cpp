@@ -186,10 +186,10 @@ ToleranceBar RunToleranceBar(bool smoke, std::ostream& out) {
   solvers::SolverOptions o = deck.solver;
   o.name = "compatibility";
   // The bar's figures: backlash and loaded TE; no lost motion (and so no limit on it).
-  app::ToleranceSettings settings = *deck.tolerances;
+  analysis::ToleranceSettings settings = *deck.tolerances;
   settings.lost_motion = false;
   settings.limits.clear();
-  const app::ToleranceStudy study(deck.MakeToleranceCase(), o, settings);
+  const analysis::ToleranceStudy study(deck.MakeToleranceCase(), o, settings);
   bar.load_before = Capture("cat /proc/loadavg");
   const auto timed = [&](std::int64_t n, int threads) {
     const auto start = std::chrono::steady_clock::now();
@@ -218,17 +218,17 @@ ToleranceBar RunToleranceBar(bool smoke, std::ostream& out) {
   bar.growth_seconds.push_back(bar.seconds);
   bar.growth_exponent = LogSlope(bar.growth_samples, bar.growth_seconds);
   {
-    app::ToleranceSettings lost = settings;
+    analysis::ToleranceSettings lost = settings;
     lost.lost_motion = true;
-    app::ToleranceCase frictionless = deck.MakeToleranceCase();
+    analysis::ToleranceCase frictionless = deck.MakeToleranceCase();
     frictionless.stiffness.crank.reset();  // lost motion over the sweep
-    app::ToleranceCase with_friction = frictionless;
-    app::FrictionSettings f;
+    analysis::ToleranceCase with_friction = frictionless;
+    analysis::FrictionSettings f;
     f.coefficient = 0.05;
     with_friction.friction = f;
-    const app::ToleranceStudy plain(frictionless, o, lost), rubbing(with_friction, o, lost);
+    const analysis::ToleranceStudy plain(frictionless, o, lost), rubbing(with_friction, o, lost);
     bar.friction_samples = smoke ? 1 : 10;
-    const auto per_sample = [&](const app::ToleranceStudy& study) {
+    const auto per_sample = [&](const analysis::ToleranceStudy& study) {
       const auto start = std::chrono::steady_clock::now();
       const auto samples = study.RunRange(0, bar.friction_samples, 1);
       for (const auto& s : samples) bar.not_succeeded += s.status == analysis::RunStatus::kSuccess ? 0 : 1;
@@ -418,7 +418,7 @@ int RunProfile(const BenchMatrix& matrix, const BenchOptions& options, std::ostr
         const auto t0 = std::chrono::steady_clock::now();
         const analysis::Stage stage = deck.MakeStage();
         const auto t1 = std::chrono::steady_clock::now();
-        const app::SweepResult sweep = analysis::SolveSweep(stage, o, torque);
+        const analysis::SweepResult sweep = analysis::SolveSweep(stage, o, torque);
         const auto t2 = std::chrono::steady_clock::now();
         const double n = static_cast<double>(sweep.positions.size());
         stage_s.push_back(std::chrono::duration<double>(t1 - t0).count() / n);
@@ -537,9 +537,9 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
     o.name = "compatibility";
     for (int r = 0; r < matrix.repeats; ++r) {
       const auto start = std::chrono::steady_clock::now();  // the stage (mesh states) included
-      app::StiffnessRunner runner(deck.MakeStage(), o, app::StiffnessSettings{}, deck.RequireLoad().torque, deck.friction);
+      analysis::StiffnessRunner runner(deck.MakeStage(), o, analysis::StiffnessSettings{}, deck.RequireLoad().torque, deck.friction);
       for (const double crank : runner.cranks()) runner.Solve(crank);
-      const app::StiffnessSummary s = runner.Summary();
+      const analysis::StiffnessSummary s = runner.Summary();
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       loop_seconds = std::min(loop_seconds, s.all_succeeded() ? seconds : 1e300);
       loop_solves = s.solves;
@@ -556,12 +556,12 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
   const auto study = [&](const app::Deck& deck, const char* solver) {
     solvers::SolverOptions o = deck.solver;
     o.name = solver;
-    return app::RunSliceStudy(deck, deck.sweep.CrankAngles(), deck.RequireLoad().torque, o, slice_counts, matrix.repeats);
+    return analysis::RunSliceStudy(deck, deck.sweep.CrankAngles(), deck.RequireLoad().torque, o, slice_counts, matrix.repeats);
   };
   const auto slices_compat = study(misaligned, "compatibility");
   const auto slices_bisect = study(misaligned, "bisection");
   const auto bending_compat = study(bending, "compatibility");
-  const app::FaceEdgeBacklash face_edge = app::FaceEdgeUnloaded(misaligned, misaligned.sweep.CrankAngles());
+  const analysis::FaceEdgeBacklash face_edge = analysis::FaceEdgeUnloaded(misaligned, misaligned.sweep.CrankAngles());
   {
     std::ofstream csv(fs::path(options.out_dir) / "slices.csv");
     csv << "case,solver,slices,seconds_per_position,mean_te_arcsec,pp_te_arcsec,mean_backlash_arcsec,pp_backlash_arcsec,succeeded\n";
@@ -589,7 +589,7 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
       solvers::SolverOptions o = deck.solver;
       o.name = solver;
       for (int r = 0; r < 3 * std::max(1, matrix.repeats); ++r) {
-        const app::SweepResult sweep = app::SolveDeckSweep(deck, o);
+        const analysis::SweepResult sweep = app::SolveDeckSweep(deck, o);
         const double per = sweep.summary.wall_seconds / sweep.summary.positions();
         if (sweep.summary.all_succeeded() && per < best.seconds) best = {per, solver};
       }
@@ -778,11 +778,11 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
                  r.solver, r.python_seconds, r.processes_seconds, r.ratio, verdict(r.ratio >= 5.0));
     }
     // Issue 11: the slice model.
-    const auto at = [](const std::vector<app::SliceStudyRow>& rows, int n) -> const app::SliceStudyRow& {
-      return *std::find_if(rows.begin(), rows.end(), [n](const app::SliceStudyRow& r) { return r.slices == n; });
+    const auto at = [](const std::vector<analysis::SliceStudyRow>& rows, int n) -> const analysis::SliceStudyRow& {
+      return *std::find_if(rows.begin(), rows.end(), [n](const analysis::SliceStudyRow& r) { return r.slices == n; });
     };
-    const double exp_compat = app::CostExponent(slices_compat, 5, 100), exp_bisect = app::CostExponent(slices_bisect, 5, 100),
-                 exp_bending = app::CostExponent(bending_compat, 5, 100);
+    const double exp_compat = analysis::CostExponent(slices_compat, 5, 100), exp_bisect = analysis::CostExponent(slices_bisect, 5, 100),
+                 exp_bending = analysis::CostExponent(bending_compat, 5, 100);
     fmt::print(md, "| 20 slices x 40 pins, uncoupled (Liu 5.3, phi = 0.02 deg), linearised, fastest solver <= 1 ms per position "
                    "(issue 11) | compatibility {:.0f} us, bisection {:.0f} us | {} |\n",
                Us(at(slices_compat, 20).seconds_per_position), Us(at(slices_bisect, 20).seconds_per_position),
@@ -807,7 +807,7 @@ int RunBenchCommand(const BenchOptions& options, std::ostream& out) {
     fmt::print(md, "\n## Face-width slices (issue 11)\n\nLinearised kinematics, {} positions over one crank revolution, the "
                    "fastest of {} repeats per position (mesh states included). The PPTE's error is against 200 slices of the "
                    "same deck and solver; the backlash's against the face-edge value of the misaligned deck ({:.4f} arcsec "
-                   "mean, `app::FaceEdgeUnloaded`: two plane models with the centre where the tilted axis puts it at each "
+                   "mean, `analysis::FaceEdgeUnloaded`: two plane models with the centre where the tilted axis puts it at each "
                    "face), which the unloaded analysis reaches at every slice count. Raw rows: `bench/slices.csv`.\n\n",
                misaligned.sweep.positions, matrix.repeats, face_edge.mean_arcsec);
     for (const auto& [title, rows] : {std::pair{"Liu 2021 section 5.3, phi = 0.02 deg (cases/liu2021_sec53_phi.toml), compatibility", &slices_compat},

@@ -32,7 +32,7 @@ struct Figures {
   SolverStatus status = SolverStatus::kSuccess;
 };
 
-Figures Collect(const SweepResult& sweep) {
+Figures Collect(const analysis::SweepResult& sweep) {
   Figures f;
   f.status = sweep.summary.status;
   f.max_force = sweep.summary.max_pin_force;
@@ -118,7 +118,7 @@ BenchReport RunBench(const BenchMatrix& matrix, const BenchHeader& header) {
       SolveDeckSweep(run_deck, options);
       for (int r = 0; r < std::max(1, matrix.repeats); ++r) {
         const auto start = std::chrono::steady_clock::now();
-        const SweepResult sweep = SolveDeckSweep(run_deck, options);  // includes the stage: every position's mesh state
+        const analysis::SweepResult sweep = SolveDeckSweep(run_deck, options);  // includes the stage: every position's mesh state
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         per_position.push_back(seconds / static_cast<double>(sweep.positions.size()));
         if (r == 0) f = Collect(sweep);

@@ -365,7 +365,7 @@ TEST_CASE("cli: a failed position exits 1 with its status, null figures and n/a 
 }
 
 TEST_CASE("app: the summary is taken over the successful positions only and counts the failed") {
-  using ltca::app::PositionResult;
+  using ltca::analysis::PositionResult;
   using ltca::solvers::SolverStatus;
   const auto position = [](SolverStatus status, double te, double force, double stress, int contacts) {
     PositionResult p;
@@ -377,7 +377,7 @@ TEST_CASE("app: the summary is taken over the successful positions only and coun
     p.contacts = contacts;
     return p;
   };
-  ltca::app::SummaryAccumulator acc;
+  ltca::analysis::SummaryAccumulator acc;
   acc.Add(position(SolverStatus::kSuccess, -1e-5, 100.0, 900.0, 6));
   acc.Add(position(SolverStatus::kMaxIterations, 1.3e3, 170848.0, 1e6, 40));  // a wrong number
   acc.Add(position(SolverStatus::kSuccess, -3e-5, 300.0, 1100.0, 7));
@@ -394,7 +394,7 @@ TEST_CASE("app: the summary is taken over the successful positions only and coun
   CHECK(s.contacts_min == 6);
   CHECK(s.contacts_max == 7);
 
-  ltca::app::SummaryAccumulator none;
+  ltca::analysis::SummaryAccumulator none;
   none.Add(position(SolverStatus::kLawCannotCarry, 0.1, 1.0, 1.0, 1));
   const auto n = none.Summary();
   CHECK(n.failed == 1);
@@ -408,9 +408,9 @@ TEST_CASE("app: streaming calls back every position in order and keeps none, wit
   const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
   const auto kept = ltca::test::SolveSweep(deck, deck.solver);
   std::vector<double> cranks, tes;
-  ltca::app::SweepCallbacks callbacks;
+  ltca::analysis::SweepCallbacks callbacks;
   callbacks.keep_positions = false;
-  callbacks.on_position = [&](const ltca::app::PositionResult& p) {
+  callbacks.on_position = [&](const ltca::analysis::PositionResult& p) {
     cranks.push_back(p.crank);
     tes.push_back(p.result.te);
   };
@@ -446,8 +446,8 @@ TEST_CASE("app: RequireNoInterference names the pins and overlaps, and accepts c
   CHECK_NOTHROW(ltca::contact::RequireNoInterference(ok.MakeModel(), 0.0));
   // The sweep rejects it before solving anything.
   int solved = 0;
-  ltca::app::SweepCallbacks callbacks;
-  callbacks.on_position = [&](const ltca::app::PositionResult&) { ++solved; };
+  ltca::analysis::SweepCallbacks callbacks;
+  callbacks.on_position = [&](const ltca::analysis::PositionResult&) { ++solved; };
   CHECK_THROWS_AS(ltca::test::SolveSweep(deck, deck.solver, callbacks), std::invalid_argument);
   CHECK(solved == 0);
 }

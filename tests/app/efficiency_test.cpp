@@ -23,8 +23,8 @@
 #include "ltca/geometry/units.hpp"
 
 using ltca::app::Deck;
-using ltca::app::EfficiencyPosition;
-using ltca::app::EfficiencyRunner;
+using ltca::analysis::EfficiencyPosition;
+using ltca::analysis::EfficiencyRunner;
 using ltca::contact::ContactKinematics;
 using ltca::solvers::SolverOptions;
 
@@ -108,7 +108,7 @@ TEST_CASE("app: constant mu on a perfect pair under the linear law: the contact 
     CHECK(p.balance_solves >= 1);
   }
   // The closed form itself: 4 mu (R_p - r_p) / (pi e z_c) = 4 * 0.05 * 61 / (pi * 1.3 * 39).
-  CHECK(ltca::app::SensingerEfficiency(deck.pair, 0.05) ==
+  CHECK(ltca::analysis::SensingerEfficiency(deck.pair, 0.05) ==
         doctest::Approx(1 / (1 + 4 * 0.05 * 61 / (M_PI * 1.3 * 39))).epsilon(1e-14));
 }
 
@@ -383,7 +383,7 @@ TEST_CASE("app: with friction the stiffness loop opens: the loading branch twist
   // the reversals, the loop has one twist (the stick: review issue 26; its closed form in
   // stiffness_test.cpp); without friction the branches coincide.
   const Deck deck = ltca::app::LoadDeck(Case("liu2021_table1.toml"), {"friction.coefficient=0.05"});
-  ltca::app::StiffnessSettings settings;
+  ltca::analysis::StiffnessSettings settings;
   settings.crank = 0.0;
   settings.steps = 9;
   auto runner = ltca::test::StiffnessOn(deck, ltca::test::Named("bisection"), settings, ContactKinematics::kLinearised);
@@ -392,9 +392,9 @@ TEST_CASE("app: with friction the stiffness loop opens: the loading branch twist
   CHECK(p.branch_difference > 0.0);
   int compared = 0;
   for (const auto& up : p.curve) {
-    if (up.branch != ltca::app::Branch::kIncreasing || up.torque == 0.0) continue;
+    if (up.branch != ltca::analysis::Branch::kIncreasing || up.torque == 0.0) continue;
     for (const auto& down : p.curve) {
-      if (down.branch == ltca::app::Branch::kDecreasing && down.torque == up.torque) {
+      if (down.branch == ltca::analysis::Branch::kDecreasing && down.torque == up.torque) {
         CAPTURE(up.torque);
         if (std::abs(up.torque) == 206e3) {
           CHECK(up.twist == down.twist);

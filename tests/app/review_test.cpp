@@ -49,7 +49,7 @@ TEST_CASE("app: backlash under misalignment is the face-edge value at 5, 20 and 
   for (const ContactKinematics kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     // The reference takes another path: two plane models (no slices) with the cycloid centre where
     // the tilted axis puts it at face B and at the far face (the gap is linear along the face).
-    const double reference = ltca::app::FaceEdgeUnloaded(deck, deck.sweep.CrankAngles(), kinematics).mean_arcsec;
+    const double reference = ltca::analysis::FaceEdgeUnloaded(deck, deck.sweep.CrankAngles(), kinematics).mean_arcsec;
     for (const int n : {5, 20, 100}) {
       Deck d = deck;
       d.geometry.width_slices = n;

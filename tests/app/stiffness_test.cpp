@@ -25,11 +25,11 @@
 #include "ltca/solvers/registry.hpp"
 #include "stiffness_command.hpp"
 
-using ltca::app::Branch;
+using ltca::analysis::Branch;
 using ltca::app::Deck;
-using ltca::app::StiffnessPosition;
-using ltca::app::StiffnessRunner;
-using ltca::app::StiffnessSettings;
+using ltca::analysis::StiffnessPosition;
+using ltca::analysis::StiffnessRunner;
+using ltca::analysis::StiffnessSettings;
 using ltca::contact::ContactKinematics;
 using ltca::solvers::SolverOptions;
 
@@ -44,8 +44,8 @@ StiffnessSettings AtCrank(double crank_deg) {
 }
 
 /// The twists of one branch at the non-zero levels, in level order.
-std::vector<const ltca::app::CurvePoint*> Branch0(const StiffnessPosition& p, Branch branch) {
-  std::vector<const ltca::app::CurvePoint*> out;
+std::vector<const ltca::analysis::CurvePoint*> Branch0(const StiffnessPosition& p, Branch branch) {
+  std::vector<const ltca::analysis::CurvePoint*> out;
   for (const auto& c : p.curve) {
     if (c.branch == branch && c.torque != 0.0) out.push_back(&c);
   }
@@ -110,7 +110,7 @@ TEST_CASE("app: stiffness backlash and the zero-torque points are the unloaded a
       CHECK(std::abs(p.backlash - u.backlash) < 1e-12);
       CHECK(ltca::units::RadToArcsec(p.backlash) > 40.0);
       // Each branch crosses the free play at zero torque: from the flank it comes from to the other.
-      std::vector<const ltca::app::CurvePoint*> zero;
+      std::vector<const ltca::analysis::CurvePoint*> zero;
       for (const auto& c : p.curve) {
         if (c.torque == 0.0) zero.push_back(&c);
       }
@@ -145,7 +145,7 @@ TEST_CASE("app: stiffness of the Liu Table 1 perfect pair: no backlash and a cur
     CHECK(p.rigidity_drive == doctest::Approx(p.rigidity_coast).epsilon(1e-8));
     auto sweep = ltca::test::StiffnessOn(deck, ltca::test::Named(solver), StiffnessSettings{}, ContactKinematics::kLinearised);
     for (const double crank : sweep.cranks()) REQUIRE(sweep.Solve(crank).succeeded());
-    const ltca::app::StiffnessSummary s = sweep.Summary();
+    const ltca::analysis::StiffnessSummary s = sweep.Summary();
     CHECK(std::abs(s.backlash.max) < 1e-12);
     const std::size_t n = s.curve.size() / 2;  // the increasing branch
     for (std::size_t i = 0; i < n; ++i) {
@@ -173,7 +173,7 @@ TEST_CASE("app: stiffness of the Liu 5.2 base: lost motion is the twist between 
             Case("liu2021_sec52_base.toml"),
             {side == 0 ? "load.torque_nm=6.18" : "load.torque_nm=-6.18", "sweep.positions=1",
              "sweep.crank_start_deg=" + std::to_string(crank_deg), "sweep.crank_end_deg=" + std::to_string(crank_deg)});
-        const ltca::app::SweepResult r = ltca::test::SolveSweep(ltca::test::WithKinematics(one, kinematics), ltca::test::Named("bisection"));
+        const ltca::analysis::SweepResult r = ltca::test::SolveSweep(ltca::test::WithKinematics(one, kinematics), ltca::test::Named("bisection"));
         REQUIRE(r.summary.all_succeeded());
         twist[side] = -r.positions.front().result.te;
       }
@@ -363,8 +363,8 @@ TEST_CASE("app: the friction balance in one solve of scaled laws is the fixed po
           CAPTURE(torque);
           CAPTURE(sense);
           int solves = 0;
-          ltca::app::LoopFrictionBalance balance;
-          const auto got = ltca::app::SolveWithLoopFriction(stage.model(), state, torque, sense, mu, problem(state), solve,
+          ltca::analysis::LoopFrictionBalance balance;
+          const auto got = ltca::analysis::SolveWithLoopFriction(stage.model(), state, torque, sense, mu, problem(state), solve,
                                                              &solves, nullptr, nullptr, &balance);
           REQUIRE(got.status == ltca::solvers::SolverStatus::kSuccess);
           direct += balance.direct;
@@ -401,7 +401,7 @@ TEST_CASE("app: the friction balance in one solve of scaled laws is the fixed po
       const double plus = 0.5 * (twists[{ft, 1.0}] + std::min(twists[{ft, -1.0}], twists[{rated, 1.0}]));
       const double minus = 0.5 * (std::max(twists[{-ft, 1.0}], twists[{-rated, -1.0}]) + twists[{-ft, -1.0}]);
       Deck with = deck;
-      with.friction = ltca::app::FrictionSettings{};
+      with.friction = ltca::analysis::FrictionSettings{};
       with.friction->coefficient = mu;
       StiffnessSettings at = AtCrank(crank_deg);
       auto runner = ltca::test::StiffnessOn(with, options, at, ContactKinematics::kLinearised);

@@ -32,8 +32,8 @@
 #include "ltca/geometry/units.hpp"
 
 using ltca::app::Deck;
-using ltca::app::ToleranceSample;
-using ltca::app::ToleranceStudy;
+using ltca::analysis::ToleranceSample;
+using ltca::analysis::ToleranceStudy;
 
 namespace {
 
@@ -79,7 +79,7 @@ TEST_CASE("app: zero tolerances give every sample the deterministic run of the d
   const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   const auto samples = study.RunRange(0, 3, 2);
   // The deterministic run: `ltca solve`'s sweep and `ltca backlash`'s unloaded analysis.
-  const ltca::app::SweepResult sweep = ltca::test::SolveSweep(deck, deck.solver, {nullptr, false});
+  const ltca::analysis::SweepResult sweep = ltca::test::SolveSweep(deck, deck.solver, {nullptr, false});
   const ltca::contact::MeshModel model = deck.MakeModel();
   double lo = INFINITY, hi = -INFINITY;
   const auto cranks = deck.sweep.CrankAngles();
@@ -93,14 +93,14 @@ TEST_CASE("app: zero tolerances give every sample the deterministic run of the d
     CAPTURE(s.index);
     CHECK(s.status == ltca::analysis::RunStatus::kSuccess);
     for (const double v : s.inputs) CHECK(v == 0.0);
-    CHECK(SameBits(s.figures[ltca::app::kMeanBacklashArcsec], RadToArcsec(mean)));
-    CHECK(SameBits(s.figures[ltca::app::kPpBacklashArcsec], RadToArcsec(hi - lo)));
-    CHECK(SameBits(s.figures[ltca::app::kMeanTeArcsec], RadToArcsec(sweep.summary.mean_te)));
-    CHECK(SameBits(s.figures[ltca::app::kPpTeArcsec], RadToArcsec(sweep.summary.pp_te)));
-    CHECK(SameBits(s.figures[ltca::app::kMaxContactStressMpa], sweep.summary.max_contact_stress));
-    CHECK(SameBits(s.figures[ltca::app::kMaxPinForceN], sweep.summary.max_pin_force));
-    CHECK(s.figures[ltca::app::kContactsMin] == sweep.summary.contacts_min);
-    CHECK(s.figures[ltca::app::kContactsMax] == sweep.summary.contacts_max);
+    CHECK(SameBits(s.figures[ltca::analysis::kMeanBacklashArcsec], RadToArcsec(mean)));
+    CHECK(SameBits(s.figures[ltca::analysis::kPpBacklashArcsec], RadToArcsec(hi - lo)));
+    CHECK(SameBits(s.figures[ltca::analysis::kMeanTeArcsec], RadToArcsec(sweep.summary.mean_te)));
+    CHECK(SameBits(s.figures[ltca::analysis::kPpTeArcsec], RadToArcsec(sweep.summary.pp_te)));
+    CHECK(SameBits(s.figures[ltca::analysis::kMaxContactStressMpa], sweep.summary.max_contact_stress));
+    CHECK(SameBits(s.figures[ltca::analysis::kMaxPinForceN], sweep.summary.max_pin_force));
+    CHECK(s.figures[ltca::analysis::kContactsMin] == sweep.summary.contacts_min);
+    CHECK(s.figures[ltca::analysis::kContactsMax] == sweep.summary.contacts_max);
   }
 }
 
@@ -127,14 +127,14 @@ TEST_CASE("app: a normal pin-circle tolerance gives the mean backlash the mean a
 
   const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   const auto samples = study.RunRange(0, n, 2);
-  const ltca::app::ToleranceSummary summary = ltca::app::Summarise(study, samples);
+  const ltca::analysis::ToleranceSummary summary = ltca::analysis::Summarise(study, samples);
   REQUIRE(summary.succeeded == n);
-  const auto& f = summary.figures[ltca::app::kMeanBacklashArcsec];
+  const auto& f = summary.figures[ltca::analysis::kMeanBacklashArcsec];
   const double sigma = liu_slope * sigma_in_um;
   CHECK(std::abs(f.mean - b0) < 4.0 * sigma / std::sqrt(n));
   CHECK(std::abs(f.std - sigma) < 4.0 * sigma / std::sqrt(2.0 * (n - 1)) + 1e-3 * sigma);
   // The figure is linear in the one input: its SRC is +1 (backlash grows with delta_Rp), R^2 1.
-  const auto& s = summary.sensitivity[ltca::app::kMeanBacklashArcsec];
+  const auto& s = summary.sensitivity[ltca::analysis::kMeanBacklashArcsec];
   REQUIRE(s.keys.size() == 1);
   CHECK(s.keys[0].key == "pin_circle_deviation_mm");
   CHECK(s.keys[0].src == doctest::Approx(1.0).epsilon(1e-3));
@@ -145,8 +145,8 @@ TEST_CASE("app: a normal pin-circle tolerance gives the mean backlash the mean a
   CHECK(summary.pass_fraction == 1.0);
   // The extreme-value counterpart: +-3 sigma_in stacked with Liu's slope, 1 % (the response is
   // linear; the residual is the slope's own deviation and the curvature over +-6 um).
-  const ltca::app::WorstCaseResult worst = ltca::app::ExtremeValueWorstCase(study, 2);
-  const auto& w = worst.figures[ltca::app::kMeanBacklashArcsec];
+  const ltca::analysis::WorstCaseResult worst = ltca::analysis::ExtremeValueWorstCase(study, 2);
+  const auto& w = worst.figures[ltca::analysis::kMeanBacklashArcsec];
   CHECK(w.nominal == doctest::Approx(b0).epsilon(1e-12));
   CHECK(w.stack_high - w.nominal == doctest::Approx(3.0 * sigma).epsilon(1e-2));
   CHECK(w.corner_low == doctest::Approx(b0 - 3.0 * sigma).epsilon(1e-2));
@@ -182,7 +182,7 @@ TEST_CASE("app: sample i depends on (seed, i) only, whatever the range and the t
   CHECK(hi <= 0.001);
   CHECK(hi - lo > 0.001);  // 40 uniform draws on +-1 um span more than 1 um but with probability ~1e-11
   // Another seed, other samples.
-  ltca::app::ToleranceSettings other = *deck.tolerances;
+  ltca::analysis::ToleranceSettings other = *deck.tolerances;
   other.seed = 4;
   const auto study4 = ltca::test::ToleranceOn(deck, deck.solver, other);
   CHECK(study4.Draw(0)[0] != study.Draw(0)[0]);
@@ -196,9 +196,9 @@ TEST_CASE("app: profile_random_per_sample gives every sample its own random prof
   const auto b = ltca::test::ToleranceOn(drawn, drawn.solver, *drawn.tolerances).RunRange(0, 2, 1);
   REQUIRE(a[0].status == ltca::analysis::RunStatus::kSuccess);
   REQUIRE(b[0].status == ltca::analysis::RunStatus::kSuccess);
-  CHECK(SameBits(a[0].figures[ltca::app::kMeanBacklashArcsec], a[1].figures[ltca::app::kMeanBacklashArcsec]));
-  CHECK(b[0].figures[ltca::app::kMeanBacklashArcsec] != b[1].figures[ltca::app::kMeanBacklashArcsec]);
-  CHECK(b[0].figures[ltca::app::kMeanBacklashArcsec] != a[0].figures[ltca::app::kMeanBacklashArcsec]);
+  CHECK(SameBits(a[0].figures[ltca::analysis::kMeanBacklashArcsec], a[1].figures[ltca::analysis::kMeanBacklashArcsec]));
+  CHECK(b[0].figures[ltca::analysis::kMeanBacklashArcsec] != b[1].figures[ltca::analysis::kMeanBacklashArcsec]);
+  CHECK(b[0].figures[ltca::analysis::kMeanBacklashArcsec] != a[0].figures[ltca::analysis::kMeanBacklashArcsec]);
   CHECK_THROWS_WITH_AS(BaseWith("profile_random_per_sample = true\n"), doctest::Contains("profile_random_zone_um is 0"),
                        std::invalid_argument);
 }
@@ -257,7 +257,7 @@ TEST_CASE("app: percentiles are the linear interpolation between order statistic
   std::vector<double> v;
   for (int i = 0; i <= 100; ++i) v.push_back(static_cast<double>((i * 37) % 101));
   v.push_back(NAN);
-  const auto s = ltca::app::ComputeStats(v);
+  const auto s = ltca::analysis::ComputeStats(v);
   CHECK(s.count == 101);
   CHECK(s.p1 == 1.0);
   CHECK(s.p5 == 5.0);
@@ -268,7 +268,7 @@ TEST_CASE("app: percentiles are the linear interpolation between order statistic
   // The sample standard deviation of 0..100: sqrt(101 * 102 / 12) = 29.3002...
   CHECK(s.std == doctest::Approx(std::sqrt(101.0 * 102.0 / 12.0)).epsilon(1e-14));
   // Between order statistics: 1, 2, 3, 4 at p = 0.5 is 2.5, at p = 0.01 is 1.03.
-  const auto t = ltca::app::ComputeStats({4, 2, 1, 3});
+  const auto t = ltca::analysis::ComputeStats({4, 2, 1, 3});
   CHECK(t.p50 == doctest::Approx(2.5).epsilon(1e-15));
   CHECK(t.p1 == doctest::Approx(1.03).epsilon(1e-14));
 }
@@ -276,23 +276,23 @@ TEST_CASE("app: percentiles are the linear interpolation between order statistic
 TEST_CASE("app: Jiang 2022 Table 3 by the extreme-value method gives the clearances of section 5.1") {
   // Jiang 2022 section 5.1: A_0 = 26 um (crank 0/-18 in the cycloid bore +8/0), B_0 = 22 um (pin
   // 0/-13 in the pin gear bore +9/0), C_0 = 24 um (pin 0/-9 in the sleeve +15/0), minimum 0 each.
-  using ltca::app::DimensionLink;
-  const auto a = ltca::app::ExtremeValueClosingLink({{"A2 cycloid bore", true, 8, 0}, {"A1 crankshaft", false, 0, -18}});
-  const auto b = ltca::app::ExtremeValueClosingLink({{"B2 pin gear bore", true, 9, 0}, {"B1 pin tooth", false, 0, -13}});
-  const auto c = ltca::app::ExtremeValueClosingLink({{"C2 sleeve", true, 15, 0}, {"C1 pin tooth", false, 0, -9}});
+  using ltca::analysis::DimensionLink;
+  const auto a = ltca::analysis::ExtremeValueClosingLink({{"A2 cycloid bore", true, 8, 0}, {"A1 crankshaft", false, 0, -18}});
+  const auto b = ltca::analysis::ExtremeValueClosingLink({{"B2 pin gear bore", true, 9, 0}, {"B1 pin tooth", false, 0, -13}});
+  const auto c = ltca::analysis::ExtremeValueClosingLink({{"C2 sleeve", true, 15, 0}, {"C1 pin tooth", false, 0, -9}});
   CHECK(a.max == 26.0);
   CHECK(b.max == 22.0);
   CHECK(c.max == 24.0);
   CHECK(a.min == 0.0);
   CHECK(b.min == 0.0);
   CHECK(c.min == 0.0);
-  CHECK_THROWS_AS(ltca::app::ExtremeValueClosingLink({{"bad", true, -1, 1}}), std::invalid_argument);
+  CHECK_THROWS_AS(ltca::analysis::ExtremeValueClosingLink({{"bad", true, -1, 1}}), std::invalid_argument);
   // Beside it the Monte Carlo of the same chain, links uniform within their limits: B_0 is the
   // difference of U(0, 9) and U(-13, 0), mean 4.5 + 6.5 = 11 um, variance (9^2 + 13^2) / 12. Seed
   // fixed; tolerances from n = 20,000: the mean within 4 standard errors, the standard deviation
   // within 4 % (about 4 of its standard errors for this near-trapezoidal law), inside [0, 22].
   const int n = 20000;
-  const auto mc = ltca::app::ChainMonteCarlo({{"B2 pin gear bore", true, 9, 0}, {"B1 pin tooth", false, 0, -13}}, n, 2022, 1);
+  const auto mc = ltca::analysis::ChainMonteCarlo({{"B2 pin gear bore", true, 9, 0}, {"B1 pin tooth", false, 0, -13}}, n, 2022, 1);
   const double sd = std::sqrt((81.0 + 169.0) / 12.0);
   CHECK(mc.count == n);
   CHECK(std::abs(mc.mean - 11.0) < 4.0 * sd / std::sqrt(n));
@@ -399,9 +399,9 @@ TEST_CASE("app: a worst-case input whose run failed is not a zero effect: its fi
                              "eccentricity_deviation_mm = { distribution = \"uniform\", tolerance = 0.001 }\n",
                              {"sweep.positions=3"});
   const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
-  const ltca::app::WorstCaseResult worst = ltca::app::ExtremeValueWorstCase(study, 2);
+  const ltca::analysis::WorstCaseResult worst = ltca::analysis::ExtremeValueWorstCase(study, 2);
   CHECK(worst.failed_runs >= 1);
-  for (std::size_t f = 0; f < ltca::app::kToleranceFigureCount; ++f) {
+  for (std::size_t f = 0; f < ltca::analysis::kToleranceFigureCount; ++f) {
     CAPTURE(f);
     const auto& w = worst.figures[f];
     CHECK(std::isnan(w.stack_low));
@@ -501,9 +501,9 @@ TEST_CASE("app: the sensitivity reports R^2 and a noise floor, and outputs shuff
                              {"sweep.positions=2"});
   const auto study = ltca::test::ToleranceOn(deck, deck.solver, *deck.tolerances);
   std::vector<ToleranceSample> samples = study.RunRange(0, n, 2);
-  const auto summary = ltca::app::Summarise(study, samples);
+  const auto summary = ltca::analysis::Summarise(study, samples);
   REQUIRE(summary.succeeded == n);
-  const auto& real = summary.sensitivity[ltca::app::kMeanBacklashArcsec];
+  const auto& real = summary.sensitivity[ltca::analysis::kMeanBacklashArcsec];
   CHECK(real.samples == n);
   CHECK(real.r_squared > 0.9);
   CHECK(real.r_squared_floor > 0.0);
@@ -515,8 +515,8 @@ TEST_CASE("app: the sensitivity reports R^2 and a noise floor, and outputs shuff
   // Shuffle the figures over the samples (a fixed permutation: i -> 7 i + 3 mod n, n prime to 7).
   std::vector<ToleranceSample> shuffled = samples;
   for (int i = 0; i < n; ++i) shuffled[static_cast<std::size_t>(i)].figures = samples[static_cast<std::size_t>((7 * i + 3) % n)].figures;
-  const auto chance = ltca::app::Summarise(study, shuffled);
-  const auto& s = chance.sensitivity[ltca::app::kMeanBacklashArcsec];
+  const auto chance = ltca::analysis::Summarise(study, shuffled);
+  const auto& s = chance.sensitivity[ltca::analysis::kMeanBacklashArcsec];
   CHECK(s.r_squared < s.r_squared_floor);
   for (const auto& k : s.keys) {
     CAPTURE(k.key);
@@ -525,18 +525,18 @@ TEST_CASE("app: the sensitivity reports R^2 and a noise floor, and outputs shuff
   }
   // The floor itself: chi^2 quantiles (exact for 1 degree of freedom: 3.2905^2 = 10.828; Wilson-
   // Hilferty for 40: the tables give 73.40), and the inverse normal at 0.999: 3.090232.
-  CHECK(ltca::app::ChiSquaredQuantile(0.999, 1) == doctest::Approx(10.828).epsilon(1e-4));
-  CHECK(ltca::app::ChiSquaredQuantile(0.999, 40) == doctest::Approx(73.40).epsilon(2e-3));
-  CHECK(ltca::app::InverseNormalCdf(0.999) == doctest::Approx(3.090232306167813).epsilon(1e-14));
-  CHECK(ltca::app::InverseNormalCdf(0.5 * std::erfc(3.0 / std::sqrt(2.0))) == doctest::Approx(-3.0).epsilon(1e-14));
+  CHECK(ltca::analysis::ChiSquaredQuantile(0.999, 1) == doctest::Approx(10.828).epsilon(1e-4));
+  CHECK(ltca::analysis::ChiSquaredQuantile(0.999, 40) == doctest::Approx(73.40).epsilon(2e-3));
+  CHECK(ltca::analysis::InverseNormalCdf(0.999) == doctest::Approx(3.090232306167813).epsilon(1e-14));
+  CHECK(ltca::analysis::InverseNormalCdf(0.5 * std::erfc(3.0 / std::sqrt(2.0))) == doctest::Approx(-3.0).epsilon(1e-14));
 }
 
 TEST_CASE("app: the samples are streamed: the summary keeps 97 bytes a sample (12 figures and a status), so the sample limit fits in memory") {
   // Issue 26 item 15: every sample was kept whole (about 3.2 kB: its inputs and strings), so the
   // documented limit of 10,000,000 samples needed 32 GB. The table keeps the figures and a status
   // byte; the inputs are drawn again. The limit then needs 0.97 GB (the machine has 24 GB).
-  static_assert(ltca::app::SampleTable::kBytesPerSample == ltca::app::kToleranceFigureCount * sizeof(double) + 1);
-  ltca::app::SampleTable table(5);
+  static_assert(ltca::analysis::SampleTable::kBytesPerSample == ltca::analysis::kToleranceFigureCount * sizeof(double) + 1);
+  ltca::analysis::SampleTable table(5);
   table.Reserve(1000);
   ToleranceSample s;
   for (int i = 0; i < 1000; ++i) {
@@ -546,10 +546,10 @@ TEST_CASE("app: the samples are streamed: the summary keeps 97 bytes a sample (1
     table.Add(s);
   }
   CHECK(table.size() == 1000);
-  CHECK(table.RetainedBytes() == 1000 * ltca::app::SampleTable::kBytesPerSample);
+  CHECK(table.RetainedBytes() == 1000 * ltca::analysis::SampleTable::kBytesPerSample);
   CHECK(table.first_failure_index() == 12);
   CHECK(table.first_failure_message() == "interferes");
-  CHECK(static_cast<double>(ltca::app::ToleranceSettings::kMaxSamples) * ltca::app::SampleTable::kBytesPerSample < 1e9);
+  CHECK(static_cast<double>(ltca::analysis::ToleranceSettings::kMaxSamples) * ltca::analysis::SampleTable::kBytesPerSample < 1e9);
   s.index = 2000;  // out of sample order
   CHECK_THROWS_AS(table.Add(s), std::logic_error);
   // RunStream hands the samples over in sample order, and they are those of RunRange.
@@ -569,13 +569,13 @@ TEST_CASE("app: a thread that cannot be started stops and joins the ones started
   // Issue 26 item 13: threads that failed to start were never joined: "terminate called without
   // an active exception". A starter that fails at the third thread stands for the system's refusal.
   std::atomic<int> started{0};
-  const ltca::app::ThreadStarter refuse_third = [&](std::function<void()> work) {
+  const ltca::analysis::ThreadStarter refuse_third = [&](std::function<void()> work) {
     if (started.fetch_add(1) == 2) throw std::system_error(std::make_error_code(std::errc::resource_unavailable_try_again), "thread");
     return std::thread(std::move(work));
   };
   std::atomic<std::int64_t> ran{0};
   // Issue 46: the machine's refusal is said as such (exit 2 at the command line), not as an internal error.
-  CHECK_THROWS_WITH_AS(ltca::app::ParallelFor(1000, 8, [&](std::int64_t) { ran.fetch_add(1); }, {}, refuse_third),
+  CHECK_THROWS_WITH_AS(ltca::analysis::ParallelFor(1000, 8, [&](std::int64_t) { ran.fetch_add(1); }, {}, refuse_third),
                        doctest::Contains("the system could not start thread 4 of 8"), std::invalid_argument);
   CHECK(started == 3);
   CHECK(ran <= 1000);
@@ -646,12 +646,12 @@ TEST_CASE("app: two discs: the ring's keys drawn once move both; with no per-dis
     REQUIRE(b[i].status == ltca::analysis::RunStatus::kSuccess);
     CHECK(a[i].inputs == b[i].inputs);
     CHECK(a[i].inputs[0] != 0.0);
-    for (const std::size_t f : {ltca::app::kMeanTeArcsec, ltca::app::kPpTeArcsec, ltca::app::kMaxContactStressMpa,
-                                ltca::app::kMaxPinForceN, ltca::app::kMeanBacklashArcsec, ltca::app::kPpBacklashArcsec}) {
+    for (const std::size_t f : {ltca::analysis::kMeanTeArcsec, ltca::analysis::kPpTeArcsec, ltca::analysis::kMaxContactStressMpa,
+                                ltca::analysis::kMaxPinForceN, ltca::analysis::kMeanBacklashArcsec, ltca::analysis::kPpBacklashArcsec}) {
       CAPTURE(f);
       CHECK(a[i].figures[f] == doctest::Approx(b[i].figures[f]).epsilon(1e-9));
     }
-    CHECK(a[i].figures[ltca::app::kContactsMin] == 2 * b[i].figures[ltca::app::kContactsMin]);
+    CHECK(a[i].figures[ltca::analysis::kContactsMin] == 2 * b[i].figures[ltca::analysis::kContactsMin]);
   }
 }
 
@@ -717,18 +717,18 @@ TEST_CASE("app: a reducer stage's sample: its backlash is the stage's free play 
     const auto r = ltca::test::RunCli(args);
     REQUIRE(r.code == 0);
     const nlohmann::json stage = nlohmann::json::parse(r.out).at("summary").at("stage");
-    CHECK(s.figures[ltca::app::kMaxOutputPinForceN] == doctest::Approx(stage.at("max_output_pin_force_n").get<double>()).epsilon(1e-9));
-    CHECK(s.figures[ltca::app::kMaxBearingLoadN] == doctest::Approx(stage.at("max_bearing_load_n").get<double>()).epsilon(1e-9));
-    CHECK(s.figures[ltca::app::kShortestL10Hours] == doctest::Approx(stage.at("shortest_l10_hours").get<double>()).epsilon(1e-9));
-    for (std::size_t f = 0; f < ltca::app::kToleranceFigureCount; ++f) CHECK(study.Runs(f));
+    CHECK(s.figures[ltca::analysis::kMaxOutputPinForceN] == doctest::Approx(stage.at("max_output_pin_force_n").get<double>()).epsilon(1e-9));
+    CHECK(s.figures[ltca::analysis::kMaxBearingLoadN] == doctest::Approx(stage.at("max_bearing_load_n").get<double>()).epsilon(1e-9));
+    CHECK(s.figures[ltca::analysis::kShortestL10Hours] == doctest::Approx(stage.at("shortest_l10_hours").get<double>()).epsilon(1e-9));
+    for (std::size_t f = 0; f < ltca::analysis::kToleranceFigureCount; ++f) CHECK(study.Runs(f));
   }
   using ltca::units::RadToArcsec;
   const double arcmin = 60.0;  // arcsec
-  const double mean = s.figures[ltca::app::kMeanBacklashArcsec], pp = s.figures[ltca::app::kPpBacklashArcsec];
+  const double mean = s.figures[ltca::analysis::kMeanBacklashArcsec], pp = s.figures[ltca::analysis::kPpBacklashArcsec];
   CHECK(mean == doctest::Approx(loop.at("backlash_arcmin").get<double>() * arcmin).epsilon(1e-9));
   CHECK(pp == doctest::Approx((loop.at("backlash_arcmin_max").get<double>() - loop.at("backlash_arcmin_min").get<double>()) * arcmin)
                   .epsilon(1e-6));
-  CHECK(s.figures[ltca::app::kLostMotionArcmin] == doctest::Approx(loop.at("lost_motion_arcmin").get<double>()).epsilon(1e-9));
+  CHECK(s.figures[ltca::analysis::kLostMotionArcmin] == doctest::Approx(loop.at("lost_motion_arcmin").get<double>()).epsilon(1e-9));
   // In series: the output turns through the pin ring's backlash and, on each flank, the hole's
   // clearance c = r_h - r_w - e over the pin circle R_w at least (the bearing's play adds more).
   const auto& w = deck.reducer->pins;
@@ -760,8 +760,8 @@ TEST_CASE("app: a tolerance on the output pins' holes moves a stage's backlash a
     CHECK(std::abs(dc) <= 0.006);
     if (std::abs(dc) < 1e-4) continue;  // the elastic parts' change is not negligible against a tiny dc
     ++far;
-    const double backlash = ltca::units::ArcsecToRad(s.figures[ltca::app::kMeanBacklashArcsec] - s0.figures[ltca::app::kMeanBacklashArcsec]) / dc;
-    const double lost = ltca::units::ArcminToRad(s.figures[ltca::app::kLostMotionArcmin] - s0.figures[ltca::app::kLostMotionArcmin]) / dc;
+    const double backlash = ltca::units::ArcsecToRad(s.figures[ltca::analysis::kMeanBacklashArcsec] - s0.figures[ltca::analysis::kMeanBacklashArcsec]) / dc;
+    const double lost = ltca::units::ArcminToRad(s.figures[ltca::analysis::kLostMotionArcmin] - s0.figures[ltca::analysis::kLostMotionArcmin]) / dc;
     CHECK(backlash >= lo * (1.0 - 2e-3));
     CHECK(backlash <= hi);
     CHECK(lost >= lo * (1.0 - 2e-3));
@@ -783,10 +783,10 @@ TEST_CASE("app: a tolerance on the output pins' holes moves a stage's backlash a
   {
     const Deck ring = BaseWith("samples = 1\n");
     const auto mesh_only = ltca::test::ToleranceOn(ring, ring.solver, *ring.tolerances);
-    for (const std::size_t f : {ltca::app::kMaxOutputPinForceN, ltca::app::kMaxBearingLoadN, ltca::app::kShortestL10Hours}) {
+    for (const std::size_t f : {ltca::analysis::kMaxOutputPinForceN, ltca::analysis::kMaxBearingLoadN, ltca::analysis::kShortestL10Hours}) {
       CHECK(!mesh_only.Runs(f));
     }
-    CHECK(mesh_only.Runs(ltca::app::kMaxPinForceN));
+    CHECK(mesh_only.Runs(ltca::analysis::kMaxPinForceN));
   }
   CHECK(error(ReadText(Case("liu2021_sec52_base.toml")) + "\n[tolerances]\nbearing_radial_clearance_mm = { distribution = \"uniform\", tolerance = 0.002 }\n")
             .find("[tolerances] bearing_radial_clearance_mm: the deck has no reducer stage") != std::string::npos);

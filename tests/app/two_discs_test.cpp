@@ -28,10 +28,10 @@
 #include "ltca/geometry/units.hpp"
 
 using ltca::app::Deck;
-using ltca::app::StiffnessPosition;
-using ltca::app::StiffnessRunner;
-using ltca::app::StiffnessSettings;
-using ltca::app::SweepRunner;
+using ltca::analysis::StiffnessPosition;
+using ltca::analysis::StiffnessRunner;
+using ltca::analysis::StiffnessSettings;
+using ltca::analysis::SweepRunner;
 using ltca::contact::ContactKinematics;
 using ltca::solvers::SolverOptions;
 
@@ -64,14 +64,14 @@ TEST_CASE("app: two identical discs: 50/50 at every position of the sweep, and t
 
   auto sweep = ltca::test::SweepOn(stage, ltca::test::Named("compatibility"), ContactKinematics::kLinearised);
   for (const double crank : stage.sweep.CrankAngles()) {
-    const ltca::app::PositionResult p = sweep.Solve(crank);
+    const ltca::analysis::PositionResult p = sweep.Solve(crank);
     REQUIRE(p.succeeded());
     REQUIRE(p.disc_torque.size() == 2);
     CHECK(p.disc_torque[0] == doctest::Approx(103e3).epsilon(1e-9));
     CHECK(p.disc_torque[1] == doctest::Approx(103e3).epsilon(1e-9));
     CHECK(p.pin_force.size() == 80);  // disc 1's 40 pins, then disc 2's
   }
-  const ltca::app::SweepSummary s = sweep.Summary();
+  const ltca::analysis::SweepSummary s = sweep.Summary();
   CHECK(s.succeeded == 91);
   CHECK(s.first_disc_share_min == doctest::Approx(0.5).epsilon(1e-9));
   CHECK(s.first_disc_share_max == doctest::Approx(0.5).epsilon(1e-9));
@@ -112,7 +112,7 @@ TEST_CASE("app: a second disc indexed 0.5 um ahead carries more of +T and less o
   for (const double crank_deg : {0.0, 2.5, 6.1}) {
     CAPTURE(crank_deg);
     const double crank = ltca::units::DegToRad(crank_deg);
-    const ltca::app::PositionResult p = sweep.Solve(crank);
+    const ltca::analysis::PositionResult p = sweep.Solve(crank);
     REQUIRE(p.succeeded());
     const double share = p.disc_torque[0] / (p.disc_torque[0] + p.disc_torque[1]);
     CHECK(share > 0.3);  // both carry (observed 0.40 to 0.42)
@@ -190,7 +190,7 @@ TEST_CASE("app: [second_disc] copies the first disc unless told, and rejects pin
   const Deck stage = ltca::app::LoadDeck(Case("rv_two_discs.toml"),
                                          {"friction.coefficient=0.05", "operation.input_speed_rpm=1500"});
   CHECK_NOTHROW(ltca::test::EfficiencyOn(stage, ltca::test::Named("compatibility"), ContactKinematics::kLinearised));
-  ltca::app::ToleranceSettings tolerances;
+  ltca::analysis::ToleranceSettings tolerances;
   CHECK_NOTHROW(ltca::test::ToleranceOn(stage, ltca::test::Named("compatibility"), tolerances));
 }
 
@@ -241,7 +241,7 @@ TEST_CASE("cli: two discs in the JSON and CSV of solve, stiffness and backlash: 
     CHECK(torques[0] + torques[1] == doctest::Approx(206.0).epsilon(1e-8));
     CHECK(p.at("pin_force_n").size() == 80);
     const double share = p.at("first_disc_share").get<double>();
-    const ltca::app::PositionResult r = sweep.Solve(ltca::units::DegToRad(p.at("crank_deg").get<double>()));
+    const ltca::analysis::PositionResult r = sweep.Solve(ltca::units::DegToRad(p.at("crank_deg").get<double>()));
     CHECK(share == doctest::Approx(r.disc_torque[0] / 206e3).epsilon(1e-9));
     lo = std::min(lo, share), hi = std::max(hi, share);
   }

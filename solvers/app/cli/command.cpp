@@ -60,9 +60,9 @@ void AddSamplesOption(CLI::App& command, std::optional<std::int64_t>& samples) {
             std::int64_t value = 0;
             const char* end = text.data() + text.size();
             const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-            if (text.empty() || ptr != end || ec != std::errc() || value < 1 || value > app::ToleranceSettings::kMaxSamples) {
+            if (text.empty() || ptr != end || ec != std::errc() || value < 1 || value > analysis::ToleranceSettings::kMaxSamples) {
               throw CLI::ValidationError(fmt::format("--samples {}: expected a whole number from 1 to {}", text,
-                                                     app::ToleranceSettings::kMaxSamples));
+                                                     analysis::ToleranceSettings::kMaxSamples));
             }
             samples = value;
           },

@@ -51,7 +51,7 @@ inline constexpr const char* kKinematicsHelp =
 /// --set and DECK.
 void AddDeckInputs(CLI::App& command, DeckInput& deck, const char* deck_help = "Case deck (TOML); default: the built-in deck");
 /// --samples N of a tolerance study (`ltca tolerance`, `ltca report`): 1 to
-/// app::ToleranceSettings::kMaxSamples, said in the option's own words when not.
+/// analysis::ToleranceSettings::kMaxSamples, said in the option's own words when not.
 void AddSamplesOption(CLI::App& command, std::optional<std::int64_t>& samples);
 
 /// --set, DECK, --solver and --kinematics: the inputs of a command that solves loads.

@@ -35,7 +35,7 @@ int RunCompare(const app::Deck& deck_given, const CompareOptions& options, const
   std::vector<std::vector<double>> plot_te(selection.run.size());
   const analysis::CompareResult result = analysis::Compare(
       stage, deck.solver, selection.run, torque, selection.skipped,
-      [&](double crank, const std::vector<app::PositionResult>& at) {
+      [&](double crank, const std::vector<analysis::PositionResult>& at) {
         if (svg.enabled()) {
           plot_crank.push_back(units::RadToDeg(crank));
           for (std::size_t r = 0; r < at.size(); ++r) plot_te[r].push_back(at[r].succeeded() ? units::RadToArcsec(at[r].result.te) : NAN);

@@ -23,8 +23,8 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
   Output svg("--svg", options.svg_path, streams.out);
   // Old order of the checks: [material], [friction], [operation], [load]; the stage checks interference.
   deck.RequireMaterial();
-  const app::FrictionSettings& friction = deck.RequireFriction();
-  const app::OperationSettings& operation = deck.RequireOperation();
+  const analysis::FrictionSettings& friction = deck.RequireFriction();
+  const analysis::OperationSettings& operation = deck.RequireOperation();
   const double torque = deck.RequireLoad().torque;
   analysis::EfficiencyRunner runner(deck.MakeStage(), solver, torque, friction, operation);
   const std::vector<double>& cranks = runner.cranks();

@@ -490,7 +490,7 @@ struct ReportContext {
   solvers::SolverOptions solver;  ///< SolverFor(deck, --solver), set by the loaded sweep
   nlohmann::json geometry_json;
   std::string geometry_svg;
-  std::optional<app::SweepResult> solved;
+  std::optional<analysis::SweepResult> solved;
   std::string solve_svg;
   std::optional<analysis::BacklashResult> backlash;
   std::string backlash_svg;
@@ -573,9 +573,9 @@ int RunLoaded(ReportContext& ctx) {
     documents::SolveJsonWriter writer(os, deck, ctx.solver);
     std::int64_t done = 0;
     Progress progress(streams.err, streams.progress, "solving position", deck.sweep.positions);
-    app::SweepCallbacks callbacks;
+    analysis::SweepCallbacks callbacks;
     callbacks.keep_positions = false;
-    callbacks.on_position = [&](const app::PositionResult& p) {
+    callbacks.on_position = [&](const analysis::PositionResult& p) {
       writer.Add(p);
       solve_series.Add(p);
       progress.Update(++done);
@@ -584,7 +584,7 @@ int RunLoaded(ReportContext& ctx) {
     progress.Finish();
     writer.Finish(deck, ctx.solved->summary);
   });
-  const app::SweepSummary& ss = ctx.solved->summary;
+  const analysis::SweepSummary& ss = ctx.solved->summary;
   ctx.solve_svg = SvgOf(documents::Figure(deck, ctx.solver, solve_series, ss));
   WriteTo("-o", ctx.folder.File("solve.svg"), streams.out, [&](std::ostream& os) { os << ctx.solve_svg; });
   return ss.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
@@ -639,7 +639,7 @@ const char* StiffnessSkipped(const app::Deck& deck) {
 int RunStiffness(ReportContext& ctx) {
   const app::Deck& deck = ctx.deck;
   const Streams& streams = ctx.streams;
-  app::StiffnessSettings settings = deck.stiffness;
+  analysis::StiffnessSettings settings = deck.stiffness;
   settings.crank = 0.0;
   settings.Validate();
   deck.RequireMaterial();

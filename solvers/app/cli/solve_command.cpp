@@ -36,9 +36,9 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
     if (csv.enabled()) csv.stream() << documents::SolveCsvHead(deck);
     if (pattern.enabled()) pattern.stream() << documents::PatternCsvHead();
   };
-  app::SweepCallbacks callbacks;
+  analysis::SweepCallbacks callbacks;
   callbacks.keep_positions = false;
-  callbacks.on_position = [&](const app::PositionResult& p) {
+  callbacks.on_position = [&](const analysis::PositionResult& p) {
     if (!started) start();
     if (writer) writer->Add(p);
     if (csv.enabled()) csv.stream() << documents::Csv(p);
@@ -46,10 +46,10 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
     if (pattern.enabled()) pattern.stream() << documents::PatternCsv(deck, p);
     progress.Update(++done);
   };
-  const app::SweepResult sweep = app::SolveDeckSweep(deck, solver, callbacks);
+  const analysis::SweepResult sweep = app::SolveDeckSweep(deck, solver, callbacks);
   progress.Finish();
   if (!started) start();
-  const app::SweepSummary& s = sweep.summary;
+  const analysis::SweepSummary& s = sweep.summary;
   if (writer) {
     writer->Finish(deck, s);
     json.Commit();

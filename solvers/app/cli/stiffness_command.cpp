@@ -17,13 +17,13 @@
 
 namespace ltca::cli {
 
-app::StiffnessSettings StiffnessSettingsFor(const app::Deck& deck, const StiffnessOptions& options) {
-  app::StiffnessSettings s = deck.stiffness;
+analysis::StiffnessSettings StiffnessSettingsFor(const app::Deck& deck, const StiffnessOptions& options) {
+  analysis::StiffnessSettings s = deck.stiffness;
   if (options.crank_deg) s.crank = units::DegToRad(*options.crank_deg);
   if (options.steps) s.steps = *options.steps;
   if (!options.rigidity.empty()) {
-    if (options.rigidity == "secant") s.rigidity = app::StiffnessSettings::Rigidity::kSecant;
-    else if (options.rigidity == "tangent") s.rigidity = app::StiffnessSettings::Rigidity::kTangent;
+    if (options.rigidity == "secant") s.rigidity = analysis::StiffnessSettings::Rigidity::kSecant;
+    else if (options.rigidity == "tangent") s.rigidity = analysis::StiffnessSettings::Rigidity::kTangent;
     else throw std::invalid_argument(fmt::format("--rigidity {}: expected secant or tangent", options.rigidity));
   }
   if (options.tangent_torque_nm) s.tangent_torque = units::NmToNmm(*options.tangent_torque_nm);
@@ -36,7 +36,7 @@ int RunStiffness(const app::Deck& deck_given, const StiffnessOptions& options, c
   namespace documents = app::documents;
   const app::Deck deck = DeckFor(deck_given, options.kinematics);  // --kinematics, else the deck's
   const solvers::SolverOptions solver = SolverFor(deck, options.solver);
-  const app::StiffnessSettings settings = StiffnessSettingsFor(deck, options);
+  const analysis::StiffnessSettings settings = StiffnessSettingsFor(deck, options);
   RequireDistinctOutputs({{"--json", options.json_path}, {"--csv", options.csv_path}, {"--svg", options.svg_path}});
   // Outputs first: an unwritable path is an error before anything is computed.
   Output json("--json", options.json_path, streams.out);

@@ -20,7 +20,7 @@ struct StiffnessOptions {
 };
 
 /// The deck's [stiffness] with the command line's options applied and validated.
-app::StiffnessSettings StiffnessSettingsFor(const app::Deck& deck, const StiffnessOptions& options);
+analysis::StiffnessSettings StiffnessSettingsFor(const app::Deck& deck, const StiffnessOptions& options);
 
 /// `ltca stiffness`: the torque-twist loop (issue 13, docs/stiffness.md), streamed position by
 /// position to JSON and CSV, an SVG of the loop. Returns kExitSuccess when every solve succeeded,

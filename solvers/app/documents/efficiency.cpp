@@ -22,14 +22,14 @@ std::string PositionStatus(const analysis::EfficiencyPosition& p) {
 }  // namespace
 
 nlohmann::json EfficiencyHead(const Deck& deck, const SolverOptions& solver) {
-  const FrictionSettings& f = deck.RequireFriction();
-  const OperationSettings& op = deck.RequireOperation();
+  const analysis::FrictionSettings& f = deck.RequireFriction();
+  const analysis::OperationSettings& op = deck.RequireOperation();
   nlohmann::json friction = {{"model", ToString(f.model)},
                              {"coefficient", FiniteOrNull(f.coefficient)},
                              {"boundary_coefficient", f.boundary_coefficient},
                              {"sleeve_bore_radius_mm", f.sleeve_bore_radius ? nlohmann::json(*f.sleeve_bore_radius) : nlohmann::json(nullptr)},
                              {"sleeve_coefficient", FiniteOrNull(f.sleeve_coefficient)},
-                             {"torque_balance", f.torque_balance == FrictionSettings::TorqueBalance::kSolve ? "solve" : "bound"}};
+                             {"torque_balance", f.torque_balance == analysis::FrictionSettings::TorqueBalance::kSolve ? "solve" : "bound"}};
   nlohmann::json operation = {{"input_speed_rpm", units::RadPerSToRpm(op.input_speed)},
                               {"oil_viscosity_pa_s", op.viscosity * 1e6},
                               {"pressure_viscosity_per_gpa", units::PerMPaToPerGPa(op.pressure_viscosity)},
@@ -136,17 +136,17 @@ void EfficiencyJsonWriter::Finish(const analysis::EfficiencySummary& summary) {
 }
 
 std::string EfficiencyTextHead(const Deck& deck, const SolverOptions& solver) {
-  const FrictionSettings& f = deck.RequireFriction();
-  const OperationSettings& op = deck.RequireOperation();
+  const analysis::FrictionSettings& f = deck.RequireFriction();
+  const analysis::OperationSettings& op = deck.RequireOperation();
   std::string text = fmt::format("case      {}\n", deck.info.title) + ModelLine(deck) + SolverLine(deck, solver);
-  const std::string mu = f.model == FrictionSettings::Model::kCoulomb ? fmt::format("coulomb, mu = {:g}", f.coefficient)
+  const std::string mu = f.model == analysis::FrictionSettings::Model::kCoulomb ? fmt::format("coulomb, mu = {:g}", f.coefficient)
                                                                       : fmt::format("jiang-mixed, f_b = {:g}", f.boundary_coefficient);
   text += fmt::format("friction  {}; {}; torque balance: {}\n", mu,
                       f.sleeve_bore_radius ? fmt::format("pin sleeve, bore radius {:g} mm, mu_bore {}", *f.sleeve_bore_radius,
                                                          std::isnan(f.sleeve_coefficient) ? std::string("= the contact's")
                                                                                           : fmt::format("{:g}", f.sleeve_coefficient))
                                            : std::string("no sleeve"),
-                      f.torque_balance == FrictionSettings::TorqueBalance::kSolve ? "solved" : "bounded");
+                      f.torque_balance == analysis::FrictionSettings::TorqueBalance::kSolve ? "solved" : "bounded");
   text += fmt::format("operation crank {:g} rpm, oil {:g} Pa*s, alpha {:g} 1/GPa, Ra {:g} / {:g} um\n", units::RadPerSToRpm(op.input_speed),
                       units::MPaSToPaS(op.viscosity), units::PerMPaToPerGPa(op.pressure_viscosity), units::MmToUm(op.roughness_cycloid),
                       units::MmToUm(op.roughness_pin));
@@ -206,8 +206,8 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, const std::v
   figure.title = fmt::format("{}: efficiency and power loss over crank {:g} to {:g} deg", deck.info.title,
                              RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
   // The operating point: speed, torque and the friction model the figures hold for.
-  const FrictionSettings& f = deck.RequireFriction();
-  const std::string friction = f.model == FrictionSettings::Model::kCoulomb ? fmt::format("Coulomb mu {:g}", f.coefficient)
+  const analysis::FrictionSettings& f = deck.RequireFriction();
+  const std::string friction = f.model == analysis::FrictionSettings::Model::kCoulomb ? fmt::format("Coulomb mu {:g}", f.coefficient)
                                                                             : fmt::format("{} (f_b {:g})", ToString(f.model), f.boundary_coefficient);
   figure.caption = FigureCaption(deck, fmt::format("operating point: input {:g} rpm, T = {:g} N*m, {}{}; model {}, solver {} ({} kinematics); "
                                                    "{} positions; failed positions are gaps",

@@ -52,7 +52,7 @@ nlohmann::json CurveJson(const std::vector<analysis::CurvePoint>& curve, const s
 
 /// The figure (as a JSON key with its unit) over the positions: the mean, and for a sweep its
 /// smallest and largest as key_min / key_max.
-void AddSpread(nlohmann::json& j, const std::string& key, const std::string& unit, const Spread& s, bool sweep,
+void AddSpread(nlohmann::json& j, const std::string& key, const std::string& unit, const analysis::Spread& s, bool sweep,
                double (*convert)(double)) {
   j[key + "_" + unit] = FiniteOrNull(convert(s.mean));
   if (!sweep) return;
@@ -232,7 +232,7 @@ std::string Text(const analysis::StiffnessResult& result) {
   const analysis::StiffnessSummary& s = result.summary;
   const analysis::StiffnessSettings& settings = result.settings;
   const bool sweep = result.sweep();
-  const auto range = [sweep](const Spread& v, double (*convert)(double), int decimals, const char* unit) {
+  const auto range = [sweep](const analysis::Spread& v, double (*convert)(double), int decimals, const char* unit) {
     std::string r = fmt::format("{} {}", FormatOrNa(convert(v.mean), decimals), unit);
     if (sweep && v.count > 0) r += fmt::format(" (mean; {} .. {} over the positions)", FormatOrNa(convert(v.min), decimals), FormatOrNa(convert(v.max), decimals));
     return r;

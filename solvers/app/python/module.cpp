@@ -163,7 +163,7 @@ py::tuple Answer(int code, const nlohmann::json& document, const py::dict& colum
 /// The sweep's arrays, a row per crank position, NaN where the position failed: crank_deg (deg),
 /// te_arcsec (arcsec), contacts, pin_force_n (N) and contact_stress_mpa (MPa) as positions x pins,
 /// disc_torque_nm (N*m, positions x discs; two discs only), position_status (a list of text).
-py::dict SweepArrays(const Deck& deck, const ltca::app::SweepResult& sweep) {
+py::dict SweepArrays(const Deck& deck, const ltca::analysis::SweepResult& sweep) {
   namespace units = ltca::units;
   std::vector<double> crank, te, contacts;
   std::vector<std::vector<double>> force, stress, disc_torque;
@@ -268,19 +268,19 @@ py::tuple BindSolve(const Deck& given, const std::string& solver_name, const std
   const Deck deck = ltca::app::DeckFor(given, kinematics);
   const ltca::solvers::SolverOptions solver = ltca::app::SolverFor(deck, solver_name);
   deck.RequireMaterial();
-  ltca::app::SweepCallbacks callbacks;
+  ltca::analysis::SweepCallbacks callbacks;
   if (!progress.is_none()) {  // with the GIL held for the call
     const auto total = static_cast<std::int64_t>(deck.sweep.positions);
     auto done = std::make_shared<std::int64_t>(0);
-    callbacks.on_position = [&progress, total, done](const ltca::app::PositionResult&) {
+    callbacks.on_position = [&progress, total, done](const ltca::analysis::PositionResult&) {
       py::gil_scoped_acquire gil;
       progress(++*done, total);
     };
   }
-  ltca::app::SweepResult sweep = WithoutGil([&] { return ltca::app::SolveDeckSweep(deck, solver, callbacks); });
+  ltca::analysis::SweepResult sweep = WithoutGil([&] { return ltca::app::SolveDeckSweep(deck, solver, callbacks); });
   py::object summary = ToPython(documents::Json(deck, sweep.summary));
   py::dict arrays = SweepArrays(deck, sweep);
-  auto kept = std::make_shared<const std::tuple<Deck, ltca::solvers::SolverOptions, ltca::app::SweepResult>>(deck, solver, std::move(sweep));
+  auto kept = std::make_shared<const std::tuple<Deck, ltca::solvers::SolverOptions, ltca::analysis::SweepResult>>(deck, solver, std::move(sweep));
   Document document{[kept] { return documents::Json(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept)); }};
   return py::make_tuple(document, summary, arrays);
 }
@@ -356,8 +356,8 @@ py::tuple BindEfficiency(const Deck& given, const std::string& solver_name, cons
   std::vector<analysis::EfficiencyPosition> positions;
   const analysis::EfficiencySummary summary = WithoutGil([&] {
     deck.RequireMaterial();
-    const ltca::app::FrictionSettings& friction = deck.RequireFriction();
-    const ltca::app::OperationSettings& operation = deck.RequireOperation();
+    const ltca::analysis::FrictionSettings& friction = deck.RequireFriction();
+    const ltca::analysis::OperationSettings& operation = deck.RequireOperation();
     const double torque = deck.RequireLoad().torque;
     analysis::EfficiencyRunner runner(deck.MakeStage(), solver, torque, friction, operation);
     for (const double crank : runner.cranks()) positions.push_back(runner.Solve(crank));

@@ -600,8 +600,8 @@ LoadCase ReadLoad(const Section& s) {
   return load;
 }
 
-Sweep ReadSweep(const Section& s, const geometry::PairParameters& pair) {
-  Sweep sweep;
+analysis::Sweep ReadSweep(const Section& s, const geometry::PairParameters& pair) {
+  analysis::Sweep sweep;
   const double period_deg = 360.0 / pair.pin_count;
   ReadSettings(s, {.sweep = &sweep});
   // By default one mesh period from the start.
@@ -610,12 +610,12 @@ Sweep ReadSweep(const Section& s, const geometry::PairParameters& pair) {
   return sweep;
 }
 
-StiffnessSettings ReadStiffness(const Section& s) {
-  StiffnessSettings st;
+analysis::StiffnessSettings ReadStiffness(const Section& s) {
+  analysis::StiffnessSettings st;
   ReadSettings(s, {.stiffness = &st});
   const std::string rigidity = s.String("rigidity", "secant");
-  if (rigidity == "secant") st.rigidity = StiffnessSettings::Rigidity::kSecant;
-  else if (rigidity == "tangent") st.rigidity = StiffnessSettings::Rigidity::kTangent;
+  if (rigidity == "secant") st.rigidity = analysis::StiffnessSettings::Rigidity::kSecant;
+  else if (rigidity == "tangent") st.rigidity = analysis::StiffnessSettings::Rigidity::kTangent;
   else throw std::invalid_argument(fmt::format("[stiffness] rigidity = \"{}\": expected \"secant\" or \"tangent\"", rigidity));
   if (s.Has("crank_deg")) st.crank = Internal(s, "crank_deg");
   st.Validate();
@@ -633,13 +633,13 @@ double Number(const toml::value& v, const std::string& where, const char* what, 
 
 /// Limits on figures, { figure = max } or { figure = { min = .., max = .. } }: [tolerances] limits
 /// and [optimise] constraints (issue 28). The figures' names are checked by their users.
-std::vector<ToleranceLimit> ReadLimits(const toml::value& v, const char* section, const std::string& key, const char* example) {
+std::vector<analysis::ToleranceLimit> ReadLimits(const toml::value& v, const char* section, const std::string& key, const char* example) {
   if (!v.is_table()) {
     throw std::invalid_argument(fmt::format("[{}] {} = {}: expected an inline table, e.g. {}", section, key, toml::format(v), example));
   }
-  std::vector<ToleranceLimit> limits;
+  std::vector<analysis::ToleranceLimit> limits;
   for (const auto& [figure, limit] : v.as_table()) {
-    ToleranceLimit l;
+    analysis::ToleranceLimit l;
     l.figure = figure;
     const std::string where = key + "." + figure;
     if (limit.is_table()) {
@@ -656,12 +656,12 @@ std::vector<ToleranceLimit> ReadLimits(const toml::value& v, const char* section
   return limits;
 }
 
-ToleranceDistribution ReadDistribution(const std::string& key, bool per_pin, const toml::value& v) {
+analysis::ToleranceDistribution ReadDistribution(const std::string& key, bool per_pin, const toml::value& v) {
   const std::string expected =
       "expected an inline table, e.g. { distribution = \"normal\", sigma = 0.002 } or "
       "{ distribution = \"uniform\", tolerance = 0.005 } (docs/tolerance.md)";
   if (!v.is_table()) throw std::invalid_argument(fmt::format("[tolerances] {} = {}: {}", key, toml::format(v), expected));
-  ToleranceDistribution d;
+  analysis::ToleranceDistribution d;
   d.key = key;
   d.per_pin = per_pin;
   const toml::table& t = v.as_table();
@@ -676,11 +676,11 @@ ToleranceDistribution ReadDistribution(const std::string& key, bool per_pin, con
     throw std::invalid_argument(fmt::format("[tolerances] {}: missing distribution = \"normal\" | \"uniform\"; {}", key, expected));
   }
   const std::string kind = it->second.as_string().str;
-  if (kind == "normal") d.kind = ToleranceDistribution::Kind::kNormal;
-  else if (kind == "uniform") d.kind = ToleranceDistribution::Kind::kUniform;
+  if (kind == "normal") d.kind = analysis::ToleranceDistribution::Kind::kNormal;
+  else if (kind == "uniform") d.kind = analysis::ToleranceDistribution::Kind::kUniform;
   else throw std::invalid_argument(fmt::format("[tolerances] {}.distribution = \"{}\": expected \"normal\" or \"uniform\"", key, kind));
   const bool has_sigma = t.count("sigma") != 0, has_tolerance = t.count("tolerance") != 0;
-  if (d.kind == ToleranceDistribution::Kind::kNormal) {
+  if (d.kind == analysis::ToleranceDistribution::Kind::kNormal) {
     if (has_sigma == has_tolerance) {
       throw std::invalid_argument(fmt::format(
           "[tolerances] {}: a normal distribution takes one of sigma or tolerance (+-tolerance read as 3 sigma), {}", key,
@@ -700,13 +700,13 @@ ToleranceDistribution ReadDistribution(const std::string& key, bool per_pin, con
   return d;
 }
 
-ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairParameters& pair) {
+analysis::ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairParameters& pair) {
   // Its own keys and one distribution per key it may vary (the table of deck keys).
   std::vector<std::string> known = analysis::SectionKeys("tolerances");
-  const auto& keys = ToleranceSettings::ToleranceKeys();
+  const auto& keys = analysis::ToleranceSettings::ToleranceKeys();
   for (const auto& k : keys) known.push_back(k.first);
   const Section section(&value, "tolerances", known);
-  ToleranceSettings s;
+  analysis::ToleranceSettings s;
   const toml::table& t = value.as_table();
   for (const auto& [key, per_pin] : keys) {  // in the fixed order of the key table
     if (const auto it = t.find(key); it != t.end()) s.distributions.push_back(ReadDistribution(key, per_pin, it->second));
@@ -724,7 +724,7 @@ ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairP
         "... ] } (docs/tolerance.md)";
     if (!it->second.is_table()) throw std::invalid_argument(fmt::format("[tolerances] chains = {}: {}", toml::format(it->second), example));
     for (const auto& [name, links] : it->second.as_table()) {
-      DimensionChain chain;
+      analysis::DimensionChain chain;
       chain.name = name;
       if (!links.is_array() || links.as_array().empty()) {
         throw std::invalid_argument(fmt::format("[tolerances] chains.{}: {}", name, example));
@@ -733,7 +733,7 @@ ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairP
         const toml::value& l = links.as_array()[k];
         const std::string where = fmt::format("chains.{}[{}]", name, k);
         if (!l.is_table()) throw std::invalid_argument(fmt::format("[tolerances] {}: {}", where, example));
-        DimensionLink link;
+        analysis::DimensionLink link;
         for (const auto& [field, value] : l.as_table()) {
           if (field == "link" && value.is_string()) link.name = value.as_string().str;
           else if (field == "kind" && value.is_string() && (value.as_string().str == "increasing" || value.as_string().str == "decreasing")) {
@@ -759,12 +759,12 @@ ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairP
     }
     // A TOML table has no order: by name, so that the output (and the chain's random stream) does not
     // depend on the parser.
-    std::sort(s.chains.begin(), s.chains.end(), [](const DimensionChain& a, const DimensionChain& b) { return a.name < b.name; });
+    std::sort(s.chains.begin(), s.chains.end(), [](const analysis::DimensionChain& a, const analysis::DimensionChain& b) { return a.name < b.name; });
   }
   s.Validate();
   // The "looks like an absolute value" rule of [errors] and [modification], on the reach of a
   // distribution: its offset plus its worst-case half-width (3 sigma for a normal one).
-  for (const ToleranceDistribution& d : s.distributions) {
+  for (const analysis::ToleranceDistribution& d : s.distributions) {
     const double reach = std::abs(d.mean) + d.WorstCaseHalfWidth();
     const std::string shown = fmt::format("{{ mean {} +- {} }}", d.mean, d.WorstCaseHalfWidth());
     const analysis::DeckKey& k = *analysis::FindToleranceKey(d.key);  // a known key (checked above)
@@ -777,16 +777,16 @@ ToleranceSettings ReadTolerances(const toml::value& value, const geometry::PairP
 // --- end of reading [tolerances] -----------------------------------------------------------------
 
 // --- issue 14: [operation] and [friction] ----------------------------------------------------------
-OperationSettings ReadOperation(const Section& s) {
-  OperationSettings o;
+analysis::OperationSettings ReadOperation(const Section& s) {
+  analysis::OperationSettings o;
   ReadSettings(s, {.operation = &o});
   o.Validate();
   return o;
 }
 
 // --- issue 28: reading [optimise] ------------------------------------------------------------------
-OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const std::optional<ToleranceSettings>& tolerances) {
-  OptimiseSettings o;
+analysis::OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const std::optional<analysis::ToleranceSettings>& tolerances) {
+  analysis::OptimiseSettings o;
   const toml::table& t = value.as_table();
   if (const auto it = t.find("variables"); it != t.end()) {
     if (!it->second.is_table()) {
@@ -798,7 +798,7 @@ OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const 
       if (!bounds.is_array() || bounds.as_array().size() != 2) {
         throw std::invalid_argument(fmt::format("[optimise] variables.\"{}\" = {}: expected [lower, upper]", key, toml::format(bounds)));
       }
-      OptimiseVariable v;
+      analysis::OptimiseVariable v;
       v.key = key;
       v.lower = Number(bounds.as_array()[0], "variables.\"" + key + "\"", "the lower bound", "optimise");
       v.upper = Number(bounds.as_array()[1], "variables.\"" + key + "\"", "the upper bound", "optimise");
@@ -811,15 +811,15 @@ OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const 
     o.constraints = ReadLimits(it->second, "optimise", "constraints", "{ mean_backlash_arcsec = { min = 20, max = 40 } }");
   }
   const std::string global = s.String("global", "direct");
-  if (global == "direct") o.global = OptimiseSettings::Global::kDirect;
-  else if (global == "crs2") o.global = OptimiseSettings::Global::kCrs2;
-  else if (global == "isres") o.global = OptimiseSettings::Global::kIsres;
-  else if (global == "none") o.global = OptimiseSettings::Global::kNone;
+  if (global == "direct") o.global = analysis::OptimiseSettings::Global::kDirect;
+  else if (global == "crs2") o.global = analysis::OptimiseSettings::Global::kCrs2;
+  else if (global == "isres") o.global = analysis::OptimiseSettings::Global::kIsres;
+  else if (global == "none") o.global = analysis::OptimiseSettings::Global::kNone;
   else throw std::invalid_argument(fmt::format("[optimise] global = \"{}\": expected \"direct\", \"crs2\", \"isres\" or \"none\"", global));
   const std::string local = s.String("local", "cobyla");
-  if (local == "cobyla") o.local = OptimiseSettings::Local::kCobyla;
-  else if (local == "bobyqa") o.local = OptimiseSettings::Local::kBobyqa;
-  else if (local == "none") o.local = OptimiseSettings::Local::kNone;
+  if (local == "cobyla") o.local = analysis::OptimiseSettings::Local::kCobyla;
+  else if (local == "bobyqa") o.local = analysis::OptimiseSettings::Local::kBobyqa;
+  else if (local == "none") o.local = analysis::OptimiseSettings::Local::kNone;
   else throw std::invalid_argument(fmt::format("[optimise] local = \"{}\": expected \"cobyla\", \"bobyqa\" or \"none\"", local));
   ReadSettings(s, {.optimise = &o});
   o.seed = s.Unsigned("seed", o.seed);
@@ -835,19 +835,19 @@ OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const 
   return o;
 }
 
-FrictionSettings ReadFriction(const Section& s, const geometry::PairParameters& pair) {
-  FrictionSettings f;
+analysis::FrictionSettings ReadFriction(const Section& s, const geometry::PairParameters& pair) {
+  analysis::FrictionSettings f;
   const std::string model = s.String("model", "coulomb");
-  if (model == "coulomb") f.model = FrictionSettings::Model::kCoulomb;
-  else if (model == "jiang-mixed") f.model = FrictionSettings::Model::kJiangMixed;
+  if (model == "coulomb") f.model = analysis::FrictionSettings::Model::kCoulomb;
+  else if (model == "jiang-mixed") f.model = analysis::FrictionSettings::Model::kJiangMixed;
   else throw std::invalid_argument(fmt::format("[friction] model = \"{}\": expected \"coulomb\" or \"jiang-mixed\"", model));
   // Coulomb's law needs its coefficient; jiang-mixed does without.
-  if (f.model == FrictionSettings::Model::kCoulomb && !s.Has("coefficient")) (void)s.Real("coefficient");  // names it missing
+  if (f.model == analysis::FrictionSettings::Model::kCoulomb && !s.Has("coefficient")) (void)s.Real("coefficient");  // names it missing
   ReadSettings(s, {.friction = &f});
   if (s.Has("sleeve_bore_radius_mm")) f.sleeve_bore_radius = Internal(s, "sleeve_bore_radius_mm");
   const std::string balance = s.String("torque_balance", "solve");
-  if (balance == "solve") f.torque_balance = FrictionSettings::TorqueBalance::kSolve;
-  else if (balance == "bound") f.torque_balance = FrictionSettings::TorqueBalance::kBound;
+  if (balance == "solve") f.torque_balance = analysis::FrictionSettings::TorqueBalance::kSolve;
+  else if (balance == "bound") f.torque_balance = analysis::FrictionSettings::TorqueBalance::kBound;
   else throw std::invalid_argument(fmt::format("[friction] torque_balance = \"{}\": expected \"solve\" or \"bound\"", balance));
   f.Validate(pair);
   return f;
@@ -895,7 +895,7 @@ void Deck::ValidateSettings() const {
         "[tolerances] profile_random_per_sample = true: [errors] profile_random_zone_um is 0; expected a random profile "
         "zone to draw per sample");
   }
-  if (friction && friction->model == FrictionSettings::Model::kJiangMixed && !operation) {
+  if (friction && friction->model == analysis::FrictionSettings::Model::kJiangMixed && !operation) {
     throw std::invalid_argument(
         "[friction] model = \"jiang-mixed\": expected an [operation] section (input_speed_rpm, the oil, the "
         "roughness) for the film thickness");
@@ -908,7 +908,7 @@ void Deck::ValidateSettings() const {
   }
 }
 
-const FrictionSettings& Deck::RequireFriction() const {
+const analysis::FrictionSettings& Deck::RequireFriction() const {
   if (!friction) {
     throw std::invalid_argument(fmt::format(
         "deck '{}': missing required section [friction] for this command (e.g. --set friction.coefficient=0.05)",
@@ -917,7 +917,7 @@ const FrictionSettings& Deck::RequireFriction() const {
   return *friction;
 }
 
-const OperationSettings& Deck::RequireOperation() const {
+const analysis::OperationSettings& Deck::RequireOperation() const {
   if (!operation) {
     throw std::invalid_argument(fmt::format(
         "deck '{}': missing required section [operation] for this command (e.g. --set "
@@ -1002,7 +1002,7 @@ void ReadSecondDisc(const toml::table& root, const toml::value& section, const s
   }
   const toml::value given(section);
   const Section own(&given, "second_disc", ConcatKeys(ConcatKeys(kModificationKeys, kDiscErrorKeys), analysis::SectionKeys("second_disc")));
-  SecondDisc disc;
+  analysis::SecondDisc disc;
   disc.indexing_deviation = own.Real("indexing_deviation_mm", 0.0);
   if (!std::isfinite(disc.indexing_deviation)) {
     throw std::invalid_argument(fmt::format(
@@ -1382,14 +1382,14 @@ Deck DeckSource::Read(const std::vector<std::string>& overrides) const {
 
 const std::string& DeckSource::name() const { return impl_->name; }
 
-SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const SweepCallbacks& callbacks) {
+analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const analysis::SweepCallbacks& callbacks) {
   const auto start = std::chrono::steady_clock::now();
   options.Validate();
   deck.RequireMaterial();
   const double torque = deck.RequireLoad().torque;
   const analysis::Stage stage = deck.MakeStage();
   const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  SweepResult sweep = analysis::SolveSweep(stage, options, torque, callbacks);
+  analysis::SweepResult sweep = analysis::SolveSweep(stage, options, torque, callbacks);
   sweep.summary.wall_seconds += build;
   if (deck.reducer && sweep.summary.stage) {  // the stage's bearing lives, once, at the deck's crank speed
     sweep.summary.bearing_life =

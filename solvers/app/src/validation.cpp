@@ -29,7 +29,7 @@ struct Loaded {
   SolverStatus status = SolverStatus::kNotSolved;
 };
 
-Loaded Summarise(const SweepResult& sweep) {
+Loaded Summarise(const analysis::SweepResult& sweep) {
   Loaded l;
   l.mean_te = RadToArcsec(sweep.summary.mean_te);
   l.pp_te = RadToArcsec(sweep.summary.pp_te);
@@ -239,7 +239,7 @@ struct Harmonic {
 };
 
 // TE over one crank revolution (the first position repeats as the last: dropped).
-Harmonic FirstHarmonic(const std::vector<PositionResult>& positions) {
+Harmonic FirstHarmonic(const std::vector<analysis::PositionResult>& positions) {
   const std::size_t n = positions.size() - 1;
   double mean = 0.0, a = 0.0, b = 0.0, var = 0.0;
   for (std::size_t i = 0; i < n; ++i) mean += positions[i].result.te / static_cast<double>(n);
@@ -256,7 +256,7 @@ struct Revolution {
   Loaded loaded;
   Backlash backlash;
   Harmonic harmonic;
-  SweepResult sweep;
+  analysis::SweepResult sweep;
 };
 
 Revolution SolveRevolution(const Deck& deck) {
@@ -546,7 +546,7 @@ void Li(const fs::path& dir, Builder& b) {
     const double f_max = *std::max_element(r.force.begin(), r.force.end());
     std::vector<int> numbers;
     for (std::size_t i = 0; i < r.force.size(); ++i) {
-      if (!(r.force[i] > kContactForceFraction * f_max)) continue;
+      if (!(r.force[i] > analysis::kContactForceFraction * f_max)) continue;
       const int no = LiNumber(static_cast<int>(i), deck.pair.pin_count);
       numbers.push_back(no);
       const auto& law = problem.base_laws()[i];
@@ -717,16 +717,16 @@ EfficiencyRun RunEfficiencyDeck(const Deck& deck) {
   SolverOptions o;
   o.name = "bisection";
   // Linearised kinematics, the default (whatever the deck's [solver] names).
-  EfficiencyRunner runner(deck.MakeStage().WithKinematics(contact::ContactKinematics::kLinearised), o,
+  analysis::EfficiencyRunner runner(deck.MakeStage().WithKinematics(contact::ContactKinematics::kLinearised), o,
                           deck.RequireLoad().torque, deck.RequireFriction(), deck.RequireOperation());
   for (const double crank : runner.cranks()) runner.Solve(crank);
-  const EfficiencySummary s = runner.Summary();
+  const analysis::EfficiencySummary s = runner.Summary();
   return {s.power_loss.mean, s.efficiency, s.power_loss.max - s.power_loss.min, s.all_succeeded()};
 }
 double LossAtCrank(const Deck& deck, double crank_deg) {
   SolverOptions o;
   o.name = "bisection";
-  EfficiencyRunner runner(deck.MakeStage({units::DegToRad(crank_deg)}).WithKinematics(contact::ContactKinematics::kLinearised),
+  analysis::EfficiencyRunner runner(deck.MakeStage({units::DegToRad(crank_deg)}).WithKinematics(contact::ContactKinematics::kLinearised),
                           o, deck.RequireLoad().torque, deck.RequireFriction(), deck.RequireOperation());
   return runner.Solve(units::DegToRad(crank_deg)).power_loss;
 }
@@ -895,14 +895,14 @@ std::string ToMarkdown(const ValidationReport& report) {
                       t.pp_backlash_arcsec, t.mean_pins, t.max_stress_mpa);
   }
   if (!report.slice_convergence.empty()) {
-    const SliceStudyRow& ref = report.slice_convergence.back();
+    const analysis::SliceStudyRow& ref = report.slice_convergence.back();
     os << "\n### Slice-count convergence under misalignment (issue 11)\n\n"
        << "Liu 2021 section 5.3, phi = 0.02 deg (`cases/liu2021_sec53_phi.toml`, 37 positions over one revolution), "
           "linearised kinematics, compatibility. The PPTE's error is against " << ref.slices << " slices; the "
           "backlash's against the face-edge value, the first contact of two plane models with the cycloid centre where "
           "the tilted axis puts it at each face (" << fmt::format("{:.4f} / {:.4f} arcsec", report.slice_face_edge.mean_arcsec,
                                                                    report.slice_face_edge.pp_arcsec)
-       << ", `app::FaceEdgeUnloaded`): the unloaded analysis seeks the first contact at the face edges, so it does not "
+       << ", `analysis::FaceEdgeUnloaded`): the unloaded analysis seeks the first contact at the face edges, so it does not "
           "depend on the slice count (docs/contact.md). Times: docs/performance.md.\n\n"
        << "| slices | PPTE (arcsec) | error | mean backlash (arcsec) | error | pp backlash (arcsec) | error |\n"
           "|---|---|---|---|---|---|---|\n";

@@ -34,12 +34,11 @@
 
 namespace ltca::app {
 
-// The application speaks the vocabulary of the layers below: the solvers' and the analyses'.
+// The solvers' vocabulary, which every deck speaks; the analyses' types are named analysis::X.
 using solvers::LoadResult;
 using solvers::LoadSolver;
 using solvers::SolverOptions;
 using solvers::SolverStatus;
-using namespace ltca::analysis;  // NOLINT(google-build-using-namespace): the analyses' types are the app's
 
 /// What a deck may ask for (docs/decks.md, "Limits"). Each limit is far above every published
 /// case and keeps one run within memory and a sensible time; a value beyond it is an error that
@@ -135,8 +134,8 @@ struct Deck : analysis::StageDesign {
   /// Throws std::invalid_argument naming the deck and the missing section.
   const contact::Material& RequireMaterial() const;
   const LoadCase& RequireLoad() const;
-  const FrictionSettings& RequireFriction() const;    ///< [friction], with an example in the message
-  const OperationSettings& RequireOperation() const;  ///< [operation], with an example in the message
+  const analysis::FrictionSettings& RequireFriction() const;    ///< [friction], with an example in the message
+  const analysis::OperationSettings& RequireOperation() const;  ///< [operation], with an example in the message
 };
 
 /// The deck's sweep: its stage at its [sweep] cranks (under the deck's kinematics), solved at its
@@ -144,7 +143,7 @@ struct Deck : analysis::StageDesign {
 /// state of every position). For a reducer stage the summary carries its bearings' lives
 /// (SweepSummary::bearing_life, at [operation] input_speed_rpm; no hours without it). Requires
 /// [material] and [load].
-SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const SweepCallbacks& callbacks = {});
+analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const analysis::SweepCallbacks& callbacks = {});
 
 /// The deck with a front-end's kinematics by name (contact::ParseKinematics; "" keeps the deck's
 /// [solver] kinematics).

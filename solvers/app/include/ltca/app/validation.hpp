@@ -45,9 +45,9 @@ struct ValidationReport {
   std::vector<ValidationRow> rows;
   std::vector<LiuTable2Row> liu_table2;
   /// The slice-count convergence under misalignment (issue 11; times are in the bench).
-  std::vector<SliceStudyRow> slice_convergence;
+  std::vector<analysis::SliceStudyRow> slice_convergence;
   /// Its backlash reference: the face-edge value (issue 26).
-  FaceEdgeBacklash slice_face_edge;
+  analysis::FaceEdgeBacklash slice_face_edge;
 };
 
 /// Computes every row from the decks under cases_dir.
