@@ -1,7 +1,5 @@
 #include "ltca/solvers/load_solver.hpp"
 
-#include "ltca/solvers/registry.hpp"
-
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -9,7 +7,6 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include "coupled_contact.hpp"
 #include "ltca/geometry/units.hpp"
@@ -230,12 +227,8 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
   const LoadSolver& solver = *this;
   if (!solver.supports_stage()) {
     result->status = SolverStatus::kStageUnsupported;
-    std::vector<std::string> capable;  // from the registry: a new stage-capable solver is named here by itself
-    for (const std::string& name : SolverNames()) {
-      if (MakeSolver(name)->supports_stage()) capable.push_back(name);
-    }
-    result->message = fmt::format("solver \"{}\" does not solve the reducer stage ([output]); solvers that do: {} (docs/stage.md)",
-                                  solver.name(), fmt::join(capable, ", "));
+    result->message = fmt::format("solver \"{}\" does not solve the reducer stage ([output]); solvers that do: "
+                                  "compatibility, bisection, energy-qp (docs/stage.md)", solver.name());
   } else if (const std::string overlaps = contact::JamReport(problem.base_state(), problem.model().interference_tolerance());
              !overlaps.empty()) {
     result->status = SolverStatus::kInterference;
