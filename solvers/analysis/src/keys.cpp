@@ -78,10 +78,10 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "angle-rotation modification in deg", .default_value = "0", .disc = true, .tolerance_stream = 14,
      .limit = L::kRotation, .real = LTCA_FIELD(modification, rotation)},
     {.section = "modification", .name = "tip_truncation_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "tip truncation in mm along the tooth axis (issue 12)", .default_value = "0", .disc = true,
+     .meaning = "tip truncation in mm along the tooth axis", .default_value = "0", .disc = true,
      .real = LTCA_FIELD(modification, tip_relief.truncation)},
     {.section = "modification", .name = "tip_rounding_radius_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "tip rounding radius in mm (issue 12)", .default_value = "0", .disc = true,
+     .meaning = "tip rounding radius in mm", .default_value = "0", .disc = true,
      .real = LTCA_FIELD(modification, tip_relief.rounding_radius)},
     // [errors]: the pin ring's keys (common to both discs), then the disc's
     {.section = "errors", .name = "pin_circle_deviation_mm", .type = T::kReal, .unit = "mm",
@@ -197,7 +197,7 @@ const std::vector<DeckKey> kKeys = {
     {.section = "pins", .name = "housing_poisson_ratio", .type = T::kReal, .unit = "",
      .meaning = "groove seat: Poisson's ratio of the housing", .default_value = "poisson_ratio",
      .setting = LTCA_SETTING(pin_seat, housing_poisson_ratio)},
-    // [output] (issue 25, docs/stage.md): the output mechanism of the reducer stage
+    // [output] (docs/stage.md): the output mechanism of the reducer stage
     {.section = "output", .name = "kind", .type = T::kText, .unit = "",
      .meaning = "pins (output pins in holes of the disc) | cranks (crankshafts in crank holes, RV)", .default_value = "",
      .choices = "pins | cranks"},
@@ -228,7 +228,7 @@ const std::vector<DeckKey> kKeys = {
     {.section = "output", .name = "crank_turns_per_output_turn", .type = T::kReal, .unit = "",
      .meaning = "cranks: turns of the eccentrics per output turn with the input locked", .default_value = "0",
      .setting = LTCA_SETTING(cranks, turns_per_output_turn)},
-    // [bearing] (issue 25): the eccentric bearing (pins) or the needle bearing of each crank hole (cranks)
+    // [bearing]: the eccentric bearing (pins) or the needle bearing of each crank hole (cranks)
     {.section = "bearing", .name = "kind", .type = T::kText, .unit = "", .meaning = "rigid | linear | rollers",
      .default_value = "\"rigid\"", .choices = "rigid | linear | rollers"},
     {.section = "bearing", .name = "radial_stiffness_n_per_mm", .type = T::kReal, .unit = "N/mm",
@@ -348,7 +348,7 @@ const std::vector<DeckKey> kKeys = {
      .setting = LTCA_SETTING(friction, sleeve_coefficient)},
     {.section = "friction", .name = "torque_balance", .type = T::kText, .unit = "", .meaning = "solve | bound",
      .default_value = "\"solve\"", .choices = "solve | bound"},
-    // [optimise] (issue 28, docs/optimise.md)
+    // [optimise] (docs/optimise.md)
     {.section = "optimise", .name = "variables", .type = T::kTable, .unit = "",
      .meaning = "design variables with bounds in their unit: real keys of [modification] and [errors], or a stage's "
                 "clearances (bearing.radial_clearance_mm, output.hole_radius_mm, output.pin_radius_mm): "
@@ -418,7 +418,7 @@ double DeckKey::FromInternal(double value) const {
 
 std::string DeckKey::ToleranceName() const {
   // [modification] and the stage's keys carry their section: "modification_pin_radius_mm" is not
-  // the pins' radius deviation, "output_pin_radius_mm" not the ring pins' (issue 28).
+  // the pins' radius deviation, "output_pin_radius_mm" not the ring pins'.
   const std::string_view s(section);
   return s == "modification" || s == "output" || s == "bearing" ? std::string(section) + "_" + name : std::string(name);
 }

@@ -86,15 +86,15 @@ ModelInfo StageDesign::Model() const {
     m.name = "plane";
     m.slices = 1;
   }
-  if (contact.seat.seated()) {  // issue 25: the pins seated in housing grooves
+  if (contact.seat.seated()) {  // the pins seated in housing grooves
     m.pin_seat = contact::ToString(contact.seat.kind);
     m.name += "+pin-seats";
   }
-  if (second_disc) {  // issue 13
+  if (second_disc) {  // two discs on one pin ring
     m.discs = 2;
     m.name += "+two-discs";
   }
-  if (reducer) {  // issue 25
+  if (reducer) {  // the output mechanism and the bearings
     m.stage = fmt::format("{}+{} bearing", solvers::ToString(reducer->kind), contact::ToString(reducer->bearing.kind));
     m.name += "+stage";
   }
@@ -154,12 +154,12 @@ Stage::Stage(StageDesign design, std::vector<double> cranks)
     if (i == 0) first = state;
     // A reducer stage's output pins or cranks turn against the line of centres at 1 - 1/I of the
     // crank: their pattern does not repeat with the mesh period (nor after one crank turn, which
-    // moves them 2 pi / I along), so its sweep never counts as closed (issue 25).
+    // moves them 2 pi / I along), so its sweep never counts as closed.
     if (i > 0 && i + 1 == n) checked->closed = !d.reducer && contact::SameMesh(first, state);
     if (keep) checked->states.push_back(std::move(state));
   }
   checked_ = std::move(checked);
-  // Pin bending ([pins], issue 11): every pin a Timoshenko beam of the nominal pin radius and the
+  // Pin bending ([pins]): every pin a Timoshenko beam of the nominal pin radius and the
   // pin material, coupling the model's points; checked once (it does not change with the crank).
   auto coupling = std::make_shared<solvers::LoadProblem::CheckedCoupling>();
   if (d.pins && d.material) {

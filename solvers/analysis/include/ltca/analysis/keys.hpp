@@ -1,5 +1,5 @@
 #pragma once
-// The deck's keys, each described once (issue 24): section, name, unit, type, default, what it is,
+// The deck's keys, each described once: section, name, unit, type, default, what it is,
 // per pin or not, whether [second_disc] may give its own, whether [tolerances] may vary it, the
 // limit it is held to, and, for the numbers of [modification] and [errors], where the value goes.
 // The deck reader, the second disc's split, the tolerance study's Apply, the key reference of

@@ -1,11 +1,11 @@
 #pragma once
-// The stage (issue 24): everything that is loaded together, built once and shared by every
+// The stage: everything that is loaded together, built once and shared by every
 // analysis. StageDesign is its data as a deck gives it (internal units); Stage is the immutable
 // object built from it: the discs' real pairs and mesh models (one disc, or the two discs of an RV
 // stage on one pin ring), pin bending's coupling of the pin ring, and the crank angles it has
 // checked for interference. It hands out the load problem at a crank and a torque.
 //
-// The output mechanism and the bearings (issue 25) join the stage as elements that are not pins:
+// The output mechanism and the bearings join the stage as elements that are not pins:
 // StageDesign::reducer, handed to every problem (LoadProblem::WithStage).
 #include <memory>
 #include <optional>
@@ -30,7 +30,7 @@ using solvers::LoadSolver;
 using solvers::SolverOptions;
 using solvers::SolverStatus;
 
-/// The second cycloid disc of an RV stage (issue 13, docs/stiffness.md "Two discs"), half a crank
+/// The second cycloid disc of an RV stage (docs/stiffness.md "Two discs"), half a crank
 /// turn from the first on one pin ring, turning the output with it: its own modification and the
 /// disc's errors (profile, lead, centre, eccentricity and misalignment). The pin ring's errors (pin
 /// circle, pitch, pin radii and positions) are common: the first disc's.
@@ -44,7 +44,7 @@ struct SecondDisc {
   double indexing_deviation = 0.0;
 };
 
-/// The reducer stage's clearances that `ltca optimise` and `[tolerances]` may vary (issue 28):
+/// The reducer stage's clearances that `ltca optimise` and `[tolerances]` may vary:
 /// where the deck key ("bearing.radial_clearance_mm", "output.hole_radius_mm",
 /// "output.pin_radius_mm") goes in the stage's settings (internal units, mm), or nullptr for any
 /// other key. The output pins' hole and pin radii set the holes' clearance r_h - r_w - e.
@@ -53,16 +53,16 @@ double* StageClearance(solvers::StageSettings& stage, std::string_view key);
 /// stage, output pins' radii with crankshafts, a rigid bearing's play (it has none).
 std::string StageClearanceRefusal(const std::optional<solvers::StageSettings>& stage, std::string_view key);
 
-/// The model that runs for a stage, named in every output (issues 9, 11, 13).
+/// The model that runs for a stage, named in every output.
 struct ModelInfo {
   std::string name;     ///< "plane" | "slices" | "slices+pin-bending", "+two-discs" with two discs
   int slices = 1;
   std::string surface;  ///< "analytic" or "elements"
   int discs = 1;
-  /// The reducer stage's elements (issue 25): "" for the mesh alone (disc centres fixed, T on the
+  /// The reducer stage's elements: "" for the mesh alone (disc centres fixed, T on the
   /// discs), else "<output>+<bearing> bearing", e.g. "pins+rollers bearing", "cranks+linear bearing".
   std::string stage;
-  /// The pins' seat in series with every pin-ring contact ([pins] seat, issue 25): "" for rigid,
+  /// The pins' seat in series with every pin-ring contact ([pins] seat): "" for rigid,
   /// else "linear" or "groove".
   std::string pin_seat;
 };
@@ -80,10 +80,10 @@ struct StageDesign {
   /// How the contact geometry follows the loaded rotation (the load problem's, and the unloaded
   /// analysis's): linearised (frozen) or exact (re-evaluated).
   contact::ContactKinematics kinematics = contact::ContactKinematics::kLinearised;
-  std::optional<contact::PinSupport> pins;     ///< pin bending (issue 11); none: rigid pins
-  std::optional<SecondDisc> second_disc;       ///< the two discs of an RV stage (issue 13)
+  std::optional<contact::PinSupport> pins;     ///< pin bending; none: rigid pins
+  std::optional<SecondDisc> second_disc;       ///< the two discs of an RV stage
   std::optional<contact::Material> material;  ///< required for load problems
-  /// The reducer stage (issue 25, [output] and [bearing]): output pins or crankshafts and the
+  /// The reducer stage ([output] and [bearing]): output pins or crankshafts and the
   /// eccentric or needle bearings; none: the mesh alone, every disc about a fixed centre.
   std::optional<solvers::StageSettings> reducer;
 
@@ -137,8 +137,8 @@ class Stage {
   /// The checked crank angles, rad, in the order given.
   const std::vector<double>& cranks() const { return checked_->cranks; }
   /// The last checked crank repeats the state of the first (contact::SameMesh: a whole crank
-  /// turn, or a mesh period of a pair that keeps that symmetry), so means weigh it once (issue 26).
-  /// Never for a reducer stage: its output elements do not repeat with the mesh (issue 25).
+  /// turn, or a mesh period of a pair that keeps that symmetry), so means weigh it once.
+  /// Never for a reducer stage: its output elements do not repeat with the mesh.
   bool closed_period() const { return checked_->closed; }
   /// The overlap a check tolerates, mm: the largest of the discs' models'.
   double interference_tolerance() const;
