@@ -203,6 +203,57 @@ ProfileColumns Columns(const CycloidProfile& profile, int samples_per_flank) {
   return c;
 }
 
+namespace {
+
+/// A reducer stage's output elements, to scale (their clearances not exaggerated): output pins in
+/// the disc's holes, or the crank holes' and the crankshafts' centres on their circle, the output
+/// member turned as the disc at `pose`.
+void AddOutputElements(plots::Panel& panel, const solvers::StageSettings& reducer, const geometry::Pose& pose) {
+  const geometry::Pose holes{pose.centre, pose.rotation};  // the output member turned as the disc
+  if (reducer.kind == solvers::OutputKind::kPins) {
+    const contact::OutputPins& w = reducer.pins;
+    bool first = true;
+    for (const contact::OutputPinContact& c : contact::EvaluateOutputPins(w, holes, pose.rotation)) {
+      plots::Series hole{first ? fmt::format("holes r_h = {:g} mm", w.hole_radius) : "", {}, {}, plots::Style::kOutline};
+      plots::Series pin{first ? fmt::format("output pins r_w = {:g} mm", w.pin_radius) : "", {}, {}, plots::Style::kPolygon};
+      hole.colour = 3;
+      pin.colour = 5;
+      for (int i = 0; i <= 96; ++i) {
+        const double a = i * M_PI / 48.0;
+        hole.x.push_back(c.hole_centre.x() + w.hole_radius * std::cos(a));
+        hole.y.push_back(c.hole_centre.y() + w.hole_radius * std::sin(a));
+        pin.x.push_back(c.pin_centre.x() + w.pin_radius * std::cos(a));
+        pin.y.push_back(c.pin_centre.y() + w.pin_radius * std::sin(a));
+      }
+      panel.series.push_back(std::move(hole));
+      panel.series.push_back(std::move(pin));
+      first = false;
+    }
+  } else {
+    const contact::Cranks& k = reducer.cranks;
+    plots::Series circle{fmt::format("crank circle R_c = {:g} mm", k.circle_radius), {}, {}, plots::Style::kOutline};
+    circle.colour = 3;
+    circle.dashed = true;
+    for (int i = 0; i <= 360; ++i) {
+      circle.x.push_back(k.circle_radius * std::cos(i * M_PI / 180.0));
+      circle.y.push_back(k.circle_radius * std::sin(i * M_PI / 180.0));
+    }
+    panel.series.push_back(std::move(circle));
+    plots::Series cranks{"crankshaft centres", {}, {}, plots::Style::kMarkers};
+    plots::Series holes_mark{"crank-hole centres (the eccentrics)", {}, {}, plots::Style::kMarkers};
+    cranks.colour = 3;
+    holes_mark.colour = 5;
+    for (const contact::CrankContact& c : contact::EvaluateCranks(k, holes, pose.rotation)) {
+      cranks.x.push_back(c.crank_centre.x()), cranks.y.push_back(c.crank_centre.y());
+      holes_mark.x.push_back(c.hole_centre.x()), holes_mark.y.push_back(c.hole_centre.y());
+    }
+    panel.series.push_back(std::move(cranks));
+    panel.series.push_back(std::move(holes_mark));
+  }
+}
+
+}  // namespace
+
 plots::Figure Figure(const Deck& deck, const geometry::RealPair& real, const contact::MeshState& unloaded, int samples_per_flank) {
   const int samples = samples_per_flank;
   const double crank = unloaded.crank;
@@ -270,51 +321,7 @@ plots::Figure Figure(const Deck& deck, const geometry::RealPair& real, const con
     const double a = std::atan2(c.y(), c.x());
     panel.notes.push_back({label_radius * std::cos(a), label_radius * std::sin(a) - 0.012 * extent, fmt::format("{}", j + 1), 0.5, 0.7});
   }
-  if (deck.reducer) {
-    // The stage's output elements, to scale (their clearances not exaggerated): output
-    // pins in the disc's holes, or the crank holes' and the crankshafts' centres on their circle.
-    const geometry::Pose holes{pose.centre, pose.rotation};  // the output member turned as the disc
-    if (deck.reducer->kind == solvers::OutputKind::kPins) {
-      const contact::OutputPins& w = deck.reducer->pins;
-      bool first = true;
-      for (const contact::OutputPinContact& c : contact::EvaluateOutputPins(w, holes, pose.rotation)) {
-        plots::Series hole{first ? fmt::format("holes r_h = {:g} mm", w.hole_radius) : "", {}, {}, plots::Style::kOutline};
-        plots::Series pin{first ? fmt::format("output pins r_w = {:g} mm", w.pin_radius) : "", {}, {}, plots::Style::kPolygon};
-        hole.colour = 3;
-        pin.colour = 5;
-        for (int i = 0; i <= 96; ++i) {
-          const double a = i * M_PI / 48.0;
-          hole.x.push_back(c.hole_centre.x() + w.hole_radius * std::cos(a));
-          hole.y.push_back(c.hole_centre.y() + w.hole_radius * std::sin(a));
-          pin.x.push_back(c.pin_centre.x() + w.pin_radius * std::cos(a));
-          pin.y.push_back(c.pin_centre.y() + w.pin_radius * std::sin(a));
-        }
-        panel.series.push_back(std::move(hole));
-        panel.series.push_back(std::move(pin));
-        first = false;
-      }
-    } else {
-      const contact::Cranks& k = deck.reducer->cranks;
-      plots::Series circle{fmt::format("crank circle R_c = {:g} mm", k.circle_radius), {}, {}, plots::Style::kOutline};
-      circle.colour = 3;
-      circle.dashed = true;
-      for (int i = 0; i <= 360; ++i) {
-        circle.x.push_back(k.circle_radius * std::cos(i * M_PI / 180.0));
-        circle.y.push_back(k.circle_radius * std::sin(i * M_PI / 180.0));
-      }
-      panel.series.push_back(std::move(circle));
-      plots::Series cranks{"crankshaft centres", {}, {}, plots::Style::kMarkers};
-      plots::Series holes_mark{"crank-hole centres (the eccentrics)", {}, {}, plots::Style::kMarkers};
-      cranks.colour = 3;
-      holes_mark.colour = 5;
-      for (const contact::CrankContact& c : contact::EvaluateCranks(k, holes, pose.rotation)) {
-        cranks.x.push_back(c.crank_centre.x()), cranks.y.push_back(c.crank_centre.y());
-        holes_mark.x.push_back(c.hole_centre.x()), holes_mark.y.push_back(c.hole_centre.y());
-      }
-      panel.series.push_back(std::move(cranks));
-      panel.series.push_back(std::move(holes_mark));
-    }
-  }
+  if (deck.reducer) AddOutputElements(panel, *deck.reducer, pose);
   // The line of centres: from the pin-circle centre O_p through the cycloid centre O_c.
   plots::Series centres{"line of centres O_p O_c", {}, {}, plots::Style::kLine};
   centres.colour = 4;

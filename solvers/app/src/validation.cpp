@@ -283,9 +283,13 @@ std::string Joined(const std::vector<double>& v, int decimals) {
   return out;
 }
 
-void LiuErrorSurfaces(const fs::path& dir, Builder& b) {
-  b.paper = "Liu 2021: error tooth surfaces (sections 5.2-5.3)";
-  // 5.2: the pitch deviation dominates.
+bool Decreasing(std::vector<double> v) {
+  for (double& x : v) x = -x;
+  return Increasing(v);
+}
+
+/// Liu 2021 section 5.2: the pitch deviation dominates the TE.
+void LiuPitch(const fs::path& dir, Builder& b) {
   const Deck base = LoadDeck(dir / "liu2021_sec52_base.toml");
   const Deck pitch = LoadDeck(dir / "liu2021_sec52_pitch.toml");
   Deck base_rev = base;  // the error-free pair over the same revolution
@@ -308,8 +312,10 @@ void LiuErrorSurfaces(const fs::path& dir, Builder& b) {
                     with_pitch.pp_te, pp_circle, pp_layer, none.pp_te),
         "", with_pitch.pp_te > 10.0 * std::max({pp_circle, pp_layer, none.pp_te}) ? Verdict::kHolds : Verdict::kFails,
         "holds when the PPTE with F_p exceeds ten times each of the others", "ltca solve cases/liu2021_sec52_pitch.toml");
+}
 
-  // 5.3: centre distance deviation dy, fixed in the frame.
+/// Liu 2021 section 5.3: the centre distance deviation dy, fixed in the frame.
+void LiuCentreDistance(const fs::path& dir, Builder& b) {
   const Deck dy_deck = LoadDeck(dir / "liu2021_sec53_dy.toml");
   std::vector<double> pp_te[2], pp_b[2], mb[2], mte[2];
   double worst_share = 1.0;
@@ -335,21 +341,19 @@ void LiuErrorSurfaces(const fs::path& dir, Builder& b) {
   b.Add("liu2021.s53.dy.ppb", "peak-to-peak backlash grows with |dy| (Fig. 13d)", "grows",
         fmt::format("{} arcsec (+dy); {} (-dy)", Joined(pp_b[0], 2), Joined(pp_b[1], 2)), "",
         Increasing(pp_b[0]) && Increasing(pp_b[1]) ? Verdict::kHolds : Verdict::kFails, "", cmd_dy);
-  const auto falling = [](std::vector<double> v) {
-    for (double& x : v) x = -x;
-    return Increasing(v);
-  };
   b.Add("liu2021.s53.dy.mb", "mean backlash falls with |dy| (Fig. 13d)", "falls",
         fmt::format("{} arcsec (+dy); {} (-dy)", Joined(mb[0], 3), Joined(mb[1], 3)), "",
-        falling(mb[0]) && falling(mb[1]) ? Verdict::kHolds : Verdict::kFails, "", cmd_dy);
+        Decreasing(mb[0]) && Decreasing(mb[1]) ? Verdict::kHolds : Verdict::kFails, "", cmd_dy);
   b.Add("liu2021.s53.dy.mte", "mean TE (signed) increases with |dy| (Fig. 13c)", "increases",
         fmt::format("{} arcsec (+dy); {} (-dy)", Joined(mte[0], 3), Joined(mte[1], 3)), "",
         Increasing(mte[0]) && Increasing(mte[1]) ? Verdict::kHolds : Verdict::kFails,
         "the TE is negative on the drive flank (Liu eq. 16, Fig. 7a): increasing, it comes closer to zero. Liu: the "
         "effect on the MB is larger than on the MTE",
         cmd_dy);
+}
 
-  // 5.3: misalignment phi (XZ) and gamma (YZ), about face B.
+/// Liu 2021 section 5.3: misalignment phi (XZ) and gamma (YZ), about face B.
+void LiuMisalignment(const fs::path& dir, Builder& b) {
   const Deck phi_deck = LoadDeck(dir / "liu2021_sec53_phi.toml");
   std::vector<Revolution> phi, gamma;
   for (const double deg : {0.01, 0.02, 0.03}) {
@@ -380,7 +384,7 @@ void LiuErrorSurfaces(const fs::path& dir, Builder& b) {
   b.Add("liu2021.s53.misalign.trend", "phi 0.01, 0.02, 0.03 deg: PPTE and PPB grow, mean backlash falls (Fig. 15)",
         "grow / grow / falls",
         fmt::format("PPTE {} arcsec; PPB {}; MB {}", Joined(pp_phi, 3), Joined(ppb_phi, 3), Joined(mb_phi, 3)), "",
-        Increasing(pp_phi) && Increasing(ppb_phi) && falling(mb_phi) ? Verdict::kHolds : Verdict::kFails, "", cmd_mis);
+        Increasing(pp_phi) && Increasing(ppb_phi) && Decreasing(mb_phi) ? Verdict::kHolds : Verdict::kFails, "", cmd_mis);
   // Eccentric load: the load centroid of a pin moves off the mid-plane (Fig. 17d: pins 14-16 at 90 deg).
   double off = 0.0;
   int worst_pin = -1;
@@ -405,6 +409,13 @@ void LiuErrorSurfaces(const fs::path& dir, Builder& b) {
   b.Add("liu2021.s53.misalign.pins", "phi = 0.02 deg raises the mean number of pins in contact (Fig. 16a)", "rises",
         fmt::format("{:.2f} (aligned {:.2f})", p2.loaded.mean_pins, mean_pins_aligned), "",
         p2.loaded.mean_pins > mean_pins_aligned ? Verdict::kHolds : Verdict::kFails, "", "ltca solve cases/liu2021_sec53_phi.toml");
+}
+
+void LiuErrorSurfaces(const fs::path& dir, Builder& b) {
+  b.paper = "Liu 2021: error tooth surfaces (sections 5.2-5.3)";
+  LiuPitch(dir, b);
+  LiuCentreDistance(dir, b);
+  LiuMisalignment(dir, b);
 }
 
 // "1-4", "4, 8, 9-20": the case numbers of a group, consecutive runs joined.
@@ -524,54 +535,60 @@ std::vector<LiuTable2Row> LiuTable2(const fs::path& dir, Builder& b) {
   return table;
 }
 
+/// The figures Li tables for one deck at its first crank (Li section 4): the loaded pins, the
+/// largest force, deformation and pressure and their pins, the half-widths.
+struct PinFigures {
+  int pins = 0, first_no = 0, last_no = 0, max_force_no = 0, max_pressure_no = 0, max_deform_no = 0;
+  double max_force = 0, max_deform = 0, min_half = INFINITY, max_half = 0, te_arcmin = 0, max_pressure = 0;
+  double stated_pressure = 0;  // at the max-pressure pin, with the stated modulus 2.08e5 MPa
+  std::vector<double> listed_half;  // at the pins Li's Table 2 lists
+};
+
+/// The pins Li's Table 2 lists, by Li's clockwise numbering.
+constexpr int kLiListed[] = {24, 25, 26, 27, 36, 37, 38, 39};
+
+PinFigures AnalyseLi(const Deck& deck) {
+  const contact::MeshModel model = deck.MakeModel();
+  const solvers::LoadProblem problem(model, deck.sweep.crank_start, deck.contact, *deck.material, deck.load->torque,
+                            contact::ContactKinematics::kLinearised);
+  const auto r = solvers::MakeSolver("bisection")->Solve(problem, SolverOptions{});
+  contact::Material stated = *deck.material;
+  stated.young_modulus = stated.pin_young_modulus = 2.08e5;
+  PinFigures f;
+  f.te_arcmin = RadToArcsec(r.te) / 60.0;
+  const double f_max = *std::max_element(r.force.begin(), r.force.end());
+  std::vector<int> numbers;
+  for (std::size_t i = 0; i < r.force.size(); ++i) {
+    if (!(r.force[i] > analysis::kContactForceFraction * f_max)) continue;
+    const int no = LiNumber(static_cast<int>(i), deck.pair.pin_count);
+    numbers.push_back(no);
+    const auto& law = problem.base_laws()[i];
+    const double p = law.MaxPressure(r.force[i]);
+    if (r.force[i] > f.max_force) f.max_force = r.force[i], f.max_force_no = no;
+    if (r.approach[i] > f.max_deform) f.max_deform = r.approach[i], f.max_deform_no = no;
+    if (p > f.max_pressure) {
+      f.max_pressure = p, f.max_pressure_no = no;
+      const auto& pin = problem.base_state().pins[i];
+      f.stated_pressure = contact::ContactLaw(deck.contact, stated, pin.cycloid_curvature, pin.pin_radius,
+                                              deck.pair.face_width, deck.pair.pin_circle_radius)
+                              .MaxPressure(r.force[i]);
+    }
+    f.min_half = std::min(f.min_half, law.HalfWidth(r.force[i]));
+    f.max_half = std::max(f.max_half, law.HalfWidth(r.force[i]));
+  }
+  for (const int no : kLiListed) {
+    const auto i = static_cast<std::size_t>(deck.pair.pin_count - no);  // inverse of LiNumber
+    f.listed_half.push_back(problem.base_laws()[i].HalfWidth(r.force[i]));
+  }
+  f.pins = static_cast<int>(numbers.size());
+  f.first_no = *std::min_element(numbers.begin(), numbers.end());
+  f.last_no = *std::max_element(numbers.begin(), numbers.end());
+  return f;
+}
+
 void Li(const fs::path& dir, Builder& b) {
   b.paper = "Li: Table 1 pair (section 4, Table 2, Figs. 4-10)";
-  struct PinFigures {
-    int pins = 0, first_no = 0, last_no = 0, max_force_no = 0, max_pressure_no = 0, max_deform_no = 0;
-    double max_force = 0, max_deform = 0, min_half = INFINITY, max_half = 0, te_arcmin = 0, max_pressure = 0;
-    double stated_pressure = 0;  // at the max-pressure pin, with the stated modulus 2.08e5 MPa
-    std::vector<double> listed_half;  // at the pins Li's Table 2 lists
-  };
-  const int listed[] = {24, 25, 26, 27, 36, 37, 38, 39};
   const double listed_li[] = {0.15, 0.19, 0.24, 0.27, 0.44, 0.37, 0.34, 0.24};
-  const auto analyse = [&](const Deck& deck) {
-    const contact::MeshModel model = deck.MakeModel();
-    const solvers::LoadProblem problem(model, deck.sweep.crank_start, deck.contact, *deck.material, deck.load->torque,
-                              contact::ContactKinematics::kLinearised);
-    const auto r = solvers::MakeSolver("bisection")->Solve(problem, SolverOptions{});
-    contact::Material stated = *deck.material;
-    stated.young_modulus = stated.pin_young_modulus = 2.08e5;
-    PinFigures f;
-    f.te_arcmin = RadToArcsec(r.te) / 60.0;
-    const double f_max = *std::max_element(r.force.begin(), r.force.end());
-    std::vector<int> numbers;
-    for (std::size_t i = 0; i < r.force.size(); ++i) {
-      if (!(r.force[i] > analysis::kContactForceFraction * f_max)) continue;
-      const int no = LiNumber(static_cast<int>(i), deck.pair.pin_count);
-      numbers.push_back(no);
-      const auto& law = problem.base_laws()[i];
-      const double p = law.MaxPressure(r.force[i]);
-      if (r.force[i] > f.max_force) f.max_force = r.force[i], f.max_force_no = no;
-      if (r.approach[i] > f.max_deform) f.max_deform = r.approach[i], f.max_deform_no = no;
-      if (p > f.max_pressure) {
-        f.max_pressure = p, f.max_pressure_no = no;
-        const auto& pin = problem.base_state().pins[i];
-        f.stated_pressure = contact::ContactLaw(deck.contact, stated, pin.cycloid_curvature, pin.pin_radius,
-                                                deck.pair.face_width, deck.pair.pin_circle_radius)
-                                .MaxPressure(r.force[i]);
-      }
-      f.min_half = std::min(f.min_half, law.HalfWidth(r.force[i]));
-      f.max_half = std::max(f.max_half, law.HalfWidth(r.force[i]));
-    }
-    for (const int no : listed) {
-      const auto i = static_cast<std::size_t>(deck.pair.pin_count - no);  // inverse of LiNumber
-      f.listed_half.push_back(problem.base_laws()[i].HalfWidth(r.force[i]));
-    }
-    f.pins = static_cast<int>(numbers.size());
-    f.first_no = *std::min_element(numbers.begin(), numbers.end());
-    f.last_no = *std::max_element(numbers.begin(), numbers.end());
-    return f;
-  };
   const Deck stated = LoadDeck(dir / "li_table1.toml");
   const Deck hyp = LoadDeck(dir / "li_table1_hypothesis.toml");
   {
@@ -583,7 +600,7 @@ void Li(const fs::path& dir, Builder& b) {
           "the pin nearest arccos K1 = 46.3 deg from the line of centres; fixes the mapping of Li's clockwise numbering",
           "ltca backlash cases/li_table1.toml");
   }
-  const PinFigures s = analyse(stated), h = analyse(hyp);
+  const PinFigures s = AnalyseLi(stated), h = AnalyseLi(hyp);
   const std::string cmd_s = "ltca solve cases/li_table1.toml", cmd_h = "ltca solve cases/li_table1_hypothesis.toml";
   // Li's pattern: 16 pins, No. 24-39 (Fig. 9); the largest force 91.11 N at No. 35. Both decks
   // are held to the same tolerances: pin count within 1 with the same end pins; force within 1 %.
