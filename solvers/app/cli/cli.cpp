@@ -97,7 +97,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
     app.parse(reversed);
   } catch (const CLI::ExtrasError&) {
     // CLI11 lists the extras of a reversed argument list back to front ("0 --crank-deg"); name them
-    // in the order given, and the command whose --help lists what it takes (issue 26).
+    // in the order given, and the command whose --help lists what it takes.
     std::string command = "ltca";
     for (const CLI::App* sub : app.get_subcommands()) command += " " + sub->get_name();
     std::vector<std::string> extras;

@@ -12,7 +12,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
 
 /// Process set-up of the executables (not of Run, which tests call in-process): glibc returns
 /// every freed block above 128 KB to the kernel, and a sweep of the slice model (800 points of
-/// 150 bytes per position, issue 11) then pays page faults for its per-position buffers at every
+/// 150 bytes per position) then pays page faults for its per-position buffers at every
 /// position (40 % of its time). Raising the mmap and trim thresholds keeps them in the heap.
 void ConfigureProcess();
 

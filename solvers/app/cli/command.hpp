@@ -1,5 +1,5 @@
 #pragma once
-// The table of commands (issue 24): each command is {name, description, options, outputs, run};
+// The table of commands: each command is {name, description, options, outputs, run};
 // cli.cpp adds every entry to the command line and runs the one that was given. A new command is
 // one factory in its *_command.cpp, declared and listed in command.cpp (Commands()).
 #include <cstdint>
@@ -45,7 +45,7 @@ std::vector<Command> Commands();
 
 // --- the options several commands share ------------------------------------------------------------
 inline constexpr const char* kSetHelp = "Override a deck key: section.key=value (repeatable)";
-/// Every command that takes --kinematics follows one rule (issue 26).
+/// Every command that takes --kinematics follows one rule.
 inline constexpr const char* kKinematicsHelp =
     "linearised or exact (default: the deck's [solver] kinematics, which is linearised when the deck does not set it)";
 /// --set and DECK.

@@ -12,7 +12,7 @@ struct CompareOptions {
   std::vector<std::string> solvers;  ///< empty: every registered solver
   std::string kinematics;            ///< "" = the deck's
   std::string json_path;
-  std::string svg_path;  ///< every solver's TE overlaid, and the differences from the first (issue 16)
+  std::string svg_path;  ///< every solver's TE overlaid, and the differences from the first
 };
 
 /// `ltca compare`: several solvers on the same sweep, side by side, with their largest

@@ -12,7 +12,7 @@ namespace ltca::cli {
 struct BacklashOptions {
   std::string json_path;
   std::string csv_path;
-  std::string svg_path;  ///< backlash and the rotations to first contact over crank angle (issue 16)
+  std::string svg_path;  ///< backlash and the rotations to first contact over crank angle
   /// --kinematics; empty: the deck's [solver] kinematics (the rule of every command).
   std::optional<contact::ContactKinematics> kinematics;
 };
@@ -23,7 +23,7 @@ int RunBacklash(const app::Deck& deck, const BacklashOptions& options, const Str
 
 struct MeshOptions {
   std::string json_path;
-  std::string svg_path;  ///< the clearance and arm of every pin (issue 16)
+  std::string svg_path;  ///< the clearance and arm of every pin
   double crank_deg = 0.0;
 };
 

@@ -6,7 +6,7 @@
 
 namespace ltca::cli {
 
-/// The command line of `ltca efficiency` (issue 14, docs/efficiency.md).
+/// The command line of `ltca efficiency` (docs/efficiency.md).
 struct EfficiencyOptions {
   std::string solver;      ///< "" = the deck's [solver] name
   std::string kinematics;  ///< "" = the deck's

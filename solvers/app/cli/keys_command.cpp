@@ -1,4 +1,4 @@
-// `ltca keys`: every deck key from the one table (analysis::DeckKeys, issue 24): as text, as the
+// `ltca keys`: every deck key from the one table (analysis::DeckKeys): as text, as the
 // key reference of docs/decks.md (--markdown, --write-doc; a test keeps the document current), and
 // as the libFuzzer dictionary of the deck fuzzer (--dict; CI's fuzz stage writes it).
 #include <set>

@@ -9,7 +9,7 @@
 
 namespace ltca::cli {
 
-/// The command line of `ltca optimise` (issue 28, docs/optimise.md).
+/// The command line of `ltca optimise` (docs/optimise.md).
 struct OptimiseOptions {
   std::string solver, kinematics;
   std::string json_path, csv_path, svg_path, deck_path;

@@ -447,7 +447,7 @@ void WriteTo(const std::string& option, const std::string& path, std::ostream& o
 void RequireDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& option_paths) {
   // Two outputs to one file would leave only the last one written: refused like two to stdout.
   // A path is compared absolute and normalised, its existing part with links resolved, so that
-  // "o.json", "./o.json" and "$PWD/o.json" are one file whether or not it exists yet (issue 26).
+  // "o.json", "./o.json" and "$PWD/o.json" are one file whether or not it exists yet.
   struct File {
     std::string option, path;
     std::filesystem::path resolved;

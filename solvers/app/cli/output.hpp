@@ -145,7 +145,7 @@ class Output {
 void WriteTo(const std::string& option, const std::string& path, std::ostream& out,
              const std::function<void(std::ostream&)>& write);
 
-/// Draws a figure (issue 16) into an output, SVG or, by the path's extension, PNG or PDF, and
+/// Draws a figure into an output, SVG or, by the path's extension, PNG or PDF, and
 /// commits it.
 void WriteFigure(const app::plots::Figure& figure, Output& output);
 

@@ -73,7 +73,7 @@ std::string Cell(const nlohmann::json& v) {
 /// A number as table text: 6 significant digits, n/a when not finite.
 std::string CellOf(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : "n/a"; }
 
-/// An output key as a reader reads it (issue 27: the page showed raw keys): the unit its name ends
+/// An output key as a reader reads it (the page showed raw keys): the unit its name ends
 /// with in parentheses, words for the underscores, a nested key after its parent and a colon.
 /// "tip_relief.land_half_width_mm" -> "tip relief: land half width (mm)",
 /// "pp_te_arcsec" -> "peak-to-peak TE (arcsec)".
@@ -115,7 +115,7 @@ std::string Label(const std::string& key) {
   return text;
 }
 
-/// Rows that say how long a run took: the page's footnote, not a result (issue 27).
+/// Rows that say how long a run took: the page's footnote, not a result.
 bool Timing(const std::string& key) {
   return key.find("seconds") != std::string::npos || key.find("per_second") != std::string::npos;
 }
@@ -147,7 +147,7 @@ std::string Unlabelled(const std::string& line) {
   return out;
 }
 
-/// The deck's inputs, grouped as the deck is (issue 27): every key of every section the deck has,
+/// The deck's inputs, grouped as the deck is: every key of every section the deck has,
 /// its meaning and unit from the key table (analysis::DeckKeys), the value the deck gives or the
 /// default (marked), and the keys a section takes beyond the table ([tolerances] draws, [case]).
 std::string InputsTable(const app::Deck& deck) {
@@ -914,7 +914,7 @@ Command ReportCommand() {
             ReportOptions& o = st->options;
             AddLoadInputs(c, st->deck, o.solver, o.kinematics);
             c.add_option("-o,--out", o.out_dir, "Folder of index.html (created when missing)")->required()->type_name("DIR");
-            // The tolerance study's options, as `ltca tolerance` takes them (issue 27).
+            // The tolerance study's options, as `ltca tolerance` takes them.
             AddSamplesOption(c, o.samples);
             c.add_option("--threads", o.threads, "Tolerance study: threads, 1 to 1024 (default 0: every hardware thread)");
             c.add_flag("--no-worst-case", o.no_worst_case, "Tolerance study: skip the extreme-value (worst-case) runs");

@@ -12,7 +12,7 @@ struct ReportOptions {
   std::string out_dir;     ///< the folder of index.html (created when missing)
   std::string solver;      ///< "" = the deck's [solver] name
   std::string kinematics;  ///< "" = the deck's [solver] kinematics; else every analysis of the page runs with it
-  /// The tolerance study's (issue 27): [tolerances] samples unless given, threads (0: every
+  /// The tolerance study's: [tolerances] samples unless given, threads (0: every
   /// hardware thread), and whether to skip the extreme-value runs.
   std::optional<std::int64_t> samples;
   int threads = 0;
@@ -24,7 +24,7 @@ struct ReportOptions {
 /// The file in a folder that `ltca report` built; a folder with it may be replaced by the next report.
 inline constexpr const char* kReportMarker = ".ltca-report";
 
-/// `ltca report DECK -o DIR` (issue 16): one static HTML page, DIR/index.html, that a browser
+/// `ltca report DECK -o DIR`: one static HTML page, DIR/index.html, that a browser
 /// opens from disk with nothing fetched: the case, the model and solver that ran, the geometry
 /// table, the summary tables of the loaded sweep, the unloaded backlash and the torque-twist loop
 /// at crank 0, and the figures (geometry drawing, TE, load distribution and maps, backlash, mesh

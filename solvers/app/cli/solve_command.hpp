@@ -15,7 +15,7 @@ struct SolveOptions {
   std::string solver;      ///< "" = the deck's [solver] name
   std::string kinematics;  ///< "" = the deck's
   std::string json_path, csv_path, svg_path;
-  std::string pattern_csv_path;  ///< the contact pattern: a row per position, pin and slice (issue 11)
+  std::string pattern_csv_path;  ///< the contact pattern: a row per position, pin and slice
 };
 
 /// Text written around the solve JSON document (the default job nests it in a larger one).

@@ -22,7 +22,7 @@ struct StiffnessOptions {
 /// The deck's [stiffness] with the command line's options applied and validated.
 analysis::StiffnessSettings StiffnessSettingsFor(const app::Deck& deck, const StiffnessOptions& options);
 
-/// `ltca stiffness`: the torque-twist loop (issue 13, docs/stiffness.md), streamed position by
+/// `ltca stiffness`: the torque-twist loop (docs/stiffness.md), streamed position by
 /// position to JSON and CSV, an SVG of the loop. Returns kExitSuccess when every solve succeeded,
 /// kExitNotSucceeded otherwise (the outputs are complete either way).
 int RunStiffness(const app::Deck& deck, const StiffnessOptions& options, const Streams& streams);

@@ -12,7 +12,7 @@
 
 namespace ltca::cli {
 
-/// The command line of `ltca tolerance` (issue 15, docs/tolerance.md): each option given replaces
+/// The command line of `ltca tolerance` (docs/tolerance.md): each option given replaces
 /// the deck's [tolerances] key.
 struct ToleranceOptions {
   std::string solver;      ///< "" = the deck's [solver] name

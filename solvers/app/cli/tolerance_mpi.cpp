@@ -1,4 +1,4 @@
-// The MPI sample farm of `ltca tolerance` (issue 15), built only when find_package(MPI) finds MPI.
+// The MPI sample farm of `ltca tolerance`, built only when find_package(MPI) finds MPI.
 // `mpirun -np K ltca tolerance DECK` splits the samples by rank statically (each rank runs its
 // block on its own threads) and gathers the samples on rank 0 with MPI_Gatherv, which alone
 // writes the outputs. MPI is initialised only when this process was started by mpirun (OpenMPI's

@@ -352,7 +352,7 @@ class Section {
     }
     const std::string& text = v.as_string().str;
     // Printed to terminals and written into SVG/XML, neither of which takes control characters
-    // (an ESC would drive the terminal, a NUL ends a C string; issue 26).
+    // (an ESC would drive the terminal, a NUL ends a C string).
     for (std::size_t i = 0; i < text.size(); ++i) {
       const auto c = static_cast<unsigned char>(text[i]);
       if (c < 0x20 || c == 0x7f) {
@@ -623,7 +623,7 @@ analysis::StiffnessSettings ReadStiffness(const Section& s) {
 }
 
 
-// --- issue 15: reading [tolerances] ------------------------------------------------------------
+// --- reading [tolerances] ---------------------------------------------------------------------
 /// A number of a section's nested value (where: "limits.x.max"); else an error naming it.
 double Number(const toml::value& v, const std::string& where, const char* what, const char* section = "tolerances") {
   if (v.is_integer()) return static_cast<double>(v.as_integer());
@@ -632,7 +632,7 @@ double Number(const toml::value& v, const std::string& where, const char* what, 
 }
 
 /// Limits on figures, { figure = max } or { figure = { min = .., max = .. } }: [tolerances] limits
-/// and [optimise] constraints (issue 28). The figures' names are checked by their users.
+/// and [optimise] constraints. The figures' names are checked by their users.
 std::vector<analysis::ToleranceLimit> ReadLimits(const toml::value& v, const char* section, const std::string& key, const char* example) {
   if (!v.is_table()) {
     throw std::invalid_argument(fmt::format("[{}] {} = {}: expected an inline table, e.g. {}", section, key, toml::format(v), example));
@@ -776,7 +776,7 @@ analysis::ToleranceSettings ReadTolerances(const toml::value& value, const geome
 }
 // --- end of reading [tolerances] -----------------------------------------------------------------
 
-// --- issue 14: [operation] and [friction] ----------------------------------------------------------
+// --- [operation] and [friction] -------------------------------------------------------------------
 analysis::OperationSettings ReadOperation(const Section& s) {
   analysis::OperationSettings o;
   ReadSettings(s, {.operation = &o});
@@ -784,7 +784,7 @@ analysis::OperationSettings ReadOperation(const Section& s) {
   return o;
 }
 
-// --- issue 28: reading [optimise] ------------------------------------------------------------------
+// --- reading [optimise] ---------------------------------------------------------------------------
 analysis::OptimiseSettings ReadOptimise(const Section& s, const toml::value& value, const std::optional<analysis::ToleranceSettings>& tolerances) {
   analysis::OptimiseSettings o;
   const toml::table& t = value.as_table();
@@ -852,7 +852,7 @@ analysis::FrictionSettings ReadFriction(const Section& s, const geometry::PairPa
   f.Validate(pair);
   return f;
 }
-// --- end of issue 14's block -----------------------------------------------------------------------
+// --- end of [operation] and [friction] ---------------------------------------------------------------
 
 }  // namespace
 
@@ -946,7 +946,7 @@ const LoadCase& Deck::RequireLoad() const {
 namespace {
 
 // The keys of [modification] and [errors] from the table: those of a disc (a second disc may give
-// its own, issue 13) and those of the pin ring (common to both discs).
+// its own) and those of the pin ring (common to both discs).
 std::vector<std::string> DiscKeys(const char* section, bool disc) {
   std::vector<std::string> out;
   for (const analysis::DeckKey& k : analysis::DeckKeys()) {
@@ -965,7 +965,7 @@ bool Contains(const std::vector<std::string>& keys, const std::string& key) {
   return std::find(keys.begin(), keys.end(), key) != keys.end();
 }
 
-// [second_disc] (issue 13): the first disc's [modification] and [errors] tables with the keys the
+// [second_disc]: the first disc's [modification] and [errors] tables with the keys the
 // section gives put over them, read by the same readers; the first disc's tip relief (given or
 // chosen) unless the section gives its own.
 void ReadSecondDisc(const toml::table& root, const toml::value& section, const std::filesystem::path& directory,
@@ -1027,7 +1027,7 @@ void ReadSecondDisc(const toml::table& root, const toml::value& section, const s
 
 namespace {
 
-/// [output] and [bearing] (issue 25): the reducer stage's elements. A key of the other kind is an
+/// [output] and [bearing]: the reducer stage's elements. A key of the other kind is an
 /// error, not ignored.
 solvers::StageSettings ReadReducer(const Section& output, const Section& bearing, const geometry::PairParameters& pair) {
   solvers::StageSettings s;
@@ -1222,7 +1222,7 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
                                                 key, fmt::join(sections, ", ")));
       }
     }
-    // Every value the deck gives (after --set), as it gives it: the report's inputs (issue 27).
+    // Every value the deck gives (after --set), as it gives it: the report's inputs.
     for (const auto& [section, value] : root) {
       if (!value.is_table()) continue;
       for (const auto& [key, v] : value.as_table()) deck.given.push_back({section, key, GivenText(v)});
@@ -1252,8 +1252,8 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     if (material.Present()) deck.material = ReadMaterial(material);
     const Section pins(Find(root, "pins"), "pins");
     if (pins.Present()) {
-      // Two ways a pin is held (issue 25): at its two ends, bending between them (span_mm,
-      // support, face_offset_mm: issue 11), or seated along its length in a housing groove (seat).
+      // Two ways a pin is held: at its two ends, bending between them (span_mm,
+      // support, face_offset_mm: pin bending), or seated along its length in a housing groove (seat).
       const bool bending = pins.Has("span_mm") || pins.Has("face_offset_mm") || pins.Has("support");
       contact::PinSeat& seat = deck.contact.seat;
       seat.kind = contact::ParsePinSeatKind(pins.String("seat", "rigid"));
@@ -1307,22 +1307,22 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     if (load.Present()) deck.load = ReadLoad(load);
     deck.sweep = ReadSweep(Section(Find(root, "sweep"), "sweep"), deck.pair);
     deck.stiffness = ReadStiffness(Section(Find(root, "stiffness"), "stiffness"));
-    if (const toml::value* t = Find(root, "tolerances")) {  // issue 15
+    if (const toml::value* t = Find(root, "tolerances")) {
       deck.tolerances = ReadTolerances(*t, deck.pair);
     }
-    // issue 14: [operation] and [friction], both optional.
+    // [operation] and [friction], both optional.
     const Section operation(Find(root, "operation"), "operation");
     if (operation.Present()) deck.operation = ReadOperation(operation);
     const Section friction(Find(root, "friction"), "friction");
     if (friction.Present()) deck.friction = ReadFriction(friction, deck.pair);
-    if (const toml::value* opt = Find(root, "optimise")) {  // issue 28
+    if (const toml::value* opt = Find(root, "optimise")) {
       const Section optimise(opt, "optimise");
       deck.optimise = ReadOptimise(optimise, *opt, deck.tolerances);
     }
     // The geometry must be realisable: this rejects undercut (looped) profiles, also when the
     // profile layer of [errors] is what makes them loop.
     const geometry::RealPair real = deck.MakeRealPair();  // analytic: cheap to check
-    // No tip relief but the user's (issue 26): a default chosen for the solvers' sake changed the
+    // No tip relief but the user's: a default chosen for the solvers' sake changed the
     // part with the torque and the stress limit, and no relief keeps the tips of the |d| >= 2 decks
     // of cases/hard unloaded at their torque (docs/contact.md, "Tip relief"). A loaded sharp corner
     // is an edge contact, a named status; a loaded relief is reported by the solve (a warning).

@@ -1,4 +1,4 @@
-// Figures drawn by PLplot (issue 16, docs/plots.md). PLplot keeps global state and is not
+// Figures drawn by PLplot (docs/plots.md). PLplot keeps global state and is not
 // thread-safe: every call runs under one mutex. It writes to a named file: each figure is drawn
 // into a temporary file, which is then copied to the stream (SVG with its metadata added).
 #include "ltca/app/plots.hpp"
@@ -54,7 +54,7 @@ std::mutex& Lock() {
 }
 
 /// Characters of a text drawn by PLplot at most: PLplot crashes in plend (SIGSEGV) on a string of
-/// about 980 characters or more (issue 26); a figure's title is unreadable long before that.
+/// about 980 characters or more; a figure's title is unreadable long before that.
 constexpr std::size_t kMaxDrawnCharacters = 200;
 
 /// PLplot's text escape is '#' (#u superscript, ...): a literal '#' is "##". A text longer than
@@ -264,7 +264,7 @@ constexpr int kMapSteps = 64;
 void DrawMap(const Map& m) {
   // Each cell is coloured by its step of the colour bar (kMapSteps). Cells of one column in the
   // same step are one run, and runs over the same pins in the same step in neighbouring columns
-  // are one rectangle: the same picture in far fewer SVG elements (issue 27: the solve figure of
+  // are one rectangle: the same picture in far fewer SVG elements (the solve figure of
   // a two-disc deck was 2.3 MB; the bands of the loaded pins change little from one crank angle
   // to the next).
   const Range r = MapRange(m);
@@ -417,7 +417,7 @@ void DrawPanel(const Panel& p, double x0, double x1, double y0, double y1, int p
     if (!s.label.empty()) ++order;
   }
   Chr(0.6);
-  // Vertical marks' labels (rotated, read downward from the top) never overlap (issue 27): a label
+  // Vertical marks' labels (rotated, read downward from the top) never overlap: a label
   // closer than 4 % of the axis to the one before it, left to right, starts lower, below that
   // label's text.
   std::vector<std::pair<double, double>> placed;  // (x, lowest y) of the vertical labels so far
@@ -526,7 +526,7 @@ void Draw(const Figure& f) {
   plend();
 }
 
-/// PLplot's SVG texts in fewer bytes, the same drawing (issue 27: a sweep's markers are glyphs,
+/// PLplot's SVG texts in fewer bytes, the same drawing (a sweep's markers are glyphs,
 /// each a <text>): the opening tag's attributes one space apart and without fill-opacity="1"
 /// (SVG's default), and the characters PLplot writes as references (&#x4c;) written as
 /// themselves in UTF-8, but for the five that XML escapes.
@@ -596,7 +596,7 @@ std::string CompactTexts(const std::string& svg) {
 /// PLplot's SVG polylines with the attributes that state SVG's defaults left out (stroke-width 1,
 /// stroke-opacity 1, fill-opacity 1, fill-rule nonzero: PLplot's groups carry only transforms and
 /// clip paths, so nothing is inherited instead) and each element on one line: the same drawing in
-/// about half the bytes (issue 27: a map is thousands of cells).
+/// about half the bytes (a map is thousands of cells).
 std::string CompactPolylines(const std::string& svg) {
   static constexpr std::array<std::string_view, 4> kDefaults = {
       R"(stroke-width="1.000000e+00")", R"(stroke-opacity="1.000000")", R"(fill-opacity="1.000000")", R"(fill-rule="nonzero")"};
@@ -675,7 +675,7 @@ std::string RectanglePath(std::string_view points) {
 /// Runs of unfilled polylines with the same attributes, one after another (PLplot draws a dashed
 /// line, a grid or the ticks as one polyline a segment), as one <path> of as many subpaths: the
 /// same pixels (an unfilled path's subpaths are stroked one by one, as the polylines were), a
-/// fraction of the bytes (issue 27: figures under 300 kB). Runs of filled axis-aligned
+/// fraction of the bytes (figures under 300 kB). Runs of filled axis-aligned
 /// rectangles with the same attributes (a map's cells of one colour, which DrawMap draws
 /// together; bars) likewise, each as RectanglePath: one winding, so the path fills their union
 /// (nonzero rule) and strokes each outline as the polylines did.

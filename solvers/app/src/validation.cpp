@@ -38,7 +38,7 @@ Loaded Summarise(const analysis::SweepResult& sweep) {
   l.max_stress = sweep.summary.max_contact_stress;
   l.max_force = sweep.summary.max_pin_force;
   l.status = sweep.summary.status;
-  // A closed period's repeated last state weighs once (issue 26).
+  // A closed period's repeated last state weighs once.
   const std::size_t n = sweep.positions.size() - (sweep.summary.closed_period && sweep.positions.size() > 1 ? 1 : 0);
   for (std::size_t i = 0; i < n; ++i) l.mean_pins += sweep.positions[i].contacts;
   l.mean_pins /= static_cast<double>(n);
@@ -725,7 +725,7 @@ void Jiang(const fs::path& dir, Builder& b) {
 }
 
 
-// --- issue 14: Jiang 2022 section 5.2, Fig. 15, Table 4 (docs/efficiency.md) -----------------------
+// --- Jiang 2022 section 5.2, Fig. 15, Table 4 (docs/efficiency.md) --------------------------------
 struct EfficiencyRun {
   double loss = 0, efficiency = 0, loss_range = 0;  // mean W, energy-weighted, max - min W
   bool ok = false;
@@ -749,7 +749,7 @@ double LossAtCrank(const Deck& deck, double crank_deg) {
 }
 
 void JiangEfficiency(const fs::path& dir, Builder& b) {
-  b.paper = "Jiang 2022: friction and efficiency (section 5.2, Fig. 15, Table 4; issue 14)";
+  b.paper = "Jiang 2022: friction and efficiency (section 5.2, Fig. 15, Table 4)";
   const fs::path path = dir / "jiang2022_table2_efficiency.toml";
   const std::string cmd = "ltca efficiency cases/jiang2022_table2_efficiency.toml";
   const std::string sleeve = "friction.sleeve_bore_radius_mm=7.5";
@@ -759,8 +759,8 @@ void JiangEfficiency(const fs::path& dir, Builder& b) {
   const double l0 = LossAtCrank(plain, 0.0), l10 = LossAtCrank(plain, 72.0);
   const double s0 = LossAtCrank(with, 0.0), s10 = LossAtCrank(with, 72.0);
   const EfficiencyRun a = RunEfficiencyDeck(plain), w = RunEfficiencyDeck(with);
-  // "Same order" is a factor of 2 either way at most, as for liu2021.t1.pp_te (review issue 26:
-  // a factor of 3 was called the same order).
+  // "Same order" is a factor of 2 either way at most, as for liu2021.t1.pp_te (a factor of
+  // 3 is not the same order).
   const auto within_two = [](double ours, double published) { return ours > published / 2 && ours < published * 2; };
   b.Add("jiang2022.s52.loss", "mixed-lubrication power loss without sleeve, 20 r/s, Ra 0.3 um (Fig. 13)",
         "72.3321 W (t = 0), 35.9208 W (t = 10 ms)",
@@ -811,7 +811,7 @@ void JiangEfficiency(const fs::path& dir, Builder& b) {
         cmd + " --set operation.input_speed_rpm=600 (1200, 1800, 2400)");
   // Fig. 15 (a): "The transmission efficiency decreased from 99.97% to 99.84% as the speed
   // increased without the pin tooth sleeve". The claim is the direction: it holds only if ours
-  // falls at every step of speed too (review issue 26: ours rises, and the row was missing).
+  // falls at every step of speed too (ours rises).
   const bool falls = efficiencies[0] > efficiencies[1] && efficiencies[1] > efficiencies[2] && efficiencies[2] > efficiencies[3];
   const bool rises = efficiencies[0] < efficiencies[1] && efficiencies[1] < efficiencies[2] && efficiencies[2] < efficiencies[3];
   b.Add("jiang2022.claim.efficiency_speed", "the efficiency without sleeve falls with speed, 10 -> 40 r/s (Fig. 15)",
@@ -847,7 +847,7 @@ void JiangEfficiency(const fs::path& dir, Builder& b) {
         "little: a spread below 10 % of the loss; the loss rises with Ra (a thinner film ratio); Jiang's falls",
         cmd + " --set operation.roughness_ra_cycloid_um=0.2 --set operation.roughness_ra_pin_um=0.2 (0.3, 0.4, 0.5)");
 }
-// --- end of issue 14's block ---------------------------------------------------------------------
+// --- end of Jiang 2022 section 5.2 ----------------------------------------------------------------
 }  // namespace
 
 const char* ToString(Verdict verdict) {
@@ -871,7 +871,7 @@ ValidationReport Validate(const fs::path& cases_dir) {
   LiuErrorSurfaces(cases_dir, b);
   report.liu_table2 = LiuTable2(cases_dir, b);
   {
-    // Slice-count convergence (issue 11): Liu 5.3's phi = 0.02 deg over one revolution in 37
+    // Slice-count convergence: Liu 5.3's phi = 0.02 deg over one revolution in 37
     // positions, compatibility, linearised; 200 slices is the reference.
     Deck phi = LoadDeck(cases_dir / "liu2021_sec53_phi.toml");
     phi.sweep.positions = 37;
@@ -883,7 +883,7 @@ ValidationReport Validate(const fs::path& cases_dir) {
   }
   Li(cases_dir, b);
   Jiang(cases_dir, b);
-  JiangEfficiency(cases_dir, b);  // issue 14
+  JiangEfficiency(cases_dir, b);
   report.rows = std::move(b.rows);
   return report;
 }
@@ -913,7 +913,7 @@ std::string ToMarkdown(const ValidationReport& report) {
   }
   if (!report.slice_convergence.empty()) {
     const analysis::SliceStudyRow& ref = report.slice_convergence.back();
-    os << "\n### Slice-count convergence under misalignment (issue 11)\n\n"
+    os << "\n### Slice-count convergence under misalignment\n\n"
        << "Liu 2021 section 5.3, phi = 0.02 deg (`cases/liu2021_sec53_phi.toml`, 37 positions over one revolution), "
           "linearised kinematics, compatibility. The PPTE's error is against " << ref.slices << " slices; the "
           "backlash's against the face-edge value, the first contact of two plane models with the cycloid centre where "

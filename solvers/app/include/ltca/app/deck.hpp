@@ -89,13 +89,13 @@ struct Deck : analysis::StageDesign {
   bool width_slices_given = false;             ///< [geometry] width_slices is in the deck
   std::vector<std::string> notes;              ///< keys given without effect (reported in Model().note)
   /// Every key the deck text gives (after the overrides), in its order: section, key and the
-  /// value as TOML writes it (the report's inputs table, issue 27).
+  /// value as TOML writes it (the report's inputs table).
   struct GivenKey {
     std::string section, key, value;
   };
   std::vector<GivenKey> given;
-  /// Where the tip relief ([modification] tip_truncation_mm, tip_rounding_radius_mm; issue 12)
-  /// came from: "deck" (a key given, also when 0) or "none" (no relief is ever assumed, issue 26);
+  /// Where the tip relief ([modification] tip_truncation_mm, tip_rounding_radius_mm)
+  /// came from: "deck" (a key given, also when 0) or "none" (no relief is ever assumed);
   /// the note says what sharp tips of a |d| >= 2 pair do (reported with the model).
   std::string tip_relief_source = "none";
   std::string tip_relief_note;
@@ -103,10 +103,10 @@ struct Deck : analysis::StageDesign {
   std::optional<LoadCase> load;               ///< required by the load commands
   analysis::Sweep sweep;
   analysis::StiffnessSettings stiffness;                 ///< [stiffness], optional (ltca stiffness)
-  std::optional<analysis::ToleranceSettings> tolerances; ///< [tolerances], optional (ltca tolerance, issue 15)
-  std::optional<analysis::OperationSettings> operation;  ///< [operation], optional (ltca efficiency; issue 14)
+  std::optional<analysis::ToleranceSettings> tolerances; ///< [tolerances], optional (ltca tolerance)
+  std::optional<analysis::OperationSettings> operation;  ///< [operation], optional (ltca efficiency)
   std::optional<analysis::FrictionSettings> friction;    ///< [friction], optional: without it no friction anywhere
-  std::optional<analysis::OptimiseSettings> optimise;    ///< [optimise], optional (ltca optimise, issue 28)
+  std::optional<analysis::OptimiseSettings> optimise;    ///< [optimise], optional (ltca optimise)
 
   /// The stage of this deck checked at its sweep's cranks (or the given ones), for the commands
   /// that load it: requires [material] (std::invalid_argument naming the deck).
@@ -115,11 +115,11 @@ struct Deck : analysis::StageDesign {
   /// The deck as the tolerance study's nominal case: requires [material] and [load].
   analysis::ToleranceCase MakeToleranceCase() const;
 
-  /// The model that runs for this deck, named in every output (issues 9, 11): the stage's model
+  /// The model that runs for this deck, named in every output: the stage's model
   /// (analysis::ModelInfo), with a note when a key was given without effect, and the tip relief.
   struct ModelInfo : analysis::ModelInfo {
     std::string note;     ///< empty, or why a given slice count or key was not used
-    geometry::TipRelief tip_relief;  ///< the relief that runs (issue 12)
+    geometry::TipRelief tip_relief;  ///< the relief that runs
     std::string tip_relief_source;   ///< "deck" | "none"
     std::string tip_relief_note;     ///< why there is none
   };
@@ -164,7 +164,7 @@ Deck ParseDeck(std::string_view toml_text, const std::string& name, const std::v
                const std::filesystem::path& directory = {});
 /// A deck's text parsed once, to read decks from it with different overrides: the TOML parse is
 /// most of the cost of reading a deck (about 1 ms for a short one), and a sweep of decks built in
-/// Python (issue 30) changes a key or two of the same text. Read(overrides) is
+/// Python changes a key or two of the same text. Read(overrides) is
 /// ParseDeck(text, name, overrides, directory), the same checks and messages. Immutable; shared
 /// between copies.
 class DeckSource {

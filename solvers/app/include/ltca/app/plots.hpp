@@ -1,5 +1,5 @@
 #pragma once
-// Figures (issue 16): every plot of ltca is drawn here, in one visual style, by a plotting
+// Figures: every plot of ltca is drawn here, in one visual style, by a plotting
 // library (PLplot, docs/plots.md). This header holds plain data only; the library stays in
 // solvers/app/src/plots.cpp.
 //
@@ -32,7 +32,7 @@ struct Series {
   int marker = -1;   ///< index into the markers (0..7); -1: as colour
   bool dashed = false;
   double bar_width = 0.8;
-  double marker_size = 1.0;  ///< relative: curves that coincide stay visible with nested markers (issue 27)
+  double marker_size = 1.0;  ///< relative: curves that coincide stay visible with nested markers
 };
 
 /// A horizontal (y = value) or vertical (x = value) reference line with its label.

@@ -44,9 +44,9 @@ struct LiuTable2Row {
 struct ValidationReport {
   std::vector<ValidationRow> rows;
   std::vector<LiuTable2Row> liu_table2;
-  /// The slice-count convergence under misalignment (issue 11; times are in the bench).
+  /// The slice-count convergence under misalignment (times are in the bench).
   std::vector<analysis::SliceStudyRow> slice_convergence;
-  /// Its backlash reference: the face-edge value (issue 26).
+  /// Its backlash reference: the face-edge value.
   analysis::FaceEdgeBacklash slice_face_edge;
 };
 
