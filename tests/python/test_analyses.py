@@ -78,11 +78,14 @@ def test_geometry_profile_columns_are_the_csv_of_the_command_line(monkeypatch):
     # same points to 9 significant digits, so the numbers agree to that rounding and the part
     # names exactly (an empty u_deg, a tip relief's cap, is NaN in the module).
     monkeypatch.chdir(ROOT)
-    for deck in ("cases/liu2021_table1.toml", "cases/li_table1.toml"):
-        run = subprocess.run([LTCA, "geometry", deck, "--csv", "-"], cwd=ROOT, capture_output=True, text=True)
+    relief = {"modification.tip_rounding_radius_mm": 1.0}  # a d = 2 profile with rounded tips: caps without u
+    for deck, sets in (("cases/liu2021_table1.toml", {}), ("cases/li_table1.toml", {}), ("cases/hard/d2_loaded.toml", relief)):
+        args = [a for k, v in sets.items() for a in ("--set", f"{k}={v!r}")]
+        run = subprocess.run([LTCA, "geometry", deck, "--csv", "-"] + args, cwd=ROOT, capture_output=True, text=True)
         assert run.returncode == 0
         header, *rows = [line.split(",") for line in run.stdout.strip().splitlines()]
-        result = ltca.geometry(deck)
+        assert not sets or any(r[1] == "" for r in rows)  # the relieved deck has caps
+        result = ltca.geometry(ltca.Deck.load(deck).update(sets) if sets else deck)
         assert list(result.csv) == header
         for i, name in enumerate(header):
             column = result.csv[name]

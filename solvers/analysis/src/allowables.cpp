@@ -72,7 +72,7 @@ std::optional<double> SweepFigure(const SweepSummary& s, const std::string& figu
 /// A reducer stage's figure of the loaded sweep (its largest loads, N; its shortest bearing L10,
 /// h, from SweepSummary::bearing_life); none for a figure the stage does not report.
 std::optional<double> StageFigure(const NominalResults& r, const std::string& figure) {
-  if (!r.reducer || !r.solve->stage) return std::nullopt;
+  if (!r.reducer || r.solve == nullptr || !r.solve->stage) return std::nullopt;
   const StageSummary& g = *r.solve->stage;
   if (figure == "max_output_pin_force_n") return r.output_pins ? FiniteOrNaN(g.max_output_force) : kNoValue;
   if (figure == "max_bearing_load_n") return FiniteOrNaN(g.max_bearing_load);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -544,8 +545,11 @@ struct PinFigures {
   std::vector<double> listed_half;  // at the pins Li's Table 2 lists
 };
 
-/// The pins Li's Table 2 lists, by Li's clockwise numbering.
+/// The pins Li's Table 2 lists, by Li's clockwise numbering, and the contact half-widths (mm) it
+/// gives them.
 constexpr int kLiListed[] = {24, 25, 26, 27, 36, 37, 38, 39};
+constexpr double kLiListedHalfWidth[] = {0.15, 0.19, 0.24, 0.27, 0.44, 0.37, 0.34, 0.24};
+static_assert(std::size(kLiListed) == std::size(kLiListedHalfWidth));
 
 PinFigures AnalyseLi(const Deck& deck) {
   const contact::MeshModel model = deck.MakeModel();
@@ -588,7 +592,6 @@ PinFigures AnalyseLi(const Deck& deck) {
 
 void Li(const fs::path& dir, Builder& b) {
   b.paper = "Li: Table 1 pair (section 4, Table 2, Figs. 4-10)";
-  const double listed_li[] = {0.15, 0.19, 0.24, 0.27, 0.44, 0.37, 0.34, 0.24};
   const Deck stated = LoadDeck(dir / "li_table1.toml");
   const Deck hyp = LoadDeck(dir / "li_table1_hypothesis.toml");
   {
@@ -635,9 +638,9 @@ void Li(const fs::path& dir, Builder& b) {
     double worst = 0;
     std::string ours, theirs;
     for (std::size_t k = 0; k < h.listed_half.size(); ++k) {
-      worst = std::max(worst, std::abs(h.listed_half[k] - listed_li[k]));
+      worst = std::max(worst, std::abs(h.listed_half[k] - kLiListedHalfWidth[k]));
       ours += fmt::format("{}{:.3f}", k == 0 ? "" : " / ", h.listed_half[k]);
-      theirs += fmt::format("{}{:.2f}", k == 0 ? "" : " / ", listed_li[k]);
+      theirs += fmt::format("{}{:.2f}", k == 0 ? "" : " / ", kLiListedHalfWidth[k]);
     }
     b.Add("li.hypothesis.half_widths", "Hertz half-widths at pins No. 24-27 and 36-39 (Table 2), hypothesis, mm",
           theirs, ours, fmt::format("worst {:.3f} mm", worst),

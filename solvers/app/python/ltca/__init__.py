@@ -300,13 +300,15 @@ class Result:
     ``csv`` the per-row table of the command's ``--csv`` where it carries one (tolerance: a row per
     sample; geometry: the profile; optimise: a row per evaluation), as {column: NumPy array}."""
 
-    def __init__(self, command, code, doc, columns):
+    def __init__(self, command, code, doc, columns=None):
         self.command = command
         self.exit_code = code
         self.json = doc
         self.summary = doc.get("summary") if isinstance(doc, dict) else None
         self.tables = {k: _table(v) for k, v in doc.items() if isinstance(v, list) and v and all(isinstance(r, dict) for r in v)}
-        self.csv = dict(columns)  # the per-row table, built from the result as columns (no CSV parsed)
+        if isinstance(columns, str):
+            raise TypeError("columns: expected a dict of {column: array} built from the result (CSV text is no longer read)")
+        self.csv = dict(columns or {})  # the per-row table, built from the result as columns (no CSV parsed)
 
     @property
     def succeeded(self):
