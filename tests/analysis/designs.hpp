@@ -1,7 +1,11 @@
 #pragma once
+#include <utility>
+
 // Stage designs built from data (no deck) that the analysis tests share.
 #include "ltca/analysis/stage.hpp"
+#include "ltca/analysis/tolerance.hpp"
 #include "ltca/contact/material.hpp"
+#include "ltca/geometry/units.hpp"
 
 namespace ltca::test {
 
@@ -34,5 +38,16 @@ inline analysis::StageDesign WithSecondDisc(analysis::StageDesign d) {
 }
 
 inline analysis::StageDesign SteelLiu52TwoDiscs() { return WithSecondDisc(SteelLiu52()); }
+
+/// A tolerance case of the design: 100 N*m on the output over 0 .. 9 deg crank in `positions`.
+inline analysis::ToleranceCase Over9DegreesAt100Nm(analysis::StageDesign design, int positions) {
+  analysis::ToleranceCase c;
+  c.design = std::move(design);
+  c.sweep.crank_start = 0.0;
+  c.sweep.crank_end = units::DegToRad(9.0);
+  c.sweep.positions = positions;
+  c.torque = 100'000.0;  // N*mm
+  return c;
+}
 
 }  // namespace ltca::test

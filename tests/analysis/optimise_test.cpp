@@ -25,12 +25,8 @@ using analysis::DesignEvaluation;
 /// Liu 2021 Table 1 (40 pins, R_p 64 mm, r_rp 3 mm, e 1.3 mm, B 12 mm), steel, 100 N*m on the
 /// output over 0 .. 9 deg crank in 3 positions.
 analysis::ToleranceCase LiuTable1(bool two_discs) {
-  analysis::ToleranceCase c;
-  c.design = two_discs ? ltca::test::WithSecondDisc(ltca::test::SteelLiuTable1()) : ltca::test::SteelLiuTable1();
-  c.sweep.crank_end = ltca::units::DegToRad(9.0);
-  c.sweep.positions = 3;
-  c.torque = 100'000.0;  // N*mm
-  return c;
+  return ltca::test::Over9DegreesAt100Nm(
+      two_discs ? ltca::test::WithSecondDisc(ltca::test::SteelLiuTable1()) : ltca::test::SteelLiuTable1(), 3);
 }
 
 /// The peak-to-peak TE over the pin radius and pin-circle radius modifications (mm), the mean

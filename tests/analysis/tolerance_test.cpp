@@ -29,13 +29,7 @@ using analysis::ToleranceSample;
 /// Liu 2021 Table 1 (40 pins, R_p 64 mm, r_rp 3 mm, e 1.3 mm, B 12 mm) with section 5.2's base
 /// modification (dR_rp -4 um, dR_p -17 um), steel, 100 N*m on the output over 0 .. 9 deg crank.
 analysis::ToleranceCase TolerancedLiu52(bool two_discs) {
-  analysis::ToleranceCase c;
-  c.design = two_discs ? ltca::test::SteelLiu52TwoDiscs() : ltca::test::SteelLiu52();
-  c.sweep.crank_start = 0.0;
-  c.sweep.crank_end = ltca::units::DegToRad(9.0);
-  c.sweep.positions = 4;
-  c.torque = 100'000.0;  // N*mm
-  return c;
+  return ltca::test::Over9DegreesAt100Nm(two_discs ? ltca::test::SteelLiu52TwoDiscs() : ltca::test::SteelLiu52(), 4);
 }
 
 /// Pin-circle radius deviation drawn normal, eccentricity deviation uniform (mm), six samples, limits on the

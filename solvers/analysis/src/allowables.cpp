@@ -57,28 +57,20 @@ constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 /// NaN where not finite (as the documents give null).
 double FiniteOrNaN(double v) { return std::isfinite(v) ? v : kNoValue; }
 
-/// The loaded sweep's figure of that name (TE arcsec, force N, stress MPa, pin counts); none when
-/// the sweep does not report it, NaN where no position succeeded.
-std::optional<double> SweepFigure(const SweepSummary& s, const std::string& figure) {
-  if (figure == "mean_te_arcsec") return FiniteOrNaN(units::RadToArcsec(s.mean_te));
-  if (figure == "pp_te_arcsec") return FiniteOrNaN(units::RadToArcsec(s.pp_te));
-  if (figure == "max_contact_stress_mpa") return FiniteOrNaN(s.max_contact_stress);
-  if (figure == "max_pin_force_n") return FiniteOrNaN(s.max_pin_force);
-  if (figure == "contacts_min") return s.succeeded > 0 ? static_cast<double>(s.contacts_min) : kNoValue;
-  if (figure == "contacts_max") return s.succeeded > 0 ? static_cast<double>(s.contacts_max) : kNoValue;
-  return std::nullopt;
-}
-
-/// A reducer stage's figure of the loaded sweep (its largest loads, N; its shortest bearing L10,
-/// h, from SweepSummary::bearing_life); none for a figure the stage does not report.
-std::optional<double> StageFigure(const NominalResults& r, const std::string& figure) {
-  if (!r.reducer || r.solve == nullptr || !r.solve->stage) return std::nullopt;
-  const StageSummary& g = *r.solve->stage;
-  if (figure == "max_output_pin_force_n") return r.output_pins ? FiniteOrNaN(g.max_output_force) : kNoValue;
-  if (figure == "max_bearing_load_n") return FiniteOrNaN(g.max_bearing_load);
-  if (figure == "max_roller_load_n") return FiniteOrNaN(g.max_roller_load);
-  if (figure == "shortest_l10_hours") return r.solve->bearing_life.value_or(BearingLife{}).ShortestHours();
-  return std::nullopt;
+/// The loaded sweep's figure of that name (LoadedFigures), a reducer stage's ("stage") or the
+/// mesh's; none when the sweep does not report it. NaN where it is not finite.
+std::optional<std::pair<double, bool>> LoadedFigure(const NominalResults& r, const std::string& figure) {
+  const auto& names = ToleranceSettings::FigureNames();
+  const auto f = static_cast<std::size_t>(std::find(names.begin(), names.end(), figure) - names.begin());
+  const bool stage = f == kMaxOutputPinForceN || f == kMaxBearingLoadN || f == kShortestL10Hours;
+  const bool sweep = f == kMeanTeArcsec || f == kPpTeArcsec || f == kMaxContactStressMpa || f == kMaxPinForceN ||
+                     f == kContactsMin || f == kContactsMax;
+  if (r.solve == nullptr || (!sweep && !(stage && r.reducer && r.solve->stage))) return std::nullopt;
+  if (f == kShortestL10Hours) return std::pair{r.solve->bearing_life.value_or(BearingLife{}).ShortestHours(), true};
+  ToleranceFigures figures;
+  figures.fill(kNoValue);
+  LoadedFigures(*r.solve, r.output_pins, figures);
+  return std::pair{FiniteOrNaN(figures[f]), stage};
 }
 
 }  // namespace
@@ -98,15 +90,13 @@ std::pair<double, std::string> NominalFigure(const NominalResults& r, const std:
       return {v, std::isfinite(v) ? "ltca stiffness, crank 0: the stage's free play" : "not computed"};
     }
     if (figure == "pp_backlash_arcsec") return {kNoValue, "not computed: the stage's free play over the sweep is the tolerance study's"};
-    if (const std::optional<double> v = StageFigure(r, figure)) return {*v, "ltca solve, the stage"};
+    if (const auto v = LoadedFigure(r, figure); v && v->second) return {v->first, "ltca solve, the stage"};
   }
   if (r.backlash != nullptr) {
     if (figure == "mean_backlash_arcsec") return {units::RadToArcsec(r.backlash->summary.mean()), "ltca backlash"};
     if (figure == "pp_backlash_arcsec") return {units::RadToArcsec(r.backlash->summary.pp()), "ltca backlash"};
   }
-  if (r.solve != nullptr) {
-    if (const std::optional<double> v = SweepFigure(*r.solve, figure)) return {*v, "ltca solve"};
-  }
+  if (const auto v = LoadedFigure(r, figure); v && !v->second) return {v->first, "ltca solve"};
   if (r.stiffness != nullptr && figure == "lost_motion_arcmin") {  // the one tolerance figure the loop gives
     return {FiniteOrNaN(units::RadToArcmin(r.stiffness->summary.lost_motion.mean)), "ltca stiffness, crank 0"};
   }

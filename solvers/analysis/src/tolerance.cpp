@@ -341,6 +341,21 @@ bool StageHasFigure(const std::optional<solvers::StageSettings>& reducer, std::s
   }
 }
 
+void LoadedFigures(const SweepSummary& sweep, bool output_pins, ToleranceFigures& figures) {
+  figures[kMeanTeArcsec] = units::RadToArcsec(sweep.mean_te);
+  figures[kPpTeArcsec] = units::RadToArcsec(sweep.pp_te);
+  figures[kMaxContactStressMpa] = sweep.max_contact_stress;
+  figures[kMaxPinForceN] = sweep.max_pin_force;
+  if (sweep.succeeded > 0) {
+    figures[kContactsMin] = sweep.contacts_min;
+    figures[kContactsMax] = sweep.contacts_max;
+  }
+  if (sweep.stage) {  // a reducer stage's loads, as `ltca solve` gives them
+    if (output_pins) figures[kMaxOutputPinForceN] = sweep.stage->max_output_force;
+    figures[kMaxBearingLoadN] = sweep.stage->max_bearing_load;
+  }
+}
+
 bool ToleranceStudy::Runs(std::size_t figure) const {
   if (figure == kLostMotionArcmin) return settings_.lost_motion;
   return StageHasFigure(nominal_.design.reducer, figure);
@@ -464,21 +479,11 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
       }
     }
     const SweepSummary sum_loaded = runner.Summary();
-    s.figures[kMeanTeArcsec] = units::RadToArcsec(sum_loaded.mean_te);
-    s.figures[kPpTeArcsec] = units::RadToArcsec(sum_loaded.pp_te);
-    s.figures[kMaxContactStressMpa] = sum_loaded.max_contact_stress;
-    s.figures[kMaxPinForceN] = sum_loaded.max_pin_force;
-    if (sum_loaded.succeeded > 0) {
-      s.figures[kContactsMin] = sum_loaded.contacts_min;
-      s.figures[kContactsMax] = sum_loaded.contacts_max;
-    }
-    if (design.reducer && sum_loaded.stage) {  // a reducer stage's loads and life, as `ltca solve` gives them
-      const StageSummary& g = *sum_loaded.stage;
-      if (StageHasFigure(design.reducer, kMaxOutputPinForceN)) s.figures[kMaxOutputPinForceN] = g.max_output_force;
-      s.figures[kMaxBearingLoadN] = g.max_bearing_load;
-      s.figures[kShortestL10Hours] =
-          BearingLives(design, g, pair.sweep, sum_loaded.closed_period, pair.operation ? pair.operation->input_speed : kNaN)
-              .ShortestHours();
+    LoadedFigures(sum_loaded, StageHasFigure(design.reducer, kMaxOutputPinForceN), s.figures);
+    if (design.reducer && sum_loaded.stage) {  // a reducer stage's life, as `ltca solve` gives it
+      s.figures[kShortestL10Hours] = BearingLives(design, *sum_loaded.stage, pair.sweep, sum_loaded.closed_period,
+                                                  pair.operation ? pair.operation->input_speed : kNaN)
+                                         .ShortestHours();
     }
     if (!sum_loaded.all_succeeded()) {
       s.status = RunStatus::kFailed;

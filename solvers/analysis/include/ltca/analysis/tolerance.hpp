@@ -128,6 +128,13 @@ enum ToleranceFigure : std::size_t {
 /// [output], the output pins' force only with output pins. Lost motion is the settings' matter.
 bool StageHasFigure(const std::optional<solvers::StageSettings>& reducer, std::size_t figure);
 
+/// The loaded sweep's figures written into `figures` at their indices: mean and peak-to-peak TE
+/// (arcsec), the largest contact stress (MPa) and pin force (N), the least and most pins in
+/// contact (only where a position succeeded); with a reducer stage's summary its largest bearing
+/// load and, with output pins, output-pin force (N). The others (backlash, lost motion, L10) are
+/// left as they are. One rule for a tolerance sample and the allowables check's nominal value.
+void LoadedFigures(const SweepSummary& sweep, bool output_pins, ToleranceFigures& figures);
+
 /// The most threads a study runs on (--threads): beyond it a thread costs its stack (8 MiB of
 /// address space) and buys nothing on any machine this runs on; starting 40,000 failed.
 inline constexpr int kMaxToleranceThreads = 1024;
