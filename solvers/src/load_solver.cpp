@@ -7,9 +7,11 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "coupled_contact.hpp"
 #include "ltca/geometry/units.hpp"
+#include "ltca/solvers/registry.hpp"
 #include "stage_system.hpp"
 
 namespace ltca::solvers {
@@ -228,7 +230,7 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
   if (!solver.supports_stage()) {
     result->status = SolverStatus::kStageUnsupported;
     result->message = fmt::format("solver \"{}\" does not solve the reducer stage ([output]); solvers that do: "
-                                  "compatibility, bisection, energy-qp (docs/stage.md)", solver.name());
+                                  "{} (docs/stage.md)", solver.name(), fmt::join(StageSolverNames(), ", "));
   } else if (const std::string overlaps = contact::JamReport(problem.base_state(), problem.model().interference_tolerance());
              !overlaps.empty()) {
     result->status = SolverStatus::kInterference;

@@ -37,6 +37,14 @@ std::vector<std::string> SolverNames() {
   return names;
 }
 
+std::vector<std::string> StageSolverNames() {
+  std::vector<std::string> names;
+  for (const Entry& e : Registry()) {
+    if (e.make()->supports_stage()) names.emplace_back(e.name);
+  }
+  return names;
+}
+
 std::unique_ptr<LoadSolver> MakeSolver(const std::string& name) {
   for (const Entry& e : Registry()) {
     if (name == e.name) return e.make();

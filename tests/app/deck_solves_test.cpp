@@ -28,6 +28,7 @@ using ltca::contact::MeshModel;
 using ltca::solvers::LoadProblem;
 using ltca::solvers::LoadResult;
 using ltca::solvers::MakeSolver;
+using ltca::solvers::StageSolverNames;
 using ltca::solvers::SolverOptions;
 using ltca::solvers::SolverStatus;
 
@@ -311,7 +312,7 @@ TEST_CASE("app: on the stage decks the stage's solvers agree to 1e-9 arcsec with
         SolverOptions options;
         options.torque_tolerance = 1e-14;
         std::vector<double> rotations;
-        for (const std::string solver : {"compatibility", "bisection", "energy-qp"}) {
+        for (const std::string& solver : StageSolverNames()) {
           CAPTURE(solver);
           options.name = solver;
           const auto r = MakeSolver(solver)->Solve(problem, options);

@@ -123,6 +123,13 @@ PATH_NOTES = (" (limited by the resolution of the rotation in double precision)"
 # iteration. Same figures (compared as above), same statuses; the words of the old message are
 # what the recording holds.
 REWORDED = {
+    # The refusal of a solver that does not solve the reducer stage lists the solvers that do from
+    # the registry (solvers::StageSolverNames, registry order) where a hand-written list had them in
+    # another order: same solvers, same words.
+    'solver "energy-groups" does not solve the reducer stage ([output]); solvers that do: bisection, energy-qp, '
+    'compatibility (docs/stage.md)':
+        'solver "energy-groups" does not solve the reducer stage ([output]); solvers that do: compatibility, bisection, '
+        'energy-qp (docs/stage.md)',
     "exact torque balance: linearisations #, Newton steps #, torque balanced to #":
         "# re-linearisations, torque balanced to #",
     "iteration limit reached (linearisations #, Newton steps #) before the torque balanced: off by # relative at "

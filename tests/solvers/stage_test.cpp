@@ -26,6 +26,7 @@ using ltca::solvers::LoadResult;
 using ltca::solvers::OutputKind;
 using ltca::solvers::SolverStatus;
 using ltca::solvers::StageSettings;
+using ltca::solvers::StageSolverNames;
 
 using ModelPtr = std::shared_ptr<const ltca::contact::MeshModel>;
 
@@ -186,7 +187,7 @@ TEST_CASE("solvers: a cycloidal drive with linear laws and no clearance is the l
   REQUIRE(problem.model().load_direction() == 1.0);
   const Network net = CycloidalDrive(problem, stage, crank, kLawStiffness);
   const Eigen::VectorXd q = net.Solve(torque);
-  for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+  for (const std::string& name : StageSolverNames()) {
     CAPTURE(name);
     const LoadResult r = SolveTight(name, problem);
     INFO(r.message);
@@ -217,7 +218,7 @@ TEST_CASE("solvers: seated pins are springs in series with their contacts; the b
   const LoadProblem problem = Problem(stage, crank, torque, false, seat);
   const Network net = CycloidalDrive(problem, stage, crank, kLawStiffness * ks / (kLawStiffness + ks));
   const Eigen::VectorXd q = net.Solve(torque);
-  for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+  for (const std::string& name : StageSolverNames()) {
     CAPTURE(name);
     const LoadResult r = SolveTight(name, problem);
     INFO(r.message);
@@ -314,7 +315,7 @@ TEST_CASE("solvers: pin bending in the stage is the network with the pin ring's 
     }
   }
   REQUIRE(settled);
-  for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+  for (const std::string& name : StageSolverNames()) {
     CAPTURE(name);
     const LoadResult r = SolveTight(name, problem);
     INFO(r.message);
@@ -363,7 +364,7 @@ TEST_CASE("solvers: an RV stage of two discs on three cranks with linear laws is
     }
   }
   const Eigen::VectorXd q = net.Solve(torque);
-  for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+  for (const std::string& name : StageSolverNames()) {
     CAPTURE(name);
     const LoadResult r = SolveTight(name, problem);
     INFO(r.message);
@@ -397,7 +398,7 @@ TEST_CASE("solvers: the W mechanism with the disc centre held: F_j = T sin a_j /
       sine[static_cast<std::size_t>(j)] = std::sin(2.0 * ltca::units::kPi * j / 8 + out - crank);
       if (sine[static_cast<std::size_t>(j)] > 0.0) sum += sine[static_cast<std::size_t>(j)] * sine[static_cast<std::size_t>(j)];
     }
-    for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+    for (const std::string& name : StageSolverNames()) {
       CAPTURE(name);
       const LoadResult r = ltca::test::SolveWith(name, problem);
       INFO(r.message);
@@ -462,7 +463,7 @@ TEST_CASE("solvers: the stage's solvers agree on a cycloidal drive with Hertz co
     ltca::solvers::SolverOptions options;
     options.torque_tolerance = 1e-14;
     std::vector<double> rotations;
-    for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+    for (const std::string& name : StageSolverNames()) {
       CAPTURE(name);
       options.name = name;
       const LoadResult r = ltca::solvers::MakeSolver(name)->Solve(problem, options);
@@ -475,6 +476,10 @@ TEST_CASE("solvers: the stage's solvers agree on a cycloidal drive with Hertz co
     const LoadResult refused = ltca::test::SolveWith("energy-groups", problem);
     CHECK(refused.status == SolverStatus::kStageUnsupported);
     CHECK(std::isnan(refused.rotation));
+    // The refusal names the solvers that do solve the stage, as the registry lists them.
+    REQUIRE(!StageSolverNames().empty());
+    for (const std::string& name : StageSolverNames()) CHECK(refused.message.find(name) != std::string::npos);
+    CHECK(refused.message.find("energy-groups", refused.message.find("solvers that do")) == std::string::npos);
   }
 }
 
@@ -537,7 +542,7 @@ TEST_CASE("solvers: crank holes all displaced tangentially by dt turn the carrie
   stage.cranks.hole_deviation.assign(3, Eigen::Vector2d(0.0, dt));
   const LoadProblem moved = Problem(stage, crank, 4.12e5, true);
   REQUIRE(plain.model().load_direction() == 1.0);  // the problem's frame is counterclockwise
-  for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+  for (const std::string& name : StageSolverNames()) {
     CAPTURE(name);
     const LoadResult a = SolveTight(name, plain), b = SolveTight(name, moved);
     REQUIRE(a.status == SolverStatus::kSuccess);
@@ -589,7 +594,7 @@ TEST_CASE("solvers: exact kinematics: holes turned by beta in the disc are the p
     const double torque = cranks ? 4.12e5 : 2.06e5;
     const LoadProblem pa = Problem(a, crank, torque, cranks, {}, exact), pb = Problem(b, crank, torque, cranks, {}, exact);
     REQUIRE(pa.model().load_direction() == 1.0);  // the problem's frame is counterclockwise
-    for (const std::string name : {"compatibility", "bisection", "energy-qp"}) {
+    for (const std::string& name : StageSolverNames()) {
       CAPTURE(name);
       const LoadResult ra = SolveTight(name, pa), rb = SolveTight(name, pb);
       INFO(ra.message, " / ", rb.message);
