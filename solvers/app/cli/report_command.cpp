@@ -807,7 +807,8 @@ int RunAnalysisSection(ReportContext& ctx, const documents::Analysis& analysis) 
 }
 
 /// A generic analysis's section: its own HTML, or its key figures tabled (labelled, each row
-/// carrying its key), then its figure.
+/// carrying its key), then its figure, in a block <div class="analysis" data-analysis="NAME">
+/// that ends with the comment "end of analysis NAME".
 std::string AnalysisHtml(const ReportContext& ctx, const documents::Analysis& analysis) {
   const auto& [output, svg] = ctx.generic.at(analysis.name);
   std::string html = output.report_html;
@@ -818,7 +819,9 @@ std::string AnalysisHtml(const ReportContext& ctx, const documents::Analysis& an
     }
     html += "</table>\n";
   }
-  return html + InlineSvgText(svg, analysis.name);
+  // Marked as the table's, so that a check of the page tells its figures from the fixed sections'.
+  return fmt::format("<div class=\"analysis\" data-analysis=\"{0}\">\n{1}{2}</div><!-- end of analysis {0} -->\n", Html(analysis.name),
+                     html, InlineSvgText(svg, analysis.name));
 }
 
 /// One section of the page: its anchor and title (the contents list), its name in the status line
