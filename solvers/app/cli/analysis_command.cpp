@@ -58,7 +58,9 @@ Command AnalysisCommand(const documents::Analysis& analysis) {
             for (const auto& [name, text] : st->text) {
               if (!text.empty()) given[name] = text;
             }
-            for (const auto& [name, on] : st->flags) given[name] = on ? "true" : "false";
+            for (const auto& [name, on] : st->flags) {
+              if (on) given[name] = "true";  // a flag given; else the entry's default
+            }
             if (!st->solver.empty()) given["solver"] = st->solver;
             if (!st->kinematics.empty()) given["kinematics"] = st->kinematics;
             const documents::OptionValues values = documents::ParseOptions(*a, given);

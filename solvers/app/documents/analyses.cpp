@@ -1,7 +1,6 @@
 #include "analyses.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -65,7 +64,6 @@ OptionValues::Value FromText(const AnalysisOption& o, const std::string& text) {
   switch (o.kind) {
     case Kind::kReal: {
       char* end = nullptr;
-      errno = 0;
       const double v = text.empty() ? NAN : std::strtod(text.c_str(), &end);
       if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v) || v < o.min || v > o.max) {
         throw bad(fmt::format("a finite number from {:g} to {:g}", o.min, o.max));
@@ -103,14 +101,13 @@ const std::vector<AnalysisOption>& LoadInputOptions() {
   return options;
 }
 
-/// Every option of the entry: its own, then the load inputs when it takes them.
+}  // namespace
+
 std::vector<AnalysisOption> AllOptions(const Analysis& analysis) {
   std::vector<AnalysisOption> all = analysis.options;
   if (analysis.load_inputs) all.insert(all.end(), LoadInputOptions().begin(), LoadInputOptions().end());
   return all;
 }
-
-}  // namespace
 
 OptionValues ParseOptions(const Analysis& analysis, const std::map<std::string, std::string>& given) {
   OptionValues values;

@@ -106,6 +106,10 @@ const std::vector<Analysis>& Analyses();
 /// The entry named `name`, or nullptr.
 const Analysis* FindAnalysis(const std::string& name);
 
+/// Every option of the entry: its own, then, when it takes the load inputs, "solver" (text) and
+/// "kinematics" (a choice of exact and linearised), both "" (the deck's) by default.
+std::vector<AnalysisOption> AllOptions(const Analysis& analysis);
+
 /// The option values from text as the command line gives them (name -> text; an option not given
 /// is absent and takes its default). std::invalid_argument names the option, the value and what it
 /// expects.

@@ -468,8 +468,8 @@ py::tuple BindAnalysis(const documents::Analysis& analysis, const Deck& deck, co
     std::string key = py::str(k);
     std::string name = key;
     std::replace(name.begin(), name.end(), '_', '-');
-    const bool known = std::any_of(analysis.options.begin(), analysis.options.end(), [&](const documents::AnalysisOption& o) { return o.name == name; }) ||
-                       (analysis.load_inputs && (name == "solver" || name == "kinematics"));
+    const std::vector<documents::AnalysisOption> options = documents::AllOptions(analysis);
+    const bool known = std::any_of(options.begin(), options.end(), [&](const documents::AnalysisOption& o) { return o.name == name; });
     if (!known) throw py::type_error(analysis.name + "() got an unexpected keyword argument '" + key + "'");
     if (const auto value = OptionValueOf(key, v)) given[name] = *value;
   }
@@ -502,13 +502,7 @@ py::list AnalysesTable() {
     entry["description"] = a.description;
     entry["generic"] = a.generic();
     py::list options;
-    std::vector<documents::AnalysisOption> all = a.options;
-    if (a.load_inputs) {
-      all.push_back({"solver", "Solver name (None: the deck's [solver] name)", documents::AnalysisOption::Kind::kText, {}, ""});
-      all.push_back({"kinematics", "'linearised' or 'exact' (None: the deck's)", documents::AnalysisOption::Kind::kChoice,
-                     {"exact", "linearised"}, ""});
-    }
-    for (const documents::AnalysisOption& o : all) {
+    for (const documents::AnalysisOption& o : documents::AllOptions(a)) {
       static const char* const kKinds[] = {"real", "integer", "text", "flag", "choice"};
       std::string name = o.name;
       std::replace(name.begin(), name.end(), '-', '_');
