@@ -36,8 +36,17 @@ Command ReportCommand();
 Command KeysCommand();
 
 std::vector<Command> Commands() {
-  return {GeometryCommand(),  BacklashCommand(),  MeshCommand(),    SolveCommand(),     StiffnessCommand(),
-          ToleranceCommand(), OptimiseCommand(), EfficiencyCommand(), CompareCommand(), ValidateCommand(), ReportCommand(),      KeysCommand()};
+  std::vector<Command> commands = {GeometryCommand(),  BacklashCommand(),  MeshCommand(),       SolveCommand(),
+                                   StiffnessCommand(), ToleranceCommand(), OptimiseCommand(),   EfficiencyCommand(),
+                                   CompareCommand()};
+  // Every generic analysis of the table (documents/analyses.hpp), a command each, built from its entry.
+  for (const app::documents::Analysis& analysis : app::documents::Analyses()) {
+    if (analysis.generic()) commands.push_back(AnalysisCommand(analysis));
+  }
+  commands.push_back(ValidateCommand());
+  commands.push_back(ReportCommand());
+  commands.push_back(KeysCommand());
+  return commands;
 }
 
 void AddDeckInputs(CLI::App& command, DeckInput& deck, const char* deck_help) {

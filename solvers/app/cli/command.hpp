@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "documents/analyses.hpp"
 #include "ltca/app/deck.hpp"
 #include "output.hpp"
 
@@ -40,8 +41,11 @@ struct Command {
   std::function<int(const Streams&)> run;
 };
 
-/// Every command, in the order `ltca --help` lists them.
+/// Every command, in the order `ltca --help` lists them: the bespoke analyses', a command for
+/// every generic analysis of the table (documents::Analyses()), then validate, report and keys.
 std::vector<Command> Commands();
+/// The command of a generic analysis of the table, built from its entry (cli/analysis_command.cpp).
+Command AnalysisCommand(const app::documents::Analysis& analysis);
 
 // --- the options several commands share ------------------------------------------------------------
 inline constexpr const char* kSetHelp = "Override a deck key: section.key=value (repeatable)";

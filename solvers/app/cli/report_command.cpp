@@ -19,6 +19,7 @@
 #include <ctime>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <optional>
 #include <iterator>
 #include <sstream>
@@ -32,6 +33,7 @@
 #include <nlohmann/json.hpp>
 
 #include "contact_commands.hpp"
+#include "documents/analyses.hpp"
 #include "documents/backlash.hpp"
 #include "documents/efficiency.hpp"
 #include "documents/geometry.hpp"
@@ -501,6 +503,8 @@ struct ReportContext {
   std::string eff_svg;
   ReportTolerance tol;
   ReportOptimisation opt;
+  /// The generic analyses' outputs (documents/analyses.hpp) and their figures as SVG text, by name.
+  std::map<std::string, std::pair<documents::AnalysisOutput, std::string>> generic;
 };
 
 /// The note of a section whose analysis did not run, and why.
@@ -783,6 +787,43 @@ int RunOptimise(ReportContext& ctx) {
   return !opt.run || opt.run->best() != nullptr ? kExitSuccess : kExitNotSucceeded;
 }
 
+/// A generic analysis of the table (documents/analyses.hpp) as its command runs it with its
+/// defaults and the report's --solver and --kinematics: NAME.json and NAME.svg beside the page.
+int RunAnalysisSection(ReportContext& ctx, const documents::Analysis& analysis) {
+  std::map<std::string, std::string> given;
+  if (analysis.load_inputs && !ctx.options.solver.empty()) given["solver"] = ctx.options.solver;
+  if (analysis.load_inputs && !ctx.options.kinematics.empty()) given["kinematics"] = ctx.options.kinematics;
+  documents::AnalysisOutput output = documents::RunAnalysis(analysis, ctx.deck, documents::ParseOptions(analysis, given));
+  WriteTo("-o", ctx.folder.File((analysis.name + ".json").c_str()), ctx.streams.out,
+          [&](std::ostream& os) { os << Dump(output.json) << '\n'; });
+  std::string svg;
+  if (output.figure) {
+    svg = SvgOf(*output.figure);
+    WriteTo("-o", ctx.folder.File((analysis.name + ".svg").c_str()), ctx.streams.out, [&](std::ostream& os) { os << svg; });
+  }
+  const int code = output.exit_code;
+  ctx.generic[analysis.name] = {std::move(output), std::move(svg)};
+  return code;
+}
+
+/// A generic analysis's section: its own HTML, or its key figures tabled (labelled, each row
+/// carrying its key), then its figure, in a block <div class="analysis" data-analysis="NAME">
+/// that ends with the comment "end of analysis NAME".
+std::string AnalysisHtml(const ReportContext& ctx, const documents::Analysis& analysis) {
+  const auto& [output, svg] = ctx.generic.at(analysis.name);
+  std::string html = output.report_html;
+  if (html.empty()) {
+    html = "<table>\n";
+    for (const auto& [key, value] : output.key_figures) {
+      html += fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td></tr>\n", Html(key), Html(Label(key)), CellOf(value));
+    }
+    html += "</table>\n";
+  }
+  // Marked as the table's, so that a check of the page tells its figures from the fixed sections'.
+  return fmt::format("<div class=\"analysis\" data-analysis=\"{0}\">\n{1}{2}</div><!-- end of analysis {0} -->\n", Html(analysis.name),
+                     html, InlineSvgText(svg, analysis.name));
+}
+
 /// One section of the page: its anchor and title (the contents list), its name in the status line
 /// (nullptr: it has no status of its own), why its analysis does not run for a deck (nullptr:
 /// always runs; the function returns nullptr when it runs), the analysis (writes its files into
@@ -795,7 +836,9 @@ struct ReportSection {
   const char* (*skipped)(const app::Deck&);
   int (*run)(ReportContext&);
   std::string (*html)(const ReportContext&);
-  std::vector<const char*> documents;
+  std::vector<std::string> documents;
+  /// A generic analysis of the table: its run and HTML are RunAnalysisSection and AnalysisHtml.
+  const documents::Analysis* analysis = nullptr;
 };
 
 /// The sections of the page, in order: each is always there, with its analysis or a note why it did
@@ -817,6 +860,20 @@ const std::vector<ReportSection>& Sections() {
       {"optimise", "Design optimisation", "optimise", [](const app::Deck& deck) { return deck.optimise ? nullptr : kNoOptimise; },
        RunOptimise, [](const ReportContext& ctx) { return ctx.opt.root() ? OptimiseHtml(ctx.opt) : NotRun(kNoOptimise); },
        {"optimise.json"}}};
+  return sections;
+}
+
+/// The sections of the page: the fixed ones, then a section for every generic analysis of the
+/// table (documents::Analyses()), in the table's order.
+const std::vector<ReportSection>& AllSections() {
+  static const std::vector<ReportSection> sections = [] {
+    std::vector<ReportSection> all = Sections();
+    for (const documents::Analysis& a : documents::Analyses()) {
+      if (!a.generic()) continue;
+      all.push_back({a.report_anchor.c_str(), a.report_title.c_str(), a.name.c_str(), a.skipped, nullptr, nullptr, {a.name + ".json"}, &a});
+    }
+    return all;
+  }();
   return sections;
 }
 
@@ -853,11 +910,17 @@ std::string PageHead(const app::Deck& deck, const ReportOptions& options) {
   html += fmt::format("<tr><th>sweep</th><td>{} positions, crank {:g} to {:g} deg</td></tr>\n</table>\n</header>\n",
                       deck.sweep.positions, units::RadToDeg(deck.sweep.crank_start), units::RadToDeg(deck.sweep.crank_end));
   html += "<nav>\n<h2 id=\"contents\">Contents</h2>\n<ol>\n";
-  for (const ReportSection& s : Sections()) html += fmt::format("<li><a href=\"#{}\">{}</a></li>\n", s.id, Html(s.title));
+  for (const ReportSection& s : AllSections()) html += fmt::format("<li><a href=\"#{}\">{}</a></li>\n", s.id, Html(s.title));
   return html + "</ol>\n</nav>\n";
 }
 
 }  // namespace
+
+std::vector<std::pair<std::string, std::string>> ReportSectionTitles() {
+  std::vector<std::pair<std::string, std::string>> titles;
+  for (const ReportSection& s : AllSections()) titles.emplace_back(s.id, s.title);
+  return titles;
+}
 
 int RunReport(const app::Deck& given, const ReportOptions& options, const Streams& streams) {
   // Every analysis of the page runs with --kinematics when given (the deck's otherwise).
@@ -869,20 +932,23 @@ int RunReport(const app::Deck& given, const ReportOptions& options, const Stream
   ReportContext ctx{deck, options, streams, quiet, folder};
   // Each section's analysis, in the table's order, when the deck asks for it; then the page from
   // their results, section by section.
-  const std::vector<ReportSection>& sections = Sections();
+  const std::vector<ReportSection>& sections = AllSections();
   std::vector<const char*> not_run(sections.size(), nullptr);  // why, for an analysis that did not run
   std::vector<int> codes(sections.size(), kExitSuccess);
   std::string built_from;  // the documents of the analyses that ran
   for (std::size_t i = 0; i < sections.size(); ++i) {
     const ReportSection& s = sections[i];
     if (s.skipped != nullptr && (not_run[i] = s.skipped(deck)) != nullptr) continue;
+    if (s.analysis != nullptr) codes[i] = RunAnalysisSection(ctx, *s.analysis);
     if (s.run != nullptr) codes[i] = s.run(ctx);
-    for (const char* name : s.documents) built_from += fmt::format("{}{}", built_from.empty() ? "" : ", ", name);
+    for (const std::string& name : s.documents) built_from += fmt::format("{}{}", built_from.empty() ? "" : ", ", name);
   }
   std::string html = PageHead(deck, options);
   for (std::size_t i = 0; i < sections.size(); ++i) {
     html += fmt::format("<h2 id=\"{}\">{}</h2>\n", sections[i].id, Html(sections[i].title));
-    html += not_run[i] != nullptr ? NotRun(not_run[i]) : sections[i].html(ctx);
+    html += not_run[i] != nullptr                ? NotRun(not_run[i])
+            : sections[i].analysis != nullptr ? AnalysisHtml(ctx, *sections[i].analysis)
+                                              : sections[i].html(ctx);
   }
   const double seconds = ctx.solved->summary.wall_seconds;
   html += fmt::format("<p class=\"meta\">Built from {} in this folder (the loaded sweep took {} s). A static page: nothing is "

@@ -2,6 +2,8 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "ltca/app/deck.hpp"
 #include "output.hpp"
@@ -32,5 +34,9 @@ inline constexpr const char* kReportMarker = ".ltca-report";
 /// solve.json, backlash.json, mesh.json, stiffness.json) are left beside it. Returns
 /// kExitNotSucceeded when a solve failed, else kExitSuccess.
 int RunReport(const app::Deck& deck, const ReportOptions& options, const Streams& streams);
+
+/// The page's sections in order, (anchor, title) each: the fixed ones, then one for every generic
+/// analysis of the table (documents::Analyses()).
+std::vector<std::pair<std::string, std::string>> ReportSectionTitles();
 
 }  // namespace ltca::cli

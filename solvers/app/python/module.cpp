@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -26,6 +27,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "documents/analyses.hpp"
 #include "documents/backlash.hpp"
 #include "documents/compare.hpp"
 #include "documents/efficiency.hpp"
@@ -441,6 +443,95 @@ constexpr Binding kBindings[] = {
     {"optimise", &Define<&BindOptimise>, "ltca optimise: (exit code, the --json document, the --csv columns, a row per evaluation)."},
 };
 
+// --- The generic analyses of the table of analyses (documents/analyses.hpp) ---
+
+/// A keyword argument as an option value: bool, int, float or str (None: not given); TypeError
+/// naming the keyword for anything else.
+std::optional<documents::OptionValues::Value> OptionValueOf(const std::string& key, const py::handle& value) {
+  if (value.is_none()) return std::nullopt;
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
+  if (py::isinstance<py::int_>(value) || (py::hasattr(value, "__index__") && !py::isinstance<py::float_>(value))) {
+    return static_cast<std::int64_t>(py::int_(py::reinterpret_borrow<py::object>(value)).cast<std::int64_t>());
+  }
+  if (py::isinstance<py::float_>(value)) return value.cast<double>();
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  throw py::type_error(key + " = " + std::string(py::repr(value)) + ": expected a bool, number or string, got " +
+                       std::string(py::str(value.get_type().attr("__name__"))));
+}
+
+/// A generic analysis: the keyword arguments (Python names, '_' for the option's '-') checked as
+/// the command line checks its options, the analysis run without the GIL; (exit code, the --json
+/// document, the --csv columns as {name: array}, {} without a per-row table).
+py::tuple BindAnalysis(const documents::Analysis& analysis, const Deck& deck, const py::kwargs& kwargs) {
+  std::map<std::string, documents::OptionValues::Value> given;
+  for (const auto& [k, v] : kwargs) {
+    std::string key = py::str(k);
+    std::string name = key;
+    std::replace(name.begin(), name.end(), '_', '-');
+    const std::vector<documents::AnalysisOption> options = documents::AllOptions(analysis);
+    const bool known = std::any_of(options.begin(), options.end(), [&](const documents::AnalysisOption& o) { return o.name == name; });
+    if (!known) throw py::type_error(analysis.name + "() got an unexpected keyword argument '" + key + "'");
+    if (const auto value = OptionValueOf(key, v)) given[name] = *value;
+  }
+  documents::OptionValues values;
+  try {
+    values = documents::CompleteOptions(analysis, given);
+  } catch (const std::logic_error& e) {
+    if (dynamic_cast<const std::invalid_argument*>(&e) != nullptr) throw;
+    throw py::type_error(e.what());
+  }
+  const documents::AnalysisOutput output = WithoutGil([&] { return documents::RunAnalysis(analysis, deck, values); });
+  py::dict columns;
+  if (output.columns) {
+    for (std::size_t k = 0; k < output.columns->header.size(); ++k) {
+      columns[py::str(output.columns->header[k])] =
+          NumberColumn(output.columns->rows, [k](const std::vector<double>& row) { return k < row.size() ? row[k] : NAN; });
+    }
+  }
+  return Answer(output.exit_code, output.json, columns);
+}
+
+/// The table of analyses for the package (ltca/__init__.py makes a function of each generic
+/// entry): name, description, whether it is generic, its docstring and its keyword arguments
+/// (name, kind, choices, default as text, help).
+py::list AnalysesTable() {
+  py::list table;
+  for (const documents::Analysis& a : documents::Analyses()) {
+    py::dict entry;
+    entry["name"] = a.name;
+    entry["description"] = a.description;
+    entry["generic"] = a.generic();
+    py::list options;
+    for (const documents::AnalysisOption& o : documents::AllOptions(a)) {
+      static const char* const kKinds[] = {"real", "integer", "text", "flag", "choice"};
+      std::string name = o.name;
+      std::replace(name.begin(), name.end(), '-', '_');
+      py::dict option;
+      option["name"] = name;
+      option["kind"] = kKinds[static_cast<int>(o.kind)];
+      option["choices"] = o.choices;
+      option["default"] = o.default_value;
+      option["help"] = o.help;
+      options.append(option);
+    }
+    entry["options"] = options;
+    table.append(entry);
+  }
+  return table;
+}
+
+/// The docstring of a generic analysis: the command it mirrors, its description, its keywords.
+std::string AnalysisDoc(const documents::Analysis& a) {
+  std::string doc = "ltca " + a.name + ": " + a.description + "\n(exit code, the --json document, the --csv columns)";
+  for (const documents::AnalysisOption& o : a.options) {
+    std::string name = o.name;
+    std::replace(name.begin(), name.end(), '-', '_');
+    doc += "\n  " + name + ": " + o.help + (o.default_value.empty() ? "" : " (default " + o.default_value + ")");
+  }
+  if (a.load_inputs) doc += "\n  solver, kinematics: as --solver and --kinematics (None: the deck's)";
+  return doc;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_ltca, m) {
@@ -452,4 +543,16 @@ PYBIND11_MODULE(_ltca, m) {
   py::class_<Document>(m, "Document", "A JSON document, converted on request.")
       .def("to_python", [](const Document& d) { return ToPython(d.make()); });
   for (const Binding& binding : kBindings) binding.define(m, binding.name, binding.doc);
+  // Every generic analysis of the table, a function each; the package wraps them (ltca/__init__.py).
+  static std::vector<std::string> docs;  // alive as long as the module
+  docs.reserve(documents::Analyses().size());
+  for (const documents::Analysis& a : documents::Analyses()) {
+    if (!a.generic()) continue;
+    docs.push_back(AnalysisDoc(a));
+    const documents::Analysis* entry = &a;
+    m.def(
+        a.name.c_str(), [entry](const Deck& deck, const py::kwargs& kwargs) { return BindAnalysis(*entry, deck, kwargs); },
+        docs.back().c_str());
+  }
+  m.def("_analyses", &AnalysesTable, "The table of analyses: every entry's name, description, kind and options.");
 }

@@ -383,3 +383,31 @@ def optimise(deck, threads=0, evaluations=None, solver=None, kinematics=None):
     """``ltca optimise``: the search of [optimise]; ``csv`` a row per evaluation."""
     return _run("optimise", deck, _solver(solver), _kinematics(kinematics), _threads(threads),
                 None if evaluations is None else _integer("evaluations", evaluations, 1, _MAX_EVALUATIONS))
+
+
+# The generic analyses of the table of analyses (solvers/app/documents/analyses.hpp): a function
+# each, made from the compiled module's list, so that a new analysis needs no line here. Keyword
+# arguments are the entry's options ('_' for the command line's '-'; None: the default), checked by
+# the same rule as the command line's; the answer is a Result like the other analyses'.
+def _analysis_function(entry):
+    import inspect as _inspect
+    name = entry["name"]
+
+    def run(deck, **options):
+        d = _deck(deck)
+        code, doc, columns = getattr(_ltca, name)(d._parsed, **options)
+        return Result(name, code, doc, columns)
+
+    run.__name__ = run.__qualname__ = name
+    run.__doc__ = getattr(_ltca, name).__doc__
+    parameters = [_inspect.Parameter("deck", _inspect.Parameter.POSITIONAL_OR_KEYWORD)]
+    parameters += [_inspect.Parameter(o["name"], _inspect.Parameter.KEYWORD_ONLY, default=None) for o in entry["options"]]
+    run.__signature__ = _inspect.Signature(parameters)
+    return run
+
+
+for _entry in _ltca._analyses():
+    if _entry["generic"]:
+        globals()[_entry["name"]] = _analysis_function(_entry)
+        __all__.append(_entry["name"])
+del _entry
