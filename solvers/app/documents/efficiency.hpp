@@ -26,6 +26,10 @@ nlohmann::json EfficiencyHead(const Deck& deck, const SolverOptions& solver);
 /// every loaded contact (force N, speeds m/s, film um, pressure MPa; its disc, 1 or 2, when
 /// `two_discs`); null for a figure that is not finite, the message of a failed position.
 nlohmann::json Json(const analysis::EfficiencyPosition& p, bool two_discs);
+/// The JSON document's positions as columns (the numeric keys of Json(p, ...), the same units;
+/// pin_coefficient a list per position; NaN where the document has null; the contacts are records,
+/// not columns).
+Table Columns(const std::vector<analysis::EfficiencyPosition>& positions);
 /// The JSON document's summary: each figure's mean over the successful positions with its least
 /// and largest (_min, _max), the sweep's efficiencies, the energy lost per crank revolution (J),
 /// the counts, the wall times (s), the warnings and the status.

@@ -74,6 +74,17 @@ nlohmann::json Json(const analysis::OptimiseSettings& s, const analysis::DesignE
   return j;
 }
 
+Table Columns(const analysis::OptimiseSettings& s, const std::vector<analysis::DesignEvaluation>& history) {
+  Table t;
+  for (const analysis::DesignEvaluation& e : history) {
+    t.Add("index", static_cast<double>(e.index));
+    t.Add("objective", e.objective);
+    t.Add("violation", e.violation);
+    if (s.robust) t.Add("samples_failed", static_cast<double>(e.samples_failed));
+  }
+  return t;
+}
+
 nlohmann::json OptimiseJsonHead(const Deck& deck, const SolverOptions& solver, const analysis::OptimiseSettings& s,
                                 const analysis::OptimiseRun& run) {
   const analysis::OptimiseResult& r = run.search;

@@ -36,6 +36,10 @@ nlohmann::json StiffnessHead(const Deck& deck, const SolverOptions& solver, cons
 /// first disc's shares for two discs, the compliance budget for a stage; null for a figure that is
 /// not finite, the message of a failed position.
 nlohmann::json Json(const analysis::StiffnessPosition& p);
+/// The JSON document's positions as columns (the numeric keys of Json(p): N*m/arcmin, arcmin, J,
+/// N*m; a friction's stick ends and two discs' shares when some position has them; NaN where the
+/// document has null; the curve and the compliance budget are records, not columns).
+Table Columns(const std::vector<analysis::StiffnessPosition>& positions);
 /// The JSON document's summary: each figure's mean (with _min, _max over a sweep), the mean loop
 /// (with its range over a sweep), the hysteresis and the friction note, the run record and the
 /// solve count.

@@ -21,6 +21,7 @@
 #include <tuple>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -152,10 +153,32 @@ auto WithoutGil(Work&& work) {
 /// The command's exit code for a result: success when every part of it succeeded.
 int ExitCode(bool succeeded) { return succeeded ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded; }
 
+/// A result's table (documents::Table) as {column: array}: a 1-D array of a value per record, a
+/// records x values array of a list per record (NaN where a list is shorter).
+py::dict Arrays(const documents::Table& table) {
+  py::dict arrays;
+  for (const auto& [name, column] : table.columns) arrays[py::str(name)] = column.lists ? py::object(Matrix(column.rows)) : Vector(column.values);
+  return arrays;
+}
+
 /// What an analysis other than solve gives Python: (exit code, the --json document as dicts, the
-/// --csv columns as {name: array or list of text}, {} for a command without a per-row CSV).
-py::tuple Answer(int code, const nlohmann::json& document, const py::dict& columns = py::dict()) {
-  return py::make_tuple(code, ToPython(document), columns);
+/// --csv columns as {name: array or list of text}, {} for a command without a per-row CSV, and
+/// {list: {column: array}} for the document's lists of records built from the result, one entry
+/// per list named by its key in the document).
+py::tuple Answer(int code, const nlohmann::json& document, const py::dict& columns = py::dict(), const py::dict& tables = py::dict()) {
+  return py::make_tuple(code, ToPython(document), columns, tables);
+}
+
+/// {name: the table's arrays}, for Answer: a table without records is left out, as the document's
+/// empty lists are.
+py::dict Tables(const std::vector<std::pair<std::string, documents::Table>>& tables) {
+  py::dict out;
+  for (const auto& [name, table] : tables) {
+    const bool empty = table.columns.empty() || (table.columns.begin()->second.lists ? table.columns.begin()->second.rows.empty()
+                                                                                     : table.columns.begin()->second.values.empty());
+    if (!empty) out[py::str(name)] = Arrays(table);
+  }
+  return out;
 }
 
 // --- The columns of the per-row tables ---
@@ -306,13 +329,14 @@ py::tuple BindBacklash(const Deck& deck, const std::string& kinematics) {
     const analysis::Stage stage(deck, deck.sweep.CrankAngles());
     return analysis::Backlash(stage, k, [&](const analysis::BacklashPosition& p) { positions.push_back(p); });
   });
-  return Answer(ExitCode(result.summary.failed() == 0), documents::Json(deck, positions, result));
+  return Answer(ExitCode(result.summary.failed() == 0), documents::Json(deck, positions, result), py::dict(),
+                Tables({{"positions", documents::Columns(positions, result.discs == 2)}}));
 }
 
 /// `ltca mesh`: the mesh state of every pin at crank_deg (deg).
 py::tuple BindMesh(const Deck& deck, double crank_deg) {
   const analysis::MeshResult mesh = WithoutGil([&] { return analysis::MeshAt(deck.MakeModel(), crank_deg); });
-  return Answer(ltca::app::kExitSuccess, documents::Json(deck, mesh));
+  return Answer(ltca::app::kExitSuccess, documents::Json(deck, mesh), py::dict(), Tables({{"pins", documents::Columns(mesh)}}));
 }
 
 /// `ltca compare`: several solvers on the deck's sweep (every registered solver when `names` is
@@ -326,7 +350,8 @@ py::tuple BindCompare(const Deck& given, const Strings& names, const std::string
     const analysis::SolverSelection selection = analysis::SelectSolvers(asked, deck.reducer.has_value(), deck.name);
     return analysis::Compare(deck.MakeStage(), deck.solver, selection.run, torque, selection.skipped);
   });
-  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, result));
+  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, result), py::dict(),
+                Tables({{"solvers", documents::Columns(result)}}));
 }
 
 /// `ltca stiffness`: the torque-twist loop; crank_deg (deg) and steps replace the deck's
@@ -345,7 +370,8 @@ py::tuple BindStiffness(const Deck& given, const std::string& solver_name, const
     return analysis::Stiffness(deck.MakeStage(settings.crank ? std::vector<double>{*settings.crank} : deck.sweep.CrankAngles()),
                                solver, settings, torque, deck.friction);
   });
-  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, solver, result));
+  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, solver, result), py::dict(),
+                Tables({{"positions", documents::Columns(result.positions)}}));
 }
 
 /// `ltca efficiency`: friction, power loss and efficiency over the sweep. Checks: [material],
@@ -363,7 +389,8 @@ py::tuple BindEfficiency(const Deck& given, const std::string& solver_name, cons
     for (const double crank : runner.cranks()) positions.push_back(runner.Solve(crank));
     return runner.Summary();
   });
-  return Answer(ExitCode(summary.all_succeeded()), documents::Json(deck, solver, positions, summary));
+  return Answer(ExitCode(summary.all_succeeded()), documents::Json(deck, solver, positions, summary), py::dict(),
+                Tables({{"positions", documents::Columns(positions)}}));
 }
 
 /// `ltca tolerance`: the Monte Carlo of [tolerances] and the samples' columns; samples and seed
@@ -409,7 +436,96 @@ py::tuple BindOptimise(const Deck& given, const std::string& solver_name, const 
   });
   const analysis::OptimiseSettings& settings = optimiser->settings();
   return Answer(ExitCode(run.best() != nullptr), documents::Json(deck, *solver, settings, run, history),
-                OptimiseColumns(settings, history));
+                OptimiseColumns(settings, history), Tables({{"history", documents::Columns(settings, history)}}));
+}
+
+// --- Decks from Python values: the deck writer's TOML, in-memory traces ---
+
+/// numpy.generic, the type of NumPy's scalars (imported once, kept for the module's life).
+const py::object& NumpyScalar() {
+  static const py::object* generic = new py::object(py::module_::import("numpy").attr("generic"));
+  return *generic;
+}
+
+/// The ValueError for a value the deck writer cannot write, naming its key `where`.
+py::value_error Unwritable(const std::string& where, const py::handle& value, const std::string& expected) {
+  return py::value_error(fmt::format("{} = {}: expected {}", where, py::repr(value).cast<std::string>(), expected));
+}
+
+/// A Python value as a deck's value (app::TomlValue), `where` its key for messages ("section.key",
+/// ".inner" for a table's keys): bool, int (64 bits), float, str, list/tuple/ndarray (an array),
+/// dict (an inline table), NumPy scalars as their Python values. Anything else (None, a set, a
+/// complex number...) is a ValueError naming the key; NaN and inf are written, and the deck reader
+/// names the key that refuses them.
+ltca::app::TomlValue ToToml(const py::handle& value, const std::string& where) {
+  using ltca::app::TomlValue;
+  PyObject* o = value.ptr();
+  if (PyBool_Check(o)) return {value.cast<bool>()};
+  if (PyLong_Check(o)) {
+    int overflow = 0;
+    const long long i = PyLong_AsLongLongAndOverflow(o, &overflow);
+    if (overflow != 0) throw Unwritable(where, value, "an integer from -2**63 to 2**63 - 1 (TOML's 64 bits)");
+    if (i == -1 && PyErr_Occurred()) throw py::error_already_set();
+    return {static_cast<std::int64_t>(i)};
+  }
+  if (PyFloat_Check(o)) return {PyFloat_AsDouble(o)};
+  if (PyUnicode_Check(o)) {
+    Py_ssize_t size = 0;
+    const char* utf8 = PyUnicode_AsUTF8AndSize(o, &size);
+    if (utf8 == nullptr) {
+      PyErr_Clear();
+      throw Unwritable(where, value, "text that UTF-8 can carry (no lone surrogates)");
+    }
+    return {std::string(utf8, static_cast<std::size_t>(size))};
+  }
+  if (PyList_Check(o) || PyTuple_Check(o) || py::isinstance<py::array>(value)) {
+    TomlValue::Array array;
+    for (const py::handle item : value) array.push_back(ToToml(item, where));
+    return {std::move(array)};
+  }
+  if (PyDict_Check(o)) {
+    TomlValue::Table table;
+    for (const auto& [key, item] : py::reinterpret_borrow<py::dict>(value)) {
+      const std::string name = py::str(key).cast<std::string>();
+      table.emplace_back(name, ToToml(item, where + "." + name));
+    }
+    return {std::move(table)};
+  }
+  if (py::isinstance(value, NumpyScalar())) return ToToml(value.attr("item")(), where);
+  throw Unwritable(where, value, "a bool, number, string, list or table");
+}
+
+/// Deck.from_dict: a deck's text from {"section": {"key": value, ...}, ...} by the deck writer.
+std::string TomlDeck(const py::dict& sections) {
+  std::vector<std::pair<std::string, ltca::app::TomlValue::Table>> out;
+  for (const auto& [section, keys] : sections) {
+    const std::string name = py::str(section).cast<std::string>();
+    if (!PyDict_Check(keys.ptr())) {
+      throw py::value_error(fmt::format("[{}]: expected a dict of keys, got {}", name, py::type::of(keys).attr("__name__").cast<std::string>()));
+    }
+    ltca::app::TomlValue::Table table;
+    for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(keys)) {
+      const std::string k = py::str(key).cast<std::string>();
+      table.emplace_back(k, ToToml(value, name + "." + k));
+    }
+    out.emplace_back(name, std::move(table));
+  }
+  return ltca::app::TomlDeckText(out);
+}
+
+/// Deck.set: the override "section.key=value" (the command line's --set) by the deck writer.
+std::string TomlSet(const std::string& key, const py::handle& value) { return key + "=" + ltca::app::TomlText(ToToml(value, key)); }
+
+/// Deck.with_measured_profile: the source with the trace as the in-memory file `name`, in the CSV
+/// form the deck reader takes (a header abscissa_name, deviation_um; a row per point, the
+/// shortest text of each double). abscissa and deviation_um have as many values.
+ltca::app::DeckSource WithProfileTrace(const ltca::app::DeckSource& source, const std::string& name, const std::string& abscissa_name,
+                                       const std::vector<double>& abscissa, const std::vector<double>& deviation_um) {
+  std::string csv = abscissa_name + ", deviation_um\n";
+  for (std::size_t i = 0; i < abscissa.size() && i < deviation_um.size(); ++i) {
+    csv += fmt::format("{}, {}\n", abscissa[i], deviation_um[i]);
+  }
+  return source.WithFile(name, std::move(csv));
 }
 
 // --- The table ---
@@ -431,14 +547,14 @@ void Define(py::module_& m, const char* name, const char* doc) {
 /// Every analysis the module binds: one entry each, in the order of the package's functions.
 constexpr Binding kBindings[] = {
     {"solve", &Define<&BindSolve>, "ltca solve: (the --json document, its summary as a dict, the arrays)."},
-    {"geometry", &Define<&BindGeometry>, "ltca geometry: (exit code, the --json document, the profile's --csv columns)."},
-    {"backlash", &Define<&BindBacklash>, "ltca backlash: (exit code, the --json document, {})."},
-    {"mesh", &Define<&BindMesh>, "ltca mesh: (exit code, the --json document, {})."},
-    {"compare", &Define<&BindCompare>, "ltca compare: (exit code, the --json document, {})."},
-    {"stiffness", &Define<&BindStiffness>, "ltca stiffness: (exit code, the --json document, {})."},
-    {"efficiency", &Define<&BindEfficiency>, "ltca efficiency: (exit code, the --json document, {})."},
-    {"tolerance", &Define<&BindTolerance>, "ltca tolerance: (exit code, the --json document, the --csv columns, a row per sample)."},
-    {"optimise", &Define<&BindOptimise>, "ltca optimise: (exit code, the --json document, the --csv columns, a row per evaluation)."},
+    {"geometry", &Define<&BindGeometry>, "ltca geometry: (exit code, the --json document, the profile's --csv columns, {})."},
+    {"backlash", &Define<&BindBacklash>, "ltca backlash: (exit code, the --json document, {}, the positions' columns)."},
+    {"mesh", &Define<&BindMesh>, "ltca mesh: (exit code, the --json document, {}, the pins' columns)."},
+    {"compare", &Define<&BindCompare>, "ltca compare: (exit code, the --json document, {}, the solvers' columns)."},
+    {"stiffness", &Define<&BindStiffness>, "ltca stiffness: (exit code, the --json document, {}, the positions' columns)."},
+    {"efficiency", &Define<&BindEfficiency>, "ltca efficiency: (exit code, the --json document, {}, the positions' columns)."},
+    {"tolerance", &Define<&BindTolerance>, "ltca tolerance: (exit code, the --json document, the --csv columns, a row per sample, {})."},
+    {"optimise", &Define<&BindOptimise>, "ltca optimise: (exit code, the --json document, the --csv columns, a row per evaluation, the history's columns)."},
 };
 
 }  // namespace
@@ -452,4 +568,7 @@ PYBIND11_MODULE(_ltca, m) {
   py::class_<Document>(m, "Document", "A JSON document, converted on request.")
       .def("to_python", [](const Document& d) { return ToPython(d.make()); });
   for (const Binding& binding : kBindings) binding.define(m, binding.name, binding.doc);
+  m.def("_toml_deck", &TomlDeck, "A deck's text from a dict of sections (the deck writer); ValueError names a key it cannot write.");
+  m.def("_toml_set", &TomlSet, "The override 'section.key=value' (the deck writer); ValueError names a key it cannot write.");
+  m.def("_with_profile_trace", &WithProfileTrace, "A DeckSource with a measured trace as an in-memory file.");
 }
