@@ -163,6 +163,15 @@ def document_table(rows):
     return table
 
 
+def two_discs_with_friction():
+    """cases/rv_two_discs.toml with the [friction] and [operation] of the efficiency case."""
+    import tomllib
+    with open(ROOT / "cases/jiang2022_table2_efficiency.toml", "rb") as f:
+        sections = tomllib.load(f)
+    return ltca.Deck.load("cases/rv_two_discs.toml").update(
+        {f"{section}.{key}": value for section in ("friction", "operation") for key, value in sections[section].items()})
+
+
 @pytest.mark.parametrize("run", [
     lambda: ltca.backlash("cases/liu2021_table1.toml"),
     lambda: ltca.backlash("cases/rv_two_discs.toml"),
@@ -171,10 +180,12 @@ def document_table(rows):
     lambda: ltca.mesh("cases/liu2021_sec52_base.toml"),
     lambda: ltca.compare("cases/liu2021_table1.toml", solvers=["bisection", "compatibility"]),
     lambda: ltca.compare("cases/rv_two_discs.toml"),
+    lambda: ltca.compare("cases/stage/cycloidal_drive.toml", solvers=["bisection", "energy-groups"]),  # one skipped
     lambda: ltca.stiffness("cases/liu2021_table1.toml", steps=5),
     lambda: ltca.stiffness("cases/rv_two_discs.toml", steps=5, crank_deg=1),
     lambda: ltca.stiffness("cases/stage/cycloidal_drive.toml", steps=5, crank_deg=0),
     lambda: ltca.efficiency("cases/jiang2022_table2_efficiency.toml"),
+    lambda: ltca.efficiency(two_discs_with_friction()),
     lambda: ltca.optimise("cases/liu2021_optimise.toml", evaluations=4, threads=1),
     lambda: ltca.tolerance("cases/liu2021_tolerances.toml", samples=3, threads=1),
     lambda: ltca.geometry("cases/liu2021_table1.toml"),
@@ -191,3 +202,29 @@ def test_tables_are_the_documents_records_column_for_column(run):
             assert got[column].dtype == np.float64 and got[column].shape == values.shape, (name, column)
             assert np.array_equal(got[column], values, equal_nan=True), (name, column)
         assert result.table(name) is got
+    # Every list further in, by table(*path): the same columns as the document's records.
+    nested = list(record_lists(result.json))
+    for path in nested:
+        node = result.json
+        for step in path:
+            node = node[step]
+        got, want = result.table(*path), document_table(node)
+        assert list(got) == list(want), path
+        for column, values in want.items():
+            assert np.array_equal(got[column], values, equal_nan=True), (path, column)
+    built = [p for p in nested if len(p) > 1 and p[-1] in ("curve", "contacts")]
+    assert all(p in result._nested for p in built)  # the loop's curves and the contacts from the result
+    if result.command in ("stiffness", "efficiency"):
+        assert built
+
+
+def record_lists(node, path=()):
+    """The paths of every non-empty list of records in a document."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from record_lists(v, path + (k,))
+    elif isinstance(node, list) and node:
+        if all(isinstance(r, dict) for r in node):
+            yield path
+        for i, v in enumerate(node):
+            yield from record_lists(v, path + (i,))

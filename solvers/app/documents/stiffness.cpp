@@ -170,6 +170,24 @@ Table Columns(const std::vector<analysis::StiffnessPosition>& positions) {
   return t;
 }
 
+Table Columns(const std::vector<analysis::CurvePoint>& curve, const std::vector<double>* lo, const std::vector<double>* hi) {
+  Table t;
+  for (std::size_t i = 0; i < curve.size(); ++i) {
+    t.Add("torque_nm", NmmToNm(curve[i].torque));
+    t.Add("twist_arcmin", RadToArcmin(curve[i].twist));
+    if (lo != nullptr && hi != nullptr) {
+      t.Add("twist_arcmin_min", RadToArcmin((*lo)[i]));
+      t.Add("twist_arcmin_max", RadToArcmin((*hi)[i]));
+    }
+  }
+  return t;
+}
+
+Table SummaryCurveColumns(const analysis::StiffnessResult& result) {
+  const analysis::StiffnessSummary& s = result.summary;
+  return result.sweep() ? Columns(s.curve, &s.curve_min, &s.curve_max) : Columns(s.curve);
+}
+
 nlohmann::json Json(const analysis::StiffnessResult& result) {
   const analysis::StiffnessSummary& s = result.summary;
   const bool sweep = result.sweep();

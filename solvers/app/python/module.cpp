@@ -162,23 +162,34 @@ py::dict Arrays(const documents::Table& table) {
 }
 
 /// What an analysis other than solve gives Python: (exit code, the --json document as dicts, the
-/// --csv columns as {name: array or list of text}, {} for a command without a per-row CSV, and
-/// {list: {column: array}} for the document's lists of records built from the result, one entry
-/// per list named by its key in the document).
+/// --csv columns as {name: array or list of text}, {} for a command without a per-row CSV, and the
+/// document's lists of records as {column: array} built from the result: under the list's key
+/// for a list at the top of the document, under its path as a tuple (("positions", 0, "curve"))
+/// for one further in).
 py::tuple Answer(int code, const nlohmann::json& document, const py::dict& columns = py::dict(), const py::dict& tables = py::dict()) {
   return py::make_tuple(code, ToPython(document), columns, tables);
 }
 
-/// {name: the table's arrays}, for Answer: a table without records is left out, as the document's
-/// empty lists are.
-py::dict Tables(const std::vector<std::pair<std::string, documents::Table>>& tables) {
+/// A list of records of a document as a table: its key or path (Answer), how many records it
+/// has (a list without records is left out, as the document's empty lists are) and its columns.
+struct NamedTable {
+  py::object key;
+  std::size_t records;
+  documents::Table table;
+};
+
+/// {key: the table's arrays}, for Answer.
+py::dict Tables(const std::vector<NamedTable>& tables) {
   py::dict out;
-  for (const auto& [name, table] : tables) {
-    const bool empty = table.columns.empty() || (table.columns.begin()->second.lists ? table.columns.begin()->second.rows.empty()
-                                                                                     : table.columns.begin()->second.values.empty());
-    if (!empty) out[py::str(name)] = Arrays(table);
+  for (const NamedTable& t : tables) {
+    if (t.records > 0) out[t.key] = Arrays(t.table);
   }
   return out;
+}
+
+/// A path into the document as Python's tuple, e.g. ("positions", 0, "curve").
+py::tuple Path(const std::string& list, std::size_t index, const std::string& member) {
+  return py::make_tuple(list, index, member);
 }
 
 // --- The columns of the per-row tables ---
@@ -330,13 +341,13 @@ py::tuple BindBacklash(const Deck& deck, const std::string& kinematics) {
     return analysis::Backlash(stage, k, [&](const analysis::BacklashPosition& p) { positions.push_back(p); });
   });
   return Answer(ExitCode(result.summary.failed() == 0), documents::Json(deck, positions, result), py::dict(),
-                Tables({{"positions", documents::Columns(positions, result.discs == 2)}}));
+                Tables({{py::str("positions"), positions.size(), documents::Columns(positions, result.discs == 2)}}));
 }
 
 /// `ltca mesh`: the mesh state of every pin at crank_deg (deg).
 py::tuple BindMesh(const Deck& deck, double crank_deg) {
   const analysis::MeshResult mesh = WithoutGil([&] { return analysis::MeshAt(deck.MakeModel(), crank_deg); });
-  return Answer(ltca::app::kExitSuccess, documents::Json(deck, mesh), py::dict(), Tables({{"pins", documents::Columns(mesh)}}));
+  return Answer(ltca::app::kExitSuccess, documents::Json(deck, mesh), py::dict(), Tables({{py::str("pins"), mesh.state.pins.size(), documents::Columns(mesh)}}));
 }
 
 /// `ltca compare`: several solvers on the deck's sweep (every registered solver when `names` is
@@ -351,7 +362,8 @@ py::tuple BindCompare(const Deck& given, const Strings& names, const std::string
     return analysis::Compare(deck.MakeStage(), deck.solver, selection.run, torque, selection.skipped);
   });
   return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, result), py::dict(),
-                Tables({{"solvers", documents::Columns(result)}}));
+                Tables({{py::str("solvers"), result.solvers.size(), documents::Columns(result)},
+                        {py::str("skipped"), result.skipped.size(), {}}}));  // names and reasons: no number
 }
 
 /// `ltca stiffness`: the torque-twist loop; crank_deg (deg) and steps replace the deck's
@@ -370,8 +382,12 @@ py::tuple BindStiffness(const Deck& given, const std::string& solver_name, const
     return analysis::Stiffness(deck.MakeStage(settings.crank ? std::vector<double>{*settings.crank} : deck.sweep.CrankAngles()),
                                solver, settings, torque, deck.friction);
   });
-  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, solver, result), py::dict(),
-                Tables({{"positions", documents::Columns(result.positions)}}));
+  std::vector<NamedTable> tables{{py::str("positions"), result.positions.size(), documents::Columns(result.positions)}};
+  for (std::size_t i = 0; i < result.positions.size(); ++i) {
+    tables.push_back({Path("positions", i, "curve"), result.positions[i].curve.size(), documents::Columns(result.positions[i].curve)});
+  }
+  tables.push_back({py::make_tuple("summary", "curve"), result.summary.curve.size(), documents::SummaryCurveColumns(result)});
+  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, solver, result), py::dict(), Tables(tables));
 }
 
 /// `ltca efficiency`: friction, power loss and efficiency over the sweep. Checks: [material],
@@ -389,8 +405,12 @@ py::tuple BindEfficiency(const Deck& given, const std::string& solver_name, cons
     for (const double crank : runner.cranks()) positions.push_back(runner.Solve(crank));
     return runner.Summary();
   });
-  return Answer(ExitCode(summary.all_succeeded()), documents::Json(deck, solver, positions, summary), py::dict(),
-                Tables({{"positions", documents::Columns(positions)}}));
+  std::vector<NamedTable> tables{{py::str("positions"), positions.size(), documents::Columns(positions)}};
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    tables.push_back({Path("positions", i, "contacts"), positions[i].contacts.size(),
+                      documents::ContactColumns(positions[i], deck.second_disc.has_value())});
+  }
+  return Answer(ExitCode(summary.all_succeeded()), documents::Json(deck, solver, positions, summary), py::dict(), Tables(tables));
 }
 
 /// `ltca tolerance`: the Monte Carlo of [tolerances] and the samples' columns; samples and seed
@@ -436,7 +456,7 @@ py::tuple BindOptimise(const Deck& given, const std::string& solver_name, const 
   });
   const analysis::OptimiseSettings& settings = optimiser->settings();
   return Answer(ExitCode(run.best() != nullptr), documents::Json(deck, *solver, settings, run, history),
-                OptimiseColumns(settings, history), Tables({{"history", documents::Columns(settings, history)}}));
+                OptimiseColumns(settings, history), Tables({{py::str("history"), history.size(), documents::Columns(settings, history)}}));
 }
 
 // --- Decks from Python values: the deck writer's TOML, in-memory traces ---

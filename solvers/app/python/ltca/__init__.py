@@ -226,7 +226,7 @@ def solve(deck, solver=None, kinematics=None, progress=None):
 
 
 def _column(values):
-    """(Result.table of a list nested in the document, the one table not yet built from the result.)
+    """(Result.table of a settings' list nested in the document, which no result builds.)
     A list of JSON values as a NumPy array: numbers (None as NaN), or lists of numbers of one
     length as rows; None when the values are not numeric."""
     if all(v is None or (isinstance(v, (int, float)) and not isinstance(v, bool)) for v in values):
@@ -267,7 +267,9 @@ class Result:
         self.exit_code = code
         self.json = doc
         self.summary = doc.get("summary") if isinstance(doc, dict) else None
-        self.tables = dict(tables or {})  # {list: {column: array}}, built from the result (no document read)
+        tables = dict(tables or {})  # built from the result (no document read): by key at the top, by path further in
+        self.tables = {k: v for k, v in tables.items() if isinstance(k, str)}
+        self._nested = {k: v for k, v in tables.items() if isinstance(k, tuple)}
         if isinstance(columns, str):
             raise TypeError("columns: expected a dict of {column: array} built from the result (CSV text is no longer read)")
         self.csv = dict(columns or {})  # the per-row table, built from the result as columns (no CSV parsed)
@@ -278,10 +280,14 @@ class Result:
 
     def table(self, *path):
         """The list of records at path in the document as {column: NumPy array}, e.g. the stiffness
-        loop's curve at the first crank: ``result.table("positions", 0, "curve")``. A list at the
-        top is ``tables``' (built from the result); one further in is converted from the document."""
+        loop's curve at the first crank: ``result.table("positions", 0, "curve")``. Built from the
+        result: the lists at the top (``tables``), the stiffness loop's curves and the efficiency's
+        contacts; any other list (the settings' lists of tolerance and optimise) is converted from
+        the document."""
         if len(path) == 1 and path[0] in self.tables:
             return self.tables[path[0]]
+        if path in self._nested:
+            return self._nested[path]
         node = self.json
         for step in path:
             node = node[step]
