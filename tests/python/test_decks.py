@@ -85,6 +85,21 @@ def test_a_value_the_writer_cannot_write_is_a_value_error_naming_the_key(value, 
     assert expected in str(e.value)
 
 
+def test_a_list_that_holds_itself_or_too_deep_is_refused_naming_the_key_and_a_0d_array_is_its_value():
+    loop = [1.0]
+    loop.append(loop)
+    with pytest.raises(ValueError, match=r"load\.torque_nm = .*nested at most 64 deep"):
+        _ltca._toml_set("load.torque_nm", loop)
+    deep = 1.0
+    for _ in range(70):
+        deep = {"x": deep}
+    with pytest.raises(ValueError, match=r"optimise\.variables\.x\.x.*nested at most 64 deep"):
+        _ltca._toml_set("optimise.variables", deep)
+    assert _ltca._toml_set("load.torque_nm", np.array(12.5)) == "load.torque_nm=12.5"
+    with pytest.raises(ValueError, match="UTF-8"):
+        _ltca._toml_deck({"load": {"\udcff": 1}})
+
+
 def test_the_largest_integers_are_written_and_the_reader_judges_them():
     assert _ltca._toml_set("sweep.positions", 2**63 - 1) == f"sweep.positions={2**63 - 1}"
     assert _ltca._toml_set("sweep.positions", -(2**63)) == f"sweep.positions={-(2**63)}"

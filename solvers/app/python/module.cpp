@@ -472,13 +472,31 @@ py::value_error Unwritable(const std::string& where, const py::handle& value, co
   return py::value_error(fmt::format("{} = {}: expected {}", where, py::repr(value).cast<std::string>(), expected));
 }
 
+/// A str as UTF-8; a ValueError naming `where` for text UTF-8 cannot carry (a lone surrogate).
+std::string Utf8(const py::handle& text, const std::string& where) {
+  Py_ssize_t size = 0;
+  const char* utf8 = PyUnicode_AsUTF8AndSize(text.ptr(), &size);
+  if (utf8 == nullptr) {
+    PyErr_Clear();
+    throw Unwritable(where, text, "text that UTF-8 can carry (no lone surrogates)");
+  }
+  return {utf8, static_cast<std::size_t>(size)};
+}
+
+/// A key of a dict as the deck's key: str(key) in UTF-8.
+std::string KeyText(const py::handle& key, const std::string& where) { return Utf8(py::str(key), where); }
+
 /// A Python value as a deck's value (app::TomlValue), `where` its key for messages ("section.key",
 /// ".inner" for a table's keys): bool, int (64 bits), float, str, list/tuple/ndarray (an array),
-/// dict (an inline table), NumPy scalars as their Python values. Anything else (None, a set, a
-/// complex number...) is a ValueError naming the key; NaN and inf are written, and the deck reader
-/// names the key that refuses them.
-ltca::app::TomlValue ToToml(const py::handle& value, const std::string& where) {
+/// dict (an inline table), NumPy scalars and 0-d arrays as their Python values, nested at most
+/// DeckLimits::kMaxNesting deep (a list that holds itself is refused, not followed). Anything else
+/// (None, a set, a complex number...) is a ValueError naming the key; NaN and inf are written, and
+/// the deck reader names the key that refuses them.
+ltca::app::TomlValue ToToml(const py::handle& value, const std::string& where, int depth = 0) {
   using ltca::app::TomlValue;
+  if (depth > ltca::app::DeckLimits::kMaxNesting) {
+    throw Unwritable(where, py::str("..."), fmt::format("lists and tables nested at most {} deep", ltca::app::DeckLimits::kMaxNesting));
+  }
   PyObject* o = value.ptr();
   if (PyBool_Check(o)) return {value.cast<bool>()};
   if (PyLong_Check(o)) {
@@ -489,29 +507,24 @@ ltca::app::TomlValue ToToml(const py::handle& value, const std::string& where) {
     return {static_cast<std::int64_t>(i)};
   }
   if (PyFloat_Check(o)) return {PyFloat_AsDouble(o)};
-  if (PyUnicode_Check(o)) {
-    Py_ssize_t size = 0;
-    const char* utf8 = PyUnicode_AsUTF8AndSize(o, &size);
-    if (utf8 == nullptr) {
-      PyErr_Clear();
-      throw Unwritable(where, value, "text that UTF-8 can carry (no lone surrogates)");
-    }
-    return {std::string(utf8, static_cast<std::size_t>(size))};
+  if (PyUnicode_Check(o)) return {Utf8(value, where)};
+  if (py::isinstance<py::array>(value) && py::reinterpret_borrow<py::array>(value).ndim() == 0) {
+    return ToToml(value.attr("item")(), where, depth);
   }
   if (PyList_Check(o) || PyTuple_Check(o) || py::isinstance<py::array>(value)) {
     TomlValue::Array array;
-    for (const py::handle item : value) array.push_back(ToToml(item, where));
+    for (const py::handle item : value) array.push_back(ToToml(item, where, depth + 1));
     return {std::move(array)};
   }
   if (PyDict_Check(o)) {
     TomlValue::Table table;
     for (const auto& [key, item] : py::reinterpret_borrow<py::dict>(value)) {
-      const std::string name = py::str(key).cast<std::string>();
-      table.emplace_back(name, ToToml(item, where + "." + name));
+      const std::string name = KeyText(key, where);
+      table.emplace_back(name, ToToml(item, where + "." + name, depth + 1));
     }
     return {std::move(table)};
   }
-  if (py::isinstance(value, NumpyScalar())) return ToToml(value.attr("item")(), where);
+  if (py::isinstance(value, NumpyScalar())) return ToToml(value.attr("item")(), where, depth);
   throw Unwritable(where, value, "a bool, number, string, list or table");
 }
 
@@ -519,13 +532,13 @@ ltca::app::TomlValue ToToml(const py::handle& value, const std::string& where) {
 std::string TomlDeck(const py::dict& sections) {
   std::vector<std::pair<std::string, ltca::app::TomlValue::Table>> out;
   for (const auto& [section, keys] : sections) {
-    const std::string name = py::str(section).cast<std::string>();
+    const std::string name = KeyText(section, "a section's name");
     if (!PyDict_Check(keys.ptr())) {
       throw py::value_error(fmt::format("[{}]: expected a dict of keys, got {}", name, py::type::of(keys).attr("__name__").cast<std::string>()));
     }
     ltca::app::TomlValue::Table table;
     for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(keys)) {
-      const std::string k = py::str(key).cast<std::string>();
+      const std::string k = KeyText(key, name + ".<a key>");
       table.emplace_back(k, ToToml(value, name + "." + k));
     }
     out.emplace_back(name, std::move(table));
