@@ -203,6 +203,8 @@ def two_discs_with_friction():
     lambda: ltca.efficiency(two_discs_with_friction()),
     lambda: ltca.optimise("cases/liu2021_optimise.toml", evaluations=4, threads=1),
     lambda: ltca.tolerance("cases/liu2021_tolerances.toml", samples=3, threads=1),
+    lambda: ltca.tolerance("cases/jiang2022_tolerances.toml", samples=60, threads=2),  # with the sensitivity rankings
+    lambda: ltca.optimise("cases/liu2021_robust.toml", evaluations=2, threads=2),
     lambda: ltca.geometry("cases/liu2021_table1.toml"),
 ])
 def test_tables_are_the_documents_records_column_for_column(run):
@@ -227,10 +229,9 @@ def test_tables_are_the_documents_records_column_for_column(run):
         assert list(got) == list(want), path
         for column, values in want.items():
             assert np.array_equal(got[column], values, equal_nan=True), (path, column)
-    built = [p for p in nested if len(p) > 1 and p[-1] in ("curve", "contacts")]
-    assert all(p in result._nested for p in built)  # the loop's curves and the contacts from the result
-    if result.command in ("stiffness", "efficiency"):
-        assert built
+    assert all(p in result._nested or p[0] in result.tables for p in nested)  # every one from the result
+    if result.command == "tolerance" and result.json["summary"]["samples"] >= 60:
+        assert any(p[-1] == "ranking" for p in nested)
 
 
 def record_lists(node, path=()):

@@ -433,7 +433,18 @@ py::tuple BindTolerance(const Deck& given, const std::string& solver_name, const
     plan.sink = [&kept](const analysis::ToleranceSample& s) { kept.push_back(s); };
     return analysis::RunToleranceStudy(*study, plan);
   });
-  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, *solver, *study, result), ToleranceColumns(*study, kept));
+  const analysis::ToleranceSettings& settings = study->settings();
+  std::vector<NamedTable> tables{
+      {py::make_tuple("tolerances", "distributions"), settings.distributions.size(), documents::DistributionColumns(settings)},
+      {py::make_tuple("summary", "limits"), result.summary.limits.size(), documents::LimitColumns(result.summary)}};
+  const auto& names = analysis::ToleranceSettings::FigureNames();
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    if (!study->Runs(f)) continue;
+    const analysis::FigureSensitivity& s = result.summary.sensitivity[f];
+    tables.push_back({py::make_tuple("summary", "sensitivity", "figures", names[f], "ranking"), s.keys.size(), documents::RankingColumns(s)});
+  }
+  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, *solver, *study, result), ToleranceColumns(*study, kept),
+                Tables(tables));
 }
 
 /// `ltca optimise`: the search of [optimise] and every evaluation's columns; evaluations replaces
@@ -456,7 +467,11 @@ py::tuple BindOptimise(const Deck& given, const std::string& solver_name, const 
   });
   const analysis::OptimiseSettings& settings = optimiser->settings();
   return Answer(ExitCode(run.best() != nullptr), documents::Json(deck, *solver, settings, run, history),
-                OptimiseColumns(settings, history), Tables({{py::str("history"), history.size(), documents::Columns(settings, history)}}));
+                OptimiseColumns(settings, history),
+                Tables({{py::str("history"), history.size(), documents::Columns(settings, history)},
+                        {py::make_tuple("settings", "variables"), settings.variables.size(), documents::VariableColumns(settings)},
+                        {py::make_tuple("settings", "constraints"), settings.constraints.size(), documents::ConstraintColumns(settings)},
+                        {py::make_tuple("summary", "phases"), run.search.phases.size(), documents::PhaseColumns(run.search)}}));
 }
 
 // --- Decks from Python values: the deck writer's TOML, in-memory traces ---

@@ -225,34 +225,6 @@ def solve(deck, solver=None, kinematics=None, progress=None):
     return SolveResult(document, summary, arrays)
 
 
-def _column(values):
-    """(Result.table of a settings' list nested in the document, which no result builds.)
-    A list of JSON values as a NumPy array: numbers (None as NaN), or lists of numbers of one
-    length as rows; None when the values are not numeric."""
-    if all(v is None or (isinstance(v, (int, float)) and not isinstance(v, bool)) for v in values):
-        return _np.array([_np.nan if v is None else float(v) for v in values], dtype=float)
-    if all(isinstance(v, list) for v in values) and len({len(v) for v in values}) == 1:
-        try:
-            return _np.array([[_np.nan if x is None else float(x) for x in v] for v in values], dtype=float)
-        except (TypeError, ValueError):
-            return None
-    return None
-
-
-def _table(rows):
-    """A list of dicts (a document's positions, curve, history, ...) as {key: NumPy array} for the
-    keys whose values are numeric in every row."""
-    keys = []
-    for r in rows:
-        keys += [k for k in r if k not in keys]
-    table = {}
-    for k in keys:
-        column = _column([r.get(k) for r in rows])
-        if column is not None:
-            table[k] = column
-    return table
-
-
 class Result:
     """An analysis: ``json`` is the document its command writes with ``--json`` (dicts, None for
     null), produced in this process by the command's own writer; ``summary`` its summary (or None);
@@ -280,10 +252,8 @@ class Result:
 
     def table(self, *path):
         """The list of records at path in the document as {column: NumPy array}, e.g. the stiffness
-        loop's curve at the first crank: ``result.table("positions", 0, "curve")``. Built from the
-        result: the lists at the top (``tables``), the stiffness loop's curves and the efficiency's
-        contacts; any other list (the settings' lists of tolerance and optimise) is converted from
-        the document."""
+        loop's curve at the first crank: ``result.table("positions", 0, "curve")``; built from the
+        result, as ``tables`` (the document is only walked to check the path)."""
         if len(path) == 1 and path[0] in self.tables:
             return self.tables[path[0]]
         if path in self._nested:
@@ -293,7 +263,9 @@ class Result:
             node = node[step]
         if not (isinstance(node, list) and all(isinstance(r, dict) for r in node)):
             raise ValueError(f"{path}: expected a list of records in the document")
-        return _table(node)
+        if node:
+            raise LookupError(f"{path}: a list of records that no result of ltca builds as a table")
+        return {}
 
     def __repr__(self):
         return f"ltca.Result({self.command!r}, exit code {self.exit_code}, tables {sorted(self.tables)})"
