@@ -1,7 +1,9 @@
 // Case decks: every deck in cases/ loads; each class of bad input is rejected with an error that
 // names the key, the value and what is expected.
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -606,6 +608,59 @@ TEST_CASE("app: deck reads profile_measured_csv relative to the deck's directory
     CHECK(Contains(load_with("/dev/zero"), "[errors] profile_measured_csv = \"/dev/zero\" is a character device; expected a regular CSV file"));
   }
   fs::remove_all(dir);
+}
+
+TEST_CASE("app: an in-memory file of a deck (DeckSource::WithFile) is read before the disk, under the name the deck gives it") {
+  // Python's Deck.with_measured_profile: the trace reaches the reader from memory, no file.
+  const std::string text = std::string(kGood) + "[errors]\nprofile_measured_csv = \"<trace>\"\n";
+  const ltca::app::DeckSource source(text, "t.toml");
+  CHECK_THROWS_WITH_AS(source.Read(), doctest::Contains("[errors] profile_measured_csv = \"<trace>\": no such file"), std::invalid_argument);
+  const ltca::app::DeckSource with = source.WithFile("<trace>", "profile_angle_deg, deviation_um\n-4, 2.0\n4, -2.0\n");
+  const ltca::app::Deck deck = with.Read({"load.torque_nm=100"});
+  REQUIRE(deck.errors.profile_measured.has_value());
+  CHECK(deck.errors.profile_measured->line == std::vector<int>{2, 3});
+  CHECK(deck.errors.profile_measured->deviation[1] == doctest::Approx(-0.002).epsilon(1e-15));
+  CHECK(deck.source.files.empty());  // not a file on disk: nothing an output could overwrite
+  REQUIRE(deck.source.memory != nullptr);
+  CHECK(deck.source.memory->count("<trace>") == 1);
+  CHECK_THROWS_AS(source.Read(), std::invalid_argument);  // the source without the file is unchanged
+  // Its messages name it as the deck does, with the line.
+  const ltca::app::DeckSource bad = source.WithFile("<trace>", "profile_angle_deg, deviation_um\n-4, 2.0\n-5, 1.0\n");
+  CHECK_THROWS_WITH_AS(bad.Read(), doctest::Contains("[errors] profile_measured_csv = \"<trace>\": line 3: profile_angle_deg = -5 after -4"),
+                       std::invalid_argument);
+  // The deck writer's read-back reads the same in-memory file.
+  const std::string written = ltca::app::WriteDeck(deck, {{"load", "torque_nm", "120.0", ""}});
+  CHECK(written.find("torque_nm = 120.0") != std::string::npos);
+  CHECK(written.find("profile_measured_csv = \"<trace>\"") != std::string::npos);
+}
+
+TEST_CASE("app: the deck writer's text of a value (TomlText) is TOML of its type that the reader reads back") {
+  using ltca::app::TomlText;
+  using ltca::app::TomlValue;
+  CHECK(TomlText({true}) == "true");
+  CHECK(TomlText({std::int64_t{100}}) == "100");
+  CHECK(TomlText({100.0}) == "100.0");  // a float stays a float
+  CHECK(TomlText({-0.0}) == "-0.0");
+  CHECK(TomlText({0.1}) == "0.1");
+  CHECK(TomlText({1e300}) == "1e+300");
+  CHECK(TomlText({std::numeric_limits<double>::quiet_NaN()}) == "nan");
+  CHECK(TomlText({-std::numeric_limits<double>::infinity()}) == "-inf");
+  CHECK(TomlText({std::string("a \"b\" \\ \n \x01 \xC3\xBC")}) == "\"a \\\"b\\\" \\\\ \\n \\u0001 \xC3\xBC\"");
+  const TomlValue nested{TomlValue::Table{{"a.b", TomlValue{TomlValue::Array{TomlValue{1.5}, TomlValue{std::int64_t{2}}}}},
+                                          {"c", TomlValue{TomlValue::Table{{"d", TomlValue{false}}}}}}};
+  CHECK(TomlText(nested) == "{ \"a.b\" = [1.5, 2], c = { d = false } }");
+  CHECK(ltca::app::TomlKeyText("torque_nm") == "torque_nm");
+  CHECK(ltca::app::TomlKeyText("") == "\"\"");
+  // Read back by the reader: every double as it was, a title with quotes and UTF-8 as it was.
+  for (const double torque_nm : {0.1, 1.0 / 3.0, 206.0, 123456.789, 1e-3}) {
+    CAPTURE(torque_nm);
+    const auto deck = ParseDeck(kGood, "t.toml", {"load.torque_nm=" + TomlText({torque_nm})});
+    CHECK(deck.load->torque == ltca::units::NmToNmm(torque_nm));
+  }
+  const std::string title = "say \"hi\" to C:\\gears \xE2\x80\x94 \xC3\xBC";
+  CHECK(ParseDeck(kGood, "t.toml", {"case.title=" + TomlText({title})}).info.title == title);
+  const std::string text = ltca::app::TomlDeckText({{"load", {{"torque_nm", TomlValue{100.0}}}}, {"a b", {}}});
+  CHECK(text == "[load]\ntorque_nm = 100.0\n\n[\"a b\"]\n\n");
 }
 
 TEST_CASE("app: a slice count or a key given without effect is reported in the model's note, not used") {

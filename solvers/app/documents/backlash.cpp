@@ -57,6 +57,35 @@ nlohmann::json Json(const analysis::BacklashPosition& p, bool two_discs) {
   return position;
 }
 
+Table Columns(const std::vector<analysis::BacklashPosition>& positions, bool two_discs) {
+  Table t;
+  const auto um = [](const std::vector<double>& mm, bool ok) {
+    std::vector<double> v;
+    for (const double c : mm) v.push_back(ok ? units::MmToUm(c) : NAN);
+    return v;
+  };
+  for (const analysis::BacklashPosition& p : positions) {
+    const contact::UnloadedContact& r = p.contact;
+    const Angles a = AnglesOf(p);
+    t.Add("crank_deg", RadToDeg(r.crank));
+    t.Add("theta_c1_arcsec", RadToArcsec(a.c1));
+    t.Add("theta_c2_arcsec", RadToArcsec(a.c2));
+    t.Add("backlash_arcsec", RadToArcsec(a.backlash));
+    t.Add("first_contact_pin", p.ok ? r.first_pin_c1 + 1.0 : NAN);
+    t.Add("first_contact_pin_reverse", p.ok ? r.first_pin_c2 + 1.0 : NAN);
+    t.Add("clearance_um", um(r.clearance, true));
+    if (two_discs) {
+      t.Add("first_contact_disc", p.ok ? p.disc_c1 : NAN);
+      t.Add("first_contact_disc_reverse", p.ok ? p.disc_c2 : NAN);
+      t.Add("second_disc_clearance_um", um(p.second_clearance, true));
+      t.Add("clearance_at_first_contact_um", NAN);  // null in the document: not the stage's figure
+    } else {
+      t.Add("clearance_at_first_contact_um", um(r.clearance_at_c1, p.ok));
+    }
+  }
+  return t;
+}
+
 nlohmann::json Json(const Deck& deck, const analysis::BacklashResult& result) {
   const analysis::BacklashSummary& s = result.summary;
   nlohmann::json summary = {{"mean_backlash_arcsec", FiniteOrNull(RadToArcsec(s.mean()))},

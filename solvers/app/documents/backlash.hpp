@@ -23,6 +23,9 @@ nlohmann::json BacklashHead(const Deck& deck, contact::ContactKinematics kinemat
 nlohmann::json Json(const analysis::BacklashPosition& p, bool two_discs);
 /// The JSON document's summary.
 nlohmann::json Json(const Deck& deck, const analysis::BacklashResult& result);
+/// The JSON document's positions as columns (the numeric keys of Json(p, two_discs): arcsec, um;
+/// a pin or disc numbered from 1; NaN where the document has null).
+Table Columns(const std::vector<analysis::BacklashPosition>& positions, bool two_discs);
 /// The whole JSON document from positions kept in memory (the Python module; the command streams).
 nlohmann::json Json(const Deck& deck, const std::vector<analysis::BacklashPosition>& positions,
                     const analysis::BacklashResult& result);

@@ -17,6 +17,16 @@ std::string Dump(const nlohmann::json& doc, int indent) {
 
 nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
+void Table::Add(const std::string& name, double value) { columns[name].values.push_back(std::isfinite(value) ? value : NAN); }
+
+void Table::Add(const std::string& name, const std::vector<double>& values) {
+  Column& column = columns[name];
+  column.lists = true;
+  std::vector<double>& row = column.rows.emplace_back();
+  row.reserve(values.size());
+  for (const double v : values) row.push_back(std::isfinite(v) ? v : NAN);
+}
+
 std::string FormatOrNa(double v, int decimals) {
   return std::isfinite(v) ? fmt::format("{:.{}f}", v, decimals) : std::string("n/a");
 }

@@ -3,6 +3,7 @@
 // null for a figure no valid solve produced, the model line, a figure's caption.
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,23 @@ std::string Dump(const nlohmann::json& doc, int indent = 2);
 nlohmann::json FiniteOrNull(double v);
 /// A figure in text, or "n/a" when it is not finite (no valid solve produced it).
 std::string FormatOrNa(double v, int decimals);
+
+/// A list of records of a document as columns, for a front-end's arrays (Python's Result.tables):
+/// a column per numeric key of the JSON records, under the key's name (its unit in it), in name
+/// order; a value per record, or a list of values per record (rows x values). Not finite: NaN (the
+/// document's null). Built from the result, never from the document.
+struct Table {
+  struct Column {
+    bool lists = false;                      ///< a list of values per record
+    std::vector<double> values;              ///< !lists: a value per record
+    std::vector<std::vector<double>> rows;   ///< lists: a list per record
+  };
+  std::map<std::string, Column> columns;
+  /// Appends the record's value to the column `name`.
+  void Add(const std::string& name, double value);
+  /// Appends the record's list of values to the column `name`.
+  void Add(const std::string& name, const std::vector<double>& values);
+};
 
 /// Indents every line but the first by two spaces (a document nested one level).
 std::string Nested(const std::string& text);

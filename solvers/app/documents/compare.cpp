@@ -10,6 +10,35 @@
 
 namespace ltca::app::documents {
 
+Table Columns(const analysis::CompareResult& result) {
+  Table t;
+  const bool warned = std::any_of(result.solvers.begin(), result.solvers.end(), [](const auto& s) { return s.summary.warned > 0; });
+  for (std::size_t r = 0; r < result.solvers.size(); ++r) {
+    const analysis::SweepSummary& s = result.solvers[r].summary;
+    const analysis::SolverDifferences& d = result.solvers[r].differences;
+    const std::int64_t compared = result.solvers[r].compared(r == 0);
+    const auto count = [&s](int v) { return s.succeeded > 0 ? static_cast<double>(v) : NAN; };
+    const auto diff = [compared](double v) { return compared > 0 ? v : NAN; };
+    t.Add("positions", static_cast<double>(s.positions()));
+    t.Add("succeeded_positions", static_cast<double>(s.succeeded));
+    t.Add("failed_positions", static_cast<double>(s.failed));
+    t.Add("mean_te_arcsec", units::RadToArcsec(s.mean_te));
+    t.Add("pp_te_arcsec", units::RadToArcsec(s.pp_te));
+    t.Add("contacts_min", count(s.contacts_min));
+    t.Add("contacts_max", count(s.contacts_max));
+    t.Add("max_pin_force_n", s.max_pin_force);
+    t.Add("max_contact_stress_mpa", s.max_contact_stress);
+    t.Add("wall_seconds", s.wall_seconds);
+    t.Add("compared_positions", static_cast<double>(compared));
+    t.Add("max_te_difference_arcsec", diff(units::RadToArcsec(d.te)));
+    t.Add("max_pin_force_difference_n", diff(d.force));
+    t.Add("max_contact_count_difference", diff(d.pins));
+    t.Add("warned_positions", static_cast<double>(s.warned));
+    if (!warned) t.Add("first_warning", NAN);
+  }
+  return t;
+}
+
 nlohmann::json Json(const Deck& deck, const analysis::CompareResult& result) {
   nlohmann::json doc = {{"case", {{"title", deck.info.title}, {"deck", deck.name}}},
                         {"model", ModelJson(deck.Model())},

@@ -18,6 +18,10 @@ namespace ltca::app::documents {
 /// TE, pins, force, stress, wall time, the largest differences from the reference, null where
 /// nothing was compared, warnings) and the skipped solvers with their reasons.
 nlohmann::json Json(const Deck& deck, const analysis::CompareResult& result);
+/// The JSON document's solvers as columns, a row per solver (the numeric keys of its records: the
+/// counts, arcsec, N, MPa, s; NaN where the document has null, first_warning only while no
+/// solver warned, as a column of NaN, as the document's nulls were).
+Table Columns(const analysis::CompareResult& result);
 /// The text: the case, the model, what ran, the skipped solvers, a row per solver, its warnings
 /// and a note when a position failed.
 std::string Text(const Deck& deck, const analysis::CompareResult& result);

@@ -86,6 +86,47 @@ nlohmann::json Json(const analysis::EfficiencyPosition& p, bool two_discs) {
   return j;
 }
 
+Table ContactColumns(const analysis::EfficiencyPosition& p, bool two_discs) {
+  Table t;
+  for (const auto& c : p.contacts) {
+    t.Add("pin", c.pin + 1.0);
+    t.Add("slice", static_cast<double>(c.slice));
+    t.Add("force_n", c.force);
+    t.Add("sliding_speed_m_per_s", c.sliding * kMmPerSToMPerS);
+    t.Add("entrainment_speed_m_per_s", c.entrainment * kMmPerSToMPerS);
+    t.Add("coefficient", c.coefficient);
+    t.Add("effective_coefficient", c.effective_coefficient);
+    t.Add("power_loss_w", c.loss);
+    t.Add("power_loss_first_order_w", c.loss_first_order);
+    t.Add("film_thickness_um", units::MmToUm(c.film_thickness));
+    t.Add("lambda", c.lambda);
+    t.Add("max_pressure_mpa", c.max_pressure);
+    if (two_discs) t.Add("disc", c.disc + 1.0);
+  }
+  return t;
+}
+
+Table Columns(const std::vector<analysis::EfficiencyPosition>& positions) {
+  Table t;
+  for (const analysis::EfficiencyPosition& p : positions) {
+    t.Add("crank_deg", RadToDeg(p.crank));
+    t.Add("output_power_w", p.output_power);
+    t.Add("power_loss_w", p.power_loss);
+    t.Add("power_loss_first_order_w", p.power_loss_first_order);
+    t.Add("efficiency", p.efficiency);
+    t.Add("efficiency_first_order", p.efficiency_first_order);
+    t.Add("efficiency_malhotra_parameswaran", p.efficiency_malhotra_parameswaran);
+    t.Add("efficiency_sensinger", p.efficiency_sensinger);
+    t.Add("mean_coefficient", p.mean_coefficient);
+    t.Add("friction_moment_ratio", p.friction_moment_ratio);
+    t.Add("friction_moment_ratio_first_order", p.friction_moment_ratio_first_order);
+    t.Add("balance_solves", p.balance_solves);
+    t.Add("balance_residual", p.balance_residual);
+    t.Add("pin_coefficient", p.pin_coefficient);
+  }
+  return t;
+}
+
 nlohmann::json Json(const analysis::EfficiencySummary& s) {
   const auto spread = [](nlohmann::json& j, const std::string& key, const analysis::EfficiencySpread& v) {
     j[key] = FiniteOrNull(v.mean);

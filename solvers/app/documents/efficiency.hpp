@@ -26,6 +26,14 @@ nlohmann::json EfficiencyHead(const Deck& deck, const SolverOptions& solver);
 /// every loaded contact (force N, speeds m/s, film um, pressure MPa; its disc, 1 or 2, when
 /// `two_discs`); null for a figure that is not finite, the message of a failed position.
 nlohmann::json Json(const analysis::EfficiencyPosition& p, bool two_discs);
+/// The JSON document's positions as columns (the numeric keys of Json(p, ...), the same units;
+/// pin_coefficient a list per position; NaN where the document has null; the contacts are records,
+/// not columns).
+Table Columns(const std::vector<analysis::EfficiencyPosition>& positions);
+/// A position's loaded contacts as columns, a row per contact (the numeric keys of its records:
+/// pin and slice numbered as the document numbers them, N, m/s, W, um, MPa; disc, from 1, for
+/// two discs; NaN where the document has null; the shape is text, not a column).
+Table ContactColumns(const analysis::EfficiencyPosition& p, bool two_discs);
 /// The JSON document's summary: each figure's mean over the successful positions with its least
 /// and largest (_min, _max), the sweep's efficiencies, the energy lost per crank revolution (J),
 /// the counts, the wall times (s), the warnings and the status.

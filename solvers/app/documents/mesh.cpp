@@ -37,6 +37,26 @@ nlohmann::json Json(const Deck& deck, const analysis::MeshResult& mesh) {
   return {{"case", CaseJson(deck)}, {"crank_deg", mesh.crank_deg}, {"model", ModelJson(deck.Model())}, {"pins", pins}};
 }
 
+Table Columns(const analysis::MeshResult& mesh) {
+  Table t;
+  for (const auto& c : mesh.state.pins) {
+    t.Add("pin", c.pin + 1.0);
+    t.Add("pin_angle_deg", RadToDeg(c.angle));
+    t.Add("clearance_um", units::MmToUm(c.clearance));
+    t.Add("arm_mm", c.arm);
+    t.Add("cycloid_curvature_radius_mm", c.cycloid_curvature == 0.0 ? INFINITY : 1.0 / c.cycloid_curvature);
+    t.Add("pin_radius_mm", c.pin_radius);
+    t.Add("cycloid_point_mm", std::vector<double>{c.cycloid_point.x(), c.cycloid_point.y()});
+    t.Add("pin_point_mm", std::vector<double>{c.pin_point.x(), c.pin_point.y()});
+    t.Add("normal", std::vector<double>{c.normal.x(), c.normal.y()});
+    if (mesh.slices > 1) {
+      t.Add("slice", c.slice + 1.0);
+      t.Add("z_mm", c.z);
+    }
+  }
+  return t;
+}
+
 std::string Text(const Deck& deck, const analysis::MeshResult& mesh) {
   std::string text = fmt::format("case      {}\n", deck.info.title);
   text += fmt::format("mesh state at crank {:g} deg (unloaded pose)\n", mesh.crank_deg);

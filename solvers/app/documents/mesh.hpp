@@ -14,6 +14,10 @@ namespace ltca::app::documents {
 /// The JSON document: case, crank_deg, model, and a row per pin (and slice) with its angle (deg),
 /// clearance (um), arm, radii, points (mm) and normal; a non-finite radius of curvature is null.
 nlohmann::json Json(const Deck& deck, const analysis::MeshResult& mesh);
+/// The JSON document's pins as columns, a row per pin (the numeric keys of its records: deg, um,
+/// mm; the points and the normal as x, y rows; slice and z_mm for a sliced model; NaN where the
+/// document has null).
+Table Columns(const analysis::MeshResult& mesh);
 
 /// The text: case, crank, model, and the table of a row per pin (and slice).
 std::string Text(const Deck& deck, const analysis::MeshResult& mesh);

@@ -74,6 +74,41 @@ nlohmann::json Json(const analysis::OptimiseSettings& s, const analysis::DesignE
   return j;
 }
 
+Table Columns(const analysis::OptimiseSettings& s, const std::vector<analysis::DesignEvaluation>& history) {
+  Table t;
+  for (const analysis::DesignEvaluation& e : history) {
+    t.Add("index", static_cast<double>(e.index));
+    t.Add("objective", e.objective);
+    t.Add("violation", e.violation);
+    if (s.robust) t.Add("samples_failed", static_cast<double>(e.samples_failed));
+  }
+  return t;
+}
+
+Table VariableColumns(const analysis::OptimiseSettings& s) {
+  Table t;
+  for (const auto& v : s.variables) {
+    t.Add("lower", v.lower);
+    t.Add("upper", v.upper);
+  }
+  return t;
+}
+
+Table ConstraintColumns(const analysis::OptimiseSettings& s) {
+  Table t;
+  for (const auto& l : s.constraints) {
+    t.Add("min", l.min);
+    t.Add("max", l.max);
+  }
+  return t;
+}
+
+Table PhaseColumns(const analysis::OptimiseResult& search) {
+  Table t;
+  for (const auto& p : search.phases) t.Add("evaluations", static_cast<double>(p.evaluations));
+  return t;
+}
+
 nlohmann::json OptimiseJsonHead(const Deck& deck, const SolverOptions& solver, const analysis::OptimiseSettings& s,
                                 const analysis::OptimiseRun& run) {
   const analysis::OptimiseResult& r = run.search;

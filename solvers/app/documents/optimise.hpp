@@ -30,6 +30,16 @@ std::string RobustRule(const analysis::OptimiseSettings& settings);
 /// One evaluation: index, phase, variables by key (their keys' units), objective, violation,
 /// feasible, status, message, every figure (null where not finite) and, robust, samples_failed.
 nlohmann::json Json(const analysis::OptimiseSettings& settings, const analysis::DesignEvaluation& e);
+/// The JSON document's history as columns, a row per evaluation (its numeric keys: index,
+/// objective, violation, samples_failed for a robust search; NaN where the document has null; the
+/// variables and figures are records, the --csv columns have them).
+Table Columns(const analysis::OptimiseSettings& settings, const std::vector<analysis::DesignEvaluation>& history);
+/// The JSON document's other lists of records as columns (NaN where the document has null): the
+/// settings' variables (lower, upper, in the key's unit) and constraints (min, max, in the
+/// figure's) and the search's phases (evaluations).
+Table VariableColumns(const analysis::OptimiseSettings& settings);
+Table ConstraintColumns(const analysis::OptimiseSettings& settings);
+Table PhaseColumns(const analysis::OptimiseResult& search);
 /// The JSON document without its arrays: case, model, solver, settings (with threads and ranks)
 /// and the summary (status, counts, phases, the best evaluation, wall time s).
 nlohmann::json OptimiseJsonHead(const Deck& deck, const SolverOptions& solver, const analysis::OptimiseSettings& settings,

@@ -1,5 +1,6 @@
 #include "documents/stiffness.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -136,6 +137,55 @@ nlohmann::json Json(const analysis::StiffnessPosition& p) {
     j["compliance_share"] = budget;
   }
   return j;
+}
+
+Table Columns(const std::vector<analysis::StiffnessPosition>& positions) {
+  const auto any = [&](double analysis::StiffnessPosition::*a, double analysis::StiffnessPosition::*b) {
+    return std::any_of(positions.begin(), positions.end(),
+                       [&](const analysis::StiffnessPosition& p) { return std::isfinite(p.*a) || std::isfinite(p.*b); });
+  };
+  const bool stick = any(&analysis::StiffnessPosition::stick_end_drive, &analysis::StiffnessPosition::stick_end_coast);
+  const bool share = any(&analysis::StiffnessPosition::first_disc_share_drive, &analysis::StiffnessPosition::first_disc_share_coast);
+  Table t;
+  for (const analysis::StiffnessPosition& p : positions) {
+    t.Add("crank_deg", RadToDeg(p.crank));
+    t.Add("torsional_rigidity_nm_per_arcmin", RigidityNmPerArcmin(p.rigidity));
+    t.Add("torsional_rigidity_drive_nm_per_arcmin", RigidityNmPerArcmin(p.rigidity_drive));
+    t.Add("torsional_rigidity_coast_nm_per_arcmin", RigidityNmPerArcmin(p.rigidity_coast));
+    t.Add("lost_motion_arcmin", RadToArcmin(p.lost_motion));
+    t.Add("backlash_arcmin", RadToArcmin(p.backlash));
+    t.Add("branch_difference_arcmin", RadToArcmin(p.branch_difference));
+    t.Add("hysteresis_j", NmmRadToJ(p.hysteresis));
+    t.Add("solves", static_cast<double>(p.solves));
+    t.Add("failed_solves", static_cast<double>(p.failed));
+    if (stick) {
+      t.Add("stick_end_drive_nm", NmmToNm(p.stick_end_drive));
+      t.Add("stick_end_coast_nm", NmmToNm(p.stick_end_coast));
+    }
+    if (share) {
+      t.Add("first_disc_share_drive", p.first_disc_share_drive);
+      t.Add("first_disc_share_coast", p.first_disc_share_coast);
+    }
+  }
+  return t;
+}
+
+Table Columns(const std::vector<analysis::CurvePoint>& curve, const std::vector<double>* lo, const std::vector<double>* hi) {
+  Table t;
+  for (std::size_t i = 0; i < curve.size(); ++i) {
+    t.Add("torque_nm", NmmToNm(curve[i].torque));
+    t.Add("twist_arcmin", RadToArcmin(curve[i].twist));
+    if (lo != nullptr && hi != nullptr) {
+      t.Add("twist_arcmin_min", RadToArcmin((*lo)[i]));
+      t.Add("twist_arcmin_max", RadToArcmin((*hi)[i]));
+    }
+  }
+  return t;
+}
+
+Table SummaryCurveColumns(const analysis::StiffnessResult& result) {
+  const analysis::StiffnessSummary& s = result.summary;
+  return result.sweep() ? Columns(s.curve, &s.curve_min, &s.curve_max) : Columns(s.curve);
 }
 
 nlohmann::json Json(const analysis::StiffnessResult& result) {

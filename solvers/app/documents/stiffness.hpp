@@ -36,6 +36,17 @@ nlohmann::json StiffnessHead(const Deck& deck, const SolverOptions& solver, cons
 /// first disc's shares for two discs, the compliance budget for a stage; null for a figure that is
 /// not finite, the message of a failed position.
 nlohmann::json Json(const analysis::StiffnessPosition& p);
+/// The JSON document's positions as columns (the numeric keys of Json(p): N*m/arcmin, arcmin, J,
+/// N*m; a friction's stick ends and two discs' shares when some position has them; NaN where the
+/// document has null; the curve and the compliance budget are records, not columns).
+Table Columns(const std::vector<analysis::StiffnessPosition>& positions);
+/// A loop's curve as columns, a row per point (torque_nm, twist_arcmin; with `lo` and `hi`, the
+/// sweep's least and largest twist at each point, twist_arcmin_min and _max; NaN where the
+/// document has null; the branch is text, not a column).
+Table Columns(const std::vector<analysis::CurvePoint>& curve, const std::vector<double>* lo = nullptr,
+              const std::vector<double>* hi = nullptr);
+/// The summary's curve as columns (the mean loop, with its least and largest twist for a sweep).
+Table SummaryCurveColumns(const analysis::StiffnessResult& result);
 /// The JSON document's summary: each figure's mean (with _min, _max over a sweep), the mean loop
 /// (with its range over a sweep), the hysteresis and the friction note, the run record and the
 /// solve count.

@@ -146,6 +146,48 @@ std::string Csv(const analysis::ToleranceStudy& study, const analysis::Tolerance
   return os + ',' + CsvText(s.message) + '\n';
 }
 
+Table DistributionColumns(const analysis::ToleranceSettings& settings) {
+  using Kind = analysis::ToleranceDistribution::Kind;
+  const auto& ds = settings.distributions;
+  const bool normal = std::any_of(ds.begin(), ds.end(), [](const auto& d) { return d.kind == Kind::kNormal; });
+  const auto gives_tolerance = [](const analysis::ToleranceDistribution& d) { return d.tolerance != 0.0 || d.kind == Kind::kUniform; };
+  const bool tolerance = std::any_of(ds.begin(), ds.end(), gives_tolerance);
+  Table t;
+  for (const auto& d : ds) {
+    t.Add("mean", d.mean);
+    t.Add("std", d.StandardDeviation());
+    t.Add("worst_case_half_width", d.WorstCaseHalfWidth());
+    if (normal) {
+      t.Add("sigma", d.kind == Kind::kNormal ? d.sigma : NAN);
+      t.Add("truncated_at", d.kind == Kind::kNormal && analysis::Truncated(d) ? d.tolerance : NAN);
+    }
+    if (tolerance) t.Add("tolerance", gives_tolerance(d) ? d.tolerance : NAN);
+  }
+  return t;
+}
+
+Table RankingColumns(const analysis::FigureSensitivity& sensitivity) {
+  Table t;
+  for (const auto& k : sensitivity.keys) {
+    t.Add("src", k.src);
+    t.Add("share", k.share);
+    t.Add("columns", static_cast<double>(k.columns));
+    t.Add("noise_floor", k.noise_floor);
+  }
+  return t;
+}
+
+Table LimitColumns(const analysis::ToleranceSummary& summary) {
+  Table t;
+  for (const auto& l : summary.limits) {
+    t.Add("min", l.limit.min);
+    t.Add("max", l.limit.max);
+    t.Add("passed", static_cast<double>(l.passed));
+    t.Add("fraction", l.fraction);
+  }
+  return t;
+}
+
 nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysis::ToleranceStudy& study,
                     const analysis::ToleranceResult& result) {
   const analysis::ToleranceSettings& settings = study.settings();

@@ -46,6 +46,14 @@ std::string Csv(const analysis::ToleranceStudy& study, const analysis::Tolerance
 /// um, the worst case, wall times in s); null for a figure no valid solve produced.
 nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysis::ToleranceStudy& study,
                     const analysis::ToleranceResult& result);
+/// The JSON document's lists of records as columns (NaN where the document has null): its
+/// [tolerances] distributions (mean, std, worst_case_half_width in the key's unit; sigma and
+/// truncated_at when a distribution is normal, tolerance when one gives it) and its summary's
+/// limits (min, max, passed, fraction).
+Table DistributionColumns(const analysis::ToleranceSettings& settings);
+Table LimitColumns(const analysis::ToleranceSummary& summary);
+/// A figure's sensitivity ranking as columns, a row per key (src, share, columns, noise_floor).
+Table RankingColumns(const analysis::FigureSensitivity& sensitivity);
 
 /// Histograms of the figures, one panel each, with p5 / p50 / p95, the limits and the worst-case
 /// corners.

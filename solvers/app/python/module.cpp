@@ -22,6 +22,7 @@
 #include <tuple>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -154,10 +155,43 @@ auto WithoutGil(Work&& work) {
 /// The command's exit code for a result: success when every part of it succeeded.
 int ExitCode(bool succeeded) { return succeeded ? ltca::app::kExitSuccess : ltca::app::kExitNotSucceeded; }
 
+/// A result's table (documents::Table) as {column: array}: a 1-D array of a value per record, a
+/// records x values array of a list per record (NaN where a list is shorter).
+py::dict Arrays(const documents::Table& table) {
+  py::dict arrays;
+  for (const auto& [name, column] : table.columns) arrays[py::str(name)] = column.lists ? py::object(Matrix(column.rows)) : Vector(column.values);
+  return arrays;
+}
+
 /// What an analysis other than solve gives Python: (exit code, the --json document as dicts, the
-/// --csv columns as {name: array or list of text}, {} for a command without a per-row CSV).
-py::tuple Answer(int code, const nlohmann::json& document, const py::dict& columns = py::dict()) {
-  return py::make_tuple(code, ToPython(document), columns);
+/// --csv columns as {name: array or list of text}, {} for a command without a per-row CSV, and the
+/// document's lists of records as {column: array} built from the result: under the list's key
+/// for a list at the top of the document, under its path as a tuple (("positions", 0, "curve"))
+/// for one further in).
+py::tuple Answer(int code, const nlohmann::json& document, const py::dict& columns = py::dict(), const py::dict& tables = py::dict()) {
+  return py::make_tuple(code, ToPython(document), columns, tables);
+}
+
+/// A list of records of a document as a table: its key or path (Answer), how many records it
+/// has (a list without records is left out, as the document's empty lists are) and its columns.
+struct NamedTable {
+  py::object key;
+  std::size_t records;
+  documents::Table table;
+};
+
+/// {key: the table's arrays}, for Answer.
+py::dict Tables(const std::vector<NamedTable>& tables) {
+  py::dict out;
+  for (const NamedTable& t : tables) {
+    if (t.records > 0) out[t.key] = Arrays(t.table);
+  }
+  return out;
+}
+
+/// A path into the document as Python's tuple, e.g. ("positions", 0, "curve").
+py::tuple Path(const std::string& list, std::size_t index, const std::string& member) {
+  return py::make_tuple(list, index, member);
 }
 
 // --- The columns of the per-row tables ---
@@ -308,13 +342,14 @@ py::tuple BindBacklash(const Deck& deck, const std::string& kinematics) {
     const analysis::Stage stage(deck, deck.sweep.CrankAngles());
     return analysis::Backlash(stage, k, [&](const analysis::BacklashPosition& p) { positions.push_back(p); });
   });
-  return Answer(ExitCode(result.summary.failed() == 0), documents::Json(deck, positions, result));
+  return Answer(ExitCode(result.summary.failed() == 0), documents::Json(deck, positions, result), py::dict(),
+                Tables({{py::str("positions"), positions.size(), documents::Columns(positions, result.discs == 2)}}));
 }
 
 /// `ltca mesh`: the mesh state of every pin at crank_deg (deg).
 py::tuple BindMesh(const Deck& deck, double crank_deg) {
   const analysis::MeshResult mesh = WithoutGil([&] { return analysis::MeshAt(deck.MakeModel(), crank_deg); });
-  return Answer(ltca::app::kExitSuccess, documents::Json(deck, mesh));
+  return Answer(ltca::app::kExitSuccess, documents::Json(deck, mesh), py::dict(), Tables({{py::str("pins"), mesh.state.pins.size(), documents::Columns(mesh)}}));
 }
 
 /// `ltca compare`: several solvers on the deck's sweep (every registered solver when `names` is
@@ -328,7 +363,9 @@ py::tuple BindCompare(const Deck& given, const Strings& names, const std::string
     const analysis::SolverSelection selection = analysis::SelectSolvers(asked, deck.reducer.has_value(), deck.name);
     return analysis::Compare(deck.MakeStage(), deck.solver, selection.run, torque, selection.skipped);
   });
-  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, result));
+  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, result), py::dict(),
+                Tables({{py::str("solvers"), result.solvers.size(), documents::Columns(result)},
+                        {py::str("skipped"), result.skipped.size(), {}}}));  // names and reasons: no number
 }
 
 /// `ltca stiffness`: the torque-twist loop; crank_deg (deg) and steps replace the deck's
@@ -347,7 +384,12 @@ py::tuple BindStiffness(const Deck& given, const std::string& solver_name, const
     return analysis::Stiffness(deck.MakeStage(settings.crank ? std::vector<double>{*settings.crank} : deck.sweep.CrankAngles()),
                                solver, settings, torque, deck.friction);
   });
-  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, solver, result));
+  std::vector<NamedTable> tables{{py::str("positions"), result.positions.size(), documents::Columns(result.positions)}};
+  for (std::size_t i = 0; i < result.positions.size(); ++i) {
+    tables.push_back({Path("positions", i, "curve"), result.positions[i].curve.size(), documents::Columns(result.positions[i].curve)});
+  }
+  tables.push_back({py::make_tuple("summary", "curve"), result.summary.curve.size(), documents::SummaryCurveColumns(result)});
+  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, solver, result), py::dict(), Tables(tables));
 }
 
 /// `ltca efficiency`: friction, power loss and efficiency over the sweep. Checks: [material],
@@ -365,7 +407,12 @@ py::tuple BindEfficiency(const Deck& given, const std::string& solver_name, cons
     for (const double crank : runner.cranks()) positions.push_back(runner.Solve(crank));
     return runner.Summary();
   });
-  return Answer(ExitCode(summary.all_succeeded()), documents::Json(deck, solver, positions, summary));
+  std::vector<NamedTable> tables{{py::str("positions"), positions.size(), documents::Columns(positions)}};
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    tables.push_back({Path("positions", i, "contacts"), positions[i].contacts.size(),
+                      documents::ContactColumns(positions[i], deck.second_disc.has_value())});
+  }
+  return Answer(ExitCode(summary.all_succeeded()), documents::Json(deck, solver, positions, summary), py::dict(), Tables(tables));
 }
 
 /// `ltca tolerance`: the Monte Carlo of [tolerances] and the samples' columns; samples and seed
@@ -388,7 +435,18 @@ py::tuple BindTolerance(const Deck& given, const std::string& solver_name, const
     plan.sink = [&kept](const analysis::ToleranceSample& s) { kept.push_back(s); };
     return analysis::RunToleranceStudy(*study, plan);
   });
-  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, *solver, *study, result), ToleranceColumns(*study, kept));
+  const analysis::ToleranceSettings& settings = study->settings();
+  std::vector<NamedTable> tables{
+      {py::make_tuple("tolerances", "distributions"), settings.distributions.size(), documents::DistributionColumns(settings)},
+      {py::make_tuple("summary", "limits"), result.summary.limits.size(), documents::LimitColumns(result.summary)}};
+  const auto& names = analysis::ToleranceSettings::FigureNames();
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    if (!study->Runs(f)) continue;
+    const analysis::FigureSensitivity& s = result.summary.sensitivity[f];
+    tables.push_back({py::make_tuple("summary", "sensitivity", "figures", names[f], "ranking"), s.keys.size(), documents::RankingColumns(s)});
+  }
+  return Answer(ExitCode(result.all_succeeded()), documents::Json(deck, *solver, *study, result), ToleranceColumns(*study, kept),
+                Tables(tables));
 }
 
 /// `ltca optimise`: the search of [optimise] and every evaluation's columns; evaluations replaces
@@ -411,7 +469,113 @@ py::tuple BindOptimise(const Deck& given, const std::string& solver_name, const 
   });
   const analysis::OptimiseSettings& settings = optimiser->settings();
   return Answer(ExitCode(run.best() != nullptr), documents::Json(deck, *solver, settings, run, history),
-                OptimiseColumns(settings, history));
+                OptimiseColumns(settings, history),
+                Tables({{py::str("history"), history.size(), documents::Columns(settings, history)},
+                        {py::make_tuple("settings", "variables"), settings.variables.size(), documents::VariableColumns(settings)},
+                        {py::make_tuple("settings", "constraints"), settings.constraints.size(), documents::ConstraintColumns(settings)},
+                        {py::make_tuple("summary", "phases"), run.search.phases.size(), documents::PhaseColumns(run.search)}}));
+}
+
+// --- Decks from Python values: the deck writer's TOML, in-memory traces ---
+
+/// numpy.generic, the type of NumPy's scalars (imported once, kept for the module's life).
+const py::object& NumpyScalar() {
+  static const py::object* generic = new py::object(py::module_::import("numpy").attr("generic"));
+  return *generic;
+}
+
+/// The ValueError for a value the deck writer cannot write, naming its key `where`.
+py::value_error Unwritable(const std::string& where, const py::handle& value, const std::string& expected) {
+  return py::value_error(fmt::format("{} = {}: expected {}", where, py::repr(value).cast<std::string>(), expected));
+}
+
+/// A str as UTF-8; a ValueError naming `where` for text UTF-8 cannot carry (a lone surrogate).
+std::string Utf8(const py::handle& text, const std::string& where) {
+  Py_ssize_t size = 0;
+  const char* utf8 = PyUnicode_AsUTF8AndSize(text.ptr(), &size);
+  if (utf8 == nullptr) {
+    PyErr_Clear();
+    throw Unwritable(where, text, "text that UTF-8 can carry (no lone surrogates)");
+  }
+  return {utf8, static_cast<std::size_t>(size)};
+}
+
+/// A key of a dict as the deck's key: str(key) in UTF-8.
+std::string KeyText(const py::handle& key, const std::string& where) { return Utf8(py::str(key), where); }
+
+/// A Python value as a deck's value (app::TomlValue), `where` its key for messages ("section.key",
+/// ".inner" for a table's keys): bool, int (64 bits), float, str, list/tuple/ndarray (an array),
+/// dict (an inline table), NumPy scalars and 0-d arrays as their Python values, nested at most
+/// DeckLimits::kMaxNesting deep (a list that holds itself is refused, not followed). Anything else
+/// (None, a set, a complex number...) is a ValueError naming the key; NaN and inf are written, and
+/// the deck reader names the key that refuses them.
+ltca::app::TomlValue ToToml(const py::handle& value, const std::string& where, int depth = 0) {
+  using ltca::app::TomlValue;
+  if (depth > ltca::app::DeckLimits::kMaxNesting) {
+    throw Unwritable(where, py::str("..."), fmt::format("lists and tables nested at most {} deep", ltca::app::DeckLimits::kMaxNesting));
+  }
+  PyObject* o = value.ptr();
+  if (PyBool_Check(o)) return {value.cast<bool>()};
+  if (PyLong_Check(o)) {
+    int overflow = 0;
+    const long long i = PyLong_AsLongLongAndOverflow(o, &overflow);
+    if (overflow != 0) throw Unwritable(where, value, "an integer from -2**63 to 2**63 - 1 (TOML's 64 bits)");
+    if (i == -1 && PyErr_Occurred()) throw py::error_already_set();
+    return {static_cast<std::int64_t>(i)};
+  }
+  if (PyFloat_Check(o)) return {PyFloat_AsDouble(o)};
+  if (PyUnicode_Check(o)) return {Utf8(value, where)};
+  if (py::isinstance<py::array>(value) && py::reinterpret_borrow<py::array>(value).ndim() == 0) {
+    return ToToml(value.attr("item")(), where, depth);
+  }
+  if (PyList_Check(o) || PyTuple_Check(o) || py::isinstance<py::array>(value)) {
+    TomlValue::Array array;
+    for (const py::handle item : value) array.push_back(ToToml(item, where, depth + 1));
+    return {std::move(array)};
+  }
+  if (PyDict_Check(o)) {
+    TomlValue::Table table;
+    for (const auto& [key, item] : py::reinterpret_borrow<py::dict>(value)) {
+      const std::string name = KeyText(key, where);
+      table.emplace_back(name, ToToml(item, where + "." + name, depth + 1));
+    }
+    return {std::move(table)};
+  }
+  if (py::isinstance(value, NumpyScalar())) return ToToml(value.attr("item")(), where, depth);
+  throw Unwritable(where, value, "a bool, number, string, list or table");
+}
+
+/// Deck.from_dict: a deck's text from {"section": {"key": value, ...}, ...} by the deck writer.
+std::string TomlDeck(const py::dict& sections) {
+  std::vector<std::pair<std::string, ltca::app::TomlValue::Table>> out;
+  for (const auto& [section, keys] : sections) {
+    const std::string name = KeyText(section, "a section's name");
+    if (!PyDict_Check(keys.ptr())) {
+      throw py::value_error(fmt::format("[{}]: expected a dict of keys, got {}", name, py::type::of(keys).attr("__name__").cast<std::string>()));
+    }
+    ltca::app::TomlValue::Table table;
+    for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(keys)) {
+      const std::string k = KeyText(key, name + ".<a key>");
+      table.emplace_back(k, ToToml(value, name + "." + k));
+    }
+    out.emplace_back(name, std::move(table));
+  }
+  return ltca::app::TomlDeckText(out);
+}
+
+/// Deck.set: the override "section.key=value" (the command line's --set) by the deck writer.
+std::string TomlSet(const std::string& key, const py::handle& value) { return key + "=" + ltca::app::TomlText(ToToml(value, key)); }
+
+/// Deck.with_measured_profile: the source with the trace as the in-memory file `name`, in the CSV
+/// form the deck reader takes (a header abscissa_name, deviation_um; a row per point, the
+/// shortest text of each double). abscissa and deviation_um have as many values.
+ltca::app::DeckSource WithProfileTrace(const ltca::app::DeckSource& source, const std::string& name, const std::string& abscissa_name,
+                                       const std::vector<double>& abscissa, const std::vector<double>& deviation_um) {
+  std::string csv = abscissa_name + ", deviation_um\n";
+  for (std::size_t i = 0; i < abscissa.size() && i < deviation_um.size(); ++i) {
+    csv += fmt::format("{}, {}\n", abscissa[i], deviation_um[i]);
+  }
+  return source.WithFile(name, std::move(csv));
 }
 
 // --- The table ---
@@ -433,14 +597,14 @@ void Define(py::module_& m, const char* name, const char* doc) {
 /// Every analysis the module binds: one entry each, in the order of the package's functions.
 constexpr Binding kBindings[] = {
     {"solve", &Define<&BindSolve>, "ltca solve: (the --json document, its summary as a dict, the arrays)."},
-    {"geometry", &Define<&BindGeometry>, "ltca geometry: (exit code, the --json document, the profile's --csv columns)."},
-    {"backlash", &Define<&BindBacklash>, "ltca backlash: (exit code, the --json document, {})."},
-    {"mesh", &Define<&BindMesh>, "ltca mesh: (exit code, the --json document, {})."},
-    {"compare", &Define<&BindCompare>, "ltca compare: (exit code, the --json document, {})."},
-    {"stiffness", &Define<&BindStiffness>, "ltca stiffness: (exit code, the --json document, {})."},
-    {"efficiency", &Define<&BindEfficiency>, "ltca efficiency: (exit code, the --json document, {})."},
-    {"tolerance", &Define<&BindTolerance>, "ltca tolerance: (exit code, the --json document, the --csv columns, a row per sample)."},
-    {"optimise", &Define<&BindOptimise>, "ltca optimise: (exit code, the --json document, the --csv columns, a row per evaluation)."},
+    {"geometry", &Define<&BindGeometry>, "ltca geometry: (exit code, the --json document, the profile's --csv columns, {})."},
+    {"backlash", &Define<&BindBacklash>, "ltca backlash: (exit code, the --json document, {}, the positions' columns)."},
+    {"mesh", &Define<&BindMesh>, "ltca mesh: (exit code, the --json document, {}, the pins' columns)."},
+    {"compare", &Define<&BindCompare>, "ltca compare: (exit code, the --json document, {}, the solvers' columns)."},
+    {"stiffness", &Define<&BindStiffness>, "ltca stiffness: (exit code, the --json document, {}, the positions' columns)."},
+    {"efficiency", &Define<&BindEfficiency>, "ltca efficiency: (exit code, the --json document, {}, the positions' columns)."},
+    {"tolerance", &Define<&BindTolerance>, "ltca tolerance: (exit code, the --json document, the --csv columns, a row per sample, {})."},
+    {"optimise", &Define<&BindOptimise>, "ltca optimise: (exit code, the --json document, the --csv columns, a row per evaluation, the history's columns)."},
 };
 
 // --- The generic analyses of the table of analyses (documents/analyses.hpp) ---
@@ -461,7 +625,7 @@ std::optional<documents::OptionValues::Value> OptionValueOf(const std::string& k
 
 /// A generic analysis: the keyword arguments (Python names, '_' for the option's '-') checked as
 /// the command line checks its options, the analysis run without the GIL; (exit code, the --json
-/// document, the --csv columns as {name: array}, {} without a per-row table).
+/// document, the --csv columns as {name: array}, {} without a per-row table, {}: no nested tables).
 py::tuple BindAnalysis(const documents::Analysis& analysis, const Deck& deck, const py::kwargs& kwargs) {
   std::map<std::string, documents::OptionValues::Value> given;
   for (const auto& [k, v] : kwargs) {
@@ -522,7 +686,7 @@ py::list AnalysesTable() {
 
 /// The docstring of a generic analysis: the command it mirrors, its description, its keywords.
 std::string AnalysisDoc(const documents::Analysis& a) {
-  std::string doc = "ltca " + a.name + ": " + a.description + "\n(exit code, the --json document, the --csv columns)";
+  std::string doc = "ltca " + a.name + ": " + a.description + "\n(exit code, the --json document, the --csv columns, {})";
   for (const documents::AnalysisOption& o : a.options) {
     std::string name = o.name;
     std::replace(name.begin(), name.end(), '-', '_');
@@ -555,4 +719,7 @@ PYBIND11_MODULE(_ltca, m) {
         docs.back().c_str());
   }
   m.def("_analyses", &AnalysesTable, "The table of analyses: every entry's name, description, kind and options.");
+  m.def("_toml_deck", &TomlDeck, "A deck's text from a dict of sections (the deck writer); ValueError names a key it cannot write.");
+  m.def("_toml_set", &TomlSet, "The override 'section.key=value' (the deck writer); ValueError names a key it cannot write.");
+  m.def("_with_profile_trace", &WithProfileTrace, "A DeckSource with a measured trace as an in-memory file.");
 }

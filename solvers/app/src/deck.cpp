@@ -505,12 +505,25 @@ geometry::Modification ReadModification(const Section& s, const geometry::PairPa
 /// The files the deck being read opens beyond itself (its measured traces), for Deck::source.files;
 /// set by ReadParsed for the duration of one read on this thread.
 thread_local std::vector<std::filesystem::path>* tl_files_read = nullptr;
+/// The in-memory files of the deck being read (MemoryFiles; null: none), set by ReadParsed likewise.
+thread_local const MemoryFiles* tl_memory_files = nullptr;
 
-/// [errors] profile_measured_csv: the trace, read from `directory` when the path is relative.
+/// [errors] profile_measured_csv: the trace, an in-memory file of that name (MemoryFiles) or the
+/// file, read from `directory` when the path is relative.
 geometry::MeasuredProfile ReadMeasuredProfile(const std::string& value, const std::filesystem::path& directory) {
   const std::string key = fmt::format("[errors] profile_measured_csv = \"{}\"", value);
   if (value.empty()) {
     throw std::invalid_argument(fmt::format("{}: expected the path of a CSV file (relative to the deck's directory)", key));
+  }
+  if (tl_memory_files != nullptr) {
+    if (const auto file = tl_memory_files->find(value); file != tl_memory_files->end()) {
+      if (file->second.size() > DeckLimits::kMaxProfileCsvBytes) {
+        throw std::invalid_argument(fmt::format(
+            "{}: the trace is {} bytes; expected a profile trace of at most {} bytes ({} MiB; docs/decks.md, Limits)", key,
+            file->second.size(), DeckLimits::kMaxProfileCsvBytes, DeckLimits::kMaxProfileCsvBytes >> 20));
+      }
+      return geometry::ParseMeasuredProfile(file->second, key);
+    }
   }
   const std::filesystem::path path = std::filesystem::path(value).is_relative() ? directory / value : std::filesystem::path(value);
   const std::string text = ReadBoundedFile(
@@ -1186,6 +1199,51 @@ std::string GivenText(const toml::value& v) {
   return text;
 }
 
+/// A float as TOML: the shortest text that reads back the same double, always a float.
+std::string TomlFloat(double x) {
+  if (std::isnan(x)) return "nan";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  std::string text = fmt::format("{}", x);
+  if (text.find_first_of(".eE") == std::string::npos) text += ".0";
+  return text;
+}
+
+}  // namespace
+
+std::string TomlKeyText(const std::string& key) { return TomlKey(key); }
+
+std::string TomlText(const TomlValue& value) {
+  struct Writer {
+    std::string operator()(bool b) const { return b ? "true" : "false"; }
+    std::string operator()(std::int64_t i) const { return fmt::format("{}", i); }
+    std::string operator()(double x) const { return TomlFloat(x); }
+    std::string operator()(const std::string& s) const { return TomlString(s); }
+    std::string operator()(const TomlValue::Array& a) const {
+      std::vector<std::string> parts;
+      for (const TomlValue& item : a) parts.push_back(TomlText(item));
+      return "[" + fmt::format("{}", fmt::join(parts, ", ")) + "]";
+    }
+    std::string operator()(const TomlValue::Table& t) const {
+      std::vector<std::string> parts;
+      for (const auto& [key, item] : t) parts.push_back(TomlKey(key) + " = " + TomlText(item));
+      return "{ " + fmt::format("{}", fmt::join(parts, ", ")) + " }";
+    }
+  };
+  return std::visit(Writer{}, value.value);
+}
+
+std::string TomlDeckText(const std::vector<std::pair<std::string, TomlValue::Table>>& sections) {
+  std::string text;
+  for (const auto& [section, keys] : sections) {
+    text += "[" + TomlKey(section) + "]\n";
+    for (const auto& [key, value] : keys) text += TomlKey(key) + " = " + TomlText(value) + "\n";
+    text += "\n";
+  }
+  return text;
+}
+
+namespace {
+
 /// The TOML of a deck's text, its shape checked first; errors name the deck.
 toml::value ParseText(std::string_view toml_text, const std::string& name) {
   try {
@@ -1199,19 +1257,29 @@ toml::value ParseText(std::string_view toml_text, const std::string& name) {
 
 /// The deck of parsed TOML with the overrides applied (to this copy of it).
 Deck ReadParsed(toml::value root_value, const std::string& name, const std::vector<std::string>& overrides,
-                const std::filesystem::path& directory, std::string_view text) {
+                const std::filesystem::path& directory, std::string_view text,
+                const std::shared_ptr<const MemoryFiles>& memory = nullptr) {
   Deck deck;
   deck.name = name;
   deck.source.text = std::string(text);
   deck.source.overrides = overrides;
   deck.source.directory = directory;
-  struct FilesRead {  // collects the traces this read opens, on every way out
-    explicit FilesRead(std::vector<std::filesystem::path>* files) : previous(tl_files_read) { tl_files_read = files; }
-    ~FilesRead() { tl_files_read = previous; }
+  deck.source.memory = memory;
+  struct FilesRead {  // collects the traces this read opens and offers its in-memory files, on every way out
+    FilesRead(std::vector<std::filesystem::path>* files, const MemoryFiles* memory)
+        : previous(tl_files_read), previous_memory(tl_memory_files) {
+      tl_files_read = files;
+      tl_memory_files = memory;
+    }
+    ~FilesRead() {
+      tl_files_read = previous;
+      tl_memory_files = previous_memory;
+    }
     FilesRead(const FilesRead&) = delete;
     FilesRead& operator=(const FilesRead&) = delete;
     std::vector<std::filesystem::path>* previous;
-  } files_read(&deck.source.files);
+    const MemoryFiles* previous_memory;
+  } files_read(&deck.source.files, memory.get());
   try {
     ApplyOverrides(root_value, overrides);
     const toml::table& root = root_value.as_table();
@@ -1365,6 +1433,7 @@ struct DeckSource::Impl {
   std::string text;
   std::string name;
   std::filesystem::path directory;
+  std::shared_ptr<const MemoryFiles> memory;  ///< null: none
 };
 
 DeckSource::DeckSource(std::string_view toml_text, std::string name, std::filesystem::path directory) {
@@ -1377,10 +1446,20 @@ DeckSource::DeckSource(std::string_view toml_text, std::string name, std::filesy
 }
 
 Deck DeckSource::Read(const std::vector<std::string>& overrides) const {
-  return ReadParsed(impl_->root, impl_->name, overrides, impl_->directory, impl_->text);
+  return ReadParsed(impl_->root, impl_->name, overrides, impl_->directory, impl_->text, impl_->memory);
 }
 
 const std::string& DeckSource::name() const { return impl_->name; }
+
+DeckSource DeckSource::WithFile(const std::string& name, std::string text) const {
+  auto files = std::make_shared<MemoryFiles>(impl_->memory ? *impl_->memory : MemoryFiles{});
+  (*files)[name] = std::move(text);
+  auto impl = std::make_shared<Impl>(*impl_);
+  impl->memory = std::move(files);
+  DeckSource source = *this;
+  source.impl_ = std::move(impl);
+  return source;
+}
 
 analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const analysis::SweepCallbacks& callbacks) {
   const auto start = std::chrono::steady_clock::now();
@@ -1651,7 +1730,8 @@ std::string WriteDeck(const Deck& deck, const std::vector<DeckEdit>& edits, cons
       return value;
     }
   };
-  const Deck back = ParseDeck(text, deck.name + " (as written)", {}, deck.source.directory);
+  const std::string written_name = deck.name + " (as written)";
+  const Deck back = ReadParsed(ParseText(text, written_name), written_name, {}, deck.source.directory, text, deck.source.memory);
   std::vector<std::tuple<std::string, std::string, std::string>> expected, written;
   for (const Deck::GivenKey& g : deck.given) {
     if (std::find(drop.begin(), drop.end(), g.section) != drop.end()) continue;

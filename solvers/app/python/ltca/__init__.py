@@ -9,7 +9,6 @@ command line's ``--json`` writes, as dicts (JSON null as None), with NumPy array
     result = ltca.solve(deck, solver="compatibility")
     result.summary["pp_te_arcsec"], result.te_arcsec, result.pin_force_n
 """
-import json as _json
 import math as _math
 import os as _os
 
@@ -19,29 +18,6 @@ from . import _ltca
 
 __all__ = ["Deck", "SolveResult", "Result", "solve", "geometry", "backlash", "mesh", "compare", "stiffness", "efficiency",
            "tolerance", "optimise"]
-
-
-def _toml_value(value, where):
-    """A Python value as TOML text: bool, int, float, str, list, dict (an inline table)."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        if _math.isnan(value):
-            return "nan"
-        if _math.isinf(value):
-            return "inf" if value > 0 else "-inf"
-        return repr(value)  # the shortest text that reads back the same double
-    if isinstance(value, str):
-        return _json.dumps(value)  # JSON's escapes are TOML basic-string escapes
-    if isinstance(value, (list, tuple, _np.ndarray)):
-        return "[" + ", ".join(_toml_value(v.item() if isinstance(v, _np.generic) else v, where) for v in value) + "]"
-    if isinstance(value, dict):
-        return "{ " + ", ".join(f"{_json.dumps(str(k))} = {_toml_value(v, where + '.' + str(k))}" for k, v in value.items()) + " }"
-    if isinstance(value, _np.generic):
-        return _toml_value(value.item(), where)
-    raise ValueError(f"{where} = {value!r}: expected a bool, number, string, list or table")
 
 
 # The command line's limits and words for the options every analysis takes (docs/decks.md, Limits):
@@ -110,11 +86,9 @@ def _threads(value):
     return _integer("threads", value, 0, _MAX_THREADS, "0 (every hardware thread) or a thread count")
 
 
-class _TraceFolder:
-    """A temporary folder of trace files, removed when no deck holds it."""
-
-    def __init__(self, path):
-        self.path = path
+# The name the deck gives a trace handed over from Python (Deck.with_measured_profile): an in-memory
+# file, read before the disk, named so in the reader's messages.
+_TRACE_NAME = "<measured profile from Python>"
 
 
 class Deck:
@@ -151,14 +125,7 @@ class Deck:
         """A deck from {"section": {"key": value, ...}, ...}: the keys of a deck file."""
         if not isinstance(sections, dict):
             raise ValueError(f"deck {name}: expected a dict of sections, got {type(sections).__name__}")
-        lines = []
-        for section, keys in sections.items():
-            if not isinstance(keys, dict):
-                raise ValueError(f"[{section}]: expected a dict of keys, got {type(keys).__name__}")
-            lines.append(f"[{section}]")
-            lines += [f"{_json.dumps(str(k))} = {_toml_value(v, f'{section}.{k}')}" for k, v in keys.items()]
-            lines.append("")
-        return cls("\n".join(lines), name, directory)
+        return cls(_ltca._toml_deck(sections), name, directory)  # the deck writer of ltca (C++)
 
     def set(self, key, value):
         """A new deck with "section.key" set to value, as ``ltca --set section.key=value``."""
@@ -167,39 +134,32 @@ class Deck:
     def update(self, values):
         """A new deck with every "section.key" of the dict set to its value (one reading of the
         deck for all of them)."""
-        sets = tuple(f"{k}={_toml_value(v, k)}" for k, v in values.items())
+        sets = tuple(_ltca._toml_set(str(k), v) for k, v in values.items())  # the deck writer of ltca (C++)
+        return self._derived(self._source, sets)
+
+    def _derived(self, source, sets):
+        """This deck read from source (its parsed text, with in-memory files) with more overrides."""
         deck = Deck.__new__(Deck)
         deck._text, deck._name, deck._directory, deck._sets = self._text, self._name, self._directory, self._sets + sets
-        deck._source = self._source
-        deck._parsed = self._source.read(list(deck._sets))
-        deck._keep = getattr(self, "_keep", ())  # files the deck reads (a measured trace)
+        deck._source = source
+        deck._parsed = source.read(list(deck._sets))
         return deck
 
     def with_measured_profile(self, abscissa, deviation_um, abscissa_name="profile_angle_deg"):
         """A new deck whose [errors] profile_measured_csv is this trace, from NumPy arrays (or
         lists): the abscissa in deg (abscissa_name "profile_angle_deg") or mm ("arc_length_mm"),
         the normal deviation in um (+ adds material), as a measuring centre's CSV gives them
-        (docs/decks.md). The trace is written to a file the new deck owns (removed with it) and
-        read by the same reader as a deck's CSV, with the same checks."""
+        (docs/decks.md). The trace stays in memory, no file is written: the deck names it
+        "<measured profile from Python>" (profile_measured_csv, and the reader's messages) and reads
+        it by the same reader as a deck's CSV, with the same checks."""
         if abscissa_name not in ("profile_angle_deg", "arc_length_mm"):
             raise ValueError(f"abscissa_name = {abscissa_name!r}: expected 'profile_angle_deg' or 'arc_length_mm'")
         x = _np.asarray(abscissa, dtype=float).ravel()
         y = _np.asarray(deviation_um, dtype=float).ravel()
         if x.shape != y.shape:
             raise ValueError(f"profile trace: {x.size} abscissae for {y.size} deviations; expected as many of each")
-        import tempfile
-        import weakref
-        folder = tempfile.mkdtemp(prefix="ltca-profile-")
-        path = _os.path.join(folder, "trace.csv")
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(f"{abscissa_name}, deviation_um\n")
-            f.writelines(f"{a!r}, {b!r}\n" for a, b in zip(x.tolist(), y.tolist()))
-        import shutil
-        holder = _TraceFolder(folder)
-        weakref.finalize(holder, shutil.rmtree, folder, True)
-        deck = self.update({"errors.profile_measured_csv": path})
-        deck._keep = getattr(self, "_keep", ()) + (holder,)  # the file lives as long as a deck that reads it
-        return deck
+        source = _ltca._with_profile_trace(self._source, _TRACE_NAME, abscissa_name, x, y)
+        return self._derived(source, (_ltca._toml_set("errors.profile_measured_csv", _TRACE_NAME),))
 
     @property
     def name(self):
@@ -265,47 +225,23 @@ def solve(deck, solver=None, kinematics=None, progress=None):
     return SolveResult(document, summary, arrays)
 
 
-def _column(values):
-    """A list of JSON values as a NumPy array: numbers (None as NaN), or lists of numbers of one
-    length as rows; None when the values are not numeric."""
-    if all(v is None or (isinstance(v, (int, float)) and not isinstance(v, bool)) for v in values):
-        return _np.array([_np.nan if v is None else float(v) for v in values], dtype=float)
-    if all(isinstance(v, list) for v in values) and len({len(v) for v in values}) == 1:
-        try:
-            return _np.array([[_np.nan if x is None else float(x) for x in v] for v in values], dtype=float)
-        except (TypeError, ValueError):
-            return None
-    return None
-
-
-def _table(rows):
-    """A list of dicts (a document's positions, curve, history, ...) as {key: NumPy array} for the
-    keys whose values are numeric in every row."""
-    keys = []
-    for r in rows:
-        keys += [k for k in r if k not in keys]
-    table = {}
-    for k in keys:
-        column = _column([r.get(k) for r in rows])
-        if column is not None:
-            table[k] = column
-    return table
-
-
 class Result:
     """An analysis: ``json`` is the document its command writes with ``--json`` (dicts, None for
     null), produced in this process by the command's own writer; ``summary`` its summary (or None);
     ``exit_code`` the command's (0: everything succeeded, 1: some part did not); ``tables`` every
-    list of records in the document (positions, curve, history, ...) as {column: NumPy array}; and
+    list of records at the top of the document (positions, pins, solvers, history) as {column:
+    NumPy array}, built from the result in C++ (a column per numeric key, NaN for null); and
     ``csv`` the per-row table of the command's ``--csv`` where it carries one (tolerance: a row per
     sample; geometry: the profile; optimise: a row per evaluation), as {column: NumPy array}."""
 
-    def __init__(self, command, code, doc, columns=None):
+    def __init__(self, command, code, doc, columns=None, tables=None):
         self.command = command
         self.exit_code = code
         self.json = doc
         self.summary = doc.get("summary") if isinstance(doc, dict) else None
-        self.tables = {k: _table(v) for k, v in doc.items() if isinstance(v, list) and v and all(isinstance(r, dict) for r in v)}
+        tables = dict(tables or {})  # built from the result (no document read): by key at the top, by path further in
+        self.tables = {k: v for k, v in tables.items() if isinstance(k, str)}
+        self._nested = {k: v for k, v in tables.items() if isinstance(k, tuple)}
         if isinstance(columns, str):
             raise TypeError("columns: expected a dict of {column: array} built from the result (CSV text is no longer read)")
         self.csv = dict(columns or {})  # the per-row table, built from the result as columns (no CSV parsed)
@@ -316,13 +252,20 @@ class Result:
 
     def table(self, *path):
         """The list of records at path in the document as {column: NumPy array}, e.g. the stiffness
-        loop's curve at the first crank: ``result.table("positions", 0, "curve")``."""
+        loop's curve at the first crank: ``result.table("positions", 0, "curve")``; built from the
+        result, as ``tables`` (the document is only walked to check the path)."""
+        if len(path) == 1 and path[0] in self.tables:
+            return self.tables[path[0]]
+        if path in self._nested:
+            return self._nested[path]
         node = self.json
         for step in path:
             node = node[step]
         if not (isinstance(node, list) and all(isinstance(r, dict) for r in node)):
             raise ValueError(f"{path}: expected a list of records in the document")
-        return _table(node)
+        if node:
+            raise LookupError(f"{path}: a list of records that no result of ltca builds as a table")
+        return {}
 
     def __repr__(self):
         return f"ltca.Result({self.command!r}, exit code {self.exit_code}, tables {sorted(self.tables)})"
@@ -330,8 +273,8 @@ class Result:
 
 def _run(name, deck, *args):
     d = _deck(deck)
-    code, doc, columns = getattr(_ltca, name)(d._parsed, *args)
-    return Result(name, code, doc, columns)
+    code, doc, columns, tables = getattr(_ltca, name)(d._parsed, *args)
+    return Result(name, code, doc, columns, tables)
 
 
 def geometry(deck, crank_deg=0.0, samples_per_flank=60):
@@ -395,8 +338,8 @@ def _analysis_function(entry):
 
     def run(deck, **options):
         d = _deck(deck)
-        code, doc, columns = getattr(_ltca, name)(d._parsed, **options)
-        return Result(name, code, doc, columns)
+        code, doc, columns, tables = getattr(_ltca, name)(d._parsed, **options)
+        return Result(name, code, doc, columns, tables)
 
     run.__name__ = run.__qualname__ = name
     run.__doc__ = getattr(_ltca, name).__doc__

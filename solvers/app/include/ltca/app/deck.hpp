@@ -5,12 +5,14 @@
 // rad) on reading.
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "ltca/contact/laws.hpp"
@@ -57,6 +59,11 @@ struct DeckLimits {
   static constexpr std::uintmax_t kMaxProfileCsvBytes = 4u << 20;
 };
 
+/// Files a deck reads that a front-end holds in memory, by the name the deck gives them (Python's
+/// Deck.with_measured_profile): [errors] profile_measured_csv = "name" is read from here before the
+/// disk, with the same checks and messages as a file's. The command line has none.
+using MemoryFiles = std::map<std::string, std::string>;
+
 /// [case]: provenance.
 struct CaseInfo {
   std::string title;
@@ -78,12 +85,14 @@ struct Deck : analysis::StageDesign {
   /// Where the deck came from, as read: its TOML text (before the overrides), the --set
   /// overrides, the folder its relative paths are read from, and every file the reading opened
   /// (the deck itself, measured traces). WriteDeck edits the text; the command line refuses an
-  /// output that is one of the files.
+  /// output that is one of the files. `memory`: the in-memory files the deck was read with (none:
+  /// null); they are not in `files`.
   struct Source {
     std::string text;
     std::vector<std::string> overrides;
     std::filesystem::path directory;
     std::vector<std::filesystem::path> files;
+    std::shared_ptr<const MemoryFiles> memory;
   };
   Source source;
   bool width_slices_given = false;             ///< [geometry] width_slices is in the deck
@@ -173,6 +182,9 @@ class DeckSource {
   DeckSource(std::string_view toml_text, std::string name, std::filesystem::path directory = {});
   Deck Read(const std::vector<std::string>& overrides = {}) const;
   const std::string& name() const;
+  /// The same text with one more in-memory file (MemoryFiles), `text` under `name`, replacing a
+  /// file of that name; this source is unchanged.
+  DeckSource WithFile(const std::string& name, std::string text) const;
 
  private:
   struct Impl;
@@ -198,6 +210,25 @@ struct DeckEdit {
 /// otherwise.
 std::string WriteDeck(const Deck& deck, const std::vector<DeckEdit>& edits, const std::vector<std::string>& drop = {},
                       const std::string& header = {});
+
+/// A value of a deck as a front-end hands it over (Python's Deck.from_dict and Deck.set): a
+/// boolean, an integer, a float, a string, an array or a table (its keys in their order).
+struct TomlValue {
+  using Array = std::vector<TomlValue>;
+  using Table = std::vector<std::pair<std::string, TomlValue>>;
+  std::variant<bool, std::int64_t, double, std::string, Array, Table> value;
+};
+
+/// The deck writer's TOML text of a value, on one line (TOML 1.0): a float always as a float (100.0
+/// not 100; nan, inf, -inf) in the shortest text that reads back the same double, a string as a
+/// basic string (quotes, backslashes and control characters escaped, other UTF-8 as it is), an
+/// array as [a, b], a table inline as { key = value, ... }.
+std::string TomlText(const TomlValue& value);
+/// A key as the deck writer writes it: bare when it is only A-Z a-z 0-9 _ -, else a basic string.
+std::string TomlKeyText(const std::string& key);
+/// A deck's text from its sections: "[section]", a "key = value" line per key, an empty line after
+/// each section.
+std::string TomlDeckText(const std::vector<std::pair<std::string, TomlValue::Table>>& sections);
 
 /// The built-in default case: Liu 2021 Table 1 (the text of cases/liu2021_table1.toml).
 std::string_view DefaultDeckText();
