@@ -97,35 +97,70 @@ TorsionRun AnnulusTorsion(double size) {
 
 TEST_CASE("contact: the T6 disc mesh reproduces a constant-strain field exactly at its interior nodes (patch test)") {
   // The patch test (Irons; Zienkiewicz, Taylor and Zhu 2005, ch. 9): u = c + A x imposed on
-  // every boundary node of an irregular gmsh mesh (a disc with a bore, two holes and a refined
-  // spot, curved isoparametric edges) must be reproduced at every interior node (vertices and
-  // mid-sides) to round-off: 1e-10 of the largest displacement.
-  DiscBodyDesign d = Annulus(8.0, 40.0, 6.0);
-  d.holes = {DiscHole{{22.0, 3.0}, 4.0}, DiscHole{{-14.0, 17.0}, 5.5}};
-  d.refined_size_mm = 0.8;
-  d.refine_near_mm = {{40.0, 0.0}};
-  d.plane = PlaneModel::kStress;
-  const fe::T6Mesh mesh = fe::MeshDisc(d);
-  const std::vector<char> boundary = BoundaryNodes(mesh, false);
-  const fe::Elasticity el{d.plane, d.young_modulus_mpa, d.poisson_ratio, d.thickness_mm};
-  const fe::ElasticModel model(mesh, el, DofsOf(boundary));
-  Eigen::Matrix2d a;
-  a << 1.2e-3, -0.7e-3, 0.4e-3, -0.9e-3;
-  const Eigen::Vector2d c(3e-3, -2e-3);
-  Eigen::VectorXd exact(2 * mesh.nodes.size());
-  for (std::size_t n = 0; n < mesh.nodes.size(); ++n) exact.segment<2>(2 * n) = c + a * mesh.nodes[n];
-  const Eigen::VectorXd u = model.Solve(Eigen::VectorXd::Zero(exact.size()), exact);
-  double worst = 0.0;
-  int interior = 0;
-  for (std::size_t n = 0; n < mesh.nodes.size(); ++n) {
-    if (boundary[n]) continue;
-    ++interior;
-    worst = std::max(worst, (u.segment<2>(2 * n) - exact.segment<2>(2 * n)).norm());
+  // every boundary node of an irregular gmsh mesh must be reproduced at every interior node
+  // (vertices and mid-sides) to round-off: 1e-10 of the largest displacement. Two meshes: a disc
+  // with a bore, two holes and a refined spot (curved isoparametric edges), and an irregular
+  // 9-gon (its outline meshed as straight lines) with a bore.
+  DiscBodyDesign round = Annulus(8.0, 40.0, 6.0);
+  round.holes = {DiscHole{{22.0, 3.0}, 4.0}, DiscHole{{-14.0, 17.0}, 5.5}};
+  round.refined_size_mm = 0.8;
+  round.refine_near_mm = {{40.0, 0.0}};
+  round.plane = PlaneModel::kStress;
+  DiscBodyDesign polygon = Annulus(6.0, 1.0, 5.0);
+  polygon.outline_mm = {{38.0, 0.0}, {30.0, 22.0}, {9.0, 41.0}, {-18.0, 30.0}, {-36.0, 14.0},
+                        {-33.0, -15.0}, {-12.0, -37.0}, {14.0, -35.0}, {33.0, -19.0}};
+  for (const DiscBodyDesign& d : {round, polygon}) {
+    const fe::T6Mesh mesh = fe::MeshDisc(d);
+    const std::vector<char> boundary = BoundaryNodes(mesh, false);
+    const fe::Elasticity el{d.plane, d.young_modulus_mpa, d.poisson_ratio, d.thickness_mm};
+    const fe::ElasticModel model(mesh, el, DofsOf(boundary));
+    Eigen::Matrix2d a;
+    a << 1.2e-3, -0.7e-3, 0.4e-3, -0.9e-3;
+    const Eigen::Vector2d c(3e-3, -2e-3);
+    Eigen::VectorXd exact(2 * mesh.nodes.size());
+    for (std::size_t n = 0; n < mesh.nodes.size(); ++n) exact.segment<2>(2 * n) = c + a * mesh.nodes[n];
+    const Eigen::VectorXd u = model.Solve(Eigen::VectorXd::Zero(exact.size()), exact);
+    double worst = 0.0;
+    int interior = 0;
+    for (std::size_t n = 0; n < mesh.nodes.size(); ++n) {
+      if (boundary[n]) continue;
+      ++interior;
+      worst = std::max(worst, (u.segment<2>(2 * n) - exact.segment<2>(2 * n)).norm());
+    }
+    MESSAGE("patch test: " << mesh.nodes.size() << " nodes, " << interior << " interior, worst error "
+                           << worst / exact.cwiseAbs().maxCoeff() << " of the largest displacement");
+    CHECK(interior > 100);
+    CHECK(worst <= 1e-10 * exact.cwiseAbs().maxCoeff());
   }
-  MESSAGE("patch test: " << mesh.nodes.size() << " nodes, " << interior << " interior, worst error "
-                         << worst / exact.cwiseAbs().maxCoeff() << " of the largest displacement");
-  CHECK(interior > 100);
-  CHECK(worst <= 1e-10 * exact.cwiseAbs().maxCoeff());
+}
+
+TEST_CASE("contact: a disc design that cannot be meshed is refused naming the field") {
+  const auto message = [](const DiscBodyDesign& d) {
+    try {
+      d.Validate();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  DiscBodyDesign d = Annulus(10.0, 40.0, 4.0);
+  CHECK(message(d).empty());
+  d.holes = {DiscHole{{14.0, 0.0}, 5.0}};
+  CHECK(message(d).find("a hole meets the bore") != std::string::npos);
+  d = Annulus(10.0, 40.0, 4.0);
+  d.poisson_ratio = 0.5;
+  CHECK(message(d).find("poisson_ratio") != std::string::npos);
+  d = Annulus(10.0, 40.0, 4.0);
+  d.refined_size_mm = 5.0;
+  CHECK(message(d).find("refined_size_mm") != std::string::npos);
+  d = Annulus(0.0, 40.0, 4.0);
+  CHECK(message(d).find("bore_radius_mm") != std::string::npos);
+  d = Annulus(10.0, 40.0, 4.0);
+  d.outline_mm = {{40.0, 0.0}, {0.0, 40.0}};
+  CHECK(message(d).find("at least 3 points") != std::string::npos);
+  // A load point's patch must have a positive half-width.
+  CHECK_THROWS_AS(ltca::contact::CondenseDiscCompliance(Annulus(10.0, 40.0, 8.0), {DiscLoadPoint{{40.0, 0.0}, {1.0, 0.0}, 0.0}}),
+                  std::invalid_argument);
 }
 
 TEST_CASE("contact: the T6 disc gives the torsion of an annulus within 0.5 % and converges with refinement") {
