@@ -470,4 +470,24 @@ TEST_CASE("contact: the real disc's body rotation under the rigid model's forces
   }
 }
 
+TEST_CASE("contact: a disc body factorised once condenses any points: each call gives the blocks of one condensation") {
+  // DiscBody keeps the mesh and the factorisation: condensing points a few at a time (and on a copy)
+  // must give exactly the entries of condensing them all at once (the same K^-1, the same patches).
+  DiscBodyDesign d = HoledDisc();
+  std::vector<DiscLoadPoint> points;
+  for (int k = 0; k < 4; ++k) {
+    const double angle = 2.0 * kPi * k / 4.0 + 0.2;
+    const Eigen::Vector2d at(45.0 * std::cos(angle), 45.0 * std::sin(angle));
+    points.push_back(DiscLoadPoint{at, -at.normalized(), 0.4});
+  }
+  const ltca::contact::DiscBody body(d);
+  const Eigen::MatrixXd all = body.Condense(points).compliance_mm_per_n;
+  const ltca::contact::DiscBody copy = body;
+  const Eigen::MatrixXd first = body.Condense({points[0], points[1]}).compliance_mm_per_n;
+  const Eigen::MatrixXd last = copy.Condense({points[3]}).compliance_mm_per_n;
+  CHECK((first - all.topLeftCorner(2, 2)).cwiseAbs().maxCoeff() <= 1e-12 * all.cwiseAbs().maxCoeff());
+  CHECK(std::abs(last(0, 0) - all(3, 3)) <= 1e-12 * all.cwiseAbs().maxCoeff());
+  CHECK(ltca::contact::CondenseDiscCompliance(d, points).compliance_mm_per_n.isApprox(all, 1e-12));
+}
+
 }  // namespace disc_body_test

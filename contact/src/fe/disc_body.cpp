@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -84,44 +85,66 @@ std::vector<Eigen::Vector2d> DiscOutline(const geometry::CycloidProfile& profile
   return outline;
 }
 
-DiscCompliance CondenseDiscCompliance(const DiscBodyDesign& design, const std::vector<DiscLoadPoint>& points) {
-  const auto start = std::chrono::steady_clock::now();
-  const fe::T6Mesh mesh = fe::MeshDisc(design);
-  DiscCompliance result;
-  result.mesh_seconds = Seconds(start);
-  result.nodes = static_cast<int>(mesh.nodes.size());
-  result.elements = static_cast<int>(mesh.triangles.size());
+struct DiscBody::Impl {
+  fe::T6Mesh mesh;
+  std::unique_ptr<fe::ElasticModel> model;
+  double mesh_seconds = 0.0;
+  double factorisation_seconds = 0.0;
+};
 
+DiscBody::DiscBody(const DiscBodyDesign& design) {
+  auto impl = std::make_shared<Impl>();
+  const auto start = std::chrono::steady_clock::now();
+  impl->mesh = fe::MeshDisc(design);
+  impl->mesh_seconds = Seconds(start);
   const auto solve_start = std::chrono::steady_clock::now();
   // The support: every node of the bore clamped (both components).
-  std::vector<char> on_bore(mesh.nodes.size(), 0);
-  for (const fe::BoundaryEdge& edge : mesh.edges) {
+  std::vector<char> on_bore(impl->mesh.nodes.size(), 0);
+  for (const fe::BoundaryEdge& edge : impl->mesh.edges) {
     if (edge.boundary == fe::Boundary::kBore) {
       for (const int n : edge.nodes) on_bore[n] = 1;
     }
   }
   std::vector<int> clamped;
-  for (std::size_t n = 0; n < mesh.nodes.size(); ++n) {
+  for (std::size_t n = 0; n < impl->mesh.nodes.size(); ++n) {
     if (on_bore[n]) {
       clamped.push_back(2 * static_cast<int>(n));
       clamped.push_back(2 * static_cast<int>(n) + 1);
     }
   }
   const fe::Elasticity elasticity{design.plane, design.young_modulus_mpa, design.poisson_ratio, design.thickness_mm};
-  const fe::ElasticModel model(mesh, elasticity, clamped);
+  impl->model = std::make_unique<fe::ElasticModel>(impl->mesh, elasticity, clamped);
+  impl->factorisation_seconds = Seconds(solve_start);
+  impl_ = std::move(impl);
+}
 
+DiscBody::~DiscBody() = default;
+DiscBody::DiscBody(const DiscBody&) = default;
+DiscBody& DiscBody::operator=(const DiscBody&) = default;
+
+DiscCompliance DiscBody::Condense(const std::vector<DiscLoadPoint>& points) const {
+  const Impl& body = *impl_;
+  DiscCompliance result;
+  result.nodes = static_cast<int>(body.mesh.nodes.size());
+  result.elements = static_cast<int>(body.mesh.triangles.size());
+  result.mesh_seconds = body.mesh_seconds;
+  const auto start = std::chrono::steady_clock::now();
   // One unit-force patch per point (not on the bore); C = F^T K^-1 F.
   const auto loadable = [](const fe::BoundaryEdge& edge) { return edge.boundary != fe::Boundary::kBore; };
-  Eigen::MatrixXd loads(model.dofs(), static_cast<Eigen::Index>(points.size()));
+  Eigen::MatrixXd loads(body.model->dofs(), static_cast<Eigen::Index>(points.size()));
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!points[i].point_mm.allFinite()) throw std::invalid_argument("disc body: a load point is not finite");
     loads.col(static_cast<Eigen::Index>(i)) =
-        fe::PatchLoad(mesh, loadable, points[i].point_mm, points[i].direction, points[i].half_width_mm);
+        fe::PatchLoad(body.mesh, loadable, points[i].point_mm, points[i].direction, points[i].half_width_mm);
   }
-  const Eigen::MatrixXd u = model.Solve(loads);
+  const Eigen::MatrixXd u = body.model->Solve(loads);
   result.compliance_mm_per_n = loads.transpose() * u;
-  result.solve_seconds = Seconds(solve_start);
+  result.solve_seconds = body.factorisation_seconds + Seconds(start);
   return result;
+}
+
+DiscCompliance CondenseDiscCompliance(const DiscBodyDesign& design, const std::vector<DiscLoadPoint>& points) {
+  return DiscBody(design).Condense(points);
 }
 
 }  // namespace ltca::contact

@@ -5,6 +5,7 @@
 // bore clamped (the torque taken out rigidly at the bore, the centre held, as the rigid disc
 // holds it). Plain data only: no mesher, sparse-matrix or factorisation type appears here.
 // Units: mm, N, MPa; compliance mm/N.
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -79,9 +80,30 @@ struct DiscCompliance {
 /// outer member (d < 0) or fewer than 8 points per space.
 std::vector<Eigen::Vector2d> DiscOutline(const geometry::CycloidProfile& profile, int points_per_space);
 
-/// Meshes the disc (gmsh 4.8, loaded with dlopen: std::runtime_error naming the package to
-/// install when libgmsh.so.4.8 is absent), assembles, factorises once and condenses the
-/// compliance at `points`. Throws std::invalid_argument for an invalid design or point.
+/// The disc meshed, assembled and factorised once: condense it at any points, as often as needed
+/// (the condensation points along the flanks, a design's cache). Copies share the factorisation;
+/// Condense is not for concurrent calls on one body (CHOLMOD's workspace is the body's).
+class DiscBody {
+ public:
+  /// Meshes the disc (gmsh 4.8, loaded with dlopen: std::runtime_error naming the package to
+  /// install when libgmsh.so.4.8 is absent), clamps the bore, assembles and factorises (CHOLMOD).
+  /// Throws std::invalid_argument for an invalid design.
+  explicit DiscBody(const DiscBodyDesign& design);
+  ~DiscBody();
+  DiscBody(const DiscBody&);
+  DiscBody& operator=(const DiscBody&);
+
+  /// The compliance at `points` (one solve per point, no new factorisation); its nodes, elements
+  /// and mesh seconds are the body's, its solve seconds the set-up's factorisation plus these
+  /// solves. Throws std::invalid_argument for a point that is not finite or a patch of zero width.
+  DiscCompliance Condense(const std::vector<DiscLoadPoint>& points) const;
+
+ private:
+  struct Impl;
+  std::shared_ptr<const Impl> impl_;
+};
+
+/// DiscBody(design).Condense(points).
 DiscCompliance CondenseDiscCompliance(const DiscBodyDesign& design,
                                       const std::vector<DiscLoadPoint>& points);
 
