@@ -82,7 +82,7 @@ std::vector<Eigen::Vector2d> DiscOutline(const geometry::CycloidProfile& profile
 
 /// The disc meshed, assembled and factorised once: condense it at any points, as often as needed
 /// (the condensation points along the flanks, a design's cache). Copies share the factorisation;
-/// Condense is not for concurrent calls on one body (CHOLMOD's workspace is the body's).
+/// Condense is not for concurrent calls on one body or its copies (they share CHOLMOD's workspace).
 class DiscBody {
  public:
   /// Meshes the disc (gmsh 4.8, loaded with dlopen: std::runtime_error naming the package to
