@@ -1,0 +1,36 @@
+#pragma once
+// The disc's T6 mesh from gmsh: nodes, 6-node triangles and the 3-node boundary edges of each
+// boundary part (the outline, the bore, each hole). Node order as gmsh's (element types 9 and 8):
+// a triangle's vertices 0, 1, 2, then the mid-side nodes of edges 0-1, 1-2, 2-0; an edge's ends
+// 0, 1, then its mid-side node 2.
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ltca/contact/disc_body.hpp"
+
+namespace ltca::contact::fe {
+
+/// Which boundary an edge lies on.
+enum class Boundary { kOutline, kBore, kHole };
+
+struct BoundaryEdge {
+  std::array<int, 3> nodes{};
+  Boundary boundary = Boundary::kOutline;
+  int hole = -1;  ///< The hole's index for Boundary::kHole.
+};
+
+struct T6Mesh {
+  std::vector<Eigen::Vector2d> nodes;        ///< mm
+  std::vector<std::array<int, 6>> triangles;
+  std::vector<BoundaryEdge> edges;
+};
+
+/// Meshes the design's outline (or its circle), bore and holes with gmsh (second order, the
+/// mid-side nodes on the curved boundaries), sized by element_size_mm and refined near
+/// refine_near_mm. Validates the design. Throws std::runtime_error when gmsh cannot be loaded or
+/// fails.
+T6Mesh MeshDisc(const DiscBodyDesign& design);
+
+}  // namespace ltca::contact::fe
