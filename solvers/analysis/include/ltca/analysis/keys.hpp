@@ -1,7 +1,8 @@
 #pragma once
 // The deck's keys, each described once: section, name, unit, type, default, what it is,
 // per pin or not, whether [second_disc] may give its own, whether [tolerances] may vary it, the
-// limit it is held to, and, for the numbers of [modification] and [errors], where the value goes.
+// limit it is held to, its choices, and where the value goes (a disc's part for the numbers of
+// [modification] and [errors], a field of the deck's settings for every other key a field takes).
 // The deck reader, the second disc's split, the tolerance study's Apply, the key reference of
 // docs/decks.md and the fuzz dictionary (`ltca keys`) are driven by this table. Data only: no TOML.
 #include <cstddef>
@@ -166,7 +167,7 @@ struct DeckKey {
   bool disc = false;          ///< a key of one disc: [second_disc] may give its own (else the pin ring's)
   int tolerance_stream = -1;  ///< >= 0: [tolerances] may vary it; its random stream (order fixed forever)
   Limit limit = Limit::kNone;
-  /// Where a number of [modification] or [errors] goes (nullptr: read by its section's reader).
+  /// Where a real number (or list) of [modification] or [errors] goes, in a disc's parts.
   double* (*real)(const DiscParts&) = nullptr;
   std::vector<double>* (*list)(const DiscParts&) = nullptr;
   /// Where a key of the other sections (and a text or integer of [modification] and [errors]) goes
