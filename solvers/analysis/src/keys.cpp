@@ -11,18 +11,24 @@
 
 #include "ltca/analysis/friction.hpp"
 #include "ltca/analysis/optimise.hpp"
+#include "ltca/analysis/stage.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
+#include "ltca/analysis/tolerance.hpp"
 #include "ltca/contact/bearing.hpp"
 #include "ltca/contact/cranks.hpp"
 #include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
 #include "ltca/contact/output_pins.hpp"
 #include "ltca/contact/pin_bending.hpp"
+#include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/discrete_profile.hpp"
+#include "ltca/geometry/errors.hpp"
+#include "ltca/geometry/profile_deviation.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/registry.hpp"
+#include "ltca/solvers/stage.hpp"
 
 namespace ltca::analysis {
 namespace {
@@ -33,11 +39,40 @@ using L = DeckKey::Limit;
 // Field accessors: where a number of [modification] or [errors] goes.
 #define LTCA_FIELD(part, member) [](const DiscParts& p) -> double* { return &p.part->member; }
 #define LTCA_LIST(member) [](const DiscParts& p) -> std::vector<double>* { return &p.errors->member; }
-// Where a number of the other sections goes: a member of one of the deck's settings (SettingsParts).
-#define LTCA_SETTING(part, member) [](const SettingsParts& p) -> SettingField { return &p.part->member; }
+// Where a key of the other sections goes: a member of one of the deck's settings (SettingsParts);
+// no field when that part is not being read.
+#define LTCA_SETTING(part, member) \
+  [](const SettingsParts& p) -> SettingField { return p.part == nullptr ? SettingField() : SettingField(&p.part->member); }
+// A choice into an enum member: its values in the order of the key's choices.
+#define LTCA_CHOICE(part, member, ...)                                                      \
+  [](const SettingsParts& p) -> SettingField {                                               \
+    return p.part == nullptr ? SettingField() : SettingField::Choice<__VA_ARGS__>(&p.part->member); \
+  }
 // A key of [output] common to both kinds: the member of the output pins, or else of the cranks.
-#define LTCA_OUTPUT(member) \
-  [](const SettingsParts& p) -> SettingField { return p.output_pins != nullptr ? &p.output_pins->member : &p.cranks->member; }
+#define LTCA_OUTPUT(member)                                                                             \
+  [](const SettingsParts& p) -> SettingField {                                                          \
+    return p.output_pins != nullptr ? SettingField(&p.output_pins->member)                              \
+                                    : (p.cranks != nullptr ? SettingField(&p.cranks->member) : SettingField()); \
+  }
+
+// The enums the choices go to, in the order of each key's choices.
+using Reading = geometry::ManufacturingErrors::PinCircleReading;
+using Pivot = geometry::AssemblyErrors::Pivot;
+using Distribution = geometry::ProfileRandomDistribution;
+using Spacing = geometry::ProfileElementSpacing;
+using Law = contact::LawKind;
+using Rho = contact::RhoConvention;
+using Mode = geometry::GeometrySettings::Mode;
+using Support = contact::PinSupportKind;
+using Seat = contact::PinSeat::Kind;
+using Output = solvers::OutputKind;
+using Bearing = contact::BearingKind;
+using Kinematics = contact::ContactKinematics;
+using Rigidity = StiffnessSettings::Rigidity;
+using Friction = FrictionSettings::Model;
+using Balance = FrictionSettings::TorqueBalance;
+using Global = OptimiseSettings::Global;
+using Local = OptimiseSettings::Local;
 
 /// The registered solvers, "a | b | ...": the [solver] name key follows the registry, so a new
 /// solver needs no entry here.
@@ -49,9 +84,9 @@ const char* SolverChoices() {
 const std::vector<DeckKey> kKeys = {
     // [case]
     {.section = "case", .name = "title", .type = T::kText, .unit = "", .meaning = "a short title of the case", .default_value = "",
-     .required = true},
+     .setting = LTCA_SETTING(info, title), .required = true},
     {.section = "case", .name = "source", .type = T::kText, .unit = "", .meaning = "provenance: paper, table / section",
-     .default_value = "\"\""},
+     .default_value = "\"\"", .setting = LTCA_SETTING(info, source)},
     // [pair]
     {.section = "pair", .name = "pin_count", .type = T::kInteger, .unit = "", .meaning = "number of pins z_p", .default_value = "",
      .setting = LTCA_SETTING(pair, pin_count), .required = true},
@@ -88,7 +123,8 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "pin-circle deviation delta_Rp of Liu eq. 5 in mm", .default_value = "0", .tolerance_stream = 0,
      .limit = L::kLength, .real = LTCA_FIELD(errors, pin_circle_deviation)},
     {.section = "errors", .name = "pin_circle_reading", .type = T::kText, .unit = "",
-     .meaning = "how eq. 5 applies delta_Rp: radius | diameter", .default_value = "\"radius\"", .choices = "radius | diameter"},
+     .meaning = "how eq. 5 applies delta_Rp: radius | diameter", .default_value = "\"radius\"", .choices = "radius | diameter",
+     .setting = LTCA_CHOICE(errors, pin_circle_reading, Reading::kRadius, Reading::kDiameter)},
     {.section = "errors", .name = "cumulative_pitch_deviation_mm", .type = T::kRealList, .unit = "mm",
      .meaning = "one cumulative pitch deviation per pin in mm", .default_value = "[]", .per_pin = true, .tolerance_stream = 2,
      .limit = L::kLength, .list = LTCA_LIST(cumulative_pitch_deviation)},
@@ -123,25 +159,32 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "tilt gamma of the cycloid axis in the YZ plane in deg", .default_value = "0", .disc = true,
      .tolerance_stream = 11, .limit = L::kTilt, .real = LTCA_FIELD(assembly, misalignment_yz)},
     {.section = "errors", .name = "misalignment_pivot", .type = T::kText, .unit = "", .meaning = "face | mid",
-     .default_value = "\"face\"", .choices = "face | mid", .disc = true},
+     .default_value = "\"face\"", .choices = "face | mid", .disc = true,
+     .setting = LTCA_CHOICE(assembly, pivot, Pivot::kFace, Pivot::kMid)},
     {.section = "errors", .name = "profile_random_zone_um", .type = T::kReal, .unit = "um",
      .meaning = "full width of the random profile tolerance zone in um", .default_value = "0", .disc = true,
      .limit = L::kLength, .real = LTCA_FIELD(errors, profile_random.zone)},
     {.section = "errors", .name = "profile_random_elements", .type = T::kInteger, .unit = "",
-     .meaning = "random profile elements per tooth space", .default_value = "800", .disc = true},
+     .meaning = "random profile elements per tooth space", .default_value = "800", .disc = true,
+     .setting = LTCA_SETTING(errors, profile_random.elements)},
     {.section = "errors", .name = "profile_random_seed", .type = T::kUnsigned, .unit = "",
-     .meaning = "seed of the random profile deviation", .default_value = "0", .disc = true},
+     .meaning = "seed of the random profile deviation", .default_value = "0", .disc = true,
+     .setting = LTCA_SETTING(errors, profile_random.seed)},
     {.section = "errors", .name = "profile_random_distribution", .type = T::kText, .unit = "", .meaning = "uniform | normal",
-     .default_value = "\"uniform\"", .choices = "uniform | normal", .disc = true},
+     .default_value = "\"uniform\"", .choices = "uniform | normal", .disc = true,
+     .setting = LTCA_CHOICE(errors, profile_random.distribution, Distribution::kUniform, Distribution::kNormal)},
     {.section = "errors", .name = "profile_random_spacing", .type = T::kText, .unit = "", .meaning = "arc_length | parameter",
-     .default_value = "\"arc_length\"", .choices = "arc_length | parameter", .disc = true},
+     .default_value = "\"arc_length\"", .choices = "arc_length | parameter", .disc = true,
+     .setting = LTCA_CHOICE(errors, profile_random.spacing, Spacing::kArcLength, Spacing::kParameter)},
     {.section = "errors", .name = "profile_measured_csv", .type = T::kText, .unit = "",
      .meaning = "path of a measured profile trace, relative to the deck", .default_value = "", .disc = true},
     // [contact]
     {.section = "contact", .name = "law", .type = T::kText, .unit = "", .meaning = "hertz-line | sagitta | linear",
-     .default_value = "\"hertz-line\"", .choices = "hertz-line | sagitta | linear"},
+     .default_value = "\"hertz-line\"", .choices = "hertz-line | sagitta | linear",
+     .setting = LTCA_CHOICE(contact, law, Law::kHertzLine, Law::kSagitta, Law::kLinear)},
     {.section = "contact", .name = "rho_convention", .type = T::kText, .unit = "", .meaning = "signed | absolute",
-     .default_value = "\"signed\"", .choices = "signed | absolute"},
+     .default_value = "\"signed\"", .choices = "signed | absolute",
+     .setting = LTCA_CHOICE(contact, rho_convention, Rho::kSigned, Rho::kAbsolute)},
     {.section = "contact", .name = "stiffness_n_per_mm2", .type = T::kReal, .unit = "N/mm^2",
      .meaning = "linear law: stiffness per mm of contact length", .default_value = "0",
      .setting = LTCA_SETTING(contact, stiffness_per_length)},
@@ -150,7 +193,8 @@ const std::vector<DeckKey> kKeys = {
      .setting = LTCA_SETTING(contact, log_radius_cap)},
     // [geometry]
     {.section = "geometry", .name = "geometry_mode", .type = T::kText, .unit = "",
-     .meaning = "analytic | elements (Liu's discrete surface)", .default_value = "\"analytic\"", .choices = "analytic | elements"},
+     .meaning = "analytic | elements (Liu's discrete surface)", .default_value = "\"analytic\"", .choices = "analytic | elements",
+     .setting = LTCA_CHOICE(geometry, mode, Mode::kAnalytic, Mode::kElements)},
     {.section = "geometry", .name = "profile_elements", .type = T::kInteger, .unit = "", .meaning = "elements along one tooth space",
      .default_value = "800",
      .setting = LTCA_SETTING(geometry, profile_elements)},
@@ -178,13 +222,15 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "pin bending: distance between the two supports of a pin in mm", .default_value = "",
      .setting = LTCA_SETTING(pin_support, span)},
     {.section = "pins", .name = "support", .type = T::kText, .unit = "", .meaning = "simply-supported | clamped",
-     .default_value = "\"simply-supported\"", .choices = "simply-supported | clamped"},
+     .default_value = "\"simply-supported\"", .choices = "simply-supported | clamped",
+     .setting = LTCA_CHOICE(pin_support, support, Support::kSimplySupported, Support::kClamped)},
     {.section = "pins", .name = "face_offset_mm", .type = T::kReal, .unit = "mm",
      .meaning = "pin bending: from the first support to face B of the cycloid in mm", .default_value = "",
      .setting = LTCA_SETTING(pin_support, face_offset)},
     {.section = "pins", .name = "seat", .type = T::kText, .unit = "",
      .meaning = "pins seated along their length: rigid | linear | groove (not with span_mm)", .default_value = "\"rigid\"",
-     .choices = "rigid | linear | groove"},
+     .choices = "rigid | linear | groove",
+     .setting = LTCA_CHOICE(pin_seat, kind, Seat::kRigid, Seat::kLinear, Seat::kGroove)},
     {.section = "pins", .name = "seat_stiffness_n_per_mm2", .type = T::kReal, .unit = "N/mm^2",
      .meaning = "linear seat: stiffness per mm of pin length in N/mm^2", .default_value = "",
      .setting = LTCA_SETTING(pin_seat, stiffness_per_length)},
@@ -200,7 +246,8 @@ const std::vector<DeckKey> kKeys = {
     // [output] (docs/stage.md): the output mechanism of the reducer stage
     {.section = "output", .name = "kind", .type = T::kText, .unit = "",
      .meaning = "pins (output pins in holes of the disc) | cranks (crankshafts in crank holes, RV)", .default_value = "",
-     .choices = "pins | cranks"},
+     .choices = "pins | cranks",
+     .setting = LTCA_CHOICE(stage, kind, Output::kPins, Output::kCranks), .required = true},
     {.section = "output", .name = "count", .type = T::kInteger, .unit = "", .meaning = "output pins or crankshafts",
      .default_value = "",
      .setting = LTCA_OUTPUT(count)},
@@ -230,7 +277,8 @@ const std::vector<DeckKey> kKeys = {
      .setting = LTCA_SETTING(cranks, turns_per_output_turn)},
     // [bearing]: the eccentric bearing (pins) or the needle bearing of each crank hole (cranks)
     {.section = "bearing", .name = "kind", .type = T::kText, .unit = "", .meaning = "rigid | linear | rollers",
-     .default_value = "\"rigid\"", .choices = "rigid | linear | rollers"},
+     .default_value = "\"rigid\"", .choices = "rigid | linear | rollers",
+     .setting = LTCA_CHOICE(bearing, kind, Bearing::kRigid, Bearing::kLinear, Bearing::kRollers)},
     {.section = "bearing", .name = "radial_stiffness_n_per_mm", .type = T::kReal, .unit = "N/mm",
      .meaning = "linear: radial stiffness in N/mm", .default_value = "",
      .setting = LTCA_SETTING(bearing, radial_stiffness)},
@@ -253,7 +301,7 @@ const std::vector<DeckKey> kKeys = {
     // [load]
     {.section = "load", .name = "torque_nm", .type = T::kReal, .unit = "N*m",
      .meaning = "output torque of the stage in N*m: one disc's, or with [second_disc] both discs' together",
-     .default_value = "", .required = true},
+     .default_value = "", .setting = LTCA_SETTING(load, torque), .required = true},
     // [sweep]
     {.section = "sweep", .name = "crank_start_deg", .type = T::kReal, .unit = "deg", .meaning = "first crank angle in deg",
      .default_value = "0",
@@ -266,9 +314,13 @@ const std::vector<DeckKey> kKeys = {
      .setting = LTCA_SETTING(sweep, positions)},
     // [solver]
     {.section = "solver", .name = "name", .type = T::kText, .unit = "",
-     .meaning = SolverChoices(), .default_value = "\"bisection\"", .choices = SolverChoices()},
+     .meaning = SolverChoices(), .default_value = "\"bisection\"", .choices = SolverChoices(),
+     .setting = LTCA_SETTING(solver, name)},
     {.section = "solver", .name = "kinematics", .type = T::kText, .unit = "", .meaning = "linearised | exact",
-     .default_value = "\"linearised\"", .choices = "linearised | exact"},
+     .default_value = "\"linearised\"", .choices = "linearised | exact",
+     .setting = [](const SettingsParts& p) -> SettingField {
+       return p.kinematics == nullptr ? SettingField() : SettingField::Choice<Kinematics::kLinearised, Kinematics::kExact>(p.kinematics);
+     }},
     {.section = "solver", .name = "torque_tolerance", .type = T::kReal, .unit = "", .meaning = "relative torque tolerance",
      .default_value = "1e-10",
      .setting = LTCA_SETTING(solver, torque_tolerance)},
@@ -276,15 +328,18 @@ const std::vector<DeckKey> kKeys = {
      .default_value = "500",
      .setting = LTCA_SETTING(solver, max_iterations)},
     {.section = "solver", .name = "preset", .type = T::kText, .unit = "", .meaning = "a named preset: liu2021", .default_value = "",
-     .choices = "liu2021"},
+     .choices = "liu2021",
+     .setting = [](const SettingsParts& p) -> SettingField { return p.preset == nullptr ? SettingField() : SettingField(p.preset); }},
     {.section = "solver", .name = "nlopt_algorithm", .type = T::kText, .unit = "", .meaning = "compatibility: NLopt algorithm name",
-     .default_value = "\"LD_LBFGS\""},
+     .default_value = "\"LD_LBFGS\"",
+     .setting = LTCA_SETTING(solver, nlopt_algorithm)},
     // [stiffness]
     {.section = "stiffness", .name = "steps_per_branch", .type = T::kInteger, .unit = "",
      .meaning = "torque levels per branch from -T to +T, odd", .default_value = "41",
      .setting = LTCA_SETTING(stiffness, steps)},
     {.section = "stiffness", .name = "rigidity", .type = T::kText, .unit = "", .meaning = "secant | tangent",
-     .default_value = "\"secant\"", .choices = "secant | tangent"},
+     .default_value = "\"secant\"", .choices = "secant | tangent",
+     .setting = LTCA_CHOICE(stiffness, rigidity, Rigidity::kSecant, Rigidity::kTangent)},
     {.section = "stiffness", .name = "tangent_torque_nm", .type = T::kReal, .unit = "N*m",
      .meaning = "torque of the tangent rigidity in N*m", .default_value = "",
      .setting = LTCA_SETTING(stiffness, tangent_torque)},
@@ -292,24 +347,30 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "fraction of T at which lost motion is read", .default_value = "0.03",
      .setting = LTCA_SETTING(stiffness, lost_motion_fraction)},
     {.section = "stiffness", .name = "crank_deg", .type = T::kReal, .unit = "deg", .meaning = "one crank angle in deg",
-     .default_value = ""},
+     .default_value = "",
+     .setting = LTCA_SETTING(stiffness, crank)},
     // [second_disc]: its own key; the disc keys of [modification] and [errors] too (DeckKey::disc)
     {.section = "second_disc", .name = "indexing_deviation_mm", .type = T::kReal, .unit = "mm",
      .meaning = "indexing deviation of the second disc in mm along the pin circle", .default_value = "0",
-     .tolerance_stream = 15, .limit = L::kLength},
+     .tolerance_stream = 15, .limit = L::kLength,
+     .setting = LTCA_SETTING(second_disc, indexing_deviation)},
     // [tolerances]: its own keys; a distribution for each key with a tolerance_stream
     {.section = "tolerances", .name = "samples", .type = T::kInteger, .unit = "", .meaning = "number of samples",
-     .default_value = "1000"},
+     .default_value = "1000",
+     .setting = LTCA_SETTING(tolerances, samples)},
     {.section = "tolerances", .name = "seed", .type = T::kUnsigned, .unit = "", .meaning = "seed of the counter-based stream",
-     .default_value = "1"},
+     .default_value = "1",
+     .setting = LTCA_SETTING(tolerances, seed)},
     {.section = "tolerances", .name = "lost_motion", .type = T::kBool, .unit = "", .meaning = "also lost motion per sample",
-     .default_value = "false"},
+     .default_value = "false",
+     .setting = LTCA_SETTING(tolerances, lost_motion)},
     {.section = "tolerances", .name = "limits", .type = T::kTable, .unit = "",
      .meaning = "acceptance limits: { figure = max } or { figure = { min = .., max = .. } }", .default_value = ""},
     {.section = "tolerances", .name = "chains", .type = T::kTable, .unit = "",
      .meaning = "assembly dimensional chains (extreme value and Monte Carlo of the closing link)", .default_value = ""},
     {.section = "tolerances", .name = "profile_random_per_sample", .type = T::kBool, .unit = "",
-     .meaning = "every sample its own random profile deviation", .default_value = "false"},
+     .meaning = "every sample its own random profile deviation", .default_value = "false",
+     .setting = LTCA_SETTING(tolerances, profile_random_per_sample)},
     // [operation]
     {.section = "operation", .name = "input_speed_rpm", .type = T::kReal, .unit = "rpm", .meaning = "crank (input) speed in rpm",
      .default_value = "",
@@ -328,7 +389,8 @@ const std::vector<DeckKey> kKeys = {
      .setting = LTCA_SETTING(operation, roughness_pin)},
     // [friction]
     {.section = "friction", .name = "model", .type = T::kText, .unit = "", .meaning = "coulomb | jiang-mixed",
-     .default_value = "\"coulomb\"", .choices = "coulomb | jiang-mixed"},
+     .default_value = "\"coulomb\"", .choices = "coulomb | jiang-mixed",
+     .setting = LTCA_CHOICE(friction, model, Friction::kCoulomb, Friction::kJiangMixed)},
     {.section = "friction", .name = "coefficient", .type = T::kReal, .unit = "", .meaning = "Coulomb friction coefficient mu",
      .default_value = "",
      .setting = LTCA_SETTING(friction, coefficient)},
@@ -342,12 +404,14 @@ const std::vector<DeckKey> kKeys = {
      .default_value = "0.5",
      .setting = LTCA_SETTING(friction, power_law_exponent)},
     {.section = "friction", .name = "sleeve_bore_radius_mm", .type = T::kReal, .unit = "mm",
-     .meaning = "radius of the pin inside its sleeve in mm", .default_value = ""},
+     .meaning = "radius of the pin inside its sleeve in mm", .default_value = "",
+     .setting = LTCA_SETTING(friction, sleeve_bore_radius)},
     {.section = "friction", .name = "sleeve_coefficient", .type = T::kReal, .unit = "", .meaning = "mu at the sleeve bore",
      .default_value = "",
      .setting = LTCA_SETTING(friction, sleeve_coefficient)},
     {.section = "friction", .name = "torque_balance", .type = T::kText, .unit = "", .meaning = "solve | bound",
-     .default_value = "\"solve\"", .choices = "solve | bound"},
+     .default_value = "\"solve\"", .choices = "solve | bound",
+     .setting = LTCA_CHOICE(friction, torque_balance, Balance::kSolve, Balance::kBound)},
     // [optimise] (docs/optimise.md)
     {.section = "optimise", .name = "variables", .type = T::kTable, .unit = "",
      .meaning = "design variables with bounds in their unit: real keys of [modification] and [errors], or a stage's "
@@ -355,15 +419,19 @@ const std::vector<DeckKey> kKeys = {
                 "{ \"modification.pin_radius_mm\" = [-0.03, 0.0], ... }",
      .default_value = ""},
     {.section = "optimise", .name = "objective", .type = T::kText, .unit = "",
-     .meaning = "a figure ([tolerances] limits' names, power_loss_w, efficiency) or a variable's key", .default_value = ""},
+     .meaning = "a figure ([tolerances] limits' names, power_loss_w, efficiency) or a variable's key", .default_value = "",
+     .setting = LTCA_SETTING(optimise, objective), .required = true},
     {.section = "optimise", .name = "maximise", .type = T::kBool, .unit = "", .meaning = "maximise the objective instead",
-     .default_value = "false"},
+     .default_value = "false",
+     .setting = LTCA_SETTING(optimise, maximise)},
     {.section = "optimise", .name = "constraints", .type = T::kTable, .unit = "",
      .meaning = "limits on figures: { figure = max } or { figure = { min = .., max = .. } }", .default_value = ""},
     {.section = "optimise", .name = "global", .type = T::kText, .unit = "", .meaning = "the global search (NLopt)",
-     .default_value = "\"direct\"", .choices = "direct | crs2 | isres | none"},
+     .default_value = "\"direct\"", .choices = "direct | crs2 | isres | none",
+     .setting = LTCA_CHOICE(optimise, global, Global::kDirect, Global::kCrs2, Global::kIsres, Global::kNone)},
     {.section = "optimise", .name = "local", .type = T::kText, .unit = "", .meaning = "the local polish (NLopt)",
-     .default_value = "\"cobyla\"", .choices = "cobyla | bobyqa | none"},
+     .default_value = "\"cobyla\"", .choices = "cobyla | bobyqa | none",
+     .setting = LTCA_CHOICE(optimise, local, Local::kCobyla, Local::kBobyqa, Local::kNone)},
     {.section = "optimise", .name = "evaluations", .type = T::kInteger, .unit = "", .meaning = "the budget of evaluations",
      .default_value = "200",
      .setting = LTCA_SETTING(optimise, evaluations)},
@@ -374,11 +442,14 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "the local search stops at a step below this fraction of the box", .default_value = "1e-6",
      .setting = LTCA_SETTING(optimise, tolerance)},
     {.section = "optimise", .name = "seed", .type = T::kUnsigned, .unit = "", .meaning = "random numbers of crs2 and isres",
-     .default_value = "1"},
+     .default_value = "1",
+     .setting = LTCA_SETTING(optimise, seed)},
     {.section = "optimise", .name = "robust", .type = T::kBool, .unit = "",
-     .meaning = "every design over the samples of [tolerances], figures at the percentile", .default_value = "false"},
+     .meaning = "every design over the samples of [tolerances], figures at the percentile", .default_value = "false",
+     .setting = LTCA_SETTING(optimise, robust)},
     {.section = "optimise", .name = "robust_samples", .type = T::kInteger, .unit = "", .meaning = "samples a robust design",
-     .default_value = "64"},
+     .default_value = "64",
+     .setting = LTCA_SETTING(optimise, robust_samples)},
     {.section = "optimise", .name = "percentile", .type = T::kReal, .unit = "",
      .meaning = "robust: the percentile each figure is taken at", .default_value = "95",
      .setting = LTCA_SETTING(optimise, percentile)},
@@ -390,6 +461,7 @@ const std::vector<DeckKey> kKeys = {
 #undef LTCA_FIELD
 #undef LTCA_LIST
 #undef LTCA_SETTING
+#undef LTCA_CHOICE
 #undef LTCA_OUTPUT
 
 }  // namespace
@@ -462,6 +534,28 @@ void RequireSmallDeviations(std::string_view section, std::string_view table_sec
       }
     }
   }
+}
+
+std::vector<std::string> Choices(const DeckKey& key) {
+  std::vector<std::string> out;
+  const std::string_view choices(key.choices);
+  for (std::size_t from = 0; from < choices.size();) {
+    const std::size_t bar = std::min(choices.find(" | ", from), choices.size());
+    out.emplace_back(choices.substr(from, bar - from));
+    from = bar + 3;
+  }
+  return out;
+}
+
+std::string ChoiceMessage(std::string_view section, const DeckKey& key, std::string_view value) {
+  std::vector<std::string> quoted;
+  for (const std::string& choice : Choices(key)) quoted.push_back("\"" + choice + "\"");
+  std::string expected = quoted.empty() ? std::string() : quoted.back();
+  if (quoted.size() > 1) {
+    quoted.pop_back();
+    expected = fmt::format("{} or {}", fmt::join(quoted, ", "), expected);
+  }
+  return fmt::format("[{}] {} = \"{}\": expected {}", section, key.name, value, expected);
 }
 
 const std::vector<DeckKey>& DeckKeys() { return kKeys; }

@@ -18,6 +18,16 @@
 #include "ltca/solvers/registry.hpp"
 
 namespace ltca::analysis {
+
+void LoadCase::Validate() const {
+  if (!std::isfinite(torque)) {
+    throw std::invalid_argument(fmt::format(
+        "[load] torque_nm = {}: expected a finite torque in N*m (its sign picks the flank, "
+        "docs/conventions.md)",
+        units::NmmToNm(torque)));
+  }
+}
+
 namespace {
 
 int Severity(SolverStatus s) { return s == SolverStatus::kSuccess ? 0 : (s == SolverStatus::kNotSolved ? -1 : 1); }

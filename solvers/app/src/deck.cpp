@@ -325,10 +325,8 @@ class Section {
     }
     return static_cast<int>(v.as_integer());
   }
-  int Integer(const std::string& key, int fallback) const { return Has(key) ? Integer(key) : fallback; }
   /// An integer >= 0 (up to the TOML limit 2^63 - 1).
-  std::uint64_t Unsigned(const std::string& key, std::uint64_t fallback) const {
-    if (!Has(key)) return fallback;
+  std::uint64_t Unsigned(const std::string& key) const {
     const toml::value& v = Get(key);
     if (!v.is_integer() || v.as_integer() < 0) {
       throw std::invalid_argument(fmt::format("[{}] {} = {}: expected an integer >= 0 ({})", name_, key,
@@ -336,8 +334,7 @@ class Section {
     }
     return static_cast<std::uint64_t>(v.as_integer());
   }
-  bool Bool(const std::string& key, bool fallback) const {
-    if (!Has(key)) return fallback;
+  bool Bool(const std::string& key) const {
     const toml::value& v = Get(key);
     if (!v.is_boolean()) {
       throw std::invalid_argument(fmt::format("[{}] {} = {}: expected true or false ({})", name_, key, toml::format(v), Meaning(key)));
@@ -363,7 +360,6 @@ class Section {
     }
     return text;
   }
-  std::string String(const std::string& key, const std::string& fallback) const { return Has(key) ? String(key) : fallback; }
 
   /// What the key is (analysis::DeckKeys()): [second_disc] takes the disc keys of [modification] and [errors].
   const char* Meaning(const std::string& key) const {
@@ -411,26 +407,51 @@ Section RequiredSection(const toml::table& root, const std::string& name) {
   return Section(v, name);
 }
 
-/// The numbers of the section that the table binds to a setting (DeckKey::setting), in table order,
-/// into `parts` in internal units (DeckKey::ToInternal): a key given is checked for its type; a
-/// required key missing is named; a key not given keeps the field's value (the struct's default,
-/// the table's default_value), or takes the value of the key its default_value names
-/// (pin_young_modulus_mpa = young_modulus_mpa).
-void ReadSettings(const Section& s, const analysis::SettingsParts& parts) {
+/// One key into its field (analysis::SettingField), checked for its type; a text key with choices
+/// must be one of them (analysis::ChoiceMessage).
+void ReadField(const Section& s, const analysis::DeckKey& k, const analysis::SettingField& f) {
+  const std::string key = k.name;
+  if (f.real != nullptr) *f.real = k.ToInternal(s.Real(key));
+  else if (f.optional_real != nullptr) *f.optional_real = k.ToInternal(s.Real(key));
+  else if (f.integer != nullptr) *f.integer = s.Integer(key);
+  else if (f.int64 != nullptr) *f.int64 = s.Integer(key);
+  else if (f.uint64 != nullptr) *f.uint64 = s.Unsigned(key);
+  else if (f.boolean != nullptr) *f.boolean = s.Bool(key);
+  else {
+    const std::string text = s.String(key);
+    const std::vector<std::string> choices = analysis::Choices(k);
+    const auto it = std::find(choices.begin(), choices.end(), text);
+    if (!choices.empty() && it == choices.end()) throw std::invalid_argument(analysis::ChoiceMessage(s.name(), k, text));
+    if (f.text != nullptr) *f.text = text;
+    else f.choose(f.choice, static_cast<std::size_t>(it - choices.begin()));
+  }
+}
+
+/// The keys of the section that the table binds to a setting (DeckKey::setting), in table order,
+/// into `parts` (numbers in internal units, DeckKey::ToInternal): a key given is checked for its
+/// type (and its choices); a required key missing is named; a key not given keeps the field's
+/// value (the struct's default, the table's default_value), or takes the value of the key its
+/// default_value names (pin_young_modulus_mpa = young_modulus_mpa). A key whose part `parts` does
+/// not give is not read. `table_section`: the table's section when it is not the deck's (a
+/// [second_disc]'s [errors] keys). `choices_only`: only the keys with choices (a kind whose rules
+/// refuse or require the section's other keys before their values are read).
+void ReadSettings(const Section& s, const analysis::SettingsParts& parts, std::string_view table_section = {},
+                  bool choices_only = false) {
+  const std::string_view section = table_section.empty() ? std::string_view(s.name()) : table_section;
   for (const analysis::DeckKey& k : analysis::DeckKeys()) {
-    if (s.name() != k.section || k.setting == nullptr) continue;
-    const bool read = s.Has(k.name) || k.required;
-    const analysis::DeckKey* named = read ? nullptr : analysis::FindKey(k.section, k.default_value);
-    if (!read && (named == nullptr || named->setting == nullptr)) continue;  // keeps the field (its part may be absent)
+    if (section != k.section || k.setting == nullptr || (choices_only && k.choices[0] == '\0')) continue;
     const analysis::SettingField field = k.setting(parts);
+    if (field.empty()) continue;  // its part is not being read
+    const bool read = s.Has(k.name) || k.required;
     if (read) {
-      if (field.integer != nullptr) *field.integer = s.Integer(k.name);
-      else *field.real = k.ToInternal(s.Real(k.name));
-    } else {
-      const analysis::SettingField from = named->setting(parts);
-      if (field.integer != nullptr) *field.integer = *from.integer;
-      else *field.real = *from.real;
+      ReadField(s, k, field);
+      continue;
     }
+    const analysis::DeckKey* named = analysis::FindKey(k.section, k.default_value);
+    if (named == nullptr || named->setting == nullptr) continue;  // keeps the field
+    const analysis::SettingField from = named->setting(parts);
+    if (field.integer != nullptr) *field.integer = *from.integer;
+    else if (field.real != nullptr) *field.real = *from.real;
   }
 }
 
@@ -442,18 +463,9 @@ void RequireKeys(const Section& s, std::initializer_list<const char*> keys) {
   }
 }
 
-/// A number of the section in the internal unit (DeckKey::ToInternal), for a key the table does
-/// not bind to a setting (an optional one, or one of the front-end's structs).
-double Internal(const Section& s, const std::string& key) {
-  const analysis::DeckKey* k = analysis::FindKey(s.name(), key);
-  const double value = s.Real(key);  // asks the table first: a key not in it is a logic_error
-  return k->ToInternal(value);
-}
-
-CaseInfo ReadCase(const Section& s) {
-  CaseInfo info;
-  info.title = s.String("title");
-  info.source = s.String("source", "");
+analysis::CaseInfo ReadCase(const Section& s) {
+  analysis::CaseInfo info;
+  ReadSettings(s, {.info = &info});
   return info;
 }
 
@@ -543,18 +555,12 @@ void ReadErrors(const Section& s, const geometry::PairParameters& pair, const st
   a = {};
   const analysis::DiscParts parts{nullptr, &e, &a};
   ReadNumbers(s, "errors", parts);
-  e.pin_circle_reading = geometry::ParsePinCircleReading(s.String("pin_circle_reading", "radius"));
-  auto& random = e.profile_random;
-  random.elements = s.Integer("profile_random_elements", random.elements);
-  random.seed = s.Unsigned("profile_random_seed", random.seed);
-  random.distribution = geometry::ParseProfileRandomDistribution(s.String("profile_random_distribution", "uniform"));
-  random.spacing = geometry::ParseProfileElementSpacing(s.String("profile_random_spacing", "arc_length"));
-  random.Validate(pair.tooth_count);
+  ReadSettings(s, {.errors = &e, .assembly = &a}, "errors");
+  e.profile_random.Validate(pair.tooth_count);
   if (s.Has("profile_measured_csv")) {
     e.profile_measured = ReadMeasuredProfile(s.String("profile_measured_csv"), directory);
   }
   e.Validate(pair.pin_count);
-  a.pivot = geometry::ParseMisalignmentPivot(s.String("misalignment_pivot", "face"));
   a.Validate();
   analysis::RequireSmallDeviations(s.name(), "errors", parts, pair);
   if (e.profile_measured) {
@@ -569,8 +575,6 @@ void ReadErrors(const Section& s, const geometry::PairParameters& pair, const st
 
 contact::ContactSettings ReadContact(const Section& s) {
   contact::ContactSettings c;
-  c.law = contact::ParseLawKind(s.String("law", "hertz-line"));
-  c.rho_convention = contact::ParseRhoConvention(s.String("rho_convention", "signed"));
   ReadSettings(s, {.contact = &c});
   c.Validate();
   return c;
@@ -578,10 +582,6 @@ contact::ContactSettings ReadContact(const Section& s) {
 
 geometry::GeometrySettings ReadGeometry(const Section& s) {
   geometry::GeometrySettings g;
-  const std::string mode = s.String("geometry_mode", "analytic");
-  if (mode == "analytic") g.mode = geometry::GeometrySettings::Mode::kAnalytic;
-  else if (mode == "elements") g.mode = geometry::GeometrySettings::Mode::kElements;
-  else throw std::invalid_argument(fmt::format("[geometry] geometry_mode = \"{}\": expected \"analytic\" or \"elements\"", mode));
   ReadSettings(s, {.geometry = &g});
   g.Validate();
   return g;
@@ -589,12 +589,12 @@ geometry::GeometrySettings ReadGeometry(const Section& s) {
 
 SolverOptions ReadSolver(const Section& s, contact::ContactKinematics* kinematics) {
   SolverOptions o;
-  if (s.Has("preset")) o = ApplyPreset(o, s.String("preset"));
-  o.name = s.String("name", o.name);
-  solvers::MakeSolver(o.name);  // rejects an unknown name, listing the valid ones
-  *kinematics = contact::ParseKinematics(s.String("kinematics", "linearised"));
-  ReadSettings(s, {.solver = &o});  // over the preset's values
-  o.nlopt_algorithm = s.String("nlopt_algorithm", o.nlopt_algorithm);
+  std::string preset;
+  ReadSettings(s, {.solver = &o, .kinematics = kinematics, .preset = &preset});
+  if (!preset.empty()) {  // the preset's values, and the section's keys over them
+    o = ApplyPreset(SolverOptions{}, preset);
+    ReadSettings(s, {.solver = &o});
+  }
   o.Validate();
   return o;
 }
@@ -606,9 +606,9 @@ contact::Material ReadMaterial(const Section& s) {
   return m;
 }
 
-LoadCase ReadLoad(const Section& s) {
-  LoadCase load;
-  load.torque = Internal(s, "torque_nm");
+analysis::LoadCase ReadLoad(const Section& s) {
+  analysis::LoadCase load;
+  ReadSettings(s, {.load = &load});
   load.Validate();
   return load;
 }
@@ -626,11 +626,6 @@ analysis::Sweep ReadSweep(const Section& s, const geometry::PairParameters& pair
 analysis::StiffnessSettings ReadStiffness(const Section& s) {
   analysis::StiffnessSettings st;
   ReadSettings(s, {.stiffness = &st});
-  const std::string rigidity = s.String("rigidity", "secant");
-  if (rigidity == "secant") st.rigidity = analysis::StiffnessSettings::Rigidity::kSecant;
-  else if (rigidity == "tangent") st.rigidity = analysis::StiffnessSettings::Rigidity::kTangent;
-  else throw std::invalid_argument(fmt::format("[stiffness] rigidity = \"{}\": expected \"secant\" or \"tangent\"", rigidity));
-  if (s.Has("crank_deg")) st.crank = Internal(s, "crank_deg");
   st.Validate();
   return st;
 }
@@ -724,10 +719,7 @@ analysis::ToleranceSettings ReadTolerances(const toml::value& value, const geome
   for (const auto& [key, per_pin] : keys) {  // in the fixed order of the key table
     if (const auto it = t.find(key); it != t.end()) s.distributions.push_back(ReadDistribution(key, per_pin, it->second));
   }
-  s.samples = section.Integer("samples", static_cast<int>(s.samples));
-  s.seed = section.Unsigned("seed", s.seed);
-  s.lost_motion = section.Bool("lost_motion", s.lost_motion);
-  s.profile_random_per_sample = section.Bool("profile_random_per_sample", s.profile_random_per_sample);
+  ReadSettings(section, {.tolerances = &s});
   if (const auto it = t.find("limits"); it != t.end()) {
     s.limits = ReadLimits(it->second, "tolerances", "limits", "{ lost_motion_arcmin = 1.0, contacts_min = { min = 4 } }");
   }
@@ -818,26 +810,10 @@ analysis::OptimiseSettings ReadOptimise(const Section& s, const toml::value& val
       o.variables.push_back(v);
     }
   }
-  o.objective = s.String("objective");
-  o.maximise = s.Bool("maximise", o.maximise);
   if (const auto it = t.find("constraints"); it != t.end()) {
     o.constraints = ReadLimits(it->second, "optimise", "constraints", "{ mean_backlash_arcsec = { min = 20, max = 40 } }");
   }
-  const std::string global = s.String("global", "direct");
-  if (global == "direct") o.global = analysis::OptimiseSettings::Global::kDirect;
-  else if (global == "crs2") o.global = analysis::OptimiseSettings::Global::kCrs2;
-  else if (global == "isres") o.global = analysis::OptimiseSettings::Global::kIsres;
-  else if (global == "none") o.global = analysis::OptimiseSettings::Global::kNone;
-  else throw std::invalid_argument(fmt::format("[optimise] global = \"{}\": expected \"direct\", \"crs2\", \"isres\" or \"none\"", global));
-  const std::string local = s.String("local", "cobyla");
-  if (local == "cobyla") o.local = analysis::OptimiseSettings::Local::kCobyla;
-  else if (local == "bobyqa") o.local = analysis::OptimiseSettings::Local::kBobyqa;
-  else if (local == "none") o.local = analysis::OptimiseSettings::Local::kNone;
-  else throw std::invalid_argument(fmt::format("[optimise] local = \"{}\": expected \"cobyla\", \"bobyqa\" or \"none\"", local));
   ReadSettings(s, {.optimise = &o});
-  o.seed = s.Unsigned("seed", o.seed);
-  o.robust = s.Bool("robust", o.robust);
-  o.robust_samples = s.Integer("robust_samples", static_cast<int>(o.robust_samples));
   if (o.robust) {
     if (!tolerances) {
       throw std::invalid_argument("[optimise] robust = true: expected a [tolerances] section (the distributions every design is run over)");
@@ -850,33 +826,15 @@ analysis::OptimiseSettings ReadOptimise(const Section& s, const toml::value& val
 
 analysis::FrictionSettings ReadFriction(const Section& s, const geometry::PairParameters& pair) {
   analysis::FrictionSettings f;
-  const std::string model = s.String("model", "coulomb");
-  if (model == "coulomb") f.model = analysis::FrictionSettings::Model::kCoulomb;
-  else if (model == "jiang-mixed") f.model = analysis::FrictionSettings::Model::kJiangMixed;
-  else throw std::invalid_argument(fmt::format("[friction] model = \"{}\": expected \"coulomb\" or \"jiang-mixed\"", model));
+  ReadSettings(s, {.friction = &f});
   // Coulomb's law needs its coefficient; jiang-mixed does without.
   if (f.model == analysis::FrictionSettings::Model::kCoulomb && !s.Has("coefficient")) (void)s.Real("coefficient");  // names it missing
-  ReadSettings(s, {.friction = &f});
-  if (s.Has("sleeve_bore_radius_mm")) f.sleeve_bore_radius = Internal(s, "sleeve_bore_radius_mm");
-  const std::string balance = s.String("torque_balance", "solve");
-  if (balance == "solve") f.torque_balance = analysis::FrictionSettings::TorqueBalance::kSolve;
-  else if (balance == "bound") f.torque_balance = analysis::FrictionSettings::TorqueBalance::kBound;
-  else throw std::invalid_argument(fmt::format("[friction] torque_balance = \"{}\": expected \"solve\" or \"bound\"", balance));
   f.Validate(pair);
   return f;
 }
 // --- end of [operation] and [friction] ---------------------------------------------------------------
 
 }  // namespace
-
-void LoadCase::Validate() const {
-  if (!std::isfinite(torque)) {
-    throw std::invalid_argument(fmt::format(
-        "[load] torque_nm = {}: expected a finite torque in N*m (its sign picks the flank, "
-        "docs/conventions.md)",
-        units::NmmToNm(torque)));
-  }
-}
 
 Deck::ModelInfo Deck::Model() const {
   ModelInfo m;
@@ -948,7 +906,7 @@ const contact::Material& Deck::RequireMaterial() const {
   return *material;
 }
 
-const LoadCase& Deck::RequireLoad() const {
+const analysis::LoadCase& Deck::RequireLoad() const {
   if (!load) {
     throw std::invalid_argument(
         fmt::format("deck '{}': missing required section [load] for this command", name));
@@ -986,6 +944,7 @@ void ReadSecondDisc(const toml::table& root, const toml::value& section, const s
   const std::vector<std::string> kModificationKeys = DiscKeys("modification", true);
   const std::vector<std::string> kRingErrorKeys = DiscKeys("errors", false);
   const std::vector<std::string> kDiscErrorKeys = DiscKeys("errors", true);
+  const std::vector<std::string> kOwnKeys = analysis::SectionKeys("second_disc");
   if (!section.is_table()) {
     throw std::invalid_argument("[second_disc]: expected a table of the second disc's keys");
   }
@@ -1006,17 +965,16 @@ void ReadSecondDisc(const toml::table& root, const toml::value& section, const s
           "[second_disc] {}: the pin ring is common to both discs; expected it in [errors] (a second disc takes the "
           "[modification] keys, the disc's [errors] keys and indexing_deviation_mm)",
           key));
-    } else if (key != "indexing_deviation_mm") {
+    } else if (!Contains(kOwnKeys, key)) {
       throw std::invalid_argument(fmt::format(
-          "[second_disc] unknown key '{}'; expected indexing_deviation_mm, a key of [modification] ({}) or a disc key "
-          "of [errors] ({})",
-          key, fmt::join(kModificationKeys, ", "), fmt::join(kDiscErrorKeys, ", ")));
+          "[second_disc] unknown key '{}'; expected {}, a key of [modification] ({}) or a disc key of [errors] ({})",
+          key, fmt::join(kOwnKeys, ", "), fmt::join(kModificationKeys, ", "), fmt::join(kDiscErrorKeys, ", ")));
     }
   }
   const toml::value given(section);
-  const Section own(&given, "second_disc", ConcatKeys(ConcatKeys(kModificationKeys, kDiscErrorKeys), analysis::SectionKeys("second_disc")));
+  const Section own(&given, "second_disc", ConcatKeys(ConcatKeys(kModificationKeys, kDiscErrorKeys), kOwnKeys));
   analysis::SecondDisc disc;
-  disc.indexing_deviation = own.Real("indexing_deviation_mm", 0.0);
+  ReadSettings(own, {.second_disc = &disc});
   if (!std::isfinite(disc.indexing_deviation)) {
     throw std::invalid_argument(fmt::format(
         "[second_disc] indexing_deviation_mm = {}: expected a finite length in mm along the pin circle", disc.indexing_deviation));
@@ -1044,7 +1002,7 @@ namespace {
 /// error, not ignored.
 solvers::StageSettings ReadReducer(const Section& output, const Section& bearing, const geometry::PairParameters& pair) {
   solvers::StageSettings s;
-  s.kind = solvers::ParseOutputKind(output.String("kind"));
+  ReadSettings(output, {.stage = &s});
   const bool pins = s.kind == solvers::OutputKind::kPins;
   const auto reject = [&](std::initializer_list<const char*> keys, const char* kind) {
     for (const char* key : keys) {
@@ -1095,7 +1053,7 @@ solvers::StageSettings ReadReducer(const Section& output, const Section& bearing
   }
   (pins ? s.pins.hole_deviation : s.cranks.hole_deviation) = std::move(deviations);
   contact::BearingSettings& b = s.bearing;
-  b.kind = contact::ParseBearingKind(bearing.String("kind", "rigid"));
+  ReadSettings(bearing, {.bearing = &b}, {}, /*choices_only=*/true);
   const auto bearing_reject = [&](std::initializer_list<const char*> keys) {
     for (const char* key : keys) {
       if (bearing.Has(key)) {
@@ -1324,7 +1282,8 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
       // support, face_offset_mm: pin bending), or seated along its length in a housing groove (seat).
       const bool bending = pins.Has("span_mm") || pins.Has("face_offset_mm") || pins.Has("support");
       contact::PinSeat& seat = deck.contact.seat;
-      seat.kind = contact::ParsePinSeatKind(pins.String("seat", "rigid"));
+      contact::PinSupport p;
+      ReadSettings(pins, {.pin_support = &p, .pin_seat = &seat}, {}, /*choices_only=*/true);
       const auto seat_reject = [&](std::initializer_list<const char*> keys) {
         for (const char* key : keys) {
           if (pins.Has(key)) {
@@ -1346,7 +1305,7 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
         throw std::invalid_argument("[pins]: expected span_mm and face_offset_mm (pins held at their ends, bending) or "
                                     "seat = \"linear\" | \"groove\" (pins seated in housing grooves)");
       }
-      // The keys of the way the pins are held, named when missing; then every number given.
+      // The keys of the way the pins are held, named when missing; then every key given.
       if (bending) RequireKeys(pins, {"span_mm", "face_offset_mm"});
       if (seat.kind == contact::PinSeat::Kind::kLinear) RequireKeys(pins, {"seat_stiffness_n_per_mm2"});
       if (seat.kind == contact::PinSeat::Kind::kGroove) {
@@ -1361,10 +1320,8 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
         if (!pins.Has("housing_young_modulus_mpa")) seat.housing_young_modulus = deck.material->young_modulus;
         if (!pins.Has("housing_poisson_ratio")) seat.housing_poisson_ratio = deck.material->poisson_ratio;
       }
-      contact::PinSupport p;
       ReadSettings(pins, {.pin_support = &p, .pin_seat = &seat});
       if (bending) {
-        p.support = contact::ParsePinSupport(pins.String("support", "simply-supported"));
         p.Validate(deck.pair.face_width);
         deck.pins = p;
       }

@@ -67,6 +67,12 @@ struct ModelInfo {
   std::string pin_seat;
 };
 
+/// [case]: the provenance of a design.
+struct CaseInfo {
+  std::string title;
+  std::string source;  ///< paper, table / section; free text.
+};
+
 /// What is loaded together, as data (a deck's [pair], [modification], [errors], [geometry],
 /// [contact], [material], [pins], [second_disc] and [solver] kinematics).
 struct StageDesign {

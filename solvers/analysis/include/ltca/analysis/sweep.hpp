@@ -22,6 +22,13 @@ namespace ltca::analysis {
 /// The largest crank angle a sweep or a command names, deg (10 turns; docs/decks.md, Limits).
 inline constexpr double kMaxCrankDeg = 3600.0;
 
+/// [load]: the output torque of the stage: the one disc's, or with a second disc both discs' together.
+struct LoadCase {
+  double torque = 0.0;  ///< N*mm (deck: torque_nm), finite, signed: the sign picks the flank.
+  /// Throws std::invalid_argument "[load] torque_nm = ...: expected a finite torque" otherwise.
+  void Validate() const;
+};
+
 /// The crank positions of a sweep (a deck's [sweep]); default one mesh period in 91 positions
 /// (Liu's 0.1 deg step at z_p = 40).
 struct Sweep {

@@ -64,24 +64,11 @@ struct DeckLimits {
 /// disk, with the same checks and messages as a file's. The command line has none.
 using MemoryFiles = std::map<std::string, std::string>;
 
-/// [case]: provenance.
-struct CaseInfo {
-  std::string title;
-  std::string source;  ///< paper, table / section; free text.
-};
-
-/// [load]: the output torque of the stage: the one disc's, or with [second_disc] both discs' together.
-struct LoadCase {
-  double torque = 0.0;  ///< N*mm (deck: torque_nm), finite, signed: the sign picks the flank.
-  void Validate() const;
-};
-
-
 /// A case deck: the stage's data (analysis::StageDesign: [pair], [modification], [errors],
 /// [geometry], [contact], [material], [pins], [second_disc], [solver] kinematics) and the settings of
 /// the analyses.
 struct Deck : analysis::StageDesign {
-  CaseInfo info;
+  analysis::CaseInfo info;
   /// Where the deck came from, as read: its TOML text (before the overrides), the --set
   /// overrides, the folder its relative paths are read from, and every file the reading opened
   /// (the deck itself, measured traces). WriteDeck edits the text; the command line refuses an
@@ -109,7 +96,7 @@ struct Deck : analysis::StageDesign {
   std::string tip_relief_source = "none";
   std::string tip_relief_note;
   SolverOptions solver;                        ///< [solver], optional, default bisection
-  std::optional<LoadCase> load;               ///< required by the load commands
+  std::optional<analysis::LoadCase> load;               ///< required by the load commands
   analysis::Sweep sweep;
   analysis::StiffnessSettings stiffness;                 ///< [stiffness], optional (ltca stiffness)
   std::optional<analysis::ToleranceSettings> tolerances; ///< [tolerances], optional (ltca tolerance)
@@ -142,7 +129,7 @@ struct Deck : analysis::StageDesign {
 
   /// Throws std::invalid_argument naming the deck and the missing section.
   const contact::Material& RequireMaterial() const;
-  const LoadCase& RequireLoad() const;
+  const analysis::LoadCase& RequireLoad() const;
   const analysis::FrictionSettings& RequireFriction() const;    ///< [friction], with an example in the message
   const analysis::OperationSettings& RequireOperation() const;  ///< [operation], with an example in the message
 };
