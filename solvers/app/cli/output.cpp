@@ -317,12 +317,10 @@ Output::Output(std::string option, std::string path, std::ostream& out)
     throw OutputError(fmt::format("{} {}: the folder '{}' does not exist", option_, path_, folder.string()));
   }
   std::string pattern = (folder / ".ltca-tmp-XXXXXX").string();  // short: beside any name
-  errno = 0;
-  const int fd = mkstemp(pattern.data());
-  if (fd < 0) throw OutputError(fmt::format("{} {}: cannot write in the folder '{}'{}", option_, path_, folder.string(), Reason()));
-  close(fd);
+  if (!app::CreateTemporary(pattern, false)) {
+    throw OutputError(fmt::format("{} {}: cannot write in the folder '{}'{}", option_, path_, folder.string(), Reason()));
+  }
   temp_ = pattern;
-  RegisterTemporary(temp_);
   // The permissions a plain new file would get (mkstemp makes 0600), or the replaced file's.
   mode_t mode = 0666;
   struct stat existing {};
@@ -392,14 +390,10 @@ Spool::Spool(const std::string& option, const std::string& output_path) : option
     if (!fs::exists(status) || fs::is_regular_file(status)) folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
   }
   std::string pattern = (folder / ".ltca-spool-XXXXXX").string();
-  errno = 0;
-  const int fd = mkstemp(pattern.data());
-  if (fd < 0) {
+  if (!app::CreateTemporary(pattern, false)) {
     throw OutputError(fmt::format("{} {}: cannot make a temporary file in the folder '{}'{}", option_, output_path, folder.string(), Reason()));
   }
-  close(fd);
   path_ = pattern;
-  RegisterTemporary(path_);
   file_.open(path_, std::ios::in | std::ios::out | std::ios::trunc | std::ios::binary);
   if (!file_) {
     std::remove(path_.c_str());

@@ -419,11 +419,9 @@ class ReportFolder {
       throw OutputError(fmt::format("-o {}: cannot create the folder '{}'{}", out_dir, parent.string(), ec ? ": " + ec.message() : ""));
     }
     std::string staging = (parent / ".ltca-new-XXXXXX").string();
-    errno = 0;
-    if (mkdtemp(staging.data()) == nullptr) {
+    if (!app::CreateTemporary(staging, true)) {
       throw OutputError(fmt::format("-o {}: cannot write in the folder '{}': {}", out_dir, parent.string(), std::strerror(errno)));
     }
-    RegisterTemporary(staging);
     {  // the permissions of the folder it replaces, or of a new folder (mkdtemp makes 0700)
       const mode_t mask = umask(0);
       umask(mask);

@@ -814,10 +814,10 @@ void Write(const Figure& figure, std::ostream& os, Format format) {
     RequireDevice(format);
     const char* device = Device(format);
     std::string name = (std::filesystem::temp_directory_path() / "ltca_plot_XXXXXX").string();
-    const int fd = mkstemp(name.data());
-    if (fd < 0) throw std::runtime_error("cannot create a temporary file for a plot in " + std::filesystem::temp_directory_path().string());
-    close(fd);
-    RegisterTemporary(name);  // an interrupt removes it (a figure of a long sweep can be large)
+    // An interrupt removes it (a figure of a long sweep can be large).
+    if (!CreateTemporary(name, false)) {
+      throw std::runtime_error("cannot create a temporary file for a plot in " + std::filesystem::temp_directory_path().string());
+    }
     struct Remove {
       std::string path;
       ~Remove() {

@@ -1,9 +1,13 @@
 #include "ltca/app/temporaries.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
 #include <filesystem>
 #include <system_error>
 #include <vector>
+
+#include <unistd.h>
 
 namespace ltca::app {
 namespace {
@@ -24,6 +28,25 @@ std::vector<std::string>& Paths() {  // guarded by Mutex()
 void RegisterTemporary(const std::string& path) {
   const std::lock_guard<std::mutex> lock(Mutex());
   Paths().push_back(path);
+}
+
+bool CreateTemporary(std::string& pattern, bool folder) {
+  int error = 0;
+  {
+    const std::lock_guard<std::mutex> lock(Mutex());
+    errno = 0;
+    bool made = false;
+    if (folder) {
+      made = mkdtemp(pattern.data()) != nullptr;
+    } else if (const int fd = mkstemp(pattern.data()); fd >= 0) {
+      close(fd);
+      made = true;
+    }
+    if (made) Paths().push_back(pattern);
+    error = made ? 0 : errno;
+  }
+  errno = error;
+  return error == 0;
 }
 
 void ForgetTemporary(const std::string& path) {

@@ -10,6 +10,11 @@ namespace ltca::app {
 
 /// Registers a temporary file or folder (removed whole) that an interrupt removes.
 void RegisterTemporary(const std::string& path);
+/// Creates a temporary from `pattern` (its name ending in XXXXXX, replaced in place): a file
+/// (mkstemp, closed) or a folder (mkdtemp), created and registered with the lock held, so that an
+/// interrupt comes either before it exists or after it is registered (and removes it). Returns
+/// false, with errno set, when it cannot be created.
+bool CreateTemporary(std::string& pattern, bool folder);
 /// Forgets it (it was renamed into place or removed).
 void ForgetTemporary(const std::string& path);
 
