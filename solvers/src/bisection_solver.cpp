@@ -12,7 +12,7 @@
 #include <fmt/format.h>
 
 #include "coupled_contact.hpp"
-#include "stage_system.hpp"
+#include "reducer_system.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::solvers {
@@ -303,18 +303,18 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   }
 }
 
-void BisectionSolver::DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+void BisectionSolver::DoSolveReducer(const LoadProblem& problem, const ReducerSystem& system, const SolverOptions& options,
                                    Workspace& workspace, LoadResult* result) const {
   // Liu's search on the output rotation psi (the stage's TE): the torque the stage returns to the
   // output member, M(psi), rises with psi (the energy is convex), and at each trial psi the discs
-  // and shafts balance (StageSystem::Minimise with psi held). Illinois' regula falsi on a bracket.
+  // and shafts balance (ReducerSystem::Minimise with psi held). Illinois' regula falsi on a bracket.
   const int psi = system.output_dof();
   const double scale = system.rotation_scale();  // psi = scale * q[psi]
   const double torque = problem.torque();
-  Eigen::VectorXd q = StageStart(system, workspace, "bisection-stage");
-  StageSystem::Evaluation last;
+  Eigen::VectorXd q = ReducerStart(system, workspace, "bisection-stage");
+  ReducerSystem::Evaluation last;
   int evaluations = 0, inner = 0;
-  StageSystem::Outcome outcome = StageSystem::Outcome::kConverged;
+  ReducerSystem::Outcome outcome = ReducerSystem::Outcome::kConverged;
   const double inner_tolerance = 0.1 * options.torque_tolerance;
   std::vector<double> hints;  // the law inversions' warm starts, kept over every trial rotation
   const auto moment = [&](double rotation) {
@@ -333,14 +333,14 @@ void BisectionSolver::DoSolveStage(const LoadProblem& problem, const StageSystem
   if (bracketed) hi = lo, f_hi = f_lo;
   if (f_lo > 0.0) {
     hi = 0.0, f_hi = f_lo, lo = -1e-6;
-    for (int k = 0; !bracketed && k < 80 && outcome != StageSystem::Outcome::kNumerical; ++k, lo *= 2.0) {
+    for (int k = 0; !bracketed && k < 80 && outcome != ReducerSystem::Outcome::kNumerical; ++k, lo *= 2.0) {
       f_lo = moment(lo);
       if (f_lo <= 0.0) bracketed = true;
       else hi = lo, f_hi = f_lo;
       if (bracketed) break;
     }
   }
-  for (int k = 0; !bracketed && k < 80 && outcome != StageSystem::Outcome::kNumerical; ++k, hi *= 2.0) {
+  for (int k = 0; !bracketed && k < 80 && outcome != ReducerSystem::Outcome::kNumerical; ++k, hi *= 2.0) {
     f_hi = moment(hi);
     if (f_hi >= 0.0) bracketed = true;
     else lo = hi, f_lo = f_hi;
@@ -349,12 +349,12 @@ void BisectionSolver::DoSolveStage(const LoadProblem& problem, const StageSystem
   double x = hi, fx = f_hi;
   int side = 0;
   // The torque is balanced to the tolerance, or as closely as the arithmetic resolves the torque
-  // the stage returns (the gradient's rounding times R_p, StageSystem::Evaluation::rounding).
+  // the stage returns (the gradient's rounding times R_p, ReducerSystem::Evaluation::rounding).
   const auto balanced = [&](double miss) {
     return std::abs(miss) <= std::max(options.torque_tolerance * torque, last.rounding / scale);
   };
   while (bracketed && !balanced(fx) && evaluations < options.max_iterations &&
-         outcome != StageSystem::Outcome::kNumerical) {
+         outcome != ReducerSystem::Outcome::kNumerical) {
     if (!(hi - lo > 4.0 * std::numeric_limits<double>::epsilon() * std::abs(hi))) break;
     x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
     if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
@@ -369,18 +369,18 @@ void BisectionSolver::DoSolveStage(const LoadProblem& problem, const StageSystem
       side = -1;
     }
   }
-  if (!balanced(fx) && outcome == StageSystem::Outcome::kConverged) {
-    outcome = StageSystem::Outcome::kMaxIterations;
+  if (!balanced(fx) && outcome == ReducerSystem::Outcome::kConverged) {
+    outcome = ReducerSystem::Outcome::kMaxIterations;
   }
   if (x != q(psi) * scale) moment(x);  // the solution at the last trial
-  FinishStage(system, q, outcome, last, result);
+  FinishReducer(system, q, outcome, last, result);
   result->iterations = inner;
   result->torque_evaluations = evaluations;
   if (!bracketed) {
     result->status = SolverStatus::kMaxIterations;
     result->message = "no output rotation found at which the stage carries the torque";
   }
-  if (result->status == SolverStatus::kSuccess) KeepStageStart(system, q, workspace, "bisection-stage");
+  if (result->status == SolverStatus::kSuccess) KeepReducerStart(system, q, workspace, "bisection-stage");
 }
 
 }  // namespace ltca::solvers

@@ -15,12 +15,12 @@ class BisectionSolver final : public LoadSolver {
  public:
   std::string name() const override { return "bisection"; }
   bool supports_coupling() const override { return true; }
-  bool supports_stage() const override { return true; }
+  bool supports_reducer() const override { return true; }
 
  private:
   /// The stage: Liu's search on the output rotation; at each trial rotation every
   /// disc's translation and rotation (and the shafts' deflections) balance by Newton's method.
-  void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+  void DoSolveReducer(const LoadProblem& problem, const ReducerSystem& system, const SolverOptions& options,
                     Workspace& workspace, LoadResult* result) const override;
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                LoadResult* result) const override;

@@ -14,7 +14,7 @@
 #include <nlopt.hpp>
 
 #include "coupled_contact.hpp"
-#include "stage_system.hpp"
+#include "reducer_system.hpp"
 
 namespace ltca::solvers {
 namespace {
@@ -433,18 +433,18 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   }
 }
 
-void CompatibilitySolver::DoSolveStage(const LoadProblem&, const StageSystem& system, const SolverOptions& options,
+void CompatibilitySolver::DoSolveReducer(const LoadProblem&, const ReducerSystem& system, const SolverOptions& options,
                                        Workspace& workspace, LoadResult* result) const {
-  Eigen::VectorXd q = StageStart(system, workspace, "compatibility-stage");
-  StageSystem::Evaluation last;
+  Eigen::VectorXd q = ReducerStart(system, workspace, "compatibility-stage");
+  ReducerSystem::Evaluation last;
   int iterations = 0;
   std::vector<double> hints;  // the law inversions' warm starts, from one evaluation to the next
   const auto outcome = system.Minimise(&q, false, options.torque_tolerance, options.max_iterations, &hints,
                                        &iterations, &last);
-  FinishStage(system, q, outcome, last, result);
+  FinishReducer(system, q, outcome, last, result);
   result->iterations = iterations;
   result->torque_evaluations = iterations;
-  if (result->status == SolverStatus::kSuccess) KeepStageStart(system, q, workspace, "compatibility-stage");
+  if (result->status == SolverStatus::kSuccess) KeepReducerStart(system, q, workspace, "compatibility-stage");
 }
 
 }  // namespace ltca::solvers

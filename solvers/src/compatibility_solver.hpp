@@ -24,12 +24,12 @@ class CompatibilitySolver final : public LoadSolver {
  public:
   std::string name() const override { return "compatibility"; }
   bool supports_coupling() const override { return true; }
-  bool supports_stage() const override { return true; }
+  bool supports_reducer() const override { return true; }
 
  private:
   /// The stage: Newton's method with an active set over the poses (the contacts that
-  /// carry load at each iterate), damped to a trust region (StageSystem::Minimise).
-  void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+  /// carry load at each iterate), damped to a trust region (ReducerSystem::Minimise).
+  void DoSolveReducer(const LoadProblem& problem, const ReducerSystem& system, const SolverOptions& options,
                     Workspace& workspace, LoadResult* result) const override;
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                LoadResult* result) const override;

@@ -3,7 +3,7 @@
 #include <optional>
 
 #include "first_contact.hpp"
-#include "stage_system.hpp"
+#include "reducer_system.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -477,9 +477,9 @@ namespace {
 
 // The stage as Ipopt sees it: the total potential energy Pi(q) over the stage's dofs,
 // unconstrained (m = 0), with the exact gradient and Hessian (lower triangle, dense: a dozen dofs).
-class StageNlp final : public Ipopt::TNLP {
+class ReducerNlp final : public Ipopt::TNLP {
  public:
-  StageNlp(const StageSystem& system, Eigen::VectorXd start) : system_(system), x_(std::move(start)) {}
+  ReducerNlp(const ReducerSystem& system, Eigen::VectorXd start) : system_(system), x_(std::move(start)) {}
   const Eigen::VectorXd& solution() const { return x_; }
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override {
@@ -537,25 +537,25 @@ class StageNlp final : public Ipopt::TNLP {
     for (Index i = 0; i < n; ++i) q(i) = x[i];
     system_.Evaluate(q, hessian, &hints_, &eval_);
   }
-  const StageSystem& system_;
+  const ReducerSystem& system_;
   Eigen::VectorXd x_;
-  StageSystem::Evaluation eval_;
+  ReducerSystem::Evaluation eval_;
   std::vector<double> hints_;
 };
 
-struct StageIpoptState final : Workspace::BackendState {
+struct ReducerIpoptState final : Workspace::BackendState {
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app;
 };
 
 }  // namespace
 
-void EnergyQpSolver::DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+void EnergyQpSolver::DoSolveReducer(const LoadProblem& problem, const ReducerSystem& system, const SolverOptions& options,
                                   Workspace& workspace, LoadResult* result) const {
-  const Eigen::VectorXd start = StageStart(system, workspace, "energy-qp-stage-start");
+  const Eigen::VectorXd start = ReducerStart(system, workspace, "energy-qp-stage-start");
   std::unique_lock<std::mutex> lock(IpoptMutex());
-  auto* state = dynamic_cast<StageIpoptState*>(workspace.Backend("energy-qp-stage"));
+  auto* state = dynamic_cast<ReducerIpoptState*>(workspace.Backend("energy-qp-stage"));
   if (state == nullptr) {
-    state = static_cast<StageIpoptState*>(workspace.SetBackend("energy-qp-stage", std::make_unique<StageIpoptState>()));
+    state = static_cast<ReducerIpoptState*>(workspace.SetBackend("energy-qp-stage", std::make_unique<ReducerIpoptState>()));
     state->app = IpoptApplicationFactory();
     state->app->Options()->SetIntegerValue("print_level", 0);
     state->app->Options()->SetStringValue("sb", "yes");
@@ -567,18 +567,18 @@ void EnergyQpSolver::DoSolveStage(const LoadProblem& problem, const StageSystem&
   }
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = state->app;
   // Every gradient component is a force in N: Ipopt's tolerance on it is the torque tolerance
-  // times T / R_p, as the stage's other solvers (StageSystem::Minimise).
+  // times T / R_p, as the stage's other solvers (ReducerSystem::Minimise).
   const double force_scale = problem.torque() / problem.model().pair().pin_circle_radius;
   app->Options()->SetNumericValue("obj_scaling_factor", 1.0 / force_scale);
   app->Options()->SetStringValue("nlp_scaling_method", "none");
   app->Options()->SetNumericValue("tol", std::max(options.torque_tolerance, 1e-15));
   app->Options()->SetNumericValue("acceptable_tol", 1e-9);
   app->Options()->SetIntegerValue("max_iter", options.max_iterations);
-  Ipopt::SmartPtr<StageNlp> nlp = new StageNlp(system, start);
+  Ipopt::SmartPtr<ReducerNlp> nlp = new ReducerNlp(system, start);
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
   const int iterations = Ipopt::IsValid(app->Statistics()) ? app->Statistics()->IterationCount() : 0;
   lock.unlock();
-  StageSystem::Evaluation last;
+  ReducerSystem::Evaluation last;
   system.Evaluate(nlp->solution(), false, nullptr, &last);
   // Ipopt's verdict, or the balance itself: every gradient component within the torque tolerance's
   // force (T / R_p) or the gradient's rounding (Ipopt cannot go below that, and may say so with a
@@ -586,17 +586,17 @@ void EnergyQpSolver::DoSolveStage(const LoadProblem& problem, const StageSystem&
   const double force_tolerance = options.torque_tolerance * force_scale;
   const bool balanced = last.gradient.allFinite() && last.gradient.cwiseAbs().maxCoeff() <= std::max(force_tolerance, last.rounding);
   const SolverStatus mapped = balanced ? SolverStatus::kSuccess : MapStatus(status);
-  FinishStage(system, nlp->solution(),
-              mapped == SolverStatus::kSuccess ? StageSystem::Outcome::kConverged
-              : mapped == SolverStatus::kMaxIterations ? StageSystem::Outcome::kMaxIterations
-                                                        : StageSystem::Outcome::kNumerical,
+  FinishReducer(system, nlp->solution(),
+              mapped == SolverStatus::kSuccess ? ReducerSystem::Outcome::kConverged
+              : mapped == SolverStatus::kMaxIterations ? ReducerSystem::Outcome::kMaxIterations
+                                                        : ReducerSystem::Outcome::kNumerical,
               last, result);
   result->native_code = static_cast<int>(status);
   result->iterations = iterations;
   result->details["ipopt_iterations"] = iterations;
   if (result->status == SolverStatus::kSuccess) {
     result->message = fmt::format("Ipopt status {} after {} iterations", result->native_code, iterations);
-    KeepStageStart(system, nlp->solution(), workspace, "energy-qp-stage-start");
+    KeepReducerStart(system, nlp->solution(), workspace, "energy-qp-stage-start");
   }
 }
 

@@ -21,12 +21,12 @@ class EnergyQpSolver final : public LoadSolver {
  public:
   std::string name() const override { return "energy-qp"; }
   bool supports_coupling() const override { return true; }
-  bool supports_stage() const override { return true; }
+  bool supports_reducer() const override { return true; }
 
  private:
   /// The stage: Li's minimum-energy principle extended to the stage, the total
   /// potential energy over the poses and the output rotation, one convex program in Ipopt.
-  void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+  void DoSolveReducer(const LoadProblem& problem, const ReducerSystem& system, const SolverOptions& options,
                     Workspace& workspace, LoadResult* result) const override;
   // The Ipopt application and the warm start live in the workspace (Workspace::BackendState,
   // defined in the .cpp: Ipopt stays private), created on the first solve of each workspace.

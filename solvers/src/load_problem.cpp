@@ -212,7 +212,7 @@ LoadProblem LoadProblem::LinearisedOn(contact::MeshState state) const {
 }
 
 LoadProblem LoadProblem::Linearised() const {
-  if (coupling_ != nullptr || stage_ != nullptr) {
+  if (coupling_ != nullptr || reducer_ != nullptr) {
     throw std::logic_error("LoadProblem::Linearised: an uncoupled mesh problem expected");
   }
   LoadProblem out = *this;
@@ -319,10 +319,10 @@ LoadProblem LoadProblem::WithLawScales(const std::vector<double>& scales) const 
   return out;
 }
 
-LoadProblem LoadProblem::WithStage(std::shared_ptr<const StageSettings> stage) const {
+LoadProblem LoadProblem::WithReducer(std::shared_ptr<const ReducerSettings> stage) const {
   if (stage != nullptr) stage->Validate(model_->pair().eccentricity);
   LoadProblem out(*this);
-  out.stage_ = std::move(stage);
+  out.reducer_ = std::move(stage);
   return out;
 }
 
@@ -700,7 +700,7 @@ Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::ve
 
 Residuals ComputeResiduals(const LoadProblem& problem, double psi, const std::vector<double>& forces,
                            Workspace& workspace) {
-  if (problem.has_stage()) {
+  if (problem.has_reducer()) {
     // The pin-ring forces alone cannot show a stage's balance: judge the whole result.
     throw std::invalid_argument("ComputeResiduals: a stage problem is judged from its whole LoadResult "
                                 "(ComputeResiduals(problem, result))");

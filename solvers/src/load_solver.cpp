@@ -12,7 +12,7 @@
 #include "coupled_contact.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
-#include "stage_system.hpp"
+#include "reducer_system.hpp"
 
 namespace ltca::solvers {
 namespace {
@@ -90,13 +90,13 @@ void JudgeValidity(const LoadProblem& problem, const std::vector<const contact::
 // The output pins of a stage: the largest contact stress of a pin in its hole (the conformal law the
 // stage solves with, contact::OutputPinLaw) against the material's limit, named like the pin ring's.
 void JudgeOutputPins(const LoadProblem& problem, LoadResult* result) {
-  const StageSettings* stage = problem.stage();
-  if (stage == nullptr || stage->kind != OutputKind::kPins || !result->stage) return;
-  const contact::ContactLaw law = StageSystem::OutputPinLaw(problem);
+  const ReducerSettings* stage = problem.reducer();
+  if (stage == nullptr || stage->kind != OutputKind::kPins || !result->reducer) return;
+  const contact::ContactLaw law = ReducerSystem::OutputPinLaw(problem);
   double worst = 0.0;
   int worst_pin = -1, worst_disc = -1;
-  for (std::size_t d = 0; d < result->stage->discs.size(); ++d) {
-    const std::vector<double>& forces = result->stage->discs[d].output_force;
+  for (std::size_t d = 0; d < result->reducer->discs.size(); ++d) {
+    const std::vector<double>& forces = result->reducer->discs[d].output_force;
     for (std::size_t j = 0; j < forces.size(); ++j) {
       if (!(forces[j] > 0.0)) continue;
       const double p = law.MaxPressure(forces[j]);
@@ -127,7 +127,7 @@ const char* ToString(SolverStatus status) {
     case SolverStatus::kInterference: return "interference";
     case SolverStatus::kRotationOutOfRange: return "rotation-out-of-range";
     case SolverStatus::kCouplingUnsupported: return "coupling-unsupported";
-    case SolverStatus::kStageUnsupported: return "stage-unsupported";
+    case SolverStatus::kReducerUnsupported: return "stage-unsupported";
   }
   return "?";
 }
@@ -175,16 +175,16 @@ SolverOptions ApplyPreset(SolverOptions options, const std::string& preset) {
   throw std::invalid_argument(fmt::format("[solver] preset = \"{}\": expected \"liu2021\"", preset));
 }
 
-void LoadSolver::DoSolveStage(const LoadProblem&, const StageSystem&, const SolverOptions&, Workspace&,
+void LoadSolver::DoSolveReducer(const LoadProblem&, const ReducerSystem&, const SolverOptions&, Workspace&,
                               LoadResult* result) const {
-  result->status = SolverStatus::kStageUnsupported;
+  result->status = SolverStatus::kReducerUnsupported;
   result->message = fmt::format("solver \"{}\" does not solve the reducer stage", name());
 }
 
 // The shared part of a stage solve: the refusals, the zero torque, the backend, and the
-// judge of every balance (StageSystem::Judge). No range judge: the output rotation includes the
+// judge of every balance (ReducerSystem::Judge). No range judge: the output rotation includes the
 // mechanism's and the bearings' compliance, which the pin ring's single-pin bound does not see.
-Eigen::VectorXd LoadSolver::SolveStageExact(const LoadProblem& problem, const StageSystem& nominal,
+Eigen::VectorXd LoadSolver::SolveReducerExact(const LoadProblem& problem, const ReducerSystem& nominal,
                                             const SolverOptions& options, Workspace& workspace, LoadResult* result) const {
   // Exact kinematics (docs/stage.md): the stage linearised about the poses of the last
   // iterate, every element re-evaluated where the discs and the output member are, solved by the
@@ -200,8 +200,8 @@ Eigen::VectorXd LoadSolver::SolveStageExact(const LoadProblem& problem, const St
   for (int outer = 0; outer < kMaxOuter; ++outer) {
     LoadResult iterate;
     iterate.force.assign(static_cast<std::size_t>(problem.point_count()), 0.0);
-    const StageSystem system(problem, origin, nominal.coupled());
-    DoSolveStage(problem, system, options, workspace, &iterate);
+    const ReducerSystem system(problem, origin, nominal.coupled());
+    DoSolveReducer(problem, system, options, workspace, &iterate);
     iterate.iterations += result->iterations;
     iterate.torque_evaluations += result->torque_evaluations;
     if (iterate.status != SolverStatus::kSuccess) {
@@ -224,13 +224,13 @@ Eigen::VectorXd LoadSolver::SolveStageExact(const LoadProblem& problem, const St
   return origin;
 }
 
-void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+void LoadSolver::SolveReducer(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                             LoadResult* result) const {
   const LoadSolver& solver = *this;
-  if (!solver.supports_stage()) {
-    result->status = SolverStatus::kStageUnsupported;
+  if (!solver.supports_reducer()) {
+    result->status = SolverStatus::kReducerUnsupported;
     result->message = fmt::format("solver \"{}\" does not solve the reducer stage ([output]); solvers that do: "
-                                  "{} (docs/stage.md)", solver.name(), fmt::join(StageSolverNames(), ", "));
+                                  "{} (docs/stage.md)", solver.name(), fmt::join(ReducerSolverNames(), ", "));
   } else if (const std::string overlaps = contact::JamReport(problem.base_state(), problem.model().interference_tolerance());
              !overlaps.empty()) {
     result->status = SolverStatus::kInterference;
@@ -238,18 +238,18 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
   } else {
     // Pin bending: the coupled contact solver kept in the workspace (its analysis reused over a sweep).
     CoupledContact* coupled = problem.has_coupling() ? &CoupledContactFor(problem, workspace) : nullptr;
-    const StageSystem nominal(problem, coupled);
-    std::unique_ptr<StageSystem> judge;  // exact kinematics: the system about the reported poses
+    const ReducerSystem nominal(problem, coupled);
+    std::unique_ptr<ReducerSystem> judge;  // exact kinematics: the system about the reported poses
     if (problem.torque() == 0.0) {
       nominal.Fill(nominal.Zero(), result);
       result->status = SolverStatus::kSuccess;
       result->message = "zero torque: no rotation, no forces";
     } else if (problem.kinematics() != contact::ContactKinematics::kExact) {
-      solver.DoSolveStage(problem, nominal, options, workspace, result);
+      solver.DoSolveReducer(problem, nominal, options, workspace, result);
     } else {
-      judge = std::make_unique<StageSystem>(problem, SolveStageExact(problem, nominal, options, workspace, result), coupled);
+      judge = std::make_unique<ReducerSystem>(problem, SolveReducerExact(problem, nominal, options, workspace, result), coupled);
     }
-    if (std::isfinite(result->rotation) && result->stage) {
+    if (std::isfinite(result->rotation) && result->reducer) {
       (judge ? *judge : nominal).Judge(result);
       const double accepted = std::max(options.residual_tolerance, 2.0 * options.torque_tolerance);
       if (result->status == SolverStatus::kSuccess && !(result->residuals.Normalised() <= accepted)) {
@@ -274,20 +274,20 @@ void LoadSolver::SolveStage(const LoadProblem& problem, const SolverOptions& opt
   for (std::size_t i = 0; i < result->force.size(); ++i) {
     if (result->force[i] > 0.0) result->active.push_back(static_cast<int>(i));
   }
-  if (result->stage) {
-    for (const double e : result->stage->group_energy) result->energy += e;
+  if (result->reducer) {
+    for (const double e : result->reducer->group_energy) result->energy += e;
   }
 }
 
 Residuals ComputeResiduals(const LoadProblem& problem, const LoadResult& result) {
-  if (!problem.has_stage()) return ComputeResiduals(problem, result.rotation, result.force);
+  if (!problem.has_reducer()) return ComputeResiduals(problem, result.rotation, result.force);
   LoadResult judged = result;
-  const StageSystem nominal(problem);
+  const ReducerSystem nominal(problem);
   const Eigen::VectorXd reported = nominal.CoordinatesOf(result);
   if (problem.kinematics() == contact::ContactKinematics::kExact && reported.allFinite()) {
     // Exact kinematics: judged with the geometry at the poses the result reports (a result without
     // finite poses has nothing to judge: the nominal system's judge says so).
-    StageSystem(problem, reported).Judge(&judged);
+    ReducerSystem(problem, reported).Judge(&judged);
   } else {
     nominal.Judge(&judged);
   }
@@ -311,8 +311,8 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
   const auto start = std::chrono::steady_clock::now();
   LoadResult result;
   result.force.assign(static_cast<std::size_t>(problem.point_count()), 0.0);
-  if (problem.has_stage()) {
-    SolveStage(problem, options, workspace, &result);
+  if (problem.has_reducer()) {
+    SolveReducer(problem, options, workspace, &result);
     result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   }

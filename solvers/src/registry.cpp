@@ -37,10 +37,10 @@ std::vector<std::string> SolverNames() {
   return names;
 }
 
-std::vector<std::string> StageSolverNames() {
+std::vector<std::string> ReducerSolverNames() {
   std::vector<std::string> names;
   for (const Entry& e : Registry()) {
-    if (e.make()->supports_stage()) names.emplace_back(e.name);
+    if (e.make()->supports_reducer()) names.emplace_back(e.name);
   }
   return names;
 }

@@ -37,7 +37,7 @@
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/discrete_profile.hpp"
 #include "ltca/solvers/load_solver.hpp"
-#include "ltca/solvers/stage.hpp"
+#include "ltca/solvers/reducer.hpp"
 
 namespace {
 
@@ -150,7 +150,7 @@ TEST_CASE("app: a field the table binds to a setting defaults to the table's def
   ltca::analysis::OptimiseSettings optimise;
   ltca::contact::PinSupport pin_support;
   ltca::contact::PinSeat pin_seat;
-  ltca::solvers::StageSettings stage;
+  ltca::solvers::ReducerSettings reducer;
   ltca::contact::OutputPins output_pins;
   ltca::contact::Cranks cranks;
   ltca::contact::BearingSettings bearing;
@@ -163,7 +163,7 @@ TEST_CASE("app: a field the table binds to a setting defaults to the table's def
                                             .material = &material,
                                             .pin_support = &pin_support,
                                             .pin_seat = &pin_seat,
-                                            .stage = &stage,
+                                            .reducer = &reducer,
                                             .output_pins = &output_pins,
                                             .cranks = &cranks,
                                             .bearing = &bearing,
@@ -289,7 +289,7 @@ ltca::analysis::SettingsParts PartsOf(ltca::app::Deck& d) {
   if (d.material) p.material = &*d.material;
   if (d.pins) p.pin_support = &*d.pins;
   if (d.reducer) {
-    p.stage = &*d.reducer;
+    p.reducer = &*d.reducer;
     p.bearing = &d.reducer->bearing;
     if (d.reducer->kind == ltca::solvers::OutputKind::kPins) p.output_pins = &d.reducer->pins;
     else p.cranks = &d.reducer->cranks;

@@ -28,7 +28,7 @@ using ltca::contact::MeshModel;
 using ltca::solvers::LoadProblem;
 using ltca::solvers::LoadResult;
 using ltca::solvers::MakeSolver;
-using ltca::solvers::StageSolverNames;
+using ltca::solvers::ReducerSolverNames;
 using ltca::solvers::SolverOptions;
 using ltca::solvers::SolverStatus;
 
@@ -227,8 +227,8 @@ TEST_CASE("app: every solver agrees with bisection on the published decks, like 
             CHECK(other.status == SolverStatus::kCouplingUnsupported);  // refused, no numbers (docs/solvers.md)
             continue;
           }
-          if (problem.has_stage() && !MakeSolver(name)->supports_stage()) {
-            CHECK(other.status == SolverStatus::kStageUnsupported);  // refused, no numbers (docs/stage.md)
+          if (problem.has_reducer() && !MakeSolver(name)->supports_reducer()) {
+            CHECK(other.status == SolverStatus::kReducerUnsupported);  // refused, no numbers (docs/stage.md)
             CHECK(std::isnan(other.rotation));
             continue;
           }
@@ -312,22 +312,22 @@ TEST_CASE("app: on the stage decks the stage's solvers agree to 1e-9 arcsec with
         SolverOptions options;
         options.torque_tolerance = 1e-14;
         std::vector<double> rotations;
-        for (const std::string& solver : StageSolverNames()) {
+        for (const std::string& solver : ReducerSolverNames()) {
           CAPTURE(solver);
           options.name = solver;
           const auto r = MakeSolver(solver)->Solve(problem, options);
           INFO(r.message);
           REQUIRE(r.status == SolverStatus::kSuccess);
-          REQUIRE(r.stage.has_value());
-          CHECK(r.stage->force_balance_relative < 1e-9);
-          CHECK(r.stage->moment_balance_relative < 1e-9);
+          REQUIRE(r.reducer.has_value());
+          CHECK(r.reducer->force_balance_relative < 1e-9);
+          CHECK(r.reducer->moment_balance_relative < 1e-9);
           CHECK(ltca::solvers::ComputeResiduals(problem, r).Normalised() < 1e-9);
           rotations.push_back(r.rotation);
         }
         for (const double x : rotations) CHECK(std::abs(ltca::units::RadToArcsec(x - rotations[0])) < 1e-9);
         options.name = "energy-groups";
         const auto refused = MakeSolver("energy-groups")->Solve(problem, options);
-        CHECK(refused.status == SolverStatus::kStageUnsupported);
+        CHECK(refused.status == SolverStatus::kReducerUnsupported);
         CHECK(std::isnan(refused.te));
       }
     }

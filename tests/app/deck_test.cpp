@@ -707,7 +707,7 @@ radial_clearance_mm = 0.005
   CHECK(deck.reducer->pins.phase == doctest::Approx(ltca::units::DegToRad(22.5)).epsilon(1e-15));
   CHECK(deck.reducer->bearing.kind == ltca::contact::BearingKind::kRollers);
   CHECK(deck.Model().name == "plane+stage");
-  CHECK(deck.Model().stage == "pins+rollers bearing");
+  CHECK(deck.Model().reducer == "pins+rollers bearing");
   // Without [output] the model is the mesh alone.
   CHECK(!ParseDeck(kGood, "t.toml").reducer.has_value());
   CHECK(Contains(ErrorOf(std::string(kGood) + "[bearing]\nkind = \"linear\"\nradial_stiffness_n_per_mm = 1e5\n"),

@@ -124,7 +124,7 @@ PATH_NOTES = (" (limited by the resolution of the rotation in double precision)"
 # what the recording holds.
 REWORDED = {
     # The refusal of a solver that does not solve the reducer stage lists the solvers that do from
-    # the registry (solvers::StageSolverNames, registry order) where a hand-written list had them in
+    # the registry (solvers::ReducerSolverNames, registry order) where a hand-written list had them in
     # another order: same solvers, same words.
     'solver "energy-groups" does not solve the reducer stage ([output]); solvers that do: bisection, energy-qp, '
     'compatibility (docs/stage.md)':

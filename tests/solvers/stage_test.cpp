@@ -1,4 +1,4 @@
-// The reducer stage of issue 25 (ltca/solvers/stage.hpp). Independent references: the stage's
+// The reducer stage of issue 25 (ltca/solvers/reducer.hpp). Independent references: the stage's
 // stiffness matrix assembled here from the contact layer's normals, arms and gaps and solved
 // directly (Eigen), the textbook load share of the W mechanism, and the free play that clearances
 // give (their rotation at vanishing load).
@@ -14,7 +14,7 @@
 #include "ltca/contact/output_pins.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
-#include "ltca/solvers/stage.hpp"
+#include "ltca/solvers/reducer.hpp"
 #include "pairs.hpp"
 #include "problems.hpp"
 
@@ -25,8 +25,8 @@ using ltca::solvers::LoadProblem;
 using ltca::solvers::LoadResult;
 using ltca::solvers::OutputKind;
 using ltca::solvers::SolverStatus;
-using ltca::solvers::StageSettings;
-using ltca::solvers::StageSolverNames;
+using ltca::solvers::ReducerSettings;
+using ltca::solvers::ReducerSolverNames;
 
 using ModelPtr = std::shared_ptr<const ltca::contact::MeshModel>;
 
@@ -37,8 +37,8 @@ ModelPtr PerfectLiu() {
 }
 
 /// Eight output pins r_w 5 mm on R_w 40 mm, holes e + clearance larger; an eccentric bearing.
-StageSettings Pins(double clearance, BearingKind bearing) {
-  StageSettings s;
+ReducerSettings Pins(double clearance, BearingKind bearing) {
+  ReducerSettings s;
   s.kind = OutputKind::kPins;
   s.pins.count = 8;
   s.pins.pin_radius = 5.0;
@@ -50,8 +50,8 @@ StageSettings Pins(double clearance, BearingKind bearing) {
 }
 
 /// Three crankshafts on R_c 45 mm in linear needle bearings, shafts of 1e5 N/mm.
-StageSettings Cranks(double bearing_clearance) {
-  StageSettings s;
+ReducerSettings Cranks(double bearing_clearance) {
+  ReducerSettings s;
   s.kind = OutputKind::kCranks;
   s.cranks.count = 3;
   s.cranks.circle_radius = 45.0;
@@ -63,7 +63,7 @@ StageSettings Cranks(double bearing_clearance) {
   return s;
 }
 
-LoadProblem Problem(const StageSettings& stage, double crank, double torque, bool two_discs,
+LoadProblem Problem(const ReducerSettings& stage, double crank, double torque, bool two_discs,
                     const ltca::contact::PinSeat& seat = {},
                     ltca::contact::ContactKinematics kinematics = ltca::contact::ContactKinematics::kLinearised) {
   const ModelPtr model = PerfectLiu();
@@ -71,7 +71,7 @@ LoadProblem Problem(const StageSettings& stage, double crank, double torque, boo
   law.seat = seat;
   const LoadProblem mesh = two_discs ? LoadProblem(model, model, crank, law, {}, torque, kinematics)
                                      : LoadProblem(model, crank, law, {}, torque, kinematics);
-  return mesh.WithStage(std::make_shared<const StageSettings>(stage));
+  return mesh.WithReducer(std::make_shared<const ReducerSettings>(stage));
 }
 
 /// One element of the hand-assembled network: approach a . q - c, force k (a . q - c) when closed.
@@ -133,7 +133,7 @@ void AddPinRing(const LoadProblem& problem, int dofs, Network* net, double stiff
 
 /// One disc at `crank` on a linear eccentric bearing, the pin ring's springs of `ring` N/mm per mm,
 /// the output pins' of the law's (12 mm of contact).
-Network CycloidalDrive(const LoadProblem& problem, const StageSettings& stage, double crank, double ring) {
+Network CycloidalDrive(const LoadProblem& problem, const ReducerSettings& stage, double crank, double ring) {
   Network net;
   net.dofs = 4;
   AddPinRing(problem, 4, &net, ring);
@@ -159,7 +159,7 @@ void CheckForces(const Network& net, const Eigen::VectorXd& q, const LoadResult&
   for (const Spring& s : net.springs) {
     const double f = s.k * std::max(0.0, s.a.dot(q) - s.gap);
     const double got = s.kind == 0 ? r.force[static_cast<std::size_t>(s.index)]
-                                   : r.stage->discs[0].output_force[static_cast<std::size_t>(s.index)];
+                                   : r.reducer->discs[0].output_force[static_cast<std::size_t>(s.index)];
     CHECK(std::abs(got - f) <= 1e-9 * scale);
   }
 }
@@ -169,7 +169,7 @@ using ltca::test::SolveTight;
 double MaxForce(const LoadResult& r) {
   double f = 0.0;
   for (const double x : r.force) f = std::max(f, x);
-  for (const auto& d : r.stage->discs) {
+  for (const auto& d : r.reducer->discs) {
     for (const double x : d.output_force) f = std::max(f, x);
   }
   return f;
@@ -182,25 +182,25 @@ TEST_CASE("solvers: a cycloidal drive with linear laws and no clearance is the l
   // 2e5 N/mm, T = 206 N*m. Every force and the output rotation against the network assembled
   // here, 1e-9 relative to the largest force (rotation: relative).
   const double crank = 0.3, torque = 2.06e5;
-  const StageSettings stage = Pins(0.0, BearingKind::kLinear);
+  const ReducerSettings stage = Pins(0.0, BearingKind::kLinear);
   const LoadProblem problem = Problem(stage, crank, torque, false);
   REQUIRE(problem.model().load_direction() == 1.0);
   const Network net = CycloidalDrive(problem, stage, crank, kLawStiffness);
   const Eigen::VectorXd q = net.Solve(torque);
-  for (const std::string& name : StageSolverNames()) {
+  for (const std::string& name : ReducerSolverNames()) {
     CAPTURE(name);
     const LoadResult r = SolveTight(name, problem);
     INFO(r.message);
     REQUIRE(r.status == SolverStatus::kSuccess);
-    REQUIRE(r.stage.has_value());
+    REQUIRE(r.reducer.has_value());
     const double scale = MaxForce(r);
     CHECK(r.rotation == doctest::Approx(q(3)).epsilon(1e-9));
-    CHECK(r.stage->discs[0].rotation == doctest::Approx(q(2)).epsilon(1e-9));
-    CHECK(std::abs(r.stage->discs[0].translation.x() - q(0)) < 1e-9 * std::abs(q(0)) + 1e-15);
+    CHECK(r.reducer->discs[0].rotation == doctest::Approx(q(2)).epsilon(1e-9));
+    CHECK(std::abs(r.reducer->discs[0].translation.x() - q(0)) < 1e-9 * std::abs(q(0)) + 1e-15);
     CheckForces(net, q, r, scale);
     // The bearing's force is k |t| against the translation.
     const Eigen::Vector2d t(q(0), q(1));
-    CHECK((r.stage->discs[0].bearing_force[0] + stage.bearing.radial_stiffness * t).norm() <= 1e-9 * scale);
+    CHECK((r.reducer->discs[0].bearing_force[0] + stage.bearing.radial_stiffness * t).norm() <= 1e-9 * scale);
     CHECK(r.residuals.balance_relative < 1e-9);
   }
 }
@@ -214,11 +214,11 @@ TEST_CASE("solvers: seated pins are springs in series with their contacts; the b
   ltca::contact::PinSeat seat;
   seat.kind = ltca::contact::PinSeat::Kind::kLinear;
   seat.stiffness_per_length = ks;
-  const StageSettings stage = Pins(0.0, BearingKind::kLinear);
+  const ReducerSettings stage = Pins(0.0, BearingKind::kLinear);
   const LoadProblem problem = Problem(stage, crank, torque, false, seat);
   const Network net = CycloidalDrive(problem, stage, crank, kLawStiffness * ks / (kLawStiffness + ks));
   const Eigen::VectorXd q = net.Solve(torque);
-  for (const std::string& name : StageSolverNames()) {
+  for (const std::string& name : ReducerSolverNames()) {
     CAPTURE(name);
     const LoadResult r = SolveTight(name, problem);
     INFO(r.message);
@@ -226,7 +226,7 @@ TEST_CASE("solvers: seated pins are springs in series with their contacts; the b
     const double scale = MaxForce(r);
     CHECK(r.rotation == doctest::Approx(q(3)).epsilon(1e-9));
     CheckForces(net, q, r, scale);
-    const auto& e = r.stage->group_energy;
+    const auto& e = r.reducer->group_energy;
     const double seats = e[static_cast<std::size_t>(ltca::solvers::StageGroup::kSeats)];
     const double mesh = e[static_cast<std::size_t>(ltca::solvers::StageGroup::kMesh)];
     CHECK(seats / (seats + mesh) == doctest::Approx(kLawStiffness / (kLawStiffness + ks)).epsilon(1e-9));
@@ -244,7 +244,7 @@ TEST_CASE("solvers: pin bending in the stage is the network with the pin ring's 
   // until they repeat (a pin leaves A when its force is negative, enters when its approach
   // exceeds its beam deflection (C F)_i). Every force and the rotation to 1e-9.
   const double crank = 0.3, torque = 2.06e5, c = 5e-6;
-  const StageSettings stage = Pins(0.0, BearingKind::kLinear);
+  const ReducerSettings stage = Pins(0.0, BearingKind::kLinear);
   const LoadProblem plain = Problem(stage, crank, torque, false);
   const int n = plain.point_count();
   std::vector<Eigen::Triplet<double>> entries;
@@ -315,23 +315,23 @@ TEST_CASE("solvers: pin bending in the stage is the network with the pin ring's 
     }
   }
   REQUIRE(settled);
-  for (const std::string& name : StageSolverNames()) {
+  for (const std::string& name : ReducerSolverNames()) {
     CAPTURE(name);
     const LoadResult r = SolveTight(name, problem);
     INFO(r.message);
     REQUIRE(r.status == SolverStatus::kSuccess);
-    REQUIRE(r.stage.has_value());
+    REQUIRE(r.reducer.has_value());
     const double scale = MaxForce(r);
     CHECK(r.rotation == doctest::Approx(q(3)).epsilon(1e-9));
-    CHECK(r.stage->discs[0].rotation == doctest::Approx(q(2)).epsilon(1e-9));
+    CHECK(r.reducer->discs[0].rotation == doctest::Approx(q(2)).epsilon(1e-9));
     for (int i = 0; i < n; ++i) CHECK(std::abs(r.force[static_cast<std::size_t>(i)] - force(i)) <= 1e-9 * scale);
     for (const int j : output) {
       const Spring& s = net.springs[static_cast<std::size_t>(j)];
-      CHECK(std::abs(r.stage->discs[0].output_force[static_cast<std::size_t>(s.index)] - s.k * std::max(0.0, s.a.dot(q) - s.gap)) <=
+      CHECK(std::abs(r.reducer->discs[0].output_force[static_cast<std::size_t>(s.index)] - s.k * std::max(0.0, s.a.dot(q) - s.gap)) <=
             1e-9 * scale);
     }
     // The beams hold F^T C F / 2 of the strain energy.
-    const double bending = r.stage->group_energy[static_cast<std::size_t>(ltca::solvers::StageGroup::kPinBending)];
+    const double bending = r.reducer->group_energy[static_cast<std::size_t>(ltca::solvers::StageGroup::kPinBending)];
     CHECK(bending == doctest::Approx(0.5 * force.dot(cd * force)).epsilon(1e-9));
     CHECK(r.residuals.Normalised() < 1e-9);
   }
@@ -345,7 +345,7 @@ TEST_CASE("solvers: an RV stage of two discs on three cranks with linear laws is
   // displacement, assembled here against the solver's separate shaft unknowns. Crank 0.3 rad,
   // T = 412 N*m.
   const double crank = 0.3, torque = 4.12e5;
-  const StageSettings stage = Cranks(0.0);
+  const ReducerSettings stage = Cranks(0.0);
   const LoadProblem problem = Problem(stage, crank, torque, true);
   Network net;
   net.dofs = 7;
@@ -364,7 +364,7 @@ TEST_CASE("solvers: an RV stage of two discs on three cranks with linear laws is
     }
   }
   const Eigen::VectorXd q = net.Solve(torque);
-  for (const std::string& name : StageSolverNames()) {
+  for (const std::string& name : ReducerSolverNames()) {
     CAPTURE(name);
     const LoadResult r = SolveTight(name, problem);
     INFO(r.message);
@@ -372,7 +372,7 @@ TEST_CASE("solvers: an RV stage of two discs on three cranks with linear laws is
     const double scale = MaxForce(r);
     CHECK(r.rotation == doctest::Approx(q(6)).epsilon(1e-9));
     for (int d = 0; d < 2; ++d) {
-      CHECK(r.stage->discs[static_cast<std::size_t>(d)].rotation == doctest::Approx(q(3 * d + 2)).epsilon(1e-9));
+      CHECK(r.reducer->discs[static_cast<std::size_t>(d)].rotation == doctest::Approx(q(3 * d + 2)).epsilon(1e-9));
     }
     for (const Spring& s : net.springs) {
       const double f = s.k * std::max(0.0, s.a.dot(q) - s.gap);
@@ -398,12 +398,12 @@ TEST_CASE("solvers: the W mechanism with the disc centre held: F_j = T sin a_j /
       sine[static_cast<std::size_t>(j)] = std::sin(2.0 * ltca::units::kPi * j / 8 + out - crank);
       if (sine[static_cast<std::size_t>(j)] > 0.0) sum += sine[static_cast<std::size_t>(j)] * sine[static_cast<std::size_t>(j)];
     }
-    for (const std::string& name : StageSolverNames()) {
+    for (const std::string& name : ReducerSolverNames()) {
       CAPTURE(name);
       const LoadResult r = ltca::test::SolveWith(name, problem);
       INFO(r.message);
     REQUIRE(r.status == SolverStatus::kSuccess);
-      const auto& disc = r.stage->discs[0];
+      const auto& disc = r.reducer->discs[0];
       CHECK(disc.translation.norm() == 0.0);
       for (int j = 0; j < 8; ++j) {
         const double s = sine[static_cast<std::size_t>(j)];
@@ -432,7 +432,7 @@ TEST_CASE("solvers: a clearance in the holes or the crank bearings is free play:
     REQUIRE(r.status == SolverStatus::kSuccess);
     CHECK(r.rotation == doctest::Approx(c / (40.0 * s_max)).epsilon(1e-4));
     int loaded = 0;
-    for (const double f : r.stage->discs[0].output_force) loaded += f > 0.0 ? 1 : 0;
+    for (const double f : r.reducer->discs[0].output_force) loaded += f > 0.0 ? 1 : 0;
     CHECK(loaded == 1);
     CHECK(r.residuals.Normalised() < 1e-9);
   }
@@ -451,7 +451,7 @@ TEST_CASE("solvers: the stage's solvers agree on a cycloidal drive with Hertz co
   // eccentric bearing (l = 10 mm) with 5 um of play, T = 206 N*m, three cranks. Solvers agree to
   // 1e-9 arcsec on the output rotation; energy-groups refuses with its status.
   const auto paper = ltca::test::LiuTable1();
-  StageSettings stage = Pins(0.02, BearingKind::kRollers);
+  ReducerSettings stage = Pins(0.02, BearingKind::kRollers);
   stage.bearing.roller_count = 14;
   stage.bearing.roller_diameter = 8.0;
   stage.bearing.roller_length = 10.0;
@@ -459,11 +459,11 @@ TEST_CASE("solvers: the stage's solvers agree on a cycloidal drive with Hertz co
   for (const double crank : {0.0, 0.11, 0.5}) {
     CAPTURE(crank);
     const LoadProblem problem = paper.Problem(crank, ltca::contact::ContactKinematics::kLinearised)
-                                    .WithStage(std::make_shared<const StageSettings>(stage));
+                                    .WithReducer(std::make_shared<const ReducerSettings>(stage));
     ltca::solvers::SolverOptions options;
     options.torque_tolerance = 1e-14;
     std::vector<double> rotations;
-    for (const std::string& name : StageSolverNames()) {
+    for (const std::string& name : ReducerSolverNames()) {
       CAPTURE(name);
       options.name = name;
       const LoadResult r = ltca::solvers::MakeSolver(name)->Solve(problem, options);
@@ -474,11 +474,11 @@ TEST_CASE("solvers: the stage's solvers agree on a cycloidal drive with Hertz co
     }
     for (const double x : rotations) CHECK(std::abs(ltca::units::RadToArcsec(x - rotations[0])) < 1e-9);
     const LoadResult refused = ltca::test::SolveWith("energy-groups", problem);
-    CHECK(refused.status == SolverStatus::kStageUnsupported);
+    CHECK(refused.status == SolverStatus::kReducerUnsupported);
     CHECK(std::isnan(refused.rotation));
     // The refusal names the solvers that do solve the stage, as the registry lists them.
-    REQUIRE(!StageSolverNames().empty());
-    for (const std::string& name : StageSolverNames()) CHECK(refused.message.find(name) != std::string::npos);
+    REQUIRE(!ReducerSolverNames().empty());
+    for (const std::string& name : ReducerSolverNames()) CHECK(refused.message.find(name) != std::string::npos);
     CHECK(refused.message.find("energy-groups", refused.message.find("solvers that do")) == std::string::npos);
   }
 }
@@ -498,13 +498,13 @@ TEST_CASE("solvers: the stage's output pins bear as a cylinder in a hole under e
   for (const bool absolute : {false, true}) {
     CAPTURE(absolute);
     const auto paper = absolute ? ltca::test::LiuTable1Absolute() : ltca::test::LiuTable1();
-    StageSettings stage = Pins(0.02, BearingKind::kRollers);
+    ReducerSettings stage = Pins(0.02, BearingKind::kRollers);
     stage.bearing.roller_count = 14;
     stage.bearing.roller_diameter = 8.0;
     stage.bearing.roller_length = 10.0;
     stage.bearing.radial_clearance = 0.005;
     const LoadProblem problem = paper.Problem(0.11, ltca::contact::ContactKinematics::kLinearised)
-                                    .WithStage(std::make_shared<const StageSettings>(stage));
+                                    .WithReducer(std::make_shared<const ReducerSettings>(stage));
     const LoadResult r = SolveTight("compatibility", problem);
     INFO(r.message);
     REQUIRE(r.status == SolverStatus::kSuccess);
@@ -514,7 +514,7 @@ TEST_CASE("solvers: the stage's output pins bear as a cylinder in a hole under e
     const double a = c * (std::log(4.0 * rw / b1) - 0.5) + c * (std::log(4.0 * rh / b1) - 0.5);
     double energy = 0.0;
     int loaded = 0;
-    for (const double f : r.stage->discs[0].output_force) {
+    for (const double f : r.reducer->discs[0].output_force) {
       if (!(f > 0.0)) continue;
       ++loaded;
       const double b = b1 * std::sqrt(f);
@@ -524,7 +524,7 @@ TEST_CASE("solvers: the stage's output pins bear as a cylinder in a hole under e
       energy += f * delta - complementary;
     }
     CHECK(loaded >= 2);
-    const double output = r.stage->group_energy[static_cast<std::size_t>(ltca::solvers::StageGroup::kOutput)];
+    const double output = r.reducer->group_energy[static_cast<std::size_t>(ltca::solvers::StageGroup::kOutput)];
     CHECK(output == doctest::Approx(energy).epsilon(1e-9));
   }
 }
@@ -537,12 +537,12 @@ TEST_CASE("solvers: crank holes all displaced tangentially by dt turn the carrie
   // second-order term of the moved holes' arms for the disc's own rotation: (dt / R_c = 1.4e-4)
   // times that rotation (~1e-4 rad), about 1e-8 of the forces. dt = 5 um; 1e-7 relative.
   const double crank = 0.3, dt = 0.005;
-  StageSettings stage = Cranks(0.0);
+  ReducerSettings stage = Cranks(0.0);
   const LoadProblem plain = Problem(stage, crank, 4.12e5, true);
   stage.cranks.hole_deviation.assign(3, Eigen::Vector2d(0.0, dt));
   const LoadProblem moved = Problem(stage, crank, 4.12e5, true);
   REQUIRE(plain.model().load_direction() == 1.0);  // the problem's frame is counterclockwise
-  for (const std::string& name : StageSolverNames()) {
+  for (const std::string& name : ReducerSolverNames()) {
     CAPTURE(name);
     const LoadResult a = SolveTight(name, plain), b = SolveTight(name, moved);
     REQUIRE(a.status == SolverStatus::kSuccess);
@@ -558,7 +558,7 @@ TEST_CASE("solvers: a cycloidal drive with displaced holes is the linear network
   // and normals from contact/output_pins, whose geometry tests/contact checks against the hand
   // formula): the deviations reach the stage's balance.
   const double crank = 0.3, torque = 2.06e5;
-  StageSettings stage = Pins(0.0, BearingKind::kLinear);
+  ReducerSettings stage = Pins(0.0, BearingKind::kLinear);
   stage.pins.hole_deviation.assign(8, Eigen::Vector2d::Zero());
   stage.pins.hole_deviation[1] = Eigen::Vector2d(0.008, 0.0);
   stage.pins.hole_deviation[4] = Eigen::Vector2d(0.0, -0.006);
@@ -584,8 +584,8 @@ TEST_CASE("solvers: exact kinematics: holes turned by beta in the disc are the p
   const auto exact = ltca::contact::ContactKinematics::kExact;
   for (const bool cranks : {false, true}) {
     CAPTURE(cranks);
-    StageSettings a = cranks ? Cranks(0.0) : Pins(0.01, BearingKind::kLinear);
-    StageSettings b = a;
+    ReducerSettings a = cranks ? Cranks(0.0) : Pins(0.01, BearingKind::kLinear);
+    ReducerSettings b = a;
     (cranks ? a.cranks.phase : a.pins.phase) += beta;
     const double radius = cranks ? b.cranks.circle_radius : b.pins.circle_radius;
     const int count = cranks ? b.cranks.count : b.pins.count;
@@ -594,7 +594,7 @@ TEST_CASE("solvers: exact kinematics: holes turned by beta in the disc are the p
     const double torque = cranks ? 4.12e5 : 2.06e5;
     const LoadProblem pa = Problem(a, crank, torque, cranks, {}, exact), pb = Problem(b, crank, torque, cranks, {}, exact);
     REQUIRE(pa.model().load_direction() == 1.0);  // the problem's frame is counterclockwise
-    for (const std::string& name : StageSolverNames()) {
+    for (const std::string& name : ReducerSolverNames()) {
       CAPTURE(name);
       const LoadResult ra = SolveTight(name, pa), rb = SolveTight(name, pb);
       INFO(ra.message, " / ", rb.message);

@@ -65,7 +65,7 @@ std::optional<std::pair<double, bool>> LoadedFigure(const NominalResults& r, con
   const bool stage = f == kMaxOutputPinForceN || f == kMaxBearingLoadN || f == kShortestL10Hours;
   const bool sweep = f == kMeanTeArcsec || f == kPpTeArcsec || f == kMaxContactStressMpa || f == kMaxPinForceN ||
                      f == kContactsMin || f == kContactsMax;
-  if (r.solve == nullptr || (!sweep && !(stage && r.reducer && r.solve->stage))) return std::nullopt;
+  if (r.solve == nullptr || (!sweep && !(stage && r.reducer && r.solve->reducer))) return std::nullopt;
   if (f == kShortestL10Hours) return std::pair{r.solve->bearing_life.value_or(BearingLife{}).ShortestHours(), true};
   ToleranceFigures figures;
   figures.fill(kNoValue);
@@ -140,7 +140,7 @@ std::vector<AllowableRow> CheckAllowables(const NominalResults& r, const Allowab
   if (r.efficiency != nullptr && !listed("efficiency")) {  // the sweep's efficiency (full model)
     rows.push_back(Judge("efficiency", FiniteOrNaN(r.efficiency->efficiency), "ltca efficiency"));
   }
-  if (r.reducer && r.solve != nullptr && r.solve->stage && !listed("shortest_l10_hours")) {  // the stage's bearings
+  if (r.reducer && r.solve != nullptr && r.solve->reducer && !listed("shortest_l10_hours")) {  // the stage's bearings
     const BearingLife life = r.solve->bearing_life.value_or(BearingLife{});
     rows.push_back(Judge("stage.shortest_l10_hours", life.ShortestHours(), "ltca solve, ISO 281 (" + life.basis + ")"));
     rows.back().name = "shortest bearing L10 (h)";

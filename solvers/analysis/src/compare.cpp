@@ -27,7 +27,7 @@ SolverSelection SelectSolvers(const std::vector<std::string>& asked, bool reduce
   SolverSelection selection;
   for (const auto& name : asked) {
     const std::unique_ptr<solvers::LoadSolver> solver = solvers::MakeSolver(name);
-    if (reducer && !solver->supports_stage()) {
+    if (reducer && !solver->supports_reducer()) {
       selection.skipped.push_back({name, "does not solve the reducer stage ([output]; docs/stage.md)"});
     } else {
       selection.run.push_back(name);

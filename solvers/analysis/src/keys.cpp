@@ -28,7 +28,7 @@
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/registry.hpp"
-#include "ltca/solvers/stage.hpp"
+#include "ltca/solvers/reducer.hpp"
 
 namespace ltca::analysis {
 namespace {
@@ -247,7 +247,7 @@ const std::vector<DeckKey> kKeys = {
     {.section = "output", .name = "kind", .type = T::kText, .unit = "",
      .meaning = "pins (output pins in holes of the disc) | cranks (crankshafts in crank holes, RV)", .default_value = "",
      .choices = "pins | cranks",
-     .setting = LTCA_CHOICE(stage, kind, Output::kPins, Output::kCranks), .required = true},
+     .setting = LTCA_CHOICE(reducer, kind, Output::kPins, Output::kCranks), .required = true},
     {.section = "output", .name = "count", .type = T::kInteger, .unit = "", .meaning = "output pins or crankshafts",
      .default_value = "",
      .setting = LTCA_OUTPUT(count)},

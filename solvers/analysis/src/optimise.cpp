@@ -307,8 +307,8 @@ void OptimiseSettings::Validate() {
   for (OptimiseVariable& v : variables) {
     const std::size_t dot = v.key.find('.');
     const DeckKey* k = dot == std::string::npos ? nullptr : FindKey(v.key.substr(0, dot), v.key.substr(dot + 1));
-    solvers::StageSettings any;  // only asks whether the key is one of the stage's clearances
-    if (k == nullptr || (k->real == nullptr && StageClearance(any, v.key) == nullptr)) {
+    solvers::ReducerSettings any;  // only asks whether the key is one of the stage's clearances
+    if (k == nullptr || (k->real == nullptr && ReducerClearance(any, v.key) == nullptr)) {
       throw std::invalid_argument(fmt::format(
           "[optimise] variables.\"{}\": expected a real key of [modification] or [errors], or a clearance of the "
           "stage (\"bearing.radial_clearance_mm\", \"output.hole_radius_mm\", \"output.pin_radius_mm\"), as "
@@ -416,7 +416,7 @@ Optimiser::Optimiser(ToleranceCase nominal, SolverOptions options, OptimiseSetti
     for (const std::string& name : named) {
       const int f = FigureIndex(name);
       // A variable's key (-1) and the efficiency's figures (beyond the tolerance table) are not a stage's.
-      if (f < 0 || f >= static_cast<int>(kToleranceFigureCount) || StageHasFigure(r, static_cast<std::size_t>(f))) continue;
+      if (f < 0 || f >= static_cast<int>(kToleranceFigureCount) || ReducerHasFigure(r, static_cast<std::size_t>(f))) continue;
       throw std::invalid_argument(fmt::format("[optimise] {}: a figure of a reducer stage{}; expected an [output] section{} "
                                               "(docs/stage.md)",
                                               name, r ? " with output pins" : "", r ? " with kind = \"pins\"" : ""));
@@ -440,7 +440,7 @@ ToleranceCase Optimiser::Apply(const std::vector<double>& x) const {
   for (std::size_t j = 0; j < x.size(); ++j) {
     const DeckKey& k = *settings_.variables[j].deck_key;
     if (k.real == nullptr) {  // a clearance of the reducer stage, one for the stage (Validate, the constructor)
-      *StageClearance(*d.reducer, settings_.variables[j].key) = k.ToInternal(x[j]);
+      *ReducerClearance(*d.reducer, settings_.variables[j].key) = k.ToInternal(x[j]);
       continue;
     }
     *k.real({&d.modification, &d.errors, &d.assembly}) = k.ToInternal(x[j]);

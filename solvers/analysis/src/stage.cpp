@@ -54,14 +54,14 @@ bool StageDesign::SecondDiscIsFirst() const {
   return s.indexing_deviation == 0.0 && same_modification && same_errors && same_assembly;
 }
 
-double* StageClearance(solvers::StageSettings& stage, std::string_view key) {
+double* ReducerClearance(solvers::ReducerSettings& stage, std::string_view key) {
   if (key == "bearing.radial_clearance_mm") return &stage.bearing.radial_clearance;
   if (key == "output.hole_radius_mm") return &stage.pins.hole_radius;
   if (key == "output.pin_radius_mm") return &stage.pins.pin_radius;
   return nullptr;
 }
 
-std::string StageClearanceRefusal(const std::optional<solvers::StageSettings>& stage, std::string_view key) {
+std::string StageClearanceRefusal(const std::optional<solvers::ReducerSettings>& stage, std::string_view key) {
   if (!stage) return "the deck has no reducer stage; expected an [output] section (docs/stage.md)";
   if (key.starts_with("output.") && stage->kind != solvers::OutputKind::kPins) {
     return "expected [output] kind = \"pins\" (crankshafts have no output pins in holes; their play is [bearing] "
@@ -95,7 +95,7 @@ ModelInfo StageDesign::Model() const {
     m.name += "+two-discs";
   }
   if (reducer) {  // the output mechanism and the bearings
-    m.stage = fmt::format("{}+{} bearing", solvers::ToString(reducer->kind), contact::ToString(reducer->bearing.kind));
+    m.reducer = fmt::format("{}+{} bearing", solvers::ToString(reducer->kind), contact::ToString(reducer->bearing.kind));
     m.name += "+stage";
   }
   return m;
@@ -106,7 +106,7 @@ Stage::Stage(StageDesign design, std::vector<double> cranks)
   const StageDesign& d = *design_;
   if (d.reducer) {
     d.reducer->Validate(d.pair.eccentricity);
-    reducer_ = std::make_shared<const solvers::StageSettings>(*d.reducer);
+    reducer_ = std::make_shared<const solvers::ReducerSettings>(*d.reducer);
   }
   first_ = std::make_shared<const contact::MeshModel>(d.MakeModel());
   if (d.second_disc) {
@@ -215,10 +215,10 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
   const StageDesign& d = *design_;
   if (second_) {
     const solvers::LoadProblem both(first_, second_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics);
-    return reducer_ ? both.WithStage(reducer_) : both;
+    return reducer_ ? both.WithReducer(reducer_) : both;
   }
   solvers::LoadProblem problem(first_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics);
-  if (reducer_) problem = problem.WithStage(reducer_);
+  if (reducer_) problem = problem.WithReducer(reducer_);
   if (!coupling_->matrix) return problem;
   return problem.WithCoupling(*coupling_);
 }

@@ -179,7 +179,7 @@ struct StiffnessRunner::Impl {
   void FreePlay(const contact::MeshState& state, StiffnessPosition* pos) {
     const auto first_contact = [&](double torque) {
       const solvers::LoadProblem problem = Problem(state, torque);
-      if (!problem.has_stage()) return problem.FirstContactRotation();
+      if (!problem.has_reducer()) return problem.FirstContactRotation();
       // A reducer stage: its free play takes up the clearances of every element (holes,
       // bearings), not the mesh's alone: the output's rotation under a vanishing torque, 1e-7 T,
       // whose elastic part is below 1e-6 of the twist at T (Hertz and Palmgren contacts stiffen:
@@ -228,11 +228,11 @@ struct StiffnessRunner::Impl {
       const std::vector<double> parts = Problem(state, torque).DiscTorques(r.rotation, r.force, workspace);
       (torque > 0.0 ? pos->first_disc_share_drive : pos->first_disc_share_coast) = parts[0] / (parts[0] + parts[1]);
     }
-    if (r.stage && on_loop && torque == rated) {  // a stage: the compliance budget at +T
+    if (r.reducer && on_loop && torque == rated) {  // a stage: the compliance budget at +T
       double total = 0.0;
-      for (const double e : r.stage->group_energy) total += e;
+      for (const double e : r.reducer->group_energy) total += e;
       pos->compliance_share.clear();
-      for (const double e : r.stage->group_energy) {
+      for (const double e : r.reducer->group_energy) {
         pos->compliance_share.push_back(r.status == SolverStatus::kSuccess && total > 0.0 ? e / total : kNaN);
       }
     }

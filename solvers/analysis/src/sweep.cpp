@@ -95,14 +95,14 @@ void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
   s_.contacts_max = std::max(s_.contacts_max, p.contacts);
   for (const double f : p.pin_force) s_.max_pin_force = std::max(s_.max_pin_force, f);
   for (const double q : p.contact_stress) s_.max_contact_stress = std::max(s_.max_contact_stress, q);
-  if (p.result.stage) {  // a reducer stage: its element and bearing forces
-    const solvers::StageSolution& st = *p.result.stage;
-    if (!s_.stage) {
-      s_.stage = StageSummary{};
-      s_.stage->max_output_force = 0.0;
-      s_.stage->max_bearing_load = 0.0;
+  if (p.result.reducer) {  // a reducer stage: its element and bearing forces
+    const solvers::ReducerSolution& st = *p.result.reducer;
+    if (!s_.reducer) {
+      s_.reducer = ReducerSummary{};
+      s_.reducer->max_output_force = 0.0;
+      s_.reducer->max_bearing_load = 0.0;
     }
-    StageSummary& g = *s_.stage;
+    ReducerSummary& g = *s_.reducer;
     std::size_t b = 0;
     double energy = 0.0;
     for (const double e : st.group_energy) energy += e;
@@ -144,7 +144,7 @@ double BearingLife::ShortestHours() const {
   return shortest;
 }
 
-BearingLife BearingLives(const StageDesign& design, const StageSummary& summary, const Sweep& sweep, bool closed_period,
+BearingLife BearingLives(const StageDesign& design, const ReducerSummary& summary, const Sweep& sweep, bool closed_period,
                          double input_speed) {
   BearingLife life;
   // Positions evenly spaced over a turn cover it whether or not the last repeats the first.
@@ -178,12 +178,12 @@ SweepSummary SummaryAccumulator::Summary() const {
     s.mean_te = te_count_ > 0 ? te_sum_ / static_cast<double>(te_count_) : te_lo_;
     s.pp_te = te_hi_ - te_lo_;
   }
-  if (s.stage && stage_count_ > 0) {
+  if (s.reducer && stage_count_ > 0) {
     const double n = static_cast<double>(stage_count_);
     for (const double sum : bearing_power_sum_) {
-      s.stage->mean_equivalent_load.push_back(std::pow(sum / n, 1.0 / contact::kRollerLifeExponent));
+      s.reducer->mean_equivalent_load.push_back(std::pow(sum / n, 1.0 / contact::kRollerLifeExponent));
     }
-    for (const double sum : share_sums_) s.stage->energy_share.push_back(sum / n);
+    for (const double sum : share_sums_) s.reducer->energy_share.push_back(sum / n);
   }
   if (shares_ > 0) {
     s.first_disc_share_mean = share_count_ > 0 ? share_sum_ / static_cast<double>(share_count_) : s.first_disc_share_min;

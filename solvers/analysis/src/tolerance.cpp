@@ -46,7 +46,7 @@ void AddToPin(std::vector<double>& list, int pins, int j, double v_mm) {
 }
 
 /// A key of the reducer stage ([output], [bearing]), not of the discs or the pin ring.
-bool IsStageKey(const DeckKey& k) {
+bool IsReducerKey(const DeckKey& k) {
   const std::string_view s(k.section);
   return s == "output" || s == "bearing";
 }
@@ -279,7 +279,7 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
                                               "a [second_disc] section, or no such tolerance",
                                               nominal_.design.name, d.key));
     }
-    if (key != nullptr && IsStageKey(*key)) {  // a clearance of the reducer stage
+    if (key != nullptr && IsReducerKey(*key)) {  // a clearance of the reducer stage
       const std::string why = StageClearanceRefusal(nominal_.design.reducer, std::string(key->section) + "." + key->name);
       if (!why.empty()) throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: {}", nominal_.design.name, d.key, why));
     }
@@ -308,7 +308,7 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
   for (const ToleranceLimit& l : settings_.limits) {
     const auto& names = ToleranceSettings::FigureNames();
     const auto f = static_cast<std::size_t>(std::find(names.begin(), names.end(), l.figure) - names.begin());
-    if (f < names.size() && !StageHasFigure(nominal_.design.reducer, f)) {
+    if (f < names.size() && !ReducerHasFigure(nominal_.design.reducer, f)) {
       throw std::invalid_argument(fmt::format("deck '{}': [tolerances] limits.{}: a figure of a reducer stage{}; expected an [output] "
                                               "section (docs/stage.md), or no such limit",
                                               nominal_.design.name, l.figure,
@@ -332,7 +332,7 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
   }
 }
 
-bool StageHasFigure(const std::optional<solvers::StageSettings>& reducer, std::size_t figure) {
+bool ReducerHasFigure(const std::optional<solvers::ReducerSettings>& reducer, std::size_t figure) {
   switch (figure) {
     case kMaxOutputPinForceN: return reducer.has_value() && reducer->kind == solvers::OutputKind::kPins;
     case kMaxBearingLoadN:
@@ -350,15 +350,15 @@ void LoadedFigures(const SweepSummary& sweep, bool output_pins, ToleranceFigures
     figures[kContactsMin] = sweep.contacts_min;
     figures[kContactsMax] = sweep.contacts_max;
   }
-  if (sweep.stage) {  // a reducer stage's loads, as `ltca solve` gives them
-    if (output_pins) figures[kMaxOutputPinForceN] = sweep.stage->max_output_force;
-    figures[kMaxBearingLoadN] = sweep.stage->max_bearing_load;
+  if (sweep.reducer) {  // a reducer stage's loads, as `ltca solve` gives them
+    if (output_pins) figures[kMaxOutputPinForceN] = sweep.reducer->max_output_force;
+    figures[kMaxBearingLoadN] = sweep.reducer->max_bearing_load;
   }
 }
 
 bool ToleranceStudy::Runs(std::size_t figure) const {
   if (figure == kLostMotionArcmin) return settings_.lost_motion;
-  return StageHasFigure(nominal_.design.reducer, figure);
+  return ReducerHasFigure(nominal_.design.reducer, figure);
 }
 
 std::vector<double> ToleranceStudy::Draw(std::int64_t i) const {
@@ -404,8 +404,8 @@ ToleranceCase ToleranceStudy::Apply(const std::vector<double>& inputs) const {
       second->modification.rotation += direction * k->ToInternal(v) / d.pair.pin_circle_radius;
       continue;
     }
-    if (k != nullptr && IsStageKey(*k)) {  // the stage's, one for the stage (the constructor checked it has one)
-      double* field = StageClearance(*d.reducer, std::string(k->section) + "." + k->name);
+    if (k != nullptr && IsReducerKey(*k)) {  // the stage's, one for the stage (the constructor checked it has one)
+      double* field = ReducerClearance(*d.reducer, std::string(k->section) + "." + k->name);
       if (field == nullptr) throw std::logic_error(fmt::format("tolerance: key '{}' has no field in the stage's settings", key));
       *field += k->ToInternal(v);
       continue;
@@ -479,9 +479,9 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
       }
     }
     const SweepSummary sum_loaded = runner.Summary();
-    LoadedFigures(sum_loaded, StageHasFigure(design.reducer, kMaxOutputPinForceN), s.figures);
-    if (design.reducer && sum_loaded.stage) {  // a reducer stage's life, as `ltca solve` gives it
-      s.figures[kShortestL10Hours] = BearingLives(design, *sum_loaded.stage, pair.sweep, sum_loaded.closed_period,
+    LoadedFigures(sum_loaded, ReducerHasFigure(design.reducer, kMaxOutputPinForceN), s.figures);
+    if (design.reducer && sum_loaded.reducer) {  // a reducer stage's life, as `ltca solve` gives it
+      s.figures[kShortestL10Hours] = BearingLives(design, *sum_loaded.reducer, pair.sweep, sum_loaded.closed_period,
                                                   pair.operation ? pair.operation->input_speed : kNaN)
                                          .ShortestHours();
     }

@@ -64,7 +64,7 @@ nlohmann::json ModelJson(const Deck::ModelInfo& model) {
   nlohmann::json j = {{"name", model.name}, {"slices", model.slices}, {"surface", model.surface}};
   if (!model.note.empty()) j["note"] = model.note;
   if (model.discs != 1) j["discs"] = model.discs;  // [second_disc]
-  if (!model.stage.empty()) j["stage"] = model.stage;  // [output], [bearing]
+  if (!model.reducer.empty()) j["stage"] = model.reducer;  // [output], [bearing]
   if (!model.pin_seat.empty()) j["pin_seat"] = model.pin_seat;  // [pins] seat
   if (model.tip_relief_source != "none" || !model.tip_relief_note.empty()) {
     j["tip_relief"] = {{"truncation_mm", model.tip_relief.truncation},

@@ -13,7 +13,7 @@
 #include "ltca/contact/output_pins.hpp"
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/units.hpp"
-#include "ltca/solvers/stage.hpp"
+#include "ltca/solvers/reducer.hpp"
 
 namespace ltca::app::documents {
 namespace {
@@ -208,7 +208,7 @@ namespace {
 /// A reducer stage's output elements, to scale (their clearances not exaggerated): output pins in
 /// the disc's holes, or the crank holes' and the crankshafts' centres on their circle, the output
 /// member turned as the disc at `pose`.
-void AddOutputElements(plots::Panel& panel, const solvers::StageSettings& reducer, const geometry::Pose& pose) {
+void AddOutputElements(plots::Panel& panel, const solvers::ReducerSettings& reducer, const geometry::Pose& pose) {
   const geometry::Pose holes{pose.centre, pose.rotation};  // the output member turned as the disc
   if (reducer.kind == solvers::OutputKind::kPins) {
     const contact::OutputPins& w = reducer.pins;

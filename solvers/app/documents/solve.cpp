@@ -21,7 +21,7 @@ double MaxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_
 
 /// A reducer stage's solution at one position: per disc its pose, the output pins' forces
 /// with their direction, the bearings' forces and roller loads; the strain energy per group.
-nlohmann::json StageJson(const solvers::StageSolution& st) {
+nlohmann::json ReducerJson(const solvers::ReducerSolution& st) {
   nlohmann::json discs = nlohmann::json::array();
   const auto angle = [](const Eigen::Vector2d& v) { return FiniteOrNull(RadToDeg(std::atan2(v.y(), v.x()))); };
   for (const auto& d : st.discs) {
@@ -60,9 +60,9 @@ nlohmann::json StageJson(const solvers::StageSolution& st) {
 
 /// A reducer stage's summary: the largest loads (N) and each bearing's ISO 281 life from its mean
 /// equivalent load over the positions, as the sweep's summary carries it (SweepSummary::bearing_life).
-nlohmann::json StageSummaryJson(const Deck& deck, const analysis::SweepSummary& s) {
-  if (!s.stage || !deck.reducer) return nullptr;
-  const analysis::StageSummary& g = *s.stage;
+nlohmann::json ReducerSummaryJson(const Deck& deck, const analysis::SweepSummary& s) {
+  if (!s.reducer || !deck.reducer) return nullptr;
+  const analysis::ReducerSummary& g = *s.reducer;
   const analysis::BearingLife life = s.bearing_life.value_or(analysis::BearingLife{});
   nlohmann::json shares = nlohmann::json::object();
   for (std::size_t k = 0; k < g.energy_share.size(); ++k) {
@@ -189,7 +189,7 @@ std::string FailureNote(const analysis::SweepSummary& s) {
 
 nlohmann::json Json(const Deck& deck, const analysis::SweepSummary& summary) {
   nlohmann::json j = SummaryJson(summary, deck.Model());
-  if (deck.reducer) j["stage"] = StageSummaryJson(deck, summary);
+  if (deck.reducer) j["stage"] = ReducerSummaryJson(deck, summary);
   return j;
 }
 
@@ -228,7 +228,7 @@ nlohmann::json Json(const analysis::PositionResult& p) {
     const double total = p.disc_torque.size() == 2 ? p.disc_torque[0] + p.disc_torque[1] : 0.0;
     j["first_disc_share"] = figure(total != 0.0 ? FiniteOrNull(p.disc_torque[0] / total) : nlohmann::json(nullptr));
   }
-  if (p.result.stage) j["stage"] = figure(StageJson(*p.result.stage));
+  if (p.result.reducer) j["stage"] = figure(ReducerJson(*p.result.reducer));
   if (p.slices > 1) {
     const bool complete = p.result.force.size() == p.pin_force.size() * static_cast<std::size_t>(p.slices);
     // The contact pattern: per pin its slice forces and stresses and its load centroid.
@@ -294,8 +294,8 @@ std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::
   }
   text += fmt::format("largest pin force      {} N\n", FormatOrNa(s.max_pin_force, 2));
   text += fmt::format("largest contact stress {} MPa\n", FormatOrNa(s.max_contact_stress, 2));
-  if (deck.reducer && s.stage) {
-    const analysis::StageSummary& g = *s.stage;
+  if (deck.reducer && s.reducer) {
+    const analysis::ReducerSummary& g = *s.reducer;
     const analysis::BearingLife life = s.bearing_life.value_or(analysis::BearingLife{});
     if (deck.reducer->kind == solvers::OutputKind::kPins) {
       text += fmt::format("largest output pin     {} N\n", FormatOrNa(g.max_output_force, 2));

@@ -22,7 +22,7 @@
 #include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
-#include "ltca/solvers/stage.hpp"
+#include "ltca/solvers/reducer.hpp"
 
 namespace ltca::app {
 namespace {
@@ -1000,9 +1000,9 @@ namespace {
 
 /// [output] and [bearing]: the reducer stage's elements. A key of the other kind is an
 /// error, not ignored.
-solvers::StageSettings ReadReducer(const Section& output, const Section& bearing, const geometry::PairParameters& pair) {
-  solvers::StageSettings s;
-  ReadSettings(output, {.stage = &s});
+solvers::ReducerSettings ReadReducer(const Section& output, const Section& bearing, const geometry::PairParameters& pair) {
+  solvers::ReducerSettings s;
+  ReadSettings(output, {.reducer = &s});
   const bool pins = s.kind == solvers::OutputKind::kPins;
   const auto reject = [&](std::initializer_list<const char*> keys, const char* kind) {
     for (const char* key : keys) {
@@ -1427,9 +1427,9 @@ analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& opti
   const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   analysis::SweepResult sweep = analysis::SolveSweep(stage, options, torque, callbacks);
   sweep.summary.wall_seconds += build;
-  if (deck.reducer && sweep.summary.stage) {  // the stage's bearing lives, once, at the deck's crank speed
+  if (deck.reducer && sweep.summary.reducer) {  // the stage's bearing lives, once, at the deck's crank speed
     sweep.summary.bearing_life =
-        analysis::BearingLives(deck, *sweep.summary.stage, deck.sweep, sweep.summary.closed_period,
+        analysis::BearingLives(deck, *sweep.summary.reducer, deck.sweep, sweep.summary.closed_period,
                                deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN());
   }
   return sweep;

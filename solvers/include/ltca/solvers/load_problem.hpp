@@ -24,7 +24,7 @@
 #include "ltca/contact/material.hpp"
 #include "ltca/contact/mesh_state.hpp"
 #include "ltca/contact/unloaded.hpp"
-#include "ltca/solvers/stage.hpp"
+#include "ltca/solvers/reducer.hpp"
 #include "ltca/solvers/workspace.hpp"
 
 namespace ltca::solvers {
@@ -168,17 +168,17 @@ class LoadProblem {
   LoadProblem WithLawScales(const std::vector<double>& scales) const;
   /// Whether WithLawScales can be asked: linearised, uncoupled, no stage.
   bool scalable_laws() const {
-    return kinematics_ == contact::ContactKinematics::kLinearised && coupling_ == nullptr && stage_ == nullptr;
+    return kinematics_ == contact::ContactKinematics::kLinearised && coupling_ == nullptr && reducer_ == nullptr;
   }
 
-  /// The reducer stage (ltca/solvers/stage.hpp): a copy of this problem whose discs
+  /// The reducer stage (ltca/solvers/reducer.hpp): a copy of this problem whose discs
   /// float on their bearings and drive the output member through the stage's output elements, T
   /// on the output member. Validates the settings against the pair (std::invalid_argument naming
   /// the key); nullptr: no stage (the mesh alone, the disc centres fixed).
-  LoadProblem WithStage(std::shared_ptr<const StageSettings> stage) const;
+  LoadProblem WithReducer(std::shared_ptr<const ReducerSettings> stage) const;
   /// The stage, or nullptr for the mesh alone.
-  const StageSettings* stage() const { return stage_.get(); }
-  bool has_stage() const { return stage_ != nullptr; }
+  const ReducerSettings* reducer() const { return reducer_.get(); }
+  bool has_reducer() const { return reducer_ != nullptr; }
   /// The coupling matrix, or nullptr when uncoupled.
   const Eigen::SparseMatrix<double>* coupling() const { return coupling_.get(); }
   /// The factored form of the coupling, or nullptr when it came only as a matrix.
@@ -318,7 +318,7 @@ class LoadProblem {
   std::vector<double> closing_;  // rad, per pin (infinite where the arm cannot close it), see BuildBaseLaws
   std::shared_ptr<const Eigen::SparseMatrix<double>> coupling_;  // nullptr: uncoupled
   std::shared_ptr<const CouplingFactors> coupling_factors_;      // nullptr: none (or uncoupled)
-  std::shared_ptr<const StageSettings> stage_;                   // nullptr: the mesh alone
+  std::shared_ptr<const ReducerSettings> reducer_;                   // nullptr: the mesh alone
 };
 
 /// The forces of the laws at the approaches of `pins`, their torque, and whether a pressed pin sits

@@ -15,7 +15,7 @@
 
 namespace ltca::solvers {
 
-class StageSystem;  // solvers/src/stage_system.hpp: the stage's assembly, private to the solver layer
+class ReducerSystem;  // solvers/src/reducer_system.hpp: the stage's assembly, private to the solver layer
 
 /// Every native status of every backend maps to one of these (the native code is kept).
 enum class SolverStatus {
@@ -32,7 +32,7 @@ enum class SolverStatus {
                         ///< a quarter tooth pitch: not the physically meaningful solution
   kCouplingUnsupported,  ///< the problem has a compliance coupling (LoadProblem::WithCoupling) and
                          ///< the backend cannot solve it: refused before solving, no numbers
-  kStageUnsupported,  ///< the problem has a reducer stage (LoadProblem::WithStage) and the backend
+  kReducerUnsupported,  ///< the problem has a reducer stage (LoadProblem::WithReducer) and the backend
                       ///< cannot solve it, or not in this form: refused before solving, no numbers
 };
 const char* ToString(SolverStatus status);
@@ -89,7 +89,7 @@ struct LoadResult {
   /// beyond valid_half_width()): the numbers are solved, but say so. Empty otherwise.
   std::vector<std::string> warnings;
   /// A stage problem's poses, output-element and bearing forces; empty for the mesh alone.
-  std::optional<StageSolution> stage;
+  std::optional<ReducerSolution> reducer;
 };
 
 /// The shared judge on a whole result: a stage problem's every balance (from the result's poses and
@@ -107,9 +107,9 @@ class LoadSolver {
   /// Whether the backend solves problems with a compliance coupling (LoadProblem::has_coupling).
   /// Solve() refuses a coupled problem with kCouplingUnsupported before a backend without it runs.
   virtual bool supports_coupling() const { return false; }
-  /// Whether the backend solves a reducer stage (LoadProblem::has_stage). Solve() refuses a stage
-  /// problem with kStageUnsupported before a backend without it runs.
-  virtual bool supports_stage() const { return false; }
+  /// Whether the backend solves a reducer stage (LoadProblem::has_reducer). Solve() refuses a stage
+  /// problem with kReducerUnsupported before a backend without it runs.
+  virtual bool supports_reducer() const { return false; }
   /// Validates, solves, fills the shared fields, checks the residual. Never throws for a
   /// failure to converge (that is a status); throws std::invalid_argument for bad options.
   /// A solver object holds no state: one may serve several threads, each with its own
@@ -122,17 +122,17 @@ class LoadSolver {
   /// Sets status, message, native_code, rotation, force, iterations / evaluations.
   virtual void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                        LoadResult* result) const = 0;
-  /// The stage's solve (only called when supports_stage()), on the stage assembled once by Solve()
-  /// (solvers/src/stage_system.hpp): sets status, message, iterations and, through the assembly,
+  /// The stage's solve (only called when supports_reducer()), on the stage assembled once by Solve()
+  /// (solvers/src/reducer_system.hpp): sets status, message, iterations and, through the assembly,
   /// rotation, forces and the stage's solution.
-  virtual void DoSolveStage(const LoadProblem& problem, const StageSystem& system, const SolverOptions& options,
+  virtual void DoSolveReducer(const LoadProblem& problem, const ReducerSystem& system, const SolverOptions& options,
                             Workspace& workspace, LoadResult* result) const;
-  /// Exact kinematics of the stage: DoSolveStage on the stage re-linearised about each iterate's
+  /// Exact kinematics of the stage: DoSolveReducer on the stage re-linearised about each iterate's
   /// poses until they stay; returns the poses (coordinates) the result reports.
-  Eigen::VectorXd SolveStageExact(const LoadProblem& problem, const StageSystem& nominal, const SolverOptions& options,
+  Eigen::VectorXd SolveReducerExact(const LoadProblem& problem, const ReducerSystem& nominal, const SolverOptions& options,
                                   Workspace& workspace, LoadResult* result) const;
-  /// Solve()'s path for a stage: refusals, zero torque, DoSolveStage and the stage's judge.
-  void SolveStage(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+  /// Solve()'s path for a stage: refusals, zero torque, DoSolveReducer and the stage's judge.
+  void SolveReducer(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                   LoadResult* result) const;
 };
 

@@ -11,8 +11,8 @@ namespace ltca::solvers {
 
 /// Names of every registered solver, in registry order.
 std::vector<std::string> SolverNames();
-/// Names of the solvers that solve the reducer stage (LoadSolver::supports_stage()), in registry order.
-std::vector<std::string> StageSolverNames();
+/// Names of the solvers that solve the reducer stage (LoadSolver::supports_reducer()), in registry order.
+std::vector<std::string> ReducerSolverNames();
 /// Throws std::invalid_argument listing the valid names for an unknown one.
 std::unique_ptr<LoadSolver> MakeSolver(const std::string& name);
 

@@ -33,7 +33,7 @@ enum class ContactKinematics;
 }  // namespace ltca::contact
 namespace ltca::solvers {
 struct SolverOptions;
-struct StageSettings;
+struct ReducerSettings;
 }  // namespace ltca::solvers
 
 namespace ltca::analysis {
@@ -71,7 +71,7 @@ struct SettingsParts {
   contact::Material* material = nullptr;
   contact::PinSupport* pin_support = nullptr;  ///< [pins] held at their ends (span_mm, face_offset_mm)
   contact::PinSeat* pin_seat = nullptr;        ///< [pins] seated in housing grooves
-  solvers::StageSettings* stage = nullptr;     ///< [output] kind and [bearing] kind
+  solvers::ReducerSettings* reducer = nullptr;    ///< [output] kind and [bearing] kind
   /// [output]: the output pins or the crankshafts (one of the two, by its kind); its keys common
   /// to both kinds fill the one given.
   contact::OutputPins* output_pins = nullptr;

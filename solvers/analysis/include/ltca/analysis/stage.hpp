@@ -6,7 +6,7 @@
 // checked for interference. It hands out the load problem at a crank and a torque.
 //
 // The output mechanism and the bearings join the stage as elements that are not pins:
-// StageDesign::reducer, handed to every problem (LoadProblem::WithStage).
+// StageDesign::reducer, handed to every problem (LoadProblem::WithReducer).
 #include <memory>
 #include <optional>
 #include <string>
@@ -48,10 +48,10 @@ struct SecondDisc {
 /// where the deck key ("bearing.radial_clearance_mm", "output.hole_radius_mm",
 /// "output.pin_radius_mm") goes in the stage's settings (internal units, mm), or nullptr for any
 /// other key. The output pins' hole and pin radii set the holes' clearance r_h - r_w - e.
-double* StageClearance(solvers::StageSettings& stage, std::string_view key);
+double* ReducerClearance(solvers::ReducerSettings& stage, std::string_view key);
 /// Why a deck with this stage (none: no [output]) cannot vary that clearance, "" when it can: no
 /// stage, output pins' radii with crankshafts, a rigid bearing's play (it has none).
-std::string StageClearanceRefusal(const std::optional<solvers::StageSettings>& stage, std::string_view key);
+std::string StageClearanceRefusal(const std::optional<solvers::ReducerSettings>& stage, std::string_view key);
 
 /// The model that runs for a stage, named in every output.
 struct ModelInfo {
@@ -61,7 +61,7 @@ struct ModelInfo {
   int discs = 1;
   /// The reducer stage's elements: "" for the mesh alone (disc centres fixed, T on the
   /// discs), else "<output>+<bearing> bearing", e.g. "pins+rollers bearing", "cranks+linear bearing".
-  std::string stage;
+  std::string reducer;
   /// The pins' seat in series with every pin-ring contact ([pins] seat): "" for rigid,
   /// else "linear" or "groove".
   std::string pin_seat;
@@ -91,7 +91,7 @@ struct StageDesign {
   std::optional<contact::Material> material;  ///< required for load problems
   /// The reducer stage ([output] and [bearing]): output pins or crankshafts and the
   /// eccentric or needle bearings; none: the mesh alone, every disc about a fixed centre.
-  std::optional<solvers::StageSettings> reducer;
+  std::optional<solvers::ReducerSettings> reducer;
 
   /// The pair as made: modification and errors applied once (geometry::RealPair).
   geometry::RealPair MakeRealPair() const { return {pair, modification, errors, assembly}; }
@@ -177,7 +177,7 @@ class Stage {
   ModelPtr first_, second_;
   std::shared_ptr<const solvers::LoadProblem::CheckedCoupling> coupling_;
   std::shared_ptr<const Checked> checked_;
-  std::shared_ptr<const solvers::StageSettings> reducer_;  // nullptr: the mesh alone
+  std::shared_ptr<const solvers::ReducerSettings> reducer_;  // nullptr: the mesh alone
 };
 
 }  // namespace ltca::analysis

@@ -77,7 +77,7 @@ struct PositionResult {
 /// in the mean (ISO 281's averaging of a load that varies over equal steps, exponent 10/3;
 /// contact/bearing.hpp). Bearings run disc-major: one per disc for output pins (the eccentric
 /// bearing), one per crank and disc for cranks.
-struct StageSummary {
+struct ReducerSummary {
   double max_output_force = std::numeric_limits<double>::quiet_NaN();   ///< N
   double max_bearing_load = std::numeric_limits<double>::quiet_NaN();   ///< N
   double max_roller_load = std::numeric_limits<double>::quiet_NaN();    ///< N (NaN without rollers)
@@ -87,7 +87,7 @@ struct StageSummary {
 };
 
 /// ISO 281 basic rating life of each of a stage's bearings (contact::RatingLife, exponent 10/3)
-/// from its mean equivalent load over a sweep (StageSummary), in millions of revolutions of the
+/// from its mean equivalent load over a sweep (ReducerSummary), in millions of revolutions of the
 /// bearing's rings relative to each other and in hours at the crank speed: the eccentric turns
 /// against the disc at |1 - 1/I| times the crank speed (I the transmission ratio,
 /// geometry::Kinematics; the disc turns 1/I of a crank turn), for a cycloidal drive's eccentric
@@ -124,8 +124,8 @@ struct SweepSummary : RunRecord {
   /// or a mesh period of a pair that keeps that symmetry), so the means weight that state once;
   /// the extremes and counts see every position.
   bool closed_period = false;
-  std::optional<StageSummary> stage;  ///< a reducer stage's figures; none for the mesh alone
-  /// A reducer stage's bearing lives (ISO 281, BearingLives) from `stage`'s mean equivalent loads,
+  std::optional<ReducerSummary> reducer;  ///< the reducer's elements' figures; none for the mesh alone
+  /// A reducer stage's bearing lives (ISO 281, BearingLives) from `reducer`'s mean equivalent loads,
   /// computed once by app::SolveDeckSweep, which knows the deck's bearings and crank speed; none
   /// for the mesh alone and from a SweepRunner alone.
   std::optional<BearingLife> bearing_life;
@@ -133,7 +133,7 @@ struct SweepSummary : RunRecord {
 
 struct StageDesign;
 /// input_speed: the crank speed, rad/s ([operation] input_speed_rpm), NaN when none is given.
-BearingLife BearingLives(const StageDesign& design, const StageSummary& summary, const Sweep& sweep, bool closed_period,
+BearingLife BearingLives(const StageDesign& design, const ReducerSummary& summary, const Sweep& sweep, bool closed_period,
                          double input_speed);
 
 /// Accumulates the summary position by position (the rule of SweepSummary).

@@ -126,7 +126,7 @@ enum ToleranceFigure : std::size_t {
 
 /// Whether a design has the figure: every figure but a reducer stage's; those only with
 /// [output], the output pins' force only with output pins. Lost motion is the settings' matter.
-bool StageHasFigure(const std::optional<solvers::StageSettings>& reducer, std::size_t figure);
+bool ReducerHasFigure(const std::optional<solvers::ReducerSettings>& reducer, std::size_t figure);
 
 /// The loaded sweep's figures written into `figures` at their indices: mean and peak-to-peak TE
 /// (arcsec), the largest contact stress (MPa) and pin force (N), the least and most pins in

@@ -1,5 +1,5 @@
 #pragma once
-// The reducer stage of a load problem (ltca/solvers/stage.hpp) assembled at its crank
+// The reducer stage of a load problem (ltca/solvers/reducer.hpp) assembled at its crank
 // under linearised kinematics: every element's gap affine in the unknowns, its convex energy, and
 // the total potential energy Pi(q) = sum_e E_e(q) - T psi with its gradient and Hessian. Shared by
 // the backends that solve the stage and by the judge.
@@ -21,13 +21,13 @@
 #include "ltca/contact/laws.hpp"
 #include "ltca/solvers/load_problem.hpp"
 #include "ltca/solvers/load_solver.hpp"
-#include "ltca/solvers/stage.hpp"
+#include "ltca/solvers/reducer.hpp"
 
 namespace ltca::solvers {
 
 class CoupledContact;
 
-class StageSystem {
+class ReducerSystem {
  public:
   /// The law of every output pin in its hole (a stage of kind pins): the deck's [contact] law,
   /// conformal and unseated (contact::OutputPinLaw), over the face width, with the problem's cap.
@@ -39,14 +39,14 @@ class StageSystem {
   /// With pin bending (the problem's coupling) the pin-ring points of one pin share its
   /// beam: `coupled` solves their contact problem at each evaluation (CoupledContactFor, kept in
   /// the workspace); a system without it can judge (Judge) but not evaluate.
-  explicit StageSystem(const LoadProblem& problem, CoupledContact* coupled = nullptr);
+  explicit ReducerSystem(const LoadProblem& problem, CoupledContact* coupled = nullptr);
   /// The stage linearised about the poses `origin` (coordinates, as a result reports them): every
   /// element re-evaluated there, its gap the exact one at those poses and its gradients the exact
   /// ones (exact kinematics: each iterate of LoadSolver's outer loop). The coordinates the system
   /// works in are then relative to the origin; Fill and Judge report and read absolute ones.
-  StageSystem(const LoadProblem& problem, const Eigen::VectorXd& origin, CoupledContact* coupled = nullptr);
-  StageSystem(const StageSystem&) = delete;
-  StageSystem& operator=(const StageSystem&) = delete;
+  ReducerSystem(const LoadProblem& problem, const Eigen::VectorXd& origin, CoupledContact* coupled = nullptr);
+  ReducerSystem(const ReducerSystem&) = delete;
+  ReducerSystem& operator=(const ReducerSystem&) = delete;
 
   int coordinate_count() const { return static_cast<int>(coordinate_dof_.size()); }
   int dof_count() const { return dofs_; }
@@ -97,7 +97,7 @@ class StageSystem {
   double torque() const { return torque_; }
 
   /// The solution at q: rotation (psi, rad), pin-ring forces and the stage's elements
-  /// (LoadResult::stage), without status or residuals.
+  /// (LoadResult::reducer), without status or residuals.
   void Fill(const Eigen::VectorXd& q, LoadResult* result) const;
 
   /// The shared judge of a stage solution: the balance of every coordinate with the forces the
@@ -172,7 +172,7 @@ class StageSystem {
   const LoadProblem* problem_;
   Eigen::VectorXd origin_;  // coordinates about which the system is linearised (zero: nominal)
   bool exact_ = false;      // built about an origin: its geometry re-evaluated there
-  StageSettings settings_;
+  ReducerSettings settings_;
   contact::BearingSettings shaft_;  // kCranks with a compliant shaft: a linear spring without play
   int discs_ = 1;
   int crank_count_ = 0;  // cranks per disc (0 for output pins)
@@ -201,13 +201,13 @@ class StageSystem {
 
 /// Sets the status and message of a stage solve from the minimisation's outcome and its last
 /// evaluation (a saturated law, a closed edge point), and fills the solution at q.
-void FinishStage(const StageSystem& system, const Eigen::VectorXd& q, StageSystem::Outcome outcome,
-                 const StageSystem::Evaluation& last, LoadResult* result);
+void FinishReducer(const ReducerSystem& system, const Eigen::VectorXd& q, ReducerSystem::Outcome outcome,
+                 const ReducerSystem::Evaluation& last, LoadResult* result);
 
 /// A warm start kept in the workspace under `key`: the (absolute) dofs of the last stage solve
 /// with as many dofs, relative to the system's origin; else zero.
-Eigen::VectorXd StageStart(const StageSystem& system, Workspace& workspace, const std::string& key);
-void KeepStageStart(const StageSystem& system, const Eigen::VectorXd& q, Workspace& workspace, const std::string& key);
+Eigen::VectorXd ReducerStart(const ReducerSystem& system, Workspace& workspace, const std::string& key);
+void KeepReducerStart(const ReducerSystem& system, const Eigen::VectorXd& q, Workspace& workspace, const std::string& key);
 
 
 }  // namespace ltca::solvers

@@ -2,7 +2,7 @@
 // The reducer stage (docs/stage.md): each disc floats on its eccentric bearing (a
 // cycloidal drive) or on the needle bearings of its crankshafts (an RV stage), and drives the
 // output member through output pins in holes or through the crankshafts. A load problem with a
-// stage (LoadProblem::WithStage) has these unknowns besides the pin-ring forces: per disc the
+// stage (LoadProblem::WithReducer) has these unknowns besides the pin-ring forces: per disc the
 // translation t = (x, y) of its centre from the theoretical pose and its rotation phi; the output
 // member's rotation psi, whose moment balance carries T; per crank and disc the shaft's deflection
 // when both the needle bearing and the shaft are compliant. The input is locked at the crank
@@ -38,7 +38,7 @@ OutputKind ParseOutputKind(const std::string& text);
 const char* ToString(OutputKind kind);
 
 /// The stage's elements besides the pin ring, as data (the deck's [output] and [bearing]).
-struct StageSettings {
+struct ReducerSettings {
   OutputKind kind = OutputKind::kPins;
   contact::OutputPins pins;      ///< kPins: the output pins (their law is [contact] law, over the face width)
   contact::Cranks cranks;        ///< kCranks
@@ -58,7 +58,7 @@ const char* ToString(StageGroup group);
 
 /// What a stage solve found besides the pin-ring forces (LoadResult::force) and the output
 /// rotation (LoadResult::rotation).
-struct StageSolution {
+struct ReducerSolution {
   struct Disc {
     Eigen::Vector2d translation = Eigen::Vector2d::Zero();  ///< mm, fixed frame
     double rotation = 0.0;  ///< rad, problem frame (the disc's own rotation under load)

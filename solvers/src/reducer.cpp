@@ -1,4 +1,4 @@
-#include "ltca/solvers/stage.hpp"
+#include "ltca/solvers/reducer.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -27,7 +27,7 @@ const char* ToString(StageGroup group) {
   return "?";
 }
 
-void StageSettings::Validate(double eccentricity) const {
+void ReducerSettings::Validate(double eccentricity) const {
   if (kind == OutputKind::kPins) {
     pins.Validate(eccentricity);
   } else {

@@ -1,4 +1,4 @@
-#include "stage_system.hpp"
+#include "reducer_system.hpp"
 
 #include <algorithm>
 #include <optional>
@@ -17,7 +17,7 @@
 
 namespace ltca::solvers {
 
-void StageSystem::Row::Add(int i, double v) {
+void ReducerSystem::Row::Add(int i, double v) {
   if (v == 0.0 || i < 0) return;
   for (int k = 0; k < n; ++k) {
     if (index[static_cast<std::size_t>(k)] == i) {
@@ -25,19 +25,19 @@ void StageSystem::Row::Add(int i, double v) {
       return;
     }
   }
-  if (n == static_cast<int>(index.size())) throw std::logic_error("StageSystem::Row: more than 6 non-zeros");
+  if (n == static_cast<int>(index.size())) throw std::logic_error("ReducerSystem::Row: more than 6 non-zeros");
   index[static_cast<std::size_t>(n)] = i;
   value[static_cast<std::size_t>(n)] = v;
   ++n;
 }
 
-double StageSystem::Row::Dot(const Eigen::VectorXd& x) const {
+double ReducerSystem::Row::Dot(const Eigen::VectorXd& x) const {
   double s = 0.0;
   for (int k = 0; k < n; ++k) s += value[static_cast<std::size_t>(k)] * x(index[static_cast<std::size_t>(k)]);
   return s;
 }
 
-StageSystem::Row StageSystem::ToDofs(const Row& coordinates) const {
+ReducerSystem::Row ReducerSystem::ToDofs(const Row& coordinates) const {
   Row out;
   for (int k = 0; k < coordinates.n; ++k) {
     const auto c = static_cast<std::size_t>(coordinates.index[static_cast<std::size_t>(k)]);
@@ -46,7 +46,7 @@ StageSystem::Row StageSystem::ToDofs(const Row& coordinates) const {
   return out;
 }
 
-Eigen::VectorXd StageSystem::Coordinates(const Eigen::VectorXd& q) const {
+Eigen::VectorXd ReducerSystem::Coordinates(const Eigen::VectorXd& q) const {
   Eigen::VectorXd c = Eigen::VectorXd::Zero(coordinate_count());
   for (std::size_t i = 0; i < coordinate_dof_.size(); ++i) {
     if (coordinate_dof_[i] >= 0) c(static_cast<Eigen::Index>(i)) = coordinate_scale_[i] * q(coordinate_dof_[i]);
@@ -54,31 +54,31 @@ Eigen::VectorXd StageSystem::Coordinates(const Eigen::VectorXd& q) const {
   return c;
 }
 
-contact::ContactLaw StageSystem::OutputPinLaw(const LoadProblem& problem) {
-  return contact::OutputPinLaw(problem.contact_settings(), problem.material(), problem.stage()->pins,
+contact::ContactLaw ReducerSystem::OutputPinLaw(const LoadProblem& problem) {
+  return contact::OutputPinLaw(problem.contact_settings(), problem.material(), problem.reducer()->pins,
                                problem.model().pair().face_width, problem.log_radius_cap());
 }
 
-Eigen::Vector2d StageSystem::Displacement(const Planar& p, const Eigen::VectorXd& q) {
+Eigen::Vector2d ReducerSystem::Displacement(const Planar& p, const Eigen::VectorXd& q) {
   return Eigen::Vector2d(p.row[0].Dot(q), p.row[1].Dot(q)) + p.offset;
 }
 
-Eigen::Vector2d StageSystem::DisplacementAt(const Planar& p, const Eigen::VectorXd& c) {
+Eigen::Vector2d ReducerSystem::DisplacementAt(const Planar& p, const Eigen::VectorXd& c) {
   return Eigen::Vector2d(p.coordinates[0].Dot(c), p.coordinates[1].Dot(c)) + p.offset;
 }
 
-StageSystem::StageSystem(const LoadProblem& problem, CoupledContact* coupled) : problem_(&problem), coupled_(coupled) {
+ReducerSystem::ReducerSystem(const LoadProblem& problem, CoupledContact* coupled) : problem_(&problem), coupled_(coupled) {
   Build(problem, nullptr);
 }
 
-StageSystem::StageSystem(const LoadProblem& problem, const Eigen::VectorXd& origin, CoupledContact* coupled)
+ReducerSystem::ReducerSystem(const LoadProblem& problem, const Eigen::VectorXd& origin, CoupledContact* coupled)
     : problem_(&problem), coupled_(coupled) {
   Build(problem, &origin);
 }
 
-void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origin) {
-  if (problem.stage() == nullptr) throw std::invalid_argument("StageSystem: the problem has no stage");
-  settings_ = *problem.stage();
+void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origin) {
+  if (problem.reducer() == nullptr) throw std::invalid_argument("ReducerSystem: the problem has no stage");
+  settings_ = *problem.reducer();
   discs_ = problem.disc_count();
   radius_ = problem.model().pair().pin_circle_radius;
   torque_ = problem.torque();
@@ -109,7 +109,7 @@ void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origi
   origin_ = Eigen::VectorXd::Zero(coordinates);
   exact_ = origin != nullptr;
   if (origin != nullptr) {
-    if (origin->size() != coordinates) throw std::invalid_argument("StageSystem: the origin has another layout");
+    if (origin->size() != coordinates) throw std::invalid_argument("ReducerSystem: the origin has another layout");
     origin_ = *origin;
   }
   const auto translation_of = [&](int d) { return Eigen::Vector2d(origin_(3 * d), origin_(3 * d + 1)); };
@@ -267,7 +267,7 @@ void StageSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origi
   }
 }
 
-void StageSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints,
+void ReducerSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints,
                            Evaluation* out) const {
   const Eigen::Index n = dofs_;
   out->gradient.setZero(n);
@@ -350,8 +350,8 @@ void StageSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::vec
   out->rounding = 16.0 * std::numeric_limits<double>::epsilon() * magnitude.maxCoeff();
 }
 
-StageSystem::CoupledForces StageSystem::SolveCoupled(const std::vector<double>& approach, std::vector<double>* force) const {
-  if (coupled_ == nullptr) throw std::logic_error("StageSystem: pin bending's coupling needs the coupled contact solver");
+ReducerSystem::CoupledForces ReducerSystem::SolveCoupled(const std::vector<double>& approach, std::vector<double>* force) const {
+  if (coupled_ == nullptr) throw std::logic_error("ReducerSystem: pin bending's coupling needs the coupled contact solver");
   std::vector<CoupledPoint> points(static_cast<std::size_t>(mesh_points_));
   for (std::size_t i = 0; i < points.size(); ++i) {
     const int law = scalars_[i].law;
@@ -372,7 +372,7 @@ StageSystem::CoupledForces StageSystem::SolveCoupled(const std::vector<double>& 
 // contact solution at those approaches (CoupledContact::AtRotation), its gradient F (Danskin) and,
 // on the loaded set A, its Hessian (D_A + C_AA)^-1 with D_i = w_i'(F_i) the tangent compliance.
 // C couples the slices of one pin only, so the Hessian's condensation is a dense solve per pin.
-void StageSystem::EvaluateCoupled(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints,
+void ReducerSystem::EvaluateCoupled(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints,
                                   Evaluation* out, Eigen::VectorXd* magnitude) const {
   constexpr double kEps = std::numeric_limits<double>::epsilon();
   const auto points = static_cast<std::size_t>(mesh_points_);
@@ -434,7 +434,7 @@ void StageSystem::EvaluateCoupled(const Eigen::VectorXd& q, bool with_hessian, s
   }
 }
 
-StageSystem::Outcome StageSystem::Minimise(Eigen::VectorXd* q, bool hold_output, double tolerance, int max_iterations,
+ReducerSystem::Outcome ReducerSystem::Minimise(Eigen::VectorXd* q, bool hold_output, double tolerance, int max_iterations,
                                            std::vector<double>* hints, int* iterations, Evaluation* last) const {
   const int psi = output_dof();
   // The free dofs, in order.
@@ -566,17 +566,17 @@ StageSystem::Outcome StageSystem::Minimise(Eigen::VectorXd* q, bool hold_output,
                                                                              : Outcome::kMaxIterations;
 }
 
-void StageSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
+void ReducerSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
   const Eigen::VectorXd relative = Coordinates(q);
   const Eigen::VectorXd c = origin_ + relative;
   result->rotation = c(psi_coordinate_);
   result->force.assign(static_cast<std::size_t>(problem_->point_count()), 0.0);
   result->approach.assign(static_cast<std::size_t>(problem_->point_count()), 0.0);
-  StageSolution stage;
+  ReducerSolution stage;
   stage.discs.resize(static_cast<std::size_t>(discs_));
   const int bearings = settings_.kind == OutputKind::kPins ? 1 : crank_count_;
   for (int d = 0; d < discs_; ++d) {
-    StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
+    ReducerSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
     disc.translation = Eigen::Vector2d(c(3 * d), c(3 * d + 1));
     disc.rotation = c(3 * d + 2);
     if (settings_.kind == OutputKind::kPins) {
@@ -620,7 +620,7 @@ void StageSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
     const double contact_approach = is_coupled ? law.Approach(f) : delta;
     stage.group_energy[static_cast<std::size_t>(e.group)] += f * contact_approach - law.ComplementaryEnergy(f) - seat;
     stage.group_energy[static_cast<std::size_t>(StageGroup::kSeats)] += seat;
-    StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(e.disc)];
+    ReducerSolution::Disc& disc = stage.discs[static_cast<std::size_t>(e.disc)];
     if (e.group == StageGroup::kMesh) {
       result->force[static_cast<std::size_t>(e.index)] = f;
       // The pin pushes the cycloid along -n (n from the cycloid toward the pin).
@@ -633,7 +633,7 @@ void StageSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
   for (const Planar& p : planars_) {
     const contact::BearingResponse r = contact::BearingAt(Bearing(p), DisplacementAt(p, relative), p.phase);
     stage.group_energy[static_cast<std::size_t>(p.group)] += r.energy;
-    StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(p.disc)];
+    ReducerSolution::Disc& disc = stage.discs[static_cast<std::size_t>(p.disc)];
     // The force on the outer member (the disc) is the opposite of that on the eccentric. A shaft
     // in series with a bearing carries the bearing's force: the bearing's own element reports it.
     if (p.shaft && shaft_coordinates_) continue;
@@ -643,22 +643,22 @@ void StageSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
   if (settings_.kind == OutputKind::kPins && settings_.bearing.kind == contact::BearingKind::kRigid) {
     // A rigid eccentric bearing holds the disc's centre: its force is the reaction to the others.
     for (int d = 0; d < discs_; ++d) {
-      StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
+      ReducerSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
       Eigen::Vector2d others = mesh_force[static_cast<std::size_t>(d)];
       for (std::size_t j = 0; j < disc.output_force.size(); ++j) others += disc.output_force[j] * disc.output_direction[j];
       disc.bearing_force[0] = -others;
     }
   }
-  result->stage = std::move(stage);
+  result->reducer = std::move(stage);
 }
 
-void StageSystem::Judge(LoadResult* result) const {
+void ReducerSystem::Judge(LoadResult* result) const {
   Residuals r;
-  if (!result->stage || !std::isfinite(result->rotation)) {
+  if (!result->reducer || !std::isfinite(result->rotation)) {
     result->residuals = r;
     return;
   }
-  StageSolution& stage = *result->stage;
+  ReducerSolution& stage = *result->reducer;
   // The coordinates as the result reports them, relative to the origin the system is built about.
   const Eigen::VectorXd c = CoordinatesOf(*result) - origin_;
   // Generalised forces dPi/dc with the reported forces: each disc's force (N) and moment (N*mm),
@@ -749,12 +749,12 @@ void StageSystem::Judge(LoadResult* result) const {
   result->residuals = r;
 }
 
-Eigen::VectorXd StageSystem::CoordinatesOf(const LoadResult& result) const {
+Eigen::VectorXd ReducerSystem::CoordinatesOf(const LoadResult& result) const {
   Eigen::VectorXd c = Eigen::VectorXd::Zero(coordinate_count());
-  if (!result.stage) return c;
-  const StageSolution& stage = *result.stage;
+  if (!result.reducer) return c;
+  const ReducerSolution& stage = *result.reducer;
   for (int d = 0; d < discs_ && d < static_cast<int>(stage.discs.size()); ++d) {
-    const StageSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
+    const ReducerSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
     c(3 * d) = disc.translation.x();
     c(3 * d + 1) = disc.translation.y();
     c(3 * d + 2) = disc.rotation;
@@ -768,7 +768,7 @@ Eigen::VectorXd StageSystem::CoordinatesOf(const LoadResult& result) const {
   return c;
 }
 
-Eigen::VectorXd StageSystem::OriginDofs() const {
+Eigen::VectorXd ReducerSystem::OriginDofs() const {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(dofs_);
   for (std::size_t i = 0; i < coordinate_dof_.size(); ++i) {
     if (coordinate_dof_[i] >= 0) q(coordinate_dof_[i]) = origin_(static_cast<Eigen::Index>(i)) / coordinate_scale_[i];
@@ -776,7 +776,7 @@ Eigen::VectorXd StageSystem::OriginDofs() const {
   return q;
 }
 
-double StageSystem::Distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+double ReducerSystem::Distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
   double d = 0.0;
   for (Eigen::Index i = 0; i < a.size() && i < b.size(); ++i) {
     const bool rotation = i == psi_coordinate_ || (i < psi_coordinate_ && i % 3 == 2);
@@ -785,10 +785,10 @@ double StageSystem::Distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b)
   return d;
 }
 
-void FinishStage(const StageSystem& system, const Eigen::VectorXd& q, StageSystem::Outcome outcome,
-                 const StageSystem::Evaluation& last, LoadResult* result) {
+void FinishReducer(const ReducerSystem& system, const Eigen::VectorXd& q, ReducerSystem::Outcome outcome,
+                 const ReducerSystem::Evaluation& last, LoadResult* result) {
   system.Fill(q, result);
-  if (outcome == StageSystem::Outcome::kNumerical) {
+  if (outcome == ReducerSystem::Outcome::kNumerical) {
     result->status = SolverStatus::kNumericalFailure;
     result->message = last.failure.empty() ? "the stage's minimisation failed (no step lowers the energy)" : last.failure;
   } else if (last.edge) {
@@ -797,7 +797,7 @@ void FinishStage(const StageSystem& system, const Eigen::VectorXd& q, StageSyste
   } else if (last.saturated) {
     result->status = SolverStatus::kLawCannotCarry;
     result->message = "an element needs more force than its contact law can represent";
-  } else if (outcome == StageSystem::Outcome::kMaxIterations) {
+  } else if (outcome == ReducerSystem::Outcome::kMaxIterations) {
     result->status = SolverStatus::kMaxIterations;
     result->message = "the stage's balance did not converge within [solver] max_iterations";
   } else {
@@ -807,21 +807,21 @@ void FinishStage(const StageSystem& system, const Eigen::VectorXd& q, StageSyste
 }
 
 namespace {
-struct StageStartState final : Workspace::BackendState {
+struct ReducerStartState final : Workspace::BackendState {
   Eigen::VectorXd q;
 };
 }  // namespace
 
-Eigen::VectorXd StageStart(const StageSystem& system, Workspace& workspace, const std::string& key) {
-  const auto* state = dynamic_cast<const StageStartState*>(workspace.Backend(key));
+Eigen::VectorXd ReducerStart(const ReducerSystem& system, Workspace& workspace, const std::string& key) {
+  const auto* state = dynamic_cast<const ReducerStartState*>(workspace.Backend(key));
   if (state != nullptr && state->q.size() == system.dof_count() && state->q.allFinite()) {
     return state->q - system.OriginDofs();
   }
   return system.Zero();
 }
 
-void KeepStageStart(const StageSystem& system, const Eigen::VectorXd& q, Workspace& workspace, const std::string& key) {
-  auto state = std::make_unique<StageStartState>();
+void KeepReducerStart(const ReducerSystem& system, const Eigen::VectorXd& q, Workspace& workspace, const std::string& key) {
+  auto state = std::make_unique<ReducerStartState>();
   state->q = q + system.OriginDofs();
   workspace.SetBackend(key, std::move(state));
 }
