@@ -77,7 +77,7 @@ ReducerSystem::ReducerSystem(const LoadProblem& problem, const Eigen::VectorXd& 
 }
 
 void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origin) {
-  if (problem.reducer() == nullptr) throw std::invalid_argument("ReducerSystem: the problem has no stage");
+  if (problem.reducer() == nullptr) throw std::invalid_argument("ReducerSystem: the problem has no reducer");
   settings_ = *problem.reducer();
   discs_ = problem.disc_count();
   radius_ = problem.model().pair().pin_circle_radius;

@@ -34,7 +34,7 @@ class ReducerSystem {
   static contact::ContactLaw OutputPinLaw(const LoadProblem& problem);
 
   /// The stage at its nominal poses (linearised kinematics). Throws std::invalid_argument when the
-  /// problem has no stage.
+  /// problem has no reducer.
   ///
   /// With pin bending (the problem's coupling) the pin-ring points of one pin share its
   /// beam: `coupled` solves their contact problem at each evaluation (CoupledContactFor, kept in

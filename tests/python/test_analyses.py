@@ -121,3 +121,7 @@ def test_the_stiffness_curve_is_a_table_of_arrays(monkeypatch):
     assert table and all(len(column) == len(curve) for column in table.values())
     key = next(iter(table))
     assert [r.get(key) for r in curve] == [None if np.isnan(v) else v for v in table[key]]
+    # A negative index counts from the end, as the document's list takes it.
+    last = result.table("positions", -1, "curve")
+    assert sorted(last) == sorted(result.table("positions", len(result.json["positions"]) - 1, "curve"))
+    assert all(np.array_equal(last[k], table[k], equal_nan=True) for k in table)  # one crank: -1 is 0

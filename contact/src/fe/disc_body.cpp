@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -90,6 +91,9 @@ struct DiscBody::Impl {
   std::unique_ptr<fe::ElasticModel> model;
   double mesh_seconds = 0.0;
   double factorisation_seconds = 0.0;
+  /// CHOLMOD's workspace (Eigen's wrapper keeps it mutable inside the factorisation) is one per
+  /// body: the solves of concurrent Condense calls on the body or its copies take turns.
+  mutable std::mutex solving;
 };
 
 DiscBody::DiscBody(const DiscBodyDesign& design) {
@@ -137,7 +141,11 @@ DiscCompliance DiscBody::Condense(const std::vector<DiscLoadPoint>& points) cons
     loads.col(static_cast<Eigen::Index>(i)) =
         fe::PatchLoad(body.mesh, loadable, points[i].point_mm, points[i].direction, points[i].half_width_mm);
   }
-  const Eigen::MatrixXd u = body.model->Solve(loads);
+  Eigen::MatrixXd u;
+  {
+    const std::lock_guard<std::mutex> lock(body.solving);
+    u = body.model->Solve(loads);
+  }
   result.compliance_mm_per_n = loads.transpose() * u;
   result.solve_seconds = body.factorisation_seconds + Seconds(start);
   return result;

@@ -75,7 +75,10 @@ OptionValues::Value FromText(const AnalysisOption& o, const std::string& text) {
       const char* end = text.data() + text.size();
       const auto [ptr, ec] = std::from_chars(text.data(), end, v);
       if (text.empty() || ptr != end || ec != std::errc() || static_cast<double>(v) < o.min || static_cast<double>(v) > o.max) {
-        throw bad(fmt::format("a whole number from {:.0f} to {:.0f}", o.min, o.max));
+        // The bounds the option sets; a whole number in the 64-bit range when it sets none.
+        const bool bounded = o.min > -9.2e18 && o.max < 9.2e18;
+        throw bad(bounded ? fmt::format("a whole number from {:.0f} to {:.0f}", o.min, o.max)
+                          : std::string("a whole number from -9223372036854775808 to 9223372036854775807"));
       }
       return v;
     }

@@ -615,7 +615,12 @@ std::optional<documents::OptionValues::Value> OptionValueOf(const std::string& k
   if (value.is_none()) return std::nullopt;
   if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
   if (py::isinstance<py::int_>(value) || (py::hasattr(value, "__index__") && !py::isinstance<py::float_>(value))) {
-    return static_cast<std::int64_t>(py::int_(py::reinterpret_borrow<py::object>(value)).cast<std::int64_t>());
+    const py::int_ whole(py::reinterpret_borrow<py::object>(value));
+    try {
+      return whole.cast<std::int64_t>();
+    } catch (const py::cast_error&) {  // beyond 64 bits: named as every bad value is
+      throw std::invalid_argument(key + " = " + std::string(py::repr(whole)) + ": expected a whole number within 64 bits");
+    }
   }
   if (py::isinstance<py::float_>(value)) return value.cast<double>();
   if (py::isinstance<py::str>(value)) return value.cast<std::string>();

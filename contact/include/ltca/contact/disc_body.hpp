@@ -82,7 +82,8 @@ std::vector<Eigen::Vector2d> DiscOutline(const geometry::CycloidProfile& profile
 
 /// The disc meshed, assembled and factorised once: condense it at any points, as often as needed
 /// (the condensation points along the flanks, a design's cache). Copies share the factorisation;
-/// Condense is not for concurrent calls on one body or its copies (they share CHOLMOD's workspace).
+/// concurrent Condense calls on one body or its copies are safe: their solves take turns on the
+/// one CHOLMOD workspace (a thread that needs its own solves in parallel builds its own body).
 class DiscBody {
  public:
   /// Meshes the disc (gmsh 4.8, loaded with dlopen: std::runtime_error naming the package to

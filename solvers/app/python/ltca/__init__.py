@@ -256,6 +256,14 @@ class Result:
         result, as ``tables`` (the document is only walked to check the path)."""
         if len(path) == 1 and path[0] in self.tables:
             return self.tables[path[0]]
+        # An index as the document's lists take it: a negative one counts from the end.
+        node, steps = self.json, []
+        for step in path:
+            if isinstance(node, list) and isinstance(step, int) and not isinstance(step, bool) and -len(node) <= step < 0:
+                step += len(node)
+            steps.append(step)
+            node = node[step] if isinstance(node, (list, dict)) else node
+        path = tuple(steps)
         if path in self._nested:
             return self._nested[path]
         node = self.json

@@ -166,7 +166,7 @@ class LoadProblem {
   /// std::invalid_argument otherwise, or unless scales holds point_count() finite numbers above 0.
   /// The same points, arms, clearances and id.
   LoadProblem WithLawScales(const std::vector<double>& scales) const;
-  /// Whether WithLawScales can be asked: linearised, uncoupled, no stage.
+  /// Whether WithLawScales can be asked: linearised, uncoupled, no reducer.
   bool scalable_laws() const {
     return kinematics_ == contact::ContactKinematics::kLinearised && coupling_ == nullptr && reducer_ == nullptr;
   }
@@ -174,7 +174,7 @@ class LoadProblem {
   /// The reducer stage (ltca/solvers/reducer.hpp): a copy of this problem whose discs
   /// float on their bearings and drive the output member through the stage's output elements, T
   /// on the output member. Validates the settings against the pair (std::invalid_argument naming
-  /// the key); nullptr: no stage (the mesh alone, the disc centres fixed).
+  /// the key); nullptr: no reducer (the mesh alone, the disc centres fixed).
   LoadProblem WithReducer(std::shared_ptr<const ReducerSettings> stage) const;
   /// The stage, or nullptr for the mesh alone.
   const ReducerSettings* reducer() const { return reducer_.get(); }

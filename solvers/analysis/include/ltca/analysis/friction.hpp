@@ -84,7 +84,7 @@ struct LoopFrictionWarmStart {
 struct LoopFrictionBalance {
   /// The friction moment mu sum F_i a_i, N*mm (>= 0): the normal forces carry |T| - d sense of it.
   double moment = std::numeric_limits<double>::quiet_NaN();
-  /// Solved once with scaled laws (linearised, uncoupled, no stage), else by the secant iteration.
+  /// Solved once with scaled laws (linearised, uncoupled, no reducer), else by the secant iteration.
   /// With direct, every force of an arm L_i > 0 grows with the rotation, and so with the torque t
   /// the normal forces carry; behind bounds the friction moment of the pins of arm <= 0 (which
   /// open as the rotation grows) at any rotation a torque of this flank gives, N*mm (0 when they
