@@ -537,7 +537,7 @@ ltca::app::TomlValue ToToml(const py::handle& value, const std::string& where, i
     TomlValue::Table table;
     for (const auto& [key, item] : py::reinterpret_borrow<py::dict>(value)) {
       const std::string name = KeyText(key, where);
-      table.emplace_back(name, ToToml(item, where + "." + name, depth + 1));
+      table.push_back({name, ToToml(item, where + "." + name, depth + 1)});
     }
     return {std::move(table)};
   }
@@ -556,7 +556,7 @@ std::string TomlDeck(const py::dict& sections) {
     ltca::app::TomlValue::Table table;
     for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(keys)) {
       const std::string k = KeyText(key, name + ".<a key>");
-      table.emplace_back(k, ToToml(value, name + "." + k));
+      table.push_back({k, ToToml(value, name + "." + k)});
     }
     out.emplace_back(name, std::move(table));
   }

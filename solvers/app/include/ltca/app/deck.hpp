@@ -200,10 +200,17 @@ std::string WriteDeck(const Deck& deck, const std::vector<DeckEdit>& edits, cons
 
 /// A value of a deck as a front-end hands it over (Python's Deck.from_dict and Deck.set): a
 /// boolean, an integer, a float, a string, an array or a table (its keys in their order).
+struct TomlEntry;
 struct TomlValue {
   using Array = std::vector<TomlValue>;
-  using Table = std::vector<std::pair<std::string, TomlValue>>;
+  /// A table's keys in order (a struct, not std::pair: a pair of the type being defined is
+  /// incomplete inside its definition, which clang's libstdc++ checks refuse).
+  using Table = std::vector<TomlEntry>;
   std::variant<bool, std::int64_t, double, std::string, Array, Table> value;
+};
+struct TomlEntry {
+  std::string key;
+  TomlValue value;
 };
 
 /// The deck writer's TOML text of a value, on one line (TOML 1.0): a float always as a float (100.0
