@@ -18,6 +18,7 @@
 #include "fe/t6_elasticity.hpp"
 #include "ltca/contact/disc_body.hpp"
 #include "ltca/contact/mesh_state.hpp"
+#include "pairs.hpp"
 
 namespace disc_body_test {
 
@@ -310,6 +311,15 @@ TEST_CASE("contact: the disc's influence coefficient at a tooth flank converges 
 // 7 mm radius at 40 mm; condensed at the ring-pin contact points of crank 0 on the loaded side
 // (arm > 0: pins 2 to 20), each loaded along its inward normal over a 0.2 mm half-width; 3 mm
 // elements, `refined` at the contacts growing to 3 mm over 6 mm.
+// Liu 2021 section 5.2's base pair (cases/liu2021_sec52_base.toml): Table 1's pair (tests/pairs.hpp)
+// with dR_rp = -4 um and dR_p = -17 um.
+ltca::contact::MeshModel Sec52Model() {
+  ltca::geometry::Modification modification;
+  modification.pin_radius = -0.004;
+  modification.pin_circle_radius = -0.017;
+  return ltca::contact::MeshModel(ltca::geometry::RealPair(ltca::test::LiuPair(), modification));
+}
+
 struct RealDisc {
   ltca::contact::DiscCompliance c;
   std::vector<int> pins;  // 1-based
@@ -317,11 +327,8 @@ struct RealDisc {
 };
 RealDisc Sec52Disc(double refined, bool holes) {
   const auto start = std::chrono::steady_clock::now();
-  const ltca::geometry::PairParameters pair{40, 39, 3.0, 64.0, 1.3, 12.0};
-  ltca::geometry::Modification modification;
-  modification.pin_radius = -0.004;
-  modification.pin_circle_radius = -0.017;
-  const ltca::contact::MeshModel model(ltca::geometry::RealPair(pair, modification));
+  const ltca::geometry::PairParameters pair = ltca::test::LiuPair();
+  const ltca::contact::MeshModel model = Sec52Model();
   const ltca::geometry::CycloidProfile& profile = model.real_pair().profile();
   DiscBodyDesign d;
   d.outline_mm = ltca::contact::DiscOutline(profile, 48);
@@ -426,11 +433,8 @@ TEST_CASE("contact: the real disc's body rotation under the rigid model's forces
   // part, which the coupling must take out where the Hertz approach already counts it. The checks:
   // the 12 mm bore at least 1.8x the 22 mm one; the increments per halving equal within 10 %.
   // Labelled slow (6 condensations).
-  const ltca::geometry::PairParameters pair{40, 39, 3.0, 64.0, 1.3, 12.0};
-  ltca::geometry::Modification modification;
-  modification.pin_radius = -0.004;
-  modification.pin_circle_radius = -0.017;
-  const ltca::contact::MeshModel model(ltca::geometry::RealPair(pair, modification));
+  const ltca::geometry::PairParameters pair = ltca::test::LiuPair();
+  const ltca::contact::MeshModel model = Sec52Model();
   const ltca::geometry::CycloidProfile& profile = model.real_pair().profile();
   const std::vector<double> force{0.0, 0.0, 271.45400, 924.47914, 998.25342, 972.98050, 684.63246, 301.66719};
   constexpr double kTorque = 206000.0, kArcsec = 180.0 * 3600.0 / kPi;  // N*mm

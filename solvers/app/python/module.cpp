@@ -633,11 +633,11 @@ std::optional<documents::OptionValues::Value> OptionValueOf(const std::string& k
 /// document, the --csv columns as {name: array}, {} without a per-row table, {}: no nested tables).
 py::tuple BindAnalysis(const documents::Analysis& analysis, const Deck& deck, const py::kwargs& kwargs) {
   std::map<std::string, documents::OptionValues::Value> given;
+  const std::vector<documents::AnalysisOption> options = documents::AllOptions(analysis);
   for (const auto& [k, v] : kwargs) {
     std::string key = py::str(k);
     std::string name = key;
     std::replace(name.begin(), name.end(), '_', '-');
-    const std::vector<documents::AnalysisOption> options = documents::AllOptions(analysis);
     const bool known = std::any_of(options.begin(), options.end(), [&](const documents::AnalysisOption& o) { return o.name == name; });
     if (!known) throw py::type_error(analysis.name + "() got an unexpected keyword argument '" + key + "'");
     if (const auto value = OptionValueOf(key, v)) given[name] = *value;
