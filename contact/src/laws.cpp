@@ -165,7 +165,7 @@ ContactLaw::ContactLaw(const ContactSettings& settings, const Material& material
     case LawKind::kHertzLine: {
       // delta = (2F / (pi B)) [A - (C/2) ln F] with b = b1 sqrt(F).
       form_ = Form::kLog;
-      rho_c_abs_ = std::min(rho_c, log_radius_cap);
+      rho_c_abs_ = settings.cycloid_log_radius > 0.0 ? settings.cycloid_log_radius : std::min(rho_c, log_radius_cap);
       const double b1 = std::sqrt(4.0 * rho_eq_ / (kPi * length * e_star_));
       hertz_a_ = cc_ * (std::log(4.0 * rho_c_abs_ / b1) - 0.5) + cp_ * (std::log(4.0 * rho_p_ / b1) - 0.5);
       log_a_ = hertz_a_;

@@ -42,6 +42,7 @@ ContactLaw OutputPinLaw(const ContactSettings& contact, const Material& material
   // would make the pin and its hole two convex cylinders, 1/rho* = 1/r_w + 1/r_h, which is wrong for a pin in a hole).
   own.rho_convention = RhoConvention::kSigned;
   own.seat = PinSeat{};
+  own.cycloid_log_radius = 0.0;  // a hole is not the flank the disc body was condensed on
   return ContactLaw(own, material, -1.0 / pins.hole_radius, pins.pin_radius, length, log_radius_cap);
 }
 

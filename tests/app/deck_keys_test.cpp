@@ -150,6 +150,7 @@ TEST_CASE("app: a field the table binds to a setting defaults to the table's def
   ltca::analysis::OptimiseSettings optimise;
   ltca::contact::PinSupport pin_support;
   ltca::contact::PinSeat pin_seat;
+  ltca::contact::DiscBodySettings disc_body;
   ltca::solvers::ReducerSettings reducer;
   ltca::contact::OutputPins output_pins;
   ltca::contact::Cranks cranks;
@@ -163,6 +164,7 @@ TEST_CASE("app: a field the table binds to a setting defaults to the table's def
                                             .material = &material,
                                             .pin_support = &pin_support,
                                             .pin_seat = &pin_seat,
+                                            .disc_body = &disc_body,
                                             .reducer = &reducer,
                                             .output_pins = &output_pins,
                                             .cranks = &cranks,
@@ -282,6 +284,7 @@ ltca::analysis::SettingsParts PartsOf(ltca::app::Deck& d) {
                                   .contact = &d.contact,
                                   .geometry = &d.geometry,
                                   .pin_seat = &d.contact.seat,
+                                  .disc_body = &d.disc,
                                   .sweep = &d.sweep,
                                   .solver = &d.solver,
                                   .kinematics = &d.kinematics,
@@ -421,6 +424,14 @@ const std::vector<Tied> kTied = {
     {"tolerances.profile_random_per_sample", "liu2021_tolerances.toml",
      {"errors.profile_random_zone_um=3", "tolerances.profile_random_per_sample=true"}, "true"},
     {"friction.model", "jiang2022_table2_efficiency.toml", {"friction.model=\"coulomb\"", "friction.coefficient=0.05"}, "choice 0"},
+    {"disc.body", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22"}, "choice 1"},
+    {"disc.bore_radius_mm", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22"}, "22"},
+    {"disc.plane", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22", "disc.plane=\"stress\""}, "choice 1"},
+    {"disc.element_size_mm", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22", "disc.element_size_mm=2"}, "2"},
+    {"disc.grid_points_per_space", "liu2021_table1.toml",
+     {"disc.body=\"elastic\"", "disc.bore_radius_mm=22", "disc.grid_points_per_space=16"}, "16"},
+    {"disc.patch_half_width_mm", "liu2021_table1.toml",
+     {"disc.body=\"elastic\"", "disc.bore_radius_mm=22", "disc.patch_half_width_mm=0.1"}, "0.1"},
 };
 
 }  // namespace

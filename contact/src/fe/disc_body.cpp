@@ -2,11 +2,16 @@
 
 #include <algorithm>
 #include <chrono>
+#include <numbers>
 #include <memory>
 #include <mutex>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include <Eigen/SparseCore>
+
+#include <fmt/format.h>
 
 #include "fe/disc_mesh.hpp"
 #include "fe/t6_elasticity.hpp"
@@ -22,6 +27,34 @@ void RequirePositive(double value, const char* name) {
 
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+/// The model with every node of the bore clamped (both components): the support.
+std::unique_ptr<fe::ElasticModel> ClampedAtBore(const fe::T6Mesh& mesh, const DiscBodyDesign& design) {
+  std::vector<char> on_bore(mesh.nodes.size(), 0);
+  for (const fe::BoundaryEdge& edge : mesh.edges) {
+    if (edge.boundary == fe::Boundary::kBore) {
+      for (const int n : edge.nodes) on_bore[n] = 1;
+    }
+  }
+  std::vector<int> clamped;
+  for (std::size_t n = 0; n < mesh.nodes.size(); ++n) {
+    if (on_bore[n]) {
+      clamped.push_back(2 * static_cast<int>(n));
+      clamped.push_back(2 * static_cast<int>(n) + 1);
+    }
+  }
+  const fe::Elasticity elasticity{design.plane, design.young_modulus_mpa, design.poisson_ratio, design.thickness_mm};
+  return std::make_unique<fe::ElasticModel>(mesh, elasticity, clamped);
+}
+
+/// The step between consecutive tooth spaces along the outline: space k's end (u = phi_max) meets
+/// the start (u = -phi_max) of space k + 1 or of space k - 1 (1 or z_c - 1).
+int OutlineStep(const geometry::CycloidProfile& profile) {
+  const int spaces = profile.pair().tooth_count;
+  const double phi = profile.phi_max();
+  const Eigen::Vector2d end = profile.Position(phi, 0);
+  return (end - profile.Position(-phi, 1)).norm() <= (end - profile.Position(-phi, spaces - 1)).norm() ? 1 : spaces - 1;
 }
 
 }  // namespace
@@ -65,10 +98,7 @@ std::vector<Eigen::Vector2d> DiscOutline(const geometry::CycloidProfile& profile
   if (points_per_space < 8) throw std::invalid_argument("disc outline: at least 8 points per tooth space");
   const int spaces = profile.pair().tooth_count;
   const double phi = profile.phi_max();
-  // Space k's end (u = phi_max) meets the start (u = -phi_max) of space k + 1 or of space k - 1.
-  const Eigen::Vector2d end = profile.Position(phi, 0);
-  const int step =
-      (end - profile.Position(-phi, 1)).norm() <= (end - profile.Position(-phi, spaces - 1)).norm() ? 1 : spaces - 1;
+  const int step = OutlineStep(profile);
   std::vector<Eigen::Vector2d> outline;
   outline.reserve(static_cast<std::size_t>(spaces) * points_per_space);
   for (int i = 0, k = 0; i < spaces; ++i, k = (k + step) % spaces) {
@@ -102,22 +132,7 @@ DiscBody::DiscBody(const DiscBodyDesign& design) {
   impl->mesh = fe::MeshDisc(design);
   impl->mesh_seconds = Seconds(start);
   const auto solve_start = std::chrono::steady_clock::now();
-  // The support: every node of the bore clamped (both components).
-  std::vector<char> on_bore(impl->mesh.nodes.size(), 0);
-  for (const fe::BoundaryEdge& edge : impl->mesh.edges) {
-    if (edge.boundary == fe::Boundary::kBore) {
-      for (const int n : edge.nodes) on_bore[n] = 1;
-    }
-  }
-  std::vector<int> clamped;
-  for (std::size_t n = 0; n < impl->mesh.nodes.size(); ++n) {
-    if (on_bore[n]) {
-      clamped.push_back(2 * static_cast<int>(n));
-      clamped.push_back(2 * static_cast<int>(n) + 1);
-    }
-  }
-  const fe::Elasticity elasticity{design.plane, design.young_modulus_mpa, design.poisson_ratio, design.thickness_mm};
-  impl->model = std::make_unique<fe::ElasticModel>(impl->mesh, elasticity, clamped);
+  impl->model = ClampedAtBore(impl->mesh, design);
   impl->factorisation_seconds = Seconds(solve_start);
   impl_ = std::move(impl);
 }
@@ -153,6 +168,158 @@ DiscCompliance DiscBody::Condense(const std::vector<DiscLoadPoint>& points) cons
 
 DiscCompliance CondenseDiscCompliance(const DiscBodyDesign& design, const std::vector<DiscLoadPoint>& points) {
   return DiscBody(design).Condense(points);
+}
+
+const char* ToString(DiscBodySettings::Body body) {
+  return body == DiscBodySettings::Body::kElastic ? "elastic" : "rigid";
+}
+
+const char* ToString(PlaneModel plane) { return plane == PlaneModel::kStress ? "stress" : "strain"; }
+
+void DiscBodySettings::Validate(double root_radius) const {
+  if (!elastic()) return;
+  const auto fail = [](const char* key, double value, const std::string& expected) {
+    throw std::invalid_argument(fmt::format("[disc] {} = {}: expected {}", key, value, expected));
+  };
+  if (!(element_size >= 0.1 && element_size <= 20.0)) fail("element_size_mm", element_size, "a length from 0.1 to 20 mm");
+  const double limit = root_radius - 2.0 * element_size;
+  if (!(bore_radius > 0.0) || !std::isfinite(bore_radius) || !(bore_radius < limit)) {
+    fail("bore_radius_mm", bore_radius,
+         fmt::format("a radius above 0 and below {:g} mm (the root circle {:g} mm less two element sizes) with body = "
+                     "\"elastic\"",
+                     limit, root_radius));
+  }
+  if (grid.points_per_space < 8 || grid.points_per_space > 256) {
+    fail("grid_points_per_space", grid.points_per_space, "an integer from 8 to 256");
+  }
+  const double w = grid.patch_half_width_mm;
+  if (!(w >= 0.01 && w <= 2.0) || !(w < element_size)) {
+    fail("patch_half_width_mm", w, fmt::format("a length from 0.01 to 2 mm and below element_size_mm = {:g}", element_size));
+  }
+}
+
+DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile, DiscBodyDesign body,
+                                         DiscFlankGrid grid)
+    : grid_(grid),
+      spaces_(profile.pair().tooth_count),
+      step_(OutlineStep(profile)),
+      phi_max_(profile.phi_max()),
+      thickness_(body.thickness_mm) {
+  const auto start = std::chrono::steady_clock::now();
+  if (grid.points_per_space < 8) throw std::invalid_argument("disc flank: at least 8 grid points per tooth space");
+  RequirePositive(grid.patch_half_width_mm, "patch_half_width_mm");
+  const int m = grid.points_per_space;
+  const int n = spaces_ * m;
+  // The grid evenly in arc length over a tooth space (the same u in every space): uniform in u it
+  // is coarsest near the root, where the flank turns fastest (the trapezoidal arc length of 64
+  // sub-intervals per grid interval).
+  {
+    constexpr int kFine = 64;
+    const int steps = kFine * m;
+    std::vector<double> arc(static_cast<std::size_t>(steps) + 1, 0.0);
+    const auto speed = [&](int i) { return profile.Evaluate(-phi_max_ + 2.0 * phi_max_ * i / steps, 0).d1.norm(); };
+    double previous = speed(0);
+    for (int i = 1; i <= steps; ++i) {
+      const double next = speed(i);
+      arc[static_cast<std::size_t>(i)] = arc[static_cast<std::size_t>(i) - 1] + 0.5 * (previous + next) * (2.0 * phi_max_ / steps);
+      previous = next;
+    }
+    grid_u_.assign(static_cast<std::size_t>(m) + 1, 0.0);
+    for (int j = 0; j <= m; ++j) {
+      const double target = arc.back() * j / m;
+      const auto it = std::lower_bound(arc.begin(), arc.end(), target);
+      const std::size_t i = std::clamp<std::size_t>(static_cast<std::size_t>(it - arc.begin()), 1, arc.size() - 1);
+      const double f = (target - arc[i - 1]) / (arc[i] - arc[i - 1]);
+      grid_u_[static_cast<std::size_t>(j)] = -phi_max_ + 2.0 * phi_max_ * (static_cast<double>(i - 1) + f) / steps;
+    }
+    grid_u_.front() = -phi_max_;
+    grid_u_.back() = phi_max_;
+  }
+  points_.resize(2, n);
+  normals_.resize(2, n);
+  for (int k = 0; k < spaces_; ++k) {
+    for (int j = 0; j < m; ++j) {
+      const geometry::ProfilePoint p = profile.Evaluate(grid_u_[static_cast<std::size_t>(j)], k);
+      points_.col(k * m + j) = p.position;
+      normals_.col(k * m + j) = -p.normal;  // into the material: the direction a pin pushes
+    }
+  }
+  // The outline at twice the grid's density, meshed at w0 along all of it.
+  body.outline_mm = DiscOutline(profile, 2 * m);
+  body.refine_near_mm = body.outline_mm;
+  body.refined_size_mm = std::min(grid.patch_half_width_mm, body.element_size_mm);
+  const fe::T6Mesh mesh = fe::MeshDisc(body);
+  nodes_ = static_cast<int>(mesh.nodes.size());
+  elements_ = static_cast<int>(mesh.triangles.size());
+  const std::unique_ptr<fe::ElasticModel> model = ClampedAtBore(mesh, body);
+  // The grid's patch loads (sparse: each touches a few edges), then K = L^T K_fe^-1 L, solved in
+  // blocks of columns so that no dense dofs x n matrix is held.
+  const auto loadable = [](const fe::BoundaryEdge& edge) { return edge.boundary == fe::Boundary::kOutline; };
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int g = 0; g < n; ++g) {
+    const Eigen::VectorXd f = fe::PatchLoad(mesh, loadable, points_.col(g), normals_.col(g), grid.patch_half_width_mm);
+    for (Eigen::Index i = 0; i < f.size(); ++i) {
+      if (f[i] != 0.0) entries.emplace_back(static_cast<int>(i), g, f[i]);
+    }
+  }
+  Eigen::SparseMatrix<double> loads(model->dofs(), n);
+  loads.setFromTriplets(entries.begin(), entries.end());
+  k_.resize(n, n);
+  constexpr int kBlock = 64;
+  for (int first = 0; first < n; first += kBlock) {
+    const int cols = std::min(kBlock, n - first);
+    const Eigen::MatrixXd u = model->Solve(Eigen::MatrixXd(loads.middleCols(first, cols)));
+    k_.middleCols(first, cols) = loads.transpose() * u;
+  }
+  k_ = 0.5 * (k_ + k_.transpose()).eval();  // Maxwell-Betti holds to rounding; make it exact
+  setup_seconds_ = Seconds(start);
+}
+
+double DiscFlankCompliance::cycloid_log_radius_mm() const {
+  return grid_.patch_half_width_mm / std::sqrt(std::numbers::e);
+}
+
+void DiscFlankCompliance::Neighbours(int tooth_space, double u, int* first, int* second, double* t) const {
+  const int m = grid_.points_per_space;
+  const int k = ((tooth_space % spaces_) + spaces_) % spaces_;
+  const auto it = std::upper_bound(grid_u_.begin(), grid_u_.end(), u);
+  const int j = std::clamp(static_cast<int>(it - grid_u_.begin()) - 1, 0, m - 1);
+  const double lo = grid_u_[static_cast<std::size_t>(j)], hi = grid_u_[static_cast<std::size_t>(j) + 1];
+  *t = std::clamp((u - lo) / (hi - lo), 0.0, 1.0);
+  *first = k * m + j;
+  *second = j + 1 < m ? k * m + j + 1 : ((k + step_) % spaces_) * m;
+}
+
+Eigen::MatrixXd DiscFlankCompliance::Coupling(const std::vector<PinContact>& points) const {
+  const Eigen::Index n = static_cast<Eigen::Index>(points.size());
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(n, n);
+  std::vector<int> a(points.size()), b(points.size());
+  std::vector<double> t(points.size());
+  std::vector<char> on(points.size(), 0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const PinContact& p = points[i];
+    if (p.edge || p.part != geometry::SurfacePart::kFlank || !(p.length > 0.0)) continue;
+    on[i] = 1;
+    Neighbours(p.tooth_space, p.u, &a[i], &b[i], &t[i]);
+  }
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!on[i]) continue;
+    const double scale = thickness_ / points[i].length;  // a slice: a section of its own thickness
+    const double ti = t[i], si = 1.0 - ti;
+    for (std::size_t j = i; j < points.size(); ++j) {
+      if (!on[j] || points[j].slice != points[i].slice || points[j].disc != points[i].disc) continue;
+      double v = 0.0;
+      if (i == j) {
+        v = si * k_(a[i], a[i]) + ti * k_(b[i], b[i]);
+      } else {
+        const double tj = t[j], sj = 1.0 - tj;
+        v = si * (sj * k_(a[i], a[j]) + tj * k_(a[i], b[j])) + ti * (sj * k_(b[i], a[j]) + tj * k_(b[i], b[j]));
+      }
+      c(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = scale * v;
+      c(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(i)) = scale * v;
+    }
+  }
+  return c;
 }
 
 }  // namespace ltca::contact

@@ -65,6 +65,8 @@ using Rho = contact::RhoConvention;
 using Mode = geometry::GeometrySettings::Mode;
 using Support = contact::PinSupportKind;
 using Seat = contact::PinSeat::Kind;
+using Body = contact::DiscBodySettings::Body;
+using Plane = contact::PlaneModel;
 using Output = solvers::OutputKind;
 using Bearing = contact::BearingKind;
 using Kinematics = contact::ContactKinematics;
@@ -243,6 +245,25 @@ const std::vector<DeckKey> kKeys = {
     {.section = "pins", .name = "housing_poisson_ratio", .type = T::kReal, .unit = "",
      .meaning = "groove seat: Poisson's ratio of the housing", .default_value = "poisson_ratio",
      .setting = LTCA_SETTING(pin_seat, housing_poisson_ratio)},
+    // [disc] (docs/fe_disc.md): the disc body, rigid or elastic
+    {.section = "disc", .name = "body", .type = T::kText, .unit = "",
+     .meaning = "the disc body: rigid | elastic (its FE compliance couples the contacts)", .default_value = "\"rigid\"",
+     .choices = "rigid | elastic", .setting = LTCA_CHOICE(disc_body, body, Body::kRigid, Body::kElastic)},
+    {.section = "disc", .name = "bore_radius_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "elastic body: radius of the central bore in mm, clamped in the mesh alone", .default_value = "",
+     .setting = LTCA_SETTING(disc_body, bore_radius)},
+    {.section = "disc", .name = "plane", .type = T::kText, .unit = "",
+     .meaning = "elastic body: strain (a thick disc) | stress (a thin disc)", .default_value = "\"strain\"",
+     .choices = "strain | stress", .setting = LTCA_CHOICE(disc_body, plane, Plane::kStrain, Plane::kStress)},
+    {.section = "disc", .name = "element_size_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "elastic body: FE element size away from the flank in mm", .default_value = "3",
+     .setting = LTCA_SETTING(disc_body, element_size)},
+    {.section = "disc", .name = "grid_points_per_space", .type = T::kInteger, .unit = "",
+     .meaning = "elastic body: condensation points per tooth space, evenly in arc length", .default_value = "32",
+     .setting = LTCA_SETTING(disc_body, grid.points_per_space)},
+    {.section = "disc", .name = "patch_half_width_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "elastic body: half-width of each condensation point's load patch in mm (the flank meshed at it)",
+     .default_value = "0.2", .setting = LTCA_SETTING(disc_body, grid.patch_half_width_mm)},
     // [output] (docs/stage.md): the output mechanism of the reducer stage
     {.section = "output", .name = "kind", .type = T::kText, .unit = "",
      .meaning = "pins (output pins in holes of the disc) | cranks (crankshafts in crank holes, RV)", .default_value = "",

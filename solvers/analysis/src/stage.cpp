@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
+#include <string>
+#include <utility>
 #include <stdexcept>
 #include <vector>
 
@@ -17,12 +20,83 @@ geometry::RealPair StageDesign::MakeSecondRealPair() const {
   return {pair, second_disc->modification, second_disc->errors, second_disc->assembly};
 }
 
+namespace {
+
+/// The profile's root circle: the least distance of the flank from the disc centre (every tooth
+/// space alike), sampled at 512 points of the reference space, mm.
+double RootRadius(const geometry::CycloidProfile& profile) {
+  constexpr int kSamples = 512;
+  double root = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= kSamples; ++i) {
+    const double u = profile.phi_max() * (-1.0 + 2.0 * i / kSamples);
+    root = std::min(root, profile.Position(u, 0).norm());
+  }
+  return root;
+}
+
+}  // namespace
+
 void StageDesign::Validate() const {
   if (second_disc && pins) {
     throw std::invalid_argument(
         "[second_disc] with [pins]: pin bending with two discs is not supported yet (the pin beams would couple "
         "both discs' contacts); expected one of the two sections");
   }
+  if (!disc.elastic()) return;
+  const auto refuse = [](const std::string& what) {
+    throw std::invalid_argument("[disc] body = \"elastic\" " + what);
+  };
+  if (second_disc) refuse("with [second_disc]: the elastic body of two discs is not built yet; expected body = \"rigid\"");
+  if (reducer) {
+    refuse("with [output]: the elastic body in the reducer stage (its holes and bearing in the body) is not built yet; "
+           "expected body = \"rigid\" or the mesh alone");
+  }
+  if (contact.law != contact::LawKind::kHertzLine) {
+    refuse(fmt::format("with [contact] law = \"{}\": the body's local field is the hertz-line law's; expected law = "
+                       "\"hertz-line\"",
+                       contact::ToString(contact.law)));
+  }
+  if (!modification.tip_relief.IsZero()) {
+    refuse("with a tip relief ([modification] tip_truncation_mm, tip_rounding_radius_mm): its caps are not in the "
+           "body's outline yet; expected no tip relief");
+  }
+  if (pair.ToothDifference() < 0) refuse("with d < 0 (the cycloid outside the pins): expected pin_count > tooth_count");
+  disc.Validate(RootRadius(geometry::CycloidProfile(pair, modification)));
+}
+
+std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageDesign& design) {
+  const geometry::PairParameters& p = design.pair;
+  const geometry::Modification& m = design.modification;
+  const contact::DiscBodySettings& b = design.disc;
+  const contact::Material& material = design.material.value();
+  // Every number that shapes the body, exactly (hexadecimal floating point).
+  const std::string key =
+      fmt::format("{} {} {:a} {:a} {:a} {:a} | {:a} {:a} {:a} | {:a} {} {:a} {} {:a} | {:a} {:a}", p.pin_count,
+                  p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width, m.pin_radius,
+                  m.pin_circle_radius, m.rotation, b.bore_radius, contact::ToString(b.plane), b.element_size,
+                  b.grid.points_per_space, b.grid.patch_half_width_mm, material.young_modulus, material.poisson_ratio);
+  static std::mutex mutex;
+  static std::vector<std::pair<std::string, std::shared_ptr<const contact::DiscFlankCompliance>>> kept;  // newest last
+  constexpr std::size_t kKept = 4;
+  const std::lock_guard<std::mutex> lock(mutex);
+  for (auto it = kept.begin(); it != kept.end(); ++it) {
+    if (it->first == key) {
+      std::rotate(it, it + 1, kept.end());
+      return kept.back().second;
+    }
+  }
+  contact::DiscBodyDesign body;
+  body.bore_radius_mm = b.bore_radius;
+  body.plane = b.plane;
+  body.young_modulus_mpa = material.young_modulus;
+  body.poisson_ratio = material.poisson_ratio;
+  body.thickness_mm = p.face_width;
+  body.element_size_mm = b.element_size;
+  body.refine_radius_mm = 2.0 * b.element_size;
+  auto flank = std::make_shared<const contact::DiscFlankCompliance>(geometry::CycloidProfile(p, m), body, b.grid);
+  if (kept.size() == kKept) kept.erase(kept.begin());
+  kept.emplace_back(key, flank);
+  return flank;
 }
 
 bool StageDesign::SlicesForced() const {
@@ -98,11 +172,23 @@ ModelInfo StageDesign::Model() const {
     m.reducer = fmt::format("{}+{} bearing", solvers::ToString(reducer->kind), contact::ToString(reducer->bearing.kind));
     m.name += "+stage";
   }
+  if (disc.elastic()) {  // [disc] body
+    m.disc_body = contact::ToString(disc.body);
+    m.name += "+elastic-disc";
+  }
   return m;
 }
 
-Stage::Stage(StageDesign design, std::vector<double> cranks)
-    : design_(std::make_shared<const StageDesign>(std::move(design))) {
+Stage::Stage(StageDesign design, std::vector<double> cranks) {
+  if (design.disc.elastic()) {
+    // The elastic body: its compliance couples the contacts, and the law's cycloid term becomes
+    // the Hertz contact's local field beyond the body's patches (contact/disc_body.hpp).
+    design.Validate();
+    if (!design.material) throw std::invalid_argument("missing required section [material] for an elastic disc body");
+    disc_body_ = ElasticDiscBody(design);
+    design.contact.cycloid_log_radius = disc_body_->cycloid_log_radius_mm();
+  }
+  design_ = std::make_shared<const StageDesign>(std::move(design));
   const StageDesign& d = *design_;
   if (d.reducer) {
     d.reducer->Validate(d.pair.eccentricity);
@@ -219,6 +305,14 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
   }
   solvers::LoadProblem problem(first_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics);
   if (reducer_) problem = problem.WithReducer(reducer_);
+  if (disc_body_) {
+    // The body couples this pose's contacts (its points move along the flanks with the crank):
+    // pin bending's matrix plus the body's, checked for this pose.
+    const Eigen::MatrixXd body = disc_body_->Coupling(problem.base_state().pins);
+    Eigen::SparseMatrix<double> c = body.sparseView();
+    if (coupling_->matrix) c += *coupling_->matrix;
+    return problem.WithCoupling(std::move(c));
+  }
   if (!coupling_->matrix) return problem;
   return problem.WithCoupling(*coupling_);
 }

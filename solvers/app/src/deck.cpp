@@ -1328,6 +1328,17 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
       seat.Validate(deck.pair.pin_radius);
       deck.contact.Validate();  // a seat with the sagitta law
     }
+    const Section disc(Find(root, "disc"), "disc");
+    if (disc.Present()) {
+      ReadSettings(disc, {.disc_body = &deck.disc});
+      if (deck.disc.elastic()) {
+        RequireKeys(disc, {"bore_radius_mm"});
+      } else {
+        for (const char* key : {"bore_radius_mm", "plane", "element_size_mm", "grid_points_per_space", "patch_half_width_mm"}) {
+          if (disc.Has(key)) throw std::invalid_argument(fmt::format("[disc] {}: a key of body = \"elastic\", not of body = \"rigid\"", key));
+        }
+      }
+    }
     const Section load(Find(root, "load"), "load");
     if (load.Present()) deck.load = ReadLoad(load);
     deck.sweep = ReadSweep(Section(Find(root, "sweep"), "sweep"), deck.pair);

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "ltca/contact/mesh_state.hpp"
 #include "ltca/geometry/profile.hpp"
 
 namespace ltca::contact {
@@ -107,5 +108,100 @@ class DiscBody {
 /// DiscBody(design).Condense(points).
 DiscCompliance CondenseDiscCompliance(const DiscBodyDesign& design,
                                       const std::vector<DiscLoadPoint>& points);
+
+/// How the flank's compliance is condensed (DiscFlankCompliance).
+struct DiscFlankGrid {
+  /// Condensation points per tooth space, evenly in arc length from u = -phi_max (the same u in
+  /// every space): the grid the contacts' coefficients are interpolated on (>= 8).
+  int points_per_space = 32;
+  /// w0: the half-width of each grid point's uniform load patch, mm (> 0). The boundary is meshed
+  /// at w0 along the whole outline.
+  double patch_half_width_mm = 0.2;
+};
+
+/// The [disc] section: the disc body rigid (every answer as before) or elastic (its FE compliance
+/// condensed on the flank, DiscFlankCompliance, coupling the contacts).
+struct DiscBodySettings {
+  enum class Body { kRigid, kElastic };
+  Body body = Body::kRigid;              ///< deck: body = "rigid" | "elastic"
+  /// The central bore, mm (deck: bore_radius_mm; required with an elastic body): in the mesh alone
+  /// its edge is clamped, the torque taken out rigidly there, the centre held.
+  double bore_radius = 0.0;
+  PlaneModel plane = PlaneModel::kStrain;  ///< deck: plane = "strain" | "stress"
+  double element_size = 3.0;             ///< the body's element size away from the flank, mm (deck: element_size_mm)
+  DiscFlankGrid grid;                    ///< deck: grid_points_per_space, patch_half_width_mm
+  bool elastic() const { return body == Body::kElastic; }
+  /// Throws std::invalid_argument naming the `[disc]` key, its value and what is expected: a bore
+  /// that is finite, positive and inside the profile's root circle less 2 element sizes (the
+  /// `root_radius` given, mm), an element size from 0.1 to 20 mm, at least 8 grid points per
+  /// tooth space (at most 256), a patch half-width from 0.01 to 2 mm and below the element size.
+  void Validate(double root_radius) const;
+};
+const char* ToString(DiscBodySettings::Body body);
+const char* ToString(PlaneModel plane);
+
+/// The disc body's compliance along its whole flank, for contacts that move (docs/fe_disc.md,
+/// "Local and far field"). The body (its real outline from the profile, the bore clamped) is
+/// meshed and factorised once and condensed at a grid of points over every tooth space, each
+/// loaded along the inward normal by a uniform patch of half-width w0: K (mm/N) between all grid
+/// points, symmetric positive definite. A contact at (tooth space, u) is interpolated linearly in u
+/// between its two neighbouring grid points with weights (1 - t, t):
+///   C_ab = w_a^T K w_b  (a != b),   C_aa = (1 - t) K_00 + t K_11
+/// (the diagonal is interpolated on its own: the product form would dip between grid points by
+/// the patches' local part). C = W K W^T + diag(t (1 - t) (e_0 - e_1)^T K (e_0 - e_1)) is
+/// positive semidefinite by construction.
+///
+/// The split (Andersson and Vedmar, J. Sound Vib. 2003; the same idea as Vijayakar's 1991
+/// combined surface-integral and FE method): the FE coefficient of a uniform patch of half-width
+/// w0 holds the body's far field and the patch's own half-plane part; a Hertz contact of
+/// half-width b differs from it, on an elastic half-plane, by the difference of the two local
+/// fields alone: u_Hertz,centre - u_uniform,mean = (2F / (pi B)) C_c (ln(4 w0 / b) - 1), C_c =
+/// (1 - nu^2) / E (plane strain; Flamant's kernel with Johnson, Contact Mechanics, 1985, eq. 2.19,
+/// integrated over both distributions: docs/fe_disc.md). So the disc's approach at a contact is
+/// the FE coefficient plus that difference, which is the hertz-line law's cycloid term
+/// C_c (ln(4 rho / b) - 1/2) with rho = w0 / sqrt(e) (cycloid_log_radius_mm()): the law keeps the
+/// pin's term and this cycloid term, the coupling adds K. Nothing is counted twice.
+class DiscFlankCompliance {
+ public:
+  /// `body` gives the bore, holes, plane, E, nu, thickness (the face width) and the body's
+  /// element size; its outline and refinement points are set here from `profile` (the designed
+  /// profile: errors of micrometres do not change a body's compliance). Throws
+  /// std::invalid_argument for an invalid design or grid, std::runtime_error without gmsh.
+  DiscFlankCompliance(const geometry::CycloidProfile& profile, DiscBodyDesign body, DiscFlankGrid grid = {});
+
+  /// rho of the hertz-line law's cycloid term with this body: w0 / sqrt(e), mm.
+  double cycloid_log_radius_mm() const;
+  /// The coupling of a pose's contact points (pin-major, any slices and one disc): C_ab between
+  /// points of the same slice, each slice a plane section of thickness `length`, so K scaled by
+  /// thickness / length; 0 between slices and for an edge contact or a cap point. mm/N.
+  Eigen::MatrixXd Coupling(const std::vector<PinContact>& points) const;
+
+  const DiscFlankGrid& grid() const { return grid_; }
+  int grid_points() const { return static_cast<int>(k_.rows()); }
+  int nodes() const { return nodes_; }
+  int elements() const { return elements_; }
+  double setup_seconds() const { return setup_seconds_; }  ///< mesh, factorisation, condensation
+  const Eigen::MatrixXd& grid_compliance() const { return k_; }  ///< K, mm/N
+  /// Grid point g's position and inward unit normal in the body frame, mm.
+  Eigen::Vector2d grid_point(int g) const { return points_.col(g); }
+  Eigen::Vector2d grid_normal(int g) const { return normals_.col(g); }
+  /// The grid's profile parameter j of a tooth space (0 <= j <= points_per_space; the last is phi_max).
+  double grid_u(int j) const { return grid_u_.at(static_cast<std::size_t>(j)); }
+
+ private:
+  /// The two grid points around (tooth space, u) and the second's weight t.
+  void Neighbours(int tooth_space, double u, int* first, int* second, double* t) const;
+
+  DiscFlankGrid grid_;
+  int spaces_ = 0;
+  int step_ = 1;        // space k's u = +phi_max meets space (k + step) mod z_c's u = -phi_max
+  double phi_max_ = 0.0;
+  std::vector<double> grid_u_;  // the grid's u in a tooth space, points_per_space + 1 (both ends)
+  double thickness_ = 0.0;
+  Eigen::MatrixXd k_;
+  Eigen::Matrix2Xd points_, normals_;
+  int nodes_ = 0, elements_ = 0;
+  double setup_seconds_ = 0.0;
+};
 
 }  // namespace ltca::contact

@@ -74,6 +74,11 @@ struct ContactSettings {
   /// Largest |rho_c| entering the logarithm of the hertz-line law, mm; 0 = the pin-circle radius
   /// of the pair (deck: log_radius_cap_mm).
   double log_radius_cap = 0.0;
+  /// > 0: the cycloid's term of the hertz-line logarithm takes exactly this radius, mm, in place of
+  /// min(|rho_c|, cap): with an elastic disc body (contact/disc_body.hpp) the term is the Hertz
+  /// contact's local field beyond the FE's uniform patch, rho = w0 / sqrt(e). Not a deck key: the
+  /// stage sets it from the body. 0: the rigid disc's law.
+  double cycloid_log_radius = 0.0;
   /// The pins' seat, in series with every pin-ring contact (deck: [pins] seat keys). The output
   /// pins of a stage are not seated (their laws are built without it).
   PinSeat seat;

@@ -20,6 +20,7 @@ namespace ltca::contact {
 struct BearingSettings;
 struct ContactSettings;
 struct Cranks;
+struct DiscBodySettings;
 struct Material;
 struct OutputPins;
 struct PinSeat;
@@ -71,6 +72,7 @@ struct SettingsParts {
   contact::Material* material = nullptr;
   contact::PinSupport* pin_support = nullptr;  ///< [pins] held at their ends (span_mm, face_offset_mm)
   contact::PinSeat* pin_seat = nullptr;        ///< [pins] seated in housing grooves
+  contact::DiscBodySettings* disc_body = nullptr;  ///< [disc] the disc body, rigid or elastic
   solvers::ReducerSettings* reducer = nullptr;    ///< [output] kind and [bearing] kind
   /// [output]: the output pins or the crankshafts (one of the two, by its kind); its keys common
   /// to both kinds fill the one given.

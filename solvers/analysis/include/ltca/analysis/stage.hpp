@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ltca/contact/disc_body.hpp"
 #include "ltca/contact/laws.hpp"
 #include "ltca/contact/material.hpp"
 #include "ltca/contact/mesh_state.hpp"
@@ -65,6 +66,8 @@ struct ModelInfo {
   /// The pins' seat in series with every pin-ring contact ([pins] seat): "" for rigid,
   /// else "linear" or "groove".
   std::string pin_seat;
+  /// The disc body ([disc] body): "" for rigid, else "elastic".
+  std::string disc_body;
 };
 
 /// [case]: the provenance of a design.
@@ -92,6 +95,9 @@ struct StageDesign {
   /// The reducer stage ([output] and [bearing]): output pins or crankshafts and the
   /// eccentric or needle bearings; none: the mesh alone, every disc about a fixed centre.
   std::optional<solvers::ReducerSettings> reducer;
+  /// The disc body ([disc]): rigid (the default), or elastic, its FE compliance coupling the
+  /// contacts (contact::DiscFlankCompliance).
+  contact::DiscBodySettings disc;
 
   /// The pair as made: modification and errors applied once (geometry::RealPair).
   geometry::RealPair MakeRealPair() const { return {pair, modification, errors, assembly}; }
@@ -111,8 +117,9 @@ struct StageDesign {
   /// face width, or pin bending couples the slices).
   ModelInfo Model() const;
   /// What the stage's models can run as one design: pin bending with two discs is not supported
-  /// yet (the pin beams would couple both discs' contacts). Throws std::invalid_argument naming
-  /// the deck's sections ([second_disc], [pins]).
+  /// yet (the pin beams would couple both discs' contacts), nor an elastic disc body with two discs,
+  /// a reducer stage, a law other than hertz-line, a tip relief or d < 0. Throws
+  /// std::invalid_argument naming the deck's sections and keys.
   void Validate() const;
 };
 
@@ -161,6 +168,9 @@ class Stage {
   const contact::Material& material() const { return RequireMaterial(); }
   /// Pin bending's coupling, checked once (matrix nullptr without [pins]).
   const solvers::LoadProblem::CheckedCoupling& coupling() const { return *coupling_; }
+  /// The elastic disc body's flank compliance (shared by every stage of the same body design in
+  /// the process), or nullptr for a rigid disc.
+  const std::shared_ptr<const contact::DiscFlankCompliance>& disc_body() const { return disc_body_; }
 
  private:
   struct Checked {
@@ -178,6 +188,13 @@ class Stage {
   std::shared_ptr<const solvers::LoadProblem::CheckedCoupling> coupling_;
   std::shared_ptr<const Checked> checked_;
   std::shared_ptr<const solvers::ReducerSettings> reducer_;  // nullptr: the mesh alone
+  std::shared_ptr<const contact::DiscFlankCompliance> disc_body_;  // nullptr: a rigid disc
 };
+
+/// The elastic disc body of a design, condensed once per body design in the process (the pair,
+/// the modification, [disc] and the disc's elastic constants: not the errors, whose micrometres do
+/// not change a body's compliance) and kept for the last few designs, so that a sweep, a tolerance
+/// study or an optimiser over other keys pays the set-up once. Thread-safe (one build at a time).
+std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageDesign& design);
 
 }  // namespace ltca::analysis
