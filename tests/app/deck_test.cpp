@@ -797,3 +797,31 @@ TEST_CASE("app: a stage key beyond physical sense is refused naming the key, wit
   // The decks as they are read.
   CHECK_NOTHROW(ltca::app::LoadDeck(drive));
 }
+
+TEST_CASE("app: [disc] reads the elastic body and refuses what it cannot model, naming the key") {
+  const std::string deck = std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml";
+  const std::string elastic = "disc.body=\"elastic\"";
+  const auto d = ltca::app::LoadDeck(deck, {elastic, "disc.bore_radius_mm=22", "disc.plane=\"stress\""});
+  CHECK(d.disc.elastic());
+  CHECK(d.disc.bore_radius == 22.0);
+  CHECK(d.disc.plane == ltca::contact::PlaneModel::kStress);
+  CHECK(d.Model().name == "plane+elastic-disc");
+  CHECK(d.Model().disc_body.find("plane stress, bore 22 mm") != std::string::npos);
+  CHECK(ltca::app::LoadDeck(deck).Model().disc_body.empty());
+  CHECK(ltca::app::LoadDeck(deck, {"disc.body=\"rigid\""}).Model().name == "plane");
+  const auto refused = [&](std::vector<std::string> overrides, const char* what) {
+    CAPTURE(what);
+    CHECK_THROWS_WITH_AS(ltca::app::LoadDeck(deck, overrides), doctest::Contains(what), std::invalid_argument);
+  };
+  refused({elastic}, "bore_radius_mm");
+  refused({elastic, "disc.bore_radius_mm=58"}, "[disc] bore_radius_mm = 58: expected a radius above 0 and below");
+  refused({elastic, "disc.bore_radius_mm=-1"}, "[disc] bore_radius_mm = -1");
+  refused({"disc.bore_radius_mm=22"}, "[disc] bore_radius_mm: a key of body = \"elastic\"");
+  refused({elastic, "disc.bore_radius_mm=22", "disc.grid_points_per_space=4"}, "[disc] grid_points_per_space = 4");
+  refused({elastic, "disc.bore_radius_mm=22", "disc.patch_half_width_mm=5"}, "[disc] patch_half_width_mm = 5");
+  refused({elastic, "disc.bore_radius_mm=22", "contact.law=\"sagitta\""}, "law = \"sagitta\"");
+  refused({elastic, "disc.bore_radius_mm=22", "disc.body=\"soft\""}, "[disc] body");
+  refused({elastic, "disc.bore_radius_mm=22", "output.kind=\"pins\"", "output.count=8", "output.circle_radius_mm=40",
+           "output.pin_radius_mm=5", "output.hole_radius_mm=6.32"},
+          "with [output]");
+}

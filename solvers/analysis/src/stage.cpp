@@ -173,7 +173,11 @@ ModelInfo StageDesign::Model() const {
     m.name += "+stage";
   }
   if (disc.elastic()) {  // [disc] body
-    m.disc_body = contact::ToString(disc.body);
+    m.disc_body = fmt::format(
+        "elastic (plane {}, bore {:g} mm clamped; FE T6 {:g} mm, the flank condensed at {} points a tooth space, {:g} mm "
+        "patches)",
+        contact::ToString(disc.plane), disc.bore_radius, disc.element_size, disc.grid.points_per_space,
+        disc.grid.patch_half_width_mm);
     m.name += "+elastic-disc";
   }
   return m;

@@ -66,6 +66,7 @@ nlohmann::json ModelJson(const Deck::ModelInfo& model) {
   if (model.discs != 1) j["discs"] = model.discs;  // [second_disc]
   if (!model.reducer.empty()) j["stage"] = model.reducer;  // [output], [bearing]
   if (!model.pin_seat.empty()) j["pin_seat"] = model.pin_seat;  // [pins] seat
+  if (!model.disc_body.empty()) j["disc_body"] = model.disc_body;  // [disc] body = "elastic"
   if (model.tip_relief_source != "none" || !model.tip_relief_note.empty()) {
     j["tip_relief"] = {{"truncation_mm", model.tip_relief.truncation},
                        {"rounding_radius_mm", model.tip_relief.rounding_radius},
@@ -84,6 +85,7 @@ std::string ModelLine(const Deck& deck) {
           : fmt::format("model     {} ({} slices of {:g} mm over the {:g} mm face width, {} surface)\n", m.name,
                         m.slices, deck.pair.face_width / m.slices, deck.pair.face_width, m.surface);
   if (!m.note.empty()) line += fmt::format("note      {}\n", m.note);
+  if (!m.disc_body.empty()) line += fmt::format("disc      {}\n", m.disc_body);
   if (m.tip_relief_source != "none") {
     line += fmt::format("tip       relief {} mm truncation, {} mm rounding radius (from the deck)\n", m.tip_relief.truncation,
                         m.tip_relief.rounding_radius);

@@ -1371,7 +1371,6 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
           "line-contact law covers";
     }
     if (const toml::value* second = Find(root, "second_disc")) ReadSecondDisc(root, *second, directory, &deck);
-    deck.StageDesign::Validate();
     const Section output(Find(root, "output"), "output");
     const Section bearing(Find(root, "bearing"), "bearing");
     if (output.Present()) {
@@ -1380,6 +1379,7 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
       throw std::invalid_argument("[bearing] without [output]: the bearing belongs to the reducer stage; expected an "
                                   "[output] section (kind = \"pins\" or \"cranks\")");
     }
+    deck.StageDesign::Validate();
     deck.ValidateSettings();
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("deck '{}': {}", name, e.what()));

@@ -66,7 +66,7 @@ struct ModelInfo {
   /// The pins' seat in series with every pin-ring contact ([pins] seat): "" for rigid,
   /// else "linear" or "groove".
   std::string pin_seat;
-  /// The disc body ([disc] body): "" for rigid, else "elastic".
+  /// The disc body ([disc] body): "" for rigid, else "elastic (...)" with its FE model's settings.
   std::string disc_body;
 };
 
