@@ -66,15 +66,16 @@ void StageDesign::Validate() const {
 
 std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageDesign& design) {
   const geometry::PairParameters& p = design.pair;
-  const geometry::Modification& m = design.modification;
   const contact::DiscBodySettings& b = design.disc;
   const contact::Material& material = design.material.value();
-  // Every number that shapes the body, exactly (hexadecimal floating point).
-  const std::string key =
-      fmt::format("{} {} {:a} {:a} {:a} {:a} | {:a} {:a} {:a} | {:a} {} {:a} {} {:a} | {:a} {:a}", p.pin_count,
-                  p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width, m.pin_radius,
-                  m.pin_circle_radius, m.rotation, b.bore_radius, contact::ToString(b.plane), b.element_size,
-                  b.grid.points_per_space, b.grid.patch_half_width_mm, material.young_modulus, material.poisson_ratio);
+  // Every number that shapes the body, exactly (hexadecimal floating point). The body is the
+  // unmodified profile's: modifications and errors (micrometres to tens of micrometres) change its
+  // coefficients by less than its mesh does (docs/fe_disc.md), and an optimiser over modifications
+  // or a tolerance study then pays the set-up once.
+  const std::string key = fmt::format("{} {} {:a} {:a} {:a} {:a} | {:a} {} {:a} {} {:a} | {:a} {:a}", p.pin_count,
+                                      p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width,
+                                      b.bore_radius, contact::ToString(b.plane), b.element_size, b.grid.points_per_space,
+                                      b.grid.patch_half_width_mm, material.young_modulus, material.poisson_ratio);
   static std::mutex mutex;
   static std::vector<std::pair<std::string, std::shared_ptr<const contact::DiscFlankCompliance>>> kept;  // newest last
   constexpr std::size_t kKept = 4;
@@ -93,7 +94,7 @@ std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageD
   body.thickness_mm = p.face_width;
   body.element_size_mm = b.element_size;
   body.refine_radius_mm = 2.0 * b.element_size;
-  auto flank = std::make_shared<const contact::DiscFlankCompliance>(geometry::CycloidProfile(p, m), body, b.grid);
+  auto flank = std::make_shared<const contact::DiscFlankCompliance>(geometry::CycloidProfile(p), body, b.grid);
   if (kept.size() == kKept) kept.erase(kept.begin());
   kept.emplace_back(key, flank);
   return flank;

@@ -191,10 +191,11 @@ class Stage {
   std::shared_ptr<const contact::DiscFlankCompliance> disc_body_;  // nullptr: a rigid disc
 };
 
-/// The elastic disc body of a design, condensed once per body design in the process (the pair,
-/// the modification, [disc] and the disc's elastic constants: not the errors, whose micrometres do
-/// not change a body's compliance) and kept for the last few designs, so that a sweep, a tolerance
-/// study or an optimiser over other keys pays the set-up once. Thread-safe (one build at a time).
+/// The elastic disc body of a design: the unmodified profile's body (the pair, [disc] and the
+/// disc's elastic constants; modifications and errors, micrometres to tens of micrometres, change
+/// its coefficients by less than its mesh does: docs/fe_disc.md), condensed once per body design in
+/// the process and kept for the last few designs, so that a sweep, a tolerance study or an optimiser
+/// over modifications pays the set-up once. Thread-safe (one build at a time).
 std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageDesign& design);
 
 }  // namespace ltca::analysis
