@@ -502,7 +502,8 @@ TEST_CASE("contact: the flank compliance interpolates the grid, reproduces a dir
   // point the coupling is K's entry; at crank 0's contacts (between grid points) it is within 2 % of
   // a direct condensation of the same disc at those points, meshed at 0.1 mm (diagonal and the
   // pins' neighbours, relative to sqrt(C_ii C_jj)); every pose's coupling is positive semidefinite;
-  // slices scale it by B / length and do not couple. Set-up within the 10 s budget. Measured
+  // slices scale it by B / length and do not couple. Its set-up time is printed, not checked (a
+  // timed test fails under load; benchmarks/elastic_disc_timing.py measures it). Measured
   // (release): 1.6 %, the largest at pins 2-3 near the root where the flank turns fastest (24
   // points evenly in u: 5.9 %, in arc length: 3.3 %; 0.5 % of it is the meshes' 0.2 against 0.1 mm);
   // 1,248 grid points, 31,558 nodes, 7.7 s.
@@ -517,7 +518,6 @@ TEST_CASE("contact: the flank compliance interpolates the grid, reproduces a dir
   const ltca::contact::DiscFlankCompliance flank(profile, body);
   MESSAGE("flank grid: " << flank.grid_points() << " points, " << flank.nodes() << " nodes, set-up "
                          << flank.setup_seconds() << " s");
-  CHECK(flank.setup_seconds() < 10.0);
   CHECK(flank.cycloid_log_radius_mm() == doctest::Approx(0.2 / std::sqrt(std::numbers::e)));
 
   // A direct condensation at crank 0's loaded contacts, same body, same patches.
