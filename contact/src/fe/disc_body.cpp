@@ -244,11 +244,31 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
       normals_.col(k * m + j) = -p.normal;  // into the material: the direction a pin pushes
     }
   }
-  // The outline at twice the grid's density, meshed at w0 along all of it.
+  // The outline at twice the grid's density, meshed at w0 along all of it. Without holes the body
+  // is cyclically symmetric: one tooth space's sector is meshed and turned z_c times (a mesh that
+  // a turn through 2 pi / z_c leaves the same), and only that space's grid points are solved for:
+  // K between spaces a and b is K between spaces a - b and 0.
   body.outline_mm = DiscOutline(profile, 2 * m);
   body.refine_near_mm = body.outline_mm;
   body.refined_size_mm = std::min(grid.patch_half_width_mm, body.element_size_mm);
-  const fe::T6Mesh mesh = fe::MeshDisc(body);
+  body.Validate();
+  cyclic_ = body.holes.empty();
+  fe::T6Mesh mesh;
+  if (cyclic_) {
+    fe::DiscSector sector;
+    for (int j = 0; j <= 2 * m; ++j) sector.outline_mm.push_back(profile.Position(-phi_max_ + phi_max_ * j / m, 0));
+    sector.copies = spaces_;
+    const Eigen::Vector2d& a = sector.outline_mm.front();
+    const Eigen::Vector2d& b = sector.outline_mm.back();
+    sector.angle_rad = std::remainder(std::atan2(b.y(), b.x()) - std::atan2(a.y(), a.x()), 2.0 * std::numbers::pi);
+    sector.bore_radius_mm = body.bore_radius_mm;
+    sector.element_size_mm = body.element_size_mm;
+    sector.refined_size_mm = body.refined_size_mm;
+    sector.refine_radius_mm = body.refine_radius_mm;
+    mesh = fe::MeshDiscSector(sector);
+  } else {
+    mesh = fe::MeshDisc(body);
+  }
   nodes_ = static_cast<int>(mesh.nodes.size());
   elements_ = static_cast<int>(mesh.triangles.size());
   const std::unique_ptr<fe::ElasticModel> model = ClampedAtBore(mesh, body);
@@ -265,11 +285,23 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   Eigen::SparseMatrix<double> loads(model->dofs(), n);
   loads.setFromTriplets(entries.begin(), entries.end());
   k_.resize(n, n);
+  const int solved = cyclic_ ? m : n;
   constexpr int kBlock = 64;
-  for (int first = 0; first < n; first += kBlock) {
-    const int cols = std::min(kBlock, n - first);
+  Eigen::MatrixXd columns(n, solved);
+  for (int first = 0; first < solved; first += kBlock) {
+    const int cols = std::min(kBlock, solved - first);
     const Eigen::MatrixXd u = model->Solve(Eigen::MatrixXd(loads.middleCols(first, cols)));
-    k_.middleCols(first, cols) = loads.transpose() * u;
+    columns.middleCols(first, cols) = loads.transpose() * u;
+  }
+  if (cyclic_) {
+    for (int kb = 0; kb < spaces_; ++kb) {
+      for (int ka = 0; ka < spaces_; ++ka) {
+        const int shift = ((ka - kb) % spaces_ + spaces_) % spaces_;
+        k_.block(ka * m, kb * m, m, m) = columns.block(shift * m, 0, m, m);
+      }
+    }
+  } else {
+    k_ = std::move(columns);
   }
   k_ = 0.5 * (k_ + k_.transpose()).eval();  // Maxwell-Betti holds to rounding; make it exact
   setup_seconds_ = Seconds(start);

@@ -87,82 +87,64 @@ int AddLoop(GmshLibrary& gmsh, std::vector<int> curves) {
   return loop;
 }
 
-}  // namespace
-
-T6Mesh MeshDisc(const DiscBodyDesign& design) {
-  design.Validate();
-  GmshLibrary& gmsh = GmshLibrary::Get();
-  const auto lock = gmsh.Lock();
+// Sizes from the background field only (the geometry's points, curvature and boundary do not add
+// their own), capped at the target element size; one thread, a fixed seed.
+void SetOptions(GmshLibrary& gmsh, double element_size) {
   int ierr = 0;
   gmsh.clear(&ierr);
   gmsh.Check(ierr, "clear");
   gmsh.model_add("ltca_disc", &ierr);
   gmsh.Check(ierr, "model add");
-  // Sizes from the background field only (the geometry's points, curvature and boundary do not
-  // add their own), capped at the target element size.
   for (const auto& [name, value] :
        {std::pair<const char*, double>{"Mesh.MeshSizeFromPoints", 0.0}, {"Mesh.MeshSizeFromCurvature", 0.0},
-        {"Mesh.MeshSizeExtendFromBoundary", 0.0}, {"Mesh.MeshSizeMax", design.element_size_mm},
+        {"Mesh.MeshSizeExtendFromBoundary", 0.0}, {"Mesh.MeshSizeMax", element_size},
         {"Mesh.MeshSizeMin", 0.0}, {"Mesh.Algorithm", 6.0} /* Frontal-Delaunay */,
         {"Mesh.SecondOrderLinear", 0.0} /* mid-side nodes on the curves */,
         {"Mesh.HighOrderOptimize", 0.0}, {"General.NumThreads", 1.0}, {"Mesh.RandomSeed", 1.0}}) {
     gmsh.option_set_number(name, value, &ierr);
     gmsh.Check(ierr, name);
   }
+}
 
-  const double size = design.element_size_mm;
-  std::vector<int> outer = design.outline_mm.empty()
-                               ? AddCircle(gmsh, Eigen::Vector2d::Zero(), design.outer_radius_mm, size)
-                               : AddOutline(gmsh, design.outline_mm, size);
-  std::vector<int> loops{AddLoop(gmsh, outer)};
-  std::vector<int> bore;
-  if (design.bore_radius_mm > 0.0) {
-    bore = AddCircle(gmsh, Eigen::Vector2d::Zero(), design.bore_radius_mm, size);
-    loops.push_back(AddLoop(gmsh, bore));
-  }
-  std::vector<std::vector<int>> holes;
-  for (const DiscHole& hole : design.holes) {
-    holes.push_back(AddCircle(gmsh, hole.centre_mm, hole.radius_mm, size));
-    loops.push_back(AddLoop(gmsh, holes.back()));
-  }
-  const int surface = gmsh.geo_add_plane_surface(loops.data(), loops.size(), -1, &ierr);
-  gmsh.Check(ierr, "addPlaneSurface");
-
-  // Refinement: size = refined at distance 0 from the nearest refinement point, growing linearly
-  // to element_size at refine_radius (gmsh's Distance and Threshold fields).
+// Refinement: size = refined at distance 0 from the nearest refinement point, growing linearly to
+// element_size at refine_radius (gmsh's Distance and Threshold fields). Synchronizes the geometry.
+void Refine(GmshLibrary& gmsh, const std::vector<Eigen::Vector2d>& near, double refined, double size, double radius) {
+  int ierr = 0;
   std::vector<double> refine_tags;
-  for (const Eigen::Vector2d& p : design.refine_near_mm) {
+  for (const Eigen::Vector2d& p : near) {
     refine_tags.push_back(gmsh.geo_add_point(p.x(), p.y(), 0.0, size, -1, &ierr));
     gmsh.Check(ierr, "addPoint");
   }
   gmsh.geo_synchronize(&ierr);
   gmsh.Check(ierr, "synchronize");
-  if (!refine_tags.empty() && design.refined_size_mm < design.element_size_mm) {
-    const int distance = gmsh.field_add("Distance", -1, &ierr);
-    gmsh.Check(ierr, "field Distance");
-    // gmsh 4.8 names the Distance field's points NodesList (PointsList from 4.9 on).
-    gmsh.field_set_numbers(distance, "NodesList", refine_tags.data(), refine_tags.size(), &ierr);
-    if (ierr != 0) gmsh.field_set_numbers(distance, "PointsList", refine_tags.data(), refine_tags.size(), &ierr);
-    gmsh.Check(ierr, "Distance points");
-    const int threshold = gmsh.field_add("Threshold", -1, &ierr);
-    gmsh.Check(ierr, "field Threshold");
-    for (const auto& [name, value] :
-         {std::pair<const char*, double>{"InField", static_cast<double>(distance)},
-          {"SizeMin", design.refined_size_mm}, {"SizeMax", design.element_size_mm}, {"DistMin", 0.0},
-          {"DistMax", design.refine_radius_mm}}) {
-      gmsh.field_set_number(threshold, name, value, &ierr);
-      gmsh.Check(ierr, name);
-    }
-    gmsh.field_set_as_background_mesh(threshold, &ierr);
-    gmsh.Check(ierr, "background field");
+  if (refine_tags.empty() || !(refined < size)) return;
+  const int distance = gmsh.field_add("Distance", -1, &ierr);
+  gmsh.Check(ierr, "field Distance");
+  // gmsh 4.8 names the Distance field's points NodesList (PointsList from 4.9 on).
+  gmsh.field_set_numbers(distance, "NodesList", refine_tags.data(), refine_tags.size(), &ierr);
+  if (ierr != 0) gmsh.field_set_numbers(distance, "PointsList", refine_tags.data(), refine_tags.size(), &ierr);
+  gmsh.Check(ierr, "Distance points");
+  const int threshold = gmsh.field_add("Threshold", -1, &ierr);
+  gmsh.Check(ierr, "field Threshold");
+  for (const auto& [name, value] :
+       {std::pair<const char*, double>{"InField", static_cast<double>(distance)}, {"SizeMin", refined},
+        {"SizeMax", size}, {"DistMin", 0.0}, {"DistMax", radius}}) {
+    gmsh.field_set_number(threshold, name, value, &ierr);
+    gmsh.Check(ierr, name);
   }
-  gmsh.mesh_generate(2, &ierr);
-  gmsh.Check(ierr, "mesh generate");
-  gmsh.mesh_set_order(2, &ierr);
-  gmsh.Check(ierr, "mesh set order 2");
+  gmsh.field_set_as_background_mesh(threshold, &ierr);
+  gmsh.Check(ierr, "background field");
+}
 
-  // Every node (gmsh's tags), then the surface's T6 and each curve's 3-node lines; the nodes the
-  // triangles use, renumbered from 0 (the refinement points' lone nodes dropped).
+// The meshed surface's T6 (renumbered from 0, the refinement points' lone nodes dropped) and the
+// 3-node boundary edges of the given curves. `tag_of`, when given, receives gmsh's tag of each node.
+struct Curves {
+  std::vector<int> tags;
+  Boundary boundary = Boundary::kOutline;
+  int hole = -1;
+};
+T6Mesh Extract(GmshLibrary& gmsh, int surface, const std::vector<Curves>& curves, std::vector<std::size_t>* tag_of = nullptr) {
+  int ierr = 0;
   T6Mesh mesh;
   GmshArray<std::size_t> tags{gmsh};
   GmshArray<double> coords{gmsh};
@@ -181,6 +163,7 @@ T6Mesh MeshDisc(const DiscBodyDesign& design) {
       index[tag] = static_cast<int>(mesh.nodes.size());
       const std::size_t at = 3 * static_cast<std::size_t>(position[tag]);
       mesh.nodes.emplace_back(coords.data[at], coords.data[at + 1]);
+      if (tag_of != nullptr) tag_of->push_back(tag);
     }
     return index[tag];
   };
@@ -199,8 +182,8 @@ T6Mesh MeshDisc(const DiscBodyDesign& design) {
       mesh.triangles.push_back(t);
     }
   }
-  const auto add_edges = [&](const std::vector<int>& curves, Boundary boundary, int hole) {
-    for (const int curve : curves) {
+  for (const Curves& set : curves) {
+    for (const int curve : set.tags) {
       GmshArray<std::size_t> elements{gmsh};
       GmshArray<std::size_t> element_nodes{gmsh};
       gmsh.mesh_get_elements_by_type(kLine3, &elements.data, &elements.size, &element_nodes.data,
@@ -209,17 +192,212 @@ T6Mesh MeshDisc(const DiscBodyDesign& design) {
       for (std::size_t e = 0; e < elements.size; ++e) {
         BoundaryEdge edge;
         for (int k = 0; k < 3; ++k) edge.nodes[k] = node(element_nodes.data[3 * e + k]);
-        edge.boundary = boundary;
-        edge.hole = hole;
+        edge.boundary = set.boundary;
+        edge.hole = set.hole;
         mesh.edges.push_back(edge);
       }
     }
-  };
-  add_edges(outer, Boundary::kOutline, -1);
-  add_edges(bore, Boundary::kBore, -1);
-  for (std::size_t h = 0; h < holes.size(); ++h) add_edges(holes[h], Boundary::kHole, static_cast<int>(h));
+  }
+  return mesh;
+}
+
+}  // namespace
+
+T6Mesh MeshDisc(const DiscBodyDesign& design) {
+  design.Validate();
+  GmshLibrary& gmsh = GmshLibrary::Get();
+  const auto lock = gmsh.Lock();
+  int ierr = 0;
+  SetOptions(gmsh, design.element_size_mm);
+  const double size = design.element_size_mm;
+  std::vector<int> outer = design.outline_mm.empty()
+                               ? AddCircle(gmsh, Eigen::Vector2d::Zero(), design.outer_radius_mm, size)
+                               : AddOutline(gmsh, design.outline_mm, size);
+  std::vector<int> loops{AddLoop(gmsh, outer)};
+  std::vector<int> bore;
+  if (design.bore_radius_mm > 0.0) {
+    bore = AddCircle(gmsh, Eigen::Vector2d::Zero(), design.bore_radius_mm, size);
+    loops.push_back(AddLoop(gmsh, bore));
+  }
+  std::vector<std::vector<int>> holes;
+  for (const DiscHole& hole : design.holes) {
+    holes.push_back(AddCircle(gmsh, hole.centre_mm, hole.radius_mm, size));
+    loops.push_back(AddLoop(gmsh, holes.back()));
+  }
+  const int surface = gmsh.geo_add_plane_surface(loops.data(), loops.size(), -1, &ierr);
+  gmsh.Check(ierr, "addPlaneSurface");
+  Refine(gmsh, design.refine_near_mm, design.refined_size_mm, size, design.refine_radius_mm);
+  gmsh.mesh_generate(2, &ierr);
+  gmsh.Check(ierr, "mesh generate");
+  gmsh.mesh_set_order(2, &ierr);
+  gmsh.Check(ierr, "mesh set order 2");
+  std::vector<Curves> curves{{outer, Boundary::kOutline, -1}, {bore, Boundary::kBore, -1}};
+  for (std::size_t h = 0; h < holes.size(); ++h) curves.push_back({holes[h], Boundary::kHole, static_cast<int>(h)});
+  T6Mesh mesh = Extract(gmsh, surface, curves);
   gmsh.clear(&ierr);
   gmsh.Check(ierr, "clear");
+  return mesh;
+}
+
+T6Mesh MeshDiscSector(const DiscSector& sector) {
+  const std::vector<Eigen::Vector2d>& outline = sector.outline_mm;
+  const int n = static_cast<int>(outline.size());
+  if (n < 3 || sector.copies < 2) throw std::invalid_argument("disc sector: at least 3 outline points and 2 copies");
+  const double size = sector.element_size_mm, refined = std::min(sector.refined_size_mm, size);
+  if (!(size > 0.0) || !(refined > 0.0) || !(sector.bore_radius_mm > 0.0)) {
+    throw std::invalid_argument("disc sector: sizes and the bore radius must be positive");
+  }
+  const Eigen::Vector2d start = outline.front(), end = outline.back();
+  const double turn = std::remainder(std::atan2(end.y(), end.x()) - std::atan2(start.y(), start.x()), 2.0 * std::numbers::pi);
+  if (std::abs(std::abs(turn) - 2.0 * std::numbers::pi / sector.copies) > 1e-9 ||
+      std::abs(turn - sector.angle_rad) > 1e-9 || std::abs(start.norm() - end.norm()) > 1e-9 * start.norm()) {
+    throw std::invalid_argument("disc sector: the outline's ends are not one turn of 2 pi / copies apart");
+  }
+  const double cut = start.norm() - sector.bore_radius_mm;
+  if (!(cut > 2.0 * size)) throw std::invalid_argument("disc sector: the bore reaches within two elements of the outline");
+  // The cuts: graded from `refined` at the outline by a ratio of 1.25 up to the element size (at
+  // most half the cut), then even.
+  constexpr double kRatio = 1.25;
+  int graded = 0;
+  double graded_length = 0.0;
+  for (double h = refined; h < size && graded_length + h <= 0.5 * cut; h *= kRatio) graded_length += h, ++graded;
+  graded = std::max(graded, 1);
+  if (graded_length <= 0.0) graded_length = std::min(refined, 0.5 * cut);
+  const int even = std::max(1, static_cast<int>(std::ceil((cut - graded_length) / size)));
+
+  GmshLibrary& gmsh = GmshLibrary::Get();
+  const auto lock = gmsh.Lock();
+  int ierr = 0;
+  SetOptions(gmsh, size);
+  std::vector<int> points(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    points[static_cast<std::size_t>(i)] = gmsh.geo_add_point(outline[i].x(), outline[i].y(), 0.0, size, -1, &ierr);
+    gmsh.Check(ierr, "addPoint");
+  }
+  std::vector<int> outer;
+  const int runs = std::max(1, std::min(16, (n - 1) / 8));
+  for (int r = 0; r < runs; ++r) {
+    const int first = r * (n - 1) / runs, last = (r + 1) * (n - 1) / runs;
+    std::vector<int> run(points.begin() + first, points.begin() + last + 1);
+    outer.push_back(gmsh.geo_add_spline(run.data(), run.size(), -1, &ierr));
+    gmsh.Check(ierr, "addSpline");
+  }
+  const auto point = [&](const Eigen::Vector2d& p) {
+    const int tag = gmsh.geo_add_point(p.x(), p.y(), 0.0, size, -1, &ierr);
+    gmsh.Check(ierr, "addPoint");
+    return tag;
+  };
+  const int centre = point(Eigen::Vector2d::Zero());
+  // Each cut: outline point -> inner point (graded) -> bore point (even), oriented alike.
+  const auto add_cut = [&](int outline_tag, const Eigen::Vector2d& at, std::array<int, 2>* segments) {
+    const Eigen::Vector2d unit = at.normalized();
+    const int inner = point(at - graded_length * unit);
+    const int bore = point(sector.bore_radius_mm * unit);
+    (*segments)[0] = gmsh.geo_add_line(outline_tag, inner, -1, &ierr);
+    gmsh.Check(ierr, "addLine");
+    (*segments)[1] = gmsh.geo_add_line(inner, bore, -1, &ierr);
+    gmsh.Check(ierr, "addLine");
+    gmsh.geo_mesh_set_transfinite_curve((*segments)[0], graded + 1, "Progression", kRatio, &ierr);
+    gmsh.Check(ierr, "setTransfiniteCurve");
+    gmsh.geo_mesh_set_transfinite_curve((*segments)[1], even + 1, "Progression", 1.0, &ierr);
+    gmsh.Check(ierr, "setTransfiniteCurve");
+    return bore;
+  };
+  std::array<int, 2> start_cut{}, end_cut{};
+  const int start_bore = add_cut(points.front(), start, &start_cut);
+  const int end_bore = add_cut(points.back(), end, &end_cut);
+  const int arc = gmsh.geo_add_circle_arc(end_bore, centre, start_bore, -1, 0.0, 0.0, 0.0, &ierr);
+  gmsh.Check(ierr, "addCircleArc");
+  std::vector<int> loop_curves = outer;
+  loop_curves.push_back(end_cut[0]);
+  loop_curves.push_back(end_cut[1]);
+  loop_curves.push_back(arc);
+  loop_curves.push_back(-start_cut[1]);
+  loop_curves.push_back(-start_cut[0]);
+  const int loop = gmsh.geo_add_curve_loop(loop_curves.data(), loop_curves.size(), -1, 1, &ierr);
+  gmsh.Check(ierr, "addCurveLoop");
+  std::vector<int> loops{loop};
+  const int surface = gmsh.geo_add_plane_surface(loops.data(), loops.size(), -1, &ierr);
+  gmsh.Check(ierr, "addPlaneSurface");
+  Refine(gmsh, outline, refined, size, sector.refine_radius_mm);
+  gmsh.mesh_generate(2, &ierr);
+  gmsh.Check(ierr, "mesh generate");
+  gmsh.mesh_set_order(2, &ierr);
+  gmsh.Check(ierr, "mesh set order 2");
+  std::vector<std::size_t> tag_of;
+  const T6Mesh one = Extract(gmsh, surface, {{outer, Boundary::kOutline, -1}, {{arc}, Boundary::kBore, -1}}, &tag_of);
+  // The nodes of each cut (both segments, their ends included), by distance from the centre.
+  std::vector<int> local_of_tag;
+  for (std::size_t i = 0; i < tag_of.size(); ++i) {
+    if (tag_of[i] >= local_of_tag.size()) local_of_tag.resize(tag_of[i] + 1, -1);
+    local_of_tag[tag_of[i]] = static_cast<int>(i);
+  }
+  const auto cut_nodes = [&](const std::array<int, 2>& segments) {
+    std::vector<int> nodes;
+    for (const int segment : segments) {
+      GmshArray<std::size_t> tags{gmsh};
+      GmshArray<double> coords{gmsh};
+      GmshArray<double> parametric{gmsh};
+      gmsh.mesh_get_nodes(&tags.data, &tags.size, &coords.data, &coords.size, &parametric.data, &parametric.size, 1,
+                          segment, 1, 0, &ierr);
+      gmsh.Check(ierr, "getNodes (cut)");
+      for (std::size_t i = 0; i < tags.size; ++i) {
+        const std::size_t tag = tags.data[i];
+        if (tag >= local_of_tag.size() || local_of_tag[tag] < 0) throw std::runtime_error("gmsh: a cut's node is in no element");
+        nodes.push_back(local_of_tag[tag]);
+      }
+    }
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    std::sort(nodes.begin(), nodes.end(), [&](int a, int b) { return one.nodes[a].norm() < one.nodes[b].norm(); });
+    return nodes;
+  };
+  const std::vector<int> first_cut = cut_nodes(start_cut), last_cut = cut_nodes(end_cut);
+  gmsh.clear(&ierr);
+  gmsh.Check(ierr, "clear");
+  if (first_cut.size() != last_cut.size()) throw std::runtime_error("disc sector: the two cuts' meshes differ");
+  for (std::size_t m = 0; m < first_cut.size(); ++m) {
+    if (std::abs(one.nodes[first_cut[m]].norm() - one.nodes[last_cut[m]].norm()) > 1e-9 * start.norm()) {
+      throw std::runtime_error("disc sector: the two cuts' nodes do not pair");
+    }
+  }
+  // The copies: copy c is the sector turned through c * angle; its start cut is copy c - 1's end
+  // cut (copy 0's that of the last copy).
+  const std::size_t local = one.nodes.size();
+  std::vector<int> start_slot(local, -1), end_slot(local, -1);
+  for (std::size_t m = 0; m < first_cut.size(); ++m) start_slot[first_cut[m]] = static_cast<int>(m), end_slot[last_cut[m]] = static_cast<int>(m);
+  T6Mesh mesh;
+  std::vector<int> first_start(first_cut.size(), -1), previous_end(first_cut.size(), -1);
+  for (int c = 0; c < sector.copies; ++c) {
+    const double a = c * sector.angle_rad;
+    const Eigen::Matrix2d turn_by{{std::cos(a), -std::sin(a)}, {std::sin(a), std::cos(a)}};
+    std::vector<int> id(local, -1);
+    std::vector<int> this_end(first_cut.size(), -1);
+    for (std::size_t i = 0; i < local; ++i) {
+      if (start_slot[i] >= 0 && c > 0) {
+        id[i] = previous_end[static_cast<std::size_t>(start_slot[i])];
+      } else if (end_slot[i] >= 0 && c + 1 == sector.copies) {
+        id[i] = first_start[static_cast<std::size_t>(end_slot[i])];
+      }
+      if (id[i] < 0) {
+        id[i] = static_cast<int>(mesh.nodes.size());
+        mesh.nodes.push_back(turn_by * one.nodes[i]);
+      }
+      if (start_slot[i] >= 0 && c == 0) first_start[static_cast<std::size_t>(start_slot[i])] = id[i];
+      if (end_slot[i] >= 0) this_end[static_cast<std::size_t>(end_slot[i])] = id[i];
+    }
+    previous_end = this_end;
+    for (const std::array<int, 6>& t : one.triangles) {
+      std::array<int, 6> u{};
+      for (int k = 0; k < 6; ++k) u[k] = id[static_cast<std::size_t>(t[k])];
+      mesh.triangles.push_back(u);
+    }
+    for (const BoundaryEdge& e : one.edges) {
+      BoundaryEdge f = e;
+      for (int k = 0; k < 3; ++k) f.nodes[k] = id[static_cast<std::size_t>(e.nodes[k])];
+      mesh.edges.push_back(f);
+    }
+  }
   return mesh;
 }
 

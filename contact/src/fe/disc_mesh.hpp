@@ -33,4 +33,23 @@ struct T6Mesh {
 /// fails.
 T6Mesh MeshDisc(const DiscBodyDesign& design);
 
+/// A cyclically symmetric disc (no holes): one sector meshed, then copied `copies` times by the
+/// rotation through `angle_rad` that takes its start cut to its end cut, the copies sharing their
+/// common cuts' nodes, so that the mesh is the same after a turn through 2 pi / copies. The sector:
+/// `outline_mm` from the start cut's outline point to the end cut's (an open polyline, both ends
+/// included; |angle between them| = 2 pi / copies), the bore's arc between the cuts, and the two
+/// radial cuts meshed alike (transfinite: graded from the outline's refined size, then even at the
+/// element size). Refined near the sector's outline points. Throws std::invalid_argument for an
+/// inconsistent sector, std::runtime_error when gmsh fails or the cuts' nodes do not pair.
+struct DiscSector {
+  std::vector<Eigen::Vector2d> outline_mm;
+  int copies = 0;
+  double angle_rad = 0.0;
+  double bore_radius_mm = 0.0;
+  double element_size_mm = 3.0;
+  double refined_size_mm = 0.2;
+  double refine_radius_mm = 6.0;
+};
+T6Mesh MeshDiscSector(const DiscSector& sector);
+
 }  // namespace ltca::contact::fe

@@ -68,6 +68,7 @@ GmshLibrary::GmshLibrary() {
   Resolve(handle, "gmshModelMeshFieldSetNumber", field_set_number);
   Resolve(handle, "gmshModelMeshFieldSetNumbers", field_set_numbers);
   Resolve(handle, "gmshModelMeshFieldSetAsBackgroundMesh", field_set_as_background_mesh);
+  Resolve(handle, "gmshModelGeoMeshSetTransfiniteCurve", geo_mesh_set_transfinite_curve);
   Resolve(handle, "gmshModelMeshGenerate", mesh_generate);
   Resolve(handle, "gmshModelMeshSetOrder", mesh_set_order);
   Resolve(handle, "gmshModelMeshGetNodes", mesh_get_nodes);

@@ -45,6 +45,7 @@ class GmshLibrary {
   void (*field_set_numbers)(int tag, const char* option, double* value, std::size_t value_n,
                             int* ierr) = nullptr;
   void (*field_set_as_background_mesh)(int tag, int* ierr) = nullptr;
+  void (*geo_mesh_set_transfinite_curve)(int tag, int n_points, const char* mesh_type, double coef, int* ierr) = nullptr;
   void (*mesh_generate)(int dim, int* ierr) = nullptr;
   void (*mesh_set_order)(int order, int* ierr) = nullptr;
   void (*mesh_get_nodes)(std::size_t** node_tags, std::size_t* node_tags_n, double** coord,

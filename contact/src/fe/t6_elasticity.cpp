@@ -143,11 +143,28 @@ Eigen::VectorXd PatchLoad(const T6Mesh& mesh, const std::function<bool(const Bou
     throw std::invalid_argument("a load point's direction must be a finite non-zero vector");
   }
   // The nearest boundary point: 16 samples per edge, then a golden-section search about the best.
+  // Only the edges that can hold it are sampled: a point of an edge is no nearer than its nearest
+  // node less the edge's span, and no farther than the nearest node of all.
   const BoundaryEdge* nearest = nullptr;
   double best_s = 0.0, best = std::numeric_limits<double>::infinity();
   constexpr int kSamples = 16;
+  const auto node_distance = [&](const BoundaryEdge& edge) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const int n : edge.nodes) d = std::min(d, (mesh.nodes[n] - point).norm());
+    return d;
+  };
+  const auto span = [&](const BoundaryEdge& edge) {
+    return std::max({(mesh.nodes[edge.nodes[0]] - mesh.nodes[edge.nodes[1]]).norm(),
+                     (mesh.nodes[edge.nodes[0]] - mesh.nodes[edge.nodes[2]]).norm(),
+                     (mesh.nodes[edge.nodes[1]] - mesh.nodes[edge.nodes[2]]).norm()});
+  };
+  double nearest_node = std::numeric_limits<double>::infinity();
+  for (const BoundaryEdge& edge : mesh.edges) {
+    if (take(edge)) nearest_node = std::min(nearest_node, node_distance(edge));
+  }
   for (const BoundaryEdge& edge : mesh.edges) {
     if (!take(edge)) continue;
+    if (node_distance(edge) - span(edge) > nearest_node) continue;
     for (int i = 0; i <= kSamples; ++i) {
       const double s = -1.0 + 2.0 * i / kSamples;
       const double dist = (EdgePoint(mesh, edge, s) - point).norm();

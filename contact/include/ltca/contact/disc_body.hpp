@@ -144,7 +144,8 @@ const char* ToString(PlaneModel plane);
 /// "Local and far field"). The body (its real outline from the profile, the bore clamped) is
 /// meshed and factorised once and condensed at a grid of points over every tooth space, each
 /// loaded along the inward normal by a uniform patch of half-width w0: K (mm/N) between all grid
-/// points, symmetric positive definite. A contact at (tooth space, u) is interpolated linearly in u
+/// points, symmetric positive definite. Without holes the body is meshed cyclically symmetric (one
+/// tooth space's sector turned z_c times) and only one space's grid points are solved for. A contact at (tooth space, u) is interpolated linearly in u
 /// between its two neighbouring grid points with weights (1 - t, t):
 ///   C_ab = w_a^T K w_b  (a != b),   C_aa = (1 - t) K_00 + t K_11
 /// (the diagonal is interpolated on its own: the product form would dip between grid points by
@@ -181,6 +182,9 @@ class DiscFlankCompliance {
   int nodes() const { return nodes_; }
   int elements() const { return elements_; }
   double setup_seconds() const { return setup_seconds_; }  ///< mesh, factorisation, condensation
+  /// Whether the body was meshed as one tooth space's sector turned z_c times (no holes): then only
+  /// that space's grid points are solved for.
+  bool cyclic() const { return cyclic_; }
   const Eigen::MatrixXd& grid_compliance() const { return k_; }  ///< K, mm/N
   /// Grid point g's position and inward unit normal in the body frame, mm.
   Eigen::Vector2d grid_point(int g) const { return points_.col(g); }
@@ -202,6 +206,7 @@ class DiscFlankCompliance {
   Eigen::Matrix2Xd points_, normals_;
   int nodes_ = 0, elements_ = 0;
   double setup_seconds_ = 0.0;
+  bool cyclic_ = false;  // the body without holes: one space's sector meshed and turned
 };
 
 }  // namespace ltca::contact
