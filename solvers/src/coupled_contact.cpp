@@ -1,5 +1,6 @@
 #include "coupled_contact.hpp"
 
+#include "active_set_dense.hpp"
 #include "beam_woodbury.hpp"
 
 #include <algorithm>
@@ -48,7 +49,8 @@ CoupledContact& CoupledContactFor(const LoadProblem& problem, Workspace& workspa
   if (state == nullptr) {
     state = static_cast<BackendCoupled*>(workspace.SetBackend("coupled-contact", std::make_unique<BackendCoupled>()));
   }
-  if (state->solver == nullptr || !state->solver->Matches(*problem.coupling(), problem.coupling_factors())) {
+  if (state->solver == nullptr || (!state->solver->Matches(*problem.coupling(), problem.coupling_factors()) &&
+                                   !state->solver->Reload(*problem.coupling(), problem.coupling_factors()))) {
     state->solver = std::make_unique<CoupledContact>(*problem.coupling(), problem.coupling_factors());
   }
   return *state->solver;
@@ -60,6 +62,10 @@ CoupledContact::CoupledContact(const Eigen::SparseMatrix<double>& coupling,
     auto beam = std::make_unique<BeamWoodbury>(std::move(factors));
     beam_kernel_ = beam.get();
     kernel_ = std::move(beam);
+  } else if (ActiveSetDense::Suits(coupling)) {
+    auto dense = std::make_unique<ActiveSetDense>(coupling);
+    dense_kernel_ = dense.get();
+    kernel_ = std::move(dense);
   } else {
     auto matrix = std::make_unique<ActiveSetCholmod>(coupling);
     matrix_kernel_ = matrix.get();
@@ -72,7 +78,18 @@ CoupledContact::~CoupledContact() = default;
 bool CoupledContact::Matches(const Eigen::SparseMatrix<double>& coupling,
                              const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const {
   if (factors != nullptr) return beam_kernel_ != nullptr && beam_kernel_->Matches(factors);
+  if (dense_kernel_ != nullptr) return dense_kernel_->Matches(coupling);
   return matrix_kernel_ != nullptr && matrix_kernel_->Matches(coupling);
+}
+
+bool CoupledContact::Reload(const Eigen::SparseMatrix<double>& coupling,
+                            const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) {
+  if (factors != nullptr || dense_kernel_ == nullptr || !ActiveSetDense::Suits(coupling) ||
+      coupling.rows() != dense_kernel_->size()) {
+    return false;
+  }
+  dense_kernel_->Load(coupling);
+  return true;
 }
 
 CoupledOutcome CoupledContact::AtRotation(const std::vector<CoupledPoint>& points, double force_scale,

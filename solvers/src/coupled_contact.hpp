@@ -23,7 +23,10 @@
 // points entering and leaving by rowadd / rowdel, a numeric refactorisation only when a tangent
 // compliance has moved by more than 10 % from the factorised one (otherwise the step is a chord
 // step, which converges linearly at that rate). Converged: the set is settled and the last step
-// changed no force by more than 1e-12 of the largest.
+// changed no force by more than 1e-12 of the largest. A small coupling given as a matrix (at most
+// ActiveSetDense::kDenseLimit points, e.g. the elastic disc body's) takes the dense kernel
+// (ActiveSetDense) instead, which factorises M_AA anew where ActiveSetCholmod updates it: the
+// same matrices, the same iteration.
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,6 +40,7 @@
 
 namespace ltca::solvers {
 
+class ActiveSetDense;
 class BeamWoodbury;
 
 /// One contact point of a coupled solve.
@@ -61,12 +65,18 @@ struct CoupledOutcome {
 class CoupledContact {
  public:
   /// With the problem's coupling: the Woodbury kernel (BeamWoodbury) when the coupling comes
-  /// factored (LoadProblem::coupling_factors), otherwise the matrix kernel (ActiveSetCholmod).
+  /// factored (LoadProblem::coupling_factors), otherwise the dense kernel (ActiveSetDense) for at
+  /// most ActiveSetDense::kDenseLimit points, the sparse matrix kernel (ActiveSetCholmod) beyond.
   explicit CoupledContact(const Eigen::SparseMatrix<double>& coupling,
                           std::shared_ptr<const LoadProblem::CouplingFactors> factors = nullptr);
   ~CoupledContact();
   bool Matches(const Eigen::SparseMatrix<double>& coupling,
                const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const;
+  /// Takes another coupling in place when the kernel allows it (the dense kernel and a matrix of
+  /// the same size without factors: no allocation), starting as a new solver would (no point
+  /// active). False, nothing changed, otherwise.
+  bool Reload(const Eigen::SparseMatrix<double>& coupling,
+              const std::shared_ptr<const LoadProblem::CouplingFactors>& factors);
 
   /// At the given approaches (psi fixed). force: in, the start (a warm start: any F >= 0); out,
   /// the solution, N. force_scale: a typical point force (the secant of entering points), N.
@@ -81,12 +91,15 @@ class CoupledContact {
   CoupledOutcome Solve(const std::vector<CoupledPoint>& points, bool for_torque, double torque, double force_scale,
                        std::vector<double>* force);
   std::unique_ptr<ActiveSetKernel> kernel_;
-  ActiveSetCholmod* matrix_kernel_ = nullptr;  // kernel_ when C came as a matrix only
+  ActiveSetCholmod* matrix_kernel_ = nullptr;  // kernel_ when C came as a large matrix only
+  ActiveSetDense* dense_kernel_ = nullptr;     // kernel_ when C came as a small matrix only
   BeamWoodbury* beam_kernel_ = nullptr;  // kernel_ when C came factored
 };
 
 /// The solver of this problem's coupling kept in the workspace (its CHOLMOD analysis is reused
-/// while the coupling is the same, e.g. over a sweep); rebuilt when the coupling differs.
+/// while the coupling is the same, e.g. over a sweep); rebuilt when the coupling differs, or,
+/// for the dense kernel and a coupling of the same size (the elastic disc body's, new at every
+/// crank position), given the new matrix in place (CoupledContact::Reload).
 CoupledContact& CoupledContactFor(const LoadProblem& problem, Workspace& workspace);
 
 /// The kernel's work between two snapshots of its statistics, as backend details:
