@@ -60,13 +60,17 @@ bool ActiveSetDense::Factorise() {
 bool ActiveSetDense::Solve(const Eigen::MatrixXd& b, Eigen::MatrixXd* x) {
   if (state_.stale && !Factorise()) return false;
   const auto m = static_cast<Eigen::Index>(index_.size());
-  rhs_.resize(m, b.cols());
-  for (Eigen::Index a = 0; a < m; ++a) rhs_.row(a) = b.row(index_[static_cast<std::size_t>(a)]);
   ++state_.stats.solves;
-  llt_.solveInPlace(rhs_);
   x->setZero(b.rows(), b.cols());
-  for (Eigen::Index a = 0; a < m; ++a) x->row(index_[static_cast<std::size_t>(a)]) = rhs_.row(a);
-  return rhs_.allFinite();
+  bool finite = true;
+  for (Eigen::Index k = 0; k < b.cols(); ++k) {  // column by column: the triangular solves of a vector
+    column_.resize(m);
+    for (Eigen::Index a = 0; a < m; ++a) column_(a) = b(index_[static_cast<std::size_t>(a)], k);
+    llt_.solveInPlace(column_);
+    for (Eigen::Index a = 0; a < m; ++a) (*x)(index_[static_cast<std::size_t>(a)], k) = column_(a);
+    finite = finite && column_.allFinite();
+  }
+  return finite;
 }
 
 void ActiveSetDense::Apply(const Eigen::VectorXd& f, Eigen::VectorXd* cf) const {

@@ -40,6 +40,8 @@ class ActiveSetDense final : public ActiveSetKernel {
   [[nodiscard]] bool Solve(const Eigen::MatrixXd& b, Eigen::MatrixXd* x) override;
   /// cf = C f over the non-zero entries of f.
   void Apply(const Eigen::VectorXd& f, Eigen::VectorXd* cf) const override;
+  /// M_AA of m points costs m^3 / 3 flops: every Newton step refactorises.
+  bool refactorisation_is_cheap() const override { return true; }
 
  private:
   /// A point entering or leaving makes the factor stale: the next Solve factorises M_AA again
@@ -53,7 +55,7 @@ class ActiveSetDense final : public ActiveSetKernel {
   std::vector<int> index_;         // the active points the factor holds, ascending
   Eigen::MatrixXd m_;              // M_AA, m x m
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  Eigen::MatrixXd rhs_;            // Solve's right-hand sides on the active rows (reused)
+  Eigen::VectorXd column_;         // Solve's right-hand side on the active rows (reused)
 };
 
 }  // namespace ltca::solvers

@@ -26,9 +26,15 @@ struct BackendCoupled final : Workspace::BackendState {
 }  // namespace
 
 std::vector<CoupledPoint> CoupledPoints(const std::vector<LoadProblem::PinAt>& pins) {
-  std::vector<CoupledPoint> out(pins.size());
-  for (std::size_t i = 0; i < pins.size(); ++i) out[i] = {pins[i].edge ? nullptr : pins[i].law, pins[i].approach, pins[i].arm};
+  std::vector<CoupledPoint> out;
+  CoupledPoints(pins, &out);
   return out;
+}
+
+void CoupledPoints(const std::vector<LoadProblem::PinAt>& pins, std::vector<CoupledPoint>* points) {
+  std::vector<CoupledPoint>& out = *points;
+  out.resize(pins.size());
+  for (std::size_t i = 0; i < pins.size(); ++i) out[i] = {pins[i].edge ? nullptr : pins[i].law, pins[i].approach, pins[i].arm};
 }
 
 void AddKernelDetails(const ActiveSetCholmod::Stats& before, const ActiveSetCholmod::Stats& now, BackendDetails* details) {
@@ -116,7 +122,8 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
   std::vector<double>& f = *force;
   f.resize(points.size(), 0.0);
   const auto u = [](int i) { return static_cast<std::size_t>(i); };
-  std::vector<char> free(points.size(), 0);
+  std::vector<char>& free = buffers_.free;
+  free.assign(points.size(), 0);
   for (int i = 0; i < n; ++i) {
     if (points[u(i)].law == nullptr || !(f[u(i)] > 0.0) || !std::isfinite(f[u(i)])) f[u(i)] = 0.0;
     free[u(i)] = f[u(i)] > 0.0;
@@ -170,18 +177,30 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
     return out;
   }
   const Eigen::Map<Eigen::VectorXd> fv(f.data(), n);
-  Eigen::VectorXd cf(n), d = Eigen::VectorXd::Zero(n);
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, for_torque ? 2 : 1), sol;
-  Eigen::VectorXd df(n);
+  Eigen::VectorXd& fcopy = buffers_.f;  // f as the kernels take it
+  Eigen::VectorXd& cf = buffers_.cf;
+  Eigen::VectorXd& d = buffers_.d;
+  Eigen::VectorXd& df = buffers_.df;
+  Eigen::MatrixXd& rhs = buffers_.rhs;
+  Eigen::MatrixXd& sol = buffers_.sol;
+  cf.resize(n);
+  d.setZero(n);
+  df.resize(n);
+  rhs.setZero(n, for_torque ? 2 : 1);
+  const bool newton = kernel.refactorisation_is_cheap();
   double psi = 0.0, last_step = INFINITY, previous_step = INFINITY, mismatch = 0.0;
   bool settled = false, monotone = false, last_full = false;
   int saturated = -1;  // a point held below its law's largest force in the last step
   for (int it = 0; it < kMaxIterations; ++it) {
     out.iterations = it + 1;
     // C F (the matrix kernel: over the loaded columns only).
-    kernel.Apply(fv, &cf);
-    double f_max = 0.0;
-    for (int i = 0; i < n; ++i) f_max = std::max(f_max, f[u(i)]);
+    fcopy = fv;
+    kernel.Apply(fcopy, &cf);
+    const double f_max = [&] {  // in a register: the lambdas below capture it
+      double largest = 0.0;
+      for (int i = 0; i < n; ++i) largest = std::max(largest, f[u(i)]);
+      return largest;
+    }();
     // The points held at zero: the gap with the last full step's psi; violators enter.
     int worst = -1;
     double worst_gap = 0.0;
@@ -236,6 +255,7 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
     }
     // A chord step that contracted poorly: refactorise with the current tangents.
     if (pending > kRefresh || (previous_step < INFINITY && last_step > 0.05 * previous_step)) refresh = true;
+    if (newton && pending > 0.0) refresh = true;  // a Newton step: the factor holds the current tangents
     if (refresh) kernel.SetDiagonal(d);
     bool any_free = false;
     for (int i = 0; i < n; ++i) {
