@@ -46,6 +46,10 @@ class ActiveSetKernel {
   [[nodiscard]] virtual bool Solve(const Eigen::MatrixXd& b, Eigen::MatrixXd* x) = 0;
   /// cf = C f (all points).
   virtual void Apply(const Eigen::VectorXd& f, Eigen::VectorXd* cf) const = 0;
+  /// True when a factorisation costs about as little as a solve (the dense kernel on a few
+  /// active points): CoupledContact then refactorises with the current tangents at every Newton
+  /// step (Newton's quadratic convergence) instead of taking chord steps.
+  virtual bool refactorisation_is_cheap() const { return false; }
   const Stats& stats() const { return state_.stats; }
 
  protected:

@@ -36,6 +36,7 @@ struct Buffers {
   std::vector<LoadProblem::PinAt> accepted_pins;
   std::vector<contact::ContactLaw> accepted_scratch;
   Loading loading;
+  std::vector<CoupledPoint> points;  // coupled: the trial's points
   void Accept() {
     pins.swap(accepted_pins);
     scratch.swap(accepted_scratch);
@@ -57,9 +58,10 @@ Evaluation Evaluate(const LoadProblem& problem, double psi, Workspace& workspace
 // >= 0, F >= 0, complementary (coupled_contact.hpp), started from *forces (the last accepted
 // trial's forces: a warm start).
 Evaluation EvaluateCoupled(const LoadProblem& problem, double psi, Workspace& workspace, CoupledContact& coupled,
-                           double force_scale, std::vector<double>* forces) {
-  std::vector<contact::ContactLaw> scratch;
-  const CoupledOutcome o = coupled.AtRotation(CoupledPoints(problem.At(psi, workspace, &scratch)), force_scale, forces);
+                           double force_scale, std::vector<double>* forces, Buffers& buffers) {
+  problem.At(psi, workspace, &buffers.scratch, &buffers.pins);  // the buffers' storage, reused
+  CoupledPoints(buffers.pins, &buffers.points);
+  const CoupledOutcome o = coupled.AtRotation(buffers.points, force_scale, forces);
   return {o.torque, o.edge, o.saturated, o.converged || o.saturated ? std::string() : o.failure};
 }
 
@@ -161,7 +163,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   const auto evaluate = [&](double at_psi, std::vector<double>* out) {
     if (coupled == nullptr) return Evaluate(problem, at_psi, workspace, out, &hints, buffers);
     if (out != &forces) *out = forces;
-    return EvaluateCoupled(problem, at_psi, workspace, *coupled, force_scale, out);
+    return EvaluateCoupled(problem, at_psi, workspace, *coupled, force_scale, out, buffers);
   };
   const auto fail = [&](const Evaluation& e, int evaluations_done) {
     result->status = SolverStatus::kNumericalFailure;

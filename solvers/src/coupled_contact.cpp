@@ -1,5 +1,6 @@
 #include "coupled_contact.hpp"
 
+#include "active_set_dense.hpp"
 #include "beam_woodbury.hpp"
 
 #include <algorithm>
@@ -25,9 +26,15 @@ struct BackendCoupled final : Workspace::BackendState {
 }  // namespace
 
 std::vector<CoupledPoint> CoupledPoints(const std::vector<LoadProblem::PinAt>& pins) {
-  std::vector<CoupledPoint> out(pins.size());
-  for (std::size_t i = 0; i < pins.size(); ++i) out[i] = {pins[i].edge ? nullptr : pins[i].law, pins[i].approach, pins[i].arm};
+  std::vector<CoupledPoint> out;
+  CoupledPoints(pins, &out);
   return out;
+}
+
+void CoupledPoints(const std::vector<LoadProblem::PinAt>& pins, std::vector<CoupledPoint>* points) {
+  std::vector<CoupledPoint>& out = *points;
+  out.resize(pins.size());
+  for (std::size_t i = 0; i < pins.size(); ++i) out[i] = {pins[i].edge ? nullptr : pins[i].law, pins[i].approach, pins[i].arm};
 }
 
 void AddKernelDetails(const ActiveSetCholmod::Stats& before, const ActiveSetCholmod::Stats& now, BackendDetails* details) {
@@ -48,7 +55,8 @@ CoupledContact& CoupledContactFor(const LoadProblem& problem, Workspace& workspa
   if (state == nullptr) {
     state = static_cast<BackendCoupled*>(workspace.SetBackend("coupled-contact", std::make_unique<BackendCoupled>()));
   }
-  if (state->solver == nullptr || !state->solver->Matches(*problem.coupling(), problem.coupling_factors())) {
+  if (state->solver == nullptr || (!state->solver->Matches(*problem.coupling(), problem.coupling_factors()) &&
+                                   !state->solver->Reload(*problem.coupling(), problem.coupling_factors()))) {
     state->solver = std::make_unique<CoupledContact>(*problem.coupling(), problem.coupling_factors());
   }
   return *state->solver;
@@ -60,6 +68,10 @@ CoupledContact::CoupledContact(const Eigen::SparseMatrix<double>& coupling,
     auto beam = std::make_unique<BeamWoodbury>(std::move(factors));
     beam_kernel_ = beam.get();
     kernel_ = std::move(beam);
+  } else if (ActiveSetDense::Suits(coupling)) {
+    auto dense = std::make_unique<ActiveSetDense>(coupling);
+    dense_kernel_ = dense.get();
+    kernel_ = std::move(dense);
   } else {
     auto matrix = std::make_unique<ActiveSetCholmod>(coupling);
     matrix_kernel_ = matrix.get();
@@ -72,7 +84,18 @@ CoupledContact::~CoupledContact() = default;
 bool CoupledContact::Matches(const Eigen::SparseMatrix<double>& coupling,
                              const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const {
   if (factors != nullptr) return beam_kernel_ != nullptr && beam_kernel_->Matches(factors);
+  if (dense_kernel_ != nullptr) return dense_kernel_->Matches(coupling);
   return matrix_kernel_ != nullptr && matrix_kernel_->Matches(coupling);
+}
+
+bool CoupledContact::Reload(const Eigen::SparseMatrix<double>& coupling,
+                            const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) {
+  if (factors != nullptr || dense_kernel_ == nullptr || !ActiveSetDense::Suits(coupling) ||
+      coupling.rows() != dense_kernel_->size()) {
+    return false;
+  }
+  dense_kernel_->Load(coupling);
+  return true;
 }
 
 CoupledOutcome CoupledContact::AtRotation(const std::vector<CoupledPoint>& points, double force_scale,
@@ -99,7 +122,8 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
   std::vector<double>& f = *force;
   f.resize(points.size(), 0.0);
   const auto u = [](int i) { return static_cast<std::size_t>(i); };
-  std::vector<char> free(points.size(), 0);
+  std::vector<char>& free = buffers_.free;
+  free.assign(points.size(), 0);
   for (int i = 0; i < n; ++i) {
     if (points[u(i)].law == nullptr || !(f[u(i)] > 0.0) || !std::isfinite(f[u(i)])) f[u(i)] = 0.0;
     free[u(i)] = f[u(i)] > 0.0;
@@ -153,18 +177,29 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
     return out;
   }
   const Eigen::Map<Eigen::VectorXd> fv(f.data(), n);
-  Eigen::VectorXd cf(n), d = Eigen::VectorXd::Zero(n);
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, for_torque ? 2 : 1), sol;
-  Eigen::VectorXd df(n);
+  Eigen::VectorXd& fcopy = buffers_.f;  // f as the kernels take it
+  Eigen::VectorXd& cf = buffers_.cf;
+  Eigen::VectorXd& d = buffers_.d;
+  Eigen::VectorXd& df = buffers_.df;
+  Eigen::MatrixXd& rhs = buffers_.rhs;
+  Eigen::MatrixXd& sol = buffers_.sol;
+  cf.resize(n);
+  d.setZero(n);
+  df.resize(n);
+  rhs.setZero(n, for_torque ? 2 : 1);
+  const bool newton = kernel.refactorisation_is_cheap();
   double psi = 0.0, last_step = INFINITY, previous_step = INFINITY, mismatch = 0.0;
   bool settled = false, monotone = false, last_full = false;
   int saturated = -1;  // a point held below its law's largest force in the last step
   for (int it = 0; it < kMaxIterations; ++it) {
     out.iterations = it + 1;
     // C F (the matrix kernel: over the loaded columns only).
-    kernel.Apply(fv, &cf);
-    double f_max = 0.0;
-    for (int i = 0; i < n; ++i) f_max = std::max(f_max, f[u(i)]);
+    fcopy = fv;
+    kernel.Apply(fcopy, &cf);
+    // The largest force (every f_i is finite and >= 0 here), reduced in registers: a running
+    // maximum kept in f_max's own memory (the lambdas below capture it) cost a store-to-load
+    // chain through 40 points every step.
+    const double f_max = n > 0 ? std::max(0.0, fv.maxCoeff()) : 0.0;
     // The points held at zero: the gap with the last full step's psi; violators enter.
     int worst = -1;
     double worst_gap = 0.0;
@@ -219,6 +254,7 @@ CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bo
     }
     // A chord step that contracted poorly: refactorise with the current tangents.
     if (pending > kRefresh || (previous_step < INFINITY && last_step > 0.05 * previous_step)) refresh = true;
+    if (newton && pending > 0.0) refresh = true;  // a Newton step: the factor holds the current tangents
     if (refresh) kernel.SetDiagonal(d);
     bool any_free = false;
     for (int i = 0; i < n; ++i) {

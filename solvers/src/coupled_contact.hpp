@@ -23,11 +23,16 @@
 // points entering and leaving by rowadd / rowdel, a numeric refactorisation only when a tangent
 // compliance has moved by more than 10 % from the factorised one (otherwise the step is a chord
 // step, which converges linearly at that rate). Converged: the set is settled and the last step
-// changed no force by more than 1e-12 of the largest.
+// changed no force by more than 1e-12 of the largest. A small coupling given as a matrix (at most
+// ActiveSetDense::kDenseLimit points, e.g. the elastic disc body's) takes the dense kernel
+// (ActiveSetDense) instead, which factorises M_AA anew where ActiveSetCholmod updates it; its
+// factorisation costs about what a solve does, so every step is a Newton step with the current
+// tangents (no chord steps): the same fixed point, reached in fewer steps.
 #include <memory>
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
 #include <Eigen/SparseCore>
 
 #include "active_set_cholmod.hpp"
@@ -37,6 +42,7 @@
 
 namespace ltca::solvers {
 
+class ActiveSetDense;
 class BeamWoodbury;
 
 /// One contact point of a coupled solve.
@@ -47,6 +53,8 @@ struct CoupledPoint {
 };
 /// The points of LoadProblem::At (approach, arm, law; an edge point gets no law).
 std::vector<CoupledPoint> CoupledPoints(const std::vector<LoadProblem::PinAt>& pins);
+/// The same into *points (its storage reused).
+void CoupledPoints(const std::vector<LoadProblem::PinAt>& pins, std::vector<CoupledPoint>* points);
 
 struct CoupledOutcome {
   bool converged = false;
@@ -61,12 +69,18 @@ struct CoupledOutcome {
 class CoupledContact {
  public:
   /// With the problem's coupling: the Woodbury kernel (BeamWoodbury) when the coupling comes
-  /// factored (LoadProblem::coupling_factors), otherwise the matrix kernel (ActiveSetCholmod).
+  /// factored (LoadProblem::coupling_factors), otherwise the dense kernel (ActiveSetDense) for at
+  /// most ActiveSetDense::kDenseLimit points, the sparse matrix kernel (ActiveSetCholmod) beyond.
   explicit CoupledContact(const Eigen::SparseMatrix<double>& coupling,
                           std::shared_ptr<const LoadProblem::CouplingFactors> factors = nullptr);
   ~CoupledContact();
   bool Matches(const Eigen::SparseMatrix<double>& coupling,
                const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const;
+  /// Takes another coupling in place when the kernel allows it (the dense kernel and a matrix of
+  /// the same size without factors: no allocation), starting as a new solver would (no point
+  /// active). False, nothing changed, otherwise.
+  bool Reload(const Eigen::SparseMatrix<double>& coupling,
+              const std::shared_ptr<const LoadProblem::CouplingFactors>& factors);
 
   /// At the given approaches (psi fixed). force: in, the start (a warm start: any F >= 0); out,
   /// the solution, N. force_scale: a typical point force (the secant of entering points), N.
@@ -80,13 +94,24 @@ class CoupledContact {
  private:
   CoupledOutcome Solve(const std::vector<CoupledPoint>& points, bool for_torque, double torque, double force_scale,
                        std::vector<double>* force);
+  /// Solve's work arrays, kept from call to call (a bisection asks about 70 trial rotations a
+  /// position): sized at each call, never read before they are written.
+  struct Buffers {
+    std::vector<char> free;
+    Eigen::VectorXd f, cf, d, df;
+    Eigen::MatrixXd rhs, sol;
+  };
+  Buffers buffers_;
   std::unique_ptr<ActiveSetKernel> kernel_;
-  ActiveSetCholmod* matrix_kernel_ = nullptr;  // kernel_ when C came as a matrix only
+  ActiveSetCholmod* matrix_kernel_ = nullptr;  // kernel_ when C came as a large matrix only
+  ActiveSetDense* dense_kernel_ = nullptr;     // kernel_ when C came as a small matrix only
   BeamWoodbury* beam_kernel_ = nullptr;  // kernel_ when C came factored
 };
 
 /// The solver of this problem's coupling kept in the workspace (its CHOLMOD analysis is reused
-/// while the coupling is the same, e.g. over a sweep); rebuilt when the coupling differs.
+/// while the coupling is the same, e.g. over a sweep); rebuilt when the coupling differs, or,
+/// for the dense kernel and a coupling of the same size (the elastic disc body's, new at every
+/// crank position), given the new matrix in place (CoupledContact::Reload).
 CoupledContact& CoupledContactFor(const LoadProblem& problem, Workspace& workspace);
 
 /// The kernel's work between two snapshots of its statistics, as backend details:

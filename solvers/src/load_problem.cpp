@@ -257,6 +257,11 @@ LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<doub
 }
 
 LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<double> coupling, int points,
+                                                        PositiveSemidefiniteByConstruction) {
+  return {CheckCouplingMatrix(std::move(coupling), points, true), points, nullptr};
+}
+
+LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<double> coupling, int points,
                                                         CouplingFactors factors) {
   const Eigen::Index dofs = factors.stiffness.rows();
   if (factors.stiffness.cols() != dofs || factors.loads.rows() != points || factors.loads.cols() != dofs ||

@@ -312,11 +312,15 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
   if (reducer_) problem = problem.WithReducer(reducer_);
   if (disc_body_) {
     // The body couples this pose's contacts (its points move along the flanks with the crank):
-    // pin bending's matrix plus the body's, checked for this pose.
+    // pin bending's matrix (checked once) plus the body's, W K W^T + a non-negative diagonal with
+    // K the condensed FE compliance (positive semidefinite by construction: the eigenvalue check
+    // per pose is skipped, the other checks of the coupling are made).
     const Eigen::MatrixXd body = disc_body_->Coupling(problem.base_state().pins);
     Eigen::SparseMatrix<double> c = body.sparseView();
     if (coupling_->matrix) c += *coupling_->matrix;
-    return problem.WithCoupling(std::move(c));
+    const int points = problem.point_count();
+    return problem.WithCoupling(
+        solvers::LoadProblem::CheckCoupling(std::move(c), points, solvers::LoadProblem::PositiveSemidefiniteByConstruction{}));
   }
   if (!coupling_->matrix) return problem;
   return problem.WithCoupling(*coupling_);

@@ -152,6 +152,16 @@ class LoadProblem {
   /// follows from the form and is not checked again (the O(n^3) check of WithCoupling), the
   /// other checks of C (square, finite, symmetric) are made.
   static CheckedCoupling CheckCoupling(Eigen::SparseMatrix<double> coupling, int points, CouplingFactors factors);
+  /// The caller's word that C is positive semidefinite by construction, which it must be able to
+  /// show from how C is made: a sum of Gram forms W K W^T with K positive semidefinite (a
+  /// condensed finite-element compliance L^T K_fe^-1 L, K_fe factorised positive definite) and of
+  /// non-negative diagonals (contact::DiscFlankCompliance::Coupling), plus couplings checked
+  /// before. For a coupling made anew at every crank position, where the O(n^3) eigenvalue check
+  /// of WithCoupling would cost more than the solve. Every other check of WithCoupling is made
+  /// (square, points x points, finite, symmetric to 1e-12 relative), and C is stored the same way.
+  struct PositiveSemidefiniteByConstruction {};
+  static CheckedCoupling CheckCoupling(Eigen::SparseMatrix<double> coupling, int points,
+                                       PositiveSemidefiniteByConstruction);
   /// The same as WithCoupling, without checking again; throws std::invalid_argument when the
   /// coupling was checked for another number of points.
   LoadProblem WithCoupling(const CheckedCoupling& coupling) const;
