@@ -134,8 +134,8 @@ Own OwnOf(const PairParameters& p, const Modification& m) {
 
 }  // namespace
 
-TEST_CASE("geometry: root and tip diameters are R' -+ e - r' for d = 1, the tip corner on the tooth axis for d = 2, "
-          "and the ring's root on its space axis for d = -1") {
+TEST_CASE("geometry: root and tip diameters are R' -+ e - r' for d = 1, the tip corner on the tooth axis for d = 2 "
+          "(the top of its rounding arc when rounded), and the ring's root on its space axis for d = -1") {
   for (const double rotation : {0.0, 0.002}) {
     CAPTURE(rotation);
     // d = 1, Liu's pair with dR_rp = 8 um, dR_p = -10 um: 2 (R' - e - r') and 2 (R' + e - r').
@@ -151,6 +151,21 @@ TEST_CASE("geometry: root and tip diameters are R' -+ e - r' for d = 1, the tip 
     const double tip2 = 2.0 * own2.At(CrossingOfHalfPitch(own2)).first.norm();
     CHECK(std::abs(ltca::geometry::TipDiameter(d2) - tip2) < kTol);
     CHECK(ltca::geometry::TipDiameter(d2) > ltca::geometry::RootDiameter(d2) + 2.0);
+    // d = 2 with its tips rounded (rho = 2 mm, no truncation): an arc tangent to both flanks, its centre
+    // C = x(u) - rho n(u) on the tooth's axis; the tip circle runs over its top, 2 (|C| + rho).
+    Modification rounded = m2;
+    rounded.tip_relief = {0.0, 2.0};
+    const CycloidProfile d2r(ChenD2(), rounded);
+    const auto arc_centre = [&](double u) {
+      const auto [x, n] = own2.At(u);
+      return Eigen::Vector2d(x - 2.0 * n);
+    };
+    const double u_j = Bisect([&](double u) {
+      const Eigen::Vector2d c = arc_centre(u);
+      return std::atan2(c.y(), c.x()) - kPi / own2.zc;
+    }, 1e-6, CrossingOfHalfPitch(own2));
+    CHECK(std::abs(ltca::geometry::TipDiameter(d2r) - 2.0 * (arc_centre(u_j).norm() + 2.0)) < kTol);
+    CHECK(ltca::geometry::TipDiameter(d2r) < tip2 - 0.4);  // 0.25 mm cut off the tip, on the radius
     // d = -1, a ring: its tips at u = 0 (2 (R' - e + r')), its roots on the space axis pi / z_c.
     const Own ownm = OwnOf(ChenDm1(), m2);
     const CycloidProfile dm1(ChenDm1(), m2);

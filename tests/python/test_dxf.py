@@ -35,6 +35,16 @@ class Cycloid:
         self.rotation = math.radians(mod.get("rotation_deg", 0.0))
         self.ze = self.zp / self.d
         self.phi_max = self._half_width()
+        # A rounding-only tip relief of a sharp-tipped pair (d >= 2): an arc of radius rho tangent to
+        # both flanks, its centre on the tooth's axis at x(u_j) - rho n(u_j); the flank ends at u_j.
+        self.rho = mod.get("tip_rounding_radius_mm", 0.0)
+        assert mod.get("tip_truncation_mm", 0.0) == 0.0, "the check below knows the rounding arc alone"
+        self.u_j, self.centre = self.phi_max, None
+        if self.rho > 0.0:
+            assert self.d >= 2
+            g = lambda u: math.atan2(*self._arc_centre(u)[::-1]) - math.pi / self.zc
+            self.u_j = self._bisect(g, 1e-6, self.phi_max)
+            self.centre = self._arc_centre(self.u_j)
 
     def position(self, u):
         u = np.asarray(u, dtype=float)
@@ -43,6 +53,27 @@ class Cycloid:
                        self.R * np.cos(u) - self.e * self.ze * np.cos(self.ze * u)], -1)
         n_in = np.stack([-q1[..., 1], q1[..., 0]], -1) / np.linalg.norm(q1, axis=-1)[..., None]
         return q + self.r * n_in
+
+    def normal(self, u):
+        """Unit normal out of the material (toward the pin): the locus' right normal for d > 0."""
+        u = np.asarray(u, dtype=float)
+        q1 = np.stack([-self.R * np.sin(u) + self.e * self.ze * np.sin(self.ze * u),
+                       self.R * np.cos(u) - self.e * self.ze * np.cos(self.ze * u)], -1)
+        return np.stack([q1[..., 1], -q1[..., 0]], -1) / np.linalg.norm(q1, axis=-1)[..., None]
+
+    def _arc_centre(self, u):
+        return self.position(u) - self.rho * self.normal(u)
+
+    @staticmethod
+    def _bisect(f, lo, hi):
+        assert (f(lo) < 0) != (f(hi) < 0)
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if (f(mid) < 0) == (f(lo) < 0):
+                lo = mid
+            else:
+                hi = mid
+        return 0.5 * (lo + hi)
 
     def _half_width(self):
         # Where the profile reaches the tooth's axis, polar angle pi / z_c (pi / z_c itself for d = 1).
@@ -73,8 +104,8 @@ class Cycloid:
         table_angle = np.arctan2(table[:, 1], table[:, 0])
         u0 = np.interp(np.arctan2(local[:, 1], local[:, 0]), table_angle, table_u)
         step = 3.0 * (table_u[1] - table_u[0])
-        a = np.clip(u0 - step, -self.phi_max, self.phi_max)
-        b = np.clip(u0 + step, -self.phi_max, self.phi_max)
+        a = np.clip(u0 - step, -self.u_j, self.u_j)
+        b = np.clip(u0 + step, -self.u_j, self.u_j)
         g = 0.5 * (math.sqrt(5.0) - 1.0)
         dist = lambda u: np.linalg.norm(self.position(u) - local, axis=-1)
         c, d = b - g * (b - a), a + g * (b - a)
@@ -88,7 +119,13 @@ class Cycloid:
             fc_new = np.where(left, dist(c_new), fd)
             fd_new = np.where(left, fc, dist(d_new))
             c, d, fc, fd = c_new, d_new, fc_new, fd_new
-        return np.minimum(fc, fd)
+        flank = np.minimum(fc, fd)
+        if self.centre is None:
+            return flank
+        # The rounding arcs of the two tips of the space, at +-pi / z_c.
+        arcs = [np.abs(np.linalg.norm(local - np.array([self.centre[0], sign * self.centre[1]]), axis=-1) - self.rho)
+                for sign in (1.0, -1.0)]
+        return np.minimum(flank, np.minimum(*arcs))
 
 
 def write_dxf(tmp_path, deck, *overrides):
@@ -112,6 +149,8 @@ def deck_with(deck, **edits):
     ("cases/stage/cycloidal_drive.toml", (), {}),  # d = 1, modified, output pins
     ("cases/chen2008/d2.toml", ("modification.pin_radius_mm=0.01", "modification.rotation_deg=0.01"),
      {"modification__pin_radius_mm": 0.01, "modification__rotation_deg": 0.01}),  # d = 2, sharp tips
+    ("cases/chen2008/d2.toml", ("modification.tip_rounding_radius_mm=2", "modification.tip_truncation_mm=0"),
+     {"modification__tip_rounding_radius_mm": 2.0}),  # d = 2, tips rounded
 ])
 def test_the_dxf_profile_is_within_a_tenth_of_a_micrometre_of_the_cycloid(tmp_path, deck, overrides, edits):
     doc = write_dxf(tmp_path, deck, *overrides)
