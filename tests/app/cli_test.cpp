@@ -143,6 +143,39 @@ TEST_CASE("cli: ltca geometry reports root, tip and, with [inspection] roller_di
   }
 }
 
+TEST_CASE("cli: ltca geometry --dxf writes the drawing whole or not at all, never over another output") {
+  const auto dir = FreshFolder("dxf");
+  const auto dxf = dir / "disc.dxf";
+  // With the other outputs: the DXF is a whole file (its end of file marker) beside the JSON.
+  const auto ok = RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--json", (dir / "g.json").string(), "--dxf",
+                          dxf.string()});
+  if (ok.code == 2) {  // built without dxflib: refused, naming the option and the package
+    CHECK(ok.err.find("--dxf") != std::string::npos);
+    CHECK(ok.err.find("dxflib") != std::string::npos);
+    return;
+  }
+  REQUIRE(ok.code == 0);
+  const std::string text = ReadText(dxf);
+  CHECK(text.find("DISC_PROFILE") != std::string::npos);
+  CHECK(text.find("OUTPUT_PINS") != std::string::npos);
+  CHECK(text.size() > 100000);
+  CHECK(text.substr(text.size() - 8).find("EOF") != std::string::npos);
+  // A folder that does not exist: exit 3 before anything is written, the JSON not written either.
+  const auto missing = RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--json", (dir / "h.json").string(),
+                               "--dxf", (dir / "no-such-folder" / "disc.dxf").string()});
+  CHECK(missing.code == 3);
+  CHECK(missing.err.find("--dxf") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir / "h.json"));
+  // The same file twice, or standard output twice: refused.
+  CHECK(RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--json", "-", "--dxf", "-"}).code == 2);
+  CHECK(RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--csv", dxf.string(), "--dxf", dxf.string()}).code == 2);
+  // --dxf - writes the drawing alone to standard output (the text goes to standard error).
+  const auto out = RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--dxf", "-"});
+  REQUIRE(out.code == 0);
+  CHECK(out.out == text);
+  CHECK(out.err.find("root diameter") != std::string::npos);
+}
+
 TEST_CASE("cli: solve and compare name the model that ran (plane, its slices and surface)") {
   const auto solve = RunCli({"solve", Case("liu2021_table1.toml"), "--set", "sweep.positions=2", "--json", "-"});
   const auto elements = RunCli({"compare", Case("liu2021_sec52_base.toml"), "--set", "sweep.positions=2", "--set",
