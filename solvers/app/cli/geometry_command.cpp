@@ -65,14 +65,15 @@ Command GeometryCommand() {
   auto st = std::make_shared<DeckState<GeometryOptions>>();
   return {"geometry",
           "Derived geometry of the pair: K1, phi_max (Chen eq. 16), contact ratio (eq. 27), theta_max (eq. 20), "
-          "alpha_max (Liu eq. 2), minimum radius of curvature, undercut margin, mesh period; optionally the profile as "
-          "CSV and a drawing as SVG.",
+          "alpha_max (Liu eq. 2), minimum radius of curvature, undercut margin, mesh period, root and tip diameters and "
+          "the dimension over rollers; optionally the profile as CSV, a drawing as SVG and the disc as DXF.",
           [st](CLI::App& c) {
             AddDeckInputs(c, st->deck, "Case deck (TOML); default: the built-in Liu 2021 Table 1 deck");
             AddOutput(c, "--json", st->options.json_path,
                       "Write the summary as JSON to FILE ('-' for standard output); keys k1, phi_max_deg, contact_ratio, "
                       "theta_max_deg, alpha_max_deg, min_curvature_radius_mm, undercut_margin_mm, mesh_period_deg, "
-                      "transmission_ratio");
+                      "transmission_ratio, root_diameter_mm, tip_diameter_mm, dimension_over_rollers_mm (with "
+                      "[inspection] roller_diameter_mm; docs/export.md)");
             AddOutput(c, "--csv", st->options.csv_path,
                       "Write the whole profile to FILE: tooth_space, u_deg, x_mm, y_mm, normal_x, normal_y, "
                       "curvature_radius_mm (body frame)");
