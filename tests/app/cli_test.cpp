@@ -17,6 +17,7 @@
 #include "cli.hpp"
 #include "cli_run.hpp"
 #include "ltca/contact/unloaded.hpp"
+#include "ltca/geometry/inspection.hpp"
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/units.hpp"
@@ -102,6 +103,77 @@ TEST_CASE("cli: ltca geometry describes the pair as made, the one the contact la
   CHECK_FALSE(b.at("errors_applied").get<bool>());
   CHECK(a.at("min_curvature_radius_mm").get<double>() == deck.MakeModel().profile().min_curvature_radius());
   CHECK(a.at("min_curvature_radius_mm").get<double>() != b.at("min_curvature_radius_mm").get<double>());
+}
+
+TEST_CASE("cli: ltca geometry reports root, tip and, with [inspection] roller_diameter_mm, the dimension over "
+          "rollers of the disc as made; a roller that is not positive is refused naming the key") {
+  // Liu section 5.2's base: R' = 64 - 0.017, r' = 3 - 0.004 - 0.002 (the 2 um layer adds material), e = 1.3.
+  const std::vector<std::string> sets = {"--set", "errors.cycloid_profile_layer_mm=0.002", "--set",
+                                         "inspection.roller_diameter_mm=8"};
+  std::vector<std::string> args = {"geometry", Case("liu2021_sec52_base.toml"), "--json", "-"};
+  args.insert(args.end(), sets.begin(), sets.end());
+  const auto r = RunCli(args);
+  REQUIRE(r.code == 0);
+  const auto json = nlohmann::json::parse(r.out);
+  CHECK(json.at("root_diameter_mm").get<double>() == doctest::Approx(2.0 * (63.983 - 1.3 - 2.994)).epsilon(1e-12));
+  CHECK(json.at("tip_diameter_mm").get<double>() == doctest::Approx(2.0 * (63.983 + 1.3 - 2.994)).epsilon(1e-12));
+  // The rollers: the geometry layer's measurement of the pair as made, reported as it is.
+  const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"),
+                                        {"errors.cycloid_profile_layer_mm=0.002", "inspection.roller_diameter_mm=8"});
+  const auto m = ltca::geometry::MeasureOverRollers(deck.MakeRealPair().profile(), 8.0);
+  CHECK(json.at("dimension_over_rollers_mm").get<double>() == m.dimension);
+  CHECK(json.at("over_rollers").at("roller_centre_radius_mm").get<double>() == m.centre_radius);
+  CHECK(json.at("over_rollers").at("contact").get<std::string>() == "flanks");
+  CHECK(json.at("over_rollers").at("contacts_on_working_flanks").get<bool>());
+  CHECK(json.at("over_rollers").at("measured").get<std::string>() == "over");
+  const auto text = RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--set", "inspection.roller_diameter_mm=8"});
+  CHECK(text.out.find("dimension over rollers") != std::string::npos);
+  CHECK(text.out.find("both working flanks") != std::string::npos);
+  // Without [inspection]: the diameters, no rollers.
+  const auto plain = nlohmann::json::parse(RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--json", "-"}).out);
+  CHECK(plain.at("dimension_over_rollers_mm").is_null());
+  CHECK(plain.at("over_rollers").is_null());
+  // A roller on the root is reported, and warned of in the text.
+  const auto root = RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--set", "inspection.roller_diameter_mm=5"});
+  CHECK(root.out.find("rest on the root") != std::string::npos);
+  for (const char* bad : {"inspection.roller_diameter_mm=0", "inspection.roller_diameter_mm=-8"}) {
+    const auto refused = RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--set", bad});
+    CHECK(refused.code == 2);
+    CHECK(refused.err.find("[inspection] roller_diameter_mm") != std::string::npos);
+  }
+}
+
+TEST_CASE("cli: ltca geometry --dxf writes the drawing whole or not at all, never over another output") {
+  const auto dir = FreshFolder("dxf");
+  const auto dxf = dir / "disc.dxf";
+  // With the other outputs: the DXF is a whole file (its end of file marker) beside the JSON.
+  const auto ok = RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--json", (dir / "g.json").string(), "--dxf",
+                          dxf.string()});
+  if (ok.code == 2) {  // built without dxflib: refused, naming the option and the package
+    CHECK(ok.err.find("--dxf") != std::string::npos);
+    CHECK(ok.err.find("dxflib") != std::string::npos);
+    return;
+  }
+  REQUIRE(ok.code == 0);
+  const std::string text = ReadText(dxf);
+  CHECK(text.find("DISC_PROFILE") != std::string::npos);
+  CHECK(text.find("OUTPUT_PINS") != std::string::npos);
+  CHECK(text.size() > 100000);
+  CHECK(text.substr(text.size() - 8).find("EOF") != std::string::npos);
+  // A folder that does not exist: exit 3 before anything is written, the JSON not written either.
+  const auto missing = RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--json", (dir / "h.json").string(),
+                               "--dxf", (dir / "no-such-folder" / "disc.dxf").string()});
+  CHECK(missing.code == 3);
+  CHECK(missing.err.find("--dxf") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir / "h.json"));
+  // The same file twice, or standard output twice: refused.
+  CHECK(RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--json", "-", "--dxf", "-"}).code == 2);
+  CHECK(RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--csv", dxf.string(), "--dxf", dxf.string()}).code == 2);
+  // --dxf - writes the drawing alone to standard output (the text goes to standard error).
+  const auto out = RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--dxf", "-"});
+  REQUIRE(out.code == 0);
+  CHECK(out.out == text);
+  CHECK(out.err.find("root diameter") != std::string::npos);
 }
 
 TEST_CASE("cli: solve and compare name the model that ran (plane, its slices and surface)") {

@@ -21,6 +21,7 @@
 #include <fmt/ranges.h>
 
 #include "ltca/analysis/friction.hpp"
+#include "ltca/analysis/inspection.hpp"
 #include "ltca/analysis/keys.hpp"
 #include "ltca/analysis/optimise.hpp"
 #include "ltca/analysis/stage.hpp"
@@ -148,6 +149,7 @@ TEST_CASE("app: a field the table binds to a setting defaults to the table's def
   ltca::analysis::OperationSettings operation;
   ltca::analysis::FrictionSettings friction;
   ltca::analysis::OptimiseSettings optimise;
+  ltca::analysis::InspectionSettings inspection;
   ltca::contact::PinSupport pin_support;
   ltca::contact::PinSeat pin_seat;
   ltca::contact::DiscBodySettings disc_body;
@@ -179,7 +181,8 @@ TEST_CASE("app: a field the table binds to a setting defaults to the table's def
                                             .tolerances = &tolerances,
                                             .operation = &operation,
                                             .friction = &friction,
-                                            .optimise = &optimise};
+                                            .optimise = &optimise,
+                                            .inspection = &inspection};
   int bound = 0, numeric_defaults = 0, choice_defaults = 0;
   for (const DeckKey& k : ltca::analysis::DeckKeys()) {
     if (k.setting == nullptr) continue;
@@ -288,7 +291,8 @@ ltca::analysis::SettingsParts PartsOf(ltca::app::Deck& d) {
                                   .sweep = &d.sweep,
                                   .solver = &d.solver,
                                   .kinematics = &d.kinematics,
-                                  .stiffness = &d.stiffness};
+                                  .stiffness = &d.stiffness,
+                                  .inspection = &d.inspection};
   if (d.material) p.material = &*d.material;
   if (d.pins) p.pin_support = &*d.pins;
   if (d.reducer) {

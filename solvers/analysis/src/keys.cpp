@@ -10,6 +10,7 @@
 #include <fmt/ranges.h>
 
 #include "ltca/analysis/friction.hpp"
+#include "ltca/analysis/inspection.hpp"
 #include "ltca/analysis/optimise.hpp"
 #include "ltca/analysis/stage.hpp"
 #include "ltca/analysis/stiffness.hpp"
@@ -477,6 +478,11 @@ const std::vector<DeckKey> kKeys = {
     {.section = "optimise", .name = "confidence", .type = T::kReal, .unit = "",
      .meaning = "robust: confidence that the order statistic taken bounds the percentile (0: point estimate)", .default_value = "0.9",
      .setting = LTCA_SETTING(optimise, confidence)},
+    // [inspection] (docs/export.md): what an inspector measures on the disc
+    {.section = "inspection", .name = "roller_diameter_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "diameter of the measuring rollers of the dimension over rollers in mm (> 0; the rollers in the tooth "
+                "spaces nearest to opposite)",
+     .default_value = "", .setting = LTCA_SETTING(inspection, roller_diameter)},
 };
 
 #undef LTCA_FIELD

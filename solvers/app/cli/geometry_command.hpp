@@ -11,6 +11,7 @@ struct GeometryOptions {
   std::string json_path;  ///< "" none, "-" stdout
   std::string csv_path;
   std::string svg_path;
+  std::string dxf_path;   ///< the disc as a DXF drawing (docs/export.md)
   double crank_deg = 0.0;
   int samples_per_flank = 60;
 };

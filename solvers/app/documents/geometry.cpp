@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "documents/common.hpp"
 #include "ltca/contact/cranks.hpp"
 #include "ltca/contact/output_pins.hpp"
+#include "ltca/analysis/inspection.hpp"
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/reducer.hpp"
@@ -78,11 +80,26 @@ double ExaggerationFactor(const std::vector<double>& clearance, double extent) {
   return decade;
 }
 
+/// The dimension over rollers as JSON (null without [inspection] roller_diameter_mm).
+nlohmann::json RollersJson(const geometry::CycloidProfile& profile, const std::optional<geometry::RollerMeasurement>& m) {
+  if (!m) return nullptr;
+  const bool ring = profile.tooth_difference() < 0;
+  return {{"roller_diameter_mm", m->roller_diameter},
+          {"measured", ring ? "between" : "over"},
+          {"convention", profile.pair().tooth_count % 2 == 0 ? "2 s + D_M (z_c even)" : "2 s cos(90 deg / z_c) + D_M (z_c odd)"},
+          {"roller_centre_radius_mm", m->centre_radius},
+          {"contact", geometry::RollerContactName(m->contact)},
+          {"contacts_on_working_flanks", m->OnWorkingFlanks()},
+          {"contact_u_deg", FiniteOrNull(RadToDeg(m->contact_u))},
+          {"contact_diameter_mm", m->contact_diameter}};
+}
+
 }  // namespace
 
 nlohmann::json Json(const Deck& deck, const geometry::RealPair& real) {
   const CycloidProfile& profile = real.profile();
   const Kinematics& kinematics = real.kinematics();
+  const analysis::InspectionResult inspection = analysis::Inspect(profile, deck.inspection);
   return {
       {"case", CaseJson(deck)},
       {"tooth_difference", profile.tooth_difference()},
@@ -109,6 +126,12 @@ nlohmann::json Json(const Deck& deck, const geometry::RealPair& real) {
         {"junction_deg", RadToDeg(profile.tip_cap().junction())},
         {"land_half_width_mm", profile.tip_cap().land_half_width()},
         {"depth_mm", profile.tip_cap().depth()}}},
+      // What an inspector measures on the disc as made (geometry/inspection.hpp).
+      {"root_diameter_mm", inspection.root_diameter},
+      {"tip_diameter_mm", inspection.tip_diameter},
+      {"dimension_over_rollers_mm",
+       inspection.rollers ? nlohmann::json(inspection.rollers->dimension) : nlohmann::json(nullptr)},
+      {"over_rollers", RollersJson(profile, inspection.rollers)},
   };
 }
 
@@ -169,6 +192,25 @@ std::string Text(const Deck& deck, const geometry::RealPair& real) {
     text += fmt::format("tip relief             none{}\n", profile.has_tip_corners() ? " (sharp tip corners)" : "");
   }
   if (!deck.tip_relief_note.empty()) text += fmt::format("                       {}\n", deck.tip_relief_note);
+  const analysis::InspectionResult inspection = analysis::Inspect(profile, deck.inspection);
+  text += fmt::format("root diameter          {:.4f} mm   through the bottoms of the tooth spaces\n", inspection.root_diameter);
+  text += fmt::format("tip diameter           {:.4f} mm   through the tips of the teeth\n", inspection.tip_diameter);
+  if (const auto& m = inspection.rollers) {
+    const int z = profile.pair().tooth_count;
+    const bool ring = profile.tooth_difference() < 0;
+    text += fmt::format("{} {:.4f} mm   rollers D_M = {:g} mm in spaces {} apart, {}\n",
+                        ring ? "dim. between rollers  " : "dimension over rollers", m->dimension, m->roller_diameter,
+                        z % 2 == 0 ? "180 deg" : fmt::format("180 deg x (1 - 1/{})", z),
+                        z % 2 == 0 ? (ring ? "2 s - D_M" : "2 s + D_M")
+                                   : (ring ? "2 s cos(90 deg / z_c) - D_M" : "2 s cos(90 deg / z_c) + D_M"));
+    text += fmt::format("                       roller centres at s = {:.4f} mm; {}\n", m->centre_radius,
+                        m->contact == geometry::RollerContact::kFlanks
+                            ? fmt::format("they touch both working flanks at u = +-{:.4f} deg (on a {:.4f} mm circle)",
+                                          RadToDeg(m->contact_u), m->contact_diameter)
+                        : m->contact == geometry::RollerContact::kRoot
+                            ? std::string("WARNING: they rest on the root, not on the working flanks (a larger roller is needed)")
+                            : std::string("WARNING: they bear on the tips, not on the working flanks (a smaller roller is needed)"));
+  }
   text += fmt::format("mesh period            {:.6f} deg crank\n", RadToDeg(kinematics.MeshPeriod()));
   text += fmt::format("transmission ratio     {:.6g} (crank / cycloid)\n", kinematics.TransmissionRatio());
   return text;

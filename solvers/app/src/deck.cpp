@@ -1343,6 +1343,11 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     if (load.Present()) deck.load = ReadLoad(load);
     deck.sweep = ReadSweep(Section(Find(root, "sweep"), "sweep"), deck.pair);
     deck.stiffness = ReadStiffness(Section(Find(root, "stiffness"), "stiffness"));
+    const Section inspection(Find(root, "inspection"), "inspection");
+    if (inspection.Present()) {
+      ReadSettings(inspection, {.inspection = &deck.inspection});
+      deck.inspection.Validate();
+    }
     if (const toml::value* t = Find(root, "tolerances")) {
       deck.tolerances = ReadTolerances(*t, deck.pair);
     }

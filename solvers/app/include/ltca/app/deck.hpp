@@ -24,6 +24,7 @@
 #include "ltca/geometry/pair.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/friction.hpp"
+#include "ltca/analysis/inspection.hpp"
 #include "ltca/analysis/keys.hpp"
 #include "ltca/analysis/optimise.hpp"
 #include "ltca/analysis/slice_study.hpp"
@@ -103,6 +104,7 @@ struct Deck : analysis::StageDesign {
   std::optional<analysis::OperationSettings> operation;  ///< [operation], optional (ltca efficiency)
   std::optional<analysis::FrictionSettings> friction;    ///< [friction], optional: without it no friction anywhere
   std::optional<analysis::OptimiseSettings> optimise;    ///< [optimise], optional (ltca optimise)
+  analysis::InspectionSettings inspection;               ///< [inspection], optional (ltca geometry)
 
   /// The stage of this deck checked at its sweep's cranks (or the given ones), for the commands
   /// that load it: requires [material] (std::invalid_argument naming the deck).
