@@ -15,7 +15,7 @@ Model
     circle (radius --core) held: a rigid core. --core is chosen so that the pin's own
     approach equals ltca's pin term C_p (ln(4 r_p / b) - 1/2) (see pin_calibration.py);
   - plane strain, thickness B = 12 mm, E = 206,000 MPa, nu = 0.3 for both;
-  - frictionless face-to-face penalty contact (CalculiX SURFACE TO SURFACE, SMALL SLIDING,
+  - frictionless face-to-face penalty contact (CalculiX SURFACE TO SURFACE,
     linear pressure-overclosure of slope --penalty), small displacements (no NLGEOM);
   - quadratic 6-node triangles (CPE6), gmsh Frontal-Delaunay, sized by the distance to the
     contact points: --h0 within --d0 of each, growing by --grow per mm to --hdisc in the disc
@@ -345,7 +345,7 @@ def write_deck(path, a, mesh, state, psi_steps):
     lines += ["*SURFACE INTERACTION, NAME=SI", "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR", "%g" % a.penalty]
     for j in pairs:
         # slave: the disc flank; master: the pin
-        lines += ["*CONTACT PAIR, INTERACTION=SI, TYPE=SURFACE TO SURFACE, SMALL SLIDING", "SD%d,SP%d" % (j + 1, j + 1)]
+        lines += ["*CONTACT PAIR, INTERACTION=SI, TYPE=SURFACE TO SURFACE", "SD%d,SP%d" % (j + 1, j + 1)]
     lines += ["*BOUNDARY"]
     for j in state:
         lines.append("CORE%d,1,2,0." % (j + 1))
@@ -359,8 +359,8 @@ def write_deck(path, a, mesh, state, psi_steps):
         lines.append("*BOUNDARY")
         ps = psi * ARCSEC
         for n, r in zip(mesh["bore"], bx):
-            lines.append("%d,1,1,%.15e" % (n + 1, -ps * r[1]))
-            lines.append("%d,2,2,%.15e" % (n + 1, ps * r[0]))
+            lines.append("%d,1,1,%.12e" % (n + 1, -ps * r[1]))
+            lines.append("%d,2,2,%.12e" % (n + 1, ps * r[0]))
         lines += ["*NODE PRINT, NSET=BORE", "RF"]
         for j in state:
             lines += ["*NODE PRINT, NSET=CORE%d, TOTALS=ONLY" % (j + 1), "RF"]
@@ -371,6 +371,14 @@ def write_deck(path, a, mesh, state, psi_steps):
 
 
 # --- results -----------------------------------------------------------------------------------------
+def ffloat(v):
+    """A number of ccx's .dat: also Fortran's 1.0-317 without its E."""
+    try:
+        return float(v)
+    except ValueError:
+        return float(re.sub(r"(?<=[0-9.])([+-])", r"E\1", v, count=1))
+
+
 def parse_dat(path, mesh, state, a):
     oc, _ = pose(a.crank)
     x = mesh["xyz"]
@@ -383,7 +391,7 @@ def parse_dat(path, mesh, state, a):
         line = txt[i]
         m = re.search(r"forces \(fx,fy,fz\) for set BORE and time\s+(\S+)", line)
         if m:
-            cur = {"torque": 0.0, "pins": {}, "press": 0.0, "pen": 0.0, "time": float(m.group(1))}
+            cur = {"torque": 0.0, "pins": {}, "press": 0.0, "pen": 0.0, "time": float(m.group(1)), "faces": {}}
             order.append(cur)
             i += 2
             tq = 0.0
@@ -391,28 +399,29 @@ def parse_dat(path, mesh, state, a):
                 f = txt[i].split()
                 n = int(f[0]) - 1
                 r = x[n] - oc
-                tq += r[0] * float(f[2]) - r[1] * float(f[1])
+                tq += r[0] * ffloat(f[2]) - r[1] * ffloat(f[1])
                 i += 1
             cur["torque"] = tq / 1000.0  # N*m
             continue
         m = re.search(r"total force \(fx,fy,fz\) for set CORE(\d+) and time", line)
         if m and cur is not None:
             f = txt[i + 2].split()
-            cur["pins"][int(m.group(1))] = math.hypot(float(f[0]), float(f[1]))
+            cur["pins"][int(m.group(1))] = math.hypot(ffloat(f[0]), ffloat(f[1]))
             i += 3
             continue
         if "contact stress" in line and cur is not None:
             i += 2
             while i < len(txt) and txt[i].strip():
                 f = txt[i].split()
-                cur["press"] = max(cur["press"], float(f[-3]))
+                cur["press"] = max(cur["press"], ffloat(f[-3]))
+                cur["faces"].setdefault((f[0], f[1]), []).append(ffloat(f[-3]))
                 i += 1
             continue
         if "relative contact displacement" in line and cur is not None:
             i += 2
             while i < len(txt) and txt[i].strip():
                 f = txt[i].split()
-                cur["pen"] = max(cur["pen"], float(f[-3]))
+                cur["pen"] = max(cur["pen"], -ffloat(f[-3]))  # ccx prints an overclosure < 0
                 i += 1
             continue
         i += 1
@@ -432,13 +441,14 @@ def main():
     ap.add_argument("--grow", type=float, default=0.25, help="size growth per mm of distance")
     ap.add_argument("--hdisc", type=float, default=1.5, help="largest element in the disc, mm")
     ap.add_argument("--hpin", type=float, default=0.4, help="largest element in a pin, mm")
-    ap.add_argument("--spline-points", type=int, default=120)
+    ap.add_argument("--spline-points", type=int, default=400)
     ap.add_argument("--algorithm", type=int, default=6)
     ap.add_argument("--penalty", type=float, default=1e9, help="contact slope, MPa/mm")
     ap.add_argument("--surf-radius", type=float, default=0.5, help="contact surfaces within this of the contact point, mm")
     ap.add_argument("--local", type=float, default=0.0, help="disc elastic only within this of the contacts (0: everywhere)")
-    ap.add_argument("--psi", default="", help="rotations to sample beyond first contact, arcsec: 'a:b:n' (ramp to a, then n increments to b)")
+    ap.add_argument("--psi", default="", help="rotations beyond first contact, arcsec: 'a:b:n' (one increment to 0.5 arcsec before first contact, ramp to a, then n equal increments to b)")
     ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--reparse", action="store_true", help="read OUT's results again (no mesh, no solve)")
     ap.add_argument("--out", required=True)
     a = ap.parse_args()
     a.crank = math.radians(a.crank_deg)
@@ -451,37 +461,52 @@ def main():
     loaded = {j: s for j, s in state.items() if s["arm"] > 0}
     psi0 = min(s["gap"] / s["arm"] for s in loaded.values()) / ARCSEC
     first_pin = min(loaded, key=lambda j: loaded[j]["gap"] / loaded[j]["arm"]) + 1
-    mesh = build_mesh(a, state, refine)
+    if a.reparse:
+        z = np.load(os.path.join(a.out, "mesh.npz"))
+        mesh = dict(xyz=z["xyz"], outline_moved_mm=float(z["moved"]))
+        info = json.load(open(os.path.join(a.out, "info.json")))
+    else:
+        mesh = build_mesh(a, state, refine)
     t_mesh = time.time() - t0
     if a.psi:
         p1, p2, n = a.psi.split(":")
-        steps = [(psi0 + float(p1), 0), (psi0 + float(p2), int(n))]
+        steps = [(psi0 - 0.5, 1), (psi0 + float(p1), 0), (psi0 + float(p2), int(n))]
     else:
         steps = [(psi0 + 40.0, 0)]
-    pairs, n_disc, n_pin = write_deck(os.path.join(a.out, "liu52.inp"), a, mesh, state, steps)
-    env = dict(os.environ, OMP_NUM_THREADS=str(a.threads), CCX_NPROC_EQUATION_SOLVER=str(a.threads))
-    t1 = time.time()
-    with open(os.path.join(a.out, "ccx.log"), "w") as log:
-        rc = subprocess.call(["ccx", "-i", "liu52"], cwd=a.out, stdout=log, stderr=subprocess.STDOUT, env=env)
-    t_ccx = time.time() - t1
+    if a.reparse:
+        pairs, n_disc, n_pin, rc, t_ccx, t_mesh = [info[k] for k in ("pairs", "n_disc", "n_pin", "rc", "t_ccx", "t_mesh")]
+        steps = [tuple(v) for v in info["steps"]]
+    else:
+        pairs, n_disc, n_pin = write_deck(os.path.join(a.out, "liu52.inp"), a, mesh, state, steps)
+        np.savez(os.path.join(a.out, "mesh.npz"), xyz=mesh["xyz"], moved=mesh["outline_moved_mm"])
+        env = dict(os.environ, OMP_NUM_THREADS=str(a.threads), CCX_NPROC_EQUATION_SOLVER=str(a.threads))
+        t1 = time.time()
+        with open(os.path.join(a.out, "ccx.log"), "w") as log:
+            rc = subprocess.call(["ccx", "-i", "liu52"], cwd=a.out, stdout=log, stderr=subprocess.STDOUT, env=env)
+        t_ccx = time.time() - t1
+        json.dump(dict(pairs=[int(j) for j in pairs], n_disc=int(n_disc), n_pin=int(n_pin), rc=rc, t_ccx=t_ccx,
+                       t_mesh=t_mesh, steps=steps), open(os.path.join(a.out, "info.json"), "w"))
     recs = parse_dat(os.path.join(a.out, "liu52.dat"), mesh, state, a)
-    # rotation of each record: step-wise ramps
+    # rotation of each record: step-wise ramps (ccx prints the total time: step k runs from k to k + 1)
     samples = []
-    prev = 0.0
-    step_i = 0
-    last_t = -1
+    cumulative = any(r["time"] > 1.0 + 1e-9 for r in recs)
+    step_i, last_t = 0, -1.0
     for r in recs:
-        if r["time"] <= last_t + 1e-12 and samples:
-            step_i += 1
-        last_t = r["time"]
-        start = 0.0 if step_i == 0 else steps[step_i - 1][0]
-        end = steps[min(step_i, len(steps) - 1)][0]
+        if cumulative:
+            step_i = max(0, math.ceil(r["time"] - 1e-9) - 1)
+            local = r["time"] - step_i
+        else:
+            if r["time"] <= last_t + 1e-12:
+                step_i += 1
+            last_t = local = r["time"]
         if step_i >= len(steps):
             break
-        psi = start + (end - start) * r["time"]
+        start = 0.0 if step_i == 0 else steps[step_i - 1][0]
+        psi = start + (steps[step_i][0] - start) * local
         samples.append(dict(psi=psi, beyond=psi - psi0, torque=r["torque"],
                             pins={str(k): v for k, v in sorted(r["pins"].items())},
-                            pmax=r["press"], pen=r["pen"]))
+                            pmax=r["press"], pen=r["pen"],
+                            pmax_face_mean=max([sum(v) / len(v) for v in r["faces"].values()] or [0.0])))
     res = dict(crank_deg=a.crank_deg, bore_mm=a.bore, local_mm=a.local, core_mm=a.core,
                h0_mm=a.h0, d0_mm=a.d0, grow=a.grow, hdisc_mm=a.hdisc, hpin_mm=a.hpin,
                penalty=a.penalty, first_contact_arcsec=psi0, first_contact_pin=first_pin,
@@ -501,6 +526,7 @@ def main():
                 te_arcsec=-lerp(s1["psi"], s2["psi"]),
                 pins={k: lerp(s1["pins"].get(k, 0.0), s2["pins"].get(k, 0.0)) for k in s2["pins"]},
                 pmax=lerp(s1["pmax"], s2["pmax"]), pen=lerp(s1["pen"], s2["pen"]),
+                pmax_face_mean=lerp(s1["pmax_face_mean"], s2["pmax_face_mean"]),
                 bracket=[s1["psi"], s2["psi"]])
     with open(os.path.join(a.out, "result.json"), "w") as fh:
         json.dump(res, fh, indent=1)
