@@ -355,7 +355,7 @@ def write_deck(path, a, mesh, state, psi_steps):
         if ninc:
             lines += ["*STATIC, DIRECT", "%g,1." % (1.0 / ninc)]
         else:
-            lines += ["*STATIC", "0.1,1.,1e-5,0.25"]
+            lines += ["*STATIC", "%g,1.,1e-5,%g" % (a.first_inc, max(a.first_inc, 0.25))]
         lines.append("*BOUNDARY")
         ps = psi * ARCSEC
         for n, r in zip(mesh["bore"], bx):
@@ -447,6 +447,8 @@ def main():
     ap.add_argument("--surf-radius", type=float, default=0.5, help="contact surfaces within this of the contact point, mm")
     ap.add_argument("--local", type=float, default=0.0, help="disc elastic only within this of the contacts (0: everywhere)")
     ap.add_argument("--psi", default="", help="rotations beyond first contact, arcsec: 'a:b:n' (one increment to 0.5 arcsec before first contact, ramp to a, then n equal increments to b)")
+    ap.add_argument("--first-inc", type=float, default=0.1,
+                    help="first increment of the ramp to a, a fraction (1: try the whole ramp at once)")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--reparse", action="store_true", help="read OUT's results again (no mesh, no solve)")
     ap.add_argument("--out", required=True)
