@@ -448,7 +448,7 @@ def main():
     ap.add_argument("--local", type=float, default=0.0, help="disc elastic only within this of the contacts (0: everywhere)")
     ap.add_argument("--psi", default="", help="rotations beyond first contact, arcsec: 'a:b:n' (one increment to 0.5 arcsec before first contact, ramp to a, then n equal increments to b)")
     ap.add_argument("--first-inc", type=float, default=0.1,
-                    help="first increment of the ramp to a, a fraction (1: try the whole ramp at once)")
+                    help="first increment of the ramp to a, a fraction (0.5: two increments; 1 makes ccx take 1 - 1e-6 and then a 1e-6 increment, as costly as a full one)")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--reparse", action="store_true", help="read OUT's results again (no mesh, no solve)")
     ap.add_argument("--out", required=True)

@@ -11,7 +11,7 @@ set -euo pipefail
 OUT=${1:-/tmp/cx}
 HERE=$(cd "$(dirname "$0")" && pwd)
 PY=/usr/bin/python3
-run() { local name=$1; shift; $PY "$HERE/liu52_ccx.py" --core 0.606 --first-inc 1 "$@" --out "$OUT/$name" > "$OUT/$name.json"; }
+run() { local name=$1; shift; $PY "$HERE/liu52_ccx.py" --core 0.606 --first-inc 0.5 "$@" --out "$OUT/$name" > "$OUT/$name.json"; }
 mkdir -p "$OUT"
 # the pin's core radius that gives ltca's pin term (0.606 mm)
 $PY "$HERE/pin_calibration.py" --out "$OUT/pin" > "$OUT/pin.txt"

@@ -39,6 +39,33 @@ def first_contact(mesh):
     return best
 
 
+def quadratic_at_torque(r, torque):
+    """psi and pin forces at the torque from a quadratic through the three samples nearest to it
+    (liu52_ccx.py's at_torque is the linear interpolation between the two that bracket it)."""
+    import numpy as np
+    ss = [s for s in r["samples"] if s["torque"] > 0]
+    uniq = []
+    for s in ss:  # ccx repeats a sample after an increment of 1e-6
+        if not uniq or abs(s["psi"] - uniq[-1]["psi"]) > 1e-3:
+            uniq.append(s)
+    uniq.sort(key=lambda s: abs(s["torque"] - torque))
+    near = sorted(uniq[:3], key=lambda s: s["psi"])
+    if len(near) < 3:
+        return None
+    tq = np.array([s["torque"] for s in near])
+    ps = np.array([s["beyond"] for s in near])
+    beyond = float(np.polyval(np.polyfit(tq, ps, 2), torque))
+    pins = {}
+    lin = r["at_torque"]["pins"]
+    for k in near[-1]["pins"]:
+        f = np.array([s["pins"].get(k, 0.0) for s in near])
+        # a pin that is open at one of the three has a kink between them: the linear value
+        pins[k] = float(np.polyval(np.polyfit(ps, f, 2), beyond)) if f.min() > 0 else lin.get(k, 0.0)
+    pm = np.array([s["pmax_face_mean"] for s in near])
+    return dict(beyond=beyond, pins=pins, pmax_face_mean=float(np.polyval(np.polyfit(ps, pm, 2), beyond)),
+                samples=[round(s["beyond"], 3) for s in near])
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--ltca", default="build/release/ltca")
@@ -56,9 +83,16 @@ def main():
         if not t:
             print("no bracket of the torque")
             continue
+        q = quadratic_at_torque(r, 206.0)
+        print("linear interpolation: beyond %.3f, pins %s, pmax (integration points) %.1f, (face means) %.1f" % (
+            t["beyond"], {k: round(v, 1) for k, v in t["pins"].items() if v > 0.5}, t["pmax"], t["pmax_face_mean"]))
+        if q:
+            print("quadratic through %s: beyond %.3f, pins %s, pmax (face means) %.1f" % (
+                q["samples"], q["beyond"], {k: round(v, 1) for k, v in q["pins"].items() if v > 0.5}, q["pmax_face_mean"]))
+            t = dict(t, beyond=q["beyond"], te_arcsec=-(q["beyond"] + r["first_contact_arcsec"]), pins=q["pins"])
         print("| | rotation beyond first contact, arcsec | TE, arcsec | largest pressure, MPa |")
         print("|---|---|---|---|")
-        print("| FE | %.2f | %.2f | %.0f |" % (t["beyond"], t["te_arcsec"], t["pmax"]))
+        print("| FE | %.2f | %.2f | %.0f |" % (t["beyond"], t["te_arcsec"], t["pmax_face_mean"]))
         print("| ltca rigid | %.2f | %.2f | %.0f |" % (-p["te_arcsec"] - fc, p["te_arcsec"], max(p["contact_stress_mpa"])))
         pins = sorted(set(int(k) for k, v in t["pins"].items() if v > 0.5) |
                       set(i + 1 for i, f in enumerate(p["pin_force_n"]) if f > 0.5))
