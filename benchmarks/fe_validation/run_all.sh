@@ -15,18 +15,22 @@ run() { local name=$1; shift; $PY "$HERE/liu52_ccx.py" --core 0.606 --first-inc 
 mkdir -p "$OUT"
 # the pin's core radius that gives ltca's pin term (0.606 mm)
 $PY "$HERE/pin_calibration.py" --out "$OUT/pin" > "$OUT/pin.txt"
-# bore 22, crank 0: the convergence sequence (contact size h0, body size hdisc)
-run h10 --h0 0.01 --refine 3,4,5,6,7,8,9 --psi 22:26:2 &
-run h5 --h0 0.005 --refine 3,4,5,6,7,8,9 --psi 23:25:2
+# Each line is the run behind a figure of the docs, with the options it was run with (a later
+# option overrides run()'s --first-inc 0.5). P39 = the contacts refined: pins 3-9.
+P39=3,4,5,6,7,8,9
+# bore 22, crank 0: the convergence sequence (contact size h0, body size hdisc, growth)
+run h10 --h0 0.01 --psi 21:27:4 --first-inc 0.1 &          # every modelled pin (2-12) refined
+run h5 --h0 0.005 --refine $P39 --psi 23:25:2 --first-inc 1
 wait
-run h10b --h0 0.01 --hdisc 0.75 --refine 3,4,5,6,7,8,9 --psi 22:26:2 &
-# bore 22, crank 4.5 deg
-run c45h10 --crank-deg 4.5 --h0 0.01 --refine 3,4,5,6,7,8,9,10 --psi 22:26:2
+run h10b --h0 0.01 --hdisc 0.75 --refine $P39 --psi 23:25:2 &
+run h10g --h0 0.01 --grow 0.12 --refine $P39 --psi 23:25:2
 wait
-# bores 12 and 50 mm, crank 0
-run b12 --bore 12 --h0 0.01 --refine 3,4,5,6,7,8,9 --psi 40:46:3 &
-run b50 --bore 50 --h0 0.01 --refine 3,4,5,6,7,8,9 --psi 11:15:2
+# bore 22, crank 4.5 deg; bore 50, crank 0
+run c45h10 --crank-deg 4.5 --h0 0.01 --refine $P39,10 --psi 22:26:2 --first-inc 1 &
+run b50 --bore 50 --h0 0.01 --refine $P39 --psi 11:15:2 --first-inc 1
 wait
-# the disc elastic only within 2 mm of the contacts (E x 1000 beyond), bore 22, crank 0
-run local2 --local 2 --h0 0.01 --refine 3,4,5,6,7,8,9 --psi 8:12:2
-$PY "$HERE/tabulate.py" --ltca "${LTCA:-build/release/ltca}" "$OUT"/{h10,h5,h10b,c45h10,b12,b50,local2}
+# bore 12, crank 0; the disc elastic only within 2 mm of the contacts (E x 1000 beyond), bore 22
+run b12 --bore 12 --h0 0.01 --refine $P39 --psi 40:46:3 &
+run local2 --local 2 --h0 0.01 --refine $P39 --psi 8:12:2
+wait
+$PY "$HERE/tabulate.py" --ltca "${LTCA:-build/release/ltca}" "$OUT"/{h10,h5,h10b,h10g,c45h10,b12,b50,local2}
