@@ -33,4 +33,7 @@ wait
 run b12 --bore 12 --h0 0.01 --refine $P39 --psi 40:46:3 &
 run local2 --local 2 --h0 0.01 --refine $P39 --psi 8:12:2
 wait
-$PY "$HERE/tabulate.py" --ltca "${LTCA:-build/release/ltca}" "$OUT"/{h10,h5,h10b,h10g,c45h10,b12,b50,local2}
+run local1 --local 1 --h0 0.01 --refine $P39 --psi 8:12:2 &
+run local3 --local 3 --h0 0.01 --refine $P39 --psi 8:12:2
+wait
+$PY "$HERE/tabulate.py" --ltca "${LTCA:-build/release/ltca}" "$OUT"/{h10,h5,h10b,h10g,c45h10,b12,b50,local1,local2,local3}
