@@ -9,11 +9,12 @@ Model
   - the disc: its real modified profile (generating radii R_p + dR_p = 63.983, r_rp + dR_rp =
     2.996 mm, e = 1.3, 39 teeth), a central bore of radius --bore whose nodes follow a rigid
     rotation psi about the disc centre (the centre's translation held): the rotation is
-    prescribed, the torque is the bore's reaction moment (displacement control; the torque of
-    206 N*m is then found by interpolation in psi and checked by a run at that psi);
+    prescribed, the torque is the bore's reaction moment (displacement control); --psi sets
+    the solved rotations, and the rotation at --torque is interpolated linearly between the two
+    that bracket it (tabulate.py adds the quadratic through the three nearest);
   - the pins: elastic annuli, outer radius 3 mm at the nominal pin circle 64 mm, the inner
-    circle (radius --core) held: a rigid core. --core is chosen so that the pin's own
-    approach equals ltca's pin term C_p (ln(4 r_p / b) - 1/2) (see pin_calibration.py);
+    circle (radius --core, default 0.606 mm) held: a rigid core. 0.606 mm makes the pin's own
+    approach ltca's pin term (2F / (pi B)) C_p (ln(4 r_p / b) - 1/2) (pin_calibration.py);
   - plane strain, thickness B = 12 mm, E = 206,000 MPa, nu = 0.3 for both;
   - frictionless face-to-face penalty contact (CalculiX SURFACE TO SURFACE,
     linear pressure-overclosure of slope --penalty), small displacements (no NLGEOM);
@@ -25,7 +26,9 @@ Model
 
 Run (the machine's python has numpy and gmsh: /usr/bin/python3; apt-get install
 calculix-ccx gmsh python3-gmsh):
-  /usr/bin/python3 benchmarks/fe_validation/liu52_ccx.py --crank-deg 0 --bore 22 --out /tmp/cx/b22c0
+  /usr/bin/python3 benchmarks/fe_validation/liu52_ccx.py --crank-deg 0 --bore 22 --h0 0.01 \
+      --refine 3,4,5,6,7,8,9 --psi 22:26:2 --first-inc 0.5 --out /tmp/cx/b22c0
+(one ccx thread; 10-30 min on a shared 2-core machine; run_all.sh has every run of the docs)
 prints one JSON document (also written to OUT/result.json): the rigid first-contact rotation,
 the torque-rotation samples, the rotation at 206 N*m, TE, pin forces, the largest pressure,
 the penetration, the mesh size and the run time. Nothing is written under the repository.
@@ -435,7 +438,7 @@ def main():
     ap.add_argument("--torque", type=float, default=206.0, help="N*m")
     ap.add_argument("--pins", default="2-12", help="pins modelled (printed numbers)")
     ap.add_argument("--refine", default="", help="pins whose contacts are refined (default: all modelled)")
-    ap.add_argument("--core", type=float, default=0.5, help="rigid core radius of a pin, mm")
+    ap.add_argument("--core", type=float, default=0.606, help="rigid core radius of a pin, mm (0.606: ltca's pin term, pin_calibration.py)")
     ap.add_argument("--h0", type=float, default=0.01, help="element size at the contacts, mm")
     ap.add_argument("--d0", type=float, default=0.12, help="radius of the uniform h0 zone, mm")
     ap.add_argument("--grow", type=float, default=0.25, help="size growth per mm of distance")
