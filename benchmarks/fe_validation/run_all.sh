@@ -36,4 +36,8 @@ wait
 run local1 --local 1 --h0 0.01 --refine $P39 --psi 8:12:2 &
 run local3 --local 3 --h0 0.01 --refine $P39 --psi 8:12:2
 wait
-$PY "$HERE/tabulate.py" --ltca "${LTCA:-build/release/ltca}" "$OUT"/{h10,h5,h10b,h10g,c45h10,b12,b50,local1,local2,local3}
+# crank 4.5 deg and bore 12 at h0 = 5 um (the figures of the tables)
+run c45h5 --crank-deg 4.5 --h0 0.005 --refine $P39,10 --psi 23:25:2 &
+run b12h5 --bore 12 --h0 0.005 --refine $P39 --psi 42:44:2
+wait
+$PY "$HERE/tabulate.py" --ltca "${LTCA:-build/release/ltca}" "$OUT"/{h10,h5,h10b,h10g,c45h10,c45h5,b12,b12h5,b50,local1,local2,local3}
