@@ -2,7 +2,10 @@
 // The helpers every layer's tests share (no ltca library needed): the decks of cases/, reading a
 // file, the message of an invalid_argument, sample moments. tests/pairs.hpp adds the papers' pairs
 // (geometry) and tests/problems.hpp their load cases (contact and solvers).
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -11,6 +14,21 @@
 #include <vector>
 
 namespace ltca::test {
+
+/// The largest magnitude of a vector's entries (0 for an empty one).
+inline double MaxAbs(const std::vector<double>& v) {
+  double m = 0.0;
+  for (const double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+/// The largest entry-wise difference of two vectors; infinite when their sizes differ.
+inline double MaxDifference(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return std::numeric_limits<double>::infinity();
+  double m = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
+  return m;
+}
 
 /// The path of a deck in cases/ (LTCA_CASES_DIR, a compile definition of every test suite).
 inline std::string Case(const std::string& rel) { return std::string(LTCA_CASES_DIR) + "/" + rel; }

@@ -14,13 +14,17 @@
 #include "ltca/contact/disc_body.hpp"
 #include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/registry.hpp"
+#include "helpers.hpp"
 #include "pairs.hpp"
+#include "problems.hpp"
 
 namespace elastic_disc_test {
 
 using ltca::solvers::LoadProblem;
 using ltca::solvers::LoadResult;
 using ltca::solvers::SolverStatus;
+using ltca::test::MaxAbs;
+using ltca::test::MaxDifference;
 
 constexpr double kTorque = 206000.0;  // N*mm, Liu's section 5.2
 
@@ -36,25 +40,6 @@ ltca::analysis::StageDesign Sec52Design() {
   d.material->young_modulus = d.material->pin_young_modulus = 206000.0;
   d.material->poisson_ratio = d.material->pin_poisson_ratio = 0.3;
   return d;
-}
-
-double MaxAbs(const std::vector<double>& v) {
-  double m = 0.0;
-  for (const double x : v) m = std::max(m, std::abs(x));
-  return m;
-}
-
-double MaxDifference(const std::vector<double>& a, const std::vector<double>& b) {
-  double m = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
-  return m;
-}
-
-LoadResult Solve(const std::string& name, const LoadProblem& problem) {
-  ltca::solvers::SolverOptions options;
-  options.name = name;
-  ltca::solvers::Workspace workspace;
-  return ltca::solvers::MakeSolver(name)->Solve(problem, options, workspace);
 }
 
 TEST_CASE("analysis: an elastic body that is a half-plane down to the rigid law's reference depth returns the rigid disc's answer (the split counts nothing twice)") {
@@ -90,8 +75,8 @@ TEST_CASE("analysis: an elastic body that is a half-plane down to the rigid law'
     for (const std::string& name : ltca::solvers::SolverNames()) {
       CAPTURE(name);
       CAPTURE(crank_deg);
-      const LoadResult a = Solve(name, rigid);
-      const LoadResult b = Solve(name, half_plane);
+      const LoadResult a = ltca::test::SolveWith(name, rigid);
+      const LoadResult b = ltca::test::SolveWith(name, half_plane);
       REQUIRE(a.status == SolverStatus::kSuccess);
       if (b.status == SolverStatus::kCouplingUnsupported) continue;
       REQUIRE(b.status == SolverStatus::kSuccess);
@@ -101,9 +86,9 @@ TEST_CASE("analysis: an elastic body that is a half-plane down to the rigid law'
     }
     // Without the body the elastic law alone is stiffer (its TE smaller by more than 1 arcsec =
     // 4.8e-6 rad, of about 11 arcsec loaded rotation): the split moved compliance into the body.
-    const LoadResult alone = Solve("bisection", plain);
+    const LoadResult alone = ltca::test::SolveWith("bisection", plain);
     REQUIRE(alone.status == SolverStatus::kSuccess);
-    CHECK(std::abs(alone.te) < std::abs(Solve("bisection", rigid).te) - 4.8e-6);
+    CHECK(std::abs(alone.te) < std::abs(ltca::test::SolveWith("bisection", rigid).te) - 4.8e-6);
   }
   CHECK(compared >= 2);
 }
@@ -131,13 +116,13 @@ TEST_CASE("analysis: every solver agrees on Liu's pair with the elastic disc bod
       CAPTURE(at);
       const LoadProblem problem = stage.Problem(at, kTorque);
       REQUIRE(problem.has_coupling());
-      const LoadResult reference = Solve("bisection", problem);
+      const LoadResult reference = ltca::test::SolveWith("bisection", problem);
       REQUIRE(reference.status == SolverStatus::kSuccess);
-      const LoadResult stiff = Solve("bisection", rigid.WithKinematics(kinematics).Problem(at, kTorque));
+      const LoadResult stiff = ltca::test::SolveWith("bisection", rigid.WithKinematics(kinematics).Problem(at, kTorque));
       CHECK(std::abs(reference.te) > 1.2 * std::abs(stiff.te));
       for (const std::string& name : ltca::solvers::SolverNames()) {
         CAPTURE(name);
-        const LoadResult r = Solve(name, problem);
+        const LoadResult r = ltca::test::SolveWith(name, problem);
         if (r.status == SolverStatus::kCouplingUnsupported) continue;
         REQUIRE(r.status == SolverStatus::kSuccess);
         CHECK(std::abs(r.te - reference.te) <= 1e-9 * std::abs(reference.te));

@@ -23,6 +23,7 @@
 #include "ltca/solvers/load_solver.hpp"
 #include "ltca/solvers/registry.hpp"
 #include "ltca/solvers/workspace.hpp"
+#include "helpers.hpp"
 #include "problems.hpp"
 
 namespace dense_coupling_test {
@@ -71,16 +72,6 @@ LoadProblem Coupled(double crank_deg, ContactKinematics kinematics) {
                                                        LoadProblem::PositiveSemidefiniteByConstruction{}));
 }
 
-double LargestAbs(const std::vector<double>& f) {
-  double m = 0.0;
-  for (const double x : f) m = std::max(m, std::abs(x));
-  return m;
-}
-double LargestGap(const std::vector<double>& a, const std::vector<double>& b) {
-  double m = 0.0;
-  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
-  return a.size() == b.size() ? m : INFINITY;
-}
 
 /// Solved with the torque balanced to 1e-13 (the default tolerance, 1e-10, would leave the
 /// solvers apart by about that much of the TE).
@@ -234,7 +225,7 @@ TEST_CASE("solvers: a body-like dense coupling - every registered solver agrees 
       for (std::size_t s = 0; s < names.size(); ++s) {
         CAPTURE(names[s]);
         const double te = std::abs(r[s].te - ref.te) / std::abs(ref.te);
-        const double force = LargestGap(r[s].force, ref.force) / LargestAbs(ref.force);
+        const double force = ltca::test::MaxDifference(r[s].force, ref.force) / ltca::test::MaxAbs(ref.force);
         CHECK(te <= 1e-9);
         CHECK(force <= 1e-9);
         worst_te = std::max(worst_te, te);
