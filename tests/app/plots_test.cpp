@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -12,6 +13,7 @@
 #include <doctest/doctest.h>
 
 #include "helpers.hpp"
+#include "ltca/app/modules.hpp"
 #include "ltca/app/plots.hpp"
 
 namespace {
@@ -91,3 +93,18 @@ TEST_CASE("app: --svg FILE.png and FILE.pdf draw PNG and PDF (plplot-driver-cair
   CHECK(pdf.str().rfind("%PDF", 0) == 0);
 }
 
+
+TEST_CASE("app: a module that is not there is a runtime error naming it and where it was looked for (issue 54)") {
+  // The modules (ltca/app/modules.hpp): the figures' own is found in the build tree and has its
+  // entry points; one that does not exist is refused with its file name and the folders searched.
+  CHECK(ltca::app::ModuleSymbol("plots", "ltca_plots_draw") != nullptr);
+  try {
+    ltca::app::ModuleSymbol("no_such_part", "entry");
+    FAIL("a missing module loaded");
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    CHECK(what.find("ltca_no_such_part.so") != std::string::npos);
+    CHECK(what.find("looked in") != std::string::npos);
+  }
+  CHECK_THROWS_AS(ltca::app::ModuleSymbol("plots", "no_such_entry"), std::runtime_error);
+}

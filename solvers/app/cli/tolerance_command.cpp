@@ -16,6 +16,7 @@
 #include "documents/tolerance.hpp"
 #include "ltca/analysis/tolerance.hpp"
 #include "ltca/analysis/tolerance_run.hpp"
+#include "ltca/app/modules.hpp"
 #include "solve_command.hpp"
 
 namespace ltca::cli {
@@ -47,6 +48,17 @@ bool IsFirstRank() {
     if (const char* rank = std::getenv(name)) return std::string(rank) == "0";
   }
   return true;
+}
+
+std::unique_ptr<SampleFarm> MakeSampleFarm() {
+  if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr && std::getenv("PMIX_RANK") == nullptr && std::getenv("PMI_RANK") == nullptr) {
+    return nullptr;
+  }
+#ifdef LTCA_HAVE_MPI
+  return std::unique_ptr<SampleFarm>(app::ModuleFunction<SampleFarm* (*)()>("mpi", "ltca_mpi_sample_farm")());
+#else
+  return nullptr;  // built without MPI: each rank would run the whole study alone
+#endif
 }
 
 int FailTogether(SampleFarm* farm, std::ostream& err, const std::function<int()>& body) {

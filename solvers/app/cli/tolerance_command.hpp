@@ -9,6 +9,7 @@
 #include "ltca/analysis/tolerance_run.hpp"
 #include "ltca/app/deck.hpp"
 #include "output.hpp"
+#include "sample_farm.hpp"
 
 namespace ltca::cli {
 
@@ -27,19 +28,6 @@ struct ToleranceOptions {
   /// The progress lines (samples, then worst-case runs) appear once a phase has run this long, s
   /// (when Streams::progress); a test sets 0.
   double progress_after_seconds = 2.0;
-};
-
-/// The ranks of one MPI job, behind an interface so that MPI stays out of every header
-/// (tolerance_mpi.cpp implements it when MPI is found; tolerance_nompi.cpp otherwise). A tolerance
-/// study distributes its samples over them (analysis::SampleRanks: rank, size, Gather).
-class SampleFarm : public analysis::SampleRanks {
- public:
-  /// Every rank passes its bytes and gets every rank's bytes in rank order (ltca optimise: the
-  /// ranks run one search in lockstep and share the work that divides).
-  virtual std::vector<std::string> AllGather(const std::string& mine) = 0;
-  /// Ends every rank of the job with this exit code (MPI_Abort): a rank that fails must not leave
-  /// the others waiting in a collective.
-  [[noreturn]] virtual void Abort(int code) = 0;
 };
 
 /// A tolerance study's account as `ltca tolerance` gives it: a progress line on `streams.err` for
@@ -72,11 +60,10 @@ bool IsFirstRank();
 /// several, the message is printed as `ltca` prints it, the run's temporaries are removed and
 /// every rank ends with the exit code (SampleFarm::Abort); alone, the exception goes on.
 int FailTogether(SampleFarm* farm, std::ostream& err, const std::function<int()>& body);
-/// The MPI job this process is a rank of (started by mpirun), or nullptr: built without MPI, or
-/// not started by mpirun (a plain run is one process with threads).
+/// The MPI job this process is a rank of (started by mpirun), or nullptr: not started by mpirun (a
+/// plain run is one process with threads). Under mpirun it loads the module ltca_mpi.so (MPI stays
+/// out of every other run's start-up); a build without MPI throws std::runtime_error there.
 std::unique_ptr<SampleFarm> MakeSampleFarm();
-/// "OpenMPI x.y" or "none": what the build has.
-std::string SampleFarmBuild();
 
 /// `ltca tolerance`: the Monte Carlo of [tolerances] over threads (and MPI ranks), its summary
 /// (percentiles, limits, sensitivity), the extreme-value worst case, per-sample CSV, SVG

@@ -1,4 +1,6 @@
-// The MPI sample farm of `ltca tolerance`, built only when find_package(MPI) finds MPI.
+// The MPI sample farm of `ltca tolerance` and `ltca optimise`: the module ltca_mpi.so (built only
+// when find_package(MPI) finds MPI), loaded by MakeSampleFarm (tolerance_command.cpp) only when the
+// process was started by mpirun, so no other run maps MPI's libraries (issue 54; app/modules.hpp).
 // `mpirun -np K ltca tolerance DECK` splits the samples by rank statically (each rank runs its
 // block on its own threads) and gathers the samples on rank 0 with MPI_Gatherv, which alone
 // writes the outputs. MPI is initialised only when this process was started by mpirun (OpenMPI's
@@ -16,7 +18,7 @@
 #include <fmt/format.h>
 #include <mpi.h>
 
-#include "tolerance_command.hpp"
+#include "sample_farm.hpp"
 
 namespace ltca::cli {
 namespace {
@@ -104,21 +106,9 @@ class MpiFarm final : public SampleFarm {
 };
 
 }  // namespace
-
-std::unique_ptr<SampleFarm> MakeSampleFarm() {
-  if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr && std::getenv("PMIX_RANK") == nullptr && std::getenv("PMI_RANK") == nullptr) {
-    return nullptr;
-  }
-  return std::make_unique<MpiFarm>();
-}
-
-std::string SampleFarmBuild() {
-  char version[MPI_MAX_LIBRARY_VERSION_STRING];
-  int length = 0;
-  PMPI_Get_library_version(version, &length);
-  std::string v(version, static_cast<std::size_t>(length));
-  const auto comma = v.find(',');
-  return comma == std::string::npos ? v : v.substr(0, comma);
-}
-
 }  // namespace ltca::cli
+
+/// The module's entry point: the job's farm, owned by the caller (MPI_Init here when nobody has).
+extern "C" __attribute__((visibility("default"))) ltca::cli::SampleFarm* ltca_mpi_sample_farm() {
+  return new ltca::cli::MpiFarm();
+}

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "ltca/analysis/sample_ranks.hpp"
 #include "ltca/analysis/tolerance.hpp"
 
 namespace ltca::analysis {
@@ -23,17 +24,6 @@ namespace ltca::analysis {
 /// for 0 (at least 1, at most kMaxToleranceThreads). The one rule of `ltca tolerance`, `ltca
 /// optimise`, the report and Python. Throws std::invalid_argument naming --threads otherwise.
 int ResolveThreads(int requested);
-
-/// The ranks of a distributed run (e.g. the processes of an MPI job): each rank runs a static
-/// block of the samples on its threads, and rank 0 gathers them.
-class SampleRanks {
- public:
-  virtual ~SampleRanks() = default;
-  virtual int rank() const = 0;
-  virtual int size() const = 0;
-  /// Every rank passes its bytes; rank 0 gets every rank's bytes in rank order, the others none.
-  virtual std::vector<std::string> Gather(const std::string& mine) = 0;
-};
 
 /// The phases of a run, as its progress reports them.
 enum class TolerancePhase {

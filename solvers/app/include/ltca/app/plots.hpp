@@ -6,6 +6,7 @@
 // A Figure is a grid of Panels under one title, with a caption (the source deck) at the foot.
 // A Panel has axes with ticks, a grid, labels with units, its series and reference marks, and a
 // legend when it holds more than one labelled series.
+#include <algorithm>
 #include <cstddef>
 #include <optional>
 #include <ostream>
@@ -75,7 +76,9 @@ struct Panel {
   std::optional<double> x_min, x_max, y_min, y_max;  ///< default: the data, padded 4 %
   LegendPlace legend = LegendPlace::kTopRight;
   /// Labelled series: those the legend shows (and the SVG's metadata lists).
-  std::size_t LabelledSeries() const;
+  std::size_t LabelledSeries() const {
+    return static_cast<std::size_t>(std::count_if(series.begin(), series.end(), [](const Series& s) { return !s.label.empty(); }));
+  }
 };
 
 struct Figure {
