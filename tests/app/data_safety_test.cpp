@@ -353,6 +353,13 @@ TEST_CASE("app: the written deck reads back as the deck: comments, order and an 
   const ltca::app::Deck without = ltca::app::ParseDeck(ltca::app::WriteDeck(with, {}, {"optimise"}), "without");
   CHECK_FALSE(without.optimise.has_value());
   CHECK(without.given.size() < with.given.size());
+  // --unset of a section and of a key (issue 54) is written as their absence.
+  const ltca::app::Deck unset = ltca::app::ParseDeck(text, "rv", {"-second_disc", "-load.torque_nm", "load.torque_nm=400"});
+  const std::string written_unset = ltca::app::WriteDeck(unset, {});
+  CHECK(written_unset.find("[second_disc]") == std::string::npos);
+  const ltca::app::Deck back_unset = ltca::app::ParseDeck(written_unset, "back");
+  CHECK_FALSE(back_unset.second_disc.has_value());
+  CHECK(back_unset.RequireLoad().torque == doctest::Approx(400e3));
 }
 
 TEST_CASE("app: a commit that fails part way puts back a file it replaced, whatever its name's length") {

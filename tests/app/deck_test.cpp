@@ -515,6 +515,53 @@ TEST_CASE("app: --set reads TOML values, creates sections, and is checked like t
   CHECK(Contains(OverrideErrorOf({"load.torque_nm=nan"}), "[load] torque_nm = nan"));
 }
 
+TEST_CASE("app: --unset removes a section or a key before the --set overrides, and refuses what the deck lacks (issue 54)") {
+  // The stage deck's mesh alone: its [output] and [bearing] removed give the deck without them.
+  const std::string stage = ReadText(std::string(LTCA_CASES_DIR) + "/stage/cycloidal_drive.toml");
+  const auto with = ParseDeck(stage, "stage.toml");
+  REQUIRE(with.reducer.has_value());
+  const auto mesh = ParseDeck(stage, "stage.toml", {"-output", "-bearing"});
+  CHECK_FALSE(mesh.reducer.has_value());
+  CHECK(mesh.pair.pin_count == with.pair.pin_count);
+  for (const auto& g : mesh.given) {
+    CHECK(g.section != "output");
+    CHECK(g.section != "bearing");
+  }
+  // A key: the sweep's positions fall back to the default of a deck that does not give them.
+  const auto positions_default = ParseDeck(kGood, "t.toml").sweep.positions;
+  const auto given = ParseDeck(kGood, "t.toml", {"sweep.positions=7"});
+  REQUIRE(given.sweep.positions == 7);
+  CHECK(ParseDeck(kGood, "t.toml", {"sweep.positions=7", "-sweep.positions"}).sweep.positions == positions_default);
+  // Removed, then set: the section replaced by the one key (in order).
+  const auto replaced = ParseDeck(kGood, "t.toml", {"sweep.positions=9", "-sweep", "sweep.positions=5"});
+  CHECK(replaced.sweep.positions == 5);
+  // What the deck lacks, and malformed paths, are named.
+  CHECK(Contains(OverrideErrorOf({"-frction"}), "--unset 'frction': the deck has no [frction]"));
+  CHECK(Contains(OverrideErrorOf({"-load.torq"}), "--unset 'load.torq': [load] has no key 'torq'"));
+  CHECK(Contains(OverrideErrorOf({"-load."}), "--unset 'load.': not one section or one section and one key"));
+  CHECK(Contains(OverrideErrorOf({"-a.b.c"}), "not one section or one section and one key"));
+  // A key the stage then needs is refused by the reader as a missing key of the file would be.
+  CHECK(Contains(OverrideErrorOf({"-load.torque_nm"}), "[load] missing required key 'torque_nm'"));
+
+  // The command line: --unset before --set whatever their order; the stage deck's mesh alone solves.
+  const std::string deck_path = std::string(LTCA_CASES_DIR) + "/stage/cycloidal_drive.toml";
+  const auto solve = [&](std::vector<std::string> args) {
+    std::ostringstream out, err;
+    args.insert(args.begin(), {"solve", deck_path});
+    args.insert(args.end(), {"--set", "sweep.positions=3", "--json", "-"});
+    REQUIRE(ltca::cli::Run(args, out, err) == 0);
+    return nlohmann::json::parse(out.str());
+  };
+  const auto stage_json = solve({});
+  const auto mesh_json = solve({"--unset", "output", "--unset", "bearing"});
+  CHECK(stage_json["summary"].contains("stage"));
+  CHECK_FALSE(mesh_json["summary"].contains("stage"));
+  CHECK(mesh_json["positions"].size() == 3);
+  // The mesh alone carries the whole torque on its pins; the stage's disc is in balance with its
+  // output pins and bearing too, and its TE differs.
+  CHECK(mesh_json["summary"]["mean_te_arcsec"].get<double>() != stage_json["summary"]["mean_te_arcsec"].get<double>());
+}
+
 // Issue 11: the cycloid profile deviation along the profile ([errors] profile_random_*,
 // profile_measured_csv).
 

@@ -244,3 +244,20 @@ def record_lists(node, path=()):
             yield path
         for i, v in enumerate(node):
             yield from record_lists(v, path + (i,))
+
+
+# --- issue 54: --unset from Python ---
+
+def test_unset_takes_a_section_or_a_key_out_as_the_command_line_does():
+    stage = ltca.Deck.load("cases/stage/cycloidal_drive.toml").set("sweep.positions", 3)
+    mesh = stage.unset("output", "bearing")
+    assert "stage" in ltca.solve(stage).json["summary"]
+    assert "stage" not in ltca.solve(mesh).json["summary"]
+    # the same positions of the mesh alone as the command line's --unset gives
+    assert len(ltca.solve(mesh).json["positions"]) == 3
+    with pytest.raises(ValueError, match=r"the deck has no \[frction\]"):
+        stage.unset("frction")
+    with pytest.raises(ValueError, match="has no key 'torq'"):
+        stage.unset("load.torq")
+    with pytest.raises(ValueError, match="expected section or section.key"):
+        stage.unset("load.torque_nm=1")

@@ -91,6 +91,7 @@ int Run(const std::vector<std::string>& args, std::ostream& out, std::ostream& e
   app.add_option("--csv", default_options.csv_path, "Default job: the solve's rows as CSV")->type_name("FILE|-");
   app.add_option("--svg", default_options.svg_path, "Default job: the solve's drawing")->type_name("FILE|-");
   app.add_option("--set", default_deck.overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
+  app.add_option("--unset", default_deck.removals, kUnsetHelp)->allow_extra_args(false)->type_name("SECTION[.KEY]");
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {

@@ -11,7 +11,10 @@
 namespace ltca::cli {
 
 app::Deck DeckInput::Read() const {
-  app::Deck deck = path.empty() ? app::DefaultDeck(overrides) : app::LoadDeck(path, overrides);
+  std::vector<std::string> all;
+  for (const std::string& removal : removals) all.push_back("-" + removal);  // app::ParseDeck's form of a removal
+  all.insert(all.end(), overrides.begin(), overrides.end());
+  app::Deck deck = path.empty() ? app::DefaultDeck(all) : app::LoadDeck(path, all);
   // No output of this run may be the deck or a file it reads (a trace).
   if (OutputTransaction* run = OutputTransaction::Current()) {
     for (std::size_t i = 0; i < deck.source.files.size(); ++i) {
@@ -51,6 +54,7 @@ std::vector<Command> Commands() {
 
 void AddDeckInputs(CLI::App& command, DeckInput& deck, const char* deck_help) {
   command.add_option("--set", deck.overrides, kSetHelp)->allow_extra_args(false)->type_name("SECTION.KEY=VALUE");
+  command.add_option("--unset", deck.removals, kUnsetHelp)->allow_extra_args(false)->type_name("SECTION[.KEY]");
   command.add_option("deck", deck.path, deck_help);
 }
 

@@ -20,6 +20,7 @@ namespace ltca::cli {
 struct DeckInput {
   std::string path;
   std::vector<std::string> overrides;
+  std::vector<std::string> removals;  ///< --unset section[.key], applied before the --set overrides
   app::Deck Read() const;
 };
 
@@ -49,6 +50,8 @@ Command AnalysisCommand(const app::documents::Analysis& analysis);
 
 // --- the options several commands share ------------------------------------------------------------
 inline constexpr const char* kSetHelp = "Override a deck key: section.key=value (repeatable)";
+inline constexpr const char* kUnsetHelp =
+    "Remove a deck section or key: section or section.key (repeatable; before every --set, so --unset S --set S.k=v replaces S)";
 /// Every command that takes --kinematics follows one rule.
 inline constexpr const char* kKinematicsHelp =
     "linearised or exact (default: the deck's [solver] kinematics, which is linearised when the deck does not set it)";

@@ -148,15 +148,38 @@ std::string Trim(std::string_view text) {
   return std::string(text.substr(first, last - first + 1));
 }
 
-/// One --set override, "section.key=value", with its value read as TOML.
+/// One override: --set "section.key=value", with its value read as TOML, or --unset
+/// "-section[.key]" (remove: `key` empty for the whole section).
 struct Override {
   std::string text;  ///< as given, for messages
   std::string section;
   std::string key;
   toml::value value;
+  bool remove = false;
 };
 
+/// An --unset, "-section" or "-section.key" (the CLI puts the '-' before the option's value).
+Override ParseRemoval(const std::string& text) {
+  const std::string path = Trim(std::string_view(text).substr(1));
+  const auto bad = [&](const std::string& why) {
+    return std::invalid_argument(fmt::format("--unset '{}': {}; expected section or section.key, e.g. --unset friction "
+                                             "or --unset load.torque_nm", path, why));
+  };
+  Override o;
+  o.text = text;
+  o.remove = true;
+  const auto dot = path.find('.');
+  o.section = Trim(std::string_view(path).substr(0, dot));
+  if (dot != std::string::npos) o.key = Trim(std::string_view(path).substr(dot + 1));
+  if (o.section.empty() || (dot != std::string::npos && o.key.empty()) || o.key.find('.') != std::string::npos ||
+      path.find('=') != std::string::npos) {
+    throw bad("not one section or one section and one key");
+  }
+  return o;
+}
+
 Override ParseOverride(const std::string& text) {
+  if (!text.empty() && text.front() == '-' && text.find('=') == std::string::npos) return ParseRemoval(text);
   const auto bad = [&](const std::string& why) {
     return std::invalid_argument(fmt::format(
         "--set '{}': {}; expected section.key=value, e.g. --set load.torque_nm=100", text, why));
@@ -196,6 +219,25 @@ void ApplyOverrides(toml::value& root, const std::vector<std::string>& overrides
   for (const std::string& text : overrides) {
     const Override o = ParseOverride(text);
     toml::table& table = root.as_table();
+    if (o.remove) {
+      // Removing what the deck does not have is a typing error to show, not a silent no-op.
+      const auto section = table.find(o.section);
+      if (section == table.end()) {
+        throw std::invalid_argument(fmt::format("--unset '{}': the deck has no [{}]", o.text.substr(1), o.section));
+      }
+      if (o.key.empty()) {
+        table.erase(section);
+        continue;
+      }
+      if (!section->second.is_table()) {
+        throw std::invalid_argument(fmt::format("--unset '{}': [{}] is not one table (a list of tables or a key); "
+                                                "expected --unset {} for all of it", o.text.substr(1), o.section, o.section));
+      }
+      if (section->second.as_table().erase(o.key) == 0) {
+        throw std::invalid_argument(fmt::format("--unset '{}': [{}] has no key '{}'", o.text.substr(1), o.section, o.key));
+      }
+      continue;
+    }
     auto it = table.find(o.section);
     if (it == table.end()) it = table.emplace(o.section, toml::table{}).first;
     if (!it->second.is_table()) {
@@ -1621,7 +1663,11 @@ std::string EditToml(std::string_view text, const std::vector<DeckEdit>& edits, 
     std::vector<std::string> out = t.lines;
     const auto key = std::find_if(t.keys.begin(), t.keys.end(), [&](const TomlLines::KeyAt& k) { return k.table == e.section && k.key == e.key; });
     const std::string line = TomlKey(e.key) + " = " + e.value;
-    if (key != t.keys.end()) {
+    if (e.remove) {
+      if (key != t.keys.end()) {
+        out.erase(out.begin() + static_cast<std::ptrdiff_t>(key->first), out.begin() + static_cast<std::ptrdiff_t>(key->last) + 1);
+      }
+    } else if (key != t.keys.end()) {
       const std::string& last = t.lines[key->last];
       std::string comment;
       if (key->comment != std::string::npos) {
@@ -1684,14 +1730,19 @@ std::string WriteDeck(const Deck& deck, const std::vector<DeckEdit>& edits, cons
                       const std::string& header) {
   // The overrides first, as the deck that ran had them, then the edits.
   std::vector<DeckEdit> all;
+  std::vector<std::string> dropped = drop;
   for (const std::string& text : deck.source.overrides) {
     const Override o = ParseOverride(text);
-    all.push_back({o.section, o.key, GivenText(o.value), "--set"});
+    if (o.remove && o.key.empty()) {
+      dropped.push_back(o.section);
+    } else {
+      all.push_back({o.section, o.key, o.remove ? std::string() : GivenText(o.value), "--set", o.remove});
+    }
   }
   all.insert(all.end(), edits.begin(), edits.end());
   std::string text = header;
   if (!text.empty() && text.back() != '\n') text += '\n';
-  text += EditToml(deck.source.text, all, drop);
+  text += EditToml(deck.source.text, all, dropped);
 
   // Read back: the same keys with the same values, the same discs and stage. An edit's value is
   // compared as the reader gives it back (100.0 reads back as 100).

@@ -131,6 +131,15 @@ class Deck:
         """A new deck with "section.key" set to value, as ``ltca --set section.key=value``."""
         return self.update({key: value})
 
+    def unset(self, *paths):
+        """A new deck without each "section" or "section.key", as ``ltca --unset`` (one reading of
+        the deck for all of them, so that sections that belong together go together:
+        ``unset("output", "bearing")``); the deck must have each (ValueError otherwise)."""
+        for path in paths:
+            if not isinstance(path, str) or not path or path.startswith("-") or "=" in path:
+                raise ValueError(f"unset {path!r}: expected section or section.key, e.g. 'friction' or 'load.torque_nm'")
+        return self._derived(self._source, tuple("-" + path for path in paths))
+
     def update(self, values):
         """A new deck with every "section.key" of the dict set to its value (one reading of the
         deck for all of them)."""

@@ -152,7 +152,9 @@ SolverOptions SolverFor(const Deck& deck, const std::string& name);
 /// Parses and validates a deck, including the geometry (an undercut profile is rejected).
 /// overrides: "section.key=value" (the CLI's --set), each value read as a TOML value (a bare
 /// word that is not TOML is a string), applied to the parsed text before the sections are read,
-/// so that an override is checked like the key in the file; a missing section is created.
+/// so that an override is checked like the key in the file; a missing section is created. An
+/// override "-section" or "-section.key" (the CLI's --unset) removes that section or key, which
+/// the deck must have. They apply in order.
 /// Text larger than DeckLimits::kMaxFileBytes or nested deeper than DeckLimits::kMaxNesting is
 /// rejected before the TOML parser sees it.
 /// directory: where relative paths in the deck ([errors] profile_measured_csv) are read from;
@@ -185,13 +187,14 @@ class DeckSource {
 Deck LoadDeck(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
 
 /// One key written into a deck: `[section] key = value`, the value as TOML text; `comment` (without
-/// the '#') is put after a key the deck did not have.
+/// the '#') is put after a key the deck did not have. With `remove` the key is taken out instead.
 struct DeckEdit {
   std::string section, key, value, comment;
+  bool remove = false;
 };
 
 /// The deck as a file that reads back as this deck: its own text (comments, order, empty sections
-/// such as an identical [second_disc], kept) with the --set overrides and then `edits` written into
+/// such as an identical [second_disc], kept) with the --set and --unset overrides and then `edits` written into
 /// it, the sections `drop` left out, and `header` (comment lines) first. The one deck writer
 /// (`ltca optimise --write-deck`). The text is read back before it is returned: every key it
 /// gives must be the deck's (after the edits, without the dropped sections) with the same value,
