@@ -604,8 +604,8 @@ TEST_CASE("cli: a deck path with non-UTF-8 bytes gives valid JSON") {
   }
 }
 
-TEST_CASE("cli: --crank-deg must be a finite angle within +-3600 deg") {
-  for (const std::string bad : {"nan", "inf", "-inf", "1e400", "3600.5", "-1e9", "12abc"}) {
+TEST_CASE("cli: --crank-deg must be a finite angle within two output turns of the largest pair a deck may give") {
+  for (const std::string bad : {"nan", "inf", "-inf", "1e400", "7200721", "-1e9", "12abc"}) {
     for (const std::string command : {"mesh", "geometry"}) {
       CAPTURE(bad);
       CAPTURE(command);
@@ -614,7 +614,9 @@ TEST_CASE("cli: --crank-deg must be a finite angle within +-3600 deg") {
       CHECK(r.err.find("--crank-deg") != std::string::npos);
     }
   }
+  CHECK(ltca::analysis::kMaxCrankDeg == 7'200'720.0);  // 2 x 10,001 x 360
   CHECK(RunCli({"mesh", "--crank-deg", "3600"}).code == 0);
+  CHECK(RunCli({"mesh", "--crank-deg", "14040"}).code == 0);  // an output revolution of the built-in pair
   CHECK(RunCli({"mesh", "--crank-deg", "-12.5"}).code == 0);
 }
 

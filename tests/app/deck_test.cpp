@@ -365,13 +365,20 @@ TEST_CASE("app: deck limits on pins, positions, slices and elements name the key
   CHECK(ErrorOf(good + "[geometry]\ngeometry_mode = \"elements\"\nprofile_elements = 2000\nwidth_slices = 500\n") == "");
 }
 
-TEST_CASE("app: deck crank angles must be finite and within 3600 deg") {
+TEST_CASE("app: deck crank angles must be finite and within two output turns, at least ten crank turns (issue 54)") {
+  // kGood's disc has 39 teeth: two output turns are 2 x 39 x 360 = 28,080 deg of crank.
   const std::string good = kGood;
-  CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_end_deg = 1e300\n"), "[sweep] crank_end_deg = 1e+300: expected a finite crank angle within +-3600 deg"));
-  CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_start_deg = -3601.0\ncrank_end_deg = 0.0\n"), "[sweep] crank_start_deg = -3601"));
+  CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_end_deg = 1e300\n"),
+                 "[sweep] crank_end_deg = 1e+300: expected a finite crank angle within +-28080 deg (2 output turns of 39 teeth"));
+  CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_start_deg = -28081.0\ncrank_end_deg = 0.0\n"), "[sweep] crank_start_deg = -28081"));
   CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_start_deg = nan\n"), "[sweep] crank_start_deg = nan"));
   CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_end_deg = inf\n"), "[sweep] crank_end_deg = inf"));
-  CHECK(ErrorOf(good + "[sweep]\ncrank_start_deg = -3600.0\ncrank_end_deg = 3600.0\n") == "");
+  // An output revolution (39 crank turns), the span a per-tooth error repeats over, is a valid sweep.
+  CHECK(ErrorOf(good + "[sweep]\ncrank_start_deg = 0.0\ncrank_end_deg = 14040.0\n") == "");
+  CHECK(ErrorOf(good + "[sweep]\ncrank_start_deg = -28080.0\ncrank_end_deg = 28080.0\n") == "");
+  // A disc of few teeth keeps ten crank turns.
+  CHECK(ltca::analysis::MaxCrankDeg(3) == 3600.0);
+  CHECK(ltca::analysis::MaxCrankDeg(39) == 28080.0);
 }
 
 TEST_CASE("app: deck rejects a tooth difference outside the checked geometry") {
@@ -560,6 +567,32 @@ TEST_CASE("app: --unset removes a section or a key before the --set overrides, a
   // The mesh alone carries the whole torque on its pins; the stage's disc is in balance with its
   // output pins and bearing too, and its TE differs.
   CHECK(mesh_json["summary"]["mean_te_arcsec"].get<double>() != stage_json["summary"]["mean_te_arcsec"].get<double>());
+}
+
+TEST_CASE("app: a sweep with fewer than 8 positions a mesh period carries a note naming the period, the step and the remedy (issue 54)") {
+  // kGood: 40 pins, a mesh period of 360 / 40 = 9 deg of crank.
+  const auto run = [](const std::string& command, std::vector<std::string> sets) {
+    std::vector<std::string> args = {command, "--json", "-"};
+    for (const std::string& set : sets) args.insert(args.end(), {"--set", set});
+    std::ostringstream out, err;
+    REQUIRE(ltca::cli::Run(args, out, err) == 0);
+    const auto json = nlohmann::json::parse(out.str());
+    return json["summary"];
+  };
+  // A whole crank turn in 3 deg steps (docs/stage.md's bearing sweep): 3 positions a period.
+  const auto coarse = run("solve", {"sweep.crank_end_deg=360", "sweep.positions=121"});
+  REQUIRE(coarse.contains("notes"));
+  const std::string note = coarse["notes"][0];
+  CHECK(Contains(note, "mesh period (9 deg of crank, 360 / 40 pins) with 3 positions (a step of 3 deg)"));
+  CHECK(Contains(note, "a step of at most 1.125 deg ([sweep] positions = 321 over this range)"));  // 360 / 1.125 + 1
+  // 8 positions a period exactly, one position, and the default (91 in a period): no note.
+  CHECK_FALSE(run("solve", {"sweep.crank_end_deg=9", "sweep.positions=9"}).contains("notes"));
+  CHECK_FALSE(run("solve", {"sweep.positions=1"}).contains("notes"));
+  CHECK_FALSE(run("solve", {}).contains("notes"));
+  CHECK(run("solve", {"sweep.crank_end_deg=9", "sweep.positions=8"}).contains("notes"));  // 7 steps: 7 a period
+  // The backlash sweep says the same.
+  CHECK(run("backlash", {"sweep.positions=3"}).contains("notes"));
+  CHECK_FALSE(run("backlash", {}).contains("notes"));
 }
 
 // Issue 11: the cycloid profile deviation along the profile ([errors] profile_random_*,

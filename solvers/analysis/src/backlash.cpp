@@ -66,6 +66,7 @@ BacklashResult Backlash(const Stage& stage, contact::ContactKinematics kinematic
     result.summary.Add(p, result.closed_period && i + 1 == cranks.size());
     if (sink) sink(p);
   }
+  if (std::string note = stage.SamplingNote(); !note.empty()) result.notes.push_back(std::move(note));
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -440,6 +440,7 @@ EfficiencySummary EfficiencyRunner::Summary() const {
     s.energy_loss_per_revolution = s.power_loss.mean * 2.0 * kPi / m.operation.input_speed;
   }
   for (const auto& [name, text] : m.warnings) s.warnings.push_back(text);
+  if (std::string note = m.stage.SamplingNote(); !note.empty()) s.warnings.push_back(std::move(note));
   s.wall_seconds = std::chrono::duration<double>(m.elapsed).count();
   s.loaded_solve_seconds = std::chrono::duration<double>(m.solving).count();
   return s;

@@ -277,6 +277,23 @@ double Stage::interference_tolerance() const {
   return std::max(first_->interference_tolerance(), second_ ? second_->interference_tolerance() : 0.0);
 }
 
+std::string Stage::SamplingNote() const {
+  const std::vector<double>& cranks = checked_->cranks;
+  if (cranks.size() < 2) return {};
+  const double span = std::abs(cranks.back() - cranks.front());
+  const double step = span / static_cast<double>(cranks.size() - 1);
+  const double period = 2.0 * std::acos(-1.0) / design_->pair.pin_count;  // rad of crank
+  if (!(step > 0.0) || period / step >= kMinPositionsPerMeshPeriod) return {};
+  const double deg = 180.0 / std::acos(-1.0);
+  const double largest = period / kMinPositionsPerMeshPeriod;
+  const auto needed = static_cast<long long>(std::ceil(span / largest - 1e-9)) + 1;
+  return fmt::format(
+      "the sweep samples the mesh period ({:.6g} deg of crank, 360 / {} pins) with {:.3g} positions (a step of {:.6g} deg): "
+      "TE, backlash and efficiency curves alias below about {:g} positions a period; a step of at most {:.6g} deg "
+      "([sweep] positions = {} over this range) resolves them",
+      period * deg, design_->pair.pin_count, period / step, step * deg, kMinPositionsPerMeshPeriod, largest * deg, needed);
+}
+
 std::ptrdiff_t Stage::CheckedIndex(double crank) const {
   const Checked& c = *checked_;
   const auto it = std::lower_bound(c.order.begin(), c.order.end(), crank,

@@ -36,18 +36,20 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
-void Sweep::Validate() const {
+void Sweep::Validate(int tooth_count) const {
   if (positions < 1 || positions > kMaxPositions) {
     throw std::invalid_argument(fmt::format(
         "[sweep] positions = {}: expected an integer from 1 to {} (docs/decks.md, Limits)",
         positions, kMaxPositions));
   }
-  const double max_crank = units::DegToRad(kMaxCrankDeg);
+  const double max_deg = MaxCrankDeg(tooth_count);
+  const double max_crank = units::DegToRad(max_deg);
   for (const auto& [key, value] : {std::pair{"crank_start_deg", crank_start}, std::pair{"crank_end_deg", crank_end}}) {
     if (!std::isfinite(value) || std::abs(value) > max_crank) {
       throw std::invalid_argument(fmt::format(
-          "[sweep] {} = {}: expected a finite crank angle within +-{} deg (docs/decks.md, Limits)",
-          key, units::RadToDeg(value), kMaxCrankDeg));
+          "[sweep] {} = {}: expected a finite crank angle within +-{} deg ({} output turns of {} teeth, at least 10 crank "
+          "turns; docs/decks.md, Limits)",
+          key, units::RadToDeg(value), max_deg, kMaxOutputTurns, std::abs(tooth_count)));
     }
   }
   if (positions > 1 && crank_end <= crank_start) {
@@ -285,6 +287,7 @@ PositionResult SweepRunner::Solve(double crank) {
 SweepSummary SweepRunner::Summary() const {
   SweepSummary s = impl_->summary.Summary();
   s.wall_seconds = std::chrono::duration<double>(impl_->elapsed).count();
+  if (std::string note = impl_->stage.SamplingNote(); !note.empty()) s.notes.push_back(std::move(note));
   return s;
 }
 

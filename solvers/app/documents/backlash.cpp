@@ -97,6 +97,7 @@ nlohmann::json Json(const Deck& deck, const analysis::BacklashResult& result) {
                             {"closed_period", result.closed_period}};
   if (deck.reducer) summary["scope"] = "the pin ring's mesh alone; the stage's free play is the backlash of ltca stiffness";
   if (s.failed() > 0) summary["first_failure"] = s.first_failure();
+  if (!result.notes.empty()) summary["notes"] = result.notes;
   return summary;
 }
 
@@ -152,6 +153,7 @@ std::string Text(const Deck& deck, const analysis::BacklashResult& result) {
   if (s.failed() > 0) text += fmt::format("failed                  {} of {} positions, first at {}\n", s.failed(), result.positions, s.first_failure());
   text += fmt::format("mean backlash           {} arcsec   (Liu eq. 17){}\n", FormatOrNa(RadToArcsec(s.mean()), 4),
                       result.closed_period ? "; the last position repeats the first: counted once" : "");
+  for (const std::string& note : result.notes) text += fmt::format("note                    {}\n", note);
   if (deck.reducer) {
     text += "note                    the pin ring's mesh alone; the stage's free play (holes, bearings too) is the "
             "backlash of ltca stiffness\n";

@@ -98,6 +98,7 @@ nlohmann::json SummaryJson(const analysis::SweepSummary& s, const Deck::ModelInf
                       {"warned_positions", s.warned},
                       {"closed_period", s.closed_period}};
   if (s.warned > 0) j["first_warning"] = s.first_warning;
+  if (!s.notes.empty()) j["notes"] = s.notes;
   if (model.discs == 2) {  // the share of T the first disc carries, over the successful positions
     j["discs"] = 2;
     j["first_disc_share_mean"] = FiniteOrNull(s.first_disc_share_mean);
@@ -277,6 +278,7 @@ std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::
   text += fmt::format("status                 {}\n", solvers::ToString(s.status));
   text += FailureNote(s);
   if (s.warned > 0) text += fmt::format("warnings               {} positions, first at {}\n", s.warned, s.first_warning);
+  for (const std::string& note : s.notes) text += fmt::format("note                   {}\n", note);
   const double torque = deck.RequireLoad().torque;
   text += fmt::format("loaded flank           {}\n", torque > 0.0 ? "drive (torque > 0)" : (torque < 0.0 ? "coast (torque < 0)" : "none (zero torque)"));
   text += fmt::format("mean TE                {} arcsec   (Liu eq. 16; < 0 on the drive flank, > 0 on the coast flank)\n", FormatOrNa(RadToArcsec(s.mean_te), 4));

@@ -661,7 +661,7 @@ analysis::Sweep ReadSweep(const Section& s, const geometry::PairParameters& pair
   ReadSettings(s, {.sweep = &sweep});
   // By default one mesh period from the start.
   if (!s.Has("crank_end_deg")) sweep.crank_end = units::DegToRad(units::RadToDeg(sweep.crank_start) + period_deg);
-  sweep.Validate();
+  sweep.Validate(pair.tooth_count);
   return sweep;
 }
 

@@ -22,7 +22,7 @@ __all__ = ["Deck", "SolveResult", "Result", "solve", "geometry", "backlash", "me
 
 # The command line's limits and words for the options every analysis takes (docs/decks.md, Limits):
 # a value beyond them is a ValueError naming the argument, a wrong type a TypeError, before any work.
-_MAX_CRANK_DEG = 3600.0          # --crank-deg (analysis::kMaxCrankDeg)
+_MAX_CRANK_DEG = 7200720.0       # --crank-deg (analysis::kMaxCrankDeg: two output turns of 10,001 teeth)
 _MAX_THREADS = 1024              # --threads (analysis::kMaxToleranceThreads)
 _MAX_SAMPLES = 10_000_000        # --samples (ToleranceSettings::kMaxSamples)
 _MAX_EVALUATIONS = 1_000_000     # --evaluations (OptimiseSettings::kMaxEvaluations)

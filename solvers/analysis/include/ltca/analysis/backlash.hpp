@@ -58,6 +58,7 @@ struct BacklashResult {
   /// The last crank repeats the first crank's state (Stage::closed_period): it weighs once in the mean.
   bool closed_period = false;
   BacklashSummary summary;
+  std::vector<std::string> notes;  ///< about the sweep itself (Stage::SamplingNote)
   double wall_seconds = 0.0;
 };
 /// Receives every position in crank order as it is computed (memory stays bounded in positions).

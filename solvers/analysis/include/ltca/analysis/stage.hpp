@@ -128,6 +128,8 @@ struct StageDesign {
 class Stage {
  public:
   using ModelPtr = std::shared_ptr<const contact::MeshModel>;
+  /// Positions a mesh period below which SamplingNote speaks (a curve needs about 8 points a cycle).
+  static constexpr double kMinPositionsPerMeshPeriod = 8.0;
   /// Builds the discs' models and pin bending's coupling (with the material; without one no
   /// problem can be built, and Problem throws), evaluates
   /// the stage at every crank of `cranks` (rad) and throws std::invalid_argument naming the pins
@@ -155,6 +157,10 @@ class Stage {
   bool closed_period() const { return checked_->closed; }
   /// The overlap a check tolerates, mm: the largest of the discs' models'.
   double interference_tolerance() const;
+  /// A note for the user when the cranks sample the mesh period (360 / pin_count deg of crank)
+  /// with fewer than kMinPositionsPerMeshPeriod positions: TE, backlash and efficiency curves
+  /// alias into a saw-tooth (issue 54). Empty otherwise (and for one position).
+  std::string SamplingNote() const;
 
   /// Every contact point of the stage at a crank (rad), unloaded (loaded rotation 0): one disc,
   /// or both (contact::EvaluateTwoDiscs). The kept state of a checked crank, else evaluated; a

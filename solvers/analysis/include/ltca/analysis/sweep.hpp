@@ -13,14 +13,26 @@
 #include <string>
 #include <vector>
 
+#include <algorithm>
+#include <cmath>
+
 #include "ltca/analysis/run.hpp"
 #include "ltca/analysis/stage.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
 namespace ltca::analysis {
 
-/// The largest crank angle a sweep or a command names, deg (10 turns; docs/decks.md, Limits).
-inline constexpr double kMaxCrankDeg = 3600.0;
+/// A sweep may span this many output revolutions (a per-tooth error repeats after one; issue 54).
+inline constexpr int kMaxOutputTurns = 2;
+/// The largest crank angle of a sweep of a disc of `tooth_count` teeth, deg: kMaxOutputTurns output
+/// revolutions (tooth_count crank turns each), and never less than 10 crank turns (docs/decks.md,
+/// Limits).
+inline double MaxCrankDeg(int tooth_count) {
+  return std::max(3600.0, 360.0 * kMaxOutputTurns * std::abs(static_cast<double>(tooth_count)));
+}
+/// The largest crank angle any command names, deg: two output turns of the largest pair a deck may
+/// give (10,001 teeth); a sweep's own bound is MaxCrankDeg of its pair.
+inline constexpr double kMaxCrankDeg = 360.0 * kMaxOutputTurns * 10'001;
 
 /// [load]: the output torque of the stage: the one disc's, or with a second disc both discs' together.
 struct LoadCase {
@@ -37,8 +49,8 @@ struct Sweep {
   double crank_end = 0.0;    ///< rad (deck: crank_end_deg), inclusive.
   int positions = 91;        ///< 1 .. kMaxPositions.
   /// Throws std::invalid_argument naming the key: positions out of range, angles not finite or
-  /// beyond kMaxCrankDeg, an empty range with several positions.
-  void Validate() const;
+  /// beyond MaxCrankDeg(tooth_count), an empty range with several positions.
+  void Validate(int tooth_count) const;
   /// The crank angles, rad: positions values from start to end inclusive.
   std::vector<double> CrankAngles() const;
 };
@@ -125,6 +137,8 @@ struct SweepSummary : RunRecord {
   /// the extremes and counts see every position.
   bool closed_period = false;
   std::optional<ReducerSummary> reducer;  ///< the reducer's elements' figures; none for the mesh alone
+  /// Notes for the user about the sweep itself (Stage::SamplingNote: too few positions a mesh period).
+  std::vector<std::string> notes;
   /// A reducer stage's bearing lives (ISO 281, BearingLives) from `reducer`'s mean equivalent loads,
   /// computed once by app::SolveDeckSweep, which knows the deck's bearings and crank speed; none
   /// for the mesh alone and from a SweepRunner alone.

@@ -51,7 +51,7 @@ struct DeckLimits {
   static constexpr int kMaxNesting = 64;          ///< levels of [ ] and { } in the TOML text
   static constexpr int kMaxPins = 10'000;         ///< [pair] pin_count
   static constexpr int kMaxPositions = analysis::Sweep::kMaxPositions;  ///< [sweep] positions
-  static constexpr double kMaxCrankDeg = analysis::kMaxCrankDeg;  ///< |crank_start_deg|, |crank_end_deg| (10 turns)
+  static constexpr double kMaxCrankDeg = analysis::kMaxCrankDeg;  ///< any crank angle; a sweep's own: analysis::MaxCrankDeg
   /// Modifications and manufacturing errors (lengths) larger than this fraction of the pin
   /// radius look like absolute values (a radius, not a change of it) and are rejected.
   static constexpr double kMaxDeviationFraction = analysis::DeckKey::kMaxDeviationFraction;
