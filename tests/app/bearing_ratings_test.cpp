@@ -113,4 +113,9 @@ TEST_CASE("app: the load-zone life no longer doubles with the eccentric bearing'
   CHECK(std::abs(zone_loose / zone_tight - 1.0) < 0.05);
   CHECK(zone_tight < basic_tight);
   CHECK(zone_loose < basic_loose);
+  // The printed ratio is the two printed lives' (1e-12).
+  const nlohmann::json s =
+      nlohmann::json::parse(ltca::test::RunCli({"solve", bearing_ratings_test::kDeck, "--json", "-"}).out).at("summary").at("stage");
+  CHECK(s.at("load_zone_to_basic_life_ratio").at(0).get<double>() ==
+        doctest::Approx(s.at("load_zone_life_hours").at(0).get<double>() / s.at("l10_hours").at(0).get<double>()).epsilon(1e-12));
 }

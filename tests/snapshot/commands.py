@@ -148,7 +148,7 @@ REWORDED = {
 # docs/derivations/load_zone_life.py).
 ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers",
          "turning_raceway", "turning_raceway_basis", "load_zone_equivalent_load_n", "load_zone_life_million_revolutions",
-         "load_zone_life_hours", "shortest_load_zone_life_hours", "max_bearing_load_per_bearing_n", "static_safety",
+         "load_zone_life_hours", "load_zone_to_basic_life_ratio", "shortest_load_zone_life_hours", "max_bearing_load_per_bearing_n", "static_safety",
          "smallest_static_safety", "max_roller_contact_stress_mpa", "largest_roller_contact_stress_mpa",
          "roller_contact_stress_limit_mpa", "verdicts"}
 

@@ -87,6 +87,10 @@ nlohmann::json ReducerSummaryJson(const Deck& deck, const analysis::SweepSummary
   if (!s.reducer || !deck.reducer) return nullptr;
   const analysis::ReducerSummary& g = *s.reducer;
   const analysis::BearingLife life = s.bearing_life.value_or(analysis::BearingLife{});
+  std::vector<double> ratios;  // the load-zone life over the basic life, per bearing (docs/stage.md)
+  for (std::size_t b = 0; b < life.load_zone_million_revolutions.size() && b < life.million_revolutions.size(); ++b) {
+    ratios.push_back(life.load_zone_million_revolutions[b] / life.million_revolutions[b]);
+  }
   nlohmann::json turning = nlohmann::json::array();
   for (const contact::Raceway r : life.turning_raceway) turning.push_back(contact::ToString(r));
   nlohmann::json shares = nlohmann::json::object();
@@ -109,6 +113,7 @@ nlohmann::json ReducerSummaryJson(const Deck& deck, const analysis::SweepSummary
           {"load_zone_equivalent_load_n", Finites(life.load_zone_equivalent_load)},
           {"load_zone_life_million_revolutions", Finites(life.load_zone_million_revolutions)},
           {"load_zone_life_hours", Finites(life.load_zone_hours)},
+          {"load_zone_to_basic_life_ratio", Finites(ratios)},  // per bearing: load-zone life / ISO 281 L10
           {"shortest_load_zone_life_hours", FiniteOrNull(life.ShortestLoadZoneHours())},
           // ISO 76: s_0 = C_0 / P_0,max (null without static_load_rating_n); the largest roller's
           // stress on the inner raceway against 4,000 MPa (null without rollers and pitch_diameter_mm).
@@ -347,9 +352,14 @@ std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::
                         std::isnan(g.max_roller_load) ? std::string() : fmt::format(" (largest roller {} N)", FormatOrNa(g.max_roller_load, 2)));
     // The JSON's figure (BearingLife::ShortestHours: the least finite life), one rule for both.
     text += fmt::format("bearing L10            {} h, the shortest ({})\n", FormatOrNa(life.ShortestHours(), 4), life.basis);
-    text += fmt::format("load-zone life         {} h, the shortest (roller loads, Lundberg-Palmgren on ISO 281's C; the {} "
-                        "ring turns against the load)\n",
-                        FormatOrNa(life.ShortestLoadZoneHours(), 4),
+    // The shortest load-zone life and its bearing's basic life beside it (their ratio).
+    double zone = std::numeric_limits<double>::quiet_NaN(), basic = zone;
+    for (std::size_t b = 0; b < life.load_zone_hours.size() && b < life.hours.size(); ++b) {
+      if (std::isfinite(life.load_zone_hours[b]) && !(life.load_zone_hours[b] >= zone)) zone = life.load_zone_hours[b], basic = life.hours[b];
+    }
+    text += fmt::format("load-zone life         {} h, the shortest ({} of that bearing's L10; roller loads, Lundberg-Palmgren on "
+                        "ISO 281's C; the {} ring turns against the load)\n",
+                        FormatOrNa(zone, 4), FormatOrNa(zone / basic, 4),
                         life.turning_raceway.empty() ? "outer" : contact::ToString(life.turning_raceway.front()));
     text += fmt::format("static safety s_0      {} (ISO 76: C_0 / P_0,max, the smallest)\n", FormatOrNa(life.SmallestStaticSafety(), 4));
     text += fmt::format("roller contact stress  {} MPa, the largest (ISO 76's basis of C_0: {:g} MPa)\n",
