@@ -1,5 +1,6 @@
 #include "ltca/contact/bearing.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -44,6 +45,8 @@ void BearingSettings::Validate() const {
           "a finite radial clearance >= 0 mm");
   require(std::isfinite(dynamic_load_rating) && dynamic_load_rating >= 0.0, "dynamic_load_rating_n", dynamic_load_rating,
           "a finite rating >= 0 N (0: no life)");
+  require(std::isfinite(static_load_rating) && static_load_rating >= 0.0, "static_load_rating_n", static_load_rating,
+          "a finite rating >= 0 N (0: no static safety)");
   if (kind == BearingKind::kLinear) {
     require(std::isfinite(radial_stiffness) && radial_stiffness > 0.0, "radial_stiffness_n_per_mm", radial_stiffness,
             "a finite radial stiffness > 0 N/mm for kind = \"linear\"");
@@ -55,6 +58,12 @@ void BearingSettings::Validate() const {
             "a finite roller diameter > 0 mm for kind = \"rollers\"");
     require(std::isfinite(roller_length) && roller_length > 0.0, "roller_length_mm", roller_length,
             "a finite effective roller length > 0 mm for kind = \"rollers\"");
+    // The rollers fit on their pitch circle: neighbours' centres a chord d_m sin(pi / Z) >= D_w
+    // apart (so g = D_w / d_m < 1).
+    const double fits = roller_diameter / std::sin(units::kPi / roller_count);
+    require(std::isfinite(pitch_diameter) && (pitch_diameter == 0.0 || pitch_diameter >= fits), "pitch_diameter_mm",
+            pitch_diameter,
+            fmt::format("0 (not given) or a pitch diameter on which the rollers fit, >= D_w / sin(pi / Z) = {:.6g} mm", fits).c_str());
   }
 }
 
@@ -179,6 +188,87 @@ double RatingLife(double dynamic_load_rating, double equivalent_load, double exp
 double RatingLifeHours(double life_million_revolutions, double rpm) {
   if (!(rpm > 0.0)) return std::numeric_limits<double>::quiet_NaN();
   return 1e6 * life_million_revolutions / (60.0 * rpm);
+}
+
+const char* ToString(Raceway raceway) { return raceway == Raceway::kInner ? "inner" : "outer"; }
+
+double RacewayCapacityRatio(double roller_diameter, double pitch_diameter) {
+  const double g = roller_diameter / pitch_diameter;
+  return std::pow((1.0 - g) / (1.0 + g), 29.0 / 27.0 + 0.25);  // Harris & Kotzalas, Q_c of line contact
+}
+
+RollerLoadMoments LoadMoments(const std::vector<double>& roller_load) {
+  RollerLoadMoments m;
+  if (roller_load.empty()) return m;
+  for (const double q : roller_load) {
+    const double q2 = q * q;
+    m.fourth += q2 * q2;
+    m.four_and_half += q2 * q2 * std::sqrt(std::max(q, 0.0));
+  }
+  const double z = static_cast<double>(roller_load.size());
+  m.fourth /= z;
+  m.four_and_half /= z;
+  return m;
+}
+
+double LundbergPalmgrenDamage(const RollerLoadMoments& m, double capacity_ratio, Raceway turning) {
+  // Q_e of each raceway: exponent 4 for the one turning against the load, 4.5 for the other.
+  const double turning_load = std::pow(m.fourth, 0.25), standing_load = std::pow(m.four_and_half, 1.0 / 4.5);
+  const double inner = turning == Raceway::kInner ? turning_load : standing_load;
+  const double outer = turning == Raceway::kInner ? standing_load : turning_load;
+  // L_in = (Q_c,in / Q_e,in)^4, L_out = (Q_c,out / Q_e,out)^4 with Q_c,out = 1 N; the bearing's
+  // 1/L = (L_in^(-9/8) + L_out^(-9/8))^(8/9), L^(-9/8) = (Q_e / Q_c)^4.5.
+  return std::pow(std::pow(inner / capacity_ratio, 4.5) + std::pow(outer, 4.5), 8.0 / 9.0);
+}
+
+namespace {
+
+void RequireLoadZoneGeometry(const BearingSettings& bearing, const char* what) {
+  if (bearing.kind != BearingKind::kRollers) {
+    throw std::invalid_argument(fmt::format("[bearing] kind = \"{}\": {} needs kind = \"rollers\"", ToString(bearing.kind), what));
+  }
+  if (!(bearing.pitch_diameter > bearing.roller_diameter)) {
+    throw std::invalid_argument(fmt::format("[bearing] pitch_diameter_mm = {:g}: {} needs the roller set's pitch diameter, > the "
+                                            "roller diameter {:g} mm",
+                                            bearing.pitch_diameter, what, bearing.roller_diameter));
+  }
+}
+
+}  // namespace
+
+double LoadZoneReferenceDamage(const BearingSettings& bearing) {
+  RequireLoadZoneGeometry(bearing, "the load-zone life");
+  BearingSettings tight = bearing;
+  tight.radial_clearance = 0.0;
+  const double ratio = RacewayCapacityRatio(bearing.roller_diameter, bearing.pitch_diameter);
+  // Without play every roller load is proportional to the applied load: solve at a load of the
+  // order of the rating's and scale the damage (fourth power) to 1 N.
+  const double load = bearing.dynamic_load_rating > 0.0 ? bearing.dynamic_load_rating : 1000.0;
+  const double pitch = 2.0 * units::kPi / bearing.roller_count;
+  double sum = 0.0;
+  for (int m = 0; m < kReferencePhases; ++m) {
+    const double phase = pitch * m / kReferencePhases;
+    const Eigen::Vector2d u = BearingDisplacement(tight, Eigen::Vector2d(load, 0.0), phase);
+    const BearingResponse r = BearingAt(tight, u, phase);
+    sum += LundbergPalmgrenDamage(LoadMoments(r.roller_load), ratio, Raceway::kInner);
+  }
+  return sum / kReferencePhases / std::pow(load, 4.0);
+}
+
+double LoadZoneEquivalentLoad(double mean_damage, double reference_damage) {
+  if (!std::isfinite(mean_damage) || !std::isfinite(reference_damage) || !(reference_damage > 0.0) || mean_damage < 0.0) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return std::pow(mean_damage / reference_damage, 0.25);
+}
+
+double RollerContactStress(const BearingSettings& bearing, double roller_load) {
+  RequireLoadZoneGeometry(bearing, "the roller contact stress");
+  if (!(roller_load > 0.0)) return 0.0;
+  const double d = bearing.roller_diameter;
+  const double curvature = 2.0 / d + 2.0 / (bearing.pitch_diameter - d);  // 1/R, roller and inner raceway
+  const double modulus = kBearingSteelModulus / (2.0 * (1.0 - kBearingSteelPoisson * kBearingSteelPoisson));  // E*
+  return std::sqrt(roller_load * modulus * curvature / (units::kPi * bearing.roller_length));
 }
 
 }  // namespace ltca::contact

@@ -21,6 +21,7 @@
 #include <fmt/ranges.h>
 
 #include "ltca/analysis/friction.hpp"
+#include "ltca/analysis/allowables.hpp"
 #include "ltca/analysis/inspection.hpp"
 #include "ltca/analysis/keys.hpp"
 #include "ltca/analysis/optimise.hpp"
@@ -150,6 +151,7 @@ TEST_CASE("app: a field the table binds to a setting defaults to the table's def
   ltca::analysis::FrictionSettings friction;
   ltca::analysis::OptimiseSettings optimise;
   ltca::analysis::InspectionSettings inspection;
+  ltca::analysis::AllowablesSettings allowables;
   ltca::contact::PinSupport pin_support;
   ltca::contact::PinSeat pin_seat;
   ltca::contact::DiscBodySettings disc_body;
@@ -182,7 +184,8 @@ TEST_CASE("app: a field the table binds to a setting defaults to the table's def
                                             .operation = &operation,
                                             .friction = &friction,
                                             .optimise = &optimise,
-                                            .inspection = &inspection};
+                                            .inspection = &inspection,
+                                            .allowables = &allowables};
   int bound = 0, numeric_defaults = 0, choice_defaults = 0;
   for (const DeckKey& k : ltca::analysis::DeckKeys()) {
     if (k.setting == nullptr) continue;
@@ -292,7 +295,8 @@ ltca::analysis::SettingsParts PartsOf(ltca::app::Deck& d) {
                                   .solver = &d.solver,
                                   .kinematics = &d.kinematics,
                                   .stiffness = &d.stiffness,
-                                  .inspection = &d.inspection};
+                                  .inspection = &d.inspection,
+                                  .allowables = &d.allowables};
   if (d.material) p.material = &*d.material;
   if (d.pins) p.pin_support = &*d.pins;
   if (d.reducer) {

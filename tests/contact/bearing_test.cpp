@@ -1,6 +1,7 @@
 // The bearing element of issue 25 (contact/bearing.hpp). References computed independently of
 // the code (a separate bisection in Python, from Harris & Kotzalas's formulas as printed), and
 // Stribeck's classical factor for a line-contact bearing without clearance.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -156,4 +157,133 @@ TEST_CASE("contact: [bearing] settings are refused with the key, the value and w
                        std::invalid_argument);
   BearingSettings rigid;
   CHECK_THROWS_AS(BearingAt(rigid, {0.01, 0.0}), std::invalid_argument);
+}
+
+namespace bearing_life_test {
+
+/// The eccentric bearing of cases/stage/cycloidal_drive.toml: 14 rollers 8 x 10 mm on a 40 mm
+/// pitch circle, C = 39.6 kN.
+BearingSettings Eccentric(double clearance) {
+  BearingSettings b;
+  b.kind = BearingKind::kRollers;
+  b.roller_count = 14;
+  b.roller_diameter = 8.0;
+  b.roller_length = 10.0;
+  b.pitch_diameter = 40.0;
+  b.dynamic_load_rating = 39600.0;
+  b.radial_clearance = clearance;
+  return b;
+}
+
+/// Roller loads without play under `load` (N) along +X, rollers at phase + 2 pi j / z, solved
+/// here, not by BearingDisplacement: without play the loads go as max(cos(psi_j - beta), 0)^(10/9)
+/// for a displacement along beta; beta by bisection until the force points along +X, then scaled.
+std::vector<double> TightLoads(int z, double phase, double load) {
+  const double pi = std::acos(-1.0);
+  const auto loads = [&](double beta) {
+    std::vector<double> q(static_cast<std::size_t>(z));
+    for (int j = 0; j < z; ++j) q[static_cast<std::size_t>(j)] = std::pow(std::max(std::cos(phase + 2.0 * pi * j / z - beta), 0.0), 10.0 / 9.0);
+    return q;
+  };
+  const auto force = [&](const std::vector<double>& q, bool y) {
+    double f = 0.0;
+    for (int j = 0; j < z; ++j) {
+      const double a = phase + 2.0 * pi * j / z;
+      f += q[static_cast<std::size_t>(j)] * (y ? std::sin(a) : std::cos(a));
+    }
+    return f;
+  };
+  double lo = -0.5, hi = 0.5;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (force(loads(mid), true) > 0.0 ? hi : lo) = mid;
+  }
+  std::vector<double> q = loads(0.5 * (lo + hi));
+  const double fx = force(q, false);
+  for (double& x : q) x *= load / fx;
+  return q;
+}
+
+}  // namespace bearing_life_test
+
+TEST_CASE("contact: the Lundberg-Palmgren raceway capacities and damage, against a hand computation") {
+  // Harris & Kotzalas (line contact): Q_c,in / Q_c,out = ((1 - g) / (1 + g))^(29/27 + 1/4);
+  // g = 8 / 40 = 0.2 gives 0.5845775452. Four rollers carrying 3000, 1200, 0, 0 N: the exponent-4
+  // mean 2134.768373 N, the exponent-4.5 mean 2212.484358 N; with the inner raceway turning
+  // against the load (exponent 4) L_in = (0.58458 / 2134.77)^4 = 5.622966e-15, L_out = (1 /
+  // 2212.48)^4 = 4.173296e-14 (Q_c,out = 1 N), 1/L = (L_in^(-9/8) + L_out^(-9/8))^(8/9) =
+  // 1.9432787816e14; with the outer turning 2.1899578806e14. All computed independently in
+  // Python from the formulas as printed. Tolerance 1e-9 relative.
+  const double ratio = ltca::contact::RacewayCapacityRatio(8.0, 40.0);
+  CHECK(ratio == doctest::Approx(0.5845775452).epsilon(1e-9));
+  const auto m = ltca::contact::LoadMoments({3000.0, 1200.0, 0.0, 0.0});
+  CHECK(std::pow(m.fourth, 0.25) == doctest::Approx(2134.768373).epsilon(1e-9));
+  CHECK(std::pow(m.four_and_half, 1.0 / 4.5) == doctest::Approx(2212.484358).epsilon(1e-9));
+  CHECK(ltca::contact::LundbergPalmgrenDamage(m, ratio, ltca::contact::Raceway::kInner) ==
+        doctest::Approx(1.9432787816e14).epsilon(1e-9));
+  CHECK(ltca::contact::LundbergPalmgrenDamage(m, ratio, ltca::contact::Raceway::kOuter) ==
+        doctest::Approx(2.1899578806e14).epsilon(1e-9));
+}
+
+TEST_CASE("contact: without play, a stationary load and the inner ring turning, the load-zone life is ISO 281's basic life") {
+  // The calibration (contact/bearing.hpp): under the reference condition, at any load, the
+  // load-zone life equals (C / F)^(10/3). The roller loads are solved by the test's own bisection
+  // (TightLoads) over the reference's roller phases; Palmgren-Miner over them. Tolerance 1e-9.
+  BearingSettings b = bearing_life_test::Eccentric(0.0);
+  const double reference = ltca::contact::LoadZoneReferenceDamage(b);
+  const double ratio = ltca::contact::RacewayCapacityRatio(b.roller_diameter, b.pitch_diameter);
+  const double pitch = 2.0 * std::acos(-1.0) / b.roller_count;
+  for (const double load : {500.0, 5293.0, 20000.0}) {
+    CAPTURE(load);
+    double damage = 0.0;
+    for (int k = 0; k < ltca::contact::kReferencePhases; ++k) {
+      const auto q = bearing_life_test::TightLoads(b.roller_count, pitch * k / ltca::contact::kReferencePhases, load);
+      damage += ltca::contact::LundbergPalmgrenDamage(ltca::contact::LoadMoments(q), ratio, ltca::contact::Raceway::kInner);
+    }
+    const double p = ltca::contact::LoadZoneEquivalentLoad(damage / ltca::contact::kReferencePhases, reference);
+    CHECK(p == doctest::Approx(load).epsilon(1e-9));
+    CHECK(ltca::contact::RatingLife(b.dynamic_load_rating, p) ==
+          doctest::Approx(std::pow(b.dynamic_load_rating / load, 10.0 / 3.0)).epsilon(1e-9));
+  }
+  // The reference does not depend on the deck's play or rating (it is solved without play and
+  // scaled to 1 N).
+  BearingSettings loose = bearing_life_test::Eccentric(0.005);
+  loose.dynamic_load_rating = 20000.0;
+  CHECK(ltca::contact::LoadZoneReferenceDamage(loose) == doctest::Approx(reference).epsilon(1e-9));
+  // With play the same load gives a shorter life: fewer rollers carry it.
+  const Eigen::Vector2d u = BearingDisplacement(loose, Eigen::Vector2d(5293.0, 0.0));
+  const auto m = ltca::contact::LoadMoments(BearingAt(loose, u).roller_load);
+  CHECK(ltca::contact::LoadZoneEquivalentLoad(ltca::contact::LundbergPalmgrenDamage(m, ratio, ltca::contact::Raceway::kInner),
+                                              reference) > 5293.0 * 1.05);
+}
+
+TEST_CASE("contact: a roller's contact stress on the inner raceway is Hertz's line contact (ISO 76's basis)") {
+  // Johnson eq. 4.45: p0 = sqrt(Q E* / (pi l R)); roller 8 mm on an inner raceway of 32 mm
+  // diameter (d_m 40 mm): 1/R = 2/8 + 2/32 = 0.3125 /mm; E* = 207000 / (2 x 0.91) MPa; Q = 1000 N,
+  // l = 10 mm: p0 = 1063.651981 MPa (computed independently). Tolerance 1e-9.
+  const BearingSettings b = bearing_life_test::Eccentric(0.0);
+  CHECK(ltca::contact::RollerContactStress(b, 1000.0) == doctest::Approx(1063.651981).epsilon(1e-9));
+  CHECK(ltca::contact::RollerContactStress(b, 0.0) == 0.0);
+  // ISO 76's C_0 = 44 (1 - D_w / d_m) l Z D_w = 39,424 N; at Stribeck's Q_max = 5 C_0 / Z (ISO 76's
+  // load distribution) the stress is 4,000 MPa within 0.5 % (E = 207 GPa here).
+  const double c0 = 44.0 * (1.0 - 0.2) * 10.0 * 14.0 * 8.0;
+  CHECK(ltca::contact::RollerContactStress(b, 5.0 * c0 / 14.0) == doctest::Approx(ltca::contact::kStaticStressLimitRoller).epsilon(5e-3));
+  BearingSettings no_pitch = b;
+  no_pitch.pitch_diameter = 0.0;
+  CHECK_THROWS_WITH_AS(ltca::contact::RollerContactStress(no_pitch, 1000.0), doctest::Contains("[bearing] pitch_diameter_mm = 0"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(ltca::contact::LoadZoneReferenceDamage(no_pitch), doctest::Contains("[bearing] pitch_diameter_mm = 0"),
+                       std::invalid_argument);
+}
+
+TEST_CASE("contact: [bearing] pitch_diameter_mm and static_load_rating_n are refused with the key, the value and what is expected") {
+  BearingSettings b = bearing_life_test::Eccentric(0.0);
+  CHECK_NOTHROW(b.Validate());
+  b.pitch_diameter = 30.0;  // 14 rollers of 8 mm need 8 / sin(pi / 14) = 35.95 mm
+  CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("[bearing] pitch_diameter_mm = 30: expected 0 (not given) or a pitch diameter"),
+                       std::invalid_argument);
+  b.pitch_diameter = 0.0;
+  CHECK_NOTHROW(b.Validate());
+  b.static_load_rating = -1.0;
+  CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("[bearing] static_load_rating_n = -1"), std::invalid_argument);
 }

@@ -143,7 +143,14 @@ REWORDED = {
 # not a difference; a missing one still is): the geometry document's inspection figures, root and
 # tip diameters and the dimension over rollers (docs/export.md), checked against their own
 # derivation by tests/geometry/inspection_test.cpp.
-ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers"}
+# Issue 50: a stage's bearings' load-zone life, static safety and roller stress (docs/stage.md),
+# checked against their own derivations (tests/contact/bearing_test.cpp,
+# docs/derivations/load_zone_life.py).
+ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers",
+         "turning_raceway", "turning_raceway_basis", "load_zone_equivalent_load_n", "load_zone_life_million_revolutions",
+         "load_zone_life_hours", "load_zone_to_basic_life_ratio", "shortest_load_zone_life_hours", "max_bearing_load_per_bearing_n", "static_safety",
+         "smallest_static_safety", "max_roller_contact_stress_mpa", "largest_roller_contact_stress_mpa",
+         "roller_contact_stress_limit_mpa", "verdicts"}
 
 
 # Issue 46: `ltca compare` of a reducer stage ([output]) lists a solver that does not solve the stage

@@ -2,13 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <utility>
+
+#include <fmt/format.h>
 
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
 #include "ltca/analysis/tolerance_run.hpp"
+#include "ltca/contact/bearing.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::analysis {
@@ -140,11 +144,39 @@ std::vector<AllowableRow> CheckAllowables(const NominalResults& r, const Allowab
   if (r.efficiency != nullptr && !listed("efficiency")) {  // the sweep's efficiency (full model)
     rows.push_back(Judge("efficiency", FiniteOrNaN(r.efficiency->efficiency), "ltca efficiency"));
   }
-  if (r.reducer && r.solve != nullptr && r.solve->reducer && !listed("shortest_l10_hours")) {  // the stage's bearings
+  if (r.reducer && r.solve != nullptr && r.solve->reducer) {  // the stage's bearings
     const BearingLife life = r.solve->bearing_life.value_or(BearingLife{});
-    rows.push_back(Judge("stage.shortest_l10_hours", life.ShortestHours(), "ltca solve, ISO 281 (" + life.basis + ")"));
-    rows.back().name = "shortest bearing L10 (h)";
+    for (AllowableRow& row : BearingRatingRows(life, a.targets)) {
+      if (row.figure == "stage.shortest_l10_hours" && listed("shortest_l10_hours")) continue;  // a [tolerances] limit's row
+      rows.push_back(std::move(row));
+    }
   }
+  return rows;
+}
+
+void AllowablesSettings::Validate() const {
+  for (const auto& [key, value] : {std::pair{"bearing_life_hours", bearing_life_hours}, std::pair{"min_static_safety", min_static_safety}}) {
+    if (value && !(std::isfinite(*value) && *value > 0.0)) {
+      throw std::invalid_argument(fmt::format("[allowables] {} = {}: expected a finite value > 0", key, *value));
+    }
+  }
+}
+
+std::vector<AllowableRow> BearingRatingRows(const BearingLife& life, const AllowablesSettings& targets) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const AllowableRange hours{targets.bearing_life_hours.value_or(-inf), inf};
+  std::vector<AllowableRow> rows;
+  rows.push_back(Judge("stage.shortest_l10_hours", life.ShortestHours(), "ltca solve, ISO 281 (" + life.basis + ")", hours));
+  rows.back().name = "shortest bearing L10 (h)";
+  rows.push_back(Judge("stage.shortest_load_zone_life_hours", life.ShortestLoadZoneHours(),
+                       "ltca solve, roller loads, Lundberg-Palmgren on ISO 281's C (" + life.basis + ")", hours));
+  rows.back().name = "shortest bearing load-zone life (h)";
+  rows.push_back(Judge("stage.smallest_static_safety", life.SmallestStaticSafety(), "ltca solve, ISO 76: C_0 / P_0,max",
+                       AllowableRange{targets.min_static_safety.value_or(-inf), inf}));
+  rows.back().name = "smallest bearing static safety s_0";
+  rows.push_back(Judge("stage.largest_roller_contact_stress_mpa", life.LargestRollerStress(),
+                       "ltca solve, the largest roller on the inner raceway (Hertz)", AllowableRange{-inf, contact::kStaticStressLimitRoller}));
+  rows.back().name = "largest roller contact stress (MPa), ISO 76's 4,000 MPa";
   return rows;
 }
 

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "ltca/analysis/allowables.hpp"
 #include "ltca/analysis/friction.hpp"
 #include "ltca/analysis/inspection.hpp"
 #include "ltca/analysis/optimise.hpp"
@@ -320,6 +321,13 @@ const std::vector<DeckKey> kKeys = {
     {.section = "bearing", .name = "dynamic_load_rating_n", .type = T::kReal, .unit = "N",
      .meaning = "basic dynamic load rating C_r in N (ISO 281 life; 0: no life)", .default_value = "0",
      .setting = LTCA_SETTING(bearing, dynamic_load_rating)},
+    {.section = "bearing", .name = "static_load_rating_n", .type = T::kReal, .unit = "N",
+     .meaning = "basic static load rating C_0r in N (ISO 76 static safety s_0 = C_0r / P_0,max; 0: none)", .default_value = "0",
+     .setting = LTCA_SETTING(bearing, static_load_rating)},
+    {.section = "bearing", .name = "pitch_diameter_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "rollers: pitch diameter d_m of the roller set in mm (load-zone life, roller contact stress; 0: not given)",
+     .default_value = "0",
+     .setting = LTCA_SETTING(bearing, pitch_diameter)},
     // [load]
     {.section = "load", .name = "torque_nm", .type = T::kReal, .unit = "N*m",
      .meaning = "output torque of the stage in N*m: one disc's, or with [second_disc] both discs' together",
@@ -483,6 +491,13 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "diameter of the measuring rollers of the dimension over rollers in mm (> 0; the rollers in the tooth "
                 "spaces nearest to opposite)",
      .default_value = "", .setting = LTCA_SETTING(inspection, roller_diameter)},
+    // [allowables] (docs/stage.md, issue 50): the targets of a stage's bearing ratings
+    {.section = "allowables", .name = "bearing_life_hours", .type = T::kReal, .unit = "h",
+     .meaning = "required life of every bearing of the stage in hours: its load-zone life and its ISO 281 L10 (> 0)",
+     .default_value = "", .setting = LTCA_SETTING(allowables, bearing_life_hours)},
+    {.section = "allowables", .name = "min_static_safety", .type = T::kReal, .unit = "",
+     .meaning = "least static safety s_0 = C_0 / P_0,max of every bearing (ISO 76; > 0)", .default_value = "",
+     .setting = LTCA_SETTING(allowables, min_static_safety)},
 };
 
 #undef LTCA_FIELD

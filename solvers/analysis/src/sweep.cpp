@@ -116,8 +116,18 @@ void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
         g.max_bearing_load = std::max(g.max_bearing_load, load);
         if (bearing_power_sum_.size() <= b) bearing_power_sum_.resize(b + 1, 0.0);
         if (in_mean) bearing_power_sum_[b] += std::pow(load, contact::kRollerLifeExponent);
+        if (g.bearing_max_load.size() <= b) {
+          g.bearing_max_load.resize(b + 1, 0.0);
+          g.bearing_max_roller_load.resize(b + 1, std::numeric_limits<double>::quiet_NaN());
+        }
+        g.bearing_max_load[b] = std::max(g.bearing_max_load[b], load);
         for (const double q : disc.roller_load[k]) {
           g.max_roller_load = std::isnan(g.max_roller_load) ? q : std::max(g.max_roller_load, q);
+          g.bearing_max_roller_load[b] = std::isnan(g.bearing_max_roller_load[b]) ? q : std::max(g.bearing_max_roller_load[b], q);
+        }
+        if (in_mean && !disc.roller_load[k].empty()) {  // the load-zone life's load state
+          if (g.roller_moments.size() <= b) g.roller_moments.resize(b + 1);
+          g.roller_moments[b].push_back(contact::LoadMoments(disc.roller_load[k]));
         }
       }
     }
@@ -138,13 +148,23 @@ void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
   }
 }
 
-double BearingLife::ShortestHours() const {
-  double shortest = std::numeric_limits<double>::quiet_NaN();
-  for (const double h : hours) {
-    if (std::isfinite(h) && !(h >= shortest)) shortest = h;
+namespace {
+
+/// The least (or greatest) finite entry; NaN when none is finite.
+double Extreme(const std::vector<double>& values, bool least) {
+  double best = std::numeric_limits<double>::quiet_NaN();
+  for (const double v : values) {
+    if (std::isfinite(v) && !(least ? v >= best : v <= best)) best = v;
   }
-  return shortest;
+  return best;
 }
+
+}  // namespace
+
+double BearingLife::ShortestHours() const { return Extreme(hours, true); }
+double BearingLife::ShortestLoadZoneHours() const { return Extreme(load_zone_hours, true); }
+double BearingLife::SmallestStaticSafety() const { return Extreme(static_safety, true); }
+double BearingLife::LargestRollerStress() const { return Extreme(max_roller_stress, false); }
 
 BearingLife BearingLives(const StageDesign& design, const ReducerSummary& summary, const Sweep& sweep, bool closed_period,
                          double input_speed) {
@@ -163,11 +183,54 @@ BearingLife BearingLives(const StageDesign& design, const ReducerSummary& summar
   const double ratio = geometry::Kinematics(design.pair).TransmissionRatio();
   const double rpm = std::isfinite(input_speed) ? units::RadPerSToRpm(input_speed) * std::abs(1.0 - 1.0 / ratio)
                                                 : std::numeric_limits<double>::quiet_NaN();
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const auto hours = [&](double l) { return std::isfinite(rpm) && std::isfinite(l) ? contact::RatingLifeHours(l, rpm) : kNaN; };
   for (const double load : summary.mean_equivalent_load) {
-    const double l10 = rating > 0.0 ? contact::RatingLife(rating, load) : std::numeric_limits<double>::quiet_NaN();
+    const double l10 = rating > 0.0 ? contact::RatingLife(rating, load) : kNaN;
     life.million_revolutions.push_back(l10);
-    life.hours.push_back(std::isfinite(rpm) && std::isfinite(l10) ? contact::RatingLifeHours(l10, rpm)
-                                                                  : std::numeric_limits<double>::quiet_NaN());
+    life.hours.push_back(hours(l10));
+  }
+  // The load-zone life, from each position's roller loads (contact/bearing.hpp). Which raceway
+  // turns against the load follows from the element: the eccentric bearing of a cycloidal drive
+  // carries the disc's whole reaction (mesh and output pins), which turns with the eccentric, the
+  // inner ring, so the outer ring (the disc's bore) turns against it; a crank's needle bearing
+  // carries the disc's share of the torque to the carrier, which holds the crank's axis, so the
+  // load stands in the carrier's frame, as the disc's bore does (the disc translates on its
+  // orbit), and the crankshaft's eccentric, the inner ring, turns against it. (Measured: over a
+  // crank turn the eccentric bearing's load turns 356.7 deg, a crank bearing's -6.8 to -14.0 deg;
+  // docs/derivations/load_zone_life.py.)
+  const contact::BearingSettings* bearing = design.reducer ? &design.reducer->bearing : nullptr;
+  const bool cranks = design.reducer && design.reducer->kind == solvers::OutputKind::kCranks;
+  const contact::Raceway turning = cranks ? contact::Raceway::kInner : contact::Raceway::kOuter;
+  life.turning_basis = cranks ? "the crank bearing's load goes to the carrier, which holds the crank's axis: it stands in the "
+                                "carrier's frame with the disc's bore (the disc translates), and the crankshaft's eccentric, the "
+                                "inner ring, turns against it"
+                              : "the eccentric bearing's load, the disc's whole reaction, turns with the eccentric (the inner "
+                                "ring): the outer ring, the disc's bore, turns against it";
+  const bool rollers = bearing != nullptr && bearing->kind == contact::BearingKind::kRollers;
+  const bool has_geometry = rollers && bearing->pitch_diameter > bearing->roller_diameter;
+  const double reference = has_geometry && rating > 0.0 ? contact::LoadZoneReferenceDamage(*bearing) : kNaN;
+  const double capacity_ratio = has_geometry ? contact::RacewayCapacityRatio(bearing->roller_diameter, bearing->pitch_diameter) : kNaN;
+  for (std::size_t b = 0; b < summary.mean_equivalent_load.size(); ++b) {
+    life.turning_raceway.push_back(turning);
+    double load = kNaN;
+    if (std::isfinite(reference) && b < summary.roller_moments.size() && !summary.roller_moments[b].empty()) {
+      double damage = 0.0;  // Palmgren-Miner: the mean damage per revolution over the positions
+      for (const contact::RollerLoadMoments& m : summary.roller_moments[b]) {
+        damage += contact::LundbergPalmgrenDamage(m, capacity_ratio, turning);
+      }
+      load = contact::LoadZoneEquivalentLoad(damage / static_cast<double>(summary.roller_moments[b].size()), reference);
+    }
+    const double l = std::isfinite(load) ? contact::RatingLife(rating, load) : kNaN;
+    life.load_zone_equivalent_load.push_back(load);
+    life.load_zone_million_revolutions.push_back(l);
+    life.load_zone_hours.push_back(hours(l));
+    // Static: ISO 76's P_0 of a radial roller bearing is its radial load.
+    const double p0 = b < summary.bearing_max_load.size() ? summary.bearing_max_load[b] : kNaN;
+    const double c0 = bearing != nullptr ? bearing->static_load_rating : 0.0;
+    life.static_safety.push_back(c0 > 0.0 && std::isfinite(p0) && p0 > 0.0 ? c0 / p0 : kNaN);
+    const double q = b < summary.bearing_max_roller_load.size() ? summary.bearing_max_roller_load[b] : kNaN;
+    life.max_roller_stress.push_back(has_geometry && std::isfinite(q) ? contact::RollerContactStress(*bearing, q) : kNaN);
   }
   return life;
 }

@@ -536,6 +536,7 @@ std::string AllowablesHtml(const ReportContext& ctx) {
   analysis::Allowables allowables;
   allowables.contact_stress_limit = deck.RequireMaterial().contact_stress_limit;
   if (deck.tolerances) allowables.limits = deck.tolerances->limits;
+  allowables.targets = deck.allowables;
   for (const analysis::AllowableRow& row : analysis::CheckAllowables(nominal, allowables)) html += AllowableRow(row);
   return html + "</table>\n";
 }

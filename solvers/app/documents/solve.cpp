@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "ltca/analysis/allowables.hpp"
 #include "ltca/analysis/stage.hpp"
 #include "ltca/geometry/units.hpp"
 
@@ -18,6 +19,13 @@ using units::RadToArcsec;
 using units::RadToDeg;
 
 double MaxOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
+
+/// Each entry, null where not finite.
+nlohmann::json Finites(const std::vector<double>& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const double x : v) a.push_back(FiniteOrNull(x));
+  return a;
+}
 
 /// A reducer stage's solution at one position: per disc its pose, the output pins' forces
 /// with their direction, the bearings' forces and roller loads; the strain energy per group.
@@ -58,12 +66,33 @@ nlohmann::json ReducerJson(const solvers::ReducerSolution& st) {
           {"moment_balance", st.moment_balance_relative}};
 }
 
+/// Rows of the allowables check (analysis::Judge's rule): each figure with its value, bounds
+/// (null where open), margin and verdict.
+nlohmann::json Verdicts(const std::vector<analysis::AllowableRow>& rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const analysis::AllowableRow& r : rows) {
+    out.push_back({{"figure", r.figure},
+                   {"value", FiniteOrNull(r.value)},
+                   {"min", FiniteOrNull(r.range.min)},
+                   {"max", FiniteOrNull(r.range.max)},
+                   {"margin", FiniteOrNull(r.margin)},
+                   {"verdict", analysis::ToString(r.verdict)}});
+  }
+  return out;
+}
+
 /// A reducer stage's summary: the largest loads (N) and each bearing's ISO 281 life from its mean
 /// equivalent load over the positions, as the sweep's summary carries it (SweepSummary::bearing_life).
 nlohmann::json ReducerSummaryJson(const Deck& deck, const analysis::SweepSummary& s) {
   if (!s.reducer || !deck.reducer) return nullptr;
   const analysis::ReducerSummary& g = *s.reducer;
   const analysis::BearingLife life = s.bearing_life.value_or(analysis::BearingLife{});
+  std::vector<double> ratios;  // the load-zone life over the basic life, per bearing (docs/stage.md)
+  for (std::size_t b = 0; b < life.load_zone_million_revolutions.size() && b < life.million_revolutions.size(); ++b) {
+    ratios.push_back(life.load_zone_million_revolutions[b] / life.million_revolutions[b]);
+  }
+  nlohmann::json turning = nlohmann::json::array();
+  for (const contact::Raceway r : life.turning_raceway) turning.push_back(contact::ToString(r));
   nlohmann::json shares = nlohmann::json::object();
   for (std::size_t k = 0; k < g.energy_share.size(); ++k) {
     shares[solvers::ToString(static_cast<solvers::StageGroup>(k))] = FiniteOrNull(g.energy_share[k]);
@@ -77,6 +106,25 @@ nlohmann::json ReducerSummaryJson(const Deck& deck, const analysis::SweepSummary
           {"l10_hours", life.hours},
           {"shortest_l10_hours", FiniteOrNull(life.ShortestHours())},  // null when no bearing has a life
           {"life_basis", life.basis},
+          // The load-zone life from the roller loads (ISO/TS 16281's Lundberg-Palmgren form,
+          // calibrated on ISO 281): null without rollers, [bearing] pitch_diameter_mm or a rating.
+          {"turning_raceway", turning},
+          {"turning_raceway_basis", life.turning_basis},
+          {"load_zone_equivalent_load_n", Finites(life.load_zone_equivalent_load)},
+          {"load_zone_life_million_revolutions", Finites(life.load_zone_million_revolutions)},
+          {"load_zone_life_hours", Finites(life.load_zone_hours)},
+          {"load_zone_to_basic_life_ratio", Finites(ratios)},  // per bearing: load-zone life / ISO 281 L10
+          {"shortest_load_zone_life_hours", FiniteOrNull(life.ShortestLoadZoneHours())},
+          // ISO 76: s_0 = C_0 / P_0,max (null without static_load_rating_n); the largest roller's
+          // stress on the inner raceway against 4,000 MPa (null without rollers and pitch_diameter_mm).
+          {"max_bearing_load_per_bearing_n", Finites(g.bearing_max_load)},
+          {"static_safety", Finites(life.static_safety)},
+          {"smallest_static_safety", FiniteOrNull(life.SmallestStaticSafety())},
+          {"max_roller_contact_stress_mpa", Finites(life.max_roller_stress)},
+          {"largest_roller_contact_stress_mpa", FiniteOrNull(life.LargestRollerStress())},
+          {"roller_contact_stress_limit_mpa", contact::kStaticStressLimitRoller},
+          // Each rating against its target ([allowables]; the roller stress against ISO 76's 4,000 MPa).
+          {"verdicts", Verdicts(analysis::BearingRatingRows(life, deck.allowables))},
           {"strain_energy_share", shares}};
 }
 
@@ -306,6 +354,26 @@ std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::
                         std::isnan(g.max_roller_load) ? std::string() : fmt::format(" (largest roller {} N)", FormatOrNa(g.max_roller_load, 2)));
     // The JSON's figure (BearingLife::ShortestHours: the least finite life), one rule for both.
     text += fmt::format("bearing L10            {} h, the shortest ({})\n", FormatOrNa(life.ShortestHours(), 4), life.basis);
+    // The shortest load-zone life and its bearing's basic life beside it (their ratio).
+    double zone = std::numeric_limits<double>::quiet_NaN(), basic = zone;
+    for (std::size_t b = 0; b < life.load_zone_hours.size() && b < life.hours.size(); ++b) {
+      if (std::isfinite(life.load_zone_hours[b]) && !(life.load_zone_hours[b] >= zone)) zone = life.load_zone_hours[b], basic = life.hours[b];
+    }
+    text += fmt::format("load-zone life         {} h, the shortest ({} of that bearing's L10; roller loads, Lundberg-Palmgren on "
+                        "ISO 281's C; the {} ring turns against the load)\n",
+                        FormatOrNa(zone, 4), FormatOrNa(zone / basic, 4),
+                        life.turning_raceway.empty() ? "outer" : contact::ToString(life.turning_raceway.front()));
+    text += fmt::format("static safety s_0      {} (ISO 76: C_0 / P_0,max, the smallest)\n", FormatOrNa(life.SmallestStaticSafety(), 4));
+    text += fmt::format("roller contact stress  {} MPa, the largest (ISO 76's basis of C_0: {:g} MPa)\n",
+                        FormatOrNa(life.LargestRollerStress(), 2), contact::kStaticStressLimitRoller);
+    // The verdicts of the ratings that have a target (analysis::BearingRatingRows, one rule with
+    // the JSON and the report).
+    for (const analysis::AllowableRow& r : analysis::BearingRatingRows(life, deck.allowables)) {
+      if (!r.range.Given()) continue;
+      const bool below = std::isfinite(r.range.min);
+      text += fmt::format("  {:<6} {}: {}, target {} {:g}\n", analysis::ToString(r.verdict), r.name, FormatOrNa(r.value, 4),
+                          below ? ">=" : "<=", below ? r.range.min : r.range.max);
+    }
   }
   text += fmt::format("wall time              {:.4f} s for {} positions\n", s.wall_seconds, s.positions());
   return text;

@@ -1104,7 +1104,7 @@ solvers::ReducerSettings ReadReducer(const Section& output, const Section& beari
     }
   };
   if (b.kind != contact::BearingKind::kLinear) bearing_reject({"radial_stiffness_n_per_mm"});
-  if (b.kind != contact::BearingKind::kRollers) bearing_reject({"roller_count", "roller_diameter_mm", "roller_length_mm"});
+  if (b.kind != contact::BearingKind::kRollers) bearing_reject({"roller_count", "roller_diameter_mm", "roller_length_mm", "pitch_diameter_mm"});
   if (b.kind == contact::BearingKind::kRigid) bearing_reject({"radial_clearance_mm"});
   // The keys its kind needs, named when missing; then every number given.
   if (b.kind == contact::BearingKind::kLinear) RequireKeys(bearing, {"radial_stiffness_n_per_mm"});
@@ -1385,6 +1385,11 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     if (load.Present()) deck.load = ReadLoad(load);
     deck.sweep = ReadSweep(Section(Find(root, "sweep"), "sweep"), deck.pair);
     deck.stiffness = ReadStiffness(Section(Find(root, "stiffness"), "stiffness"));
+    const Section allowables(Find(root, "allowables"), "allowables");
+    if (allowables.Present()) {
+      ReadSettings(allowables, {.allowables = &deck.allowables});
+      deck.allowables.Validate();
+    }
     const Section inspection(Find(root, "inspection"), "inspection");
     if (inspection.Present()) {
       ReadSettings(inspection, {.inspection = &deck.inspection});

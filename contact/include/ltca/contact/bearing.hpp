@@ -47,9 +47,14 @@ struct BearingSettings {
   double roller_diameter = 0.0;      ///< mm (deck: roller_diameter_mm)
   double roller_length = 0.0;        ///< mm, effective length l (deck: roller_length_mm)
   double dynamic_load_rating = 0.0;  ///< N, C_r of ISO 281; 0: no life (deck: dynamic_load_rating_n)
+  /// mm, rollers: the pitch diameter d_m of the roller set; 0: not given, no load-zone life and no
+  /// roller contact stress (deck: pitch_diameter_mm)
+  double pitch_diameter = 0.0;
+  double static_load_rating = 0.0;   ///< N, C_0r of ISO 76; 0: no static safety (deck: static_load_rating_n)
   /// Throws std::invalid_argument naming the `[bearing]` key, its value and what is expected:
   /// clearance finite and >= 0; linear: stiffness finite and > 0; rollers: 3 to kMaxRollers rollers,
-  /// diameter and length finite and > 0; the rating finite and >= 0.
+  /// diameter and length finite and > 0; the ratings finite and >= 0; a pitch diameter 0 or one
+  /// on which the rollers fit (d_m sin(pi / Z) >= D_w, so D_w < d_m).
   void Validate() const;
 };
 
@@ -93,5 +98,70 @@ double MeanEquivalentLoad(const std::vector<double>& loads, double exponent = kR
 double RatingLife(double dynamic_load_rating, double equivalent_load, double exponent = kRollerLifeExponent);
 /// L10 (millions of revolutions) in hours at `rpm` revolutions per minute of the bearing.
 double RatingLifeHours(double life_million_revolutions, double rpm);
+
+// Load-zone life: the reference rating life of ISO/TS 16281 in its Lundberg-Palmgren form for
+// line contact (Harris, T. A., Kotzalas, M. N., Rolling Bearing Analysis, 5th ed., CRC 2007,
+// "Fatigue life: basic theory and rating standards"):
+// - per raceway the equivalent roller load over one pass of the rollers, with the Z roller loads
+//   Q_j of a load state: Q_e = ((1/Z) sum Q_j^4)^(1/4) for the raceway that turns against the
+//   load (each of its points meets every roller), Q_e = ((1/Z) sum Q_j^4.5)^(1/4.5) for the one
+//   that stands against it (each point sees the roller loads of its own angle);
+// - the raceways' basic dynamic capacities for line contact, Q_c ~ (1 -+ g)^(29/27) / (1 +- g)^(1/4)
+//   (inner: upper signs), so Q_c,in / Q_c,out = ((1 - g) / (1 + g))^(29/27 + 1/4), g = D_w / d_m;
+// - L = (Q_c / Q_e)^4 per raceway, the bearing's L = (L_in^(-9/8) + L_out^(-9/8))^(-8/9);
+// - over the load states of a revolution (equal shares) Palmgren-Miner: 1/L = mean of 1/L_k
+//   (ISO 281:2007, variable operating conditions).
+// The absolute capacity is not computed from the geometry: the bearing is calibrated on its own
+// rating. The load-zone equivalent load P_lz is the stationary radial load under which the same
+// bearing without play, inner ring turning against the load, its cage carrying the rollers through
+// the load zone, would take the same damage; the load-zone life is ISO 281's (C / P_lz)^(10/3). So
+// it equals ISO 281's basic life wherever ISO 281 applies, at any load (zero play makes every roller
+// load proportional to the applied load, and the damage goes as its fourth power).
+
+enum class Raceway { kInner, kOuter };
+/// "inner" | "outer".
+const char* ToString(Raceway raceway);
+
+/// Q_c,inner / Q_c,outer = ((1 - g) / (1 + g))^(29/27 + 1/4), g = D_w / d_m (0 < g < 1).
+double RacewayCapacityRatio(double roller_diameter, double pitch_diameter);
+
+/// One load state's roller loads as the raceways see them: (1/Z) sum Q_j^4 (N^4) and
+/// (1/Z) sum Q_j^4.5 (N^4.5); Z = the number of loads given.
+struct RollerLoadMoments {
+  double fourth = 0.0;
+  double four_and_half = 0.0;
+};
+RollerLoadMoments LoadMoments(const std::vector<double>& roller_load);
+
+/// The damage of one revolution in that load state, 1/L in units of Q_c,out = 1 N (N^4): the
+/// raceway `turning` takes the exponent-4 equivalent load, the other the exponent-4.5 one;
+/// capacity_ratio = RacewayCapacityRatio.
+double LundbergPalmgrenDamage(const RollerLoadMoments& moments, double capacity_ratio, Raceway turning);
+
+/// The number of roller phases over one roller pitch the reference state averages (the cage
+/// carrying the rollers through a stationary load): phases 2 pi m / (M Z), m = 0 .. M - 1.
+inline constexpr int kReferencePhases = 16;
+
+/// The reference: the mean damage per revolution (units of LundbergPalmgrenDamage) of `bearing`
+/// without play under a stationary radial load of 1 N, the inner ring turning against it, over
+/// kReferencePhases roller phases (each state solved by BearingDisplacement). Requires rollers and
+/// a pitch diameter (std::invalid_argument naming the key otherwise).
+double LoadZoneReferenceDamage(const BearingSettings& bearing);
+
+/// The load-zone equivalent load (N) of a mean damage per revolution: (damage / reference)^(1/4);
+/// NaN when either is not finite or the reference is not > 0.
+double LoadZoneEquivalentLoad(double mean_damage, double reference_damage);
+
+/// Hertz's largest pressure (MPa) of the roller's line contact with the inner raceway, the more
+/// curved of the two (Johnson, Contact Mechanics, 1985, eq. 4.45: p0 = sqrt(Q E* / (pi l R)),
+/// 1/R = 2/D_w + 2/(d_m - D_w), 1/E* = 2 (1 - nu^2) / E), for roller and rings of bearing steel,
+/// E = kBearingSteelModulus, nu = kBearingSteelPoisson. Requires rollers and a pitch diameter.
+inline constexpr double kBearingSteelModulus = 207000.0;  ///< MPa
+inline constexpr double kBearingSteelPoisson = 0.3;
+double RollerContactStress(const BearingSettings& bearing, double roller_load);
+
+/// ISO 76:2006's stress basis of C_0 for roller bearings: 4,000 MPa at the centre of the most
+/// heavily loaded roller-raceway contact.
+inline constexpr double kStaticStressLimitRoller = 4000.0;  ///< MPa
 
 }  // namespace ltca::contact

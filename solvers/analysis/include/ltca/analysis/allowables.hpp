@@ -73,12 +73,33 @@ struct NominalResults {
   const ToleranceResult* tolerance = nullptr;
 };
 
-/// The allowables of a design: the largest contact stress (MPa, infinite: none) and the limits
-/// of [tolerances] (each a figure of ToleranceSettings::FigureNames with its range).
+/// [allowables] (docs/stage.md, issue 50): the targets of a stage's bearing ratings; absent: none.
+struct AllowablesSettings {
+  /// h: the life every bearing must reach, its load-zone life and its basic L10 alike.
+  std::optional<double> bearing_life_hours;
+  /// The least static safety s_0 = C_0 / P_0,max of every bearing (ISO 76).
+  std::optional<double> min_static_safety;
+  /// Throws std::invalid_argument naming the `[allowables]` key, its value and what is expected:
+  /// each given value finite and > 0.
+  void Validate() const;
+};
+
+/// The allowables of a design: the largest contact stress (MPa, infinite: none), the limits
+/// of [tolerances] (each a figure of ToleranceSettings::FigureNames with its range) and the
+/// targets of [allowables].
 struct Allowables {
   double contact_stress_limit = std::numeric_limits<double>::infinity();
   std::vector<ToleranceLimit> limits;
+  AllowablesSettings targets;
 };
+
+struct BearingLife;
+/// A stage's bearing ratings against their targets, one rule for every front-end (the solve's
+/// JSON and text, the report): "stage.shortest_l10_hours" and
+/// "stage.shortest_load_zone_life_hours" against [allowables] bearing_life_hours (min),
+/// "stage.smallest_static_safety" against min_static_safety, and
+/// "stage.largest_roller_contact_stress_mpa" against ISO 76's 4,000 MPa (max, always given).
+std::vector<AllowableRow> BearingRatingRows(const BearingLife& life, const AllowablesSettings& targets);
 
 /// A figure of the nominal design (a name of ToleranceSettings::FigureNames) and the analysis it
 /// is taken from: the tolerance study's nominal run when it ran its worst case, else the analysis

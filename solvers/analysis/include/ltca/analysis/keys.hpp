@@ -48,6 +48,7 @@ struct OperationSettings;
 struct FrictionSettings;
 struct OptimiseSettings;
 struct ToleranceSettings;
+struct AllowablesSettings;
 struct InspectionSettings;
 
 /// The parts of one disc a key of [modification] or [errors] writes to (a second disc has its own).
@@ -59,7 +60,7 @@ struct DiscParts {
 
 /// The settings of one deck the keys of a section write to: every key of [case], [pair], [contact],
 /// [geometry], [material], [pins], [output], [bearing], [load], [sweep], [solver], [stiffness],
-/// [second_disc] (its own key), [tolerances], [operation], [friction], [optimise] and [inspection] but the tables
+/// [second_disc] (its own key), [tolerances], [operation], [friction], [optimise], [inspection] and [allowables] but the tables
 /// and lists their readers take apart, and the keys of [modification] and [errors] that are not
 /// real numbers (those go by DeckKey::real and DeckKey::list);
 /// nullptr: that part is not being read (the binder gives no field).
@@ -92,6 +93,7 @@ struct SettingsParts {
   FrictionSettings* friction = nullptr;
   OptimiseSettings* optimise = nullptr;
   InspectionSettings* inspection = nullptr;  ///< [inspection]
+  AllowablesSettings* allowables = nullptr;  ///< [allowables]
 };
 
 /// The field a key of SettingsParts fills, one kind by the key's type: a number (internal unit),

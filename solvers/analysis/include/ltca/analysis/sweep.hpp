@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ltca/contact/bearing.hpp"
 #include "ltca/analysis/run.hpp"
 #include "ltca/analysis/stage.hpp"
 #include "ltca/solvers/load_solver.hpp"
@@ -94,6 +95,13 @@ struct ReducerSummary {
   double max_bearing_load = std::numeric_limits<double>::quiet_NaN();   ///< N
   double max_roller_load = std::numeric_limits<double>::quiet_NaN();    ///< N (NaN without rollers)
   std::vector<double> mean_equivalent_load;                             ///< N, per bearing
+  /// Per bearing, its largest load and its largest roller's load over the successful positions
+  /// (N; the roller's NaN without rollers): ISO 76's P_0 and the static stress.
+  std::vector<double> bearing_max_load;
+  std::vector<double> bearing_max_roller_load;
+  /// Rollers: per bearing, per position in the mean, its roller loads' moments as the raceways see
+  /// them (contact::LoadMoments): the load-zone life's load states. Empty without rollers.
+  std::vector<std::vector<contact::RollerLoadMoments>> roller_moments;
   /// Mean share of the strain energy per element group (solvers::StageGroup order).
   std::vector<double> energy_share;
 };
@@ -107,12 +115,36 @@ struct ReducerSummary {
 /// dynamic_load_rating_n) or, for hours, without a speed. `basis` says what the mean is over: a
 /// whole crank turn, a mesh period that repeats over the turn (SweepSummary::closed_period), or
 /// only the swept positions.
+///
+/// The load-zone life (rollers with [bearing] pitch_diameter_mm and a rating): the reference
+/// rating life of ISO/TS 16281 in its Lundberg-Palmgren form from each position's roller loads
+/// (contact/bearing.hpp), Palmgren-Miner over the positions in the mean, calibrated on ISO 281 by
+/// the load-zone equivalent load P_lz: L = (C / P_lz)^(10/3). The raceway that turns against the
+/// load follows from the element (turning_basis says why): the outer one for the eccentric
+/// bearing of a cycloidal drive (its load turns with the eccentric), the inner one for a crank's
+/// needle bearing (its load stands on the carrier, as the translating disc's bore does).
+/// Static safety (ISO 76:2006): s_0 = C_0 / P_0,max, P_0 = the radial load of a radial roller
+/// bearing (alpha = 0), the largest over the successful positions; and the largest roller's Hertz
+/// stress on the inner raceway against ISO 76's 4,000 MPa.
 struct BearingLife {
   std::vector<double> million_revolutions;
   std::vector<double> hours;
   std::string basis;
+  std::vector<contact::Raceway> turning_raceway;        ///< per bearing: the raceway turning against the load
+  std::string turning_basis;                             ///< why, from the element's kinematics
+  std::vector<double> load_zone_equivalent_load;         ///< N, P_lz per bearing (NaN: not computed)
+  std::vector<double> load_zone_million_revolutions;     ///< per bearing (NaN: not computed)
+  std::vector<double> load_zone_hours;                   ///< per bearing (NaN: not computed)
+  std::vector<double> static_safety;                     ///< s_0 per bearing (NaN without C_0)
+  std::vector<double> max_roller_stress;                 ///< MPa per bearing (NaN without rollers and d_m)
   /// The shortest life in hours of the bearings that have one; NaN when none has (no rating, no speed).
   double ShortestHours() const;
+  /// The same for the load-zone lives.
+  double ShortestLoadZoneHours() const;
+  /// The smallest s_0 of the bearings that have one; NaN when none has.
+  double SmallestStaticSafety() const;
+  /// The largest roller contact stress, MPa; NaN when none is computed.
+  double LargestRollerStress() const;
 };
 
 struct SweepSummary : RunRecord {

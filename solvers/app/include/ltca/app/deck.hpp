@@ -24,6 +24,7 @@
 #include "ltca/geometry/pair.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/friction.hpp"
+#include "ltca/analysis/allowables.hpp"
 #include "ltca/analysis/inspection.hpp"
 #include "ltca/analysis/keys.hpp"
 #include "ltca/analysis/optimise.hpp"
@@ -105,6 +106,7 @@ struct Deck : analysis::StageDesign {
   std::optional<analysis::FrictionSettings> friction;    ///< [friction], optional: without it no friction anywhere
   std::optional<analysis::OptimiseSettings> optimise;    ///< [optimise], optional (ltca optimise)
   analysis::InspectionSettings inspection;               ///< [inspection], optional (ltca geometry)
+  analysis::AllowablesSettings allowables;               ///< [allowables], optional (the stage's bearing targets)
 
   /// The stage of this deck checked at its sweep's cranks (or the given ones), for the commands
   /// that load it: requires [material] (std::invalid_argument naming the deck).
