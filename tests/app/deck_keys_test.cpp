@@ -279,6 +279,9 @@ const std::vector<std::string> kTakenApart = {
     "errors.profile_measured_csv",       "output.hole_radial_deviations_mm", "output.hole_tangential_deviations_mm",
     "tolerances.limits",                 "tolerances.chains",                "optimise.variables",
     "optimise.constraints",
+    // [[load_spectrum]]: each entry read into an analysis::LoadBin (tests/app/spectrum_test.cpp
+    // shows every key reaching its bin)
+    "load_spectrum.torque_nm",           "load_spectrum.speed_rpm",          "load_spectrum.time_share",
 };
 
 /// Where the deck's keys went: its settings, and a disc's parts (the first or the second).

@@ -492,6 +492,17 @@ const std::vector<DeckKey> kKeys = {
                 "spaces nearest to opposite)",
      .default_value = "", .setting = LTCA_SETTING(inspection, roller_diameter)},
     // [allowables] (docs/stage.md, issue 50): the targets of a stage's bearing ratings
+    // [[load_spectrum]]: an array of tables, each a bin of the duty cycle (issue 50; the deck
+    // reader takes each entry apart into analysis::LoadBin, spectrum.hpp)
+    {.section = "load_spectrum", .name = "torque_nm", .type = T::kReal, .unit = "N*m",
+     .meaning = "a bin's output torque in N*m, signed like [load] torque_nm (each [[load_spectrum]] entry)",
+     .default_value = "", .required = true},
+    {.section = "load_spectrum", .name = "speed_rpm", .type = T::kReal, .unit = "rpm",
+     .meaning = "a bin's crank (input) speed in rpm, as [operation] input_speed_rpm (> 0)", .default_value = "",
+     .required = true},
+    {.section = "load_spectrum", .name = "time_share", .type = T::kReal, .unit = "",
+     .meaning = "a bin's share of the operating time, in (0, 1]; the shares add to 1 within 1e-9 (not normalised)",
+     .default_value = "", .required = true},
     {.section = "allowables", .name = "bearing_life_hours", .type = T::kReal, .unit = "h",
      .meaning = "required life of every bearing of the stage in hours: its load-zone life and its ISO 281 L10 (> 0)",
      .default_value = "", .setting = LTCA_SETTING(allowables, bearing_life_hours)},

@@ -50,15 +50,20 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
   progress.Finish();
   if (!started) start();
   const analysis::SweepSummary& s = sweep.summary;
+  // A load spectrum: each bin solved as the deck's sweep at its torque and speed (issue 50).
+  std::optional<analysis::SpectrumResult> spectrum;
+  if (!deck.load_spectrum.empty()) spectrum = app::SolveDeckSpectrum(deck, solver);
   if (writer) {
-    writer->Finish(deck, s);
+    writer->Finish(deck, s, spectrum ? &*spectrum : nullptr);
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
   if (pattern.enabled()) pattern.Commit();
   if (svg.enabled()) WriteFigure(documents::Figure(deck, solver, series, s), svg);
   streams.text << documents::Text(deck, solver, s);
-  return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+  if (spectrum) streams.text << documents::SpectrumText(*spectrum);
+  const bool succeeded = s.all_succeeded() && (!spectrum || spectrum->all_succeeded());
+  return succeeded ? kExitSuccess : kExitNotSucceeded;
 }
 
 Command SolveCommand() {

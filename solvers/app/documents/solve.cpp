@@ -314,9 +314,55 @@ void SolveJsonWriter::Add(const analysis::PositionResult& p) {
   os_ << (written_++ == 0 ? "\n    " : ",\n    ") << Dump(Json(p), -1);
 }
 
-void SolveJsonWriter::Finish(const Deck& deck, const analysis::SweepSummary& summary) {
+void SolveJsonWriter::Finish(const Deck& deck, const analysis::SweepSummary& summary, const analysis::SpectrumResult* spectrum) {
   Start();
-  os_ << "\n  ],\n  \"summary\": " << Nested(Dump(Json(deck, summary))) << "\n}" << after_ << '\n';
+  os_ << "\n  ],\n  \"summary\": " << Nested(Dump(Json(deck, summary)));
+  if (spectrum != nullptr) os_ << ",\n  \"spectrum\": " << Nested(Dump(SpectrumJson(*spectrum)));
+  os_ << "\n}" << after_ << '\n';
+}
+
+nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
+  nlohmann::json bins = nlohmann::json::array();
+  for (const analysis::SpectrumBinResult& b : r.bins) {
+    const analysis::SweepSummary& s = b.summary;
+    const analysis::BearingLife life = s.bearing_life.value_or(analysis::BearingLife{});
+    bins.push_back({{"torque_nm", units::NmmToNm(b.bin.torque)},
+                    {"speed_rpm", units::RadPerSToRpm(b.bin.input_speed)},
+                    {"time_share", b.bin.time_share},
+                    {"status", solvers::ToString(s.status)},
+                    {"succeeded_positions", s.succeeded},
+                    {"failed_positions", s.failed},
+                    {"mean_te_arcsec", FiniteOrNull(RadToArcsec(s.mean_te))},
+                    {"pp_te_arcsec", FiniteOrNull(RadToArcsec(s.pp_te))},
+                    {"max_pin_force_n", FiniteOrNull(s.max_pin_force)},
+                    {"max_contact_stress_mpa", FiniteOrNull(s.max_contact_stress)},
+                    {"l10_hours", Finites(life.hours)},
+                    {"load_zone_life_hours", Finites(life.load_zone_hours)}});
+  }
+  return {{"rule", "Palmgren-Miner over the time shares: L = 1 / sum(share_i / L_i), each L_i in hours at bin i's crank speed"},
+          {"bins", bins},
+          {"l10_hours", Finites(r.l10_hours)},
+          {"shortest_l10_hours", FiniteOrNull(r.ShortestL10Hours())},
+          {"load_zone_life_hours", Finites(r.load_zone_hours)},
+          {"shortest_load_zone_life_hours", FiniteOrNull(r.ShortestLoadZoneHours())}};
+}
+
+std::string SpectrumText(const analysis::SpectrumResult& r) {
+  std::string text = fmt::format("load spectrum          {} bins; lives by Palmgren-Miner over the time shares\n", r.bins.size());
+  for (std::size_t i = 0; i < r.bins.size(); ++i) {
+    const analysis::SpectrumBinResult& b = r.bins[i];
+    const analysis::SweepSummary& s = b.summary;
+    const analysis::BearingLife life = s.bearing_life.value_or(analysis::BearingLife{});
+    text += fmt::format("  bin {}: {:g} N*m at {:g} rpm, share {:g}: {}, mean TE {} arcsec, largest pin force {} N, "
+                        "largest stress {} MPa, bearing L10 {} h, load-zone life {} h (the shortest)\n",
+                        i + 1, units::NmmToNm(b.bin.torque), units::RadPerSToRpm(b.bin.input_speed), b.bin.time_share,
+                        solvers::ToString(s.status), FormatOrNa(RadToArcsec(s.mean_te), 4), FormatOrNa(s.max_pin_force, 2),
+                        FormatOrNa(s.max_contact_stress, 2), FormatOrNa(life.ShortestHours(), 4),
+                        FormatOrNa(life.ShortestLoadZoneHours(), 4));
+  }
+  text += fmt::format("spectrum bearing L10   {} h, the shortest\n", FormatOrNa(r.ShortestL10Hours(), 4));
+  text += fmt::format("spectrum load-zone     {} h, the shortest\n", FormatOrNa(r.ShortestLoadZoneHours(), 4));
+  return text;
 }
 
 std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::SweepSummary& s) {

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "documents/common.hpp"
+#include "ltca/analysis/spectrum.hpp"
 #include "ltca/analysis/sweep.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/app/plots.hpp"
@@ -45,7 +46,8 @@ class SolveJsonWriter {
   SolveJsonWriter(std::ostream& os, const Deck& deck, const SolverOptions& solver, std::string before = {},
                   std::string after = {});
   void Add(const analysis::PositionResult& p);
-  void Finish(const Deck& deck, const analysis::SweepSummary& summary);
+  /// The summary, then (with a load spectrum) its "spectrum" block.
+  void Finish(const Deck& deck, const analysis::SweepSummary& summary, const analysis::SpectrumResult* spectrum = nullptr);
 
  private:
   void Start();
@@ -62,6 +64,13 @@ std::string FailureNote(const analysis::SweepSummary& summary);
 /// discs' shares, the largest pin force (N) and contact stress (MPa), a stage's loads and shortest
 /// bearing L10 (h), the wall time.
 std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::SweepSummary& summary);
+
+/// The load spectrum (issue 50): per bin its torque (N*m), crank speed (rpm), time share, status,
+/// mean and peak-to-peak TE (arcsec), largest pin force (N) and contact stress (MPa) and each
+/// bearing's lives (h) at its speed; the lives combined by Miner's rule over the shares.
+nlohmann::json SpectrumJson(const analysis::SpectrumResult& spectrum);
+/// The same as text lines.
+std::string SpectrumText(const analysis::SpectrumResult& spectrum);
 
 /// The CSV: its header line and a row per position (figures empty where the position failed).
 std::string SolveCsvHead(const Deck& deck);

@@ -405,7 +405,9 @@ class Section {
 
   /// What the key is (analysis::DeckKeys()): [second_disc] takes the disc keys of [modification] and [errors].
   const char* Meaning(const std::string& key) const {
-    for (const char* section : {name_.c_str(), "modification", "errors"}) {
+    // An entry of an array of tables is named "section #i": its keys are the section's.
+    const std::string own = name_.substr(0, name_.find(" #"));
+    for (const char* section : {own.c_str(), "modification", "errors"}) {
       if (const analysis::DeckKey* k = analysis::FindKey(section, key)) return k->meaning;
       if (name_ != "second_disc") break;
     }
@@ -653,6 +655,32 @@ analysis::LoadCase ReadLoad(const Section& s) {
   ReadSettings(s, {.load = &load});
   load.Validate();
   return load;
+}
+
+/// [[load_spectrum]]: an array of tables, each entry a bin (torque_nm, speed_rpm, time_share, all
+/// required); its messages name the entry, counted from 1. The bins are validated together
+/// (analysis::ValidateSpectrum: the shares add to 1, not normalised).
+std::vector<analysis::LoadBin> ReadLoadSpectrum(const toml::value& v) {
+  // A single [load_spectrum] table (or --set load_spectrum.key=...): its keys checked first, so a
+  // key that is not one is named as unknown.
+  if (v.is_table()) (void)Section(&v, "load_spectrum");
+  if (!v.is_array() || v.as_array().empty()) {
+    throw std::invalid_argument("[[load_spectrum]]: expected an array of tables, one [[load_spectrum]] entry per bin "
+                                "(torque_nm, speed_rpm, time_share)");
+  }
+  std::vector<analysis::LoadBin> bins;
+  const toml::array& entries = v.as_array();
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    if (!entries[i].is_table()) throw std::invalid_argument(fmt::format("[[load_spectrum]] #{}: expected a table (torque_nm, speed_rpm, time_share)", i + 1));
+    const Section s(&entries[i], fmt::format("load_spectrum #{}", i + 1), analysis::SectionKeys("load_spectrum"));
+    analysis::LoadBin b;
+    b.torque = units::NmToNmm(s.Real("torque_nm"));
+    b.input_speed = units::RpmToRadPerS(s.Real("speed_rpm"));
+    b.time_share = s.Real("time_share");
+    bins.push_back(b);
+  }
+  analysis::ValidateSpectrum(bins);
+  return bins;
 }
 
 analysis::Sweep ReadSweep(const Section& s, const geometry::PairParameters& pair) {
@@ -1385,6 +1413,7 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     if (load.Present()) deck.load = ReadLoad(load);
     deck.sweep = ReadSweep(Section(Find(root, "sweep"), "sweep"), deck.pair);
     deck.stiffness = ReadStiffness(Section(Find(root, "stiffness"), "stiffness"));
+    if (const toml::value* spectrum = Find(root, "load_spectrum")) deck.load_spectrum = ReadLoadSpectrum(*spectrum);
     const Section allowables(Find(root, "allowables"), "allowables");
     if (allowables.Present()) {
       ReadSettings(allowables, {.allowables = &deck.allowables});
@@ -1496,6 +1525,20 @@ analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& opti
                                deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN());
   }
   return sweep;
+}
+
+analysis::SpectrumResult SolveDeckSpectrum(const Deck& deck, const SolverOptions& options) {
+  std::vector<analysis::SpectrumBinResult> bins;
+  for (const analysis::LoadBin& bin : deck.load_spectrum) {
+    // The deck as `--set load.torque_nm=T --set operation.input_speed_rpm=n` would make it.
+    Deck d = deck;
+    d.load = analysis::LoadCase{.torque = bin.torque};
+    if (!d.operation) d.operation = analysis::OperationSettings{};
+    d.operation->input_speed = bin.input_speed;
+    d.load_spectrum.clear();
+    bins.push_back({.bin = bin, .summary = SolveDeckSweep(d, options).summary});
+  }
+  return analysis::CombineSpectrum(std::move(bins));
 }
 
 Deck DeckFor(const Deck& deck, const std::string& kinematics) {

@@ -25,6 +25,7 @@
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/friction.hpp"
 #include "ltca/analysis/allowables.hpp"
+#include "ltca/analysis/spectrum.hpp"
 #include "ltca/analysis/inspection.hpp"
 #include "ltca/analysis/keys.hpp"
 #include "ltca/analysis/optimise.hpp"
@@ -107,6 +108,8 @@ struct Deck : analysis::StageDesign {
   std::optional<analysis::OptimiseSettings> optimise;    ///< [optimise], optional (ltca optimise)
   analysis::InspectionSettings inspection;               ///< [inspection], optional (ltca geometry)
   analysis::AllowablesSettings allowables;               ///< [allowables], optional (the stage's bearing targets)
+  /// [[load_spectrum]], optional: the duty cycle's bins (ltca solve rates every life over them).
+  std::vector<analysis::LoadBin> load_spectrum;
 
   /// The stage of this deck checked at its sweep's cranks (or the given ones), for the commands
   /// that load it: requires [material] (std::invalid_argument naming the deck).
@@ -144,6 +147,10 @@ struct Deck : analysis::StageDesign {
 /// (SweepSummary::bearing_life, at [operation] input_speed_rpm; no hours without it). Requires
 /// [material] and [load].
 analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& options, const analysis::SweepCallbacks& callbacks = {});
+/// The deck's [[load_spectrum]]: each bin solved as the deck's sweep at the bin's torque and crank
+/// speed (what --set load.torque_nm / operation.input_speed_rpm would give), the lives combined by
+/// Miner's rule over the time shares (analysis::CombineSpectrum). Empty without a spectrum.
+analysis::SpectrumResult SolveDeckSpectrum(const Deck& deck, const SolverOptions& options);
 
 /// The deck with a front-end's kinematics by name (contact::ParseKinematics; "" keeps the deck's
 /// [solver] kinematics).

@@ -1,0 +1,138 @@
+// Issue 50, item 5: a load spectrum ([[load_spectrum]]) in `ltca solve`. Its bins must be the deck's
+// sweep at each bin's torque and crank speed, i.e. the plain runs with `--set load.torque_nm=T
+// --set operation.input_speed_rpm=n`, and its lives the Palmgren-Miner combination of those runs'
+// lives over the time shares, L = 1 / sum(share_i / L_i), recomputed here from the single runs'
+// printed lives (tolerance 1e-12 relative: the same arithmetic, the JSON round trip aside).
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_run.hpp"
+#include "ltca/analysis/spectrum.hpp"
+
+namespace spectrum_test {
+
+/// A stage deck of cases/ with `bins` appended, written to a temporary file.
+std::string DeckWith(const std::string& deck, const std::string& bins, const std::string& name) {
+  std::ifstream in(std::string(LTCA_CASES_DIR) + "/stage/" + deck);
+  std::stringstream text;
+  text << in.rdbuf() << "\n" << bins;
+  const auto path = std::filesystem::temp_directory_path() / ("ltca_spectrum_test_" + name + ".toml");
+  std::ofstream(path) << text.str();
+  return path.string();
+}
+
+nlohmann::json Solve(const std::vector<std::string>& args) {
+  const auto r = ltca::test::RunCli(args);
+  REQUIRE(r.code == 0);
+  return nlohmann::json::parse(r.out);
+}
+
+/// The plain run of the deck at a torque (N*m) and crank speed (rpm).
+nlohmann::json SingleRun(const std::string& deck, const std::string& torque, const std::string& rpm) {
+  return Solve({"solve", std::string(LTCA_CASES_DIR) + "/stage/" + deck, "--json", "-", "--set", "load.torque_nm=" + torque,
+                "--set", "operation.input_speed_rpm=" + rpm});
+}
+
+std::vector<double> Numbers(const nlohmann::json& a) { return a.get<std::vector<double>>(); }
+
+}  // namespace spectrum_test
+
+TEST_CASE("app: a two-bin load spectrum's lives are Miner's combination of the two single runs") {
+  using namespace spectrum_test;
+  const std::string deck = DeckWith("rv_two_discs_cranks.toml",
+                                    "[[load_spectrum]]\ntorque_nm = 150\nspeed_rpm = 1000\ntime_share = 0.25\n\n"
+                                    "[[load_spectrum]]\ntorque_nm = 412\nspeed_rpm = 2500\ntime_share = 0.75\n",
+                                    "two_bins");
+  const nlohmann::json spectrum = Solve({"solve", deck, "--json", "-"}).at("spectrum");
+  const nlohmann::json one = SingleRun("rv_two_discs_cranks.toml", "150", "1000").at("summary");
+  const nlohmann::json two = SingleRun("rv_two_discs_cranks.toml", "412", "2500").at("summary");
+  REQUIRE(spectrum.at("bins").size() == 2);
+  for (const char* life : {"l10_hours", "load_zone_life_hours"}) {
+    const std::vector<double> a = Numbers(one.at("stage").at(life)), b = Numbers(two.at("stage").at(life));
+    const std::vector<double> combined = Numbers(spectrum.at(life));
+    REQUIRE(a.size() == 6);  // three cranks, two discs: six bearings
+    REQUIRE(combined.size() == a.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      CAPTURE(life);
+      CAPTURE(k);
+      CHECK(combined[k] == doctest::Approx(1.0 / (0.25 / a[k] + 0.75 / b[k])).epsilon(1e-12));
+      // The combination lies between the two bins' lives (the 412 N*m bin at 2500 rpm is the shorter).
+      CHECK(combined[k] > b[k]);
+      CHECK(combined[k] < a[k]);
+      // Each bin's own lives are the single run's.
+      CHECK(spectrum.at("bins").at(0).at(life).at(k).get<double>() == doctest::Approx(a[k]).epsilon(1e-12));
+      CHECK(spectrum.at("bins").at(1).at(life).at(k).get<double>() == doctest::Approx(b[k]).epsilon(1e-12));
+    }
+  }
+  // The bins' figures are the single runs'.
+  for (const auto& [bin, run] : {std::pair{0, one}, std::pair{1, two}}) {
+    const nlohmann::json& b = spectrum.at("bins").at(bin);
+    CHECK(b.at("mean_te_arcsec").get<double>() == doctest::Approx(run.at("mean_te_arcsec").get<double>()).epsilon(1e-12));
+    CHECK(b.at("max_pin_force_n").get<double>() == doctest::Approx(run.at("max_pin_force_n").get<double>()).epsilon(1e-12));
+    CHECK(b.at("max_contact_stress_mpa").get<double>() ==
+          doctest::Approx(run.at("max_contact_stress_mpa").get<double>()).epsilon(1e-12));
+  }
+  CHECK(spectrum.at("bins").at(1).at("torque_nm").get<double>() == 412.0);
+  CHECK(spectrum.at("bins").at(0).at("speed_rpm").get<double>() == doctest::Approx(1000.0).epsilon(1e-12));
+  CHECK(spectrum.at("bins").at(0).at("time_share").get<double>() == 0.25);
+}
+
+TEST_CASE("app: a one-bin load spectrum's lives equal the plain run's") {
+  using namespace spectrum_test;
+  // The deck's own torque and speed (206 N*m, 1500 rpm).
+  const std::string deck = DeckWith("cycloidal_drive.toml", "[[load_spectrum]]\ntorque_nm = 206\nspeed_rpm = 1500\ntime_share = 1\n",
+                                    "one_bin");
+  const nlohmann::json j = Solve({"solve", deck, "--json", "-"});
+  const nlohmann::json& spectrum = j.at("spectrum");
+  const nlohmann::json& plain = j.at("summary").at("stage");
+  for (const char* life : {"l10_hours", "load_zone_life_hours"}) {
+    const std::vector<double> a = Numbers(plain.at(life)), combined = Numbers(spectrum.at(life));
+    REQUIRE(!a.empty());
+    REQUIRE(combined.size() == a.size());
+    for (std::size_t k = 0; k < a.size(); ++k) CHECK(combined[k] == doctest::Approx(a[k]).epsilon(1e-12));
+  }
+  CHECK(spectrum.at("shortest_l10_hours").get<double>() == doctest::Approx(plain.at("shortest_l10_hours").get<double>()).epsilon(1e-12));
+  CHECK(spectrum.at("shortest_load_zone_life_hours").get<double>() ==
+        doctest::Approx(plain.at("shortest_load_zone_life_hours").get<double>()).epsilon(1e-12));
+  // The text names the spectrum's lives.
+  const auto text = ltca::test::RunCli({"solve", deck});
+  CHECK(text.out.find("load spectrum          1 bins") != std::string::npos);
+  CHECK(text.out.find("spectrum load-zone") != std::string::npos);
+}
+
+TEST_CASE("app: a load spectrum is refused with the entry, key and value named") {
+  using namespace spectrum_test;
+  const auto refused = [](const std::string& bins, const std::string& name) {
+    const auto r = ltca::test::RunCli({"solve", DeckWith("cycloidal_drive.toml", bins, name), "--json", "-"});
+    CHECK(r.code == 2);
+    CHECK(r.out.empty());  // no partial document
+    return r.err;
+  };
+  const std::string ok = "[[load_spectrum]]\ntorque_nm = 100\nspeed_rpm = 1000\ntime_share = 0.5\n";
+  CHECK(refused(ok, "sum").find("the shares add to 0.5: expected 1") != std::string::npos);
+  CHECK(refused(ok + "[[load_spectrum]]\ntorque_nm = 100\nspeed_rpm = 0\ntime_share = 0.5\n", "speed")
+            .find("[[load_spectrum]] #2 speed_rpm = 0: expected a crank speed > 0") != std::string::npos);
+  CHECK(refused(ok + "[[load_spectrum]]\ntorque_nm = 100\ntime_share = 0.5\n", "missing")
+            .find("[load_spectrum #2] missing required key 'speed_rpm'") != std::string::npos);
+  CHECK(refused(ok + "[[load_spectrum]]\ntorque_nm = 100\nspeed_rpm = 1000\ntime_share = 0.5\nshare = 1\n", "unknown")
+            .find("[load_spectrum #2] unknown key 'share'") != std::string::npos);
+  CHECK(refused("[[load_spectrum]]\ntorque_nm = 100\nspeed_rpm = 1000\ntime_share = 1.5\n", "share")
+            .find("[[load_spectrum]] #1 time_share = 1.5: expected a share of the time > 0 and <= 1") != std::string::npos);
+  // A single table ([load_spectrum]) instead of an array of them.
+  CHECK(refused("[load_spectrum]\ntorque_nm = 100\nspeed_rpm = 1000\ntime_share = 1\n", "table").find("[[load_spectrum]]: expected an array of tables") != std::string::npos);
+}
+
+TEST_CASE("analysis: Miner's rule over a spectrum's bins, by hand") {
+  // 0.5 h share at 1000 h and 0.5 at 4000 h: damage per hour 0.5/1000 + 0.5/4000 = 6.25e-4, L = 1600 h.
+  CHECK(ltca::analysis::MinerHours({1000.0, 4000.0}, {0.5, 0.5}) == doctest::Approx(1600.0).epsilon(1e-15));
+  // A bin without load (infinite life) adds no damage; a bin not rated makes the life unknown.
+  CHECK(ltca::analysis::MinerHours({1000.0, INFINITY}, {0.5, 0.5}) == doctest::Approx(2000.0).epsilon(1e-15));
+  CHECK(std::isnan(ltca::analysis::MinerHours({1000.0, NAN}, {0.5, 0.5})));
+}
