@@ -483,6 +483,9 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "diameter of the measuring rollers of the dimension over rollers in mm (> 0; the rollers in the tooth "
                 "spaces nearest to opposite)",
      .default_value = "", .setting = LTCA_SETTING(inspection, roller_diameter)},
+    {.section = "inspection", .name = "profile_tolerance_um", .type = T::kReal, .unit = "um",
+     .meaning = "full width of the profile tolerance band of the deviation chart in um (> 0; +- half about the design)",
+     .default_value = "", .setting = LTCA_SETTING(inspection, profile_tolerance)},
 };
 
 #undef LTCA_FIELD
