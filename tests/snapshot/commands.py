@@ -142,8 +142,11 @@ REWORDED = {
 # Fields a document gained after the recording, compared nowhere (an "extra" key of these names is
 # not a difference; a missing one still is): the geometry document's inspection figures, root and
 # tip diameters and the dimension over rollers (docs/export.md), checked against their own
-# derivation by tests/geometry/inspection_test.cpp.
-ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers"}
+# derivation by tests/geometry/inspection_test.cpp; and (issue 53) the band of the dimension over
+# rollers from [tolerances] and the deviation chart of a measured trace, checked by
+# tests/analysis/roller_tolerance_test.cpp and tests/geometry/deviation_fit_test.cpp.
+ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers",
+         "dimension_over_rollers_tolerance", "profile_deviation_chart"}
 
 
 # Issue 46: `ltca compare` of a reducer stage ([output]) lists a solver that does not solve the stage
