@@ -66,10 +66,10 @@ RollerToleranceBand RollerTolerance(const StageDesign& design, const ToleranceSe
     const double s = (measure(up) - measure(down)) / (2.0 * h);
     band.terms.push_back({t.key, s, w, t.StandardDeviation(), t.mean});
     worst += std::abs(s) * w;
-    variance += (s * t.StandardDeviation()) * (s * t.StandardDeviation());
+    variance += (s * w) * (s * w);
   }
   band.worst_low = band.centre - worst, band.worst_high = band.centre + worst;
-  band.rss_low = band.centre - 3.0 * std::sqrt(variance), band.rss_high = band.centre + 3.0 * std::sqrt(variance);
+  band.rss_low = band.centre - std::sqrt(variance), band.rss_high = band.centre + std::sqrt(variance);
   return band;
 }
 

@@ -107,12 +107,12 @@ nlohmann::json RollerBandJson(const std::optional<analysis::RollerToleranceBand>
     terms.push_back({{"key", t.key}, {"sensitivity_mm_per_key_unit", t.sensitivity}, {"worst_case_half_width", t.half_width},
                      {"sigma", t.sigma}, {"mean", t.mean}});
   }
-  return {{"method", "sensitivity (central differences); worst case = centre +- sum |S_i| w_i, statistical = centre +- "
-                     "3 sqrt(sum (S_i sigma_i)^2)"},
+  return {{"method", "sensitivity (central differences); worst case = centre +- sum |S_i| w_i, statistical (RSS) = "
+                     "centre +- sqrt(sum (S_i w_i)^2); w_i: uniform tolerance or 3 sigma"},
           {"nominal_mm", b->nominal},
           {"centre_mm", b->centre},
           {"worst_case_mm", {b->worst_low, b->worst_high}},
-          {"rss_3sigma_mm", {b->rss_low, b->rss_high}},
+          {"rss_mm", {b->rss_low, b->rss_high}},
           {"terms", terms}};
 }
 
@@ -317,7 +317,7 @@ std::string Text(const Deck& deck, const geometry::RealPair& real) {
     for (const analysis::RollerToleranceTerm& t : band->terms) {
       keys += fmt::format("{}{} ({:+.4g} mm per unit)", keys.empty() ? "" : ", ", t.key, t.sensitivity);
     }
-    text += fmt::format("                       [tolerances]: worst case {:.4f} .. {:.4f} mm, statistical (3 sigma, RSS) "
+    text += fmt::format("                       [tolerances]: worst case {:.4f} .. {:.4f} mm, statistical (RSS) "
                         "{:.4f} .. {:.4f} mm about {:.4f} mm, by sensitivity to {}\n",
                         band->worst_low, band->worst_high, band->rss_low, band->rss_high, band->centre,
                         keys.empty() ? std::string("no key of the disc's profile") : keys);

@@ -51,7 +51,9 @@ struct RollerToleranceTerm {
 /// its centre (h = 1e-3 of its worst-case half-width), the roller seated again and M measured
 /// (geometry::MeasureOverRollers); the effects combined
 ///   worst case:   centre +- sum |S_i| w_i      (w_i: uniform tolerance, or 3 sigma)
-///   statistical:  centre +- 3 sqrt(sum (S_i sigma_i)^2)   (root sum of squares, +-3 sigma)
+///   statistical:  centre +- sqrt(sum (S_i w_i)^2)   (root sum of squares of the same half-widths:
+///                 +-3 sigma of M when the keys are normal, each w_i read as 3 sigma; the classic
+///                 RSS stack, never wider than the worst case)
 /// with centre = M at every key's mean. The keys of the disc's transverse profile are
 /// modification_pin_radius_mm, modification_pin_circle_radius_mm, modification_rotation_deg and
 /// cycloid_profile_layer_mm; the others (the pin ring, the lead, the assembly, the stage's holes)
