@@ -10,12 +10,14 @@
 
 namespace ltca::geometry {
 
-std::vector<Eigen::Vector2d> OutlinePolyline(const CycloidProfile& profile, double sagitta) {
+std::vector<std::vector<Eigen::Vector2d>> OutlineSegments(const CycloidProfile& profile, double sagitta) {
   if (!(sagitta > 0.0) || !std::isfinite(sagitta)) {
     throw std::invalid_argument(fmt::format("outline sagitta = {}: expected a positive length in mm", sagitta));
   }
-  std::vector<Eigen::Vector2d> out;
+  std::vector<std::vector<Eigen::Vector2d>> segments;
+  std::vector<bool> is_cap;  // a cap's piece holds its interior points only: the flanks give its ends
   const auto push = [&](const Eigen::Vector2d& p) {
+    std::vector<Eigen::Vector2d>& out = segments.back();
     if (out.empty() || (p - out.back()).norm() > 1e-9) out.push_back(p);  // a joint emitted once
   };
   const double target = 0.5 * sagitta;  // half the bound: the curvature changes over a step
@@ -25,6 +27,8 @@ std::vector<Eigen::Vector2d> OutlinePolyline(const CycloidProfile& profile, doub
   };
   // The flank of space k from u = lo to hi, both ends included.
   const auto flank = [&](int k, double lo, double hi) {
+    segments.emplace_back();
+    is_cap.push_back(false);
     double u = lo;
     push(profile.Evaluate(u, k).position);
     while (u < hi) {
@@ -51,6 +55,8 @@ std::vector<Eigen::Vector2d> OutlinePolyline(const CycloidProfile& profile, doub
     const double rho = cap.relief().rounding_radius;
     const double h = rho > 0.0 ? std::sqrt(8.0 * target * rho) : cap.length();
     const int n = std::max(1, static_cast<int>(std::ceil(cap.length() / h)));
+    segments.emplace_back();
+    is_cap.push_back(true);
     for (int i = 1; i < n; ++i) push(cap.Point(from * (1.0 - 2.0 * i / n), tip).point);
   };
   const int z = profile.pair().tooth_count;
@@ -64,6 +70,26 @@ std::vector<Eigen::Vector2d> OutlinePolyline(const CycloidProfile& profile, doub
       flank(k, -profile.phi_max(), -cap.junction());
       tip_cap(k, -1.0);
       flank(k, cap.junction(), profile.phi_max());
+    }
+  }
+  // A flank's piece runs from end to end; a cap's gets the junctions, the ends of the flanks
+  // before and after it. Consecutive flanks (no relief) share their tip point.
+  const std::size_t n = segments.size();
+  std::vector<std::vector<Eigen::Vector2d>> closed(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<Eigen::Vector2d>& c = closed[i];
+    if (is_cap[i]) c.push_back(segments[(i + n - 1) % n].back());
+    c.insert(c.end(), segments[i].begin(), segments[i].end());
+    if (is_cap[i]) c.push_back(segments[(i + 1) % n].front());
+  }
+  return closed;
+}
+
+std::vector<Eigen::Vector2d> OutlinePolyline(const CycloidProfile& profile, double sagitta) {
+  std::vector<Eigen::Vector2d> out;
+  for (const std::vector<Eigen::Vector2d>& segment : OutlineSegments(profile, sagitta)) {
+    for (const Eigen::Vector2d& p : segment) {
+      if (out.empty() || (p - out.back()).norm() > 1e-9) out.push_back(p);  // a joint emitted once
     }
   }
   if (out.size() > 1 && (out.front() - out.back()).norm() <= 1e-9) out.pop_back();  // closed: the first once

@@ -1,4 +1,5 @@
 // The `ltca` command line, run in-process: outputs, keys and exit codes.
+#include <cstdlib>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -13,10 +14,12 @@
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
+#include <fmt/format.h>
 
 #include "cli.hpp"
 #include "cli_run.hpp"
 #include "ltca/contact/unloaded.hpp"
+#include "ltca/geometry/deviation_fit.hpp"
 #include "ltca/geometry/inspection.hpp"
 #include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/profile.hpp"
@@ -174,6 +177,100 @@ TEST_CASE("cli: ltca geometry --dxf writes the drawing whole or not at all, neve
   REQUIRE(out.code == 0);
   CHECK(out.out == text);
   CHECK(out.err.find("root diameter") != std::string::npos);
+}
+
+TEST_CASE("cli: ltca geometry's deviation chart of a trace made from a known modification returns it (1e-6 mm) in "
+          "JSON, CSV and figure; refused without a trace") {
+  // The trace: the normal deviation of Liu's section 5.2 pair made with dR_p + 12 um, dR_rp - 7 um
+  // and 0.01 deg more, against the deck's design (geometry::ModificationDeviation, checked against
+  // a bisection of its own in tests/geometry/deviation_fit_test.cpp), 61 points over the tooth space.
+  const auto dir = FreshFolder("deviation");
+  const auto deck = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
+  const ltca::geometry::CycloidProfile design = deck.MakeRealPair().profile();
+  ltca::geometry::Modification known;
+  known.pin_circle_radius = 0.012, known.pin_radius = -0.007, known.rotation = ltca::units::DegToRad(0.01);
+  {
+    std::ofstream csv(dir / "trace.csv");
+    csv << "profile_angle_deg, deviation_um\n";
+    for (int i = 0; i <= 60; ++i) {
+      const double u = design.phi_max() * (-0.98 + 1.96 * i / 60.0);
+      csv << fmt::format("{:.17g}, {:.17g}\n", ltca::units::RadToDeg(u),
+                         1e3 * ltca::geometry::ModificationDeviation(design, known, u));
+    }
+  }
+  const std::string trace = "errors.profile_measured_csv=\"" + (dir / "trace.csv").string() + "\"";
+  const auto r = RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--set", trace, "--set",
+                         "inspection.profile_tolerance_um=100", "--json", "-", "--deviation-csv",
+                         (dir / "chart.csv").string(), "--deviation-svg", (dir / "chart.svg").string()});
+  REQUIRE(r.code == 0);
+  const auto fit = nlohmann::json::parse(r.out).at("profile_deviation_chart");
+  CHECK(fit.at("points").get<int>() == 61);
+  CHECK(std::abs(fit.at("fitted_modification").at("offset_pin_circle_radius_um").get<double>() - 12.0) <= 1e-3);
+  CHECK(std::abs(fit.at("fitted_modification").at("isometric_pin_radius_um").get<double>() + 7.0) <= 1e-3);
+  // 0.01 deg = 36 arcsec; 1e-6 mm on the 64 mm pin circle is 0.0032 arcsec.
+  CHECK(std::abs(fit.at("fitted_modification").at("rotation_arcsec").get<double>() - 36.0) <= 0.0032);
+  CHECK(fit.at("tolerance_um").get<double>() == 100.0);
+  CHECK(fit.at("within_tolerance").get<bool>());
+  const std::string table = ReadText(dir / "chart.csv");
+  CHECK(table.rfind("u_deg,measured_um,fitted_um,residual_um,band_lower_um,band_upper_um\n", 0) == 0);
+  CHECK(std::count(table.begin(), table.end(), '\n') == 62);
+  const std::string svg = ReadText(dir / "chart.svg");
+  CHECK(svg.find("measured trace") != std::string::npos);
+  CHECK(svg.find("fitted modification") != std::string::npos);
+  // Without a trace: refused, naming the option and the key, nothing written.
+  const auto refused = RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--deviation-csv", (dir / "no.csv").string()});
+  CHECK(refused.code == 2);
+  CHECK(refused.err.find("profile_measured_csv") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir / "no.csv"));
+  // Without [inspection] profile_tolerance_um: no band.
+  const auto plain = nlohmann::json::parse(
+      RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--set", trace, "--json", "-"}).out);
+  CHECK(plain.at("profile_deviation_chart").at("tolerance_um").is_null());
+  CHECK(nlohmann::json::parse(RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--json", "-"}).out)
+            .at("profile_deviation_chart")
+            .is_null());
+}
+
+TEST_CASE("cli: ltca geometry reports the tolerance band of the dimension over rollers from [tolerances] in text and "
+          "JSON") {
+  const std::vector<std::string> args = {"geometry", Case("liu2021_sec52_base.toml"), "--set", "inspection.roller_diameter_mm=8",
+                                         "--set", "tolerances.modification_pin_radius_mm={ distribution = \"uniform\", tolerance = 0.005 }"};
+  std::vector<std::string> json_args = args;
+  json_args.insert(json_args.end(), {"--json", "-"});
+  const auto r = RunCli(json_args);
+  REQUIRE(r.code == 0);
+  const auto band = nlohmann::json::parse(r.out).at("dimension_over_rollers_tolerance");
+  REQUIRE(band.is_object());
+  CHECK(band.at("terms").size() == 1);
+  CHECK(band.at("terms")[0].at("key").get<std::string>() == "modification_pin_radius_mm");
+  const double half = std::abs(band.at("terms")[0].at("sensitivity_mm_per_key_unit").get<double>()) * 0.005;
+  CHECK(band.at("worst_case_mm")[1].get<double>() - band.at("centre_mm").get<double>() == doctest::Approx(half));
+  CHECK(nlohmann::json::parse(r.out).at("dimension_over_rollers_mm").get<double>() == band.at("nominal_mm").get<double>());
+  const auto text = RunCli(args);
+  CHECK(text.out.find("worst case") != std::string::npos);
+  CHECK(nlohmann::json::parse(RunCli({"geometry", Case("liu2021_sec52_base.toml"), "--json", "-"}).out)
+            .at("dimension_over_rollers_tolerance")
+            .is_null());
+}
+
+TEST_CASE("cli: ltca geometry --step without ltca_step.so exits 1 naming the module, and writes nothing") {
+  // LTCA_MODULE_DIR names the only folder modules are looked for in (app/modules.hpp): an empty one
+  // makes the STEP writer missing by construction.
+  const auto dir = FreshFolder("step");
+  struct OnlyFolder {
+    explicit OnlyFolder(const std::string& folder) { setenv("LTCA_MODULE_DIR", folder.c_str(), 1); }
+    ~OnlyFolder() { unsetenv("LTCA_MODULE_DIR"); }
+  } only(dir.string());
+  const auto r = RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--json", (dir / "g.json").string(), "--step",
+                         (dir / "disc.step").string()});
+  CHECK(r.code == 1);
+  CHECK(r.err.find("--step") != std::string::npos);
+  CHECK(r.err.find("ltca_step.so") != std::string::npos);
+  CHECK(r.err.find("OpenCASCADE") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir / "disc.step"));
+  CHECK_FALSE(std::filesystem::exists(dir / "g.json"));
+  // Without --step the module is never looked for.
+  CHECK(RunCli({"geometry", Case("stage/cycloidal_drive.toml"), "--json", (dir / "g.json").string()}).code == 0);
 }
 
 TEST_CASE("cli: solve and compare name the model that ran (plane, its slices and surface)") {

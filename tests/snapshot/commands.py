@@ -142,15 +142,19 @@ REWORDED = {
 # Fields a document gained after the recording, compared nowhere (an "extra" key of these names is
 # not a difference; a missing one still is): the geometry document's inspection figures, root and
 # tip diameters and the dimension over rollers (docs/export.md), checked against their own
-# derivation by tests/geometry/inspection_test.cpp.
+# derivation by tests/geometry/inspection_test.cpp; and (issue 53) the band of the dimension over
+# rollers from [tolerances] and the deviation chart of a measured trace, checked by
+# tests/analysis/roller_tolerance_test.cpp and tests/geometry/deviation_fit_test.cpp.
 # Issue 50: a stage's bearings' load-zone life, static safety and roller stress (docs/stage.md),
 # checked against their own derivations (tests/contact/bearing_test.cpp,
 # docs/derivations/load_zone_life.py).
+# Issue 54: a sweep's notes (too few positions a mesh period), checked by tests/app/deck_test.cpp.
 ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers",
+         "dimension_over_rollers_tolerance", "profile_deviation_chart",
          "turning_raceway", "turning_raceway_basis", "load_zone_equivalent_load_n", "load_zone_life_million_revolutions",
          "load_zone_life_hours", "load_zone_to_basic_life_ratio", "shortest_load_zone_life_hours", "max_bearing_load_per_bearing_n", "static_safety",
          "smallest_static_safety", "max_roller_contact_stress_mpa", "largest_roller_contact_stress_mpa",
-         "roller_contact_stress_limit_mpa", "verdicts"}
+         "roller_contact_stress_limit_mpa", "verdicts", "notes"}
 
 
 # Issue 46: `ltca compare` of a reducer stage ([output]) lists a solver that does not solve the stage

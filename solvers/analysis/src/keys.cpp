@@ -509,6 +509,9 @@ const std::vector<DeckKey> kKeys = {
     {.section = "allowables", .name = "min_static_safety", .type = T::kReal, .unit = "",
      .meaning = "least static safety s_0 = C_0 / P_0,max of every bearing (ISO 76; > 0)", .default_value = "",
      .setting = LTCA_SETTING(allowables, min_static_safety)},
+    {.section = "inspection", .name = "profile_tolerance_um", .type = T::kReal, .unit = "um",
+     .meaning = "full width of the profile tolerance band of the deviation chart in um (> 0; +- half about the design)",
+     .default_value = "", .setting = LTCA_SETTING(inspection, profile_tolerance)},
 };
 
 #undef LTCA_FIELD

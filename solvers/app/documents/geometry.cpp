@@ -94,7 +94,106 @@ nlohmann::json RollersJson(const geometry::CycloidProfile& profile, const std::o
           {"contact_diameter_mm", m->contact_diameter}};
 }
 
+/// The band of the dimension over rollers from [tolerances] (nullopt without rollers or tolerances).
+std::optional<analysis::RollerToleranceBand> RollerBandOf(const Deck& deck) {
+  if (!deck.inspection.roller_diameter || !deck.tolerances) return std::nullopt;
+  return analysis::RollerTolerance(deck, *deck.tolerances, *deck.inspection.roller_diameter);
+}
+
+nlohmann::json RollerBandJson(const std::optional<analysis::RollerToleranceBand>& b) {
+  if (!b) return nullptr;
+  nlohmann::json terms = nlohmann::json::array();
+  for (const analysis::RollerToleranceTerm& t : b->terms) {
+    terms.push_back({{"key", t.key}, {"sensitivity_mm_per_key_unit", t.sensitivity}, {"worst_case_half_width", t.half_width},
+                     {"sigma", t.sigma}, {"mean", t.mean}});
+  }
+  return {{"method", "sensitivity (central differences); worst case = centre +- sum |S_i| w_i, statistical (RSS) = "
+                     "centre +- sqrt(sum (S_i w_i)^2); w_i: uniform tolerance or 3 sigma"},
+          {"nominal_mm", b->nominal},
+          {"centre_mm", b->centre},
+          {"worst_case_mm", {b->worst_low, b->worst_high}},
+          {"rss_mm", {b->rss_low, b->rss_high}},
+          {"terms", terms}};
+}
+
+/// The deviation chart's fit as JSON (null without a measured trace).
+nlohmann::json DeviationChartJson(const std::optional<analysis::DeviationChart>& c) {
+  if (!c) return nullptr;
+  return {{"source", c->source},
+          {"points", c->u.size()},
+          {"fitted_modification",
+           {{"offset_pin_circle_radius_um", units::MmToUm(c->fit.offset)},
+            {"isometric_pin_radius_um", units::MmToUm(c->fit.isometric)},
+            {"rotation_arcsec", units::RadToArcsec(c->fit.rotation)},
+            {"rms_residual_um", units::MmToUm(c->fit.rms_residual)},
+            {"max_residual_um", units::MmToUm(c->fit.max_residual)},
+            {"iterations", c->fit.iterations}}},
+          {"tolerance_um", c->tolerance ? nlohmann::json(units::MmToUm(*c->tolerance)) : nlohmann::json(nullptr)},
+          {"within_tolerance", c->tolerance ? nlohmann::json(c->WithinTolerance()) : nlohmann::json(nullptr)}};
+}
+
 }  // namespace
+
+std::optional<analysis::DeviationChart> DeviationChartOf(const Deck& deck, const geometry::RealPair& real) {
+  if (!deck.errors.profile_measured) return std::nullopt;
+  return analysis::ChartProfileDeviation(real.profile(), *deck.errors.profile_measured, deck.inspection);
+}
+
+std::string DeviationCsv(const analysis::DeviationChart& c) {
+  std::string text = "u_deg,measured_um,fitted_um,residual_um,band_lower_um,band_upper_um\n";
+  const std::string lower = c.tolerance ? fmt::format("{:.17g}", -0.5 * units::MmToUm(*c.tolerance)) : "";
+  const std::string upper = c.tolerance ? fmt::format("{:.17g}", 0.5 * units::MmToUm(*c.tolerance)) : "";
+  for (std::size_t i = 0; i < c.u.size(); ++i) {
+    text += fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{},{}\n", RadToDeg(c.u[i]), units::MmToUm(c.measured[i]),
+                        units::MmToUm(c.fitted[i]), units::MmToUm(c.measured[i] - c.fitted[i]), lower, upper);
+  }
+  return text;
+}
+
+plots::Figure DeviationFigure(const Deck& deck, const geometry::RealPair& real, const analysis::DeviationChart& c) {
+  const bool ring = real.profile().tooth_difference() < 0;
+  plots::Panel panel;
+  panel.x_label = "profile parameter u (deg), tooth space 0";
+  panel.y_label = "normal deviation (um), + material added";
+  panel.title = fmt::format("fit: dR_p {:+.3f} um, dR_rp {:+.3f} um, rotation {:+.2f} arcsec", units::MmToUm(c.fit.offset),
+                            units::MmToUm(c.fit.isometric), units::RadToArcsec(c.fit.rotation));
+  plots::Series measured{"measured trace", {}, {}, plots::Style::kLineMarkers};
+  plots::Series fitted{"fitted modification", {}, {}, plots::Style::kLine};
+  plots::Series residual{fmt::format("trace - fit (rms {:.3f} um)", units::MmToUm(c.fit.rms_residual)), {}, {},
+                         plots::Style::kLine};
+  measured.colour = 0, fitted.colour = 1, residual.colour = 2;
+  measured.marker_size = 0.6;
+  residual.dashed = true;
+  for (std::size_t i = 0; i < c.u.size(); ++i) {
+    const double u = RadToDeg(c.u[i]);
+    measured.x.push_back(u), measured.y.push_back(units::MmToUm(c.measured[i]));
+    fitted.x.push_back(u), fitted.y.push_back(units::MmToUm(c.fitted[i]));
+    residual.x.push_back(u), residual.y.push_back(units::MmToUm(c.measured[i] - c.fitted[i]));
+  }
+  panel.series.push_back(std::move(measured));
+  panel.series.push_back(std::move(fitted));
+  panel.series.push_back(std::move(residual));
+  panel.marks.push_back({plots::Mark::Axis::kHorizontal, 0.0, "design", false, true});
+  panel.marks.push_back({plots::Mark::Axis::kVertical, 0.0, ring ? "tip (u = 0)" : "root (u = 0)", false, true});
+  if (c.tolerance) {
+    const double half = 0.5 * units::MmToUm(*c.tolerance);
+    panel.marks.push_back({plots::Mark::Axis::kHorizontal, half, fmt::format("+{:g} um", half), true, false});
+    panel.marks.push_back({plots::Mark::Axis::kHorizontal, -half, fmt::format("-{:g} um", half), true, false});
+  }
+  panel.legend = plots::LegendPlace::kOutsideRight;  // the trace fills the panel: the legend beside it
+  plots::Figure figure;
+  figure.title = fmt::format("{}: profile deviation chart", deck.info.title);
+  figure.caption = FigureCaption(
+      deck, fmt::format("{} ({} points, on every tooth space); fit: offset, isometric, rotation (least squares); {}",
+                        c.source, c.u.size(),
+                        c.tolerance ? fmt::format("tolerance band {:g} um ({})", units::MmToUm(*c.tolerance),
+                                                  c.WithinTolerance() ? "the trace lies within it" : "the trace leaves it")
+                                    : "no tolerance band ([inspection] profile_tolerance_um)"));
+  figure.panels.push_back(std::move(panel));
+  figure.width = 1100;
+  figure.height = 600;
+  return figure;
+}
 
 nlohmann::json Json(const Deck& deck, const geometry::RealPair& real) {
   const CycloidProfile& profile = real.profile();
@@ -132,6 +231,8 @@ nlohmann::json Json(const Deck& deck, const geometry::RealPair& real) {
       {"dimension_over_rollers_mm",
        inspection.rollers ? nlohmann::json(inspection.rollers->dimension) : nlohmann::json(nullptr)},
       {"over_rollers", RollersJson(profile, inspection.rollers)},
+      {"dimension_over_rollers_tolerance", RollerBandJson(RollerBandOf(deck))},
+      {"profile_deviation_chart", DeviationChartJson(DeviationChartOf(deck, real))},
   };
 }
 
@@ -210,6 +311,26 @@ std::string Text(const Deck& deck, const geometry::RealPair& real) {
                         : m->contact == geometry::RollerContact::kRoot
                             ? std::string("WARNING: they rest on the root, not on the working flanks (a larger roller is needed)")
                             : std::string("WARNING: they bear on the tips, not on the working flanks (a smaller roller is needed)"));
+  }
+  if (const auto band = RollerBandOf(deck)) {
+    std::string keys;
+    for (const analysis::RollerToleranceTerm& t : band->terms) {
+      keys += fmt::format("{}{} ({:+.4g} mm per unit)", keys.empty() ? "" : ", ", t.key, t.sensitivity);
+    }
+    text += fmt::format("                       [tolerances]: worst case {:.4f} .. {:.4f} mm, statistical (RSS) "
+                        "{:.4f} .. {:.4f} mm about {:.4f} mm, by sensitivity to {}\n",
+                        band->worst_low, band->worst_high, band->rss_low, band->rss_high, band->centre,
+                        keys.empty() ? std::string("no key of the disc's profile") : keys);
+  }
+  if (const auto chart = DeviationChartOf(deck, real)) {
+    text += fmt::format("profile trace          {} ({} points): best explained by dR_p {:+.4f} um, dR_rp {:+.4f} um, rotation "
+                        "{:+.3f} arcsec (least squares), rms residual {:.4f} um\n",
+                        chart->source, chart->u.size(), units::MmToUm(chart->fit.offset), units::MmToUm(chart->fit.isometric),
+                        units::RadToArcsec(chart->fit.rotation), units::MmToUm(chart->fit.rms_residual));
+    if (chart->tolerance) {
+      text += fmt::format("                       tolerance band {:g} um: the trace {}\n", units::MmToUm(*chart->tolerance),
+                          chart->WithinTolerance() ? "lies within it" : "LEAVES it");
+    }
   }
   text += fmt::format("mesh period            {:.6f} deg crank\n", RadToDeg(kinematics.MeshPeriod()));
   text += fmt::format("transmission ratio     {:.6g} (crank / cycloid)\n", kinematics.TransmissionRatio());
@@ -364,6 +485,15 @@ plots::Figure Figure(const Deck& deck, const geometry::RealPair& real, const con
     panel.notes.push_back({label_radius * std::cos(a), label_radius * std::sin(a) - 0.012 * extent, fmt::format("{}", j + 1), 0.5, 0.7});
   }
   if (deck.reducer) AddOutputElements(panel, *deck.reducer, pose);
+  if (deck.disc.bore_radius > 0.0) {  // the central bore ([disc] bore_radius_mm), moving with the disc
+    plots::Series bore{fmt::format("bore r = {:g} mm", deck.disc.bore_radius), {}, {}, plots::Style::kOutline};
+    bore.colour = 1;
+    for (int i = 0; i <= 180; ++i) {
+      const Eigen::Vector2d b = pose.ToFixed(deck.disc.bore_radius * Eigen::Vector2d(std::cos(i * M_PI / 90.0), std::sin(i * M_PI / 90.0)));
+      bore.x.push_back(b.x()), bore.y.push_back(b.y());
+    }
+    panel.series.push_back(std::move(bore));
+  }
   // The line of centres: from the pin-circle centre O_p through the cycloid centre O_c.
   plots::Series centres{"line of centres O_p O_c", {}, {}, plots::Style::kLine};
   centres.colour = 4;
@@ -388,7 +518,9 @@ plots::Figure Figure(const Deck& deck, const geometry::RealPair& real, const con
                         pair.pin_count, pair.tooth_count, pair.pin_circle_radius, pair.pin_radius, pair.eccentricity,
                         units::MmToUm(c_min) + 0.0, contact_pins, factor, factor));
   figure.panels.push_back(std::move(panel));
-  figure.width = 1000;
+  // Wide enough that the legend beside the drawing leaves it a square box as tall as the page
+  // allows (equal scale: the drawing is as large as its shorter side).
+  figure.width = 1300;
   figure.height = 800;
   return figure;
 }

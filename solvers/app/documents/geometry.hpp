@@ -2,11 +2,13 @@
 // The documents of the derived geometry of a deck's pair (geometry::RealPair, the pair as made:
 // modification and [errors] applied): its JSON summary, text, the profile as CSV and the drawing.
 // `ltca geometry`, the default job, `ltca report` and the Python module all build theirs here.
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "ltca/analysis/inspection.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/app/plots.hpp"
 #include "ltca/contact/mesh_state.hpp"
@@ -34,6 +36,16 @@ struct ProfileColumns {
   std::vector<std::string> part;
 };
 ProfileColumns Columns(const geometry::CycloidProfile& profile, int samples_per_flank);
+
+/// The deviation chart of the deck's measured profile trace ([errors] profile_measured_csv)
+/// against the design (the profile as made without it), with [inspection] profile_tolerance_um's
+/// band: nullopt without a trace (docs/export.md, "Deviation chart").
+std::optional<analysis::DeviationChart> DeviationChartOf(const Deck& deck, const geometry::RealPair& real);
+/// Its CSV: u_deg, measured_um, fitted_um, residual_um, band_lower_um, band_upper_um (empty
+/// without a band), one row per measured point.
+std::string DeviationCsv(const analysis::DeviationChart& chart);
+/// Its figure: the measured and the fitted deviation along u, their difference, the band.
+plots::Figure DeviationFigure(const Deck& deck, const geometry::RealPair& real, const analysis::DeviationChart& chart);
 
 /// The cycloid as made and the pins at `unloaded.crank` (rad), each pin's radius reduced by its
 /// unloaded clearance (the least over its slices, from `unloaded`, the mesh state at that crank)

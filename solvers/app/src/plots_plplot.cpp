@@ -367,14 +367,17 @@ void DrawPanel(const Panel& p, double x0, double x1, double y0, double y1, int p
   plvpor(vx0, vx1, vy0, vy1);
   Range rx = DataRange(p, true), ry = DataRange(p, false);
   if (p.equal_scale) {
+    // One mm as long on both axes: the viewport shrinks to the data's aspect (centred in its box),
+    // so the axes keep the ranges asked for (a drawing's axes fit the part, issue 53) instead of
+    // one of them stretching to fill the box.
     const double pw = (vx1 - vx0) * page_w, ph = (vy1 - vy0) * page_h;
     const double dx = rx.hi - rx.lo, dy = ry.hi - ry.lo;
     if (dx / dy < pw / ph) {
-      const double c = (rx.hi + rx.lo) / 2, half = dy * pw / ph / 2;
-      rx = {c - half, c + half};
+      const double half = 0.5 * ph * dx / dy / page_w, c = 0.5 * (vx0 + vx1);
+      plvpor(c - half, c + half, vy0, vy1);
     } else {
-      const double c = (ry.hi + ry.lo) / 2, half = dx * ph / pw / 2;
-      ry = {c - half, c + half};
+      const double half = 0.5 * pw * dy / dx / page_h, c = 0.5 * (vy0 + vy1);
+      plvpor(vx0, vx1, c - half, c + half);
     }
   }
   plwind(rx.lo, rx.hi, ry.lo, ry.hi);

@@ -20,4 +20,11 @@ namespace ltca::geometry {
 /// Corners (sharp tips, junctions) are vertices.
 std::vector<Eigen::Vector2d> OutlinePolyline(const CycloidProfile& profile, double sagitta);
 
+/// The same outline in its smooth pieces, in the same order: each tooth space's flank (two for a
+/// ring with a tip relief) and each tip relief's cap, a piece's last point the next one's first
+/// (the last piece's the first's). The joints are where the curve may have a corner (a sharp tip,
+/// a junction); OutlinePolyline is their concatenation. For CAD curves fitted piece by piece (the
+/// STEP solid's B-splines, docs/export.md).
+std::vector<std::vector<Eigen::Vector2d>> OutlineSegments(const CycloidProfile& profile, double sagitta);
+
 }  // namespace ltca::geometry

@@ -3,7 +3,8 @@
 // them (issue 54: a command maps only the libraries it uses; `ltca --version` maps none of MPI or
 // PLplot). A module is a MODULE library of CMake named ltca_<name>.so with extern "C" entry points,
 // found in, in order: the executable's own folder, <that folder>/../lib/ltca (an installation), and
-// the build tree's folder of modules (tests and the Python module run from the build tree).
+// the build tree's folder of modules (tests and the Python module run from the build tree); or, when
+// the environment variable LTCA_MODULE_DIR is set, in that folder only.
 // docs/architecture.md, "Modules", lists them.
 
 #include <string>
