@@ -28,7 +28,7 @@ constexpr const char* kScope =
 /// The same for a deck with [output] (docs/stage.md).
 constexpr const char* kStageScope =
     "the stage: the mesh, the output mechanism, the bearings and the shafts in one balance (docs/stage.md), the input "
-    "locked at the crank angle; housing, carrier and output flange rigid";
+    "locked at the crank angle (model.scope: what is elastic and what rigid)";
 
 std::string PositionStatus(const analysis::StiffnessPosition& p) {
   return ToString(p.succeeded() ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed);
