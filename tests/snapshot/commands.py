@@ -145,7 +145,8 @@ REWORDED = {
 # derivation by tests/geometry/inspection_test.cpp. Issue 49: a stage's model block names its scope
 # (what is elastic, what rigid), and its strain energy and compliance budget the carrier in series
 # (zero for the recorded decks, whose carriers are rigid; tests/app/stage_as_built_test.cpp).
-ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers", "scope", "carrier"}
+ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers", "scope", "carrier",
+         "support_bearings"}
 
 
 # Issue 46: `ltca compare` of a reducer stage ([output]) lists a solver that does not solve the stage

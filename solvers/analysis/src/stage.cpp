@@ -41,7 +41,8 @@ std::string StageScope(const StageDesign& d) {
   const solvers::ReducerSettings& r = *d.reducer;
   const bool cranks = r.kind == solvers::OutputKind::kCranks;
   std::vector<std::string> elastic{d.contact.seat.seated() ? "pin-cycloid contacts with the pins' seats" : "pin-cycloid contacts"};
-  std::vector<std::string> rigid{d.disc.elastic() ? "housing" : "discs' bodies, housing"};
+  const std::string housing = std::isfinite(r.carrier_stiffness) ? "housing (its torsion in the carrier's spring)" : "housing";
+  std::vector<std::string> rigid{d.disc.elastic() ? housing : "discs' bodies, " + housing};
   if (d.pins) elastic.emplace_back("ring pins bending");
   else rigid.emplace_back("ring pins' bending");
   if (!cranks) elastic.emplace_back("output pins in holes");
