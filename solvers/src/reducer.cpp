@@ -23,6 +23,8 @@ const char* ToString(StageGroup group) {
     case StageGroup::kShafts: return "shafts";
     case StageGroup::kSeats: return "pin_seats";
     case StageGroup::kPinBending: return "pin_bending";
+    case StageGroup::kCarrier: return "carrier";
+    case StageGroup::kSupports: return "support_bearings";
   }
   return "?";
 }
@@ -39,8 +41,18 @@ void ReducerSettings::Validate(double eccentricity) const {
           "[bearing] kind = \"rigid\": with [output] kind = \"cranks\" and rigid shafts the crank loads are statically "
           "indeterminate; expected a linear or rollers needle bearing, or [output] shaft_stiffness_n_per_mm");
     }
+    if (bearing.kind == contact::BearingKind::kRigid && (cranks.beam.given() || cranks.shaft_compliance)) {
+      throw std::invalid_argument(
+          "[bearing] kind = \"rigid\" with [output] shaft_diameter_mm: the beam's deflections are the needle bearings' "
+          "partners; expected a linear or rollers needle bearing");
+    }
   }
   bearing.Validate();
+  if (!(carrier_stiffness > 0.0)) {
+    throw std::invalid_argument(fmt::format("[output] carrier_torsional_stiffness_nm_per_arcmin = {:g} (internal N*mm/rad): "
+                                            "expected a torsional stiffness > 0 (leave the key out for a rigid carrier)",
+                                            carrier_stiffness));
+  }
 }
 
 }  // namespace ltca::solvers

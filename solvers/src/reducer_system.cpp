@@ -88,7 +88,28 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
   crank_count_ = cranks ? settings_.cranks.count : 0;
   const bool bearing_compliant = settings_.bearing.kind != contact::BearingKind::kRigid;
   const bool shaft_compliant = cranks && std::isfinite(settings_.cranks.shaft_stiffness);
-  shaft_coordinates_ = bearing_compliant && shaft_compliant;
+  shaft_beam_ = cranks && (settings_.cranks.beam.given() || settings_.cranks.shaft_compliance.has_value());
+  if (shaft_beam_) {
+    if (!bearing_compliant || discs_ != 2) {
+      throw std::invalid_argument("[output] shaft_diameter_mm: a crankshaft as a beam carries both discs' eccentrics in "
+                                  "their needle bearings; expected [second_disc] and a linear or rollers [bearing]");
+    }
+    contact::ShaftCompliance parts;
+    if (settings_.cranks.shaft_compliance) {
+      parts.beam = *settings_.cranks.shaft_compliance;
+    } else {
+      parts = contact::CrankshaftCompliance(settings_.cranks.beam, problem.material().young_modulus,
+                                            problem.material().poisson_ratio);
+    }
+    beam_compliance_ = parts.total();
+    beam_part_ = parts.beam;
+    const Eigen::LDLT<Eigen::Matrix2d> ldlt(beam_compliance_);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0.0)) {
+      throw std::invalid_argument("[output] shaft_diameter_mm: the crankshaft's compliance is not positive definite");
+    }
+    beam_stiffness_ = ldlt.solve(Eigen::Matrix2d::Identity());
+  }
+  shaft_coordinates_ = bearing_compliant && (shaft_compliant || shaft_beam_);
   if (shaft_compliant) {
     shaft_.kind = contact::BearingKind::kLinear;
     shaft_.radial_stiffness = settings_.cranks.shaft_stiffness;
@@ -251,7 +272,7 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
         p.coordinates = u;
         p.group = StageGroup::kBearings;
         planars_.push_back(p);
-        planars_.push_back(shaft);
+        if (!shaft_beam_) planars_.push_back(shaft);  // a beam's energy couples both discs' (EvaluateBeams)
       } else {
         p.coordinates = u;
         p.shaft = !bearing_compliant;
@@ -343,6 +364,26 @@ void ReducerSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::v
             const auto jj = static_cast<std::size_t>(j);
             out->hessian(ra.index[ii], rb.index[jj]) += r.stiffness(a, b) * ra.value[ii] * rb.value[jj];
           }
+        }
+      }
+    }
+  }
+  if (shaft_beam_) {
+    // Crankshafts as beams: per crank and direction v = (v_1, v_2), the two discs' deflections at
+    // their eccentrics (absolute: the origin's and the step's), energy v^T K v / 2.
+    for (int j = 0; j < crank_count_; ++j) {
+      for (int a = 0; a < 2; ++a) {
+        const std::array<int, 2> c{ShaftCoordinate(0, j) + a, ShaftCoordinate(1, j) + a};
+        const std::array<int, 2> i{coordinate_dof_[static_cast<std::size_t>(c[0])], coordinate_dof_[static_cast<std::size_t>(c[1])]};
+        const Eigen::Vector2d v(origin_(c[0]) + q(i[0]), origin_(c[1]) + q(i[1]));
+        const Eigen::Vector2d f = beam_stiffness_ * v;
+        out->energy += 0.5 * v.dot(f);
+        out->energy_rounding += kEps * (f.cwiseAbs().dot(v.cwiseAbs()));
+        for (int x = 0; x < 2; ++x) {
+          out->gradient(i[static_cast<std::size_t>(x)]) += f(x);
+          magnitude(i[static_cast<std::size_t>(x)]) += std::abs(beam_stiffness_(x, 0) * v(0)) + std::abs(beam_stiffness_(x, 1) * v(1));
+          if (!with_hessian) continue;
+          for (int y = 0; y < 2; ++y) out->hessian(i[static_cast<std::size_t>(x)], i[static_cast<std::size_t>(y)]) += beam_stiffness_(x, y);
         }
       }
     }
@@ -569,7 +610,8 @@ ReducerSystem::Outcome ReducerSystem::Minimise(Eigen::VectorXd* q, bool hold_out
 void ReducerSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
   const Eigen::VectorXd relative = Coordinates(q);
   const Eigen::VectorXd c = origin_ + relative;
-  result->rotation = c(psi_coordinate_);
+  // The carrier in series: the output turns T / k beyond the output member's elements.
+  result->rotation = c(psi_coordinate_) + CarrierTwist();
   result->force.assign(static_cast<std::size_t>(problem_->point_count()), 0.0);
   result->approach.assign(static_cast<std::size_t>(problem_->point_count()), 0.0);
   ReducerSolution stage;
@@ -649,6 +691,20 @@ void ReducerSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
       disc.bearing_force[0] = -others;
     }
   }
+  if (shaft_beam_) {
+    // Each beam's strain energy P^T C P / 2 at its eccentrics' loads P = K v splits into the
+    // shaft's (bending and shear) and the support bearings' parts of C.
+    for (int j = 0; j < crank_count_; ++j) {
+      for (int a = 0; a < 2; ++a) {
+        const Eigen::Vector2d v(c(ShaftCoordinate(0, j) + a), c(ShaftCoordinate(1, j) + a));
+        const Eigen::Vector2d load = beam_stiffness_ * v;
+        const double shaft = 0.5 * load.dot(beam_part_ * load);
+        stage.group_energy[static_cast<std::size_t>(StageGroup::kShafts)] += shaft;
+        stage.group_energy[static_cast<std::size_t>(StageGroup::kSupports)] += 0.5 * load.dot(v) - shaft;
+      }
+    }
+  }
+  stage.group_energy[static_cast<std::size_t>(StageGroup::kCarrier)] = 0.5 * torque_ * CarrierTwist();
   result->reducer = std::move(stage);
 }
 
@@ -720,6 +776,19 @@ void ReducerSystem::Judge(LoadResult* result) const {
       for (int k = 0; k < row.n; ++k) balance(row.index[static_cast<std::size_t>(k)]) += du(a) * row.value[static_cast<std::size_t>(k)];
     }
   }
+  if (shaft_beam_) {
+    // The beams' forces at the reported deflections (the law is the beam's: nothing else reports them).
+    const Eigen::VectorXd absolute = c + origin_;
+    for (int j = 0; j < crank_count_; ++j) {
+      for (int a = 0; a < 2; ++a) {
+        const std::array<int, 2> k{ShaftCoordinate(0, j) + a, ShaftCoordinate(1, j) + a};
+        const Eigen::Vector2d f = beam_stiffness_ * Eigen::Vector2d(absolute(k[0]), absolute(k[1]));
+        balance(k[0]) += f(0);
+        balance(k[1]) += f(1);
+        f_max = std::max(f_max, f.cwiseAbs().maxCoeff());
+      }
+    }
+  }
   if (settings_.kind == OutputKind::kPins && settings_.bearing.kind == contact::BearingKind::kRigid) {
     // The rigid eccentric bearing's reaction, as reported, on the disc's translation.
     for (int d = 0; d < discs_; ++d) {
@@ -764,7 +833,7 @@ Eigen::VectorXd ReducerSystem::CoordinatesOf(const LoadResult& result) const {
       c(v + 1) = disc.shaft_deflection[static_cast<std::size_t>(j)].y();
     }
   }
-  c(psi_coordinate_) = result.rotation;
+  c(psi_coordinate_) = result.rotation - CarrierTwist();
   return c;
 }
 

@@ -5,7 +5,8 @@
 // the backends that solve the stage and by the judge.
 //
 // Coordinates (what the solution reports): per disc x, y (mm, fixed frame) and phi (rad, problem
-// frame), then psi (rad, problem frame), then the shaft deflections (mm) of each disc's cranks when
+// frame), then psi (rad, problem frame: the output member's elements, its pins or cranks; the
+// result's rotation adds the carrier's twist in series, CarrierTwist), then the shaft deflections (mm) of each disc's cranks when
 // both the needle bearing and the shaft are compliant. Degrees of freedom (what the minimisation
 // moves): the coordinates a rigid element does not hold at zero (a rigid eccentric bearing holds
 // the disc's centre), rotations scaled by the pin-circle radius so that every dof is a length in mm
@@ -95,6 +96,10 @@ class ReducerSystem {
   /// output member at q (T at a balanced solution).
   double OutputTorque(const Evaluation& at) const { return at.gradient(output_dof()) * radius_ + torque_; }
   double torque() const { return torque_; }
+  /// The carrier's twist under T in series with the stage, rad (problem frame): T / k, zero for a
+  /// rigid carrier. The output member's moment balance holds the carrier's torque at T exactly, so
+  /// the output's rotation is the elements' psi plus this (the result reports the output's).
+  double CarrierTwist() const { return torque_ / settings_.carrier_stiffness; }
 
   /// The solution at q: rotation (psi, rad), pin-ring forces and the stage's elements
   /// (LoadResult::reducer), without status or residuals.
@@ -177,6 +182,14 @@ class ReducerSystem {
   int discs_ = 1;
   int crank_count_ = 0;  // cranks per disc (0 for output pins)
   bool shaft_coordinates_ = false;
+  // Crankshafts as beams: per crank and direction the two discs' shaft deflections v share the
+  // energy v^T K v / 2, K = C^-1 the beam's 2 x 2 compliance inverted; C_beam_ its beam part.
+  bool shaft_beam_ = false;
+  Eigen::Matrix2d beam_stiffness_ = Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d beam_compliance_ = Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d beam_part_ = Eigen::Matrix2d::Zero();
+  /// The coordinate of disc d's shaft deflection at crank j (x; y is the next).
+  int ShaftCoordinate(int d, int j) const { return psi_coordinate_ + 1 + 2 * (d * crank_count_ + j); }
   double radius_ = 1.0;  // R_p, mm: the rotations' scale
   double torque_ = 0.0;  // |T|, N*mm
   int psi_coordinate_ = 0;

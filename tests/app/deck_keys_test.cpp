@@ -276,7 +276,8 @@ namespace {
 /// of a measured trace. Every other key of the table has a binder (DeckKey::setting, or ::real /
 /// ::list for the numbers of [modification] and [errors]).
 const std::vector<std::string> kTakenApart = {
-    "errors.profile_measured_csv",       "output.hole_radial_deviations_mm", "output.hole_tangential_deviations_mm",
+    "errors.profile_measured_csv",       "output.hole_radial_deviations_mm", "output.hole_tangential_deviations_mm", "output.first_stage_teeth",
+    "output.eccentric_positions_mm",
     "tolerances.limits",                 "tolerances.chains",                "optimise.variables",
     "optimise.constraints",
     // [[load_spectrum]]: each entry read into an analysis::LoadBin (tests/app/spectrum_test.cpp
@@ -421,6 +422,16 @@ const std::vector<Tied> kTied = {
     {"pins.seat_stiffness_n_per_mm2", "liu2021_table1.toml", {"pins.seat=\"linear\"", "pins.seat_stiffness_n_per_mm2=1e5"}, "100000"},
     {"output.kind", "liu2021_table1.toml",
      {"output.kind=\"cranks\"", "output.count=3", "output.circle_radius_mm=35", "output.shaft_stiffness_n_per_mm=1e5"}, "choice 1"},
+    // Crankshafts as beams (issue 49): the diameter, the span and both eccentrics together, two discs.
+    {"output.shaft_diameter_mm", "liu2021_table1.toml", {"output.kind=\"cranks\"", "output.count=3", "output.circle_radius_mm=35", "bearing.kind=\"linear\"",
+      "bearing.radial_stiffness_n_per_mm=3e5", "second_disc.indexing_deviation_mm=0", "output.shaft_diameter_mm=20",
+      "output.shaft_span_mm=40", "output.eccentric_positions_mm=[15, 27]", "output.support_stiffness_n_per_mm=5e5"}, "20"},
+    {"output.shaft_span_mm", "liu2021_table1.toml", {"output.kind=\"cranks\"", "output.count=3", "output.circle_radius_mm=35", "bearing.kind=\"linear\"",
+      "bearing.radial_stiffness_n_per_mm=3e5", "second_disc.indexing_deviation_mm=0", "output.shaft_diameter_mm=20",
+      "output.shaft_span_mm=40", "output.eccentric_positions_mm=[15, 27]", "output.support_stiffness_n_per_mm=5e5"}, "40"},
+    {"output.support_stiffness_n_per_mm", "liu2021_table1.toml", {"output.kind=\"cranks\"", "output.count=3", "output.circle_radius_mm=35", "bearing.kind=\"linear\"",
+      "bearing.radial_stiffness_n_per_mm=3e5", "second_disc.indexing_deviation_mm=0", "output.shaft_diameter_mm=20",
+      "output.shaft_span_mm=40", "output.eccentric_positions_mm=[15, 27]", "output.support_stiffness_n_per_mm=5e5"}, "500000"},
     {"bearing.kind", "liu2021_table1.toml",
      {"output.kind=\"pins\"", "output.count=8", "output.circle_radius_mm=40", "output.pin_radius_mm=5", "output.hole_radius_mm=6.32",
       "bearing.kind=\"linear\"", "bearing.radial_stiffness_n_per_mm=1e6"},

@@ -495,12 +495,14 @@ hole_radius_mm = 6.31
       CHECK(p.first_contact_coast == doctest::Approx(-u.theta_c2 + c / (rw * down)).epsilon(1e-6));
       CHECK(p.backlash == doctest::Approx(u.backlash + c / (rw * up) + c / (rw * down)).epsilon(1e-6));
       // The compliance budget: the mesh and the output pins only (the bearing is rigid), summing to 1.
-      REQUIRE(p.compliance_share.size() == 6);
+      REQUIRE(p.compliance_share.size() == 8);
       CHECK(p.compliance_share[0] + p.compliance_share[1] == doctest::Approx(1.0).epsilon(1e-12));
       CHECK(p.compliance_share[2] == 0.0);
       CHECK(p.compliance_share[3] == 0.0);
       CHECK(p.compliance_share[4] == 0.0);  // no pin seats
       CHECK(p.compliance_share[5] == 0.0);  // no pin bending
+      CHECK(p.compliance_share[6] == 0.0);  // a rigid carrier
+      CHECK(p.compliance_share[7] == 0.0);  // no support bearings (no beams)
     }
   }
 }

@@ -148,13 +148,16 @@ REWORDED = {
 # Issue 50: a stage's bearings' load-zone life, static safety and roller stress (docs/stage.md),
 # checked against their own derivations (tests/contact/bearing_test.cpp,
 # docs/derivations/load_zone_life.py).
+# Issue 49: a stage's model block names its scope (what is elastic, what rigid), and its strain
+# energy and compliance budget the carrier in series (zero for the recorded decks, whose carriers are
+# rigid; tests/app/stage_as_built_test.cpp).
 # Issue 54: a sweep's notes (too few positions a mesh period), checked by tests/app/deck_test.cpp.
 ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers",
          "dimension_over_rollers_tolerance", "profile_deviation_chart",
          "turning_raceway", "turning_raceway_basis", "load_zone_equivalent_load_n", "load_zone_life_million_revolutions",
          "load_zone_life_hours", "load_zone_to_basic_life_ratio", "shortest_load_zone_life_hours", "max_bearing_load_per_bearing_n", "static_safety",
          "smallest_static_safety", "max_roller_contact_stress_mpa", "largest_roller_contact_stress_mpa",
-         "roller_contact_stress_limit_mpa", "verdicts", "notes"}
+         "roller_contact_stress_limit_mpa", "verdicts", "notes", "scope", "carrier", "support_bearings"}
 
 
 # Issue 46: `ltca compare` of a reducer stage ([output]) lists a solver that does not solve the stage

@@ -298,6 +298,28 @@ const std::vector<DeckKey> kKeys = {
     {.section = "output", .name = "crank_turns_per_output_turn", .type = T::kReal, .unit = "",
      .meaning = "cranks: turns of the eccentrics per output turn with the input locked", .default_value = "0",
      .setting = LTCA_SETTING(cranks, turns_per_output_turn)},
+    {.section = "output", .name = "shaft_diameter_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "cranks: each crankshaft a Timoshenko beam of this solid diameter in mm, on two support bearings, carrying "
+                "both discs' eccentrics (instead of shaft_stiffness_n_per_mm)",
+     .default_value = "none", .setting = LTCA_SETTING(cranks, beam.diameter)},
+    {.section = "output", .name = "shaft_span_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "cranks, beam: distance between the crankshaft's two support bearings in mm", .default_value = "none",
+     .setting = LTCA_SETTING(cranks, beam.span)},
+    {.section = "output", .name = "eccentric_positions_mm", .type = T::kRealList, .unit = "mm",
+     .meaning = "cranks, beam: [a_1, a_2], the first and second disc's eccentric from the first support in mm",
+     .default_value = "[]"},
+    {.section = "output", .name = "support_stiffness_n_per_mm", .type = T::kReal, .unit = "N/mm",
+     .meaning = "cranks, beam: radial stiffness of each support bearing in N/mm", .default_value = "rigid",
+     .setting = LTCA_SETTING(cranks, beam.support_stiffness)},
+    {.section = "output", .name = "first_stage_teeth", .type = T::kRealList, .unit = "",
+     .meaning = "cranks: [z_sun, z_spur] of the first stage; with the input locked each eccentric turns (1 + z_sun / z_spur) "
+                "times the output (instead of crank_turns_per_output_turn)",
+     .default_value = "[]"},
+    {.section = "output", .name = "carrier_torsional_stiffness_nm_per_arcmin", .type = T::kReal, .unit = "N*m/arcmin",
+     .meaning = "torsional stiffness of the carrier, output flange and housing in series with the stage in N*m/arcmin "
+                "(measured or FE)",
+     .default_value = "rigid",
+     .setting = LTCA_SETTING(reducer, carrier_stiffness)},
     // [bearing]: the eccentric bearing (pins) or the needle bearing of each crank hole (cranks)
     {.section = "bearing", .name = "kind", .type = T::kText, .unit = "", .meaning = "rigid | linear | rollers",
      .default_value = "\"rigid\"", .choices = "rigid | linear | rollers",
@@ -530,6 +552,7 @@ double DeckKey::ToInternal(double value) const {
   if (u == "rpm") return units::RpmToRadPerS(value);
   if (u == "Pa*s") return units::PaSToMPaS(value);
   if (u == "1/GPa") return units::PerGPaToPerMPa(value);
+  if (u == "N*m/arcmin") return units::NmToNmm(value) / units::ArcminToRad(1.0);
   return value;
 }
 
@@ -541,6 +564,7 @@ double DeckKey::FromInternal(double value) const {
   if (u == "rpm") return units::RadPerSToRpm(value);
   if (u == "Pa*s") return units::MPaSToPaS(value);
   if (u == "1/GPa") return units::PerMPaToPerGPa(value);
+  if (u == "N*m/arcmin") return units::NmmPerRadToNmPerArcmin(value);
   return value;
 }
 

@@ -10,8 +10,10 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "ltca/contact/unloaded.hpp"
+#include "ltca/geometry/units.hpp"
 
 namespace ltca::analysis {
 
@@ -32,6 +34,50 @@ double RootRadius(const geometry::CycloidProfile& profile) {
     root = std::min(root, profile.Position(u, 0).norm());
   }
   return root;
+}
+
+/// The stage's scope in one line: what is elastic, what is rigid, and how the input is locked.
+std::string StageScope(const StageDesign& d) {
+  const solvers::ReducerSettings& r = *d.reducer;
+  const bool cranks = r.kind == solvers::OutputKind::kCranks;
+  std::vector<std::string> elastic{d.contact.seat.seated() ? "pin-cycloid contacts with the pins' seats" : "pin-cycloid contacts"};
+  const std::string housing = std::isfinite(r.carrier_stiffness) ? "housing (its torsion in the carrier's spring)" : "housing";
+  std::vector<std::string> rigid{d.disc.elastic() ? housing : "discs' bodies, " + housing};
+  if (d.pins) elastic.emplace_back("ring pins bending");
+  else rigid.emplace_back("ring pins' bending");
+  if (!cranks) elastic.emplace_back("output pins in holes");
+  const std::string bearing = cranks ? "crank needle bearings" : "eccentric bearing";
+  if (r.bearing.kind == contact::BearingKind::kRigid) rigid.push_back(bearing);
+  else elastic.push_back(fmt::format("{} ({})", bearing, contact::ToString(r.bearing.kind)));
+  if (cranks) {
+    if (r.cranks.beam.given()) {
+      elastic.push_back(fmt::format("crankshafts as Timoshenko beams ({:g} mm, {:g} mm span) on {} support bearings",
+                                    r.cranks.beam.diameter, r.cranks.beam.span,
+                                    std::isfinite(r.cranks.beam.support_stiffness) ? "elastic" : "rigid"));
+    } else if (std::isfinite(r.cranks.shaft_stiffness)) {
+      elastic.emplace_back("crankshafts (one spring per shaft and disc)");
+    } else {
+      rigid.emplace_back("crankshafts");
+    }
+  }
+  if (std::isfinite(r.carrier_stiffness)) {
+    elastic.push_back(fmt::format("carrier, output flange and housing in series ({:g} N*m/arcmin)",
+                                  units::NmmPerRadToNmPerArcmin(r.carrier_stiffness)));
+  } else {
+    rigid.emplace_back("carrier and output flange");
+  }
+  std::string input = "input locked: ";
+  if (!cranks) {
+    input += "the eccentric keeps its direction";
+  } else if (r.cranks.sun_teeth > 0) {
+    input += fmt::format("first stage {}/{}, the eccentrics turn {:.6g} times the output", r.cranks.sun_teeth,
+                         r.cranks.spur_teeth, r.cranks.turns_per_output_turn);
+  } else if (r.cranks.turns_per_output_turn == 0.0) {
+    input += "the eccentrics keep their direction (no first stage)";
+  } else {
+    input += fmt::format("the eccentrics turn {:.6g} times the output", r.cranks.turns_per_output_turn);
+  }
+  return fmt::format("elastic: {}; rigid: {}; {}", fmt::join(elastic, ", "), fmt::join(rigid, ", "), input);
 }
 
 }  // namespace
@@ -172,6 +218,7 @@ ModelInfo StageDesign::Model() const {
   if (reducer) {  // the output mechanism and the bearings
     m.reducer = fmt::format("{}+{} bearing", solvers::ToString(reducer->kind), contact::ToString(reducer->bearing.kind));
     m.name += "+stage";
+    m.scope = StageScope(*this);
   }
   if (disc.elastic()) {  // [disc] body
     m.disc_body = fmt::format(

@@ -65,6 +65,7 @@ nlohmann::json ModelJson(const Deck::ModelInfo& model) {
   if (!model.note.empty()) j["note"] = model.note;
   if (model.discs != 1) j["discs"] = model.discs;  // [second_disc]
   if (!model.reducer.empty()) j["stage"] = model.reducer;  // [output], [bearing]
+  if (!model.scope.empty()) j["scope"] = model.scope;      // what is elastic, what rigid
   if (!model.pin_seat.empty()) j["pin_seat"] = model.pin_seat;  // [pins] seat
   if (!model.disc_body.empty()) j["disc_body"] = model.disc_body;  // [disc] body = "elastic"
   if (model.tip_relief_source != "none" || !model.tip_relief_note.empty()) {
@@ -86,6 +87,7 @@ std::string ModelLine(const Deck& deck) {
                         m.slices, deck.pair.face_width / m.slices, deck.pair.face_width, m.surface);
   if (!m.note.empty()) line += fmt::format("note      {}\n", m.note);
   if (!m.disc_body.empty()) line += fmt::format("disc      {}\n", m.disc_body);
+  if (!m.scope.empty()) line += fmt::format("scope     {}\n", m.scope);
   if (m.tip_relief_source != "none") {
     line += fmt::format("tip       relief {} mm truncation, {} mm rounding radius (from the deck)\n", m.tip_relief.truncation,
                         m.tip_relief.rounding_radius);

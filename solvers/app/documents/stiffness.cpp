@@ -73,6 +73,12 @@ double RigidityNmPerArcmin(double nmm_per_rad) { return units::NmmPerRadToNmPerA
 
 std::string StiffnessScope(const Deck& deck) {
   std::string scope = deck.reducer ? kStageScope : kScope;
+  if (deck.reducer && std::isfinite(deck.reducer->carrier_stiffness)) {  // issue 49: the carrier in series
+    scope = fmt::format("the stage: the mesh, the output mechanism, the bearings and the shafts in one balance "
+                        "(docs/stage.md), the input locked at the crank angle; carrier, output flange and housing one torsional "
+                        "spring of {:g} N*m/arcmin in series",
+                        units::NmmPerRadToNmPerArcmin(deck.reducer->carrier_stiffness));
+  }
   if (deck.contact.seat.seated()) {
     scope += fmt::format("; the pins' seats in their housing grooves ([pins] seat = \"{}\") in series with the mesh",
                          contact::ToString(deck.contact.seat.kind));

@@ -1083,7 +1083,9 @@ solvers::ReducerSettings ReadReducer(const Section& output, const Section& beari
   };
   // The keys its kind needs, named when missing; then every number given, into the pins or the cranks.
   if (pins) {
-    reject({"shaft_stiffness_n_per_mm", "crank_turns_per_output_turn"}, "pins");
+    reject({"shaft_stiffness_n_per_mm", "crank_turns_per_output_turn", "first_stage_teeth", "shaft_diameter_mm",
+            "shaft_span_mm", "eccentric_positions_mm", "support_stiffness_n_per_mm"},
+           "pins");
     RequireKeys(output, {"count", "circle_radius_mm", "pin_radius_mm", "hole_radius_mm"});
     ReadSettings(output, {.output_pins = &s.pins});
   } else {
@@ -1094,6 +1096,46 @@ solvers::ReducerSettings ReadReducer(const Section& output, const Section& beari
       throw std::invalid_argument("[output] shaft_stiffness_n_per_mm: expected a finite stiffness in N/mm (leave the "
                                   "key out for a rigid shaft)");
     }
+    // Crankshafts as beams (docs/stage.md, "Crankshafts as beams"): the diameter, the span and both
+    // eccentrics' positions together; the supports rigid unless given.
+    if (output.Has("shaft_diameter_mm") || output.Has("shaft_span_mm") || output.Has("eccentric_positions_mm") ||
+        output.Has("support_stiffness_n_per_mm")) {
+      const std::vector<double> a = output.RealList("eccentric_positions_mm");
+      RequireKeys(output, {"shaft_diameter_mm", "shaft_span_mm", "eccentric_positions_mm"});
+      if (a.size() != 2) {
+        throw std::invalid_argument(fmt::format("[output] eccentric_positions_mm = [{}]: expected [a_1, a_2], the first "
+                                                "and the second disc's eccentric from the first support in mm",
+                                                fmt::join(a, ", ")));
+      }
+      s.cranks.beam.eccentric = {a[0], a[1]};
+      s.cranks.beam.Validate();  // a diameter of 0 too: the keys given are a beam
+      if (output.Has("support_stiffness_n_per_mm") && !std::isfinite(s.cranks.beam.support_stiffness)) {
+        throw std::invalid_argument("[output] support_stiffness_n_per_mm: expected a finite stiffness in N/mm (leave the "
+                                    "key out for rigid supports)");
+      }
+    }
+    // The RV's first stage (docs/stage.md, "The first stage"): the eccentrics' turn with the input
+    // locked follows from the tooth counts; the turns as a number are the other way to give it.
+    if (output.Has("first_stage_teeth")) {
+      if (output.Has("crank_turns_per_output_turn")) {
+        throw std::invalid_argument("[output] first_stage_teeth and crank_turns_per_output_turn: both set the eccentrics' "
+                                    "turn with the input locked; expected one of the two");
+      }
+      const std::vector<double> teeth = output.RealList("first_stage_teeth");
+      const auto whole = [](double z) { return std::isfinite(z) && z >= 1.0 && z <= 1e6 && z == std::floor(z); };
+      if (teeth.size() != 2 || !whole(teeth[0]) || !whole(teeth[1])) {
+        throw std::invalid_argument(fmt::format("[output] first_stage_teeth = [{}]: expected [z_sun, z_spur], two whole "
+                                                "tooth counts >= 1 (the input's sun gear and each crankshaft's spur gear)",
+                                                fmt::join(teeth, ", ")));
+      }
+      s.cranks.sun_teeth = static_cast<int>(teeth[0]);
+      s.cranks.spur_teeth = static_cast<int>(teeth[1]);
+      s.cranks.turns_per_output_turn = contact::FirstStageTurns(s.cranks.sun_teeth, s.cranks.spur_teeth);
+    }
+  }
+  if (output.Has("carrier_torsional_stiffness_nm_per_arcmin") && !std::isfinite(s.carrier_stiffness)) {
+    throw std::invalid_argument("[output] carrier_torsional_stiffness_nm_per_arcmin: expected a finite stiffness in "
+                                "N*m/arcmin (leave the key out for a rigid carrier)");
   }
   // Each hole's position deviation in the disc (both discs alike): one radial and one tangential
   // value per hole, either list alone (the other zero). Small, as every manufacturing error is.
@@ -1456,6 +1498,10 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     const Section bearing(Find(root, "bearing"), "bearing");
     if (output.Present()) {
       deck.reducer = ReadReducer(output, bearing, deck.pair);
+      if (deck.reducer->kind == solvers::OutputKind::kCranks && deck.reducer->cranks.beam.given() && !deck.second_disc) {
+        throw std::invalid_argument("[output] shaft_diameter_mm: a crankshaft as a beam carries both discs' eccentrics; "
+                                    "expected [second_disc] (one disc: shaft_stiffness_n_per_mm)");
+      }
     } else if (bearing.Present()) {
       throw std::invalid_argument("[bearing] without [output]: the bearing belongs to the reducer stage; expected an "
                                   "[output] section (kind = \"pins\" or \"cranks\")");

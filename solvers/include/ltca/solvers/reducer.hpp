@@ -17,6 +17,7 @@
 // Rotations are in the problem's frame (LoadProblem: positive in the direction of the torque,
 // the physical counterclockwise angle is load_direction() * direction() times it); translations
 // and forces are in the fixed frame.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -45,15 +46,23 @@ struct ReducerSettings {
   /// kPins: the eccentric bearing between the locked eccentric and the disc's bore; kCranks: the
   /// needle bearing of each crank hole. Rollers: roller 0 on the eccentric's direction.
   contact::BearingSettings bearing;
+  /// N*mm/rad: the carrier, the output flange and the housing as one torsional spring in series
+  /// between the output member's elements (its pins or cranks) and the output where T acts (deck:
+  /// carrier_torsional_stiffness_nm_per_arcmin; infinite: rigid). The output member carries T
+  /// through it whatever the stage does, so the output turns T / k beyond the stage's rotation
+  /// and the spring stores T^2 / (2 k) (docs/stage.md, "The carrier in series").
+  double carrier_stiffness = std::numeric_limits<double>::infinity();
   /// Throws std::invalid_argument naming the key (see OutputPins, Cranks, BearingSettings).
   void Validate(double eccentricity) const;
 };
 
 /// The element groups of the compliance budget.
 /// kMesh: the pin-cycloid contacts; kSeats: the pins' seats in series with them ([pins] seat);
-/// kPinBending: the pins' bending between their supports ([pins] span_mm, the coupling).
-enum class StageGroup { kMesh, kOutput, kBearings, kShafts, kSeats, kPinBending };
-inline constexpr int kStageGroups = 6;
+/// kPinBending: the pins' bending between their supports ([pins] span_mm, the coupling);
+/// kCarrier: the carrier, output flange and housing in series (ReducerSettings::carrier_stiffness);
+/// kSupports: the crankshafts' support bearings (crankshafts as beams; kShafts holds the beams).
+enum class StageGroup { kMesh, kOutput, kBearings, kShafts, kSeats, kPinBending, kCarrier, kSupports };
+inline constexpr int kStageGroups = 8;
 const char* ToString(StageGroup group);
 
 /// What a stage solve found besides the pin-ring forces (LoadResult::force) and the output

@@ -68,6 +68,9 @@ struct ModelInfo {
   std::string pin_seat;
   /// The disc body ([disc] body): "" for rigid, else "elastic (...)" with its FE model's settings.
   std::string disc_body;
+  /// A reducer stage's scope in one line, what is elastic and what is rigid (docs/stage.md's
+  /// table of elements); "" for the mesh alone.
+  std::string scope;
 };
 
 /// [case]: the provenance of a design.

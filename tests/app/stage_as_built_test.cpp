@@ -1,0 +1,147 @@
+// The RV stage as it is built (issue 49), read from decks: the first stage with the input locked,
+// and the carrier in series. Independent references: the first stage's turns by hand, and the
+// series combination of two torsional springs, 1/k = 1/k_stage + 1/k_carrier, on a stage that is
+// linear (linear laws, no clearance).
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <doctest/doctest.h>
+
+#include "deck_runs.hpp"
+#include "helpers.hpp"
+#include "ltca/analysis/stiffness.hpp"
+#include "ltca/app/deck.hpp"
+#include "ltca/geometry/units.hpp"
+#include "ltca/solvers/reducer.hpp"
+#include "problems.hpp"
+
+namespace stage_as_built_test {
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    (void)ltca::app::ParseDeck(text, "t.toml");
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+/// Liu Table 1's perfect pair with linear laws (every pin of the loaded half touches at zero load),
+/// one disc on three crankshafts in linear needle bearings without play, shafts of 1e5 N/mm: a
+/// linear stage.
+std::string LinearCranks() {
+  return ltca::test::ReadText(ltca::test::Case("liu2021_table1.toml")) + R"(
+[output]
+kind = "cranks"
+count = 3
+circle_radius_mm = 35.0
+phase_deg = 90.0
+shaft_stiffness_n_per_mm = 1e5
+
+[bearing]
+kind = "linear"
+radial_stiffness_n_per_mm = 3e5
+)";
+}
+
+std::string Replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+// The tests sit in the namespace: a unity build puts other files' helpers of the same names beside them.
+
+TEST_CASE("app: [output] first_stage_teeth turns the eccentrics 1 + z_sun / z_spur per output turn; one of it or crank_turns_per_output_turn") {
+  const std::string cranks = LinearCranks();
+  const std::string key = "shaft_stiffness_n_per_mm = 1e5";
+  const auto with = [&](const std::string& line) { return Replace(cranks, key, key + "\n" + line); };
+  // Without either key the eccentrics keep their direction: the model before issue 49, exactly.
+  CHECK(ltca::app::ParseDeck(cranks, "t.toml").reducer->cranks.turns_per_output_turn == 0.0);
+  // RV-40E's ratio 121 = 1 + 3 x 40: a 15-tooth sun, 45-tooth spur gears; by hand 4/3 turns (the
+  // spur gear rolls once round the held sun: 15/45 of a turn on the carrier, plus the carrier's).
+  const auto rv = ltca::app::ParseDeck(with("first_stage_teeth = [15, 45]"), "t.toml");
+  CHECK(rv.reducer->cranks.turns_per_output_turn == doctest::Approx(4.0 / 3.0).epsilon(1e-15));
+  CHECK(rv.reducer->cranks.sun_teeth == 15);
+  CHECK(rv.reducer->cranks.spur_teeth == 45);
+  // The same turns given as a number are the same model, bit for bit.
+  CHECK(ltca::app::ParseDeck(with("crank_turns_per_output_turn = 1.3333333333333333"), "t.toml").reducer->cranks.turns_per_output_turn ==
+        rv.reducer->cranks.turns_per_output_turn);
+  CHECK(Contains(ErrorOf(with("first_stage_teeth = [15, 45]\ncrank_turns_per_output_turn = 0")),
+                 "[output] first_stage_teeth and crank_turns_per_output_turn: both set"));
+  CHECK(Contains(ErrorOf(with("first_stage_teeth = [0, 45]")), "[output] first_stage_teeth = [0, 45]: expected [z_sun, z_spur]"));
+  CHECK(Contains(ErrorOf(with("first_stage_teeth = [15.5, 45]")), "[output] first_stage_teeth = [15.5, 45]"));
+  CHECK(Contains(ErrorOf(with("first_stage_teeth = [15]")), "[output] first_stage_teeth = [15]"));
+  const std::string pins = ltca::test::ReadText(ltca::test::Case("stage/cycloidal_drive.toml"));
+  CHECK(Contains(ErrorOf(Replace(pins, "[output]", "[output]\nfirst_stage_teeth = [15, 45]")),
+                 "[output] first_stage_teeth: not a key of kind = \"pins\""));
+}
+
+TEST_CASE("app: the carrier in series: a linear stage's rigidity is 1 / (1/k_stage + 1/k_carrier), its lost motion and budget alike (1e-9)") {
+  // A linear stage (linear laws, no clearance): the twist is T / k_stage at every load, and a
+  // torsional spring k_c in series adds T / k_c. Secant rigidity per flank, the lost motion over
+  // +-3 % T (2 x 0.03 T / k per flank's k) and the carrier's share of the strain energy at +T,
+  // k_stage / (k_stage + k_c) on the drive flank; two solvers, two cranks.
+  const double kc_nm_per_arcmin = 200.0;
+  const double kc = ltca::units::NmToNmm(kc_nm_per_arcmin) / ltca::units::ArcminToRad(1.0);  // N*mm/rad
+  const std::string key = "shaft_stiffness_n_per_mm = 1e5";
+  const std::string text = Replace(LinearCranks(), "[load]", "[contact]\nlaw = \"linear\"\nstiffness_n_per_mm2 = 2e4\n\n[load]");
+  const ltca::app::Deck rigid = ltca::app::ParseDeck(text, "t.toml");
+  const ltca::app::Deck series =
+      ltca::app::ParseDeck(Replace(text, key, key + "\ncarrier_torsional_stiffness_nm_per_arcmin = 200"), "t.toml");
+  REQUIRE(series.reducer->carrier_stiffness == doctest::Approx(kc).epsilon(1e-15));
+  for (const std::string solver : {"compatibility", "bisection"}) {
+    for (const double crank_deg : {0.0, 4.1}) {
+      CAPTURE(solver);
+      CAPTURE(crank_deg);
+      ltca::analysis::StiffnessSettings s;
+      s.crank = ltca::units::DegToRad(crank_deg);
+      s.steps = 5;
+      auto a = ltca::test::StiffnessOn(rigid, ltca::test::Named(solver), s, ltca::contact::ContactKinematics::kLinearised);
+      auto b = ltca::test::StiffnessOn(series, ltca::test::Named(solver), s, ltca::contact::ContactKinematics::kLinearised);
+      const ltca::analysis::StiffnessPosition p = a.Solve(*s.crank), q = b.Solve(*s.crank);
+      REQUIRE(p.succeeded());
+      REQUIRE(q.succeeded());
+      const double torque = rigid.RequireLoad().torque;
+      CHECK(q.rigidity_drive == doctest::Approx(1.0 / (1.0 / p.rigidity_drive + 1.0 / kc)).epsilon(1e-9));
+      CHECK(q.rigidity_coast == doctest::Approx(1.0 / (1.0 / p.rigidity_coast + 1.0 / kc)).epsilon(1e-9));
+      CHECK(q.lost_motion == doctest::Approx(p.lost_motion + 2.0 * 0.03 * torque / kc).epsilon(1e-9));
+      const auto carrier = static_cast<std::size_t>(ltca::solvers::StageGroup::kCarrier);
+      REQUIRE(q.compliance_share.size() == ltca::solvers::kStageGroups);
+      CHECK(p.compliance_share[carrier] == 0.0);
+      CHECK(q.compliance_share[carrier] == doctest::Approx(p.rigidity_drive / (p.rigidity_drive + kc)).epsilon(1e-9));
+    }
+  }
+  CHECK(Contains(ErrorOf(Replace(text, key, key + "\ncarrier_torsional_stiffness_nm_per_arcmin = -1")),
+                 "[output] carrier_torsional_stiffness_nm_per_arcmin"));
+  CHECK(Contains(ErrorOf(Replace(text, key, key + "\ncarrier_torsional_stiffness_nm_per_arcmin = inf")),
+                 "[output] carrier_torsional_stiffness_nm_per_arcmin: expected a finite stiffness"));
+}
+
+
+TEST_CASE("app: [output] crankshafts as beams: the diameter, span and both eccentrics together, two discs, never with the spring") {
+  const std::string two = ltca::test::ReadText(ltca::test::Case("stage/rv_catalogue.toml"));
+  const auto deck = ltca::app::ParseDeck(two, "t.toml");
+  const auto& beam = deck.reducer->cranks.beam;
+  CHECK(beam.diameter == 20.0);
+  CHECK(beam.span == 40.0);
+  CHECK(beam.eccentric[0] == 14.0);
+  CHECK(beam.eccentric[1] == 26.0);
+  CHECK(beam.support_stiffness == 5e5);
+  CHECK(Contains(deck.Model().scope, "crankshafts as Timoshenko beams (20 mm, 40 mm span) on elastic support bearings"));
+  CHECK(Contains(deck.Model().scope, "first stage 15/45"));
+  CHECK(Contains(ErrorOf(Replace(two, "[second_disc]                 # identical to the first\n", "")),
+                 "[output] shaft_diameter_mm: a crankshaft as a beam carries both discs' eccentrics"));
+  CHECK(Contains(ErrorOf(Replace(two, "shaft_span_mm = 40.0", "shaft_stiffness_n_per_mm = 5e5\nshaft_span_mm = 40.0")),
+                 "[output] shaft_stiffness_n_per_mm and shaft_diameter_mm"));
+  CHECK(Contains(ErrorOf(Replace(two, "eccentric_positions_mm = [14.0, 26.0]", "eccentric_positions_mm = [14.0]")),
+                 "[output] eccentric_positions_mm = [14]: expected [a_1, a_2]"));
+  CHECK(Contains(ErrorOf(Replace(two, "eccentric_positions_mm = [14.0, 26.0]", "eccentric_positions_mm = [14.0, 44.0]")),
+                 "[output] eccentric_positions_mm = 44: expected each eccentric between the supports"));
+  CHECK(Contains(ErrorOf(Replace(two, "shaft_span_mm = 40.0", "")), "[output] missing required key 'shaft_span_mm'"));
+}
+
+}  // namespace stage_as_built_test
