@@ -595,6 +595,30 @@ TEST_CASE("app: a sweep with fewer than 8 positions a mesh period carries a note
   CHECK_FALSE(run("backlash", {}).contains("notes"));
 }
 
+TEST_CASE("app: a torque typed in N*mm gets a note with the N*m it would be, a plausible one none (issue 54)") {
+  const auto notes = [](const std::string& deck, const std::string& torque) {
+    std::vector<std::string> args = {"solve", "--json", "-", "--set", "sweep.positions=9", "--set", "sweep.crank_end_deg=9",
+                                     "--set", "load.torque_nm=" + torque};
+    if (!deck.empty()) args.insert(args.begin() + 1, std::string(LTCA_CASES_DIR) + "/" + deck);
+    std::ostringstream out, err;
+    ltca::cli::Run(args, out, err);
+    const auto json = nlohmann::json::parse(out.str());
+    std::string all;
+    for (const auto& n : json["summary"].value("notes", nlohmann::json::array())) all += n.get<std::string>() + "\n";
+    return all;
+  };
+  // Liu's 206 N*m typed as 206,000: no position can be carried.
+  CHECK(Contains(notes("", "206000"), "[load] torque_nm = 206000 N*m is more than the contact law can carry at every position: "
+                                      "if it was meant in N*mm, it is 206 N*m"));
+  // The catalogue stage's 412 N*m as 412,000: every position solves, at 8.5 times the stress limit.
+  const std::string rv = notes("stage/rv_catalogue.toml", "412000");
+  CHECK(Contains(rv, "[load] torque_nm = 412000 N*m gives "));
+  CHECK(Contains(rv, "times [material] contact_stress_limit_mpa: if it was meant in N*mm, it is 412 N*m"));
+  // Ten times the deck's torque (3,238 MPa, below the 4,000 MPa limit) and the deck's own: no hint.
+  CHECK(notes("", "2060").empty());
+  CHECK(notes("", "206").empty());
+}
+
 // Issue 11: the cycloid profile deviation along the profile ([errors] profile_random_*,
 // profile_measured_csv).
 

@@ -256,6 +256,28 @@ SweepSummary SummaryAccumulator::Summary() const {
   return s;
 }
 
+namespace {
+
+/// A hint that [load] torque_nm was typed in N*mm (issue 54: 412,000 for 412 N*m ended as
+/// law-cannot-carry naming no unit): when every position fails because the law cannot carry the
+/// load, or the largest Hertz stress is beyond kImplausible times the material's limit (a steel
+/// contact yields long before; a 1000x torque raises the stress about sqrt(1000) = 32x).
+std::string UnitHint(double torque, const SweepSummary& s, const contact::Material& material) {
+  constexpr double kImplausible = 5.0;
+  const bool cannot_carry = s.succeeded == 0 && s.status == SolverStatus::kLawCannotCarry;
+  const double ratio = s.max_contact_stress / material.contact_stress_limit;
+  if (!cannot_carry && !(ratio > kImplausible)) return {};
+  const double nm = units::NmmToNm(torque);
+  return fmt::format("[load] torque_nm = {:g} N*m {}: if it was meant in N*mm, it is {:g} N*m (units are in the keys' "
+                     "names, docs/units.md)",
+                     nm,
+                     cannot_carry ? "is more than the contact law can carry at every position"
+                                  : fmt::format("gives {:.3g} times [material] contact_stress_limit_mpa", ratio),
+                     nm / 1000.0);
+}
+
+}  // namespace
+
 struct SweepRunner::Impl {
   Stage stage;
   SolverOptions options;
@@ -351,6 +373,7 @@ SweepSummary SweepRunner::Summary() const {
   SweepSummary s = impl_->summary.Summary();
   s.wall_seconds = std::chrono::duration<double>(impl_->elapsed).count();
   if (std::string note = impl_->stage.SamplingNote(); !note.empty()) s.notes.push_back(std::move(note));
+  if (std::string note = UnitHint(impl_->torque, s, impl_->stage.material()); !note.empty()) s.notes.push_back(std::move(note));
   return s;
 }
 
