@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "ltca/geometry/units.hpp"
+
 namespace ltca::solvers {
 
 OutputKind ParseOutputKind(const std::string& text) {
@@ -49,9 +51,9 @@ void ReducerSettings::Validate(double eccentricity) const {
   }
   bearing.Validate();
   if (!(carrier_stiffness > 0.0)) {
-    throw std::invalid_argument(fmt::format("[output] carrier_torsional_stiffness_nm_per_arcmin = {:g} (internal N*mm/rad): "
-                                            "expected a torsional stiffness > 0 (leave the key out for a rigid carrier)",
-                                            carrier_stiffness));
+    throw std::invalid_argument(fmt::format("[output] carrier_torsional_stiffness_nm_per_arcmin = {:g}: "
+                                            "expected a torsional stiffness > 0 in N*m/arcmin (leave the key out for a rigid carrier)",
+                                            units::NmmPerRadToNmPerArcmin(carrier_stiffness)));
   }
 }
 

@@ -297,6 +297,7 @@ TEST_CASE("app: on the stage decks the stage's solvers agree to 1e-9 arcsec with
   // 1e-9 relative for compatibility, bisection and energy-qp, whose output rotations agree to 1e-9
   // arcsec, under linearised and exact kinematics; energy-groups refuses with stage-unsupported
   // and no numbers.
+  int known_tried = 0, known_failed = 0;  // energy-qp on the catalogue deck (below)
   for (const char* name : {"stage/cycloidal_drive.toml", "stage/rv_two_discs_cranks.toml", "stage/rv_pins_in_grooves.toml",
                            "stage/cycloidal_drive_bending.toml", "stage/rv_catalogue.toml"}) {
     for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
@@ -322,8 +323,10 @@ TEST_CASE("app: on the stage decks the stage's solvers agree to 1e-9 arcsec with
           // cold-started positions (crankshafts as beams with the first stage; none in a sweep's warm
           // starts, docs/stage.md "Departures and limits"): its status says so (the documents then give
           // no figure).
-          if (std::string(name) == "stage/rv_catalogue.toml" && solver == "energy-qp" &&
-              r.status == SolverStatus::kNumericalFailure) {
+          const bool known = std::string(name) == "stage/rv_catalogue.toml" && solver == "energy-qp";
+          known_tried += known ? 1 : 0;
+          if (known && r.status == SolverStatus::kNumericalFailure) {
+            ++known_failed;
             continue;
           }
           REQUIRE(r.status == SolverStatus::kSuccess);
@@ -341,6 +344,10 @@ TEST_CASE("app: on the stage decks the stage's solvers agree to 1e-9 arcsec with
       }
     }
   }
+  // The known failures stay the exception: energy-qp solves most of the catalogue deck's positions.
+  MESSAGE("energy-qp on rv_catalogue.toml: ", known_failed, " of ", known_tried, " cold starts failed");
+  CHECK(known_tried > 0);
+  CHECK(2 * known_failed < known_tried);
 }
 
 TEST_CASE("app: an output pin whose contact stress exceeds the material's limit is a warning naming the pin") {

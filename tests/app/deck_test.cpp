@@ -366,10 +366,11 @@ TEST_CASE("app: deck limits on pins, positions, slices and elements name the key
 }
 
 TEST_CASE("app: deck crank angles must be finite and within two output turns, at least ten crank turns (issue 54)") {
-  // kGood's disc has 39 teeth: two output turns are 2 x 39 x 360 = 28,080 deg of crank.
+  // kGood's disc has 39 teeth: two of its turns are 2 x 39 x 360 = 28,080 deg of crank (two output
+  // turns of a d = 1 drive, more where the output turns faster).
   const std::string good = kGood;
   CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_end_deg = 1e300\n"),
-                 "[sweep] crank_end_deg = 1e+300: expected a finite crank angle within +-28080 deg (2 output turns of 39 teeth"));
+                 "[sweep] crank_end_deg = 1e+300: expected a finite crank angle within +-28080 deg (2 x 39 crank turns, 2 turns of the disc"));
   CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_start_deg = -28081.0\ncrank_end_deg = 0.0\n"), "[sweep] crank_start_deg = -28081"));
   CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_start_deg = nan\n"), "[sweep] crank_start_deg = nan"));
   CHECK(Contains(ErrorOf(good + "[sweep]\ncrank_end_deg = inf\n"), "[sweep] crank_end_deg = inf"));
@@ -567,6 +568,13 @@ TEST_CASE("app: --unset removes a section or a key before the --set overrides, a
   // The mesh alone carries the whole torque on its pins; the stage's disc is in balance with its
   // output pins and bearing too, and its TE differs.
   CHECK(mesh_json["summary"]["mean_te_arcsec"].get<double>() != stage_json["summary"]["mean_te_arcsec"].get<double>());
+  // Neither option passes for the other (review: --set -friction removed [friction] silently).
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"solve", "--set", "-friction"}, {"solve", "--unset", "friction=1"}, {"solve", "--unset", "-load"}}) {
+    std::ostringstream out, err;
+    CHECK(ltca::cli::Run(args, out, err) == 2);
+    CHECK(Contains(err.str(), args[1] + " '" + args[2] + "': expected"));
+  }
 }
 
 TEST_CASE("app: a sweep with fewer than 8 positions a mesh period carries a note naming the period, the step and the remedy (issue 54)") {

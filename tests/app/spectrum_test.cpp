@@ -136,3 +136,24 @@ TEST_CASE("analysis: Miner's rule over a spectrum's bins, by hand") {
   CHECK(ltca::analysis::MinerHours({1000.0, INFINITY}, {0.5, 0.5}) == doctest::Approx(2000.0).epsilon(1e-15));
   CHECK(std::isnan(ltca::analysis::MinerHours({1000.0, NAN}, {0.5, 0.5})));
 }
+
+TEST_CASE("app: an idle bin of a load spectrum adds no damage: half the time idle doubles every life") {
+  // Review finding: an unloaded bearing's infinite life was taken as missing, and every combined
+  // life printed n/a. Miner: L = 1 / (0.5 / inf + 0.5 / L_loaded) = 2 L_loaded.
+  using namespace spectrum_test;
+  const std::string deck = DeckWith("cycloidal_drive.toml",
+                                    "[[load_spectrum]]\ntorque_nm = 0\nspeed_rpm = 1500\ntime_share = 0.5\n\n"
+                                    "[[load_spectrum]]\ntorque_nm = 206\nspeed_rpm = 1500\ntime_share = 0.5\n",
+                                    "idle_bin");
+  const nlohmann::json spectrum = Solve({"solve", deck, "--json", "-", "--set", "sweep.positions=13"}).at("spectrum");
+  const nlohmann::json loaded = Solve({"solve", std::string(LTCA_CASES_DIR) + "/stage/cycloidal_drive.toml", "--json", "-",
+                                       "--set", "sweep.positions=13", "--set", "load.torque_nm=206", "--set",
+                                       "operation.input_speed_rpm=1500"})
+                                    .at("summary");
+  for (const char* life : {"l10_hours", "load_zone_life_hours"}) {
+    CAPTURE(life);
+    const std::vector<double> combined = Numbers(spectrum.at(life)), single = Numbers(loaded.at("stage").at(life));
+    REQUIRE(combined.size() == single.size());
+    for (std::size_t i = 0; i < single.size(); ++i) CHECK(combined[i] == doctest::Approx(2.0 * single[i]).epsilon(1e-12));
+  }
+}

@@ -116,7 +116,7 @@ TEST_CASE("app: the carrier in series: a linear stage's rigidity is 1 / (1/k_sta
     }
   }
   CHECK(Contains(ErrorOf(Replace(text, key, key + "\ncarrier_torsional_stiffness_nm_per_arcmin = -1")),
-                 "[output] carrier_torsional_stiffness_nm_per_arcmin"));
+                 "[output] carrier_torsional_stiffness_nm_per_arcmin = -1: expected a torsional stiffness > 0 in N*m/arcmin"));
   CHECK(Contains(ErrorOf(Replace(text, key, key + "\ncarrier_torsional_stiffness_nm_per_arcmin = inf")),
                  "[output] carrier_torsional_stiffness_nm_per_arcmin: expected a finite stiffness"));
 }

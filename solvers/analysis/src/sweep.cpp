@@ -47,9 +47,9 @@ void Sweep::Validate(int tooth_count) const {
   for (const auto& [key, value] : {std::pair{"crank_start_deg", crank_start}, std::pair{"crank_end_deg", crank_end}}) {
     if (!std::isfinite(value) || std::abs(value) > max_crank) {
       throw std::invalid_argument(fmt::format(
-          "[sweep] {} = {}: expected a finite crank angle within +-{} deg ({} output turns of {} teeth, at least 10 crank "
-          "turns; docs/decks.md, Limits)",
-          key, units::RadToDeg(value), max_deg, kMaxOutputTurns, std::abs(tooth_count)));
+          "[sweep] {} = {}: expected a finite crank angle within +-{} deg ({} x {} crank turns, {} turns of the disc: at least "
+          "two output turns; at least 10 crank turns; docs/decks.md, Limits)",
+          key, units::RadToDeg(value), max_deg, kMaxOutputTurns, std::abs(tooth_count), kMaxOutputTurns));
     }
   }
   if (positions > 1 && crank_end <= crank_start) {
@@ -184,7 +184,11 @@ BearingLife BearingLives(const StageDesign& design, const ReducerSummary& summar
   const double rpm = std::isfinite(input_speed) ? units::RadPerSToRpm(input_speed) * std::abs(1.0 - 1.0 / ratio)
                                                 : std::numeric_limits<double>::quiet_NaN();
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  const auto hours = [&](double l) { return std::isfinite(rpm) && std::isfinite(l) ? contact::RatingLifeHours(l, rpm) : kNaN; };
+  // An unloaded bearing's life is infinite (no damage: a spectrum's idle bin), not missing.
+  const auto hours = [&](double l) {
+    if (!std::isfinite(rpm) || std::isnan(l)) return kNaN;
+    return std::isinf(l) && l > 0.0 ? std::numeric_limits<double>::infinity() : contact::RatingLifeHours(l, rpm);
+  };
   for (const double load : summary.mean_equivalent_load) {
     const double l10 = rating > 0.0 ? contact::RatingLife(rating, load) : kNaN;
     life.million_revolutions.push_back(l10);

@@ -5,15 +5,29 @@
 #include <cstdint>
 #include <exception>
 #include <limits>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
 namespace ltca::cli {
 
 app::Deck DeckInput::Read() const {
+  // app::ParseDeck tells a removal by its leading '-': neither option may pass for the other.
   std::vector<std::string> all;
-  for (const std::string& removal : removals) all.push_back("-" + removal);  // app::ParseDeck's form of a removal
-  all.insert(all.end(), overrides.begin(), overrides.end());
+  for (const std::string& removal : removals) {
+    if (removal.empty() || removal.front() == '-' || removal.find('=') != std::string::npos) {
+      throw std::invalid_argument(fmt::format("--unset '{}': expected section or section.key, e.g. --unset friction; a value "
+                                              "is set with --set section.key=value", removal));
+    }
+    all.push_back("-" + removal);
+  }
+  for (const std::string& set : overrides) {
+    if (!set.empty() && set.front() == '-') {
+      throw std::invalid_argument(fmt::format("--set '{}': expected section.key=value, e.g. --set load.torque_nm=100; a "
+                                              "section or key is removed with --unset section[.key]", set));
+    }
+    all.push_back(set);
+  }
   app::Deck deck = path.empty() ? app::DefaultDeck(all) : app::LoadDeck(path, all);
   // No output of this run may be the deck or a file it reads (a trace).
   if (OutputTransaction* run = OutputTransaction::Current()) {

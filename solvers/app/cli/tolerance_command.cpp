@@ -57,7 +57,8 @@ std::unique_ptr<SampleFarm> MakeSampleFarm() {
 #ifdef LTCA_HAVE_MPI
   return std::unique_ptr<SampleFarm>(app::ModuleFunction<SampleFarm* (*)()>("mpi", "ltca_mpi_sample_farm")());
 #else
-  return nullptr;  // built without MPI: each rank would run the whole study alone
+  // Each rank would run the whole study alone and write the same outputs at once.
+  throw std::runtime_error("started by mpirun, but this ltca was built without MPI (no ltca_mpi.so): run it without mpirun");
 #endif
 }
 

@@ -1823,20 +1823,19 @@ std::string EditToml(std::string_view text, const std::vector<DeckEdit>& edits, 
 std::string WriteDeck(const Deck& deck, const std::vector<DeckEdit>& edits, const std::vector<std::string>& drop,
                       const std::string& header) {
   // The overrides first, as the deck that ran had them, then the edits.
-  std::vector<DeckEdit> all;
-  std::vector<std::string> dropped = drop;
+  // In their order: a section removed and then set again (--unset S --set S.k=v) is the new keys.
+  std::string body = deck.source.text;
   for (const std::string& text : deck.source.overrides) {
     const Override o = ParseOverride(text);
     if (o.remove && o.key.empty()) {
-      dropped.push_back(o.section);
+      body = EditToml(body, {}, {o.section});
     } else {
-      all.push_back({o.section, o.key, o.remove ? std::string() : GivenText(o.value), "--set", o.remove});
+      body = EditToml(body, {{o.section, o.key, o.remove ? std::string() : GivenText(o.value), "--set", o.remove}}, {});
     }
   }
-  all.insert(all.end(), edits.begin(), edits.end());
   std::string text = header;
   if (!text.empty() && text.back() != '\n') text += '\n';
-  text += EditToml(deck.source.text, all, dropped);
+  text += EditToml(body, edits, drop);
 
   // Read back: the same keys with the same values, the same discs and stage. An edit's value is
   // compared as the reader gives it back (100.0 reads back as 100).

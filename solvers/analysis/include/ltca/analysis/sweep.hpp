@@ -25,8 +25,9 @@ namespace ltca::analysis {
 
 /// A sweep may span this many output revolutions (a per-tooth error repeats after one; issue 54).
 inline constexpr int kMaxOutputTurns = 2;
-/// The largest crank angle of a sweep of a disc of `tooth_count` teeth, deg: kMaxOutputTurns output
-/// revolutions (tooth_count crank turns each), and never less than 10 crank turns (docs/decks.md,
+/// The largest crank angle of a sweep of a disc of `tooth_count` teeth, deg: kMaxOutputTurns turns of
+/// the disc relative to the eccentric (tooth_count crank turns each: at least kMaxOutputTurns output
+/// revolutions, whose ratio is tooth_count / d), and never less than 10 crank turns (docs/decks.md,
 /// Limits).
 inline double MaxCrankDeg(int tooth_count) {
   return std::max(3600.0, 360.0 * kMaxOutputTurns * std::abs(static_cast<double>(tooth_count)));
