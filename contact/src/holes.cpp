@@ -17,6 +17,14 @@ Eigen::Vector2d HoleInDisc(double circle_radius, double alpha, const HoleDeviati
   return hole;
 }
 
+std::vector<Eigen::Vector2d> HolesInDisc(double circle_radius, int count, double phase, const HoleDeviations& deviations) {
+  std::vector<Eigen::Vector2d> holes;
+  for (int j = 0; j < count; ++j) {
+    holes.push_back(HoleInDisc(circle_radius, 2.0 * std::acos(-1.0) * j / count + phase, deviations, j));
+  }
+  return holes;
+}
+
 void ValidateHoleDeviations(const HoleDeviations& deviations, int count) {
   if (deviations.empty()) return;
   if (static_cast<int>(deviations.size()) != count) {

@@ -45,20 +45,9 @@ LtcaStepWriteFn Load(std::string& why) {
   }
 }
 
-/// A scratch file removed when it goes out of scope.
-struct Scratch {
-  std::string path;
-  ~Scratch() {
-    if (!path.empty()) {
-      std::remove(path.c_str());
-      app::ForgetTemporary(path);
-    }
-  }
-};
-
 /// The STEP text of the disc, written by the module to a private temporary and read back.
 std::string Write(LtcaStepWriteFn write, const documents::StepDisc& disc, const std::string& name, LtcaStepReport& report) {
-  Scratch scratch;
+  app::ScratchFile scratch;
   std::string pattern = std::filesystem::temp_directory_path().string() + "/.ltca-step-XXXXXX";
   if (!app::CreateTemporary(pattern, false)) {
     throw std::runtime_error(fmt::format("{}: cannot create a temporary file for the STEP ({})", pattern, std::strerror(errno)));

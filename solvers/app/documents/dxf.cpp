@@ -31,17 +31,6 @@ constexpr Layer kLayers[] = {{"DISC_PROFILE", 7}, {"BORE", 1}, {"HOLES", 3}, {"P
 
 DL_Attributes On(const char* layer) { return DL_Attributes(layer, 256, -1, -1, "BYLAYER"); }  // colour by layer
 
-/// A scratch file removed when it goes out of scope.
-struct Scratch {
-  std::string path;
-  ~Scratch() {
-    if (!path.empty()) {
-      std::remove(path.c_str());
-      app::ForgetTemporary(path);
-    }
-  }
-};
-
 }  // namespace
 
 std::size_t DxfProfileVertices(const geometry::RealPair& real, double sagitta) {
@@ -50,7 +39,7 @@ std::size_t DxfProfileVertices(const geometry::RealPair& real, double sagitta) {
 
 std::string Dxf(const Deck& deck, const geometry::RealPair& real, const std::string& scratch_folder, double sagitta) {
   const std::vector<Eigen::Vector2d> outline = geometry::OutlinePolyline(real.profile(), sagitta);
-  Scratch scratch;
+  app::ScratchFile scratch;
   std::string pattern = (scratch_folder.empty() ? std::string(".") : scratch_folder) + "/.ltca-dxf-XXXXXX";
   if (!app::CreateTemporary(pattern, false)) {
     throw std::runtime_error(fmt::format("{}: cannot create a temporary file for the DXF ({})", pattern, std::strerror(errno)));
@@ -117,18 +106,17 @@ std::string Dxf(const Deck& deck, const geometry::RealPair& real, const std::str
       const solvers::ReducerSettings& reducer = *deck.reducer;
       if (reducer.kind == solvers::OutputKind::kPins) {
         const contact::OutputPins& w = reducer.pins;
+        const std::vector<Eigen::Vector2d> holes = contact::HolesInDisc(w.circle_radius, w.count, w.phase, w.hole_deviation);
         for (int j = 0; j < w.count; ++j) {
           const double alpha = 2.0 * units::kPi * j / w.count + w.phase;
-          const Eigen::Vector2d hole = contact::HoleInDisc(w.circle_radius, alpha, w.hole_deviation, j);
+          const Eigen::Vector2d& hole = holes[static_cast<std::size_t>(j)];
           dxf.writeCircle(*dw, DL_CircleData(hole.x(), hole.y(), 0.0, w.hole_radius), On("HOLES"));
           const Eigen::Vector2d pin = pose.ToBody(w.circle_radius * Eigen::Vector2d(std::cos(alpha), std::sin(alpha)));
           dxf.writeCircle(*dw, DL_CircleData(pin.x(), pin.y(), 0.0, w.pin_radius), On("OUTPUT_PINS"));
         }
       } else {
         const contact::Cranks& k = reducer.cranks;
-        for (int j = 0; j < k.count; ++j) {
-          const double alpha = 2.0 * units::kPi * j / k.count + k.phase;
-          const Eigen::Vector2d hole = contact::HoleInDisc(k.circle_radius, alpha, k.hole_deviation, j);
+        for (const Eigen::Vector2d& hole : contact::HolesInDisc(k.circle_radius, k.count, k.phase, k.hole_deviation)) {
           dxf.writePoint(*dw, DL_PointData(hole.x(), hole.y(), 0.0), On("HOLES"));
         }
       }

@@ -6,7 +6,6 @@
 
 #include "ltca/contact/holes.hpp"
 #include "ltca/geometry/outline.hpp"
-#include "ltca/geometry/units.hpp"
 #include "ltca/solvers/reducer.hpp"
 
 namespace ltca::app::documents {
@@ -35,9 +34,7 @@ StepDisc MakeStepDisc(const Deck& deck, const geometry::RealPair& real) {
     const solvers::ReducerSettings& reducer = *deck.reducer;
     if (reducer.kind == solvers::OutputKind::kPins) {
       const contact::OutputPins& w = reducer.pins;
-      for (int j = 0; j < w.count; ++j) {
-        const double alpha = 2.0 * units::kPi * j / w.count + w.phase;
-        const Eigen::Vector2d hole = contact::HoleInDisc(w.circle_radius, alpha, w.hole_deviation, j);
+      for (const Eigen::Vector2d& hole : contact::HolesInDisc(w.circle_radius, w.count, w.phase, w.hole_deviation)) {
         disc.holes_xyr.insert(disc.holes_xyr.end(), {hole.x(), hole.y(), w.hole_radius});
       }
     } else {

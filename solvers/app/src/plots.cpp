@@ -332,13 +332,7 @@ void Write(const Figure& figure, std::ostream& os, Format format) {
     if (!CreateTemporary(name, false)) {
       throw std::runtime_error("cannot create a temporary file for a plot in " + std::filesystem::temp_directory_path().string());
     }
-    struct Remove {
-      std::string path;
-      ~Remove() {
-        std::remove(path.c_str());
-        ForgetTemporary(path);
-      }
-    } remove{name};
+    const ScratchFile remove(name);
     ModuleFunction<void (*)(const Figure*, const char*, const char*)>("plots", "ltca_plots_draw")(&figure, device, name.c_str());
     std::ifstream in(name, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
@@ -52,6 +53,13 @@ bool CreateTemporary(std::string& pattern, bool folder) {
 void ForgetTemporary(const std::string& path) {
   const std::lock_guard<std::mutex> lock(Mutex());
   ForgetTemporaryLocked(path);
+}
+
+ScratchFile::~ScratchFile() {
+  if (!path.empty()) {
+    std::remove(path.c_str());
+    ForgetTemporary(path);
+  }
 }
 
 std::unique_lock<std::mutex> LockTemporaries() { return std::unique_lock<std::mutex>(Mutex()); }

@@ -17,6 +17,10 @@ using HoleDeviations = std::vector<Eigen::Vector2d>;
 /// Hole j's centre in the disc's body frame (about the disc centre), mm.
 Eigen::Vector2d HoleInDisc(double circle_radius, double alpha, const HoleDeviations& deviations, int j);
 
+/// Every hole's centre in the disc's body frame, element j at alpha_j = 2 pi j / count + phase
+/// (the drawings of the disc: DXF, STEP).
+std::vector<Eigen::Vector2d> HolesInDisc(double circle_radius, int count, double phase, const HoleDeviations& deviations);
+
 /// Throws std::invalid_argument naming `[output] hole_radial_deviations_mm` (or
 /// hole_tangential_deviations_mm) unless empty or one finite pair per hole (count).
 void ValidateHoleDeviations(const HoleDeviations& deviations, int count);

@@ -5,6 +5,7 @@
 // ends the process. Thread-safe.
 #include <mutex>
 #include <string>
+#include <utility>
 
 namespace ltca::app {
 
@@ -24,5 +25,17 @@ std::unique_lock<std::mutex> LockTemporaries();
 /// With the lock held: forgets one, or removes every one (the interrupt).
 void ForgetTemporaryLocked(const std::string& path);
 void RemoveTemporariesLocked();
+
+/// A scratch file of this run (made by CreateTemporary; `path` empty until then), removed and
+/// forgotten when it goes out of scope: a figure's drawing, the DXF or STEP written before it is
+/// read back.
+struct ScratchFile {
+  std::string path;
+  ScratchFile() = default;
+  explicit ScratchFile(std::string p) : path(std::move(p)) {}
+  ScratchFile(const ScratchFile&) = delete;
+  ScratchFile& operator=(const ScratchFile&) = delete;
+  ~ScratchFile();
+};
 
 }  // namespace ltca::app
