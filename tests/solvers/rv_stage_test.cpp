@@ -17,6 +17,7 @@
 #include "ltca/solvers/registry.hpp"
 #include "ltca/solvers/reducer.hpp"
 #include "pairs.hpp"
+#include "one_sided_network.hpp"
 #include "problems.hpp"
 
 namespace rv_stage_test {
@@ -96,27 +97,9 @@ Eigen::VectorXd Network(const LoadProblem& problem, double turns, double torque)
     a(3 * p.disc + 2) = p.arm;
     springs.push_back({a, p.clearance, kLawStiffness * p.length});
   }
-  std::vector<bool> active(springs.size(), true);
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(n);
-  for (int round = 0; round < 50; ++round) {
-    Eigen::MatrixXd kk = fixed;
-    Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
-    f(n - 1) = torque;
-    for (std::size_t e = 0; e < springs.size(); ++e) {
-      if (!active[e]) continue;
-      kk += springs[e].k * springs[e].a * springs[e].a.transpose();
-      f += springs[e].k * springs[e].gap * springs[e].a;
-    }
-    q = kk.ldlt().solve(f);
-    bool same = true;
-    for (std::size_t e = 0; e < springs.size(); ++e) {
-      const bool closed = springs[e].a.dot(q) - springs[e].gap > 0.0;
-      same = same && closed == active[e];
-      active[e] = closed;
-    }
-    if (same) return q;
-  }
-  throw std::runtime_error("the hand-assembled network's active set did not settle");
+  const std::optional<Eigen::VectorXd> q = ltca::test::SolveOneSided(fixed, springs, n - 1, torque);
+  if (!q) throw std::runtime_error("the hand-assembled network's active set did not settle");
+  return *q;
 }
 
 // The tests sit in the namespace: a unity build puts other files' helpers of the same names beside them.
@@ -358,27 +341,9 @@ TEST_CASE("solvers: crankshafts as beams, the first stage and the carrier: a lin
     a(3 * p.disc + 2) = p.arm;
     springs.push_back({a, p.clearance, kLawStiffness * p.length, static_cast<int>(i)});
   }
-  std::vector<bool> active(springs.size(), true);
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(n);
-  for (int round = 0;; ++round) {
-    REQUIRE(round < 50);
-    Eigen::MatrixXd kk = k;
-    Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
-    f(6) = torque;
-    for (std::size_t e = 0; e < springs.size(); ++e) {
-      if (!active[e]) continue;
-      kk += springs[e].k * springs[e].a * springs[e].a.transpose();
-      f += springs[e].k * springs[e].gap * springs[e].a;
-    }
-    q = kk.ldlt().solve(f);
-    bool same = true;
-    for (std::size_t e = 0; e < springs.size(); ++e) {
-      const bool closed = springs[e].a.dot(q) - springs[e].gap > 0.0;
-      same = same && closed == active[e];
-      active[e] = closed;
-    }
-    if (same) break;
-  }
+  const std::optional<Eigen::VectorXd> solved = ltca::test::SolveOneSided(k, springs, 6, torque);  // psi
+  REQUIRE(solved.has_value());
+  const Eigen::VectorXd& q = *solved;
   // The beams' energy split: P^T C_beam P / 2 for the shafts, the rest for the support bearings.
   const Eigen::Matrix2d beam_part = MohrCompliance(Shaft(), true, false);
   double shafts = 0.0, supports = 0.0, force_max = 0.0;

@@ -16,6 +16,7 @@
 #include "ltca/solvers/registry.hpp"
 #include "ltca/solvers/reducer.hpp"
 #include "pairs.hpp"
+#include "one_sided_network.hpp"
 #include "problems.hpp"
 
 namespace {
@@ -91,28 +92,9 @@ struct Network {
   Eigen::MatrixXd fixed;  // the bearings' (or cranks') stiffness, always active
   int dofs = 0;
   Eigen::VectorXd Solve(double torque) const {
-    std::vector<bool> active(springs.size(), true);
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(dofs);
-    for (int round = 0; round < 50; ++round) {
-      Eigen::MatrixXd k = fixed;
-      Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs);
-      f(dofs - 1) = torque;
-      for (std::size_t e = 0; e < springs.size(); ++e) {
-        if (!active[e]) continue;
-        k += springs[e].k * springs[e].a * springs[e].a.transpose();
-        f += springs[e].k * springs[e].gap * springs[e].a;
-      }
-      q = k.ldlt().solve(f);
-      bool same = true;
-      for (std::size_t e = 0; e < springs.size(); ++e) {
-        const bool closed = springs[e].a.dot(q) - springs[e].gap > 0.0;
-        same = same && closed == active[e];
-        active[e] = closed;
-      }
-      if (same) return q;
-    }
-    FAIL("the hand-assembled network's active set did not settle");
-    return q;
+    const std::optional<Eigen::VectorXd> q = ltca::test::SolveOneSided(fixed, springs, dofs - 1, torque);
+    if (!q) FAIL("the hand-assembled network's active set did not settle");
+    return *q;
   }
 };
 
