@@ -152,7 +152,9 @@ REWORDED = {
 # energy and compliance budget the carrier in series (zero for the recorded decks, whose carriers are
 # rigid; tests/app/stage_as_built_test.cpp).
 # Issue 54: a sweep's notes (too few positions a mesh period), checked by tests/app/deck_test.cpp.
-ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers",
+# Issue 50: a sweep's pitting rating of the pins and teeth (contact_fatigue), checked by
+# tests/app/contact_fatigue_test.cpp against a recount from the positions' pressures.
+ADDED = {"contact_fatigue", "root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers",
          "dimension_over_rollers_tolerance", "profile_deviation_chart",
          "turning_raceway", "turning_raceway_basis", "load_zone_equivalent_load_n", "load_zone_life_million_revolutions",
          "load_zone_life_hours", "load_zone_to_basic_life_ratio", "shortest_load_zone_life_hours", "max_bearing_load_per_bearing_n", "static_safety",

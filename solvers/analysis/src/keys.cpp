@@ -72,6 +72,7 @@ using Plane = contact::PlaneModel;
 using Output = solvers::OutputKind;
 using Bearing = contact::BearingKind;
 using Kinematics = contact::ContactKinematics;
+using LifeCurve = contact::LifeCurve;
 using Rigidity = StiffnessSettings::Rigidity;
 using Friction = FrictionSettings::Model;
 using Balance = FrictionSettings::TorqueBalance;
@@ -221,6 +222,16 @@ const std::vector<DeckKey> kKeys = {
     {.section = "material", .name = "contact_stress_limit_mpa", .type = T::kReal, .unit = "MPa",
      .meaning = "contact stress above which a result is flagged, MPa", .default_value = "4000",
      .setting = LTCA_SETTING(material, contact_stress_limit)},
+    {.section = "material", .name = "contact_fatigue_limit_mpa", .type = T::kReal, .unit = "MPa",
+     .meaning = "endurance limit sigma_Hlim of the flanks in pitting, MPa (contact fatigue; ISO 6336-5: 1500 for case-hardened "
+                "steel MQ)",
+     .default_value = "1500", .setting = LTCA_SETTING(material, contact_fatigue_limit)},
+    {.section = "material", .name = "contact_life_curve", .type = T::kText, .unit = "",
+     .meaning = "life factor Z_NT over the load cycles, ISO 6336-2: steel (St, V, Eh, IF) | steel-limited-pitting | nitrided | "
+                "nitrocarburized",
+     .default_value = "\"steel\"", .choices = "steel | steel-limited-pitting | nitrided | nitrocarburized",
+     .setting = LTCA_CHOICE(material, life_curve, LifeCurve::kSteel, LifeCurve::kSteelLimitedPitting, LifeCurve::kNitrided,
+                            LifeCurve::kNitrocarburized)},
     // [pins]
     {.section = "pins", .name = "span_mm", .type = T::kReal, .unit = "mm",
      .meaning = "pin bending: distance between the two supports of a pin in mm", .default_value = "",
@@ -513,7 +524,7 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "diameter of the measuring rollers of the dimension over rollers in mm (> 0; the rollers in the tooth "
                 "spaces nearest to opposite)",
      .default_value = "", .setting = LTCA_SETTING(inspection, roller_diameter)},
-    // [allowables] (docs/stage.md, issue 50): the targets of a stage's bearing ratings
+    // [allowables] (docs/stage.md): the targets of the bearing and pitting ratings
     // [[load_spectrum]]: an array of tables, each a bin of the duty cycle (issue 50; the deck
     // reader takes each entry apart into analysis::LoadBin, spectrum.hpp)
     {.section = "load_spectrum", .name = "torque_nm", .type = T::kReal, .unit = "N*m",
@@ -531,6 +542,12 @@ const std::vector<DeckKey> kKeys = {
     {.section = "allowables", .name = "min_static_safety", .type = T::kReal, .unit = "",
      .meaning = "least static safety s_0 = C_0 / P_0,max of every bearing (ISO 76; > 0)", .default_value = "",
      .setting = LTCA_SETTING(allowables, min_static_safety)},
+    {.section = "allowables", .name = "contact_life_hours", .type = T::kReal, .unit = "h",
+     .meaning = "required pitting life of the pins and the disc's teeth in hours; S_H is rated at it (> 0)", .default_value = "",
+     .setting = LTCA_SETTING(allowables, contact_life_hours)},
+    {.section = "allowables", .name = "min_contact_safety", .type = T::kReal, .unit = "",
+     .meaning = "least pitting safety S_H = sigma_Hlim Z_NT / sigma_H of the pins and teeth at contact_life_hours (> 0)",
+     .default_value = "", .setting = LTCA_SETTING(allowables, min_contact_safety)},
     {.section = "inspection", .name = "profile_tolerance_um", .type = T::kReal, .unit = "um",
      .meaning = "full width of the profile tolerance band of the deviation chart in um (> 0; +- half about the design)",
      .default_value = "", .setting = LTCA_SETTING(inspection, profile_tolerance)},

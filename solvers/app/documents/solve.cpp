@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "ltca/analysis/allowables.hpp"
+#include "ltca/analysis/contact_fatigue.hpp"
 #include "ltca/analysis/stage.hpp"
 #include "ltca/geometry/units.hpp"
 
@@ -128,6 +129,41 @@ nlohmann::json ReducerSummaryJson(const Deck& deck, const analysis::SweepSummary
           {"strain_energy_share", shares}};
 }
 
+/// A life in hours: a number, the string "infinite" for +inf (no damage: JSON has no infinity), or
+/// null when not rated.
+nlohmann::json HoursOrInfinite(double h) {
+  return std::isinf(h) && h > 0.0 ? nlohmann::json("infinite") : FiniteOrNull(h);
+}
+
+/// The pitting rating of the pin-cycloid contact (analysis::ContactFatigue): per disc its pins'
+/// and teeth's cycles, lives and S_H, with the curve, the endurance limit and the counting basis.
+nlohmann::json ContactFatigueJson(const Deck& deck, const analysis::ContactFatigue& f) {
+  nlohmann::json discs = nlohmann::json::array();
+  for (const analysis::ContactFatigueDisc& d : f.discs) {
+    discs.push_back({{"max_contact_stress_mpa", FiniteOrNull(d.max_stress)},
+                     {"worst_pin", d.worst_pin >= 0 ? nlohmann::json(d.worst_pin + 1) : nlohmann::json(nullptr)},
+                     {"pin_cycles_per_crank_turn", FiniteOrNull(d.pin_cycles_per_turn)},
+                     {"tooth_cycles_per_crank_turn", FiniteOrNull(d.tooth_cycles_per_turn)},
+                     {"pin_damage_per_crank_turn", FiniteOrNull(d.pin_damage_per_turn)},
+                     {"tooth_damage_per_crank_turn", FiniteOrNull(d.tooth_damage_per_turn)},
+                     // +inf (no cycle above the curve's floor) is written as the string "infinite"
+                     {"pin_life_hours", HoursOrInfinite(d.pin_life_hours)},
+                     {"tooth_life_hours", HoursOrInfinite(d.tooth_life_hours)},
+                     {"pin_safety", FiniteOrNull(d.pin_safety)},
+                     {"tooth_safety", FiniteOrNull(d.tooth_safety)}});
+  }
+  return {{"basis", f.basis},
+          {"rule", "Palmgren-Miner over the counted cycles on ISO 6336-2's life factor Z_NT (Z_L = Z_v = Z_R = Z_W = Z_X = 1)"},
+          {"life_curve", contact::ToString(f.curve)},
+          {"fatigue_limit_mpa", FiniteOrNull(f.fatigue_limit)},
+          {"crank_speed_rpm", FiniteOrNull(f.crank_rpm)},
+          {"required_life_hours", FiniteOrNull(f.required_hours)},
+          {"discs", discs},
+          {"shortest_life_hours", HoursOrInfinite(f.ShortestHours())},
+          {"smallest_safety", FiniteOrNull(f.SmallestSafety())},
+          {"verdicts", Verdicts(analysis::ContactFatigueRows(f, deck.allowables))}};
+}
+
 nlohmann::json SummaryJson(const analysis::SweepSummary& s, const Deck::ModelInfo& model) {
   const auto count = [&s](int v) { return s.succeeded > 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
   nlohmann::json j = {{"model", model.name},
@@ -239,6 +275,7 @@ std::string FailureNote(const analysis::SweepSummary& s) {
 nlohmann::json Json(const Deck& deck, const analysis::SweepSummary& summary) {
   nlohmann::json j = SummaryJson(summary, deck.Model());
   if (deck.reducer) j["stage"] = ReducerSummaryJson(deck, summary);
+  if (summary.contact_fatigue) j["contact_fatigue"] = ContactFatigueJson(deck, *summary.contact_fatigue);
   return j;
 }
 
@@ -337,14 +374,21 @@ nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
                     {"max_pin_force_n", FiniteOrNull(s.max_pin_force)},
                     {"max_contact_stress_mpa", FiniteOrNull(s.max_contact_stress)},
                     {"l10_hours", Finites(life.hours)},
-                    {"load_zone_life_hours", Finites(life.load_zone_hours)}});
+                    {"load_zone_life_hours", Finites(life.load_zone_hours)},
+                    {"shortest_pitting_life_hours",
+                     HoursOrInfinite(s.contact_fatigue ? s.contact_fatigue->ShortestHours() : std::numeric_limits<double>::quiet_NaN())}});
   }
+  nlohmann::json pitting = nlohmann::json::array();
+  for (const double h : r.contact_life_hours) pitting.push_back(HoursOrInfinite(h));
   return {{"rule", "Palmgren-Miner over the time shares: L = 1 / sum(share_i / L_i), each L_i in hours at bin i's crank speed"},
           {"bins", bins},
           {"l10_hours", Finites(r.l10_hours)},
           {"shortest_l10_hours", FiniteOrNull(r.ShortestL10Hours())},
           {"load_zone_life_hours", Finites(r.load_zone_hours)},
-          {"shortest_load_zone_life_hours", FiniteOrNull(r.ShortestLoadZoneHours())}};
+          {"shortest_load_zone_life_hours", FiniteOrNull(r.ShortestLoadZoneHours())},
+          // per disc: the pins', then the teeth's pitting life (ContactFatigue), Miner over the bins
+          {"pitting_life_hours", pitting},
+          {"shortest_pitting_life_hours", HoursOrInfinite(r.ShortestContactHours())}};
 }
 
 std::string SpectrumText(const analysis::SpectrumResult& r) {
@@ -362,8 +406,41 @@ std::string SpectrumText(const analysis::SpectrumResult& r) {
   }
   text += fmt::format("spectrum bearing L10   {} h, the shortest\n", FormatOrNa(r.ShortestL10Hours(), 4));
   text += fmt::format("spectrum load-zone     {} h, the shortest\n", FormatOrNa(r.ShortestLoadZoneHours(), 4));
+  text += fmt::format("spectrum pitting life  {} h, the shortest of the pins and teeth\n",
+                      std::isinf(r.ShortestContactHours()) ? std::string("infinite") : FormatOrNa(r.ShortestContactHours(), 4));
   return text;
 }
+
+namespace {
+
+/// A life in hours as text: "infinite" for +inf, "n/a" for NaN.
+std::string HoursText(double h) { return std::isinf(h) && h > 0.0 ? std::string("infinite") : FormatOrNa(h, 4); }
+
+/// The pitting rating's lines (ContactFatigueJson's figures, the shortest and smallest of them).
+std::string ContactFatigueText(const Deck& deck, const analysis::ContactFatigue& f) {
+  if (f.discs.empty()) return fmt::format("pitting life           {}\n", f.basis);
+  std::string text;
+  for (std::size_t d = 0; d < f.discs.size(); ++d) {
+    const analysis::ContactFatigueDisc& r = f.discs[d];
+    text += fmt::format("{:<23}pins {} h ({:.4g} cycles a crank turn, pin {}), teeth {} h ({:.4g} cycles a crank turn)\n",
+                        f.discs.size() == 2 ? fmt::format("pitting life disc {}", d + 1) : std::string("pitting life"),
+                        HoursText(r.pin_life_hours), r.pin_cycles_per_turn, r.worst_pin + 1, HoursText(r.tooth_life_hours),
+                        r.tooth_cycles_per_turn);
+  }
+  text += fmt::format("                       (Miner on ISO 6336-2 Z_NT, {}, sigma_Hlim {:g} MPa; {}{})\n",
+                      contact::ToString(f.curve), f.fatigue_limit, f.basis,
+                      std::isnan(f.crank_rpm) ? "; no hours without [operation] input_speed_rpm" : "");
+  if (!std::isnan(f.required_hours)) {
+    text += fmt::format("pitting safety S_H     {} at {:g} h (the smallest)\n", FormatOrNa(f.SmallestSafety(), 4), f.required_hours);
+  }
+  for (const analysis::AllowableRow& r : analysis::ContactFatigueRows(f, deck.allowables)) {
+    if (!r.range.Given()) continue;
+    text += fmt::format("  {:<6} {}: {}, target >= {:g}\n", analysis::ToString(r.verdict), r.name, FormatOrNa(r.value, 4), r.range.min);
+  }
+  return text;
+}
+
+}  // namespace
 
 std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::SweepSummary& s) {
   std::string text = fmt::format("case      {}\n", deck.info.title);
@@ -390,6 +467,7 @@ std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::
   }
   text += fmt::format("largest pin force      {} N\n", FormatOrNa(s.max_pin_force, 2));
   text += fmt::format("largest contact stress {} MPa\n", FormatOrNa(s.max_contact_stress, 2));
+  if (s.contact_fatigue) text += ContactFatigueText(deck, *s.contact_fatigue);
   if (deck.reducer && s.reducer) {
     const analysis::ReducerSummary& g = *s.reducer;
     const analysis::BearingLife life = s.bearing_life.value_or(analysis::BearingLife{});

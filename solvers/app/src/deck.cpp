@@ -1570,6 +1570,10 @@ analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& opti
         analysis::BearingLives(deck, *sweep.summary.reducer, deck.sweep, sweep.summary.closed_period,
                                deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN());
   }
+  // The pitting rating of the pins and teeth, at the deck's crank speed and required life.
+  sweep.summary.contact_fatigue = analysis::RateContactFatigue(
+      sweep.summary.contact_cycles, *deck.material, deck.pair.tooth_count,
+      deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN(), deck.allowables.contact_life_hours);
   return sweep;
 }
 
