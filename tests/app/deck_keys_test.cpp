@@ -283,6 +283,12 @@ const std::vector<std::string> kTakenApart = {
     // [[load_spectrum]]: each entry read into an analysis::LoadBin (tests/app/spectrum_test.cpp
     // shows every key reaching its bin)
     "load_spectrum.torque_nm",           "load_spectrum.speed_rpm",          "load_spectrum.time_share",
+    // [second_disc]'s own stage elements, read into solvers::ReducerSettings (tests/app/stage_as_built_test.cpp
+    // shows each reaching its field)
+    "second_disc.hole_radial_deviations_mm", "second_disc.hole_tangential_deviations_mm",
+    "second_disc.bearing_radial_clearance_mm",
+    // read into [operation]'s crank speed through the first stage (tests/app/stage_as_built_test.cpp)
+    "operation.motor_speed_rpm",
 };
 
 /// Where the deck's keys went: its settings, and a disc's parts (the first or the second).

@@ -51,6 +51,11 @@ bool IsReducerKey(const DeckKey& k) {
   return s == "output" || s == "bearing";
 }
 
+/// A stage key each disc has its own of: the play of its bearing (the eccentric bearing, or its
+/// cranks' needle bearings); with two discs it is drawn per disc, the second disc's going to
+/// ReducerSettings::second_disc_bearing_clearance.
+bool IsPerDiscStageKey(const DeckKey& k) { return std::string_view(k.section) == "bearing" && std::string_view(k.name) == "radial_clearance_mm"; }
+
 /// The symmetry the errors break: per-pin keys and the frame-fixed assembly errors (the centre
 /// offset and the tilts stay where they are while the eccentric turns) repeat only after a whole
 /// crank revolution, not after one mesh period.
@@ -283,7 +288,7 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
       const std::string why = StageClearanceRefusal(nominal_.design.reducer, std::string(key->section) + "." + key->name);
       if (!why.empty()) throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: {}", nominal_.design.name, d.key, why));
     }
-    const int discs = two && key != nullptr && key->disc ? 2 : 1;
+    const int discs = two && key != nullptr && (key->disc || (IsPerDiscStageKey(*key) && nominal_.design.reducer)) ? 2 : 1;
     for (int disc = 0; disc < discs; ++disc) {
       const std::string suffix = disc == 1 ? " (disc 2)" : "";
       if (d.per_pin) {
@@ -405,6 +410,14 @@ ToleranceCase ToleranceStudy::Apply(const std::vector<double>& inputs) const {
       continue;
     }
     if (k != nullptr && IsReducerKey(*k)) {  // the stage's, one for the stage (the constructor checked it has one)
+      if (IsPerDiscStageKey(*k) && second != nullptr) {
+        // Each disc's bearing its own draw: the second's play starts from its own (or the common) value.
+        if (!d.reducer->second_disc_bearing_clearance) d.reducer->second_disc_bearing_clearance = d.reducer->bearing.radial_clearance;
+        if (inputs_[c].disc == 1) {
+          *d.reducer->second_disc_bearing_clearance += k->ToInternal(v);
+          continue;
+        }
+      }
       double* field = ReducerClearance(*d.reducer, std::string(k->section) + "." + k->name);
       if (field == nullptr) throw std::logic_error(fmt::format("tolerance: key '{}' has no field in the stage's settings", key));
       *field += k->ToInternal(v);

@@ -165,7 +165,7 @@ struct ToleranceInput {
   std::string name;          ///< "pin_circle_deviation_mm" or "pin_radius_deviations_mm[7]" (pin 7, 1-based)
   std::size_t distribution;  ///< index into ToleranceSettings::distributions
   int pin = -1;              ///< 0-based pin of a per-pin key, -1 for a scalar key
-  /// With [second_disc]: 1 for the second disc's own draw of a disc key (its name ends
+  /// With [second_disc]: 1 for the second disc's own draw of a disc key or of its bearing play (its name ends
   /// " (disc 2)"), else 0 (the first disc's, or the pin ring's, which both discs share).
   int disc = 0;
 };
