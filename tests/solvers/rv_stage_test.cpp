@@ -114,6 +114,23 @@ Eigen::VectorXd Network(const LoadProblem& problem, double turns, double torque,
   return *q;
 }
 
+/// Every solver of the stage on `problem` against the network's q: the output's and each disc's
+/// rotation and translation to 1e-9.
+void SolversMatchNetwork(const LoadProblem& problem, const Eigen::VectorXd& q) {
+  for (const std::string& name : ltca::solvers::ReducerSolverNames()) {
+    CAPTURE(name);
+    const LoadResult r = ltca::test::SolveTight(name, problem);
+    INFO(r.message);
+    REQUIRE(r.status == SolverStatus::kSuccess);
+    CHECK(r.rotation == doctest::Approx(q(6)).epsilon(1e-9));
+    for (int d = 0; d < 2; ++d) {
+      const auto& disc = r.reducer->discs[static_cast<std::size_t>(d)];
+      CHECK(disc.rotation == doctest::Approx(q(3 * d + 2)).epsilon(1e-9));
+      CHECK((disc.translation - q.segment<2>(3 * d)).norm() <= 1e-9 * q.segment<2>(3 * d).norm());
+    }
+  }
+}
+
 // The tests sit in the namespace: a unity build puts other files' helpers of the same names beside them.
 
 TEST_CASE("contact: the first stage turns each crankshaft 1 + z_sun / z_spur times the carrier, as the planetary kinematics by hand") {
@@ -156,18 +173,7 @@ TEST_CASE("solvers: the first stage: two discs on three cranks with the input lo
       CAPTURE(turns);
       const LoadProblem problem = TwoDiscs(Cranks(turns), crank, torque);
       const Eigen::VectorXd q = Network(problem, turns, torque);
-      for (const std::string& name : ltca::solvers::ReducerSolverNames()) {
-        CAPTURE(name);
-        const LoadResult r = ltca::test::SolveTight(name, problem);
-        INFO(r.message);
-        REQUIRE(r.status == SolverStatus::kSuccess);
-        CHECK(r.rotation == doctest::Approx(q(6)).epsilon(1e-9));
-        for (int d = 0; d < 2; ++d) {
-          const auto& disc = r.reducer->discs[static_cast<std::size_t>(d)];
-          CHECK(disc.rotation == doctest::Approx(q(3 * d + 2)).epsilon(1e-9));
-          CHECK((disc.translation - q.segment<2>(3 * d)).norm() <= 1e-9 * q.segment<2>(3 * d).norm());
-        }
-      }
+      SolversMatchNetwork(problem, q);
     }
     const double old_rotation = Network(TwoDiscs(Cranks(0.0), crank, torque), 0.0, torque)(6);
     const double first_stage = Network(TwoDiscs(Cranks(kHandTurns), crank, torque), kHandTurns, torque)(6);
@@ -193,18 +199,7 @@ TEST_CASE("solvers: two discs with their own crank holes are the hand network wi
     const Eigen::VectorXd q = Network(problem, turns, torque, holes);
     const Eigen::VectorXd shared = Network(problem, turns, torque, {holes[0], holes[0]});
     REQUIRE(std::abs(q(6) - shared(6)) > 1e-6 * std::abs(q(6)));  // disc 2's own holes matter
-    for (const std::string& name : ltca::solvers::ReducerSolverNames()) {
-      CAPTURE(name);
-      const LoadResult r = ltca::test::SolveTight(name, problem);
-      INFO(r.message);
-      REQUIRE(r.status == SolverStatus::kSuccess);
-      CHECK(r.rotation == doctest::Approx(q(6)).epsilon(1e-9));
-      for (int d = 0; d < 2; ++d) {
-        const auto& disc = r.reducer->discs[static_cast<std::size_t>(d)];
-        CHECK(disc.rotation == doctest::Approx(q(3 * d + 2)).epsilon(1e-9));
-        CHECK((disc.translation - q.segment<2>(3 * d)).norm() <= 1e-9 * q.segment<2>(3 * d).norm());
-      }
-    }
+    SolversMatchNetwork(problem, q);
     ReducerSettings common = stage;
     common.second_disc_holes = holes[0];
     ReducerSettings none = stage;

@@ -110,24 +110,26 @@ ContactCycles ContactCycleCounter::Finish(const Sweep& sweep, bool closed_period
   return out;
 }
 
-double ContactFatigue::ShortestHours() const {
+/// The least of a figure of the pins and the teeth over the discs; NaN when none is rated.
+template <class Pins, class Teeth>
+double Least(const std::vector<ContactFatigueDisc>& discs, Pins pins, Teeth teeth) {
   double out = kNoFigure;
   for (const ContactFatigueDisc& d : discs) {
-    for (const double h : {d.pin_life_hours, d.tooth_life_hours}) {
-      if (!std::isnan(h) && !(h >= out)) out = h;
+    for (const double v : {pins(d), teeth(d)}) {
+      if (!std::isnan(v) && !(v >= out)) out = v;
     }
   }
   return out;
 }
 
+double ContactFatigue::ShortestHours() const {
+  return Least(discs, [](const ContactFatigueDisc& d) { return d.pin_life_hours; },
+               [](const ContactFatigueDisc& d) { return d.tooth_life_hours; });
+}
+
 double ContactFatigue::SmallestSafety() const {
-  double out = kNoFigure;
-  for (const ContactFatigueDisc& d : discs) {
-    for (const double s : {d.pin_safety, d.tooth_safety}) {
-      if (!std::isnan(s) && !(s >= out)) out = s;
-    }
-  }
-  return out;
+  return Least(discs, [](const ContactFatigueDisc& d) { return d.pin_safety; },
+               [](const ContactFatigueDisc& d) { return d.tooth_safety; });
 }
 
 ContactFatigue RateContactFatigue(const ContactCycles& cycles, const contact::Material& material, int tooth_count,
