@@ -129,3 +129,17 @@ def test_a_failed_solve_returns_its_status_and_nulls_never_a_number(monkeypatch)
     failed = [i for i, p in enumerate(result.json["positions"]) if p["status"] != "success"]
     assert failed and all(result.json["positions"][i]["te_arcsec"] is None for i in failed)
     assert all(math.isnan(result.te_arcsec[i]) for i in failed)
+
+
+def test_a_load_spectrum_is_in_the_document_as_the_command_line_writes_it(tmp_path, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    deck = tmp_path / "spectrum.toml"
+    deck.write_text((ROOT / "cases/stage/cycloidal_drive.toml").read_text() +
+                    "\n[[load_spectrum]]\ntorque_nm = 150\nspeed_rpm = 1000\ntime_share = 0.25\n"
+                    "\n[[load_spectrum]]\ntorque_nm = 206\nspeed_rpm = 1500\ntime_share = 0.75\n")
+    code, out, err = cli_solve(str(deck), "--set", "sweep.positions=12", "--set", "sweep.crank_end_deg=330")
+    assert code == 0, err
+    expected = json.loads(out)
+    result = ltca.solve(ltca.Deck.load(str(deck)).update({"sweep.positions": 12, "sweep.crank_end_deg": 330}))
+    assert "spectrum" in result.json
+    assert without_timing(result.json["spectrum"]) == without_timing(expected["spectrum"])

@@ -43,6 +43,7 @@
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
 #include "ltca/analysis/optimise.hpp"
+#include "ltca/analysis/spectrum.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/tolerance_run.hpp"
 #include "ltca/app/deck.hpp"
@@ -314,10 +315,19 @@ py::tuple BindSolve(const Deck& given, const std::string& solver_name, const std
     };
   }
   ltca::analysis::SweepResult sweep = WithoutGil([&] { return ltca::app::SolveDeckSweep(deck, solver, callbacks); });
+  // A load spectrum: every bin as `ltca solve` solves it, its block in the document as there.
+  std::optional<ltca::analysis::SpectrumResult> spectrum;
+  if (!deck.load_spectrum.empty()) spectrum = WithoutGil([&] { return ltca::app::SolveDeckSpectrum(deck, solver); });
   py::object summary = ToPython(documents::Json(deck, sweep.summary));
   py::dict arrays = SweepArrays(deck, sweep);
-  auto kept = std::make_shared<const std::tuple<Deck, ltca::solvers::SolverOptions, ltca::analysis::SweepResult>>(deck, solver, std::move(sweep));
-  Document document{[kept] { return documents::Json(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept)); }};
+  auto kept = std::make_shared<const std::tuple<Deck, ltca::solvers::SolverOptions, ltca::analysis::SweepResult,
+                                                std::optional<ltca::analysis::SpectrumResult>>>(deck, solver, std::move(sweep),
+                                                                                                 std::move(spectrum));
+  Document document{[kept] {
+    nlohmann::json j = documents::Json(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept));
+    if (const auto& s = std::get<3>(*kept)) j["spectrum"] = documents::SpectrumJson(*s);
+    return j;
+  }};
   return py::make_tuple(document, summary, arrays);
 }
 
