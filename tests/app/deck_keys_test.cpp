@@ -446,6 +446,8 @@ const std::vector<Tied> kTied = {
     {"tolerances.profile_random_per_sample", "liu2021_tolerances.toml",
      {"errors.profile_random_zone_um=3", "tolerances.profile_random_per_sample=true"}, "true"},
     {"friction.model", "jiang2022_table2_efficiency.toml", {"friction.model=\"coulomb\"", "friction.coefficient=0.05"}, "choice 0"},
+    {"friction.limiting_shear_stress_mpa", "jiang2022_table2_efficiency.toml",
+     {"friction.limiting_shear_stress_coefficient=0.06", "friction.limiting_shear_stress_mpa=2"}, "2"},
     {"disc.body", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22"}, "choice 1"},
     {"disc.bore_radius_mm", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22"}, "22"},
     {"disc.plane", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22", "disc.plane=\"stress\""}, "choice 1"},

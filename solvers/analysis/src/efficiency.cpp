@@ -94,6 +94,8 @@ struct EfficiencyRunner::Impl {
     lubrication.boundary_coefficient = friction.boundary_coefficient;
     lubrication.limiting_shear_modulus = friction.limiting_shear_modulus;
     lubrication.power_law_exponent = friction.power_law_exponent;
+    lubrication.limiting_shear_coefficient = friction.limiting_shear_coefficient;
+    lubrication.limiting_shear_stress = friction.limiting_shear_stress;
   }
 
   solvers::LoadProblem Problem(const contact::MeshState& state, double t) const { return stage.Problem(state, t); }
@@ -128,11 +130,36 @@ struct EfficiencyRunner::Impl {
     contact::ContactVelocities v;  // per second
   };
 
+  /// jiang-mixed's largest full-film coefficient without the cap (with the Hertz pressure there)
+  /// and its largest mixed coefficient at one evaluation.
+  struct MixedRange {
+    double full_film = 0.0;
+    double max_pressure = 0.0;
+    double coefficient = 0.0;
+  };
+
+  /// Without a limiting shear stress, eq. 23's power-law shear grows as exp(n alpha p): a
+  /// coefficient above 1, or a lock that comes from a full-film coefficient above the boundary
+  /// one, is the fluid model beyond its range (not the stage's friction). The message names the
+  /// inputs that put it there; empty when the model is within range.
+  std::string OutsideRange(const MixedRange& range, bool locked) const {
+    if (friction.model != FrictionSettings::Model::kJiangMixed || lubrication.capped()) return {};
+    if (!(range.coefficient > 1.0 || (locked && range.full_film > friction.boundary_coefficient))) return {};
+    return fmt::format(
+        "jiang.full_film_outside_range: the power-law fluid of Jiang eq. 23 without a limiting shear stress gives a "
+        "full-film coefficient f_e = {:.3g} (mixed coefficient up to {:.3g}) at a Hertz pressure of {:.4g} MPa with "
+        "[operation] pressure_viscosity_per_gpa = {:g} and oil_viscosity_pa_s = {:g}{}: the lubrication model is "
+        "outside its range; expected [friction] limiting_shear_stress_coefficient (gamma of tau_L = gamma p, 0.03 to "
+        "0.1 for mineral oils, Bair and Winer 1979) or a lower pressure-viscosity coefficient",
+        range.full_film, range.coefficient, range.max_pressure, units::PerMPaToPerGPa(lubrication.pressure_viscosity),
+        units::MPaSToPaS(lubrication.viscosity), locked ? " (the torque balance found no state: not a lock of the stage)" : "");
+  }
+
   /// mu at each loaded point for the forces f; fills the contact records. Returns the friction
   /// moment ratio sigma M_f / |T| with the effective coefficients.
   double Evaluate(const contact::MeshState& state, const std::vector<PointKinematics>& kin,
                   const std::vector<double>& f, double sigma, std::vector<ContactFrictionPoint>* out,
-                  std::vector<std::string>* warn) const {
+                  std::vector<std::string>* warn, MixedRange* range = nullptr) const {
     out->clear();
     const double e_star = material.EquivalentModulus();
     // Each disc's force on a pin (two discs touch a pin at two places along it).
@@ -176,6 +203,8 @@ struct EfficiencyRunner::Impl {
         const contact::MixedFriction m = contact::MixedCoefficient(lubrication, f[i], shape, c.length, rho, e_star,
                                                                    p.entrainment, p.sliding);
         p.coefficient = m.coefficient;
+        if (range != nullptr && m.full_film_uncapped > range->full_film) *range = {m.full_film_uncapped, shape.max_pressure, m.coefficient};
+        if (range != nullptr) range->coefficient = std::max(range->coefficient, m.coefficient);
         p.film_thickness = m.film_thickness;
         p.lambda = m.lambda;
         if (warn != nullptr) warn->insert(warn->end(), m.warnings.begin(), m.warnings.end());
@@ -242,7 +271,11 @@ struct EfficiencyRunner::Impl {
 
     // First order: the frictionless forces.
     std::vector<ContactFrictionPoint> first;
-    pos.friction_moment_ratio_first_order = Evaluate(state, kin, r.force, sigma, &first, &pos.warnings);
+    MixedRange range;
+    pos.friction_moment_ratio_first_order = Evaluate(state, kin, r.force, sigma, &first, &pos.warnings, &range);
+    if (std::string outside = OutsideRange(range, false); !outside.empty()) {
+      return Failed(std::move(pos), SolverStatus::kNumericalFailure, std::move(outside));
+    }
     pos.friction_moment_ratio = pos.friction_moment_ratio_first_order;  // "bound": the accepted forces
     pos.power_loss_first_order = 0.0;
     double mu_force = 0.0, force_sum = 0.0;
@@ -272,7 +305,7 @@ struct EfficiencyRunner::Impl {
         const LoadResult rk = Solve(state, torque * (1.0 + s_now));
         ++pos.balance_solves;
         if (rk.status != SolverStatus::kSuccess) return Failed(std::move(pos), rk.status, "torque balance with friction: " + rk.message);
-        const double g_now = Evaluate(state, kin, rk.force, sigma, &pos.contacts, &ignored) - s_now;
+        const double g_now = Evaluate(state, kin, rk.force, sigma, &pos.contacts, &ignored, &range) - s_now;
         pos.balance_residual = std::abs(g_now);
         if (std::abs(g_now) < kRatioTolerance) {
           converged = true;
@@ -320,6 +353,9 @@ struct EfficiencyRunner::Impl {
         // below it means the friction moment grows as fast as the torque the forces carry (a
         // ratio that reaches 1: the stage locks), and no balance exists.
         if (!std::isfinite(s_next) || s_next < 0.0) {
+          if (std::string outside = OutsideRange(range, true); !outside.empty()) {
+            return Failed(std::move(pos), SolverStatus::kNumericalFailure, std::move(outside));
+          }
           return Failed(std::move(pos), SolverStatus::kMaxIterations,
                         fmt::format("efficiency.torque_balance_not_converged: no torque balance with friction (the "
                                     "friction moment reaches the torque the normal forces carry; ratio {:.3g} at "

@@ -74,6 +74,24 @@ void FrictionSettings::Validate(const geometry::PairParameters& pair) const {
     throw std::invalid_argument(fmt::format(
         "[friction] power_law_exponent = {}: expected in (0, 1] (1: Newtonian; Jiang: 0.5)", power_law_exponent));
   }
+  if (!std::isnan(limiting_shear_coefficient) &&
+      !(std::isfinite(limiting_shear_coefficient) && limiting_shear_coefficient > 0.0 && limiting_shear_coefficient <= 1.0)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] limiting_shear_stress_coefficient = {}: expected gamma of tau_L = tau_L0 + gamma p above 0 and at "
+        "most 1 (mineral oils: 0.03 to 0.1, Bair and Winer 1979)",
+        limiting_shear_coefficient));
+  }
+  if (!(std::isfinite(limiting_shear_stress) && limiting_shear_stress >= 0.0 && limiting_shear_stress <= 1e3)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] limiting_shear_stress_mpa = {}: expected tau_L0 of tau_L = tau_L0 + gamma p from 0 to 1000 MPa",
+        limiting_shear_stress));
+  }
+  if (limiting_shear_stress != 0.0 && std::isnan(limiting_shear_coefficient)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] limiting_shear_stress_mpa = {}: expected limiting_shear_stress_coefficient too (the limiting shear "
+        "stress tau_L = tau_L0 + gamma p needs its pressure coefficient gamma)",
+        limiting_shear_stress));
+  }
   if (sleeve_bore_radius && !(std::isfinite(*sleeve_bore_radius) && *sleeve_bore_radius > 0.0 &&
                               *sleeve_bore_radius < pair.pin_radius)) {
     throw std::invalid_argument(fmt::format(

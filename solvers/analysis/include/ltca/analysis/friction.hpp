@@ -35,6 +35,12 @@ struct FrictionSettings {
   double boundary_coefficient = 0.1;    ///< f_b of eq. 20 (deck: boundary_coefficient), in [0, 1]
   double limiting_shear_modulus = 1.0;  ///< G of eq. 23, MPa (deck: limiting_shear_modulus_mpa)
   double power_law_exponent = 0.5;      ///< n of eq. 22-23 (deck: power_law_exponent), in (0, 1]
+  /// The lubricant's limiting shear stress tau_L = tau_L0 + gamma p (Bair and Winer 1979, Evans
+  /// and Johnson 1986), capping eq. 23's shear stress point by point (contact/sliding.hpp): gamma
+  /// (deck: limiting_shear_stress_coefficient, in (0, 1]; NaN, the default: no cap, Jiang as
+  /// printed) and tau_L0 in MPa (deck: limiting_shear_stress_mpa, >= 0, default 0; only with gamma).
+  double limiting_shear_coefficient = std::numeric_limits<double>::quiet_NaN();
+  double limiting_shear_stress = 0.0;
   /// Pin sleeve (Jiang eq. 34, deck: sleeve_bore_radius_mm): the radius of the pin inside a sleeve
   /// whose outer radius is [pair] pin_radius_mm. Empty: no sleeve.
   std::optional<double> sleeve_bore_radius;
