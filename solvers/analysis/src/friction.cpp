@@ -65,6 +65,14 @@ void FrictionSettings::Validate(const geometry::PairParameters& pair) const {
   if (model == Model::kCoulomb || std::isfinite(coefficient)) check_mu("coefficient", coefficient);
   check_mu("boundary_coefficient", boundary_coefficient);
   if (!std::isnan(sleeve_coefficient)) check_mu("sleeve_coefficient", sleeve_coefficient);
+  check_mu("output_pin_coefficient", output_pin_coefficient);
+  check_mu("bearing_coefficient", bearing_coefficient);
+  if (!std::isnan(bearing_diameter) && !(std::isfinite(bearing_diameter) && bearing_diameter > 0.0 && bearing_diameter <= 1e4)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] bearing_diameter_mm = {}: expected the bearing's diameter d of M = mu F d / 2 above 0 and at most "
+        "10000 mm",
+        bearing_diameter));
+  }
   if (!(std::isfinite(limiting_shear_modulus) && limiting_shear_modulus > 0.0 && limiting_shear_modulus <= 1e4)) {
     throw std::invalid_argument(fmt::format(
         "[friction] limiting_shear_modulus_mpa = {}: expected above 0 and at most 10000 MPa (Jiang: 1 MPa)",

@@ -47,6 +47,15 @@ struct FrictionSettings {
   /// mu at the sleeve's bore (deck: sleeve_coefficient); NaN (the default): the coefficient of the
   /// contact it replaces (Coulomb's mu, or the mixed one there), Jiang eq. 34 read literally.
   double sleeve_coefficient = std::numeric_limits<double>::quiet_NaN();
+  /// The reducer stage's contacts (docs/efficiency.md, "The stage's friction"): Coulomb's mu of an
+  /// output pin sliding in its hole (deck: output_pin_coefficient, [output] kind = "pins"), and the
+  /// bearings' constant coefficient of M = mu F d / 2 (deck: bearing_coefficient; SKF's simplified
+  /// friction moment), d the bearing's diameter (deck: bearing_diameter_mm; NaN, the default: [bearing]
+  /// pitch_diameter_mm). Both in [0, 1], 0 by default (no loss there).
+  double output_pin_coefficient = 0.0;
+  double bearing_coefficient = 0.0;
+  double bearing_diameter = std::numeric_limits<double>::quiet_NaN();  ///< mm
+  bool stage_friction() const { return output_pin_coefficient > 0.0 || bearing_coefficient > 0.0; }
   enum class TorqueBalance {
     kSolve,  ///< re-solve with the friction moment in the balance, to a fixed point (default)
     kBound,  ///< frictionless forces; the friction moment's ratio to T reported as a bound
