@@ -222,3 +222,33 @@ TEST_CASE("cli: ltca efficiency of a stage writes the loss by source per positio
   CHECK(drawing.find("<ltca:series label=\"bearings\"") != std::string::npos);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("app: jiang-mixed with a mineral gear oil on the stage decks: outside its range uncapped, finite with a limiting shear stress") {
+  // 0.05 Pa*s, 18 1/GPa at the stage decks' 1.4 to 1.5 GPa: without the cap the position fails as
+  // the model outside its range (naming pressure_viscosity_per_gpa); with tau_L = 0.06 p (Bair and
+  // Winer 1979) every pin contact's coefficient lies below max(gamma, f_b) (the bound of
+  // docs/efficiency.md) and the stage's efficiency, with its bearings, is finite and below 1.
+  for (const std::string name : {"cycloidal_drive.toml", "rv_catalogue.toml"}) {
+    CAPTURE(name);
+    std::vector<std::string> o = {"friction.model=\"jiang-mixed\"", "operation.oil_viscosity_pa_s=0.05",
+                                  "operation.pressure_viscosity_per_gpa=18", "friction.bearing_coefficient=0.0015"};
+    const Deck uncapped = StageDeck(name, o);
+    auto bad = ltca::test::EfficiencyOn(uncapped, uncapped.solver, uncapped.kinematics);
+    const EfficiencyPosition failed = bad.Solve(bad.cranks().front());
+    CHECK(!failed.succeeded());
+    CHECK(failed.message.find("jiang.full_film_outside_range") != std::string::npos);
+    CHECK(failed.message.find("pressure_viscosity_per_gpa = 18") != std::string::npos);
+    o.push_back("friction.limiting_shear_stress_coefficient=0.06");
+    const Deck capped = StageDeck(name, o);
+    auto runner = ltca::test::EfficiencyOn(capped, capped.solver, capped.kinematics);
+    for (const double crank : runner.cranks()) {
+      const EfficiencyPosition p = runner.Solve(crank);
+      REQUIRE(p.succeeded());
+      for (const auto& c : p.contacts) CHECK(c.coefficient <= std::max(0.06, capped.friction->boundary_coefficient) + 1e-15);
+      CHECK(p.power_loss_by_source.bearings > 0.0);
+      CHECK(std::isfinite(p.efficiency));
+      CHECK(p.efficiency > 0.7);
+      CHECK(p.efficiency < 1.0);
+    }
+  }
+}
