@@ -830,7 +830,7 @@ radial_clearance_mm = 0.005
                  "[bearing] roller_count: not a key of kind = \"linear\""));
   CHECK(Contains(ErrorOf(Replace(pins, "hole_radius_mm = 6.32", "hole_radius_mm = 6.2")), "[output] hole_radius_mm = 6.2"));
   CHECK(Contains(ErrorOf(Replace(pins, "kind = \"pins\"", "kind = \"gears\"")), "[output] kind = \"gears\""));
-  // [friction] with [output] (issue 51): read; the stage's friction is ltca efficiency's (docs/efficiency.md).
+  // [friction] with [output]: read; the stage's friction is ltca efficiency's (docs/efficiency.md).
   CHECK(ParseDeck(pins + "[friction]\ncoefficient = 0.05\n", "t.toml").friction.has_value());
   // [tolerances] with [output] (issue 28): read, also at zero torque (ltca geometry and backlash
   // need none; the tolerance study, whose stage backlash is solved at +-1e-7 T, refuses it).
