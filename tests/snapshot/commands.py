@@ -152,16 +152,17 @@ REWORDED = {
 # energy and compliance budget the carrier in series (zero for the recorded decks, whose carriers are
 # rigid; tests/app/stage_as_built_test.cpp).
 # Issue 54: a sweep's notes (too few positions a mesh period), checked by tests/app/deck_test.cpp.
-# Issue 51: efficiency's loss by source, the stage's friction moment bound and the new [friction]
-# keys in its head (docs/efficiency.md), checked by tests/app/stage_efficiency_test.cpp.
-ADDED = {"power_loss_by_source_w", "stage_friction_moment_ratio", "stage_friction_moment_ratio_min",
-         "stage_friction_moment_ratio_max", "limiting_shear_stress_coefficient", "limiting_shear_stress_mpa",
-         "output_pin_coefficient", "bearing_coefficient", "bearing_diameter_mm","root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers",
+ADDED = {"root_diameter_mm", "tip_diameter_mm", "dimension_over_rollers_mm", "over_rollers",
          "dimension_over_rollers_tolerance", "profile_deviation_chart",
          "turning_raceway", "turning_raceway_basis", "load_zone_equivalent_load_n", "load_zone_life_million_revolutions",
          "load_zone_life_hours", "load_zone_to_basic_life_ratio", "shortest_load_zone_life_hours", "max_bearing_load_per_bearing_n", "static_safety",
          "smallest_static_safety", "max_roller_contact_stress_mpa", "largest_roller_contact_stress_mpa",
          "roller_contact_stress_limit_mpa", "verdicts", "notes", "scope", "carrier", "support_bearings"}
+# Issue 51: efficiency's loss by source, the stage's friction moment bound and the new [friction]
+# keys in its head (docs/efficiency.md), checked by tests/app/stage_efficiency_test.cpp.
+ADDED |= {"power_loss_by_source_w", "stage_friction_moment_ratio", "stage_friction_moment_ratio_min",
+          "stage_friction_moment_ratio_max", "limiting_shear_stress_coefficient", "limiting_shear_stress_mpa",
+          "output_pin_coefficient", "bearing_coefficient", "bearing_diameter_mm"}
 
 
 # Issue 46: `ltca compare` of a reducer stage ([output]) lists a solver that does not solve the stage
