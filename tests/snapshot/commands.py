@@ -160,6 +160,11 @@ ADDED = {"contact_fatigue", "root_diameter_mm", "tip_diameter_mm", "dimension_ov
          "load_zone_life_hours", "load_zone_to_basic_life_ratio", "shortest_load_zone_life_hours", "max_bearing_load_per_bearing_n", "static_safety",
          "smallest_static_safety", "max_roller_contact_stress_mpa", "largest_roller_contact_stress_mpa",
          "roller_contact_stress_limit_mpa", "verdicts", "notes", "scope", "carrier", "support_bearings"}
+# Issue 51: efficiency's loss by source, the stage's friction moment bound and the new [friction]
+# keys in its head (docs/efficiency.md), checked by tests/app/stage_efficiency_test.cpp.
+ADDED |= {"power_loss_by_source_w", "stage_friction_moment_ratio", "stage_friction_moment_ratio_min",
+          "stage_friction_moment_ratio_max", "limiting_shear_stress_coefficient", "limiting_shear_stress_mpa",
+          "output_pin_coefficient", "bearing_coefficient", "bearing_diameter_mm"}
 
 
 # Issue 46: `ltca compare` of a reducer stage ([output]) lists a solver that does not solve the stage

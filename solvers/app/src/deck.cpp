@@ -982,11 +982,17 @@ void Deck::ValidateSettings() const {
         "[friction] model = \"jiang-mixed\": expected an [operation] section (input_speed_rpm, the oil, the "
         "roughness) for the film thickness");
   }
-  if (friction && reducer) {
-    // The efficiency and the loop's hysteresis would count the mesh's losses alone and call the
-    // result the stage's.
-    throw std::invalid_argument("[friction] with [output]: the stage's friction (output pins in their holes, the "
-                                "bearings) is not modelled yet (docs/stage.md); expected one of the two");
+  if (friction && !reducer && friction->stage_friction()) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] output_pin_coefficient = {:g}, bearing_coefficient = {:g}: expected an [output] section (the stage "
+        "whose output pins and bearings they are), or 0",
+        friction->output_pin_coefficient, friction->bearing_coefficient));
+  }
+  if (friction && reducer && reducer->kind != solvers::OutputKind::kPins && friction->output_pin_coefficient > 0.0) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] output_pin_coefficient = {:g}: expected [output] kind = \"pins\" (the crankshafts' bearings take "
+        "bearing_coefficient)",
+        friction->output_pin_coefficient));
   }
 }
 
