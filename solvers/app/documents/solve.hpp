@@ -30,11 +30,17 @@ nlohmann::json SolveHead(const Deck& deck, const SolverOptions& solver);
 /// disc's share, for a stage its solution, for the slice model the contact pattern. A failed
 /// position's figures are null, its status and message kept.
 nlohmann::json Json(const analysis::PositionResult& p);
+/// The same position's JSON text, compact, appended to `out` without building the tree: the
+/// streamed document's. The members and their order are Dump(Json(p), -1)'s; the numbers are the
+/// shortest text that reads back to the same double (AppendJsonNumber), so the text is Dump's but
+/// where nlohmann's Grisu2 writes more digits. A reducer stage's solution alone goes through nlohmann.
+void AppendJson(std::string& out, const analysis::PositionResult& p);
 /// The JSON document's summary: the sweep's figures over its successful positions, the note on
 /// failed ones, and for a reducer stage its loads and bearing lives (SweepSummary::bearing_life).
 nlohmann::json Json(const Deck& deck, const analysis::SweepSummary& summary);
 /// The whole JSON document of a sweep whose positions were kept (the Python module; the command
-/// streams): the same bytes as SolveJsonWriter's.
+/// streams): the same document as SolveJsonWriter's (its numbers in nlohmann's text, which reads
+/// back to the same doubles).
 nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysis::SweepResult& sweep);
 
 /// The JSON document streamed to `os` as the positions come (bounded memory in positions), inside
@@ -56,6 +62,7 @@ class SolveJsonWriter {
   std::string before_, after_;
   bool started_ = false;
   std::int64_t written_ = 0;
+  std::string buffer_;  ///< a position's text, its capacity kept from one to the next
 };
 
 /// The "n of m positions failed" lines of the text ("" when none failed).
