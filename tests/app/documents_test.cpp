@@ -182,3 +182,42 @@ TEST_CASE("app: a position's JSON streamed without a tree is the document built 
   CHECK(discs == 5);
   CHECK(same_bytes >= positions / 2);
 }
+
+TEST_CASE("app: the solve figure of a long sweep keeps each pin's largest force of every run of positions in its map") {
+  // Liu Table 1 over 1,000 positions of 360 deg (compatibility): 120 map columns at most, so each
+  // column stands for 9 positions. Independent reference: the positions as the sweep hands them
+  // out, each column's largest force per pin taken here; the TE panel and the caption say the
+  // decimation.
+  const ltca::app::Deck deck =
+      ltca::app::LoadDeck(Case("liu2021_table1.toml"), {"sweep.positions=1000", "sweep.crank_end_deg=360"});
+  ltca::solvers::SolverOptions solver = deck.solver;
+  solver.name = "compatibility";
+  ltca::app::documents::SolveSeries series(deck.sweep.positions);
+  std::vector<std::vector<double>> forces;
+  ltca::analysis::SweepCallbacks callbacks;
+  callbacks.on_position = [&](const ltca::analysis::PositionResult& p) {
+    series.Add(p);
+    forces.push_back(p.succeeded() ? p.pin_force : std::vector<double>(p.pin_force.size(), NAN));
+  };
+  const auto sweep = ltca::app::SolveDeckSweep(deck, solver, callbacks);
+  REQUIRE(sweep.summary.all_succeeded());
+  REQUIRE(forces.size() == 1000);
+  const ltca::app::plots::Figure figure = ltca::app::documents::Figure(deck, solver, series, sweep.summary);
+  REQUIRE(figure.panels.size() >= 4);
+  const auto& map = figure.panels[3].map;
+  REQUIRE(map.has_value());
+  const std::size_t stride = 9;  // ceil(1000 / 120)
+  REQUIRE(map->z.size() == (1000 + stride - 1) / stride);
+  double largest_drawn = 0.0;
+  for (std::size_t c = 0; c < map->z.size(); ++c) {
+    for (std::size_t j = 0; j < forces[0].size(); ++j) {
+      double want = 0.0;
+      for (std::size_t i = c * stride; i < std::min<std::size_t>(forces.size(), (c + 1) * stride); ++i) want = std::max(want, forces[i][j]);
+      CHECK(map->z[c][j] == want);
+      largest_drawn = std::max(largest_drawn, map->z[c][j]);
+    }
+  }
+  CHECK(largest_drawn == sweep.summary.max_pin_force);
+  CHECK(figure.panels[3].title.find("max of every 9 positions") != std::string::npos);
+  CHECK(figure.panels[0].title == "loaded transmission error");  // 1,000 positions: every one drawn
+}

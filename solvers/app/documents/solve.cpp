@@ -576,11 +576,23 @@ void SolveSeries::Add(const analysis::PositionResult& p) {
   if (positions_ == 0) first_crank_ = crank;
   last_crank_ = crank;
   te_.Add(positions_++, crank, p.succeeded() ? RadToArcsec(p.result.te) : NAN);
+  // A map column holds the largest of each pin's figure over its run of stride_ positions (NaN
+  // where none of them succeeded), drawn at the middle of the run's cranks: every peak of a long
+  // sweep stays in the map, where one position in stride_ would alias the mesh period.
   if (seen_++ % stride_ == 0) {
-    const auto or_nan = [&p](const std::vector<double>& v) { return p.succeeded() ? v : std::vector<double>(v.size(), NAN); };
-    map_crank_.push_back(RadToDeg(p.crank));
-    map_force_.push_back(or_nan(p.pin_force));
-    map_stress_.push_back(or_nan(p.contact_stress));
+    map_first_crank_ = crank;
+    map_crank_.push_back(crank);
+    map_force_.emplace_back(p.pin_force.size(), NAN);
+    map_stress_.emplace_back(p.contact_stress.size(), NAN);
+  }
+  map_crank_.back() = 0.5 * (map_first_crank_ + crank);
+  if (p.succeeded()) {
+    const auto keep_largest = [](std::vector<double>& column, const std::vector<double>& v) {
+      if (column.size() < v.size()) column.resize(v.size(), NAN);
+      for (std::size_t j = 0; j < v.size(); ++j) column[j] = std::fmax(column[j], v[j]);  // fmax: NaN is absent
+    };
+    keep_largest(map_force_.back(), p.pin_force);
+    keep_largest(map_stress_.back(), p.contact_stress);
   }
   if (!p.succeeded()) return;
   const double f = MaxOf(p.pin_force);
@@ -603,6 +615,10 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, SolveSeries&
   figure.height = 520;
   // The mean marked is the summary's (a closed period's repeated state weighs once in it).
   figure.panels.push_back(TePanel(data.te_.x(), data.te_.y(), solver.name, mean_te_arcsec));
+  if (data.te_.stride() > 1) {  // decimated: the envelope as a line (markers would fill it), said in the title
+    figure.panels.back().series.front().style = plots::Style::kLine;
+    figure.panels.back().title = fmt::format("loaded TE, least and largest of every {} positions", data.te_.stride());
+  }
   if (data.peak_) {
     const auto& p = *data.peak_;
     const double crank = RadToDeg(p.crank);
@@ -648,7 +664,7 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, SolveSeries&
       panel.y_min = 0.5, panel.y_max = static_cast<double>(per_disc) + 0.5;
       return panel;
     };
-    const std::string every = data.stride_ > 1 ? fmt::format(" (1 position in {})", data.stride_) : "";
+    const std::string every = data.stride_ > 1 ? fmt::format(" (max of every {} positions)", data.stride_) : "";
     for (std::size_t d = 0; d < discs; ++d) figure.panels.push_back(map_panel(data.map_force_, d, "pin force (N)", "pin force map" + every));
     for (std::size_t d = 0; d < discs; ++d) {
       figure.panels.push_back(map_panel(data.map_stress_, d, "contact stress (MPa)", "contact stress map" + every));

@@ -89,8 +89,9 @@ std::string PatternCsv(const Deck& deck, const analysis::PositionResult& p);
 
 /// What the figure needs, kept compactly as the sweep streams by: the TE line (DecimatedSeries:
 /// every position up to about 2,000, beyond that the least and largest TE of each run), the pin x
-/// crank maps at most about kMapColumns columns, and the position of the largest pin force, so
-/// that memory and the figure stay bounded in positions.
+/// crank maps at most about kMapColumns columns (each the largest figure of every pin over its run
+/// of positions), and the position of the largest pin force, so that memory and the figure stay
+/// bounded in positions.
 class SolveSeries {
  public:
   static constexpr std::int64_t kMapColumns = 120;
@@ -103,7 +104,8 @@ class SolveSeries {
   std::optional<analysis::PositionResult> peak_;
   double f_peak_ = -1.0;
   std::int64_t stride_ = 1, seen_ = 0;
-  std::vector<double> map_crank_;
+  std::vector<double> map_crank_;  ///< deg, the middle of each column's run
+  double map_first_crank_ = NAN;   ///< deg, the open column's first crank
   std::vector<std::vector<double>> map_force_, map_stress_;
   DecimatedSeries te_;
   std::int64_t positions_ = 0;
