@@ -594,8 +594,13 @@ FigureStats ComputeStats(std::vector<double> values) {
     for (const double v : values) ss += (v - f.mean) * (v - f.mean);
     f.std = std::sqrt(ss / static_cast<double>(values.size() - 1));
   }
-  const auto quantile = [&](double p) { return SortedQuantile(values, p); };
-  f.p1 = quantile(0.01), f.p5 = quantile(0.05), f.p50 = quantile(0.5), f.p95 = quantile(0.95), f.p99 = quantile(0.99);
+  // The p-th percentile only where n min(p, 1 - p) >= 1 (kPercentileRule), in whole percent so
+  // that the rule is exact.
+  const auto quantile = [&](int percent) {
+    return f.count * std::min(percent, 100 - percent) >= 100 ? SortedQuantile(values, percent / 100.0)
+                                                             : std::numeric_limits<double>::quiet_NaN();
+  };
+  f.p1 = quantile(1), f.p5 = quantile(5), f.p50 = quantile(50), f.p95 = quantile(95), f.p99 = quantile(99);
   f.min = values.front(), f.max = values.back();
   return f;
 }
@@ -772,10 +777,13 @@ ToleranceSummary Summarise(const ToleranceStudy& study, const SampleTable& sampl
         r_xx(i, j) = cxx(ci, cj) / std::sqrt(cxx(ci, ci) * cxx(cj, cj));
       }
     }
-    Eigen::VectorXd beta = Eigen::VectorXd::Zero(cols);
+    Eigen::VectorXd beta = Eigen::VectorXd::Zero(cols), correlation = Eigen::VectorXd::Zero(cols);
     if (p > 0) {
       const Eigen::VectorXd b = r_xx.colPivHouseholderQr().solve(r_xy);
-      for (Eigen::Index i = 0; i < p; ++i) beta(varying[static_cast<std::size_t>(i)]) = b(i);
+      for (Eigen::Index i = 0; i < p; ++i) {
+        beta(varying[static_cast<std::size_t>(i)]) = b(i);
+        correlation(varying[static_cast<std::size_t>(i)]) = r_xy(i);
+      }
       // R^2 = b^T r at the least-squares solution (the standardised figure has unit variance).
       fs.r_squared = std::clamp(b.dot(r_xy), 0.0, 1.0);
     } else {
@@ -787,18 +795,20 @@ ToleranceSummary Summarise(const ToleranceStudy& study, const SampleTable& sampl
     for (std::size_t k = 0; k < dists.size(); ++k) {
       KeySensitivity ks;
       ks.key = dists[k].key;
-      double share = 0.0;
+      double share = 0.0, squared = 0.0;
       for (Eigen::Index c = 0; c < cols; ++c) {
         if (inputs[static_cast<std::size_t>(c)].distribution != k || !(cxx(c, c) > 0.0)) continue;
-        share += beta(c) * beta(c);
+        share += beta(c) * correlation(c);  // Pratt: sum over every column is b^T r = R^2
+        squared += beta(c) * beta(c);
         ++ks.columns;
         if (!dists[k].per_pin) ks.src = beta(c);
       }
       ks.share = share;
+      ks.src_squared = squared;
       if (!dists[k].per_pin && std::isnan(ks.src)) ks.src = 0.0;
       if (ks.columns > 0) {
         ks.noise_floor = ChiSquaredQuantile(kNoiseFloorLevel, ks.columns) * (1.0 - fs.r_squared) / dof;
-        ks.distinguishable = ks.share > ks.noise_floor;
+        ks.distinguishable = ks.src_squared > ks.noise_floor;
       }
       fs.keys.push_back(ks);
     }

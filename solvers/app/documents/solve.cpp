@@ -242,8 +242,9 @@ plots::Panel TePanel(const std::vector<double>& crank_deg, const std::vector<dou
   return panel;
 }
 
-/// A CSV field: the figure, or empty when no valid solve produced it.
-std::string CsvFigure(bool ok, double v) { return ok && std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string(); }
+/// A CSV field: the figure as the shortest text that reads back to the same double, or empty when
+/// no valid solve produced it.
+std::string CsvFigure(bool ok, double v) { return ok ? ShortestOrEmpty(v) : std::string(); }
 
 }  // namespace
 
@@ -336,6 +337,110 @@ nlohmann::json Json(const analysis::PositionResult& p) {
 }
 
 
+namespace {
+void Numbers(std::string& out, const double* v, std::size_t n) {
+  out += '[';
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i > 0) out += ',';
+    AppendJsonNumber(out, v[i]);
+  }
+  out += ']';
+}
+void Numbers(std::string& out, const std::vector<double>& v) { Numbers(out, v.data(), v.size()); }
+void Key(std::string& out, const char* key) {
+  out += ",\"";
+  out += key;
+  out += "\":";
+}
+}  // namespace
+
+void AppendJson(std::string& out, const analysis::PositionResult& p) {
+  // The members in nlohmann::json's order (its object is a std::map: keys sorted bytewise), each
+  // as Json(p) has it; a test holds the two to the same bytes.
+  const bool ok = p.succeeded();
+  out += "{\"contact_stress_mpa\":";
+  ok ? Numbers(out, p.contact_stress) : void(out += "null");
+  Key(out, "contacts");
+  ok ? AppendJsonNumber(out, std::int64_t{p.contacts}) : void(out += "null");
+  Key(out, "crank_deg");
+  AppendJsonNumber(out, RadToDeg(p.crank));
+  if (!p.disc_torque.empty()) {
+    Key(out, "disc_torque_nm");
+    if (ok) {
+      out += '[';
+      for (std::size_t i = 0; i < p.disc_torque.size(); ++i) {
+        if (i > 0) out += ',';
+        AppendJsonNumber(out, units::NmmToNm(p.disc_torque[i]));
+      }
+      out += ']';
+    } else {
+      out += "null";
+    }
+    Key(out, "first_disc_share");
+    const double total = p.disc_torque.size() == 2 ? p.disc_torque[0] + p.disc_torque[1] : 0.0;
+    ok && total != 0.0 ? AppendJsonNumber(out, p.disc_torque[0] / total) : void(out += "null");
+  }
+  Key(out, "flank");
+  AppendJsonString(out, solvers::ToString(p.result.flank));
+  const auto n = static_cast<std::size_t>(std::max(p.slices, 1));
+  const bool complete = p.slices > 1 && p.result.force.size() == p.pin_force.size() * n;
+  // The contact pattern: per pin its slice forces and stresses and its load centroid (null for a
+  // position no valid solve produced).
+  const auto per_pin = [&](const std::vector<double>& values) {
+    if (!(ok && complete)) {
+      out += "null";
+      return;
+    }
+    out += '[';
+    for (std::size_t j = 0; j < p.pin_force.size(); ++j) {
+      if (j > 0) out += ',';
+      Numbers(out, values.data() + j * n, n);
+    }
+    out += ']';
+  };
+  if (p.slices > 1) {
+    Key(out, "load_centroid_mm");
+    (ok && complete) ? Numbers(out, p.load_centroid.data(), std::min(p.load_centroid.size(), p.pin_force.size()))
+                      : void(out += "null");
+  }
+  Key(out, "message");
+  AppendJsonString(out, p.result.message);
+  Key(out, "pin_angle_deg");
+  out += '[';
+  for (std::size_t i = 0; i < p.angle.size(); ++i) {
+    if (i > 0) out += ',';
+    AppendJsonNumber(out, RadToDeg(p.angle[i]));
+  }
+  out += ']';
+  Key(out, "pin_force_n");
+  ok ? Numbers(out, p.pin_force) : void(out += "null");
+  Key(out, "residual");
+  AppendJsonNumber(out, p.result.residuals.Normalised());
+  if (p.slices > 1) {
+    Key(out, "slice_force_n");
+    per_pin(p.result.force);
+    Key(out, "slice_stress_mpa");
+    per_pin(p.point_stress);
+  }
+  if (p.result.reducer) {  // a reducer stage's solution, small beside the pins: through nlohmann
+    Key(out, "stage");
+    out += ok ? Dump(ReducerJson(*p.result.reducer), -1) : std::string("null");
+  }
+  Key(out, "status");
+  AppendJsonString(out, solvers::ToString(p.result.status));
+  Key(out, "te_arcsec");
+  ok ? AppendJsonNumber(out, RadToArcsec(p.result.te)) : void(out += "null");
+  Key(out, "torque_evaluations");
+  AppendJsonNumber(out, std::int64_t{p.result.torque_evaluations});
+  Key(out, "warnings");
+  out += '[';
+  for (std::size_t i = 0; i < p.result.warnings.size(); ++i) {
+    if (i > 0) out += ',';
+    AppendJsonString(out, p.result.warnings[i]);
+  }
+  out += "]}";
+}
+
 SolveJsonWriter::SolveJsonWriter(std::ostream& os, const Deck& deck, const SolverOptions& solver, std::string before,
                                  std::string after)
     : os_(os), head_(SolveHead(deck, solver)), before_(std::move(before)), after_(std::move(after)) {}
@@ -348,7 +453,9 @@ void SolveJsonWriter::Start() {
 
 void SolveJsonWriter::Add(const analysis::PositionResult& p) {
   Start();
-  os_ << (written_++ == 0 ? "\n    " : ",\n    ") << Dump(Json(p), -1);
+  buffer_.assign(written_++ == 0 ? "\n    " : ",\n    ");
+  AppendJson(buffer_, p);
+  os_ << buffer_;
 }
 
 void SolveJsonWriter::Finish(const Deck& deck, const analysis::SweepSummary& summary, const analysis::SpectrumResult* spectrum) {
@@ -510,7 +617,7 @@ std::string SolveCsvHead(const Deck& deck) {
 
 std::string Csv(const analysis::PositionResult& p) {
   const bool ok = p.succeeded();
-  std::string row = fmt::format("{:.9g},{},{},{},{},{}", RadToDeg(p.crank), CsvFigure(ok, RadToArcsec(p.result.te)),
+  std::string row = fmt::format("{},{},{},{},{},{}", ShortestOrEmpty(RadToDeg(p.crank)), CsvFigure(ok, RadToArcsec(p.result.te)),
                                 ok ? fmt::format("{}", p.contacts) : std::string(), CsvFigure(ok, MaxOf(p.pin_force)),
                                 CsvFigure(ok, MaxOf(p.contact_stress)), solvers::ToString(p.result.status));
   if (p.disc_torque.size() == 2) {  // two discs: each disc's torque, N*m
@@ -530,7 +637,8 @@ std::string PatternCsv(const Deck& deck, const analysis::PositionResult& p) {
   for (std::size_t j = 0; j < p.pin_force.size(); ++j) {
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = j * n + k;
-      rows += fmt::format("{:.9g},{},{},{:.9g},{},{},{}\n", RadToDeg(p.crank), j + 1, k + 1, (static_cast<double>(k) + 0.5) * width,
+      rows += fmt::format("{},{},{},{},{},{},{}\n", ShortestOrEmpty(RadToDeg(p.crank)), j + 1, k + 1,
+                          ShortestOrEmpty((static_cast<double>(k) + 0.5) * width),
                           CsvFigure(ok, i < p.result.force.size() ? p.result.force[i] : NAN),
                           CsvFigure(ok, i < p.point_stress.size() ? p.point_stress[i] : NAN), solvers::ToString(p.result.status));
     }
@@ -546,11 +654,23 @@ void SolveSeries::Add(const analysis::PositionResult& p) {
   if (positions_ == 0) first_crank_ = crank;
   last_crank_ = crank;
   te_.Add(positions_++, crank, p.succeeded() ? RadToArcsec(p.result.te) : NAN);
+  // A map column holds the largest of each pin's figure over its run of stride_ positions (NaN
+  // where none of them succeeded), drawn at the middle of the run's cranks: every peak of a long
+  // sweep stays in the map, where one position in stride_ would alias the mesh period.
   if (seen_++ % stride_ == 0) {
-    const auto or_nan = [&p](const std::vector<double>& v) { return p.succeeded() ? v : std::vector<double>(v.size(), NAN); };
-    map_crank_.push_back(RadToDeg(p.crank));
-    map_force_.push_back(or_nan(p.pin_force));
-    map_stress_.push_back(or_nan(p.contact_stress));
+    map_first_crank_ = crank;
+    map_crank_.push_back(crank);
+    map_force_.emplace_back(p.pin_force.size(), NAN);
+    map_stress_.emplace_back(p.contact_stress.size(), NAN);
+  }
+  map_crank_.back() = 0.5 * (map_first_crank_ + crank);
+  if (p.succeeded()) {
+    const auto keep_largest = [](std::vector<double>& column, const std::vector<double>& v) {
+      if (column.size() < v.size()) column.resize(v.size(), NAN);
+      for (std::size_t j = 0; j < v.size(); ++j) column[j] = std::fmax(column[j], v[j]);  // fmax: NaN is absent
+    };
+    keep_largest(map_force_.back(), p.pin_force);
+    keep_largest(map_stress_.back(), p.contact_stress);
   }
   if (!p.succeeded()) return;
   const double f = MaxOf(p.pin_force);
@@ -573,6 +693,10 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, SolveSeries&
   figure.height = 520;
   // The mean marked is the summary's (a closed period's repeated state weighs once in it).
   figure.panels.push_back(TePanel(data.te_.x(), data.te_.y(), solver.name, mean_te_arcsec));
+  if (data.te_.stride() > 1) {  // decimated: the envelope as a line (markers would fill it), said in the title
+    figure.panels.back().series.front().style = plots::Style::kLine;
+    figure.panels.back().title = fmt::format("loaded TE, least and largest of every {} positions", data.te_.stride());
+  }
   if (data.peak_) {
     const auto& p = *data.peak_;
     const double crank = RadToDeg(p.crank);
@@ -618,7 +742,7 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, SolveSeries&
       panel.y_min = 0.5, panel.y_max = static_cast<double>(per_disc) + 0.5;
       return panel;
     };
-    const std::string every = data.stride_ > 1 ? fmt::format(" (1 position in {})", data.stride_) : "";
+    const std::string every = data.stride_ > 1 ? fmt::format(" (max of every {} positions)", data.stride_) : "";
     for (std::size_t d = 0; d < discs; ++d) figure.panels.push_back(map_panel(data.map_force_, d, "pin force (N)", "pin force map" + every));
     for (std::size_t d = 0; d < discs; ++d) {
       figure.panels.push_back(map_panel(data.map_stress_, d, "contact stress (MPa)", "contact stress map" + every));
