@@ -227,3 +227,18 @@ TEST_CASE("app: [operation] motor_speed_rpm turns the cranks through the first s
                  "[operation] motor_speed_rpm = 2000: the crank speed follows from the motor's only through an RV's first stage"));
   CHECK(Contains(refused(deck, {"-operation.input_speed_rpm"}), "[operation] missing required key 'input_speed_rpm'"));
 }
+
+TEST_CASE("app: a load spectrum beside [operation] motor_speed_rpm is refused: a bin's speed is the crank's") {
+  using namespace stage_as_built_test;
+  const std::string deck = ltca::test::ReadText(ltca::test::Case("stage/rv_catalogue.toml")) +
+                           "\n[[load_spectrum]]\ntorque_nm = 412\nspeed_rpm = 1500\ntime_share = 1\n";
+  const std::string refused = [&] {
+    try {
+      (void)ltca::app::ParseDeck(deck, "t.toml", {"-operation.input_speed_rpm", "operation.motor_speed_rpm=4654"});
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  }();
+  CHECK(Contains(refused, "[[load_spectrum]] with [operation] motor_speed_rpm: a bin's speed_rpm is the crank speed"));
+}

@@ -143,3 +143,17 @@ def test_a_load_spectrum_is_in_the_document_as_the_command_line_writes_it(tmp_pa
     result = ltca.solve(ltca.Deck.load(str(deck)).update({"sweep.positions": 12, "sweep.crank_end_deg": 330}))
     assert "spectrum" in result.json
     assert without_timing(result.json["spectrum"]) == without_timing(expected["spectrum"])
+
+
+def test_a_failed_load_spectrum_bin_is_not_a_success(tmp_path, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    deck = tmp_path / "spectrum_fails.toml"
+    deck.write_text((ROOT / "cases/stage/cycloidal_drive.toml").read_text() +
+                    "\n[[load_spectrum]]\ntorque_nm = 206\nspeed_rpm = 1500\ntime_share = 0.5\n"
+                    "\n[[load_spectrum]]\ntorque_nm = 200000\nspeed_rpm = 1500\ntime_share = 0.5\n")
+    code, _, err = cli_solve(str(deck), "--set", "sweep.positions=4", "--set", "sweep.crank_end_deg=270")
+    assert code == 1, err  # the second bin's law cannot carry 200,000 N*m
+    result = ltca.solve(ltca.Deck.load(str(deck)).update({"sweep.positions": 4, "sweep.crank_end_deg": 270}))
+    assert result.status == "success"  # the deck's own sweep
+    assert not result.spectrum_succeeded
+    assert not result.succeeded

@@ -191,8 +191,13 @@ std::vector<AllowableRow> ContactFatigueRows(const ContactFatigue& fatigue, cons
   std::vector<AllowableRow> rows;
   const std::string basis = fmt::format("ltca solve, Miner on ISO 6336-2 Z_NT ({}), sigma_Hlim {:g} MPa ({})",
                                         contact::ToString(fatigue.curve), fatigue.fatigue_limit, fatigue.basis);
-  rows.push_back(Judge("contact.shortest_life_hours", fatigue.ShortestHours(), basis,
-                       AllowableRange{targets.contact_life_hours.value_or(-inf), inf}));
+  const double life = fatigue.ShortestHours();
+  rows.push_back(Judge("contact.shortest_life_hours", life, basis, AllowableRange{targets.contact_life_hours.value_or(-inf), inf}));
+  if (life == inf) {  // no cycle above the curve's floor: a life without damage, above any required life
+    rows.back().value = inf;
+    rows.back().margin = inf;
+    rows.back().verdict = rows.back().range.Given() ? AllowableVerdict::kPass : AllowableVerdict::kNoAllowable;
+  }
   rows.back().name = "shortest pitting life of the pins and teeth (h)";
   rows.push_back(Judge("contact.smallest_safety", fatigue.SmallestSafety(), basis + ", at the required life",
                        AllowableRange{targets.min_contact_safety.value_or(-inf), inf}));

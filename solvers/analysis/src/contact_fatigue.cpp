@@ -12,6 +12,8 @@ namespace ltca::analysis {
 namespace contact_fatigue_detail {
 
 constexpr double kNoFigure = std::numeric_limits<double>::quiet_NaN();
+/// A run below this fraction of its disc's largest pressure is not a load cycle (Finish).
+constexpr double kMinorRun = 0.1;
 
 /// The whole number nearest x when x is one to rounding (relative 1e-9), else 0.
 double Whole(double x) {
@@ -20,6 +22,7 @@ double Whole(double x) {
 }
 
 }  // namespace contact_fatigue_detail
+using contact_fatigue_detail::kMinorRun;
 using contact_fatigue_detail::kNoFigure;
 using contact_fatigue_detail::Whole;
 
@@ -43,7 +46,6 @@ void ContactCycleCounter::Add(const std::vector<double>& stress) {
       p.peak = std::max(p.peak, s);
     } else if (loaded) {
       p.peak = s;
-      ++p.starts;
     } else if (p.first_open) {
       p.first_open = false;
     } else if (p.loaded) {
@@ -68,11 +70,21 @@ ContactCycles ContactCycleCounter::Finish(const Sweep& sweep, bool closed_period
   const double turns_repeating = Whole(swept / (2.0 * units::kPi));                // the last repeats the first
   const double turns_covering = Whole(swept * n / (n - 1.0) / (2.0 * units::kPi));  // evenly around, no repeat
   const double turns = turns_repeating > 0.0 ? turns_repeating : turns_covering;
+  // A run whose peak is below kMinorRun of its disc's largest pressure is the load handed over and
+  // back between neighbouring positions, not an engagement (e.g. 160 MPa beside 1500 for one
+  // position at a pin's handover): it does no damage (far below the curve's floor) and is not counted.
+  std::vector<double> floor(static_cast<std::size_t>(out.discs), 0.0);
+  for (std::size_t j = 0; j < pins_.size(); ++j) {
+    double& f = floor[j / static_cast<std::size_t>(pin_count)];
+    f = std::max(f, kMinorRun * pins_[j].largest);
+  }
+  const auto counted = [&](std::size_t j, double peak) { return peak >= floor[j / static_cast<std::size_t>(pin_count)]; };
   if (turns > 0.0) {
     out.crank_turns = turns;
     out.basis = fmt::format("{:g} whole crank turn{}: every pin's loaded runs, one cycle each at its largest pressure", turns,
                             turns == 1.0 ? "" : "s");
-    for (const Pin& p : pins_) {
+    for (std::size_t j = 0; j < pins_.size(); ++j) {
+      const Pin& p = pins_[j];
       std::vector<double> peaks = p.peaks;
       if (p.first_open) {
         peaks.push_back(p.first_peak);  // loaded over the whole sweep: one cycle a turn at most
@@ -82,6 +94,7 @@ ContactCycles ContactCycleCounter::Finish(const Sweep& sweep, bool closed_period
         if (p.loaded_first) peaks.push_back(p.first_peak);
         if (p.loaded) peaks.push_back(p.peak);
       }
+      std::erase_if(peaks, [&](double peak) { return !counted(j, peak); });
       out.peaks.push_back(std::move(peaks));
     }
     return out;
@@ -96,8 +109,11 @@ ContactCycles ContactCycleCounter::Finish(const Sweep& sweep, bool closed_period
       int starts = 0;
       double largest = 0.0;
       for (int j = 0; j < pin_count; ++j) {
-        const Pin& p = pins_[static_cast<std::size_t>(d * pin_count + j)];
-        starts += p.starts;
+        const auto k = static_cast<std::size_t>(d * pin_count + j);
+        const Pin& p = pins_[k];
+        // The runs begun after the first position: the closed ones and the one still open.
+        starts += static_cast<int>(std::count_if(p.peaks.begin(), p.peaks.end(), [&](double peak) { return counted(k, peak); }));
+        if (p.loaded && !p.first_open && counted(k, p.peak)) ++starts;
         largest = std::max(largest, p.largest);
       }
       for (int j = 0; j < pin_count; ++j) out.peaks.emplace_back(static_cast<std::size_t>(starts), largest);

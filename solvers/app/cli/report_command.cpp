@@ -211,7 +211,8 @@ std::string AllowableRow(const analysis::AllowableRow& row) {
                               : row.verdict == analysis::AllowableVerdict::kFail ? "<span class=\"fail\">FAIL</span>"
                                                                                  : analysis::ToString(row.verdict);
   return fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-                     Html(row.figure), Html(row.name.empty() ? Label(row.figure) : row.name), CellOf(row.value), allowable,
+                     Html(row.figure), Html(row.name.empty() ? Label(row.figure) : row.name),
+                     row.value > 0.0 && std::isinf(row.value) ? std::string("infinite") : CellOf(row.value), allowable,
                      margin, verdict, row.pass_fraction ? CellOf(*row.pass_fraction) : "", Html(row.basis));
 }
 

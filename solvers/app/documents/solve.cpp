@@ -73,7 +73,8 @@ nlohmann::json Verdicts(const std::vector<analysis::AllowableRow>& rows) {
   nlohmann::json out = nlohmann::json::array();
   for (const analysis::AllowableRow& r : rows) {
     out.push_back({{"figure", r.figure},
-                   {"value", FiniteOrNull(r.value)},
+                   // +inf: a life without damage (the string, as the lives themselves are written)
+                   {"value", std::isinf(r.value) && r.value > 0.0 ? nlohmann::json("infinite") : FiniteOrNull(r.value)},
                    {"min", FiniteOrNull(r.range.min)},
                    {"max", FiniteOrNull(r.range.max)},
                    {"margin", FiniteOrNull(r.margin)},
@@ -536,13 +537,13 @@ std::string ContactFatigueText(const Deck& deck, const analysis::ContactFatigue&
   }
   text += fmt::format("                       (Miner on ISO 6336-2 Z_NT, {}, sigma_Hlim {:g} MPa; {}{})\n",
                       contact::ToString(f.curve), f.fatigue_limit, f.basis,
-                      std::isnan(f.crank_rpm) ? "; no hours without [operation] input_speed_rpm" : "");
+                      std::isnan(f.crank_rpm) ? "; no hours without [operation] input_speed_rpm or motor_speed_rpm" : "");
   if (!std::isnan(f.required_hours)) {
     text += fmt::format("pitting safety S_H     {} at {:g} h (the smallest)\n", FormatOrNa(f.SmallestSafety(), 4), f.required_hours);
   }
   for (const analysis::AllowableRow& r : analysis::ContactFatigueRows(f, deck.allowables)) {
     if (!r.range.Given()) continue;
-    text += fmt::format("  {:<6} {}: {}, target >= {:g}\n", analysis::ToString(r.verdict), r.name, FormatOrNa(r.value, 4), r.range.min);
+    text += fmt::format("  {:<6} {}: {}, target >= {:g}\n", analysis::ToString(r.verdict), r.name, HoursText(r.value), r.range.min);
   }
   return text;
 }

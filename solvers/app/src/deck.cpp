@@ -898,6 +898,13 @@ void CrankSpeedFromMotor(const Section& s, Deck* deck) {
   const double ratio = geometry::Kinematics(deck->pair).TransmissionRatio();
   deck->operation->input_speed = units::RpmToRadPerS(rpm) * k / std::abs(1.0 - (1.0 + k) / ratio);
   deck->operation->Validate();
+  deck->speed_from_motor = true;
+  if (!deck->load_spectrum.empty()) {
+    // A bin's speed_rpm is a crank speed: beside a motor speed a user would read it as the motor's.
+    throw std::invalid_argument("[[load_spectrum]] with [operation] motor_speed_rpm: a bin's speed_rpm is the crank speed; "
+                                "expected [operation] input_speed_rpm (the crank speed) beside a load spectrum, and each "
+                                "bin's crank speed (the motor's times k / |1 - (1 + k) / I|, docs/stage.md)");
+  }
 }
 
 // --- reading [optimise] ---------------------------------------------------------------------------

@@ -107,8 +107,8 @@ std::vector<AllowableRow> BearingRatingRows(const BearingLife& life, const Allow
 
 struct ContactFatigue;
 /// The pin-cycloid contact's pitting rating against its targets: "contact.shortest_life_hours"
-/// against [allowables] contact_life_hours (min) and "contact.smallest_safety" against
-/// min_contact_safety (min).
+/// against [allowables] contact_life_hours (min; an infinite life, no damage, passes it: value and
+/// margin +inf) and "contact.smallest_safety" against min_contact_safety (min).
 std::vector<AllowableRow> ContactFatigueRows(const ContactFatigue& fatigue, const AllowablesSettings& targets);
 
 /// A figure of the nominal design (a name of ToleranceSettings::FigureNames) and the analysis it

@@ -16,7 +16,8 @@
 //    pair whose pins all see the same history: the pins' run starts in the period are the cycles a
 //    pin sees a crank turn (a period is 1 / z_p of a turn and z_p pins share it), each at the
 //    period's largest pressure of that disc.
-// Any other sweep has no basis (the figures are NaN, the basis says why); so has a sweep with a
+// A run whose peak is below a tenth of its disc's largest pressure (the load handed over and back
+// between neighbouring positions) is not a load cycle. Any other sweep has no basis (the figures are NaN, the basis says why); so has a sweep with a
 // failed position (a peak may be missing).
 #include <limits>
 #include <optional>
@@ -61,7 +62,6 @@ class ContactCycleCounter {
     bool loaded = false;        // loaded at the last position added
     double peak = 0.0;          // the open run's peak
     std::vector<double> peaks;  // closed runs, the first run excluded
-    int starts = 0;             // runs begun after the first position
     double largest = 0.0;
   };
   std::vector<Pin> pins_;
