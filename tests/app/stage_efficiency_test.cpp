@@ -40,6 +40,21 @@ ltca::solvers::LoadResult StageSolve(const Deck& deck, double crank) {
   return ltca::solvers::MakeSolver(deck.solver.name)->Solve(stage.Problem(crank, deck.RequireLoad().torque), deck.solver);
 }
 
+/// Each crank of the deck's sweep: the efficiency runner's position (succeeded) and the
+/// frictionless stage solve at that crank, apart from it.
+template <class Check>
+void ForEachPosition(const Deck& deck, Check check) {
+  auto runner = ltca::test::EfficiencyOn(deck, deck.solver, deck.kinematics);
+  for (const double crank : runner.cranks()) {
+    CAPTURE(crank);
+    const EfficiencyPosition p = runner.Solve(crank);
+    REQUIRE(p.succeeded());
+    const auto r = StageSolve(deck, crank);
+    REQUIRE(r.reducer.has_value());
+    check(crank, p, r);
+  }
+}
+
 /// |omega_c| (1 - phi'): the eccentric's speed relative to the disc, phi' = -(z_p - z_c) / z_c.
 double RelativeSpeed(const Deck& deck) {
   return deck.RequireOperation().input_speed * static_cast<double>(deck.pair.pin_count) / deck.pair.tooth_count;
@@ -110,14 +125,8 @@ TEST_CASE("app: friction only at the output pins is the W mechanism's sliding lo
   // (the disc's displacement under load turns n_j by micro-radians).
   const double mu = 0.05;
   const Deck deck = StageDeck("cycloidal_drive.toml", {"friction.coefficient=0", "friction.output_pin_coefficient=0.05"});
-  auto runner = ltca::test::EfficiencyOn(deck, deck.solver, deck.kinematics);
   const double speed = deck.pair.eccentricity * RelativeSpeed(deck);  // mm/s
-  for (const double crank : runner.cranks()) {
-    CAPTURE(crank);
-    const EfficiencyPosition p = runner.Solve(crank);
-    REQUIRE(p.succeeded());
-    const auto r = StageSolve(deck, crank);
-    REQUIRE(r.reducer.has_value());
+  ForEachPosition(deck, [&](double crank, const EfficiencyPosition& p, const ltca::solvers::LoadResult& r) {
     const Eigen::Vector2d v = speed * Eigen::Vector2d(-std::sin(crank), std::cos(crank));
     double loss = 0.0, nominal = 0.0;
     const auto& disc = r.reducer->discs.front();
@@ -131,7 +140,7 @@ TEST_CASE("app: friction only at the output pins is the W mechanism's sliding lo
     CHECK(p.power_loss_by_source.mesh == 0.0);
     CHECK(p.power_loss_by_source.bearings == 0.0);
     CHECK(p.power_loss == p.power_loss_by_source.output);
-  }
+  });
 }
 
 TEST_CASE("app: friction only at the bearings is their moment times the eccentric's speed relative to the disc (1e-9)") {
@@ -144,13 +153,7 @@ TEST_CASE("app: friction only at the bearings is their moment times the eccentri
     std::vector<std::string> o = {"friction.coefficient=0", "friction.bearing_coefficient=0.002"};
     if (name == "rv_catalogue.toml") o.push_back("friction.bearing_diameter_mm=10");
     const Deck deck = StageDeck(name, o);
-    auto runner = ltca::test::EfficiencyOn(deck, deck.solver, deck.kinematics);
-    for (const double crank : runner.cranks()) {
-      CAPTURE(crank);
-      const EfficiencyPosition p = runner.Solve(crank);
-      REQUIRE(p.succeeded());
-      const auto r = StageSolve(deck, crank);
-      REQUIRE(r.reducer.has_value());
+    ForEachPosition(deck, [&](double, const EfficiencyPosition& p, const ltca::solvers::LoadResult& r) {
       double force = 0.0;
       int bearings = 0;
       for (const auto& disc : r.reducer->discs) {
@@ -165,7 +168,7 @@ TEST_CASE("app: friction only at the bearings is their moment times the eccentri
       CHECK(p.power_loss_by_source.output == 0.0);
       CHECK(p.power_loss == p.power_loss_by_source.bearings);
       CHECK(p.efficiency < 1.0);
-    }
+    });
   }
 }
 

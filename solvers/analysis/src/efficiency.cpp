@@ -248,6 +248,11 @@ struct EfficiencyRunner::Impl {
   /// mu_b |F| (d / 2) |omega_c (1 - phi')|.
   struct StageLosses {
     double output = 0.0, bearings = 0.0, moment = 0.0;
+    /// The losses a fraction w of the way from a to b (the forces interpolated so, the losses are
+    /// linear in them).
+    static StageLosses Between(const StageLosses& a, const StageLosses& b, double w) {
+      return {a.output + w * (b.output - a.output), a.bearings + w * (b.bearings - a.bearings), a.moment + w * (b.moment - a.moment)};
+    }
   };
   StageLosses StageLoss(const LoadResult& r, double crank) const {
     StageLosses loss;
@@ -401,9 +406,7 @@ struct EfficiencyRunner::Impl {
           const double g_next = Evaluate(state, kin, f_next, sigma, &interpolated, &ignored) - s_next;
           if (std::abs(g_next) < kInterpolatedTolerance) {
             converged = true;
-            accepted = {stage_prev.output + w * (stage_now.output - stage_prev.output),
-                        stage_prev.bearings + w * (stage_now.bearings - stage_prev.bearings),
-                        stage_prev.moment + w * (stage_now.moment - stage_prev.moment)};
+            accepted = StageLosses::Between(stage_prev, stage_now, w);
             // The accepted state is this step's: its ratio and its own residual (not the last solve's).
             pos.friction_moment_ratio = g_next + s_next;
             pos.balance_residual = std::abs(g_next);
