@@ -865,16 +865,10 @@ std::string SpectrumHtml(const ReportContext& ctx) {
   const nlohmann::json j = documents::SpectrumJson(*ctx.spectrum);
   std::string rows;
   for (const auto& b : j.at("bins")) {
-    const auto shortest = [&](const char* key) {
-      double least = NAN;
-      for (const auto& v : b.at(key)) {
-        if (v.is_number() && !(v.get<double>() >= least)) least = v.get<double>();
-      }
-      return CellOf(least);
-    };
     rows += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
                         Cell(b.at("torque_nm")), Cell(b.at("speed_rpm")), Cell(b.at("time_share")), Cell(b.at("status")),
-                        Cell(b.at("max_contact_stress_mpa")), shortest("l10_hours"), shortest("load_zone_life_hours"),
+                        Cell(b.at("max_contact_stress_mpa")), Cell(b.at("shortest_l10_hours")),
+                        Cell(b.at("shortest_load_zone_life_hours")),
                         Cell(b.at("shortest_pitting_life_hours")));
   }
   return fmt::format("<p>{}</p>\n<table>\n<tr><th>torque (N*m)</th><th>crank speed (rpm)</th><th>time share</th><th>status</th>"

@@ -482,7 +482,9 @@ nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
                     {"max_pin_force_n", FiniteOrNull(s.max_pin_force)},
                     {"max_contact_stress_mpa", FiniteOrNull(s.max_contact_stress)},
                     {"l10_hours", Finites(life.hours)},
+                    {"shortest_l10_hours", FiniteOrNull(life.ShortestHours())},
                     {"load_zone_life_hours", Finites(life.load_zone_hours)},
+                    {"shortest_load_zone_life_hours", FiniteOrNull(life.ShortestLoadZoneHours())},
                     {"shortest_pitting_life_hours",
                      HoursOrInfinite(s.contact_fatigue ? s.contact_fatigue->ShortestHours() : std::numeric_limits<double>::quiet_NaN())}});
   }
