@@ -331,6 +331,20 @@ LoadProblem LoadProblem::WithReducer(std::shared_ptr<const ReducerSettings> stag
   return out;
 }
 
+LoadProblem LoadProblem::WithStageLoads(StageLoads loads) const {
+  if (reducer_ == nullptr) throw std::invalid_argument("LoadProblem::WithStageLoads: expected a problem with a stage");
+  if (loads.discs.size() > static_cast<std::size_t>(disc_count())) {
+    throw std::invalid_argument(fmt::format("LoadProblem::WithStageLoads: loads on {} discs, the stage has {}",
+                                            loads.discs.size(), disc_count()));
+  }
+  bool finite = std::isfinite(loads.output_moment);
+  for (const StageLoads::Disc& d : loads.discs) finite = finite && d.force.allFinite() && std::isfinite(d.moment);
+  if (!finite) throw std::invalid_argument("LoadProblem::WithStageLoads: expected finite loads");
+  LoadProblem out(*this);
+  out.stage_loads_ = std::make_shared<const StageLoads>(std::move(loads));
+  return out;
+}
+
 double LoadProblem::SinglePinBound() const {
   // As in BuildBaseLaws, with the coupling's terms when there is one (LoadedRotationRange).
   const double min_arm = 1e-9 * model_->pair().pin_circle_radius;

@@ -128,6 +128,17 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
     coordinate_dof_[static_cast<std::size_t>(c)] = dofs_++;
     coordinate_scale_[static_cast<std::size_t>(c)] = rotation ? 1.0 / radius_ : 1.0;
   }
+  // Loads besides T (StageLoads): each disc's force on x, y and moment on phi, the output's on psi.
+  applied_ = Eigen::VectorXd::Zero(coordinates);
+  if (const StageLoads* loads = problem.stage_loads()) {
+    for (std::size_t d = 0; d < loads->discs.size() && static_cast<int>(d) < discs_; ++d) {
+      const auto at = static_cast<Eigen::Index>(3 * d);
+      applied_(at) = loads->discs[d].force.x();
+      applied_(at + 1) = loads->discs[d].force.y();
+      applied_(at + 2) = loads->discs[d].moment;
+    }
+    applied_(psi_coordinate_) = loads->output_moment;
+  }
   origin_ = Eigen::VectorXd::Zero(coordinates);
   exact_ = origin != nullptr;
   if (origin != nullptr) {
@@ -305,6 +316,14 @@ void ReducerSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::v
   out->failure.clear();
   Eigen::VectorXd magnitude = Eigen::VectorXd::Zero(n);
   magnitude(psi) = torque_ / radius_;
+  for (std::size_t c = 0; c < coordinate_dof_.size(); ++c) {  // the loads besides T: their work
+    const double f = applied_(static_cast<Eigen::Index>(c));
+    const int k = coordinate_dof_[c];
+    if (f == 0.0 || k < 0) continue;
+    out->energy -= f * coordinate_scale_[c] * q(k);
+    out->gradient(k) -= f * coordinate_scale_[c];
+    magnitude(k) += std::abs(f) * coordinate_scale_[c];
+  }
   if (coupling_ != nullptr) {
     EvaluateCoupled(q, with_hessian, hints, out, &magnitude);
     if (!out->failure.empty()) return;
@@ -687,7 +706,7 @@ void ReducerSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
     // A rigid eccentric bearing holds the disc's centre: its force is the reaction to the others.
     for (int d = 0; d < discs_; ++d) {
       ReducerSolution::Disc& disc = stage.discs[static_cast<std::size_t>(d)];
-      Eigen::Vector2d others = mesh_force[static_cast<std::size_t>(d)];
+      Eigen::Vector2d others = mesh_force[static_cast<std::size_t>(d)] + applied_.segment<2>(3 * d);
       for (std::size_t j = 0; j < disc.output_force.size(); ++j) others += disc.output_force[j] * disc.output_direction[j];
       disc.bearing_force[0] = -others;
     }
@@ -720,8 +739,8 @@ void ReducerSystem::Judge(LoadResult* result) const {
   const Eigen::VectorXd c = CoordinatesOf(*result) - origin_;
   // Generalised forces dPi/dc with the reported forces: each disc's force (N) and moment (N*mm),
   // the output member's moment minus T, each shaft's force.
-  Eigen::VectorXd balance = Eigen::VectorXd::Zero(coordinate_count());
-  balance(psi_coordinate_) = -torque_;
+  Eigen::VectorXd balance = -applied_;
+  balance(psi_coordinate_) -= torque_;
   double f_max = 0.0, w_max = 0.0;
   const double geometry_resolution = 16.0 * std::numeric_limits<double>::epsilon() * radius_;
   // Pin bending: each point's beam deflection (C F)_i under the reported forces.

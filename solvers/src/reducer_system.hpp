@@ -196,6 +196,7 @@ class ReducerSystem {
   int ShaftCoordinate(int d, int j) const { return psi_coordinate_ + 1 + 2 * (d * crank_count_ + j); }
   double radius_ = 1.0;  // R_p, mm: the rotations' scale
   double torque_ = 0.0;  // |T|, N*mm
+  Eigen::VectorXd applied_;  // the loads besides T over the coordinates (StageLoads), N and N*mm
   int psi_coordinate_ = 0;
   int dofs_ = 0;
   std::vector<int> coordinate_dof_;       // -1: held at zero

@@ -73,8 +73,10 @@ Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 /// tangential unit vectors at alpha_j), the eccentric off it by o_j = -dev_j at q = 0: the spring
 /// stores k |g q + o_j|^2 / 2, a preload -k g^T o_j, and the disc's turn moves the hole by
 /// perp(C_j + dev_j).
+/// `extra`: loads besides T on the dofs (N on x, y; N*mm on phi and psi), added to the right side.
 Eigen::VectorXd Network(const LoadProblem& problem, double turns, double torque,
-                        const std::vector<std::vector<Eigen::Vector2d>>& holes = {}) {
+                        const std::vector<std::vector<Eigen::Vector2d>>& holes = {},
+                        const Eigen::VectorXd& extra = Eigen::VectorXd::Zero(7)) {
   const int n = 7;
   Eigen::MatrixXd fixed = Eigen::MatrixXd::Zero(n, n);
   Eigen::VectorXd load = Eigen::VectorXd::Zero(n);
@@ -109,6 +111,7 @@ Eigen::VectorXd Network(const LoadProblem& problem, double turns, double torque,
     a(3 * p.disc + 2) = p.arm;
     springs.push_back({a, p.clearance, kLawStiffness * p.length});
   }
+  load += extra;
   const std::optional<Eigen::VectorXd> q = ltca::test::SolveOneSided(fixed, springs, n - 1, torque, load);
   if (!q) throw std::runtime_error("the hand-assembled network's active set did not settle");
   return *q;
@@ -209,6 +212,26 @@ TEST_CASE("solvers: two discs with their own crank holes are the hand network wi
     CHECK(a.rotation == b.rotation);
     CHECK(a.force == b.force);
   }
+}
+
+TEST_CASE("solvers: loads besides T on the discs and the output member are the hand network's extra loads (1e-9)") {
+  // What the stage's loop with friction puts on it (LoadProblem::WithStageLoads): a force and a
+  // moment on each disc, a moment on the output member, each entering the hand network's right side.
+  ltca::solvers::StageLoads loads;
+  loads.discs = {{Eigen::Vector2d(300.0, -200.0), 4.0e4}, {Eigen::Vector2d(-100.0, 150.0), -2.5e4}};
+  loads.output_moment = -3.0e4;
+  Eigen::VectorXd extra(7);
+  extra << 300.0, -200.0, 4.0e4, -100.0, 150.0, -2.5e4, -3.0e4;
+  for (const double crank : {0.0, 0.4}) {
+    CAPTURE(crank);
+    const LoadProblem problem = TwoDiscs(Cranks(kHandTurns), crank, 1.5e6).WithStageLoads(loads);
+    const Eigen::VectorXd q = Network(problem, kHandTurns, 1.5e6, {}, extra);
+    SolversMatchNetwork(problem, q);
+    CHECK(std::abs(q(6) - Network(problem, kHandTurns, 1.5e6)(6)) > 1e-3 * std::abs(q(6)));  // the loads matter
+  }
+  CHECK(ltca::test::InvalidArgumentMessage([&] {
+          (void)TwoDiscs(Cranks(kHandTurns), 0.0, 1.5e6).WithStageLoads({{{}, {}, {}}, 0.0});
+        }).find("loads on 3 discs, the stage has 2") != std::string::npos);
 }
 
 TEST_CASE("solvers: the first stage under exact kinematics moves the stage as under linearised kinematics, both discs alike") {

@@ -1,5 +1,6 @@
 #include "ltca/analysis/friction.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,9 @@ namespace {
 /// The torque balance with friction converges when the ratio moves by less than this.
 constexpr double kBalanceTolerance = 1e-10;
 constexpr int kMaxBalanceSolves = 20;
+constexpr int kMaxStageBalanceSolves = 40;
+/// The step of the stage's motion along a branch of the loop, relative to the torque.
+constexpr double kMotionStep = 1e-4;
 
 }  // namespace
 
@@ -113,6 +117,165 @@ void FrictionSettings::Validate(const geometry::PairParameters& pair) const {
 double LoopFrictionCoefficient(const std::optional<FrictionSettings>& friction) {
   if (!friction) return 0.0;
   return friction->model == FrictionSettings::Model::kCoulomb ? friction->coefficient : friction->boundary_coefficient;
+}
+
+solvers::StageLoads StageFrictionLoads(const solvers::LoadProblem& problem, const contact::MeshModel& model,
+                                       const contact::MeshModel* second, const contact::MeshState& state,
+                                       const LoadResult& result, const LoadResult& from, const LoadResult& to,
+                                       const StageLoopFriction& friction) {
+  const solvers::ReducerSettings& stage = *problem.reducer();
+  const int discs = problem.disc_count();
+  solvers::StageLoads loads;
+  loads.discs.resize(static_cast<std::size_t>(discs));
+  if (!result.reducer || !from.reducer || !to.reducer) return loads;
+  const auto& now = to.reducer->discs;
+  const auto& before = from.reducer->discs;
+  const auto& solved = result.reducer->discs;
+  // The problem's frame: a rotation in it is s_phys times the counterclockwise angle.
+  const double s_phys = model.load_direction() * problem.direction();
+  const auto perp = [](const Eigen::Vector2d& v) { return Eigen::Vector2d(-v.y(), v.x()); };
+  const auto sign = [](double v) { return v > 0.0 ? 1.0 : v < 0.0 ? -1.0 : 0.0; };
+  if (friction.mesh > 0.0) {
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    int centre_disc = -1;
+    double centre_z = kNaN;
+    for (std::size_t i = 0; i < state.pins.size() && i < result.force.size(); ++i) {
+      const double f = result.force[i];
+      if (!(f > 0.0)) continue;
+      const contact::PinContact& c = state.pins[i];
+      const int d = c.disc == 1 && second != nullptr ? 1 : 0;
+      const auto at = static_cast<std::size_t>(d);
+      if (at >= now.size() || at >= before.size() || at >= solved.size()) continue;
+      if (centre_disc != d || !(centre_z == c.z)) {
+        const double crank = state.crank + (d == 1 ? contact::kSecondDiscCrankOffset : 0.0);
+        centre = (d == 1 ? *second : model).CyclePose(crank, 0.0, c.z).centre;
+        centre_disc = d;
+        centre_z = c.z;
+      }
+      // The disc's material at P moves by dt + s_phys dphi perp(P - O) (the pin stays): the
+      // friction, mu F along the contact's tangent perp(n), opposes that motion's tangential part.
+      const Eigen::Vector2d motion = (now[at].translation - before[at].translation) +
+                                     s_phys * (now[at].rotation - before[at].rotation) * perp(c.cycloid_point - centre);
+      const Eigen::Vector2d force = -sign(motion.dot(perp(c.normal))) * friction.mesh * f * perp(c.normal);
+      const Eigen::Vector2d arm = c.cycloid_point - centre;
+      loads.discs[at].force += force;
+      loads.discs[at].moment += s_phys * (arm.x() * force.y() - arm.y() * force.x());
+    }
+  }
+  if (friction.bearing > 0.0) {
+    const bool cranks = stage.kind == solvers::OutputKind::kCranks;
+    const double k = cranks ? stage.cranks.turns_per_output_turn : 0.0;
+    const double dpsi = to.rotation - from.rotation;
+    for (int d = 0; d < discs && static_cast<std::size_t>(d) < std::min({now.size(), before.size(), solved.size()}); ++d) {
+      const auto at = static_cast<std::size_t>(d);
+      const double dphi = now[at].rotation - before[at].rotation;
+      // The bearing's relative rotation, problem frame: the eccentric (locked, pins) or the
+      // crankshaft (turning k psi, cranks) against the disc.
+      const double relative = sign((cranks ? k * dpsi : 0.0) - dphi);
+      for (const Eigen::Vector2d& f : solved[at].bearing_force) {
+        const double m = friction.bearing * f.norm() * friction.bearing_diameter / 2.0;
+        loads.discs[at].moment += relative * m;
+        if (cranks) loads.output_moment -= relative * m * k;
+      }
+    }
+  }
+  return loads;
+}
+
+LoadResult SolveStageWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state,
+                                      double torque, double sense, const StageLoopFriction& friction,
+                                      const LoadProblemAt& problem, const SolveProblem& solve, int* solves,
+                                      const contact::MeshModel* second, LoopFrictionBalance* balance) {
+  const auto count = [&] {
+    if (solves != nullptr) ++*solves;
+  };
+  const solvers::LoadProblem at_torque = problem(torque);
+  if (!friction.any() || sense == 0.0 || torque == 0.0 || !at_torque.has_reducer()) {
+    count();
+    return solve(at_torque);
+  }
+  // The stage's motion along the branch: the frictionless stage at T and a step behind it on the
+  // branch (the torque the branch came from, of the same sign, so in the same frame).
+  LoadResult r = solve(at_torque);
+  count();
+  if (r.status != SolverStatus::kSuccess) return r;
+  const LoadResult frictionless = r;
+  const LoadResult behind = solve(problem(torque - sense * kMotionStep * std::abs(torque)));
+  count();
+  if (behind.status != SolverStatus::kSuccess) return behind;
+  // The loads as one vector (per disc x, y, moment; then the output's moment), forces times R_p so
+  // that every entry is a moment (N*mm) and one tolerance judges them.
+  const double radius = model.pair().pin_circle_radius;
+  const int discs = at_torque.disc_count();
+  const auto flat = [&](const solvers::StageLoads& l) {
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(3 * discs + 1);
+    for (int d = 0; d < discs && static_cast<std::size_t>(d) < l.discs.size(); ++d) {
+      v(3 * d) = l.discs[static_cast<std::size_t>(d)].force.x() * radius;
+      v(3 * d + 1) = l.discs[static_cast<std::size_t>(d)].force.y() * radius;
+      v(3 * d + 2) = l.discs[static_cast<std::size_t>(d)].moment;
+    }
+    v(3 * discs) = l.output_moment;
+    return v;
+  };
+  const auto loads_of = [&](const Eigen::VectorXd& v) {
+    solvers::StageLoads l;
+    l.discs.resize(static_cast<std::size_t>(discs));
+    for (int d = 0; d < discs; ++d) {
+      l.discs[static_cast<std::size_t>(d)].force = Eigen::Vector2d(v(3 * d), v(3 * d + 1)) / radius;
+      l.discs[static_cast<std::size_t>(d)].moment = v(3 * d + 2);
+    }
+    l.output_moment = v(3 * discs);
+    return l;
+  };
+  const auto friction_moment = [&](const Eigen::VectorXd& v) {  // on the discs and the output, N*mm
+    double m = std::abs(v(3 * discs));
+    for (int d = 0; d < discs; ++d) m += std::abs(v(3 * d + 2));
+    return m;
+  };
+  const double tolerance = kBalanceTolerance * std::abs(torque);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(3 * discs + 1);  // the loads r was solved with
+  Eigen::VectorXd x_prev, r_prev;
+  for (int k = 0; k < kMaxStageBalanceSolves; ++k) {
+    if (r.status != SolverStatus::kSuccess) return r;
+    const Eigen::VectorXd g = flat(StageFrictionLoads(at_torque, model, second, state, r, behind, frictionless, friction));
+    const Eigen::VectorXd residual = g - x;
+    if (residual.cwiseAbs().maxCoeff() <= tolerance) {
+      if (balance != nullptr) {
+        balance->moment = friction_moment(x);
+        balance->direct = false;
+        balance->behind = kNaN;
+      }
+      return r;
+    }
+    if (friction_moment(g) >= std::abs(torque)) {
+      LoadResult f;
+      f.status = SolverStatus::kMaxIterations;
+      f.message = fmt::format(
+          "torque balance with friction (mu {:g}, bearings {:g}): no balance at {:g} N*m, the friction moment on the "
+          "discs and the output ({:g} N*m) reaches the torque: the stage locks under this friction",
+          friction.mesh, friction.bearing, units::NmmToNm(torque), units::NmmToNm(friction_moment(g)));
+      return f;
+    }
+    // Anderson's method of depth 1 (Walker and Ni, SIAM J. Numer. Anal. 49 (2011) 1715): the
+    // combination of the last two steps whose residuals cancel best.
+    Eigen::VectorXd next = g;
+    if (r_prev.size() == residual.size()) {
+      const Eigen::VectorXd dr = residual - r_prev;
+      const double dd = dr.squaredNorm();
+      if (dd > 0.0) next = g - (residual.dot(dr) / dd) * ((x - x_prev) + dr);
+    }
+    x_prev = x;
+    r_prev = residual;
+    x = next;
+    r = solve(at_torque.WithStageLoads(loads_of(x)));
+    count();
+  }
+  LoadResult f;
+  f.status = SolverStatus::kMaxIterations;
+  f.message = fmt::format("torque balance with friction (mu {:g}, bearings {:g}): the stage's friction loads did not "
+                          "settle in {} solves at {:g} N*m",
+                          friction.mesh, friction.bearing, kMaxStageBalanceSolves, units::NmmToNm(torque));
+  return f;
 }
 
 LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state, double torque,

@@ -109,6 +109,9 @@ struct StiffnessRunner::Impl {
   // the branch being solved (+1 increasing, -1 decreasing, 0: the loop's midpoint, both).
   bool closed = false;
   double friction_mu = 0.0;
+  // A stage: its friction in the loop, the mesh's (friction_mu) and the bearings' (StageLoopFriction).
+  StageLoopFriction stage_friction;
+  bool with_friction() const { return friction_mu > 0.0 || stage_friction.bearing > 0.0; }
   double sense = 0.0;
   // Issue 27: the friction balance of each (torque, sense) warm-started from where it ended at the
   // previous crank; the stick-end searches' torques move, one warm start per sense.
@@ -124,12 +127,20 @@ struct StiffnessRunner::Impl {
           "[load] torque_nm = 0: expected the rated torque of the stiffness loop, not zero (the loop runs from "
           "-|T| to +|T|)");
     }
-    if (friction_mu > 0.0 && stage.design().reducer) {
-      // The loop would count the mesh's friction alone and call its hysteresis the stage's.
-      throw std::invalid_argument(fmt::format(
-          "[friction] with [output]: the stiffness loop with friction counts the mesh's friction only; the stage's "
-          "loop with friction at the output pins and bearings is not modelled yet (docs/efficiency.md); expected the "
-          "stage without [friction] here (ltca efficiency takes it) or the mesh alone"));
+    if (friction && stage.design().reducer) {
+      // The stage's loop: the mesh's friction and the bearings' on the discs (StageLoopFriction).
+      stage_friction.mesh = friction_mu;
+      stage_friction.bearing = friction->bearing_coefficient;
+      if (stage_friction.bearing > 0.0) {
+        const double pitch = stage.design().reducer->bearing.pitch_diameter;
+        stage_friction.bearing_diameter = std::isfinite(friction->bearing_diameter) ? friction->bearing_diameter : pitch;
+        if (!(stage_friction.bearing_diameter > 0.0)) {
+          throw std::invalid_argument(fmt::format(
+              "[friction] bearing_coefficient = {:g}: expected bearing_diameter_mm (d of the bearing's friction moment "
+              "M = mu F d / 2) or [bearing] pitch_diameter_mm",
+              stage_friction.bearing));
+        }
+      }
     }
     // The last crank repeats the first's state (a closed period): the means weigh it once.
     closed = !s.crank && stage.closed_period();
@@ -224,10 +235,15 @@ struct StiffnessRunner::Impl {
     if (friction_mu > 0.0 && sense != 0.0) {
       warm = &friction_warm[{searching ? kStickKey : torque, sense}];
     }
-    const LoadResult r = SolveWithLoopFriction(
-        stage.model(), state, torque, sense, friction_mu, [&](double t) { return KeptProblem(state, t); },
-        [&](const solvers::LoadProblem& p) { return solver->Solve(p, options, workspace); }, &solves,
-        stage.disc_count() == 2 ? &stage.model(1) : nullptr, warm, balance);
+    const auto problem = [&](double t) { return KeptProblem(state, t); };
+    const auto solve = [&](const solvers::LoadProblem& p) { return solver->Solve(p, options, workspace); };
+    const contact::MeshModel* second = stage.disc_count() == 2 ? &stage.model(1) : nullptr;
+    const LoadResult r =
+        stage.design().reducer
+            ? SolveStageWithLoopFriction(stage.model(), state, torque, sense, stage_friction, problem, solve, &solves,
+                                         second, balance)
+            : SolveWithLoopFriction(stage.model(), state, torque, sense, friction_mu, problem, solve, &solves, second,
+                                    warm, balance);
     pos->solves += solves;
     if (status != nullptr) *status = r.status;
     if (stage.disc_count() == 2 && on_loop && r.status == SolverStatus::kSuccess && std::abs(torque) == rated) {
@@ -420,9 +436,9 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   const std::vector<double> levels = Levels();
   std::vector<double> up(levels.size(), kNaN), down(levels.size(), kNaN);
   double held_low = kNaN, held_high = kNaN;  // with friction: the twist held after the reversal at -T, +T
-  if (m.friction_mu > 0.0) std::tie(held_low, held_high) = m.FrictionLoop(state, levels, at_coast, at_drive, &pos, &up, &down);
+  if (m.with_friction()) std::tie(held_low, held_high) = m.FrictionLoop(state, levels, at_coast, at_drive, &pos, &up, &down);
   for (const Branch branch : {Branch::kIncreasing, Branch::kDecreasing}) {
-    if (m.friction_mu > 0.0) break;  // the loop above
+    if (m.with_friction()) break;  // the loop above
     const bool increasing = branch == Branch::kIncreasing;
     m.sense = increasing ? 1.0 : -1.0;  // friction resists the twist's motion
     for (std::size_t i = 0; i < levels.size(); ++i) {
@@ -464,12 +480,12 @@ StiffnessPosition StiffnessRunner::Solve(double crank) {
   //    where the torque lies within that pass's stick.
   const auto twist = [&](double torque, bool loading) {
     CurvePoint p{torque, kNaN, Branch::kIncreasing, SolverStatus::kNotSolved};
-    if (m.friction_mu > 0.0 && loading) {
+    if (m.with_friction() && loading) {
       m.sense = torque > 0.0 ? 1.0 : -1.0;
       p.branch = torque > 0.0 ? Branch::kIncreasing : Branch::kDecreasing;
       p.twist = m.Twist(state, torque, &pos, &p.status);
       m.sense = 0.0;
-    } else if (m.friction_mu > 0.0) {
+    } else if (m.with_friction()) {
       SolverStatus on_up = SolverStatus::kSuccess, on_down = SolverStatus::kSuccess;
       double rising = held_low, falling = held_high;
       if (!(torque < pos.stick_end_coast)) {
@@ -574,7 +590,7 @@ StiffnessPosition StiffnessRunner::SolveLostMotion(double crank) {
     return v;
   };
   double plus = kNaN, minus = kNaN;  // the loop's midpoints at +f T and -f T
-  if (m.friction_mu == 0.0) {
+  if (!m.with_friction()) {
     plus = twist(ft, 0.0);
     minus = twist(-ft, 0.0);
   } else {
@@ -652,6 +668,7 @@ StiffnessResult StiffnessRunner::Run(const StiffnessSink& sink) {
   result.settings = impl_->settings;
   result.rated_torque = impl_->rated;
   result.friction_coefficient = impl_->friction_mu;
+  result.bearing_friction_coefficient = impl_->stage_friction.bearing;
   result.cranks = impl_->cranks;
   for (const double crank : impl_->cranks) {
     StiffnessPosition p = Solve(crank);

@@ -636,10 +636,6 @@ std::string UnloadedHtml(const ReportContext& ctx) {
 
 /// None at zero torque, where there is no rated torque to run the loop to.
 const char* StiffnessSkipped(const app::Deck& deck) {
-  if (deck.reducer && analysis::LoopFrictionCoefficient(deck.friction) > 0.0) {
-    return "the stage's loop with friction (output pins, bearings) is not modelled yet; without [friction] ltca stiffness "
-           "draws the frictionless loop (docs/efficiency.md)";
-  }
   return deck.RequireLoad().torque != 0.0 ? nullptr : "the deck's torque is zero, so there is no rated torque to run the loop to";
 }
 

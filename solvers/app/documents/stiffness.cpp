@@ -217,15 +217,23 @@ nlohmann::json Json(const analysis::StiffnessResult& result) {
     j["compliance_share"] = budget;
   }
   if (sweep) j["closed_period"] = s.closed_period;  // the means weigh a repeated last state once
-  j["hysteresis"] = friction_mu > 0.0;  // friction separates the branches
+  j["hysteresis"] = result.with_friction();  // friction separates the branches
   AddSpread(j, "hysteresis", "j", s.hysteresis, sweep, [](double v) { return NmmRadToJ(v); });
   j["branch_difference_arcmin"] = FiniteOrNull(RadToArcmin(s.branch_difference.max));
-  if (friction_mu > 0.0) {
+  if (result.with_friction()) {
     j["friction_coefficient"] = friction_mu;
+    if (result.bearing_friction_coefficient > 0.0) j["bearing_friction_coefficient"] = result.bearing_friction_coefficient;
     AddSpread(j, "stick_end_drive", "nm", s.stick_end_drive, sweep, [](double v) { return NmmToNm(v); });
     AddSpread(j, "stick_end_coast", "nm", s.stick_end_coast, sweep, [](double v) { return NmmToNm(v); });
-    j["note"] = "Coulomb friction in the torque balance ([friction]): moving up the normal forces carry T - mu sum F a_t, "
-                "moving down T + mu sum F a_t. After each reversal (+T, -T) the twist holds (stick) until the torque "
+    const std::string balance =
+        s.compliance_share.empty()
+            ? "Coulomb friction in the torque balance ([friction]): moving up the normal forces carry T - mu sum F a_t, "
+              "moving down T + mu sum F a_t."
+            : "Coulomb friction on each disc of the stage ([friction]), apart from the output torque: the mesh's "
+              "friction forces (mu F at each loaded pin, against the disc's turning) and each bearing's friction moment "
+              "mu_b |F| d / 2 (bearing_friction_coefficient) against its relative rotation; the output pins turn with "
+              "their disc and the pins sit in their seats (no friction there in the loop).";
+    j["note"] = balance + " After each reversal (+T, -T) the twist holds (stick) until the torque "
                 "reaches stick_end_drive_nm / stick_end_coast_nm, where the branch of the new sense reaches that twist; "
                 "the loop closes at -T. hysteresis_j is its area, the work friction dissipates per cycle; "
                 "branch_difference_arcmin is the loop's largest width at a torque level; the rigidity is read on the "
@@ -317,9 +325,12 @@ std::string Text(const analysis::StiffnessResult& result) {
     text += fmt::format("compliance budget      {} of the strain energy at +T (mean over the positions)\n", parts);
   }
   const auto joules = [](double v) { return NmmRadToJ(v); };
-  if (result.friction_coefficient > 0.0) {  // the loop's area, the work friction dissipates per cycle
-    text += fmt::format("hysteresis             {} per cycle (the loop's area), friction mu = {:g}\n",
-                        range(s.hysteresis, joules, 6, "J"), result.friction_coefficient);
+  if (result.with_friction()) {  // the loop's area, the work friction dissipates per cycle
+    text += fmt::format("hysteresis             {} per cycle (the loop's area), friction mu = {:g}{}\n",
+                        range(s.hysteresis, joules, 6, "J"), result.friction_coefficient,
+                        result.bearing_friction_coefficient > 0.0
+                            ? fmt::format(", bearings mu = {:g}", result.bearing_friction_coefficient)
+                            : std::string());
     text += fmt::format("  stick after reversal the twist holds from +T down to {} and from -T up to {}; the branches "
                         "differ by up to {} arcmin\n",
                         range(s.stick_end_drive, NmmToNm, 5, "N*m"), range(s.stick_end_coast, NmmToNm, 5, "N*m"),
@@ -414,7 +425,7 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, const analys
   plots::Figure figure;
   const double mu = result.friction_coefficient;
   const std::string hysteresis =  // with friction: the loop's area, J per cycle
-      mu > 0.0 && std::isfinite(s.hysteresis.mean)
+      result.with_friction() && std::isfinite(s.hysteresis.mean)
           ? fmt::format(", hysteresis {:.4g} J per cycle (mu {:g})", NmmRadToJ(s.hysteresis.mean), mu)
           : std::string();
   figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}{}", deck.info.title, t,

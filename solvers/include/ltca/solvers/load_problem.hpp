@@ -186,6 +186,12 @@ class LoadProblem {
   /// on the output member. Validates the settings against the pair (std::invalid_argument naming
   /// the key); nullptr: no reducer (the mesh alone, the disc centres fixed).
   LoadProblem WithReducer(std::shared_ptr<const ReducerSettings> stage) const;
+  /// A copy of this stage problem with loads on its discs and output member besides T
+  /// (ReducerSystem; ltca/solvers/reducer.hpp, StageLoads). Throws std::invalid_argument without a
+  /// stage, for more discs than the problem has, or a load that is not finite.
+  LoadProblem WithStageLoads(StageLoads loads) const;
+  /// The loads besides T, or nullptr (none).
+  const StageLoads* stage_loads() const { return stage_loads_.get(); }
   /// The stage, or nullptr for the mesh alone.
   const ReducerSettings* reducer() const { return reducer_.get(); }
   bool has_reducer() const { return reducer_ != nullptr; }
@@ -329,6 +335,7 @@ class LoadProblem {
   std::shared_ptr<const Eigen::SparseMatrix<double>> coupling_;  // nullptr: uncoupled
   std::shared_ptr<const CouplingFactors> coupling_factors_;      // nullptr: none (or uncoupled)
   std::shared_ptr<const ReducerSettings> reducer_;                   // nullptr: the mesh alone
+  std::shared_ptr<const StageLoads> stage_loads_;                     // nullptr: none besides T
 };
 
 /// The forces of the laws at the approaches of `pins`, their torque, and whether a pressed pin sits

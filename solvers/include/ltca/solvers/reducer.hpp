@@ -69,6 +69,22 @@ struct ReducerSettings {
   void Validate(double eccentricity) const;
 };
 
+/// Loads on the stage besides T: a force and a moment on each disc and a moment on the output
+/// member, constant over the solve. The stage's total potential energy gains their work,
+///   Pi(q) = sum_e E_e(q) - T psi - sum_d (F_d . t_d + M_d phi_d) - M_out psi,
+/// so each balance (ReducerSystem::Judge) carries them. What the quasi-static loop with friction
+/// puts on the stage (analysis::SolveStageWithLoopFriction: the mesh's friction forces on each disc,
+/// the bearings' friction moments). Forces N (fixed frame), moments N*mm (problem frame, as the
+/// rotations).
+struct StageLoads {
+  struct Disc {
+    Eigen::Vector2d force = Eigen::Vector2d::Zero();
+    double moment = 0.0;
+  };
+  std::vector<Disc> discs;  ///< at most the problem's disc count; a missing disc carries none
+  double output_moment = 0.0;
+};
+
 /// The element groups of the compliance budget.
 /// kMesh: the pin-cycloid contacts; kSeats: the pins' seats in series with them ([pins] seat);
 /// kPinBending: the pins' bending between their supports ([pins] span_mm, the coupling);

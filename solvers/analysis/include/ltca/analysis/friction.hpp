@@ -114,6 +114,39 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
                                  double sense, double mu, const LoadProblemAt& problem, const SolveProblem& solve,
                                  int* solves, const contact::MeshModel* second = nullptr,
                                  LoopFrictionWarmStart* warm = nullptr, LoopFrictionBalance* balance = nullptr);
+/// The stage's torque-twist loop with friction (docs/stiffness.md, "The stage's loop with friction"):
+/// with the input locked the discs move with the output against the pins and their bearings. The
+/// stage's motion along the branch is the frictionless stage's between T and a step of 1e-4 |T|
+/// behind it on the branch; each loaded pin-cycloid contact's friction, mu F against the tangential
+/// part of its disc's motion there (translation and turn), acts on the disc (force and moment), and
+/// each bearing's friction moment M_b = mu_b |F_b| d / 2 (SKF's constant-coefficient form, as `ltca
+/// efficiency` takes it) against the bearing's relative rotation: the disc against its locked
+/// eccentric (output pins), or a crankshaft turning k psi against its disc (cranks, k =
+/// turns_per_output_turn), whose friction the output member supplies through the locked first stage
+/// (virtual work: -sign(k dpsi - dphi) M_b k on psi, +sign(k dpsi - dphi) M_b on the disc). The
+/// output pins move with their disc (their slide is the elements' deflection, not the twist) and the
+/// pins sit in their seats: no friction there in the loop. These loads enter the stage's balance
+/// apart from the output torque (LoadProblem::WithStageLoads): a fixed point, each step the stage at
+/// T with the loads of the last answer's forces, accelerated by Anderson's method of depth 1;
+/// converged when the answer's loads equal those it was solved with to 1e-10 |T|.
+struct StageLoopFriction {
+  double mesh = 0.0;              ///< mu at the pin-cycloid contacts (LoopFrictionCoefficient)
+  double bearing = 0.0;           ///< mu_b ([friction] bearing_coefficient)
+  double bearing_diameter = 0.0;  ///< d of M_b, mm (bearing_diameter_mm, else [bearing] pitch_diameter_mm)
+  bool any() const { return mesh > 0.0 || bearing > 0.0; }
+};
+/// The loads friction puts on the stage at a solved state `result` (its forces) moving as the stage
+/// moves from `from` to `to` (the sliding senses; see StageLoopFriction; problem: the stage at
+/// result's torque, whose frame from and to share).
+solvers::StageLoads StageFrictionLoads(const solvers::LoadProblem& problem, const contact::MeshModel& model,
+                                       const contact::MeshModel* second, const contact::MeshState& state,
+                                       const LoadResult& result, const LoadResult& from, const LoadResult& to,
+                                       const StageLoopFriction& friction);
+LoadResult SolveStageWithLoopFriction(const contact::MeshModel& model, const contact::MeshState& state,
+                                      double torque, double sense, const StageLoopFriction& friction,
+                                      const LoadProblemAt& problem, const SolveProblem& solve, int* solves,
+                                      const contact::MeshModel* second = nullptr,
+                                      LoopFrictionBalance* balance = nullptr);
 /// The static coefficient of the loop: Coulomb's mu, or f_b for jiang-mixed; 0 without [friction].
 double LoopFrictionCoefficient(const std::optional<FrictionSettings>& friction);
 

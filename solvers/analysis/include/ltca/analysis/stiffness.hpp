@@ -155,6 +155,10 @@ struct StiffnessResult {
   /// The loop's Coulomb coefficient (LoopFrictionCoefficient): 0 without [friction], where the
   /// branches coincide and the hysteresis is zero up to the solver's tolerance.
   double friction_coefficient = 0.0;
+  /// A stage's bearings' coefficient in the loop (StageLoopFriction: M_b = mu_b |F| d / 2; [friction]
+  /// bearing_coefficient), 0 without; the loop has friction when either coefficient is above 0.
+  double bearing_friction_coefficient = 0.0;
+  bool with_friction() const { return friction_coefficient > 0.0 || bearing_friction_coefficient > 0.0; }
   std::vector<double> cranks;  ///< rad, in the order solved
   /// Every position in crank order; empty when they went to a sink instead (bounded memory).
   std::vector<StiffnessPosition> positions;
