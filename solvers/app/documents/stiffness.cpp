@@ -426,7 +426,10 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, const analys
   const double mu = result.friction_coefficient;
   const std::string hysteresis =  // with friction: the loop's area, J per cycle
       result.with_friction() && std::isfinite(s.hysteresis.mean)
-          ? fmt::format(", hysteresis {:.4g} J per cycle (mu {:g})", NmmRadToJ(s.hysteresis.mean), mu)
+          ? fmt::format(", hysteresis {:.4g} J per cycle (mu {:g}{})", NmmRadToJ(s.hysteresis.mean), mu,
+                        result.bearing_friction_coefficient > 0.0
+                            ? fmt::format(", bearings {:g}", result.bearing_friction_coefficient)
+                            : std::string())
           : std::string();
   figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}{}", deck.info.title, t,
                              When(deck, result.settings), hysteresis, any ? "" : ": no solve succeeded");
