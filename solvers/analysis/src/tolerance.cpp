@@ -21,6 +21,7 @@
 
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
+#include "ltca/contact/holes.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/counter_rng.hpp"
 #include "ltca/geometry/units.hpp"
@@ -56,12 +57,32 @@ bool IsReducerKey(const DeckKey& k) {
 /// ReducerSettings::second_disc_bearing_clearance.
 bool IsPerDiscStageKey(const DeckKey& k) { return std::string_view(k.section) == "bearing" && std::string_view(k.name) == "radial_clearance_mm"; }
 
-/// The symmetry the errors break: per-pin keys and the frame-fixed assembly errors (the centre
+/// A key of one value per hole of a disc ([output] hole_radial_deviations_mm,
+/// hole_tangential_deviations_mm: the output pins' holes or the crank holes), drawn per hole and per disc.
+bool IsPerHoleKey(const std::string& tolerance_name) {
+  const DeckKey* k = FindToleranceKey(tolerance_name);
+  return k != nullptr && k->per_hole;
+}
+
+/// Keys drawn once per element (a pin of the ring, or a hole of a disc): one input column each.
+bool PerElement(const ToleranceDistribution& d) { return d.per_pin || IsPerHoleKey(d.key); }
+
+/// The holes of a disc of the stage: the output pins' or the crankshafts' (ReducerSettings::Holes).
+int HoleCount(const solvers::ReducerSettings& r) { return r.kind == solvers::OutputKind::kPins ? r.pins.count : r.cranks.count; }
+
+/// Adds v (mm) to component `a` (0: radial, 1: tangential) of hole j's position deviation, the list
+/// being `count` zeros when the disc has none.
+void AddToHole(contact::HoleDeviations& holes, int count, int j, int a, double v_mm) {
+  if (holes.empty()) holes.assign(static_cast<std::size_t>(count), Eigen::Vector2d::Zero());
+  holes[static_cast<std::size_t>(j)](a) += v_mm;
+}
+
+/// The symmetry the errors break: per-pin keys, the holes' position errors and the frame-fixed assembly errors (the centre
 /// offset and the tilts stay where they are while the eccentric turns) repeat only after a whole
 /// crank revolution, not after one mesh period.
 bool BreaksMeshPeriod(const ToleranceDistribution& d) {
   if (d.IsZero()) return false;
-  return d.per_pin || d.key == "centre_dx_mm" || d.key == "centre_dy_mm" || d.key == "misalignment_xz_deg" ||
+  return PerElement(d) || d.key == "centre_dx_mm" || d.key == "centre_dy_mm" || d.key == "misalignment_xz_deg" ||
          d.key == "misalignment_yz_deg";
 }
 
@@ -182,6 +203,7 @@ std::string Describe(const ToleranceDistribution& d) {
                                    : fmt::format("normal, sigma {:g} (not truncated)", d.sigma);
   if (d.mean != 0.0) out += fmt::format(", centre offset {:g}", d.mean);
   if (d.per_pin) out += ", per pin";
+  if (IsPerHoleKey(d.key)) out += ", per hole of each disc";
   return out;
 }
 
@@ -284,14 +306,25 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
                                               "a [second_disc] section, or no such tolerance",
                                               nominal_.design.name, d.key));
     }
-    if (key != nullptr && IsReducerKey(*key)) {  // a clearance of the reducer stage
+    if (key != nullptr && key->per_hole && !nominal_.design.reducer) {
+      throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: the deck has no reducer stage, so no holes; expected an "
+                                              "[output] section (docs/stage.md), or no such tolerance",
+                                              nominal_.design.name, d.key));
+    }
+    if (key != nullptr && IsReducerKey(*key) && !key->per_hole) {  // a clearance of the reducer stage
       const std::string why = StageClearanceRefusal(nominal_.design.reducer, std::string(key->section) + "." + key->name);
       if (!why.empty()) throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: {}", nominal_.design.name, d.key, why));
     }
-    const int discs = two && key != nullptr && (key->disc || (IsPerDiscStageKey(*key) && nominal_.design.reducer)) ? 2 : 1;
+    // Per disc: the disc's own keys, its bearing's play and its holes' positions (discs are machined one by one).
+    const bool per_disc = key != nullptr && (key->disc || ((IsPerDiscStageKey(*key) || key->per_hole) && nominal_.design.reducer));
+    const int discs = two && per_disc ? 2 : 1;
     for (int disc = 0; disc < discs; ++disc) {
       const std::string suffix = disc == 1 ? " (disc 2)" : "";
-      if (d.per_pin) {
+      if (key != nullptr && key->per_hole) {  // one column per hole: its stream's low word is hole + 1
+        for (int j = 0; j < HoleCount(*nominal_.design.reducer); ++j) {
+          inputs_.push_back({fmt::format("{}[{}]{}", d.key, j + 1, suffix), k, j, disc});
+        }
+      } else if (d.per_pin) {
         for (int j = 0; j < pins; ++j) inputs_.push_back({fmt::format("{}[{}]{}", d.key, j + 1, suffix), k, j, disc});
       } else {
         inputs_.push_back({d.key + suffix, k, -1, disc});
@@ -407,6 +440,19 @@ ToleranceCase ToleranceStudy::Apply(const std::vector<double>& inputs) const {
       const double direction = d.pair.ToothDifference() > 0 ? 1.0 : -1.0;
       second->indexing_deviation += k->ToInternal(v);
       second->modification.rotation += direction * k->ToInternal(v) / d.pair.pin_circle_radius;
+      continue;
+    }
+    if (k != nullptr && k->per_hole) {  // a hole's position on its disc (the constructor checked the stage has holes)
+      solvers::ReducerSettings& r = *d.reducer;
+      const int a = std::string_view(k->name) == "hole_radial_deviations_mm" ? 0 : 1;
+      // With two discs the second has its own list from the first draw on: the deck's own for it, or
+      // the common one as the deck gives it (before this sample's draws for the first disc).
+      if (second != nullptr && !r.second_disc_holes) r.second_disc_holes = nominal_.design.reducer->Holes(0);
+      contact::HoleDeviations& holes =
+          inputs_[c].disc == 1 && second != nullptr ? *r.second_disc_holes
+          : r.kind == solvers::OutputKind::kPins    ? r.pins.hole_deviation
+                                                    : r.cranks.hole_deviation;
+      AddToHole(holes, HoleCount(r), j, a, k->ToInternal(v));
       continue;
     }
     if (k != nullptr && IsReducerKey(*k)) {  // the stage's, one for the stage (the constructor checked it has one)
@@ -801,11 +847,11 @@ ToleranceSummary Summarise(const ToleranceStudy& study, const SampleTable& sampl
         share += beta(c) * correlation(c);  // Pratt: sum over every column is b^T r = R^2
         squared += beta(c) * beta(c);
         ++ks.columns;
-        if (!dists[k].per_pin) ks.src = beta(c);
+        if (!PerElement(dists[k])) ks.src = beta(c);
       }
       ks.share = share;
       ks.src_squared = squared;
-      if (!dists[k].per_pin && std::isnan(ks.src)) ks.src = 0.0;
+      if (!PerElement(dists[k]) && std::isnan(ks.src)) ks.src = 0.0;
       if (ks.columns > 0) {
         ks.noise_floor = ChiSquaredQuantile(kNoiseFloorLevel, ks.columns) * (1.0 - fs.r_squared) / dof;
         ks.distinguishable = ks.src_squared > ks.noise_floor;

@@ -170,6 +170,9 @@ struct DeckKey {
   const char* default_value;  ///< as a deck writes it; "" required or absent by default
   const char* choices = "";   ///< a text key's values, "a | b"
   bool per_pin = false;       ///< one value per pin
+  /// One value per hole of a disc ([output] count: output pins or crank holes); [tolerances] draws
+  /// it per hole and, with [second_disc], per disc.
+  bool per_hole = false;
   bool disc = false;          ///< a key of one disc: [second_disc] may give its own (else the pin ring's)
   int tolerance_stream = -1;  ///< >= 0: [tolerances] may vary it; its random stream (order fixed forever)
   Limit limit = Limit::kNone;

@@ -3,7 +3,8 @@
 // and assembly errors of [tolerances], and the extreme-value (worst-case) counterpart.
 //
 // Every sample is a pair as made: the deck's [errors] and [modification] values plus the draws of
-// [tolerances] (per-pin keys drawn independently for every pin). Its random numbers come from the
+// [tolerances] (per-pin keys drawn independently for every pin; a reducer stage's hole positions
+// for every hole of every disc, since discs are machined one by one). Its random numbers come from the
 // counter-based stream of geometry/counter_rng.hpp: draw (key k, pin j) of sample i is a pure
 // function of (seed, k, j, i), so any split of the samples over threads or MPI ranks gives the
 // same samples bit for bit. Each sample runs, on its own runners (no state shared between
@@ -164,9 +165,11 @@ std::string Describe(const ToleranceDistribution& d);
 struct ToleranceInput {
   std::string name;          ///< "pin_circle_deviation_mm" or "pin_radius_deviations_mm[7]" (pin 7, 1-based)
   std::size_t distribution;  ///< index into ToleranceSettings::distributions
-  int pin = -1;              ///< 0-based pin of a per-pin key, -1 for a scalar key
-  /// With [second_disc]: 1 for the second disc's own draw of a disc key or of its bearing play (its name ends
-  /// " (disc 2)"), else 0 (the first disc's, or the pin ring's, which both discs share).
+  /// 0-based pin of a per-pin key, or hole of a per-hole key (DeckKey::per_hole: "output_hole_radial_deviations_mm[2]"
+  /// is hole 2, 1-based); -1 for a scalar key
+  int pin = -1;
+  /// With [second_disc]: 1 for the second disc's own draw of a disc key, of its bearing play or of its holes'
+  /// positions (its name ends " (disc 2)"), else 0 (the first disc's, or the pin ring's, which both discs share).
   int disc = 0;
 };
 
