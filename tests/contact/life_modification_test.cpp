@@ -43,7 +43,7 @@ TEST_CASE("contact: ISO 281's nu_1 and a_ISO of a radial roller bearing, three c
   }
   // The middle range, kappa in [0.4, 1): kappa 0.5, e_C C_u / P = 0.5, by hand.
   CHECK(LifeModificationFactor(0.5, 0.5) == doctest::Approx(0.373745554845682).epsilon(1e-12));
-  CHECK(ReferenceViscosity(0.0, 40.0) != ReferenceViscosity(0.0, 40.0));  // NaN without a speed
+  CHECK(std::isnan(ReferenceViscosity(0.0, 40.0)));  // no speed, no nu_1
   CHECK(std::isnan(ReferenceViscosity(1500.0, 0.0)));
 }
 

@@ -244,7 +244,8 @@ BearingLife BearingLives(const StageDesign& design, const ReducerSummary& summar
     life.max_roller_stress.push_back(has_geometry && std::isfinite(q) ? contact::RollerContactStress(*bearing, q) : kNaN);
   }
   // ISO 281:2007's modified rating life (9.3): a_ISO from kappa = nu / nu_1, e_C and C_u / P, on
-  // each life with the load that gives it by ISO 281's formula (P the mean equivalent load, P_lz).
+  // each life with the load that gives it by ISO 281's formula (P the mean equivalent load, P_lz:
+  // ISO/TS 16281's modified reference life a_ISO L_10r takes a_ISO at this equivalent reference load).
   if (!std::isnan(kinematic_viscosity) && bearing != nullptr) {
     life.modified = true;
     life.kinematic_viscosity = kinematic_viscosity;
