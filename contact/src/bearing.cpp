@@ -47,6 +47,10 @@ void BearingSettings::Validate() const {
           "a finite rating >= 0 N (0: no life)");
   require(std::isfinite(static_load_rating) && static_load_rating >= 0.0, "static_load_rating_n", static_load_rating,
           "a finite rating >= 0 N (0: no static safety)");
+  require(std::isfinite(contamination_factor) && contamination_factor >= 0.0 && contamination_factor <= 1.0,
+          "contamination_factor", contamination_factor, "a contamination factor e_C in [0, 1] (ISO 281:2007 Table 13)");
+  require(std::isfinite(fatigue_load_limit) && fatigue_load_limit >= 0.0, "fatigue_load_limit_n", fatigue_load_limit,
+          "a finite fatigue load limit C_u >= 0 N (0: ISO 281 Annex B's estimate C_0r / 8.2)");
   if (kind == BearingKind::kLinear) {
     require(std::isfinite(radial_stiffness) && radial_stiffness > 0.0, "radial_stiffness_n_per_mm", radial_stiffness,
             "a finite radial stiffness > 0 N/mm for kind = \"linear\"");
@@ -188,6 +192,34 @@ double RatingLife(double dynamic_load_rating, double equivalent_load, double exp
 double RatingLifeHours(double life_million_revolutions, double rpm) {
   if (!(rpm > 0.0)) return std::numeric_limits<double>::quiet_NaN();
   return 1e6 * life_million_revolutions / (60.0 * rpm);
+}
+
+double ReferenceViscosity(double rpm, double pitch_diameter_mm) {
+  if (!(std::isfinite(rpm) && rpm > 0.0 && std::isfinite(pitch_diameter_mm) && pitch_diameter_mm > 0.0)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  // ISO 281:2007 9.3.3: the two forms by speed (they meet within 2.3 % at 1000 r/min).
+  return rpm < 1000.0 ? 45000.0 * std::pow(rpm, -0.83) / std::sqrt(pitch_diameter_mm)
+                      : 4500.0 / std::sqrt(rpm * pitch_diameter_mm);
+}
+
+double LifeModificationFactor(double kappa, double load_ratio) {
+  if (std::isnan(kappa) || std::isnan(load_ratio) || load_ratio < 0.0) return std::numeric_limits<double>::quiet_NaN();
+  const double k = std::clamp(kappa, kViscosityRatioMin, kViscosityRatioMax);
+  // ISO 281:2007 9.3.3, radial roller bearings: the three ranges of kappa.
+  const double c = k < 0.4 ? 1.3993 : 1.2348;
+  const double e = k < 0.4 ? 0.054381 : (k < 1.0 ? 0.19087 : 0.071739);
+  const double bracket = 1.0 - (1.5859 - c / std::pow(k, e)) * std::pow(load_ratio, 0.4);
+  if (!(bracket > 0.0)) return kLifeModificationMax;
+  return std::min(0.1 * std::pow(bracket, -9.185), kLifeModificationMax);
+}
+
+double FatigueLoadLimitEstimate(double static_load_rating, double pitch_diameter_mm) {
+  if (!(static_load_rating > 0.0) || !std::isfinite(static_load_rating) || !(pitch_diameter_mm > 0.0) ||
+      pitch_diameter_mm > kFatigueLoadLimitEstimateMaxPitchDiameter) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return static_load_rating / 8.2;  // ISO 281:2007 Annex B (B.20), roller bearings
 }
 
 const char* ToString(Raceway raceway) { return raceway == Raceway::kInner ? "inner" : "outer"; }

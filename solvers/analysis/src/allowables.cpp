@@ -177,6 +177,14 @@ std::vector<AllowableRow> BearingRatingRows(const BearingLife& life, const Allow
   rows.push_back(Judge("stage.shortest_load_zone_life_hours", life.ShortestLoadZoneHours(),
                        "ltca solve, roller loads, Lundberg-Palmgren on ISO 281's C (" + life.basis + ")", hours));
   rows.back().name = "shortest bearing load-zone life (h)";
+  if (life.modified) {  // ISO 281's modified lives, rated only with the oil's viscosity
+    rows.push_back(Judge("stage.shortest_modified_life_hours", life.ShortestModifiedHours(),
+                         "ltca solve, ISO 281:2007 a_ISO L10 (" + life.basis + ")", hours));
+    rows.back().name = "shortest bearing modified life a_ISO L10 (h)";
+    rows.push_back(Judge("stage.shortest_load_zone_modified_life_hours", life.ShortestLoadZoneModifiedHours(),
+                         "ltca solve, ISO 281:2007 a_ISO on the load-zone life (" + life.basis + ")", hours));
+    rows.back().name = "shortest bearing modified load-zone life (h)";
+  }
   rows.push_back(Judge("stage.smallest_static_safety", life.SmallestStaticSafety(), "ltca solve, ISO 76: C_0 / P_0,max",
                        AllowableRange{targets.min_static_safety.value_or(-inf), inf}));
   rows.back().name = "smallest bearing static safety s_0";

@@ -44,6 +44,12 @@ void OperationSettings::Validate() const {
         "[operation] pressure_viscosity_per_gpa = {}: expected 0 to 100 1/GPa (mineral oils: 10 to 30)",
         units::PerMPaToPerGPa(pressure_viscosity)));
   }
+  if (kinematic_viscosity && !(std::isfinite(*kinematic_viscosity) && *kinematic_viscosity > 0.0 && *kinematic_viscosity <= 1e4)) {
+    throw std::invalid_argument(fmt::format(
+        "[operation] oil_kinematic_viscosity_mm2_per_s = {}: expected a kinematic viscosity above 0 and at most 10000 mm^2/s "
+        "(gear oils at their operating temperature: about 10 to 1000)",
+        *kinematic_viscosity));
+  }
   for (const auto& [key, value] : {std::pair{"roughness_ra_cycloid_um", roughness_cycloid},
                                    std::pair{"roughness_ra_pin_um", roughness_pin}}) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 0.01)) {

@@ -363,6 +363,16 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "rollers: pitch diameter d_m of the roller set in mm (load-zone life, roller contact stress; 0: not given)",
      .default_value = "0",
      .setting = LTCA_SETTING(bearing, pitch_diameter)},
+    {.section = "bearing", .name = "contamination_factor", .type = T::kReal, .unit = "",
+     .meaning = "ISO 281 contamination factor e_C in [0, 1] (Table 13) for the modified life a_ISO L10; used only with "
+                "[operation] oil_kinematic_viscosity_mm2_per_s",
+     .default_value = "0.5",
+     .setting = LTCA_SETTING(bearing, contamination_factor)},
+    {.section = "bearing", .name = "fatigue_load_limit_n", .type = T::kReal, .unit = "N",
+     .meaning = "ISO 281 fatigue load limit C_u in N for a_ISO; 0: Annex B's estimate C_0r / 8.2 (pitch diameter <= 100 mm); "
+                "used only with [operation] oil_kinematic_viscosity_mm2_per_s",
+     .default_value = "0",
+     .setting = LTCA_SETTING(bearing, fatigue_load_limit)},
     // [load]
     {.section = "load", .name = "torque_nm", .type = T::kReal, .unit = "N*m",
      .meaning = "output torque of the stage in N*m: one disc's, or with [second_disc] both discs' together",
@@ -455,6 +465,11 @@ const std::vector<DeckKey> kKeys = {
     {.section = "operation", .name = "oil_viscosity_pa_s", .type = T::kReal, .unit = "Pa*s",
      .meaning = "dynamic viscosity of the oil in Pa*s", .default_value = "0.03",
      .setting = LTCA_SETTING(operation, viscosity)},
+    {.section = "operation", .name = "oil_kinematic_viscosity_mm2_per_s", .type = T::kReal, .unit = "mm^2/s",
+     .meaning = "kinematic viscosity nu of the bearings' oil at operating temperature in mm^2/s: the bearings' modified "
+                "life a_ISO L10 (ISO 281, kappa = nu / nu_1); not given: no modified life",
+     .default_value = "",
+     .setting = LTCA_SETTING(operation, kinematic_viscosity)},
     {.section = "operation", .name = "pressure_viscosity_per_gpa", .type = T::kReal, .unit = "1/GPa",
      .meaning = "pressure-viscosity coefficient in 1/GPa", .default_value = "10",
      .setting = LTCA_SETTING(operation, pressure_viscosity)},
@@ -570,7 +585,8 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "a bin's share of the operating time, in (0, 1]; the shares add to 1 within 1e-9 (not normalised)",
      .default_value = "", .required = true},
     {.section = "allowables", .name = "bearing_life_hours", .type = T::kReal, .unit = "h",
-     .meaning = "required life of every bearing of the stage in hours: its load-zone life and its ISO 281 L10 (> 0)",
+     .meaning = "required life of every bearing of the stage in hours: its load-zone life and its ISO 281 L10, and with "
+                "[operation] oil_kinematic_viscosity_mm2_per_s their modified lives a_ISO L (> 0)",
      .default_value = "", .setting = LTCA_SETTING(allowables, bearing_life_hours)},
     {.section = "allowables", .name = "min_static_safety", .type = T::kReal, .unit = "",
      .meaning = "least static safety s_0 = C_0 / P_0,max of every bearing (ISO 76; > 0)", .default_value = "",

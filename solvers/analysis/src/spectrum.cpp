@@ -87,11 +87,22 @@ bool SpectrumResult::all_succeeded() const {
 double SpectrumResult::ShortestL10Hours() const { return Shortest(l10_hours); }
 double SpectrumResult::ShortestLoadZoneHours() const { return Shortest(load_zone_hours); }
 double SpectrumResult::ShortestContactHours() const { return Shortest(contact_life_hours); }
+double SpectrumResult::ShortestModifiedHours() const { return Shortest(modified_hours); }
+double SpectrumResult::ShortestLoadZoneModifiedHours() const { return Shortest(load_zone_modified_hours); }
+bool SpectrumResult::modified() const {
+  return !bins.empty() && bins.front().summary.bearing_life && bins.front().summary.bearing_life->modified;
+}
 
 SpectrumResult CombineSpectrum(std::vector<SpectrumBinResult> bins) {
   SpectrumResult r;
   r.l10_hours = Combined(bins, [](const BearingLife& l) -> const std::vector<double>& { return l.hours; });
   r.load_zone_hours = Combined(bins, [](const BearingLife& l) -> const std::vector<double>& { return l.load_zone_hours; });
+  // Each bin's modified life at its own kappa (its speed's nu_1) and loads, then Miner.
+  if (!bins.empty() && bins.front().summary.bearing_life && bins.front().summary.bearing_life->modified) {
+    r.modified_hours = Combined(bins, [](const BearingLife& l) -> const std::vector<double>& { return l.modified_hours; });
+    r.load_zone_modified_hours =
+        Combined(bins, [](const BearingLife& l) -> const std::vector<double>& { return l.load_zone_modified_hours; });
+  }
   // The pitting lives: per disc the pins' and the teeth's, each bin's at its speed.
   std::vector<double> shares;
   std::size_t discs = 0;

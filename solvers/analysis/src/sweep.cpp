@@ -170,9 +170,11 @@ double BearingLife::ShortestHours() const { return Extreme(hours, true); }
 double BearingLife::ShortestLoadZoneHours() const { return Extreme(load_zone_hours, true); }
 double BearingLife::SmallestStaticSafety() const { return Extreme(static_safety, true); }
 double BearingLife::LargestRollerStress() const { return Extreme(max_roller_stress, false); }
+double BearingLife::ShortestModifiedHours() const { return Extreme(modified_hours, true); }
+double BearingLife::ShortestLoadZoneModifiedHours() const { return Extreme(load_zone_modified_hours, true); }
 
 BearingLife BearingLives(const StageDesign& design, const ReducerSummary& summary, const Sweep& sweep, bool closed_period,
-                         double input_speed) {
+                         double input_speed, double kinematic_viscosity) {
   BearingLife life;
   // Positions evenly spaced over a turn cover it whether or not the last repeats the first.
   const double swept = std::abs(sweep.crank_end - sweep.crank_start);
@@ -240,6 +242,38 @@ BearingLife BearingLives(const StageDesign& design, const ReducerSummary& summar
     life.static_safety.push_back(c0 > 0.0 && std::isfinite(p0) && p0 > 0.0 ? c0 / p0 : kNaN);
     const double q = b < summary.bearing_max_roller_load.size() ? summary.bearing_max_roller_load[b] : kNaN;
     life.max_roller_stress.push_back(has_geometry && std::isfinite(q) ? contact::RollerContactStress(*bearing, q) : kNaN);
+  }
+  // ISO 281:2007's modified rating life (9.3): a_ISO from kappa = nu / nu_1, e_C and C_u / P, on
+  // each life with the load that gives it by ISO 281's formula (P the mean equivalent load, P_lz:
+  // ISO/TS 16281's modified reference life a_ISO L_10r takes a_ISO at this equivalent reference load).
+  if (!std::isnan(kinematic_viscosity) && bearing != nullptr) {
+    life.modified = true;
+    life.kinematic_viscosity = kinematic_viscosity;
+    life.reference_viscosity = contact::ReferenceViscosity(rpm, bearing->pitch_diameter);
+    life.viscosity_ratio = kinematic_viscosity / life.reference_viscosity;
+    life.contamination_factor = bearing->contamination_factor;
+    const bool given = bearing->fatigue_load_limit > 0.0;
+    life.fatigue_load_limit = given ? bearing->fatigue_load_limit
+                                    : contact::FatigueLoadLimitEstimate(bearing->static_load_rating, bearing->pitch_diameter);
+    life.fatigue_load_limit_basis = given ? "given ([bearing] fatigue_load_limit_n)"
+                                          : "ISO 281:2007 Annex B (B.20): C_0r / 8.2";
+    const auto modify = [&](double load, double million_revolutions, std::vector<double>& ratio, std::vector<double>& a,
+                            std::vector<double>& h) {
+      // P = 0 (an idle bin): e_C C_u / P is infinite and a_ISO its cap; the life stays infinite.
+      const double r = std::isnan(load) ? kNaN
+                                        : (load > 0.0 ? life.contamination_factor * life.fatigue_load_limit / load
+                                                      : std::numeric_limits<double>::infinity());
+      const double factor = contact::LifeModificationFactor(life.viscosity_ratio, r);
+      ratio.push_back(r);
+      a.push_back(factor);
+      h.push_back(hours(factor * million_revolutions));
+    };
+    for (std::size_t b = 0; b < summary.mean_equivalent_load.size(); ++b) {
+      modify(summary.mean_equivalent_load[b], life.million_revolutions[b], life.load_ratio, life.life_modification,
+             life.modified_hours);
+      modify(life.load_zone_equivalent_load[b], life.load_zone_million_revolutions[b], life.load_zone_load_ratio,
+             life.load_zone_life_modification, life.load_zone_modified_hours);
+    }
   }
   return life;
 }

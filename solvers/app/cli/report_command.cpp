@@ -82,7 +82,7 @@ std::string CellOf(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v
 /// "pp_te_arcsec" -> "peak-to-peak TE (arcsec)".
 std::string Label(const std::string& key) {
   static const std::vector<std::pair<std::string, std::string>> kUnits = {
-      {"_nm_per_arcmin", "N*m/arcmin"}, {"_m_per_s", "m/s"}, {"_per_gpa", "1/GPa"}, {"_pa_s", "Pa*s"},
+      {"_nm_per_arcmin", "N*m/arcmin"}, {"_mm2_per_s", "mm^2/s"}, {"_m_per_s", "m/s"}, {"_per_gpa", "1/GPa"}, {"_pa_s", "Pa*s"},
       {"_arcsec", "arcsec"}, {"_arcmin", "arcmin"}, {"_mpa", "MPa"}, {"_nmm", "N*mm"}, {"_nm", "N*m"},
       {"_rpm", "rpm"}, {"_deg", "deg"}, {"_mm", "mm"}, {"_um", "um"}, {"_n", "N"}, {"_w", "W"}, {"_j", "J"},
       {"_h", "h"}, {"_hours", "h"}, {"_mrev", "million revolutions"}};
@@ -867,14 +867,28 @@ std::string SpectrumHtml(const ReportContext& ctx) {
                         Cell(b.at("shortest_load_zone_life_hours")),
                         Cell(b.at("shortest_pitting_life_hours")));
   }
+  nlohmann::json lives = {{"shortest_l10_hours", j.at("shortest_l10_hours")},
+                           {"shortest_load_zone_life_hours", j.at("shortest_load_zone_life_hours")},
+                           {"shortest_pitting_life_hours", j.at("shortest_pitting_life_hours")}};
+  std::string modified;  // ISO 281's modified lives per bin, when the deck gives the oil's viscosity
+  if (j.contains("shortest_modified_life_hours")) {
+    lives["shortest_modified_life_hours"] = j.at("shortest_modified_life_hours");
+    lives["shortest_load_zone_modified_life_hours"] = j.at("shortest_load_zone_modified_life_hours");
+    std::string mrows;
+    for (const auto& b : j.at("bins")) {
+      mrows += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", Cell(b.at("torque_nm")),
+                           Cell(b.at("speed_rpm")), Cell(b.at("viscosity_ratio")), Cell(b.at("shortest_modified_life_hours")),
+                           Cell(b.at("shortest_load_zone_modified_life_hours")));
+    }
+    modified = fmt::format("<p>ISO 281:2007's modified lives, each bin's a_ISO at its own speed (nu_1, kappa):</p>\n<table>\n"
+                           "<tr><th>torque (N*m)</th><th>crank speed (rpm)</th><th>kappa</th><th>shortest a_ISO L10 (h)</th>"
+                           "<th>shortest a_ISO load-zone life (h)</th></tr>\n{}</table>\n",
+                           mrows);
+  }
   return fmt::format("<p>{}</p>\n<table>\n<tr><th>torque (N*m)</th><th>crank speed (rpm)</th><th>time share</th><th>status</th>"
                      "<th>largest contact stress (MPa)</th><th>shortest bearing L10 (h)</th><th>shortest load-zone life (h)</th>"
-                     "<th>shortest pitting life (h)</th></tr>\n{}</table>\n{}",
-                     Html(j.at("rule").get<std::string>()), rows,
-                     Table({{"spectrum",
-                             {{"shortest_l10_hours", j.at("shortest_l10_hours")},
-                              {"shortest_load_zone_life_hours", j.at("shortest_load_zone_life_hours")},
-                              {"shortest_pitting_life_hours", j.at("shortest_pitting_life_hours")}}}}));
+                     "<th>shortest pitting life (h)</th></tr>\n{}</table>\n{}{}",
+                     Html(j.at("rule").get<std::string>()), rows, modified, Table({{"spectrum", lives}}));
 }
 
 /// The sections of the page, in order: each is always there, with its analysis or a note why it did

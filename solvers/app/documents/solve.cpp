@@ -83,6 +83,28 @@ nlohmann::json Verdicts(const std::vector<analysis::AllowableRow>& rows) {
   return out;
 }
 
+/// ISO 281:2007's modified rating life (BearingLife::modified): the oil, kappa, e_C, C_u and per
+/// bearing e_C C_u / P, a_ISO and a_ISO L in hours, on the basic life (P the mean equivalent load)
+/// and on the load-zone life (P = P_lz).
+nlohmann::json ModifiedLifeJson(const analysis::BearingLife& life) {
+  return {{"standard", "ISO 281:2007 9.3: L10m = a_1 a_ISO L10, a_1 = 1 (90 % reliability), a_ISO of radial roller bearings, "
+                       "kappa clamped to [0.1, 4], a_ISO <= 50"},
+          {"kinematic_viscosity_mm2_per_s", FiniteOrNull(life.kinematic_viscosity)},
+          {"reference_viscosity_mm2_per_s", FiniteOrNull(life.reference_viscosity)},  // nu_1 at the bearing's speed and d_m
+          {"viscosity_ratio", FiniteOrNull(life.viscosity_ratio)},                    // kappa = nu / nu_1 before the clamp
+          {"contamination_factor", FiniteOrNull(life.contamination_factor)},
+          {"fatigue_load_limit_n", FiniteOrNull(life.fatigue_load_limit)},
+          {"fatigue_load_limit_basis", life.fatigue_load_limit_basis},
+          {"load_ratio", Finites(life.load_ratio)},  // per bearing: e_C C_u / P, P the mean equivalent load
+          {"a_iso", Finites(life.life_modification)},
+          {"life_hours", Finites(life.modified_hours)},
+          {"shortest_life_hours", FiniteOrNull(life.ShortestModifiedHours())},
+          {"load_zone_load_ratio", Finites(life.load_zone_load_ratio)},  // per bearing: e_C C_u / P_lz
+          {"load_zone_a_iso", Finites(life.load_zone_life_modification)},
+          {"load_zone_life_hours", Finites(life.load_zone_modified_hours)},
+          {"shortest_load_zone_life_hours", FiniteOrNull(life.ShortestLoadZoneModifiedHours())}};
+}
+
 /// A reducer stage's summary: the largest loads (N) and each bearing's ISO 281 life from its mean
 /// equivalent load over the positions, as the sweep's summary carries it (SweepSummary::bearing_life).
 nlohmann::json ReducerSummaryJson(const Deck& deck, const analysis::SweepSummary& s) {
@@ -99,7 +121,7 @@ nlohmann::json ReducerSummaryJson(const Deck& deck, const analysis::SweepSummary
   for (std::size_t k = 0; k < g.energy_share.size(); ++k) {
     shares[solvers::ToString(static_cast<solvers::StageGroup>(k))] = FiniteOrNull(g.energy_share[k]);
   }
-  return {{"max_output_pin_force_n", deck.reducer->kind == solvers::OutputKind::kPins ? FiniteOrNull(g.max_output_force)
+  nlohmann::json out = {{"max_output_pin_force_n", deck.reducer->kind == solvers::OutputKind::kPins ? FiniteOrNull(g.max_output_force)
                                                                                       : nlohmann::json(nullptr)},
           {"max_bearing_load_n", FiniteOrNull(g.max_bearing_load)},
           {"max_roller_load_n", FiniteOrNull(g.max_roller_load)},
@@ -128,6 +150,9 @@ nlohmann::json ReducerSummaryJson(const Deck& deck, const analysis::SweepSummary
           // Each rating against its target ([allowables]; the roller stress against ISO 76's 4,000 MPa).
           {"verdicts", Verdicts(analysis::BearingRatingRows(life, deck.allowables))},
           {"strain_energy_share", shares}};
+  // ISO 281's modified life, only when asked ([operation] oil_kinematic_viscosity_mm2_per_s).
+  if (life.modified) out["modified_life"] = ModifiedLifeJson(life);
+  return out;
 }
 
 /// A life in hours: a number, the string "infinite" for +inf (no damage: JSON has no infinity), or
@@ -487,10 +512,15 @@ nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
                     {"shortest_load_zone_life_hours", FiniteOrNull(life.ShortestLoadZoneHours())},
                     {"shortest_pitting_life_hours",
                      HoursOrInfinite(s.contact_fatigue ? s.contact_fatigue->ShortestHours() : std::numeric_limits<double>::quiet_NaN())}});
+    if (life.modified) {  // ISO 281's modified lives at the bin's own speed (its nu_1 and kappa)
+      bins.back()["viscosity_ratio"] = FiniteOrNull(life.viscosity_ratio);
+      bins.back()["shortest_modified_life_hours"] = FiniteOrNull(life.ShortestModifiedHours());
+      bins.back()["shortest_load_zone_modified_life_hours"] = FiniteOrNull(life.ShortestLoadZoneModifiedHours());
+    }
   }
   nlohmann::json pitting = nlohmann::json::array();
   for (const double h : r.contact_life_hours) pitting.push_back(HoursOrInfinite(h));
-  return {{"rule", "Palmgren-Miner over the time shares: L = 1 / sum(share_i / L_i), each L_i in hours at bin i's crank speed"},
+  nlohmann::json out = {{"rule", "Palmgren-Miner over the time shares: L = 1 / sum(share_i / L_i), each L_i in hours at bin i's crank speed"},
           {"bins", bins},
           {"l10_hours", Finites(r.l10_hours)},
           {"shortest_l10_hours", FiniteOrNull(r.ShortestL10Hours())},
@@ -499,6 +529,13 @@ nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
           // per disc: the pins', then the teeth's pitting life (ContactFatigue), Miner over the bins
           {"pitting_life_hours", pitting},
           {"shortest_pitting_life_hours", HoursOrInfinite(r.ShortestContactHours())}};
+  if (r.modified()) {  // ISO 281's modified lives, each bin's a_ISO at its own kappa, Miner over the bins
+    out["modified_life_hours"] = Finites(r.modified_hours);
+    out["shortest_modified_life_hours"] = FiniteOrNull(r.ShortestModifiedHours());
+    out["load_zone_modified_life_hours"] = Finites(r.load_zone_modified_hours);
+    out["shortest_load_zone_modified_life_hours"] = FiniteOrNull(r.ShortestLoadZoneModifiedHours());
+  }
+  return out;
 }
 
 std::string SpectrumText(const analysis::SpectrumResult& r) {
@@ -513,9 +550,18 @@ std::string SpectrumText(const analysis::SpectrumResult& r) {
                         solvers::ToString(s.status), FormatOrNa(RadToArcsec(s.mean_te), 4), FormatOrNa(s.max_pin_force, 2),
                         FormatOrNa(s.max_contact_stress, 2), FormatOrNa(life.ShortestHours(), 4),
                         FormatOrNa(life.ShortestLoadZoneHours(), 4));
+    if (life.modified) {
+      text += fmt::format("         kappa {}: modified life a_ISO L10 {} h, a_ISO times the load-zone life {} h (the shortest)\n",
+                          FormatOrNa(life.viscosity_ratio, 4), FormatOrNa(life.ShortestModifiedHours(), 4),
+                          FormatOrNa(life.ShortestLoadZoneModifiedHours(), 4));
+    }
   }
   text += fmt::format("spectrum bearing L10   {} h, the shortest\n", FormatOrNa(r.ShortestL10Hours(), 4));
   text += fmt::format("spectrum load-zone     {} h, the shortest\n", FormatOrNa(r.ShortestLoadZoneHours(), 4));
+  if (r.modified()) {
+    text += fmt::format("spectrum modified L10m {} h, load-zone {} h, the shortest (ISO 281 a_ISO per bin)\n",
+                        FormatOrNa(r.ShortestModifiedHours(), 4), FormatOrNa(r.ShortestLoadZoneModifiedHours(), 4));
+  }
   text += fmt::format("spectrum pitting life  {} h, the shortest of the pins and teeth\n",
                       std::isinf(r.ShortestContactHours()) ? std::string("infinite") : FormatOrNa(r.ShortestContactHours(), 4));
   return text;
@@ -525,6 +571,34 @@ namespace {
 
 /// A life in hours as text: "infinite" for +inf, "n/a" for NaN.
 std::string HoursText(double h) { return std::isinf(h) && h > 0.0 ? std::string("infinite") : FormatOrNa(h, 4); }
+
+/// ISO 281's modified lives (ModifiedLifeJson's figures): the shortest of each with its bearing's
+/// a_ISO, and the inputs of a_ISO.
+std::string ModifiedLifeText(const analysis::BearingLife& life) {
+  const auto shortest = [](const std::vector<double>& hours, const std::vector<double>& a) {
+    std::size_t k = hours.size();
+    for (std::size_t b = 0; b < hours.size(); ++b) {
+      if (std::isfinite(hours[b]) && (k == hours.size() || hours[b] < hours[k])) k = b;
+    }
+    return k < hours.size() && k < a.size() ? std::pair{hours[k], a[k]}
+                                            : std::pair{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  };
+  const auto [basic, a_basic] = shortest(life.modified_hours, life.life_modification);
+  const auto [zone, a_zone] = shortest(life.load_zone_modified_hours, life.load_zone_life_modification);
+  const double kappa = life.viscosity_ratio;
+  const std::string clamp = kappa > contact::kViscosityRatioMax   ? fmt::format(", taken as {:g}", contact::kViscosityRatioMax)
+                            : kappa < contact::kViscosityRatioMin ? fmt::format(", taken as {:g}: below ISO 281's range", contact::kViscosityRatioMin)
+                                                                  : std::string();
+  std::string text = fmt::format("modified life L10m     {} h, the shortest (a_ISO {} on the basic L10)\n", FormatOrNa(basic, 4),
+                                 FormatOrNa(a_basic, 4));
+  text += fmt::format("modified load-zone     {} h, the shortest (a_ISO {} on the load-zone life)\n", FormatOrNa(zone, 4),
+                      FormatOrNa(a_zone, 4));
+  text += fmt::format("                       (ISO 281:2007 a_ISO, radial roller bearings: kappa = nu / nu_1 = {:g} / {} mm^2/s = {}{}, "
+                      "e_C {:g}, C_u {} N, {})\n",
+                      life.kinematic_viscosity, FormatOrNa(life.reference_viscosity, 4), FormatOrNa(kappa, 4), clamp,
+                      life.contamination_factor, FormatOrNa(life.fatigue_load_limit, 5), life.fatigue_load_limit_basis);
+  return text;
+}
 
 /// The pitting rating's lines (ContactFatigueJson's figures, the shortest and smallest of them).
 std::string ContactFatigueText(const Deck& deck, const analysis::ContactFatigue& f) {
@@ -597,6 +671,7 @@ std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::
                         "ISO 281's C; the {} ring turns against the load)\n",
                         FormatOrNa(zone, 4), FormatOrNa(zone / basic, 4),
                         life.turning_raceway.empty() ? "outer" : contact::ToString(life.turning_raceway.front()));
+    if (life.modified) text += ModifiedLifeText(life);
     text += fmt::format("static safety s_0      {} (ISO 76: C_0 / P_0,max, the smallest)\n", FormatOrNa(life.SmallestStaticSafety(), 4));
     text += fmt::format("roller contact stress  {} MPa, the largest (ISO 76's basis of C_0: {:g} MPa)\n",
                         FormatOrNa(life.LargestRollerStress(), 2), contact::kStaticStressLimitRoller);

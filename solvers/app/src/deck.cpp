@@ -1001,6 +1001,22 @@ void Deck::ValidateSettings() const {
         "bearing_coefficient)",
         friction->output_pin_coefficient));
   }
+  if (operation && operation->kinematic_viscosity) {
+    // ISO 281's modified life rates a roller bearing of known pitch diameter, rating and C_u.
+    const contact::BearingSettings* b = reducer ? &reducer->bearing : nullptr;
+    const std::string asked = fmt::format("[operation] oil_kinematic_viscosity_mm2_per_s = {:g} (ISO 281's modified life a_ISO L10)",
+                                          *operation->kinematic_viscosity);
+    if (b == nullptr || b->kind != contact::BearingKind::kRollers || !(b->pitch_diameter > 0.0) || !(b->dynamic_load_rating > 0.0)) {
+      throw std::invalid_argument(asked + ": expected [output] with [bearing] kind = \"rollers\", pitch_diameter_mm and "
+                                          "dynamic_load_rating_n");
+    }
+    if (!(b->fatigue_load_limit > 0.0) && std::isnan(contact::FatigueLoadLimitEstimate(b->static_load_rating, b->pitch_diameter))) {
+      throw std::invalid_argument(fmt::format(
+          "{}: [bearing] fatigue_load_limit_n is 0 and ISO 281 Annex B's estimate C_0r / 8.2 needs static_load_rating_n > 0 "
+          "and pitch_diameter_mm <= {:g} mm (given {:g} N, {:g} mm); expected fatigue_load_limit_n (C_u, the bearing maker's)",
+          asked, contact::kFatigueLoadLimitEstimateMaxPitchDiameter, b->static_load_rating, b->pitch_diameter));
+    }
+  }
 }
 
 const analysis::FrictionSettings& Deck::RequireFriction() const {
@@ -1673,7 +1689,9 @@ analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& opti
   if (deck.reducer && sweep.summary.reducer) {  // the stage's bearing lives, once, at the deck's crank speed
     sweep.summary.bearing_life =
         analysis::BearingLives(deck, *sweep.summary.reducer, deck.sweep, sweep.summary.closed_period,
-                               deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN());
+                               deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN(),
+                               deck.operation ? deck.operation->kinematic_viscosity.value_or(std::numeric_limits<double>::quiet_NaN())
+                                              : std::numeric_limits<double>::quiet_NaN());
   }
   // The pitting rating of the pins and teeth, at the deck's crank speed and required life.
   sweep.summary.contact_fatigue = analysis::RateContactFatigue(

@@ -51,6 +51,15 @@ struct BearingSettings {
   /// roller contact stress (deck: pitch_diameter_mm)
   double pitch_diameter = 0.0;
   double static_load_rating = 0.0;   ///< N, C_0r of ISO 76; 0: no static safety (deck: static_load_rating_n)
+  /// ISO 281:2007's contamination factor e_C (Table 13), in [0, 1] (deck: contamination_factor); used
+  /// only for the modified rating life (a_ISO), i.e. when the oil's kinematic viscosity is given.
+  double contamination_factor = kDefaultContaminationFactor;
+  /// N, ISO 281:2007's fatigue load limit C_u (deck: fatigue_load_limit_n); 0: ISO 281 Annex B's
+  /// estimate from C_0r (FatigueLoadLimitEstimate). Used only for the modified rating life.
+  double fatigue_load_limit = 0.0;
+  /// e_C's default: ISO 281:2007 Table 13, "normal cleanliness" (oil filtered through a fine filter),
+  /// D_pw < 100 mm: 0.6 to 0.5; the lower bound.
+  static constexpr double kDefaultContaminationFactor = 0.5;
   /// Throws std::invalid_argument naming the `[bearing]` key, its value and what is expected:
   /// clearance finite and >= 0; linear: stiffness finite and > 0; rollers: 3 to kMaxRollers rollers,
   /// diameter and length finite and > 0; the ratings finite and >= 0; a pitch diameter 0 or one
@@ -98,6 +107,36 @@ double MeanEquivalentLoad(const std::vector<double>& loads, double exponent = kR
 double RatingLife(double dynamic_load_rating, double equivalent_load, double exponent = kRollerLifeExponent);
 /// L10 (millions of revolutions) in hours at `rpm` revolutions per minute of the bearing.
 double RatingLifeHours(double life_million_revolutions, double rpm);
+
+/// ISO 281:2007's modified rating life L_10m = a_ISO L_10 (9.3; a_1 = 1 at 90 % reliability) of a
+/// radial roller bearing, the systems approach's life modification factor a_ISO from the viscosity
+/// ratio kappa = nu / nu_1, the contamination factor e_C and the fatigue load limit C_u.
+///
+/// The reference kinematic viscosity nu_1 (mm^2/s) of ISO 281:2007 (9.3.3, the viscosity ratio)
+/// at `rpm` revolutions per minute of the bearing's rings relative to each other and the pitch
+/// diameter D_pw (mm): nu_1 = 45000 n^-0.83 D_pw^-0.5 for n < 1000 r/min, nu_1 = 4500 n^-0.5
+/// D_pw^-0.5 for n >= 1000 r/min. NaN unless rpm > 0 and D_pw > 0 (both finite).
+double ReferenceViscosity(double rpm, double pitch_diameter_mm);
+/// ISO 281:2007 (9.3.3): the formulas hold for 0.1 <= kappa <= 4; kappa > 4 is taken as 4, and
+/// kappa < 0.1 lies outside them (taken as 0.1 here, where a_ISO is 0.1, the method's floor).
+inline constexpr double kViscosityRatioMin = 0.1;
+inline constexpr double kViscosityRatioMax = 4.0;
+/// ISO 281:2007 (9.3.3): a_ISO is limited to 50.
+inline constexpr double kLifeModificationMax = 50.0;
+/// ISO 281:2007's a_ISO of a radial roller bearing (9.3.3, the radial roller bearing formulas):
+///   a_ISO = 0.1 [1 - (1.5859 - c / kappa^e) (e_C C_u / P)^0.4]^-9.185,
+///   0.1 <= kappa < 0.4: c = 1.3993, e = 0.054381; 0.4 <= kappa < 1: c = 1.2348, e = 0.19087;
+///   1 <= kappa <= 4: c = 1.2348, e = 0.071739;
+/// kappa clamped to [kViscosityRatioMin, kViscosityRatioMax], the result capped at
+/// kLifeModificationMax (also where the bracket reaches 0). `load_ratio` is e_C C_u / P (>= 0;
+/// +inf for P = 0 gives the cap). NaN when kappa or load_ratio is NaN or load_ratio < 0.
+double LifeModificationFactor(double kappa, double load_ratio);
+/// ISO 281:2007 Annex B's simplified estimate of a roller bearing's fatigue load limit (B.20):
+/// C_u = C_0r / 8.2 for D_pw <= 100 mm (N). NaN for D_pw > 100 mm, where the standard scales it
+/// with D_pw (B.21) and ltca asks for C_u itself, and without C_0r.
+double FatigueLoadLimitEstimate(double static_load_rating, double pitch_diameter_mm);
+/// The pitch diameter (mm) up to which FatigueLoadLimitEstimate applies.
+inline constexpr double kFatigueLoadLimitEstimateMaxPitchDiameter = 100.0;
 
 // Load-zone life: the reference rating life of ISO/TS 16281 in its Lundberg-Palmgren form for
 // line contact (Harris, T. A., Kotzalas, M. N., Rolling Bearing Analysis, 5th ed., CRC 2007,

@@ -75,7 +75,8 @@ struct NominalResults {
 
 /// [allowables] (docs/stage.md, issue 50): the targets of a stage's bearing ratings; absent: none.
 struct AllowablesSettings {
-  /// h: the life every bearing must reach, its load-zone life and its basic L10 alike.
+  /// h: the life every bearing must reach, its load-zone life and its basic L10 alike (and, with
+  /// the oil's viscosity, their modified lives a_ISO L).
   std::optional<double> bearing_life_hours;
   /// The least static safety s_0 = C_0 / P_0,max of every bearing (ISO 76).
   std::optional<double> min_static_safety;
@@ -100,7 +101,9 @@ struct Allowables {
 struct BearingLife;
 /// A stage's bearing ratings against their targets, one rule for every front-end (the solve's
 /// JSON and text, the report): "stage.shortest_l10_hours" and
-/// "stage.shortest_load_zone_life_hours" against [allowables] bearing_life_hours (min),
+/// "stage.shortest_load_zone_life_hours" against [allowables] bearing_life_hours (min), with the
+/// oil's viscosity also "stage.shortest_modified_life_hours" and
+/// "stage.shortest_load_zone_modified_life_hours" (ISO 281's a_ISO L) against it,
 /// "stage.smallest_static_safety" against min_static_safety, and
 /// "stage.largest_roller_contact_stress_mpa" against ISO 76's 4,000 MPa (max, always given).
 std::vector<AllowableRow> BearingRatingRows(const BearingLife& life, const AllowablesSettings& targets);

@@ -17,6 +17,12 @@ struct OperationSettings {
   double pressure_viscosity = 0.01;  ///< alpha, 1/MPa (deck: pressure_viscosity_per_gpa, default 10, Jiang)
   double roughness_cycloid = 0.3e-3; ///< Ra, mm (deck: roughness_ra_cycloid_um, default 0.3, Jiang)
   double roughness_pin = 0.3e-3;     ///< Ra, mm (deck: roughness_ra_pin_um, default 0.3)
+  /// nu, mm^2/s: the kinematic viscosity of the bearings' oil at operating temperature (deck:
+  /// oil_kinematic_viscosity_mm2_per_s), ISO 281's viscosity ratio kappa = nu / nu_1 of the modified
+  /// rating life. Not given (the default): no modified life. The same oil as oil_viscosity_pa_s
+  /// (nu = eta / rho), given apart because ISO 281 asks for the kinematic one and eta's default is
+  /// the friction model's, not a statement of the oil.
+  std::optional<double> kinematic_viscosity;
   static constexpr double kMaxSpeedRpm = 100'000.0;
   /// Throws std::invalid_argument naming the key, the value and what is expected.
   void Validate() const;

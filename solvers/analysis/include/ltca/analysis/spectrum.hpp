@@ -42,6 +42,10 @@ struct SpectrumResult {
   std::vector<SpectrumBinResult> bins;
   std::vector<double> l10_hours;        ///< ISO 281 basic life per bearing, Miner over the bins
   std::vector<double> load_zone_hours;  ///< load-zone life per bearing, Miner over the bins
+  /// ISO 281's modified lives (BearingLife::modified: each bin's a_ISO at its own speed, so its
+  /// own nu_1 and kappa, and its own loads), per bearing, Miner over the bins; empty when not rated.
+  std::vector<double> modified_hours;            ///< a_ISO L10
+  std::vector<double> load_zone_modified_hours;  ///< a_ISO times the load-zone life
   /// Pitting lives (ContactFatigue), Miner over the bins: per disc the pins' then the teeth's. A
   /// bin's pin life is its most damaged pin's, which may be another pin in another bin: the sum
   /// bounds the damage of any one pin from above.
@@ -49,6 +53,9 @@ struct SpectrumResult {
   bool all_succeeded() const;
   double ShortestL10Hours() const;       ///< NaN when no bearing has one
   double ShortestLoadZoneHours() const;  ///< NaN when no bearing has one
+  double ShortestModifiedHours() const;          ///< NaN when no bearing has one
+  double ShortestLoadZoneModifiedHours() const;  ///< NaN when no bearing has one
+  bool modified() const;                         ///< the bins' modified lives are rated
   double ShortestContactHours() const;   ///< NaN when no bin was rated
 };
 

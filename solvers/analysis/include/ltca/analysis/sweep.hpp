@@ -139,6 +139,27 @@ struct BearingLife {
   std::vector<double> load_zone_hours;                   ///< per bearing (NaN: not computed)
   std::vector<double> static_safety;                     ///< s_0 per bearing (NaN without C_0)
   std::vector<double> max_roller_stress;                 ///< MPa per bearing (NaN without rollers and d_m)
+  /// ISO 281:2007's modified rating life L_10m = a_ISO L_10 (9.3; a_1 = 1, 90 % reliability; radial
+  /// roller bearings, contact::LifeModificationFactor), rated when [operation]
+  /// oil_kinematic_viscosity_mm2_per_s is given (`modified`). kappa = nu / nu_1, nu_1 at the
+  /// bearing's speed (|1 - 1/I| times the crank's) and d_m (contact::ReferenceViscosity), one for
+  /// all the stage's bearings (one [bearing], one speed). a_ISO is rated per bearing twice: on the
+  /// basic life with P its mean equivalent load (as ISO 281 defines L_10m), and on the load-zone
+  /// life with P = P_lz (the load that gives the load-zone life by ISO 281's formula). NaN without
+  /// a speed.
+  bool modified = false;
+  double kinematic_viscosity = std::numeric_limits<double>::quiet_NaN();  ///< nu, mm^2/s as given
+  double reference_viscosity = std::numeric_limits<double>::quiet_NaN();  ///< nu_1, mm^2/s
+  double viscosity_ratio = std::numeric_limits<double>::quiet_NaN();      ///< kappa = nu / nu_1, before ISO's clamp to [0.1, 4]
+  double contamination_factor = std::numeric_limits<double>::quiet_NaN(); ///< e_C ([bearing] contamination_factor)
+  double fatigue_load_limit = std::numeric_limits<double>::quiet_NaN();   ///< C_u, N
+  std::string fatigue_load_limit_basis;  ///< "given" or ISO 281 Annex B's estimate
+  std::vector<double> load_ratio;                  ///< e_C C_u / P per bearing, P the mean equivalent load
+  std::vector<double> life_modification;           ///< a_ISO per bearing on the basic life
+  std::vector<double> modified_hours;              ///< a_ISO L_10 in hours per bearing
+  std::vector<double> load_zone_load_ratio;        ///< e_C C_u / P_lz per bearing
+  std::vector<double> load_zone_life_modification; ///< a_ISO per bearing on the load-zone life
+  std::vector<double> load_zone_modified_hours;    ///< a_ISO L_lz in hours per bearing
   /// The shortest life in hours of the bearings that have one; NaN when none has (no rating, no speed).
   double ShortestHours() const;
   /// The same for the load-zone lives.
@@ -147,6 +168,9 @@ struct BearingLife {
   double SmallestStaticSafety() const;
   /// The largest roller contact stress, MPa; NaN when none is computed.
   double LargestRollerStress() const;
+  /// The shortest modified lives (a_ISO times the basic and the load-zone life), h; NaN when none.
+  double ShortestModifiedHours() const;
+  double ShortestLoadZoneModifiedHours() const;
 };
 
 struct SweepSummary : RunRecord {
@@ -187,8 +211,10 @@ struct SweepSummary : RunRecord {
 
 struct StageDesign;
 /// input_speed: the crank speed, rad/s ([operation] input_speed_rpm), NaN when none is given.
+/// kinematic_viscosity: the oil's nu, mm^2/s ([operation] oil_kinematic_viscosity_mm2_per_s), NaN
+/// when none is given (no modified life).
 BearingLife BearingLives(const StageDesign& design, const ReducerSummary& summary, const Sweep& sweep, bool closed_period,
-                         double input_speed);
+                         double input_speed, double kinematic_viscosity = std::numeric_limits<double>::quiet_NaN());
 
 /// Accumulates the summary position by position (the rule of SweepSummary).
 class SummaryAccumulator {
