@@ -5,7 +5,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include <cholmod.h>
+#include "cholmod_lazy.hpp"  // CHOLMOD, loaded on its first call
 #include <fmt/format.h>
 
 namespace ltca::solvers {

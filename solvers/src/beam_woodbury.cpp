@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include <Eigen/SparseCholesky>
-#include <cholmod.h>
+#include "cholmod_lazy.hpp"  // CHOLMOD, loaded on its first call
 
 namespace ltca::solvers {
 

@@ -5,22 +5,23 @@
 #include "first_contact.hpp"
 #include "reducer_system.hpp"
 
+#include "ipopt_bridge.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
-#include <IpIpoptApplication.hpp>
-#include <IpSolveStatistics.hpp>
-#include <IpTNLP.hpp>
 
 namespace ltca::solvers {
 namespace {
 
-using Ipopt::Index;
-using Ipopt::Number;
+// Ipopt's index and number types (IpTypes.hpp), by their names in Ipopt's documentation.
+using Index = int;
+using Number = double;
 
 /// The linearised subproblem: candidates with clearance c_i (at psi = 0 of the linearisation),
 /// arm L_i > 0 and law_i.
@@ -57,14 +58,14 @@ struct WarmStart {  // the previous solution of the same solver: neighbouring po
 };
 
 struct QpOutcome {
-  Ipopt::SolverReturn status = Ipopt::UNASSIGNED;
+  int status = -1;  // Ipopt's SolverReturn at finalize_solution; -1 before
   std::vector<double> force;
   double rotation = 0.0;  // the torque multiplier, sign fixed to psi
   int iterations = 0;
 };
 
 /// Only delegates to the subproblem data (pattern: ifopt's adapter).
-class EnergyNlp final : public Ipopt::TNLP {
+class EnergyNlp final : public ipopt::NlpProblem {
  public:
   /// The same object serves every solve of a solver (Ipopt's ReOptimizeTNLP keeps its linear
   /// solver, whose set-up dominates a small solve); Reset points it at the next subproblem.
@@ -102,12 +103,11 @@ class EnergyNlp final : public Ipopt::TNLP {
     }
   }
 
-  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override {
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag) override {
     n = static_cast<Index>(sub_->pin.size());
     m = 1;
     nnz_jac_g = n;
     nnz_h_lag = n + static_cast<Index>(pattern_.size());  // the diagonal, then the coupling's lower entries
-    style = C_STYLE;
     return true;
   }
   bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index, Number* g_l, Number* g_u) override {
@@ -219,16 +219,15 @@ class EnergyNlp final : public Ipopt::TNLP {
     }
     return true;
   }
-  void finalize_solution(Ipopt::SolverReturn status, Index n, const Number* x, const Number* z_l, const Number* z_u,
-                         Index, const Number*, const Number* lambda, Number, const Ipopt::IpoptData*,
-                         Ipopt::IpoptCalculatedQuantities*) override {
+  void finalize_solution(int status, Index n, const Number* x, const Number* z_l, const Number* z_u, Index,
+                         const Number*, const Number* lambda, Number) override {
     out_->status = status;
     if (warm_ != nullptr) {
       warm_->x.assign(x, x + n);
       warm_->z_lower.assign(z_l, z_l + n);
       warm_->z_upper.assign(z_u, z_u + n);
       warm_->lambda = lambda[0];
-      warm_->valid = status == Ipopt::SUCCESS || status == Ipopt::STOP_AT_ACCEPTABLE_POINT;
+      warm_->valid = status == ipopt::kSolverReturnSuccess || status == ipopt::kSolverReturnStopAtAcceptablePoint;
     }
     out_->force.assign(x, x + n);
     // Ipopt's Lagrangian is f + lambda g: grad f + lambda L = 0 on loaded pins, so the rotation
@@ -245,32 +244,32 @@ class EnergyNlp final : public Ipopt::TNLP {
   double f_ref_ = 1.0, w_ref_ = 1.0;
 };
 
-SolverStatus MapStatus(Ipopt::ApplicationReturnStatus s) {
+SolverStatus MapStatus(ipopt::Status s) {
   switch (s) {
-    case Ipopt::Solve_Succeeded:
-    case Ipopt::Solved_To_Acceptable_Level:
+    case ipopt::Status::kSolveSucceeded:
+    case ipopt::Status::kSolvedToAcceptableLevel:
     // At tol = 1e-12 Ipopt may stop on a step too small to change the iterate. Accepted here
     // only provisionally: LoadSolver::Solve downgrades it unless the shared residual confirms.
-    case Ipopt::Search_Direction_Becomes_Too_Small:
+    case ipopt::Status::kSearchDirectionBecomesTooSmall:
       return SolverStatus::kSuccess;
-    case Ipopt::Maximum_Iterations_Exceeded:
-    case Ipopt::Maximum_CpuTime_Exceeded:
+    case ipopt::Status::kMaximumIterationsExceeded:
+    case ipopt::Status::kMaximumCpuTimeExceeded:
       return SolverStatus::kMaxIterations;
-    case Ipopt::Infeasible_Problem_Detected:
+    case ipopt::Status::kInfeasibleProblemDetected:
       return SolverStatus::kLawCannotCarry;  // the torque cannot be reached within the laws' ranges
-    case Ipopt::Diverging_Iterates:
-    case Ipopt::User_Requested_Stop:
-    case Ipopt::Feasible_Point_Found:
-    case Ipopt::Restoration_Failed:
-    case Ipopt::Error_In_Step_Computation:
-    case Ipopt::Not_Enough_Degrees_Of_Freedom:
-    case Ipopt::Invalid_Problem_Definition:
-    case Ipopt::Invalid_Option:
-    case Ipopt::Invalid_Number_Detected:
-    case Ipopt::Unrecoverable_Exception:
-    case Ipopt::NonIpopt_Exception_Thrown:
-    case Ipopt::Insufficient_Memory:
-    case Ipopt::Internal_Error:
+    case ipopt::Status::kDivergingIterates:
+    case ipopt::Status::kUserRequestedStop:
+    case ipopt::Status::kFeasiblePointFound:
+    case ipopt::Status::kRestorationFailed:
+    case ipopt::Status::kErrorInStepComputation:
+    case ipopt::Status::kNotEnoughDegreesOfFreedom:
+    case ipopt::Status::kInvalidProblemDefinition:
+    case ipopt::Status::kInvalidOption:
+    case ipopt::Status::kInvalidNumberDetected:
+    case ipopt::Status::kUnrecoverableException:
+    case ipopt::Status::kNonIpoptExceptionThrown:
+    case ipopt::Status::kInsufficientMemory:
+    case ipopt::Status::kInternalError:
       return SolverStatus::kNumericalFailure;
   }
   return SolverStatus::kNumericalFailure;
@@ -287,15 +286,14 @@ std::mutex& IpoptMutex() {
 }
 
 // Per workspace (per thread): the Ipopt application (creating and initialising it costs more
-// than a small solve), the TNLP kept for ReOptimizeTNLP, and the previous solution.
+// than a small solve; it keeps the TNLP for ReOptimizeTNLP), the problem and the previous solution.
 struct IpoptState final : Workspace::BackendState {
   ~IpoptState() override {
     const std::lock_guard<std::mutex> lock(IpoptMutex());
-    nlp = nullptr;
-    app = nullptr;
+    app.reset();
   }
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app;
-  Ipopt::SmartPtr<EnergyNlp> nlp;
+  std::unique_ptr<ipopt::Application> app;  // loads ltca_ipopt.so when first made
+  EnergyNlp nlp;
   bool initialised = false;
   int solved_size = -1;  // the size of the last problem: ReOptimizeTNLP needs the same structure
   Pattern solved_pattern;  // and the coupling's Hessian pattern of the last problem (empty: none)
@@ -312,31 +310,31 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   if (state == nullptr) {
     state = static_cast<IpoptState*>(workspace.SetBackend("energy-qp", std::make_unique<IpoptState>()));
   }
-  if (Ipopt::IsNull(state->app)) state->app = IpoptApplicationFactory();
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = state->app;
-  app->Options()->SetIntegerValue("print_level", 0);
-  app->Options()->SetStringValue("sb", "yes");
-  app->Options()->SetStringValue("nlp_scaling_method", "user-scaling");
-  app->Options()->SetNumericValue("tol", 1e-12);
-  app->Options()->SetNumericValue("constr_viol_tol", 1e-12);
+  if (state->app == nullptr) state->app = std::make_unique<ipopt::Application>();
+  ipopt::Application& app = *state->app;
+  app.SetInteger("print_level", 0);
+  app.SetString("sb", "yes");
+  app.SetString("nlp_scaling_method", "user-scaling");
+  app.SetNumeric("tol", 1e-12);
+  app.SetNumeric("constr_viol_tol", 1e-12);
   // Interior-point duals of far-open pins converge slowly to the 1e-12 tolerance; accept a point
   // that holds 1e-9 for 5 iterations: the shared residual still judges it.
-  app->Options()->SetNumericValue("acceptable_tol", 1e-9);
-  app->Options()->SetIntegerValue("acceptable_iter", 5);
-  app->Options()->SetIntegerValue("max_iter", options.max_iterations);
-  app->Options()->SetStringValue("mu_strategy", "monotone");
-  app->Options()->SetNumericValue("warm_start_bound_push", 1e-9);
-  app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-9);
+  app.SetNumeric("acceptable_tol", 1e-9);
+  app.SetInteger("acceptable_iter", 5);
+  app.SetInteger("max_iter", options.max_iterations);
+  app.SetString("mu_strategy", "monotone");
+  app.SetNumeric("warm_start_bound_push", 1e-9);
+  app.SetNumeric("warm_start_mult_bound_push", 1e-9);
   // The torque balance is linear in the forces: its Jacobian is evaluated once. The
   // objective is not quadratic (the log law), so hessian_constant and mehrotra_algorithm do not apply.
-  app->Options()->SetStringValue("jac_c_constant", "yes");
+  app.SetString("jac_c_constant", "yes");
   // Issue 29: no iterative refinement unless the residual asks for it (Ipopt's default does one
   // step on every solve). Each refinement step is one more MUMPS call, and MUMPS 5.x ends every
   // call by sizing a save file (DMUMPS_COMPUTE_MEMORY_SAVE, 56 % of this solver's time under perf);
   // the convergence test (tol 1e-12) and the shared residual judge the answer as before.
-  app->Options()->SetIntegerValue("min_refinement_steps", 0);
+  app.SetInteger("min_refinement_steps", 0);
   if (!state->initialised) {
-    if (app->Initialize("") != Ipopt::Solve_Succeeded) {  // "": no option file is read
+    if (app.Initialize() != ipopt::Status::kSolveSucceeded) {
       result->status = SolverStatus::kNumericalFailure;
       result->message = "Ipopt failed to initialise";
       return;
@@ -392,8 +390,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     // The TNLP is re-optimised only with the same structure: the size and the coupling's Hessian
     // pattern (always empty without coupling).
     const Pattern pattern = LowerPattern(sub.coupling);
-    const bool reuse = Ipopt::IsValid(state->nlp) && state->solved_size == size && state->solved_pattern == pattern;
-    if (!reuse) state->nlp = new EnergyNlp();
+    const bool reuse = state->solved_size == size && state->solved_pattern == pattern;  // -1: nothing solved yet
     details["reoptimisations"] += reuse ? 1 : 0;
     // Warm start from the previous solution when it is near (same size, still feasible): the
     // multiplier is a rotation beyond the linearisation point. Linearised kinematics linearises
@@ -409,21 +406,21 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
     const bool warm = reuse && state->warm.valid && state->warm.direction == problem.direction();
     if (warm && outer_limit > 1) state->warm.lambda = -(state->warm.solved_rotation - psi);
     state->warm.direction = problem.direction();
-    app->Options()->SetStringValue("warm_start_init_point", warm ? "yes" : "no");
+    app.SetString("warm_start_init_point", warm ? "yes" : "no");
     // Issue 29: a warm start is the previous position's optimum, where the barrier parameter had
     // come down to Ipopt's floor (mu_min, 1e-11). Starting it at 1e-3 again walked the central path
     // down from far above the start; 1e-10 (one decrease above that floor) leaves room for the
     // change between positions. Measured on Liu Table 1 (91 positions, linearised): 8.1 -> 4.9
     // iterations a position, every force and TE as before (docs/performance-notes.md). A cold start
     // keeps 1e-3.
-    app->Options()->SetNumericValue("mu_init", warm ? 1e-10 : 1e-3);
-    state->nlp->Reset(&sub, &out, &state->warm);
-    const Ipopt::ApplicationReturnStatus status =
-        reuse ? app->ReOptimizeTNLP(Ipopt::GetRawPtr(state->nlp)) : app->OptimizeTNLP(Ipopt::GetRawPtr(state->nlp));
+    app.SetNumeric("mu_init", warm ? 1e-10 : 1e-3);
+    state->nlp.Reset(&sub, &out, &state->warm);
+    int iterations = 0;
+    const ipopt::Status status = app.Optimize(state->nlp, reuse, &iterations);  // ReOptimizeTNLP when reused
     state->solved_size = size;
     state->solved_pattern = pattern;
     result->native_code = static_cast<int>(status);
-    if (Ipopt::IsValid(app->Statistics())) total_iterations += app->Statistics()->IterationCount();
+    total_iterations += iterations;
     lock.unlock();
     result->status = MapStatus(status);
     result->force.assign(pins.size(), 0.0);
@@ -477,17 +474,16 @@ namespace {
 
 // The stage as Ipopt sees it: the total potential energy Pi(q) over the stage's dofs,
 // unconstrained (m = 0), with the exact gradient and Hessian (lower triangle, dense: a dozen dofs).
-class ReducerNlp final : public Ipopt::TNLP {
+class ReducerNlp final : public ipopt::NlpProblem {
  public:
   ReducerNlp(const ReducerSystem& system, Eigen::VectorXd start) : system_(system), x_(std::move(start)) {}
   const Eigen::VectorXd& solution() const { return x_; }
 
-  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& style) override {
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag) override {
     n = system_.dof_count();
     m = 0;
     nnz_jac_g = 0;
     nnz_h_lag = n * (n + 1) / 2;
-    style = TNLP::C_STYLE;
     return true;
   }
   bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index, Number*, Number*) override {
@@ -525,9 +521,8 @@ class ReducerNlp final : public Ipopt::TNLP {
     }
     return true;
   }
-  void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*, const Number*, Index,
-                         const Number*, const Number*, Number, const Ipopt::IpoptData*,
-                         Ipopt::IpoptCalculatedQuantities*) override {
+  void finalize_solution(int, Index n, const Number* x, const Number*, const Number*, Index, const Number*,
+                         const Number*, Number) override {
     for (Index i = 0; i < n; ++i) x_(i) = x[i];
   }
 
@@ -544,7 +539,11 @@ class ReducerNlp final : public Ipopt::TNLP {
 };
 
 struct ReducerIpoptState final : Workspace::BackendState {
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app;
+  ~ReducerIpoptState() override {
+    const std::lock_guard<std::mutex> lock(IpoptMutex());
+    app.reset();
+  }
+  std::unique_ptr<ipopt::Application> app;  // loads ltca_ipopt.so when first made
 };
 
 }  // namespace
@@ -556,24 +555,24 @@ void EnergyQpSolver::DoSolveReducer(const LoadProblem& problem, const ReducerSys
   auto* state = dynamic_cast<ReducerIpoptState*>(workspace.Backend("energy-qp-stage"));
   if (state == nullptr) {
     state = static_cast<ReducerIpoptState*>(workspace.SetBackend("energy-qp-stage", std::make_unique<ReducerIpoptState>()));
-    state->app = IpoptApplicationFactory();
-    state->app->Options()->SetIntegerValue("print_level", 0);
-    state->app->Options()->SetStringValue("sb", "yes");
-    if (state->app->Initialize("") != Ipopt::Solve_Succeeded) {
+    state->app = std::make_unique<ipopt::Application>();
+    state->app->SetInteger("print_level", 0);
+    state->app->SetString("sb", "yes");
+    if (state->app->Initialize() != ipopt::Status::kSolveSucceeded) {
       result->status = SolverStatus::kNumericalFailure;
       result->message = "Ipopt failed to initialise";
       return;
     }
   }
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = state->app;
+  ipopt::Application& app = *state->app;
   // Every gradient component is a force in N: Ipopt's tolerance on it is the torque tolerance
   // times T / R_p, as the stage's other solvers (ReducerSystem::Minimise).
   const double force_scale = problem.torque() / problem.model().pair().pin_circle_radius;
-  app->Options()->SetNumericValue("obj_scaling_factor", 1.0 / force_scale);
-  app->Options()->SetStringValue("nlp_scaling_method", "none");
-  app->Options()->SetNumericValue("tol", std::max(options.torque_tolerance, 1e-15));
-  app->Options()->SetNumericValue("acceptable_tol", 1e-9);
-  app->Options()->SetIntegerValue("max_iter", options.max_iterations);
+  app.SetNumeric("obj_scaling_factor", 1.0 / force_scale);
+  app.SetString("nlp_scaling_method", "none");
+  app.SetNumeric("tol", std::max(options.torque_tolerance, 1e-15));
+  app.SetNumeric("acceptable_tol", 1e-9);
+  app.SetInteger("max_iter", options.max_iterations);
   // From rest the stage sits inside its free play: its clearances leave the energy flat along the
   // mechanism's mode (disc, cranks and output member turning together until the pin ring closes),
   // so the Hessian of an early iterate is nearly singular. MUMPS then factors it without complaint
@@ -585,20 +584,20 @@ void EnergyQpSolver::DoSolveReducer(const LoadProblem& problem, const ReducerSys
   // A solve whose refinement ends a decade above that target is taken as singular instead: Ipopt
   // regularises the Hessian (delta_w I, Wachter & Biegler 2006, sec. 3.1), whose step descends.
   // The default, 1e-5, accepted the missed solve.
-  app->Options()->SetNumericValue("residual_ratio_singular", 1e-9);
-  Ipopt::SmartPtr<ReducerNlp> nlp = new ReducerNlp(system, start);
-  const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(nlp));
-  const int iterations = Ipopt::IsValid(app->Statistics()) ? app->Statistics()->IterationCount() : 0;
+  app.SetNumeric("residual_ratio_singular", 1e-9);
+  ReducerNlp nlp(system, start);
+  int iterations = 0;
+  const ipopt::Status status = app.Optimize(nlp, false, &iterations);
   lock.unlock();
   ReducerSystem::Evaluation last;
-  system.Evaluate(nlp->solution(), false, nullptr, &last);
+  system.Evaluate(nlp.solution(), false, nullptr, &last);
   // Ipopt's verdict, or the balance itself: every gradient component within the torque tolerance's
   // force (T / R_p) or the gradient's rounding (Ipopt cannot go below that, and may say so with a
   // failure status at a tiny torque).
   const double force_tolerance = options.torque_tolerance * force_scale;
   const bool balanced = last.gradient.allFinite() && last.gradient.cwiseAbs().maxCoeff() <= std::max(force_tolerance, last.rounding);
   const SolverStatus mapped = balanced ? SolverStatus::kSuccess : MapStatus(status);
-  FinishReducer(system, nlp->solution(),
+  FinishReducer(system, nlp.solution(),
               mapped == SolverStatus::kSuccess ? ReducerSystem::Outcome::kConverged
               : mapped == SolverStatus::kMaxIterations ? ReducerSystem::Outcome::kMaxIterations
                                                         : ReducerSystem::Outcome::kNumerical,
@@ -608,7 +607,7 @@ void EnergyQpSolver::DoSolveReducer(const LoadProblem& problem, const ReducerSys
   result->details["ipopt_iterations"] = iterations;
   if (result->status == SolverStatus::kSuccess) {
     result->message = fmt::format("Ipopt status {} after {} iterations", result->native_code, iterations);
-    KeepReducerStart(system, nlp->solution(), workspace, "energy-qp-stage-start");
+    KeepReducerStart(system, nlp.solution(), workspace, "energy-qp-stage-start");
   }
 }
 

@@ -153,3 +153,42 @@ TEST_CASE("analysis: a tolerance study's result does not depend on its threads o
   overflow.first = INT64_MAX - 2;
   CHECK_THROWS_AS(analysis::RunToleranceStudy(study, overflow), std::invalid_argument);
 }
+
+TEST_CASE("analysis: a tolerance run's estimate counts the worst case's runs at the samples' rate, none without it") {
+  // Two input columns (the pin-circle and the eccentricity deviations) and 12 figures: the worst
+  // case runs at most 1 + 2 x (2 + 12) = 29 corners (tolerance_run.hpp, ToleranceProgress::Start).
+  struct Recorder final : analysis::ToleranceProgress {
+    int estimates = 0;
+    double seconds = 0.0, worst_seconds = -1.0;
+    std::int64_t worst_runs = -1, worst_total = -1;
+    void Start(analysis::TolerancePhase phase, std::int64_t total) override {
+      if (phase == analysis::TolerancePhase::kWorstCase) worst_total = total;
+    }
+    void Estimate(double s, std::int64_t, std::int64_t, double ws, std::int64_t wr) override {
+      ++estimates, seconds = s, worst_seconds = ws, worst_runs = wr;
+    }
+  };
+  const analysis::ToleranceStudy study(TolerancedLiu52(false), analysis::SolverOptions{}, StudySettings());
+  REQUIRE(study.inputs().size() == 2);
+  for (const bool worst_case : {true, false}) {
+    CAPTURE(worst_case);
+    Recorder recorder;
+    analysis::ToleranceRunPlan plan;
+    plan.threads = 1;  // 2 warm-up samples, then the estimate at the third of 6 (a twentieth passed)
+    plan.worst_case = worst_case;
+    plan.progress = &recorder;
+    const analysis::ToleranceResult result = analysis::RunToleranceStudy(study, plan);
+    REQUIRE(recorder.estimates == 1);
+    CHECK(recorder.seconds > 0.0);
+    if (worst_case) {
+      CHECK(recorder.worst_runs == 29);
+      CHECK(recorder.worst_total == 29);
+      REQUIRE(result.worst_case.has_value());
+      CHECK(result.worst_case->runs <= 29);
+      CHECK(recorder.worst_seconds > 0.0);
+    } else {
+      CHECK(recorder.worst_runs == 0);
+      CHECK(recorder.worst_seconds == 0.0);
+    }
+  }
+}

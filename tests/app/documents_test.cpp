@@ -18,6 +18,7 @@
 #include "documents/backlash.hpp"
 #include "documents/solve.hpp"
 #include "documents/stiffness.hpp"
+#include "documents/tolerance.hpp"
 #include "helpers.hpp"
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/stiffness.hpp"
@@ -220,4 +221,15 @@ TEST_CASE("app: the solve figure of a long sweep keeps each pin's largest force 
   CHECK(largest_drawn == sweep.summary.max_pin_force);
   CHECK(figure.panels[3].title.find("max of every 9 positions") != std::string::npos);
   CHECK(figure.panels[0].title == "loaded transmission error");  // 1,000 positions: every one drawn
+}
+
+TEST_CASE("app: the tolerance estimate names the samples' time, the worst case's bound of runs and their sum") {
+  // 2 s for 100 samples, then 185 runs at most at the samples' rate, 3 s: 5 s in all.
+  const std::string both = ltca::app::documents::ToleranceEstimateText(2.0, 5, 100, 2, false, 3.0, 185);
+  CHECK(both.find("about 2 s for the 100 samples, then about 3 s for the worst case's 185 runs at most, about 5 s in all") !=
+        std::string::npos);
+  CHECK(both.find("at the rate of samples 5 to 5 on 2 thread(s), after 4 that warm the caches") != std::string::npos);
+  const std::string samples_only = ltca::app::documents::ToleranceEstimateText(2.0, 5, 100, 2, false, 0.0, 0);
+  CHECK(samples_only.find("about 2 s for the 100 samples (") != std::string::npos);
+  CHECK(samples_only.find("worst case's") == std::string::npos);
 }

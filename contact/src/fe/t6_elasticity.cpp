@@ -1,5 +1,6 @@
 #include "fe/t6_elasticity.hpp"
 
+#include "cholmod_lazy.hpp"  // before Eigen/CholmodSupport: CHOLMOD, loaded on its first call
 #include <Eigen/CholmodSupport>
 #include <Eigen/LU>
 #include <Eigen/SparseCore>

@@ -1,5 +1,7 @@
 #include "output.hpp"
 
+#include "ltca/solvers/modules.hpp"
+
 #include <pthread.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -105,6 +107,9 @@ int ReportError(std::exception_ptr error, std::ostream& err) {
   } catch (const OutputError& e) {
     fmt::print(err, "ltca: output error: {}\n", e.what());
     return kExitOutputError;
+  } catch (const solvers::ModuleError& e) {  // a part of the installation, not a bug (as --step's)
+    fmt::print(err, "ltca: error: {}\n", e.what());
+    return kExitNotSucceeded;
   } catch (const std::exception& e) {
     fmt::print(err, "ltca: internal error: {}\n", e.what());
     return kExitInternalError;

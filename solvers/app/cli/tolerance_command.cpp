@@ -38,8 +38,10 @@ void ToleranceProgressLines::Finish(analysis::TolerancePhase) {
   line_.reset();
 }
 
-void ToleranceProgressLines::Estimate(double seconds, std::int64_t done, std::int64_t count) {
-  text_ << app::documents::ToleranceEstimateText(seconds, done, count, threads_, several_ranks_, worst_case_);
+void ToleranceProgressLines::Estimate(double seconds, std::int64_t done, std::int64_t count, double worst_case_seconds,
+                                      std::int64_t worst_case_runs) {
+  text_ << app::documents::ToleranceEstimateText(seconds, done, count, threads_, several_ranks_, worst_case_seconds,
+                                                 worst_case_runs);
   text_.flush();
 }
 

@@ -40,7 +40,8 @@ class ToleranceProgressLines final : public analysis::ToleranceProgress {
   void Start(analysis::TolerancePhase phase, std::int64_t total) override;
   void Update(analysis::TolerancePhase phase, std::int64_t done) override;
   void Finish(analysis::TolerancePhase phase) override;
-  void Estimate(double seconds, std::int64_t done, std::int64_t count) override;
+  void Estimate(double seconds, std::int64_t done, std::int64_t count, double worst_case_seconds,
+                std::int64_t worst_case_runs) override;
 
  private:
   const Streams& streams_;

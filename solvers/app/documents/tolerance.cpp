@@ -121,11 +121,15 @@ std::string ToleranceTextHead(const Deck& deck, const SolverOptions& solver, con
 }
 
 std::string ToleranceEstimateText(double seconds, std::int64_t done, std::int64_t count, int threads, bool several_ranks,
-                                  bool worst_case_follows) {
-  return fmt::format("estimate  about {:.3g} s for the {} samples{} (at the rate of samples {} to {} on {} thread(s), after {} that "
-                     "warm the caches){}\n",
-                     seconds, count, several_ranks ? " of this rank" : "", 2 * threads + 1, done, threads, 2 * threads,
-                     worst_case_follows ? "; the worst case runs after them" : "");
+                                  double worst_case_seconds, std::int64_t worst_case_runs) {
+  const std::string worst =
+      worst_case_runs > 0
+          ? fmt::format(", then about {:.3g} s for the worst case's {} runs at most, about {:.3g} s in all", worst_case_seconds,
+                        worst_case_runs, seconds + worst_case_seconds)
+          : "";
+  return fmt::format("estimate  about {:.3g} s for the {} samples{}{} (at the rate of samples {} to {} on {} thread(s), after {} that "
+                     "warm the caches)\n",
+                     seconds, count, several_ranks ? " of this rank" : "", worst, 2 * threads + 1, done, threads, 2 * threads);
 }
 
 std::string ToleranceCsvHead(const analysis::ToleranceStudy& study) {

@@ -28,9 +28,10 @@ std::string ToleranceTextHead(const Deck& deck, const SolverOptions& solver, con
                               std::int64_t first, int threads, int ranks);
 /// The estimate of the whole run from its first samples: `seconds` (s) estimated for this rank's
 /// `count` samples on `threads` threads, from the first `done` (the rate of those after the
-/// warm-up, two a thread).
+/// warm-up, two a thread), then `worst_case_seconds` (s) for the at most `worst_case_runs`
+/// extreme-value runs (0: none follow), and their sum.
 std::string ToleranceEstimateText(double seconds, std::int64_t done, std::int64_t count, int threads, bool several_ranks,
-                                  bool worst_case_follows);
+                                  double worst_case_seconds, std::int64_t worst_case_runs);
 /// The text after the run: each figure's mean, std and percentiles (with the worst-case corners),
 /// the worst case's runs, the chains (um), the limits' pass counts and fractions (%), the
 /// sensitivity ranking, what did not succeed and the wall times (s).

@@ -43,8 +43,11 @@ class ToleranceProgress {
   /// The phase ended.
   virtual void Finish(TolerancePhase /*phase*/) {}
   /// Rank 0, when more samples follow: `seconds` (s), the estimate of this rank's `count` samples
-  /// from the first `done` (RunTolerance: the time so far and the rate after the warm-up).
-  virtual void Estimate(double /*seconds*/, std::int64_t /*done*/, std::int64_t /*count*/) {}
+  /// from the first `done` (RunTolerance: the time so far and the rate after the warm-up), and
+  /// `worst_case_seconds` (s) of the at most `worst_case_runs` extreme-value runs that follow (0:
+  /// none), each at the samples' rate (a run is one sample's solve, on the same threads).
+  virtual void Estimate(double /*seconds*/, std::int64_t /*done*/, std::int64_t /*count*/, double /*worst_case_seconds*/,
+                        std::int64_t /*worst_case_runs*/) {}
 };
 
 /// What to run and how: the samples settings().samples from `first`, on `threads` threads of

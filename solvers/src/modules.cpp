@@ -1,4 +1,4 @@
-#include "ltca/app/modules.hpp"
+#include "ltca/solvers/modules.hpp"
 
 #include <dlfcn.h>
 
@@ -12,7 +12,7 @@
 
 #include <fmt/format.h>
 
-namespace ltca::app {
+namespace ltca::solvers {
 namespace {
 
 /// The folders a module is looked for in, in order (modules.hpp).
@@ -59,14 +59,14 @@ void* ModuleSymbol(const std::string& name, const char* symbol) {
       searched += (searched.empty() ? "" : ", ") + folder.string();
       std::error_code ec;
       if (!std::filesystem::is_regular_file(path, ec)) continue;
-      // RTLD_LOCAL: the module's libraries (MPI's, PLplot's) do not join the global symbol search.
+      // RTLD_LOCAL: the module's libraries (MPI's, PLplot's, Ipopt's) do not join the global symbol search.
       handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
       if (handle != nullptr) break;
       const char* error = dlerror();
       why = error != nullptr ? error : "unknown error";
     }
     if (handle == nullptr) {
-      throw std::runtime_error(fmt::format("the {} part of ltca ({}) cannot be loaded: {}; looked in {}", name, file,
+      throw ModuleError(fmt::format("the {} part of ltca ({}) cannot be loaded: {}; looked in {}", name, file,
                                            why.empty() ? "not found" : why, searched));
     }
     it = loaded.handles.emplace(name, handle).first;
@@ -75,10 +75,10 @@ void* ModuleSymbol(const std::string& name, const char* symbol) {
   void* address = dlsym(it->second, symbol);
   if (address == nullptr) {
     const char* error = dlerror();
-    throw std::runtime_error(fmt::format("the {} part of ltca (ltca_{}.so) has no entry point {}: {}", name, name, symbol,
+    throw ModuleError(fmt::format("the {} part of ltca (ltca_{}.so) has no entry point {}: {}", name, name, symbol,
                                          error != nullptr ? error : "null symbol"));
   }
   return address;
 }
 
-}  // namespace ltca::app
+}  // namespace ltca::solvers
