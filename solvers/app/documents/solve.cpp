@@ -144,7 +144,11 @@ nlohmann::json SummaryJson(const analysis::SweepSummary& s, const Deck::ModelInf
                       {"succeeded_positions", s.succeeded},
                       {"failed_positions", s.failed},
                       {"warned_positions", s.warned},
-                      {"closed_period", s.closed_period}};
+                      {"closed_period", s.closed_period},
+                      {"preloaded_positions", s.preloaded},
+                      {"cannot_assemble_positions", s.cannot_assemble},
+                      {"max_preload_force_n", FiniteOrNull(s.max_preload_force)},
+                      {"max_preload_stress_mpa", FiniteOrNull(s.max_preload_stress)}};
   if (s.warned > 0) j["first_warning"] = s.first_warning;
   if (!s.notes.empty()) j["notes"] = s.notes;
   if (model.discs == 2) {  // the share of T the first disc carries, over the successful positions
@@ -278,6 +282,12 @@ nlohmann::json Json(const analysis::PositionResult& p) {
     j["first_disc_share"] = figure(total != 0.0 ? FiniteOrNull(p.disc_torque[0] / total) : nlohmann::json(nullptr));
   }
   if (p.result.reducer) j["stage"] = figure(ReducerJson(*p.result.reducer));
+  // A preloaded pair: its zero-torque state (null for a pair with free play).
+  j["preload"] = p.result.preload ? nlohmann::json{{"max_force_n", p.result.preload->max_force_n},
+                                                   {"max_contact_stress_mpa", p.result.preload->max_stress_mpa},
+                                                   {"contacts", p.result.preload->contacts},
+                                                   {"opposing_torque_nm", units::NmmToNm(p.result.preload->opposing_torque_nmm)}}
+                                  : nlohmann::json(nullptr);
   if (p.slices > 1) {
     const bool complete = p.result.force.size() == p.pin_force.size() * static_cast<std::size_t>(p.slices);
     // The contact pattern: per pin its slice forces and stresses and its load centroid.
