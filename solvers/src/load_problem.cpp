@@ -674,9 +674,9 @@ bool LoadProblem::overlapping() const {
                      [&](const contact::PinContact& c) { return c.clearance < -tolerance; });
 }
 
-LoadProblem LoadProblem::Unloaded() const {
+LoadProblem LoadProblem::Unloaded(double fraction) const {
   LoadProblem out(*this);
-  out.torque_ = 0.0;
+  out.torque_ = fraction * torque_;
   out.single_pin_ = out.SinglePinBound();
   return out;
 }

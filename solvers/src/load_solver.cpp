@@ -246,9 +246,13 @@ void LoadSolver::SolveReducer(const LoadProblem& problem, const SolverOptions& o
 
 void LoadSolver::SolveReducerPreloaded(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                                        LoadResult* result) const {
+  // The preload state: the stage under 1e-7 of its torque (as the free play of ltca stiffness),
+  // where the stage's minimisation and judge keep their scale (at exactly zero torque both have
+  // none: the moment balance is judged against 1 N*mm); its forces are the zero-torque preload's
+  // to 1e-7 of the torque's share. A problem at zero torque is solved there.
   LoadResult zero;
   zero.force.assign(result->force.size(), 0.0);
-  SolveReducerBody(problem.Unloaded(), options, workspace, &zero, true);
+  SolveReducerBody(problem.Unloaded(1e-7), options, workspace, &zero, true);
   LoadResult::Preload preload;
   preload.rotation = zero.rotation;
   preload.force = zero.force;
@@ -269,11 +273,14 @@ void LoadSolver::SolveReducerPreloaded(const LoadProblem& problem, const SolverO
   const double limit = problem.material().contact_stress_limit;
   const std::string overlaps = contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance());
   if (zero.status != SolverStatus::kSuccess) {
+    // Beyond the laws (a pin past its largest force, a pressed tip corner): the disc cannot be
+    // seated. Any other failure is the solve's, said as such.
+    const bool beyond = zero.status == SolverStatus::kLawCannotCarry || zero.status == SolverStatus::kEdgeContact;
     *result = std::move(zero);
     result->preload = preload;
-    result->status = SolverStatus::kCannotAssemble;
-    result->message = fmt::format("cannot assemble: pins overlap the cycloid ({}) and the stage finds no preload "
-                                  "balance at zero torque: {}", overlaps, result->message);
+    if (beyond) result->status = SolverStatus::kCannotAssemble;
+    result->message = fmt::format("{}pins overlap the cycloid ({}); the preload state (the stage at 1e-7 of its torque): {}",
+                                  beyond ? "cannot assemble: " : "", overlaps, result->message);
     result->rotation = std::numeric_limits<double>::quiet_NaN();
     return;
   }

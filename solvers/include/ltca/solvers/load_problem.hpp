@@ -112,9 +112,10 @@ class LoadProblem {
   /// Whether a pin overlaps the cycloid at the theoretical position beyond the model's
   /// interference tolerance (a reducer stage's floating disc may still seat itself by translating).
   bool overlapping() const;
-  /// This problem at zero torque, in this problem's frame (its arms keep their sign): the preload
-  /// state of a stage (LoadSolver's stage path). The same points, laws, reducer and coupling.
-  LoadProblem Unloaded() const;
+  /// This problem at `fraction` (0 .. 1) of its torque, in this problem's frame (its arms keep their
+  /// sign): the preload state of a stage (LoadSolver's stage path). The same points, laws, reducer
+  /// and coupling.
+  LoadProblem Unloaded(double fraction = 0.0) const;
   int point_count() const { return static_cast<int>(base_.pins.size()); }
   /// The unloaded state (psi = 0, arms signed for this problem's frame) and its laws.
   const contact::MeshState& base_state() const { return base_; }
