@@ -228,8 +228,12 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKin
   }
   // Overlapping flanks (a preloaded pair): the drive flank's closing lies behind the coast
   // flank's; no free play, and the overlap of the two, as a rotation, is the interference.
-  r.backlash = std::max(0.0, r.theta_c1 - r.theta_c2);
-  r.interference = std::max(0.0, r.theta_c2 - r.theta_c1);
+  // A rounding-sized overlap (below the model's interference tolerance over the pin-circle
+  // radius) is the conjugate pair's zero backlash, kept as computed.
+  const double rounding = model.interference_tolerance() / model.pair().pin_circle_radius;
+  const bool overlapping = r.theta_c2 - r.theta_c1 > rounding;
+  r.backlash = overlapping ? 0.0 : r.theta_c1 - r.theta_c2;
+  r.interference = overlapping ? r.theta_c2 - r.theta_c1 : 0.0;
   if (kinematics == ContactKinematics::kExact) {
     const MeshState at_c1 = model.Evaluate(crank, r.theta_c1);
     r.clearance_at_c1 = min_per_pin(FaceSections(model, at_c1), gap);

@@ -19,8 +19,10 @@ BacklashPosition UnloadedBacklashAt(const Stage& stage, double crank, contact::C
     const contact::UnloadedContact r2 = contact::AnalyseUnloaded(stage.model(1), crank + contact::kSecondDiscCrankOffset, kinematics);
     if (r2.theta_c1 < r.theta_c1) r.theta_c1 = r2.theta_c1, r.first_pin_c1 = r2.first_pin_c1, p.disc_c1 = 2;
     if (r2.theta_c2 > r.theta_c2) r.theta_c2 = r2.theta_c2, r.first_pin_c2 = r2.first_pin_c2, p.disc_c2 = 2;
-    r.backlash = std::max(0.0, r.theta_c1 - r.theta_c2);
-    r.interference = std::max(0.0, r.theta_c2 - r.theta_c1);
+    const double rounding = stage.interference_tolerance() / stage.model().pair().pin_circle_radius;
+    const bool overlapping = r.theta_c2 - r.theta_c1 > rounding;  // as contact::AnalyseUnloaded
+    r.backlash = overlapping ? 0.0 : r.theta_c1 - r.theta_c2;
+    r.interference = overlapping ? r.theta_c2 - r.theta_c1 : 0.0;
     p.second_clearance = r2.clearance;
   }
   if (r.interference > 0.0 && stage.design().material && std::isfinite(r.theta_c1) && std::isfinite(r.theta_c2)) {

@@ -25,7 +25,10 @@ struct UnloadedContact {
   double theta_c1 = 0.0;
   /// Rotation to first contact against the load direction, rad (<= 0).
   double theta_c2 = 0.0;
-  double backlash = 0.0;   ///< max(0, theta_c1 - theta_c2), rad (Liu eq. 17): the free play, >= 0.
+  /// theta_c1 - theta_c2, rad (Liu eq. 17): the free play; 0 for a preloaded pair (its flanks
+  /// overlap by more than the model's interference tolerance over R_p; a rounding-sized overlap
+  /// is kept as computed, the conjugate pair's zero).
+  double backlash = 0.0;
   /// max(0, theta_c2 - theta_c1), rad: a preloaded pair's flanks overlap (the drive flank closes
   /// before the coast flank opens, theta_c1 < theta_c2); the rotation by which they overlap, > 0
   /// exactly when the backlash is 0 by overlap. 0 for a pair with free play.
