@@ -43,6 +43,12 @@ void Material::Validate() const {
         "(default 4000 MPa, ISO 76 for hardened bearing steel)",
         contact_stress_limit));
   }
+  if (!std::isfinite(contact_fatigue_limit) || contact_fatigue_limit <= 0.0 || contact_fatigue_limit > 1e5) {
+    throw std::invalid_argument(fmt::format(
+        "[material] contact_fatigue_limit_mpa = {}: expected a finite positive endurance limit sigma_Hlim in MPa, at most "
+        "100000 (default 1500 MPa, ISO 6336-5 case-hardened steel MQ)",
+        contact_fatigue_limit));
+  }
 }
 
 }  // namespace ltca::contact

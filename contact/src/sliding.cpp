@@ -141,6 +141,46 @@ double EffectivePressureClosedForm(const Lubrication& lub, double max_pressure) 
   return delta * std::log(2.0 * delta / p * std::exp(p / delta) * (1.0 - delta / p) + 2.0 * delta * delta / (p * p));
 }
 
+double CappedFullFilm(const Lubrication& lub, double shear_factor, const ContactShape& shape, double force) {
+  if (!(force > 0.0) || !(shear_factor > 0.0) || !(shape.max_pressure > 0.0)) return 0.0;
+  const double ph = shape.max_pressure, gamma = lub.limiting_shear_coefficient, tau0 = lub.limiting_shear_stress;
+  const double c = lub.power_law_exponent * lub.pressure_viscosity * ph;  // exponent at g = p / p_h = 1
+  const double log_k = std::log(shear_factor);
+  // The shear stress at g = p / p_h: the power law with the Barus viscosity, capped by tau_L.
+  const auto tau = [&](double g) { return std::min(tau0 + gamma * ph * g, std::exp(log_k + c * g)); };
+  // d(g) = K exp(c g) - tau_L(g) is convex in g: the power law lies below the cap on one interval
+  // [g1, g2] at most, about d's minimum g_m (K c exp(c g_m) = gamma p_h).
+  const auto d = [&](double g) { return log_k + c * g - std::log(tau0 + gamma * ph * g); };  // sign of d
+  double g_m = 1.0;
+  if (c > 0.0) g_m = gamma > 0.0 ? std::clamp((std::log(gamma * ph / c) - log_k) / c, 0.0, 1.0) : 0.0;
+  double g1 = 0.0, g2 = 0.0;  // empty: capped everywhere
+  if (d(g_m) < 0.0) {
+    const auto root = [&](double lo, double hi) {  // d(lo), d(hi) of opposite signs
+      const bool rising = d(hi) > d(lo);
+      for (int i = 0; i < 200 && hi - lo > 1e-15; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        ((d(mid) < 0.0) == rising ? lo : hi) = mid;
+      }
+      return 0.5 * (lo + hi);
+    };
+    g1 = d(0.0) > 0.0 ? root(0.0, g_m) : 0.0;
+    g2 = d(1.0) > 0.0 ? root(g_m, 1.0) : 1.0;
+  }
+  constexpr int kIntervals = 256;  // per piece; each piece is smooth
+  double mean = 0.0;
+  const double cuts[] = {0.0, g1, g2, 1.0};
+  for (int k = 0; k < 3; ++k) {
+    const double lo = cuts[k], hi = cuts[k + 1];
+    if (!(hi > lo)) continue;
+    if (shape.point) {  // ellipsoid: the area fraction with p / p_h >= g is 1 - g^2, density 2 g
+      mean += Simpson([&](double g) { return 2.0 * g * tau(g); }, lo, hi, kIntervals);
+    } else {  // semi-ellipse over the width, g = cos t: mean = int_0^{pi/2} tau(cos t) cos t dt
+      mean += Simpson([&](double t) { return std::cos(t) * tau(std::cos(t)); }, std::acos(hi), std::acos(lo), kIntervals);
+    }
+  }
+  return shape.area / force * mean;
+}
+
 MixedFriction MixedCoefficient(const Lubrication& lub, double force, const ContactShape& shape, double length,
                                double equivalent_radius, double e_star, double entrainment, double sliding) {
   MixedFriction m;
@@ -166,9 +206,11 @@ MixedFriction MixedCoefficient(const Lubrication& lub, double force, const Conta
   // power-law shear stress with the Barus viscosity, over the load.
   if (force > 0.0 && m.film_thickness > 0.0) {
     const double n = lub.power_law_exponent;
-    m.full_film = shape.area / force * std::pow(lub.limiting_shear_modulus, 1.0 - n) *
-                  std::exp(n * lub.pressure_viscosity * m.effective_pressure) *
-                  std::pow(lub.viscosity * std::abs(sliding) / m.film_thickness, n);
+    const double shear_factor = std::pow(lub.limiting_shear_modulus, 1.0 - n) *
+                                std::pow(lub.viscosity * std::abs(sliding) / m.film_thickness, n);
+    m.full_film = shape.area / force * shear_factor * std::exp(n * lub.pressure_viscosity * m.effective_pressure);
+    m.full_film_uncapped = m.full_film;
+    if (lub.capped()) m.full_film = CappedFullFilm(lub, shear_factor, shape, force);
   }
   // Eq. 20 as printed: f_lambda^1.2 f_e + (1 - f_lambda) f_b.
   m.coefficient = std::pow(m.film_share, 1.2) * m.full_film + (1.0 - m.film_share) * lub.boundary_coefficient;

@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 
+#include "ltca/contact/holes.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::solvers {
@@ -50,11 +52,58 @@ void ReducerSettings::Validate(double eccentricity) const {
     }
   }
   bearing.Validate();
+  if (second_disc_holes) {
+    try {
+      contact::ValidateHoleDeviations(*second_disc_holes, kind == OutputKind::kPins ? pins.count : cranks.count);
+    } catch (const std::invalid_argument& e) {  // the keys are the second disc's
+      std::string what = e.what();
+      for (const char* key : {"hole_radial_deviations_mm", "hole_tangential_deviations_mm"}) {
+        const std::string from = std::string("[output] ") + key;
+        if (const auto at = what.find(from); at != std::string::npos) what.replace(at, from.size(), std::string("[second_disc] ") + key);
+      }
+      throw std::invalid_argument(what);
+    }
+  }
+  if (second_disc_bearing_clearance) {
+    contact::BearingSettings second = bearing;
+    second.radial_clearance = *second_disc_bearing_clearance;
+    try {
+      second.Validate();
+    } catch (const std::invalid_argument& e) {
+      std::string what = e.what();
+      const std::string from = "[bearing] radial_clearance_mm";
+      if (const auto at = what.find(from); at != std::string::npos) what.replace(at, from.size(), "[second_disc] bearing_radial_clearance_mm");
+      throw std::invalid_argument(what);
+    }
+  }
   if (!(carrier_stiffness > 0.0)) {
     throw std::invalid_argument(fmt::format("[output] carrier_torsional_stiffness_nm_per_arcmin = {:g}: "
                                             "expected a torsional stiffness > 0 in N*m/arcmin (leave the key out for a rigid carrier)",
                                             units::NmmPerRadToNmPerArcmin(carrier_stiffness)));
   }
+}
+
+const contact::HoleDeviations& ReducerSettings::Holes(int disc) const {
+  if (disc == 1 && second_disc_holes) return *second_disc_holes;
+  return kind == OutputKind::kPins ? pins.hole_deviation : cranks.hole_deviation;
+}
+
+contact::OutputPins ReducerSettings::PinsOf(int disc) const {
+  contact::OutputPins out = pins;
+  if (disc == 1 && second_disc_holes) out.hole_deviation = *second_disc_holes;
+  return out;
+}
+
+contact::Cranks ReducerSettings::CranksOf(int disc) const {
+  contact::Cranks out = cranks;
+  if (disc == 1 && second_disc_holes) out.hole_deviation = *second_disc_holes;
+  return out;
+}
+
+contact::BearingSettings ReducerSettings::BearingOf(int disc) const {
+  contact::BearingSettings out = bearing;
+  if (disc == 1 && second_disc_bearing_clearance) out.radial_clearance = *second_disc_bearing_clearance;
+  return out;
 }
 
 }  // namespace ltca::solvers

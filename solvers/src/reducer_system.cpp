@@ -79,6 +79,7 @@ ReducerSystem::ReducerSystem(const LoadProblem& problem, const Eigen::VectorXd& 
 void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* origin) {
   if (problem.reducer() == nullptr) throw std::invalid_argument("ReducerSystem: the problem has no reducer");
   settings_ = *problem.reducer();
+  second_bearing_ = settings_.BearingOf(1);
   discs_ = problem.disc_count();
   radius_ = problem.model().pair().pin_circle_radius;
   torque_ = problem.torque();
@@ -211,7 +212,7 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
     const double output_at = output_rotation + s * psi0;
     const double eccentric_direction = std::atan2(real.centre.y(), real.centre.x());
     if (!cranks) {
-      const contact::OutputPins& pins = settings_.pins;
+      const contact::OutputPins pins = settings_.PinsOf(d);  // this disc's holes
       for (const contact::OutputPinContact& c : contact::EvaluateOutputPins(pins, holes, output_at)) {
         Scalar e;
         e.coordinates.Add(3 * d, c.translation_gradient.x());
@@ -243,7 +244,7 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
     // The eccentric keeps its direction, or turns k times the output member's rotation.
     const double turn = settings_.cranks.turns_per_output_turn * s * psi0;
     const Eigen::Vector2d eccentric = Eigen::Rotation2Dd(turn) * real.centre;
-    for (const contact::CrankContact& c : contact::EvaluateCranks(settings_.cranks, holes, output_at, eccentric)) {
+    for (const contact::CrankContact& c : contact::EvaluateCranks(settings_.CranksOf(d), holes, output_at, eccentric)) {
       std::array<Row, 2> u;
       for (int a = 0; a < 2; ++a) {
         u[static_cast<std::size_t>(a)].Add(3 * d + a, -1.0);

@@ -156,7 +156,10 @@ class ReducerSystem {
   };
 
   Row ToDofs(const Row& coordinates) const;
-  const contact::BearingSettings& Bearing(const Planar& p) const { return p.shaft ? shaft_ : settings_.bearing; }
+  /// The planar element's law: the shaft's spring, or its disc's bearing (the second disc's own play).
+  const contact::BearingSettings& Bearing(const Planar& p) const {
+    return p.shaft ? shaft_ : (p.disc == 1 ? second_bearing_ : settings_.bearing);
+  }
   Eigen::VectorXd Coordinates(const Eigen::VectorXd& q) const;
   /// u of a planar element at dofs q, or at coordinates c.
   static Eigen::Vector2d Displacement(const Planar& p, const Eigen::VectorXd& q);
@@ -179,6 +182,7 @@ class ReducerSystem {
   bool exact_ = false;      // built about an origin: its geometry re-evaluated there
   ReducerSettings settings_;
   contact::BearingSettings shaft_;  // kCranks with a compliant shaft: a linear spring without play
+  contact::BearingSettings second_bearing_;  // the second disc's bearing (ReducerSettings::BearingOf(1))
   int discs_ = 1;
   int crank_count_ = 0;  // cranks per disc (0 for output pins)
   bool shaft_coordinates_ = false;

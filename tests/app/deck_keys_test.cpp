@@ -283,6 +283,12 @@ const std::vector<std::string> kTakenApart = {
     // [[load_spectrum]]: each entry read into an analysis::LoadBin (tests/app/spectrum_test.cpp
     // shows every key reaching its bin)
     "load_spectrum.torque_nm",           "load_spectrum.speed_rpm",          "load_spectrum.time_share",
+    // [second_disc]'s own stage elements, read into solvers::ReducerSettings (tests/app/stage_as_built_test.cpp
+    // shows each reaching its field)
+    "second_disc.hole_radial_deviations_mm", "second_disc.hole_tangential_deviations_mm",
+    "second_disc.bearing_radial_clearance_mm",
+    // read into [operation]'s crank speed through the first stage (tests/app/stage_as_built_test.cpp)
+    "operation.motor_speed_rpm",
 };
 
 /// Where the deck's keys went: its settings, and a disc's parts (the first or the second).
@@ -446,6 +452,12 @@ const std::vector<Tied> kTied = {
     {"tolerances.profile_random_per_sample", "liu2021_tolerances.toml",
      {"errors.profile_random_zone_um=3", "tolerances.profile_random_per_sample=true"}, "true"},
     {"friction.model", "jiang2022_table2_efficiency.toml", {"friction.model=\"coulomb\"", "friction.coefficient=0.05"}, "choice 0"},
+    {"friction.output_pin_coefficient", "stage/cycloidal_drive.toml",
+     {"friction.coefficient=0", "friction.output_pin_coefficient=0.05"}, "0.05"},
+    {"friction.bearing_coefficient", "stage/cycloidal_drive.toml",
+     {"friction.coefficient=0", "friction.bearing_coefficient=0.002"}, "0.002"},
+    {"friction.limiting_shear_stress_mpa", "jiang2022_table2_efficiency.toml",
+     {"friction.limiting_shear_stress_coefficient=0.06", "friction.limiting_shear_stress_mpa=2"}, "2"},
     {"disc.body", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22"}, "choice 1"},
     {"disc.bore_radius_mm", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22"}, "22"},
     {"disc.plane", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22", "disc.plane=\"stress\""}, "choice 1"},

@@ -4,6 +4,11 @@
 // document built whole.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -11,6 +16,7 @@
 #include <doctest/doctest.h>
 
 #include "documents/backlash.hpp"
+#include "documents/solve.hpp"
 #include "documents/stiffness.hpp"
 #include "helpers.hpp"
 #include "ltca/analysis/backlash.hpp"
@@ -81,4 +87,137 @@ TEST_CASE("app: the stiffness figure's caption names the definition the loop was
   CHECK(caption.find("rigidity: the tangent at 100 N*m") != std::string::npos);
   CHECK(caption.find("+-5 % of T") != std::string::npos);
   CHECK(caption.find("secant") == std::string::npos);
+}
+
+TEST_CASE("app: a JSON number is written as nlohmann::json writes it and reads back to the same double") {
+  // Independent references: the C library's strtod (the text must read back to the double, bit
+  // for bit) and nlohmann::json's own serializer (Grisu2: the same text, or where Grisu2 misses the
+  // shortest digits, text no longer than its and reading back to the same double).
+  std::vector<double> values = {0.0, -0.0, 1.0, -1.0, 0.1, 1e-5, 1e-4, 0.00012345, 1e15, 1e16, 123456789012345.0,
+                                1234567890123456.0, 2.5e-300, 5e-324, std::numeric_limits<double>::max(),
+                                std::numeric_limits<double>::min(), 1.0 / 3.0, -2.0 / 3.0, 100.0, 1e21, 1e22};
+  std::mt19937_64 random(20261129);
+  for (int i = 0; i < 200000; ++i) {
+    std::uint64_t bits = random();
+    double v = 0.0;
+    std::memcpy(&v, &bits, sizeof v);
+    if (i % 2 == 0) v = std::ldexp(static_cast<double>(bits >> 11) / 9007199254740992.0, static_cast<int>(bits % 80) - 40);
+    values.push_back(v);
+  }
+  int same = 0, shorter = 0, finite = 0;
+  for (const double v : values) {
+    std::string ours;
+    ltca::app::documents::AppendJsonNumber(ours, v);
+    const std::string theirs = nlohmann::json(v).dump();
+    if (!std::isfinite(v)) {
+      CHECK(ours == "null");
+      continue;
+    }
+    ++finite;
+    const double back = std::strtod(ours.c_str(), nullptr);
+    CHECK(std::memcmp(&back, &v, sizeof v) == 0);
+    if (ours == theirs) {
+      ++same;
+    } else {
+      ++shorter;
+      CHECK(ours.size() <= theirs.size());
+      CHECK(std::strtod(theirs.c_str(), nullptr) == v);
+    }
+  }
+  MESSAGE(same, " of ", finite, " finite values in the same text as nlohmann's, ", shorter, " shorter");
+  CHECK(same >= 0.99 * finite);
+  // Integers and strings: as nlohmann writes them.
+  for (const std::int64_t k : {std::int64_t{0}, std::int64_t{-7}, std::int64_t{1234567890123}}) {
+    std::string ours;
+    ltca::app::documents::AppendJsonNumber(ours, k);
+    CHECK(ours == nlohmann::json(k).dump());
+  }
+  for (const std::string& text : std::vector<std::string>{"", "success", "a \"quoted\" path\\x\n\ttab", std::string("ctl\x01\x1f"), "caf\xc3\xa9",
+                                 std::string("bad \xff byte")}) {
+    std::string ours;
+    ltca::app::documents::AppendJsonString(ours, text);
+    CHECK(ours == ltca::app::documents::Dump(nlohmann::json(text), -1));
+  }
+}
+
+TEST_CASE("app: a position's JSON streamed without a tree is the document built whole") {
+  // Every position of one disc, two discs, the slice model, a reducer stage and a failed solve
+  // (a torque no position carries): AppendJson's text read back by nlohmann's parser is the
+  // document Json(p) dumped and read back, every double bit for bit; the texts are the same bytes
+  // but where nlohmann's Grisu2 writes a number in more digits than the shortest (about 1 in 1,000
+  // numbers, above).
+  struct Run {
+    const char* deck;
+    std::vector<std::string> sets;
+  };
+  const std::vector<Run> runs = {{"liu2021_table1.toml", {"sweep.positions=9"}},
+                                 {"rv_two_discs.toml", {"sweep.positions=5"}},
+                                 {"crowned.toml", {"sweep.positions=3"}},
+                                 {"stage/cycloidal_drive.toml", {"sweep.positions=3"}},
+                                 {"liu2021_table1.toml", {"sweep.positions=2", "load.torque_nm=1e9"}}};
+  int positions = 0, failed = 0, slices = 0, stages = 0, discs = 0, same_bytes = 0;
+  for (const Run& run : runs) {
+    const std::string name = run.deck;
+    CAPTURE(name);
+    const ltca::app::Deck deck = ltca::app::LoadDeck(Case(run.deck), run.sets);
+    ltca::analysis::SweepCallbacks callbacks;
+    callbacks.on_position = [&](const ltca::analysis::PositionResult& p) {
+      std::string streamed;
+      ltca::app::documents::AppendJson(streamed, p);
+      const std::string whole = ltca::app::documents::Dump(ltca::app::documents::Json(p), -1);
+      CHECK(nlohmann::json::parse(streamed) == nlohmann::json::parse(whole));
+      same_bytes += streamed == whole ? 1 : 0;
+      ++positions;
+      failed += p.succeeded() ? 0 : 1;
+      slices += p.slices > 1 ? 1 : 0;
+      stages += p.result.reducer ? 1 : 0;
+      discs += p.disc_torque.empty() ? 0 : 1;
+    };
+    (void)ltca::app::SolveDeckSweep(deck, deck.solver, callbacks);
+  }
+  CHECK(positions == 22);
+  CHECK(failed >= 2);
+  CHECK(slices == 3);
+  CHECK(stages == 3);
+  CHECK(discs == 5);
+  CHECK(same_bytes >= positions / 2);
+}
+
+TEST_CASE("app: the solve figure of a long sweep keeps each pin's largest force of every run of positions in its map") {
+  // Liu Table 1 over 1,000 positions of 360 deg (compatibility): 120 map columns at most, so each
+  // column stands for 9 positions. Independent reference: the positions as the sweep hands them
+  // out, each column's largest force per pin taken here; the TE panel and the caption say the
+  // decimation.
+  const ltca::app::Deck deck =
+      ltca::app::LoadDeck(Case("liu2021_table1.toml"), {"sweep.positions=1000", "sweep.crank_end_deg=360"});
+  ltca::solvers::SolverOptions solver = deck.solver;
+  solver.name = "compatibility";
+  ltca::app::documents::SolveSeries series(deck.sweep.positions);
+  std::vector<std::vector<double>> forces;
+  ltca::analysis::SweepCallbacks callbacks;
+  callbacks.on_position = [&](const ltca::analysis::PositionResult& p) {
+    series.Add(p);
+    forces.push_back(p.succeeded() ? p.pin_force : std::vector<double>(p.pin_force.size(), NAN));
+  };
+  const auto sweep = ltca::app::SolveDeckSweep(deck, solver, callbacks);
+  REQUIRE(sweep.summary.all_succeeded());
+  REQUIRE(forces.size() == 1000);
+  const ltca::app::plots::Figure figure = ltca::app::documents::Figure(deck, solver, series, sweep.summary);
+  REQUIRE(figure.panels.size() >= 4);
+  const auto& map = figure.panels[3].map;
+  REQUIRE(map.has_value());
+  const std::size_t stride = 9;  // ceil(1000 / 120)
+  REQUIRE(map->z.size() == (1000 + stride - 1) / stride);
+  double largest_drawn = 0.0;
+  for (std::size_t c = 0; c < map->z.size(); ++c) {
+    for (std::size_t j = 0; j < forces[0].size(); ++j) {
+      double want = 0.0;
+      for (std::size_t i = c * stride; i < std::min<std::size_t>(forces.size(), (c + 1) * stride); ++i) want = std::max(want, forces[i][j]);
+      CHECK(map->z[c][j] == want);
+      largest_drawn = std::max(largest_drawn, map->z[c][j]);
+    }
+  }
+  CHECK(largest_drawn == sweep.summary.max_pin_force);
+  CHECK(figure.panels[3].title.find("max of every 9 positions") != std::string::npos);
+  CHECK(figure.panels[0].title == "loaded transmission error");  // 1,000 positions: every one drawn
 }

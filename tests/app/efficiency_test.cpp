@@ -233,6 +233,12 @@ TEST_CASE("cli: [friction] with mu = 0 leaves the loaded results of solve and st
   };
   const auto Figures = [](nlohmann::json summary) {  // all but the timing
     summary.erase("wall_seconds");
+    // The pitting rating's hours and speed come from [operation] input_speed_rpm, which the run
+    // with friction adds; its loaded figures (pressure, cycles, damage a turn) are compared.
+    for (auto& disc : summary.at("contact_fatigue").at("discs")) {
+      for (const char* k : {"pin_life_hours", "tooth_life_hours"}) disc.erase(k);
+    }
+    for (const char* k : {"crank_speed_rpm", "shortest_life_hours", "verdicts"}) summary.at("contact_fatigue").erase(k);
     return summary;
   };
   const std::vector<std::string> friction = {"--set", "friction.coefficient=0", "--set", "operation.input_speed_rpm=1500"};
@@ -449,5 +455,59 @@ TEST_CASE("app: two identical discs: the efficiency is one disc's at T/2, the lo
       }
       CHECK(both.Summary().efficiency == doctest::Approx(single.Summary().efficiency).epsilon(1e-9));
     }
+  }
+}
+
+TEST_CASE("app: jiang-mixed with a mineral gear oil: outside its range without a limiting shear stress, finite with one") {
+  // A mineral gear oil (0.05 Pa*s, 18 1/GPa) on Liu Table 1 and its section 5.2 modification (p_h
+  // 1.1 to 1.4 GPa). Without a cap eq. 23's exp(n alpha p) puts the coefficient beyond the
+  // boundary one (f_e of 10 to 200): the positions fail naming the model and the inputs, not "the
+  // stage locks". With tau_L = gamma p (Bair and Winer 1979) f_e <= gamma at every point, so
+  // f_mix = f_lambda^1.2 f_e + (1 - f_lambda) f_b <= max(gamma, f_b) (f_lambda^1.2 <= f_lambda):
+  // an independent bound on every contact. On the Jiang deck (p_h below 0.8 GPa) the same oil runs
+  // without the cap, and the cap can only lower each coefficient, so the first-order loss (the
+  // same frictionless forces) cannot rise.
+  const std::vector<std::string> oil = {"operation.oil_viscosity_pa_s=0.05", "operation.pressure_viscosity_per_gpa=18",
+                                        "sweep.positions=4", "friction.model=\"jiang-mixed\"", "operation.input_speed_rpm=1500"};
+  const std::string cap = "friction.limiting_shear_stress_coefficient=0.06";
+  for (const std::string name : {"liu2021_table1.toml", "liu2021_sec52_base.toml"}) {
+    CAPTURE(name);
+    std::vector<std::string> options = oil;
+    const Deck uncapped = ltca::app::LoadDeck(Case(name), options);
+    auto bad = ltca::test::EfficiencyOn(uncapped, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
+    const EfficiencyPosition failed = bad.Solve(bad.cranks().front());
+    CHECK(!failed.succeeded());
+    CHECK(failed.message.find("jiang.full_film_outside_range") != std::string::npos);
+    CHECK(failed.message.find("pressure_viscosity_per_gpa = 18") != std::string::npos);
+    CHECK(failed.message.find("the stage locks") == std::string::npos);
+    CHECK(std::isnan(failed.efficiency));
+    options.push_back(cap);
+    const Deck capped = ltca::app::LoadDeck(Case(name), options);
+    auto runner = ltca::test::EfficiencyOn(capped, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
+    for (const double crank : runner.cranks()) {
+      const EfficiencyPosition p = runner.Solve(crank);
+      REQUIRE(p.succeeded());
+      for (const auto& c : p.contacts) {
+        CHECK(c.coefficient > 0.0);
+        CHECK(c.coefficient <= std::max(0.06, capped.friction->boundary_coefficient) + 1e-15);
+      }
+      CHECK(std::isfinite(p.efficiency));
+      CHECK(p.efficiency > 0.8);
+      CHECK(p.efficiency < 1.0);
+    }
+    CHECK(runner.Summary().all_succeeded());
+  }
+  std::vector<std::string> jiang = {oil[0], oil[1], oil[2]};
+  const Deck free = ltca::app::LoadDeck(Case("jiang2022_table2_efficiency.toml"), jiang);
+  jiang.push_back(cap);
+  const Deck capped = ltca::app::LoadDeck(Case("jiang2022_table2_efficiency.toml"), jiang);
+  auto a = ltca::test::EfficiencyOn(free, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
+  auto b = ltca::test::EfficiencyOn(capped, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
+  for (const double crank : a.cranks()) {
+    const EfficiencyPosition pa = a.Solve(crank), pb = b.Solve(crank);
+    REQUIRE(pa.succeeded());
+    REQUIRE(pb.succeeded());
+    CHECK(pb.power_loss_first_order <= pa.power_loss_first_order);
+    CHECK(pb.power_loss_first_order > 0.9 * pa.power_loss_first_order);
   }
 }

@@ -157,3 +157,33 @@ TEST_CASE("app: an idle bin of a load spectrum adds no damage: half the time idl
     for (std::size_t i = 0; i < single.size(); ++i) CHECK(combined[i] == doctest::Approx(2.0 * single[i]).epsilon(1e-12));
   }
 }
+
+TEST_CASE("app: ltca report of a deck with a load spectrum has its section and document, the solve's spectrum") {
+  using namespace spectrum_test;
+  const std::string deck = DeckWith("cycloidal_drive.toml",
+                                    "[[load_spectrum]]\ntorque_nm = 150\nspeed_rpm = 1000\ntime_share = 0.25\n\n"
+                                    "[[load_spectrum]]\ntorque_nm = 206\nspeed_rpm = 1500\ntime_share = 0.75\n",
+                                    "report");
+  const auto folder = std::filesystem::temp_directory_path() / "ltca_spectrum_test_report";
+  std::filesystem::remove_all(folder);
+  const auto r = ltca::test::RunCli({"report", deck, "-o", folder.string(), "--set", "sweep.positions=12", "--set",
+                                     "sweep.crank_end_deg=330"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  std::ifstream in(folder / "spectrum.json");
+  REQUIRE(in.good());
+  const nlohmann::json page = nlohmann::json::parse(in);
+  const nlohmann::json solved =
+      Solve({"solve", deck, "--json", "-", "--set", "sweep.positions=12", "--set", "sweep.crank_end_deg=330"}).at("spectrum");
+  for (const char* life : {"l10_hours", "load_zone_life_hours", "pitting_life_hours"}) {
+    CAPTURE(life);
+    REQUIRE(page.at(life).size() == solved.at(life).size());
+    for (std::size_t k = 0; k < solved.at(life).size(); ++k) CHECK(page.at(life).at(k) == solved.at(life).at(k));
+  }
+  std::ifstream html(folder / "index.html");
+  std::stringstream text;
+  text << html.rdbuf();
+  CHECK(text.str().find("<h2 id=\"spectrum\">Load spectrum</h2>") != std::string::npos);
+  CHECK(text.str().find("spectrum: shortest pitting life (h)") != std::string::npos);
+  std::filesystem::remove_all(folder);
+}

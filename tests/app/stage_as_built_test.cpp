@@ -8,6 +8,7 @@
 
 #include <doctest/doctest.h>
 
+#include "cli_run.hpp"
 #include "deck_runs.hpp"
 #include "helpers.hpp"
 #include "ltca/analysis/stiffness.hpp"
@@ -145,3 +146,99 @@ TEST_CASE("app: [output] crankshafts as beams: the diameter, span and both eccen
 }
 
 }  // namespace stage_as_built_test
+
+TEST_CASE("app: [second_disc] gives the second disc its own holes and bearing play; the tolerance study draws the play per disc") {
+  using namespace stage_as_built_test;
+  const std::string rv = ltca::test::ReadText(ltca::test::Case("stage/rv_two_discs_cranks.toml"));
+  const auto with = [&](const std::string& keys) {
+    return Replace(rv, "[second_disc]                 # identical to the first\n", "[second_disc]\n" + keys);
+  };
+  const ltca::app::Deck own = ltca::app::ParseDeck(
+      with("hole_radial_deviations_mm = [0.004, 0.0, -0.002]\nhole_tangential_deviations_mm = [0.0, 0.003, 0.0]\n"
+           "bearing_radial_clearance_mm = 0.006\n"),
+      "t.toml");
+  REQUIRE(own.reducer);
+  REQUIRE(own.reducer->second_disc_holes);
+  CHECK(own.reducer->second_disc_holes->at(0) == Eigen::Vector2d(0.004, 0.0));
+  CHECK(own.reducer->second_disc_holes->at(1) == Eigen::Vector2d(0.0, 0.003));
+  CHECK(own.reducer->cranks.hole_deviation.empty());  // the first disc's holes as designed
+  CHECK(own.reducer->second_disc_bearing_clearance == 0.006);
+  CHECK(own.reducer->BearingOf(0).radial_clearance == 0.003);
+  CHECK(own.reducer->BearingOf(1).radial_clearance == 0.006);
+  // Refusals name the second disc's key.
+  CHECK(Contains(ErrorOf(with("hole_radial_deviations_mm = [0.004, 0.0]\n")),
+                 "[second_disc] hole_radial_deviations_mm: 2 values; expected one per hole ([output] count = 3)"));
+  CHECK(Contains(ErrorOf(with("bearing_radial_clearance_mm = -0.001\n")), "[second_disc] bearing_radial_clearance_mm = -0.001"));
+  CHECK(Contains(ErrorOf(ltca::test::ReadText(ltca::test::Case("liu2021_sec52_base.toml")) +
+                         "\n[second_disc]\nbearing_radial_clearance_mm = 0.002\n"),
+                 "expected an [output] section"));
+  // The second disc's own play equal to the common one is the deck without it, bit for bit; a
+  // larger play on disc 2 shifts the torque to disc 1.
+  const auto share = [&](const std::string& text) {
+    ltca::app::Deck deck = ltca::app::ParseDeck(text, "t.toml");
+    deck.sweep.positions = 3;
+    deck.sweep.crank_end = 0.2;
+    const auto sweep = ltca::test::SolveSweep(deck, deck.solver);
+    REQUIRE(sweep.summary.all_succeeded());
+    return sweep.summary;
+  };
+  const auto plain = share(rv), same = share(with("bearing_radial_clearance_mm = 0.003\n")),
+             looser = share(with("bearing_radial_clearance_mm = 0.012\n"));
+  CHECK(same.mean_te == plain.mean_te);
+  CHECK(same.first_disc_share_mean == plain.first_disc_share_mean);
+  CHECK(looser.first_disc_share_mean > plain.first_disc_share_mean + 1e-3);
+  // [tolerances] on the bearing play: one draw per disc, the second's named "(disc 2)", each going
+  // to its own disc's bearing.
+  const ltca::app::Deck toleranced = ltca::app::ParseDeck(
+      rv + "\n[tolerances]\nsamples = 4\nbearing_radial_clearance_mm = { distribution = \"uniform\", tolerance = 0.002 }\n",
+      "t.toml");
+  const auto study = ltca::test::ToleranceOn(toleranced, toleranced.solver, *toleranced.tolerances);
+  REQUIRE(study.inputs().size() == 2);
+  CHECK(study.inputs()[0].name == "bearing_radial_clearance_mm");
+  CHECK(study.inputs()[1].name == "bearing_radial_clearance_mm (disc 2)");
+  const auto applied = study.Apply({0.001, -0.0015});
+  CHECK(applied.design.reducer->BearingOf(0).radial_clearance == doctest::Approx(0.004).epsilon(1e-15));
+  CHECK(applied.design.reducer->BearingOf(1).radial_clearance == doctest::Approx(0.0015).epsilon(1e-15));
+}
+
+TEST_CASE("app: [operation] motor_speed_rpm turns the cranks through the first stage, as the planetary kinematics by hand") {
+  using namespace stage_as_built_test;
+  // By hand, RV-40E-like (z_sun 15, z_spur 45, z_c 39, z_p 40): in the carrier's frame the spur gear
+  // turns -z_sun / z_spur of the sun's relative turn, and the carrier (the output) turns -1/39 of a
+  // crank's turn in the fixed frame (d = 1). Sun at w_m, cranks at w: w + w/39 = -(1/3)(w_m + w/39),
+  // so w = -(1/3) w_m / (1 + (4/3)/39); the output w / 39 is then w_m / 121, the catalogue's ratio.
+  const double hand = (1.0 / 3.0) / (1.0 + (4.0 / 3.0) / 39.0);
+  CHECK(hand / 39.0 == doctest::Approx(1.0 / 121.0).epsilon(1e-15));
+  const std::string deck = ltca::test::Case("stage/rv_catalogue.toml");
+  const ltca::app::Deck motor = ltca::app::LoadDeck(deck, {"-operation.input_speed_rpm", "operation.motor_speed_rpm=2000"});
+  REQUIRE(motor.operation);
+  CHECK(motor.operation->input_speed == doctest::Approx(ltca::units::RpmToRadPerS(2000.0) * hand).epsilon(1e-14));
+  // One of the two; a motor speed needs a first stage.
+  const auto refused = [&](const std::string& base, const std::vector<std::string>& sets) {
+    try {
+      (void)ltca::app::LoadDeck(base, sets);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(Contains(refused(deck, {"operation.motor_speed_rpm=2000"}), "input_speed_rpm and motor_speed_rpm: expected one of the two"));
+  CHECK(Contains(refused(ltca::test::Case("stage/cycloidal_drive.toml"), {"-operation.input_speed_rpm", "operation.motor_speed_rpm=2000"}),
+                 "[operation] motor_speed_rpm = 2000: the crank speed follows from the motor's only through an RV's first stage"));
+  CHECK(Contains(refused(deck, {"-operation.input_speed_rpm"}), "[operation] missing required key 'input_speed_rpm'"));
+}
+
+TEST_CASE("app: a load spectrum beside [operation] motor_speed_rpm is refused: a bin's speed is the crank's") {
+  using namespace stage_as_built_test;
+  const std::string deck = ltca::test::ReadText(ltca::test::Case("stage/rv_catalogue.toml")) +
+                           "\n[[load_spectrum]]\ntorque_nm = 412\nspeed_rpm = 1500\ntime_share = 1\n";
+  const std::string refused = [&] {
+    try {
+      (void)ltca::app::ParseDeck(deck, "t.toml", {"-operation.input_speed_rpm", "operation.motor_speed_rpm=4654"});
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  }();
+  CHECK(Contains(refused, "[[load_spectrum]] with [operation] motor_speed_rpm: a bin's speed_rpm is the crank speed"));
+}

@@ -13,6 +13,7 @@
 #include <string>
 #include <system_error>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <doctest/doctest.h>
@@ -139,6 +140,8 @@ TEST_CASE("app: a normal pin-circle tolerance gives the mean backlash the mean a
   CHECK(s.keys[0].key == "pin_circle_deviation_mm");
   CHECK(s.keys[0].src == doctest::Approx(1.0).epsilon(1e-3));
   CHECK(s.r_squared > 0.999);
+  // One input: its share is SRC x r = r^2 = R^2, the whole explained variance.
+  CHECK(s.keys[0].share == doctest::Approx(s.r_squared).epsilon(1e-12));
   // The limit far above every sample: all pass.
   REQUIRE(summary.limits.size() == 1);
   CHECK(summary.limits[0].passed == n);
@@ -244,8 +247,11 @@ TEST_CASE("app: ltca tolerance --json - writes the summary the issue names, and 
     CAPTURE(figure);
     for (const char* k : {"mean", "std", "p1", "p5", "p50", "p95", "p99"}) CHECK(s.at("figures").at(figure).contains(k));
     const auto& f = s.at("figures").at(figure);
-    CHECK(f.at("p1").get<double>() <= f.at("p50").get<double>());
-    CHECK(f.at("p50").get<double>() <= f.at("p99").get<double>());
+    // 12 samples: p1, p5, p95 and p99 are not supported (n min(p, 1 - p) < 1), the median is.
+    CHECK(f.at("count") == 12);
+    for (const char* k : {"p1", "p5", "p95", "p99"}) CHECK(f.at(k).is_null());
+    CHECK(f.at("min").get<double>() <= f.at("p50").get<double>());
+    CHECK(f.at("p50").get<double>() <= f.at("max").get<double>());
   }
   CHECK(s.at("sensitivity").at("method").get<std::string>().starts_with("standardised regression coefficients"));
   CHECK(s.contains("worst_case"));
@@ -267,10 +273,33 @@ TEST_CASE("app: percentiles are the linear interpolation between order statistic
   CHECK(s.mean == 50.0);
   // The sample standard deviation of 0..100: sqrt(101 * 102 / 12) = 29.3002...
   CHECK(s.std == doctest::Approx(std::sqrt(101.0 * 102.0 / 12.0)).epsilon(1e-14));
-  // Between order statistics: 1, 2, 3, 4 at p = 0.5 is 2.5, at p = 0.01 is 1.03.
+  // Between order statistics: 1, 2, 3, 4 at p = 0.5 is 2.5.
   const auto t = ltca::analysis::ComputeStats({4, 2, 1, 3});
   CHECK(t.p50 == doctest::Approx(2.5).epsilon(1e-15));
-  CHECK(t.p1 == doctest::Approx(1.03).epsilon(1e-14));
+}
+
+TEST_CASE("app: a percentile is given only where the count supports it, n min(p, 1 - p) >= 1") {
+  // p1 and p99 from 100 values, p5 and p95 from 20, p50 from 2; below, NaN (null in the JSON, n/a
+  // in the text) with the count beside it. 99 and 100 values, 19 and 20, 1 and 2 straddle the rule.
+  const auto stats = [](int n) {
+    std::vector<double> v;
+    for (int i = 0; i < n; ++i) v.push_back(static_cast<double>(i));
+    return ltca::analysis::ComputeStats(v);
+  };
+  for (const int n : {1, 2, 19, 20, 99, 100}) {
+    CAPTURE(n);
+    const auto s = stats(n);
+    CHECK(s.count == n);
+    CHECK(std::isfinite(s.p50) == (n >= 2));
+    CHECK(std::isfinite(s.p5) == (n >= 20));
+    CHECK(std::isfinite(s.p95) == (n >= 20));
+    CHECK(std::isfinite(s.p1) == (n >= 100));
+    CHECK(std::isfinite(s.p99) == (n >= 100));
+    CHECK(std::isfinite(s.mean));
+  }
+  // Where given, type 7 (0, 1, ..., 99: h = 99 p).
+  CHECK(stats(100).p1 == doctest::Approx(0.99).epsilon(1e-14));
+  CHECK(stats(20).p95 == doctest::Approx(18.05).epsilon(1e-14));
 }
 
 TEST_CASE("app: Jiang 2022 Table 3 by the extreme-value method gives the clearances of section 5.1") {
@@ -511,7 +540,17 @@ TEST_CASE("app: the sensitivity reports R^2 and a noise floor, and outputs shuff
   REQUIRE(real.keys.size() == 3);
   CHECK(real.keys[0].key == "pin_circle_deviation_mm");
   CHECK(real.keys[0].distinguishable);
-  CHECK(real.keys[0].share > real.keys[0].noise_floor);
+  CHECK(real.keys[0].src_squared > real.keys[0].noise_floor);
+  // The shares add up to R^2 (Pratt: R^2 = sum_c SRC_c r_c at the least-squares solution, whatever
+  // the inputs' sample correlation), where the sums of SRC^2 (the shares before) do not: the drawn
+  // inputs are correlated by chance in 300 samples.
+  const auto sums = [](const ltca::analysis::FigureSensitivity& f) {
+    double share = 0.0, squared = 0.0;
+    for (const auto& k : f.keys) share += k.share, squared += k.src_squared;
+    return std::pair{share, squared};
+  };
+  CHECK(sums(real).first == doctest::Approx(real.r_squared).epsilon(1e-12));
+  CHECK(std::abs(sums(real).second - real.r_squared) > 1e-6);
   // Shuffle the figures over the samples (a fixed permutation: i -> 7 i + 3 mod n, n prime to 7).
   std::vector<ToleranceSample> shuffled = samples;
   for (int i = 0; i < n; ++i) shuffled[static_cast<std::size_t>(i)].figures = samples[static_cast<std::size_t>((7 * i + 3) % n)].figures;
@@ -520,9 +559,10 @@ TEST_CASE("app: the sensitivity reports R^2 and a noise floor, and outputs shuff
   CHECK(s.r_squared < s.r_squared_floor);
   for (const auto& k : s.keys) {
     CAPTURE(k.key);
-    CHECK(k.share < k.noise_floor);
+    CHECK(k.src_squared < k.noise_floor);
     CHECK(!k.distinguishable);
   }
+  CHECK(sums(s).first == doctest::Approx(s.r_squared).epsilon(1e-10));
   // The floor itself: chi^2 quantiles (exact for 1 degree of freedom: 3.2905^2 = 10.828; Wilson-
   // Hilferty for 40: the tables give 73.40), and the inverse normal at 0.999: 3.090232.
   CHECK(ltca::analysis::ChiSquaredQuantile(0.999, 1) == doctest::Approx(10.828).epsilon(1e-4));

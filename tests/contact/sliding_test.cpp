@@ -148,3 +148,53 @@ TEST_CASE("contact: mixed friction is the boundary coefficient without rolling a
   REQUIRE(!thick.warnings.empty());
   CHECK(thick.warnings.front().rfind("jiang.lambda_above_fit", 0) == 0);
 }
+
+TEST_CASE("contact: the limiting shear stress caps the full-film shear point by point (a hand integration on the ellipse)") {
+  // Hand computation: Hertz ellipse, p = p_h g with the area density 2 g (Johnson eq. 4.23's
+  // ellipsoid), shear tau(g) = min(K exp(c g), gamma p_h g), c = n alpha p_h, tau_L0 = 0 (Bair and
+  // Winer 1979's tau_L = gamma p). The power law lies below the cap on [g1, g2] only (a convex
+  // function minus a line); piecewise in closed form:
+  //   int 2 g gamma p_h g dg = (2/3) gamma p_h g^3,   int 2 g K exp(c g) dg = 2 K exp(c g) (g / c - 1 / c^2),
+  // and f_e = (A / W) (the sum), W = (2/3) p_h A. A mineral gear oil's numbers: n = 0.5, alpha =
+  // 18 1/GPa, p_h = 1.5 GPa (c = 13.5), K = 0.5 MPa, gamma = 0.06: the crossings near g = 0.007 and 0.29.
+  c::Lubrication lub;
+  lub.power_law_exponent = 0.5;
+  lub.pressure_viscosity = 0.018;
+  lub.limiting_shear_coefficient = 0.06;
+  c::ContactShape shape;
+  shape.point = true;
+  shape.max_pressure = 1500.0;
+  shape.area = 2.0;
+  const double force = 2.0 / 3.0 * shape.max_pressure * shape.area, k = 0.5, gamma = 0.06, ph = 1500.0, cc = 13.5;
+  const auto gap = [&](double g) { return k * std::exp(cc * g) - gamma * ph * g; };
+  const auto cross = [&](double lo, double hi) {  // gap changes sign on [lo, hi]
+    const bool rising = gap(hi) > gap(lo);
+    for (int i = 0; i < 200; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      ((gap(mid) > 0.0) == rising ? hi : lo) = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
+  REQUIRE(gap(1e-9) > 0.0);
+  REQUIRE(gap(0.1) < 0.0);
+  REQUIRE(gap(1.0) > 0.0);
+  const double g1 = cross(1e-9, 0.1), g2 = cross(0.1, 1.0);
+  CHECK(g1 == doctest::Approx(0.007).epsilon(0.2));
+  CHECK(g2 == doctest::Approx(0.29).epsilon(0.05));
+  const auto capped = [&](double a, double b) { return 2.0 / 3.0 * gamma * ph * (b * b * b - a * a * a); };
+  const auto power = [&](double g) { return 2.0 * k * std::exp(cc * g) * (g / cc - 1.0 / (cc * cc)); };
+  const double hand = shape.area / force * (capped(0.0, g1) + power(g2) - power(g1) + capped(g2, 1.0));
+  const double model = c::CappedFullFilm(lub, k, shape, force);
+  CHECK(model == doctest::Approx(hand).epsilon(1e-9));
+  CHECK(model < gamma);  // tau <= gamma p everywhere: f_e <= gamma
+  CHECK(model > 0.9 * gamma);
+  // Without the cap the same contact's coefficient is (A / W) K mean(exp(c g)), beyond any oil.
+  const double uncapped = shape.area / force * (power(1.0) - power(0.0));
+  CHECK(uncapped > 10.0);  // 50: fifty times the load in traction
+  // A cap that never binds (tau_L0 above the power law's largest stress) gives eq. 23 unchanged.
+  lub.limiting_shear_stress = 1e3;
+  lub.pressure_viscosity = 0.002;  // c = 1.5: K exp(c) = 2.24 MPa < tau_L0
+  const double free_film = shape.area / force * 2.0 * k *
+                           (std::exp(1.5) * (1.0 / 1.5 - 1.0 / 2.25) + 1.0 / 2.25);
+  CHECK(c::CappedFullFilm(lub, k, shape, force) == doctest::Approx(free_film).epsilon(1e-9));
+}

@@ -129,3 +129,33 @@ def test_a_failed_solve_returns_its_status_and_nulls_never_a_number(monkeypatch)
     failed = [i for i, p in enumerate(result.json["positions"]) if p["status"] != "success"]
     assert failed and all(result.json["positions"][i]["te_arcsec"] is None for i in failed)
     assert all(math.isnan(result.te_arcsec[i]) for i in failed)
+
+
+def spectrum_deck(path, bins):
+    """cases/stage/cycloidal_drive.toml with a [[load_spectrum]] entry per (torque_nm, speed_rpm,
+    time_share), written to path."""
+    path.write_text((ROOT / "cases/stage/cycloidal_drive.toml").read_text() + "".join(
+        f"\n[[load_spectrum]]\ntorque_nm = {t}\nspeed_rpm = {n}\ntime_share = {s}\n" for t, n, s in bins))
+    return path
+
+
+def test_a_load_spectrum_is_in_the_document_as_the_command_line_writes_it(tmp_path, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    deck = spectrum_deck(tmp_path / "spectrum.toml", [(150, 1000, 0.25), (206, 1500, 0.75)])
+    code, out, err = cli_solve(str(deck), "--set", "sweep.positions=12", "--set", "sweep.crank_end_deg=330")
+    assert code == 0, err
+    expected = json.loads(out)
+    result = ltca.solve(ltca.Deck.load(str(deck)).update({"sweep.positions": 12, "sweep.crank_end_deg": 330}))
+    assert "spectrum" in result.json
+    assert without_timing(result.json["spectrum"]) == without_timing(expected["spectrum"])
+
+
+def test_a_failed_load_spectrum_bin_is_not_a_success(tmp_path, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    deck = spectrum_deck(tmp_path / "spectrum_fails.toml", [(206, 1500, 0.5), (200000, 1500, 0.5)])
+    code, _, err = cli_solve(str(deck), "--set", "sweep.positions=4", "--set", "sweep.crank_end_deg=270")
+    assert code == 1, err  # the second bin's law cannot carry 200,000 N*m
+    result = ltca.solve(ltca.Deck.load(str(deck)).update({"sweep.positions": 4, "sweep.crank_end_deg": 270}))
+    assert result.status == "success"  # the deck's own sweep
+    assert not result.spectrum_succeeded
+    assert not result.succeeded

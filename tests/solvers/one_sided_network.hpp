@@ -11,18 +11,19 @@
 
 namespace ltca::test {
 
-/// The displacements q with `torque` on dof `torque_dof` (the output's rotation), or none when the
-/// active set does not settle in 50 rounds. Spring: any type with members a (Eigen::VectorXd), gap
-/// and k.
+/// The displacements q with `torque` on dof `torque_dof` (the output's rotation), and `load` (a
+/// fixed element's preload, e.g. -k g^T o of a spring stretched by o at q = 0; empty: none), or none
+/// when the active set does not settle in 50 rounds. Spring: any type with members a
+/// (Eigen::VectorXd), gap and k.
 template <class Spring>
 std::optional<Eigen::VectorXd> SolveOneSided(const Eigen::MatrixXd& fixed, const std::vector<Spring>& springs,
-                                             Eigen::Index torque_dof, double torque) {
+                                             Eigen::Index torque_dof, double torque, const Eigen::VectorXd& load = {}) {
   const auto n = fixed.rows();
   std::vector<bool> active(springs.size(), true);
   for (int round = 0; round < 50; ++round) {
     Eigen::MatrixXd k = fixed;
-    Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
-    f(torque_dof) = torque;
+    Eigen::VectorXd f = load.size() == n ? load : Eigen::VectorXd::Zero(n);
+    f(torque_dof) += torque;
     for (std::size_t e = 0; e < springs.size(); ++e) {
       if (!active[e]) continue;
       k += springs[e].k * springs[e].a * springs[e].a.transpose();

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "ltca/analysis/backlash.hpp"
+#include "ltca/analysis/contact_fatigue.hpp"
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
@@ -151,11 +152,16 @@ std::vector<AllowableRow> CheckAllowables(const NominalResults& r, const Allowab
       rows.push_back(std::move(row));
     }
   }
+  if (r.solve != nullptr && r.solve->contact_fatigue) {  // the pins' and teeth's pitting
+    for (AllowableRow& row : ContactFatigueRows(*r.solve->contact_fatigue, a.targets)) rows.push_back(std::move(row));
+  }
   return rows;
 }
 
 void AllowablesSettings::Validate() const {
-  for (const auto& [key, value] : {std::pair{"bearing_life_hours", bearing_life_hours}, std::pair{"min_static_safety", min_static_safety}}) {
+  for (const auto& [key, value] : {std::pair{"bearing_life_hours", bearing_life_hours}, std::pair{"min_static_safety", min_static_safety},
+                                   std::pair{"contact_life_hours", contact_life_hours},
+                                   std::pair{"min_contact_safety", min_contact_safety}}) {
     if (value && !(std::isfinite(*value) && *value > 0.0)) {
       throw std::invalid_argument(fmt::format("[allowables] {} = {}: expected a finite value > 0", key, *value));
     }
@@ -177,6 +183,25 @@ std::vector<AllowableRow> BearingRatingRows(const BearingLife& life, const Allow
   rows.push_back(Judge("stage.largest_roller_contact_stress_mpa", life.LargestRollerStress(),
                        "ltca solve, the largest roller on the inner raceway (Hertz)", AllowableRange{-inf, contact::kStaticStressLimitRoller}));
   rows.back().name = "largest roller contact stress (MPa), ISO 76's 4,000 MPa";
+  return rows;
+}
+
+std::vector<AllowableRow> ContactFatigueRows(const ContactFatigue& fatigue, const AllowablesSettings& targets) {
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<AllowableRow> rows;
+  const std::string basis = fmt::format("ltca solve, Miner on ISO 6336-2 Z_NT ({}), sigma_Hlim {:g} MPa ({})",
+                                        contact::ToString(fatigue.curve), fatigue.fatigue_limit, fatigue.basis);
+  const double life = fatigue.ShortestHours();
+  rows.push_back(Judge("contact.shortest_life_hours", life, basis, AllowableRange{targets.contact_life_hours.value_or(-inf), inf}));
+  if (life == inf) {  // no cycle above the curve's floor: a life without damage, above any required life
+    rows.back().value = inf;
+    rows.back().margin = inf;
+    rows.back().verdict = rows.back().range.Given() ? AllowableVerdict::kPass : AllowableVerdict::kNoAllowable;
+  }
+  rows.back().name = "shortest pitting life of the pins and teeth (h)";
+  rows.push_back(Judge("contact.smallest_safety", fatigue.SmallestSafety(), basis + ", at the required life",
+                       AllowableRange{targets.min_contact_safety.value_or(-inf), inf}));
+  rows.back().name = "smallest pitting safety S_H";
   return rows;
 }
 

@@ -72,6 +72,7 @@ struct EfficiencyRunner::Impl {
   bool closed = false;
   contact::Lubrication lubrication;
   double crank_speed = 0.0;  // rad/s, signed (set by the first position)
+  double bearing_diameter = 0.0;  // mm, d of the bearings' friction moment (bearing_coefficient > 0)
   EfficiencySummary summary;
   double mp_sum = 0.0;
   std::int64_t mp_count = 0;
@@ -94,6 +95,18 @@ struct EfficiencyRunner::Impl {
     lubrication.boundary_coefficient = friction.boundary_coefficient;
     lubrication.limiting_shear_modulus = friction.limiting_shear_modulus;
     lubrication.power_law_exponent = friction.power_law_exponent;
+    if (friction.bearing_coefficient > 0.0) {
+      const double pitch = design.reducer ? design.reducer->bearing.pitch_diameter : 0.0;
+      bearing_diameter = std::isfinite(friction.bearing_diameter) ? friction.bearing_diameter : pitch;
+      if (!(bearing_diameter > 0.0)) {
+        throw std::invalid_argument(fmt::format(
+            "[friction] bearing_coefficient = {:g}: expected bearing_diameter_mm (d of the bearing's friction moment "
+            "M = mu F d / 2) or [bearing] pitch_diameter_mm",
+            friction.bearing_coefficient));
+      }
+    }
+    lubrication.limiting_shear_coefficient = friction.limiting_shear_coefficient;
+    lubrication.limiting_shear_stress = friction.limiting_shear_stress;
   }
 
   solvers::LoadProblem Problem(const contact::MeshState& state, double t) const { return stage.Problem(state, t); }
@@ -128,11 +141,36 @@ struct EfficiencyRunner::Impl {
     contact::ContactVelocities v;  // per second
   };
 
+  /// jiang-mixed's largest full-film coefficient without the cap (with the Hertz pressure there)
+  /// and its largest mixed coefficient at one evaluation.
+  struct MixedRange {
+    double full_film = 0.0;
+    double max_pressure = 0.0;
+    double coefficient = 0.0;
+  };
+
+  /// Without a limiting shear stress, eq. 23's power-law shear grows as exp(n alpha p): a
+  /// coefficient above 1, or a lock that comes from a full-film coefficient above the boundary
+  /// one, is the fluid model beyond its range (not the stage's friction). The message names the
+  /// inputs that put it there; empty when the model is within range.
+  std::string OutsideRange(const MixedRange& range, bool locked) const {
+    if (friction.model != FrictionSettings::Model::kJiangMixed || lubrication.capped()) return {};
+    if (!(range.coefficient > 1.0 || (locked && range.full_film > friction.boundary_coefficient))) return {};
+    return fmt::format(
+        "jiang.full_film_outside_range: the power-law fluid of Jiang eq. 23 without a limiting shear stress gives a "
+        "full-film coefficient f_e = {:.3g} (mixed coefficient up to {:.3g}) at a Hertz pressure of {:.4g} MPa with "
+        "[operation] pressure_viscosity_per_gpa = {:g} and oil_viscosity_pa_s = {:g}{}: the lubrication model is "
+        "outside its range; expected [friction] limiting_shear_stress_coefficient (gamma of tau_L = gamma p, 0.03 to "
+        "0.1 for mineral oils, Bair and Winer 1979) or a lower pressure-viscosity coefficient",
+        range.full_film, range.coefficient, range.max_pressure, units::PerMPaToPerGPa(lubrication.pressure_viscosity),
+        units::MPaSToPaS(lubrication.viscosity), locked ? " (the torque balance found no state: not a lock of the stage)" : "");
+  }
+
   /// mu at each loaded point for the forces f; fills the contact records. Returns the friction
   /// moment ratio sigma M_f / |T| with the effective coefficients.
   double Evaluate(const contact::MeshState& state, const std::vector<PointKinematics>& kin,
                   const std::vector<double>& f, double sigma, std::vector<ContactFrictionPoint>* out,
-                  std::vector<std::string>* warn) const {
+                  std::vector<std::string>* warn, MixedRange* range = nullptr) const {
     out->clear();
     const double e_star = material.EquivalentModulus();
     // Each disc's force on a pin (two discs touch a pin at two places along it).
@@ -176,6 +214,8 @@ struct EfficiencyRunner::Impl {
         const contact::MixedFriction m = contact::MixedCoefficient(lubrication, f[i], shape, c.length, rho, e_star,
                                                                    p.entrainment, p.sliding);
         p.coefficient = m.coefficient;
+        if (range != nullptr && m.full_film_uncapped > range->full_film) *range = {m.full_film_uncapped, shape.max_pressure, m.coefficient};
+        if (range != nullptr) range->coefficient = std::max(range->coefficient, m.coefficient);
         p.film_thickness = m.film_thickness;
         p.lambda = m.lambda;
         if (warn != nullptr) warn->insert(warn->end(), m.warnings.begin(), m.warnings.end());
@@ -193,6 +233,59 @@ struct EfficiencyRunner::Impl {
       out->push_back(p);
     }
     return sigma * moment / std::abs(torque);
+  }
+
+  /// The stage's losses at its reducer's forces (W) and the friction moments they put on the discs
+  /// (N*mm, a bound: each output pin's friction force at the arm R_w + r_h, the largest its
+  /// contact point can have about the disc's centre). Each disc turns at omega_d = phi' omega_c
+  /// (phi' = d(rotation) / d(crank), PoseRatePerCrank), its centre at v_O = O' omega_c; the output
+  /// member turns with it (the W mechanism or the carrier), so the disc's material moves over the
+  /// output member's at the one velocity v_rel = omega_c (O' - phi' perp(O)) everywhere (the
+  /// rotations cancel): an output pin slides at |t_j . v_rel|, t_j = perp(n_j), and loses
+  /// mu_w F_j |t_j . v_rel| (nominally e omega_c z_p / z_c, docs/efficiency.md). A bearing's inner
+  /// member (the eccentric, or the crankshaft's) turns with the crank at omega_c, the disc's bore
+  /// at omega_d: its friction moment mu_b |F| d / 2 (SKF's simplified model) loses
+  /// mu_b |F| (d / 2) |omega_c (1 - phi')|.
+  struct StageLosses {
+    double output = 0.0, bearings = 0.0, moment = 0.0;
+    /// The losses a fraction w of the way from a to b (the forces interpolated so, the losses are
+    /// linear in them).
+    static StageLosses Between(const StageLosses& a, const StageLosses& b, double w) {
+      return {a.output + w * (b.output - a.output), a.bearings + w * (b.bearings - a.bearings), a.moment + w * (b.moment - a.moment)};
+    }
+  };
+  StageLosses StageLoss(const LoadResult& r, double crank) const {
+    StageLosses loss;
+    if (!design.reducer || !r.reducer || !friction.stage_friction()) return loss;
+    const solvers::ReducerSettings& reducer = *design.reducer;
+    for (std::size_t k = 0; k < r.reducer->discs.size(); ++k) {
+      const auto& disc = r.reducer->discs[k];
+      const contact::MeshModel& model = stage.model(static_cast<int>(k));
+      const double at = k == 0 ? crank : crank + contact::kSecondDiscCrankOffset;
+      const geometry::Pose pose = model.CyclePose(at, 0.0, 0.0);
+      const contact::PoseRate rate = contact::PoseRatePerCrank(model, at, 0.0, 0.0);
+      if (friction.bearing_coefficient > 0.0) {
+        const double relative = std::abs(crank_speed * (1.0 - rate.angular_velocity));  // rad/s
+        for (const Eigen::Vector2d& f : disc.bearing_force) {
+          const double moment = friction.bearing_coefficient * f.norm() * bearing_diameter / 2.0;
+          loss.bearings += moment * relative;
+          loss.moment += moment;
+        }
+      }
+      if (friction.output_pin_coefficient > 0.0 && reducer.kind == solvers::OutputKind::kPins) {
+        const Eigen::Vector2d v = crank_speed * (rate.centre_velocity - rate.angular_velocity * Perp(pose.centre));
+        const double arm = reducer.pins.circle_radius + reducer.pins.hole_radius;
+        for (std::size_t j = 0; j < disc.output_force.size(); ++j) {
+          if (!(disc.output_force[j] > 0.0)) continue;
+          const double force = friction.output_pin_coefficient * disc.output_force[j];
+          loss.output += force * std::abs(Perp(disc.output_direction[j]).dot(v));
+          loss.moment += force * arm;
+        }
+      }
+    }
+    loss.output = units::NmmPerSToW(loss.output);
+    loss.bearings = units::NmmPerSToW(loss.bearings);
+    return loss;
   }
 
   EfficiencyPosition SolvePosition(double crank) {
@@ -242,7 +335,11 @@ struct EfficiencyRunner::Impl {
 
     // First order: the frictionless forces.
     std::vector<ContactFrictionPoint> first;
-    pos.friction_moment_ratio_first_order = Evaluate(state, kin, r.force, sigma, &first, &pos.warnings);
+    MixedRange range;
+    pos.friction_moment_ratio_first_order = Evaluate(state, kin, r.force, sigma, &first, &pos.warnings, &range);
+    if (std::string outside = OutsideRange(range, false); !outside.empty()) {
+      return Failed(std::move(pos), SolverStatus::kNumericalFailure, std::move(outside));
+    }
     pos.friction_moment_ratio = pos.friction_moment_ratio_first_order;  // "bound": the accepted forces
     pos.power_loss_first_order = 0.0;
     double mu_force = 0.0, force_sum = 0.0;
@@ -252,7 +349,12 @@ struct EfficiencyRunner::Impl {
       force_sum += p.force;
     }
     pos.mean_coefficient = force_sum > 0.0 ? mu_force / force_sum : kNaN;
+    const StageLosses frictionless = StageLoss(r, crank);
+    pos.power_loss_first_order += frictionless.output + frictionless.bearings;
     pos.efficiency_first_order = pos.output_power / (pos.output_power + pos.power_loss_first_order);
+    // The stage's losses at the accepted state: the frictionless forces ("bound", no mesh friction),
+    // a balance solve's, or interpolated between two solves as the mesh's forces are (linear in them).
+    StageLosses accepted = frictionless;
 
     // The full model: the friction moment in the torque balance, solved to a fixed point (the
     // approach of every pin depends on psi alone, so re-solving the frictionless problem at the
@@ -265,6 +367,7 @@ struct EfficiencyRunner::Impl {
       // accepted when its residual is below kInterpolatedTolerance (second order in g(s_1));
       // otherwise more solves follow.
       std::vector<double> f_prev = r.force;
+      StageLosses stage_prev = frictionless;
       double s_prev = 0.0, g_prev = pos.friction_moment_ratio_first_order, s_now = pos.friction_moment_ratio_first_order;
       bool converged = false;
       std::vector<std::string> ignored;
@@ -272,10 +375,12 @@ struct EfficiencyRunner::Impl {
         const LoadResult rk = Solve(state, torque * (1.0 + s_now));
         ++pos.balance_solves;
         if (rk.status != SolverStatus::kSuccess) return Failed(std::move(pos), rk.status, "torque balance with friction: " + rk.message);
-        const double g_now = Evaluate(state, kin, rk.force, sigma, &pos.contacts, &ignored) - s_now;
+        const double g_now = Evaluate(state, kin, rk.force, sigma, &pos.contacts, &ignored, &range) - s_now;
+        const StageLosses stage_now = StageLoss(rk, crank);
         pos.balance_residual = std::abs(g_now);
         if (std::abs(g_now) < kRatioTolerance) {
           converged = true;
+          accepted = stage_now;
           pos.friction_moment_ratio = g_now + s_now;  // the ratio of the solved forces: the accepted state
           break;
         }
@@ -301,6 +406,7 @@ struct EfficiencyRunner::Impl {
           const double g_next = Evaluate(state, kin, f_next, sigma, &interpolated, &ignored) - s_next;
           if (std::abs(g_next) < kInterpolatedTolerance) {
             converged = true;
+            accepted = StageLosses::Between(stage_prev, stage_now, w);
             // The accepted state is this step's: its ratio and its own residual (not the last solve's).
             pos.friction_moment_ratio = g_next + s_next;
             pos.balance_residual = std::abs(g_next);
@@ -320,6 +426,9 @@ struct EfficiencyRunner::Impl {
         // below it means the friction moment grows as fast as the torque the forces carry (a
         // ratio that reaches 1: the stage locks), and no balance exists.
         if (!std::isfinite(s_next) || s_next < 0.0) {
+          if (std::string outside = OutsideRange(range, true); !outside.empty()) {
+            return Failed(std::move(pos), SolverStatus::kNumericalFailure, std::move(outside));
+          }
           return Failed(std::move(pos), SolverStatus::kMaxIterations,
                         fmt::format("efficiency.torque_balance_not_converged: no torque balance with friction (the "
                                     "friction moment reaches the torque the normal forces carry; ratio {:.3g} at "
@@ -327,6 +436,7 @@ struct EfficiencyRunner::Impl {
                                     g_now + s_now, s_now));
         }
         f_prev = rk.force;
+        stage_prev = stage_now;
         s_prev = s_now;
         g_prev = g_now;
         s_now = s_next;
@@ -357,6 +467,13 @@ struct EfficiencyRunner::Impl {
     for (std::size_t j = 0; j < pin_force.size(); ++j) {
       if (pin_force[j] > 0.0) pos.pin_coefficient[j] = pin_mu_force[j] / pin_force[j];
     }
+    // By source: with a pin sleeve the sliding of the pin ring is at the sleeve's bore (eq. 34).
+    (friction.sleeve_bore_radius ? pos.power_loss_by_source.seats : pos.power_loss_by_source.mesh) = pos.power_loss;
+    (friction.sleeve_bore_radius ? pos.power_loss_by_source.mesh : pos.power_loss_by_source.seats) = 0.0;
+    pos.power_loss_by_source.output = accepted.output;
+    pos.power_loss_by_source.bearings = accepted.bearings;
+    pos.power_loss = pos.power_loss_by_source.total();
+    pos.stage_friction_moment_ratio = accepted.moment / std::abs(torque);
     pos.efficiency = pos.output_power / (pos.output_power + pos.power_loss);
 
     // The classical estimates with the same (mean) mu: F_i ~ L_i over the pins of the loaded half
@@ -413,6 +530,11 @@ EfficiencyPosition EfficiencyRunner::Solve(double crank) {
     ++s.succeeded;
     s.power_loss.Add(pos.power_loss, in_mean);
     s.power_loss_first_order.Add(pos.power_loss_first_order, in_mean);
+    s.power_loss_mesh.Add(pos.power_loss_by_source.mesh, in_mean);
+    s.power_loss_output.Add(pos.power_loss_by_source.output, in_mean);
+    s.power_loss_bearings.Add(pos.power_loss_by_source.bearings, in_mean);
+    s.power_loss_seats.Add(pos.power_loss_by_source.seats, in_mean);
+    s.stage_friction_moment_ratio.Add(pos.stage_friction_moment_ratio, in_mean);
     s.output_power.Add(pos.output_power, in_mean);
     s.friction_moment_ratio.Add(pos.friction_moment_ratio, in_mean);
     s.friction_moment_ratio_first_order.Add(pos.friction_moment_ratio_first_order, in_mean);

@@ -65,6 +65,14 @@ void FrictionSettings::Validate(const geometry::PairParameters& pair) const {
   if (model == Model::kCoulomb || std::isfinite(coefficient)) check_mu("coefficient", coefficient);
   check_mu("boundary_coefficient", boundary_coefficient);
   if (!std::isnan(sleeve_coefficient)) check_mu("sleeve_coefficient", sleeve_coefficient);
+  check_mu("output_pin_coefficient", output_pin_coefficient);
+  check_mu("bearing_coefficient", bearing_coefficient);
+  if (!std::isnan(bearing_diameter) && !(std::isfinite(bearing_diameter) && bearing_diameter > 0.0 && bearing_diameter <= 1e4)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] bearing_diameter_mm = {}: expected the bearing's diameter d of M = mu F d / 2 above 0 and at most "
+        "10000 mm",
+        bearing_diameter));
+  }
   if (!(std::isfinite(limiting_shear_modulus) && limiting_shear_modulus > 0.0 && limiting_shear_modulus <= 1e4)) {
     throw std::invalid_argument(fmt::format(
         "[friction] limiting_shear_modulus_mpa = {}: expected above 0 and at most 10000 MPa (Jiang: 1 MPa)",
@@ -73,6 +81,24 @@ void FrictionSettings::Validate(const geometry::PairParameters& pair) const {
   if (!(std::isfinite(power_law_exponent) && power_law_exponent > 0.0 && power_law_exponent <= 1.0)) {
     throw std::invalid_argument(fmt::format(
         "[friction] power_law_exponent = {}: expected in (0, 1] (1: Newtonian; Jiang: 0.5)", power_law_exponent));
+  }
+  if (!std::isnan(limiting_shear_coefficient) &&
+      !(std::isfinite(limiting_shear_coefficient) && limiting_shear_coefficient > 0.0 && limiting_shear_coefficient <= 1.0)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] limiting_shear_stress_coefficient = {}: expected gamma of tau_L = tau_L0 + gamma p above 0 and at "
+        "most 1 (mineral oils: 0.03 to 0.1, Bair and Winer 1979)",
+        limiting_shear_coefficient));
+  }
+  if (!(std::isfinite(limiting_shear_stress) && limiting_shear_stress >= 0.0 && limiting_shear_stress <= 1e3)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] limiting_shear_stress_mpa = {}: expected tau_L0 of tau_L = tau_L0 + gamma p from 0 to 1000 MPa",
+        limiting_shear_stress));
+  }
+  if (limiting_shear_stress != 0.0 && std::isnan(limiting_shear_coefficient)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] limiting_shear_stress_mpa = {}: expected limiting_shear_stress_coefficient too (the limiting shear "
+        "stress tau_L = tau_L0 + gamma p needs its pressure coefficient gamma)",
+        limiting_shear_stress));
   }
   if (sleeve_bore_radius && !(std::isfinite(*sleeve_bore_radius) && *sleeve_bore_radius > 0.0 &&
                               *sleeve_bore_radius < pair.pin_radius)) {

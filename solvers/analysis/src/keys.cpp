@@ -72,6 +72,7 @@ using Plane = contact::PlaneModel;
 using Output = solvers::OutputKind;
 using Bearing = contact::BearingKind;
 using Kinematics = contact::ContactKinematics;
+using LifeCurve = contact::LifeCurve;
 using Rigidity = StiffnessSettings::Rigidity;
 using Friction = FrictionSettings::Model;
 using Balance = FrictionSettings::TorqueBalance;
@@ -221,6 +222,16 @@ const std::vector<DeckKey> kKeys = {
     {.section = "material", .name = "contact_stress_limit_mpa", .type = T::kReal, .unit = "MPa",
      .meaning = "contact stress above which a result is flagged, MPa", .default_value = "4000",
      .setting = LTCA_SETTING(material, contact_stress_limit)},
+    {.section = "material", .name = "contact_fatigue_limit_mpa", .type = T::kReal, .unit = "MPa",
+     .meaning = "endurance limit sigma_Hlim of the flanks in pitting, MPa (contact fatigue; ISO 6336-5: 1500 for case-hardened "
+                "steel MQ)",
+     .default_value = "1500", .setting = LTCA_SETTING(material, contact_fatigue_limit)},
+    {.section = "material", .name = "contact_life_curve", .type = T::kText, .unit = "",
+     .meaning = "life factor Z_NT over the load cycles, ISO 6336-2: steel (St, V, Eh, IF) | steel-limited-pitting | nitrided | "
+                "nitrocarburized",
+     .default_value = "\"steel\"", .choices = "steel | steel-limited-pitting | nitrided | nitrocarburized",
+     .setting = LTCA_CHOICE(material, life_curve, LifeCurve::kSteel, LifeCurve::kSteelLimitedPitting, LifeCurve::kNitrided,
+                            LifeCurve::kNitrocarburized)},
     // [pins]
     {.section = "pins", .name = "span_mm", .type = T::kReal, .unit = "mm",
      .meaning = "pin bending: distance between the two supports of a pin in mm", .default_value = "",
@@ -281,9 +292,11 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "angle of element 0 from +X at crank 0 in deg", .default_value = "0",
      .setting = LTCA_OUTPUT(phase)},
     {.section = "output", .name = "hole_radial_deviations_mm", .type = T::kRealList, .unit = "mm",
-     .meaning = "one radial position deviation per hole of the disc in mm (both discs)", .default_value = "[]"},
+     .meaning = "one radial position deviation per hole of the disc in mm (both discs, unless [second_disc] gives its own)",
+     .default_value = "[]"},
     {.section = "output", .name = "hole_tangential_deviations_mm", .type = T::kRealList, .unit = "mm",
-     .meaning = "one tangential (counterclockwise) position deviation per hole in mm (both discs)", .default_value = "[]"},
+     .meaning = "one tangential (counterclockwise) position deviation per hole in mm (both discs, unless [second_disc] gives its own)",
+     .default_value = "[]"},
     {.section = "output", .name = "pin_radius_mm", .type = T::kReal, .unit = "mm", .meaning = "pins: output pin radius in mm",
      .default_value = "", .tolerance_stream = 18, .limit = L::kLength,
      .setting = LTCA_SETTING(output_pins, pin_radius)},
@@ -406,6 +419,14 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "indexing deviation of the second disc in mm along the pin circle", .default_value = "0",
      .tolerance_stream = 15, .limit = L::kLength,
      .setting = LTCA_SETTING(second_disc, indexing_deviation)},
+    {.section = "second_disc", .name = "hole_radial_deviations_mm", .type = T::kRealList, .unit = "mm",
+     .meaning = "with [output]: the second disc's own radial hole position deviations, one per hole in mm (instead of [output]'s)",
+     .default_value = "[output]'s"},
+    {.section = "second_disc", .name = "hole_tangential_deviations_mm", .type = T::kRealList, .unit = "mm",
+     .meaning = "with [output]: the second disc's own tangential hole position deviations, one per hole in mm", .default_value = "[output]'s"},
+    {.section = "second_disc", .name = "bearing_radial_clearance_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "with [output]: the radial play of the second disc's bearing(s) in mm (instead of [bearing]'s)",
+     .default_value = "[bearing]'s"},
     // [tolerances]: its own keys; a distribution for each key with a tolerance_stream
     {.section = "tolerances", .name = "samples", .type = T::kInteger, .unit = "", .meaning = "number of samples",
      .default_value = "1000",
@@ -425,8 +446,12 @@ const std::vector<DeckKey> kKeys = {
      .setting = LTCA_SETTING(tolerances, profile_random_per_sample)},
     // [operation]
     {.section = "operation", .name = "input_speed_rpm", .type = T::kReal, .unit = "rpm", .meaning = "crank (input) speed in rpm",
-     .default_value = "",
-     .setting = LTCA_SETTING(operation, input_speed), .required = true},
+     .default_value = "required, or motor_speed_rpm",
+     .setting = LTCA_SETTING(operation, input_speed)},
+    {.section = "operation", .name = "motor_speed_rpm", .type = T::kReal, .unit = "rpm",
+     .meaning = "RV: the motor's (first stage's sun) speed in rpm; with [output] first_stage_teeth the cranks turn "
+                "k / |1 - (1 + k) / I| times it, k = z_sun / z_spur (instead of input_speed_rpm)",
+     .default_value = ""},
     {.section = "operation", .name = "oil_viscosity_pa_s", .type = T::kReal, .unit = "Pa*s",
      .meaning = "dynamic viscosity of the oil in Pa*s", .default_value = "0.03",
      .setting = LTCA_SETTING(operation, viscosity)},
@@ -455,12 +480,31 @@ const std::vector<DeckKey> kKeys = {
     {.section = "friction", .name = "power_law_exponent", .type = T::kReal, .unit = "", .meaning = "n of Jiang eq. 22-23",
      .default_value = "0.5",
      .setting = LTCA_SETTING(friction, power_law_exponent)},
+    {.section = "friction", .name = "limiting_shear_stress_coefficient", .type = T::kReal, .unit = "",
+     .meaning = "gamma of the limiting shear stress tau_L = tau_L0 + gamma p capping jiang-mixed's full-film shear "
+                "(Bair and Winer 1979); absent: no cap",
+     .default_value = "",
+     .setting = LTCA_SETTING(friction, limiting_shear_coefficient)},
+    {.section = "friction", .name = "limiting_shear_stress_mpa", .type = T::kReal, .unit = "MPa",
+     .meaning = "tau_L0 of the limiting shear stress tau_L = tau_L0 + gamma p in MPa", .default_value = "0",
+     .setting = LTCA_SETTING(friction, limiting_shear_stress)},
     {.section = "friction", .name = "sleeve_bore_radius_mm", .type = T::kReal, .unit = "mm",
      .meaning = "radius of the pin inside its sleeve in mm", .default_value = "",
      .setting = LTCA_SETTING(friction, sleeve_bore_radius)},
     {.section = "friction", .name = "sleeve_coefficient", .type = T::kReal, .unit = "", .meaning = "mu at the sleeve bore",
      .default_value = "",
      .setting = LTCA_SETTING(friction, sleeve_coefficient)},
+    {.section = "friction", .name = "output_pin_coefficient", .type = T::kReal, .unit = "",
+     .meaning = "stage: Coulomb mu of the output pins sliding in their holes", .default_value = "0",
+     .setting = LTCA_SETTING(friction, output_pin_coefficient)},
+    {.section = "friction", .name = "bearing_coefficient", .type = T::kReal, .unit = "",
+     .meaning = "stage: mu of the bearings' friction moment M = mu F d / 2 (eccentric or crank bearings)",
+     .default_value = "0",
+     .setting = LTCA_SETTING(friction, bearing_coefficient)},
+    {.section = "friction", .name = "bearing_diameter_mm", .type = T::kReal, .unit = "mm",
+     .meaning = "stage: d of the bearings' friction moment in mm; absent: [bearing] pitch_diameter_mm",
+     .default_value = "",
+     .setting = LTCA_SETTING(friction, bearing_diameter)},
     {.section = "friction", .name = "torque_balance", .type = T::kText, .unit = "", .meaning = "solve | bound",
      .default_value = "\"solve\"", .choices = "solve | bound",
      .setting = LTCA_CHOICE(friction, torque_balance, Balance::kSolve, Balance::kBound)},
@@ -513,7 +557,7 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "diameter of the measuring rollers of the dimension over rollers in mm (> 0; the rollers in the tooth "
                 "spaces nearest to opposite)",
      .default_value = "", .setting = LTCA_SETTING(inspection, roller_diameter)},
-    // [allowables] (docs/stage.md, issue 50): the targets of a stage's bearing ratings
+    // [allowables] (docs/stage.md): the targets of the bearing and pitting ratings
     // [[load_spectrum]]: an array of tables, each a bin of the duty cycle (issue 50; the deck
     // reader takes each entry apart into analysis::LoadBin, spectrum.hpp)
     {.section = "load_spectrum", .name = "torque_nm", .type = T::kReal, .unit = "N*m",
@@ -531,6 +575,12 @@ const std::vector<DeckKey> kKeys = {
     {.section = "allowables", .name = "min_static_safety", .type = T::kReal, .unit = "",
      .meaning = "least static safety s_0 = C_0 / P_0,max of every bearing (ISO 76; > 0)", .default_value = "",
      .setting = LTCA_SETTING(allowables, min_static_safety)},
+    {.section = "allowables", .name = "contact_life_hours", .type = T::kReal, .unit = "h",
+     .meaning = "required pitting life of the pins and the disc's teeth in hours; S_H is rated at it (> 0)", .default_value = "",
+     .setting = LTCA_SETTING(allowables, contact_life_hours)},
+    {.section = "allowables", .name = "min_contact_safety", .type = T::kReal, .unit = "",
+     .meaning = "least pitting safety S_H = sigma_Hlim Z_NT / sigma_H of the pins and teeth at contact_life_hours (> 0)",
+     .default_value = "", .setting = LTCA_SETTING(allowables, min_contact_safety)},
     {.section = "inspection", .name = "profile_tolerance_um", .type = T::kReal, .unit = "um",
      .meaning = "full width of the profile tolerance band of the deviation chart in um (> 0; +- half about the design)",
      .default_value = "", .setting = LTCA_SETTING(inspection, profile_tolerance)},

@@ -443,6 +443,11 @@ ToleranceCase Optimiser::Apply(const std::vector<double>& x) const {
     const DeckKey& k = *settings_.variables[j].deck_key;
     if (k.real == nullptr) {  // a clearance of the reducer stage, one for the stage (Validate, the constructor)
       *ReducerClearance(*d.reducer, settings_.variables[j].key) = k.ToInternal(x[j]);
+      // A second disc with its own bearing play ([second_disc] bearing_radial_clearance_mm) takes the
+      // design's value too: the discs of one design share it, as they share the other variables.
+      if (settings_.variables[j].key == "bearing.radial_clearance_mm" && d.reducer->second_disc_bearing_clearance) {
+        d.reducer->second_disc_bearing_clearance = k.ToInternal(x[j]);
+      }
       continue;
     }
     *k.real({&d.modification, &d.errors, &d.assembly}) = k.ToInternal(x[j]);

@@ -86,11 +86,29 @@ bool SpectrumResult::all_succeeded() const {
 
 double SpectrumResult::ShortestL10Hours() const { return Shortest(l10_hours); }
 double SpectrumResult::ShortestLoadZoneHours() const { return Shortest(load_zone_hours); }
+double SpectrumResult::ShortestContactHours() const { return Shortest(contact_life_hours); }
 
 SpectrumResult CombineSpectrum(std::vector<SpectrumBinResult> bins) {
   SpectrumResult r;
   r.l10_hours = Combined(bins, [](const BearingLife& l) -> const std::vector<double>& { return l.hours; });
   r.load_zone_hours = Combined(bins, [](const BearingLife& l) -> const std::vector<double>& { return l.load_zone_hours; });
+  // The pitting lives: per disc the pins' and the teeth's, each bin's at its speed.
+  std::vector<double> shares;
+  std::size_t discs = 0;
+  for (const SpectrumBinResult& b : bins) {
+    shares.push_back(b.bin.time_share);
+    if (b.summary.contact_fatigue) discs = std::max(discs, b.summary.contact_fatigue->discs.size());
+  }
+  for (std::size_t k = 0; k < 2 * discs; ++k) {
+    std::vector<double> hours;
+    for (const SpectrumBinResult& b : bins) {
+      const auto& f = b.summary.contact_fatigue;
+      hours.push_back(f && k / 2 < f->discs.size()
+                          ? (k % 2 == 0 ? f->discs[k / 2].pin_life_hours : f->discs[k / 2].tooth_life_hours)
+                          : std::numeric_limits<double>::quiet_NaN());
+    }
+    r.contact_life_hours.push_back(MinerHours(hours, shares));
+  }
   r.bins = std::move(bins);
   return r;
 }

@@ -124,6 +124,13 @@ struct StiffnessRunner::Impl {
           "[load] torque_nm = 0: expected the rated torque of the stiffness loop, not zero (the loop runs from "
           "-|T| to +|T|)");
     }
+    if (friction_mu > 0.0 && stage.design().reducer) {
+      // The loop would count the mesh's friction alone and call its hysteresis the stage's.
+      throw std::invalid_argument(fmt::format(
+          "[friction] with [output]: the stiffness loop with friction counts the mesh's friction only; the stage's "
+          "loop with friction at the output pins and bearings is not modelled yet (docs/efficiency.md); expected the "
+          "stage without [friction] here (ltca efficiency takes it) or the mesh alone"));
+    }
     // The last crank repeats the first's state (a closed period): the means weigh it once.
     closed = !s.crank && stage.closed_period();
   }

@@ -79,10 +79,15 @@ void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
     s_.max_preload_force = larger(s_.max_preload_force, pre->max_force_n);
     s_.max_preload_stress = larger(s_.max_preload_stress, pre->max_stress_mpa);
   }
+  if (added_++ == 0) first_crank_ = p.crank;
+  last_crank_ = p.crank;
   if (!p.succeeded()) {
     ++s_.failed;
+    cycles_.Fail();
     return;
   }
+  if (p.disc_torque.size() == 2) discs_ = 2;
+  cycles_.Add(p.contact_stress);
   if (s_.succeeded == 0) {
     s_.contacts_min = p.contacts;
     s_.contacts_max = p.contacts;
@@ -249,6 +254,13 @@ BearingLife BearingLives(const StageDesign& design, const ReducerSummary& summar
 SweepSummary SummaryAccumulator::Summary() const {
   SweepSummary s = s_;
   s.closed_period = closed_period;
+  {
+    Sweep swept;
+    swept.crank_start = first_crank_;
+    swept.crank_end = last_crank_;
+    swept.positions = static_cast<int>(std::min<std::int64_t>(added_, Sweep::kMaxPositions));
+    s.contact_cycles = cycles_.Finish(swept, closed_period, static_cast<int>(discs_));
+  }
   if (s.succeeded > 0) {
     // A sweep's only success may be the repeated last state: it is the mean then.
     s.mean_te = te_count_ > 0 ? te_sum_ / static_cast<double>(te_count_) : te_lo_;

@@ -51,6 +51,11 @@ bool IsReducerKey(const DeckKey& k) {
   return s == "output" || s == "bearing";
 }
 
+/// A stage key each disc has its own of: the play of its bearing (the eccentric bearing, or its
+/// cranks' needle bearings); with two discs it is drawn per disc, the second disc's going to
+/// ReducerSettings::second_disc_bearing_clearance.
+bool IsPerDiscStageKey(const DeckKey& k) { return std::string_view(k.section) == "bearing" && std::string_view(k.name) == "radial_clearance_mm"; }
+
 /// The symmetry the errors break: per-pin keys and the frame-fixed assembly errors (the centre
 /// offset and the tilts stay where they are while the eccentric turns) repeat only after a whole
 /// crank revolution, not after one mesh period.
@@ -287,7 +292,7 @@ ToleranceStudy::ToleranceStudy(ToleranceCase nominal, const SolverOptions& optio
       const std::string why = StageClearanceRefusal(nominal_.design.reducer, std::string(key->section) + "." + key->name);
       if (!why.empty()) throw std::invalid_argument(fmt::format("deck '{}': [tolerances] {}: {}", nominal_.design.name, d.key, why));
     }
-    const int discs = two && key != nullptr && key->disc ? 2 : 1;
+    const int discs = two && key != nullptr && (key->disc || (IsPerDiscStageKey(*key) && nominal_.design.reducer)) ? 2 : 1;
     for (int disc = 0; disc < discs; ++disc) {
       const std::string suffix = disc == 1 ? " (disc 2)" : "";
       if (d.per_pin) {
@@ -409,6 +414,14 @@ ToleranceCase ToleranceStudy::Apply(const std::vector<double>& inputs) const {
       continue;
     }
     if (k != nullptr && IsReducerKey(*k)) {  // the stage's, one for the stage (the constructor checked it has one)
+      if (IsPerDiscStageKey(*k) && second != nullptr) {
+        // Each disc's bearing its own draw: the second's play starts from its own (or the common) value.
+        if (!d.reducer->second_disc_bearing_clearance) d.reducer->second_disc_bearing_clearance = d.reducer->bearing.radial_clearance;
+        if (inputs_[c].disc == 1) {
+          *d.reducer->second_disc_bearing_clearance += k->ToInternal(v);
+          continue;
+        }
+      }
       double* field = ReducerClearance(*d.reducer, std::string(k->section) + "." + k->name);
       if (field == nullptr) throw std::logic_error(fmt::format("tolerance: key '{}' has no field in the stage's settings", key));
       *field += k->ToInternal(v);
@@ -594,8 +607,13 @@ FigureStats ComputeStats(std::vector<double> values) {
     for (const double v : values) ss += (v - f.mean) * (v - f.mean);
     f.std = std::sqrt(ss / static_cast<double>(values.size() - 1));
   }
-  const auto quantile = [&](double p) { return SortedQuantile(values, p); };
-  f.p1 = quantile(0.01), f.p5 = quantile(0.05), f.p50 = quantile(0.5), f.p95 = quantile(0.95), f.p99 = quantile(0.99);
+  // The p-th percentile only where n min(p, 1 - p) >= 1 (kPercentileRule), in whole percent so
+  // that the rule is exact.
+  const auto quantile = [&](int percent) {
+    return f.count * std::min(percent, 100 - percent) >= 100 ? SortedQuantile(values, percent / 100.0)
+                                                             : std::numeric_limits<double>::quiet_NaN();
+  };
+  f.p1 = quantile(1), f.p5 = quantile(5), f.p50 = quantile(50), f.p95 = quantile(95), f.p99 = quantile(99);
   f.min = values.front(), f.max = values.back();
   return f;
 }
@@ -783,10 +801,13 @@ ToleranceSummary Summarise(const ToleranceStudy& study, const SampleTable& sampl
         r_xx(i, j) = cxx(ci, cj) / std::sqrt(cxx(ci, ci) * cxx(cj, cj));
       }
     }
-    Eigen::VectorXd beta = Eigen::VectorXd::Zero(cols);
+    Eigen::VectorXd beta = Eigen::VectorXd::Zero(cols), correlation = Eigen::VectorXd::Zero(cols);
     if (p > 0) {
       const Eigen::VectorXd b = r_xx.colPivHouseholderQr().solve(r_xy);
-      for (Eigen::Index i = 0; i < p; ++i) beta(varying[static_cast<std::size_t>(i)]) = b(i);
+      for (Eigen::Index i = 0; i < p; ++i) {
+        beta(varying[static_cast<std::size_t>(i)]) = b(i);
+        correlation(varying[static_cast<std::size_t>(i)]) = r_xy(i);
+      }
       // R^2 = b^T r at the least-squares solution (the standardised figure has unit variance).
       fs.r_squared = std::clamp(b.dot(r_xy), 0.0, 1.0);
     } else {
@@ -798,18 +819,20 @@ ToleranceSummary Summarise(const ToleranceStudy& study, const SampleTable& sampl
     for (std::size_t k = 0; k < dists.size(); ++k) {
       KeySensitivity ks;
       ks.key = dists[k].key;
-      double share = 0.0;
+      double share = 0.0, squared = 0.0;
       for (Eigen::Index c = 0; c < cols; ++c) {
         if (inputs[static_cast<std::size_t>(c)].distribution != k || !(cxx(c, c) > 0.0)) continue;
-        share += beta(c) * beta(c);
+        share += beta(c) * correlation(c);  // Pratt: sum over every column is b^T r = R^2
+        squared += beta(c) * beta(c);
         ++ks.columns;
         if (!dists[k].per_pin) ks.src = beta(c);
       }
       ks.share = share;
+      ks.src_squared = squared;
       if (!dists[k].per_pin && std::isnan(ks.src)) ks.src = 0.0;
       if (ks.columns > 0) {
         ks.noise_floor = ChiSquaredQuantile(kNoiseFloorLevel, ks.columns) * (1.0 - fs.r_squared) / dof;
-        ks.distinguishable = ks.share > ks.noise_floor;
+        ks.distinguishable = ks.src_squared > ks.noise_floor;
       }
       fs.keys.push_back(ks);
     }

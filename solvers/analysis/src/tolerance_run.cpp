@@ -55,17 +55,29 @@ ToleranceResult RunToleranceStudy(const ToleranceStudy& study, const ToleranceRu
     if (plan.sink) plan.sink(s);
     result.table.Add(s);
   };
-  // The first few samples (two a thread) run first and give the estimate of the whole run; the
-  // samples depend on (seed, i) only, so the split changes no number.
+  // The estimate of the whole run: the first samples (two a thread) warm the caches (the flank
+  // compliance, the threads' runners and buffers) and are left out of the rate; the rest run in one
+  // stream, and once 0.5 s has passed since the warm-up or a twentieth of the samples is done, the
+  // samples left are estimated at the rate since the warm-up. A run done before that gets no
+  // estimate. The samples depend on (seed, i) only, so the split changes no number.
   const auto start = Clock::now();
   {
     const std::int64_t count = end - begin;
-    const std::int64_t first = std::min<std::int64_t>(count, 2 * static_cast<std::int64_t>(plan.threads));
+    const auto threads = static_cast<std::int64_t>(std::max(1, plan.threads));
+    const std::int64_t warm = std::min<std::int64_t>(count, 2 * threads);
+    const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
     progress.Start(TolerancePhase::kSamples, count);
-    study.RunStream(begin, first, plan.threads, keep, [&](std::int64_t done) { progress.Update(TolerancePhase::kSamples, done); });
-    if (root && first < count) progress.Estimate(std::chrono::duration<double>(Clock::now() - start).count(), first, count);
-    study.RunStream(begin + first, count - first, plan.threads, keep,
-                    [&](std::int64_t done) { progress.Update(TolerancePhase::kSamples, first + done); });
+    study.RunStream(begin, warm, plan.threads, keep, [&](std::int64_t done) { progress.Update(TolerancePhase::kSamples, done); });
+    const auto warmed = Clock::now();
+    bool estimated = !root;
+    study.RunStream(begin + warm, count - warm, plan.threads, keep, [&](std::int64_t k) {
+      progress.Update(TolerancePhase::kSamples, warm + k);
+      if (estimated || k <= 0 || warm + k >= count) return;
+      const double rate_seconds = since(warmed);
+      if (rate_seconds < 0.5 && 20 * (warm + k) < count) return;
+      estimated = true;
+      progress.Estimate(since(start) + rate_seconds / static_cast<double>(k) * static_cast<double>(count - warm - k), warm + k, count);
+    });
     progress.Finish(TolerancePhase::kSamples);
   }
   if (plan.ranks != nullptr && result.ranks > 1) {

@@ -35,7 +35,7 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
   const bool two_discs = deck.second_disc.has_value();
   std::optional<documents::EfficiencyJsonWriter> writer;
   if (json.enabled()) writer.emplace(json.stream(), deck, solver, two_discs);
-  if (csv.enabled()) csv.stream() << documents::EfficiencyCsvHead(two_discs);
+  if (csv.enabled()) csv.stream() << documents::EfficiencyCsvHead(two_discs, deck.reducer.has_value());
   Progress progress(streams.err, streams.progress, "efficiency at position", static_cast<std::int64_t>(cranks.size()));
   const std::size_t every = std::max<std::size_t>(1, cranks.size() / 10);
   std::vector<analysis::EfficiencyPosition> kept;  // for the figure
@@ -43,7 +43,7 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
     analysis::EfficiencyPosition p = runner.Solve(cranks[i]);
     if (i % every == 0) text << documents::Text(p);
     if (writer) writer->Add(p);
-    if (csv.enabled()) csv.stream() << documents::Csv(p, two_discs);
+    if (csv.enabled()) csv.stream() << documents::Csv(p, two_discs, deck.reducer.has_value());
     if (svg.enabled()) {
       p.contacts.clear();  // the figure needs the per-pin figures only
       kept.push_back(std::move(p));

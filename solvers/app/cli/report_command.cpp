@@ -54,6 +54,7 @@
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
 #include "documents/solve.hpp"
+#include "ltca/analysis/spectrum.hpp"
 #include "solve_command.hpp"
 #include "tolerance_command.hpp"
 
@@ -210,7 +211,8 @@ std::string AllowableRow(const analysis::AllowableRow& row) {
                               : row.verdict == analysis::AllowableVerdict::kFail ? "<span class=\"fail\">FAIL</span>"
                                                                                  : analysis::ToString(row.verdict);
   return fmt::format("<tr data-key=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-                     Html(row.figure), Html(row.name.empty() ? Label(row.figure) : row.name), CellOf(row.value), allowable,
+                     Html(row.figure), Html(row.name.empty() ? Label(row.figure) : row.name),
+                     row.value > 0.0 && std::isinf(row.value) ? std::string("infinite") : CellOf(row.value), allowable,
                      margin, verdict, row.pass_fraction ? CellOf(*row.pass_fraction) : "", Html(row.basis));
 }
 
@@ -499,6 +501,7 @@ struct ReportContext {
   std::string stiff_svg;
   std::optional<analysis::EfficiencySummary> eff;
   std::string eff_svg;
+  std::optional<analysis::SpectrumResult> spectrum;  ///< [[load_spectrum]]: every bin and the lives over them
   ReportTolerance tol;
   ReportOptimisation opt;
   /// The generic analyses' outputs (documents/analyses.hpp) and their figures as SVG text, by name.
@@ -633,6 +636,10 @@ std::string UnloadedHtml(const ReportContext& ctx) {
 
 /// None at zero torque, where there is no rated torque to run the loop to.
 const char* StiffnessSkipped(const app::Deck& deck) {
+  if (deck.reducer && analysis::LoopFrictionCoefficient(deck.friction) > 0.0) {
+    return "the stage's loop with friction (output pins, bearings) is not modelled yet; without [friction] ltca stiffness "
+           "draws the frictionless loop (docs/efficiency.md)";
+  }
   return deck.RequireLoad().torque != 0.0 ? nullptr : "the deck's torque is zero, so there is no rated torque to run the loop to";
 }
 
@@ -840,6 +847,40 @@ struct ReportSection {
   const documents::Analysis* analysis = nullptr;
 };
 
+constexpr const char* kNoSpectrum = "the deck has no [[load_spectrum]]";
+
+/// The load spectrum: each bin solved as `ltca solve` solves it (app::SolveDeckSpectrum), its
+/// document the solve's `spectrum` block.
+int RunSpectrum(ReportContext& ctx) {
+  ctx.spectrum = app::SolveDeckSpectrum(ctx.deck, ctx.solver);
+  WriteTo("-o", ctx.folder.File("spectrum.json"), ctx.streams.out,
+          [&](std::ostream& os) { os << documents::SpectrumJson(*ctx.spectrum).dump(2) << '\n'; });
+  return ctx.spectrum->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+}
+
+/// A bin per row (its torque, speed, share, status and shortest lives), then the lives over the
+/// spectrum by Palmgren-Miner.
+std::string SpectrumHtml(const ReportContext& ctx) {
+  if (!ctx.spectrum) return NotRun(kNoSpectrum);
+  const nlohmann::json j = documents::SpectrumJson(*ctx.spectrum);
+  std::string rows;
+  for (const auto& b : j.at("bins")) {
+    rows += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                        Cell(b.at("torque_nm")), Cell(b.at("speed_rpm")), Cell(b.at("time_share")), Cell(b.at("status")),
+                        Cell(b.at("max_contact_stress_mpa")), Cell(b.at("shortest_l10_hours")),
+                        Cell(b.at("shortest_load_zone_life_hours")),
+                        Cell(b.at("shortest_pitting_life_hours")));
+  }
+  return fmt::format("<p>{}</p>\n<table>\n<tr><th>torque (N*m)</th><th>crank speed (rpm)</th><th>time share</th><th>status</th>"
+                     "<th>largest contact stress (MPa)</th><th>shortest bearing L10 (h)</th><th>shortest load-zone life (h)</th>"
+                     "<th>shortest pitting life (h)</th></tr>\n{}</table>\n{}",
+                     Html(j.at("rule").get<std::string>()), rows,
+                     Table({{"spectrum",
+                             {{"shortest_l10_hours", j.at("shortest_l10_hours")},
+                              {"shortest_load_zone_life_hours", j.at("shortest_load_zone_life_hours")},
+                              {"shortest_pitting_life_hours", j.at("shortest_pitting_life_hours")}}}}));
+}
+
 /// The sections of the page, in order: each is always there, with its analysis or a note why it did
 /// not run. The analyses run in this order, and the allowables are rendered from all of them.
 const std::vector<ReportSection>& Sections() {
@@ -848,6 +889,8 @@ const std::vector<ReportSection>& Sections() {
       {"allowables", "Results against allowables", nullptr, nullptr, nullptr, AllowablesHtml, {}},
       {"geometry", "Geometry", nullptr, nullptr, RunGeometry, GeometryHtml, {"geometry.json"}},
       {"loaded", "Loaded tooth contact analysis", "solve", nullptr, RunLoaded, LoadedHtml, {"solve.json"}},
+      {"spectrum", "Load spectrum", "spectrum", [](const app::Deck& deck) { return deck.load_spectrum.empty() ? kNoSpectrum : nullptr; },
+       RunSpectrum, SpectrumHtml, {"spectrum.json"}},
       {"unloaded", "Unloaded: backlash and mesh", "backlash", nullptr, RunUnloaded, UnloadedHtml, {"backlash.json", "mesh.json"}},
       {"stiffness", "Torsional stiffness", "stiffness", StiffnessSkipped, RunStiffness, StiffnessHtml, {"stiffness.json"}},
       {"efficiency", "Friction and meshing efficiency", "efficiency", EfficiencySkipped, RunEfficiency, EfficiencyHtml,

@@ -1,7 +1,11 @@
 #include "documents/common.hpp"
 
 #include <algorithm>
+#include <array>
+#include <charconv>
+#include <cstring>
 #include <iterator>
+#include <system_error>
 
 #include <fmt/format.h>
 
@@ -13,6 +17,87 @@ namespace ltca::app::documents {
 
 std::string Dump(const nlohmann::json& doc, int indent) {
   return doc.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void AppendJsonNumber(std::string& out, double v) {
+  if (!std::isfinite(v)) {
+    out += "null";
+    return;
+  }
+  if (std::signbit(v)) out += '-', v = -v;
+  if (v == 0.0) {
+    out += "0.0";
+    return;
+  }
+  // The shortest digits in scientific form, d[.ddd]e[+-]XX, then nlohmann's layout of them
+  // (detail::format_buffer, kMinExp = -4, kMaxExp = digits10 = 15): k digits, the decimal point
+  // after digit n = exponent + 1.
+  std::array<char, 32> sci{};
+  const std::to_chars_result r = std::to_chars(sci.data(), sci.data() + sci.size(), v, std::chars_format::scientific);
+  char digits[24];
+  int k = 0;
+  const char* c = sci.data();
+  for (; c != r.ptr && *c != 'e'; ++c) {
+    if (*c != '.') digits[k++] = *c;
+  }
+  int exponent = 0;
+  std::from_chars(c + 1 + (c[1] == '+' ? 1 : 0), r.ptr, exponent);
+  const int n = exponent + 1;
+  if (k <= n && n <= 15) {  // digits[000].0
+    out.append(digits, static_cast<std::size_t>(k));
+    out.append(static_cast<std::size_t>(n - k), '0');
+    out += ".0";
+  } else if (0 < n && n <= 15) {  // dig.its
+    out.append(digits, static_cast<std::size_t>(n));
+    out += '.';
+    out.append(digits + n, static_cast<std::size_t>(k - n));
+  } else if (-4 < n && n <= 0) {  // 0.[000]digits
+    out += "0.";
+    out.append(static_cast<std::size_t>(-n), '0');
+    out.append(digits, static_cast<std::size_t>(k));
+  } else {  // d[.igits]e+XX
+    out += digits[0];
+    if (k > 1) {
+      out += '.';
+      out.append(digits + 1, static_cast<std::size_t>(k - 1));
+    }
+    const int e = n - 1;
+    out += e < 0 ? "e-" : "e+";
+    const int a = e < 0 ? -e : e;
+    if (a < 10) out += '0';
+    out += std::to_string(a);
+  }
+}
+
+void AppendJsonNumber(std::string& out, std::int64_t v) {
+  char text[24];
+  const std::to_chars_result r = std::to_chars(text, text + sizeof text, v);
+  out.append(text, r.ptr);
+}
+
+void AppendJsonString(std::string& out, std::string_view s) {
+  bool plain = true;  // printable ASCII without a quote or a backslash: written as it is
+  for (const char ch : s) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (u < 0x20 || u >= 0x80 || ch == '"' || ch == '\\') {
+      plain = false;
+      break;
+    }
+  }
+  if (plain) {
+    out += '"';
+    out.append(s);
+    out += '"';
+  } else {
+    out += Dump(nlohmann::json(std::string(s)), -1);
+  }
+}
+
+std::string ShortestOrEmpty(double v) {
+  if (!std::isfinite(v)) return {};
+  char text[32];
+  const std::to_chars_result r = std::to_chars(text, text + sizeof text, v);
+  return std::string(text, r.ptr);
 }
 
 nlohmann::json FiniteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -38,6 +39,21 @@ struct Table {
   /// Appends the record's list of values to the column `name`.
   void Add(const std::string& name, const std::vector<double>& values);
 };
+
+/// Appends the JSON text of `v` exactly as `Dump` writes a double (null when not finite): the
+/// shortest digits that read back to the same double (std::to_chars, C++17 [charconv]: round trip
+/// by the standard), laid out as nlohmann::json's serializer does (a point and a digit always,
+/// decimal notation for decimal exponents -4 < n <= 15, else d.ddde+XX with two exponent digits
+/// at least). Where nlohmann's Grisu2 does not find the shortest digits (rare), the text differs
+/// and both read back to the same double.
+void AppendJsonNumber(std::string& out, double v);
+/// Appends the JSON text of an integer.
+void AppendJsonNumber(std::string& out, std::int64_t v);
+/// Appends the JSON string of `s` exactly as `Dump` writes it (escapes; invalid UTF-8 replaced).
+void AppendJsonString(std::string& out, std::string_view s);
+/// The shortest text that reads back to the same double (std::to_chars), "" when not finite:
+/// a CSV field.
+std::string ShortestOrEmpty(double v);
 
 /// Indents every line but the first by two spaces (a document nested one level).
 std::string Nested(const std::string& text);

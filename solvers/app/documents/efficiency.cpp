@@ -19,6 +19,12 @@ std::string PositionStatus(const analysis::EfficiencyPosition& p) {
   return ToString(p.succeeded() ? analysis::RunStatus::kSuccess : analysis::RunStatus::kFailed);
 }
 
+/// The loss by source (W; null for a failed position): mesh, output, bearings, seats.
+nlohmann::json SourcesJson(double mesh, double output, double bearings, double seats) {
+  return {{"mesh", FiniteOrNull(mesh)}, {"output", FiniteOrNull(output)}, {"bearings", FiniteOrNull(bearings)},
+          {"seats", FiniteOrNull(seats)}};
+}
+
 }  // namespace
 
 nlohmann::json EfficiencyHead(const Deck& deck, const SolverOptions& solver) {
@@ -29,6 +35,11 @@ nlohmann::json EfficiencyHead(const Deck& deck, const SolverOptions& solver) {
                              {"boundary_coefficient", f.boundary_coefficient},
                              {"sleeve_bore_radius_mm", f.sleeve_bore_radius ? nlohmann::json(*f.sleeve_bore_radius) : nlohmann::json(nullptr)},
                              {"sleeve_coefficient", FiniteOrNull(f.sleeve_coefficient)},
+                             {"limiting_shear_stress_coefficient", FiniteOrNull(f.limiting_shear_coefficient)},
+                             {"limiting_shear_stress_mpa", f.limiting_shear_stress},
+                             {"output_pin_coefficient", f.output_pin_coefficient},
+                             {"bearing_coefficient", f.bearing_coefficient},
+                             {"bearing_diameter_mm", FiniteOrNull(f.bearing_diameter)},
                              {"torque_balance", f.torque_balance == analysis::FrictionSettings::TorqueBalance::kSolve ? "solve" : "bound"}};
   nlohmann::json operation = {{"input_speed_rpm", units::RadPerSToRpm(op.input_speed)},
                               {"oil_viscosity_pa_s", op.viscosity * 1e6},
@@ -70,6 +81,9 @@ nlohmann::json Json(const analysis::EfficiencyPosition& p, bool two_discs) {
                       {"output_power_w", FiniteOrNull(p.output_power)},
                       {"power_loss_w", FiniteOrNull(p.power_loss)},
                       {"power_loss_first_order_w", FiniteOrNull(p.power_loss_first_order)},
+                      {"power_loss_by_source_w", SourcesJson(p.power_loss_by_source.mesh, p.power_loss_by_source.output,
+                                                             p.power_loss_by_source.bearings, p.power_loss_by_source.seats)},
+                      {"stage_friction_moment_ratio", FiniteOrNull(p.stage_friction_moment_ratio)},
                       {"efficiency", FiniteOrNull(p.efficiency)},
                       {"efficiency_first_order", FiniteOrNull(p.efficiency_first_order)},
                       {"efficiency_malhotra_parameswaran", FiniteOrNull(p.efficiency_malhotra_parameswaran)},
@@ -113,6 +127,7 @@ Table Columns(const std::vector<analysis::EfficiencyPosition>& positions) {
     t.Add("output_power_w", p.output_power);
     t.Add("power_loss_w", p.power_loss);
     t.Add("power_loss_first_order_w", p.power_loss_first_order);
+    t.Add("stage_friction_moment_ratio", p.stage_friction_moment_ratio);
     t.Add("efficiency", p.efficiency);
     t.Add("efficiency_first_order", p.efficiency_first_order);
     t.Add("efficiency_malhotra_parameswaran", p.efficiency_malhotra_parameswaran);
@@ -137,6 +152,9 @@ nlohmann::json Json(const analysis::EfficiencySummary& s) {
   spread(j, "power_loss_w", s.power_loss);
   spread(j, "power_loss_first_order_w", s.power_loss_first_order);
   spread(j, "output_power_w", s.output_power);
+  j["power_loss_by_source_w"] = SourcesJson(s.power_loss_mesh.mean, s.power_loss_output.mean, s.power_loss_bearings.mean,
+                                            s.power_loss_seats.mean);
+  spread(j, "stage_friction_moment_ratio", s.stage_friction_moment_ratio);
   j["efficiency"] = FiniteOrNull(s.efficiency);
   j["efficiency_first_order"] = FiniteOrNull(s.efficiency_first_order);
   j["efficiency_malhotra_parameswaran"] = FiniteOrNull(s.efficiency_malhotra_parameswaran);
@@ -207,6 +225,14 @@ std::string Text(const analysis::EfficiencySummary& s) {
   text += fmt::format("output power           {} W (|T| |omega_c|)\n", FormatOrNa(s.output_power.mean, 4));
   text += fmt::format("power loss             {} W (mean; {} .. {} over the positions)\n", FormatOrNa(s.power_loss.mean, 4),
                       FormatOrNa(s.power_loss.min, 4), FormatOrNa(s.power_loss.max, 4));
+  text += fmt::format("power loss by source   mesh {} W, output pins {} W, bearings {} W, pin seats {} W (means)\n",
+                      FormatOrNa(s.power_loss_mesh.mean, 4), FormatOrNa(s.power_loss_output.mean, 4),
+                      FormatOrNa(s.power_loss_bearings.mean, 4), FormatOrNa(s.power_loss_seats.mean, 4));
+  if (s.stage_friction_moment_ratio.max > 0.0) {
+    text += fmt::format("stage friction / T     {} (largest; the output pins' and bearings' friction moments on the discs, "
+                        "not in the balance: the bound on the forces' relative change)\n",
+                        FormatOrNa(s.stage_friction_moment_ratio.max, 5));
+  }
   text += fmt::format("efficiency             {} (full model)\n", FormatOrNa(s.efficiency, 6));
   text += fmt::format("efficiency_first_order {} (pins fixed, no sleeve, frictionless forces)\n", FormatOrNa(s.efficiency_first_order, 6));
   text += fmt::format("classical estimates    {} (Malhotra-Parameswaran load distribution), {} (continuum closed form), "
@@ -221,13 +247,14 @@ std::string Text(const analysis::EfficiencySummary& s) {
                             s.loaded_solve_seconds, s.solves, s.balance_solves);
 }
 
-std::string EfficiencyCsvHead(bool two_discs) {
+std::string EfficiencyCsvHead(bool two_discs, bool stage) {
   return std::string("crank_deg,pin,slice,force_n,sliding_speed_m_per_s,entrainment_speed_m_per_s,coefficient,"
                      "effective_coefficient,power_loss_w,film_thickness_um,lambda,max_pressure_mpa,shape") +
-         (two_discs ? ",disc\n" : "\n");
+         (two_discs ? ",disc" : "") +
+         (stage ? ",position_loss_mesh_w,position_loss_output_w,position_loss_bearings_w,position_loss_seats_w\n" : "\n");
 }
 
-std::string Csv(const analysis::EfficiencyPosition& p, bool two_discs) {
+std::string Csv(const analysis::EfficiencyPosition& p, bool two_discs, bool stage) {
   std::string csv;
   for (const auto& c : p.contacts) {
     csv += fmt::format("{:.9g},{},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{},{:.9g},{}", RadToDeg(p.crank), c.pin + 1, c.slice,
@@ -236,6 +263,10 @@ std::string Csv(const analysis::EfficiencyPosition& p, bool two_discs) {
                        std::isfinite(c.lambda) ? fmt::format("{:.9g}", c.lambda) : std::string(), c.max_pressure,
                        c.point_contact ? "ellipse" : "line");
     if (two_discs) csv += fmt::format(",{}", c.disc + 1);
+    if (stage) {  // the position's losses by source, on each of its rows
+      csv += fmt::format(",{:.9g},{:.9g},{:.9g},{:.9g}", p.power_loss_by_source.mesh, p.power_loss_by_source.output,
+                         p.power_loss_by_source.bearings, p.power_loss_by_source.seats);
+    }
     csv += '\n';
   }
   return csv;
@@ -248,8 +279,10 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, const std::v
                              RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
   // The operating point: speed, torque and the friction model the figures hold for.
   const analysis::FrictionSettings& f = deck.RequireFriction();
-  const std::string friction = f.model == analysis::FrictionSettings::Model::kCoulomb ? fmt::format("Coulomb mu {:g}", f.coefficient)
-                                                                            : fmt::format("{} (f_b {:g})", ToString(f.model), f.boundary_coefficient);
+  std::string friction = f.model == analysis::FrictionSettings::Model::kCoulomb ? fmt::format("Coulomb mu {:g}", f.coefficient)
+                                                                      : fmt::format("{} (f_b {:g})", ToString(f.model), f.boundary_coefficient);
+  if (f.output_pin_coefficient > 0.0) friction += fmt::format(", output pins mu {:g}", f.output_pin_coefficient);
+  if (f.bearing_coefficient > 0.0) friction += fmt::format(", bearings mu {:g}", f.bearing_coefficient);
   figure.caption = FigureCaption(deck, fmt::format("operating point: input {:g} rpm, T = {:g} N*m, {}{}; model {}, solver {} ({} kinematics); "
                                                    "{} positions; failed positions are gaps",
                                                    units::RadPerSToRpm(deck.RequireOperation().input_speed), units::NmmToNm(deck.RequireLoad().torque),
@@ -283,6 +316,28 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, const std::v
   plots::Series l{"power loss", crank, values([](const analysis::EfficiencyPosition& p) { return p.power_loss; }), plots::Style::kLine};
   l.colour = 1;
   loss.series.push_back(std::move(l));
+  // A stage: each source's share beside the total (the pin ring's own with a sleeve is its seats').
+  if (deck.reducer) {
+    const auto source = [&](const char* name, int colour, double analysis::PowerLossBySource::*member) {
+      plots::Series line{name, crank, values([member](const analysis::EfficiencyPosition& p) { return p.power_loss_by_source.*member; }),
+                         plots::Style::kLine};
+      line.colour = colour;
+      line.dashed = true;
+      loss.series.push_back(std::move(line));
+    };
+    source(f.sleeve_bore_radius ? "pin seats" : "mesh", 0, f.sleeve_bore_radius ? &analysis::PowerLossBySource::seats : &analysis::PowerLossBySource::mesh);
+    if (f.output_pin_coefficient > 0.0) source("output pins", 3, &analysis::PowerLossBySource::output);
+    if (f.bearing_coefficient > 0.0) source("bearings", 4, &analysis::PowerLossBySource::bearings);
+    // From zero, with room above the total for the legend.
+    double top = 0.0;
+    for (const auto& p : positions) {
+      if (p.succeeded() && std::isfinite(p.power_loss)) top = std::max(top, p.power_loss);
+    }
+    if (top > 0.0) {
+      loss.y_min = 0.0;
+      loss.y_max = 1.6 * top;
+    }
+  }
   figure.panels.push_back(std::move(loss));
   plots::Panel mu;
   mu.title = "friction coefficient per pin (one line each)";

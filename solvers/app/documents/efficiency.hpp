@@ -67,8 +67,9 @@ std::string Text(const analysis::EfficiencySummary& summary);
 /// The CSV: its header line and a row per loaded contact of a position (crank deg, pin from 1,
 /// force N, speeds m/s, loss W, film um, pressure MPa; the disc, 1 or 2, as a last column when
 /// `two_discs`).
-std::string EfficiencyCsvHead(bool two_discs);
-std::string Csv(const analysis::EfficiencyPosition& p, bool two_discs);
+/// stage: the position's losses by source on each row (a reducer stage's deck).
+std::string EfficiencyCsvHead(bool two_discs, bool stage = false);
+std::string Csv(const analysis::EfficiencyPosition& p, bool two_discs, bool stage = false);
 
 /// Efficiency (with the first-order figure dashed), power loss and the friction coefficient per
 /// pin over crank angle, one panel each; failed positions are gaps. The positions' contacts are

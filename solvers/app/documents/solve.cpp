@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "ltca/analysis/allowables.hpp"
+#include "ltca/analysis/contact_fatigue.hpp"
 #include "ltca/analysis/stage.hpp"
 #include "ltca/geometry/units.hpp"
 
@@ -72,7 +73,8 @@ nlohmann::json Verdicts(const std::vector<analysis::AllowableRow>& rows) {
   nlohmann::json out = nlohmann::json::array();
   for (const analysis::AllowableRow& r : rows) {
     out.push_back({{"figure", r.figure},
-                   {"value", FiniteOrNull(r.value)},
+                   // +inf: a life without damage (the string, as the lives themselves are written)
+                   {"value", std::isinf(r.value) && r.value > 0.0 ? nlohmann::json("infinite") : FiniteOrNull(r.value)},
                    {"min", FiniteOrNull(r.range.min)},
                    {"max", FiniteOrNull(r.range.max)},
                    {"margin", FiniteOrNull(r.margin)},
@@ -126,6 +128,41 @@ nlohmann::json ReducerSummaryJson(const Deck& deck, const analysis::SweepSummary
           // Each rating against its target ([allowables]; the roller stress against ISO 76's 4,000 MPa).
           {"verdicts", Verdicts(analysis::BearingRatingRows(life, deck.allowables))},
           {"strain_energy_share", shares}};
+}
+
+/// A life in hours: a number, the string "infinite" for +inf (no damage: JSON has no infinity), or
+/// null when not rated.
+nlohmann::json HoursOrInfinite(double h) {
+  return std::isinf(h) && h > 0.0 ? nlohmann::json("infinite") : FiniteOrNull(h);
+}
+
+/// The pitting rating of the pin-cycloid contact (analysis::ContactFatigue): per disc its pins'
+/// and teeth's cycles, lives and S_H, with the curve, the endurance limit and the counting basis.
+nlohmann::json ContactFatigueJson(const Deck& deck, const analysis::ContactFatigue& f) {
+  nlohmann::json discs = nlohmann::json::array();
+  for (const analysis::ContactFatigueDisc& d : f.discs) {
+    discs.push_back({{"max_contact_stress_mpa", FiniteOrNull(d.max_stress)},
+                     {"worst_pin", d.worst_pin >= 0 ? nlohmann::json(d.worst_pin + 1) : nlohmann::json(nullptr)},
+                     {"pin_cycles_per_crank_turn", FiniteOrNull(d.pin_cycles_per_turn)},
+                     {"tooth_cycles_per_crank_turn", FiniteOrNull(d.tooth_cycles_per_turn)},
+                     {"pin_damage_per_crank_turn", FiniteOrNull(d.pin_damage_per_turn)},
+                     {"tooth_damage_per_crank_turn", FiniteOrNull(d.tooth_damage_per_turn)},
+                     // +inf (no cycle above the curve's floor) is written as the string "infinite"
+                     {"pin_life_hours", HoursOrInfinite(d.pin_life_hours)},
+                     {"tooth_life_hours", HoursOrInfinite(d.tooth_life_hours)},
+                     {"pin_safety", FiniteOrNull(d.pin_safety)},
+                     {"tooth_safety", FiniteOrNull(d.tooth_safety)}});
+  }
+  return {{"basis", f.basis},
+          {"rule", "Palmgren-Miner over the counted cycles on ISO 6336-2's life factor Z_NT (Z_L = Z_v = Z_R = Z_W = Z_X = 1)"},
+          {"life_curve", contact::ToString(f.curve)},
+          {"fatigue_limit_mpa", FiniteOrNull(f.fatigue_limit)},
+          {"crank_speed_rpm", FiniteOrNull(f.crank_rpm)},
+          {"required_life_hours", FiniteOrNull(f.required_hours)},
+          {"discs", discs},
+          {"shortest_life_hours", HoursOrInfinite(f.ShortestHours())},
+          {"smallest_safety", FiniteOrNull(f.SmallestSafety())},
+          {"verdicts", Verdicts(analysis::ContactFatigueRows(f, deck.allowables))}};
 }
 
 nlohmann::json SummaryJson(const analysis::SweepSummary& s, const Deck::ModelInfo& model) {
@@ -210,8 +247,9 @@ plots::Panel TePanel(const std::vector<double>& crank_deg, const std::vector<dou
   return panel;
 }
 
-/// A CSV field: the figure, or empty when no valid solve produced it.
-std::string CsvFigure(bool ok, double v) { return ok && std::isfinite(v) ? fmt::format("{:.9g}", v) : std::string(); }
+/// A CSV field: the figure as the shortest text that reads back to the same double, or empty when
+/// no valid solve produced it.
+std::string CsvFigure(bool ok, double v) { return ok ? ShortestOrEmpty(v) : std::string(); }
 
 }  // namespace
 
@@ -243,6 +281,7 @@ std::string FailureNote(const analysis::SweepSummary& s) {
 nlohmann::json Json(const Deck& deck, const analysis::SweepSummary& summary) {
   nlohmann::json j = SummaryJson(summary, deck.Model());
   if (deck.reducer) j["stage"] = ReducerSummaryJson(deck, summary);
+  if (summary.contact_fatigue) j["contact_fatigue"] = ContactFatigueJson(deck, *summary.contact_fatigue);
   return j;
 }
 
@@ -254,6 +293,18 @@ nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysi
   j["summary"] = Json(deck, sweep.summary);
   return j;
 }
+
+namespace {
+/// A preloaded pair's zero-torque state (null for a pair with free play): its largest pin force
+/// (N) and Hertz stress (MPa), its pressed points and the moment of its opposing flank (N*m).
+nlohmann::json PreloadJson(const solvers::LoadResult& r) {
+  if (!r.preload) return nullptr;
+  return {{"max_force_n", r.preload->max_force_n},
+          {"max_contact_stress_mpa", r.preload->max_stress_mpa},
+          {"contacts", r.preload->contacts},
+          {"opposing_torque_nm", units::NmmToNm(r.preload->opposing_torque_nmm)}};
+}
+}  // namespace
 
 nlohmann::json Json(const analysis::PositionResult& p) {
   const bool ok = p.succeeded();
@@ -283,11 +334,7 @@ nlohmann::json Json(const analysis::PositionResult& p) {
   }
   if (p.result.reducer) j["stage"] = figure(ReducerJson(*p.result.reducer));
   // A preloaded pair: its zero-torque state (null for a pair with free play).
-  j["preload"] = p.result.preload ? nlohmann::json{{"max_force_n", p.result.preload->max_force_n},
-                                                   {"max_contact_stress_mpa", p.result.preload->max_stress_mpa},
-                                                   {"contacts", p.result.preload->contacts},
-                                                   {"opposing_torque_nm", units::NmmToNm(p.result.preload->opposing_torque_nmm)}}
-                                  : nlohmann::json(nullptr);
+  j["preload"] = PreloadJson(p.result);
   if (p.slices > 1) {
     const bool complete = p.result.force.size() == p.pin_force.size() * static_cast<std::size_t>(p.slices);
     // The contact pattern: per pin its slice forces and stresses and its load centroid.
@@ -309,6 +356,112 @@ nlohmann::json Json(const analysis::PositionResult& p) {
 }
 
 
+namespace {
+void Numbers(std::string& out, const double* v, std::size_t n) {
+  out += '[';
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i > 0) out += ',';
+    AppendJsonNumber(out, v[i]);
+  }
+  out += ']';
+}
+void Numbers(std::string& out, const std::vector<double>& v) { Numbers(out, v.data(), v.size()); }
+void Key(std::string& out, const char* key) {
+  out += ",\"";
+  out += key;
+  out += "\":";
+}
+}  // namespace
+
+void AppendJson(std::string& out, const analysis::PositionResult& p) {
+  // The members in nlohmann::json's order (its object is a std::map: keys sorted bytewise), each
+  // as Json(p) has it; a test holds the two to the same bytes.
+  const bool ok = p.succeeded();
+  out += "{\"contact_stress_mpa\":";
+  ok ? Numbers(out, p.contact_stress) : void(out += "null");
+  Key(out, "contacts");
+  ok ? AppendJsonNumber(out, std::int64_t{p.contacts}) : void(out += "null");
+  Key(out, "crank_deg");
+  AppendJsonNumber(out, RadToDeg(p.crank));
+  if (!p.disc_torque.empty()) {
+    Key(out, "disc_torque_nm");
+    if (ok) {
+      out += '[';
+      for (std::size_t i = 0; i < p.disc_torque.size(); ++i) {
+        if (i > 0) out += ',';
+        AppendJsonNumber(out, units::NmmToNm(p.disc_torque[i]));
+      }
+      out += ']';
+    } else {
+      out += "null";
+    }
+    Key(out, "first_disc_share");
+    const double total = p.disc_torque.size() == 2 ? p.disc_torque[0] + p.disc_torque[1] : 0.0;
+    ok && total != 0.0 ? AppendJsonNumber(out, p.disc_torque[0] / total) : void(out += "null");
+  }
+  Key(out, "flank");
+  AppendJsonString(out, solvers::ToString(p.result.flank));
+  const auto n = static_cast<std::size_t>(std::max(p.slices, 1));
+  const bool complete = p.slices > 1 && p.result.force.size() == p.pin_force.size() * n;
+  // The contact pattern: per pin its slice forces and stresses and its load centroid (null for a
+  // position no valid solve produced).
+  const auto per_pin = [&](const std::vector<double>& values) {
+    if (!(ok && complete)) {
+      out += "null";
+      return;
+    }
+    out += '[';
+    for (std::size_t j = 0; j < p.pin_force.size(); ++j) {
+      if (j > 0) out += ',';
+      Numbers(out, values.data() + j * n, n);
+    }
+    out += ']';
+  };
+  if (p.slices > 1) {
+    Key(out, "load_centroid_mm");
+    (ok && complete) ? Numbers(out, p.load_centroid.data(), std::min(p.load_centroid.size(), p.pin_force.size()))
+                      : void(out += "null");
+  }
+  Key(out, "message");
+  AppendJsonString(out, p.result.message);
+  Key(out, "pin_angle_deg");
+  out += '[';
+  for (std::size_t i = 0; i < p.angle.size(); ++i) {
+    if (i > 0) out += ',';
+    AppendJsonNumber(out, RadToDeg(p.angle[i]));
+  }
+  out += ']';
+  Key(out, "pin_force_n");
+  ok ? Numbers(out, p.pin_force) : void(out += "null");
+  Key(out, "preload");
+  out += Dump(PreloadJson(p.result), -1);
+  Key(out, "residual");
+  AppendJsonNumber(out, p.result.residuals.Normalised());
+  if (p.slices > 1) {
+    Key(out, "slice_force_n");
+    per_pin(p.result.force);
+    Key(out, "slice_stress_mpa");
+    per_pin(p.point_stress);
+  }
+  if (p.result.reducer) {  // a reducer stage's solution, small beside the pins: through nlohmann
+    Key(out, "stage");
+    out += ok ? Dump(ReducerJson(*p.result.reducer), -1) : std::string("null");
+  }
+  Key(out, "status");
+  AppendJsonString(out, solvers::ToString(p.result.status));
+  Key(out, "te_arcsec");
+  ok ? AppendJsonNumber(out, RadToArcsec(p.result.te)) : void(out += "null");
+  Key(out, "torque_evaluations");
+  AppendJsonNumber(out, std::int64_t{p.result.torque_evaluations});
+  Key(out, "warnings");
+  out += '[';
+  for (std::size_t i = 0; i < p.result.warnings.size(); ++i) {
+    if (i > 0) out += ',';
+    AppendJsonString(out, p.result.warnings[i]);
+  }
+  out += "]}";
+}
+
 SolveJsonWriter::SolveJsonWriter(std::ostream& os, const Deck& deck, const SolverOptions& solver, std::string before,
                                  std::string after)
     : os_(os), head_(SolveHead(deck, solver)), before_(std::move(before)), after_(std::move(after)) {}
@@ -321,7 +474,9 @@ void SolveJsonWriter::Start() {
 
 void SolveJsonWriter::Add(const analysis::PositionResult& p) {
   Start();
-  os_ << (written_++ == 0 ? "\n    " : ",\n    ") << Dump(Json(p), -1);
+  buffer_.assign(written_++ == 0 ? "\n    " : ",\n    ");
+  AppendJson(buffer_, p);
+  os_ << buffer_;
 }
 
 void SolveJsonWriter::Finish(const Deck& deck, const analysis::SweepSummary& summary, const analysis::SpectrumResult* spectrum) {
@@ -347,14 +502,23 @@ nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
                     {"max_pin_force_n", FiniteOrNull(s.max_pin_force)},
                     {"max_contact_stress_mpa", FiniteOrNull(s.max_contact_stress)},
                     {"l10_hours", Finites(life.hours)},
-                    {"load_zone_life_hours", Finites(life.load_zone_hours)}});
+                    {"shortest_l10_hours", FiniteOrNull(life.ShortestHours())},
+                    {"load_zone_life_hours", Finites(life.load_zone_hours)},
+                    {"shortest_load_zone_life_hours", FiniteOrNull(life.ShortestLoadZoneHours())},
+                    {"shortest_pitting_life_hours",
+                     HoursOrInfinite(s.contact_fatigue ? s.contact_fatigue->ShortestHours() : std::numeric_limits<double>::quiet_NaN())}});
   }
+  nlohmann::json pitting = nlohmann::json::array();
+  for (const double h : r.contact_life_hours) pitting.push_back(HoursOrInfinite(h));
   return {{"rule", "Palmgren-Miner over the time shares: L = 1 / sum(share_i / L_i), each L_i in hours at bin i's crank speed"},
           {"bins", bins},
           {"l10_hours", Finites(r.l10_hours)},
           {"shortest_l10_hours", FiniteOrNull(r.ShortestL10Hours())},
           {"load_zone_life_hours", Finites(r.load_zone_hours)},
-          {"shortest_load_zone_life_hours", FiniteOrNull(r.ShortestLoadZoneHours())}};
+          {"shortest_load_zone_life_hours", FiniteOrNull(r.ShortestLoadZoneHours())},
+          // per disc: the pins', then the teeth's pitting life (ContactFatigue), Miner over the bins
+          {"pitting_life_hours", pitting},
+          {"shortest_pitting_life_hours", HoursOrInfinite(r.ShortestContactHours())}};
 }
 
 std::string SpectrumText(const analysis::SpectrumResult& r) {
@@ -372,8 +536,41 @@ std::string SpectrumText(const analysis::SpectrumResult& r) {
   }
   text += fmt::format("spectrum bearing L10   {} h, the shortest\n", FormatOrNa(r.ShortestL10Hours(), 4));
   text += fmt::format("spectrum load-zone     {} h, the shortest\n", FormatOrNa(r.ShortestLoadZoneHours(), 4));
+  text += fmt::format("spectrum pitting life  {} h, the shortest of the pins and teeth\n",
+                      std::isinf(r.ShortestContactHours()) ? std::string("infinite") : FormatOrNa(r.ShortestContactHours(), 4));
   return text;
 }
+
+namespace {
+
+/// A life in hours as text: "infinite" for +inf, "n/a" for NaN.
+std::string HoursText(double h) { return std::isinf(h) && h > 0.0 ? std::string("infinite") : FormatOrNa(h, 4); }
+
+/// The pitting rating's lines (ContactFatigueJson's figures, the shortest and smallest of them).
+std::string ContactFatigueText(const Deck& deck, const analysis::ContactFatigue& f) {
+  if (f.discs.empty()) return fmt::format("pitting life           {}\n", f.basis);
+  std::string text;
+  for (std::size_t d = 0; d < f.discs.size(); ++d) {
+    const analysis::ContactFatigueDisc& r = f.discs[d];
+    text += fmt::format("{:<23}pins {} h ({:.4g} cycles a crank turn, pin {}), teeth {} h ({:.4g} cycles a crank turn)\n",
+                        f.discs.size() == 2 ? fmt::format("pitting life disc {}", d + 1) : std::string("pitting life"),
+                        HoursText(r.pin_life_hours), r.pin_cycles_per_turn, r.worst_pin + 1, HoursText(r.tooth_life_hours),
+                        r.tooth_cycles_per_turn);
+  }
+  text += fmt::format("                       (Miner on ISO 6336-2 Z_NT, {}, sigma_Hlim {:g} MPa; {}{})\n",
+                      contact::ToString(f.curve), f.fatigue_limit, f.basis,
+                      std::isnan(f.crank_rpm) ? "; no hours without [operation] input_speed_rpm or motor_speed_rpm" : "");
+  if (!std::isnan(f.required_hours)) {
+    text += fmt::format("pitting safety S_H     {} at {:g} h (the smallest)\n", FormatOrNa(f.SmallestSafety(), 4), f.required_hours);
+  }
+  for (const analysis::AllowableRow& r : analysis::ContactFatigueRows(f, deck.allowables)) {
+    if (!r.range.Given()) continue;
+    text += fmt::format("  {:<6} {}: {}, target >= {:g}\n", analysis::ToString(r.verdict), r.name, HoursText(r.value), r.range.min);
+  }
+  return text;
+}
+
+}  // namespace
 
 std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::SweepSummary& s) {
   std::string text = fmt::format("case      {}\n", deck.info.title);
@@ -400,6 +597,7 @@ std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::
   }
   text += fmt::format("largest pin force      {} N\n", FormatOrNa(s.max_pin_force, 2));
   text += fmt::format("largest contact stress {} MPa\n", FormatOrNa(s.max_contact_stress, 2));
+  if (s.contact_fatigue) text += ContactFatigueText(deck, *s.contact_fatigue);
   if (deck.reducer && s.reducer) {
     const analysis::ReducerSummary& g = *s.reducer;
     const analysis::BearingLife life = s.bearing_life.value_or(analysis::BearingLife{});
@@ -442,7 +640,7 @@ std::string SolveCsvHead(const Deck& deck) {
 
 std::string Csv(const analysis::PositionResult& p) {
   const bool ok = p.succeeded();
-  std::string row = fmt::format("{:.9g},{},{},{},{},{}", RadToDeg(p.crank), CsvFigure(ok, RadToArcsec(p.result.te)),
+  std::string row = fmt::format("{},{},{},{},{},{}", ShortestOrEmpty(RadToDeg(p.crank)), CsvFigure(ok, RadToArcsec(p.result.te)),
                                 ok ? fmt::format("{}", p.contacts) : std::string(), CsvFigure(ok, MaxOf(p.pin_force)),
                                 CsvFigure(ok, MaxOf(p.contact_stress)), solvers::ToString(p.result.status));
   if (p.disc_torque.size() == 2) {  // two discs: each disc's torque, N*m
@@ -462,7 +660,8 @@ std::string PatternCsv(const Deck& deck, const analysis::PositionResult& p) {
   for (std::size_t j = 0; j < p.pin_force.size(); ++j) {
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = j * n + k;
-      rows += fmt::format("{:.9g},{},{},{:.9g},{},{},{}\n", RadToDeg(p.crank), j + 1, k + 1, (static_cast<double>(k) + 0.5) * width,
+      rows += fmt::format("{},{},{},{},{},{},{}\n", ShortestOrEmpty(RadToDeg(p.crank)), j + 1, k + 1,
+                          ShortestOrEmpty((static_cast<double>(k) + 0.5) * width),
                           CsvFigure(ok, i < p.result.force.size() ? p.result.force[i] : NAN),
                           CsvFigure(ok, i < p.point_stress.size() ? p.point_stress[i] : NAN), solvers::ToString(p.result.status));
     }
@@ -478,11 +677,23 @@ void SolveSeries::Add(const analysis::PositionResult& p) {
   if (positions_ == 0) first_crank_ = crank;
   last_crank_ = crank;
   te_.Add(positions_++, crank, p.succeeded() ? RadToArcsec(p.result.te) : NAN);
+  // A map column holds the largest of each pin's figure over its run of stride_ positions (NaN
+  // where none of them succeeded), drawn at the middle of the run's cranks: every peak of a long
+  // sweep stays in the map, where one position in stride_ would alias the mesh period.
   if (seen_++ % stride_ == 0) {
-    const auto or_nan = [&p](const std::vector<double>& v) { return p.succeeded() ? v : std::vector<double>(v.size(), NAN); };
-    map_crank_.push_back(RadToDeg(p.crank));
-    map_force_.push_back(or_nan(p.pin_force));
-    map_stress_.push_back(or_nan(p.contact_stress));
+    map_first_crank_ = crank;
+    map_crank_.push_back(crank);
+    map_force_.emplace_back(p.pin_force.size(), NAN);
+    map_stress_.emplace_back(p.contact_stress.size(), NAN);
+  }
+  map_crank_.back() = 0.5 * (map_first_crank_ + crank);
+  if (p.succeeded()) {
+    const auto keep_largest = [](std::vector<double>& column, const std::vector<double>& v) {
+      if (column.size() < v.size()) column.resize(v.size(), NAN);
+      for (std::size_t j = 0; j < v.size(); ++j) column[j] = std::fmax(column[j], v[j]);  // fmax: NaN is absent
+    };
+    keep_largest(map_force_.back(), p.pin_force);
+    keep_largest(map_stress_.back(), p.contact_stress);
   }
   if (!p.succeeded()) return;
   const double f = MaxOf(p.pin_force);
@@ -505,6 +716,10 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, SolveSeries&
   figure.height = 520;
   // The mean marked is the summary's (a closed period's repeated state weighs once in it).
   figure.panels.push_back(TePanel(data.te_.x(), data.te_.y(), solver.name, mean_te_arcsec));
+  if (data.te_.stride() > 1) {  // decimated: the envelope as a line (markers would fill it), said in the title
+    figure.panels.back().series.front().style = plots::Style::kLine;
+    figure.panels.back().title = fmt::format("loaded TE, least and largest of every {} positions", data.te_.stride());
+  }
   if (data.peak_) {
     const auto& p = *data.peak_;
     const double crank = RadToDeg(p.crank);
@@ -550,7 +765,7 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, SolveSeries&
       panel.y_min = 0.5, panel.y_max = static_cast<double>(per_disc) + 0.5;
       return panel;
     };
-    const std::string every = data.stride_ > 1 ? fmt::format(" (1 position in {})", data.stride_) : "";
+    const std::string every = data.stride_ > 1 ? fmt::format(" (max of every {} positions)", data.stride_) : "";
     for (std::size_t d = 0; d < discs; ++d) figure.panels.push_back(map_panel(data.map_force_, d, "pin force (N)", "pin force map" + every));
     for (std::size_t d = 0; d < discs; ++d) {
       figure.panels.push_back(map_panel(data.map_stress_, d, "contact stress (MPa)", "contact stress map" + every));

@@ -30,11 +30,17 @@ nlohmann::json SolveHead(const Deck& deck, const SolverOptions& solver);
 /// disc's share, for a stage its solution, for the slice model the contact pattern. A failed
 /// position's figures are null, its status and message kept.
 nlohmann::json Json(const analysis::PositionResult& p);
+/// The same position's JSON text, compact, appended to `out` without building the tree: the
+/// streamed document's. The members and their order are Dump(Json(p), -1)'s; the numbers are the
+/// shortest text that reads back to the same double (AppendJsonNumber), so the text is Dump's but
+/// where nlohmann's Grisu2 writes more digits. A reducer stage's solution alone goes through nlohmann.
+void AppendJson(std::string& out, const analysis::PositionResult& p);
 /// The JSON document's summary: the sweep's figures over its successful positions, the note on
 /// failed ones, and for a reducer stage its loads and bearing lives (SweepSummary::bearing_life).
 nlohmann::json Json(const Deck& deck, const analysis::SweepSummary& summary);
 /// The whole JSON document of a sweep whose positions were kept (the Python module; the command
-/// streams): the same bytes as SolveJsonWriter's.
+/// streams): the same document as SolveJsonWriter's (its numbers in nlohmann's text, which reads
+/// back to the same doubles).
 nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysis::SweepResult& sweep);
 
 /// The JSON document streamed to `os` as the positions come (bounded memory in positions), inside
@@ -56,6 +62,7 @@ class SolveJsonWriter {
   std::string before_, after_;
   bool started_ = false;
   std::int64_t written_ = 0;
+  std::string buffer_;  ///< a position's text, its capacity kept from one to the next
 };
 
 /// The "n of m positions failed" lines of the text ("" when none failed).
@@ -82,8 +89,9 @@ std::string PatternCsv(const Deck& deck, const analysis::PositionResult& p);
 
 /// What the figure needs, kept compactly as the sweep streams by: the TE line (DecimatedSeries:
 /// every position up to about 2,000, beyond that the least and largest TE of each run), the pin x
-/// crank maps at most about kMapColumns columns, and the position of the largest pin force, so
-/// that memory and the figure stay bounded in positions.
+/// crank maps at most about kMapColumns columns (each the largest figure of every pin over its run
+/// of positions), and the position of the largest pin force, so that memory and the figure stay
+/// bounded in positions.
 class SolveSeries {
  public:
   static constexpr std::int64_t kMapColumns = 120;
@@ -96,7 +104,8 @@ class SolveSeries {
   std::optional<analysis::PositionResult> peak_;
   double f_peak_ = -1.0;
   std::int64_t stride_ = 1, seen_ = 0;
-  std::vector<double> map_crank_;
+  std::vector<double> map_crank_;  ///< deg, the middle of each column's run
+  double map_first_crank_ = NAN;   ///< deg, the open column's first crank
   std::vector<std::vector<double>> map_force_, map_stress_;
   DecimatedSeries te_;
   std::int64_t positions_ = 0;

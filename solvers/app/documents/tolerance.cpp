@@ -122,9 +122,10 @@ std::string ToleranceTextHead(const Deck& deck, const SolverOptions& solver, con
 
 std::string ToleranceEstimateText(double seconds, std::int64_t done, std::int64_t count, int threads, bool several_ranks,
                                   bool worst_case_follows) {
-  return fmt::format("estimate  about {:.3g} s for the {} samples{} (the first {} took {:.3g} s on {} thread(s)){}\n",
-                     seconds * static_cast<double>(count) / static_cast<double>(done), count, several_ranks ? " of this rank" : "", done,
-                     seconds, threads, worst_case_follows ? "; the worst case runs after them" : "");
+  return fmt::format("estimate  about {:.3g} s for the {} samples{} (at the rate of samples {} to {} on {} thread(s), after {} that "
+                     "warm the caches){}\n",
+                     seconds, count, several_ranks ? " of this rank" : "", 2 * threads + 1, done, threads, 2 * threads,
+                     worst_case_follows ? "; the worst case runs after them" : "");
 }
 
 std::string ToleranceCsvHead(const analysis::ToleranceStudy& study) {
@@ -171,6 +172,7 @@ Table RankingColumns(const analysis::FigureSensitivity& sensitivity) {
   for (const auto& k : sensitivity.keys) {
     t.Add("src", k.src);
     t.Add("share", k.share);
+    t.Add("src_squared", k.src_squared);
     t.Add("columns", static_cast<double>(k.columns));
     t.Add("noise_floor", k.noise_floor);
   }
@@ -213,7 +215,8 @@ nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysi
     const auto& fs = summary.sensitivity[f];
     nlohmann::json keys = nlohmann::json::array();
     for (const auto& k : fs.keys) {
-      keys.push_back({{"key", k.key}, {"src", FiniteOrNull(k.src)}, {"share", FiniteOrNull(k.share)}, {"columns", k.columns},
+      keys.push_back({{"key", k.key}, {"src", FiniteOrNull(k.src)}, {"share", FiniteOrNull(k.share)},
+                      {"src_squared", FiniteOrNull(k.src_squared)}, {"columns", k.columns},
                       {"noise_floor", FiniteOrNull(k.noise_floor)}, {"distinguishable_from_chance", k.distinguishable}});
     }
     sens[names[f]] = {{"samples", fs.samples}, {"r_squared", FiniteOrNull(fs.r_squared)},
@@ -258,7 +261,7 @@ nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysi
         {"preloaded_share", summary.samples > 0 ? static_cast<double>(summary.preloaded) / static_cast<double>(summary.samples) : 0.0},
         {"preload_max_contact_stress_mpa", StatsJson(summary.preload_stress)},
         {"preload_max_force_n", StatsJson(summary.preload_force)},
-        {"figures", figures}, {"limits", limits},
+        {"figures", figures}, {"percentile_rule", analysis::kPercentileRule}, {"limits", limits},
         {"pass_fraction", FiniteOrNull(summary.pass_fraction)},
         {"sensitivity", {{"method", analysis::kSensitivityMethod}, {"figures", sens}}},
         {"wall_seconds", result.sample_seconds},
@@ -286,12 +289,15 @@ std::string Text(const analysis::ToleranceStudy& study, const analysis::Toleranc
   const auto& worst = result.worst_case;
   const auto& beyond = result.beyond;
   const std::int64_t n = result.samples;
-  std::string text = fmt::format("{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", "figure", "mean", "std", "p1", "p5", "p50",
-                                 "p95", "p99", worst ? fmt::format(" {:>23}", "worst case (corners)") : std::string());
+  // The count of finite values beside every figure; a percentile the count does not support is n/a
+  // (analysis::kPercentileRule).
+  std::string text = fmt::format("{:<24} {:>6} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", "figure", "n", "mean", "std", "p1",
+                                 "p5", "p50", "p95", "p99", worst ? fmt::format(" {:>23}", "worst case (corners)") : std::string());
   for (std::size_t f = 0; f < names.size(); ++f) {
     if (!study.Runs(f)) continue;
     const auto& s = summary.figures[f];
-    text += fmt::format("{:<24} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", names[f], FormatOrNa(s.mean, 4), FormatOrNa(s.std, 4),
+    text += fmt::format("{:<24} {:>6} {:>11} {:>10} {:>11} {:>11} {:>11} {:>11} {:>11}{}\n", names[f], s.count, FormatOrNa(s.mean, 4),
+                        FormatOrNa(s.std, 4),
                         FormatOrNa(s.p1, 4), FormatOrNa(s.p5, 4), FormatOrNa(s.p50, 4), FormatOrNa(s.p95, 4), FormatOrNa(s.p99, 4),
                         worst ? fmt::format(" {:>11} {:>11}{}", Corner(worst->figures[f].corner_low, worst->figures[f].corner_low_status),
                                             Corner(worst->figures[f].corner_high, worst->figures[f].corner_high_status), BeyondMark(beyond[f]))
@@ -326,9 +332,10 @@ std::string Text(const analysis::ToleranceStudy& study, const analysis::Toleranc
   }
   for (const auto& chain : result.chains) {
     const analysis::FigureStats& mc = chain.monte_carlo;
-    text += fmt::format("chain {}: closing link by the extreme-value method {:g} .. {:g} um; Monte Carlo (links uniform) mean {:.3f}, "
-                        "p1 {:.3f}, p50 {:.3f}, p99 {:.3f} um\n",
-                        chain.name, chain.extreme_value.min, chain.extreme_value.max, mc.mean, mc.p1, mc.p50, mc.p99);
+    text += fmt::format("chain {}: closing link by the extreme-value method {:g} .. {:g} um; Monte Carlo (links uniform, n = {}) "
+                        "mean {}, p1 {}, p50 {}, p99 {} um\n",
+                        chain.name, chain.extreme_value.min, chain.extreme_value.max, mc.count, FormatOrNa(mc.mean, 3),
+                        FormatOrNa(mc.p1, 3), FormatOrNa(mc.p50, 3), FormatOrNa(mc.p99, 3));
   }
   for (const auto& l : summary.limits) {
     text += fmt::format("limit     {} in [{:g}, {:g}]: {} of {} samples ({:.2f} %)\n", l.limit.figure, l.limit.min, l.limit.max, l.passed,
@@ -337,9 +344,10 @@ std::string Text(const analysis::ToleranceStudy& study, const analysis::Toleranc
   if (!summary.limits.empty()) {
     text += fmt::format("all limits met by {} of {} samples ({:.2f} %)\n", summary.passed_all, summary.samples, 100.0 * summary.pass_fraction);
   }
-  text += "sensitivity (standardised regression coefficients; share = sum of SRC^2 over the key's columns; R^2 of the "
-          "linear fit, beside it the R^2 chance reaches; '~': a share below its noise floor, not distinguishable from "
-          "chance at the 99.9th percentile):\n";
+  text += "sensitivity (standardised regression coefficients; share = sum of SRC x r over the key's columns, r the "
+          "column's correlation with the figure (Pratt): the shares add up to R^2; R^2 of the linear fit, beside it the "
+          "R^2 chance reaches; n the samples fitted; '~': a key whose sum of SRC^2 is below its noise floor, not "
+          "distinguishable from chance at the 99.9th percentile):\n";
   for (std::size_t f = 0; f < names.size(); ++f) {
     if (!study.Runs(f)) continue;
     const auto& fs = summary.sensitivity[f];
@@ -347,7 +355,8 @@ std::string Text(const analysis::ToleranceStudy& study, const analysis::Toleranc
     for (std::size_t k = 0; k < std::min<std::size_t>(3, fs.keys.size()); ++k) {
       ranking += fmt::format("{}{} {:.3f}{}", k == 0 ? "" : ", ", fs.keys[k].key, fs.keys[k].share, fs.keys[k].distinguishable ? "" : " ~");
     }
-    text += fmt::format("  {:<24} R^2 {:>6} (chance {:>5})  {}\n", names[f], FormatOrNa(fs.r_squared, 3), FormatOrNa(fs.r_squared_floor, 3),
+    text += fmt::format("  {:<24} n {:>6} R^2 {:>6} (chance {:>5})  {}\n", names[f], fs.samples, FormatOrNa(fs.r_squared, 3),
+                        FormatOrNa(fs.r_squared_floor, 3),
                         fs.note.empty() ? ranking : fs.note);
   }
   if (summary.preloaded > 0) {

@@ -26,8 +26,9 @@ analysis::ToleranceSettings ToleranceSettingsFor(const Deck& deck, std::optional
 /// every distribution, the per-sample profile deviation (zone um) and the study's notes.
 std::string ToleranceTextHead(const Deck& deck, const SolverOptions& solver, const analysis::ToleranceStudy& study,
                               std::int64_t first, int threads, int ranks);
-/// The estimate of the whole run from its first samples: `seconds` (s) for the first `done` of
-/// this rank's `count` samples on `threads` threads.
+/// The estimate of the whole run from its first samples: `seconds` (s) estimated for this rank's
+/// `count` samples on `threads` threads, from the first `done` (the rate of those after the
+/// warm-up, two a thread).
 std::string ToleranceEstimateText(double seconds, std::int64_t done, std::int64_t count, int threads, bool several_ranks,
                                   bool worst_case_follows);
 /// The text after the run: each figure's mean, std and percentiles (with the worst-case corners),

@@ -43,6 +43,7 @@
 #include "ltca/analysis/efficiency.hpp"
 #include "ltca/analysis/mesh.hpp"
 #include "ltca/analysis/optimise.hpp"
+#include "ltca/analysis/spectrum.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/tolerance_run.hpp"
 #include "ltca/app/deck.hpp"
@@ -314,11 +315,21 @@ py::tuple BindSolve(const Deck& given, const std::string& solver_name, const std
     };
   }
   ltca::analysis::SweepResult sweep = WithoutGil([&] { return ltca::app::SolveDeckSweep(deck, solver, callbacks); });
+  // A load spectrum: every bin as `ltca solve` solves it, its block in the document as there.
+  std::optional<ltca::analysis::SpectrumResult> spectrum;
+  if (!deck.load_spectrum.empty()) spectrum = WithoutGil([&] { return ltca::app::SolveDeckSpectrum(deck, solver); });
   py::object summary = ToPython(documents::Json(deck, sweep.summary));
   py::dict arrays = SweepArrays(deck, sweep);
-  auto kept = std::make_shared<const std::tuple<Deck, ltca::solvers::SolverOptions, ltca::analysis::SweepResult>>(deck, solver, std::move(sweep));
-  Document document{[kept] { return documents::Json(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept)); }};
-  return py::make_tuple(document, summary, arrays);
+  auto kept = std::make_shared<const std::tuple<Deck, ltca::solvers::SolverOptions, ltca::analysis::SweepResult,
+                                                std::optional<ltca::analysis::SpectrumResult>>>(deck, solver, std::move(sweep),
+                                                                                                 std::move(spectrum));
+  const bool spectrum_succeeded = !std::get<3>(*kept) || std::get<3>(*kept)->all_succeeded();
+  Document document{[kept] {
+    nlohmann::json j = documents::Json(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept));
+    if (const auto& s = std::get<3>(*kept)) j["spectrum"] = documents::SpectrumJson(*s);
+    return j;
+  }};
+  return py::make_tuple(document, summary, arrays, spectrum_succeeded);
 }
 
 /// `ltca geometry`: the derived geometry of the pair as made and the profile's columns,
@@ -596,7 +607,8 @@ void Define(py::module_& m, const char* name, const char* doc) {
 
 /// Every analysis the module binds: one entry each, in the order of the package's functions.
 constexpr Binding kBindings[] = {
-    {"solve", &Define<&BindSolve>, "ltca solve: (the --json document, its summary as a dict, the arrays)."},
+    {"solve", &Define<&BindSolve>,
+     "ltca solve: (the --json document, its summary as a dict, the arrays, whether every [[load_spectrum]] bin succeeded)."},
     {"geometry", &Define<&BindGeometry>, "ltca geometry: (exit code, the --json document, the profile's --csv columns, {})."},
     {"backlash", &Define<&BindBacklash>, "ltca backlash: (exit code, the --json document, {}, the positions' columns)."},
     {"mesh", &Define<&BindMesh>, "ltca mesh: (exit code, the --json document, {}, the pins' columns)."},

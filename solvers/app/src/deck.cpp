@@ -19,6 +19,7 @@
 
 #include "ltca/analysis/keys.hpp"
 #include "ltca/contact/mesh_state.hpp"
+#include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/profile.hpp"
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
@@ -852,11 +853,58 @@ analysis::ToleranceSettings ReadTolerances(const toml::value& value, const geome
 // --- end of reading [tolerances] -----------------------------------------------------------------
 
 // --- [operation] and [friction] -------------------------------------------------------------------
+/// [operation]: the crank speed is input_speed_rpm, or follows from motor_speed_rpm through an RV's
+/// first stage (CrankSpeedFromMotor, once [output] is read).
 analysis::OperationSettings ReadOperation(const Section& s) {
   analysis::OperationSettings o;
   ReadSettings(s, {.operation = &o});
+  const bool motor = s.Has("motor_speed_rpm");
+  if (motor && s.Has("input_speed_rpm")) {
+    throw std::invalid_argument("[operation] input_speed_rpm and motor_speed_rpm: expected one of the two (the crank speed, or "
+                                "the motor's with [output] first_stage_teeth)");
+  }
+  if (motor) {
+    const double rpm = s.Real("motor_speed_rpm");
+    if (!std::isfinite(rpm) || rpm <= 0.0 || rpm > analysis::OperationSettings::kMaxSpeedRpm) {
+      throw std::invalid_argument(fmt::format("[operation] motor_speed_rpm = {}: expected a motor speed > 0 and <= {} rpm", rpm,
+                                              analysis::OperationSettings::kMaxSpeedRpm));
+    }
+    o.input_speed = units::RpmToRadPerS(rpm);  // the motor's until CrankSpeedFromMotor turns it into the cranks'
+    return o;
+  }
+  if (!s.Has("input_speed_rpm")) (void)s.Real("input_speed_rpm");  // "[operation] missing required key 'input_speed_rpm' (...)"
   o.Validate();
   return o;
+}
+
+/// [operation] motor_speed_rpm through an RV's first stage ([output] first_stage_teeth, or
+/// crank_turns_per_output_turn = 1 + k > 1): with the sun at the motor's speed w_m, the output (the
+/// carrier) at w_c / I (I the pair's transmission ratio, the disc turning 1/I of a crank turn) and
+/// the spur gear on each crankshaft meshing with the sun in the carrier's frame,
+/// w_c - w_c / I = -k (w_m - w_c / I), k = z_sun / z_spur: the cranks turn
+/// w_c = -k w_m / (1 - (1 + k) / I) (RV-40E-like, k = 1/3, z_c = 39: 0.3223 w_m, the output
+/// w_m / 121). A magnitude: the lives and the losses need the rate.
+void CrankSpeedFromMotor(const Section& s, Deck* deck) {
+  if (!s.Present() || !s.Has("motor_speed_rpm") || !deck->operation) return;
+  const double rpm = s.Real("motor_speed_rpm");
+  const solvers::ReducerSettings* r = deck->reducer ? &*deck->reducer : nullptr;
+  const double k = r != nullptr && r->kind == solvers::OutputKind::kCranks ? r->cranks.turns_per_output_turn - 1.0 : 0.0;
+  if (!(k > 0.0)) {
+    throw std::invalid_argument(fmt::format("[operation] motor_speed_rpm = {}: the crank speed follows from the motor's only "
+                                            "through an RV's first stage; expected [output] kind = \"cranks\" with "
+                                            "first_stage_teeth, or input_speed_rpm (the crank speed)",
+                                            rpm));
+  }
+  const double ratio = geometry::Kinematics(deck->pair).TransmissionRatio();
+  deck->operation->input_speed = units::RpmToRadPerS(rpm) * k / std::abs(1.0 - (1.0 + k) / ratio);
+  deck->operation->Validate();
+  deck->speed_from_motor = true;
+  if (!deck->load_spectrum.empty()) {
+    // A bin's speed_rpm is a crank speed: beside a motor speed a user would read it as the motor's.
+    throw std::invalid_argument("[[load_spectrum]] with [operation] motor_speed_rpm: a bin's speed_rpm is the crank speed; "
+                                "expected [operation] input_speed_rpm (the crank speed) beside a load spectrum, and each "
+                                "bin's crank speed (the motor's times k / |1 - (1 + k) / I|, docs/stage.md)");
+  }
 }
 
 // --- reading [optimise] ---------------------------------------------------------------------------
@@ -941,11 +989,17 @@ void Deck::ValidateSettings() const {
         "[friction] model = \"jiang-mixed\": expected an [operation] section (input_speed_rpm, the oil, the "
         "roughness) for the film thickness");
   }
-  if (friction && reducer) {
-    // The efficiency and the loop's hysteresis would count the mesh's losses alone and call the
-    // result the stage's.
-    throw std::invalid_argument("[friction] with [output]: the stage's friction (output pins in their holes, the "
-                                "bearings) is not modelled yet (docs/stage.md); expected one of the two");
+  if (friction && !reducer && friction->stage_friction()) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] output_pin_coefficient = {:g}, bearing_coefficient = {:g}: expected an [output] section (the stage "
+        "whose output pins and bearings they are), or 0",
+        friction->output_pin_coefficient, friction->bearing_coefficient));
+  }
+  if (friction && reducer && reducer->kind != solvers::OutputKind::kPins && friction->output_pin_coefficient > 0.0) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] output_pin_coefficient = {:g}: expected [output] kind = \"pins\" (the crankshafts' bearings take "
+        "bearing_coefficient)",
+        friction->output_pin_coefficient));
   }
 }
 
@@ -1070,6 +1124,74 @@ namespace {
 
 /// [output] and [bearing]: the reducer stage's elements. A key of the other kind is an
 /// error, not ignored.
+/// A disc's hole position deviations from its section ([output], or [second_disc] for the second
+/// disc's own): one radial and one tangential value per hole, either list alone (the other zero);
+/// none when neither is given. Small, as every manufacturing error is.
+contact::HoleDeviations ReadHoleDeviations(const Section& section, int count, const geometry::PairParameters& pair) {
+  const std::vector<double> radial = section.RealList("hole_radial_deviations_mm");
+  const std::vector<double> tangential = section.RealList("hole_tangential_deviations_mm");
+  contact::HoleDeviations deviations;
+  if (radial.empty() && tangential.empty()) return deviations;
+  for (const auto& [key, list] : {std::pair{"hole_radial_deviations_mm", &radial},
+                                  std::pair{"hole_tangential_deviations_mm", &tangential}}) {
+    if (!list->empty() && static_cast<int>(list->size()) != count) {
+      throw std::invalid_argument(fmt::format("[{}] {}: {} values; expected one per hole ([output] count = {})", section.name(),
+                                              key, list->size(), count));
+    }
+    for (std::size_t j = 0; j < list->size(); ++j) {
+      if (!std::isfinite((*list)[j])) {
+        throw std::invalid_argument(
+            fmt::format("[{}] {}[{}] = {}: expected a finite deviation in mm", section.name(), key, j, (*list)[j]));
+      }
+      analysis::RequireSmallDeviation((*list)[j], section.name(), fmt::format("{}[{}]", key, j), pair);
+    }
+  }
+  deviations.assign(static_cast<std::size_t>(count), Eigen::Vector2d::Zero());
+  for (int j = 0; j < count; ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    deviations[k] = Eigen::Vector2d(radial.empty() ? 0.0 : radial[k], tangential.empty() ? 0.0 : tangential[k]);
+  }
+  return deviations;
+}
+
+/// [second_disc]'s own stage elements (discs are machined one by one): its holes' position
+/// deviations and its bearing's play, over the first disc's ([output], [bearing]) in
+/// ReducerSettings::second_disc_holes and second_disc_bearing_clearance. Requires [output].
+void ReadSecondDiscElements(const toml::value& section, Deck* deck) {
+  const std::vector<std::string> kKeys = {"hole_radial_deviations_mm", "hole_tangential_deviations_mm",
+                                          "bearing_radial_clearance_mm"};
+  toml::table own;
+  for (const auto& [key, value] : section.as_table()) {
+    if (Contains(kKeys, key)) own[key] = value;
+  }
+  if (own.empty()) return;
+  if (!deck->reducer) {
+    throw std::invalid_argument(fmt::format("[second_disc] {}: a key of the reducer stage's elements; expected an [output] "
+                                            "section",
+                                            own.begin()->first));
+  }
+  const toml::value given(own);
+  const Section elements(&given, "second_disc", kKeys);
+  solvers::ReducerSettings& s = *deck->reducer;
+  const bool pins = s.kind == solvers::OutputKind::kPins;
+  if (elements.Has("hole_radial_deviations_mm") || elements.Has("hole_tangential_deviations_mm")) {
+    s.second_disc_holes = ReadHoleDeviations(elements, pins ? s.pins.count : s.cranks.count, deck->pair);
+  }
+  if (elements.Has("bearing_radial_clearance_mm")) {
+    const double c = elements.Real("bearing_radial_clearance_mm");
+    if (s.bearing.kind == contact::BearingKind::kRigid) {
+      throw std::invalid_argument("[second_disc] bearing_radial_clearance_mm: a rigid [bearing] has no play; expected a linear or "
+                                  "rollers bearing");
+    }
+    if (!std::isfinite(c) || c < 0.0) {
+      throw std::invalid_argument(fmt::format("[second_disc] bearing_radial_clearance_mm = {}: expected a radial play >= 0 in mm", c));
+    }
+    analysis::RequireSmallDeviation(c, "second_disc", "bearing_radial_clearance_mm", deck->pair);
+    s.second_disc_bearing_clearance = c;
+  }
+  s.Validate(deck->pair.eccentricity);
+}
+
 solvers::ReducerSettings ReadReducer(const Section& output, const Section& bearing, const geometry::PairParameters& pair) {
   solvers::ReducerSettings s;
   ReadSettings(output, {.reducer = &s});
@@ -1137,33 +1259,9 @@ solvers::ReducerSettings ReadReducer(const Section& output, const Section& beari
     throw std::invalid_argument("[output] carrier_torsional_stiffness_nm_per_arcmin: expected a finite stiffness in "
                                 "N*m/arcmin (leave the key out for a rigid carrier)");
   }
-  // Each hole's position deviation in the disc (both discs alike): one radial and one tangential
-  // value per hole, either list alone (the other zero). Small, as every manufacturing error is.
-  const std::vector<double> radial = output.RealList("hole_radial_deviations_mm");
-  const std::vector<double> tangential = output.RealList("hole_tangential_deviations_mm");
-  const int count = pins ? s.pins.count : s.cranks.count;
-  contact::HoleDeviations deviations;
-  if (!radial.empty() || !tangential.empty()) {
-    for (const auto& [key, list] : {std::pair{"hole_radial_deviations_mm", &radial},
-                                    std::pair{"hole_tangential_deviations_mm", &tangential}}) {
-      if (!list->empty() && static_cast<int>(list->size()) != count) {
-        throw std::invalid_argument(fmt::format("[output] {}: {} values; expected one per hole ([output] count = {})",
-                                                key, list->size(), count));
-      }
-      for (std::size_t j = 0; j < list->size(); ++j) {
-        if (!std::isfinite((*list)[j])) {
-          throw std::invalid_argument(fmt::format("[output] {}[{}] = {}: expected a finite deviation in mm", key, j, (*list)[j]));
-        }
-        analysis::RequireSmallDeviation((*list)[j], "output", fmt::format("{}[{}]", key, j), pair);
-      }
-    }
-    deviations.assign(static_cast<std::size_t>(count), Eigen::Vector2d::Zero());
-    for (int j = 0; j < count; ++j) {
-      const auto k = static_cast<std::size_t>(j);
-      deviations[k] = Eigen::Vector2d(radial.empty() ? 0.0 : radial[k], tangential.empty() ? 0.0 : tangential[k]);
-    }
-  }
-  (pins ? s.pins.hole_deviation : s.cranks.hole_deviation) = std::move(deviations);
+  // Each hole's position deviation in the disc (both discs alike, unless [second_disc] gives its
+  // own): one radial and one tangential value per hole.
+  (pins ? s.pins.hole_deviation : s.cranks.hole_deviation) = ReadHoleDeviations(output, pins ? s.pins.count : s.cranks.count, pair);
   contact::BearingSettings& b = s.bearing;
   ReadSettings(bearing, {.bearing = &b}, {}, /*choices_only=*/true);
   const auto bearing_reject = [&](std::initializer_list<const char*> keys) {
@@ -1498,14 +1596,21 @@ Deck ReadParsed(toml::value root_value, const std::string& name, const std::vect
     const Section bearing(Find(root, "bearing"), "bearing");
     if (output.Present()) {
       deck.reducer = ReadReducer(output, bearing, deck.pair);
+      if (const toml::value* second = Find(root, "second_disc"); second != nullptr && second->is_table()) {
+        ReadSecondDiscElements(*second, &deck);
+      }
       if (deck.reducer->kind == solvers::OutputKind::kCranks && deck.reducer->cranks.beam.given() && !deck.second_disc) {
         throw std::invalid_argument("[output] shaft_diameter_mm: a crankshaft as a beam carries both discs' eccentrics; "
                                     "expected [second_disc] (one disc: shaft_stiffness_n_per_mm)");
       }
-    } else if (bearing.Present()) {
+    } else if (const toml::value* second = Find(root, "second_disc"); second != nullptr && second->is_table()) {
+      ReadSecondDiscElements(*second, &deck);  // refuses its element keys without [output]
+    }
+    if (!output.Present() && bearing.Present()) {
       throw std::invalid_argument("[bearing] without [output]: the bearing belongs to the reducer stage; expected an "
                                   "[output] section (kind = \"pins\" or \"cranks\")");
     }
+    CrankSpeedFromMotor(operation, &deck);  // needs [output]'s first stage
     deck.StageDesign::Validate();
     deck.ValidateSettings();
   } catch (const std::invalid_argument& e) {
@@ -1570,6 +1675,10 @@ analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& opti
         analysis::BearingLives(deck, *sweep.summary.reducer, deck.sweep, sweep.summary.closed_period,
                                deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN());
   }
+  // The pitting rating of the pins and teeth, at the deck's crank speed and required life.
+  sweep.summary.contact_fatigue = analysis::RateContactFatigue(
+      sweep.summary.contact_cycles, *deck.material, deck.pair.tooth_count,
+      deck.operation ? deck.operation->input_speed : std::numeric_limits<double>::quiet_NaN(), deck.allowables.contact_life_hours);
   return sweep;
 }
 

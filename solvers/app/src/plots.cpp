@@ -42,7 +42,36 @@ std::mutex& Lock() {
   return m;
 }
 
-bool HasDevice(const char* name) { return ModuleFunction<bool (*)(const char*)>("plots", "ltca_plots_has_device")(name); }
+#ifndef LTCA_VERSION
+#define LTCA_VERSION "unknown"
+#endif
+
+/// An entry point of the drawing module, once the module is known to be built from this ltca's
+/// declarations (PlotsAbi): a module of another version would read the Figure it is handed with
+/// another layout. Throws std::runtime_error naming both when they differ.
+template <typename F>
+F PlotsFunction(const char* symbol) {
+  static const bool checked = [] {
+    const std::string mine = PlotsAbi(LTCA_VERSION);
+    const char* (*abi)() = nullptr;
+    try {
+      abi = ModuleFunction<const char* (*)()>("plots", "ltca_plots_abi");
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string(e.what()) + ": it was built from another version of ltca (this one: " + mine +
+                               "); rebuild or reinstall it with this ltca");
+    }
+    const std::string theirs = abi();
+    if (theirs != mine) {
+      throw std::runtime_error("the plots part of ltca (ltca_plots.so) was built from another version of ltca (" + theirs +
+                               "; this one: " + mine + "); rebuild or reinstall it with this ltca");
+    }
+    return true;
+  }();
+  (void)checked;
+  return ModuleFunction<F>("plots", symbol);
+}
+
+bool HasDevice(const char* name) { return PlotsFunction<bool (*)(const char*)>("ltca_plots_has_device")(name); }
 
 /// PLplot's SVG texts in fewer bytes, the same drawing (a sweep's markers are glyphs,
 /// each a <text>): the opening tag's attributes one space apart and without fill-opacity="1"
@@ -333,7 +362,7 @@ void Write(const Figure& figure, std::ostream& os, Format format) {
       throw std::runtime_error("cannot create a temporary file for a plot in " + std::filesystem::temp_directory_path().string());
     }
     const ScratchFile remove(name);
-    ModuleFunction<void (*)(const Figure*, const char*, const char*)>("plots", "ltca_plots_draw")(&figure, device, name.c_str());
+    PlotsFunction<void (*)(const Figure*, const char*, const char*)>("ltca_plots_draw")(&figure, device, name.c_str());
     std::ifstream in(name, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     if (bytes.empty()) throw std::runtime_error(fmt::format("PLplot wrote no {} for '{}'", FormatName(format), figure.title));

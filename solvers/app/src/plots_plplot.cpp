@@ -508,6 +508,13 @@ void Draw(const Figure& f) {
 }  // namespace
 }  // namespace ltca::app::plots
 
+/// The declarations this module was built from (plots.hpp, PlotsAbi): the loader compares them
+/// with its own before it hands over a Figure.
+extern "C" __attribute__((visibility("default"))) const char* ltca_plots_abi() {
+  static const std::string abi = ltca::app::plots::PlotsAbi(LTCA_VERSION);
+  return abi.c_str();
+}
+
 /// Whether PLplot has the device `name` ("svg", "pngcairo", "pdfcairo").
 extern "C" __attribute__((visibility("default"))) bool ltca_plots_has_device(const char* name) {
   return ltca::app::plots::HasDevice(name);

@@ -8,6 +8,8 @@
 //    (Zhu-Hu, Jiang eq. 21), the full-film coefficient from the effective pressure (Jiang eq.
 //    22-23) and the mixed coefficient (Jiang eq. 20), with their validity ranges checked.
 // Units as everywhere inside: mm, N, MPa, s (speeds mm/s, viscosity MPa*s, alpha 1/MPa).
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -81,6 +83,13 @@ struct Lubrication {
   double boundary_coefficient = 0.1;  ///< f_b (Jiang: 0.1)
   double limiting_shear_modulus = 1.0;  ///< G of eq. 23, MPa (Jiang: 1 MPa)
   double power_law_exponent = 0.5;    ///< n of eq. 22-23 (Jiang: 0.5)
+  /// The limiting shear stress tau_L = tau_L0 + gamma p of the lubricant (Bair and Winer, J. Lubr.
+  /// Technol. 101 (1979) 251-257; Evans and Johnson, Proc. IMechE C 200 (1986) 313-324): the
+  /// power-law shear stress of eq. 23 is capped by it point by point. gamma dimensionless, NaN: no
+  /// cap (Jiang's model as printed); tau_L0 in MPa (0: tau_L = gamma p, Bair and Winer's form).
+  double limiting_shear_coefficient = std::numeric_limits<double>::quiet_NaN();
+  double limiting_shear_stress = 0.0;
+  bool capped() const { return !std::isnan(limiting_shear_coefficient); }
   /// Composite roughness sigma = sqrt(Ra_c^2 + Ra_p^2), mm (the chosen reading, docs/efficiency.md).
   double CompositeRoughness() const;
 };
@@ -101,7 +110,9 @@ struct MixedFriction {
   double lambda = 0.0;              ///< h_min / sigma
   double film_share = 0.0;          ///< f_lambda (eq. 21), in [0, 1]
   double effective_pressure = 0.0;  ///< p_ef, MPa (eq. 22)
-  double full_film = 0.0;           ///< f_e (eq. 23)
+  double full_film = 0.0;           ///< f_e (eq. 23), capped by the limiting shear stress when given
+  /// f_e of eq. 23 without the cap (equal to full_film when there is none)
+  double full_film_uncapped = 0.0;
   double coefficient = 0.0;         ///< f_mix (eq. 20)
   std::vector<std::string> warnings;  ///< named: "jiang.lambda_above_fit", "jiang.load_parameter_outside_fit", ...
 };
@@ -120,6 +131,11 @@ double FilmShare(double lambda);
 double EffectivePressure(const Lubrication& lub, double max_pressure, bool point);
 /// Jiang eq. 22 in closed form (the ellipse), with the corrected last term.
 double EffectivePressureClosedForm(const Lubrication& lub, double max_pressure);
+/// The full-film coefficient with the limiting shear stress: f_e = (A / W) mean over the contact
+/// area of min(K exp(n alpha p), tau_L0 + gamma p), K = G^(1-n) (eta_0 |v_s| / h)^n, the Hertz
+/// pressure p over the ellipse (point) or the line's width; by Simpson's rule split at the
+/// crossings of the two curves (found by bisection), so the kink costs no accuracy.
+double CappedFullFilm(const Lubrication& lub, double shear_factor, const ContactShape& shape, double force);
 /// The mixed coefficient (eq. 20-25) at one contact: force N, shape, equivalent radius and
 /// length of the line contact for the film, E* MPa, entrainment and sliding speeds mm/s.
 MixedFriction MixedCoefficient(const Lubrication& lub, double force, const ContactShape& shape, double length,

@@ -192,10 +192,12 @@ class SolveResult:
     failed): crank_deg, te_arcsec, contacts, pin_force_n and contact_stress_mpa (positions x pins;
     two discs: disc 1's pins, then disc 2's), disc_torque_nm (two discs), and position_status (a list)."""
 
-    def __init__(self, document, summary, arrays):
+    def __init__(self, document, summary, arrays, spectrum_succeeded=True):
         self._document, self._json = document, None
         self.summary = summary
         self.status = self.summary["status"]
+        # With [[load_spectrum]]: every bin's every position succeeded too (ltca solve's exit 0).
+        self.spectrum_succeeded = spectrum_succeeded
         for key, value in arrays.items():
             setattr(self, key, value)
 
@@ -208,7 +210,7 @@ class SolveResult:
 
     @property
     def succeeded(self):
-        return self.status == "success"
+        return self.status == "success" and self.spectrum_succeeded
 
     def __repr__(self):
         return f"ltca.SolveResult(status {self.status!r}, {len(self.crank_deg)} positions)"
@@ -230,8 +232,8 @@ def solve(deck, solver=None, kinematics=None, progress=None):
     d = _deck(deck)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress = {progress!r}: expected None or a callable progress(done, total)")
-    document, summary, arrays = _ltca.solve(d._parsed, _solver(solver), _kinematics(kinematics), progress)
-    return SolveResult(document, summary, arrays)
+    document, summary, arrays, spectrum_succeeded = _ltca.solve(d._parsed, _solver(solver), _kinematics(kinematics), progress)
+    return SolveResult(document, summary, arrays, spectrum_succeeded)
 
 
 class Result:

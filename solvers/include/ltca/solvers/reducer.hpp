@@ -18,6 +18,7 @@
 // the physical counterclockwise angle is load_direction() * direction() times it); translations
 // and forces are in the fixed frame.
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,18 @@ struct ReducerSettings {
   /// through it whatever the stage does, so the output turns T / k beyond the stage's rotation
   /// and the spring stores T^2 / (2 k) (docs/stage.md, "The carrier in series").
   double carrier_stiffness = std::numeric_limits<double>::infinity();
+  /// The second disc's own holes and bearing play where the deck gives them per disc ([second_disc]
+  /// hole_radial_deviations_mm, hole_tangential_deviations_mm, bearing_radial_clearance_mm: discs
+  /// are machined one by one); none: the first disc's (`pins.hole_deviation` or
+  /// `cranks.hole_deviation`, `bearing.radial_clearance`). Ignored with one disc.
+  std::optional<contact::HoleDeviations> second_disc_holes;
+  std::optional<double> second_disc_bearing_clearance;
+  /// The holes of disc 0 or 1 (the second disc's own, else the common ones).
+  const contact::HoleDeviations& Holes(int disc) const;
+  /// The element settings of disc 0 or 1 with that disc's holes (and, Bearing, its play).
+  contact::OutputPins PinsOf(int disc) const;
+  contact::Cranks CranksOf(int disc) const;
+  contact::BearingSettings BearingOf(int disc) const;
   /// Throws std::invalid_argument naming the key (see OutputPins, Cranks, BearingSettings).
   void Validate(double eccentricity) const;
 };

@@ -79,6 +79,10 @@ struct AllowablesSettings {
   std::optional<double> bearing_life_hours;
   /// The least static safety s_0 = C_0 / P_0,max of every bearing (ISO 76).
   std::optional<double> min_static_safety;
+  /// h: the pitting life the pins and the disc's teeth must reach; their S_H is rated at it.
+  std::optional<double> contact_life_hours;
+  /// The least pitting safety S_H of the pins and teeth at contact_life_hours (ISO 6336-2).
+  std::optional<double> min_contact_safety;
   /// Throws std::invalid_argument naming the `[allowables]` key, its value and what is expected:
   /// each given value finite and > 0.
   void Validate() const;
@@ -100,6 +104,12 @@ struct BearingLife;
 /// "stage.smallest_static_safety" against min_static_safety, and
 /// "stage.largest_roller_contact_stress_mpa" against ISO 76's 4,000 MPa (max, always given).
 std::vector<AllowableRow> BearingRatingRows(const BearingLife& life, const AllowablesSettings& targets);
+
+struct ContactFatigue;
+/// The pin-cycloid contact's pitting rating against its targets: "contact.shortest_life_hours"
+/// against [allowables] contact_life_hours (min; an infinite life, no damage, passes it: value and
+/// margin +inf) and "contact.smallest_safety" against min_contact_safety (min).
+std::vector<AllowableRow> ContactFatigueRows(const ContactFatigue& fatigue, const AllowablesSettings& targets);
 
 /// A figure of the nominal design (a name of ToleranceSettings::FigureNames) and the analysis it
 /// is taken from: the tolerance study's nominal run when it ran its worst case, else the analysis

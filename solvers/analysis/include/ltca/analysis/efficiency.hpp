@@ -46,6 +46,19 @@ struct ContactFrictionPoint {
   bool point_contact = false;   ///< the ellipse (Jiang eq. 15-19) was used for the pressure
 };
 
+/// The power lost at each kind of contact of the stage, W (docs/efficiency.md, "The stage's
+/// friction"): mesh, the cycloid flanks against the pins (0 with a rolling pin sleeve); output, the
+/// output pins sliding in the disc's holes; bearings, the eccentric bearing or the crank bearings
+/// (M = mu F d / 2 at the relative speed of the eccentric and the disc); seats, the pins turning in
+/// their sleeves or seats (Jiang eq. 34's bore; 0 with the pins fixed). Their sum is the loss.
+struct PowerLossBySource {
+  double mesh = 0.0;
+  double output = 0.0;
+  double bearings = 0.0;
+  double seats = 0.0;
+  double total() const { return mesh + output + bearings + seats; }
+};
+
 struct EfficiencyPosition {
   double crank = 0.0;  ///< rad
   SolverStatus status = SolverStatus::kNotSolved;
@@ -54,7 +67,13 @@ struct EfficiencyPosition {
   std::vector<double> pin_coefficient;  ///< per pin: force-weighted mean mu; NaN when unloaded
   std::vector<double> pin_loss;         ///< per pin, W (full model)
   double output_power = kEfficiencyNaN;          ///< W, |T| |omega_c|
-  double power_loss = kEfficiencyNaN;            ///< W, full model
+  double power_loss = kEfficiencyNaN;            ///< W, full model: every source's (power_loss_by_source.total())
+  /// W, full model, per source; NaN for a failed position.
+  PowerLossBySource power_loss_by_source{kEfficiencyNaN, kEfficiencyNaN, kEfficiencyNaN, kEfficiencyNaN};
+  /// The stage's friction moments on the discs (bearings and output pins, not in the torque
+  /// balance) over |T|: the bound on the relative change of the forces they would cause (0 without
+  /// a stage's coefficients; docs/efficiency.md).
+  double stage_friction_moment_ratio = kEfficiencyNaN;
   double power_loss_first_order = kEfficiencyNaN;  ///< W
   double efficiency = kEfficiencyNaN;
   double efficiency_first_order = kEfficiencyNaN;
@@ -89,6 +108,9 @@ using EfficiencySpread = Spread;
 struct EfficiencySummary : RunRecord {
   EfficiencySpread power_loss, power_loss_first_order, output_power, friction_moment_ratio, mean_coefficient;
   EfficiencySpread friction_moment_ratio_first_order;  ///< with the frictionless forces
+  /// Per source (PowerLossBySource's), W; their means add to power_loss's.
+  EfficiencySpread power_loss_mesh, power_loss_output, power_loss_bearings, power_loss_seats;
+  EfficiencySpread stage_friction_moment_ratio;
   /// Energy-weighted over the sweep: mean P_out / (mean P_out + mean P_loss).
   double efficiency = kEfficiencyNaN;
   double efficiency_first_order = kEfficiencyNaN;

@@ -35,12 +35,27 @@ struct FrictionSettings {
   double boundary_coefficient = 0.1;    ///< f_b of eq. 20 (deck: boundary_coefficient), in [0, 1]
   double limiting_shear_modulus = 1.0;  ///< G of eq. 23, MPa (deck: limiting_shear_modulus_mpa)
   double power_law_exponent = 0.5;      ///< n of eq. 22-23 (deck: power_law_exponent), in (0, 1]
+  /// The lubricant's limiting shear stress tau_L = tau_L0 + gamma p (Bair and Winer 1979, Evans
+  /// and Johnson 1986), capping eq. 23's shear stress point by point (contact/sliding.hpp): gamma
+  /// (deck: limiting_shear_stress_coefficient, in (0, 1]; NaN, the default: no cap, Jiang as
+  /// printed) and tau_L0 in MPa (deck: limiting_shear_stress_mpa, >= 0, default 0; only with gamma).
+  double limiting_shear_coefficient = std::numeric_limits<double>::quiet_NaN();
+  double limiting_shear_stress = 0.0;
   /// Pin sleeve (Jiang eq. 34, deck: sleeve_bore_radius_mm): the radius of the pin inside a sleeve
   /// whose outer radius is [pair] pin_radius_mm. Empty: no sleeve.
   std::optional<double> sleeve_bore_radius;
   /// mu at the sleeve's bore (deck: sleeve_coefficient); NaN (the default): the coefficient of the
   /// contact it replaces (Coulomb's mu, or the mixed one there), Jiang eq. 34 read literally.
   double sleeve_coefficient = std::numeric_limits<double>::quiet_NaN();
+  /// The reducer stage's contacts (docs/efficiency.md, "The stage's friction"): Coulomb's mu of an
+  /// output pin sliding in its hole (deck: output_pin_coefficient, [output] kind = "pins"), and the
+  /// bearings' constant coefficient of M = mu F d / 2 (deck: bearing_coefficient; SKF's simplified
+  /// friction moment), d the bearing's diameter (deck: bearing_diameter_mm; NaN, the default: [bearing]
+  /// pitch_diameter_mm). Both in [0, 1], 0 by default (no loss there).
+  double output_pin_coefficient = 0.0;
+  double bearing_coefficient = 0.0;
+  double bearing_diameter = std::numeric_limits<double>::quiet_NaN();  ///< mm
+  bool stage_friction() const { return output_pin_coefficient > 0.0 || bearing_coefficient > 0.0; }
   enum class TorqueBalance {
     kSolve,  ///< re-solve with the friction moment in the balance, to a fixed point (default)
     kBound,  ///< frictionless forces; the friction moment's ratio to T reported as a bound

@@ -42,9 +42,14 @@ struct SpectrumResult {
   std::vector<SpectrumBinResult> bins;
   std::vector<double> l10_hours;        ///< ISO 281 basic life per bearing, Miner over the bins
   std::vector<double> load_zone_hours;  ///< load-zone life per bearing, Miner over the bins
+  /// Pitting lives (ContactFatigue), Miner over the bins: per disc the pins' then the teeth's. A
+  /// bin's pin life is its most damaged pin's, which may be another pin in another bin: the sum
+  /// bounds the damage of any one pin from above.
+  std::vector<double> contact_life_hours;
   bool all_succeeded() const;
   double ShortestL10Hours() const;       ///< NaN when no bearing has one
   double ShortestLoadZoneHours() const;  ///< NaN when no bearing has one
+  double ShortestContactHours() const;   ///< NaN when no bin was rated
 };
 
 /// Combines the bins' solved sweeps (each with its bearing_life at its bin's speed) by Miner's rule.

@@ -140,7 +140,10 @@ class Stage {
   /// for the check are kept for the problems when they fit in kKeptStatesBytes.
   Stage(StageDesign design, std::vector<double> cranks);
 
-  static constexpr std::size_t kKeptStatesBytes = std::size_t{64} << 20;
+  /// 32 MB: a sweep keeps its states up to about 4,500 positions of 40 pins (plane model), and the
+  /// whole process of `ltca solve`, about 15 MB beside them, stays under 64 MB at any length (it
+  /// was 64 MB, and a 9,000-position sweep peaked at 70 MB; tests/app/check_solve_memory.py).
+  static constexpr std::size_t kKeptStatesBytes = std::size_t{32} << 20;
 
   const StageDesign& design() const { return *design_; }
   ModelInfo Model() const { return design_->Model(); }

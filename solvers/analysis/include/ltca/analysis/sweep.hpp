@@ -18,6 +18,7 @@
 
 #include "ltca/contact/bearing.hpp"
 #include "ltca/analysis/run.hpp"
+#include "ltca/analysis/contact_fatigue.hpp"
 #include "ltca/analysis/stage.hpp"
 #include "ltca/solvers/load_solver.hpp"
 
@@ -183,6 +184,12 @@ struct SweepSummary : RunRecord {
   /// computed once by app::SolveDeckSweep, which knows the deck's bearings and crank speed; none
   /// for the mesh alone and from a SweepRunner alone.
   std::optional<BearingLife> bearing_life;
+  /// The pin-cycloid contact's load cycles over the sweep (contact_fatigue.hpp), counted by the
+  /// accumulator from every position's per-pin pressure.
+  ContactCycles contact_cycles;
+  /// Their pitting rating (RateContactFatigue), computed once by app::SolveDeckSweep, which knows
+  /// the material, the crank speed and the required life; none from a SweepRunner alone.
+  std::optional<ContactFatigue> contact_fatigue;
 };
 
 struct StageDesign;
@@ -211,6 +218,10 @@ class SummaryAccumulator {
   std::vector<double> bearing_power_sum_;  // sum of P^(10/3) per bearing over the positions in the mean
   std::vector<double> share_sums_;         // per group
   std::int64_t stage_count_ = 0;
+  ContactCycleCounter cycles_;
+  double first_crank_ = 0.0, last_crank_ = 0.0;  // rad, of the positions added (failed ones too)
+  std::int64_t added_ = 0;
+  std::size_t discs_ = 1;
 };
 
 /// One solver over the crank positions of a stage at one torque (N*mm, signed), a position at a

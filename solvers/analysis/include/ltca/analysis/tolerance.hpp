@@ -165,7 +165,7 @@ struct ToleranceInput {
   std::string name;          ///< "pin_circle_deviation_mm" or "pin_radius_deviations_mm[7]" (pin 7, 1-based)
   std::size_t distribution;  ///< index into ToleranceSettings::distributions
   int pin = -1;              ///< 0-based pin of a per-pin key, -1 for a scalar key
-  /// With [second_disc]: 1 for the second disc's own draw of a disc key (its name ends
+  /// With [second_disc]: 1 for the second disc's own draw of a disc key or of its bearing play (its name ends
   /// " (disc 2)"), else 0 (the first disc's, or the pin ring's, which both discs share).
   int disc = 0;
 };
@@ -282,7 +282,13 @@ class SampleTable {
 };
 
 /// Percentiles by linear interpolation between order statistics (Hyndman & Fan type 7, numpy's
-/// default) over the finite values.
+/// default) over the finite values, each only where the count supports it: the p-th percentile
+/// where count x min(p, 1 - p) >= 1 (at least one sample expected beyond it: p1 and p99 from 100
+/// samples, p5 and p95 from 20, p50 from 2), else NaN (kPercentileRule). `count` goes with every
+/// figure.
+inline constexpr const char* kPercentileRule =
+    "type-7 percentiles over the finite values, each given only where count x min(p, 1 - p) >= 1 (p1 and p99 from 100 "
+    "values, p5 and p95 from 20, p50 from 2), else null";
 struct FigureStats {
   std::int64_t count = 0;  ///< samples with a finite value
   double mean = std::numeric_limits<double>::quiet_NaN();
@@ -302,9 +308,14 @@ struct LimitResult {
 
 /// Which tolerance drives a figure's spread: standardised regression coefficients (SRC) of a
 /// least-squares fit of the figure on every input column, both standardised (Saltelli et al.,
-/// "Global sensitivity analysis: the primer", 2008, section 1.2.5). A key's share is the sum of
-/// SRC^2 over its columns (one per pin for a per-pin key): with independent inputs and a linear
-/// response the shares add up to R^2, the fraction of the variance the linear fit explains.
+/// "Global sensitivity analysis: the primer", 2008, section 1.2.5). A key's share is the sum over
+/// its columns (one per pin for a per-pin key) of SRC_c x r_c, r_c the sample correlation of
+/// column c with the figure (Pratt's measure: Pratt, "Dividing the indivisible", 1987; Thomas et
+/// al., Social Indicators Research 45, 1998): at the least-squares solution R^2 = sum_c SRC_c r_c,
+/// so the shares add up to R^2 exactly, whatever the sample correlation of the inputs. A share is
+/// negative where a column's correlation with the figure has the other sign than its coefficient
+/// (a suppressor). The sum of SRC^2 (src_squared) is kept beside it: with independent inputs it is
+/// the share in the limit, and the noise floor below is of it.
 ///
 /// The noise floor: with n samples and p columns a key of m columns whose true effect is nil
 /// still gets a share, sum of m SRC^2 each of variance (1 - R^2) / (n - p - 1) (the least-squares
@@ -318,26 +329,28 @@ inline constexpr double kNoiseFloorLevel = 0.999;
 struct KeySensitivity {
   std::string key;
   double src = std::numeric_limits<double>::quiet_NaN();    ///< scalar keys: the signed SRC
-  double share = std::numeric_limits<double>::quiet_NaN();  ///< sum of SRC^2 over the key's columns
+  double share = std::numeric_limits<double>::quiet_NaN();  ///< sum of SRC_c r_c over the key's columns (Pratt)
+  double src_squared = std::numeric_limits<double>::quiet_NaN();  ///< sum of SRC^2 over the key's columns
   int columns = 0;                                          ///< its columns that vary (m)
-  double noise_floor = std::numeric_limits<double>::quiet_NaN();  ///< the share chance reaches (above)
-  bool distinguishable = false;                             ///< share above the noise floor
+  double noise_floor = std::numeric_limits<double>::quiet_NaN();  ///< the src_squared chance reaches (above)
+  bool distinguishable = false;                             ///< src_squared above the noise floor
 };
 struct FigureSensitivity {
   std::string figure;
   std::int64_t samples = 0;  ///< successful samples with a finite figure (n)
   double r_squared = std::numeric_limits<double>::quiet_NaN();
   double r_squared_floor = std::numeric_limits<double>::quiet_NaN();  ///< R^2 that chance reaches (above)
-  std::vector<KeySensitivity> keys;  ///< largest share first
+  std::vector<KeySensitivity> keys;  ///< largest share first; the shares add up to r_squared
   std::string note;                  ///< why there is no ranking, when there is none
 };
 inline constexpr const char* kSensitivityMethod =
     "standardised regression coefficients (SRC): least squares of the standardised figure on the standardised "
     "inputs (normal equations of the correlation matrix, Eigen column-pivoting QR) over the successful samples; a "
-    "key's share is the sum of SRC^2 over its columns (per pin for per-pin keys); R^2 says how much of the variance "
-    "the linear model explains; noise_floor is the share a key with no effect reaches by chance at the 99.9th "
-    "percentile (chi^2 with the key's columns as degrees of freedom, times (1 - R^2) / (n - p - 1)): a share below "
-    "it is not distinguishable from chance";
+    "key's share is the sum over its columns (per pin for per-pin keys) of SRC x the column's correlation with the "
+    "figure (Pratt's measure, 1987): the shares add up to R^2 exactly, the fraction of the variance the linear model "
+    "explains (a negative share: a suppressor); src_squared is the sum of SRC^2 over the key's columns; noise_floor "
+    "is the src_squared a key with no effect reaches by chance at the 99.9th percentile (chi^2 with the key's columns "
+    "as degrees of freedom, times (1 - R^2) / (n - p - 1)): a src_squared below it is not distinguishable from chance";
 
 struct ToleranceSummary {
   std::int64_t samples = 0, succeeded = 0, failed = 0, rejected = 0;

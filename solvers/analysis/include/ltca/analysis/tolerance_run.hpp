@@ -42,8 +42,8 @@ class ToleranceProgress {
   virtual void Update(TolerancePhase /*phase*/, std::int64_t /*done*/) {}
   /// The phase ended.
   virtual void Finish(TolerancePhase /*phase*/) {}
-  /// Rank 0, when more samples follow: the first `done` samples (two a thread) took `seconds` (s)
-  /// of this rank's `count`, the estimate of the whole.
+  /// Rank 0, when more samples follow: `seconds` (s), the estimate of this rank's `count` samples
+  /// from the first `done` (RunTolerance: the time so far and the rate after the warm-up).
   virtual void Estimate(double /*seconds*/, std::int64_t /*done*/, std::int64_t /*count*/) {}
 };
 

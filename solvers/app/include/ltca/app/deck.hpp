@@ -110,6 +110,8 @@ struct Deck : analysis::StageDesign {
   analysis::AllowablesSettings allowables;               ///< [allowables], optional (the stage's bearing targets)
   /// [[load_spectrum]], optional: the duty cycle's bins (ltca solve rates every life over them).
   std::vector<analysis::LoadBin> load_spectrum;
+  /// [operation] gave motor_speed_rpm (the crank speed derived through the first stage).
+  bool speed_from_motor = false;
 
   /// The stage of this deck checked at its sweep's cranks (or the given ones), for the commands
   /// that load it: requires [material] (std::invalid_argument naming the deck).

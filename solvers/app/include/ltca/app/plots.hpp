@@ -89,6 +89,18 @@ struct Figure {
   int width = 900, height = 560;  ///< pixels (SVG user units)
 };
 
+/// The drawing module (ltca_plots.so, loaded at run time) is handed a Figure, C++ objects of this
+/// header, so it must be built from the same declarations. kPlotsAbiVersion is raised with any
+/// change to the structs above; PlotsAbi(version) names it with the project's version and the
+/// structs' sizes. The module exports its own (ltca_plots_abi) and the loader refuses a module
+/// whose text differs, naming both.
+inline constexpr int kPlotsAbiVersion = 1;
+inline std::string PlotsAbi(const std::string& version) {
+  return "ltca " + version + ", plots ABI " + std::to_string(kPlotsAbiVersion) + ", sizes " + std::to_string(sizeof(Figure)) +
+         "/" + std::to_string(sizeof(Panel)) + "/" + std::to_string(sizeof(Series)) + "/" + std::to_string(sizeof(Map)) + "/" +
+         std::to_string(sizeof(Mark));
+}
+
 enum class Format { kSvg, kPng, kPdf };
 
 /// The format a path asks for by its extension: .png, .pdf, else SVG (also for "-").
