@@ -247,12 +247,14 @@ void LoadSolver::SolveReducer(const LoadProblem& problem, const SolverOptions& o
 void LoadSolver::SolveReducerPreloaded(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                                        LoadResult* result) const {
   // The preload state: the stage under 1e-7 of its torque (as the free play of ltca stiffness),
-  // where the stage's minimisation and judge keep their scale (at exactly zero torque both have
-  // none: the moment balance is judged against 1 N*mm); its forces are the zero-torque preload's
-  // to 1e-7 of the torque's share. A problem at zero torque is solved there.
+  // where the stage's minimisation keeps a scale; its forces are the zero-torque preload's to 1e-7
+  // of the torque's share. A torque of at most 1 N*mm, the judge's floor of a moment (e.g. a free
+  // play's 1e-7 T), is already zero to the judge: that problem is its own preload state (1e-7 of
+  // it would lie below what the stage's rotation resolves). A problem at zero torque is solved there.
+  const bool vanishing = std::abs(problem.torque()) <= 1.0;
   LoadResult zero;
   zero.force.assign(result->force.size(), 0.0);
-  SolveReducerBody(problem.Unloaded(1e-7), options, workspace, &zero, true);
+  SolveReducerBody(vanishing ? problem : problem.Unloaded(1e-7), options, workspace, &zero, true);
   LoadResult::Preload preload;
   preload.rotation = zero.rotation;
   preload.force = zero.force;
@@ -294,14 +296,16 @@ void LoadSolver::SolveReducerPreloaded(const LoadProblem& problem, const SolverO
     result->rotation = std::numeric_limits<double>::quiet_NaN();
     return;
   }
-  if (problem.torque() == 0.0) {
+  if (problem.torque() == 0.0 || vanishing) {
     *result = std::move(zero);
-    result->message = fmt::format("zero torque: the preload state, {} points pressed ({})", preload.contacts, result->message);
+    result->message = fmt::format("{}: the preload state, {} points pressed ({})", problem.torque() == 0.0 ? "zero torque" : "a vanishing torque",
+                                  preload.contacts, result->message);
   } else {
     SolveReducerBody(problem, options, workspace, result);
   }
-  // A floating disc that seats itself (translating) off every overlap carries no preload.
-  if (preload.contacts > 0) result->preload = preload;
+  // A preload presses both flanks: a floating disc that seats itself (translating) off every
+  // overlap rests on one flank under the vanishing torque and carries no preload.
+  if (preload.opposing_torque_nmm > 0.0) result->preload = preload;
 }
 
 void LoadSolver::SolveReducerBody(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
