@@ -185,7 +185,7 @@ double RefineAlongWidth(const MeshModel& model, const PinContact& best, const st
 UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKinematics kinematics,
                                 double interference_tolerance_mm) {
   const MeshState state = model.Evaluate(crank, 0.0);
-  RequireNoInterference(state, crank, std::max(interference_tolerance_mm, model.interference_tolerance()));
+  (void)interference_tolerance_mm;  // an overlap on both flanks is a preload (UnloadedContact::interference)
   UnloadedContact r;
   r.crank = crank;
   const std::vector<PinContact> sections = FaceSections(model, state);
@@ -226,7 +226,14 @@ UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank, ContactKin
       r.theta_c2 = RefineAlongWidth(model, *best_c2, sections, crank, kinematics, -1.0, r.theta_c2);
     }
   }
-  r.backlash = r.theta_c1 - r.theta_c2;
+  // Overlapping flanks (a preloaded pair): the drive flank's closing lies behind the coast
+  // flank's; no free play, and the overlap of the two, as a rotation, is the interference.
+  // A rounding-sized overlap (below the model's interference tolerance over the pin-circle
+  // radius) is the conjugate pair's zero backlash, kept as computed.
+  const double rounding = model.interference_tolerance() / model.pair().pin_circle_radius;
+  const bool overlapping = r.theta_c2 - r.theta_c1 > rounding;
+  r.backlash = overlapping ? 0.0 : r.theta_c1 - r.theta_c2;
+  r.interference = overlapping ? r.theta_c2 - r.theta_c1 : 0.0;
   if (kinematics == ContactKinematics::kExact) {
     const MeshState at_c1 = model.Evaluate(crank, r.theta_c1);
     r.clearance_at_c1 = min_per_pin(FaceSections(model, at_c1), gap);

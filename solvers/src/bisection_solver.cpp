@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "first_contact.hpp"
+#include "two_flanks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -142,6 +143,8 @@ struct Linearisation {
 
 void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                               LoadResult* result) const {
+  // A preloaded pair has no first contact to start from: both flanks press at psi = 0.
+  if (problem.preloaded()) return SolveTwoFlanks(problem, problem.torque(), options, workspace, result);
   // Start at the unloaded first contact in the load direction (Liu: theta_c1).
   const std::optional<double> first_contact = FirstContactOrFail(problem, result);
   if (!first_contact) return;

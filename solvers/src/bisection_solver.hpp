@@ -16,6 +16,9 @@ class BisectionSolver final : public LoadSolver {
   std::string name() const override { return "bisection"; }
   bool supports_coupling() const override { return true; }
   bool supports_reducer() const override { return true; }
+  /// A preloaded mesh (LoadProblem::preloaded): the same search on psi over the pins of both
+  /// flanks, bracketed from the theoretical position (two_flanks.hpp).
+  bool supports_two_flanks() const override { return true; }
 
  private:
   /// The stage: Liu's search on the output rotation; at each trial rotation every

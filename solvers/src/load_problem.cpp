@@ -682,6 +682,21 @@ double LoadProblem::TorqueCapacity() const {
 
 double LoadProblem::FirstContactRotation() const { return first_contact_; }
 
+bool LoadProblem::overlapping() const {
+  const double tolerance = model_->interference_tolerance();
+  return std::any_of(base_.pins.begin(), base_.pins.end(),
+                     [&](const contact::PinContact& c) { return c.clearance < -tolerance; });
+}
+
+LoadProblem LoadProblem::Unloaded(double fraction) const {
+  LoadProblem out(*this);
+  out.torque_ = fraction * torque_;
+  out.single_pin_ = out.SinglePinBound();
+  return out;
+}
+
+bool LoadProblem::preloaded() const { return !contact::JamReport(base_, model_->interference_tolerance()).empty(); }
+
 LoadProblem::RotationRange LoadProblem::LoadedRotationRange() const {
   return {first_contact_, single_pin_, contact::RotationWindow(*model_)};
 }

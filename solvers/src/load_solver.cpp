@@ -13,6 +13,7 @@
 #include "ltca/geometry/units.hpp"
 #include "ltca/solvers/registry.hpp"
 #include "reducer_system.hpp"
+#include "two_flanks.hpp"
 
 namespace ltca::solvers {
 namespace {
@@ -128,6 +129,8 @@ const char* ToString(SolverStatus status) {
     case SolverStatus::kRotationOutOfRange: return "rotation-out-of-range";
     case SolverStatus::kCouplingUnsupported: return "coupling-unsupported";
     case SolverStatus::kReducerUnsupported: return "stage-unsupported";
+    case SolverStatus::kCannotAssemble: return "cannot-assemble";
+    case SolverStatus::kPreloadUnsupported: return "preload-unsupported";
   }
   return "?";
 }
@@ -231,16 +234,89 @@ void LoadSolver::SolveReducer(const LoadProblem& problem, const SolverOptions& o
     result->status = SolverStatus::kReducerUnsupported;
     result->message = fmt::format("solver \"{}\" does not solve the reducer stage ([output]); solvers that do: "
                                   "{} (docs/stage.md)", solver.name(), fmt::join(ReducerSolverNames(), ", "));
-  } else if (const std::string overlaps = contact::JamReport(problem.base_state(), problem.model().interference_tolerance());
-             !overlaps.empty()) {
-    result->status = SolverStatus::kInterference;
-    result->message = fmt::format("interference at the theoretical position: {} overlap the cycloid", overlaps);
+  } else if (problem.overlapping()) {
+    // Pins overlap the cycloid: the floating discs find their preload state at zero torque (the
+    // stage's energy takes every element of either flank), the loaded balance starts from it.
+    SolveReducerPreloaded(problem, options, workspace, result);
   } else {
+    SolveReducerBody(problem, options, workspace, result);
+  }
+  FinishReducerResult(problem, result);
+}
+
+void LoadSolver::SolveReducerPreloaded(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                                       LoadResult* result) const {
+  // The preload state: the stage under 1e-7 of its torque (as the free play of ltca stiffness),
+  // where the stage's minimisation keeps a scale; its forces are the zero-torque preload's to 1e-7
+  // of the torque's share. A torque of at most 1 N*mm, the judge's floor of a moment (e.g. a free
+  // play's 1e-7 T), is already zero to the judge: that problem is its own preload state (1e-7 of
+  // it would lie below what the stage's rotation resolves). A problem at zero torque is solved there.
+  const bool vanishing = std::abs(problem.torque()) <= 1.0;
+  LoadResult zero;
+  zero.force.assign(result->force.size(), 0.0);
+  SolveReducerBody(vanishing ? problem : problem.Unloaded(1e-7), options, workspace, &zero, true);
+  LoadResult::Preload preload;
+  preload.rotation = zero.rotation;
+  preload.force = zero.force;
+  double worst_stress = 0.0;
+  int stress_point = -1;
+  for (std::size_t i = 0; i < zero.force.size(); ++i) {
+    const double f = zero.force[i];
+    if (!(f > 0.0)) continue;
+    ++preload.contacts;
+    preload.max_force_n = std::max(preload.max_force_n, f);
+    const contact::PinContact& pin = problem.base_state().pins[i];
+    if (pin.arm < 0.0) preload.opposing_torque_nmm += f * -pin.arm;
+    if (pin.edge) continue;
+    const double p = problem.base_laws()[i].MaxPressure(f);
+    if (p > worst_stress) worst_stress = p, stress_point = static_cast<int>(i);
+  }
+  preload.max_stress_mpa = worst_stress;
+  const double limit = problem.material().contact_stress_limit;
+  const std::string overlaps = contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance());
+  if (zero.status != SolverStatus::kSuccess) {
+    // Beyond the laws (a pin past its largest force, a pressed tip corner): the disc cannot be
+    // seated. Any other failure is the solve's, said as such.
+    const bool beyond = zero.status == SolverStatus::kLawCannotCarry || zero.status == SolverStatus::kEdgeContact;
+    *result = std::move(zero);
+    result->preload = preload;
+    if (beyond) result->status = SolverStatus::kCannotAssemble;
+    result->message = fmt::format("{}pins overlap the cycloid ({}); the preload state (the stage at 1e-7 of its torque): {}",
+                                  beyond ? "cannot assemble: " : "", overlaps, result->message);
+    result->rotation = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  if (preload.contacts > 0 && worst_stress > limit) {
+    *result = std::move(zero);
+    result->preload = preload;
+    result->status = SolverStatus::kCannotAssemble;
+    result->message = fmt::format("cannot assemble: the preload at zero torque presses {} to {:.6g} MPa, beyond the "
+                                  "material limit {:.6g} MPa ([material] contact_stress_limit_mpa; the overlap: {})",
+                                  PointName(problem, stress_point), worst_stress, limit, overlaps);
+    result->rotation = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  if (problem.torque() == 0.0 || vanishing) {
+    *result = std::move(zero);
+    result->message = fmt::format("{}: the preload state, {} points pressed ({})", problem.torque() == 0.0 ? "zero torque" : "a vanishing torque",
+                                  preload.contacts, result->message);
+  } else {
+    SolveReducerBody(problem, options, workspace, result);
+  }
+  // A preload presses both flanks: a floating disc that seats itself (translating) off every
+  // overlap rests on one flank under the vanishing torque and carries no preload.
+  if (preload.opposing_torque_nmm > 0.0) result->preload = preload;
+}
+
+void LoadSolver::SolveReducerBody(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                                  LoadResult* result, bool solve_zero) const {
+  const LoadSolver& solver = *this;
+  {
     // Pin bending: the coupled contact solver kept in the workspace (its analysis reused over a sweep).
     CoupledContact* coupled = problem.has_coupling() ? &CoupledContactFor(problem, workspace) : nullptr;
     const ReducerSystem nominal(problem, coupled);
     std::unique_ptr<ReducerSystem> judge;  // exact kinematics: the system about the reported poses
-    if (problem.torque() == 0.0) {
+    if (problem.torque() == 0.0 && !solve_zero) {
       nominal.Fill(nominal.Zero(), result);
       result->status = SolverStatus::kSuccess;
       result->message = "zero torque: no rotation, no forces";
@@ -265,6 +341,9 @@ void LoadSolver::SolveReducer(const LoadProblem& problem, const SolverOptions& o
       }
     }
   }
+}
+
+void LoadSolver::FinishReducerResult(const LoadProblem& problem, LoadResult* result) const {
   result->te = -problem.direction() * result->rotation;
   result->flank = problem.torque() == 0.0 ? Flank::kNone : (problem.direction() > 0.0 ? Flank::kDrive : Flank::kCoast);
   if (!std::isfinite(result->rotation)) return;
@@ -292,6 +371,66 @@ Residuals ComputeResiduals(const LoadProblem& problem, const LoadResult& result)
     nominal.Judge(&judged);
   }
   return judged.residuals;
+}
+
+void LoadSolver::SolvePreloaded(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                                LoadResult* result) const {
+  // The preload state: the two-flank balance at zero torque, shared by every backend (it is the
+  // assembly, not a backend's answer), judged against the laws and the material's stress limit.
+  LoadResult zero;
+  zero.force.assign(result->force.size(), 0.0);
+  SolveTwoFlanks(problem, 0.0, options, workspace, &zero);
+  LoadResult::Preload preload;
+  preload.rotation = zero.rotation;
+  preload.force = zero.force;
+  double worst_stress = 0.0;
+  int stress_point = -1;
+  if (std::isfinite(zero.rotation)) {
+    std::vector<contact::ContactLaw> scratch;
+    const auto pins = problem.At(zero.rotation, workspace, &scratch);
+    for (std::size_t i = 0; i < pins.size() && i < zero.force.size(); ++i) {
+      const double f = zero.force[i];
+      if (!(f > 0.0)) continue;
+      ++preload.contacts;
+      preload.max_force_n = std::max(preload.max_force_n, f);
+      if (pins[i].arm < 0.0) preload.opposing_torque_nmm += f * -pins[i].arm;
+      if (pins[i].law == nullptr) continue;
+      const double p = pins[i].law->MaxPressure(f);
+      if (p > worst_stress) worst_stress = p, stress_point = static_cast<int>(i);
+    }
+  }
+  preload.max_stress_mpa = worst_stress;
+  result->preload = preload;
+  const double limit = problem.material().contact_stress_limit;
+  if (zero.status != SolverStatus::kSuccess) {
+    result->status = SolverStatus::kCannotAssemble;
+    result->message = fmt::format("cannot assemble: pins overlap the cycloid on both flanks ({}) and the disc finds no "
+                                  "preload balance within its contact laws: {}",
+                                  contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance()),
+                                  zero.message);
+  } else if (worst_stress > limit) {
+    result->status = SolverStatus::kCannotAssemble;
+    result->message = fmt::format("cannot assemble: the preload at zero torque presses {} to {:.6g} MPa, beyond the "
+                                  "material limit {:.6g} MPa ([material] contact_stress_limit_mpa; the overlap: {})",
+                                  PointName(problem, stress_point), worst_stress, limit,
+                                  contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance()));
+  } else if (problem.torque() == 0.0) {
+    result->status = SolverStatus::kSuccess;
+    result->message = fmt::format("zero torque: the preload state, {} points pressed on both flanks ({})",
+                                  preload.contacts, zero.message);
+    result->rotation = zero.rotation;
+    result->force = zero.force;
+    result->torque_evaluations = zero.torque_evaluations;
+    result->iterations = zero.iterations;
+    result->details = zero.details;
+  } else if (!supports_two_flanks()) {
+    result->status = SolverStatus::kPreloadUnsupported;
+    result->message = fmt::format("solver \"{}\" searches one flank from first contact; this pair is preloaded (pins "
+                                  "overlap on both flanks: {}), solved by: bisection (docs/solvers.md, \"Two flanks\")",
+                                  name(), contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance()));
+  } else {
+    DoSolve(problem, options, workspace, result);
+  }
 }
 
 LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& options) const {
@@ -322,13 +461,11 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
     result.status = SolverStatus::kCouplingUnsupported;
     result.message = fmt::format("solver \"{}\" does not support a compliance coupling, which this problem has "
                                  "(docs/solvers.md, \"Coupled compliance\")", name());
-  } else if (const std::string overlaps = contact::JamReport(problem.base_state(), problem.model().interference_tolerance()); !overlaps.empty()) {
-    // Judged before any solve: pins overlapping at the theoretical position that no rotation frees
-    // are an input error (the commands reject such decks); a solver would report MN-sized
-    // "successes" here.
-    result.status = SolverStatus::kInterference;
-    result.message = fmt::format("interference at the theoretical position: {} overlap the cycloid and no rotation "
-                                 "frees every pin", overlaps);
+  } else if (problem.preloaded()) {
+    // Pins overlap on both flanks and no rotation frees them all: a preloaded pair. Its zero-torque
+    // balance over both flanks is the assembly (the preload state); the loaded balance starts from
+    // it (docs/solvers.md "Two flanks").
+    SolvePreloaded(problem, options, workspace, &result);
   } else if (problem.torque() == 0.0) {
     // No load: the cycloid stays at its theoretical position, no pin carries force.
     result.status = SolverStatus::kSuccess;
@@ -370,7 +507,15 @@ LoadResult LoadSolver::Solve(const LoadProblem& problem, const SolverOptions& op
       result.status = SolverStatus::kResidualTooLarge;
       result.message += fmt::format("; shared residual {:.3g} exceeds {:.3g}", result.residuals.Normalised(), accepted);
     }
-    if (result.status == SolverStatus::kSuccess && problem.torque() != 0.0) JudgeRange(problem, options, &result);
+    if (result.status == SolverStatus::kSuccess && problem.torque() != 0.0) {
+      if (!result.preload) {
+        JudgeRange(problem, options, &result);
+      } else if (std::abs(result.rotation) > contact::RotationWindow(problem.model())) {
+        result.status = SolverStatus::kRotationOutOfRange;
+        result.message += fmt::format("; the rotation {:.6g} arcsec lies beyond a quarter tooth pitch",
+                                      units::RadToArcsec(result.rotation));
+      }
+    }
     if (result.status == SolverStatus::kSuccess) {
       std::vector<const contact::ContactLaw*> laws(pins.size());
       for (std::size_t i = 0; i < pins.size(); ++i) laws[i] = pins[i].law;

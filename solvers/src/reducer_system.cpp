@@ -739,8 +739,20 @@ void ReducerSystem::Judge(LoadResult* result) const {
   const Eigen::VectorXd c = CoordinatesOf(*result) - origin_;
   // Generalised forces dPi/dc with the reported forces: each disc's force (N) and moment (N*mm),
   // the output member's moment minus T, each shaft's force.
-  Eigen::VectorXd balance = -applied_;
-  balance(psi_coordinate_) -= torque_;
+  Eigen::VectorXd balance = Eigen::VectorXd::Zero(coordinate_count());
+  balance(psi_coordinate_) = -torque_;
+  // The largest single contribution of an element force to each coordinate's balance (N, N*mm):
+  // the size of what the balance is a difference of. A preloaded stage near zero torque carries
+  // element moments far beyond T on its discs and output member (docs/stage.md "Preload").
+  Eigen::VectorXd carried = Eigen::VectorXd::Zero(coordinate_count());
+  const auto add = [&](int i, double v) {
+    balance(i) += v;
+    carried(i) = std::max(carried(i), std::abs(v));
+  };
+  // The loads besides T (StageLoads) on the discs and the output member.
+  for (int i = 0; i < coordinate_count(); ++i) {
+    if (applied_(i) != 0.0) add(i, -applied_(i));
+  }
   double f_max = 0.0, w_max = 0.0;
   const double geometry_resolution = 16.0 * std::numeric_limits<double>::epsilon() * radius_;
   // Pin bending: each point's beam deflection (C F)_i under the reported forces.
@@ -762,7 +774,7 @@ void ReducerSystem::Judge(LoadResult* result) const {
     const double f = reported(e);
     const double delta = e.coordinates.Dot(c) - e.gap;
     for (int k = 0; k < e.coordinates.n; ++k) {
-      balance(e.coordinates.index[static_cast<std::size_t>(k)]) += f * e.coordinates.value[static_cast<std::size_t>(k)];
+      add(e.coordinates.index[static_cast<std::size_t>(k)], f * e.coordinates.value[static_cast<std::size_t>(k)]);
     }
     f_max = std::max(f_max, std::abs(f));
     if (f > 0.0) w_max = std::max(w_max, std::abs(delta));
@@ -793,7 +805,7 @@ void ReducerSystem::Judge(LoadResult* result) const {
     f_max = std::max(f_max, du.norm());
     for (int a = 0; a < 2; ++a) {
       const Row& row = p.coordinates[static_cast<std::size_t>(a)];
-      for (int k = 0; k < row.n; ++k) balance(row.index[static_cast<std::size_t>(k)]) += du(a) * row.value[static_cast<std::size_t>(k)];
+      for (int k = 0; k < row.n; ++k) add(row.index[static_cast<std::size_t>(k)], du(a) * row.value[static_cast<std::size_t>(k)]);
     }
   }
   if (shaft_beam_) {
@@ -803,8 +815,8 @@ void ReducerSystem::Judge(LoadResult* result) const {
       for (int a = 0; a < 2; ++a) {
         const std::array<int, 2> k{ShaftCoordinate(0, j) + a, ShaftCoordinate(1, j) + a};
         const Eigen::Vector2d f = beam_stiffness_ * Eigen::Vector2d(absolute(k[0]), absolute(k[1]));
-        balance(k[0]) += f(0);
-        balance(k[1]) += f(1);
+        add(k[0], f(0));
+        add(k[1], f(1));
         f_max = std::max(f_max, f.cwiseAbs().maxCoeff());
       }
     }
@@ -813,16 +825,25 @@ void ReducerSystem::Judge(LoadResult* result) const {
     // The rigid eccentric bearing's reaction, as reported, on the disc's translation.
     for (int d = 0; d < discs_; ++d) {
       const Eigen::Vector2d f = stage.discs[static_cast<std::size_t>(d)].bearing_force.at(0);
-      balance(3 * d) -= f.x();
-      balance(3 * d + 1) -= f.y();
+      add(3 * d, -f.x());
+      add(3 * d + 1, -f.y());
       f_max = std::max(f_max, f.norm());
     }
   }
   const double f_scale = std::max(f_max, 1e-300), w_scale = std::max(w_max, 1e-12);
-  const double t_scale = std::max(torque_, 1.0);
+  // Moments are judged against the largest of T, 1 N*mm and the largest moment an element force
+  // contributes to a disc's or the output member's balance: a loaded stage's element moments are
+  // shares of T (the scale is T's, as before), a preloaded stage's near zero torque are its preload's,
+  // whose balance is then judged on the same relative footing.
+  const auto is_moment = [&](int i) { return i == psi_coordinate_ || (i < psi_coordinate_ && i % 3 == 2); };
+  double m_carried = 0.0;
+  for (int i = 0; i < coordinate_count(); ++i) {
+    if (is_moment(i)) m_carried = std::max(m_carried, carried(i));
+  }
+  const double t_scale = std::max({torque_, 1.0, m_carried});
   double force_balance = planar_miss / f_scale, moment_balance = 0.0;
   for (int i = 0; i < coordinate_count(); ++i) {
-    const bool moment = i == psi_coordinate_ || (i < psi_coordinate_ && i % 3 == 2);
+    const bool moment = is_moment(i);
     if (moment) {
       moment_balance = std::max(moment_balance, std::abs(balance(i)) / t_scale);
     } else {

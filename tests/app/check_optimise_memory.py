@@ -40,7 +40,10 @@ def run(evaluations):
         rows = list(csv.DictReader(f))
     if [int(r["index"]) for r in rows] != list(range(n)):
         sys.exit(f"{evaluations} evaluations: the CSV has {len(rows)} rows, not 0 .. {n - 1} in order")
-    if n < evaluations * 0.9:
+    # Half the evaluations asked still tell: a kept history would add 0.6 KB x 18,000 = 11 MB, well
+    # beyond the 4 MB allowed. (CRS2 may converge before the count: since issue 52 the preloaded
+    # designs of the box evaluate instead of being rejected, and it stops at about 34,000.)
+    if n < evaluations * 0.5:
         sys.exit(f"{evaluations} evaluations asked, {n} made: the search stopped early, the comparison is void")
     os.remove(js)
     os.remove(cs)

@@ -396,15 +396,22 @@ TEST_CASE("cli: ltca backlash writes mean and peak-to-peak backlash and per-posi
   CHECK(first.at("clearance_um").size() == 40);
 }
 
-TEST_CASE("cli: ltca backlash reports interference as an error naming the pins") {
+TEST_CASE("cli: ltca backlash reports a preloaded pair: no free play, its interference and the torques that unload a flank") {
   const std::string deck = std::string(
-      "[case]\ntitle = \"interfering\"\n[pair]\npin_count = 40\ntooth_count = 39\npin_radius_mm = 3.0\n"
+      "[case]\ntitle = \"preloaded\"\n[pair]\npin_count = 40\ntooth_count = 39\npin_radius_mm = 3.0\n"
       "pin_circle_radius_mm = 64.0\neccentricity_mm = 1.3\nface_width_mm = 12.0\n"
-      "[modification]\npin_radius_mm = -0.005\n");
-  const auto r = RunCli({"backlash", TempFile("interference.toml", deck).string()});
-  CHECK(r.code != 0);
-  CHECK(r.err.find("interference") != std::string::npos);
-  CHECK(r.err.find("pin 1 by 5") != std::string::npos);
+      "[modification]\npin_radius_mm = -0.005\n[material]\nyoung_modulus_mpa = 206000.0\npoisson_ratio = 0.3\n"
+      "[sweep]\npositions = 1\n");
+  const auto r = RunCli({"backlash", TempFile("interference.toml", deck).string(), "--json", "-"});
+  INFO(r.err);
+  CHECK(r.code == 0);
+  const auto json = nlohmann::json::parse(r.out);
+  const auto& p = json.at("positions").at(0);
+  CHECK(p.at("backlash_arcsec").get<double>() == 0.0);
+  CHECK(p.at("interference_arcsec").get<double>() > 0.0);
+  CHECK(p.at("unload_torque_nm").get<double>() > 0.0);
+  CHECK(p.at("unload_torque_reverse_nm").get<double>() > 0.0);
+  CHECK(json.at("summary").at("preloaded_positions").get<int>() == 1);
 }
 
 TEST_CASE("cli: ltca mesh prints every pin with clearance and arm") {
@@ -613,28 +620,38 @@ TEST_CASE("app: RequireNoInterference names the pins and overlaps, and accepts c
                        std::invalid_argument);
   const auto ok = ltca::app::LoadDeck(Case("liu2021_sec52_base.toml"));
   CHECK_NOTHROW(ltca::contact::RequireNoInterference(ok.MakeModel(), 0.0));
-  // The sweep rejects it before solving anything.
+  // The sweep solves it: a 20 um preload presses beyond the material's 4000 MPa at zero torque, so
+  // every position cannot be assembled, naming the pins (a status, not an input error).
   int solved = 0;
   ltca::analysis::SweepCallbacks callbacks;
-  callbacks.on_position = [&](const ltca::analysis::PositionResult&) { ++solved; };
-  CHECK_THROWS_AS(ltca::test::SolveSweep(deck, deck.solver, callbacks), std::invalid_argument);
-  CHECK(solved == 0);
+  callbacks.on_position = [&](const ltca::analysis::PositionResult& p) {
+    ++solved;
+    CHECK(p.result.status == ltca::solvers::SolverStatus::kCannotAssemble);
+    CHECK(p.result.message.find("pin 1 by 20 um") != std::string::npos);
+  };
+  const auto sweep = ltca::test::SolveSweep(deck, deck.solver, callbacks);
+  CHECK(solved == static_cast<int>(sweep.positions.size()));
+  CHECK(sweep.summary.cannot_assemble == static_cast<std::int64_t>(sweep.positions.size()));
 }
 
-TEST_CASE("cli: every solving command rejects a 20 um interference with exit 2 naming the pins") {
+TEST_CASE("cli: a 20 um preload beyond the material is cannot-assemble, not exit 2; mesh and backlash tabulate it") {
   const std::string deck = InterferingDeck().string();
   for (const std::vector<std::string>& args :
-       std::vector<std::vector<std::string>>{{"solve", deck, "--json", "-"},
-                                             {"compare", deck, "--json", "-"},
-                                             {"mesh", deck, "--json", "-"},
-                                             {"backlash", deck, "--json", "-"},
-                                             {deck, "--json", "-"}}) {
+       std::vector<std::vector<std::string>>{{"solve", deck, "--json", "-"}, {"compare", deck, "--json", "-"}, {deck, "--json", "-"}}) {
     CAPTURE(args.front());
     const auto r = RunCli(args);
-    CHECK(r.code == 2);
-    CHECK(r.err.find("interference") != std::string::npos);
-    CHECK(r.err.find("pin 1 by 20 um") != std::string::npos);
-    CHECK(r.out.empty());  // no partial document
+    CHECK(r.code != 0);
+    CHECK(r.code != 2);
+    CHECK(r.out.find("cannot-assemble") != std::string::npos);
+    CHECK(r.out.find("pin 1 by 20 um") != std::string::npos);
+    CHECK(nlohmann::json::accept(r.out));
+  }
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"mesh", deck, "--json", "-"}, {"backlash", deck, "--json", "-"}}) {
+    CAPTURE(args.front());
+    const auto r = RunCli(args);
+    CHECK(r.code == 0);
+    CHECK(nlohmann::json::accept(r.out));
   }
 }
 
@@ -655,7 +672,11 @@ TEST_CASE("cli: I/O errors exit 3, unwritable paths are found before computing, 
   // no new file, no temporary file, and an existing file untouched.
   const auto kept = dir / "kept.json";
   std::ofstream(kept) << "old";
-  const auto bad = RunCli({"solve", InterferingDeck().string(), "--json", kept.string(), "--csv", (dir / "new.csv").string()});
+  // (no [material]: found by the sweep, after the outputs are opened)
+  const auto no_material = TempFile("no_material.toml", "[pair]\npin_count = 40\ntooth_count = 39\npin_radius_mm = 3.0\n"
+                                                        "pin_circle_radius_mm = 64.0\neccentricity_mm = 1.3\nface_width_mm = 12.0\n"
+                                                        "[load]\ntorque_nm = 100.0\n");
+  const auto bad = RunCli({"solve", no_material.string(), "--json", kept.string(), "--csv", (dir / "new.csv").string()});
   CHECK(bad.code == 2);
   CHECK(FolderEntries(dir) == std::vector<std::string>{"kept.json"});
   CHECK(ReadText(kept) == "old");

@@ -67,14 +67,14 @@ TEST_CASE("app: optimise on two variables beats the best feasible point of a 41 
   int feasible = 0, rejected = 0;
   for (const DesignEvaluation& e : grid) {
     feasible += e.feasible;
-    rejected += e.status == RunStatus::kRejected;
+    rejected += e.status == RunStatus::kRejected || e.status == RunStatus::kCannotAssemble;
     if (e.feasible && (grid_best == nullptr || e.objective < grid_best->objective)) grid_best = &e;
   }
   REQUIRE(grid_best != nullptr);
   CAPTURE(grid_best->objective);
   CAPTURE(best.objective);
   CHECK(feasible > 20);
-  CHECK(rejected > 0);  // interfering designs are in the box: infeasible, never a number
+  CHECK(rejected > 0);  // designs preloaded beyond the material are in the box: infeasible, never a number
   CHECK(best.objective <= grid_best->objective);
   // The lower backlash limit is active at both (the map: feasible cells end there).
   const auto backlash = [](const DesignEvaluation& e) { return e.figures[ltca::analysis::kMeanBacklashArcsec]; };
@@ -432,13 +432,16 @@ TEST_CASE("app: [optimise] bad input names the key, and an evaluation that fails
   CHECK(bad({"tolerances.pin_circle_deviation_mm={ distribution = \"normal\", tolerance = 0.003 }", "optimise.robust=true",
              "optimise.confidence=1"}).find("confidence") != std::string::npos);
   CHECK(RunCli({"optimise", Case("liu2021_table1.toml")}).code == 2);  // no [optimise]
-  // The centre of the box interferes: the first evaluation is rejected, its figures null.
-  const auto r = RunCli({"optimise", Case("liu2021_optimise.toml"), "--evaluations", "20", "--json", "-"});
+  // The centre of the box overlaps by 20 um (dR_rp -35 um, dR_p -15 um): a preload beyond the
+  // material, so the first evaluation cannot be assembled, its figures null.
+  const auto r = RunCli({"optimise", Case("liu2021_optimise.toml"), "--evaluations", "20", "--json", "-", "--set",
+                         "optimise.variables = { \"modification.pin_radius_mm\" = [-0.07, 0.0], "
+                         "\"modification.pin_circle_radius_mm\" = [-0.03, 0.0] }"});
   CHECK(r.code == 0);
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j.at("model").at("name").is_string());  // every output names the model that ran
   const auto& first = j.at("history").at(0);
-  CHECK(first.at("status") == "rejected");
+  CHECK(first.at("status") == "cannot-assemble");
   CHECK(first.at("objective").is_null());
   CHECK(first.at("figures").at("pp_te_arcsec").is_null());
   CHECK(j.at("summary").at("rejected").get<int>() >= 1);
@@ -508,10 +511,13 @@ TEST_CASE("app: the search hands every evaluation to its sink once, in order, an
     for (const auto& p : r.phases) in_phases += p.evaluations;
     CHECK(in_phases + 1 == r.evaluations);  // and the centre
     std::int64_t failed = 0, rejected = 0;
-    for (const DesignEvaluation& e : history) failed += e.status == RunStatus::kFailed, rejected += e.status == RunStatus::kRejected;
+    for (const DesignEvaluation& e : history) {
+      failed += e.status == RunStatus::kFailed;
+      rejected += e.status == RunStatus::kRejected || e.status == RunStatus::kCannotAssemble;  // both not built
+    }
     CHECK(r.failed == failed);
     CHECK(r.rejected == rejected);
-    CHECK(rejected > 0);  // the centre interferes: the rule's infeasible branch is exercised
+    CHECK(rejected > 0);  // the centre cannot be assembled: the rule's infeasible branch is exercised
     // The best feasible one, as the whole history gives it.
     const std::int64_t best = BestOfHistory(history, maximise, true);
     REQUIRE(best >= 0);

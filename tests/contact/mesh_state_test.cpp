@@ -126,18 +126,22 @@ TEST_CASE("contact: exact and linearised mesh states agree to first order in the
   }
 }
 
-TEST_CASE("contact: interference is an error naming the pins and the overlap") {
-  // Radial clearance dR_rp - dR_p < 0 (d > 0): the pins at the root overlap.
+TEST_CASE("contact: an overlap on both flanks is a preload: no backlash, its interference; the jam check names the pins") {
+  // Radial clearance dR_rp - dR_p < 0 (d > 0): every pin overlaps, on both flanks. The unloaded
+  // analysis reports no free play and the overlap as a rotation, theta_c2 - theta_c1 > 0 (each
+  // flank's closing from ClosingRotation on the opening side); the jam check still names the pins.
   const MeshModel model(ltca::test::LiuPair(), ltca::test::Mod(-5, 0));
-  CHECK_THROWS_WITH_AS(ltca::contact::AnalyseUnloaded(model, 0.0), doctest::Contains("interference"), std::invalid_argument);
-  try {
-    ltca::contact::AnalyseUnloaded(model, 0.0);
-  } catch (const std::invalid_argument& e) {
-    CHECK(std::string(e.what()).find("pin 1 by 5") != std::string::npos);  // pin 1 sits in the root at crank 0
-  }
-  // d = -1 needs a positive pin-circle offset for relief: a negative one interferes.
+  const auto u = ltca::contact::AnalyseUnloaded(model, 0.0);
+  CHECK(u.backlash == 0.0);
+  CHECK(u.interference > 0.0);
+  CHECK(u.interference == doctest::Approx(u.theta_c2 - u.theta_c1).epsilon(1e-15));
+  CHECK_THROWS_WITH_AS(ltca::contact::RequireNoInterference(model, 0.0), doctest::Contains("pin 1 by 5"),
+                       std::invalid_argument);  // pin 1 sits in the root at crank 0
+  // d = -1 needs a positive pin-circle offset for relief: a negative one overlaps.
   const MeshModel ring(ltca::test::ChenPair(15, 16, 120, 10, 5), ltca::test::Mod(0, -5));
-  CHECK_THROWS_AS(ltca::contact::AnalyseUnloaded(ring, 0.0), std::invalid_argument);
+  CHECK(ltca::contact::AnalyseUnloaded(ring, 0.0).interference > 0.0);
+  CHECK(ltca::contact::AnalyseUnloaded(ring, 0.0).backlash == 0.0);
   const MeshModel ring_ok(ltca::test::ChenPair(15, 16, 120, 10, 5), ltca::test::Mod(0, 5));
+  CHECK(ltca::contact::AnalyseUnloaded(ring_ok, 0.0).interference == 0.0);
   CHECK(ltca::contact::AnalyseUnloaded(ring_ok, 0.0).backlash > 0.0);
 }

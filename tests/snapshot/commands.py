@@ -161,6 +161,12 @@ ADDED = {"contact_fatigue", "root_diameter_mm", "tip_diameter_mm", "dimension_ov
          "load_zone_life_hours", "load_zone_to_basic_life_ratio", "shortest_load_zone_life_hours", "max_bearing_load_per_bearing_n", "static_safety",
          "smallest_static_safety", "max_roller_contact_stress_mpa", "largest_roller_contact_stress_mpa",
          "roller_contact_stress_limit_mpa", "verdicts", "notes", "scope", "carrier", "support_bearings",
+         # Issue 52: a preloaded pair's figures (null or 0 for the recorded decks, which have free
+         # play everywhere; tests/solvers/preload_test.cpp, tests/analysis/preload_test.cpp).
+         "preload", "preloaded_positions", "cannot_assemble_positions", "max_preload_force_n",
+         "max_preload_stress_mpa", "interference_arcsec", "unload_torque_nm", "unload_torque_reverse_nm",
+         "max_interference_arcsec", "min_unload_torque_nm", "cannot_assemble", "preloaded", "preloaded_share",
+         "preload_max_contact_stress_mpa", "preload_max_force_n",
          "percentile_rule"}
 # Issue 51: efficiency's loss by source, the stage's friction moment bound and the new [friction]
 # keys in its head (docs/efficiency.md), checked by tests/app/stage_efficiency_test.cpp.

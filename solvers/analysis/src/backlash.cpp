@@ -19,8 +19,17 @@ BacklashPosition UnloadedBacklashAt(const Stage& stage, double crank, contact::C
     const contact::UnloadedContact r2 = contact::AnalyseUnloaded(stage.model(1), crank + contact::kSecondDiscCrankOffset, kinematics);
     if (r2.theta_c1 < r.theta_c1) r.theta_c1 = r2.theta_c1, r.first_pin_c1 = r2.first_pin_c1, p.disc_c1 = 2;
     if (r2.theta_c2 > r.theta_c2) r.theta_c2 = r2.theta_c2, r.first_pin_c2 = r2.first_pin_c2, p.disc_c2 = 2;
-    r.backlash = r.theta_c1 - r.theta_c2;
+    const double rounding = stage.interference_tolerance() / stage.model().pair().pin_circle_radius;
+    const bool overlapping = r.theta_c2 - r.theta_c1 > rounding;  // as contact::AnalyseUnloaded
+    r.backlash = overlapping ? 0.0 : r.theta_c1 - r.theta_c2;
+    r.interference = overlapping ? r.theta_c2 - r.theta_c1 : 0.0;
     p.second_clearance = r2.clearance;
+  }
+  if (r.interference > 0.0 && stage.design().material && std::isfinite(r.theta_c1) && std::isfinite(r.theta_c2)) {
+    // The moment the other flank still carries where the last pin of one flank opens (LoadProblem's
+    // frame: psi = direction * physical rotation).
+    p.unload_torque_nmm = std::max(0.0, stage.Problem(crank, 1.0).OutputTorque(r.theta_c2));
+    p.unload_torque_reverse_nmm = std::max(0.0, stage.Problem(crank, -1.0).OutputTorque(-r.theta_c1));
   }
   // No pin closes its gap within the rotation window on a flank (a degenerate pair, e.g. an
   // eccentricity far below the pin's clearance): no backlash, a failed position.
@@ -39,6 +48,13 @@ void BacklashSummary::Add(const BacklashPosition& p, bool repeated_state) {
     return;
   }
   ++succeeded_;
+  if (p.contact.interference > 0.0) {
+    ++preloaded_;
+    max_interference_ = std::max(max_interference_, p.contact.interference);
+    for (const double t : {p.unload_torque_nmm, p.unload_torque_reverse_nmm}) {
+      if (std::isfinite(t)) min_unload_ = std::isfinite(min_unload_) ? std::min(min_unload_, t) : t;
+    }
+  }
   const double b = p.contact.backlash;
   if (!repeated_state) sum_ += b, ++in_mean_;
   lo_ = std::min(lo_, b);

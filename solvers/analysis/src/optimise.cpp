@@ -102,7 +102,9 @@ struct Search {
     DesignEvaluation e = optimiser->Evaluate(x);
     e.index = result->evaluations++;
     e.phase = phase;
-    if (e.status == RunStatus::kRejected) ++result->rejected;
+    // A preloaded design beyond its assembly limits is not built: counted with the designs that
+    // cannot be (rejected), infeasible as they are.
+    if (e.status == RunStatus::kRejected || e.status == RunStatus::kCannotAssemble) ++result->rejected;
     if (e.status == RunStatus::kFailed) ++result->failed;
     if (e.status != RunStatus::kSuccess && result->first_failure.empty()) {
       result->first_failure = fmt::format("evaluation {}: {}", e.index, e.message);

@@ -10,6 +10,7 @@ const char* ToString(RunStatus status) {
     case RunStatus::kSuccess: return "success";
     case RunStatus::kFailed: return "failed";
     case RunStatus::kRejected: return "rejected";
+    case RunStatus::kCannotAssemble: return "cannot-assemble";
     case RunStatus::kNotRun: return "not run";
   }
   return "unknown";

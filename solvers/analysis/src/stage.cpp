@@ -250,13 +250,12 @@ Stage::Stage(StageDesign design, std::vector<double> cranks) {
   if (d.second_disc) {
     second_ = std::make_shared<const contact::MeshModel>(d.MakeSecondRealPair(), d.geometry, d.SlicesForced());
   }
-  // Nothing is solved for a stage that interferes at any of its cranks.
+  // Every crank's state evaluated once (kept while it fits).
   auto checked = std::make_shared<Checked>();
   checked->cranks = std::move(cranks);
   const std::size_t n = checked->cranks.size();
   const bool keep = n * static_cast<std::size_t>(first_->point_count() * disc_count()) * sizeof(contact::PinContact) <=
                     kKeptStatesBytes;
-  const double tolerance = interference_tolerance();
   checked->order.resize(n);
   for (std::size_t i = 0; i < n; ++i) checked->order[i] = i;
   std::stable_sort(checked->order.begin(), checked->order.end(),
@@ -288,7 +287,20 @@ Stage::Stage(StageDesign design, std::vector<double> cranks) {
     } else {
       state = second_ ? contact::EvaluateTwoDiscs(*first_, *second_, crank) : first_->Evaluate(crank, 0.0);
     }
-    contact::RequireNoInterference(state, crank, tolerance);
+    // Pins overlapping the cycloid are a preload, not an input error: the mesh alone balances both
+    // flanks (docs/solvers.md "Two flanks"), a reducer stage's floating discs find their preload
+    // state (docs/stage.md); an assembly beyond its limits is the solve's status cannot-assemble.
+    // An overlap beyond a tenth of the pin radius (a preload is micrometres; Hertz line contact
+    // holds for half-widths within a tenth of the radii) is no preload: the pair does not mesh.
+    for (const contact::PinContact& c : state.pins) {
+      if (!(c.clearance >= -0.1 * d.pair.pin_radius)) {
+        throw std::invalid_argument(fmt::format(
+            "{}pin {} overlaps the cycloid by {:.6g} mm at crank {:.6g} deg, more than a tenth of the pin radius {:.6g} mm: not a "
+            "preload, a pair that does not mesh; check [pair] pin_circle_radius_mm, pin_radius_mm and eccentricity_mm, "
+            "[modification] and [errors]",
+            c.disc > 0 ? "disc 2: " : "", c.pin + 1, -c.clearance, units::RadToDeg(crank), d.pair.pin_radius));
+      }
+    }
     if (i == 0) first = state;
     // A reducer stage's output pins or cranks turn against the line of centres at 1 - 1/I of the
     // crank: their pattern does not repeat with the mesh period (nor after one crank turn, which
@@ -354,7 +366,6 @@ contact::MeshState Stage::State(double crank) const {
   const std::ptrdiff_t k = CheckedIndex(crank);
   if (k >= 0 && !checked_->states.empty()) return checked_->states[static_cast<std::size_t>(k)];
   contact::MeshState state = second_ ? contact::EvaluateTwoDiscs(*first_, *second_, crank) : first_->Evaluate(crank, 0.0);
-  if (k < 0) contact::RequireNoInterference(state, crank, interference_tolerance());
   return state;
 }
 

@@ -197,6 +197,18 @@ struct StiffnessRunner::Impl {
   void FreePlay(const contact::MeshState& state, StiffnessPosition* pos) {
     const auto first_contact = [&](double torque) {
       const solvers::LoadProblem problem = Problem(state, torque);
+      if (!problem.has_reducer() && problem.preloaded()) {
+        // A preloaded pair rests where both flanks balance at zero torque (the preload state): the
+        // loop runs through it without free play, from either flank (in the frame of `torque`).
+        ++pos->solves;
+        const LoadResult r = solver->Solve(Problem(state, 0.0), options, workspace);
+        if (r.status == SolverStatus::kSuccess) return torque > 0.0 ? r.rotation : -r.rotation;
+        ++pos->failed;
+        if (pos->first_failure.empty()) {
+          pos->first_failure = fmt::format("zero torque (the preload): {}: {}", solvers::ToString(r.status), r.message);
+        }
+        return kNaN;
+      }
       if (!problem.has_reducer()) return problem.FirstContactRotation();
       // A reducer stage: its free play takes up the clearances of every element (holes,
       // bearings), not the mesh's alone: the output's rotation under a vanishing torque, 1e-7 T,

@@ -72,6 +72,13 @@ std::vector<double> Sweep::CrankAngles() const {
 
 void SummaryAccumulator::Add(const PositionResult& p, bool in_mean) {
   if (Severity(p.result.status) > Severity(s_.status)) s_.status = p.result.status;
+  if (p.result.status == SolverStatus::kCannotAssemble) ++s_.cannot_assemble;
+  if (const auto& pre = p.result.preload; pre) {
+    ++s_.preloaded;
+    const auto larger = [](double a, double b) { return std::isfinite(a) ? std::max(a, b) : b; };
+    s_.max_preload_force = larger(s_.max_preload_force, pre->max_force_n);
+    s_.max_preload_stress = larger(s_.max_preload_stress, pre->max_stress_mpa);
+  }
   if (added_++ == 0) first_crank_ = p.crank;
   last_crank_ = p.crank;
   if (!p.succeeded()) {

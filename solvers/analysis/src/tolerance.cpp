@@ -220,6 +220,10 @@ void SampleTable::Add(const ToleranceSample& s) {
   if (status != RunStatus::kSuccess && first_failure_index_ < 0) first_failure_index_ = s.index, first_failure_message_ = s.message;
   figures_.push_back(s.figures);
   status_.push_back(status);
+  if (std::isfinite(s.preload_stress_mpa)) {
+    preload_.push_back(static_cast<float>(s.preload_stress_mpa));
+    preload_.push_back(static_cast<float>(s.preload_force_n));
+  }
 }
 
 double ToleranceDistribution::StandardDeviation() const {
@@ -544,7 +548,16 @@ ToleranceSample ToleranceStudy::Evaluate(const ToleranceCase& pair) const {
                                                   pair.operation ? pair.operation->input_speed : kNaN)
                                          .ShortestHours();
     }
-    if (!sum_loaded.all_succeeded()) {
+    if (sum_loaded.preloaded > 0) {
+      s.preload_stress_mpa = sum_loaded.max_preload_stress;
+      s.preload_force_n = sum_loaded.max_preload_force;
+    }
+    if (sum_loaded.cannot_assemble > 0) {
+      // A preloaded pair beyond its assembly limits: not a reducer that fails, one that is not built.
+      s.status = RunStatus::kCannotAssemble;
+      s.message = fmt::format("{} of {} loaded positions cannot be assembled; {}", sum_loaded.cannot_assemble,
+                              sum_loaded.positions(), first_failure);
+    } else if (!sum_loaded.all_succeeded()) {
       s.status = RunStatus::kFailed;
       s.message = fmt::format("{} of {} loaded positions did not succeed ({}); {}", sum_loaded.failed, sum_loaded.positions(),
                               solvers::ToString(sum_loaded.status), first_failure);
@@ -668,8 +681,19 @@ ToleranceSummary Summarise(const ToleranceStudy& study, const SampleTable& sampl
       case RunStatus::kSuccess: ++out.succeeded; break;
       case RunStatus::kFailed: ++out.failed; break;
       case RunStatus::kRejected: ++out.rejected; break;
+      case RunStatus::kCannotAssemble: ++out.cannot_assemble; break;
       case RunStatus::kNotRun: break;  // a sample is always run
     }
+  }
+  {
+    std::vector<double> stress, force;
+    out.preloaded = samples.preloaded();
+    for (std::int64_t j = 0; j < out.preloaded; ++j) {
+      stress.push_back(samples.preload_stress(j));
+      force.push_back(samples.preload_force(j));
+    }
+    out.preload_stress = ComputeStats(std::move(stress));
+    out.preload_force = ComputeStats(std::move(force));
   }
   const auto& names = ToleranceSettings::FigureNames();
   // A figure's value in a successful sample, NaN otherwise.

@@ -43,7 +43,10 @@ nlohmann::json Json(const analysis::BacklashPosition& p, bool two_discs) {
                              {"first_contact_pin", pin_or_null(r.first_pin_c1)},
                              {"first_contact_pin_reverse", pin_or_null(r.first_pin_c2)},
                              {"clearance_um", clearance},
-                             {"clearance_at_first_contact_um", after}};
+                             {"clearance_at_first_contact_um", after},
+                             {"interference_arcsec", p.ok ? FiniteOrNull(RadToArcsec(r.interference)) : nlohmann::json(nullptr)},
+                             {"unload_torque_nm", FiniteOrNull(units::NmmToNm(p.unload_torque_nmm))},
+                             {"unload_torque_reverse_nm", FiniteOrNull(units::NmmToNm(p.unload_torque_reverse_nmm))}};
   if (!p.ok) position["message"] = p.failure;
   if (two_discs) {
     position["first_contact_disc"] = p.ok ? nlohmann::json(p.disc_c1) : nlohmann::json(nullptr);
@@ -74,6 +77,9 @@ Table Columns(const std::vector<analysis::BacklashPosition>& positions, bool two
     t.Add("first_contact_pin", p.ok ? r.first_pin_c1 + 1.0 : NAN);
     t.Add("first_contact_pin_reverse", p.ok ? r.first_pin_c2 + 1.0 : NAN);
     t.Add("clearance_um", um(r.clearance, true));
+    t.Add("interference_arcsec", p.ok ? RadToArcsec(r.interference) : NAN);
+    t.Add("unload_torque_nm", units::NmmToNm(p.unload_torque_nmm));
+    t.Add("unload_torque_reverse_nm", units::NmmToNm(p.unload_torque_reverse_nmm));
     if (two_discs) {
       t.Add("first_contact_disc", p.ok ? p.disc_c1 : NAN);
       t.Add("first_contact_disc_reverse", p.ok ? p.disc_c2 : NAN);
@@ -94,7 +100,11 @@ nlohmann::json Json(const Deck& deck, const analysis::BacklashResult& result) {
                             {"positions", result.positions},
                             {"succeeded_positions", s.succeeded()},
                             {"failed_positions", s.failed()},
-                            {"closed_period", result.closed_period}};
+                            {"closed_period", result.closed_period},
+                            {"preloaded_positions", s.preloaded()},
+                            {"max_interference_arcsec", s.preloaded() > 0 ? nlohmann::json(RadToArcsec(s.max_interference()))
+                                                                          : nlohmann::json(0.0)},
+                            {"min_unload_torque_nm", FiniteOrNull(units::NmmToNm(s.min_unload_torque()))}};
   if (deck.reducer) summary["scope"] = "the pin ring's mesh alone; the stage's free play is the backlash of ltca stiffness";
   if (s.failed() > 0) summary["first_failure"] = s.first_failure();
   if (!result.notes.empty()) summary["notes"] = result.notes;

@@ -206,7 +206,11 @@ nlohmann::json SummaryJson(const analysis::SweepSummary& s, const Deck::ModelInf
                       {"succeeded_positions", s.succeeded},
                       {"failed_positions", s.failed},
                       {"warned_positions", s.warned},
-                      {"closed_period", s.closed_period}};
+                      {"closed_period", s.closed_period},
+                      {"preloaded_positions", s.preloaded},
+                      {"cannot_assemble_positions", s.cannot_assemble},
+                      {"max_preload_force_n", FiniteOrNull(s.max_preload_force)},
+                      {"max_preload_stress_mpa", FiniteOrNull(s.max_preload_stress)}};
   if (s.warned > 0) j["first_warning"] = s.first_warning;
   if (!s.notes.empty()) j["notes"] = s.notes;
   if (model.discs == 2) {  // the share of T the first disc carries, over the successful positions
@@ -315,6 +319,18 @@ nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysi
   return j;
 }
 
+namespace {
+/// A preloaded pair's zero-torque state (null for a pair with free play): its largest pin force
+/// (N) and Hertz stress (MPa), its pressed points and the moment of its opposing flank (N*m).
+nlohmann::json PreloadJson(const solvers::LoadResult& r) {
+  if (!r.preload) return nullptr;
+  return {{"max_force_n", r.preload->max_force_n},
+          {"max_contact_stress_mpa", r.preload->max_stress_mpa},
+          {"contacts", r.preload->contacts},
+          {"opposing_torque_nm", units::NmmToNm(r.preload->opposing_torque_nmm)}};
+}
+}  // namespace
+
 nlohmann::json Json(const analysis::PositionResult& p) {
   const bool ok = p.succeeded();
   nlohmann::json angles = nlohmann::json::array();
@@ -342,6 +358,8 @@ nlohmann::json Json(const analysis::PositionResult& p) {
     j["first_disc_share"] = figure(total != 0.0 ? FiniteOrNull(p.disc_torque[0] / total) : nlohmann::json(nullptr));
   }
   if (p.result.reducer) j["stage"] = figure(ReducerJson(*p.result.reducer));
+  // A preloaded pair: its zero-torque state (null for a pair with free play).
+  j["preload"] = PreloadJson(p.result);
   if (p.slices > 1) {
     const bool complete = p.result.force.size() == p.pin_force.size() * static_cast<std::size_t>(p.slices);
     // The contact pattern: per pin its slice forces and stresses and its load centroid.
@@ -440,6 +458,8 @@ void AppendJson(std::string& out, const analysis::PositionResult& p) {
   out += ']';
   Key(out, "pin_force_n");
   ok ? Numbers(out, p.pin_force) : void(out += "null");
+  Key(out, "preload");
+  out += Dump(PreloadJson(p.result), -1);
   Key(out, "residual");
   AppendJsonNumber(out, p.result.residuals.Normalised());
   if (p.slices > 1) {

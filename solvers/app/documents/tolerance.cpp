@@ -260,7 +260,12 @@ nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysi
       {"notes", study.notes()},
       {"summary",
        {{"samples", summary.samples}, {"seed", summary.seed}, {"succeeded", summary.succeeded}, {"failed", summary.failed},
-        {"rejected", summary.rejected}, {"figures", figures}, {"percentile_rule", analysis::kPercentileRule}, {"limits", limits},
+        {"rejected", summary.rejected}, {"cannot_assemble", summary.cannot_assemble},
+        {"preloaded", summary.preloaded},
+        {"preloaded_share", summary.samples > 0 ? static_cast<double>(summary.preloaded) / static_cast<double>(summary.samples) : 0.0},
+        {"preload_max_contact_stress_mpa", StatsJson(summary.preload_stress)},
+        {"preload_max_force_n", StatsJson(summary.preload_force)},
+        {"figures", figures}, {"percentile_rule", analysis::kPercentileRule}, {"limits", limits},
         {"pass_fraction", FiniteOrNull(summary.pass_fraction)},
         {"sensitivity", {{"method", analysis::kSensitivityMethod}, {"figures", sens}}},
         {"wall_seconds", result.sample_seconds},
@@ -358,8 +363,14 @@ std::string Text(const analysis::ToleranceStudy& study, const analysis::Toleranc
                         FormatOrNa(fs.r_squared_floor, 3),
                         fs.note.empty() ? ranking : fs.note);
   }
-  if (summary.failed + summary.rejected > 0) {
-    text += fmt::format("not succeeded: {} failed, {} rejected of {} samples; first: sample {}: {}\n", summary.failed, summary.rejected,
+  if (summary.preloaded > 0) {
+    text += fmt::format("preloaded (both flanks pressed at zero torque): {} of {} samples; their largest preload contact "
+                        "stress {} MPa (median), {} MPa (max)\n", summary.preloaded, summary.samples,
+                        FormatOrNa(summary.preload_stress.p50, 1), FormatOrNa(summary.preload_stress.max, 1));
+  }
+  if (summary.failed + summary.rejected + summary.cannot_assemble > 0) {
+    text += fmt::format("not succeeded: {} failed, {} rejected, {} cannot be assembled of {} samples; first: sample {}: {}\n",
+                        summary.failed, summary.rejected, summary.cannot_assemble,
                         summary.samples, result.table.first_failure_index(), result.table.first_failure_message());
   }
   text += fmt::format("wall time {:.3f} s for {} samples ({:.1f} samples/s){}\n", result.sample_seconds, n,

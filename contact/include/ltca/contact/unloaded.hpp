@@ -25,7 +25,14 @@ struct UnloadedContact {
   double theta_c1 = 0.0;
   /// Rotation to first contact against the load direction, rad (<= 0).
   double theta_c2 = 0.0;
-  double backlash = 0.0;   ///< theta_c1 - theta_c2, rad (Liu eq. 17), >= 0.
+  /// theta_c1 - theta_c2, rad (Liu eq. 17): the free play; 0 for a preloaded pair (its flanks
+  /// overlap by more than the model's interference tolerance over R_p; a rounding-sized overlap
+  /// is kept as computed, the conjugate pair's zero).
+  double backlash = 0.0;
+  /// max(0, theta_c2 - theta_c1), rad: a preloaded pair's flanks overlap (the drive flank closes
+  /// before the coast flank opens, theta_c1 < theta_c2); the rotation by which they overlap, > 0
+  /// exactly when the backlash is 0 by overlap. 0 for a pair with free play.
+  double interference = 0.0;
   int first_pin_c1 = -1;   ///< 0-based pin that touches first in the load direction
   int first_pin_c2 = -1;   ///< and against it
   /// Clearance of every pin at the theoretical position, mm (in the slice model the smallest over
@@ -51,9 +58,9 @@ void RequireNoInterference(const MeshModel& model, double crank);
 /// The same on an evaluated state (loaded rotation 0) of that crank.
 void RequireNoInterference(const MeshState& state, double crank, double tolerance_mm = 1e-9);
 
-/// Calls RequireNoInterference, then rotates both ways to first contact; throws for the pair
-/// that interferes (a clearance below -max(tolerance_mm, model.interference_tolerance()) at the
-/// theoretical position).
+/// Rotates both ways to first contact (ClosingRotation: an overlapping pin's closing lies on the
+/// opening side). A preloaded pair (both flanks overlapping) has theta_c1 < theta_c2: backlash 0
+/// and interference theta_c2 - theta_c1. interference_tolerance_mm is not used (kept for callers).
 UnloadedContact AnalyseUnloaded(const MeshModel& model, double crank,
                                 ContactKinematics kinematics = ContactKinematics::kExact,
                                 double interference_tolerance_mm = 1e-9);

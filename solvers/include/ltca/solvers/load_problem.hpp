@@ -104,6 +104,18 @@ class LoadProblem {
   /// point must not be an edge point.
   contact::ContactLaw LawOf(const contact::PinContact& pin) const;
   contact::ContactKinematics kinematics() const { return kinematics_; }
+  /// A preloaded pair: pins overlap the cycloid at the theoretical position (beyond the model's
+  /// interference tolerance) and no rotation of the disc about its held centre frees them all
+  /// (contact::JamReport non-empty), so both flanks are pressed at zero torque and the balance
+  /// sum_i F_i L_i = T runs over the pins of both signs of L_i (docs/solvers.md "Two flanks").
+  bool preloaded() const;
+  /// Whether a pin overlaps the cycloid at the theoretical position beyond the model's
+  /// interference tolerance (a reducer stage's floating disc may still seat itself by translating).
+  bool overlapping() const;
+  /// This problem at `fraction` (0 .. 1) of its torque, in this problem's frame (its arms keep their
+  /// sign): the preload state of a stage (LoadSolver's stage path). The same points, laws, reducer
+  /// and coupling.
+  LoadProblem Unloaded(double fraction = 0.0) const;
   int point_count() const { return static_cast<int>(base_.pins.size()); }
   /// The unloaded state (psi = 0, arms signed for this problem's frame) and its laws.
   const contact::MeshState& base_state() const { return base_; }

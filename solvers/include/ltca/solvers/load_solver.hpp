@@ -34,6 +34,15 @@ enum class SolverStatus {
                          ///< the backend cannot solve it: refused before solving, no numbers
   kReducerUnsupported,  ///< the problem has a reducer stage (LoadProblem::WithReducer) and the backend
                       ///< cannot solve it, or not in this form: refused before solving, no numbers
+  /// A preloaded pair (LoadProblem::preloaded: both flanks overlap, no rotation seats the disc)
+  /// that cannot be assembled: its zero-torque two-flank balance has no solution within the
+  /// contact laws (a pin beyond its law's largest force, a pressed tip corner, no balance within a
+  /// quarter tooth pitch), or its largest contact stress there exceeds [material]
+  /// contact_stress_limit_mpa. The preload figures found are kept (LoadResult::preload).
+  kCannotAssemble,
+  /// A preloaded pair and a backend that searches one flank from first contact: refused before
+  /// solving, no numbers (the preload state, LoadResult::preload, is reported).
+  kPreloadUnsupported,
 };
 const char* ToString(SolverStatus status);
 
@@ -90,6 +99,18 @@ struct LoadResult {
   std::vector<std::string> warnings;
   /// A stage problem's poses, output-element and bearing forces; empty for the mesh alone.
   std::optional<ReducerSolution> reducer;
+  /// A preloaded pair's zero-torque state (LoadProblem::preloaded); empty for a pair with free play.
+  struct Preload {
+    double rotation = 0.0;       ///< psi of the zero-torque balance, rad, in the problem's frame
+    std::vector<double> force;   ///< N, per point, at zero torque
+    double max_force_n = 0.0;    ///< the largest point force at zero torque, N
+    double max_stress_mpa = 0.0; ///< the largest Hertz contact stress at zero torque, MPa
+    int contacts = 0;            ///< points pressed at zero torque
+    /// Sum of F_i |L_i| over the points of the flank opposite the load (L_i < 0) at zero torque,
+    /// N*mm: the moment each flank carries against the other in the preload state.
+    double opposing_torque_nmm = 0.0;
+  };
+  std::optional<Preload> preload;
 };
 
 /// The shared judge on a whole result: a stage problem's every balance (from the result's poses and
@@ -110,6 +131,9 @@ class LoadSolver {
   /// Whether the backend solves a reducer stage (LoadProblem::has_reducer). Solve() refuses a stage
   /// problem with kReducerUnsupported before a backend without it runs.
   virtual bool supports_reducer() const { return false; }
+  /// Whether the backend solves a preloaded mesh (LoadProblem::preloaded: both flanks pressed,
+  /// docs/solvers.md "Two flanks"). Solve() refuses one with kPreloadUnsupported otherwise.
+  virtual bool supports_two_flanks() const { return false; }
   /// Validates, solves, fills the shared fields, checks the residual. Never throws for a
   /// failure to converge (that is a status); throws std::invalid_argument for bad options.
   /// A solver object holds no state: one may serve several threads, each with its own
@@ -131,6 +155,20 @@ class LoadSolver {
   /// poses until they stay; returns the poses (coordinates) the result reports.
   Eigen::VectorXd SolveReducerExact(const LoadProblem& problem, const ReducerSystem& nominal, const SolverOptions& options,
                                   Workspace& workspace, LoadResult* result) const;
+  /// Solve()'s path for a preloaded mesh: the preload state (two_flanks.hpp at zero torque), the
+  /// assembly's limits (kCannotAssemble), then DoSolve when the backend solves two flanks.
+  void SolvePreloaded(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                      LoadResult* result) const;
+  /// A stage whose pins overlap: its zero-torque balance first (the preload state, the assembly's
+  /// limits: kCannotAssemble), then the loaded one.
+  void SolveReducerPreloaded(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                             LoadResult* result) const;
+  /// The stage's solve and judge at the problem's torque; at zero torque the nominal poses without
+  /// forces unless solve_zero (a preloaded stage's zero-torque balance is solved).
+  void SolveReducerBody(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
+                        LoadResult* result, bool solve_zero = false) const;
+  /// TE, flank, active points and energy of a stage's result.
+  void FinishReducerResult(const LoadProblem& problem, LoadResult* result) const;
   /// Solve()'s path for a stage: refusals, zero torque, DoSolveReducer and the stage's judge.
   void SolveReducer(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                   LoadResult* result) const;

@@ -23,6 +23,12 @@ struct BacklashPosition {
   contact::UnloadedContact contact;
   int disc_c1 = 1, disc_c2 = 1;          ///< the disc (1 or 2) that touches first on each flank
   std::vector<double> second_clearance;  ///< two discs: the second disc's pin clearances, mm
+  /// A preloaded position (contact.interference > 0) with [material]: the torque that unloads the
+  /// coast flank (turning the load direction to theta_c2, where its last pin opens) and the drive
+  /// flank (the other way, to theta_c1), N*mm, both >= 0: sum_i F_i(delta_i) L_i of the pins still
+  /// pressed there, with the pins' own laws (no coupling). NaN otherwise.
+  double unload_torque_nmm = std::numeric_limits<double>::quiet_NaN();
+  double unload_torque_reverse_nmm = std::numeric_limits<double>::quiet_NaN();
   bool ok = false;                       ///< a pin closes on both flanks within the rotation window
   std::string failure;                   ///< why not
 };
@@ -43,8 +49,18 @@ class BacklashSummary {
   std::size_t succeeded() const { return succeeded_; }
   std::size_t failed() const { return positions_ - succeeded_; }
   const std::string& first_failure() const { return first_failure_; }  ///< "crank x deg: why"
+  /// Successful positions whose flanks overlap (contact.interference > 0): a preloaded pair's.
+  std::size_t preloaded() const { return preloaded_; }
+  /// The largest interference over the successful positions, rad (0: none preloaded).
+  double max_interference() const { return max_interference_; }
+  /// The smallest torque that unloads a flank (either way) over the preloaded positions, N*mm;
+  /// NaN when none was computed.
+  double min_unload_torque() const { return min_unload_; }
 
  private:
+  std::size_t preloaded_ = 0;
+  double max_interference_ = 0.0;
+  double min_unload_ = std::numeric_limits<double>::quiet_NaN();
   std::size_t positions_ = 0, succeeded_ = 0, in_mean_ = 0;
   double sum_ = 0.0, lo_ = std::numeric_limits<double>::infinity(), hi_ = -std::numeric_limits<double>::infinity();
   std::string first_failure_;

@@ -13,9 +13,8 @@ struct MeshResult {
   contact::MeshState state;  ///< the model's contacts at the crank, unloaded (mm, rad)
 };
 
-/// The state of `model` (a disc's mesh: [second_disc] is not in it) at `crank_deg`. Throws
-/// std::invalid_argument naming the pins when the pair interferes there: a table of negative
-/// clearances is not a mesh state.
+/// The state of `model` (a disc's mesh: [second_disc] is not in it) at `crank_deg`, unloaded at
+/// the theoretical position: a preloaded pair's negative clearances are its overlaps.
 MeshResult MeshAt(const contact::MeshModel& model, double crank_deg);
 
 }  // namespace ltca::analysis

@@ -18,6 +18,9 @@ enum class RunStatus : std::uint8_t {
   kFailed = 1,   ///< some position did not succeed (the figures are over the ones that did)
   kRejected = 2, ///< the pair as drawn interferes or cannot be built: no figure
   kNotRun = 3,   ///< not attempted (e.g. a worst-case corner whose stack is unknown)
+  /// A preloaded pair that cannot be assembled (solvers::SolverStatus::kCannotAssemble at some
+  /// position: no preload balance within the laws, or its stress beyond the material's limit)
+  kCannotAssemble = 4,
 };
 const char* ToString(RunStatus status);
 

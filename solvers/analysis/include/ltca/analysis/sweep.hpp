@@ -190,6 +190,13 @@ struct SweepSummary : RunRecord {
   double first_disc_share_min = std::numeric_limits<double>::quiet_NaN();
   double first_disc_share_max = std::numeric_limits<double>::quiet_NaN();
   SolverStatus status = SolverStatus::kNotSolved;  ///< the worst status over the sweep
+  /// A preloaded pair (LoadResult::preload): the positions whose result carries a preload state,
+  /// its largest point force (N) and contact stress (MPa) at zero torque over them (NaN: none),
+  /// and the positions whose status is cannot-assemble.
+  std::int64_t preloaded = 0;
+  double max_preload_force = std::numeric_limits<double>::quiet_NaN();
+  double max_preload_stress = std::numeric_limits<double>::quiet_NaN();
+  std::int64_t cannot_assemble = 0;
   /// The sweep's last crank repeats the state of its first (contact::SameMesh: a whole crank turn,
   /// or a mesh period of a pair that keeps that symmetry), so the means weight that state once;
   /// the extremes and counts see every position.

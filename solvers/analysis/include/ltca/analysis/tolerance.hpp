@@ -184,6 +184,10 @@ struct ToleranceSample {
   /// interferes or cannot be built (no figure).
   RunStatus status = RunStatus::kSuccess;
   std::string message;  ///< why, when not success
+  /// A preloaded pair (its loaded sweep's SweepSummary::preloaded > 0): the largest contact
+  /// stress (MPa) and point force (N) of its preload at zero torque over the sweep; NaN otherwise.
+  double preload_stress_mpa = std::numeric_limits<double>::quiet_NaN();
+  double preload_force_n = std::numeric_limits<double>::quiet_NaN();
   ToleranceSample() { figures.fill(std::numeric_limits<double>::quiet_NaN()); }
 };
 
@@ -257,16 +261,25 @@ class SampleTable {
   const ToleranceFigures& figures(std::int64_t k) const { return figures_[static_cast<std::size_t>(k)]; }
   RunStatus status(std::int64_t k) const { return status_[static_cast<std::size_t>(k)]; }
   bool succeeded(std::int64_t k) const { return status(k) == RunStatus::kSuccess; }
+  /// The preloaded samples (ToleranceSample::preload_stress_mpa finite), in sample order: each one's
+  /// largest preload contact stress, MPa, and point force, N (kept as float: 8 bytes a preloaded
+  /// sample beyond kBytesPerSample).
+  std::int64_t preloaded() const { return static_cast<std::int64_t>(preload_.size() / 2); }
+  double preload_stress(std::int64_t j) const { return preload_[2 * static_cast<std::size_t>(j)]; }
+  double preload_force(std::int64_t j) const { return preload_[2 * static_cast<std::size_t>(j) + 1]; }
   /// The first sample that did not succeed: its index (-1: none) and message.
   std::int64_t first_failure_index() const { return first_failure_index_; }
   const std::string& first_failure_message() const { return first_failure_message_; }
   /// Bytes held for the samples (the arrays' capacity).
-  std::size_t RetainedBytes() const { return figures_.capacity() * sizeof(ToleranceFigures) + status_.capacity(); }
+  std::size_t RetainedBytes() const {
+    return figures_.capacity() * sizeof(ToleranceFigures) + status_.capacity() + preload_.capacity() * sizeof(float);
+  }
 
  private:
   std::int64_t first_ = 0;
   std::vector<ToleranceFigures> figures_;
   std::vector<RunStatus> status_;
+  std::vector<float> preload_;  // per preloaded sample: stress, force
   std::int64_t first_failure_index_ = -1;
   std::string first_failure_message_;
 };
@@ -344,6 +357,11 @@ inline constexpr const char* kSensitivityMethod =
 
 struct ToleranceSummary {
   std::int64_t samples = 0, succeeded = 0, failed = 0, rejected = 0;
+  /// Samples that cannot be assembled (RunStatus::kCannotAssemble), and the samples whose pair is
+  /// preloaded (both flanks pressed at zero torque somewhere in the sweep), whatever their status.
+  std::int64_t cannot_assemble = 0, preloaded = 0;
+  /// Over the preloaded samples: the largest preload contact stress, MPa, and point force, N.
+  FigureStats preload_stress, preload_force;
   std::uint64_t seed = 0;
   std::array<FigureStats, kToleranceFigureCount> figures;
   std::vector<LimitResult> limits;
