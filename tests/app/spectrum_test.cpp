@@ -187,3 +187,54 @@ TEST_CASE("app: ltca report of a deck with a load spectrum has its section and d
   CHECK(text.str().find("spectrum: shortest pitting life (h)") != std::string::npos);
   std::filesystem::remove_all(folder);
 }
+
+TEST_CASE("app: a load spectrum's efficiency is the energy ratio of the single runs; one bin is the plain run; an idle bin delivers and loses nothing") {
+  using namespace spectrum_test;
+  // Efficiency over the duty cycle: sum share P_out / sum share (P_out + P_loss), each bin's powers
+  // the plain run's at its torque and crank speed (docs/efficiency.md, "Over a load spectrum").
+  const std::vector<std::string> friction = {"--set", "friction.coefficient=0.05", "--set", "friction.output_pin_coefficient=0.03",
+                                             "--set", "friction.bearing_coefficient=0.0015", "--set", "sweep.positions=7"};
+  const auto efficiency = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), "efficiency");
+    args.insert(args.end(), friction.begin(), friction.end());
+    args.insert(args.end(), {"--json", "-"});
+    return Solve(args);
+  };
+  const auto single = [&](const std::string& torque, const std::string& rpm) {
+    return efficiency({std::string(LTCA_CASES_DIR) + "/stage/cycloidal_drive.toml", "--set", "load.torque_nm=" + torque, "--set",
+                       "operation.input_speed_rpm=" + rpm})
+        .at("summary");
+  };
+  const nlohmann::json one = single("100", "300"), two = single("206", "1000");
+  const nlohmann::json spectrum = efficiency({DeckWith("cycloidal_drive.toml",
+                                                       "[[load_spectrum]]\ntorque_nm = 100\nspeed_rpm = 300\ntime_share = 0.3\n\n"
+                                                       "[[load_spectrum]]\ntorque_nm = 206\nspeed_rpm = 1000\ntime_share = 0.5\n\n"
+                                                       "[[load_spectrum]]\ntorque_nm = 0\nspeed_rpm = 1000\ntime_share = 0.2\n",
+                                                       "efficiency")})
+                                      .at("spectrum");
+  REQUIRE(spectrum.at("bins").size() == 3);
+  CHECK(spectrum.at("succeeded").get<bool>());
+  const double out = 0.3 * one.at("output_power_w").get<double>() + 0.5 * two.at("output_power_w").get<double>();
+  const double loss = 0.3 * one.at("power_loss_w").get<double>() + 0.5 * two.at("power_loss_w").get<double>();
+  CHECK(spectrum.at("output_power_w").get<double>() == doctest::Approx(out).epsilon(1e-12));
+  CHECK(spectrum.at("power_loss_w").get<double>() == doctest::Approx(loss).epsilon(1e-12));
+  CHECK(spectrum.at("efficiency").get<double>() == doctest::Approx(out / (out + loss)).epsilon(1e-12));
+  for (const char* source : {"mesh", "output", "bearings"}) {
+    CAPTURE(source);
+    const double expected = 0.3 * one.at("power_loss_by_source_w").at(source).get<double>() +
+                            0.5 * two.at("power_loss_by_source_w").at(source).get<double>();
+    CHECK(expected > 0.0);
+    CHECK(spectrum.at("power_loss_by_source_w").at(source).get<double>() == doctest::Approx(expected).epsilon(1e-12));
+  }
+  CHECK(spectrum.at("bins")[1].at("efficiency").get<double>() == doctest::Approx(two.at("efficiency").get<double>()).epsilon(1e-12));
+  CHECK(spectrum.at("bins")[2].at("power_loss_w").get<double>() == 0.0);
+  CHECK(spectrum.at("bins")[2].at("efficiency").is_null());
+  // The ratio of energies, not the mean of the bins' efficiencies.
+  CHECK(std::abs(spectrum.at("efficiency").get<double>() -
+                 (0.3 * one.at("efficiency").get<double>() + 0.5 * two.at("efficiency").get<double>()) / 0.8) > 1e-6);
+  const nlohmann::json alone =
+      efficiency({DeckWith("cycloidal_drive.toml", "[[load_spectrum]]\ntorque_nm = 206\nspeed_rpm = 1000\ntime_share = 1\n", "efficiency_one")})
+          .at("spectrum");
+  CHECK(alone.at("efficiency").get<double>() == doctest::Approx(two.at("efficiency").get<double>()).epsilon(1e-14));
+  CHECK(alone.at("power_loss_w").get<double>() == doctest::Approx(two.at("power_loss_w").get<double>()).epsilon(1e-14));
+}

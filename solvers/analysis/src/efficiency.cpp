@@ -568,4 +568,31 @@ EfficiencySummary EfficiencyRunner::Summary() const {
   return s;
 }
 
+bool EfficiencySpectrum::all_succeeded() const {
+  for (const Bin& b : bins) {
+    if (!b.summary.all_succeeded()) return false;
+  }
+  return true;
+}
+
+EfficiencySpectrum CombineEfficiency(std::vector<EfficiencySpectrum::Bin> bins) {
+  EfficiencySpectrum out;
+  out.bins = std::move(bins);
+  if (out.bins.empty()) return out;
+  const auto weighted = [&](auto figure) {
+    double sum = 0.0;
+    for (const EfficiencySpectrum::Bin& b : out.bins) sum += b.bin.time_share * figure(b.summary);
+    return std::isfinite(sum) ? sum : kEfficiencyNaN;
+  };
+  out.output_power = weighted([](const EfficiencySummary& s) { return s.output_power.mean; });
+  out.power_loss = weighted([](const EfficiencySummary& s) { return s.power_loss.mean; });
+  out.power_loss_mesh = weighted([](const EfficiencySummary& s) { return s.power_loss_mesh.mean; });
+  out.power_loss_output = weighted([](const EfficiencySummary& s) { return s.power_loss_output.mean; });
+  out.power_loss_bearings = weighted([](const EfficiencySummary& s) { return s.power_loss_bearings.mean; });
+  out.power_loss_seats = weighted([](const EfficiencySummary& s) { return s.power_loss_seats.mean; });
+  out.efficiency = out.output_power / (out.output_power + out.power_loss);
+  if (!std::isfinite(out.efficiency)) out.efficiency = kEfficiencyNaN;
+  return out;
+}
+
 }  // namespace ltca::analysis

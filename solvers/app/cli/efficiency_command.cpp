@@ -52,14 +52,18 @@ int RunEfficiency(const app::Deck& deck_given, const EfficiencyOptions& options,
   }
   progress.Finish();
   const analysis::EfficiencySummary s = runner.Summary();
+  // A load spectrum: each bin's efficiency over the sweep at its torque and speed.
+  std::optional<analysis::EfficiencySpectrum> spectrum;
+  if (!deck.load_spectrum.empty()) spectrum = app::EfficiencyDeckSpectrum(deck, solver);
   if (writer) {
-    writer->Finish(s);
+    writer->Finish(s, spectrum ? &*spectrum : nullptr);
     json.Commit();
   }
   if (csv.enabled()) csv.Commit();
   if (svg.enabled()) WriteFigure(documents::Figure(deck, solver, kept, s), svg);
   text << documents::Text(s);
-  return s.all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+  if (spectrum) text << documents::Text(*spectrum);
+  return s.all_succeeded() && (!spectrum || spectrum->all_succeeded()) ? kExitSuccess : kExitNotSucceeded;
 }
 
 Command EfficiencyCommand() {

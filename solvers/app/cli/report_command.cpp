@@ -500,6 +500,7 @@ struct ReportContext {
   std::optional<analysis::StiffnessResult> stiff;
   std::string stiff_svg;
   std::optional<analysis::EfficiencySummary> eff;
+  std::optional<analysis::EfficiencySpectrum> eff_spectrum;  ///< [[load_spectrum]]: the efficiency per bin and over them
   std::string eff_svg;
   std::optional<analysis::SpectrumResult> spectrum;  ///< [[load_spectrum]]: every bin and the lives over them
   ReportTolerance tol;
@@ -701,15 +702,35 @@ int RunEfficiency(ReportContext& ctx) {
     }
     progress.Finish();
     ctx.eff = runner.Summary();
-    writer.Finish(*ctx.eff);
+    if (!deck.load_spectrum.empty()) ctx.eff_spectrum = app::EfficiencyDeckSpectrum(deck, ctx.solver);
+    writer.Finish(*ctx.eff, ctx.eff_spectrum ? &*ctx.eff_spectrum : nullptr);
   });
   ctx.eff_svg = SvgOf(documents::Figure(deck, ctx.solver, kept, *ctx.eff));
   WriteTo("-o", ctx.folder.File("efficiency.svg"), streams.out, [&](std::ostream& os) { os << ctx.eff_svg; });
-  return ctx.eff->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
+  return ctx.eff->all_succeeded() && (!ctx.eff_spectrum || ctx.eff_spectrum->all_succeeded()) ? kExitSuccess
+                                                                                               : kExitNotSucceeded;
 }
 
 std::string EfficiencyHtml(const ReportContext& ctx) {
-  return Table(documents::Json(*ctx.eff)) + InlineSvgText(ctx.eff_svg, "efficiency");  // the summary, from its result
+  std::string spectrum;  // a bin per row, then the figures over the duty cycle (the efficiency's spectrum block)
+  if (ctx.eff_spectrum) {
+    const nlohmann::json j = documents::Json(*ctx.eff_spectrum);
+    std::string rows;
+    for (const auto& b : j.at("bins")) {
+      rows += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", Cell(b.at("torque_nm")),
+                          Cell(b.at("speed_rpm")), Cell(b.at("time_share")), Cell(b.at("efficiency")),
+                          Cell(b.at("output_power_w")), Cell(b.at("power_loss_w")));
+    }
+    spectrum = fmt::format("<p>Over the load spectrum: {}</p>\n<table>\n<tr><th>torque (N*m)</th><th>crank speed (rpm)</th>"
+                           "<th>time share</th><th>efficiency</th><th>output power (W)</th><th>power loss (W)</th></tr>\n{}"
+                           "</table>\n{}",
+                           Html(j.at("note").get<std::string>()), rows,
+                           Table({{"spectrum", {{"efficiency", j.at("efficiency")}, {"output_power_w", j.at("output_power_w")},
+                                                {"power_loss_w", j.at("power_loss_w")},
+                                                {"power_loss_by_source_w", j.at("power_loss_by_source_w")}}}}));
+  }
+  // The summary, from its result.
+  return Table(documents::Json(*ctx.eff)) + spectrum + InlineSvgText(ctx.eff_svg, "efficiency");
 }
 
 constexpr const char* kNoTolerances = "the deck has no [tolerances] section";

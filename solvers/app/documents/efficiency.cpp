@@ -190,8 +190,58 @@ void EfficiencyJsonWriter::Add(const analysis::EfficiencyPosition& p) {
   os_ << (written_++ == 0 ? "\n    " : ",\n    ") << Dump(Json(p, two_discs_), -1);
 }
 
-void EfficiencyJsonWriter::Finish(const analysis::EfficiencySummary& summary) {
-  os_ << "\n  ],\n  \"summary\": " << Nested(Dump(Json(summary))) << "\n}\n";
+void EfficiencyJsonWriter::Finish(const analysis::EfficiencySummary& summary, const analysis::EfficiencySpectrum* spectrum) {
+  os_ << "\n  ],\n  \"summary\": " << Nested(Dump(Json(summary)));
+  if (spectrum != nullptr) os_ << ",\n  \"spectrum\": " << Nested(Dump(Json(*spectrum)));
+  os_ << "\n}\n";
+}
+
+namespace {
+nlohmann::json BySource(double mesh, double output, double bearings, double seats) {
+  return {{"mesh", FiniteOrNull(mesh)}, {"output", FiniteOrNull(output)}, {"bearings", FiniteOrNull(bearings)},
+          {"seats", FiniteOrNull(seats)}};
+}
+}  // namespace
+
+nlohmann::json Json(const analysis::EfficiencySpectrum& spectrum) {
+  nlohmann::json bins = nlohmann::json::array();
+  for (const analysis::EfficiencySpectrum::Bin& b : spectrum.bins) {
+    const analysis::EfficiencySummary& s = b.summary;
+    bins.push_back({{"torque_nm", units::NmmToNm(b.bin.torque)},
+                    {"speed_rpm", units::RadPerSToRpm(b.bin.input_speed)},
+                    {"time_share", b.bin.time_share},
+                    {"succeeded", s.all_succeeded()},
+                    {"efficiency", FiniteOrNull(s.efficiency)},
+                    {"output_power_w", FiniteOrNull(s.output_power.mean)},
+                    {"power_loss_w", FiniteOrNull(s.power_loss.mean)},
+                    {"power_loss_by_source_w", BySource(s.power_loss_mesh.mean, s.power_loss_output.mean,
+                                                        s.power_loss_bearings.mean, s.power_loss_seats.mean)}});
+  }
+  return {{"bins", bins},
+          {"succeeded", spectrum.all_succeeded()},
+          {"efficiency", FiniteOrNull(spectrum.efficiency)},
+          {"output_power_w", FiniteOrNull(spectrum.output_power)},
+          {"power_loss_w", FiniteOrNull(spectrum.power_loss)},
+          {"power_loss_by_source_w", BySource(spectrum.power_loss_mesh, spectrum.power_loss_output,
+                                              spectrum.power_loss_bearings, spectrum.power_loss_seats)},
+          {"note", "each bin's efficiency run over the deck's sweep at its torque and crank speed; over the spectrum the "
+                   "energies per hour: efficiency = sum share P_out / sum share (P_out + P_loss), the powers the "
+                   "time-weighted means (an idle bin delivers and loses nothing)"}};
+}
+
+std::string Text(const analysis::EfficiencySpectrum& spectrum) {
+  std::string text = fmt::format("load spectrum          {} bins: efficiency over the duty cycle {} (energy out / energy in), "
+                                 "loss {} W, output {} W (time-weighted)\n",
+                                 spectrum.bins.size(), FormatOrNa(spectrum.efficiency, 6), FormatOrNa(spectrum.power_loss, 4),
+                                 FormatOrNa(spectrum.output_power, 4));
+  for (std::size_t i = 0; i < spectrum.bins.size(); ++i) {
+    const analysis::EfficiencySpectrum::Bin& b = spectrum.bins[i];
+    text += fmt::format("  bin {:<3} {:>10.4g} N*m {:>9.4g} rpm  share {:<8.4g} efficiency {}  loss {} W{}\n", i + 1,
+                        units::NmmToNm(b.bin.torque), units::RadPerSToRpm(b.bin.input_speed), b.bin.time_share,
+                        FormatOrNa(b.summary.efficiency, 6), FormatOrNa(b.summary.power_loss.mean, 4),
+                        b.summary.all_succeeded() ? "" : fmt::format("  (failed: {})", b.summary.first_failure));
+  }
+  return text;
 }
 
 std::string EfficiencyTextHead(const Deck& deck, const SolverOptions& solver) {

@@ -49,7 +49,8 @@ class EfficiencyJsonWriter {
  public:
   EfficiencyJsonWriter(std::ostream& os, const Deck& deck, const SolverOptions& solver, bool two_discs);
   void Add(const analysis::EfficiencyPosition& p);
-  void Finish(const analysis::EfficiencySummary& summary);
+  /// spectrum: the efficiency over the deck's [[load_spectrum]] as a "spectrum" block; nullptr: none.
+  void Finish(const analysis::EfficiencySummary& summary, const analysis::EfficiencySpectrum* spectrum = nullptr);
 
  private:
   std::ostream& os_;
@@ -63,6 +64,10 @@ class EfficiencyJsonWriter {
 std::string EfficiencyTextHead(const Deck& deck, const SolverOptions& solver);
 std::string Text(const analysis::EfficiencyPosition& p);
 std::string Text(const analysis::EfficiencySummary& summary);
+/// The efficiency over a load spectrum: its JSON block (a row per bin, the energy-weighted figures)
+/// and its text lines.
+nlohmann::json Json(const analysis::EfficiencySpectrum& spectrum);
+std::string Text(const analysis::EfficiencySpectrum& spectrum);
 
 /// The CSV: its header line and a row per loaded contact of a position (crank deg, pin from 1,
 /// force N, speeds m/s, loss W, film um, pressure MPa; the disc, 1 or 2, as a last column when

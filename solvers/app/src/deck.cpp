@@ -1700,18 +1700,45 @@ analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& opti
   return sweep;
 }
 
+namespace {
+/// The deck as `--set load.torque_nm=T --set operation.input_speed_rpm=n` would make it for a bin.
+Deck BinDeck(const Deck& deck, const analysis::LoadBin& bin) {
+  Deck d = deck;
+  d.load = analysis::LoadCase{.torque = bin.torque};
+  if (!d.operation) d.operation = analysis::OperationSettings{};
+  d.operation->input_speed = bin.input_speed;
+  d.load_spectrum.clear();
+  return d;
+}
+}  // namespace
+
 analysis::SpectrumResult SolveDeckSpectrum(const Deck& deck, const SolverOptions& options) {
   std::vector<analysis::SpectrumBinResult> bins;
   for (const analysis::LoadBin& bin : deck.load_spectrum) {
-    // The deck as `--set load.torque_nm=T --set operation.input_speed_rpm=n` would make it.
-    Deck d = deck;
-    d.load = analysis::LoadCase{.torque = bin.torque};
-    if (!d.operation) d.operation = analysis::OperationSettings{};
-    d.operation->input_speed = bin.input_speed;
-    d.load_spectrum.clear();
-    bins.push_back({.bin = bin, .summary = SolveDeckSweep(d, options).summary});
+    bins.push_back({.bin = bin, .summary = SolveDeckSweep(BinDeck(deck, bin), options).summary});
   }
   return analysis::CombineSpectrum(std::move(bins));
+}
+
+analysis::EfficiencySpectrum EfficiencyDeckSpectrum(const Deck& deck, const SolverOptions& options) {
+  std::vector<analysis::EfficiencySpectrum::Bin> bins;
+  for (const analysis::LoadBin& bin : deck.load_spectrum) {
+    if (bin.torque == 0.0) {  // an idle bin: no force, no power out and none lost
+      analysis::EfficiencySummary idle;
+      idle.succeeded = 1;
+      for (analysis::EfficiencySpread* figure : {&idle.output_power, &idle.power_loss, &idle.power_loss_mesh,
+                                                 &idle.power_loss_output, &idle.power_loss_bearings, &idle.power_loss_seats}) {
+        figure->Add(0.0);
+      }
+      bins.push_back({.bin = bin, .summary = idle});
+      continue;
+    }
+    const Deck d = BinDeck(deck, bin);
+    analysis::EfficiencyRunner runner(d.MakeStage(), options, bin.torque, d.RequireFriction(), d.RequireOperation());
+    for (const double crank : runner.cranks()) (void)runner.Solve(crank);
+    bins.push_back({.bin = bin, .summary = runner.Summary()});
+  }
+  return analysis::CombineEfficiency(std::move(bins));
 }
 
 Deck DeckFor(const Deck& deck, const std::string& kinematics) {

@@ -22,6 +22,7 @@
 
 #include "ltca/analysis/friction.hpp"
 #include "ltca/analysis/run.hpp"
+#include "ltca/analysis/spectrum.hpp"
 #include "ltca/analysis/stage.hpp"
 
 namespace ltca::analysis {
@@ -146,5 +147,29 @@ class EfficiencyRunner {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// The efficiency over a load spectrum (docs/efficiency.md, "Over a load spectrum"): each bin's
+/// sweep at its torque and crank speed, and the energy over the duty cycle: per hour of operation
+/// bin i delivers share_i P_out,i and loses share_i P_loss,i (its means over the crank turn), so
+///   efficiency = sum_i share_i P_out,i / sum_i share_i (P_out,i + P_loss,i),
+/// the ratio of the energies, not the mean of the bins' efficiencies (a bin at low torque and high
+/// loss weighs by its power). The losses are the time-weighted means, W.
+struct EfficiencySpectrum {
+  struct Bin {
+    LoadBin bin;
+    EfficiencySummary summary;
+  };
+  std::vector<Bin> bins;
+  double efficiency = kEfficiencyNaN;
+  double output_power = kEfficiencyNaN;  ///< W, sum_i share_i P_out,i
+  double power_loss = kEfficiencyNaN;    ///< W, sum_i share_i P_loss,i
+  /// A stage's loss by source (mesh, output, bearings, seats), W, each sum_i share_i of it; NaN
+  /// where a bin has none (the mesh alone has only the mesh's and the seats').
+  double power_loss_mesh = kEfficiencyNaN, power_loss_output = kEfficiencyNaN,
+         power_loss_bearings = kEfficiencyNaN, power_loss_seats = kEfficiencyNaN;
+  bool all_succeeded() const;
+};
+/// Combines the bins' summaries; NaN figures where a bin's are not finite.
+EfficiencySpectrum CombineEfficiency(std::vector<EfficiencySpectrum::Bin> bins);
 
 }  // namespace ltca::analysis

@@ -153,6 +153,11 @@ analysis::SweepResult SolveDeckSweep(const Deck& deck, const SolverOptions& opti
 /// speed (what --set load.torque_nm / operation.input_speed_rpm would give), the lives combined by
 /// Miner's rule over the time shares (analysis::CombineSpectrum). Empty without a spectrum.
 analysis::SpectrumResult SolveDeckSpectrum(const Deck& deck, const SolverOptions& options);
+/// The deck's efficiency over its [[load_spectrum]]: each bin's efficiency run over the deck's
+/// sweep at the bin's torque and crank speed, combined over the time shares
+/// (analysis::CombineEfficiency). Requires [material], [friction] and [operation] as `ltca
+/// efficiency` does; empty without a spectrum.
+analysis::EfficiencySpectrum EfficiencyDeckSpectrum(const Deck& deck, const SolverOptions& options);
 
 /// The deck with a front-end's kinematics by name (contact::ParseKinematics; "" keeps the deck's
 /// [solver] kinematics).
