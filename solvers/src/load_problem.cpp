@@ -691,6 +691,7 @@ bool LoadProblem::overlapping() const {
 LoadProblem LoadProblem::Unloaded(double fraction) const {
   LoadProblem out(*this);
   out.torque_ = fraction * torque_;
+  out.stage_loads_.reset();  // the loads besides T belong to the loaded state (a loop's friction), not its preload
   out.single_pin_ = out.SinglePinBound();
   return out;
 }

@@ -279,7 +279,7 @@ void LoadSolver::SolveReducerPreloaded(const LoadProblem& problem, const SolverO
     // seated. Any other failure is the solve's, said as such.
     const bool beyond = zero.status == SolverStatus::kLawCannotCarry || zero.status == SolverStatus::kEdgeContact;
     *result = std::move(zero);
-    result->preload = preload;
+    result->preload.reset();  // no valid solve produced the preload's figures
     if (beyond) result->status = SolverStatus::kCannotAssemble;
     result->message = fmt::format("{}pins overlap the cycloid ({}); the preload state (the stage at 1e-7 of its torque): {}",
                                   beyond ? "cannot assemble: " : "", overlaps, result->message);
@@ -400,7 +400,8 @@ void LoadSolver::SolvePreloaded(const LoadProblem& problem, const SolverOptions&
     }
   }
   preload.max_stress_mpa = worst_stress;
-  result->preload = preload;
+  // The preload's figures where its balance was found; none from a failed solve.
+  if (zero.status == SolverStatus::kSuccess) result->preload = preload;
   const double limit = problem.material().contact_stress_limit;
   if (zero.status != SolverStatus::kSuccess) {
     result->status = SolverStatus::kCannotAssemble;

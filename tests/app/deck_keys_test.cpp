@@ -456,6 +456,8 @@ const std::vector<Tied> kTied = {
      {"friction.coefficient=0", "friction.output_pin_coefficient=0.05"}, "0.05"},
     {"friction.bearing_coefficient", "stage/cycloidal_drive.toml",
      {"friction.coefficient=0", "friction.bearing_coefficient=0.002"}, "0.002"},
+    {"friction.bearing_viscous_factor", "stage/cycloidal_drive.toml",
+     {"friction.coefficient=0", "friction.bearing_viscous_factor=4"}, "4"},
     {"friction.limiting_shear_stress_mpa", "jiang2022_table2_efficiency.toml",
      {"friction.limiting_shear_stress_coefficient=0.06", "friction.limiting_shear_stress_mpa=2"}, "2"},
     {"disc.body", "liu2021_table1.toml", {"disc.body=\"elastic\"", "disc.bore_radius_mm=22"}, "choice 1"},

@@ -13,6 +13,7 @@
 #include "helpers.hpp"
 #include "ltca/analysis/tolerance.hpp"
 #include "ltca/app/deck.hpp"
+#include "ltca/solvers/registry.hpp"
 
 TEST_CASE("app: a 300-sample Monte Carlo of an RV stage with a 6 um nominal clearance rejects no sample for interference") {
   // With dR_rp - dR_p = 6 um (pin circle -10 um, pin radius -4 um) and these grades, 291 of 300
@@ -70,4 +71,25 @@ indexing_deviation_mm = { distribution = "uniform", tolerance = 0.004 }
   CHECK(summary.preload_stress.count == preloaded);
   MESSAGE("preload medians: largest contact stress ", summary.preload_stress.p50, " MPa, largest pin force ",
           summary.preload_force.p50, " N");
+}
+
+TEST_CASE("app: every stage solver finds a preloaded stage's state at zero torque alike (energy-qp keeps a scale at T = 0)") {
+  // At T = 0 the preload is the whole answer; energy-qp scaled its objective by 1 / (T / R_p) and
+  // failed there. The state is the assembly's, so every solver must report the same (1e-9).
+  const ltca::app::Deck deck = ltca::app::LoadDeck(ltca::test::Case("stage/rv_catalogue.toml"),
+                                                   {"modification.pin_circle_radius_mm=-0.002", "load.torque_nm=0"});
+  const ltca::analysis::Stage stage = deck.MakeStage({0.0});
+  double reference = 0.0;
+  for (const std::string& name : ltca::solvers::ReducerSolverNames()) {
+    CAPTURE(name);
+    ltca::solvers::SolverOptions options = deck.solver;
+    options.name = name;
+    const auto r = ltca::solvers::MakeSolver(name)->Solve(stage.Problem(0.0, 0.0), options);
+    INFO(r.message);
+    REQUIRE(r.status == ltca::solvers::SolverStatus::kSuccess);
+    REQUIRE(r.preload.has_value());
+    CHECK(r.preload->contacts > 0);
+    if (reference == 0.0) reference = r.preload->max_force_n;
+    CHECK(r.preload->max_force_n == doctest::Approx(reference).epsilon(1e-9));
+  }
 }

@@ -238,3 +238,22 @@ TEST_CASE("app: a load spectrum's efficiency is the energy ratio of the single r
   CHECK(alone.at("efficiency").get<double>() == doctest::Approx(two.at("efficiency").get<double>()).epsilon(1e-14));
   CHECK(alone.at("power_loss_w").get<double>() == doctest::Approx(two.at("power_loss_w").get<double>()).epsilon(1e-14));
 }
+
+TEST_CASE("app: an idle bin of a preloaded stage is a named failure of the efficiency's spectrum, whose figures are then null") {
+  using namespace spectrum_test;
+  // At zero torque a preload presses the pins: its friction would lose power with none delivered,
+  // which the efficiency (a ratio to the output power) does not model.
+  const auto r = ltca::test::RunCli({"efficiency",
+                                     DeckWith("rv_catalogue.toml",
+                                              "[[load_spectrum]]\ntorque_nm = 412\nspeed_rpm = 1000\ntime_share = 0.5\n\n"
+                                              "[[load_spectrum]]\ntorque_nm = 0\nspeed_rpm = 1000\ntime_share = 0.5\n",
+                                              "preloaded_idle"),
+                                     "--set", "modification.pin_circle_radius_mm=-0.002", "--set", "friction.coefficient=0.05",
+                                     "--set", "sweep.positions=3", "--json", "-"});
+  CHECK(r.code == 1);
+  const nlohmann::json spectrum = nlohmann::json::parse(r.out).at("spectrum");
+  CHECK_FALSE(spectrum.at("succeeded").get<bool>());
+  CHECK(spectrum.at("efficiency").is_null());
+  CHECK_FALSE(spectrum.at("bins")[1].at("succeeded").get<bool>());
+  CHECK(spectrum.at("bins")[1].at("power_loss_w").is_null());
+}

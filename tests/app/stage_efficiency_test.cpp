@@ -7,9 +7,11 @@
 // z_p / z_c, each with the forces of a frictionless solve of the same stage done here.
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include <filesystem>
 
@@ -170,6 +172,39 @@ TEST_CASE("app: friction only at the bearings is their moment times the eccentri
       CHECK(p.efficiency < 1.0);
     });
   }
+}
+
+TEST_CASE("app: the bearings' viscous moment is Palmgren's 1e-7 f_0 (nu n)^(2/3) d^3, or 160e-7 f_0 d^3 below nu n = 2000, times their relative speed (1e-9)") {
+  // Harris and Kotzalas (Essential Concepts of Bearing Technology, 5th ed., sec. 10.3), by hand
+  // here: n the eccentric's speed relative to the disc in rpm (omega_c z_p / z_c), nu in mm^2/s, d
+  // in mm, M_0 in N*mm per bearing, beside a load term mu_b |F| d / 2 that this case leaves at 0.
+  for (const auto& [name, nu, rpm] : {std::tuple<std::string, double, double>{"cycloidal_drive.toml", 68.0, 1000.0},
+                                      {"cycloidal_drive.toml", 1.0, 30.0}, {"rv_catalogue.toml", 100.0, 500.0}}) {
+    CAPTURE(name);
+    CAPTURE(nu);
+    const double f0 = 4.0;
+    const Deck deck = StageDeck(name, {"friction.coefficient=0", "friction.bearing_viscous_factor=4",
+                                       fmt::format("operation.oil_kinematic_viscosity_mm2_per_s={}", nu),
+                                       fmt::format("operation.input_speed_rpm={}", rpm)});
+    const double relative = RelativeSpeed(deck);  // rad/s
+    const double n = relative * 60.0 / (2.0 * 3.14159265358979323846);
+    const double d = 40.0;  // both decks' [bearing] pitch_diameter_mm
+    const double m0 = (nu * n >= 2000.0 ? 1e-7 * f0 * std::pow(nu * n, 2.0 / 3.0) : 160e-7 * f0) * d * d * d;
+    ForEachPosition(deck, [&](double, const EfficiencyPosition& p, const ltca::solvers::LoadResult& r) {
+      std::size_t bearings = 0;
+      for (const auto& disc : r.reducer->discs) bearings += disc.bearing_force.size();
+      CHECK(p.power_loss_by_source.bearings ==
+            doctest::Approx(ltca::units::NmmPerSToW(static_cast<double>(bearings) * m0 * relative)).epsilon(1e-9));
+      CHECK(p.power_loss == p.power_loss_by_source.bearings);
+    });
+  }
+  CHECK(ltca::test::InvalidArgumentMessage([&] {
+          const Deck d = StageDeck("cycloidal_drive.toml", {"friction.coefficient=0", "friction.bearing_viscous_factor=4"});
+          (void)ltca::test::EfficiencyOn(d, d.solver, d.kinematics);
+        }).find("expected [operation] oil_kinematic_viscosity_mm2_per_s") != std::string::npos);
+  CHECK(ltca::test::InvalidArgumentMessage([&] {
+          (void)StageDeck("cycloidal_drive.toml", {"friction.coefficient=0", "friction.bearing_viscous_factor=-1"});
+        }).find("bearing_viscous_factor = -1") != std::string::npos);
 }
 
 TEST_CASE("app: the stage's friction keys: refused without a stage or on the wrong output, and a bearing's coefficient without its diameter") {

@@ -162,4 +162,32 @@ TEST_CASE("app: the stage's loop: every coefficient zero is the frictionless loo
   }
 }
 
+TEST_CASE("app: the stage's loop: friction acting with the torque on the way back is no lock; a preloaded pair's loop with friction is a named failure") {
+  ltca::analysis::StiffnessSettings settings;
+  settings.crank = 0.0;
+  settings.steps = 11;
+  // The crank bearings' moment at d = 600 mm reaches the torque in sum (6 bearings), but on the way
+  // back it acts with the torque, and on the way up the output supplies only (k - 1) of it.
+  const Deck big = StageDeck("rv_catalogue.toml", {"friction.coefficient=0", "friction.bearing_coefficient=0.05",
+                                                   "friction.bearing_diameter_mm=600"});
+  const auto loop = ltca::test::StiffnessOn(big, big.solver, settings, big.kinematics).Run();
+  INFO(loop.summary.first_failure);
+  CHECK(loop.all_succeeded());
+  CHECK(loop.summary.hysteresis.mean > 0.0);
+  const Deck preloaded = StageDeck("rv_catalogue.toml", {"modification.pin_circle_radius_mm=-0.002", "friction.coefficient=0.01"});
+  const auto failed = ltca::test::StiffnessOn(preloaded, preloaded.solver, settings, preloaded.kinematics).Run();
+  CHECK_FALSE(failed.all_succeeded());
+  CHECK(failed.summary.first_failure.find("the loop with friction of a preloaded pair") != std::string::npos);
+}
+
+TEST_CASE("solvers: a stage's preload state carries no loads besides T") {
+  const Deck deck = StageDeck("cycloidal_drive.toml", {});
+  const ltca::analysis::Stage stage = deck.MakeStage({0.0});
+  ltca::solvers::StageLoads loads;
+  loads.discs = {{Eigen::Vector2d(10.0, 0.0), 1e3}};
+  const LoadProblem p = stage.Problem(0.0, 1e5).WithStageLoads(loads);
+  REQUIRE(p.stage_loads() != nullptr);
+  CHECK(p.Unloaded(1e-7).stage_loads() == nullptr);
+}
+
 }  // namespace stage_loop_test

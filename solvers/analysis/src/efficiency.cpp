@@ -95,14 +95,20 @@ struct EfficiencyRunner::Impl {
     lubrication.boundary_coefficient = friction.boundary_coefficient;
     lubrication.limiting_shear_modulus = friction.limiting_shear_modulus;
     lubrication.power_law_exponent = friction.power_law_exponent;
-    if (friction.bearing_coefficient > 0.0) {
+    if (friction.bearing_viscous_factor > 0.0 && !operation.kinematic_viscosity) {
+      throw std::invalid_argument(fmt::format(
+          "[friction] bearing_viscous_factor = {:g}: expected [operation] oil_kinematic_viscosity_mm2_per_s (nu of "
+          "Palmgren's viscous moment 1e-7 f_0 (nu n)^(2/3) d^3)",
+          friction.bearing_viscous_factor));
+    }
+    if (friction.bearing_coefficient > 0.0 || friction.bearing_viscous_factor > 0.0) {
       const double pitch = design.reducer ? design.reducer->bearing.pitch_diameter : 0.0;
       bearing_diameter = std::isfinite(friction.bearing_diameter) ? friction.bearing_diameter : pitch;
       if (!(bearing_diameter > 0.0)) {
         throw std::invalid_argument(fmt::format(
-            "[friction] bearing_coefficient = {:g}: expected bearing_diameter_mm (d of the bearing's friction moment "
-            "M = mu F d / 2) or [bearing] pitch_diameter_mm",
-            friction.bearing_coefficient));
+            "[friction] bearing_coefficient = {:g}, bearing_viscous_factor = {:g}: expected bearing_diameter_mm (d of the "
+            "bearing's friction moment M = mu F d / 2 + M_0(d)) or [bearing] pitch_diameter_mm",
+            friction.bearing_coefficient, friction.bearing_viscous_factor));
       }
     }
     lubrication.limiting_shear_coefficient = friction.limiting_shear_coefficient;
@@ -264,10 +270,12 @@ struct EfficiencyRunner::Impl {
       const double at = k == 0 ? crank : crank + contact::kSecondDiscCrankOffset;
       const geometry::Pose pose = model.CyclePose(at, 0.0, 0.0);
       const contact::PoseRate rate = contact::PoseRatePerCrank(model, at, 0.0, 0.0);
-      if (friction.bearing_coefficient > 0.0) {
+      if (friction.bearing_coefficient > 0.0 || friction.bearing_viscous_factor > 0.0) {
         const double relative = std::abs(crank_speed * (1.0 - rate.angular_velocity));  // rad/s
+        const double viscous = PalmgrenViscousMoment(friction.bearing_viscous_factor, operation.kinematic_viscosity.value_or(0.0),
+                                                     units::RadPerSToRpm(relative), bearing_diameter);
         for (const Eigen::Vector2d& f : disc.bearing_force) {
-          const double moment = friction.bearing_coefficient * f.norm() * bearing_diameter / 2.0;
+          const double moment = friction.bearing_coefficient * f.norm() * bearing_diameter / 2.0 + viscous;
           loss.bearings += moment * relative;
           loss.moment += moment;
         }
@@ -578,7 +586,7 @@ bool EfficiencySpectrum::all_succeeded() const {
 EfficiencySpectrum CombineEfficiency(std::vector<EfficiencySpectrum::Bin> bins) {
   EfficiencySpectrum out;
   out.bins = std::move(bins);
-  if (out.bins.empty()) return out;
+  if (out.bins.empty() || !out.all_succeeded()) return out;  // a failed bin leaves the spectrum's figures null
   const auto weighted = [&](auto figure) {
     double sum = 0.0;
     for (const EfficiencySpectrum::Bin& b : out.bins) sum += b.bin.time_share * figure(b.summary);

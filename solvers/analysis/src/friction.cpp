@@ -77,6 +77,12 @@ void FrictionSettings::Validate(const geometry::PairParameters& pair) const {
   if (!std::isnan(sleeve_coefficient)) check_mu("sleeve_coefficient", sleeve_coefficient);
   check_mu("output_pin_coefficient", output_pin_coefficient);
   check_mu("bearing_coefficient", bearing_coefficient);
+  if (!(std::isfinite(bearing_viscous_factor) && bearing_viscous_factor >= 0.0 && bearing_viscous_factor <= 100.0)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] bearing_viscous_factor = {}: expected Palmgren's f_0 from 0 to 100 (needle and cylindrical roller "
+        "bearings: about 2 to 12)",
+        bearing_viscous_factor));
+  }
   if (!std::isnan(bearing_diameter) && !(std::isfinite(bearing_diameter) && bearing_diameter > 0.0 && bearing_diameter <= 1e4)) {
     throw std::invalid_argument(fmt::format(
         "[friction] bearing_diameter_mm = {}: expected the bearing's diameter d of M = mu F d / 2 above 0 and at most "
@@ -117,6 +123,12 @@ void FrictionSettings::Validate(const geometry::PairParameters& pair) const {
         "pin_radius_mm = {}",
         *sleeve_bore_radius, pair.pin_radius));
   }
+}
+
+double PalmgrenViscousMoment(double f0, double nu, double n_rpm, double d) {
+  if (f0 == 0.0) return 0.0;
+  const double nu_n = nu * std::abs(n_rpm);
+  return (nu_n >= 2000.0 ? 1e-7 * f0 * std::cbrt(nu_n * nu_n) : 160e-7 * f0) * d * d * d;
 }
 
 // --- the stiffness loop with friction ------------------------------------------------------------
@@ -233,10 +245,22 @@ LoadResult SolveStageWithLoopFriction(const contact::MeshModel& model, const con
     l.output_moment = v(3 * discs);
     return l;
   };
-  const auto friction_moment = [&](const Eigen::VectorXd& v) {  // on the discs and the output, N*mm
-    double m = std::abs(v(3 * discs));
-    for (int d = 0; d < discs; ++d) m += std::abs(v(3 * d + 2));
-    return m;
+  // The torque friction absorbs along the branch, N*mm: minus the loads' virtual work over the
+  // stage's motion (from `behind` to `frictionless`) per radian of the output. Friction resisting
+  // the motion absorbs; the stage locks where it absorbs the whole torque on the loading branch
+  // (on the way back friction acts with the torque: its work is negative, and so is this over a
+  // negative turn of the output).
+  const double turn = frictionless.rotation - behind.rotation;
+  const auto absorbed = [&](const Eigen::VectorXd& v) {
+    if (!(std::abs(turn) > 0.0) || !frictionless.reducer || !behind.reducer) return 0.0;
+    double work = v(3 * discs) * turn;
+    for (int d = 0; d < discs && static_cast<std::size_t>(d) < frictionless.reducer->discs.size(); ++d) {
+      const auto& a = behind.reducer->discs[static_cast<std::size_t>(d)];
+      const auto& b = frictionless.reducer->discs[static_cast<std::size_t>(d)];
+      work += (v(3 * d) * (b.translation.x() - a.translation.x()) + v(3 * d + 1) * (b.translation.y() - a.translation.y())) / radius +
+              v(3 * d + 2) * (b.rotation - a.rotation);
+    }
+    return -work / turn;
   };
   const double tolerance = kBalanceTolerance * std::abs(torque);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(3 * discs + 1);  // the loads r was solved with
@@ -247,19 +271,19 @@ LoadResult SolveStageWithLoopFriction(const contact::MeshModel& model, const con
     const Eigen::VectorXd residual = g - x;
     if (residual.cwiseAbs().maxCoeff() <= tolerance) {
       if (balance != nullptr) {
-        balance->moment = friction_moment(x);
+        balance->moment = std::abs(absorbed(x));
         balance->direct = false;
         balance->behind = kNaN;
       }
       return r;
     }
-    if (friction_moment(g) >= std::abs(torque)) {
+    if (absorbed(g) >= std::abs(torque)) {
       LoadResult f;
       f.status = SolverStatus::kMaxIterations;
       f.message = fmt::format(
-          "torque balance with friction (mu {:g}, bearings {:g}): no balance at {:g} N*m, the friction moment on the "
-          "discs and the output ({:g} N*m) reaches the torque: the stage locks under this friction",
-          friction.mesh, friction.bearing, units::NmmToNm(torque), units::NmmToNm(friction_moment(g)));
+          "torque balance with friction (mu {:g}, bearings {:g}): no balance at {:g} N*m, the friction on the discs and "
+          "the output absorbs {:g} N*m of it along the loading branch: the stage locks under this friction",
+          friction.mesh, friction.bearing, units::NmmToNm(torque), units::NmmToNm(absorbed(g)));
       return f;
     }
     // Anderson's method of depth 1 (Walker and Ni, SIAM J. Numer. Anal. 49 (2011) 1715): the

@@ -516,6 +516,11 @@ const std::vector<DeckKey> kKeys = {
      .meaning = "stage: mu of the bearings' friction moment M = mu F d / 2 (eccentric or crank bearings)",
      .default_value = "0",
      .setting = LTCA_SETTING(friction, bearing_coefficient)},
+    {.section = "friction", .name = "bearing_viscous_factor", .type = T::kReal, .unit = "",
+     .meaning = "stage: Palmgren's f_0 of the bearings' viscous friction moment (needs [operation] "
+                "oil_kinematic_viscosity_mm2_per_s; ltca efficiency only)",
+     .default_value = "0",
+     .setting = LTCA_SETTING(friction, bearing_viscous_factor)},
     {.section = "friction", .name = "bearing_diameter_mm", .type = T::kReal, .unit = "mm",
      .meaning = "stage: d of the bearings' friction moment in mm; absent: [bearing] pitch_diameter_mm",
      .default_value = "",

@@ -257,6 +257,19 @@ struct StiffnessRunner::Impl {
             : SolveWithLoopFriction(stage.model(), state, torque, sense, friction_mu, problem, solve, &solves, second,
                                     warm, balance);
     pos->solves += solves;
+    if (with_friction() && sense != 0.0 && r.preload && r.preload->contacts > 0) {
+      // Friction at the preload's forces holds the twist at zero torque: the loop's stick would run
+      // through zero, which the loop (a stick ends by zero torque) does not model.
+      ++pos->failed;
+      if (pos->first_failure.empty()) {
+        pos->first_failure = fmt::format(
+            "torque {:g} N*m: the loop with friction of a preloaded pair ({} points pressed at zero torque) is not "
+            "modelled: its stick would run through zero torque; expected the loop without [friction]",
+            units::NmmToNm(torque), r.preload->contacts);
+      }
+      if (status != nullptr) *status = SolverStatus::kPreloadUnsupported;
+      return kNaN;
+    }
     if (status != nullptr) *status = r.status;
     if (stage.disc_count() == 2 && on_loop && r.status == SolverStatus::kSuccess && std::abs(torque) == rated) {
       // Two discs: the split at +-T; with friction, of the loop's pass through it.

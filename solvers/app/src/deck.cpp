@@ -991,9 +991,9 @@ void Deck::ValidateSettings() const {
   }
   if (friction && !reducer && friction->stage_friction()) {
     throw std::invalid_argument(fmt::format(
-        "[friction] output_pin_coefficient = {:g}, bearing_coefficient = {:g}: expected an [output] section (the stage "
-        "whose output pins and bearings they are), or 0",
-        friction->output_pin_coefficient, friction->bearing_coefficient));
+        "[friction] output_pin_coefficient = {:g}, bearing_coefficient = {:g}, bearing_viscous_factor = {:g}: expected an "
+        "[output] section (the stage whose output pins and bearings they are), or 0",
+        friction->output_pin_coefficient, friction->bearing_coefficient, friction->bearing_viscous_factor));
   }
   if (friction && reducer && reducer->kind != solvers::OutputKind::kPins && friction->output_pin_coefficient > 0.0) {
     throw std::invalid_argument(fmt::format(
@@ -1723,12 +1723,27 @@ analysis::SpectrumResult SolveDeckSpectrum(const Deck& deck, const SolverOptions
 analysis::EfficiencySpectrum EfficiencyDeckSpectrum(const Deck& deck, const SolverOptions& options) {
   std::vector<analysis::EfficiencySpectrum::Bin> bins;
   for (const analysis::LoadBin& bin : deck.load_spectrum) {
-    if (bin.torque == 0.0) {  // an idle bin: no force, no power out and none lost
+    if (bin.torque == 0.0) {  // an idle bin: no force, no power out and none lost, unless a preload presses the pins
       analysis::EfficiencySummary idle;
-      idle.succeeded = 1;
-      for (analysis::EfficiencySpread* figure : {&idle.output_power, &idle.power_loss, &idle.power_loss_mesh,
-                                                 &idle.power_loss_output, &idle.power_loss_bearings, &idle.power_loss_seats}) {
-        figure->Add(0.0);
+      const analysis::Stage stage = BinDeck(deck, bin).MakeStage();
+      const auto solver = solvers::MakeSolver(options.name);
+      for (const double crank : stage.cranks()) {
+        const solvers::LoadProblem problem = stage.Problem(crank, 0.0);
+        if (!problem.overlapping()) continue;
+        const solvers::LoadResult r = solver->Solve(problem, options);
+        if (r.status != solvers::SolverStatus::kSuccess || (r.preload && r.preload->contacts > 0)) {
+          idle.Fail(fmt::format("idle bin (0 N*m) at crank {:.6g} deg: the stage is preloaded there; the preload's friction "
+                                "at zero torque is not modelled (efficiency needs a torque)",
+                                units::RadToDeg(crank)));
+          break;
+        }
+      }
+      if (idle.failed == 0) {
+        idle.succeeded = 1;
+        for (analysis::EfficiencySpread* figure : {&idle.output_power, &idle.power_loss, &idle.power_loss_mesh,
+                                                   &idle.power_loss_output, &idle.power_loss_bearings, &idle.power_loss_seats}) {
+          figure->Add(0.0);
+        }
       }
       bins.push_back({.bin = bin, .summary = idle});
       continue;

@@ -38,7 +38,8 @@ enum class SolverStatus {
   /// that cannot be assembled: its zero-torque two-flank balance has no solution within the
   /// contact laws (a pin beyond its law's largest force, a pressed tip corner, no balance within a
   /// quarter tooth pitch), or its largest contact stress there exceeds [material]
-  /// contact_stress_limit_mpa. The preload figures found are kept (LoadResult::preload).
+  /// contact_stress_limit_mpa. The preload figures are kept where its balance was found (the
+  /// stress limit; LoadResult::preload), none where it was not.
   kCannotAssemble,
   /// A preloaded pair and a backend that searches one flank from first contact: refused before
   /// solving, no numbers (the preload state, LoadResult::preload, is reported).

@@ -163,13 +163,13 @@ struct EfficiencySpectrum {
   double efficiency = kEfficiencyNaN;
   double output_power = kEfficiencyNaN;  ///< W, sum_i share_i P_out,i
   double power_loss = kEfficiencyNaN;    ///< W, sum_i share_i P_loss,i
-  /// A stage's loss by source (mesh, output, bearings, seats), W, each sum_i share_i of it; NaN
-  /// where a bin has none (the mesh alone has only the mesh's and the seats').
+  /// A stage's loss by source (mesh, output, bearings, seats), W, each sum_i share_i of it (0 for
+  /// a source the stage does not have).
   double power_loss_mesh = kEfficiencyNaN, power_loss_output = kEfficiencyNaN,
          power_loss_bearings = kEfficiencyNaN, power_loss_seats = kEfficiencyNaN;
   bool all_succeeded() const;
 };
-/// Combines the bins' summaries; NaN figures where a bin's are not finite.
+/// Combines the bins' summaries; NaN figures unless every bin succeeded and its figures are finite.
 EfficiencySpectrum CombineEfficiency(std::vector<EfficiencySpectrum::Bin> bins);
 
 }  // namespace ltca::analysis

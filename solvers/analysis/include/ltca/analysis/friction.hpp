@@ -61,7 +61,17 @@ struct FrictionSettings {
   double output_pin_coefficient = 0.0;
   double bearing_coefficient = 0.0;
   double bearing_diameter = std::numeric_limits<double>::quiet_NaN();  ///< mm
-  bool stage_friction() const { return output_pin_coefficient > 0.0 || bearing_coefficient > 0.0; }
+  /// Palmgren's viscous friction moment of each rolling bearing (Harris and Kotzalas, Essential
+  /// Concepts of Bearing Technology, 5th ed., 2007, sec. 10.3; Palmgren 1959): M_0 = 1e-7 f_0
+  /// (nu n)^(2/3) d^3 N*mm for nu n >= 2000, 160e-7 f_0 d^3 below (nu in mm^2/s, [operation]
+  /// oil_kinematic_viscosity_mm2_per_s; n the bearing's relative speed in rpm; d as above), beside
+  /// the load term mu F d / 2. f_0 (deck: bearing_viscous_factor, in [0, 100], 0 by default: none;
+  /// needle and cylindrical roller bearings about 2 to 12 by their lubrication). A running loss:
+  /// ltca efficiency only, not the quasi-static loop.
+  double bearing_viscous_factor = 0.0;
+  bool stage_friction() const {
+    return output_pin_coefficient > 0.0 || bearing_coefficient > 0.0 || bearing_viscous_factor > 0.0;
+  }
   enum class TorqueBalance {
     kSolve,  ///< re-solve with the friction moment in the balance, to a fixed point (default)
     kBound,  ///< frictionless forces; the friction moment's ratio to T reported as a bound
@@ -71,6 +81,10 @@ struct FrictionSettings {
   void Validate(const geometry::PairParameters& pair) const;
 };
 const char* ToString(FrictionSettings::Model model);
+/// Palmgren's viscous friction moment of a rolling bearing, N*mm (FrictionSettings::
+/// bearing_viscous_factor): 1e-7 f_0 (nu n)^(2/3) d^3 for nu n >= 2000, 160e-7 f_0 d^3 below; nu
+/// mm^2/s, n rpm (the rings' relative speed), d mm. 0 when f_0 is 0.
+double PalmgrenViscousMoment(double f0, double nu, double n_rpm, double d);
 // --- the stiffness loop with friction --------------------------------------------------------
 /// The signed torque the normal forces carry at a quasi-static step of the torque-twist loop with
 /// Coulomb friction (the crank locked, the cycloid turning about its centre): the friction at each
