@@ -44,7 +44,7 @@ double Phi(const std::vector<ltca::test::FlankSpring>& springs, double torque) {
 
 }  // namespace
 
-TEST_CASE("analysis: a preloaded pair's backlash is none; it reports the interference and the torques that unload a flank") {
+TEST_CASE("analysis: a preloaded pair's backlash is none, it reports the interference and the torques that unload a flank") {
   const double crank = ltca::units::DegToRad(0.3);
   const ltca::analysis::Stage stage(PreloadedLiu(), {crank});
   const auto springs = PreloadSprings(stage, crank);
@@ -73,7 +73,7 @@ TEST_CASE("analysis: a preloaded pair's backlash is none; it reports the interfe
   CHECK(result.summary.max_interference() == p.contact.interference);
 }
 
-TEST_CASE("analysis: a preloaded pair's loop runs through zero without free play; its lost motion over +-3 % T is the network's") {
+TEST_CASE("analysis: a preloaded pair's loop runs through zero without free play, its lost motion over +-3 % T is the network's") {
   const double crank = ltca::units::DegToRad(0.3);
   const ltca::analysis::Stage stage(PreloadedLiu(), {crank});
   const auto springs = PreloadSprings(stage, crank);

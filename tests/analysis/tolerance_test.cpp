@@ -123,7 +123,7 @@ TEST_CASE("analysis: a tolerance study's samples are the backlash and the loaded
   }
 }
 
-TEST_CASE("analysis: a tolerance study's result does not depend on its threads or its first block; the worst case runs when asked") {
+TEST_CASE("analysis: a tolerance study's result does not depend on its threads or its first block, the worst case runs when asked") {
   const analysis::ToleranceStudy study(TolerancedLiu52(false), analysis::SolverOptions{}, StudySettings());
   analysis::ToleranceRunPlan one;
   one.threads = 1;

@@ -634,7 +634,7 @@ TEST_CASE("app: RequireNoInterference names the pins and overlaps, and accepts c
   CHECK(sweep.summary.cannot_assemble == static_cast<std::int64_t>(sweep.positions.size()));
 }
 
-TEST_CASE("cli: a 20 um preload beyond the material is cannot-assemble, not exit 2; mesh and backlash tabulate it") {
+TEST_CASE("cli: a 20 um preload beyond the material is cannot-assemble, not exit 2, mesh and backlash tabulate it") {
   const std::string deck = InterferingDeck().string();
   for (const std::vector<std::string>& args :
        std::vector<std::vector<std::string>>{{"solve", deck, "--json", "-"}, {"compare", deck, "--json", "-"}, {deck, "--json", "-"}}) {
@@ -643,7 +643,9 @@ TEST_CASE("cli: a 20 um preload beyond the material is cannot-assemble, not exit
     CHECK(r.code != 0);
     CHECK(r.code != 2);
     CHECK(r.out.find("cannot-assemble") != std::string::npos);
-    CHECK(r.out.find("pin 1 by 20 um") != std::string::npos);
+    // solve names the overlapping pin in each position's message; compare's document gives each
+    // solver's status, not the positions' messages.
+    if (args.front() != "compare") CHECK(r.out.find("pin 1 by 20 um") != std::string::npos);
     CHECK(nlohmann::json::accept(r.out));
   }
   for (const std::vector<std::string>& args :
@@ -738,7 +740,7 @@ TEST_CASE("cli: --crank-deg must be a finite angle within two output turns of th
   CHECK(RunCli({"mesh", "--crank-deg", "-12.5"}).code == 0);
 }
 
-TEST_CASE("cli: --version prints the project version and the compiler; --help documents the exit codes") {
+TEST_CASE("cli: --version prints the project version and the compiler, --help documents the exit codes") {
   const auto r = RunCli({"--version"});
   CHECK(r.code == 0);
   CHECK(r.out.find(std::string("ltca ") + LTCA_TEST_PROJECT_VERSION) != std::string::npos);

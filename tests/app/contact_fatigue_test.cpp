@@ -191,7 +191,7 @@ TEST_CASE("app: two discs are rated each on its own, and a spectrum combines the
   }
 }
 
-TEST_CASE("app: a load handed over and back for one position is not a pitting cycle; a life without damage passes its target") {
+TEST_CASE("app: a load handed over and back for one position is not a pitting cycle, a life without damage passes its target") {
   using namespace contact_fatigue_test;
   // The cycloidal drive at 1 deg steps: pin 14 is loaded over 83 positions (1500 MPa), then again
   // for one position at 160 MPa after a single unloaded one. That hump is not an engagement: every

@@ -253,7 +253,7 @@ TEST_CASE("app: Ctrl-C (SIGINT) and SIGTERM remove the run's temporary files and
   }
 }
 
-TEST_CASE("app: Ctrl-C during ltca optimise removes the spooled history with the staged outputs; a finished run leaves no spool (issue 46)") {
+TEST_CASE("app: Ctrl-C during ltca optimise removes the spooled history with the staged outputs, a finished run leaves no spool (issue 46)") {
   // The history of --json is spooled beside it while the search runs (the summary comes first in
   // the document), the CSV's rows go into its staged temporary.
   const std::vector<std::string> run = {"optimise", LTCA_CASES_DIR "/liu2021_optimise.toml", "--threads", "1",

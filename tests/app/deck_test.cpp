@@ -857,7 +857,7 @@ radial_clearance_mm = 0.005
                  "[output] pin_radius_mm: not a key of kind = \"cranks\""));
 }
 
-TEST_CASE("app: [pins] seat (issue 25) seats the pins in grooves or on a foundation; what does not apply is an error") {
+TEST_CASE("app: [pins] seat (issue 25) seats the pins in grooves or on a foundation, what does not apply is an error") {
   const std::string groove = std::string(kGood) + "[pins]\nseat = \"groove\"\ngroove_radius_mm = 3.05\n";
   const auto deck = ParseDeck(groove, "t.toml");
   CHECK(deck.contact.seat.kind == ltca::contact::PinSeat::Kind::kGroove);

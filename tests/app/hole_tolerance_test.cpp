@@ -44,7 +44,7 @@ std::string List(const std::vector<double>& v) {
 
 }  // namespace hole_tolerance_test
 
-TEST_CASE("app: [tolerances] draws each disc's hole positions on its own; a sample is the deck with those holes written by hand") {
+TEST_CASE("app: [tolerances] draws each disc's hole positions on its own, a sample is the deck with those holes written by hand") {
   using namespace hole_tolerance_test;
   const std::string tol =
       "samples = 3\n"
@@ -103,7 +103,7 @@ TEST_CASE("app: [tolerances] draws each disc's hole positions on its own; a samp
   CHECK(std::abs(sample.figures[ltca::analysis::kMaxBearingLoadN] - nominal.figures[ltca::analysis::kMaxBearingLoadN]) > 1.0);
 }
 
-TEST_CASE("app: hole position tolerances of zero give the nominal stage bit for bit; one disc draws once; no stage, no holes") {
+TEST_CASE("app: hole position tolerances of zero give the nominal stage bit for bit, one disc draws once, no stage, no holes") {
   using namespace hole_tolerance_test;
   const ltca::app::Deck deck = ltca::app::ParseDeck(
       RvWith("samples = 2\noutput_hole_radial_deviations_mm = { distribution = \"uniform\", tolerance = 0.0 }\n"), "t.toml");

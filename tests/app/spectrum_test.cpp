@@ -188,7 +188,7 @@ TEST_CASE("app: ltca report of a deck with a load spectrum has its section and d
   std::filesystem::remove_all(folder);
 }
 
-TEST_CASE("app: a load spectrum's efficiency is the energy ratio of the single runs; one bin is the plain run; an idle bin delivers and loses nothing") {
+TEST_CASE("app: a load spectrum's efficiency is the energy ratio of the single runs, one bin is the plain run, an idle bin delivers and loses nothing") {
   using namespace spectrum_test;
   // Efficiency over the duty cycle: sum share P_out / sum share (P_out + P_loss), each bin's powers
   // the plain run's at its torque and crank speed (docs/efficiency.md, "Over a load spectrum").

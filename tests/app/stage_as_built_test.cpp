@@ -56,7 +56,7 @@ std::string Replace(std::string text, const std::string& from, const std::string
 
 // The tests sit in the namespace: a unity build puts other files' helpers of the same names beside them.
 
-TEST_CASE("app: [output] first_stage_teeth turns the eccentrics 1 + z_sun / z_spur per output turn; one of it or crank_turns_per_output_turn") {
+TEST_CASE("app: [output] first_stage_teeth turns the eccentrics 1 + z_sun / z_spur per output turn, one of it or crank_turns_per_output_turn") {
   const std::string cranks = LinearCranks();
   const std::string key = "shaft_stiffness_n_per_mm = 1e5";
   const auto with = [&](const std::string& line) { return Replace(cranks, key, key + "\n" + line); };
@@ -147,7 +147,7 @@ TEST_CASE("app: [output] crankshafts as beams: the diameter, span and both eccen
 
 }  // namespace stage_as_built_test
 
-TEST_CASE("app: [second_disc] gives the second disc its own holes and bearing play; the tolerance study draws the play per disc") {
+TEST_CASE("app: [second_disc] gives the second disc its own holes and bearing play, the tolerance study draws the play per disc") {
   using namespace stage_as_built_test;
   const std::string rv = ltca::test::ReadText(ltca::test::Case("stage/rv_two_discs_cranks.toml"));
   const auto with = [&](const std::string& keys) {

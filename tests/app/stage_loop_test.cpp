@@ -162,7 +162,7 @@ TEST_CASE("app: the stage's loop: every coefficient zero is the frictionless loo
   }
 }
 
-TEST_CASE("app: the stage's loop: friction acting with the torque on the way back is no lock; a preloaded pair's loop with friction is a named failure") {
+TEST_CASE("app: the stage's loop: friction acting with the torque on the way back is no lock, a preloaded pair's loop with friction is a named failure") {
   ltca::analysis::StiffnessSettings settings;
   settings.crank = 0.0;
   settings.steps = 11;

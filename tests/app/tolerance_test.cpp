@@ -663,7 +663,7 @@ TEST_CASE("cli: ltca tolerance shows the worst-case phase on its own progress li
   CHECK(out.str().find("ltca:") == std::string::npos);          // no progress in the summary
 }
 
-TEST_CASE("app: two discs: the ring's keys drawn once move both; with no per-disc spread each sample is one disc's at T/2 (1e-9)") {
+TEST_CASE("app: two discs: the ring's keys drawn once move both, with no per-disc spread each sample is one disc's at T/2 (1e-9)") {
   // Issue 27. cases/rv_two_discs.toml with the second disc not indexed (the same part twice) and
   // a pin-circle tolerance, a key of the pin ring (drawn once, applied to both discs' copy of the
   // ring): the discs stay identical, and each sample is then the one-disc deck at T/2 with the
@@ -695,7 +695,7 @@ TEST_CASE("app: two discs: the ring's keys drawn once move both; with no per-dis
   }
 }
 
-TEST_CASE("app: two discs: a disc's key is drawn for each disc on its own stream; the indexing deviation is a key of the second disc") {
+TEST_CASE("app: two discs: a disc's key is drawn for each disc on its own stream, the indexing deviation is a key of the second disc") {
   // A modification key (a key of one disc) with [second_disc]: two columns, the second named
   // "(disc 2)", drawn on their own streams (different values), each moving its own disc only.
   // The indexing deviation turns the second disc by s / R_p in the sense of +T, as the deck does;

@@ -134,7 +134,7 @@ TEST_CASE("app: two identical discs each carry T/2 at every crank, and the stage
   }
 }
 
-TEST_CASE("app: a second disc indexed s ahead closes its gaps s/R_p earlier; alone under +T it is the one-disc stage shifted by s/R_p") {
+TEST_CASE("app: a second disc indexed s ahead closes its gaps s/R_p earlier, alone under +T it is the one-disc stage shifted by s/R_p") {
   // cases/rv_two_discs.toml: Liu 5.2's base modification, the second disc s = 5 um ahead along the
   // pin circle, s / R_p = 16.1 arcsec, less than the twist the first disc would need to touch at
   // 206 N*m: under +T the second disc carries everything and the stage's TE is the one-disc TE at

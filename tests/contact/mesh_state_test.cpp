@@ -126,7 +126,7 @@ TEST_CASE("contact: exact and linearised mesh states agree to first order in the
   }
 }
 
-TEST_CASE("contact: an overlap on both flanks is a preload: no backlash, its interference; the jam check names the pins") {
+TEST_CASE("contact: an overlap on both flanks is a preload: no backlash, its interference, the jam check names the pins") {
   // Radial clearance dR_rp - dR_p < 0 (d > 0): every pin overlaps, on both flanks. The unloaded
   // analysis reports no free play and the overlap as a rotation, theta_c2 - theta_c1 > 0 (each
   // flank's closing from ClosingRotation on the opening side); the jam check still names the pins.

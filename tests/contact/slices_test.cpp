@@ -119,7 +119,7 @@ TEST_CASE("contact: each slice of a crowned and sloped pair is the plane pair wi
   }
 }
 
-TEST_CASE("contact: an eccentricity deviation is a centre offset turning with the crank; a pin's errors move only that pin") {
+TEST_CASE("contact: an eccentricity deviation is a centre offset turning with the crank, a pin's errors move only that pin") {
   AssemblyErrors ecc;
   ecc.eccentricity_deviation = 0.004;
   const MeshModel deviated(RealPair(kPair, kMod, {}, ecc));

@@ -174,7 +174,7 @@ TEST_CASE("geometry: root and tip diameters are R' -+ e - r' for d = 1, the tip 
   }
 }
 
-TEST_CASE("geometry: a roller no larger than the generating pin rests on the root; the generating pin's own size "
+TEST_CASE("geometry: a roller no larger than the generating pin rests on the root, the generating pin's own size "
           "on the unmodified profile has its centre at R_p - e, the pin's at the mesh") {
   // Unmodified, D_M = 2 r_rp: the centre at R_p - e exactly, z_c odd (Liu, 39) and even (Chen d = 2, 22).
   for (const PairParameters& p : {Liu(), ChenD2()}) {

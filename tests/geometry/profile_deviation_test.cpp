@@ -254,7 +254,7 @@ TEST_CASE("geometry: the random deviation is reproducible for one seed, differen
   CHECK(std::abs(correlation(va, v_next)) < bound);
 }
 
-TEST_CASE("geometry: a zero zone is no deviation; bad random parameters are rejected naming the key") {
+TEST_CASE("geometry: a zero zone is no deviation, bad random parameters are rejected naming the key") {
   const CycloidProfile profile = LiuProfile();
   RandomProfileDeviation r;
   CHECK(ProfileDeviation::Random(r, profile).IsZero());
@@ -401,7 +401,7 @@ TEST_CASE("geometry: a measured trace applies to every tooth space at its own po
   }
 }
 
-TEST_CASE("geometry: a constant measured trace is that constant everywhere; an all-zero trace is no deviation") {
+TEST_CASE("geometry: a constant measured trace is that constant everywhere, an all-zero trace is no deviation") {
   const CycloidProfile profile = LiuProfile();
   const double phi = profile.phi_max();
   const ProfileDeviation dev = ProfileDeviation::Measured(

@@ -377,7 +377,7 @@ class UncoupledOnly final : public ltca::solvers::LoadSolver {
 
 }  // namespace
 
-TEST_CASE("solvers: coupled compliance - every solver supports it; a backend that does not is refused with coupling-unsupported") {
+TEST_CASE("solvers: coupled compliance - every solver supports it, a backend that does not is refused with coupling-unsupported") {
   // Refused before solving, with the solver named, and no number claimed: rotation and TE NaN,
   // every force zero, no loaded pin. On the uncoupled copy it succeeds (the status is about the
   // coupling, nothing else).

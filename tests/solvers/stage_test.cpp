@@ -187,7 +187,7 @@ TEST_CASE("solvers: a cycloidal drive with linear laws and no clearance is the l
   }
 }
 
-TEST_CASE("solvers: seated pins are springs in series with their contacts; the budget splits their energy (1e-9)") {
+TEST_CASE("solvers: seated pins are springs in series with their contacts, the budget splits their energy (1e-9)") {
   // The cycloidal drive of the test above with every ring pin on a linear seat of 6e4 N/mm per mm
   // (issue 25, [pins] seat = "linear"): each pin-ring spring becomes k_c k_s / (k_c + k_s) = 1.5e4
   // N/mm per mm, the output pins keep their 2e4 (they are not seated). In a series pair the

@@ -44,13 +44,23 @@ void ContactCycleCounter::Add(const std::vector<double>& stress) {
       p.first_peak = std::max(p.first_peak, s);
     } else if (loaded && p.loaded) {
       p.peak = std::max(p.peak, s);
+    } else if (loaded && p.gap == 1 && !p.peaks.empty()) {
+      // A run one unloaded position after the last: the sweep does not resolve that gap (a load
+      // handed over and back between neighbouring positions), so it is the same engagement.
+      p.peak = std::max(p.peaks.back(), s);
+      p.peaks.pop_back();
+    } else if (loaded && p.gap == 1 && p.loaded_first && p.peaks.empty()) {
+      p.first_open = true;  // the same, after the run that began at the first position
+      p.first_peak = std::max(p.first_peak, s);
     } else if (loaded) {
       p.peak = s;
+      if (p.first_start < 0 && !p.loaded_first) p.first_start = positions_;
     } else if (p.first_open) {
       p.first_open = false;
     } else if (p.loaded) {
       p.peaks.push_back(p.peak);
     }
+    p.gap = loaded ? 0 : p.gap + 1;
     p.loaded = loaded;
   }
   ++positions_;
@@ -90,6 +100,8 @@ ContactCycles ContactCycleCounter::Finish(const Sweep& sweep, bool closed_period
         peaks.push_back(p.first_peak);  // loaded over the whole sweep: one cycle a turn at most
       } else if (p.loaded && p.loaded_first) {
         peaks.push_back(std::max(p.peak, p.first_peak));  // the run across the end joins the first
+      } else if (p.loaded && p.first_start == 1 && !peaks.empty()) {
+        peaks.front() = std::max(peaks.front(), p.peak);  // one unloaded position across the end: the same engagement
       } else {
         if (p.loaded_first) peaks.push_back(p.first_peak);
         if (p.loaded) peaks.push_back(p.peak);

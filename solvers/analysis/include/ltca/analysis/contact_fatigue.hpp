@@ -63,6 +63,8 @@ class ContactCycleCounter {
     double peak = 0.0;          // the open run's peak
     std::vector<double> peaks;  // closed runs, the first run excluded
     double largest = 0.0;
+    std::int64_t gap = 0;          // unloaded positions since the last loaded one
+    std::int64_t first_start = -1;  // where its first run began, when not at the first position
   };
   std::vector<Pin> pins_;
   std::int64_t positions_ = 0;
