@@ -45,6 +45,28 @@ const std::map<std::string, SolverStatus> kExpectedStatus = {
     {"d3_loaded", SolverStatus::kEdgeContact},
 };
 
+
+/// Every stage solver, each a new one (no warm start), on `problem` with `options` (its name set
+/// per solver): each succeeds with the shared judge's balances below 1e-9, and their output
+/// rotations agree to 1e-9 arcsec. Returns the rotations, in ReducerSolverNames' order.
+std::vector<double> StageSolversAgree(const LoadProblem& problem, SolverOptions options) {
+  std::vector<double> rotations;
+  for (const std::string& solver : ReducerSolverNames()) {
+    CAPTURE(solver);
+    options.name = solver;
+    const auto r = MakeSolver(solver)->Solve(problem, options);
+    INFO(r.message);
+    REQUIRE(r.status == SolverStatus::kSuccess);
+    REQUIRE(r.reducer.has_value());
+    CHECK(r.reducer->force_balance_relative < 1e-9);
+    CHECK(r.reducer->moment_balance_relative < 1e-9);
+    CHECK(ltca::solvers::ComputeResiduals(problem, r).Normalised() < 1e-9);
+    rotations.push_back(r.rotation);
+  }
+  for (const double x : rotations) CHECK(std::abs(ltca::units::RadToArcsec(x - rotations[0])) < 1e-9);
+  return rotations;
+}
+
 }  // namespace
 
 TEST_CASE("app: every solver answers every hard case, solved and agreeing or with an honest status") {
@@ -312,20 +334,7 @@ TEST_CASE("app: on the stage decks the stage's solvers agree to 1e-9 arcsec with
         const LoadProblem problem = stage.Problem(cranks[i], deck.load->torque);
         SolverOptions options;
         options.torque_tolerance = 1e-14;
-        std::vector<double> rotations;
-        for (const std::string& solver : ReducerSolverNames()) {
-          CAPTURE(solver);
-          options.name = solver;
-          const auto r = MakeSolver(solver)->Solve(problem, options);
-          INFO(r.message);
-          REQUIRE(r.status == SolverStatus::kSuccess);
-          REQUIRE(r.reducer.has_value());
-          CHECK(r.reducer->force_balance_relative < 1e-9);
-          CHECK(r.reducer->moment_balance_relative < 1e-9);
-          CHECK(ltca::solvers::ComputeResiduals(problem, r).Normalised() < 1e-9);
-          rotations.push_back(r.rotation);
-        }
-        for (const double x : rotations) CHECK(std::abs(ltca::units::RadToArcsec(x - rotations[0])) < 1e-9);
+        const std::vector<double> rotations = StageSolversAgree(problem, options);
         options.name = "energy-groups";
         const auto refused = MakeSolver("energy-groups")->Solve(problem, options);
         CHECK(refused.status == SolverStatus::kReducerUnsupported);
@@ -360,21 +369,8 @@ TEST_CASE("app: every stage solver started from rest agrees to 1e-9 arcsec at ev
       const LoadProblem problem = stage.Problem(cranks[i], deck.load->torque);
       SolverOptions options;
       options.torque_tolerance = 1e-14;
-      std::vector<double> rotations;
-      for (const std::string& solver : ReducerSolverNames()) {
-        CAPTURE(solver);
-        options.name = solver;
-        const auto r = MakeSolver(solver)->Solve(problem, options);  // a new solver: no warm start
-        INFO(r.message);
-        REQUIRE(r.status == SolverStatus::kSuccess);
-        REQUIRE(r.reducer.has_value());
-        CHECK(r.reducer->force_balance_relative < 1e-9);
-        CHECK(r.reducer->moment_balance_relative < 1e-9);
-        CHECK(ltca::solvers::ComputeResiduals(problem, r).Normalised() < 1e-9);
-        rotations.push_back(r.rotation);
-      }
+      const std::vector<double> rotations = StageSolversAgree(problem, options);  // new solvers: no warm start
       REQUIRE(rotations.size() == ReducerSolverNames().size());
-      for (const double x : rotations) CHECK(std::abs(ltca::units::RadToArcsec(x - rotations[0])) < 1e-9);
       ++solved;
     }
     CHECK(solved == 120);

@@ -101,16 +101,7 @@ struct EfficiencyRunner::Impl {
           "Palmgren's viscous moment 1e-7 f_0 (nu n)^(2/3) d^3)",
           friction.bearing_viscous_factor));
     }
-    if (friction.bearing_coefficient > 0.0 || friction.bearing_viscous_factor > 0.0) {
-      const double pitch = design.reducer ? design.reducer->bearing.pitch_diameter : 0.0;
-      bearing_diameter = std::isfinite(friction.bearing_diameter) ? friction.bearing_diameter : pitch;
-      if (!(bearing_diameter > 0.0)) {
-        throw std::invalid_argument(fmt::format(
-            "[friction] bearing_coefficient = {:g}, bearing_viscous_factor = {:g}: expected bearing_diameter_mm (d of the "
-            "bearing's friction moment M = mu F d / 2 + M_0(d)) or [bearing] pitch_diameter_mm",
-            friction.bearing_coefficient, friction.bearing_viscous_factor));
-      }
-    }
+    bearing_diameter = BearingFrictionDiameter(friction, design.reducer ? design.reducer->bearing.pitch_diameter : 0.0);
     lubrication.limiting_shear_coefficient = friction.limiting_shear_coefficient;
     lubrication.limiting_shear_stress = friction.limiting_shear_stress;
   }

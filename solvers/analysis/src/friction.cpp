@@ -125,6 +125,18 @@ void FrictionSettings::Validate(const geometry::PairParameters& pair) const {
   }
 }
 
+double BearingFrictionDiameter(const FrictionSettings& friction, double pitch) {
+  if (!(friction.bearing_coefficient > 0.0 || friction.bearing_viscous_factor > 0.0)) return 0.0;
+  const double d = std::isfinite(friction.bearing_diameter) ? friction.bearing_diameter : pitch;
+  if (!(d > 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "[friction] bearing_coefficient = {:g}, bearing_viscous_factor = {:g}: expected bearing_diameter_mm (d of the "
+        "bearing's friction moment M = mu F d / 2 + M_0(d)) or [bearing] pitch_diameter_mm",
+        friction.bearing_coefficient, friction.bearing_viscous_factor));
+  }
+  return d;
+}
+
 double PalmgrenViscousMoment(double f0, double nu, double n_rpm, double d) {
   if (f0 == 0.0) return 0.0;
   const double nu_n = nu * std::abs(n_rpm);

@@ -131,15 +131,8 @@ struct StiffnessRunner::Impl {
       // The stage's loop: the mesh's friction and the bearings' on the discs (StageLoopFriction).
       stage_friction.mesh = friction_mu;
       stage_friction.bearing = friction->bearing_coefficient;
-      if (stage_friction.bearing > 0.0) {
-        const double pitch = stage.design().reducer->bearing.pitch_diameter;
-        stage_friction.bearing_diameter = std::isfinite(friction->bearing_diameter) ? friction->bearing_diameter : pitch;
-        if (!(stage_friction.bearing_diameter > 0.0)) {
-          throw std::invalid_argument(fmt::format(
-              "[friction] bearing_coefficient = {:g}: expected bearing_diameter_mm (d of the bearing's friction moment "
-              "M = mu F d / 2) or [bearing] pitch_diameter_mm",
-              stage_friction.bearing));
-        }
+      if (stage_friction.bearing > 0.0) {  // the loop takes the load term only (the viscous one runs)
+        stage_friction.bearing_diameter = BearingFrictionDiameter(*friction, stage.design().reducer->bearing.pitch_diameter);
       }
     }
     // The last crank repeats the first's state (a closed period): the means weigh it once.

@@ -81,6 +81,10 @@ struct FrictionSettings {
   void Validate(const geometry::PairParameters& pair) const;
 };
 const char* ToString(FrictionSettings::Model model);
+/// d of the stage's bearings' friction moment, mm: [friction] bearing_diameter_mm, else [bearing]
+/// pitch_diameter_mm (`pitch`). Throws std::invalid_argument naming the keys when neither gives one
+/// and a bearing coefficient (load or viscous) is above 0; 0 when neither coefficient is.
+double BearingFrictionDiameter(const FrictionSettings& friction, double pitch);
 /// Palmgren's viscous friction moment of a rolling bearing, N*mm (FrictionSettings::
 /// bearing_viscous_factor): 1e-7 f_0 (nu n)^(2/3) d^3 for nu n >= 2000, 160e-7 f_0 d^3 below; nu
 /// mm^2/s, n rpm (the rings' relative speed), d mm. 0 when f_0 is 0.
