@@ -141,6 +141,25 @@ TEST_CASE("app: a repeating mesh period and a whole crank turn count the same cy
   CHECK(turn.at("contact_fatigue").at("basis").get<std::string>().find("whole crank turn") != std::string::npos);
 }
 
+TEST_CASE("app: a run that begins at a repeating mesh period's first position is counted once, the default case") {
+  using namespace contact_fatigue_test;
+  // Liu's Table 1 pair (the default case, zero clearances, 19-20 pins loaded): a pin's run begins
+  // at the period's first position (a pressure of a few MPa there) and, the last position being the
+  // first turned by one pin, again at the last. Cut by the period's end that run is a few MPa, below
+  // the tenth of the largest that marks a handover, yet it goes on to 230 MPa and more: d = 1, so
+  // each pin is loaded once a crank turn, each tooth z_p / z_c = 40 / 39 times, as the whole turn counts.
+  const std::string deck = std::string(LTCA_CASES_DIR) + "/liu2021_table1.toml";
+  const nlohmann::json period = Solve({"solve", deck}).at("summary");
+  REQUIRE(period.at("closed_period").get<bool>());
+  const nlohmann::json turn =
+      Solve({"solve", deck, "--set", "sweep.crank_end_deg=360", "--set", "sweep.positions=3601"}).at("summary");
+  for (const nlohmann::json* s : {&period, &turn}) {
+    const nlohmann::json& d = s->at("contact_fatigue").at("discs").at(0);
+    CHECK(d.at("pin_cycles_per_crank_turn").get<double>() == 1.0);
+    CHECK(d.at("tooth_cycles_per_crank_turn").get<double>() == doctest::Approx(40.0 / 39.0).epsilon(1e-15));
+  }
+}
+
 TEST_CASE("app: a sweep that is neither a turn nor a repeating period is not rated, and says why") {
   using namespace contact_fatigue_test;
   const nlohmann::json f = Solve({"solve", std::string(LTCA_CASES_DIR) + "/liu2021_sec52_base.toml", "--set",

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -63,7 +64,28 @@ void ContactCycleCounter::Add(const std::vector<double>& stress) {
     p.gap = loaded ? 0 : p.gap + 1;
     p.loaded = loaded;
   }
+  if (positions_ == 0) first_stress_ = stress;
+  last_stress_ = stress;
   ++positions_;
+}
+
+int ContactCycleCounter::PeriodShift(int disc, int pin_count, double largest) const {
+  // The last position of a repeating mesh period is the first turned by one pin pitch: the
+  // pressures at the last equal the first's of the pins s further on (s = 1 or pin_count - 1 by
+  // the sense of rotation; any s is tried), to rounding of the solves.
+  const auto at = [&](const std::vector<double>& v, int j) { return v[static_cast<std::size_t>(disc * pin_count + j)]; };
+  // Compared as squares (a Hertz line contact's load goes with the pressure squared): a load at
+  // the solves' rounding, 1e-10 of the largest, shows as a pressure of 1e-5 of the largest.
+  const double tolerance = 1e-6 * largest * largest;
+  for (int s = 1; s < pin_count; ++s) {
+    bool same = true;
+    for (int j = 0; j < pin_count && same; ++j) {
+      const double a = at(last_stress_, j), b = at(first_stress_, (j + s) % pin_count);
+      same = std::abs(a * a - b * b) <= tolerance;
+    }
+    if (same) return s;
+  }
+  return -1;
 }
 
 ContactCycles ContactCycleCounter::Finish(const Sweep& sweep, bool closed_period, int discs) const {
@@ -120,13 +142,42 @@ ContactCycles ContactCycleCounter::Finish(const Sweep& sweep, bool closed_period
     for (int d = 0; d < out.discs; ++d) {
       int starts = 0;
       double largest = 0.0;
-      for (int j = 0; j < pin_count; ++j) {
-        const auto k = static_cast<std::size_t>(d * pin_count + j);
-        const Pin& p = pins_[k];
-        // The runs begun after the first position: the closed ones and the one still open.
-        starts += static_cast<int>(std::count_if(p.peaks.begin(), p.peaks.end(), [&](double peak) { return counted(k, peak); }));
-        if (p.loaded && !p.first_open && counted(k, p.peak)) ++starts;
-        largest = std::max(largest, p.largest);
+      for (int j = 0; j < pin_count; ++j) largest = std::max(largest, pins_[static_cast<std::size_t>(d * pin_count + j)].largest);
+      const int shift = PeriodShift(d, pin_count, largest);
+      const auto pin = [&](int j) -> const Pin& { return pins_[static_cast<std::size_t>(d * pin_count + j)]; };
+      const auto counts = [&](double peak) { return counted(static_cast<std::size_t>(d * pin_count), peak); };
+      if (shift > 0) {
+        // A pin's history over the crank turn is its period followed by the period of the pin s
+        // further on, and so on (pin j at a period later is pin j + s now): walk that chain twice
+        // round, joining a run cut by a period's end to the run that goes on at the next's start,
+        // and count the runs of the second lap. So a run that begins or ends exactly at the
+        // period's ends (a few MPa there) is one engagement with its real peak, not a handover.
+        std::optional<double> open;  // the run carried over a period's end, its peak so far
+        for (int lap = 0; lap < 2; ++lap) {
+          for (int i = 0, j = 0; i < pin_count; ++i, j = (j + shift) % pin_count) {
+            const Pin& p = pin(j);
+            const bool count = lap == 1;
+            if (p.first_open) {  // loaded over the whole period: the carried run goes on
+              open = std::max(open.value_or(0.0), p.first_peak);
+              continue;
+            }
+            if (p.loaded_first || open) {
+              const double peak = std::max(open.value_or(0.0), p.loaded_first ? p.first_peak : 0.0);
+              if (count && counts(peak)) ++starts;
+              open.reset();
+            }
+            if (count) starts += static_cast<int>(std::count_if(p.peaks.begin(), p.peaks.end(), counts));
+            if (p.loaded) open = p.peak;
+          }
+        }
+        if (starts == 0 && open) starts = 1;  // loaded all the way round: one cycle a turn
+      } else {
+        for (int j = 0; j < pin_count; ++j) {
+          const Pin& p = pin(j);
+          // The runs begun after the first position: the closed ones and the one still open.
+          starts += static_cast<int>(std::count_if(p.peaks.begin(), p.peaks.end(), counts));
+          if (p.loaded && !p.first_open && counts(p.peak)) ++starts;
+        }
       }
       for (int j = 0; j < pin_count; ++j) out.peaks.emplace_back(static_cast<std::size_t>(starts), largest);
     }

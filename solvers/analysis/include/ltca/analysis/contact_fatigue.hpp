@@ -55,6 +55,9 @@ class ContactCycleCounter {
   ContactCycles Finish(const Sweep& sweep, bool closed_period, int discs) const;
 
  private:
+  /// The s with the last position's pressures of disc `disc` equal to the first's of the pins s
+  /// further on (a repeating mesh period), or -1.
+  int PeriodShift(int disc, int pin_count, double largest) const;
   struct Pin {
     bool loaded_first = false;  // loaded at the first position
     double first_peak = 0.0;    // the run that began at the first position, while it is open or done
@@ -67,6 +70,9 @@ class ContactCycleCounter {
     std::int64_t first_start = -1;  // where its first run began, when not at the first position
   };
   std::vector<Pin> pins_;
+  // The first and the last position's pressures: in a repeating mesh period the last is the first
+  // turned by one pin, which carries a run open at the end over to the run it continues.
+  std::vector<double> first_stress_, last_stress_;
   std::int64_t positions_ = 0;
   bool failed_ = false;
 };
