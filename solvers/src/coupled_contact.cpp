@@ -110,6 +110,28 @@ CoupledOutcome CoupledContact::ForTorque(const std::vector<CoupledPoint>& points
   return Solve(points, true, torque, arms > 0.0 ? torque / arms : 1.0, force);
 }
 
+double CoupledContact::TorqueSlope(const std::vector<CoupledPoint>& points) {
+  ActiveSetKernel& kernel = *kernel_;
+  const int n = kernel.size();
+  if (static_cast<int>(points.size()) != n) return 0.0;
+  const std::vector<char>& active = kernel.active_set();
+  Eigen::MatrixXd& rhs = buffers_.rhs;
+  Eigen::MatrixXd& sol = buffers_.sol;
+  rhs.setZero(n, 1);
+  bool any = false;
+  for (int i = 0; i < n; ++i) {
+    if (!active[static_cast<std::size_t>(i)]) continue;
+    rhs(i, 0) = points[static_cast<std::size_t>(i)].arm;
+    any = true;
+  }
+  if (!any || !kernel.Solve(rhs, &sol)) return 0.0;
+  double slope = 0.0;
+  for (int i = 0; i < n; ++i) {
+    if (active[static_cast<std::size_t>(i)]) slope += rhs(i, 0) * sol(i, 0);
+  }
+  return std::isfinite(slope) ? slope : 0.0;
+}
+
 CoupledOutcome CoupledContact::Solve(const std::vector<CoupledPoint>& points, bool for_torque, double torque,
                                      double force_scale, std::vector<double>* force) {
   ActiveSetKernel& kernel = *kernel_;

@@ -88,8 +88,17 @@ class CoupledContact {
   /// For a given torque T (N*mm): delta_i = approach_i + arm_i psi, sum F_i L_i = T; returns psi.
   /// force: in, a start (scaled to carry T; none: the first point to close carries it), out, the solution.
   CoupledOutcome ForTorque(const std::vector<CoupledPoint>& points, double torque, std::vector<double>* force);
+  /// After AtRotation has converged at psi: dT/dpsi = L_A^T M_AA^-1 L_A, the torque's derivative
+  /// along the solution with the active set A held (at fixed psi, w_A(F_A) + C_AA F_A = a_A +
+  /// L_A psi, so dF_A/dpsi = M_AA^-1 L_A with M_AA = D_A + C_AA), from the factor the solve left
+  /// (its tangents those of the last Newton step or chord: a derivative for a safeguarded search,
+  /// not an exact one). 0 when no point is active or the solve fails. One solve, no factorisation
+  /// on the dense kernel after a converged solve.
+  double TorqueSlope(const std::vector<CoupledPoint>& points);
 
   const ActiveSetCholmod::Stats& stats() const { return kernel_->stats(); }
+  /// True when the coupling took the dense kernel (ActiveSetDense: a small coupling given as a matrix).
+  bool dense() const { return dense_kernel_ != nullptr; }
 
  private:
   CoupledOutcome Solve(const std::vector<CoupledPoint>& points, bool for_torque, double torque, double force_scale,
