@@ -3,6 +3,7 @@
 // --set operation.input_speed_rpm=n`, and its lives the Palmgren-Miner combination of those runs'
 // lives over the time shares, L = 1 / sum(share_i / L_i), recomputed here from the single runs'
 // printed lives (tolerance 1e-12 relative: the same arithmetic, the JSON round trip aside).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_run.hpp"
@@ -101,6 +103,10 @@ TEST_CASE("app: a one-bin load spectrum's lives equal the plain run's") {
   CHECK(spectrum.at("shortest_l10_hours").get<double>() == doctest::Approx(plain.at("shortest_l10_hours").get<double>()).epsilon(1e-12));
   CHECK(spectrum.at("shortest_load_zone_life_hours").get<double>() ==
         doctest::Approx(plain.at("shortest_load_zone_life_hours").get<double>()).epsilon(1e-12));
+  // The pitting safety over one bin is the plain run's S_H (SpectrumContactSafety with one load).
+  const nlohmann::json rated = Solve({"solve", deck, "--json", "-", "--set", "allowables.contact_life_hours=20000"});
+  CHECK(rated.at("spectrum").at("smallest_pitting_safety").get<double>() ==
+        doctest::Approx(rated.at("summary").at("contact_fatigue").at("smallest_safety").get<double>()).epsilon(1e-12));
   // The text names the spectrum's lives.
   const auto text = ltca::test::RunCli({"solve", deck});
   CHECK(text.out.find("load spectrum          1 bins") != std::string::npos);
@@ -256,4 +262,99 @@ TEST_CASE("app: an idle bin of a preloaded stage is a named failure of the effic
   CHECK(spectrum.at("efficiency").is_null());
   CHECK_FALSE(spectrum.at("bins")[1].at("succeeded").get<bool>());
   CHECK(spectrum.at("bins")[1].at("power_loss_w").is_null());
+}
+
+TEST_CASE("app: a load spectrum's static figures are the worst of the single runs at each bin's torque, each naming its bin, and its verdicts flip where a figure crosses its target") {
+  // Issue 50 (static safety and verdicts over a spectrum). Recomputed here from the two single runs
+  // at the bins' torques and speeds: s_0 = C_0 / P_0,max with P_0,max the largest of the runs'
+  // printed per-bearing loads and C_0 the deck's [bearing] static_load_rating_n (ISO 76); the
+  // largest roller stress and tooth-contact stress the larger of the runs'. Tolerance 1e-12
+  // relative (the JSON round trip). The worst bin is the 412 N*m bin, bin 2.
+  using namespace spectrum_test;
+  const std::string name = "rv_two_discs_cranks.toml";
+  const std::string deck = DeckWith(name,
+                                    "[[load_spectrum]]\ntorque_nm = 150\nspeed_rpm = 1000\ntime_share = 0.25\n\n"
+                                    "[[load_spectrum]]\ntorque_nm = 412\nspeed_rpm = 2500\ntime_share = 0.75\n",
+                                    "static");
+  const std::vector<std::string> life = {"--set", "allowables.contact_life_hours=20000"};
+  const auto run = [&](std::vector<std::string> args) {
+    args.insert(args.end(), life.begin(), life.end());
+    return Solve(args);
+  };
+  const nlohmann::json spectrum = run({"solve", deck, "--json", "-"}).at("spectrum");
+  const std::string path = std::string(LTCA_CASES_DIR) + "/stage/" + name;
+  const nlohmann::json one =
+      run({"solve", path, "--json", "-", "--set", "load.torque_nm=150", "--set", "operation.input_speed_rpm=1000"}).at("summary");
+  const nlohmann::json two =
+      run({"solve", path, "--json", "-", "--set", "load.torque_nm=412", "--set", "operation.input_speed_rpm=2500"}).at("summary");
+  const double c0 = 26611.2;  // the deck's static_load_rating_n
+  const std::vector<double> p1 = Numbers(one.at("stage").at("max_bearing_load_per_bearing_n"));
+  const std::vector<double> p2 = Numbers(two.at("stage").at("max_bearing_load_per_bearing_n"));
+  const std::vector<double> q1 = Numbers(one.at("stage").at("max_roller_contact_stress_mpa"));
+  const std::vector<double> q2 = Numbers(two.at("stage").at("max_roller_contact_stress_mpa"));
+  const std::vector<double> s0 = Numbers(spectrum.at("static_safety")), q = Numbers(spectrum.at("max_roller_contact_stress_mpa"));
+  REQUIRE(p1.size() == 6);
+  REQUIRE(s0.size() == 6);
+  REQUIRE(q.size() == 6);
+  double smallest = INFINITY, largest = 0.0;
+  for (std::size_t k = 0; k < 6; ++k) {
+    CAPTURE(k);
+    const double expected = c0 / std::max(p1[k], p2[k]);
+    CHECK(s0[k] == doctest::Approx(expected).epsilon(1e-12));
+    CHECK(spectrum.at("static_safety_bin").at(k).get<int>() == (p2[k] > p1[k] ? 2 : 1));
+    CHECK(q[k] == doctest::Approx(std::max(q1[k], q2[k])).epsilon(1e-12));
+    CHECK(spectrum.at("max_roller_contact_stress_bin").at(k).get<int>() == (q2[k] > q1[k] ? 2 : 1));
+    smallest = std::min(smallest, expected);
+    largest = std::max(largest, std::max(q1[k], q2[k]));
+  }
+  CHECK(spectrum.at("smallest_static_safety").get<double>() == doctest::Approx(smallest).epsilon(1e-12));
+  CHECK(spectrum.at("smallest_static_safety_bin").get<int>() == 2);
+  CHECK(spectrum.at("largest_roller_contact_stress_mpa").get<double>() == doctest::Approx(largest).epsilon(1e-12));
+  CHECK(spectrum.at("largest_roller_contact_stress_bin").get<int>() == 2);
+  const double stress1 = one.at("max_contact_stress_mpa").get<double>(), stress2 = two.at("max_contact_stress_mpa").get<double>();
+  CHECK(stress2 > stress1);
+  CHECK(spectrum.at("max_contact_stress_mpa").get<double>() == doctest::Approx(stress2).epsilon(1e-12));
+  CHECK(spectrum.at("max_contact_stress_bin").get<int>() == 2);
+  // The single runs' own S_H bound the spectrum's: the 412 N*m run as if it ran the whole life
+  // from below, the 150 N*m run from above.
+  const double s_h = spectrum.at("smallest_pitting_safety").get<double>();
+  CHECK(s_h > two.at("contact_fatigue").at("smallest_safety").get<double>());
+  CHECK(s_h < one.at("contact_fatigue").at("smallest_safety").get<double>());
+
+  // The verdicts: each target a hair (1e-6) on either side of the spectrum's figure.
+  const double zone = spectrum.at("shortest_load_zone_life_hours").get<double>();
+  const double s0_min = spectrum.at("smallest_static_safety").get<double>();
+  const auto targets = [&](double f_life, double f_s0, double f_sh) {
+    return std::vector<std::string>{"--set", fmt::format("allowables.bearing_life_hours={:.17g}", zone * f_life),
+                                    "--set", fmt::format("allowables.min_static_safety={:.17g}", s0_min * f_s0),
+                                    "--set", fmt::format("allowables.min_contact_safety={:.17g}", s_h * f_sh)};
+  };
+  const auto verdict = [](const nlohmann::json& s, const std::string& figure) {
+    for (const auto& v : s.at("verdicts")) {
+      if (v.at("figure") == figure) return v.at("verdict").get<std::string>();
+    }
+    return std::string("missing");
+  };
+  const double up = 1.0 + 1e-6, down = 1.0 - 1e-6;
+  std::vector<std::string> a = {"solve", deck, "--json", "-"}, b = a;
+  for (const std::string& s : targets(up, down, up)) a.push_back(s);
+  for (const std::string& s : targets(down, up, down)) b.push_back(s);
+  const nlohmann::json ja = run(a).at("spectrum"), jb = run(b).at("spectrum");
+  CHECK(verdict(ja, "spectrum.shortest_load_zone_life_hours") == "FAIL");
+  CHECK(verdict(jb, "spectrum.shortest_load_zone_life_hours") == "pass");
+  CHECK(verdict(ja, "spectrum.smallest_static_safety") == "pass");
+  CHECK(verdict(jb, "spectrum.smallest_static_safety") == "FAIL");
+  CHECK(verdict(ja, "spectrum.smallest_pitting_safety") == "FAIL");
+  CHECK(verdict(jb, "spectrum.smallest_pitting_safety") == "pass");
+  CHECK(verdict(ja, "spectrum.largest_roller_contact_stress_mpa") == (largest <= 4000.0 ? "pass" : "FAIL"));
+  CHECK(verdict(ja, "spectrum.max_contact_stress_mpa") == "pass");  // the deck's limit, 4,000 MPa by default
+  // The text says the same.
+  std::vector<std::string> text_args(b.begin(), b.end());
+  text_args.erase(text_args.begin() + 2, text_args.begin() + 4);  // no --json -
+  for (const std::string& s : life) text_args.push_back(s);
+  const auto text = ltca::test::RunCli(text_args);
+  CHECK(text.out.find("spectrum static s_0") != std::string::npos);
+  CHECK(text.out.find("(bin 2)") != std::string::npos);
+  CHECK(text.out.find("FAIL   smallest bearing static safety s_0 over the spectrum") != std::string::npos);
+  CHECK(text.out.find("pass   smallest pitting safety S_H over the spectrum") != std::string::npos);
 }

@@ -10,6 +10,7 @@
 #include "ltca/analysis/backlash.hpp"
 #include "ltca/analysis/contact_fatigue.hpp"
 #include "ltca/analysis/efficiency.hpp"
+#include "ltca/analysis/spectrum.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/analysis/sweep.hpp"
 #include "ltca/analysis/tolerance_run.hpp"
@@ -210,6 +211,67 @@ std::vector<AllowableRow> ContactFatigueRows(const ContactFatigue& fatigue, cons
   rows.push_back(Judge("contact.smallest_safety", fatigue.SmallestSafety(), basis + ", at the required life",
                        AllowableRange{targets.min_contact_safety.value_or(-inf), inf}));
   rows.back().name = "smallest pitting safety S_H";
+  return rows;
+}
+
+std::vector<AllowableRow> SpectrumRatingRows(const SpectrumResult& spectrum, const AllowablesSettings& targets,
+                                             double contact_stress_limit, bool reducer) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const AllowableRange hours{targets.bearing_life_hours.value_or(-inf), inf};
+  const std::string miner = "ltca solve, the load spectrum: Palmgren-Miner over the bins' ";
+  const auto worst = [](const char* what, int bin) {
+    return bin >= 0 ? fmt::format("ltca solve, the load spectrum: {}, set by bin {}", what, bin + 1)
+                    : fmt::format("ltca solve, the load spectrum: {}", what);
+  };
+  std::vector<AllowableRow> rows;
+  const auto add = [&](AllowableRow row, const char* name) {
+    row.name = name;
+    rows.push_back(std::move(row));
+  };
+  if (reducer) {
+    add(Judge("spectrum.shortest_l10_hours", spectrum.ShortestL10Hours(), miner + "ISO 281 L10", hours),
+        "shortest bearing L10 over the spectrum (h)");
+    add(Judge("spectrum.shortest_load_zone_life_hours", spectrum.ShortestLoadZoneHours(), miner + "load-zone lives", hours),
+        "shortest bearing load-zone life over the spectrum (h)");
+    if (spectrum.modified()) {
+      add(Judge("spectrum.shortest_modified_life_hours", spectrum.ShortestModifiedHours(), miner + "ISO 281:2007 a_ISO L10", hours),
+          "shortest bearing modified life a_ISO L10 over the spectrum (h)");
+      add(Judge("spectrum.shortest_load_zone_modified_life_hours", spectrum.ShortestLoadZoneModifiedHours(),
+                miner + "a_ISO times the load-zone lives", hours),
+          "shortest bearing modified load-zone life over the spectrum (h)");
+    }
+    const auto [s0, s0_bin] = spectrum.SmallestStaticSafety();
+    add(Judge("spectrum.smallest_static_safety", s0, worst("ISO 76 C_0 / P_0,max, P_0,max over every bin", s0_bin),
+              AllowableRange{targets.min_static_safety.value_or(-inf), inf}),
+        "smallest bearing static safety s_0 over the spectrum");
+    const auto [roller, roller_bin] = spectrum.LargestRollerStress();
+    add(Judge("spectrum.largest_roller_contact_stress_mpa", roller, worst("the largest roller on the inner raceway (Hertz)", roller_bin),
+              AllowableRange{-inf, contact::kStaticStressLimitRoller}),
+        "largest roller contact stress over the spectrum (MPa), ISO 76's 4,000 MPa");
+  }
+  add(Judge("spectrum.max_contact_stress_mpa", FiniteOrNaN(spectrum.max_contact_stress),
+            worst("the largest pin-cycloid contact stress", spectrum.max_contact_stress_bin),
+            AllowableRange{-inf, contact_stress_limit}),
+      "largest contact stress over the spectrum (MPa)");
+  if (!spectrum.contact_life_hours.empty()) {
+    const double life = spectrum.ShortestContactHours();
+    AllowableRow row = Judge("spectrum.shortest_pitting_life_hours", life, miner + "pitting lives of the pins and teeth",
+                             AllowableRange{targets.contact_life_hours.value_or(-inf), inf});
+    if (life == inf) {  // no damage in any bin: above any required life (as ContactFatigueRows)
+      row.value = inf;
+      row.margin = inf;
+      row.verdict = row.range.Given() ? AllowableVerdict::kPass : AllowableVerdict::kNoAllowable;
+    }
+    add(std::move(row), "shortest pitting life of the pins and teeth over the spectrum (h)");
+    if (!spectrum.contact_safety.empty()) {
+      add(Judge("spectrum.smallest_pitting_safety", spectrum.SmallestContactSafety(),
+                fmt::format("ltca solve, the load spectrum: the factor on every bin's stress that brings Miner's damage over "
+                            "{:g} h to 1 (ISO 6336-2 Z_NT)",
+                            spectrum.required_contact_hours),
+                AllowableRange{targets.min_contact_safety.value_or(-inf), inf}),
+          "smallest pitting safety S_H over the spectrum");
+    }
+  }
   return rows;
 }
 

@@ -1,5 +1,6 @@
 #include "ltca/analysis/spectrum.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -89,8 +90,55 @@ double SpectrumResult::ShortestLoadZoneHours() const { return Shortest(load_zone
 double SpectrumResult::ShortestContactHours() const { return Shortest(contact_life_hours); }
 double SpectrumResult::ShortestModifiedHours() const { return Shortest(modified_hours); }
 double SpectrumResult::ShortestLoadZoneModifiedHours() const { return Shortest(load_zone_modified_hours); }
+std::pair<double, int> SpectrumResult::SmallestStaticSafety() const {
+  std::pair<double, int> out{std::numeric_limits<double>::quiet_NaN(), -1};
+  for (std::size_t k = 0; k < static_safety.size(); ++k) {
+    if (!std::isnan(static_safety[k]) && (std::isnan(out.first) || static_safety[k] < out.first)) out = {static_safety[k], static_safety_bin[k]};
+  }
+  return out;
+}
+std::pair<double, int> SpectrumResult::LargestRollerStress() const {
+  std::pair<double, int> out{std::numeric_limits<double>::quiet_NaN(), -1};
+  for (std::size_t k = 0; k < max_roller_stress.size(); ++k) {
+    if (!std::isnan(max_roller_stress[k]) && (std::isnan(out.first) || max_roller_stress[k] > out.first)) {
+      out = {max_roller_stress[k], max_roller_stress_bin[k]};
+    }
+  }
+  return out;
+}
+double SpectrumResult::SmallestContactSafety() const { return Shortest(contact_safety); }
 bool SpectrumResult::modified() const {
   return !bins.empty() && bins.front().summary.bearing_life && bins.front().summary.bearing_life->modified;
+}
+
+double SpectrumContactSafety(const std::vector<SpectrumContactLoad>& loads, contact::LifeCurve curve, double sigma_hlim) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (!(sigma_hlim > 0.0)) return kNaN;
+  double largest = 0.0;
+  for (const SpectrumContactLoad& l : loads) {
+    if (std::isnan(l.cycles) || std::isnan(l.stress)) return kNaN;
+    if (l.cycles > 0.0 && l.stress > 0.0) largest = std::max(largest, l.stress);
+  }
+  if (largest == 0.0) return std::numeric_limits<double>::infinity();
+  // Miner's damage over the required life with every stress times s: non-decreasing in s, zero
+  // while every scaled stress is at or below the curve's floor, infinite once one is above its
+  // static value (contact::CyclesToPitting). The answer lies between the factors that put the
+  // largest stress on the floor and on the static value.
+  const auto damage = [&](double s) {
+    double d = 0.0;
+    for (const SpectrumContactLoad& l : loads) {
+      if (l.cycles > 0.0 && l.stress > 0.0) d += l.cycles / contact::CyclesToPitting(curve, sigma_hlim, s * l.stress);
+    }
+    return d;
+  };
+  double lo = contact::LifeFactor(curve, std::numeric_limits<double>::infinity()) * sigma_hlim / largest;  // damage 0
+  double hi = contact::LifeFactor(curve, 0.0) * sigma_hlim / largest;
+  if (damage(hi) <= 1.0) return hi;
+  for (int i = 0; i < 200 && hi - lo > 4.0 * std::numeric_limits<double>::epsilon() * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (damage(mid) <= 1.0 ? lo : hi) = mid;
+  }
+  return lo;
 }
 
 SpectrumResult CombineSpectrum(std::vector<SpectrumBinResult> bins) {
@@ -119,6 +167,66 @@ SpectrumResult CombineSpectrum(std::vector<SpectrumBinResult> bins) {
                           : std::numeric_limits<double>::quiet_NaN());
     }
     r.contact_life_hours.push_back(MinerHours(hours, shares));
+  }
+  // The pitting safety over the spectrum at the required life (the same for every bin: the deck's).
+  const auto* first = !bins.empty() && bins.front().summary.contact_fatigue ? &*bins.front().summary.contact_fatigue : nullptr;
+  if (first != nullptr && std::isfinite(first->required_hours)) {
+    r.required_contact_hours = first->required_hours;
+    for (std::size_t k = 0; k < 2 * discs; ++k) {
+      std::vector<SpectrumContactLoad> loads;
+      for (const SpectrumBinResult& b : bins) {
+        const auto& f = b.summary.contact_fatigue;
+        if (!f || k / 2 >= f->discs.size()) {
+          loads.push_back({std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()});
+          continue;
+        }
+        const ContactFatigueDisc& d = f->discs[k / 2];
+        const double per_turn = k % 2 == 0 ? d.pin_cycles_per_turn : d.tooth_cycles_per_turn;
+        loads.push_back({per_turn * 60.0 * f->crank_rpm * b.bin.time_share * first->required_hours, d.max_stress});
+      }
+      r.contact_safety.push_back(SpectrumContactSafety(loads, first->curve, first->fatigue_limit));
+    }
+  }
+  // The static figures: the worst bin's, per bearing (a bin without the figure makes it NaN).
+  std::size_t bearings = 0;
+  for (const SpectrumBinResult& b : bins) {
+    if (b.summary.bearing_life) bearings = std::max(bearings, b.summary.bearing_life->static_safety.size());
+  }
+  for (std::size_t k = 0; k < bearings; ++k) {
+    double s0 = std::numeric_limits<double>::infinity(), stress = -1.0;
+    int s0_bin = -1, stress_bin = -1;
+    for (std::size_t i = 0; i < bins.size(); ++i) {
+      const auto& l = bins[i].summary.bearing_life;
+      double a = l && k < l->static_safety.size() ? l->static_safety[k] : std::numeric_limits<double>::quiet_NaN();
+      // A bin that loads the bearing not at all (an idle bin: P_0,max = 0) sets no static safety.
+      const auto& g = bins[i].summary.reducer;
+      if (std::isnan(a) && g && k < g->bearing_max_load.size() && g->bearing_max_load[k] == 0.0) a = std::numeric_limits<double>::infinity();
+      const double b = l && k < l->max_roller_stress.size() ? l->max_roller_stress[k] : std::numeric_limits<double>::quiet_NaN();
+      if (std::isnan(a) || s0_bin == -2) {
+        s0_bin = -2;
+      } else if (s0_bin == -1 || a < s0) {
+        s0 = a, s0_bin = static_cast<int>(i);
+      }
+      if (std::isnan(b) || stress_bin == -2) {
+        stress_bin = -2;
+      } else if (stress_bin == -1 || b > stress) {
+        stress = b, stress_bin = static_cast<int>(i);
+      }
+    }
+    r.static_safety.push_back(s0_bin >= 0 ? s0 : std::numeric_limits<double>::quiet_NaN());
+    r.static_safety_bin.push_back(std::max(s0_bin, -1));
+    r.max_roller_stress.push_back(stress_bin >= 0 ? stress : std::numeric_limits<double>::quiet_NaN());
+    r.max_roller_stress_bin.push_back(std::max(stress_bin, -1));
+  }
+  // The largest tooth-contact stress over every bin (a bin that solved no position has none: NaN).
+  for (std::size_t i = 0; i < bins.size(); ++i) {
+    const double s = bins[i].summary.max_contact_stress;
+    if (std::isnan(s)) {
+      r.max_contact_stress = std::numeric_limits<double>::quiet_NaN();
+      r.max_contact_stress_bin = -1;
+      break;
+    }
+    if (r.max_contact_stress_bin < 0 || s > r.max_contact_stress) r.max_contact_stress = s, r.max_contact_stress_bin = static_cast<int>(i);
   }
   r.bins = std::move(bins);
   return r;

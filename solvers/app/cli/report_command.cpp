@@ -522,7 +522,9 @@ std::string InputsHtml(const ReportContext& ctx) {
 std::string AllowablesHtml(const ReportContext& ctx) {
   std::string html = "<p>Allowables come from the deck: <code>[material] contact_stress_limit_mpa</code> and every "
                      "<code>[tolerances] limits</code> entry, judged on the nominal deck (and, for the limits, as the Monte "
-                     "Carlo's pass fraction). A figure with no allowable in the deck is listed with its value.</p>\n<table>\n"
+                     "Carlo's pass fraction), and the targets of <code>[allowables]</code>; with a <code>[[load_spectrum]]</code> its figures "
+                     "(the rows <code>spectrum.*</code>) are judged against the same targets. A figure with no allowable in the deck "
+                     "is listed with its value.</p>\n<table>\n"
                      "<tr><th>figure</th><th>value</th><th>allowable</th><th>margin</th><th>verdict</th>"
                      "<th>Monte Carlo pass fraction</th><th>from</th></tr>\n";
   const app::Deck& deck = ctx.deck;
@@ -542,6 +544,14 @@ std::string AllowablesHtml(const ReportContext& ctx) {
   if (deck.tolerances) allowables.limits = deck.tolerances->limits;
   allowables.targets = deck.allowables;
   for (const analysis::AllowableRow& row : analysis::CheckAllowables(nominal, allowables)) html += AllowableRow(row);
+  // A load spectrum: its figures (lives by Miner over the bins, the worst bin's static figures,
+  // the pitting safety over the spectrum) against the same targets.
+  if (ctx.spectrum) {
+    for (const analysis::AllowableRow& row :
+         analysis::SpectrumRatingRows(*ctx.spectrum, deck.allowables, allowables.contact_stress_limit, nominal.reducer)) {
+      html += AllowableRow(row);
+    }
+  }
   return html + "</table>\n";
 }
 
@@ -871,7 +881,7 @@ constexpr const char* kNoSpectrum = "the deck has no [[load_spectrum]]";
 int RunSpectrum(ReportContext& ctx) {
   ctx.spectrum = app::SolveDeckSpectrum(ctx.deck, ctx.solver);
   WriteTo("-o", ctx.folder.File("spectrum.json"), ctx.streams.out,
-          [&](std::ostream& os) { os << documents::SpectrumJson(*ctx.spectrum).dump(2) << '\n'; });
+          [&](std::ostream& os) { os << documents::SpectrumJson(ctx.deck, *ctx.spectrum).dump(2) << '\n'; });
   return ctx.spectrum->all_succeeded() ? kExitSuccess : kExitNotSucceeded;
 }
 
@@ -879,14 +889,17 @@ int RunSpectrum(ReportContext& ctx) {
 /// spectrum by Palmgren-Miner.
 std::string SpectrumHtml(const ReportContext& ctx) {
   if (!ctx.spectrum) return NotRun(kNoSpectrum);
-  const nlohmann::json j = documents::SpectrumJson(*ctx.spectrum);
+  const nlohmann::json j = documents::SpectrumJson(ctx.deck, *ctx.spectrum);
   std::string rows;
+  int number = 0;
   for (const auto& b : j.at("bins")) {
-    rows += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-                        Cell(b.at("torque_nm")), Cell(b.at("speed_rpm")), Cell(b.at("time_share")), Cell(b.at("status")),
+    rows += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+                        "<td>{}</td><td>{}</td></tr>\n",
+                        ++number, Cell(b.at("torque_nm")), Cell(b.at("speed_rpm")), Cell(b.at("time_share")), Cell(b.at("status")),
                         Cell(b.at("max_contact_stress_mpa")), Cell(b.at("shortest_l10_hours")),
                         Cell(b.at("shortest_load_zone_life_hours")),
-                        Cell(b.at("shortest_pitting_life_hours")));
+                        Cell(b.at("shortest_pitting_life_hours")), Cell(b.at("smallest_static_safety")),
+                        Cell(b.at("largest_roller_contact_stress_mpa")));
   }
   nlohmann::json lives = {{"shortest_l10_hours", j.at("shortest_l10_hours")},
                            {"shortest_load_zone_life_hours", j.at("shortest_load_zone_life_hours")},
@@ -906,10 +919,33 @@ std::string SpectrumHtml(const ReportContext& ctx) {
                            "<th>shortest a_ISO load-zone life (h)</th></tr>\n{}</table>\n",
                            mrows);
   }
-  return fmt::format("<p>{}</p>\n<table>\n<tr><th>torque (N*m)</th><th>crank speed (rpm)</th><th>time share</th><th>status</th>"
+  // The static figures: the worst bin's, with the bin that sets each; then every verdict.
+  nlohmann::json worst = {{"max_contact_stress_mpa", j.at("max_contact_stress_mpa")}, {"max_contact_stress_bin", j.at("max_contact_stress_bin")}};
+  if (ctx.deck.reducer) {
+    worst["smallest_static_safety"] = j.at("smallest_static_safety");
+    worst["smallest_static_safety_bin"] = j.at("smallest_static_safety_bin");
+    worst["largest_roller_contact_stress_mpa"] = j.at("largest_roller_contact_stress_mpa");
+    worst["largest_roller_contact_stress_bin"] = j.at("largest_roller_contact_stress_bin");
+  }
+  if (!j.at("pitting_safety").empty()) {
+    lives["smallest_pitting_safety"] = j.at("smallest_pitting_safety");
+    lives["required_pitting_life_hours"] = j.at("required_pitting_life_hours");
+  }
+  std::string verdicts;
+  for (const analysis::AllowableRow& row : analysis::SpectrumRatingRows(*ctx.spectrum, ctx.deck.allowables,
+                                                                        ctx.deck.RequireMaterial().contact_stress_limit,
+                                                                        ctx.deck.reducer.has_value())) {
+    verdicts += AllowableRow(row);
+  }
+  return fmt::format("<p>{}</p>\n<table>\n<tr><th>bin</th><th>torque (N*m)</th><th>crank speed (rpm)</th><th>time share</th><th>status</th>"
                      "<th>largest contact stress (MPa)</th><th>shortest bearing L10 (h)</th><th>shortest load-zone life (h)</th>"
-                     "<th>shortest pitting life (h)</th></tr>\n{}</table>\n{}{}",
-                     Html(j.at("rule").get<std::string>()), rows, modified, Table({{"spectrum", lives}}));
+                     "<th>shortest pitting life (h)</th><th>smallest s_0</th><th>largest roller stress (MPa)</th></tr>\n{}</table>\n{}{}"
+                     "<p>Static figures: {}.</p>\n{}"
+                     "<p>The spectrum's figures against the deck's allowables:</p>\n<table>\n"
+                     "<tr><th>figure</th><th>value</th><th>allowable</th><th>margin</th><th>verdict</th>"
+                     "<th>Monte Carlo pass fraction</th><th>from</th></tr>\n{}</table>\n",
+                     Html(j.at("rule").get<std::string>()), rows, modified, Table({{"spectrum", lives}}),
+                     Html(j.at("static_rule").get<std::string>()), Table({{"worst bin", worst}}), verdicts);
 }
 
 /// The sections of the page, in order: each is always there, with its analysis or a note why it did

@@ -61,7 +61,7 @@ int RunSolve(const app::Deck& deck_given, const SolveOptions& options, const Str
   if (pattern.enabled()) pattern.Commit();
   if (svg.enabled()) WriteFigure(documents::Figure(deck, solver, series, s), svg);
   streams.text << documents::Text(deck, solver, s);
-  if (spectrum) streams.text << documents::SpectrumText(*spectrum);
+  if (spectrum) streams.text << documents::SpectrumText(deck, *spectrum);
   const bool succeeded = s.all_succeeded() && (!spectrum || spectrum->all_succeeded());
   return succeeded ? kExitSuccess : kExitNotSucceeded;
 }

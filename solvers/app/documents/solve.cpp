@@ -507,11 +507,11 @@ void SolveJsonWriter::Add(const analysis::PositionResult& p) {
 void SolveJsonWriter::Finish(const Deck& deck, const analysis::SweepSummary& summary, const analysis::SpectrumResult* spectrum) {
   Start();
   os_ << "\n  ],\n  \"summary\": " << Nested(Dump(Json(deck, summary)));
-  if (spectrum != nullptr) os_ << ",\n  \"spectrum\": " << Nested(Dump(SpectrumJson(*spectrum)));
+  if (spectrum != nullptr) os_ << ",\n  \"spectrum\": " << Nested(Dump(SpectrumJson(deck, *spectrum)));
   os_ << "\n}" << after_ << '\n';
 }
 
-nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
+nlohmann::json SpectrumJson(const Deck& deck, const analysis::SpectrumResult& r) {
   nlohmann::json bins = nlohmann::json::array();
   for (const analysis::SpectrumBinResult& b : r.bins) {
     const analysis::SweepSummary& s = b.summary;
@@ -531,7 +531,13 @@ nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
                     {"load_zone_life_hours", Finites(life.load_zone_hours)},
                     {"shortest_load_zone_life_hours", FiniteOrNull(life.ShortestLoadZoneHours())},
                     {"shortest_pitting_life_hours",
-                     HoursOrInfinite(s.contact_fatigue ? s.contact_fatigue->ShortestHours() : std::numeric_limits<double>::quiet_NaN())}});
+                     HoursOrInfinite(s.contact_fatigue ? s.contact_fatigue->ShortestHours() : std::numeric_limits<double>::quiet_NaN())},
+                    // the bin as if it ran the whole required life (the spectrum's S_H is over the bins)
+                    {"smallest_pitting_safety",
+                     FiniteOrNull(s.contact_fatigue ? s.contact_fatigue->SmallestSafety() : std::numeric_limits<double>::quiet_NaN())},
+                    {"static_safety", Finites(life.static_safety)},
+                    {"smallest_static_safety", FiniteOrNull(life.SmallestStaticSafety())},
+                    {"largest_roller_contact_stress_mpa", FiniteOrNull(life.LargestRollerStress())}});
     if (life.modified) {  // ISO 281's modified lives at the bin's own speed (its nu_1 and kappa)
       bins.back()["viscosity_ratio"] = FiniteOrNull(life.viscosity_ratio);
       bins.back()["shortest_modified_life_hours"] = FiniteOrNull(life.ShortestModifiedHours());
@@ -540,6 +546,12 @@ nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
   }
   nlohmann::json pitting = nlohmann::json::array();
   for (const double h : r.contact_life_hours) pitting.push_back(HoursOrInfinite(h));
+  const auto bin_of = [](int bin) { return bin >= 0 ? nlohmann::json(bin + 1) : nlohmann::json(nullptr); };  // 1-based
+  nlohmann::json s0_bins = nlohmann::json::array(), stress_bins = nlohmann::json::array();
+  for (const int b : r.static_safety_bin) s0_bins.push_back(bin_of(b));
+  for (const int b : r.max_roller_stress_bin) stress_bins.push_back(bin_of(b));
+  const auto [s0, s0_bin] = r.SmallestStaticSafety();
+  const auto [roller, roller_bin] = r.LargestRollerStress();
   nlohmann::json out = {{"rule", "Palmgren-Miner over the time shares: L = 1 / sum(share_i / L_i), each L_i in hours at bin i's crank speed"},
           {"bins", bins},
           {"l10_hours", Finites(r.l10_hours)},
@@ -548,7 +560,28 @@ nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
           {"shortest_load_zone_life_hours", FiniteOrNull(r.ShortestLoadZoneHours())},
           // per disc: the pins', then the teeth's pitting life (ContactFatigue), Miner over the bins
           {"pitting_life_hours", pitting},
-          {"shortest_pitting_life_hours", HoursOrInfinite(r.ShortestContactHours())}};
+          {"shortest_pitting_life_hours", HoursOrInfinite(r.ShortestContactHours())},
+          // Static figures: the worst bin's, each with the bin (1-based) that sets it.
+          {"static_rule", "the worst bin: s_0 = C_0 / P_0,max with P_0,max over every bin (ISO 76), the largest stresses over every bin"},
+          {"static_safety", Finites(r.static_safety)},
+          {"static_safety_bin", s0_bins},
+          {"smallest_static_safety", FiniteOrNull(s0)},
+          {"smallest_static_safety_bin", bin_of(std::isnan(s0) ? -1 : s0_bin)},
+          {"max_roller_contact_stress_mpa", Finites(r.max_roller_stress)},
+          {"max_roller_contact_stress_bin", stress_bins},
+          {"largest_roller_contact_stress_mpa", FiniteOrNull(roller)},
+          {"largest_roller_contact_stress_bin", bin_of(std::isnan(roller) ? -1 : roller_bin)},
+          {"max_contact_stress_mpa", FiniteOrNull(r.max_contact_stress)},
+          {"max_contact_stress_bin", bin_of(r.max_contact_stress_bin)},
+          // The pitting safety over the spectrum (analysis::SpectrumContactSafety): per disc the pins',
+          // then the teeth's, at the required life; null without [allowables] contact_life_hours.
+          {"pitting_safety", Finites(r.contact_safety)},
+          {"smallest_pitting_safety", FiniteOrNull(r.SmallestContactSafety())},
+          {"pitting_safety_rule", "ISO 6336-6 for a load spectrum: the factor on every bin's stress (each bin's cycles at its "
+                                  "largest stress) that brings Miner's damage over the required life to 1"},
+          {"required_pitting_life_hours", FiniteOrNull(r.required_contact_hours)},
+          {"verdicts", Verdicts(analysis::SpectrumRatingRows(r, deck.allowables, deck.RequireMaterial().contact_stress_limit,
+                                                             deck.reducer.has_value()))}};
   if (r.modified()) {  // ISO 281's modified lives, each bin's a_ISO at its own kappa, Miner over the bins
     out["modified_life_hours"] = Finites(r.modified_hours);
     out["shortest_modified_life_hours"] = FiniteOrNull(r.ShortestModifiedHours());
@@ -558,7 +591,7 @@ nlohmann::json SpectrumJson(const analysis::SpectrumResult& r) {
   return out;
 }
 
-std::string SpectrumText(const analysis::SpectrumResult& r) {
+std::string SpectrumText(const Deck& deck, const analysis::SpectrumResult& r) {
   std::string text = fmt::format("load spectrum          {} bins; lives by Palmgren-Miner over the time shares\n", r.bins.size());
   for (std::size_t i = 0; i < r.bins.size(); ++i) {
     const analysis::SpectrumBinResult& b = r.bins[i];
@@ -584,6 +617,30 @@ std::string SpectrumText(const analysis::SpectrumResult& r) {
   }
   text += fmt::format("spectrum pitting life  {} h, the shortest of the pins and teeth\n",
                       std::isinf(r.ShortestContactHours()) ? std::string("infinite") : FormatOrNa(r.ShortestContactHours(), 4));
+  if (!r.contact_safety.empty()) {
+    text += fmt::format("spectrum pitting S_H   {} at {:g} h, the smallest (every bin's stress times S_H: Miner's damage 1)\n",
+                        FormatOrNa(r.SmallestContactSafety(), 4), r.required_contact_hours);
+  }
+  const auto bin_text = [](int bin) { return bin >= 0 ? fmt::format(" (bin {})", bin + 1) : std::string(); };
+  text += fmt::format("spectrum tooth stress  {} MPa, the largest{}\n", FormatOrNa(r.max_contact_stress, 2), bin_text(r.max_contact_stress_bin));
+  if (deck.reducer) {
+    const auto [s0, s0_bin] = r.SmallestStaticSafety();
+    const auto [roller, roller_bin] = r.LargestRollerStress();
+    text += fmt::format("spectrum static s_0    {}, the smallest{} (ISO 76: C_0 / P_0,max over every bin)\n", FormatOrNa(s0, 4),
+                        bin_text(std::isnan(s0) ? -1 : s0_bin));
+    text += fmt::format("spectrum roller stress {} MPa, the largest{} (ISO 76's basis of C_0: {:g} MPa)\n", FormatOrNa(roller, 2),
+                        bin_text(std::isnan(roller) ? -1 : roller_bin), contact::kStaticStressLimitRoller);
+  }
+  // The verdicts of the spectrum's figures that have a target (analysis::SpectrumRatingRows, one
+  // rule with the JSON and the report).
+  for (const analysis::AllowableRow& row :
+       analysis::SpectrumRatingRows(r, deck.allowables, deck.RequireMaterial().contact_stress_limit, deck.reducer.has_value())) {
+    if (!row.range.Given()) continue;
+    const bool below = std::isfinite(row.range.min);
+    text += fmt::format("  {:<6} {}: {}, target {} {:g}\n", analysis::ToString(row.verdict), row.name,
+                        std::isinf(row.value) && row.value > 0.0 ? std::string("infinite") : FormatOrNa(row.value, 4),
+                        below ? ">=" : "<=", below ? row.range.min : row.range.max);
+  }
   return text;
 }
 

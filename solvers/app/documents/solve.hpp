@@ -74,10 +74,13 @@ std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::
 
 /// The load spectrum (issue 50): per bin its torque (N*m), crank speed (rpm), time share, status,
 /// mean and peak-to-peak TE (arcsec), largest pin force (N) and contact stress (MPa) and each
-/// bearing's lives (h) at its speed; the lives combined by Miner's rule over the shares.
-nlohmann::json SpectrumJson(const analysis::SpectrumResult& spectrum);
+/// bearing's lives (h) at its speed; the lives combined by Miner's rule over the shares; the static
+/// figures of the worst bin, each with the bin (1-based) that sets it; the pitting safety over the
+/// spectrum; and every figure's verdict against the deck's [allowables] and stress limits
+/// (analysis::SpectrumRatingRows).
+nlohmann::json SpectrumJson(const Deck& deck, const analysis::SpectrumResult& spectrum);
 /// The same as text lines.
-std::string SpectrumText(const analysis::SpectrumResult& spectrum);
+std::string SpectrumText(const Deck& deck, const analysis::SpectrumResult& spectrum);
 
 /// The CSV: its header line and a row per position (figures empty where the position failed).
 std::string SolveCsvHead(const Deck& deck);

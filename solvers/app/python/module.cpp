@@ -326,7 +326,7 @@ py::tuple BindSolve(const Deck& given, const std::string& solver_name, const std
   const bool spectrum_succeeded = !std::get<3>(*kept) || std::get<3>(*kept)->all_succeeded();
   Document document{[kept] {
     nlohmann::json j = documents::Json(std::get<0>(*kept), std::get<1>(*kept), std::get<2>(*kept));
-    if (const auto& s = std::get<3>(*kept)) j["spectrum"] = documents::SpectrumJson(*s);
+    if (const auto& s = std::get<3>(*kept)) j["spectrum"] = documents::SpectrumJson(std::get<0>(*kept), *s);
     return j;
   }};
   return py::make_tuple(document, summary, arrays, spectrum_succeeded);

@@ -114,6 +114,20 @@ struct ContactFatigue;
 /// margin +inf) and "contact.smallest_safety" against min_contact_safety (min).
 std::vector<AllowableRow> ContactFatigueRows(const ContactFatigue& fatigue, const AllowablesSettings& targets);
 
+struct SpectrumResult;
+/// A load spectrum's figures against their targets, one rule for every front-end (the solve's
+/// JSON and text, the report), each figure the spectrum's: the lives by Miner's rule over the bins
+/// ("spectrum.shortest_l10_hours", "spectrum.shortest_load_zone_life_hours", with the oil's
+/// viscosity the two modified lives, against bearing_life_hours; "spectrum.shortest_pitting_life_hours"
+/// against contact_life_hours), the pitting safety over the spectrum ("spectrum.smallest_pitting_safety",
+/// SpectrumContactSafety) against min_contact_safety, and the static figures of the worst bin:
+/// "spectrum.smallest_static_safety" against min_static_safety, "spectrum.largest_roller_contact_stress_mpa"
+/// against ISO 76's 4,000 MPa and "spectrum.max_contact_stress_mpa" against contact_stress_limit
+/// (MPa, [material] contact_stress_limit_mpa). A static row's basis names the bin (1-based) that sets it.
+/// Rows of a stage's bearings only when the bins rated bearings (`reducer`).
+std::vector<AllowableRow> SpectrumRatingRows(const SpectrumResult& spectrum, const AllowablesSettings& targets,
+                                             double contact_stress_limit, bool reducer);
+
 /// A figure of the nominal design (a name of ToleranceSettings::FigureNames) and the analysis it
 /// is taken from: the tolerance study's nominal run when it ran its worst case, else the analysis
 /// that reports it. For a reducer stage the backlash is the stage's free play (the loop's width at
