@@ -43,7 +43,7 @@ double MaxAbs(const std::vector<double>& a) {
   return m;
 }
 
-TEST_CASE("app: on the cycloidal drive an elastic body that is a half-plane down to each law's reference depth, at the ring pins and the output-pin holes, returns the rigid stage's answer in every stage solver, both kinematics") {
+TEST_CASE("app: on the cycloidal drive an elastic body that is a half-plane down to each law's reference depth, at the ring pins and the output-pin holes, returns the rigid stage's answer in every stage solver, linearised to 1e-9") {
   // The split (docs/fe_disc.md "Local and far field", "The stage"): the rigid disc's hertz-line law
   // takes the disc's side of a contact as C (ln(4 rho / b) - 1/2), rho = min(|rho_c|, cap) at the
   // flank and min(r_h, cap) at an output pin's hole (its concave wall, Johnson, Contact Mechanics,
@@ -110,22 +110,28 @@ TEST_CASE("app: on the cycloidal drive an elastic body that is a half-plane down
         REQUIRE(y.status == SolverStatus::kSuccess);
         REQUIRE(x.reducer.has_value());
         REQUIRE(y.reducer.has_value());
-        CHECK(std::abs(y.rotation - x.rotation) <= 1e-9 * std::abs(x.rotation));
+        // Linearised: the identity is exact (1e-9). Exact kinematics re-evaluates each law at the
+        // moved contact (its rho with it) while the body's coupling is the unloaded pose's
+        // (docs/fe_disc.md): the identity then holds to that motion, measured 8.5e-6 of the
+        // rotation and 0.3 % of the largest force; bound 1e-4 and 1 %.
+        const bool linear = kinematics == ContactKinematics::kLinearised;
+        const double tol = linear ? 1e-9 : 1e-2;
+        CHECK(std::abs(y.rotation - x.rotation) <= (linear ? 1e-9 : 1e-4) * std::abs(x.rotation));
         const double f = MaxAbs(x.force);
-        CHECK(MaxAbsDifference(x.force, y.force) <= 1e-9 * f);
+        CHECK(MaxAbsDifference(x.force, y.force) <= tol * f);
         const auto& dx = x.reducer->discs.at(0);
         const auto& dy = y.reducer->discs.at(0);
         const double w = MaxAbs(dx.output_force);
         REQUIRE(w > 0.0);
-        CHECK(MaxAbsDifference(dx.output_force, dy.output_force) <= 1e-9 * w);
-        CHECK((dx.bearing_force.at(0) - dy.bearing_force.at(0)).norm() <= 1e-9 * dx.bearing_force.at(0).norm());
+        CHECK(MaxAbsDifference(dx.output_force, dy.output_force) <= tol * w);
+        CHECK((dx.bearing_force.at(0) - dy.bearing_force.at(0)).norm() <= tol * dx.bearing_force.at(0).norm());
         // The body's energy is the coupling's share, the output pins' contacts keep the rest: the sum is the rigid stage's.
         REQUIRE(y.reducer->group_energy.size() == static_cast<std::size_t>(ltca::solvers::kStageGroupsWithBody));
         double ex = 0.0, ey = 0.0;
         for (const double e : x.reducer->group_energy) ex += e;
         for (const double e : y.reducer->group_energy) ey += e;
         CHECK(y.reducer->group_energy[static_cast<std::size_t>(ltca::solvers::StageGroup::kDiscBody)] > 0.0);
-        CHECK(std::abs(ey - ex) <= 1e-9 * ex);
+        CHECK(std::abs(ey - ex) <= (linear ? 1e-9 : 1e-3) * ex);
         ++compared;
       }
     }
@@ -151,7 +157,18 @@ TEST_CASE("app: the cycloidal drive with --set disc.body=rigid gives the deck's 
                                      "--set", "sweep.crank_end_deg=9", "--set", "disc.body=rigid", "--json", "-"});
   REQUIRE(a.code == 0);
   REQUIRE(b.code == 0);
-  CHECK(a.out == b.out);
+  // Every line but the timings (wall_seconds and the like).
+  const auto untimed = [](const std::string& text) {
+    std::string out, line;
+    for (std::size_t at = 0; at < text.size();) {
+      const std::size_t end = std::min(text.find('\n', at), text.size());
+      line = text.substr(at, end - at);
+      if (line.find("seconds") == std::string::npos) out += line + "\n";
+      at = end + 1;
+    }
+    return out;
+  };
+  CHECK(untimed(a.out) == untimed(b.out));
   CHECK(a.out.find("disc_body") == std::string::npos);
 }
 
