@@ -36,13 +36,15 @@ void OutputPins::Validate(double eccentricity) const {
 }
 
 ContactLaw OutputPinLaw(const ContactSettings& contact, const Material& material, const OutputPins& pins,
-                        double length, double log_radius_cap) {
+                        double length, double log_radius_cap, double hole_log_radius) {
   ContactSettings own = contact;
   // The hole's curvature enters with its sign whatever the mesh's convention (the absolute one
   // would make the pin and its hole two convex cylinders, 1/rho* = 1/r_w + 1/r_h, which is wrong for a pin in a hole).
   own.rho_convention = RhoConvention::kSigned;
   own.seat = PinSeat{};
-  own.cycloid_log_radius = 0.0;  // a hole is not the flank the disc body was condensed on
+  // The flank's body term is not the hole's; a body condensed at its holes too gives the hole's
+  // (the same half-plane split: contact/disc_body.hpp, docs/fe_disc.md "The stage").
+  own.cycloid_log_radius = hole_log_radius > 0.0 ? hole_log_radius : 0.0;
   return ContactLaw(own, material, -1.0 / pins.hole_radius, pins.pin_radius, length, log_radius_cap);
 }
 

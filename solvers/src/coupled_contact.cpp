@@ -55,9 +55,14 @@ CoupledContact& CoupledContactFor(const LoadProblem& problem, Workspace& workspa
   if (state == nullptr) {
     state = static_cast<BackendCoupled*>(workspace.SetBackend("coupled-contact", std::make_unique<BackendCoupled>()));
   }
-  if (state->solver == nullptr || (!state->solver->Matches(*problem.coupling(), problem.coupling_factors()) &&
-                                   !state->solver->Reload(*problem.coupling(), problem.coupling_factors()))) {
-    state->solver = std::make_unique<CoupledContact>(*problem.coupling(), problem.coupling_factors());
+  // An elastic disc body on a stage's output pins: the coupled set holds them too (its matrix only).
+  const LoadProblem::StageBodyCoupling* body = problem.stage_body_coupling();
+  const Eigen::SparseMatrix<double>& coupling = body != nullptr ? *body->total : *problem.coupling();
+  static const std::shared_ptr<const LoadProblem::CouplingFactors> kNone;
+  const std::shared_ptr<const LoadProblem::CouplingFactors>& factors = body != nullptr ? kNone : problem.coupling_factors();
+  if (state->solver == nullptr ||
+      (!state->solver->Matches(coupling, factors) && !state->solver->Reload(coupling, factors))) {
+    state->solver = std::make_unique<CoupledContact>(coupling, factors);
   }
   return *state->solver;
 }

@@ -297,6 +297,7 @@ LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
   LoadProblem out(*this);
   out.coupling_ = coupling.matrix;
   out.coupling_factors_ = coupling.matrix != nullptr ? coupling.factors : nullptr;
+  out.stage_body_ = nullptr;  // made for the coupling it replaces
   out.single_pin_ = out.SinglePinBound();
   return out;
 }
@@ -342,6 +343,28 @@ LoadProblem LoadProblem::WithStageLoads(StageLoads loads) const {
   if (!finite) throw std::invalid_argument("LoadProblem::WithStageLoads: expected finite loads");
   LoadProblem out(*this);
   out.stage_loads_ = std::make_shared<const StageLoads>(std::move(loads));
+  return out;
+}
+
+LoadProblem LoadProblem::WithStageBodyCoupling(StageBodyCoupling coupling) const {
+  if (reducer_ == nullptr || reducer_->kind != OutputKind::kPins || second_ != nullptr) {
+    throw std::invalid_argument("LoadProblem::WithStageBodyCoupling: expected a one-disc stage of output pins");
+  }
+  if (coupling_ == nullptr || !coupling.total || !coupling.body) {
+    throw std::invalid_argument("LoadProblem::WithStageBodyCoupling: expected the problem's coupling and both matrices");
+  }
+  const Eigen::Index n = point_count() + coupling.output_points;
+  if (coupling.output_points != reducer_->pins.count || coupling.total->rows() != n || coupling.total->cols() != n ||
+      coupling.body->rows() != n || coupling.body->cols() != n) {
+    throw std::invalid_argument(fmt::format(
+        "LoadProblem::WithStageBodyCoupling: expected {} x {} matrices (the points and {} output pins)", n, n,
+        reducer_->pins.count));
+  }
+  if (!Eigen::MatrixXd(coupling.total->topLeftCorner(point_count(), point_count()) - *coupling_).isZero(0.0)) {
+    throw std::invalid_argument("LoadProblem::WithStageBodyCoupling: the top-left block is not the problem's coupling");
+  }
+  LoadProblem out(*this);
+  out.stage_body_ = std::make_shared<const StageBodyCoupling>(std::move(coupling));
   return out;
 }
 

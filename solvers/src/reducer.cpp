@@ -29,6 +29,7 @@ const char* ToString(StageGroup group) {
     case StageGroup::kPinBending: return "pin_bending";
     case StageGroup::kCarrier: return "carrier";
     case StageGroup::kSupports: return "support_bearings";
+    case StageGroup::kDiscBody: return "disc_body";
   }
   return "?";
 }

@@ -55,8 +55,12 @@ Eigen::VectorXd ReducerSystem::Coordinates(const Eigen::VectorXd& q) const {
 }
 
 contact::ContactLaw ReducerSystem::OutputPinLaw(const LoadProblem& problem) {
+  // An elastic disc body condensed at its holes: the hole's term is the local field beyond the
+  // body's patch, as the flank's (the same w0: contact::DiscFlankCompliance::cycloid_log_radius_mm).
+  const double hole_log_radius =
+      problem.stage_body_coupling() != nullptr ? problem.contact_settings().cycloid_log_radius : 0.0;
   return contact::OutputPinLaw(problem.contact_settings(), problem.material(), problem.reducer()->pins,
-                               problem.model().pair().face_width, problem.log_radius_cap());
+                               problem.model().pair().face_width, problem.log_radius_cap(), hole_log_radius);
 }
 
 Eigen::Vector2d ReducerSystem::Displacement(const Planar& p, const Eigen::VectorXd& q) {
@@ -172,16 +176,24 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
     scalars_.push_back(e);
   }
   mesh_points_ = static_cast<int>(base.pins.size());
+  coupled_points_ = mesh_points_;
   if (problem.has_coupling()) {
     coupling_ = problem.coupling();
     force_scale_ = CoupledForceScale(problem);
+    if (const LoadProblem::StageBodyCoupling* body = problem.stage_body_coupling()) {
+      // The elastic disc body: its holes' contacts (disc 0's output pins, added below in pin order)
+      // join the coupled set after the problem's points.
+      coupling_ = body->total.get();
+      body_coupling_ = body->body.get();
+      coupled_points_ += body->output_points;
+    }
   }
   if (coupling_ != nullptr && coupled_ != nullptr) {
     // Pin bending: C couples the points of one pin's beam. Its blocks are the connected
     // sets of its non-zeros (one pin's slices), each kept dense for the Hessian's condensation;
     // only a system that evaluates needs them (a judge's system has no coupled solver).
-    std::vector<int> parent(static_cast<std::size_t>(mesh_points_));
-    for (int i = 0; i < mesh_points_; ++i) parent[static_cast<std::size_t>(i)] = i;
+    std::vector<int> parent(static_cast<std::size_t>(coupled_points_));
+    for (int i = 0; i < coupled_points_; ++i) parent[static_cast<std::size_t>(i)] = i;
     const auto root = [&](int i) {
       while (parent[static_cast<std::size_t>(i)] != i) i = parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
       return i;
@@ -192,8 +204,8 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
         if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
       }
     }
-    std::vector<int> block_of(static_cast<std::size_t>(mesh_points_), -1);
-    for (int i = 0; i < mesh_points_; ++i) {
+    std::vector<int> block_of(static_cast<std::size_t>(coupled_points_), -1);
+    for (int i = 0; i < coupled_points_; ++i) {
       const int r = root(i);
       if (block_of[static_cast<std::size_t>(r)] < 0) {
         block_of[static_cast<std::size_t>(r)] = static_cast<int>(blocks_.size());
@@ -293,6 +305,15 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
       }
     }
   }
+  if (coupled_points_ > mesh_points_) {
+    // The body's hole rows are disc 0's output pins in pin order, right after the pin ring.
+    for (int i = mesh_points_; i < coupled_points_; ++i) {
+      const Scalar& e = scalars_.at(static_cast<std::size_t>(i));
+      if (e.group != StageGroup::kOutput || e.disc != 0 || e.index != i - mesh_points_) {
+        throw std::logic_error("ReducerSystem: the disc body's coupled output pins are not in pin order");
+      }
+    }
+  }
   for (Scalar& e : scalars_) e.row = ToDofs(e.coordinates);
   for (Planar& p : planars_) {
     p.row[0] = ToDofs(p.coordinates[0]);
@@ -328,7 +349,7 @@ void ReducerSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::v
     EvaluateCoupled(q, with_hessian, hints, out, &magnitude);
     if (!out->failure.empty()) return;
   }
-  for (std::size_t i = coupling_ != nullptr ? static_cast<std::size_t>(mesh_points_) : 0; i < scalars_.size(); ++i) {
+  for (std::size_t i = coupling_ != nullptr ? static_cast<std::size_t>(coupled_points_) : 0; i < scalars_.size(); ++i) {
     const Scalar& e = scalars_[i];
     const double delta = e.row.Dot(q) - e.gap;
     if (!(delta > 0.0)) continue;
@@ -413,7 +434,7 @@ void ReducerSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::v
 
 ReducerSystem::CoupledForces ReducerSystem::SolveCoupled(const std::vector<double>& approach, std::vector<double>* force) const {
   if (coupled_ == nullptr) throw std::logic_error("ReducerSystem: pin bending's coupling needs the coupled contact solver");
-  std::vector<CoupledPoint> points(static_cast<std::size_t>(mesh_points_));
+  std::vector<CoupledPoint> points(static_cast<std::size_t>(coupled_points_));
   for (std::size_t i = 0; i < points.size(); ++i) {
     const int law = scalars_[i].law;
     points[i].law = law >= 0 ? &laws_[static_cast<std::size_t>(law)] : nullptr;
@@ -421,8 +442,10 @@ ReducerSystem::CoupledForces ReducerSystem::SolveCoupled(const std::vector<doubl
   }
   const CoupledOutcome o = coupled_->AtRotation(points, force_scale_, force);
   return {o.converged, o.saturated, o.edge,
-          o.converged ? std::string() : fmt::format("the pins' coupled contact problem (pin bending): {}",
-                                                    o.failure.empty() ? "did not converge" : o.failure)};
+          o.converged ? std::string()
+                      : fmt::format("the pins' coupled contact problem ({}): {}",
+                                    body_coupling_ != nullptr ? "the elastic disc body" : "pin bending",
+                                    o.failure.empty() ? "did not converge" : o.failure)};
 }
 
 // Pin bending in the stage (the stage with the pin-bending coupling). The deformed gap of pin-ring point
@@ -436,7 +459,7 @@ ReducerSystem::CoupledForces ReducerSystem::SolveCoupled(const std::vector<doubl
 void ReducerSystem::EvaluateCoupled(const Eigen::VectorXd& q, bool with_hessian, std::vector<double>* hints,
                                   Evaluation* out, Eigen::VectorXd* magnitude) const {
   constexpr double kEps = std::numeric_limits<double>::epsilon();
-  const auto points = static_cast<std::size_t>(mesh_points_);
+  const auto points = static_cast<std::size_t>(coupled_points_);
   std::vector<double> approach(points), force(points, 0.0);
   for (std::size_t i = 0; i < points; ++i) {
     approach[i] = scalars_[i].row.Dot(q) - scalars_[i].gap;
@@ -659,12 +682,22 @@ void ReducerSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
   // beams' strain energy F^T C F / 2, each contact's its own.
   std::vector<double> coupled;
   if (coupling_ != nullptr) {
-    std::vector<double> approach(static_cast<std::size_t>(mesh_points_));
+    std::vector<double> approach(static_cast<std::size_t>(coupled_points_));
     for (std::size_t i = 0; i < approach.size(); ++i) approach[i] = scalars_[i].coordinates.Dot(relative) - scalars_[i].gap;
     coupled.assign(approach.size(), 0.0);
     if (!SolveCoupled(approach, &coupled).converged) std::fill(coupled.begin(), coupled.end(), 0.0);
     const Eigen::Map<const Eigen::VectorXd> f(coupled.data(), static_cast<Eigen::Index>(coupled.size()));
-    stage.group_energy[static_cast<std::size_t>(StageGroup::kPinBending)] += 0.5 * f.dot(*coupling_ * f);
+    const double coupled_energy = 0.5 * f.dot(*coupling_ * f);
+    if (body_coupling_ != nullptr) {
+      // The elastic body's complementary energy f^T C_body f / 2 (its share of the work); the
+      // rest of the coupling's is the pins' bending.
+      const double body = 0.5 * f.dot(*body_coupling_ * f);
+      stage.group_energy.resize(static_cast<std::size_t>(kStageGroupsWithBody), 0.0);
+      stage.group_energy[static_cast<std::size_t>(StageGroup::kDiscBody)] += body;
+      stage.group_energy[static_cast<std::size_t>(StageGroup::kPinBending)] += coupled_energy - body;
+    } else {
+      stage.group_energy[static_cast<std::size_t>(StageGroup::kPinBending)] += coupled_energy;
+    }
   }
   for (std::size_t i = 0; i < scalars_.size(); ++i) {
     const Scalar& e = scalars_[i];
@@ -755,13 +788,6 @@ void ReducerSystem::Judge(LoadResult* result) const {
   }
   double f_max = 0.0, w_max = 0.0;
   const double geometry_resolution = 16.0 * std::numeric_limits<double>::epsilon() * radius_;
-  // Pin bending: each point's beam deflection (C F)_i under the reported forces.
-  Eigen::VectorXd beam;
-  if (coupling_ != nullptr) {
-    Eigen::VectorXd f = Eigen::VectorXd::Zero(mesh_points_);
-    for (int i = 0; i < mesh_points_ && static_cast<std::size_t>(i) < result->force.size(); ++i) f(i) = result->force[static_cast<std::size_t>(i)];
-    beam = *coupling_ * f;
-  }
   const auto reported = [&](const Scalar& e) -> double {
     if (e.group == StageGroup::kMesh) {
       return static_cast<std::size_t>(e.index) < result->force.size() ? result->force[static_cast<std::size_t>(e.index)] : 0.0;
@@ -769,6 +795,14 @@ void ReducerSystem::Judge(LoadResult* result) const {
     const auto& forces = stage.discs[static_cast<std::size_t>(e.disc)].output_force;
     return static_cast<std::size_t>(e.index) < forces.size() ? forces[static_cast<std::size_t>(e.index)] : 0.0;
   };
+  // Pin bending (and an elastic disc body): each coupled point's deflection (C F)_i under the
+  // reported forces.
+  Eigen::VectorXd beam;
+  if (coupling_ != nullptr) {
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(coupled_points_);
+    for (int i = 0; i < coupled_points_; ++i) f(i) = reported(scalars_[static_cast<std::size_t>(i)]);
+    beam = *coupling_ * f;
+  }
   for (std::size_t i = 0; i < scalars_.size(); ++i) {
     const Scalar& e = scalars_[i];
     const double f = reported(e);

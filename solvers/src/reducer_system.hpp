@@ -166,8 +166,9 @@ class ReducerSystem {
   static Eigen::Vector2d DisplacementAt(const Planar& p, const Eigen::VectorXd& c);
 
   void Build(const LoadProblem& problem, const Eigen::VectorXd* origin);
-  /// Pin bending: the pin-ring forces at the approaches `approach` (one per problem point), by
-  /// the coupled contact solver; `force` is the warm start and the answer.
+  /// Pin bending (and an elastic disc body): the forces of the coupled set at the approaches
+  /// `approach` (one per coupled point), by the coupled contact solver; `force` is the warm start
+  /// and the answer.
   struct CoupledForces {
     bool converged = false, saturated = false, edge = false;
     std::string failure;
@@ -213,6 +214,10 @@ class ReducerSystem {
   };
   std::vector<Block> blocks_;
   int mesh_points_ = 0;
+  // The coupled set: scalars_[0..coupled_points_), the problem's points and, with an elastic disc
+  // body on the output pins (LoadProblem::stage_body_coupling), disc 0's output pins after them.
+  int coupled_points_ = 0;
+  const Eigen::SparseMatrix<double>* body_coupling_ = nullptr;  // the body's part of coupling_ (the budget)
   double force_scale_ = 1.0;  // N, CoupledForceScale
   CoupledContact* coupled_ = nullptr;
 };

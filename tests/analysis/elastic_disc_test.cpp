@@ -139,4 +139,98 @@ TEST_CASE("analysis: every solver agrees on Liu's pair with the elastic disc bod
   CHECK(compared >= 8);
 }
 
+TEST_CASE("contact: the hole grid of the elastic body is a direct condensation at its grid points and interpolates between them within 2 %") {
+  // Liu's disc (unmodified) with a 28 mm bore clamped and the cycloidal drive's 8 output-pin holes
+  // (r_h 6.32 mm on a 40 mm circle, cases/stage/cycloidal_drive.toml), 3 mm elements, the default
+  // grids (32 points a tooth space, 48 around each hole, 0.2 mm patches). The same body built
+  // directly (DiscBody: the same outline, refinement points and so the same mesh) and condensed at
+  // chosen points: (1) at grid points of two holes and of the flank, along the grid's directions,
+  // its compliance is the flank's K and the Coupling's entries to 1e-9 relative (the hole rings are
+  // where they say, loaded along the hole's outward normal, in the flank's one condensation); (2)
+  // half-way between two hole grid points the interpolated coupling (diagonal and the coefficient
+  // to another hole's contact) is within 2 % of the direct one, relative to sqrt(C_ii C_jj).
+  // Labelled slow (two whole-disc set-ups).
+  const ltca::geometry::PairParameters pair = ltca::test::LiuPair();
+  const ltca::geometry::CycloidProfile profile(pair);
+  ltca::contact::DiscBodyDesign body;
+  body.bore_radius_mm = 28.0;
+  body.thickness_mm = pair.face_width;
+  body.element_size_mm = 3.0;
+  body.refine_radius_mm = 6.0;
+  for (int j = 0; j < 8; ++j) {
+    const double a = 2.0 * std::numbers::pi * j / 8;
+    body.holes.push_back({40.0 * Eigen::Vector2d(std::cos(a), std::sin(a)), 6.32});
+  }
+  const ltca::contact::DiscFlankGrid grid;
+  const ltca::contact::DiscFlankCompliance flank(profile, body, grid);
+  REQUIRE(!flank.cyclic());
+  REQUIRE(flank.hole_count() == 8);
+  const int hp = grid.points_per_hole;
+  REQUIRE(flank.grid_points() == pair.tooth_count * grid.points_per_space + 8 * hp);
+  // The body as DiscFlankCompliance builds it.
+  ltca::contact::DiscBodyDesign direct = body;
+  direct.outline_mm = ltca::contact::DiscOutline(profile, 2 * grid.points_per_space);
+  direct.refine_near_mm = direct.outline_mm;
+  for (const ltca::contact::DiscHole& hole : body.holes) {
+    for (int j = 0; j < 2 * hp; ++j) {
+      const double a = std::numbers::pi * j / hp;
+      direct.refine_near_mm.emplace_back(hole.centre_mm + hole.radius_mm * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+  }
+  direct.refined_size_mm = grid.patch_half_width_mm;
+  const ltca::contact::DiscBody fe(direct);
+  const auto at = [&](int h, double a) {  // a point on hole h's wall at angle a, along its outward normal
+    const Eigen::Vector2d d(std::cos(a), std::sin(a));
+    return ltca::contact::DiscLoadPoint{body.holes[static_cast<std::size_t>(h)].centre_mm + 6.32 * d, d, grid.patch_half_width_mm};
+  };
+  const double step = 2.0 * std::numbers::pi / hp;
+  const int g_flank = 5 * grid.points_per_space + 11;  // tooth space 5, grid point 11
+  const std::vector<ltca::contact::DiscLoadPoint> points{
+      at(0, 5 * step), at(3, 17 * step),
+      {flank.grid_point(g_flank), flank.grid_normal(g_flank), grid.patch_half_width_mm},
+      at(0, 5.5 * step), at(1, 30.5 * step)};
+  const Eigen::MatrixXd c = fe.Condense(points).compliance_mm_per_n;
+  const std::vector<int> g{flank.hole_grid_start(0) + 5, flank.hole_grid_start(3) + 17, g_flank};
+  const Eigen::MatrixXd& k = flank.grid_compliance();
+  double grid_miss = 0.0;
+  for (int x = 0; x < 3; ++x) {
+    for (int y = 0; y < 3; ++y) {
+      grid_miss = std::max(grid_miss, std::abs(c(x, y) - k(g[static_cast<std::size_t>(x)], g[static_cast<std::size_t>(y)])) /
+                                          std::sqrt(c(x, x) * c(y, y)));
+    }
+  }
+  MESSAGE("hole grid against a direct condensation at grid points: largest relative difference " << grid_miss);
+  CHECK(grid_miss < 1e-9);
+  // The Coupling at grid points: a flank contact at the grid's u (whole face width) and two hole contacts.
+  ltca::contact::PinContact p;
+  p.cycloid_point = p.pin_point = p.normal = Eigen::Vector2d::Zero();
+  p.tooth_space = 5;
+  p.u = flank.grid_u(11);
+  p.length = pair.face_width;
+  p.part = ltca::geometry::SurfacePart::kFlank;
+  const Eigen::MatrixXd coupled = flank.Coupling(
+      {p}, {{0, Eigen::Vector2d(std::cos(5 * step), std::sin(5 * step))}, {3, Eigen::Vector2d(std::cos(17 * step), std::sin(17 * step))}});
+  const std::vector<int> order{2, 0, 1};  // Coupling's order: the flank point, then the holes
+  double coupling_miss = 0.0;
+  for (int x = 0; x < 3; ++x) {
+    for (int y = 0; y < 3; ++y) {
+      const int cx = order[static_cast<std::size_t>(x)], cy = order[static_cast<std::size_t>(y)];
+      coupling_miss = std::max(coupling_miss, std::abs(coupled(x, y) - c(cx, cy)) / std::sqrt(c(cx, cx) * c(cy, cy)));
+    }
+  }
+  CHECK(coupling_miss < 1e-9);
+  // Between grid points.
+  const Eigen::MatrixXd between = flank.Coupling(
+      {}, {{0, Eigen::Vector2d(std::cos(5.5 * step), std::sin(5.5 * step))}, {1, Eigen::Vector2d(std::cos(30.5 * step), std::sin(30.5 * step))}});
+  double interpolation_miss = 0.0;
+  for (int x = 0; x < 2; ++x) {
+    for (int y = 0; y < 2; ++y) {
+      interpolation_miss = std::max(interpolation_miss, std::abs(between(x, y) - c(3 + x, 3 + y)) / std::sqrt(c(3 + x, 3 + x) * c(3 + y, 3 + y)));
+    }
+  }
+  MESSAGE("hole grid between grid points: largest relative difference " << interpolation_miss << ", C_hole " << c(3, 3) * 1e6
+                                                                       << " nm/N, C_hole,hole " << c(3, 4) * 1e6 << " nm/N");
+  CHECK(interpolation_miss < 0.02);
+}
+
 }  // namespace elastic_disc_test

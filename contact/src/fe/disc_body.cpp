@@ -208,8 +208,12 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   const auto start = std::chrono::steady_clock::now();
   if (grid.points_per_space < 8) throw std::invalid_argument("disc flank: at least 8 grid points per tooth space");
   RequirePositive(grid.patch_half_width_mm, "patch_half_width_mm");
+  if (grid.points_per_hole < 8) throw std::invalid_argument("disc flank: at least 8 grid points per hole");
   const int m = grid.points_per_space;
-  const int n = spaces_ * m;
+  const int hp = grid.points_per_hole;
+  flank_points_ = spaces_ * m;
+  hole_count_ = static_cast<int>(body.holes.size());
+  const int n = flank_points_ + hole_count_ * hp;
   // The grid evenly in arc length over a tooth space (the same u in every space): uniform in u it
   // is coarsest near the root, where the flank turns fastest (the trapezoidal arc length of 64
   // sub-intervals per grid interval).
@@ -244,12 +248,29 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
       normals_.col(k * m + j) = -p.normal;  // into the material: the direction a pin pushes
     }
   }
+  // Each hole's ring: evenly in angle from the hole's +x, along the outward normal (into the
+  // material, the direction an output pin or a crank bearing pushes the wall).
+  for (int h = 0; h < hole_count_; ++h) {
+    const DiscHole& hole = body.holes[static_cast<std::size_t>(h)];
+    for (int j = 0; j < hp; ++j) {
+      const double a = 2.0 * std::numbers::pi * j / hp;
+      const Eigen::Vector2d d(std::cos(a), std::sin(a));
+      points_.col(flank_points_ + h * hp + j) = hole.centre_mm + hole.radius_mm * d;
+      normals_.col(flank_points_ + h * hp + j) = d;
+    }
+  }
   // The outline at twice the grid's density, meshed at w0 along all of it. Without holes the body
   // is cyclically symmetric: one tooth space's sector is meshed and turned z_c times (a mesh that
   // a turn through 2 pi / z_c leaves the same), and only that space's grid points are solved for:
   // K between spaces a and b is K between spaces a - b and 0.
   body.outline_mm = DiscOutline(profile, 2 * m);
   body.refine_near_mm = body.outline_mm;
+  for (const DiscHole& hole : body.holes) {  // the holes' walls meshed at w0 too
+    for (int j = 0; j < 2 * hp; ++j) {
+      const double a = std::numbers::pi * j / hp;
+      body.refine_near_mm.emplace_back(hole.centre_mm + hole.radius_mm * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+  }
   body.refined_size_mm = std::min(grid.patch_half_width_mm, body.element_size_mm);
   body.Validate();
   cyclic_ = body.holes.empty();
@@ -274,7 +295,7 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   const std::unique_ptr<fe::ElasticModel> model = ClampedAtBore(mesh, body);
   // The grid's patch loads (sparse: each touches a few edges), then K = L^T K_fe^-1 L, solved in
   // blocks of columns so that no dense dofs x n matrix is held.
-  const auto loadable = [](const fe::BoundaryEdge& edge) { return edge.boundary == fe::Boundary::kOutline; };
+  const auto loadable = [](const fe::BoundaryEdge& edge) { return edge.boundary != fe::Boundary::kBore; };
   std::vector<Eigen::Triplet<double>> entries;
   for (int g = 0; g < n; ++g) {
     const Eigen::VectorXd f = fe::PatchLoad(mesh, loadable, points_.col(g), normals_.col(g), grid.patch_half_width_mm);
@@ -285,7 +306,7 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   Eigen::SparseMatrix<double> loads(model->dofs(), n);
   loads.setFromTriplets(entries.begin(), entries.end());
   k_.resize(n, n);
-  const int solved = cyclic_ ? m : n;
+  const int solved = cyclic_ ? m : n;  // (cyclic: no holes, n = spaces x m)
   constexpr int kBlock = 64;
   Eigen::MatrixXd columns(n, solved);
   for (int first = 0; first < solved; first += kBlock) {
@@ -320,6 +341,59 @@ void DiscFlankCompliance::Neighbours(int tooth_space, double u, int* first, int*
   *t = std::clamp((u - lo) / (hi - lo), 0.0, 1.0);
   *first = k * m + j;
   *second = j + 1 < m ? k * m + j + 1 : ((k + step_) % spaces_) * m;
+}
+
+void DiscFlankCompliance::HoleNeighbours(int h, const Eigen::Vector2d& direction, int* first, int* second,
+                                         double* t) const {
+  if (h < 0 || h >= hole_count_) {
+    throw std::invalid_argument(fmt::format("disc flank: hole {} of a body with {} holes", h, hole_count_));
+  }
+  const int hp = grid_.points_per_hole;
+  double a = std::atan2(direction.y(), direction.x()) / (2.0 * std::numbers::pi) * hp;  // in grid steps
+  if (a < 0.0) a += hp;
+  const int j = std::clamp(static_cast<int>(std::floor(a)), 0, hp - 1);
+  *t = std::clamp(a - j, 0.0, 1.0);
+  *first = hole_grid_start(h) + j;
+  *second = hole_grid_start(h) + (j + 1) % hp;
+}
+
+Eigen::MatrixXd DiscFlankCompliance::Coupling(const std::vector<PinContact>& points,
+                                              const std::vector<DiscHoleContact>& holes) const {
+  const auto n = static_cast<Eigen::Index>(points.size());
+  const auto h = static_cast<Eigen::Index>(holes.size());
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(n + h, n + h);
+  c.topLeftCorner(n, n) = Coupling(points);
+  // Every entry's two neighbours and weight: the flank's points (on: loaded flank points), then the holes'.
+  std::vector<int> a(static_cast<std::size_t>(n + h)), b(static_cast<std::size_t>(n + h));
+  std::vector<double> t(static_cast<std::size_t>(n + h));
+  std::vector<char> on(static_cast<std::size_t>(n + h), 1);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const PinContact& p = points[static_cast<std::size_t>(i)];
+    const auto k = static_cast<std::size_t>(i);
+    if (p.edge || p.part != geometry::SurfacePart::kFlank || !(p.length > 0.0) || p.disc != 0) {
+      on[k] = 0;
+      continue;
+    }
+    Neighbours(p.tooth_space, p.u, &a[k], &b[k], &t[k]);
+  }
+  for (Eigen::Index i = 0; i < h; ++i) {
+    const auto k = static_cast<std::size_t>(n + i);
+    HoleNeighbours(holes[static_cast<std::size_t>(i)].hole, holes[static_cast<std::size_t>(i)].direction, &a[k], &b[k], &t[k]);
+  }
+  const auto product = [&](std::size_t i, std::size_t j) {
+    const double ti = t[i], si = 1.0 - ti, tj = t[j], sj = 1.0 - tj;
+    return si * (sj * k_(a[i], a[j]) + tj * k_(a[i], b[j])) + ti * (sj * k_(b[i], a[j]) + tj * k_(b[i], b[j]));
+  };
+  for (Eigen::Index x = n; x < n + h; ++x) {
+    const auto i = static_cast<std::size_t>(x);
+    c(x, x) = (1.0 - t[i]) * k_(a[i], a[i]) + t[i] * k_(b[i], b[i]);
+    for (Eigen::Index y = 0; y < x; ++y) {
+      const auto j = static_cast<std::size_t>(y);
+      if (!on[j]) continue;
+      c(x, y) = c(y, x) = product(i, j);
+    }
+  }
+  return c;
 }
 
 Eigen::MatrixXd DiscFlankCompliance::Coupling(const std::vector<PinContact>& points) const {

@@ -9,9 +9,12 @@
 #include <stdexcept>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "ltca/contact/holes.hpp"
+#include "ltca/contact/output_pins.hpp"
 #include "ltca/contact/unloaded.hpp"
 #include "ltca/geometry/units.hpp"
 
@@ -43,6 +46,10 @@ std::string StageScope(const StageDesign& d) {
   std::vector<std::string> elastic{d.contact.seat.seated() ? "pin-cycloid contacts with the pins' seats" : "pin-cycloid contacts"};
   const std::string housing = std::isfinite(r.carrier_stiffness) ? "housing (its torsion in the carrier's spring)" : "housing";
   std::vector<std::string> rigid{d.disc.elastic() ? housing : "discs' bodies, " + housing};
+  if (d.disc.elastic()) {
+    elastic.push_back(fmt::format("disc body (FE, its {} holes on the body, the bore a rigid ring)",
+                                  cranks ? "crank" : "output-pin"));
+  }
   if (d.pins) elastic.emplace_back("ring pins bending");
   else rigid.emplace_back("ring pins' bending");
   if (!cranks) elastic.emplace_back("output pins in holes");
@@ -93,9 +100,27 @@ void StageDesign::Validate() const {
     throw std::invalid_argument("[disc] body = \"elastic\" " + what);
   };
   if (second_disc) refuse("with [second_disc]: the elastic body of two discs is not built yet; expected body = \"rigid\"");
+  if (reducer && reducer->kind != solvers::OutputKind::kPins) {
+    refuse("with [output] kind = \"cranks\": the crank holes and their bearings on the elastic body are not built yet "
+           "(docs/fe_disc.md \"What is left\"); expected body = \"rigid\", or [output] kind = \"pins\"");
+  }
   if (reducer) {
-    refuse("with [output]: the elastic body in the reducer stage (its holes and bearing in the body) is not built yet; "
-           "expected body = \"rigid\" or the mesh alone");
+    refuse("with [output]: the body's coupling of the output-pin holes with the ring pins is built (docs/fe_disc.md "
+           "\"The stage\") but its end-to-end stage solve is not verified yet; expected body = \"rigid\" or the mesh "
+           "alone");
+  }
+  if (reducer) {
+    // The body is clamped at its bore (the eccentric bearing's outer ring): the bore must lie inside
+    // the output-pin holes with a web of an element size at least.
+    const contact::OutputPins& w = reducer->pins;
+    const double inside = w.circle_radius - w.hole_radius - disc.element_size;
+    if (!(disc.bore_radius < inside)) {
+      throw std::invalid_argument(fmt::format(
+          "[disc] bore_radius_mm = {}: expected a bore below {:g} mm with [output] kind = \"pins\" (the holes' inner "
+          "edge, circle_radius_mm {:g} less hole_radius_mm {:g}, less one element_size_mm {:g}: the eccentric "
+          "bearing's bore inside the output-pin holes)",
+          disc.bore_radius, inside, w.circle_radius, w.hole_radius, disc.element_size));
+    }
   }
   if (contact.law != contact::LawKind::kHertzLine) {
     refuse(fmt::format("with [contact] law = \"{}\": the body's local field is the hertz-line law's; expected law = "
@@ -110,6 +135,32 @@ void StageDesign::Validate() const {
   disc.Validate(RootRadius(geometry::CycloidProfile(pair, modification)));
 }
 
+namespace {
+
+/// The holes of the elastic body: a stage's output-pin holes at their nominal places in the body
+/// frame (a hole's position deviation, micrometres, does not change the body's compliance more than
+/// its mesh does, and a tolerance study then pays the set-up once); none for the mesh alone.
+std::vector<contact::DiscHole> BodyHoles(const StageDesign& design) {
+  std::vector<contact::DiscHole> holes;
+  if (!design.reducer || design.reducer->kind != solvers::OutputKind::kPins) return holes;
+  const contact::OutputPins& w = design.reducer->pins;
+  for (int j = 0; j < w.count; ++j) {
+    const double alpha = 2.0 * units::kPi * j / w.count + w.phase;
+    holes.push_back({contact::HoleInDisc(w.circle_radius, alpha, {}, j), w.hole_radius});
+  }
+  return holes;
+}
+
+std::string HolesKey(const StageDesign& design) {
+  std::string key;
+  for (const contact::DiscHole& h : BodyHoles(design)) {
+    key += fmt::format(" | {:a} {:a} {:a}", h.centre_mm.x(), h.centre_mm.y(), h.radius_mm);
+  }
+  return key;
+}
+
+}  // namespace
+
 std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageDesign& design) {
   const geometry::PairParameters& p = design.pair;
   const contact::DiscBodySettings& b = design.disc;
@@ -121,7 +172,8 @@ std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageD
   const std::string key = fmt::format("{} {} {:a} {:a} {:a} {:a} | {:a} {} {:a} {} {:a} | {:a} {:a}", p.pin_count,
                                       p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width,
                                       b.bore_radius, contact::ToString(b.plane), b.element_size, b.grid.points_per_space,
-                                      b.grid.patch_half_width_mm, material.young_modulus, material.poisson_ratio);
+                                      b.grid.patch_half_width_mm, material.young_modulus, material.poisson_ratio) +
+                          HolesKey(design);
   static std::mutex mutex;
   static std::vector<std::pair<std::string, std::shared_ptr<const contact::DiscFlankCompliance>>> kept;  // newest last
   constexpr std::size_t kKept = 4;
@@ -140,6 +192,7 @@ std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageD
   body.thickness_mm = p.face_width;
   body.element_size_mm = b.element_size;
   body.refine_radius_mm = 2.0 * b.element_size;
+  body.holes = BodyHoles(design);
   auto flank = std::make_shared<const contact::DiscFlankCompliance>(geometry::CycloidProfile(p), body, b.grid);
   if (kept.size() == kKept) kept.erase(kept.begin());
   kept.emplace_back(key, flank);
@@ -222,9 +275,12 @@ ModelInfo StageDesign::Model() const {
   }
   if (disc.elastic()) {  // [disc] body
     m.disc_body = fmt::format(
-        "elastic (plane {}, bore {:g} mm clamped; FE T6 {:g} mm, the flank condensed at {} points a tooth space, {:g} mm "
-        "patches)",
+        "elastic (plane {}, bore {:g} mm clamped; FE T6 {:g} mm, the flank condensed at {} points a tooth space{}, {:g} "
+        "mm patches)",
         contact::ToString(disc.plane), disc.bore_radius, disc.element_size, disc.grid.points_per_space,
+        reducer && reducer->kind == solvers::OutputKind::kPins
+            ? fmt::format(" and {} around each of the {} output-pin holes", disc.grid.points_per_hole, reducer->pins.count)
+            : std::string(),
         disc.grid.patch_half_width_mm);
     m.name += "+elastic-disc";
   }
@@ -386,6 +442,7 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
   }
   solvers::LoadProblem problem(first_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics);
   if (reducer_) problem = problem.WithReducer(reducer_);
+  if (disc_body_ && reducer_) return WithStageBody(std::move(problem));
   if (disc_body_) {
     // The body couples this pose's contacts (its points move along the flanks with the crank):
     // pin bending's matrix (checked once) plus the body's, W K W^T + a non-negative diagonal with
@@ -400,6 +457,37 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
   }
   if (!coupling_->matrix) return problem;
   return problem.WithCoupling(*coupling_);
+}
+
+solvers::LoadProblem Stage::WithStageBody(solvers::LoadProblem problem) const {
+  // The elastic body in a stage of output pins: one coupled set of the pin ring's points and the
+  // output pins' contacts on their holes' walls (ReducerSystem), each contact at the nominal pose
+  // of this crank (the pin touches its hole where the line of the two centres meets the wall; its
+  // direction in the body frame is the fixed frame's turned back by the disc's rotation).
+  const contact::MeshModel& model = problem.DiscModel(0);
+  const geometry::Pose real = model.real_pair().CycloidPose(problem.DiscCrank(0));
+  const double output_rotation = problem.model().kinematics().CycloidPose(problem.crank()).rotation;
+  const std::vector<contact::OutputPinContact> pins =
+      contact::EvaluateOutputPins(reducer_->PinsOf(0), geometry::Pose{real.centre, output_rotation}, output_rotation);
+  std::vector<contact::DiscHoleContact> holes;
+  const Eigen::Rotation2Dd back(-output_rotation);
+  for (const contact::OutputPinContact& c : pins) holes.push_back({c.pin, back * c.normal});
+  const Eigen::MatrixXd body = disc_body_->Coupling(problem.base_state().pins, holes);
+  const auto n = static_cast<Eigen::Index>(problem.point_count());
+  const auto m = static_cast<Eigen::Index>(holes.size());
+  // The problem's own coupling (the pin ring: the body's flank block and pin bending's), then the
+  // whole set's.
+  Eigen::SparseMatrix<double> ring = Eigen::MatrixXd(body.topLeftCorner(n, n)).sparseView();
+  if (coupling_->matrix) ring += *coupling_->matrix;
+  problem = problem.WithCoupling(solvers::LoadProblem::CheckCoupling(
+      std::move(ring), static_cast<int>(n), solvers::LoadProblem::PositiveSemidefiniteByConstruction{}));
+  Eigen::MatrixXd total = body;
+  total.topLeftCorner(n, n) = Eigen::MatrixXd(*problem.coupling());
+  solvers::LoadProblem::StageBodyCoupling stage;
+  stage.total = std::make_shared<const Eigen::SparseMatrix<double>>(total.sparseView());
+  stage.body = std::make_shared<const Eigen::SparseMatrix<double>>(body.sparseView());
+  stage.output_points = static_cast<int>(m);
+  return problem.WithStageBodyCoupling(std::move(stage));
 }
 
 }  // namespace ltca::analysis

@@ -60,8 +60,8 @@ nlohmann::json ReducerJson(const solvers::ReducerSolution& st) {
     discs.push_back(std::move(disc));
   }
   nlohmann::json energy = nlohmann::json::object();
-  for (int g = 0; g < solvers::kStageGroups; ++g) {
-    energy[solvers::ToString(static_cast<solvers::StageGroup>(g))] = st.group_energy[static_cast<std::size_t>(g)];
+  for (std::size_t g = 0; g < st.group_energy.size(); ++g) {
+    energy[solvers::ToString(static_cast<solvers::StageGroup>(g))] = st.group_energy[g];
   }
   return {{"discs", discs}, {"strain_energy_nmm", energy}, {"force_balance", st.force_balance_relative},
           {"moment_balance", st.moment_balance_relative}};

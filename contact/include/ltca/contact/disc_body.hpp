@@ -117,6 +117,18 @@ struct DiscFlankGrid {
   /// w0: the half-width of each grid point's uniform load patch, mm (> 0). The boundary is meshed
   /// at w0 along the whole outline.
   double patch_half_width_mm = 0.2;
+  /// Condensation points around each of the body's holes (DiscBodyDesign::holes: output-pin or
+  /// crank holes), evenly in angle from the hole's +x, each loaded along the hole's outward normal
+  /// (into the material: the direction a pin pushes its hole's wall) by the same patch (>= 8).
+  int points_per_hole = 48;
+};
+
+/// A contact on the wall of one of the body's holes (an output pin in its hole): the hole's index
+/// and the direction of the force on the disc in the body frame (from the hole's centre towards
+/// the contact point: the hole's outward normal there, into the material), any length.
+struct DiscHoleContact {
+  int hole = 0;
+  Eigen::Vector2d direction = Eigen::Vector2d::UnitX();
 };
 
 /// The [disc] section: the disc body rigid (every answer as before) or elastic (its FE compliance
@@ -176,6 +188,19 @@ class DiscFlankCompliance {
   /// points of the same slice, each slice a plane section of thickness `length`, so K scaled by
   /// thickness / length; 0 between slices and for an edge contact or a cap point. mm/N.
   Eigen::MatrixXd Coupling(const std::vector<PinContact>& points) const;
+  /// The coupling of a pose's flank points and hole contacts, in that order (points.size() +
+  /// holes.size() square), mm/N. A hole contact carries the whole face width (a pin across the
+  /// disc): between it and any point the coefficient is K's, unscaled (a flank slice of thickness
+  /// t = B / n, a section of its own, sees a whole-width load's share t / B through its compliance
+  /// scaled B / t); flank points among themselves as Coupling(points). A hole contact at angle a
+  /// (of its direction) is interpolated linearly in a between the hole's two neighbouring grid
+  /// points, its diagonal on its own, as the flank's: positive semidefinite by construction.
+  /// Throws std::invalid_argument for a hole index the body does not have.
+  Eigen::MatrixXd Coupling(const std::vector<PinContact>& points, const std::vector<DiscHoleContact>& holes) const;
+  /// The body's holes (in the order of DiscBodyDesign::holes).
+  int hole_count() const { return hole_count_; }
+  /// The first grid point of hole h's ring (the flank's grid comes first).
+  int hole_grid_start(int h) const { return flank_points_ + h * grid_.points_per_hole; }
 
   const DiscFlankGrid& grid() const { return grid_; }
   int grid_points() const { return static_cast<int>(k_.rows()); }
@@ -195,6 +220,8 @@ class DiscFlankCompliance {
  private:
   /// The two grid points around (tooth space, u) and the second's weight t.
   void Neighbours(int tooth_space, double u, int* first, int* second, double* t) const;
+  /// The same around hole h at the angle of `direction`.
+  void HoleNeighbours(int h, const Eigen::Vector2d& direction, int* first, int* second, double* t) const;
 
   DiscFlankGrid grid_;
   int spaces_ = 0;
@@ -207,6 +234,8 @@ class DiscFlankCompliance {
   int nodes_ = 0, elements_ = 0;
   double setup_seconds_ = 0.0;
   bool cyclic_ = false;  // the body without holes: one space's sector meshed and turned
+  int flank_points_ = 0;  // the flank's grid points (spaces x points_per_space); the holes' follow
+  int hole_count_ = 0;
 };
 
 }  // namespace ltca::contact

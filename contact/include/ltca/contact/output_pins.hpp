@@ -60,9 +60,12 @@ struct OutputPinContact {
 /// (docs/contact.md), never the hole's, whose sign is its geometry. The deck's law kind, linear
 /// stiffness and log cap (log_radius_cap resolved, > 0); the disc is the law's first body and the
 /// pin its second (material's cycloid and pin constants); never seated (a seat is the ring pins').
-/// length: the pin's contact length, mm.
+/// length: the pin's contact length, mm. hole_log_radius > 0: the disc's (hole's) term of the
+/// hertz-line logarithm takes exactly this radius, mm (an elastic disc body whose holes are condensed
+/// with the flank: the Hertz contact's local field beyond the body's uniform patch, w0 / sqrt(e),
+/// as the flank's, ContactSettings::cycloid_log_radius); 0: the rigid disc's, min(r_h, cap).
 ContactLaw OutputPinLaw(const ContactSettings& contact, const Material& material, const OutputPins& pins,
-                        double length, double log_radius_cap);
+                        double length, double log_radius_cap, double hole_log_radius = 0.0);
 
 /// Every pin at the given disc pose (fixed frame) and output-member rotation (rad, about the
 /// pin-circle centre). The centres must not coincide (|P_j - H_j| > 0: then the contact

@@ -204,6 +204,22 @@ class LoadProblem {
   LoadProblem WithStageLoads(StageLoads loads) const;
   /// The loads besides T, or nullptr (none).
   const StageLoads* stage_loads() const { return stage_loads_.get(); }
+  /// The elastic disc body of a stage whose output elements sit on the body (docs/fe_disc.md "The
+  /// stage"): the coupled set is the problem's points followed by one contact per output pin
+  /// (disc 0's, in pin order). `total` is the coupling over that set (the problem's own coupling,
+  /// pin bending and the body's flank part, in its top-left block; the body's rows and columns of
+  /// the holes beside it); `body` the body's part alone (the compliance budget's disc_body group).
+  struct StageBodyCoupling {
+    std::shared_ptr<const Eigen::SparseMatrix<double>> total;
+    std::shared_ptr<const Eigen::SparseMatrix<double>> body;
+    int output_points = 0;  ///< the coupled output-pin contacts after the problem's points
+  };
+  /// A copy of this stage problem with the body's coupling over its points and output pins.
+  /// Throws std::invalid_argument without a stage of output pins, without the problem's own
+  /// coupling (the top-left block, which must equal it), or for matrices of other sizes.
+  LoadProblem WithStageBodyCoupling(StageBodyCoupling coupling) const;
+  /// The body's stage coupling, or nullptr (the rigid disc, or the mesh alone).
+  const StageBodyCoupling* stage_body_coupling() const { return stage_body_.get(); }
   /// The stage, or nullptr for the mesh alone.
   const ReducerSettings* reducer() const { return reducer_.get(); }
   bool has_reducer() const { return reducer_ != nullptr; }
@@ -348,6 +364,7 @@ class LoadProblem {
   std::shared_ptr<const CouplingFactors> coupling_factors_;      // nullptr: none (or uncoupled)
   std::shared_ptr<const ReducerSettings> reducer_;                   // nullptr: the mesh alone
   std::shared_ptr<const StageLoads> stage_loads_;                     // nullptr: none besides T
+  std::shared_ptr<const StageBodyCoupling> stage_body_;               // nullptr: no body on the stage's elements
 };
 
 /// The forces of the laws at the approaches of `pins`, their torque, and whether a pressed pin sits

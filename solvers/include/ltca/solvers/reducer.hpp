@@ -89,9 +89,13 @@ struct StageLoads {
 /// kMesh: the pin-cycloid contacts; kSeats: the pins' seats in series with them ([pins] seat);
 /// kPinBending: the pins' bending between their supports ([pins] span_mm, the coupling);
 /// kCarrier: the carrier, output flange and housing in series (ReducerSettings::carrier_stiffness);
-/// kSupports: the crankshafts' support bearings (crankshafts as beams; kShafts holds the beams).
-enum class StageGroup { kMesh, kOutput, kBearings, kShafts, kSeats, kPinBending, kCarrier, kSupports };
+/// kSupports: the crankshafts' support bearings (crankshafts as beams; kShafts holds the beams);
+/// kDiscBody: the elastic disc body's complementary energy f^T C f / 2 ([disc] body = "elastic",
+/// C its condensed compliance over the ring-pin and hole contacts), reported only with that body.
+enum class StageGroup { kMesh, kOutput, kBearings, kShafts, kSeats, kPinBending, kCarrier, kSupports, kDiscBody };
+/// The groups every stage reports; an elastic disc body's solution holds kDiscBody too (one more).
 inline constexpr int kStageGroups = 8;
+inline constexpr int kStageGroupsWithBody = 9;
 const char* ToString(StageGroup group);
 
 /// What a stage solve found besides the pin-ring forces (LoadResult::force) and the output

@@ -194,6 +194,9 @@ class Stage {
   /// Index of a checked crank, or -1.
   std::ptrdiff_t CheckedIndex(double crank) const;
   const contact::Material& RequireMaterial() const;
+  /// A stage problem of output pins with the elastic body: its coupling over the pin ring's points
+  /// and the output pins' hole contacts (LoadProblem::WithStageBodyCoupling).
+  solvers::LoadProblem WithStageBody(solvers::LoadProblem problem) const;
 
   std::shared_ptr<const StageDesign> design_;
   ModelPtr first_, second_;
