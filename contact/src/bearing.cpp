@@ -41,8 +41,9 @@ void BearingSettings::Validate() const {
   const auto require = [](bool ok, const char* key, double value, const char* expected) {
     if (!ok) throw std::invalid_argument(fmt::format("[bearing] {} = {:g}: expected {}", key, value, expected));
   };
-  require(std::isfinite(radial_clearance) && radial_clearance >= 0.0, "radial_clearance_mm", radial_clearance,
-          "a finite radial clearance >= 0 mm");
+  // Negative: a preloaded bearing (its elements pressed by -c at no load; docs/stage.md "Preload").
+  require(std::isfinite(radial_clearance), "radial_clearance_mm", radial_clearance,
+          "a finite radial clearance in mm (negative: a preload)");
   require(std::isfinite(dynamic_load_rating) && dynamic_load_rating >= 0.0, "dynamic_load_rating_n", dynamic_load_rating,
           "a finite rating >= 0 N (0: no life)");
   require(std::isfinite(static_load_rating) && static_load_rating >= 0.0, "static_load_rating_n", static_load_rating,
@@ -83,6 +84,41 @@ double RollerLoad(double approach, double length) {
   return approach > 0.0 ? RollerConstant(length) * std::pow(approach, 10.0 / 9.0) : 0.0;
 }
 
+BearingResponse PreloadedLinearBearing(double k, double p, const Eigen::Vector2d& u) {
+  // A ring of many equal linear elements, each of stiffness k_e along its direction e(theta) and
+  // pressed by p at u = 0 (Z elements, Z -> infinity, k = k_e Z / 4 the ring's radial stiffness
+  // without play: sum_j k_e (u . e_j)_+ e_j -> k_e Z / (2 pi) int_{-pi/2}^{pi/2} cos^2 = k_e Z / 4).
+  // Element j presses with k_e (u . e_j + p)_+; with r = |u|, a = p / r and theta_0 = acos(-a)
+  // (the elements within theta_0 of u carry load, all of them while r <= p):
+  //   |F| = (2 k / pi) int_0^theta_0 (r cos + p) cos = (2 k / pi) [r theta_0 + p sqrt(1 - a^2)],
+  //         = 2 k r while r <= p (theta_0 = pi: the preload doubles the stiffness),
+  //   d|F|/dr = (2 k / pi) (theta_0 - a sqrt(1 - a^2)) (radial), |F| / r (tangential),
+  //   E = (k / pi) [r^2 (theta_0 - a s) + 4 r p s + 2 p^2 theta_0] - 2 k p^2, s = sqrt(1 - a^2)
+  //     (1/2 sum k_e (u . e + p)_+^2 less its value at u = 0), = k r^2 while r <= p.
+  // Continuous in r at r = p and, as p -> 0, the law without play, k r (the linear kind at c = 0).
+  BearingResponse out;
+  const double r = u.norm();
+  if (!(r > 0.0)) {
+    out.stiffness = 2.0 * k * Eigen::Matrix2d::Identity();
+    return out;
+  }
+  const Eigen::Vector2d n = u / r;
+  const Eigen::Matrix2d nn = n * n.transpose();
+  if (r <= p) {
+    out.force = -2.0 * k * u;
+    out.stiffness = 2.0 * k * Eigen::Matrix2d::Identity();
+    out.energy = k * r * r;
+    return out;
+  }
+  const double a = p / r, s = std::sqrt(std::max(0.0, 1.0 - a * a)), theta0 = std::acos(-a);
+  const double magnitude = (2.0 * k / units::kPi) * (r * theta0 + p * s);
+  const double radial = (2.0 * k / units::kPi) * (theta0 - a * s);
+  out.force = -magnitude * n;
+  out.stiffness = radial * nn + (magnitude / r) * (Eigen::Matrix2d::Identity() - nn);
+  out.energy = (k / units::kPi) * (r * r * (theta0 - a * s) + 4.0 * r * p * s + 2.0 * p * p * theta0) - 2.0 * k * p * p;
+  return out;
+}
+
 BearingResponse BearingAt(const BearingSettings& bearing, const Eigen::Vector2d& u, double phase) {
   return BearingAt(bearing, u, phase, true);
 }
@@ -95,6 +131,7 @@ BearingResponse BearingAt(const BearingSettings& bearing, const Eigen::Vector2d&
       throw std::invalid_argument("[bearing] kind = \"rigid\": a rigid bearing is a constraint, it has no force law");
     case BearingKind::kLinear: {
       const double radius = u.norm();
+      if (c < 0.0) return PreloadedLinearBearing(bearing.radial_stiffness, -c, u);
       if (radius <= c) return r;
       const Eigen::Vector2d n = u / radius;
       const double k = bearing.radial_stiffness, play = radius - c;

@@ -14,6 +14,7 @@
 #include <nlopt.hpp>
 
 #include "coupled_contact.hpp"
+#include "ltca/geometry/units.hpp"
 #include "reducer_system.hpp"
 
 namespace ltca::solvers {
@@ -84,8 +85,17 @@ void CompatibilitySolver::DoSolve(const LoadProblem& problem, const SolverOption
     SolveCoupled(problem, options, workspace, result);
     return;
   }
+  // A preloaded pair (result->preload set by LoadSolver::SolvePreloaded): the same potential, its
+  // sum over the pins of both flanks (a pressed pin of negative arm adds U_i, convex in psi as any),
+  // bracketed about the preload state instead of from a first contact (docs/solvers.md "Two flanks").
+  const std::optional<double> preload =
+      result->preload ? std::optional<double>(result->preload->rotation) : std::nullopt;
   if (problem.kinematics() == contact::ContactKinematics::kExact) {
-    SolveExact(problem, options, workspace, result);
+    SolveExact(problem, options, workspace, result, preload);
+    return;
+  }
+  if (preload) {
+    SolveLinearised(problem, options, workspace, result, *preload, true);
     return;
   }
   SolveLinearised(problem, options, workspace, result);
@@ -97,9 +107,16 @@ void CompatibilitySolver::SolveCoupled(const LoadProblem& problem, const SolverO
   // Linearised kinematics: delta_i(psi0 + psi) = delta_i(psi0) + L_i psi is exact, one solve.
   // Exact kinematics: re-linearise about each new psi; at psi_k the forces of the exact
   // approaches (the coupled complementarity problem at psi_k) decide whether the torque balances.
-  const std::optional<double> first_contact = FirstContactOrFail(problem, result);
-  if (!first_contact) return;
-  double psi = *first_contact;
+  // A preloaded pair: linearised about its preload state (result->preload), the pins of both flanks
+  // in the active-set Newton.
+  double psi = 0.0;
+  if (result->preload) {
+    psi = result->preload->rotation;
+  } else {
+    const std::optional<double> first_contact = FirstContactOrFail(problem, result);
+    if (!first_contact) return;
+    psi = *first_contact;
+  }
   CoupledContact& coupled = CoupledContactFor(problem, workspace);
   const ActiveSetCholmod::Stats before = coupled.stats();
   const double force_scale = CoupledForceScale(problem);
@@ -157,7 +174,7 @@ void CompatibilitySolver::SolveCoupled(const LoadProblem& problem, const SolverO
 }
 
 void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                                     LoadResult* result) const {
+                                     LoadResult* result, std::optional<double> preload) const {
   // Issue 4: the linearisation about the base state (psi = 0) is Jiang's problem; its solution psi_1
   // misses the exact balance by the kinematic nonlinearity only (second order in psi). From psi_1
   // the exact torque balance M(psi) = T is closed by Newton's method on M itself, where
@@ -184,7 +201,7 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
     ++linearisations;
     LoadResult step;
     step.force.assign(static_cast<std::size_t>(problem.point_count()), 0.0);
-    SolveLinearised(linear, inner, workspace, &step, guess);
+    SolveLinearised(linear, inner, workspace, &step, guess, preload.has_value());
     evaluations += step.torque_evaluations;
     // Where double precision cannot refine to a quarter of the tolerance (the polish bracket
     // collapses: cases/hard/inflection_pin.toml at crank 23.166345849916095 deg stopped 2.5e-11
@@ -199,7 +216,8 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
     }
     return step.rotation;
   };
-  const std::optional<double> first = relinearise(0.0, std::numeric_limits<double>::quiet_NaN());
+  // (preloaded: the bracket of the linearisation about the base state starts at the preload state)
+  const std::optional<double> first = relinearise(0.0, preload ? *preload : std::numeric_limits<double>::quiet_NaN());
   if (!first) return;
   double psi = *first;
   // Newton on M(psi) - T from psi_1. M = sum F_i(delta_i) L_i; its tangent with the geometry and
@@ -293,7 +311,8 @@ void CompatibilitySolver::SolveExact(const LoadProblem& problem, const SolverOpt
 }
 
 void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const SolverOptions& options,
-                                          Workspace& workspace, LoadResult* result, double guess_rotation) const {
+                                          Workspace& workspace, LoadResult* result, double guess_rotation,
+                                          bool two_flanks) const {
   nlopt::algorithm algorithm;
   try {
     algorithm = static_cast<nlopt::algorithm>(nlopt_algorithm_from_string(options.nlopt_algorithm.c_str()));
@@ -307,9 +326,31 @@ void CompatibilitySolver::SolveLinearised(const LoadProblem& problem, const Solv
   potential.problem = &problem;
   potential.workspace = &workspace;
   // Bracket: from the first contact in the load direction to a rotation whose torque exceeds T.
-  const std::optional<double> first_contact = FirstContactOrFail(problem, result);
-  if (!first_contact) return;
-  double lo = *first_contact;
+  // A preloaded pair has none: its lower end is a rotation whose torque falls short of T, found from
+  // guess_rotation (the preload state, M = 0 < T there) or, when the linearisation's own preload
+  // state lies below it, stepping down from there in doubling steps from Liu's 1/60 arcsec (M is
+  // non-decreasing in psi, the pins of either arm included: dM/dpsi = sum k_i L_i^2).
+  double lo = 0.0;
+  if (two_flanks) {
+    lo = std::isfinite(guess_rotation) ? guess_rotation : 0.0;
+    double g_lo = 0.0;
+    potential.Evaluate(lo, &g_lo);
+    double down = units::ArcsecToRad(1.0 / 60.0);
+    const double top = lo;
+    for (int i = 0; i < 200 && g_lo >= 0.0; ++i, down *= 2.0) {
+      lo = top - down;
+      potential.Evaluate(lo, &g_lo);
+    }
+    if (g_lo >= 0.0) {
+      result->status = SolverStatus::kNumericalFailure;
+      result->message = "two flanks: no rotation found whose output torque falls short of the load";
+      return;
+    }
+  } else {
+    const std::optional<double> first_contact = FirstContactOrFail(problem, result);
+    if (!first_contact) return;
+    lo = *first_contact;
+  }
   // Linear prediction of the rotation from the secant stiffness of every closing pin at its share
   // of the load (forward law evaluations only), then a bracket grown from it.
   double guess = 0.0;

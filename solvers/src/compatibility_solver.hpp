@@ -1,6 +1,7 @@
 #pragma once
 // No NLopt header here: the backend is private to compatibility_solver.cpp (linked PRIVATE).
 #include <limits>
+#include <optional>
 
 #include "ltca/solvers/load_solver.hpp"
 
@@ -25,6 +26,7 @@ class CompatibilitySolver final : public LoadSolver {
   std::string name() const override { return "compatibility"; }
   bool supports_coupling() const override { return true; }
   bool supports_reducer() const override { return true; }
+  bool supports_two_flanks() const override { return true; }
 
  private:
   /// The stage: Newton's method with an active set over the poses (the contacts that
@@ -34,10 +36,13 @@ class CompatibilitySolver final : public LoadSolver {
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                LoadResult* result) const override;
   /// guess_rotation: a rotation near the answer to start NLopt from (NaN: the linear prediction).
+  /// two_flanks: a preloaded pair, bracketed from guess_rotation (its preload state) instead of a
+  /// first contact (docs/solvers.md "Two flanks").
   void SolveLinearised(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace, LoadResult* result,
-                       double guess_rotation = std::numeric_limits<double>::quiet_NaN()) const;
+                       double guess_rotation = std::numeric_limits<double>::quiet_NaN(), bool two_flanks = false) const;
+  /// preload: a preloaded pair's preload rotation (LoadResult::preload), else none.
   void SolveExact(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                  LoadResult* result) const;
+                  LoadResult* result, std::optional<double> preload = std::nullopt) const;
   void SolveCoupled(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                     LoadResult* result) const;
 };

@@ -162,7 +162,17 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
   for (std::size_t i = 0; i < points.size(); ++i) points_of[static_cast<std::size_t>(tooth_of(points[i]))].push_back(i);
   const double min_arm = 1e-9 * problem.model().pair().pin_circle_radius;
   std::vector<contact::ContactLaw> scratch;
-  double psi = 0.0;
+  // A preloaded pair (result->preload set by LoadSolver::SolvePreloaded) is linearised about its
+  // preload state: under T > 0 the balance lies at a larger rotation (M is non-decreasing), so the
+  // opposing flank's pressed pins (arm < 0) only open, each a PressedPin in every group, and its
+  // open pins stay open; the closing flank's pressed pins close "before" the preload state, so the
+  // first of them is the first contact and every group holds them all (a pressed non-member is
+  // infeasible).
+  const bool two_flanks = result->preload.has_value();
+  double psi = two_flanks ? result->preload->rotation : 0.0;
+  // What the first pin alone may have to carry: T plus the opposing flank's push-back, at most its
+  // preload moment (its pins open as psi grows past the preload state).
+  const double carried = problem.torque() + (two_flanks ? result->preload->opposing_torque_nmm : 0.0);
   int groups_evaluated = 0;
   BackendDetails details;
   const int outer_limit = problem.kinematics() == contact::ContactKinematics::kExact ? 50 : 1;
@@ -205,7 +215,7 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
     // 2. Maximum deformation: the first pin alone carries the torque (Li Fig. 5).
     const auto* first_law = lin.law[static_cast<std::size_t>(first)];
     const double first_arm = lin.arm[static_cast<std::size_t>(first)];
-    double psi_max = first_psi + first_law->Approach(problem.torque() / first_arm) / first_arm;
+    double psi_max = first_psi + first_law->Approach(carried / first_arm) / first_arm;
     // Coupled, more loaded points can turn the cycloid further than one alone: the problem's
     // coupled bound (LoadProblem::LoadedRotationRange) widens the candidates.
     if (coupled != nullptr) psi_max = std::max(psi_max, problem.LoadedRotationRange().single_pin);

@@ -25,6 +25,8 @@ class EnergyGroupsSolver final : public LoadSolver {
   /// Coupled (pin bending): each group's coupled problem is solved by the
   /// compatibility backend's kernel (docs/solvers.md).
   bool supports_coupling() const override { return true; }
+  /// A preloaded pair: linearised about its preload state (docs/solvers.md "Two flanks").
+  bool supports_two_flanks() const override { return true; }
 
  private:
   void DoSolve(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,

@@ -347,9 +347,25 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
   // there, of the size of the deformations, instead of the whole clearance rotation (which
   // scales the problem by c / w, up to 1e9 at tiny torques). The optimum does not move:
   // psi0 sum L_i F_i = psi0 T is a constant.
-  const std::optional<double> first_contact = FirstContactOrFail(problem, result);
-  if (!first_contact) return;
-  double psi = *first_contact;
+  // A preloaded pair (LoadSolver::SolvePreloaded set result->preload, the zero-torque balance over
+  // both flanks) has no first contact: it is linearised about its preload state, where the pins of
+  // both flanks are pressed. The subproblem is the same convex one whatever the sign of an arm:
+  // min sum_i E^c_i(F_i) + c_i F_i subject to sum_i L_i F_i = T, F >= 0, whose stationarity
+  // w_i(F_i) = L_i dpsi - c_i (dpsi = -lambda) on loaded pins holds for L_i < 0 as for L_i > 0
+  // (docs/solvers.md "Two flanks").
+  const bool two_flanks = result->preload.has_value();
+  double psi = 0.0;
+  if (two_flanks) {
+    psi = result->preload->rotation;
+  } else {
+    const std::optional<double> first_contact = FirstContactOrFail(problem, result);
+    if (!first_contact) return;
+    psi = *first_contact;
+  }
+  // The torque the positive-arm pins can have to carry: T, plus (preloaded) what the opposing
+  // flank pushes back with, at most its preload moment (its pins open as psi grows past the preload
+  // state, linearised exactly, exact kinematics to first order).
+  const double carried = problem.torque() + (two_flanks ? result->preload->opposing_torque_nmm : 0.0);
   const int outer_limit = problem.kinematics() == contact::ContactKinematics::kExact ? 50 : 1;
   std::vector<contact::ContactLaw> scratch;
   int total_iterations = 0;
@@ -372,7 +388,7 @@ void EnergyQpSolver::DoSolve(const LoadProblem& problem, const SolverOptions& op
         can_close[i] = pins[i].law != nullptr && (pins[i].arm > min_arm || pins[i].approach > 1e-11);
       }
     } else {
-      for (const std::size_t i : CandidatePins(pins, problem.torque(), min_arm)) can_close[i] = true;
+      for (const std::size_t i : CandidatePins(pins, carried, min_arm)) can_close[i] = true;
     }
     for (std::size_t i = 0; i < pins.size(); ++i) {
       sub.pin.push_back(static_cast<int>(i));

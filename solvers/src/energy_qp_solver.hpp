@@ -22,6 +22,7 @@ class EnergyQpSolver final : public LoadSolver {
   std::string name() const override { return "energy-qp"; }
   bool supports_coupling() const override { return true; }
   bool supports_reducer() const override { return true; }
+  bool supports_two_flanks() const override { return true; }
 
  private:
   /// The stage: Li's minimum-energy principle extended to the stage, the total

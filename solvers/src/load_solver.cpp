@@ -227,6 +227,10 @@ Eigen::VectorXd LoadSolver::SolveReducerExact(const LoadProblem& problem, const 
   return origin;
 }
 
+/// Whether a stage's bearing or output pins are pressed at no load (a negative radial clearance, holes
+/// smaller than pin + 2 e): the stage is then preloaded whether its pins overlap the cycloid or not.
+bool StageElementsPreloaded(const LoadProblem& problem);
+
 void LoadSolver::SolveReducer(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
                             LoadResult* result) const {
   const LoadSolver& solver = *this;
@@ -237,15 +241,38 @@ void LoadSolver::SolveReducer(const LoadProblem& problem, const SolverOptions& o
   } else if (problem.overlapping()) {
     // Pins overlap the cycloid: the floating discs find their preload state at zero torque (the
     // stage's energy takes every element of either flank), the loaded balance starts from it.
-    SolveReducerPreloaded(problem, options, workspace, result);
+    SolveReducerPreloaded(problem, options, workspace, result, StageElementsPreloaded(problem));
+  } else if (StageElementsPreloaded(problem)) {
+    // A preloaded bearing (negative radial clearance) or output pins in holes smaller than pin + 2 e:
+    // the same preload state, pressed by those elements.
+    SolveReducerPreloaded(problem, options, workspace, result, true);
   } else {
     SolveReducerBody(problem, options, workspace, result);
   }
   FinishReducerResult(problem, result);
 }
 
+bool StageElementsPreloaded(const LoadProblem& problem) {
+  const ReducerSettings& s = *problem.reducer();
+  if (s.bearing.kind != contact::BearingKind::kRigid) {
+    for (int d = 0; d < problem.disc_count(); ++d) {
+      if (s.BearingOf(d).radial_clearance < 0.0) return true;
+    }
+  }
+  if (s.kind != OutputKind::kPins) return false;
+  // An output pin overlaps its hole at no load only where the hole's deviations can make up its
+  // clearance hole - pin - e: then the stage's own gaps decide (the holes as built).
+  double reach = 0.0;
+  for (int d = 0; d < problem.disc_count(); ++d) {
+    for (const Eigen::Vector2d& dev : s.Holes(d)) reach = std::max(reach, dev.norm());
+  }
+  const double tolerance = problem.model().interference_tolerance();
+  if (s.pins.hole_radius - s.pins.pin_radius - problem.model().pair().eccentricity - reach >= -tolerance) return false;
+  return ReducerSystem(problem).ElementsPreloaded(tolerance);
+}
+
 void LoadSolver::SolveReducerPreloaded(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                                       LoadResult* result) const {
+                                       LoadResult* result, bool elements) const {
   // The preload state: the stage under 1e-7 of its torque (as the free play of ltca stiffness),
   // where the stage's minimisation keeps a scale; its forces are the zero-torque preload's to 1e-7
   // of the torque's share. A torque of at most 1 N*mm, the judge's floor of a moment (e.g. a free
@@ -273,7 +300,11 @@ void LoadSolver::SolveReducerPreloaded(const LoadProblem& problem, const SolverO
   }
   preload.max_stress_mpa = worst_stress;
   const double limit = problem.material().contact_stress_limit;
-  const std::string overlaps = contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance());
+  std::string overlaps = contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance());
+  if (elements) {
+    overlaps += fmt::format("{}the stage's elements: a bearing with a negative radial clearance or output pins in holes "
+                            "smaller than pin + 2 e", overlaps.empty() ? "" : "; ");
+  }
   if (zero.status != SolverStatus::kSuccess) {
     // Beyond the laws (a pin past its largest force, a pressed tip corner): the disc cannot be
     // seated. Any other failure is the solve's, said as such.
@@ -281,7 +312,7 @@ void LoadSolver::SolveReducerPreloaded(const LoadProblem& problem, const SolverO
     *result = std::move(zero);
     result->preload.reset();  // no valid solve produced the preload's figures
     if (beyond) result->status = SolverStatus::kCannotAssemble;
-    result->message = fmt::format("{}pins overlap the cycloid ({}); the preload state (the stage at 1e-7 of its torque): {}",
+    result->message = fmt::format("{}the stage is preloaded ({}); the preload state (the stage at 1e-7 of its torque): {}",
                                   beyond ? "cannot assemble: " : "", overlaps, result->message);
     result->rotation = std::numeric_limits<double>::quiet_NaN();
     return;
@@ -305,7 +336,8 @@ void LoadSolver::SolveReducerPreloaded(const LoadProblem& problem, const SolverO
   }
   // A preload presses both flanks: a floating disc that seats itself (translating) off every
   // overlap rests on one flank under the vanishing torque and carries no preload.
-  if (preload.opposing_torque_nmm > 0.0) result->preload = preload;
+  // A preloaded bearing or output pin is pressed whatever the disc does.
+  if (preload.opposing_torque_nmm > 0.0 || elements) result->preload = preload;
 }
 
 void LoadSolver::SolveReducerBody(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
@@ -427,7 +459,7 @@ void LoadSolver::SolvePreloaded(const LoadProblem& problem, const SolverOptions&
   } else if (!supports_two_flanks()) {
     result->status = SolverStatus::kPreloadUnsupported;
     result->message = fmt::format("solver \"{}\" searches one flank from first contact; this pair is preloaded (pins "
-                                  "overlap on both flanks: {}), solved by: bisection (docs/solvers.md, \"Two flanks\")",
+                                  "overlap on both flanks: {}), solved by the registered backends, e.g. bisection (docs/solvers.md, \"Two flanks\")",
                                   name(), contact::InterferenceReport(problem.base_state(), problem.model().interference_tolerance()));
   } else {
     DoSolve(problem, options, workspace, result);

@@ -54,6 +54,16 @@ Eigen::VectorXd ReducerSystem::Coordinates(const Eigen::VectorXd& q) const {
   return c;
 }
 
+bool ReducerSystem::ElementsPreloaded(double tolerance) const {
+  for (const Scalar& e : scalars_) {
+    if (e.group == StageGroup::kOutput && e.gap < -tolerance) return true;
+  }
+  for (const Planar& p : planars_) {
+    if (!p.shaft && Bearing(p).kind != contact::BearingKind::kRigid && Bearing(p).radial_clearance < 0.0) return true;
+  }
+  return false;
+}
+
 contact::ContactLaw ReducerSystem::OutputPinLaw(const LoadProblem& problem) {
   // An elastic disc body condensed at its holes: the hole's term is the local field beyond the
   // body's patch, as the flank's (the same w0: contact::DiscFlankCompliance::cycloid_log_radius_mm).
@@ -384,20 +394,29 @@ void ReducerSystem::Evaluate(const Eigen::VectorXd& q, bool with_hessian, std::v
   }
   for (const Planar& p : planars_) {
     const Eigen::Vector2d u = Displacement(p, q);
-    const contact::BearingResponse r = contact::BearingAt(Bearing(p), u, p.phase, false);
+    // A preloaded roller bearing (radial_clearance < 0): its force and energy are sums of roller
+    // loads of K_n p^(10/9) each even where the net force vanishes; their sum is the size the
+    // rounding scales with (docs/stage.md "Preload"). Without a preload the net force, as before.
+    const bool preloaded_rollers = Bearing(p).kind == contact::BearingKind::kRollers && Bearing(p).radial_clearance < 0.0;
+    const contact::BearingResponse r = contact::BearingAt(Bearing(p), u, p.phase, preloaded_rollers);
+    double carried = r.force.lpNorm<1>();
+    if (preloaded_rollers) {
+      carried = 0.0;
+      for (const double load : r.roller_load) carried += load;
+    }
     out->energy += r.energy;
-    double reach = p.offset.lpNorm<1>() + Bearing(p).radial_clearance;
+    double reach = p.offset.lpNorm<1>() + std::abs(Bearing(p).radial_clearance);
     for (const Row& row : p.row) {
       for (int a = 0; a < row.n; ++a) reach += std::abs(row.value[static_cast<std::size_t>(a)] * q(row.index[static_cast<std::size_t>(a)]));
     }
-    out->energy_rounding += kEps * r.force.lpNorm<1>() * reach;
+    out->energy_rounding += kEps * carried * reach;
     const Eigen::Vector2d du = -r.force;  // dE/du
     for (int a = 0; a < 2; ++a) {
       const Row& ra = p.row[static_cast<std::size_t>(a)];
       for (int i = 0; i < ra.n; ++i) {
         const auto ii = static_cast<std::size_t>(i);
         out->gradient(ra.index[ii]) += du(a) * ra.value[ii];
-        magnitude(ra.index[ii]) += std::abs(du(a) * ra.value[ii]);
+        magnitude(ra.index[ii]) += preloaded_rollers ? carried * std::abs(ra.value[ii]) : std::abs(du(a) * ra.value[ii]);
         if (!with_hessian) continue;
         for (int b = 0; b < 2; ++b) {
           const Row& rb = p.row[static_cast<std::size_t>(b)];
@@ -837,6 +856,13 @@ void ReducerSystem::Judge(LoadResult* result) const {
       du = f;
     }
     f_max = std::max(f_max, du.norm());
+    // A preloaded roller bearing (radial_clearance < 0): its net force is a difference of roller
+    // loads of K_n p^(10/9) each even at no load, the size of what its balance is a difference of
+    // (the net force alone, ~0 at zero torque, made rounding a residual of 1.9e-5).
+    if (Bearing(p).kind == contact::BearingKind::kRollers && Bearing(p).radial_clearance < 0.0) {
+      const contact::BearingResponse rollers = contact::BearingAt(Bearing(p), DisplacementAt(p, c), p.phase, true);
+      for (const double q : rollers.roller_load) f_max = std::max(f_max, q);
+    }
     for (int a = 0; a < 2; ++a) {
       const Row& row = p.coordinates[static_cast<std::size_t>(a)];
       for (int k = 0; k < row.n; ++k) add(row.index[static_cast<std::size_t>(k)], du(a) * row.value[static_cast<std::size_t>(k)]);

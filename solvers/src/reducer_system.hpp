@@ -111,6 +111,11 @@ class ReducerSystem {
   /// force against its law at its displacement. Sets result->residuals and the stage's balances.
   void Judge(LoadResult* result) const;
 
+  /// Whether an element besides the pin ring is pressed at the nominal poses: an output pin whose
+  /// hole is smaller than pin + 2 e (its gap below -tolerance, mm), or a bearing (the stage's or the
+  /// second disc's) with a negative radial clearance. A preloaded stage (docs/stage.md "Preload").
+  bool ElementsPreloaded(double tolerance) const;
+
   /// Start of a solve: zero, or the dofs of an earlier solution of the same layout.
   Eigen::VectorXd Zero() const { return Eigen::VectorXd::Zero(dofs_); }
 

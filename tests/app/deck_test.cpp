@@ -828,7 +828,10 @@ radial_clearance_mm = 0.005
                  "[output] shaft_stiffness_n_per_mm: not a key of kind = \"pins\""));
   CHECK(Contains(ErrorOf(Replace(pins, "kind = \"rollers\"", "kind = \"linear\"\nradial_stiffness_n_per_mm = 1e5")),
                  "[bearing] roller_count: not a key of kind = \"linear\""));
-  CHECK(Contains(ErrorOf(Replace(pins, "hole_radius_mm = 6.32", "hole_radius_mm = 6.2")), "[output] hole_radius_mm = 6.2"));
+  // A hole below pin + e is an output-pin preload (issue 52), within the stage's small-displacement
+  // limit either way (5 % of pin_radius_mm = 3: 0.15 mm); beyond it, refused naming the key.
+  CHECK(ErrorOf(Replace(pins, "hole_radius_mm = 6.32", "hole_radius_mm = 6.2")) == "");
+  CHECK(Contains(ErrorOf(Replace(pins, "hole_radius_mm = 6.32", "hole_radius_mm = 6.1")), "[output] hole_radius_mm = 6.1"));
   CHECK(Contains(ErrorOf(Replace(pins, "kind = \"pins\"", "kind = \"gears\"")), "[output] kind = \"gears\""));
   // [friction] with [output]: read; the stage's friction is ltca efficiency's (docs/efficiency.md).
   CHECK(ParseDeck(pins + "[friction]\ncoefficient = 0.05\n", "t.toml").friction.has_value());

@@ -567,3 +567,34 @@ TEST_CASE("app: a Pareto step keeps the best of its search, the one its whole hi
   expected.phase = "pareto";
   CheckSame(front[1].design, expected);
 }
+
+TEST_CASE("app: a stage clearance whose bounds span a preload (a negative bearing play) is evaluated as a preloaded design, not refused (issue 52)") {
+  // cases/stage/cycloidal_drive.toml, 3 positions: the eccentric roller bearing's play over
+  // [-4, 4] um. A negative play is a preloaded bearing (docs/stage.md "Preload"): every evaluation
+  // of the search is judged like any design (none rejected), and the figures of a preloaded design
+  // are those `ltca solve` gives for the deck with that play (the CLI's own pathway, 1e-9).
+  const std::string deck_path = Case("stage/cycloidal_drive.toml");
+  const std::vector<std::string> sweep = {"sweep.positions=3", "sweep.crank_end_deg=20.0"};
+  std::vector<std::string> sets = sweep;
+  sets.insert(sets.end(), {"optimise.variables={ \"bearing.radial_clearance_mm\" = [-0.004, 0.004] }", "optimise.objective=\"pp_te_arcsec\"",
+                           "optimise.global=\"none\"", "optimise.evaluations=8"});
+  const ltca::app::Deck deck = ltca::app::LoadDeck(deck_path, sets);
+  const Optimiser o = Make(deck);
+  std::vector<DesignEvaluation> history;
+  const auto result = o.Run([&](const DesignEvaluation& e) { history.push_back(e); });
+  REQUIRE(result.best >= 0);
+  for (const DesignEvaluation& e : history) {
+    CAPTURE(e.x[0]);
+    INFO(e.message);
+    CHECK(e.status != RunStatus::kRejected);
+  }
+  const DesignEvaluation preloaded = o.Evaluate({-0.002});
+  INFO(preloaded.message);
+  REQUIRE(preloaded.status == RunStatus::kSuccess);
+  std::vector<std::string> args = {"solve", deck_path, "--json", "-", "--set", "bearing.radial_clearance_mm=-0.002"};
+  for (const std::string& v : sweep) args.push_back("--set"), args.push_back(v);
+  const auto r = RunCli(args);
+  REQUIRE(r.code == 0);
+  CHECK(nlohmann::json::parse(r.out).at("summary").at("pp_te_arcsec").get<double>() ==
+        doctest::Approx(preloaded.figures[ltca::analysis::kPpTeArcsec]).epsilon(1e-9));
+}

@@ -168,7 +168,9 @@ TEST_CASE("app: [second_disc] gives the second disc its own holes and bearing pl
   // Refusals name the second disc's key.
   CHECK(Contains(ErrorOf(with("hole_radial_deviations_mm = [0.004, 0.0]\n")),
                  "[second_disc] hole_radial_deviations_mm: 2 values; expected one per hole ([output] count = 3)"));
-  CHECK(Contains(ErrorOf(with("bearing_radial_clearance_mm = -0.001\n")), "[second_disc] bearing_radial_clearance_mm = -0.001"));
+  // A negative play is a preloaded bearing (issue 52); a non-finite one is refused naming the key.
+  CHECK(ltca::app::ParseDeck(with("bearing_radial_clearance_mm = -0.001\n"), "t.toml").reducer->BearingOf(1).radial_clearance == -0.001);
+  CHECK(Contains(ErrorOf(with("bearing_radial_clearance_mm = nan\n")), "[second_disc] bearing_radial_clearance_mm = nan"));
   CHECK(Contains(ErrorOf(ltca::test::ReadText(ltca::test::Case("liu2021_sec52_base.toml")) +
                          "\n[second_disc]\nbearing_radial_clearance_mm = 0.002\n"),
                  "expected an [output] section"));

@@ -148,8 +148,10 @@ TEST_CASE("contact: [bearing] settings are refused with the key, the value and w
   CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("[bearing] roller_count = 201: expected 3 to 200 rollers"),
                        std::invalid_argument);
   b.roller_count = 14;
-  b = Rollers(-0.001);
-  CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("[bearing] radial_clearance_mm = -0.001"), std::invalid_argument);
+  b = Rollers(-0.001);  // a preload (issue 52)
+  CHECK_NOTHROW(b.Validate());
+  b = Rollers(std::numeric_limits<double>::infinity());
+  CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("[bearing] radial_clearance_mm = inf"), std::invalid_argument);
   b = Rollers(0.0);
   b.kind = BearingKind::kLinear;
   CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("radial_stiffness_n_per_mm = 0"), std::invalid_argument);
@@ -286,4 +288,73 @@ TEST_CASE("contact: [bearing] pitch_diameter_mm and static_load_rating_n are ref
   CHECK_NOTHROW(b.Validate());
   b.static_load_rating = -1.0;
   CHECK_THROWS_WITH_AS(b.Validate(), doctest::Contains("[bearing] static_load_rating_n = -1"), std::invalid_argument);
+}
+
+TEST_CASE("contact: a preloaded bearing, rollers and linear, against a ring of discrete elements pressed by the preload") {
+  // Issue 52: radial_clearance_mm < 0. Independent reference: the elements summed one by one.
+  // Rollers: Z = 14, each pressed by p = 2 um at no load, Q_j = K_n (u . e_j + p)^(10/9) (the roller
+  // law of the first test case, K_n at l = 10 mm); at u = 0 every roller carries K_n p^(10/9) and the
+  // forces cancel (to rounding: 1e-9 of one roller's load).
+  const double p = 0.002, kn = 288874.8650;
+  const BearingSettings rollers = Rollers(-p);
+  const auto at_rest = BearingAt(rollers, {0.0, 0.0});
+  REQUIRE(at_rest.roller_load.size() == 14);
+  for (const double q : at_rest.roller_load) CHECK(q == doctest::Approx(kn * std::pow(p, 10.0 / 9.0)).epsilon(1e-9));
+  CHECK(at_rest.force.norm() <= 1e-9 * kn * std::pow(p, 10.0 / 9.0));
+  for (const Eigen::Vector2d& u : {Eigen::Vector2d(0.0015, 0.0004), Eigen::Vector2d(-0.004, 0.003)}) {
+    Eigen::Vector2d want = Eigen::Vector2d::Zero();
+    for (int j = 0; j < 14; ++j) {
+      const double t = 2.0 * std::acos(-1.0) * j / 14;
+      const Eigen::Vector2d e(std::cos(t), std::sin(t));
+      want -= kn * std::pow(std::max(0.0, u.dot(e) + p), 10.0 / 9.0) * e;
+    }
+    CHECK((BearingAt(rollers, u).force - want).norm() <= 1e-9 * want.norm());
+  }
+  // Linear, k = 5e4 N/mm: the ring of Z = 200000 linear elements of k_e = 4 k / Z, each pressed by p
+  // (the unpreloaded ring's radial stiffness is k_e Z / 4 = k). Force, energy (less its value at
+  // u = 0) and the tangent stiffness (central differences of the summed force, step 1e-7 mm)
+  // within 1e-6 relative (the sum's discretisation, 1 / Z^2 in the force).
+  BearingSettings linear;
+  linear.kind = BearingKind::kLinear;
+  linear.radial_stiffness = 5e4;
+  linear.radial_clearance = -p;
+  CHECK_NOTHROW(linear.Validate());
+  const int z = 200000;
+  const double ke = 4.0 * linear.radial_stiffness / z;
+  const auto ring = [&](const Eigen::Vector2d& u, double* energy) {
+    Eigen::Vector2d f = Eigen::Vector2d::Zero();
+    double e0 = 0.0, e1 = 0.0;
+    for (int j = 0; j < z; ++j) {
+      const double t = 2.0 * std::acos(-1.0) * (j + 0.5) / z;
+      const Eigen::Vector2d e(std::cos(t), std::sin(t));
+      const double d = std::max(0.0, u.dot(e) + p);
+      f -= ke * d * e;
+      e1 += 0.5 * ke * d * d;
+      e0 += 0.5 * ke * p * p;
+    }
+    if (energy != nullptr) *energy = e1 - e0;
+    return f;
+  };
+  for (const Eigen::Vector2d& u : {Eigen::Vector2d(0.0012, -0.0005), Eigen::Vector2d(0.003, 0.0021), Eigen::Vector2d(-0.009, 0.0)}) {
+    CAPTURE(u.x());
+    double energy = 0.0;
+    const Eigen::Vector2d want = ring(u, &energy);
+    const auto r = BearingAt(linear, u);
+    CHECK((r.force - want).norm() <= 1e-6 * want.norm());
+    CHECK(r.energy == doctest::Approx(energy).epsilon(1e-6));
+    const double h = 1e-7;
+    for (int a = 0; a < 2; ++a) {
+      Eigen::Vector2d du = Eigen::Vector2d::Zero();
+      du(a) = h;
+      const Eigen::Vector2d column = -(ring(u + du, nullptr) - ring(u - du, nullptr)) / (2.0 * h);
+      CHECK((r.stiffness.col(a) - column).norm() <= 1e-5 * r.stiffness.norm());
+    }
+  }
+  // While |u| <= p every element works: twice the stiffness without play; as p -> 0 the law without play.
+  CHECK((BearingAt(linear, {0.001, 0.0}).force - Eigen::Vector2d(-2.0 * 5e4 * 0.001, 0.0)).norm() <= 1e-9);
+  BearingSettings tiny = linear;
+  tiny.radial_clearance = -1e-12;
+  BearingSettings none = linear;
+  none.radial_clearance = 0.0;
+  CHECK((BearingAt(tiny, {0.003, 0.001}).force - BearingAt(none, {0.003, 0.001}).force).norm() <= 1e-6);
 }

@@ -1199,8 +1199,9 @@ void ReadSecondDiscElements(const toml::value& section, Deck* deck) {
       throw std::invalid_argument("[second_disc] bearing_radial_clearance_mm: a rigid [bearing] has no play; expected a linear or "
                                   "rollers bearing");
     }
-    if (!std::isfinite(c) || c < 0.0) {
-      throw std::invalid_argument(fmt::format("[second_disc] bearing_radial_clearance_mm = {}: expected a radial play >= 0 in mm", c));
+    if (!std::isfinite(c)) {
+      throw std::invalid_argument(fmt::format("[second_disc] bearing_radial_clearance_mm = {}: expected a finite radial play in mm "
+                                              "(negative: a preload)", c));
     }
     analysis::RequireSmallDeviation(c, "second_disc", "bearing_radial_clearance_mm", deck->pair);
     s.second_disc_bearing_clearance = c;
@@ -1310,18 +1311,19 @@ solvers::ReducerSettings ReadReducer(const Section& output, const Section& beari
   // more than a small fraction of the pin radius is beyond the model (1 mm of play moved the disc
   // 1.04 mm, and the linearised and exact forces differed by 80 %).
   const double play_limit = DeckLimits::kMaxDeviationFraction * pair.pin_radius;
-  if (b.radial_clearance > play_limit) {
+  if (std::abs(b.radial_clearance) > play_limit) {
     throw std::invalid_argument(fmt::format(
-        "[bearing] radial_clearance_mm = {}: expected a radial play of at most {:.6g} mm ({:g} % of [pair] pin_radius_mm = {}): the "
-        "stage's model holds for small displacements of the disc (docs/decks.md, Limits)",
+        "[bearing] radial_clearance_mm = {}: expected a radial play (negative: a preload) of at most {:.6g} mm either way ({:g} % "
+        "of [pair] pin_radius_mm = {}): the stage's model holds for small displacements of the disc (docs/decks.md, Limits)",
         b.radial_clearance, play_limit, 100.0 * DeckLimits::kMaxDeviationFraction, pair.pin_radius));
   }
   if (pins) {
     const double clearance = s.pins.hole_radius - s.pins.pin_radius - pair.eccentricity;
-    if (clearance > play_limit) {
+    if (std::abs(clearance) > play_limit) {
       throw std::invalid_argument(fmt::format(
           "[output] hole_radius_mm = {}: its clearance hole_radius_mm - pin_radius_mm - eccentricity_mm = {:.6g} mm; expected "
-          "at most {:.6g} mm ({:g} % of [pair] pin_radius_mm): the stage's model holds for small displacements of the disc "
+          "at most {:.6g} mm either way (negative: a preload; {:g} % of [pair] pin_radius_mm): the stage's model holds for "
+          "small displacements of the disc "
           "(docs/decks.md, Limits)",
           s.pins.hole_radius, clearance, play_limit, 100.0 * DeckLimits::kMaxDeviationFraction));
     }

@@ -42,7 +42,9 @@ struct BearingSettings {
   static constexpr int kMaxRollers = 200;  ///< a full-complement needle bearing has a few dozen
   BearingKind kind = BearingKind::kRigid;
   double radial_stiffness = 0.0;     ///< N/mm, linear (deck: radial_stiffness_n_per_mm)
-  double radial_clearance = 0.0;     ///< mm, the radial play, >= 0 (deck: radial_clearance_mm)
+  /// mm, the radial play (deck: radial_clearance_mm); negative: a preload, every element pressed by
+  /// -c at no load (rollers: K_n (u . e - c)^(10/9) as with play; linear: PreloadedLinearBearing)
+  double radial_clearance = 0.0;
   int roller_count = 0;              ///< rollers (deck: roller_count)
   double roller_diameter = 0.0;      ///< mm (deck: roller_diameter_mm)
   double roller_length = 0.0;        ///< mm, effective length l (deck: roller_length_mm)
@@ -61,7 +63,7 @@ struct BearingSettings {
   /// D_pw < 100 mm: 0.6 to 0.5; the lower bound.
   static constexpr double kDefaultContaminationFactor = 0.5;
   /// Throws std::invalid_argument naming the `[bearing]` key, its value and what is expected:
-  /// clearance finite and >= 0; linear: stiffness finite and > 0; rollers: 3 to kMaxRollers rollers,
+  /// clearance finite (negative: a preload); linear: stiffness finite and > 0; rollers: 3 to kMaxRollers rollers,
   /// diameter and length finite and > 0; the ratings finite and >= 0; a pitch diameter 0 or one
   /// on which the rollers fit (d_m sin(pi / Z) >= D_w, so D_w < d_m).
   void Validate() const;
@@ -84,6 +86,11 @@ struct BearingResponse {
   double energy = 0.0;
   std::vector<double> roller_load;
 };
+/// The linear kind preloaded by p > 0 (radial_clearance = -p): the limit of a ring of many equal
+/// linear elements pressed by p at no load whose radial stiffness without play is k; 2 k u while
+/// |u| <= p (every element works), then softening to k per unit of further travel (derivation in
+/// bearing.cpp and docs/stage.md "Preload").
+BearingResponse PreloadedLinearBearing(double k, double p, const Eigen::Vector2d& u);
 /// Not for kRigid (throws std::invalid_argument: a rigid bearing is a constraint, not a force).
 BearingResponse BearingAt(const BearingSettings& bearing, const Eigen::Vector2d& displacement, double phase = 0.0);
 /// The same; without roller_loads, BearingResponse::roller_load stays empty (no allocation: the

@@ -162,8 +162,9 @@ class LoadSolver {
                       LoadResult* result) const;
   /// A stage whose pins overlap: its zero-torque balance first (the preload state, the assembly's
   /// limits: kCannotAssemble), then the loaded one.
+  /// elements: a bearing or output pins are pressed at no load too (StageElementsPreloaded).
   void SolveReducerPreloaded(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
-                             LoadResult* result) const;
+                             LoadResult* result, bool elements = false) const;
   /// The stage's solve and judge at the problem's torque; at zero torque the nominal poses without
   /// forces unless solve_zero (a preloaded stage's zero-torque balance is solved).
   void SolveReducerBody(const LoadProblem& problem, const SolverOptions& options, Workspace& workspace,
