@@ -937,7 +937,12 @@ TEST_CASE("app: [disc] reads the elastic body and refuses what it cannot model, 
   refused({elastic, "disc.bore_radius_mm=22", "disc.patch_half_width_mm=5"}, "[disc] patch_half_width_mm = 5");
   refused({elastic, "disc.bore_radius_mm=22", "contact.law=\"sagitta\""}, "law = \"sagitta\"");
   refused({elastic, "disc.bore_radius_mm=22", "disc.body=\"soft\""}, "[disc] body");
-  refused({elastic, "disc.bore_radius_mm=22", "output.kind=\"pins\"", "output.count=8", "output.circle_radius_mm=40",
-           "output.pin_radius_mm=5", "output.hole_radius_mm=6.32"},
-          "with [output]");
+  // With output pins the bore (the eccentric bearing's) must lie inside the holes: 40 - 6.32 - 3 mm.
+  const std::vector<std::string> pins{"output.kind=\"pins\"", "output.count=8", "output.circle_radius_mm=40",
+                                      "output.pin_radius_mm=5", "output.hole_radius_mm=6.32"};
+  std::vector<std::string> inside{elastic, "disc.bore_radius_mm=22"}, outside{elastic, "disc.bore_radius_mm=31"};
+  inside.insert(inside.end(), pins.begin(), pins.end());
+  outside.insert(outside.end(), pins.begin(), pins.end());
+  CHECK(ltca::app::LoadDeck(deck, inside).disc.elastic());
+  refused(outside, "[disc] bore_radius_mm = 31: expected a bore below 30.68 mm with [output] kind = \"pins\"");
 }

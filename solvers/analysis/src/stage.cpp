@@ -105,11 +105,6 @@ void StageDesign::Validate() const {
            "(docs/fe_disc.md \"What is left\"); expected body = \"rigid\", or [output] kind = \"pins\"");
   }
   if (reducer) {
-    refuse("with [output]: the body's coupling of the output-pin holes with the ring pins is built (docs/fe_disc.md "
-           "\"The stage\") but its end-to-end stage solve is not verified yet; expected body = \"rigid\" or the mesh "
-           "alone");
-  }
-  if (reducer) {
     // The body is clamped at its bore (the eccentric bearing's outer ring): the bore must lie inside
     // the output-pin holes with a web of an element size at least.
     const contact::OutputPins& w = reducer->pins;
