@@ -139,6 +139,31 @@ struct Linearisation {
   }
 };
 
+// The search's verdict at its last accepted trial (torque `torque` of `target`): balanced, edge
+// contact (a tip corner stopped it), or out of iterations or of resolution. Both searches end here.
+void Conclude(bool balanced, bool edge_blocked, double torque, double target, int evaluations, const SolverOptions& options,
+              LoadResult* result) {
+  const double miss = std::abs(torque - target) / target;
+  if (balanced) {
+    result->status = SolverStatus::kSuccess;
+    result->message = fmt::format("torque balanced to {:.3g} after {} evaluations{}", miss, evaluations,
+                                  miss > options.torque_tolerance ? " (limited by the resolution of the rotation in double precision)" : "");
+  } else if (edge_blocked) {
+    result->status = SolverStatus::kEdgeContact;
+    result->message = fmt::format("the load cannot be reached before a tip corner is pressed (edge contact; line-contact "
+                                  "laws do not apply): torque off by {:.3g}", miss);
+  } else {
+    result->status = SolverStatus::kMaxIterations;
+    result->message = evaluations >= options.max_iterations
+                          ? fmt::format("iteration limit reached (max_iterations = {}) before the torque balanced: the output "
+                                        "torque at the stop is off by {:.3g} relative, torque_tolerance {:.3g}",
+                                        options.max_iterations, miss, options.torque_tolerance)
+                          : fmt::format("the rotation step fell below the resolution of double precision after {} evaluations "
+                                        "before the torque balanced: off by {:.3g} relative, torque_tolerance {:.3g}",
+                                        evaluations, miss, options.torque_tolerance);
+  }
+}
+
 // Coupled: Liu's search on the rotation with each trial's torque from the coupled complementarity
 // problem at that rotation (EvaluateCoupled). A trial costs a coupled solve (the elastic disc
 // body: every contact of a slice coupled to every other), so the step doubling and halving of the
@@ -238,26 +263,8 @@ void SolveCoupledSearch(const LoadProblem& problem, double first_contact, const 
   result->torque_evaluations = evaluations;
   result->iterations = evaluations;
   result->native_code = 0;
-  if (problem.Balanced(psi, at.torque, options.torque_tolerance, workspace)) {
-    result->status = SolverStatus::kSuccess;
-    const double miss = std::abs(at.torque - target) / target;
-    result->message = fmt::format("torque balanced to {:.3g} after {} evaluations{}", miss, evaluations,
-                                  miss > options.torque_tolerance ? " (limited by the resolution of the rotation in double precision)" : "");
-  } else if (edge_blocked) {
-    result->status = SolverStatus::kEdgeContact;
-    result->message = fmt::format("the load cannot be reached before a tip corner is pressed (edge contact; line-contact "
-                                  "laws do not apply): torque off by {:.3g}", std::abs(at.torque - target) / target);
-  } else {
-    result->status = SolverStatus::kMaxIterations;
-    const double miss = std::abs(at.torque - target) / target;
-    result->message = evaluations >= options.max_iterations
-                          ? fmt::format("iteration limit reached (max_iterations = {}) before the torque balanced: the output "
-                                        "torque at the stop is off by {:.3g} relative, torque_tolerance {:.3g}",
-                                        options.max_iterations, miss, options.torque_tolerance)
-                          : fmt::format("the rotation step fell below the resolution of double precision after {} evaluations "
-                                        "before the torque balanced: off by {:.3g} relative, torque_tolerance {:.3g}",
-                                        evaluations, miss, options.torque_tolerance);
-  }
+  Conclude(problem.Balanced(psi, at.torque, options.torque_tolerance, workspace), edge_blocked, at.torque, target, evaluations,
+           options, result);
 }
 
 }  // namespace
@@ -414,26 +421,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   result->torque_evaluations = evaluations;
   result->iterations = evaluations;
   result->native_code = 0;
-  if (converged(psi, at.torque)) {
-    result->status = SolverStatus::kSuccess;
-    const double miss = std::abs(at.torque - target) / target;
-    result->message = fmt::format("torque balanced to {:.3g} after {} evaluations{}", miss, evaluations,
-                                  miss > options.torque_tolerance ? " (limited by the resolution of the rotation in double precision)" : "");
-  } else if (edge_blocked) {
-    result->status = SolverStatus::kEdgeContact;
-    result->message = fmt::format("the load cannot be reached before a tip corner is pressed (edge contact; line-contact "
-                                  "laws do not apply): torque off by {:.3g}", std::abs(at.torque - target) / target);
-  } else {
-    result->status = SolverStatus::kMaxIterations;
-    const double miss = std::abs(at.torque - target) / target;
-    result->message = evaluations >= options.max_iterations
-                          ? fmt::format("iteration limit reached (max_iterations = {}) before the torque balanced: the output "
-                                        "torque at the stop is off by {:.3g} relative, torque_tolerance {:.3g}",
-                                        options.max_iterations, miss, options.torque_tolerance)
-                          : fmt::format("the rotation step fell below the resolution of double precision after {} evaluations "
-                                        "before the torque balanced: off by {:.3g} relative, torque_tolerance {:.3g}",
-                                        evaluations, miss, options.torque_tolerance);
-  }
+  Conclude(converged(psi, at.torque), edge_blocked, at.torque, target, evaluations, options, result);
 }
 
 void BisectionSolver::DoSolveReducer(const LoadProblem& problem, const ReducerSystem& system, const SolverOptions& options,
