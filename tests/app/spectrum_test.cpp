@@ -191,6 +191,12 @@ TEST_CASE("app: ltca report of a deck with a load spectrum has its section and d
   text << html.rdbuf();
   CHECK(text.str().find("<h2 id=\"spectrum\">Load spectrum</h2>") != std::string::npos);
   CHECK(text.str().find("spectrum: shortest pitting life (h)") != std::string::npos);
+  // The worst bin's static figures: one row a figure, its value beside the bin that sets it.
+  const std::string row = "<tr data-key=\"worst bin.max_contact_stress_mpa\">";
+  const std::size_t at = text.str().find(row);
+  REQUIRE(at != std::string::npos);
+  const std::string line = text.str().substr(at, text.str().find('\n', at) - at);
+  CHECK(line.find(fmt::format("<td>{}</td></tr>", solved.at("max_contact_stress_bin").get<int>())) != std::string::npos);
   std::filesystem::remove_all(folder);
 }
 

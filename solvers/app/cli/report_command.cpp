@@ -919,14 +919,19 @@ std::string SpectrumHtml(const ReportContext& ctx) {
                            "<th>shortest a_ISO load-zone life (h)</th></tr>\n{}</table>\n",
                            mrows);
   }
-  // The static figures: the worst bin's, with the bin that sets each; then every verdict.
-  nlohmann::json worst = {{"max_contact_stress_mpa", j.at("max_contact_stress_mpa")}, {"max_contact_stress_bin", j.at("max_contact_stress_bin")}};
+  // The static figures: the worst bin's, each beside the bin that sets it (one row a figure, in
+  // the order the text output gives them); then every verdict.
+  std::vector<std::pair<std::string, std::string>> figures = {{"max_contact_stress_mpa", "max_contact_stress_bin"}};
   if (ctx.deck.reducer) {
-    worst["smallest_static_safety"] = j.at("smallest_static_safety");
-    worst["smallest_static_safety_bin"] = j.at("smallest_static_safety_bin");
-    worst["largest_roller_contact_stress_mpa"] = j.at("largest_roller_contact_stress_mpa");
-    worst["largest_roller_contact_stress_bin"] = j.at("largest_roller_contact_stress_bin");
+    figures.push_back({"smallest_static_safety", "smallest_static_safety_bin"});
+    figures.push_back({"largest_roller_contact_stress_mpa", "largest_roller_contact_stress_bin"});
   }
+  std::string worst = "<table>\n<tr><th>figure</th><th>worst bin's value</th><th>bin</th></tr>\n";
+  for (const auto& [value, bin] : figures) {
+    worst += fmt::format("<tr data-key=\"worst bin.{}\"><th>{}</th><td>{}</td><td>{}</td></tr>\n", Html(value), Html(Label(value)),
+                         Cell(j.at(value)), Cell(j.at(bin)));
+  }
+  worst += "</table>\n";
   if (!j.at("pitting_safety").empty()) {
     lives["smallest_pitting_safety"] = j.at("smallest_pitting_safety");
     lives["required_pitting_life_hours"] = j.at("required_pitting_life_hours");
@@ -945,7 +950,7 @@ std::string SpectrumHtml(const ReportContext& ctx) {
                      "<tr><th>figure</th><th>value</th><th>allowable</th><th>margin</th><th>verdict</th>"
                      "<th>Monte Carlo pass fraction</th><th>from</th></tr>\n{}</table>\n",
                      Html(j.at("rule").get<std::string>()), rows, modified, Table({{"spectrum", lives}}),
-                     Html(j.at("static_rule").get<std::string>()), Table({{"worst bin", worst}}), verdicts);
+                     Html(j.at("static_rule").get<std::string>()), worst, verdicts);
 }
 
 /// The sections of the page, in order: each is always there, with its analysis or a note why it did

@@ -683,10 +683,12 @@ std::string ContactFatigueText(const Deck& deck, const analysis::ContactFatigue&
   std::string text;
   for (std::size_t d = 0; d < f.discs.size(); ++d) {
     const analysis::ContactFatigueDisc& r = f.discs[d];
-    text += fmt::format("{:<23}pins {} h ({:.4g} cycles a crank turn, pin {}), teeth {} h ({:.4g} cycles a crank turn)\n",
+    // "1 cycle", "1.026 cycles": a count of load cycles in a crank turn, in words that read right.
+    const auto cycles = [](double n) { return fmt::format("{:.4g} {}", n, n == 1.0 ? "cycle" : "cycles"); };
+    text += fmt::format("{:<23}pins {} h ({} a crank turn, pin {}), teeth {} h ({} a crank turn)\n",
                         f.discs.size() == 2 ? fmt::format("pitting life disc {}", d + 1) : std::string("pitting life"),
-                        HoursText(r.pin_life_hours), r.pin_cycles_per_turn, r.worst_pin + 1, HoursText(r.tooth_life_hours),
-                        r.tooth_cycles_per_turn);
+                        HoursText(r.pin_life_hours), cycles(r.pin_cycles_per_turn), r.worst_pin + 1,
+                        HoursText(r.tooth_life_hours), cycles(r.tooth_cycles_per_turn));
   }
   text += fmt::format("                       (Miner on ISO 6336-2 Z_NT, {}, sigma_Hlim {:g} MPa; {}{})\n",
                       contact::ToString(f.curve), f.fatigue_limit, f.basis,
