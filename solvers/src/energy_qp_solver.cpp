@@ -602,6 +602,24 @@ void EnergyQpSolver::DoSolveReducer(const LoadProblem& problem, const ReducerSys
   // regularises the Hessian (delta_w I, Wachter & Biegler 2006, sec. 3.1), whose step descends.
   // The default, 1e-5, accepted the missed solve.
   app.SetNumeric("residual_ratio_singular", 1e-9);
+  // A mode with no stiffness at all (the free play of a stage whose bearing is preloaded: the disc
+  // and the output member turn inside the pin ring's and the holes' clearances, e.g. the preload
+  // state at 1e-7 T) is still singular after that: Ipopt regularises it with delta_w I, delta_w
+  // first 1e-4 and a third of the last one at each later iteration (Wachter & Biegler 2006,
+  // Algorithm IC), so the step along that mode, its gradient over delta_w, triples at each
+  // iteration (0.2 m, then 0.6 m, ... in the scaled units of a 1e-7 T preload state); the line
+  // search cuts it to alpha ~ 1e-14, its watchdog then takes full steps to 1e19 mm and the
+  // restoration phase aborts ("no step lowers the energy" at every position of
+  // cases/stage/cycloidal_drive.toml with a roller bearing preloaded by 5 um, issue 52). The
+  // regularisation is held at least at the torque's scaled gradient over kFreeStep, so that a step
+  // along such a mode is at most kFreeStep, the order of a stage's clearances (a free play is
+  // crossed in a few steps and the line search backs off from a contact beyond it). Only a
+  // singular Hessian is regularised: a stage whose contacts stiffen every mode takes Newton's step.
+  constexpr double kFreeStep = 0.01;  // mm
+  const double free_gradient = problem.torque() / std::max(problem.torque(), 1.0);  // T / R_p, scaled
+  // (At T = 0 Ipopt's defaults, 1e-4 and 1e-20: the application is kept across solves.)
+  app.SetNumeric("first_hessian_perturbation", free_gradient > 0.0 ? std::max(1e-4, free_gradient / kFreeStep) : 1e-4);
+  app.SetNumeric("min_hessian_perturbation", free_gradient > 0.0 ? free_gradient / kFreeStep : 1e-20);
   ReducerNlp nlp(system, start);
   int iterations = 0;
   const ipopt::Status status = app.Optimize(nlp, false, &iterations);
