@@ -84,7 +84,8 @@ struct EfficiencyRunner::Impl {
         torque(t), cranks(st.cranks()) {
     if (torque == 0.0) {
       throw std::invalid_argument("[load] torque_nm = 0: expected a non-zero torque (efficiency has no output power "
-                                  "at zero torque)");
+                                  "at zero torque; a preloaded pair's no-load drag is the loss's limit at a small torque, "
+                                  "docs/efficiency.md \"A preloaded pair\")");
     }
     // The last crank repeats the first's state (a closed period): the means weigh it once.
     closed = stage.closed_period();
