@@ -602,19 +602,56 @@ void EnergyQpSolver::DoSolveReducer(const LoadProblem& problem, const ReducerSys
   // regularises the Hessian (delta_w I, Wachter & Biegler 2006, sec. 3.1), whose step descends.
   // The default, 1e-5, accepted the missed solve.
   app.SetNumeric("residual_ratio_singular", 1e-9);
+  // Ipopt's own regularisation first (its defaults, so that a stage it solves is solved as before).
+  app.SetNumeric("first_hessian_perturbation", 1e-4);
+  app.SetNumeric("min_hessian_perturbation", 1e-20);
   ReducerNlp nlp(system, start);
   int iterations = 0;
-  const ipopt::Status status = app.Optimize(nlp, false, &iterations);
-  lock.unlock();
+  ipopt::Status status = app.Optimize(nlp, false, &iterations);
+  Eigen::VectorXd solution = nlp.solution();
   ReducerSystem::Evaluation last;
-  system.Evaluate(nlp.solution(), false, nullptr, &last);
+  system.Evaluate(solution, false, nullptr, &last);
   // Ipopt's verdict, or the balance itself: every gradient component within the torque tolerance's
   // force (T / R_p) or the gradient's rounding (Ipopt cannot go below that, and may say so with a
   // failure status at a tiny torque).
   const double force_tolerance = options.torque_tolerance * force_scale;
-  const bool balanced = last.gradient.allFinite() && last.gradient.cwiseAbs().maxCoeff() <= std::max(force_tolerance, last.rounding);
+  const auto balanced_at = [&](const ReducerSystem::Evaluation& e) {
+    return e.gradient.allFinite() && e.gradient.cwiseAbs().maxCoeff() <= std::max(force_tolerance, e.rounding);
+  };
+  bool balanced = balanced_at(last);
+  // A mode with no stiffness at all (the free play of a stage whose bearing is preloaded: the disc
+  // and the output member turn inside the pin ring's and the holes' clearances, e.g. the preload
+  // state at 1e-7 T) is still singular after that: Ipopt regularises it with delta_w I, delta_w
+  // first 1e-4 and a third of the last one at each later iteration (Wachter & Biegler 2006,
+  // Algorithm IC), so the step along that mode, its gradient over delta_w, triples at each
+  // iteration (0.2 m, then 0.6 m, ... in the scaled units of a 1e-7 T preload state); the line
+  // search cuts it to alpha ~ 1e-14, its watchdog then takes full steps to 1e19 mm and the
+  // restoration phase aborts ("no step lowers the energy" at every position of
+  // cases/stage/cycloidal_drive.toml with a roller bearing preloaded by 5 um, issue 52). Such a
+  // solve is taken again from the same start with the regularisation held at least at the torque's
+  // scaled gradient over kFreeStep, so that a step along such a mode is at most kFreeStep, the
+  // order of a stage's clearances (a free play is crossed in a few steps and the line search backs
+  // off from a contact beyond it); only a singular Hessian is regularised, so once the contacts
+  // stiffen every mode the steps are Newton's. (Held from the first solve on, it would change the
+  // path, and the last bits, of stages Ipopt solves from rest with its defaults.)
+  constexpr double kFreeStep = 0.01;  // mm
+  const double free_gradient = problem.torque() / std::max(problem.torque(), 1.0);  // T / R_p, scaled
+  if (!balanced && free_gradient > 0.0) {
+    app.SetNumeric("first_hessian_perturbation", std::max(1e-4, free_gradient / kFreeStep));
+    app.SetNumeric("min_hessian_perturbation", free_gradient / kFreeStep);
+    ReducerNlp again(system, start);
+    int more = 0;
+    status = app.Optimize(again, false, &more);
+    app.SetNumeric("first_hessian_perturbation", 1e-4);  // the application is kept across solves
+    app.SetNumeric("min_hessian_perturbation", 1e-20);
+    iterations += more;
+    solution = again.solution();
+    system.Evaluate(solution, false, nullptr, &last);
+    balanced = balanced_at(last);
+  }
+  lock.unlock();
   const SolverStatus mapped = balanced ? SolverStatus::kSuccess : MapStatus(status);
-  FinishReducer(system, nlp.solution(),
+  FinishReducer(system, solution,
               mapped == SolverStatus::kSuccess ? ReducerSystem::Outcome::kConverged
               : mapped == SolverStatus::kMaxIterations ? ReducerSystem::Outcome::kMaxIterations
                                                         : ReducerSystem::Outcome::kNumerical,
@@ -624,7 +661,7 @@ void EnergyQpSolver::DoSolveReducer(const LoadProblem& problem, const ReducerSys
   result->details["ipopt_iterations"] = iterations;
   if (result->status == SolverStatus::kSuccess) {
     result->message = fmt::format("Ipopt status {} after {} iterations", result->native_code, iterations);
-    KeepReducerStart(system, nlp.solution(), workspace, "energy-qp-stage-start");
+    KeepReducerStart(system, solution, workspace, "energy-qp-stage-start");
   }
 }
 

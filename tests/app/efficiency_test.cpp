@@ -3,6 +3,7 @@
 // form of the linear law on a perfect pair (forces proportional to the arms, Malhotra and
 // Parameswaran's distribution, with the sliding speed of Jiang eq. 13), its continuum integral,
 // the radius ratio of Jiang eq. 34, and the direction of friction in the loop.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -19,6 +20,8 @@
 #include "deck_runs.hpp"
 #include "problems.hpp"
 #include "ltca/analysis/efficiency.hpp"
+#include "ltca/analysis/stage.hpp"
+#include "ltca/solvers/registry.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/geometry/units.hpp"
 
@@ -510,4 +513,151 @@ TEST_CASE("app: jiang-mixed with a mineral gear oil: outside its range without a
     CHECK(pb.power_loss_first_order <= pa.power_loss_first_order);
     CHECK(pb.power_loss_first_order > 0.9 * pa.power_loss_first_order);
   }
+}
+
+TEST_CASE("app: a preloaded pair's friction loss is every loaded pin's of both flanks, mu F_i |v_s,i| summed by hand (Jiang eq. 13, 27-29, 1e-6)") {
+  // Issue 52: Liu Table 1 with every pin 0.5 um into the cycloid ([modification] pin_radius_mm =
+  // -0.0005, docs/stiffness.md "Preload") at 20 N*m, below the torque that unloads a flank, so both
+  // flanks carry load. Independent computation: the pin forces from a separate load solve (the
+  // frictionless forces: torque_balance = "bound"), the sliding speed of each point from the
+  // disc's rigid motion about its instantaneous centre, the pitch point I = (z_p / d) O_c (the
+  // pins fixed, omega_c = -d omega_in / z_c: Jiang eq. 13), v_s = omega_c (k x (P - I)) . t with
+  // t = Rot(+90) n (not eq. 13's |I P| alone: a preloaded point is not exactly conjugate), and the
+  // loss P_i = mu F_i |v_s,i| (Coulomb, Jiang eq. 27-29) summed here. Every point above 1e-6 of
+  // the largest force must be a contact of the efficiency (the opposing flank's too), each loss and
+  // the total to 1e-6 (the efficiency's pose rate is a central difference, 1e-6 mm/rad,
+  // tests/contact/sliding_test.cpp), and the efficiency P_out / (P_out + P) with P_out = |T| omega_c.
+  const double mu = 0.05;
+  const Deck deck = LiuWithFriction("0.05", {"modification.pin_radius_mm=-0.0005", "load.torque_nm=20",
+                                             "friction.torque_balance=bound"});
+  const double omega_in = 1500.0 * 2.0 * M_PI / 60.0;
+  const int zp = deck.pair.pin_count, zc = deck.pair.tooth_count, d = zp - zc;
+  const double omega_c = d * omega_in / zc;  // magnitude, rad/s
+  auto runner = ltca::test::EfficiencyOn(deck, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
+  const ltca::analysis::Stage stage = ltca::test::WithKinematics(deck, ContactKinematics::kLinearised).MakeStage();
+  int opposing_total = 0;
+  for (const double crank : runner.cranks()) {
+    CAPTURE(crank);
+    const EfficiencyPosition p = runner.Solve(crank);
+    REQUIRE(p.succeeded());
+    const ltca::solvers::LoadProblem problem = stage.Problem(crank, deck.load->torque);
+    SolverOptions options = deck.solver;
+    options.name = "bisection";
+    const ltca::solvers::LoadResult r = ltca::solvers::MakeSolver("bisection")->Solve(problem, options);
+    REQUIRE(r.status == ltca::solvers::SolverStatus::kSuccess);
+    REQUIRE(r.preload.has_value());
+    const auto& pins = problem.base_state().pins;
+    const Eigen::Vector2d centre = stage.model().CyclePose(crank, 0.0, 0.0).centre;
+    const Eigen::Vector2d pitch = (static_cast<double>(zp) / d) * centre;
+    double largest = 0.0;
+    for (const double f : r.force) largest = std::max(largest, f);
+    double loss = 0.0;
+    int loaded = 0, opposing = 0;
+    for (std::size_t i = 0; i < pins.size(); ++i) {
+      if (!(r.force[i] > 1e-6 * largest)) continue;
+      ++loaded;
+      if (pins[i].arm < 0.0) ++opposing;
+      const Eigen::Vector2d rel = pins[i].cycloid_point - pitch;
+      const Eigen::Vector2d velocity(-omega_c * rel.y(), omega_c * rel.x());  // omega_c k x (P - I)
+      const Eigen::Vector2d t(-pins[i].normal.y(), pins[i].normal.x());
+      const double point_loss = mu * r.force[i] * std::abs(velocity.dot(t)) * 1e-3;  // N*mm/s -> W
+      loss += point_loss;
+      bool found = false;
+      for (const auto& c : p.contacts) {
+        if (c.pin != pins[i].pin || c.slice != pins[i].slice || c.disc != pins[i].disc) continue;
+        found = true;
+        CHECK(c.force == doctest::Approx(r.force[i]).epsilon(1e-9));
+        CHECK(c.loss == doctest::Approx(point_loss).epsilon(1e-6));
+      }
+      CHECK(found);
+    }
+    CHECK(opposing > 0);  // the preload: the opposing flank carries load at 20 N*m
+    opposing_total += opposing;
+    CHECK(static_cast<int>(p.contacts.size()) == loaded);
+    CHECK(p.power_loss == doctest::Approx(loss).epsilon(1e-6));
+    const double out = std::abs(deck.load->torque) * omega_c * 1e-3;
+    CHECK(p.output_power == doctest::Approx(out).epsilon(1e-9));
+    CHECK(p.efficiency == doctest::Approx(out / (out + loss)).epsilon(1e-6));
+  }
+  CHECK(opposing_total > 0);
+}
+
+TEST_CASE("app: at zero torque a preloaded pair loses its preload's drag: mu F_i |v_s,i| at the balance t = M_f(t), by hand (1e-6)") {
+  // Issue 52: Liu Table 1 with every pin 0.5 um into the cycloid at 0 N*m, Coulomb 0.05, 1500 rpm.
+  // Nothing is delivered (output power and efficiency 0) and the crank's power is all lost: the
+  // friction at the preload's pins. Independent computation: the crank turning forward, the disc
+  // turns at omega_c = -d omega_in / z_c about the pitch point I = (z_p / d) O_c; each pressed
+  // point slides at v_s = omega_c (k x (P - I)) . t and its friction -mu F sign(v_s) t has the
+  // moment (P - O_c) x (-mu F sign(v_s) t) about O_c. With the frictionless forces ("bound") the
+  // loss is mu F_i |v_s,i| at the preload state; with the balance ("solve") the normal forces carry
+  // that moment, t = M_f(t) (a positive problem torque is a clockwise moment -t of the normal
+  // forces on the disc), iterated here by repeated solves to 1e-12, the loss summed at its forces.
+  // Each to 1e-6. A pair with clearance at zero torque is still refused (exit 2, no output power).
+  const double mu = 0.05, omega_in = 1500.0 * 2.0 * M_PI / 60.0;
+  for (const std::string balance : {"bound", "solve"}) {
+    CAPTURE(balance);
+    const Deck deck = LiuWithFriction("0.05", {"modification.pin_radius_mm=-0.0005", "load.torque_nm=0",
+                                               "friction.torque_balance=" + balance});
+    const int zp = deck.pair.pin_count, zc = deck.pair.tooth_count, d = zp - zc;
+    const double omega_c = -d * omega_in / zc;
+    auto runner = ltca::test::EfficiencyOn(deck, ltca::test::Named("bisection"), ContactKinematics::kLinearised);
+    const ltca::analysis::Stage stage = ltca::test::WithKinematics(deck, ContactKinematics::kLinearised).MakeStage();
+    SolverOptions options = deck.solver;
+    options.name = "bisection";
+    options.torque_tolerance = 1e-13;
+    for (const double crank : runner.cranks()) {
+      CAPTURE(crank);
+      const EfficiencyPosition p = runner.Solve(crank);
+      INFO(p.message);
+      REQUIRE(p.succeeded());
+      const Eigen::Vector2d centre = stage.model().CyclePose(crank, 0.0, 0.0).centre;
+      const Eigen::Vector2d pitch = (static_cast<double>(zp) / d) * centre;
+      // Loss and friction moment at the forces of a solve at t.
+      const auto at = [&](double t, double* moment) {
+        const ltca::solvers::LoadProblem problem = stage.Problem(crank, t);
+        const ltca::solvers::LoadResult r = ltca::solvers::MakeSolver("bisection")->Solve(problem, options);
+        REQUIRE(r.status == ltca::solvers::SolverStatus::kSuccess);
+        const auto& pins = problem.base_state().pins;
+        double largest = 0.0;
+        for (const double f : r.force) largest = std::max(largest, f);
+        double loss = 0.0;
+        *moment = 0.0;
+        for (std::size_t i = 0; i < pins.size(); ++i) {
+          if (!(r.force[i] > 1e-6 * largest)) continue;
+          const Eigen::Vector2d rel = pins[i].cycloid_point - pitch;
+          const Eigen::Vector2d velocity(-omega_c * rel.y(), omega_c * rel.x());
+          const Eigen::Vector2d tangent(-pins[i].normal.y(), pins[i].normal.x());
+          const double vs = velocity.dot(tangent);
+          loss += mu * r.force[i] * std::abs(vs) * 1e-3;  // W
+          const Eigen::Vector2d friction = -mu * r.force[i] * (vs > 0.0 ? 1.0 : -1.0) * tangent;
+          const Eigen::Vector2d lever = pins[i].cycloid_point - centre;
+          *moment += lever.x() * friction.y() - lever.y() * friction.x();
+        }
+        return loss;
+      };
+      double moment = 0.0;
+      double loss = at(0.0, &moment);
+      CHECK(moment > 0.0);  // the friction resists the disc's clockwise turning
+      if (balance == "solve") {
+        double t = 0.0;
+        for (int k = 0; k < 60; ++k) {
+          const double next = moment;
+          if (std::abs(next - t) <= 1e-12 * std::abs(next)) break;
+          t = next;
+          loss = at(t, &moment);
+        }
+        CHECK(std::abs(moment - t) <= 1e-9 * std::abs(t));
+      }
+      CHECK(p.output_power == 0.0);
+      CHECK(p.efficiency == 0.0);
+      CHECK(p.power_loss == doctest::Approx(loss).epsilon(1e-6));
+      CHECK(std::isnan(p.friction_moment_ratio));
+    }
+    const auto s = runner.Summary();
+    CHECK(s.efficiency == 0.0);
+    CHECK(s.power_loss.mean > 0.0);
+  }
+  const Deck loose = LiuWithFriction("0.05", {"load.torque_nm=0"});
+  CHECK_THROWS_WITH_AS(ltca::test::EfficiencyOn(loose, ltca::test::Named("bisection"), ContactKinematics::kLinearised),
+                       doctest::Contains("[load] torque_nm = 0: expected a non-zero torque"), std::invalid_argument);
 }

@@ -82,9 +82,12 @@ struct EfficiencyRunner::Impl {
   Impl(const Stage& st, const SolverOptions& o, double t, const FrictionSettings& f, const OperationSettings& op)
       : stage(st), design(st.design()), material(st.material()), options(o), solver(solvers::MakeSolver(o.name)), friction(f), operation(op),
         torque(t), cranks(st.cranks()) {
-    if (torque == 0.0) {
+    // At zero torque only a preloaded pair loses power (its preload's drag, issue 52): the mesh
+    // alone whose pins overlap the cycloid on both flanks at the first crank.
+    if (torque == 0.0 && (stage.design().reducer || cranks.empty() || !stage.Problem(cranks.front(), 0.0).preloaded())) {
       throw std::invalid_argument("[load] torque_nm = 0: expected a non-zero torque (efficiency has no output power "
-                                  "at zero torque)");
+                                  "at zero torque; only a preloaded pair, the mesh alone, loses power there: its "
+                                  "preload's drag, docs/efficiency.md \"A preloaded pair\")");
     }
     // The last crank repeats the first's state (a closed period): the means weigh it once.
     closed = stage.closed_period();
@@ -229,8 +232,11 @@ struct EfficiencyRunner::Impl {
       moment += Cross(kin[i].lever, -p.effective_coefficient * f[i] * direction * Perp(c.normal));
       out->push_back(p);
     }
-    return sigma * moment / std::abs(torque);
+    return sigma * moment / std::abs(torque != 0.0 ? torque : drag_reference);
   }
+  /// At zero torque (a preloaded pair): the friction moment at the preload state, N*mm, the scale
+  /// of the ratio s in place of |T| (the normal forces then carry sigma drag_reference s).
+  double drag_reference = 1.0;
 
   /// The stage's losses at its reducer's forces (W) and the friction moments they put on the discs
   /// (N*mm, a bound: each output pin's friction force at the arm R_w + r_h, the largest its
@@ -297,6 +303,11 @@ struct EfficiencyRunner::Impl {
     pos.message = r.message;
     if (r.status != SolverStatus::kSuccess) return pos;
     pos.warnings = r.warnings;
+    const bool idle = torque == 0.0;  // a preloaded pair's drag at zero torque (issue 52)
+    if (idle && !(r.preload && r.preload->contacts > 0)) {
+      return Failed(std::move(pos), SolverStatus::kNumericalFailure,
+                    "zero torque: no pin is pressed at this crank (no preload), so nothing is lost and nothing delivered");
+    }
 
     // Kinematics per point, per radian of crank first; then the crank's sense that drives the load.
     // Two discs: each point turns about its own disc's centre, the second disc's half a
@@ -315,10 +326,12 @@ struct EfficiencyRunner::Impl {
       kin[i].v = contact::Velocities(c, pose, rates[i]);
       reaction += Cross(kin[i].lever, -r.force[i] * c.normal);
     }
-    const double sigma = reaction < 0.0 ? 1.0 : -1.0;  // the sense in which the load torque acts
-    // The cycloid turns against the load torque: omega_c has the sign -sigma.
+    // The cycloid turns against the load torque: omega_c has the sign -sigma. At zero torque the
+    // preload's normal moments cancel: the crank turns forward and the friction, which resists the
+    // cycloid's turning, is the load (sigma = -sign(omega_c)).
     const double per_crank = rates.front().angular_velocity;
-    const double crank_sign = (-sigma * per_crank) > 0.0 ? 1.0 : -1.0;
+    const double sigma = idle ? (per_crank > 0.0 ? -1.0 : 1.0) : reaction < 0.0 ? 1.0 : -1.0;  // the load's sense
+    const double crank_sign = idle ? 1.0 : (-sigma * per_crank) > 0.0 ? 1.0 : -1.0;
     crank_speed = crank_sign * operation.input_speed;
     for (std::size_t i = 0; i < n; ++i) {
       auto& v = kin[i].v;
@@ -335,6 +348,16 @@ struct EfficiencyRunner::Impl {
     // First order: the frictionless forces.
     std::vector<ContactFrictionPoint> first;
     MixedRange range;
+    if (idle) {
+      // The scale of s: the preload's friction moment (the ratio at the preload's forces over
+      // 1 N*mm), so that s = 1 at the preload's forces and the balance t = sigma M_f(t) is
+      // t = sigma drag_reference s, s = ratio(t).
+      drag_reference = 1.0;
+      std::vector<ContactFrictionPoint> probe;
+      std::vector<std::string> ignored;
+      drag_reference = std::abs(Evaluate(state, kin, r.force, sigma, &probe, &ignored));
+      if (!(drag_reference > 0.0)) drag_reference = 1.0;
+    }
     pos.friction_moment_ratio_first_order = Evaluate(state, kin, r.force, sigma, &first, &pos.warnings, &range);
     if (std::string outside = OutsideRange(range, false); !outside.empty()) {
       return Failed(std::move(pos), SolverStatus::kNumericalFailure, std::move(outside));
@@ -371,7 +394,7 @@ struct EfficiencyRunner::Impl {
       bool converged = false;
       std::vector<std::string> ignored;
       for (int k = 0; k < kMaxRatioSolves; ++k) {
-        const LoadResult rk = Solve(state, torque * (1.0 + s_now));
+        const LoadResult rk = Solve(state, idle ? sigma * drag_reference * s_now : torque * (1.0 + s_now));
         ++pos.balance_solves;
         if (rk.status != SolverStatus::kSuccess) return Failed(std::move(pos), rk.status, "torque balance with friction: " + rk.message);
         const double g_now = Evaluate(state, kin, rk.force, sigma, &pos.contacts, &ignored, &range) - s_now;
@@ -446,6 +469,10 @@ struct EfficiencyRunner::Impl {
                                   "(more than {:g}) after {} solves",
                                   pos.balance_residual, kRatioTolerance, kMaxRatioSolves));
       }
+    } else if (friction.torque_balance == FrictionSettings::TorqueBalance::kBound && pos.friction_moment_ratio != 0.0 && idle) {
+      pos.warnings.push_back(fmt::format(
+          "efficiency.torque_balance_bounded: the preload's frictionless forces; the friction moment, {:.6g} N*m, is "
+          "left out of the balance", units::NmmToNm(drag_reference)));
     } else if (friction.torque_balance == FrictionSettings::TorqueBalance::kBound && pos.friction_moment_ratio != 0.0) {
       pos.warnings.push_back(fmt::format(
           "efficiency.torque_balance_bounded: frictionless forces; the friction moment is {:.3g} of the torque, "
@@ -474,6 +501,12 @@ struct EfficiencyRunner::Impl {
     pos.power_loss = pos.power_loss_by_source.total();
     pos.stage_friction_moment_ratio = accepted.moment / std::abs(torque);
     pos.efficiency = pos.output_power / (pos.output_power + pos.power_loss);
+    if (idle) {
+      // No torque to compare the friction moment with: the ratios are null, the efficiencies 0
+      // (nothing delivered), the classical estimates (of a loaded half ring) do not apply.
+      pos.friction_moment_ratio = pos.friction_moment_ratio_first_order = pos.stage_friction_moment_ratio = kNaN;
+      return pos;
+    }
 
     // The classical estimates with the same (mean) mu: F_i ~ L_i over the pins of the loaded half
     // of the nominal pair (Malhotra-Parameswaran's distribution), and its continuum limit.
@@ -557,7 +590,9 @@ EfficiencySummary EfficiencyRunner::Summary() const {
     s.efficiency = s.output_power.mean / (s.output_power.mean + s.power_loss.mean);
     s.efficiency_first_order = s.output_power.mean / (s.output_power.mean + s.power_loss_first_order.mean);
     if (m.mp_count > 0) s.efficiency_malhotra_parameswaran = m.mp_sum / static_cast<double>(m.mp_count);
-    if (std::isfinite(s.mean_coefficient.mean)) s.efficiency_sensinger = SensingerEfficiency(m.design.pair, s.mean_coefficient.mean);
+    if (std::isfinite(s.mean_coefficient.mean) && m.torque != 0.0) {  // (a loaded half ring's estimate)
+      s.efficiency_sensinger = SensingerEfficiency(m.design.pair, s.mean_coefficient.mean);
+    }
     s.energy_loss_per_revolution = s.power_loss.mean * 2.0 * kPi / m.operation.input_speed;
   }
   for (const auto& [name, text] : m.warnings) s.warnings.push_back(text);

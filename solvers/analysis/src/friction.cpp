@@ -364,9 +364,16 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
     }
   };
   solvers::LoadProblem at_torque = problem(torque);
+  // A preloaded pair (issue 52): both flanks carry load at every torque, so the normal forces carry
+  // t = T - sense M_f with M_f = mu sum F_i a_i over the pins of both flanks (each one's friction
+  // resists the turning), t may lie on the other side of zero from T (the preload's drag at a
+  // small T), and at T = 0 the balance is t = -sense M_f. The one-flank scaling below does not
+  // apply (the opposing flank's pins are not one flank's laws); the secant on t does, judged on the
+  // scale of the larger of T and the friction moment, with no lock read from the sign of t.
+  const bool preloaded = !at_torque.has_reducer() && at_torque.preloaded();
   // Issue 27: the balance in one solve, sum_i F_i (L_i + d sense mu a_i) = |T| as the frictionless
   // balance of the laws scaled by w_i = 1 + d sense mu a_i / L_i (friction.hpp).
-  if (at_torque.scalable_laws() && at_torque.base_state().pins.size() == arm.size()) {
+  if (!preloaded && at_torque.scalable_laws() && at_torque.base_state().pins.size() == arm.size()) {
     const std::vector<contact::PinContact>& pins = at_torque.base_state().pins;  // arms signed for the flank
     const double k = at_torque.direction() * sense * mu;
     std::vector<double> scales(pins.size(), 1.0);
@@ -443,21 +450,24 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
   };
   const double m_prev = moment(r);
   double g_prev = torque - sense * m_prev - t_prev;
-  if (std::abs(g_prev) <= kBalanceTolerance * std::abs(torque)) {
+  // (A preloaded pair: the larger of T and the friction moment, which stays finite at T = 0.)
+  const double scale = preloaded ? std::max(std::abs(torque), m_prev) : std::abs(torque);
+  if (std::abs(g_prev) <= kBalanceTolerance * scale) {
     converged(t_prev, warm != nullptr ? warm->slope : kNaN);
     return done(std::move(r));
   }
   // A slope >= 0 (sense mu M / t >= 1 on the way back) sends the step to the other sense: the lock
   // below.
+  // (A preloaded pair's friction moment is mostly the preload's, not in proportion to t: -1.)
   double slope = warm != nullptr && std::isfinite(warm->slope) && warm->slope != 0.0 ? warm->slope
-                 : t_prev != 0.0                                                      ? -(1.0 + sense * m_prev / t_prev)
+                 : t_prev != 0.0 && !preloaded                                        ? -(1.0 + sense * m_prev / t_prev)
                                                                                       : -1.0;
   if (!(std::isfinite(slope) && slope != 0.0)) slope = -1.0;
   double t_now = t_prev - g_prev / slope;
   // The normal forces carry torque in the sense of T: a step to the other sense means the friction
   // moment outgrows the torque (the stage locks under this friction), and no balance exists.
   for (int k = 0; k < kMaxBalanceSolves; ++k) {
-    if (!std::isfinite(t_now) || (torque != 0.0 && t_now * torque <= 0.0)) {
+    if (!std::isfinite(t_now) || (!preloaded && torque != 0.0 && t_now * torque <= 0.0)) {
       return failed(fmt::format(
           "torque balance with friction (mu {:g}): no balance at {:g} N*m, the friction moment reaches the torque the "
           "normal forces carry (step to {:g} N*m): the stage locks under this friction",
@@ -469,7 +479,7 @@ LoadResult SolveWithLoopFriction(const contact::MeshModel& model, const contact:
     const double g_now = torque - sense * moment(r) - t_now;
     const double secant = (g_now - g_prev) / (t_now - t_prev);
     if (std::isfinite(secant) && secant != 0.0) slope = secant;
-    if (std::abs(g_now) <= kBalanceTolerance * std::abs(torque)) {
+    if (std::abs(g_now) <= kBalanceTolerance * (preloaded ? std::max(std::abs(torque), moment(r)) : scale)) {
       converged(t_now, slope);
       return done(std::move(r));
     }

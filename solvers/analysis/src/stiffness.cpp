@@ -250,9 +250,10 @@ struct StiffnessRunner::Impl {
             : SolveWithLoopFriction(stage.model(), state, torque, sense, friction_mu, problem, solve, &solves, second,
                                     warm, balance);
     pos->solves += solves;
-    if (with_friction() && sense != 0.0 && r.preload && r.preload->contacts > 0) {
-      // Friction at the preload's forces holds the twist at zero torque: the loop's stick would run
-      // through zero, which the loop (a stick ends by zero torque) does not model.
+    if (with_friction() && sense != 0.0 && r.preload && r.preload->contacts > 0 && stage.design().reducer) {
+      // A preloaded stage: friction at the preload's forces holds the twist at zero torque, and the
+      // stage's loop (a stick ends by zero torque) does not model a stick through zero. (The mesh
+      // alone does: FrictionLoop, docs/stiffness.md "Preload".)
       ++pos->failed;
       if (pos->first_failure.empty()) {
         pos->first_failure = fmt::format(
@@ -327,6 +328,10 @@ struct StiffnessRunner::Impl {
                                          const CurvePoint& at_coast, const CurvePoint& at_drive, StiffnessPosition* pos,
                                          std::vector<double>* up, std::vector<double>* down) {
     const std::size_t n = levels.size();
+    // A preloaded pair (the mesh alone, issue 52): both flanks carry load at zero torque, so the
+    // friction resists there too; zero is a level of the loop like any other (solved with the
+    // friction of its pass), and a stick may run through it.
+    const bool preloaded = !stage.design().reducer && Problem(state, rated).preloaded();
     SolverStatus low_status = SolverStatus::kNotSolved;
     sense = -1.0;
     const double held_low = Twist(state, levels.front(), pos, &low_status);
@@ -351,7 +356,7 @@ struct StiffnessRunner::Impl {
       for (std::size_t i = 1; i < n; ++i) {
         const std::size_t k = increasing ? i : n - 1 - i;
         const double torque = levels[k];
-        if (torque == 0.0) {  // no force, no friction: a stick cannot outlast zero torque
+        if (torque == 0.0 && !preloaded) {  // no force, no friction: a stick cannot outlast zero torque
           // With few levels the stick may reach the last level before zero: it ends between that
           // level and zero, where the branch arrives at the first contact of the flank it leaves.
           const CurvePoint& leaving = increasing ? at_coast : at_drive;
@@ -397,6 +402,17 @@ struct StiffnessRunner::Impl {
         }
         loop[k] = p.twist;
         pos->curve.push_back(p);
+      }
+      if (stuck && preloaded) {
+        // The preload's friction held the output from one end of the loop to the other: the
+        // friction moment at the preload exceeds the torque, and the output never turns.
+        ++pos->failed;
+        if (pos->first_failure.empty()) {
+          pos->first_failure = fmt::format(
+              "the loop with friction of a preloaded pair: the output sticks from {:g} N*m to {:g} N*m (the preload's "
+              "friction moment exceeds the torque): no loop",
+              units::NmmToNm(levels[first]), units::NmmToNm(levels[increasing ? n - 1 : 0]));
+        }
       }
       held = loop[increasing ? n - 1 : 0];
       held_status = pos->curve.back().status;
