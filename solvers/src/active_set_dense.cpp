@@ -11,24 +11,28 @@ bool ActiveSetDense::Suits(const Eigen::SparseMatrix<double>& coupling) {
   return coupling.rows() == coupling.cols() && coupling.rows() <= kDenseLimit;
 }
 
-ActiveSetDense::ActiveSetDense(const Eigen::SparseMatrix<double>& coupling) {
+ActiveSetDense::ActiveSetDense(const Eigen::SparseMatrix<double>& coupling, const Eigen::MatrixXd* dense) {
   if (coupling.rows() != coupling.cols()) {
     throw std::invalid_argument(fmt::format("active-set dense factor: {} x {} is not square", coupling.rows(), coupling.cols()));
   }
   dense_.resize(coupling.rows(), coupling.cols());
-  Load(coupling);
+  Load(coupling, dense);
 }
 
-void ActiveSetDense::Load(const Eigen::SparseMatrix<double>& coupling) {
+void ActiveSetDense::Load(const Eigen::SparseMatrix<double>& coupling, const Eigen::MatrixXd* dense) {
   if (coupling.rows() != dense_.rows() || coupling.cols() != dense_.cols()) {
     throw std::invalid_argument(fmt::format("active-set dense factor: {} x {} where {} x {} was held", coupling.rows(),
                                             coupling.cols(), dense_.rows(), dense_.cols()));
   }
   c_ = coupling;
   c_.makeCompressed();
-  dense_.setZero();
-  for (int j = 0; j < c_.outerSize(); ++j) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(c_, j); it; ++it) dense_(it.row(), it.col()) = it.value();
+  if (dense != nullptr && dense->rows() == dense_.rows() && dense->cols() == dense_.cols()) {
+    dense_ = *dense;  // the same numbers, zeros where the sparse matrix has no entry
+  } else {
+    dense_.setZero();
+    for (int j = 0; j < c_.outerSize(); ++j) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(c_, j); it; ++it) dense_(it.row(), it.col()) = it.value();
+    }
   }
   Reset(static_cast<int>(dense_.rows()));
   index_.clear();

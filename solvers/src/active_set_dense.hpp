@@ -28,10 +28,12 @@ class ActiveSetDense final : public ActiveSetKernel {
   static bool Suits(const Eigen::SparseMatrix<double>& coupling);
 
   /// C square and symmetric (both triangles stored, as LoadProblem::coupling()); no point active.
-  explicit ActiveSetDense(const Eigen::SparseMatrix<double>& coupling);
+  /// `dense`: the same C dense (LoadProblem::coupling_dense), taken as it is; nullptr: made from
+  /// the sparse matrix.
+  explicit ActiveSetDense(const Eigen::SparseMatrix<double>& coupling, const Eigen::MatrixXd* dense = nullptr);
   /// Another C of the same size in place of the one held: the active set emptied, D = 1, the
   /// factor stale (as a new kernel). Throws std::invalid_argument for another size.
-  void Load(const Eigen::SparseMatrix<double>& coupling);
+  void Load(const Eigen::SparseMatrix<double>& coupling, const Eigen::MatrixXd* dense = nullptr);
   /// True when this kernel holds exactly this matrix (size, pattern and values).
   bool Matches(const Eigen::SparseMatrix<double>& coupling) const;
 

@@ -177,9 +177,13 @@ void Conclude(bool balanced, bool edge_blocked, double torque, double target, in
 // bracket (last accepted, least overshooting) -- Newton's step from the last trial when it falls
 // inside, else regula falsi with the Illinois modification on the bracket (Dahlquist and Bjorck,
 // Numerical Methods, 1974, sec. 6.2.3), else its midpoint; before the first overshoot, Newton from
-// the accepted rotation, or Liu's doubling step from 1/60 arcsec while no point is loaded. It
-// converges superlinearly where T is smooth and as bisection at worst; about 6-10 trials a
-// position on Liu's pair with the elastic body where the doubling search needs about 74.
+// the accepted rotation. Newton's step is taken on log T against log (psi - psi_0) (psi_0 the first
+// contact, where T = 0): exact for a power law T = A (psi - psi_0)^k, the same step as Newton's to
+// first order near the root. The first trial beyond first contact is the single-pin bound
+// (LoadedRotationRange), or Liu's doubling step from 1/60 arcsec when it is not finite. It
+// converges superlinearly where T is smooth and as bisection at worst; 5.4 trials a position on
+// average over 301 positions of Liu's pair with the elastic body (7.0 with Newton's step on T from
+// Liu's first step, about 74 with the doubling search).
 void SolveCoupledSearch(const LoadProblem& problem, double first_contact, const SolverOptions& options, Workspace& workspace,
                         CoupledContact& coupled, LoadResult* result) {
   const double target = problem.torque();
@@ -219,8 +223,27 @@ void SolveCoupledSearch(const LoadProblem& problem, double first_contact, const 
       if (problem.Balanced(psi, at.torque, options.torque_tolerance, workspace)) break;
     }
     accepted_new = false;
+    // Newton's step on log T against log (psi - psi_0), psi_0 the first contact (T = 0 there):
+    // exact for T = A (psi - psi_0)^k with k = T' (psi - psi_0) / T from the last trial's value
+    // and slope, where Newton's step on T overshoots by about 3.5x from below (T is convex: more
+    // pins engage as psi grows); to first order the same step as Newton's near the root.
     double trial_psi = NAN;
-    if (last_slope > 0.0) trial_psi = last_psi + (target - last_torque) / last_slope;
+    if (last_slope > 0.0) {
+      trial_psi = last_psi + (target - last_torque) / last_slope;
+      const double x = last_psi - first_contact;
+      const double k = x > 0.0 && last_torque > 0.0 ? last_slope * x / last_torque : 0.0;
+      if (k > 0.0) {
+        const double power = first_contact + x * std::pow(target / last_torque, 1.0 / k);
+        if (std::isfinite(power)) trial_psi = power;
+      }
+    } else if (evaluations == 1) {
+      // The first trial beyond first contact: the rotation at which one pin alone would carry T
+      // (LoadedRotationRange: T(psi) >= T there, rigorous for linearised kinematics), whose
+      // loaded pins give the slope the step above needs, where Liu's 1/60 arcsec step loads one
+      // pin barely. Not finite (no pin can carry load) or not beyond: Liu's doubling step.
+      const double single_pin = problem.LoadedRotationRange().single_pin;
+      if (std::isfinite(single_pin) && single_pin > psi) trial_psi = single_pin;
+    }
     if (bracketed) {
       if (!(hi - psi > 4.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(hi), std::abs(psi)))) break;
       if (!(trial_psi > psi && trial_psi < hi)) {

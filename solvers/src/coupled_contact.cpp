@@ -60,23 +60,24 @@ CoupledContact& CoupledContactFor(const LoadProblem& problem, Workspace& workspa
   const Eigen::SparseMatrix<double>& coupling = body != nullptr ? *body->total : *problem.coupling();
   static const std::shared_ptr<const LoadProblem::CouplingFactors> kNone;
   const std::shared_ptr<const LoadProblem::CouplingFactors>& factors = body != nullptr ? kNone : problem.coupling_factors();
+  const Eigen::MatrixXd* dense = body != nullptr ? nullptr : problem.coupling_dense();
   if (state->solver == nullptr ||
-      (!state->solver->Matches(coupling, factors) && !state->solver->Reload(coupling, factors))) {
-    state->solver = std::make_unique<CoupledContact>(coupling, factors);
+      (!state->solver->Matches(coupling, factors) && !state->solver->Reload(coupling, factors, dense))) {
+    state->solver = std::make_unique<CoupledContact>(coupling, factors, dense);
   }
   return *state->solver;
 }
 
 CoupledContact::CoupledContact(const Eigen::SparseMatrix<double>& coupling,
-                               std::shared_ptr<const LoadProblem::CouplingFactors> factors) {
+                               std::shared_ptr<const LoadProblem::CouplingFactors> factors, const Eigen::MatrixXd* dense) {
   if (factors != nullptr) {
     auto beam = std::make_unique<BeamWoodbury>(std::move(factors));
     beam_kernel_ = beam.get();
     kernel_ = std::move(beam);
   } else if (ActiveSetDense::Suits(coupling)) {
-    auto dense = std::make_unique<ActiveSetDense>(coupling);
-    dense_kernel_ = dense.get();
-    kernel_ = std::move(dense);
+    auto kernel = std::make_unique<ActiveSetDense>(coupling, dense);
+    dense_kernel_ = kernel.get();
+    kernel_ = std::move(kernel);
   } else {
     auto matrix = std::make_unique<ActiveSetCholmod>(coupling);
     matrix_kernel_ = matrix.get();
@@ -94,12 +95,12 @@ bool CoupledContact::Matches(const Eigen::SparseMatrix<double>& coupling,
 }
 
 bool CoupledContact::Reload(const Eigen::SparseMatrix<double>& coupling,
-                            const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) {
+                            const std::shared_ptr<const LoadProblem::CouplingFactors>& factors, const Eigen::MatrixXd* dense) {
   if (factors != nullptr || dense_kernel_ == nullptr || !ActiveSetDense::Suits(coupling) ||
       coupling.rows() != dense_kernel_->size()) {
     return false;
   }
-  dense_kernel_->Load(coupling);
+  dense_kernel_->Load(coupling, dense);
   return true;
 }
 

@@ -71,8 +71,11 @@ class CoupledContact {
   /// With the problem's coupling: the Woodbury kernel (BeamWoodbury) when the coupling comes
   /// factored (LoadProblem::coupling_factors), otherwise the dense kernel (ActiveSetDense) for at
   /// most ActiveSetDense::kDenseLimit points, the sparse matrix kernel (ActiveSetCholmod) beyond.
+  /// `dense`: the same coupling dense when the problem has it (LoadProblem::coupling_dense), for
+  /// the dense kernel.
   explicit CoupledContact(const Eigen::SparseMatrix<double>& coupling,
-                          std::shared_ptr<const LoadProblem::CouplingFactors> factors = nullptr);
+                          std::shared_ptr<const LoadProblem::CouplingFactors> factors = nullptr,
+                          const Eigen::MatrixXd* dense = nullptr);
   ~CoupledContact();
   bool Matches(const Eigen::SparseMatrix<double>& coupling,
                const std::shared_ptr<const LoadProblem::CouplingFactors>& factors) const;
@@ -80,7 +83,7 @@ class CoupledContact {
   /// the same size without factors: no allocation), starting as a new solver would (no point
   /// active). False, nothing changed, otherwise.
   bool Reload(const Eigen::SparseMatrix<double>& coupling,
-              const std::shared_ptr<const LoadProblem::CouplingFactors>& factors);
+              const std::shared_ptr<const LoadProblem::CouplingFactors>& factors, const Eigen::MatrixXd* dense = nullptr);
 
   /// At the given approaches (psi fixed). force: in, the start (a warm start: any F >= 0); out,
   /// the solution, N. force_scale: a typical point force (the secant of entering points), N.

@@ -253,12 +253,70 @@ LoadProblem LoadProblem::WithCoupling(Eigen::SparseMatrix<double> coupling) cons
 }
 
 LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<double> coupling, int points) {
-  return {CheckCouplingMatrix(std::move(coupling), points), points, nullptr};
+  return {CheckCouplingMatrix(std::move(coupling), points), points, nullptr, nullptr};
 }
 
 LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<double> coupling, int points,
                                                         PositiveSemidefiniteByConstruction) {
-  return {CheckCouplingMatrix(std::move(coupling), points, true), points, nullptr};
+  return {CheckCouplingMatrix(std::move(coupling), points, true), points, nullptr, nullptr};
+}
+
+LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::MatrixXd c, int points, PositiveSemidefiniteByConstruction) {
+  // The dense twin of CheckCouplingMatrix (psd_known): the same checks and the same stored numbers.
+  if (c.rows() == 0 && c.cols() == 0) return {nullptr, points, nullptr, nullptr};
+  if (c.rows() != c.cols()) {
+    throw std::invalid_argument(fmt::format("LoadProblem coupling: {} x {} is not square", c.rows(), c.cols()));
+  }
+  if (c.rows() != points) {
+    throw std::invalid_argument(
+        fmt::format("LoadProblem coupling: {} x {} does not match the {} pins", c.rows(), c.cols(), points));
+  }
+  const Eigen::Index n = c.rows();
+  if (!c.allFinite()) {
+    for (Eigen::Index j = 0; j < n; ++j) {
+      for (Eigen::Index i = 0; i < n; ++i) {
+        if (!std::isfinite(c(i, j))) {
+          throw std::invalid_argument(
+              fmt::format("LoadProblem coupling: entry ({}, {}) = {} is not finite", i + 1, j + 1, c(i, j)));
+        }
+      }
+    }
+  }
+  const double largest = c.cwiseAbs().maxCoeff();
+  // (C + C^T) / 2 in place: entry by entry the sparse path's 0.5 (c_ij + c_ji) (an entry whose
+  // mirror is zero: 0.5 (c_ij + 0), as its sum with the transpose gives); the diagonal's
+  // 0.5 (c_ii + c_ii) is c_ii exactly.
+  Eigen::Index stored = 0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      const double a = c(i, j), b = c(j, i);
+      if (std::abs(a - b) > 1e-12 * largest) {
+        throw std::invalid_argument(fmt::format(
+            "LoadProblem coupling: not symmetric: entry ({}, {}) = {} but ({}, {}) = {} (relative tolerance 1e-12)",
+            i + 1, j + 1, a, j + 1, i + 1, b));
+      }
+      c(i, j) = c(j, i) = 0.5 * (a + b);
+      if (c(i, j) != 0.0) stored += 2;
+    }
+    if (c(j, j) != 0.0) ++stored;
+  }
+  if (stored == 0) return {nullptr, points, nullptr, nullptr};
+  // The sparse matrix without its zeros, column by column (compressed, rows ascending).
+  auto sparse = std::make_shared<Eigen::SparseMatrix<double>>(n, n);
+  sparse->resizeNonZeros(stored);
+  int* outer = sparse->outerIndexPtr();
+  int* inner = sparse->innerIndexPtr();
+  double* value = sparse->valuePtr();
+  int p = 0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    outer[j] = p;
+    const double* column = c.col(j).data();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (column[i] != 0.0) inner[p] = static_cast<int>(i), value[p] = column[i], ++p;
+    }
+  }
+  outer[n] = p;
+  return {std::move(sparse), points, nullptr, std::make_shared<const Eigen::MatrixXd>(std::move(c))};
 }
 
 LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<double> coupling, int points,
@@ -278,7 +336,7 @@ LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<doub
   if (k_ldlt.info() != Eigen::Success || !(k_ldlt.vectorD().minCoeff() > 0.0)) {
     throw std::invalid_argument("LoadProblem coupling factors: K is not positive definite");
   }
-  CheckedCoupling out{CheckCouplingMatrix(std::move(coupling), points, true), points, nullptr};
+  CheckedCoupling out{CheckCouplingMatrix(std::move(coupling), points, true), points, nullptr, nullptr};
   if (out.matrix == nullptr) return out;
   factors.stiffness.makeCompressed();
   factors.loads.makeCompressed();
@@ -297,6 +355,7 @@ LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
   LoadProblem out(*this);
   out.coupling_ = coupling.matrix;
   out.coupling_factors_ = coupling.matrix != nullptr ? coupling.factors : nullptr;
+  out.coupling_dense_ = coupling.matrix != nullptr ? coupling.dense : nullptr;
   out.stage_body_ = nullptr;  // made for the coupling it replaces
   out.single_pin_ = out.SinglePinBound();
   return out;

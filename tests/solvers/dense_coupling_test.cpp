@@ -196,6 +196,61 @@ TEST_CASE("solvers: a body-like dense coupling - the caller's promise skips only
   CHECK_THROWS_AS(plain.WithCoupling(indefinite), std::invalid_argument);
 }
 
+TEST_CASE("solvers: a coupling checked dense is stored as the sparse check stores it, bit for bit, and refused alike") {
+  // The elastic disc body's coupling is checked dense (Stage::Problem): the sparse matrix it stores
+  // must be the sparse overload's, entry for entry and in pattern, and the dense copy the kernel
+  // takes must hold the same numbers. The matrix: the body-like C with a few exact zeros (pins
+  // far apart) and entries nudged off symmetry by up to 1e-13 relative (within the tolerance).
+  using namespace dense_coupling_test;
+  const LoadProblem plain = Case().Problem(Model(), 0.0, ContactKinematics::kLinearised);
+  const int n = plain.point_count();
+  Eigen::MatrixXd c = BodyLike(plain);
+  std::mt19937 rng(48);
+  std::uniform_real_distribution<double> nudge(-1e-13, 1e-13);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      if (i != j) c(i, j) *= 1.0 + nudge(rng);
+    }
+  }
+  c(0, 5) = c(5, 0) = 0.0;
+  c(7, 30) = c(30, 7) = 0.0;
+  const LoadProblem::PositiveSemidefiniteByConstruction promise;
+  const LoadProblem::CheckedCoupling sparse = LoadProblem::CheckCoupling(Eigen::SparseMatrix<double>(c.sparseView()), n, promise);
+  const LoadProblem::CheckedCoupling dense = LoadProblem::CheckCoupling(c, n, promise);
+  REQUIRE(sparse.matrix != nullptr);
+  REQUIRE(dense.matrix != nullptr);
+  REQUIRE(dense.dense != nullptr);
+  CHECK(sparse.dense == nullptr);
+  const Eigen::SparseMatrix<double>& a = *sparse.matrix;
+  const Eigen::SparseMatrix<double>& b = *dense.matrix;
+  REQUIRE(a.nonZeros() == b.nonZeros());
+  REQUIRE(b.isCompressed());
+  CHECK(b.nonZeros() == n * n - 4);  // the four zeros dropped
+  CHECK(std::equal(a.outerIndexPtr(), a.outerIndexPtr() + n + 1, b.outerIndexPtr()));
+  CHECK(std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr()));
+  CHECK(std::equal(a.valuePtr(), a.valuePtr() + a.nonZeros(), b.valuePtr()));
+  CHECK((Eigen::MatrixXd(a).array() == dense.dense->array()).all());
+  CHECK((dense.dense->array() == dense.dense->transpose().array()).all());
+  // A problem given either solves to the same numbers: the dense kernel reads the same C.
+  ltca::solvers::Workspace w1, w2;
+  const LoadResult r1 = Tight("bisection", plain.WithCoupling(sparse), w1);
+  const LoadResult r2 = Tight("bisection", plain.WithCoupling(dense), w2);
+  REQUIRE(r1.status == SolverStatus::kSuccess);
+  CHECK(r1.rotation == r2.rotation);
+  CHECK(r1.force == r2.force);
+  // The same refusals: size, square, finiteness, symmetry beyond 1e-12; all zero is no coupling.
+  CHECK_THROWS_WITH_AS(LoadProblem::CheckCoupling(c, n + 1, promise), doctest::Contains("does not match"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(LoadProblem::CheckCoupling(Eigen::MatrixXd(c.leftCols(n - 1)), n, promise),
+                       doctest::Contains("not square"), std::invalid_argument);
+  Eigen::MatrixXd skew = c;
+  skew(0, 1) *= 1.01;
+  CHECK_THROWS_WITH_AS(LoadProblem::CheckCoupling(skew, n, promise), doctest::Contains("not symmetric"), std::invalid_argument);
+  Eigen::MatrixXd nan = c;
+  nan(2, 2) = NAN;
+  CHECK_THROWS_WITH_AS(LoadProblem::CheckCoupling(nan, n, promise), doctest::Contains("not finite"), std::invalid_argument);
+  CHECK(LoadProblem::CheckCoupling(Eigen::MatrixXd::Zero(n, n).eval(), n, promise).matrix == nullptr);
+}
+
 TEST_CASE("solvers: a body-like dense coupling - every registered solver agrees to 1e-9, linearised and exact") {
   // TE to 1e-9 relative and every force to 1e-9 of the largest, against bisection, at three cranks
   // of a mesh period; one workspace per solver over the cranks, as a sweep keeps it (the dense

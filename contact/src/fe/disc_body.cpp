@@ -305,27 +305,45 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   }
   Eigen::SparseMatrix<double> loads(model->dofs(), n);
   loads.setFromTriplets(entries.begin(), entries.end());
-  k_.resize(n, n);
   const int solved = cyclic_ ? m : n;  // (cyclic: no holes, n = spaces x m)
-  constexpr int kBlock = 64;
+  // Blocks of 16 columns: a block's dense arrays (dofs x 16, about 10 MB on a disc with holes) are
+  // reused by the allocator, where 64 columns' (above glibc's 32 MB mmap threshold) were mapped
+  // and faulted in anew for every block (1.3 million page faults, 17 % of the stage body's set-up
+  // in the kernel). Each column's solve is the same arithmetic whatever the block (the reference
+  // BLAS's dgemm and dtrsm treat the right-hand sides column by column): the same numbers.
+  constexpr int kBlock = 16;
   Eigen::MatrixXd columns(n, solved);
   for (int first = 0; first < solved; first += kBlock) {
     const int cols = std::min(kBlock, solved - first);
     const Eigen::MatrixXd u = model->Solve(Eigen::MatrixXd(loads.middleCols(first, cols)));
     columns.middleCols(first, cols) = loads.transpose() * u;
   }
+  // Maxwell-Betti holds to rounding; make it exact: K = (K + K^T) / 2. Cyclic, the solved columns
+  // (space 0's) give K(a m + i, b m + j) = columns(((a - b) mod z_c) m + i, j), so K is
+  // block-circulant and so is (K + K^T) / 2: its generator (space 0's columns) holds, entry by
+  // entry, the same sum of the same two numbers as the whole symmetrised K did.
   if (cyclic_) {
-    for (int kb = 0; kb < spaces_; ++kb) {
-      for (int ka = 0; ka < spaces_; ++ka) {
-        const int shift = ((ka - kb) % spaces_ + spaces_) % spaces_;
-        k_.block(ka * m, kb * m, m, m) = columns.block(shift * m, 0, m, m);
+    k_.resize(n, m);
+    for (int j = 0; j < m; ++j) {
+      for (int a = 0; a < spaces_; ++a) {
+        const int mirror = (spaces_ - a) % spaces_;  // K(j, a m + i) = columns(((0 - a) mod z_c) m + j, i)
+        for (int i = 0; i < m; ++i) k_(a * m + i, j) = 0.5 * (columns(a * m + i, j) + columns(mirror * m + j, i));
       }
     }
   } else {
-    k_ = std::move(columns);
+    k_ = 0.5 * (columns + columns.transpose()).eval();
   }
-  k_ = 0.5 * (k_ + k_.transpose()).eval();  // Maxwell-Betti holds to rounding; make it exact
   setup_seconds_ = Seconds(start);
+}
+
+Eigen::MatrixXd DiscFlankCompliance::grid_compliance() const {
+  if (!cyclic_) return k_;
+  const auto n = k_.rows();
+  Eigen::MatrixXd k(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (Eigen::Index i = 0; i < n; ++i) k(i, j) = grid_compliance(static_cast<int>(i), static_cast<int>(j));
+  }
+  return k;
 }
 
 double DiscFlankCompliance::cycloid_log_radius_mm() const {
@@ -380,13 +398,14 @@ Eigen::MatrixXd DiscFlankCompliance::Coupling(const std::vector<PinContact>& poi
     const auto k = static_cast<std::size_t>(n + i);
     HoleNeighbours(holes[static_cast<std::size_t>(i)].hole, holes[static_cast<std::size_t>(i)].direction, &a[k], &b[k], &t[k]);
   }
+  const auto k = [this](int i, int j) { return grid_compliance(i, j); };
   const auto product = [&](std::size_t i, std::size_t j) {
     const double ti = t[i], si = 1.0 - ti, tj = t[j], sj = 1.0 - tj;
-    return si * (sj * k_(a[i], a[j]) + tj * k_(a[i], b[j])) + ti * (sj * k_(b[i], a[j]) + tj * k_(b[i], b[j]));
+    return si * (sj * k(a[i], a[j]) + tj * k(a[i], b[j])) + ti * (sj * k(b[i], a[j]) + tj * k(b[i], b[j]));
   };
   for (Eigen::Index x = n; x < n + h; ++x) {
     const auto i = static_cast<std::size_t>(x);
-    c(x, x) = (1.0 - t[i]) * k_(a[i], a[i]) + t[i] * k_(b[i], b[i]);
+    c(x, x) = (1.0 - t[i]) * k(a[i], a[i]) + t[i] * k(b[i], b[i]);
     for (Eigen::Index y = 0; y < x; ++y) {
       const auto j = static_cast<std::size_t>(y);
       if (!on[j]) continue;
@@ -399,15 +418,34 @@ Eigen::MatrixXd DiscFlankCompliance::Coupling(const std::vector<PinContact>& poi
 Eigen::MatrixXd DiscFlankCompliance::Coupling(const std::vector<PinContact>& points) const {
   const Eigen::Index n = static_cast<Eigen::Index>(points.size());
   Eigen::MatrixXd c = Eigen::MatrixXd::Zero(n, n);
-  std::vector<int> a(points.size()), b(points.size());
+  // Each loaded flank point's two grid neighbours as (index, tooth space, index in the space): K's
+  // entries are then read without a division (grid_compliance(i, j) divides by points_per_space;
+  // a pose of 40 points reads K 3,300 times).
+  struct Slot {
+    int full = 0, space = 0, local = 0;
+  };
+  std::vector<Slot> a(points.size()), b(points.size());
   std::vector<double> t(points.size());
   std::vector<char> on(points.size(), 0);
+  const int m = grid_.points_per_space;
+  const auto slot = [m](int g) { return Slot{g, g / m, g % m}; };
   for (std::size_t i = 0; i < points.size(); ++i) {
     const PinContact& p = points[i];
     if (p.edge || p.part != geometry::SurfacePart::kFlank || !(p.length > 0.0)) continue;
     on[i] = 1;
-    Neighbours(p.tooth_space, p.u, &a[i], &b[i], &t[i]);
+    int first = 0, second = 0;
+    Neighbours(p.tooth_space, p.u, &first, &second, &t[i]);
+    a[i] = slot(first), b[i] = slot(second);
   }
+  const double* g = k_.data();
+  const Eigen::Index stride = k_.rows();  // column-major
+  const int spaces = spaces_;
+  const bool cyclic = cyclic_;
+  const auto k = [&](const Slot& x, const Slot& y) {  // K(x, y), as grid_compliance(x.full, y.full)
+    if (!cyclic) return g[x.full + y.full * stride];
+    const int shift = x.space >= y.space ? x.space - y.space : x.space - y.space + spaces;
+    return g[shift * m + x.local + y.local * stride];
+  };
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!on[i]) continue;
     const double scale = thickness_ / points[i].length;  // a slice: a section of its own thickness
@@ -416,10 +454,10 @@ Eigen::MatrixXd DiscFlankCompliance::Coupling(const std::vector<PinContact>& poi
       if (!on[j] || points[j].slice != points[i].slice || points[j].disc != points[i].disc) continue;
       double v = 0.0;
       if (i == j) {
-        v = si * k_(a[i], a[i]) + ti * k_(b[i], b[i]);
+        v = si * k(a[i], a[i]) + ti * k(b[i], b[i]);
       } else {
         const double tj = t[j], sj = 1.0 - tj;
-        v = si * (sj * k_(a[i], a[j]) + tj * k_(a[i], b[j])) + ti * (sj * k_(b[i], a[j]) + tj * k_(b[i], b[j]));
+        v = si * (sj * k(a[i], a[j]) + tj * k(a[i], b[j])) + ti * (sj * k(b[i], a[j]) + tj * k(b[i], b[j]));
       }
       c(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = scale * v;
       c(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(i)) = scale * v;

@@ -443,8 +443,8 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
     // pin bending's matrix (checked once) plus the body's, W K W^T + a non-negative diagonal with
     // K the condensed FE compliance (positive semidefinite by construction: the eigenvalue check
     // per pose is skipped, the other checks of the coupling are made).
-    const Eigen::MatrixXd body = disc_body_->Coupling(problem.base_state().pins);
-    Eigen::SparseMatrix<double> c = body.sparseView();
+    // Checked and kept dense (the dense kernel takes it as it is).
+    Eigen::MatrixXd c = disc_body_->Coupling(problem.base_state().pins);
     if (coupling_->matrix) c += *coupling_->matrix;
     const int points = problem.point_count();
     return problem.WithCoupling(

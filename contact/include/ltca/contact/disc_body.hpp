@@ -210,7 +210,17 @@ class DiscFlankCompliance {
   /// Whether the body was meshed as one tooth space's sector turned z_c times (no holes): then only
   /// that space's grid points are solved for.
   bool cyclic() const { return cyclic_; }
-  const Eigen::MatrixXd& grid_compliance() const { return k_; }  ///< K, mm/N
+  /// K, mm/N (the cyclic body's block-circulant K expanded from its generator: 12.5 MB on Liu's pair).
+  Eigen::MatrixXd grid_compliance() const;
+  /// K(i, j), mm/N: for the cyclic body read from its generator (i in space a, j in space b: the
+  /// generator's row of space (a - b) mod z_c, column j's index in its space), the same number.
+  double grid_compliance(int i, int j) const {
+    if (!cyclic_) return k_(i, j);
+    const int m = grid_.points_per_space;
+    const int a = i / m, b = j / m;
+    const int shift = a >= b ? a - b : a - b + spaces_;
+    return k_(shift * m + (i - a * m), j - b * m);
+  }
   /// Grid point g's position and inward unit normal in the body frame, mm.
   Eigen::Vector2d grid_point(int g) const { return points_.col(g); }
   Eigen::Vector2d grid_normal(int g) const { return normals_.col(g); }
@@ -229,6 +239,10 @@ class DiscFlankCompliance {
   double phi_max_ = 0.0;
   std::vector<double> grid_u_;  // the grid's u in a tooth space, points_per_space + 1 (both ends)
   double thickness_ = 0.0;
+  /// K between the grid points, mm/N. The cyclic body: only its generator, K's first tooth
+  /// space's columns (grid points x points_per_space: 1,248 x 32 on Liu's pair, 320 kB, where the
+  /// whole K is 12.5 MB and a pose's coupling read it at random); K is block-circulant, K(a m + i,
+  /// b m + j) = K((a - b mod z_c) m + i, j) exactly (grid_compliance(i, j)). With holes: K whole.
   Eigen::MatrixXd k_;
   Eigen::Matrix2Xd points_, normals_;
   int nodes_ = 0, elements_ = 0;

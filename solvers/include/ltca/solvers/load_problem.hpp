@@ -156,6 +156,9 @@ class LoadProblem {
     std::shared_ptr<const Eigen::SparseMatrix<double>> matrix;
     int points = 0;
     std::shared_ptr<const CouplingFactors> factors;  ///< nullptr: C given only as a matrix
+    /// The same C dense, when it was given dense (a small coupling made per pose, the elastic
+    /// disc body's): the dense kernel of the coupled solves takes it as it is. nullptr otherwise.
+    std::shared_ptr<const Eigen::MatrixXd> dense;
   };
   static CheckedCoupling CheckCoupling(Eigen::SparseMatrix<double> coupling, int points);
   /// The same with the factored form of the same C; throws std::invalid_argument when the
@@ -174,6 +177,12 @@ class LoadProblem {
   struct PositiveSemidefiniteByConstruction {};
   static CheckedCoupling CheckCoupling(Eigen::SparseMatrix<double> coupling, int points,
                                        PositiveSemidefiniteByConstruction);
+  /// The same for C given dense (the elastic disc body's W K W^T, made per pose): the same checks
+  /// on the dense matrix (square, points x points, finite, symmetric to 1e-12 relative), stored
+  /// the same way (the sparse matrix: (C + C^T) / 2 without its zeros, the very numbers the
+  /// sparse overload stores), and the dense (C + C^T) / 2 kept beside it (CheckedCoupling::dense)
+  /// for the dense kernel: no transpose of a sparse matrix, no conversion back to dense.
+  static CheckedCoupling CheckCoupling(Eigen::MatrixXd coupling, int points, PositiveSemidefiniteByConstruction);
   /// The same as WithCoupling, without checking again; throws std::invalid_argument when the
   /// coupling was checked for another number of points.
   LoadProblem WithCoupling(const CheckedCoupling& coupling) const;
@@ -227,6 +236,8 @@ class LoadProblem {
   const Eigen::SparseMatrix<double>* coupling() const { return coupling_.get(); }
   /// The factored form of the coupling, or nullptr when it came only as a matrix.
   const std::shared_ptr<const CouplingFactors>& coupling_factors() const { return coupling_factors_; }
+  /// The coupling dense, when it was checked dense (CheckedCoupling::dense); nullptr otherwise.
+  const Eigen::MatrixXd* coupling_dense() const { return coupling_dense_.get(); }
 
   /// Per-pin state at rotation psi: linearised (frozen geometry) or exact (re-evaluated).
   struct PinAt {
@@ -362,6 +373,7 @@ class LoadProblem {
   std::vector<double> closing_;  // rad, per pin (infinite where the arm cannot close it), see BuildBaseLaws
   std::shared_ptr<const Eigen::SparseMatrix<double>> coupling_;  // nullptr: uncoupled
   std::shared_ptr<const CouplingFactors> coupling_factors_;      // nullptr: none (or uncoupled)
+  std::shared_ptr<const Eigen::MatrixXd> coupling_dense_;        // coupling_ dense when checked dense
   std::shared_ptr<const ReducerSettings> reducer_;                   // nullptr: the mesh alone
   std::shared_ptr<const StageLoads> stage_loads_;                     // nullptr: none besides T
   std::shared_ptr<const StageBodyCoupling> stage_body_;               // nullptr: no body on the stage's elements
