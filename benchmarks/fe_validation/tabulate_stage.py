@@ -62,6 +62,20 @@ def main():
             continue
         print("bracket psi %s arcsec, penetration %.4f um" % ([round(v, 3) for v in t["bracket"]], t["pen"] * 1e3))
         fe.append((d, r, t))
+    print()
+    print("| mesh | nodes | CPE6 disc + hub + ring pins + output pins | TE, arcsec | disc rotation | ring pins 3 .. 9, N | output pins 2, 3, 4, N | "
+          "largest pressure (face means): flank / hole wall, MPa | penetration, um | ccx wall, s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for d, r, t in fe:
+        e = r["elements"]
+        print("| h0 %g um, hout %g um, hhole %g mm, hdisc %g mm | %d | %d + %d + %d + %d | %.3f | %.3f | %s | %s | %.0f (pin %s) / %.0f | %.4f | %.0f |" % (
+            r["h0_mm"] * 1e3, r["hout_mm"] * 1e3, r["hhole_mm"], r["hdisc_mm"], r["nodes"], e["disc"], e["hub"], e["pins"], e["opins"],
+            t["te_arcsec"], t["phi"], ", ".join("%.1f" % t["pins"].get(str(j), 0.0) for j in range(3, 10)),
+            ", ".join("%.1f" % t["opins"].get(str(j), 0.0) for j in (2, 3, 4)),
+            max(v for k, v in t["pmax"].items() if k.startswith("P")),
+            max((k for k in t["pmax"] if k.startswith("P")), key=lambda k: t["pmax"][k])[1:],
+            max(v for k, v in t["pmax"].items() if k.startswith("O")), t["pen"] * 1e3, r["ccx_s"]))
+        print("  face-mean pressure per contact: %s" % {k: round(v) for k, v in t["pmax"].items()})
     with tempfile.TemporaryDirectory() as tmp:
         deck = rigid_bearing_deck(tmp)
         lt = {(b, c, k): ltca_run(a.ltca, deck, b, c, k) for b in ("elastic", "rigid")
