@@ -17,3 +17,6 @@ $PY "$HERE/pin_calibration.py" --radius 5 --cores 0.6,1.0,1.5 --bs 0.1,0.325 --h
 run() { local name=$1; shift; $PY "$HERE/stage_ccx.py" "$@" --out "$OUT/$name" > "$OUT/$name.json"; }
 # the mesh sequence (each line the run behind a column of the tables)
 run s0 --h0 0.05 --hout 0.1 --hdisc 3 --psi 190:210:4
+run sA --psi 194:202:2
+run sB --h0 0.01 --hout 0.02 --dout 0.4 --hhole 0.4 --hdisc 2.0 --psi 196:202:2
+$PY "$HERE/tabulate_stage.py" --ltca "${LTCA:-build/release/ltca}" "$OUT"/{s0,sA,sB}
