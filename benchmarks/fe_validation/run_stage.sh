@@ -18,5 +18,6 @@ run() { local name=$1; shift; $PY "$HERE/stage_ccx.py" "$@" --out "$OUT/$name" >
 # the mesh sequence (each line the run behind a column of the tables)
 run s0 --h0 0.05 --hout 0.1 --hdisc 3 --psi 190:210:4
 run sA --psi 194:202:2
+# sB: the docs' figures are from its increments to 196 and 199 arcsec (stopped before 202: 33 min)
 run sB --h0 0.01 --hout 0.02 --dout 0.4 --hhole 0.4 --hdisc 2.0 --psi 196:202:2
 $PY "$HERE/tabulate_stage.py" --ltca "${LTCA:-build/release/ltca}" "$OUT"/{s0,sA,sB}
