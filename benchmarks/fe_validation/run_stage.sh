@@ -20,4 +20,6 @@ run s0 --h0 0.05 --hout 0.1 --hdisc 3 --psi 190:210:4
 run sA --psi 194:202:2
 # sB: the docs' figures are from its increments to 196 and 199 arcsec (stopped before 202: 33 min)
 run sB --h0 0.01 --hout 0.02 --dout 0.4 --hhole 0.4 --hdisc 2.0 --psi 196:202:2
-$PY "$HERE/tabulate_stage.py" --ltca "${LTCA:-build/release/ltca}" "$OUT"/{s0,sA,sB}
+# the largest pressure's check: sA with pin 6's contact (the largest pressure) refined to 5 um
+run sP6 --fine-pins 6 --h0-fine 0.005 --psi 197:199:1
+$PY "$HERE/tabulate_stage.py" --ltca "${LTCA:-build/release/ltca}" "$OUT"/{s0,sA,sB,sP6}

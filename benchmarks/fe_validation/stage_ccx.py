@@ -138,6 +138,10 @@ def build_mesh(a, state, ostate, refined_pins, opins):
     for j in refined_pins:
         for p in (state[j]["point"], state[j]["pin_point"]):
             fr.append(geo.addPoint(p[0], p[1], 0.0))
+    fx = []  # --fine-pins: a finer size at these ring pins' contacts
+    for j in a.fine_pins:
+        for p in (state[j]["point"], state[j]["pin_point"]):
+            fx.append(geo.addPoint(p[0], p[1], 0.0))
     fo = []
     for j in opins:
         for p in (ostate[j]["wall_point"], ostate[j]["pin_point"]):
@@ -179,6 +183,7 @@ def build_mesh(a, state, ostate, refined_pins, opins):
     dr, do = dist_pts(fr), dist_pts(fo)
     dh = dist_curves([c for j in range(N_OUT) for c in hole_arcs[j]])
     all_hole_arcs = [c for j in range(N_OUT) for c in hole_arcs[j]]
+    pin_cs = [c for j in state for c in pin_outer[j] + pin_core[j]]
     disc_cs = curves + bore_arcs + all_hole_arcs
     fields = [
         restrict(threshold(dr, a.h0, a.hdisc, a.d0), [disc_surf], disc_cs),
@@ -189,6 +194,10 @@ def build_mesh(a, state, ostate, refined_pins, opins):
         restrict(threshold(do, a.hout, a.hopin, a.dout), list(op_surf.values()),
                  [c for j in opins for c in op_outer[j] + op_core[j]]),
     ]
+    if fx:
+        dx = dist_pts(fx)
+        fields += [restrict(threshold(dx, a.h0_fine, a.hdisc, a.d0), [disc_surf], curves + bore_arcs + all_hole_arcs),
+                   restrict(threshold(dx, a.h0_fine, a.hpin, a.d0), list(pin_surf.values()), pin_cs)]
     hub_size = f.add("MathEval")
     f.setString(hub_size, "F", "%g" % a.hhub)
     fields.append(restrict(hub_size, [hub_surf], []))
@@ -462,6 +471,8 @@ def main():
     ap.add_argument("--hub-stiffness", type=float, default=1000.0, help="the hub's E over the disc's")
     ap.add_argument("--h0", type=float, default=0.02, help="element size at the ring-pin contacts, mm")
     ap.add_argument("--d0", type=float, default=0.12)
+    ap.add_argument("--fine-pins", default="", help="ring pins whose contacts get --h0-fine (a pressure check)")
+    ap.add_argument("--h0-fine", type=float, default=0.005)
     ap.add_argument("--hout", type=float, default=0.04, help="element size at the output-pin contacts, mm")
     ap.add_argument("--dout", type=float, default=0.6, help="radius of the uniform hout zone, mm")
     ap.add_argument("--hhole", type=float, default=0.6, help="element size on the holes' walls, mm")
@@ -486,6 +497,7 @@ def main():
     lo, hi = [int(v) for v in a.pins.split("-")]
     pins = list(range(lo - 1, hi))
     refine = [int(v) - 1 for v in a.refine.split(",")]
+    a.fine_pins = [int(v) - 1 for v in a.fine_pins.split(",")] if a.fine_pins else []
     olo, ohi = [int(v) for v in a.opins.split("-")]
     opins = list(range(olo - 1, ohi))
     os.makedirs(a.out, exist_ok=True)
@@ -523,7 +535,7 @@ def main():
                     t_mesh=t_mesh, nodes=len(mesh["xyz"]), outline_moved_mm=mesh["outline_moved_mm"])
         json.dump(info, open(os.path.join(a.out, "info.json"), "w"))
     recs = parse_dat(os.path.join(a.out, "stage.dat"), mesh, a, slave)
-    res = dict(crank_deg=a.crank_deg, bore_mm=a.bore, core_mm=a.core, out_core_mm=a.out_core, h0_mm=a.h0, d0_mm=a.d0,
+    res = dict(crank_deg=a.crank_deg, fine_pins=[j + 1 for j in a.fine_pins], h0_fine_mm=a.h0_fine, bore_mm=a.bore, core_mm=a.core, out_core_mm=a.out_core, h0_mm=a.h0, d0_mm=a.d0,
                hout_mm=a.hout, dout_mm=a.dout, hhole_mm=a.hhole, grow=a.grow, hdisc_mm=a.hdisc, hpin_mm=a.hpin,
                hopin_mm=a.hopin, hub_stiffness=a.hub_stiffness, penalty=a.penalty,
                first_ring_contact_arcsec=phi0, first_output_contact_rel_arcsec=rel0, phi1=phi1, psi1=psi1,
