@@ -12,6 +12,9 @@ a few core radii and a few b and prints the FE approach beside the formula, and 
 for which they agree (interpolated in ln a).
 
 Run: /usr/bin/python3 benchmarks/fe_validation/pin_calibration.py --out /tmp/cx/pin
+The stage's output pins (r_w = 5 mm, stage_ccx.py):
+     /usr/bin/python3 benchmarks/fe_validation/pin_calibration.py --radius 5 --cores 0.6,1.0,1.5 \
+         --bs 0.1,0.325 --h0 0.005 --out /tmp/cx/opin
 """
 import argparse
 import math
@@ -45,9 +48,9 @@ def run(core, b, force, h0, out):
     t = f.add("Threshold")
     f.setNumber(t, "InField", d)
     f.setNumber(t, "SizeMin", h0)
-    f.setNumber(t, "SizeMax", 0.3)
+    f.setNumber(t, "SizeMax", 0.1 * R)
     f.setNumber(t, "DistMin", 2.5 * b)
-    f.setNumber(t, "DistMax", 2.5 * b + (0.3 - h0) / 0.25)
+    f.setNumber(t, "DistMax", 2.5 * b + (0.1 * R - h0) / 0.25)
     f.setAsBackgroundMesh(t)
     for k in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
         gmsh.option.setNumber("Mesh." + k, 0)
@@ -117,7 +120,10 @@ def main():
     ap.add_argument("--force", type=float, default=1000.0)
     ap.add_argument("--cores", default="0.3,0.6,1.0,1.5")
     ap.add_argument("--bs", default="0.03,0.06")
+    ap.add_argument("--radius", type=float, default=3.0, help="the pin's outer radius, mm")
     a = ap.parse_args()
+    global R
+    R = a.radius
     print("core_mm  b_mm  F_N(reaction)  nodes  FE_approach_um  ltca_pin_term_um  FE/ltca")
     for b in [float(v) for v in a.bs.split(",")]:
         res = []
