@@ -323,6 +323,25 @@ TEST_CASE("app: every stage solver agrees on the RV stage with the elastic disc 
     for (const double crank : cranks) {
       const LoadProblem problem = elastic.Problem(crank, deck.load->torque);
       REQUIRE(problem.stage_body_coupling() != nullptr);
+      {
+        // The coupled set's rollers are disc 0's, crank by crank, roller by roller, after the pin
+        // ring: roller k of crank j at the eccentric's direction (the crank angle here) + 2 pi k /
+        // 14, turned back into the body by the disc's nominal rotation theta / I, on hole j.
+        const Eigen::SparseMatrix<double>& body = *problem.stage_body_coupling()->body;
+        const auto n = static_cast<Eigen::Index>(problem.point_count());
+        REQUIRE(body.rows() == n + 2 * 3 * 14);
+        const double rotation = -crank / 39.0;  // theta / I, I = -z_c / d
+        const auto roller = [&](int j, int k) {
+          const double angle = crank + 2.0 * std::numbers::pi * k / 14 - rotation;
+          return ltca::contact::DiscHoleContact{j, Eigen::Vector2d(std::cos(angle), std::sin(angle))};
+        };
+        const Eigen::MatrixXd direct = elastic.disc_body()->Coupling({}, {roller(1, 3), roller(2, 9)});
+        const Eigen::Index a = n + 1 * 14 + 3, b = n + 2 * 14 + 9;
+        CHECK(body.coeff(a, a) == doctest::Approx(direct(0, 0)).epsilon(1e-12));
+        CHECK(body.coeff(b, b) == doctest::Approx(direct(1, 1)).epsilon(1e-12));
+        CHECK(body.coeff(a, b) == doctest::Approx(direct(0, 1)).epsilon(1e-12));
+        CHECK(body.coeff(a, n + 3 * 14 + 3) == 0.0);  // the second disc's rollers are on its own body
+      }
       SolverOptions options;
       options.torque_tolerance = 1e-12;
       std::optional<LoadResult> first;
