@@ -57,7 +57,8 @@ Eigen::VectorXd ReducerSystem::Coordinates(const Eigen::VectorXd& q) const {
 bool ReducerSystem::ElementsPreloaded(double tolerance) const {
   for (const Scalar& e : scalars_) {
     if (e.group == StageGroup::kOutput && e.gap < -tolerance) return true;
-    if (e.group == StageGroup::kBearings && e.gap < 0.0) return true;  // a roller on the body, pressed
+    // A needle roller on the elastic body: its bearing preloaded, as the planar element's test.
+    if (e.group == StageGroup::kBearings && Bearing(e.disc).radial_clearance < 0.0) return true;
   }
   for (const Planar& p : planars_) {
     if (!p.shaft && Bearing(p).kind != contact::BearingKind::kRigid && Bearing(p).radial_clearance < 0.0) return true;
