@@ -212,8 +212,8 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
     coupling_ = problem.coupling();
     force_scale_ = CoupledForceScale(problem);
     if (const LoadProblem::StageBodyCoupling* body = problem.stage_body_coupling()) {
-      // The elastic disc body: its holes' contacts (disc 0's output pins, added below in pin order)
-      // join the coupled set after the problem's points.
+      // The elastic disc body: its holes' contacts (disc 0's output pins in pin order, or every
+      // disc's needle rollers, added below) join the coupled set after the problem's points.
       coupling_ = body->total.get();
       body_coupling_ = body->body.get();
       coupled_points_ += body->output_points;
