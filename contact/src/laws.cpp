@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "ltca/contact/bearing.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::contact {
@@ -220,6 +221,37 @@ ContactLaw::ContactLaw(const ContactSettings& settings, const Material& material
   max_approach_ = std::isfinite(max_force_) ? HertzApproach(max_force_) : kInf;
 }
 
+ContactLaw ContactLaw::Roller(double roller_length, double linear_compliance) {
+  if (!(std::isfinite(roller_length) && roller_length > 0.0) || !std::isfinite(linear_compliance)) {
+    throw std::invalid_argument(fmt::format(
+        "ContactLaw::Roller: roller length {} mm, linear compliance {} mm/N: expected a finite length > 0 and a finite "
+        "compliance",
+        roller_length, linear_compliance));
+  }
+  ContactLaw law;
+  law.kind_ = LawKind::kLinear;  // not a pin-cycloid law: the form says what it is
+  law.form_ = Form::kRoller;
+  law.length_ = roller_length;
+  law.e_star_ = 0.0;
+  law.rho_eq_ = 0.0;
+  law.rho_c_abs_ = 0.0;
+  law.rho_p_ = 0.0;
+  law.cc_ = 0.0;
+  law.cp_ = 0.0;
+  law.valid_half_width_ = kInf;
+  // Both raceway contacts in series, Palmgren's 3.84e-5 Q^0.9 / l^0.8 each (PalmgrenApproach at 1 N).
+  law.roller_a_ = 2.0 * PalmgrenApproach(1.0, roller_length);
+  law.roller_s_ = linear_compliance;
+  if (linear_compliance < 0.0) {
+    law.max_force_ = std::pow(0.9 * law.roller_a_ / -linear_compliance, 10.0);
+    law.max_approach_ = law.roller_a_ * std::pow(law.max_force_, 0.9) + linear_compliance * law.max_force_;
+  } else {
+    law.max_force_ = kInf;
+    law.max_approach_ = kInf;
+  }
+  return law;
+}
+
 ContactLaw ContactLaw::Scaled(double w) const {
   if (!(std::isfinite(w) && w > 0.0)) {
     throw std::invalid_argument(fmt::format("ContactLaw::Scaled: force scale {}: expected a finite number above 0", w));
@@ -234,6 +266,8 @@ ContactLaw ContactLaw::Scaled(double w) const {
   law.log_a_ = log_a_ + 0.5 * log_c_ * log_w;
   law.seat_a_ = seat_a_ + 0.5 * seat_c_ * log_w;
   law.seat_b1_ = seat_b1_ / std::sqrt(w);  // b_s = b1 sqrt(F / w)
+  law.roller_a_ = roller_a_ * std::pow(w, -0.9);  // a (Q / w)^0.9 + s Q / w
+  law.roller_s_ = roller_s_ / w;
   return law;
 }
 
@@ -251,6 +285,10 @@ double ContactLaw::Approach(double force) const {
     case Form::kLinear: return force / k_lin_;
     case Form::kLog: return HertzApproach(std::min(force, max_force_));
     case Form::kSagitta: return SagittaApproach(sagitta_factor_ * std::min(force, max_force_));
+    case Form::kRoller: {
+      const double f = std::min(force, max_force_);
+      return roller_a_ * std::pow(f, 0.9) + roller_s_ * f;
+    }
   }
   return 0.0;
 }
@@ -321,6 +359,27 @@ double ContactLaw::Force(double approach, double* hint) const {
       *hint = s / sagitta_factor_;
       return *hint;
     }
+    case Form::kRoller: {
+      // g(Q) = a Q^0.9 + s Q - delta is increasing and concave below max_force: Newton's iterates
+      // from any point land left of the root and then rise to it monotonically. Start at the
+      // root without the linear term (exact for s = 0).
+      const double a = roller_a_, s = roller_s_;
+      double f = std::pow(approach / a, 10.0 / 9.0);
+      if (s != 0.0) {
+        for (int it = 0; it < 100; ++it) {
+          const double p = std::pow(f, 0.9);
+          const double step = (a * p + s * f - approach) / (0.9 * a * p / f + s);
+          double next = f - step;
+          if (!(next > 0.0)) next = 0.5 * f;
+          if (!(next < max_force_)) next = 0.5 * (f + max_force_);
+          const bool done = std::abs(next - f) <= 4e-16 * f;
+          f = next;
+          if (done) break;
+        }
+      }
+      *hint = f;
+      return f;
+    }
   }
   return 0.0;
 }
@@ -338,6 +397,7 @@ double ContactLaw::Stiffness(double approach) const {
       const double s = sagitta_factor_ * Force(approach);
       return 1.0 / (sagitta_factor_ * (SagittaSlope(rho_c_abs_, s) + SagittaSlope(rho_p_, s)));
     }
+    case Form::kRoller: return 1.0 / Compliance(Force(approach));
   }
   return 0.0;
 }
@@ -355,6 +415,9 @@ double ContactLaw::Compliance(double force) const {
       const double s = sagitta_factor_ * std::max(force, 0.0);
       return sagitta_factor_ * (SagittaSlope(rho_c_abs_, s) + SagittaSlope(rho_p_, s));
     }
+    case Form::kRoller:
+      if (!(force > 0.0)) return kInf;
+      return 0.9 * roller_a_ * std::pow(force, -0.1) + roller_s_;
   }
   return 0.0;
 }
@@ -382,6 +445,7 @@ double ContactLaw::ComplementaryEnergy(double force) const {
       const double s = sagitta_factor_ * force;
       return (SagittaIntegral(rho_c_abs_, s) + SagittaIntegral(rho_p_, s)) / sagitta_factor_;
     }
+    case Form::kRoller: return roller_a_ * std::pow(force, 1.9) / 1.9 + 0.5 * roller_s_ * force * force;
   }
   return 0.0;
 }
@@ -393,7 +457,8 @@ double ContactLaw::StrainEnergy(double approach, double force) const {
       case Form::kLinear: return 0.5 * force * approach;
       // F delta - E^c(F) with (A - (C/2) ln F) = delta pi B / (2F) from the law itself: no log.
       case Form::kLog: return 0.5 * force * approach - 0.25 * log_c_ * force * force / (kPi * length_);
-      case Form::kSagitta: break;
+      case Form::kSagitta:
+      case Form::kRoller: break;
     }
   }
   return force * approach - ComplementaryEnergy(force);
@@ -416,12 +481,12 @@ double ContactLaw::SeatHalfWidth(double force) const {
 }
 
 double ContactLaw::HalfWidth(double force) const {
-  if (!(force > 0.0)) return 0.0;
+  if (!(force > 0.0) || form_ == Form::kRoller) return 0.0;
   return std::sqrt(4.0 * force * rho_eq_ / (kPi * length_ * e_star_));  // Liu eq. 23
 }
 
 double ContactLaw::MaxPressure(double force) const {
-  if (!(force > 0.0)) return 0.0;
+  if (!(force > 0.0) || form_ == Form::kRoller) return 0.0;
   return 2.0 * force / (kPi * HalfWidth(force) * length_);
 }
 

@@ -345,7 +345,9 @@ LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<doub
 }
 
 LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
-  if (second_ != nullptr && coupling.matrix != nullptr) {
+  // Two discs take a coupling only in a stage (the reducer system's coupled set: an RV stage's
+  // elastic bodies, each disc's points on its own); pin bending couples one disc's points only.
+  if (second_ != nullptr && coupling.matrix != nullptr && reducer_ == nullptr) {
     throw std::invalid_argument("LoadProblem coupling: not supported for two discs: pin bending couples one disc's points only");
   }
   if (coupling.points != point_count()) {
@@ -406,18 +408,27 @@ LoadProblem LoadProblem::WithStageLoads(StageLoads loads) const {
 }
 
 LoadProblem LoadProblem::WithStageBodyCoupling(StageBodyCoupling coupling) const {
-  if (reducer_ == nullptr || reducer_->kind != OutputKind::kPins || second_ != nullptr) {
-    throw std::invalid_argument("LoadProblem::WithStageBodyCoupling: expected a one-disc stage of output pins");
+  // A one-disc stage of output pins (one contact per pin), or a stage of crankshafts on needle
+  // rollers (one contact per roller of every crank bearing of every disc).
+  const bool pins = reducer_ != nullptr && reducer_->kind == OutputKind::kPins && second_ == nullptr;
+  const bool rollers = reducer_ != nullptr && reducer_->kind == OutputKind::kCranks &&
+                       reducer_->bearing.kind == contact::BearingKind::kRollers;
+  if (!pins && !rollers) {
+    throw std::invalid_argument(
+        "LoadProblem::WithStageBodyCoupling: expected a one-disc stage of output pins or a stage of crankshafts on "
+        "roller bearings");
   }
   if (coupling_ == nullptr || !coupling.total || !coupling.body) {
     throw std::invalid_argument("LoadProblem::WithStageBodyCoupling: expected the problem's coupling and both matrices");
   }
+  const int elements =
+      pins ? reducer_->pins.count : disc_count() * reducer_->cranks.count * reducer_->bearing.roller_count;
   const Eigen::Index n = point_count() + coupling.output_points;
-  if (coupling.output_points != reducer_->pins.count || coupling.total->rows() != n || coupling.total->cols() != n ||
+  if (coupling.output_points != elements || coupling.total->rows() != n || coupling.total->cols() != n ||
       coupling.body->rows() != n || coupling.body->cols() != n) {
     throw std::invalid_argument(fmt::format(
-        "LoadProblem::WithStageBodyCoupling: expected {} x {} matrices (the points and {} output pins)", n, n,
-        reducer_->pins.count));
+        "LoadProblem::WithStageBodyCoupling: expected {} x {} matrices (the points and {} {})", n, n, elements,
+        pins ? "output pins" : "needle rollers"));
   }
   if (!Eigen::MatrixXd(coupling.total->topLeftCorner(point_count(), point_count()) - *coupling_).isZero(0.0)) {
     throw std::invalid_argument("LoadProblem::WithStageBodyCoupling: the top-left block is not the problem's coupling");

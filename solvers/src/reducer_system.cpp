@@ -57,6 +57,8 @@ Eigen::VectorXd ReducerSystem::Coordinates(const Eigen::VectorXd& q) const {
 bool ReducerSystem::ElementsPreloaded(double tolerance) const {
   for (const Scalar& e : scalars_) {
     if (e.group == StageGroup::kOutput && e.gap < -tolerance) return true;
+    // A needle roller on the elastic body: its bearing preloaded, as the planar element's test.
+    if (e.group == StageGroup::kBearings && Bearing(e.disc).radial_clearance < 0.0) return true;
   }
   for (const Planar& p : planars_) {
     if (!p.shaft && Bearing(p).kind != contact::BearingKind::kRigid && Bearing(p).radial_clearance < 0.0) return true;
@@ -71,6 +73,25 @@ contact::ContactLaw ReducerSystem::OutputPinLaw(const LoadProblem& problem) {
       problem.stage_body_coupling() != nullptr ? problem.contact_settings().cycloid_log_radius : 0.0;
   return contact::OutputPinLaw(problem.contact_settings(), problem.material(), problem.reducer()->pins,
                                problem.model().pair().face_width, problem.log_radius_cap(), hole_log_radius);
+}
+
+contact::ContactLaw ReducerSystem::CrankRollerLaw(const LoadProblem& problem) {
+  // The bearing's own law, Palmgren's for both raceways, and with an elastic disc body condensed
+  // at its crank holes the raceway's local field beyond the body's patches in place of the one a
+  // rigid law's reference depth holds (docs/fe_disc.md "The RV disc"): the disc side's Hertz term
+  // C (ln(4 r_h / b) - 1/2) of a concave raceway of radius r_h = (d_m + D_w) / 2 becomes C (ln(4
+  // rho_e / b) - 1/2), rho_e = w0 / sqrt(e), as for the flank and the output-pin holes: a linear
+  // term (2 / (pi B)) C ln(rho_e / r_h) Q, C = (1 - nu^2) / E of the disc, B its face width.
+  const contact::BearingSettings& b = problem.reducer()->bearing;
+  double linear = 0.0;
+  if (problem.stage_body_coupling() != nullptr) {
+    const double rho_e = problem.contact_settings().cycloid_log_radius;
+    const double hole = 0.5 * (b.pitch_diameter + b.roller_diameter);
+    const contact::Material& m = problem.material();
+    const double c = (1.0 - m.poisson_ratio * m.poisson_ratio) / m.young_modulus;
+    linear = 2.0 / (units::kPi * problem.model().pair().face_width) * c * std::log(rho_e / hole);
+  }
+  return contact::ContactLaw::Roller(b.roller_length, linear);
 }
 
 Eigen::Vector2d ReducerSystem::Displacement(const Planar& p, const Eigen::VectorXd& q) {
@@ -191,8 +212,8 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
     coupling_ = problem.coupling();
     force_scale_ = CoupledForceScale(problem);
     if (const LoadProblem::StageBodyCoupling* body = problem.stage_body_coupling()) {
-      // The elastic disc body: its holes' contacts (disc 0's output pins, added below in pin order)
-      // join the coupled set after the problem's points.
+      // The elastic disc body: its holes' contacts (disc 0's output pins in pin order, or every
+      // disc's needle rollers, added below) join the coupled set after the problem's points.
       coupling_ = body->total.get();
       body_coupling_ = body->body.get();
       coupled_points_ += body->output_points;
@@ -237,6 +258,41 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
   const double output_rotation = problem.model().kinematics().CycloidPose(problem.crank()).rotation;
   // The output pins' law, one for every pin of every disc.
   const std::optional<contact::ContactLaw> pin_law = cranks ? std::nullopt : std::optional(OutputPinLaw(problem));
+  // An elastic disc body on the crank holes: every needle roller a scalar contact of the coupled
+  // set, on its hole's wall (disc by disc, crank by crank, roller by roller after the pin ring),
+  // in place of the bearing's planar element.
+  const bool rollers_coupled = cranks && coupled_points_ > mesh_points_;
+  int roller_law = -1;
+  if (rollers_coupled) {
+    if (settings_.bearing.kind != contact::BearingKind::kRollers) {
+      throw std::logic_error("ReducerSystem: an elastic disc body on crank holes needs roller bearings");
+    }
+    roller_law = static_cast<int>(laws_.size());
+    laws_.push_back(CrankRollerLaw(problem));
+  }
+  // Roller k of the crank bearing p (its u rows and offset set) as a scalar: approach u . e_k - c.
+  const auto add_rollers = [&](const Planar& p) {
+    const contact::BearingSettings& bearing = Bearing(p);
+    const int z = bearing.roller_count;
+    for (int k = 0; k < z; ++k) {
+      const double angle = p.phase + 2.0 * units::kPi * k / z;
+      const Eigen::Vector2d e(std::cos(angle), std::sin(angle));
+      Scalar r;
+      for (int a = 0; a < 2; ++a) {
+        const Row& row = p.coordinates[static_cast<std::size_t>(a)];
+        for (int i = 0; i < row.n; ++i) {
+          r.coordinates.Add(row.index[static_cast<std::size_t>(i)], e(a) * row.value[static_cast<std::size_t>(i)]);
+        }
+      }
+      r.gap = bearing.radial_clearance - p.offset.dot(e);
+      r.law = roller_law;
+      r.direction = e;  // the roller's force on the disc (the hole's outward normal there)
+      r.group = StageGroup::kBearings;
+      r.disc = p.disc;
+      r.index = p.index * z + k;
+      scalars_.push_back(r);
+    }
+  };
   for (int d = 0; d < discs_; ++d) {
     const geometry::Pose real = problem.DiscModel(d).real_pair().CycloidPose(problem.DiscCrank(d));
     // The disc where it is (nominal, or the origin's pose: its centre moved, its rotation added in
@@ -305,22 +361,31 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
         }
         p.coordinates = u;
         p.group = StageGroup::kBearings;
-        planars_.push_back(p);
+        if (rollers_coupled) add_rollers(p);
+        else planars_.push_back(p);
         if (!shaft_beam_) planars_.push_back(shaft);  // a beam's energy couples both discs' (EvaluateBeams)
       } else {
         p.coordinates = u;
         p.shaft = !bearing_compliant;
         p.group = bearing_compliant ? StageGroup::kBearings : StageGroup::kShafts;
-        planars_.push_back(p);
+        if (rollers_coupled) add_rollers(p);
+        else planars_.push_back(p);
       }
     }
   }
   if (coupled_points_ > mesh_points_) {
-    // The body's hole rows are disc 0's output pins in pin order, right after the pin ring.
+    // The body's hole rows are disc 0's output pins in pin order, or every disc's needle rollers
+    // (disc, crank, roller), right after the pin ring.
+    if (static_cast<int>(scalars_.size()) < coupled_points_) {
+      throw std::logic_error("ReducerSystem: the disc body's coupled set is larger than the stage's elements");
+    }
+    int expected = 0, disc = 0;
     for (int i = mesh_points_; i < coupled_points_; ++i) {
       const Scalar& e = scalars_.at(static_cast<std::size_t>(i));
-      if (e.group != StageGroup::kOutput || e.disc != 0 || e.index != i - mesh_points_) {
-        throw std::logic_error("ReducerSystem: the disc body's coupled output pins are not in pin order");
+      if (rollers_coupled && e.disc != disc) disc = e.disc, expected = 0;
+      const StageGroup group = rollers_coupled ? StageGroup::kBearings : StageGroup::kOutput;
+      if (e.group != group || e.index != expected++ || (!rollers_coupled && e.disc != 0)) {
+        throw std::logic_error("ReducerSystem: the disc body's coupled hole contacts are not in order");
       }
     }
   }
@@ -739,6 +804,14 @@ void ReducerSystem::Fill(const Eigen::VectorXd& q, LoadResult* result) const {
       result->force[static_cast<std::size_t>(e.index)] = f;
       // The pin pushes the cycloid along -n (n from the cycloid toward the pin).
       mesh_force[static_cast<std::size_t>(e.disc)] -= f * e.direction;
+    } else if (e.group == StageGroup::kBearings) {
+      // A needle roller on the elastic body: its load on its crank hole's wall (outward).
+      const int z = Bearing(e.disc).roller_count;
+      const auto crank = static_cast<std::size_t>(e.index / z);
+      std::vector<double>& loads = disc.roller_load[crank];
+      if (loads.empty()) loads.assign(static_cast<std::size_t>(z), 0.0);
+      loads[static_cast<std::size_t>(e.index % z)] = f;
+      disc.bearing_force[crank] += f * e.direction;
     } else {
       disc.output_force[static_cast<std::size_t>(e.index)] = f;
       disc.output_direction[static_cast<std::size_t>(e.index)] = e.direction;
@@ -810,6 +883,12 @@ void ReducerSystem::Judge(LoadResult* result) const {
   const auto reported = [&](const Scalar& e) -> double {
     if (e.group == StageGroup::kMesh) {
       return static_cast<std::size_t>(e.index) < result->force.size() ? result->force[static_cast<std::size_t>(e.index)] : 0.0;
+    }
+    if (e.group == StageGroup::kBearings) {  // a needle roller on the elastic body
+      const int z = Bearing(e.disc).roller_count;
+      const auto& loads = stage.discs[static_cast<std::size_t>(e.disc)].roller_load;
+      const auto crank = static_cast<std::size_t>(e.index / z), k = static_cast<std::size_t>(e.index % z);
+      return crank < loads.size() && k < loads[crank].size() ? loads[crank][k] : 0.0;
     }
     const auto& forces = stage.discs[static_cast<std::size_t>(e.disc)].output_force;
     return static_cast<std::size_t>(e.index) < forces.size() ? forces[static_cast<std::size_t>(e.index)] : 0.0;

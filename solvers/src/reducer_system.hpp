@@ -33,6 +33,10 @@ class ReducerSystem {
   /// The law of every output pin in its hole (a stage of kind pins): the deck's [contact] law,
   /// conformal and unseated (contact::OutputPinLaw), over the face width, with the problem's cap.
   static contact::ContactLaw OutputPinLaw(const LoadProblem& problem);
+  /// The law of every needle roller of a crank bearing on an elastic disc body (the coupled set's
+  /// rollers): contact::ContactLaw::Roller of the bearing's roller length, with the body the raceway's
+  /// local field beyond the body's patches (docs/fe_disc.md "The RV disc"); without it Palmgren's alone.
+  static contact::ContactLaw CrankRollerLaw(const LoadProblem& problem);
 
   /// The stage at its nominal poses (linearised kinematics). Throws std::invalid_argument when the
   /// problem has no reducer.
@@ -163,8 +167,10 @@ class ReducerSystem {
   Row ToDofs(const Row& coordinates) const;
   /// The planar element's law: the shaft's spring, or its disc's bearing (the second disc's own play).
   const contact::BearingSettings& Bearing(const Planar& p) const {
-    return p.shaft ? shaft_ : (p.disc == 1 ? second_bearing_ : settings_.bearing);
+    return p.shaft ? shaft_ : Bearing(p.disc);
   }
+  /// Disc d's bearing (the second disc's own play).
+  const contact::BearingSettings& Bearing(int disc) const { return disc == 1 ? second_bearing_ : settings_.bearing; }
   Eigen::VectorXd Coordinates(const Eigen::VectorXd& q) const;
   /// u of a planar element at dofs q, or at coordinates c.
   static Eigen::Vector2d Displacement(const Planar& p, const Eigen::VectorXd& q);
@@ -220,7 +226,8 @@ class ReducerSystem {
   std::vector<Block> blocks_;
   int mesh_points_ = 0;
   // The coupled set: scalars_[0..coupled_points_), the problem's points and, with an elastic disc
-  // body on the output pins (LoadProblem::stage_body_coupling), disc 0's output pins after them.
+  // body (LoadProblem::stage_body_coupling), disc 0's output pins after them, or every disc's
+  // needle rollers (disc, crank, roller) in place of the crank bearings' planar elements.
   int coupled_points_ = 0;
   const Eigen::SparseMatrix<double>* body_coupling_ = nullptr;  // the body's part of coupling_ (the budget)
   double force_scale_ = 1.0;  // N, CoupledForceScale

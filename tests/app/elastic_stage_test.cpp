@@ -196,6 +196,229 @@ TEST_CASE("app: every stage solver agrees on the cycloidal drive with the elasti
   CHECK(compared == 2 * 2 * (static_cast<int>(ReducerSolverNames().size()) - 1));
 }
 
+TEST_CASE("app: on the RV stage an elastic body that is a half-plane down to each law's reference depth, at the ring pins and every needle roller of both discs, returns the rigid stage's answer in every stage solver, linearised to 1e-9") {
+  // The split at a crank hole (docs/fe_disc.md "The RV disc"): each needle roller is a contact of
+  // the coupled set on its hole's wall; its law is the bearing's Palmgren roller with the disc
+  // side's Hertz term of the concave raceway (radius r_h = (d_m + D_w) / 2) moved from the rigid
+  // law's reference depth to rho_e = w0 / sqrt(e): a linear term (2 / (pi B)) C ln(rho_e / r_h) Q
+  // (ReducerSystem::CrankRollerLaw). A body that is the half-plane down to that depth has at each
+  // roller (2 / (pi B)) C ln(r_h / rho_e) and no coupling, at the flank (2 / (pi B)) C ln(rho /
+  // rho_e): given as the stage's body coupling of cases/stage/rv_two_discs_cranks.toml (two discs,
+  // three crankshafts on springs, 14 rollers with 3 um play), every stage solver must return the
+  // rigid stage's rotation, pin forces, every crank's bearing force and every roller load to
+  // 1e-9: the rollers' scalar contacts of the coupled set are the bearing's planar element, none
+  // counted twice or lost, both discs.
+  ltca::app::Deck rigid_deck = ltca::app::LoadDeck(ltca::test::Case("stage/rv_two_discs_cranks.toml"));
+  REQUIRE(rigid_deck.reducer.has_value());
+  REQUIRE(rigid_deck.second_disc.has_value());
+  const ltca::contact::BearingSettings& bearing = rigid_deck.reducer->bearing;
+  const double w0 = 0.2;
+  const double rho_e = w0 / std::sqrt(std::numbers::e);
+  const double c = (1.0 - rigid_deck.material->poisson_ratio * rigid_deck.material->poisson_ratio) /
+                   rigid_deck.material->young_modulus;
+  const double r_h = 0.5 * (bearing.pitch_diameter + bearing.roller_diameter);
+  const int rollers = 2 * rigid_deck.reducer->cranks.count * bearing.roller_count;
+  int compared = 0;
+  // flank false: the rollers alone (both problems take the elastic law at the flank and no flank
+  // body), which isolates the crank bearings' scalar contacts from the flank's exact-kinematics drift.
+  for (const bool flank : {true, false}) {
+  for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
+    rigid_deck.kinematics = kinematics;
+    if (!flank) rigid_deck.contact.cycloid_log_radius = rho_e;
+    ltca::app::Deck elastic_deck = rigid_deck;
+    elastic_deck.contact.cycloid_log_radius = rho_e;
+    const std::vector<double> cranks{0.0, 0.7, 2.1, 4.0};
+    const ltca::analysis::Stage rigid = rigid_deck.MakeStage(cranks);
+    const ltca::analysis::Stage elastic = elastic_deck.MakeStage(cranks);
+    for (const double crank : cranks) {
+      const LoadProblem a = rigid.Problem(crank, rigid_deck.load->torque);
+      const LoadProblem plain = elastic.Problem(crank, rigid_deck.load->torque);
+      REQUIRE(!plain.has_coupling());
+      const std::vector<ltca::contact::PinContact>& pins = plain.base_state().pins;
+      const auto n = static_cast<Eigen::Index>(pins.size());
+      Eigen::SparseMatrix<double> ring(n, n);
+      Eigen::SparseMatrix<double> all(n + rollers, n + rollers);
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const ltca::contact::PinContact& p = pins[static_cast<std::size_t>(i)];
+        if (p.edge || !(p.length > 0.0)) continue;
+        const double rho = std::min(1.0 / std::abs(p.cycloid_curvature), plain.log_radius_cap());
+        const double v = flank ? 2.0 / (std::numbers::pi * p.length) * c * std::log(rho / rho_e) : 1e-30;
+        ring.insert(i, i) = v;
+        all.insert(i, i) = v;
+      }
+      for (int j = 0; j < rollers; ++j) {
+        all.insert(n + j, n + j) = 2.0 / (std::numbers::pi * rigid_deck.pair.face_width) * c * std::log(r_h / rho_e);
+      }
+      LoadProblem::StageBodyCoupling body;
+      body.total = std::make_shared<const Eigen::SparseMatrix<double>>(all);
+      body.body = body.total;
+      body.output_points = rollers;
+      const LoadProblem b = plain.WithCoupling(ring).WithStageBodyCoupling(body);
+      for (const std::string& name : ReducerSolverNames()) {
+        CAPTURE(name);
+        CAPTURE(crank);
+        CAPTURE(static_cast<int>(kinematics));
+        SolverOptions options;
+        options.name = name;
+        options.torque_tolerance = 1e-14;
+        const LoadResult x = MakeSolver(name)->Solve(a, options);
+        const LoadResult y = MakeSolver(name)->Solve(b, options);
+        INFO(y.message);
+        REQUIRE(x.status == SolverStatus::kSuccess);
+        REQUIRE(y.status == SolverStatus::kSuccess);
+        REQUIRE(x.reducer.has_value());
+        REQUIRE(y.reducer.has_value());
+        // Exact kinematics: each flank law re-evaluated at its moved contact (its rho with it) while
+        // the body's coupling is the unloaded pose's (as on the cycloidal drive, where it drifted
+        // 8.5e-6 and 0.3 %): the RV's discs float further on the bearings' play and the shafts,
+        // measured 7.1e-4 of the rotation and 4.1 % of the largest pin force; bounds 1e-3 and 5 %.
+        // The rollers alone are exact under both kinematics (measured 9.4e-14 and 3.4e-12).
+        const bool linear = kinematics == ContactKinematics::kLinearised || !flank;
+        const double tol = linear ? 1e-9 : 5e-2;
+        CHECK(std::abs(y.rotation - x.rotation) <= (linear ? 1e-9 : 1e-3) * std::abs(x.rotation));
+        CHECK(MaxAbsDifference(x.force, y.force) <= tol * MaxAbs(x.force));
+        double largest = 0.0;
+        for (const auto& d : x.reducer->discs) {
+          for (const Eigen::Vector2d& f : d.bearing_force) largest = std::max(largest, f.norm());
+        }
+        REQUIRE(largest > 0.0);
+        for (std::size_t d = 0; d < 2; ++d) {
+          const auto& dx = x.reducer->discs.at(d);
+          const auto& dy = y.reducer->discs.at(d);
+          REQUIRE(dx.bearing_force.size() == 3);
+          REQUIRE(dy.bearing_force.size() == 3);
+          for (std::size_t j = 0; j < 3; ++j) {
+            CHECK((dx.bearing_force[j] - dy.bearing_force[j]).norm() <= tol * largest);
+            REQUIRE(dx.roller_load.at(j).size() == static_cast<std::size_t>(bearing.roller_count));
+            REQUIRE(dy.roller_load.at(j).size() == static_cast<std::size_t>(bearing.roller_count));
+            CHECK(MaxAbsDifference(dx.roller_load[j], dy.roller_load[j]) <= tol * largest);
+          }
+        }
+        CHECK(y.residuals.normalised <= 1e-6);
+        ++compared;
+      }
+    }
+  }
+  }
+  CHECK(compared == 2 * 2 * 4 * static_cast<int>(ReducerSolverNames().size()));
+}
+
+TEST_CASE("app: every stage solver agrees on the RV stage with the elastic disc bodies end to end, both kinematics") {
+  // cases/stage/rv_two_discs_cranks.toml with [disc] body = "elastic", an 8 mm bore: each disc its
+  // own FE body with its three crank holes (the second disc's half a tooth pitch on), condensed at
+  // the flank and 48 points around each hole; every needle roller a contact of the coupled set.
+  // Bisection, compatibility and energy-qp must agree to 1e-9 in the rotation, every pin force,
+  // every crank bearing's force and every roller load, linearised and exact; the body turns the
+  // stage further, and its budget group holds energy.
+  ltca::app::Deck deck = ltca::app::LoadDeck(ltca::test::Case("stage/rv_two_discs_cranks.toml"));
+  ltca::app::Deck rigid_deck = deck;
+  deck.disc.body = ltca::contact::DiscBodySettings::Body::kElastic;
+  deck.disc.bore_radius = 8.0;
+  int compared = 0;
+  for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
+    deck.kinematics = rigid_deck.kinematics = kinematics;
+    const std::vector<double> cranks{0.0, 4.5 * std::numbers::pi / 180.0};
+    const ltca::analysis::Stage elastic = deck.MakeStage(cranks);
+    const ltca::analysis::Stage rigid = rigid_deck.MakeStage(cranks);
+    for (const double crank : cranks) {
+      const LoadProblem problem = elastic.Problem(crank, deck.load->torque);
+      REQUIRE(problem.stage_body_coupling() != nullptr);
+      {
+        // The coupled set's rollers are disc 0's, crank by crank, roller by roller, after the pin
+        // ring: roller k of crank j at the eccentric's direction (the crank angle here) + 2 pi k /
+        // 14, turned back into the body by the disc's nominal rotation theta / I, on hole j.
+        const Eigen::SparseMatrix<double>& body = *problem.stage_body_coupling()->body;
+        const auto n = static_cast<Eigen::Index>(problem.point_count());
+        REQUIRE(body.rows() == n + 2 * 3 * 14);
+        const double rotation = -crank / 39.0;  // theta / I, I = -z_c / d
+        const auto roller = [&](int j, int k) {
+          const double angle = crank + 2.0 * std::numbers::pi * k / 14 - rotation;
+          return ltca::contact::DiscHoleContact{j, Eigen::Vector2d(std::cos(angle), std::sin(angle))};
+        };
+        const Eigen::MatrixXd direct = elastic.disc_body()->Coupling({}, {roller(1, 3), roller(2, 9)});
+        const Eigen::Index a = n + 1 * 14 + 3, b = n + 2 * 14 + 9;
+        CHECK(body.coeff(a, a) == doctest::Approx(direct(0, 0)).epsilon(1e-12));
+        CHECK(body.coeff(b, b) == doctest::Approx(direct(1, 1)).epsilon(1e-12));
+        CHECK(body.coeff(a, b) == doctest::Approx(direct(0, 1)).epsilon(1e-12));
+        CHECK(body.coeff(a, n + 3 * 14 + 3) == 0.0);  // the second disc's rollers are on its own body
+      }
+      SolverOptions options;
+      options.torque_tolerance = 1e-12;
+      std::optional<LoadResult> first;
+      for (const std::string& name : ReducerSolverNames()) {
+        CAPTURE(name);
+        CAPTURE(crank);
+        CAPTURE(static_cast<int>(kinematics));
+        options.name = name;
+        const LoadResult y = MakeSolver(name)->Solve(problem, options);
+        INFO(y.message);
+        REQUIRE(y.status == SolverStatus::kSuccess);
+        REQUIRE(y.reducer.has_value());
+        REQUIRE(y.reducer->group_energy.size() == static_cast<std::size_t>(ltca::solvers::kStageGroupsWithBody));
+        CHECK(y.reducer->group_energy[static_cast<std::size_t>(ltca::solvers::StageGroup::kDiscBody)] > 0.0);
+        if (!first) {
+          first = y;
+          const LoadResult x = MakeSolver(name)->Solve(rigid.Problem(crank, deck.load->torque), options);
+          REQUIRE(x.status == SolverStatus::kSuccess);
+          CHECK(std::abs(y.rotation) > std::abs(x.rotation));  // the bodies turn the stage further
+          continue;
+        }
+        const LoadResult& x = *first;
+        CHECK(std::abs(y.rotation - x.rotation) <= 1e-9 * std::abs(x.rotation));
+        CHECK(MaxAbsDifference(x.force, y.force) <= 1e-9 * MaxAbs(x.force));
+        MESSAGE(name, " against ", ReducerSolverNames().front(), ": rotation ",
+                std::abs(y.rotation - x.rotation) / std::abs(x.rotation), ", pin forces ",
+                MaxAbsDifference(x.force, y.force) / MaxAbs(x.force), " of the largest");
+        double largest = 0.0;
+        for (const auto& d : x.reducer->discs) {
+          for (const Eigen::Vector2d& f : d.bearing_force) largest = std::max(largest, f.norm());
+        }
+        for (std::size_t d = 0; d < 2; ++d) {
+          const auto& dx = x.reducer->discs.at(d);
+          const auto& dy = y.reducer->discs.at(d);
+          for (std::size_t j = 0; j < dx.bearing_force.size(); ++j) {
+            CHECK((dx.bearing_force[j] - dy.bearing_force.at(j)).norm() <= 1e-9 * largest);
+            CHECK(MaxAbsDifference(dx.roller_load.at(j), dy.roller_load.at(j)) <= 1e-9 * largest);
+          }
+        }
+        ++compared;
+      }
+    }
+  }
+  CHECK(compared == 2 * 2 * (static_cast<int>(ReducerSolverNames().size()) - 1));
+}
+
+TEST_CASE("app: the RV stage's elastic body is read from the deck and refuses what is not built, naming the key") {
+  const std::string rv = ltca::test::Case("stage/rv_two_discs_cranks.toml");
+  const std::vector<std::string> elastic{"disc.body=\"elastic\"", "disc.bore_radius_mm=8"};
+  const ltca::app::Deck deck = ltca::app::LoadDeck(rv, elastic);
+  CHECK(deck.disc.elastic());
+  CHECK(deck.Model().name.find("+two-discs+stage+elastic-disc") != std::string::npos);
+  CHECK(deck.Model().disc_body.find("48 around each of the 3 crank holes") != std::string::npos);
+  const auto refused = [&](std::vector<std::string> overrides, const char* what) {
+    CAPTURE(what);
+    overrides.insert(overrides.begin(), elastic.begin(), elastic.end());
+    CHECK_THROWS_WITH_AS(ltca::app::LoadDeck(rv, overrides), doctest::Contains(what), std::invalid_argument);
+  };
+  // The crank holes' inner edge is 35 - 22 mm from the centre: the bore below it less an element.
+  refused({"disc.bore_radius_mm=11"}, "[disc] bore_radius_mm = 11: expected a bore below 10 mm with [output] kind = \"cranks\"");
+  refused({"bearing.pitch_diameter_mm=0"}, "[bearing] pitch_diameter_mm = 0 with [disc] body = \"elastic\"");
+  // A hole that reaches the root circle: 35 + 25 mm against the root's 59.7 mm.
+  CHECK_THROWS_WITH_AS(ltca::app::LoadDeck(rv, {"disc.body=\"elastic\"", "disc.bore_radius_mm=5", "bearing.pitch_diameter_mm=46"}),
+                       doctest::Contains("expected a web of at least 1 mm to the root circle"), std::invalid_argument);
+  // A linear or rigid crank bearing on the body is not built (each roller is a contact of the body).
+  ltca::app::Deck linear = deck;
+  linear.reducer->bearing.kind = ltca::contact::BearingKind::kLinear;
+  linear.reducer->bearing.radial_stiffness = 1e6;
+  CHECK_THROWS_WITH_AS(linear.MakeStage({0.0}), doctest::Contains("[bearing] kind = \"linear\" on crankshafts"),
+                       std::invalid_argument);
+  // Two discs without crankshafts stay refused (the mesh alone, or output pins).
+  ltca::app::Deck mesh = deck;
+  mesh.reducer.reset();
+  CHECK_THROWS_WITH_AS(mesh.MakeStage({0.0}), doctest::Contains("with [second_disc] without crankshafts"),
+                       std::invalid_argument);
+}
+
 TEST_CASE("app: the cycloidal drive with --set disc.body=rigid gives the deck's own output byte for byte") {
   const auto a = ltca::test::RunCli({"solve", ltca::test::Case("stage/cycloidal_drive.toml"), "--set", "sweep.positions=4",
                                      "--set", "sweep.crank_end_deg=9", "--json", "-"});

@@ -7,6 +7,7 @@
 
 #include <doctest/doctest.h>
 
+#include "ltca/contact/bearing.hpp"
 #include "ltca/contact/laws.hpp"
 #include "ltca/geometry/units.hpp"
 
@@ -362,4 +363,56 @@ TEST_CASE("contact: a seat's keys are checked and named") {
   sagitta.seat = LinearSeat(3e4);
   CHECK_THROWS_WITH_AS(sagitta.Validate(), doctest::Contains("[pins] seat = \"linear\""), std::invalid_argument);
   CHECK_THROWS_AS(ContactLaw(sagitta, Material{}, 0.2, 3.0, 12.0, 64.0), std::invalid_argument);
+}
+
+TEST_CASE("contact: the needle roller's law is the bearing's Palmgren roller, and with a linear term inverts, differentiates and integrates consistently") {
+  // Without the linear term the law is the bearing's own (contact/bearing.hpp: Harris and
+  // Kotzalas, Palmgren's line contact, two raceway contacts in series): Q = RollerLoad(delta, l)
+  // and delta = 2 PalmgrenApproach(Q, l), independent formulas (RollerLoad's K_n delta^(10/9)).
+  const double l = 12.0;
+  const ltca::contact::ContactLaw palmgren = ltca::contact::ContactLaw::Roller(l, 0.0);
+  for (const double q : {1e-3, 1.0, 250.0, 1357.0, 2e4}) {
+    CAPTURE(q);
+    CHECK(palmgren.Approach(q) == doctest::Approx(2.0 * ltca::contact::PalmgrenApproach(q, l)).epsilon(1e-14));
+    CHECK(palmgren.Force(palmgren.Approach(q)) == doctest::Approx(q).epsilon(1e-13));
+    CHECK(palmgren.Force(palmgren.Approach(q)) ==
+          doctest::Approx(ltca::contact::RollerLoad(palmgren.Approach(q), l)).epsilon(1e-13));
+  }
+  CHECK(std::isinf(palmgren.max_force()));
+  CHECK(palmgren.Force(-1e-3) == 0.0);
+  // With a negative linear term (an elastic body's correction, -1.2 nm/N on a steel disc):
+  // delta = a Q^0.9 + s Q; the inversion to 1e-13, the tangent compliance and the complementary
+  // energy against central differences and the trapezoidal rule, F delta - E^c = U.
+  for (const double s : {-1.2e-6, 3e-7}) {
+    const ltca::contact::ContactLaw law = ltca::contact::ContactLaw::Roller(l, s);
+    for (const double q : {0.5, 100.0, 1357.0, 5e4}) {
+      CAPTURE(s);
+      CAPTURE(q);
+      const double delta = law.Approach(q);
+      CHECK(delta == doctest::Approx(palmgren.Approach(q) + s * q).epsilon(1e-14));
+      double hint = 0.0;
+      CHECK(law.Force(delta, &hint) == doctest::Approx(q).epsilon(1e-13));
+      const double h = 1e-5 * q;
+      CHECK(law.Compliance(q) == doctest::Approx((law.Approach(q + h) - law.Approach(q - h)) / (2.0 * h)).epsilon(1e-7));
+      CHECK(law.Stiffness(delta) == doctest::Approx(1.0 / law.Compliance(q)).epsilon(1e-12));
+      double energy = 0.0;
+      const int steps = 20000;
+      for (int i = 0; i < steps; ++i) {
+        const double a = q * i / steps, b = q * (i + 1) / steps;
+        energy += 0.5 * (law.Approach(a) + law.Approach(b)) * (b - a);
+      }
+      CHECK(law.ComplementaryEnergy(q) == doctest::Approx(energy).epsilon(1e-5));
+      CHECK(law.StrainEnergy(delta, q) == doctest::Approx(q * delta - law.ComplementaryEnergy(q)).epsilon(1e-14));
+      // Scaled by w: w times the force at every approach.
+      const ltca::contact::ContactLaw w2 = law.Scaled(2.0);
+      CHECK(w2.Force(delta) == doctest::Approx(2.0 * q).epsilon(1e-12));
+    }
+    if (s < 0.0) {
+      // The approach rises up to (0.9 a / -s)^10, where its slope vanishes.
+      CHECK(law.max_force() > 1e8);
+      CHECK(law.Compliance(0.999 * law.max_force()) > 0.0);
+    }
+  }
+  CHECK_THROWS_AS(ltca::contact::ContactLaw::Roller(0.0, 0.0), std::invalid_argument);
+  CHECK_THROWS_AS(ltca::contact::ContactLaw::Roller(12.0, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
 }

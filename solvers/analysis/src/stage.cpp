@@ -16,6 +16,7 @@
 #include "ltca/contact/holes.hpp"
 #include "ltca/contact/output_pins.hpp"
 #include "ltca/contact/unloaded.hpp"
+#include "ltca/geometry/kinematics.hpp"
 #include "ltca/geometry/units.hpp"
 
 namespace ltca::analysis {
@@ -99,12 +100,47 @@ void StageDesign::Validate() const {
   const auto refuse = [](const std::string& what) {
     throw std::invalid_argument("[disc] body = \"elastic\" " + what);
   };
-  if (second_disc) refuse("with [second_disc]: the elastic body of two discs is not built yet; expected body = \"rigid\"");
-  if (reducer && reducer->kind != solvers::OutputKind::kPins) {
-    refuse("with [output] kind = \"cranks\": the crank holes and their bearings on the elastic body are not built yet "
-           "(docs/fe_disc.md \"What is left\"); expected body = \"rigid\", or [output] kind = \"pins\"");
+  const bool cranks = reducer && reducer->kind == solvers::OutputKind::kCranks;
+  if (second_disc && !cranks) {
+    refuse("with [second_disc] without crankshafts: the elastic bodies of two discs are built for an RV stage only "
+           "([output] kind = \"cranks\"); expected body = \"rigid\"");
   }
-  if (reducer) {
+  if (cranks) {
+    // Each needle roller a contact on its crank hole's wall (docs/fe_disc.md "The RV disc"): the
+    // hole is the rollers' outer raceway, of radius (d_m + D_w) / 2.
+    const contact::BearingSettings& b = reducer->bearing;
+    if (b.kind != contact::BearingKind::kRollers) {
+      refuse(fmt::format("with [bearing] kind = \"{}\" on crankshafts: the crank bearing on the elastic body is built "
+                         "for needle rollers only (each roller a contact on the hole's wall); expected [bearing] kind = "
+                         "\"rollers\", or body = \"rigid\"",
+                         contact::ToString(b.kind)));
+    }
+    if (!(b.pitch_diameter > 0.0)) {
+      throw std::invalid_argument(
+          "[bearing] pitch_diameter_mm = 0 with [disc] body = \"elastic\" on crankshafts: expected the roller set's "
+          "pitch diameter (the crank hole, the rollers' outer raceway, is (pitch_diameter_mm + roller_diameter_mm) / 2 "
+          "in radius)");
+    }
+    const double hole = 0.5 * (b.pitch_diameter + b.roller_diameter);
+    const double inside = reducer->cranks.circle_radius - hole - disc.element_size;
+    if (!(disc.bore_radius < inside)) {
+      throw std::invalid_argument(fmt::format(
+          "[disc] bore_radius_mm = {}: expected a bore below {:g} mm with [output] kind = \"cranks\" (the crank holes' "
+          "inner edge, circle_radius_mm {:g} less the hole radius {:g} mm = (pitch_diameter_mm + roller_diameter_mm) / "
+          "2, less one element_size_mm {:g}: the empty central bore inside the crank holes)",
+          disc.bore_radius, inside, reducer->cranks.circle_radius, hole, disc.element_size));
+    }
+    const double root = RootRadius(geometry::CycloidProfile(pair, modification));
+    const double outer = reducer->cranks.circle_radius + hole;
+    if (!(outer < root - 1.0)) {
+      throw std::invalid_argument(fmt::format(
+          "[bearing] pitch_diameter_mm = {:g} with [disc] body = \"elastic\": the crank holes reach {:g} mm from the "
+          "disc centre ([output] circle_radius_mm {:g} plus the hole radius {:g} mm), expected a web of at least 1 mm "
+          "to the root circle {:g} mm",
+          b.pitch_diameter, outer, reducer->cranks.circle_radius, hole, root));
+    }
+  }
+  if (reducer && !cranks) {
     // The body is clamped at its bore (the eccentric bearing's outer ring): the bore must lie inside
     // the output-pin holes with a web of an element size at least.
     const contact::OutputPins& w = reducer->pins;
@@ -135,9 +171,28 @@ namespace {
 /// The holes of the elastic body: a stage's output-pin holes at their nominal places in the body
 /// frame (a hole's position deviation, micrometres, does not change the body's compliance more than
 /// its mesh does, and a tolerance study then pays the set-up once); none for the mesh alone.
-std::vector<contact::DiscHole> BodyHoles(const StageDesign& design) {
+std::vector<contact::DiscHole> BodyHoles(const StageDesign& design, int disc) {
   std::vector<contact::DiscHole> holes;
-  if (!design.reducer || design.reducer->kind != solvers::OutputKind::kPins) return holes;
+  if (!design.reducer) return holes;
+  if (design.reducer->kind == solvers::OutputKind::kCranks) {
+    // The crank holes (the rollers' outer raceways) where the carrier's cranks sit at the nominal
+    // poses, in the disc's body frame: crank j at alpha_j on R_c turned by the output member's
+    // rotation less the disc's. The second disc turns pi / I behind the first (it is the first's
+    // model half a crank turn on) while the carrier turns with the first: its holes sit -pi / I
+    // further on in its own frame (half a tooth pitch for d = 1).
+    const contact::Cranks& c = design.reducer->cranks;
+    const contact::BearingSettings& b = design.reducer->bearing;
+    const geometry::Kinematics kinematics(design.pair);
+    const double turn = disc == 0 ? 0.0
+                                  : kinematics.CycloidPose(0.0).rotation -
+                                        kinematics.CycloidPose(contact::kSecondDiscCrankOffset).rotation;
+    for (int j = 0; j < c.count; ++j) {
+      const double alpha = 2.0 * units::kPi * j / c.count + c.phase + turn;
+      holes.push_back({c.circle_radius * Eigen::Vector2d(std::cos(alpha), std::sin(alpha)),
+                       0.5 * (b.pitch_diameter + b.roller_diameter)});
+    }
+    return holes;
+  }
   const contact::OutputPins& w = design.reducer->pins;
   for (int j = 0; j < w.count; ++j) {
     const double alpha = 2.0 * units::kPi * j / w.count + w.phase;
@@ -146,9 +201,9 @@ std::vector<contact::DiscHole> BodyHoles(const StageDesign& design) {
   return holes;
 }
 
-std::string HolesKey(const StageDesign& design) {
+std::string HolesKey(const StageDesign& design, int disc) {
   std::string key;
-  for (const contact::DiscHole& h : BodyHoles(design)) {
+  for (const contact::DiscHole& h : BodyHoles(design, disc)) {
     key += fmt::format(" | {:a} {:a} {:a}", h.centre_mm.x(), h.centre_mm.y(), h.radius_mm);
   }
   return key;
@@ -156,7 +211,7 @@ std::string HolesKey(const StageDesign& design) {
 
 }  // namespace
 
-std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageDesign& design) {
+std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageDesign& design, int disc) {
   const geometry::PairParameters& p = design.pair;
   const contact::DiscBodySettings& b = design.disc;
   const contact::Material& material = design.material.value();
@@ -168,7 +223,7 @@ std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageD
                                       p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width,
                                       b.bore_radius, contact::ToString(b.plane), b.element_size, b.grid.points_per_space,
                                       b.grid.patch_half_width_mm, material.young_modulus, material.poisson_ratio) +
-                          HolesKey(design);
+                          HolesKey(design, disc);
   static std::mutex mutex;
   static std::vector<std::pair<std::string, std::shared_ptr<const contact::DiscFlankCompliance>>> kept;  // newest last
   constexpr std::size_t kKept = 4;
@@ -187,7 +242,7 @@ std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageD
   body.thickness_mm = p.face_width;
   body.element_size_mm = b.element_size;
   body.refine_radius_mm = 2.0 * b.element_size;
-  body.holes = BodyHoles(design);
+  body.holes = BodyHoles(design, disc);
   auto flank = std::make_shared<const contact::DiscFlankCompliance>(geometry::CycloidProfile(p), body, b.grid);
   if (kept.size() == kKept) kept.erase(kept.begin());
   kept.emplace_back(key, flank);
@@ -273,9 +328,10 @@ ModelInfo StageDesign::Model() const {
         "elastic (plane {}, bore {:g} mm clamped; FE T6 {:g} mm, the flank condensed at {} points a tooth space{}, {:g} "
         "mm patches)",
         contact::ToString(disc.plane), disc.bore_radius, disc.element_size, disc.grid.points_per_space,
-        reducer && reducer->kind == solvers::OutputKind::kPins
-            ? fmt::format(" and {} around each of the {} output-pin holes", disc.grid.points_per_hole, reducer->pins.count)
-            : std::string(),
+        reducer ? fmt::format(" and {} around each of the {} {} holes", disc.grid.points_per_hole,
+                              reducer->kind == solvers::OutputKind::kPins ? reducer->pins.count : reducer->cranks.count,
+                              reducer->kind == solvers::OutputKind::kPins ? "output-pin" : "crank")
+                : std::string(),
         disc.grid.patch_half_width_mm);
     m.name += "+elastic-disc";
   }
@@ -288,7 +344,8 @@ Stage::Stage(StageDesign design, std::vector<double> cranks) {
     // the Hertz contact's local field beyond the body's patches (contact/disc_body.hpp).
     design.Validate();
     if (!design.material) throw std::invalid_argument("missing required section [material] for an elastic disc body");
-    disc_body_ = ElasticDiscBody(design);
+    disc_body_ = ElasticDiscBody(design, 0);
+    if (design.second_disc) second_body_ = ElasticDiscBody(design, 1);  // its holes half a pitch on
     design.contact.cycloid_log_radius = disc_body_->cycloid_log_radius_mm();
   }
   design_ = std::make_shared<const StageDesign>(std::move(design));
@@ -433,7 +490,9 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
   const StageDesign& d = *design_;
   if (second_) {
     const solvers::LoadProblem both(first_, second_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics);
-    return reducer_ ? both.WithReducer(reducer_) : both;
+    if (!reducer_) return both;
+    if (disc_body_) return WithStageBody(both.WithReducer(reducer_));
+    return both.WithReducer(reducer_);
   }
   solvers::LoadProblem problem(first_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics);
   if (reducer_) problem = problem.WithReducer(reducer_);
@@ -455,6 +514,7 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
 }
 
 solvers::LoadProblem Stage::WithStageBody(solvers::LoadProblem problem) const {
+  if (reducer_->kind == solvers::OutputKind::kCranks) return WithCrankBody(std::move(problem));
   // The elastic body in a stage of output pins: one coupled set of the pin ring's points and the
   // output pins' contacts on their holes' walls (ReducerSystem), each contact at the nominal pose
   // of this crank (the pin touches its hole where the line of the two centres meets the wall; its
@@ -472,6 +532,69 @@ solvers::LoadProblem Stage::WithStageBody(solvers::LoadProblem problem) const {
   const auto m = static_cast<Eigen::Index>(holes.size());
   // The problem's own coupling (the pin ring: the body's flank block and pin bending's), then the
   // whole set's.
+  Eigen::SparseMatrix<double> ring = Eigen::MatrixXd(body.topLeftCorner(n, n)).sparseView();
+  if (coupling_->matrix) ring += *coupling_->matrix;
+  problem = problem.WithCoupling(solvers::LoadProblem::CheckCoupling(
+      std::move(ring), static_cast<int>(n), solvers::LoadProblem::PositiveSemidefiniteByConstruction{}));
+  Eigen::MatrixXd total = body;
+  total.topLeftCorner(n, n) = Eigen::MatrixXd(*problem.coupling());
+  solvers::LoadProblem::StageBodyCoupling stage;
+  stage.total = std::make_shared<const Eigen::SparseMatrix<double>>(total.sparseView());
+  stage.body = std::make_shared<const Eigen::SparseMatrix<double>>(body.sparseView());
+  stage.output_points = static_cast<int>(m);
+  return problem.WithStageBodyCoupling(std::move(stage));
+}
+
+}  // namespace ltca::analysis
+
+namespace ltca::analysis {
+
+solvers::LoadProblem Stage::WithCrankBody(solvers::LoadProblem problem) const {
+  // The elastic body of an RV stage: one coupled set of the pin ring's points (both discs) and
+  // every needle roller of every crank bearing (disc, crank, roller), each roller a contact on its
+  // crank hole's wall along its direction at the nominal pose of this crank (roller k of a bearing
+  // at the eccentric's direction + 2 pi k / Z in the fixed frame, as the bearing's law places it;
+  // in the body frame turned back by the disc's nominal rotation). Each disc's points couple
+  // through its own body only.
+  const contact::BearingSettings& bearing = reducer_->bearing;
+  const int z = bearing.roller_count;
+  const int count = reducer_->cranks.count;
+  const std::vector<contact::PinContact>& all = problem.base_state().pins;
+  const auto n = static_cast<Eigen::Index>(problem.point_count());
+  const int discs = problem.disc_count();
+  const auto m = static_cast<Eigen::Index>(discs * count * z);
+  Eigen::MatrixXd body = Eigen::MatrixXd::Zero(n + m, n + m);
+  for (int d = 0; d < discs; ++d) {
+    const contact::MeshModel& model = problem.DiscModel(d);
+    const double crank = problem.DiscCrank(d);
+    const geometry::Pose real = model.real_pair().CycloidPose(crank);
+    const double phase = std::atan2(real.centre.y(), real.centre.x());  // ReducerSystem's roller phase
+    const Eigen::Rotation2Dd back(-model.kinematics().CycloidPose(crank).rotation);
+    std::vector<contact::DiscHoleContact> holes;
+    for (int j = 0; j < count; ++j) {
+      for (int k = 0; k < z; ++k) {
+        const double angle = phase + 2.0 * units::kPi * k / z;
+        holes.push_back({j, back * Eigen::Vector2d(std::cos(angle), std::sin(angle))});
+      }
+    }
+    std::vector<Eigen::Index> index;  // this disc's points in the problem
+    std::vector<contact::PinContact> points;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      if (all[i].disc != d) continue;
+      index.push_back(static_cast<Eigen::Index>(i));
+      points.push_back(all[i]);
+      points.back().disc = 0;  // its own body's
+    }
+    const contact::DiscFlankCompliance& flank = d == 0 ? *disc_body_ : *second_body_;
+    const Eigen::MatrixXd c = flank.Coupling(points, holes);
+    const auto p = static_cast<Eigen::Index>(points.size());
+    const Eigen::Index h = static_cast<Eigen::Index>(holes.size());
+    std::vector<Eigen::Index> at(index);  // the set's row of each of this disc's entries
+    for (Eigen::Index r = 0; r < h; ++r) at.push_back(n + d * count * z + r);
+    for (Eigen::Index x = 0; x < p + h; ++x) {
+      for (Eigen::Index y = 0; y < p + h; ++y) body(at[static_cast<std::size_t>(x)], at[static_cast<std::size_t>(y)]) = c(x, y);
+    }
+  }
   Eigen::SparseMatrix<double> ring = Eigen::MatrixXd(body.topLeftCorner(n, n)).sparseView();
   if (coupling_->matrix) ring += *coupling_->matrix;
   problem = problem.WithCoupling(solvers::LoadProblem::CheckCoupling(

@@ -99,6 +99,16 @@ class ContactLaw {
   ContactLaw(const ContactSettings& settings, const Material& material, double cycloid_curvature,
              double pin_radius, double length, double log_radius_cap);
 
+  /// A needle roller between both raceways (contact/bearing.hpp: Palmgren's line contact, Harris
+  /// and Kotzalas, Rolling Bearing Analysis, 2007; delta = 2 x 3.84e-5 Q^0.9 / l^0.8 mm, the
+  /// bearing's own law, RollerLoad's inverse) plus a linear term s Q (mm/N, s may be negative: an
+  /// elastic disc body's correction of the raceway's local field, docs/fe_disc.md "The RV disc"):
+  ///   delta(Q) = a Q^0.9 + s Q,   a = 7.68e-5 / l^0.8.
+  /// With s < 0 the approach rises while its slope 0.9 a Q^-0.1 + s is positive: max_force() is
+  /// (0.9 a / -s)^10 (beyond 1e8 N for a steel disc). Throws std::invalid_argument unless l > 0
+  /// and s are finite. HalfWidth and MaxPressure are 0 (the bearing reports its own stress).
+  static ContactLaw Roller(double roller_length, double linear_compliance);
+
   double Force(double approach) const;      ///< N; 0 for approach <= 0; max_force() beyond.
   /// The same, warm-started: *hint holds the force of a nearby earlier call (or <= 0: none) and
   /// receives this one. Solvers that sweep the approach of a pin keep one hint per pin.
@@ -154,7 +164,8 @@ class ContactLaw {
   // How the approach is computed: linear (F / k_lin_), the log form
   // (2F / (pi B)) [log_a_ - (log_c_ / 2) ln F] (hertz-line, or any law with a seat but sagitta), or
   // sagitta.
-  enum class Form { kLinear, kLog, kSagitta };
+  ContactLaw() = default;  // Roller's
+  enum class Form { kLinear, kLog, kSagitta, kRoller };
   LawKind kind_;
   Form form_ = Form::kLinear;
   double log_a_ = 0.0, log_c_ = 0.0;
@@ -170,6 +181,7 @@ class ContactLaw {
   double k_lin_ = 0.0; // N/mm
   double hertz_a_ = 0.0;      // A of delta = (2F / (pi B)) [A - (C/2) ln F]
   double sagitta_factor_ = 0; // a^2 = sagitta_factor F
+  double roller_a_ = 0.0, roller_s_ = 0.0;  // kRoller: delta = a Q^0.9 + s Q
   double max_force_ = 0.0;
   double max_approach_ = 0.0;
   double valid_half_width_ = 0.0;  // mm

@@ -56,8 +56,9 @@ class LoadProblem {
   /// Two discs of an RV stage on one pin ring: `first` at the crank and `second` at
   /// crank + pi (contact::EvaluateTwoDiscs), turned by one output rotation psi, so that the sum
   /// over both discs' points of F_i L_i balances T = T_1 + T_2. The points are the first disc's,
-  /// then the second's (PinContact::disc = 1); the split T_1 : T_2 is a result (DiscTorques). No
-  /// coupling (WithCoupling throws). Throws std::invalid_argument unless both discs share the
+  /// then the second's (PinContact::disc = 1); the split T_1 : T_2 is a result (DiscTorques). A
+  /// coupling only with a reducer (the stage's elastic bodies, each disc's points on its own: the
+  /// reducer system solves it); without one WithCoupling throws. Throws std::invalid_argument unless both discs share the
   /// pin ring (contact::RequireSamePinRing).
   LoadProblem(ModelPtr first, ModelPtr second, double crank, const contact::ContactSettings& contact,
               const contact::Material& material, double torque, contact::ContactKinematics kinematics);
@@ -214,17 +215,19 @@ class LoadProblem {
   /// The loads besides T, or nullptr (none).
   const StageLoads* stage_loads() const { return stage_loads_.get(); }
   /// The elastic disc body of a stage whose output elements sit on the body (docs/fe_disc.md "The
-  /// stage"): the coupled set is the problem's points followed by one contact per output pin
-  /// (disc 0's, in pin order). `total` is the coupling over that set (the problem's own coupling,
+  /// stage", "The RV disc"): the coupled set is the problem's points followed by one contact per
+  /// output pin (disc 0's, in pin order), or for a stage of crankshafts on needle rollers one per
+  /// roller (disc by disc, crank by crank, roller by roller). `total` is the coupling over that set (the problem's own coupling,
   /// pin bending and the body's flank part, in its top-left block; the body's rows and columns of
   /// the holes beside it); `body` the body's part alone (the compliance budget's disc_body group).
   struct StageBodyCoupling {
     std::shared_ptr<const Eigen::SparseMatrix<double>> total;
     std::shared_ptr<const Eigen::SparseMatrix<double>> body;
-    int output_points = 0;  ///< the coupled output-pin contacts after the problem's points
+    int output_points = 0;  ///< the coupled output-pin (or roller) contacts after the problem's points
   };
-  /// A copy of this stage problem with the body's coupling over its points and output pins.
-  /// Throws std::invalid_argument without a stage of output pins, without the problem's own
+  /// A copy of this stage problem with the body's coupling over its points and output pins (or
+  /// rollers). Throws std::invalid_argument without a one-disc stage of output pins or a stage of
+  /// crankshafts on roller bearings, without the problem's own
   /// coupling (the top-left block, which must equal it), or for matrices of other sizes.
   LoadProblem WithStageBodyCoupling(StageBodyCoupling coupling) const;
   /// The body's stage coupling, or nullptr (the rigid disc, or the mesh alone).

@@ -197,6 +197,9 @@ class Stage {
   /// A stage problem of output pins with the elastic body: its coupling over the pin ring's points
   /// and the output pins' hole contacts (LoadProblem::WithStageBodyCoupling).
   solvers::LoadProblem WithStageBody(solvers::LoadProblem problem) const;
+  /// The same for a stage of crankshafts: the pin ring's points and every needle roller on its
+  /// crank hole's wall, each disc on its own body.
+  solvers::LoadProblem WithCrankBody(solvers::LoadProblem problem) const;
 
   std::shared_ptr<const StageDesign> design_;
   ModelPtr first_, second_;
@@ -204,6 +207,7 @@ class Stage {
   std::shared_ptr<const Checked> checked_;
   std::shared_ptr<const solvers::ReducerSettings> reducer_;  // nullptr: the mesh alone
   std::shared_ptr<const contact::DiscFlankCompliance> disc_body_;  // nullptr: a rigid disc
+  std::shared_ptr<const contact::DiscFlankCompliance> second_body_;  // the second disc's (its crank holes half a pitch on)
 };
 
 /// The elastic disc body of a design: the unmodified profile's body (the pair, [disc] and the
@@ -211,6 +215,8 @@ class Stage {
 /// its coefficients by less than its mesh does: docs/fe_disc.md), condensed once per body design in
 /// the process and kept for the last few designs, so that a sweep, a tolerance study or an optimiser
 /// over modifications pays the set-up once. Thread-safe (one build at a time).
-std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageDesign& design);
+/// `disc` 1: the second disc's body (an RV stage: its crank holes sit -pi / I further on in its
+/// own frame than the first's).
+std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageDesign& design, int disc = 0);
 
 }  // namespace ltca::analysis
