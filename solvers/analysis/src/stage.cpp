@@ -513,6 +513,30 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
   return problem.WithCoupling(*coupling_);
 }
 
+namespace {
+
+/// The stage's coupled set from an elastic body's coupling `body` over the problem's pin-ring points
+/// (the first n rows) and `further` contacts on the body's holes (output pins or needle rollers):
+/// the problem's own coupling (the pin ring: the body's block and pin bending's, `bending`, may be
+/// null), then the whole set's (LoadProblem::WithStageBodyCoupling).
+solvers::LoadProblem WithBodyCoupling(solvers::LoadProblem problem, const Eigen::MatrixXd& body, int further,
+                                      const Eigen::SparseMatrix<double>* bending) {
+  const auto n = static_cast<Eigen::Index>(problem.point_count());
+  Eigen::SparseMatrix<double> ring = Eigen::MatrixXd(body.topLeftCorner(n, n)).sparseView();
+  if (bending) ring += *bending;
+  problem = problem.WithCoupling(solvers::LoadProblem::CheckCoupling(
+      std::move(ring), static_cast<int>(n), solvers::LoadProblem::PositiveSemidefiniteByConstruction{}));
+  Eigen::MatrixXd total = body;
+  total.topLeftCorner(n, n) = Eigen::MatrixXd(*problem.coupling());
+  solvers::LoadProblem::StageBodyCoupling stage;
+  stage.total = std::make_shared<const Eigen::SparseMatrix<double>>(total.sparseView());
+  stage.body = std::make_shared<const Eigen::SparseMatrix<double>>(body.sparseView());
+  stage.output_points = further;
+  return problem.WithStageBodyCoupling(std::move(stage));
+}
+
+}  // namespace
+
 solvers::LoadProblem Stage::WithStageBody(solvers::LoadProblem problem) const {
   if (reducer_->kind == solvers::OutputKind::kCranks) return WithCrankBody(std::move(problem));
   // The elastic body in a stage of output pins: one coupled set of the pin ring's points and the
@@ -528,26 +552,8 @@ solvers::LoadProblem Stage::WithStageBody(solvers::LoadProblem problem) const {
   const Eigen::Rotation2Dd back(-output_rotation);
   for (const contact::OutputPinContact& c : pins) holes.push_back({c.pin, back * c.normal});
   const Eigen::MatrixXd body = disc_body_->Coupling(problem.base_state().pins, holes);
-  const auto n = static_cast<Eigen::Index>(problem.point_count());
-  const auto m = static_cast<Eigen::Index>(holes.size());
-  // The problem's own coupling (the pin ring: the body's flank block and pin bending's), then the
-  // whole set's.
-  Eigen::SparseMatrix<double> ring = Eigen::MatrixXd(body.topLeftCorner(n, n)).sparseView();
-  if (coupling_->matrix) ring += *coupling_->matrix;
-  problem = problem.WithCoupling(solvers::LoadProblem::CheckCoupling(
-      std::move(ring), static_cast<int>(n), solvers::LoadProblem::PositiveSemidefiniteByConstruction{}));
-  Eigen::MatrixXd total = body;
-  total.topLeftCorner(n, n) = Eigen::MatrixXd(*problem.coupling());
-  solvers::LoadProblem::StageBodyCoupling stage;
-  stage.total = std::make_shared<const Eigen::SparseMatrix<double>>(total.sparseView());
-  stage.body = std::make_shared<const Eigen::SparseMatrix<double>>(body.sparseView());
-  stage.output_points = static_cast<int>(m);
-  return problem.WithStageBodyCoupling(std::move(stage));
+  return WithBodyCoupling(std::move(problem), body, static_cast<int>(holes.size()), coupling_->matrix.get());
 }
-
-}  // namespace ltca::analysis
-
-namespace ltca::analysis {
 
 solvers::LoadProblem Stage::WithCrankBody(solvers::LoadProblem problem) const {
   // The elastic body of an RV stage: one coupled set of the pin ring's points (both discs) and
@@ -595,17 +601,7 @@ solvers::LoadProblem Stage::WithCrankBody(solvers::LoadProblem problem) const {
       for (Eigen::Index y = 0; y < p + h; ++y) body(at[static_cast<std::size_t>(x)], at[static_cast<std::size_t>(y)]) = c(x, y);
     }
   }
-  Eigen::SparseMatrix<double> ring = Eigen::MatrixXd(body.topLeftCorner(n, n)).sparseView();
-  if (coupling_->matrix) ring += *coupling_->matrix;
-  problem = problem.WithCoupling(solvers::LoadProblem::CheckCoupling(
-      std::move(ring), static_cast<int>(n), solvers::LoadProblem::PositiveSemidefiniteByConstruction{}));
-  Eigen::MatrixXd total = body;
-  total.topLeftCorner(n, n) = Eigen::MatrixXd(*problem.coupling());
-  solvers::LoadProblem::StageBodyCoupling stage;
-  stage.total = std::make_shared<const Eigen::SparseMatrix<double>>(total.sparseView());
-  stage.body = std::make_shared<const Eigen::SparseMatrix<double>>(body.sparseView());
-  stage.output_points = static_cast<int>(m);
-  return problem.WithStageBodyCoupling(std::move(stage));
+  return WithBodyCoupling(std::move(problem), body, static_cast<int>(m), coupling_->matrix.get());
 }
 
 }  // namespace ltca::analysis
