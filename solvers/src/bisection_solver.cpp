@@ -139,6 +139,20 @@ struct Linearisation {
   }
 };
 
+// The accepted trial's verdict when a saturated pin (its law's largest force) holds the torque
+// below the target: law-cannot-carry, with that trial's rotation and forces. Both searches stop here.
+bool CannotCarry(const Evaluation& at, double target, double psi, const std::vector<double>& forces, int evaluations,
+                 const SolverOptions& options, LoadResult* result) {
+  if (!(at.saturated && at.torque < target * (1.0 - options.torque_tolerance))) return false;
+  result->status = SolverStatus::kLawCannotCarry;
+  result->message = fmt::format("a pin reached the largest force its contact law can carry at {:.6g} N*m of {:.6g}",
+                                units::NmmToNm(at.torque), units::NmmToNm(target));
+  result->rotation = psi;
+  result->force = forces;
+  result->torque_evaluations = evaluations;
+  return true;
+}
+
 // The search's verdict at its last accepted trial (torque `torque` of `target`): balanced, edge
 // contact (a tip corner stopped it), or out of iterations or of resolution. Both searches end here.
 void Conclude(bool balanced, bool edge_blocked, double torque, double target, int evaluations, const SolverOptions& options,
@@ -211,15 +225,7 @@ void SolveCoupledSearch(const LoadProblem& problem, double first_contact, const 
   bool edge_blocked = false, accepted_new = true;
   for (; evaluations < options.max_iterations; ++evaluations) {
     if (accepted_new) {
-      if (at.saturated && at.torque < target * (1.0 - options.torque_tolerance)) {
-        result->status = SolverStatus::kLawCannotCarry;
-        result->message = fmt::format("a pin reached the largest force its contact law can carry at {:.6g} N*m of {:.6g}",
-                                      units::NmmToNm(at.torque), units::NmmToNm(target));
-        result->rotation = psi;
-        result->force = forces;
-        result->torque_evaluations = evaluations;
-        return;
-      }
+      if (CannotCarry(at, target, psi, forces, evaluations, options, result)) return;
       if (problem.Balanced(psi, at.torque, options.torque_tolerance, workspace)) break;
     }
     accepted_new = false;
@@ -391,15 +397,7 @@ void BisectionSolver::DoSolve(const LoadProblem& problem, const SolverOptions& o
   for (int pass = 0; pass < 2; ++pass) {
     for (; evaluations < options.max_iterations; ++evaluations) {
       if (accepted_new && at_exact) {
-        if (at.saturated && at.torque < target * (1.0 - options.torque_tolerance)) {
-          result->status = SolverStatus::kLawCannotCarry;
-          result->message = fmt::format("a pin reached the largest force its contact law can carry at {:.6g} N*m of {:.6g}",
-                                        units::NmmToNm(at.torque), units::NmmToNm(target));
-          result->rotation = psi;
-          result->force = forces;
-          result->torque_evaluations = evaluations;
-          return;
-        }
+        if (CannotCarry(at, target, psi, forces, evaluations, options, result)) return;
         if (converged(psi, at.torque)) break;
       }
       accepted_new = false;

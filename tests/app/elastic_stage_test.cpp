@@ -31,18 +31,9 @@ using ltca::solvers::ReducerSolverNames;
 using ltca::solvers::SolverOptions;
 using ltca::solvers::SolverStatus;
 
-double MaxAbsDifference(const std::vector<double>& a, const std::vector<double>& b) {
-  REQUIRE(a.size() == b.size());
-  double d = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
-}
-
-double MaxAbs(const std::vector<double>& a) {
-  double m = 0.0;
-  for (const double x : a) m = std::max(m, std::abs(x));
-  return m;
-}
+using ltca::test::MaxAbs;
+// Infinite when the sizes differ, so that every comparison below fails on a size mismatch.
+using ltca::test::MaxDifference;
 
 TEST_CASE("app: on the cycloidal drive an elastic body that is a half-plane down to each law's reference depth, at the ring pins and the output-pin holes, returns the rigid stage's answer in every stage solver, linearised to 1e-9") {
   // The split (docs/fe_disc.md "Local and far field", "The stage"): the rigid disc's hertz-line law
@@ -119,12 +110,12 @@ TEST_CASE("app: on the cycloidal drive an elastic body that is a half-plane down
         const double tol = linear ? 1e-9 : 1e-2;
         CHECK(std::abs(y.rotation - x.rotation) <= (linear ? 1e-9 : 1e-4) * std::abs(x.rotation));
         const double f = MaxAbs(x.force);
-        CHECK(MaxAbsDifference(x.force, y.force) <= tol * f);
+        CHECK(MaxDifference(x.force, y.force) <= tol * f);
         const auto& dx = x.reducer->discs.at(0);
         const auto& dy = y.reducer->discs.at(0);
         const double w = MaxAbs(dx.output_force);
         REQUIRE(w > 0.0);
-        CHECK(MaxAbsDifference(dx.output_force, dy.output_force) <= tol * w);
+        CHECK(MaxDifference(dx.output_force, dy.output_force) <= tol * w);
         CHECK((dx.bearing_force.at(0) - dy.bearing_force.at(0)).norm() <= tol * dx.bearing_force.at(0).norm());
         // The body's energy is the coupling's share, the output pins' contacts keep the rest: the sum is the rigid stage's.
         REQUIRE(y.reducer->group_energy.size() == static_cast<std::size_t>(ltca::solvers::kStageGroupsWithBody));
@@ -184,10 +175,10 @@ TEST_CASE("app: every stage solver agrees on the cycloidal drive with the elasti
         }
         const LoadResult& x = *first;
         CHECK(std::abs(y.rotation - x.rotation) <= 1e-9 * std::abs(x.rotation));
-        CHECK(MaxAbsDifference(x.force, y.force) <= 1e-9 * MaxAbs(x.force));
+        CHECK(MaxDifference(x.force, y.force) <= 1e-9 * MaxAbs(x.force));
         const auto& dx = x.reducer->discs.at(0);
         const auto& dy = y.reducer->discs.at(0);
-        CHECK(MaxAbsDifference(dx.output_force, dy.output_force) <= 1e-9 * MaxAbs(dx.output_force));
+        CHECK(MaxDifference(dx.output_force, dy.output_force) <= 1e-9 * MaxAbs(dx.output_force));
         CHECK((dx.bearing_force.at(0) - dy.bearing_force.at(0)).norm() <= 1e-9 * dx.bearing_force.at(0).norm());
         ++compared;
       }
@@ -276,7 +267,7 @@ TEST_CASE("app: on the RV stage an elastic body that is a half-plane down to eac
         const bool linear = kinematics == ContactKinematics::kLinearised || !flank;
         const double tol = linear ? 1e-9 : 5e-2;
         CHECK(std::abs(y.rotation - x.rotation) <= (linear ? 1e-9 : 1e-3) * std::abs(x.rotation));
-        CHECK(MaxAbsDifference(x.force, y.force) <= tol * MaxAbs(x.force));
+        CHECK(MaxDifference(x.force, y.force) <= tol * MaxAbs(x.force));
         double largest = 0.0;
         for (const auto& d : x.reducer->discs) {
           for (const Eigen::Vector2d& f : d.bearing_force) largest = std::max(largest, f.norm());
@@ -291,7 +282,7 @@ TEST_CASE("app: on the RV stage an elastic body that is a half-plane down to eac
             CHECK((dx.bearing_force[j] - dy.bearing_force[j]).norm() <= tol * largest);
             REQUIRE(dx.roller_load.at(j).size() == static_cast<std::size_t>(bearing.roller_count));
             REQUIRE(dy.roller_load.at(j).size() == static_cast<std::size_t>(bearing.roller_count));
-            CHECK(MaxAbsDifference(dx.roller_load[j], dy.roller_load[j]) <= tol * largest);
+            CHECK(MaxDifference(dx.roller_load[j], dy.roller_load[j]) <= tol * largest);
           }
         }
         CHECK(y.residuals.normalised <= 1e-6);
@@ -365,10 +356,10 @@ TEST_CASE("app: every stage solver agrees on the RV stage with the elastic disc 
         }
         const LoadResult& x = *first;
         CHECK(std::abs(y.rotation - x.rotation) <= 1e-9 * std::abs(x.rotation));
-        CHECK(MaxAbsDifference(x.force, y.force) <= 1e-9 * MaxAbs(x.force));
+        CHECK(MaxDifference(x.force, y.force) <= 1e-9 * MaxAbs(x.force));
         MESSAGE(name, " against ", ReducerSolverNames().front(), ": rotation ",
                 std::abs(y.rotation - x.rotation) / std::abs(x.rotation), ", pin forces ",
-                MaxAbsDifference(x.force, y.force) / MaxAbs(x.force), " of the largest");
+                MaxDifference(x.force, y.force) / MaxAbs(x.force), " of the largest");
         double largest = 0.0;
         for (const auto& d : x.reducer->discs) {
           for (const Eigen::Vector2d& f : d.bearing_force) largest = std::max(largest, f.norm());
@@ -378,7 +369,7 @@ TEST_CASE("app: every stage solver agrees on the RV stage with the elastic disc 
           const auto& dy = y.reducer->discs.at(d);
           for (std::size_t j = 0; j < dx.bearing_force.size(); ++j) {
             CHECK((dx.bearing_force[j] - dy.bearing_force.at(j)).norm() <= 1e-9 * largest);
-            CHECK(MaxAbsDifference(dx.roller_load.at(j), dy.roller_load.at(j)) <= 1e-9 * largest);
+            CHECK(MaxDifference(dx.roller_load.at(j), dy.roller_load.at(j)) <= 1e-9 * largest);
           }
         }
         ++compared;
