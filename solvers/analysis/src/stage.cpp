@@ -48,8 +48,10 @@ std::string StageScope(const StageDesign& d) {
   const std::string housing = std::isfinite(r.carrier_stiffness) ? "housing (its torsion in the carrier's spring)" : "housing";
   std::vector<std::string> rigid{d.disc.elastic() ? housing : "discs' bodies, " + housing};
   if (d.disc.elastic()) {
-    elastic.push_back(fmt::format("disc body (FE, its {} holes on the body, the bore a rigid ring)",
-                                  cranks ? "crank" : "output-pin"));
+    // The cycloidal drive's bore holds the eccentric bearing's outer ring (clamped: a rigid ring); an
+    // RV disc's bore is empty, clamped only to fix the body's rigid motion (docs/fe_disc.md).
+    elastic.emplace_back(cranks ? "disc body (FE, its crank holes on the body, the empty bore its reference)"
+                                : "disc body (FE, its output-pin holes on the body, the bore a rigid ring)");
   }
   if (d.pins) elastic.emplace_back("ring pins bending");
   else rigid.emplace_back("ring pins' bending");
