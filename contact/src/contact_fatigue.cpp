@@ -60,7 +60,7 @@ double CyclesToPitting(LifeCurve curve, double sigma_hlim, double stress) {
   if (!(stress > 0.0)) return kInf;
   const double z = stress / sigma_hlim;  // the life factor the stress needs
   if (z <= p.back().factor) return kInf;
-  if (z > p.front().factor) return 0.0;
+  // Above the static value the loop's first segment is extended (ISO 6336-6:2019 Annex C).
   for (std::size_t k = 1; k < p.size(); ++k) {
     if (z >= p[k].factor) {
       if (p[k].factor == p[k - 1].factor) return p[k].cycles;  // a flat step (none in the table)

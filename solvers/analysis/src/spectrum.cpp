@@ -121,9 +121,10 @@ double SpectrumContactSafety(const std::vector<SpectrumContactLoad>& loads, cont
   }
   if (largest == 0.0) return std::numeric_limits<double>::infinity();
   // Miner's damage over the required life with every stress times s: non-decreasing in s, zero
-  // while every scaled stress is at or below the curve's floor, infinite once one is above its
-  // static value (contact::CyclesToPitting). The answer lies between the factors that put the
-  // largest stress on the floor and on the static value.
+  // while every scaled stress is at or below the curve's floor (contact::CyclesToPitting). The
+  // answer lies between the factors that put the largest stress on the floor and on the static
+  // value: beyond it the damage stays finite (ISO 6336-6's extended line) but the flank's static
+  // strength is exceeded, and ISO 6336-2's Z_NT is flat there, so the safety stops at it.
   const auto damage = [&](double s) {
     double d = 0.0;
     for (const SpectrumContactLoad& l : loads) {

@@ -28,8 +28,11 @@ double LifeFactor(LifeCurve curve, double cycles);
 
 /// The load cycles to pitting at a contact stress (MPa) on a material of endurance limit
 /// sigma_hlim (MPa): the N with sigma_hlim Z_NT(N) = stress on the falling part of the curve;
-/// +inf at or below sigma_hlim Z_NT(1e10) (the curve is flat there: no damage), 0 above the static
-/// value sigma_hlim Z_NT(0) (a single cycle fails the flank). Stress <= 0: +inf.
+/// +inf at or below sigma_hlim Z_NT(1e10) (the curve is flat there: no damage). Above the static
+/// value sigma_hlim Z_NT(0) the first sloped segment is extended to fewer cycles than the static
+/// point, as ISO 6336-6:2019's worked load spectrum does (Annex C, Table C.2: Z_NT 1.61 at 90,500
+/// cycles); the static strength itself is judged by the safety factor, whose Z_NT stays flat there
+/// (LifeFactor). Stress <= 0: +inf.
 double CyclesToPitting(LifeCurve curve, double sigma_hlim, double stress);
 
 }  // namespace ltca::contact
