@@ -15,12 +15,16 @@
 
 #include <doctest/doctest.h>
 
+#include "cli_run.hpp"
 #include "documents/backlash.hpp"
+#include "documents/common.hpp"
+#include "documents/mesh.hpp"
 #include "documents/solve.hpp"
 #include "documents/stiffness.hpp"
 #include "documents/tolerance.hpp"
 #include "helpers.hpp"
 #include "ltca/analysis/backlash.hpp"
+#include "ltca/analysis/mesh.hpp"
 #include "ltca/analysis/stiffness.hpp"
 #include "ltca/app/deck.hpp"
 #include "ltca/geometry/units.hpp"
@@ -232,4 +236,40 @@ TEST_CASE("app: the tolerance estimate names the samples' time, the worst case's
   const std::string samples_only = ltca::app::documents::ToleranceEstimateText(2.0, 5, 100, 2, false, 0.0, 0);
   CHECK(samples_only.find("about 2 s for the 100 samples (") != std::string::npos);
   CHECK(samples_only.find("worst case's") == std::string::npos);
+}
+
+TEST_CASE("app: a deck read with --set or --unset names its overrides in the JSON case, the text, the figure's title and its caption") {
+  // A deck changed on the command line is not the deck its title names (a figure titled "Liu 2021
+  // Table 1" of an elastic body is a wrong label). Independent reference: the arguments as typed.
+  const ltca::test::Outcome json = ltca::test::RunCli({"solve", Case("liu2021_table1.toml"), "--set", "sweep.positions=2",
+                                                       "--unset", "load.torque_nm", "--set", "load.torque_nm=100", "--json", "-"});
+  REQUIRE(json.code == 0);
+  const auto doc = nlohmann::json::parse(json.out);
+  // In the order they were applied: the removals first, then the values (cli/command.cpp).
+  CHECK(doc.at("case").at("overrides") ==
+        nlohmann::json({"--unset load.torque_nm", "--set sweep.positions=2", "--set load.torque_nm=100"}));
+  const ltca::test::Outcome text = ltca::test::RunCli({"solve", Case("liu2021_table1.toml"), "--set", "sweep.positions=2"});
+  REQUIRE(text.code == 0);
+  CHECK(text.out.find("\noverrides --set sweep.positions=2\n") != std::string::npos);
+
+  // Read as written: no overrides anywhere.
+  const ltca::test::Outcome plain = ltca::test::RunCli({"mesh", Case("liu2021_table1.toml"), "--json", "-"});
+  REQUIRE(plain.code == 0);
+  CHECK_FALSE(nlohmann::json::parse(plain.out).at("case").contains("overrides"));
+  const ltca::app::Deck as_written = ltca::app::LoadDeck(Case("liu2021_table1.toml"));
+  CHECK(ltca::app::documents::CaseTitle(as_written) == as_written.info.title);
+  CHECK(ltca::app::documents::CaseLines(as_written).find("overrides") == std::string::npos);
+
+  // A short list follows the title in full, a long one is counted; the caption lists them.
+  const ltca::app::Deck one = ltca::app::LoadDeck(Case("liu2021_table1.toml"), {"load.torque_nm=100"});
+  const auto mesh = ltca::analysis::MeshAt(one.MakeModel(), 0.0);
+  const ltca::app::plots::Figure figure = ltca::app::documents::Figure(one, mesh);
+  CHECK(figure.title.starts_with(one.info.title + " (--set load.torque_nm=100): "));
+  CHECK(figure.caption.find("\nwith --set load.torque_nm=100\n") != std::string::npos);
+  const ltca::app::Deck many = ltca::app::LoadDeck(
+      Case("liu2021_table1.toml"), {"load.torque_nm=100", "sweep.positions=3", "sweep.crank_end_deg=4", "-load.torque_nm", "load.torque_nm=50"});
+  CHECK(ltca::app::documents::CaseTitle(many) == many.info.title + " (with 5 overrides)");
+  CHECK(ltca::app::documents::CaseLines(many).find("overrides --set load.torque_nm=100 --set sweep.positions=3 --set "
+                                                   "sweep.crank_end_deg=4 --unset load.torque_nm --set load.torque_nm=50\n") !=
+        std::string::npos);
 }

@@ -167,7 +167,9 @@ ADDED = {"contact_fatigue", "root_diameter_mm", "tip_diameter_mm", "dimension_ov
          "max_preload_stress_mpa", "interference_arcsec", "unload_torque_nm", "unload_torque_reverse_nm",
          "max_interference_arcsec", "min_unload_torque_nm", "cannot_assemble", "preloaded", "preloaded_share",
          "preload_max_contact_stress_mpa", "preload_max_force_n",
-         "percentile_rule"}
+         "percentile_rule",
+         # A deck read with --set or --unset names them in its case (the report's runs here).
+         "overrides"}
 # Issue 51: efficiency's loss by source, the stage's friction moment bound and the new [friction]
 # keys in its head (docs/efficiency.md), checked by tests/app/stage_efficiency_test.cpp.
 ADDED |= {"power_loss_by_source_w", "stage_friction_moment_ratio", "stage_friction_moment_ratio_min",

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
@@ -1017,6 +1018,10 @@ std::string PageHead(const app::Deck& deck, const ReportOptions& options) {
       Html(deck.info.title));
   html += fmt::format("<p class=\"meta\">Deck <code>{}</code> &middot; ltca {} &middot; generated {} &middot; {}</p>\n",
                       Html(deck.name), LTCA_VERSION, date, Html(deck.info.source));
+  if (const std::vector<std::string> given = documents::OverrideArguments(deck); !given.empty()) {
+    // A deck changed on the command line is not the deck its title names.
+    html += fmt::format("<p class=\"meta\">Read with <code>{}</code></p>\n", Html(fmt::format("{}", fmt::join(given, " "))));
+  }
   html += "<table>\n";
   html += fmt::format("<tr><th>model</th><td>{}</td></tr>\n", Html(Unlabelled(ModelLine(deck))));
   html += fmt::format("<tr><th>solver</th><td>{}</td></tr>\n", Html(Unlabelled(SolverLine(deck, SolverFor(deck, options.solver)))));

@@ -137,7 +137,7 @@ void BacklashJsonWriter::Finish(const Deck& deck, const analysis::BacklashResult
 }
 
 std::string BacklashTextHead(const Deck& deck, const analysis::Stage& stage, contact::ContactKinematics kinematics) {
-  std::string text = fmt::format("case      {}\n", deck.info.title) + ModelLine(deck);
+  std::string text = CaseLines(deck) + ModelLine(deck);
   text += fmt::format("unloaded TCA, {} kinematics, {} positions from {:g} to {:g} deg crank\n", contact::ToString(kinematics),
                       stage.cranks().size(), RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
   if (stage.model().slice_count() > 1) {
@@ -197,7 +197,7 @@ void BacklashSeries::Add(const analysis::BacklashPosition& p) {
 plots::Figure Figure(const Deck& deck, BacklashSeries& series, const analysis::BacklashResult& result) {
   const std::vector<double>& crank = series.backlash().x();
   plots::Figure figure;
-  figure.title = fmt::format("{}: unloaded backlash over crank {:.4g} to {:.4g} deg", deck.info.title,
+  figure.title = fmt::format("{}: unloaded backlash over crank {:.4g} to {:.4g} deg", CaseTitle(deck),
                              crank.empty() ? 0.0 : crank.front(), crank.empty() ? 0.0 : crank.back());
   const std::string decimated =
       series.backlash().stride() > 1

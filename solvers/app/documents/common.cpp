@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #ifndef LTCA_VERSION
 #define LTCA_VERSION "unknown"
@@ -142,7 +143,33 @@ void AddRunRecord(nlohmann::json& summary, const analysis::RunRecord& record) {
 }
 
 nlohmann::json CaseJson(const Deck& deck) {
-  return {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}};
+  nlohmann::json j = {{"title", deck.info.title}, {"source", deck.info.source}, {"deck", deck.name}};
+  if (!deck.source.overrides.empty()) j["overrides"] = OverrideArguments(deck);
+  return j;
+}
+
+std::vector<std::string> OverrideArguments(const Deck& deck) {
+  std::vector<std::string> out;
+  out.reserve(deck.source.overrides.size());
+  for (const std::string& o : deck.source.overrides) {  // the CLI's --unset value starts with '-'
+    out.push_back(!o.empty() && o.front() == '-' ? "--unset " + o.substr(1) : "--set " + o);
+  }
+  return out;
+}
+
+std::string CaseTitle(const Deck& deck, std::size_t room) {
+  const std::vector<std::string> given = OverrideArguments(deck);
+  if (given.empty()) return deck.info.title;
+  const std::string all = fmt::format("{}", fmt::join(given, " "));
+  if (all.size() <= room) return fmt::format("{} ({})", deck.info.title, all);
+  return fmt::format("{} (with {} override{})", deck.info.title, given.size(), given.size() == 1 ? "" : "s");
+}
+
+std::string CaseLines(const Deck& deck, int width) {
+  std::string text = fmt::format("{:<{}}{}\n", "case", width, deck.info.title);
+  const std::vector<std::string> given = OverrideArguments(deck);
+  if (!given.empty()) text += fmt::format("{:<{}}{}\n", "overrides", width, fmt::join(given, " "));
+  return text;
 }
 
 nlohmann::json ModelJson(const Deck::ModelInfo& model) {
@@ -184,6 +211,12 @@ std::string ModelLine(const Deck& deck) {
 std::string FigureCaption(const Deck& deck, const std::string& ran) {
   std::string caption = fmt::format("deck: {}", deck.name);
   if (!deck.info.source.empty()) caption += fmt::format("   source: {}", deck.info.source);
+  if (const std::vector<std::string> given = OverrideArguments(deck); !given.empty()) {
+    std::string all = fmt::format("{}", fmt::join(given, " "));
+    constexpr std::size_t kRoom = 160;  // one caption line
+    if (all.size() > kRoom) all = all.substr(0, kRoom - 3) + "...";
+    caption += "\nwith " + all;
+  }
   if (!ran.empty()) caption += "\n" + ran;
   return caption + fmt::format("\nltca {}", LTCA_VERSION);
 }

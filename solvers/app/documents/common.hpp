@@ -65,8 +65,19 @@ std::string OpenObject(const nlohmann::json& header);
 /// status and, when something failed, first_failure.
 void AddRunRecord(nlohmann::json& summary, const analysis::RunRecord& record);
 
-/// {title, source, deck}: the case a document is of.
+/// {title, source, deck}: the case a document is of, and `overrides` (OverrideArguments) when the
+/// deck was read with any.
 nlohmann::json CaseJson(const Deck& deck);
+/// The overrides the deck was read with, as the command line takes them: "--set section.key=value",
+/// "--unset section[.key]"; empty for a deck read as written.
+std::vector<std::string> OverrideArguments(const Deck& deck);
+/// The case's title for a figure or a text: a deck changed by --set or --unset is not the deck its
+/// title names, so the overrides follow the title, in full when they fit in `room` characters, else
+/// counted ("with 3 overrides"; the caption and the text list them).
+std::string CaseTitle(const Deck& deck, std::size_t room = 60);
+/// The text's "case" line(s): "case      <title>\n", then "overrides --set ... --unset ...\n" when
+/// the deck was read with any.
+std::string CaseLines(const Deck& deck, int width = 10);
 /// The model that ran: {name, slices, surface}, with a note when a given slice count was not used,
 /// the discs, the stage, the pin seat and the tip relief where the deck has them.
 nlohmann::json ModelJson(const Deck::ModelInfo& model);

@@ -40,7 +40,9 @@ Table Columns(const analysis::CompareResult& result) {
 }
 
 nlohmann::json Json(const Deck& deck, const analysis::CompareResult& result) {
-  nlohmann::json doc = {{"case", {{"title", deck.info.title}, {"deck", deck.name}}},
+  nlohmann::json case_json = {{"title", deck.info.title}, {"deck", deck.name}};
+  if (!deck.source.overrides.empty()) case_json["overrides"] = OverrideArguments(deck);
+  nlohmann::json doc = {{"case", case_json},
                         {"model", ModelJson(deck.Model())},
                         {"reference", result.solvers.front().options.name},
                         {"solvers", nlohmann::json::array()}};
@@ -76,7 +78,7 @@ nlohmann::json Json(const Deck& deck, const analysis::CompareResult& result) {
 
 std::string Text(const Deck& deck, const analysis::CompareResult& result) {
   const Deck::ModelInfo model = deck.Model();
-  std::string text = fmt::format("case      {}\n", deck.info.title) + ModelLine(deck);
+  std::string text = CaseLines(deck) + ModelLine(deck);
   text += fmt::format("{} positions, {} model ({} slice{}, {} surface), {} kinematics, law {} / {}; differences against {} where "
                       "both succeeded\n",
                       result.cranks.size(), model.name, model.slices, model.slices == 1 ? "" : "s", model.surface,
@@ -113,7 +115,7 @@ plots::Figure Figure(const Deck& deck, const analysis::CompareResult& result, co
                      const std::vector<std::vector<double>>& te) {
   const std::size_t solvers = result.solvers.size();
   plots::Figure figure;
-  figure.title = fmt::format("{}: loaded TE of {} solvers over crank {:.4g} to {:.4g} deg", deck.info.title, solvers,
+  figure.title = fmt::format("{}: loaded TE of {} solvers over crank {:.4g} to {:.4g} deg", CaseTitle(deck), solvers,
                              crank_deg.empty() ? 0.0 : crank_deg.front(), crank_deg.empty() ? 0.0 : crank_deg.back());
   const std::string& reference = result.solvers.front().options.name;
   std::string skips;

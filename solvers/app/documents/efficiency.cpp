@@ -247,7 +247,7 @@ std::string Text(const analysis::EfficiencySpectrum& spectrum) {
 std::string EfficiencyTextHead(const Deck& deck, const SolverOptions& solver) {
   const analysis::FrictionSettings& f = deck.RequireFriction();
   const analysis::OperationSettings& op = deck.RequireOperation();
-  std::string text = fmt::format("case      {}\n", deck.info.title) + ModelLine(deck) + SolverLine(deck, solver);
+  std::string text = CaseLines(deck) + ModelLine(deck) + SolverLine(deck, solver);
   const std::string mu = f.model == analysis::FrictionSettings::Model::kCoulomb ? fmt::format("coulomb, mu = {:g}", f.coefficient)
                                                                       : fmt::format("jiang-mixed, f_b = {:g}", f.boundary_coefficient);
   text += fmt::format("friction  {}; {}; torque balance: {}\n", mu,
@@ -325,7 +325,7 @@ std::string Csv(const analysis::EfficiencyPosition& p, bool two_discs, bool stag
 plots::Figure Figure(const Deck& deck, const SolverOptions& solver, const std::vector<analysis::EfficiencyPosition>& positions,
                      const analysis::EfficiencySummary& s) {
   plots::Figure figure;
-  figure.title = fmt::format("{}: efficiency and power loss over crank {:g} to {:g} deg", deck.info.title,
+  figure.title = fmt::format("{}: efficiency and power loss over crank {:g} to {:g} deg", CaseTitle(deck),
                              RadToDeg(deck.sweep.crank_start), RadToDeg(deck.sweep.crank_end));
   // The operating point: speed, torque and the friction model the figures hold for.
   const analysis::FrictionSettings& f = deck.RequireFriction();

@@ -182,7 +182,7 @@ plots::Figure DeviationFigure(const Deck& deck, const geometry::RealPair& real, 
   }
   panel.legend = plots::LegendPlace::kOutsideRight;  // the trace fills the panel: the legend beside it
   plots::Figure figure;
-  figure.title = fmt::format("{}: profile deviation chart", deck.info.title);
+  figure.title = fmt::format("{}: profile deviation chart", CaseTitle(deck));
   figure.caption = FigureCaption(
       deck, fmt::format("{} ({} points, on every tooth space); fit: offset, isometric, rotation (least squares); {}",
                         c.source, c.u.size(),
@@ -242,7 +242,7 @@ std::string Text(const Deck& deck, const geometry::RealPair& real) {
   const Kinematics& kinematics = real.kinematics();
   const auto& p = deck.pair;
   const auto& m = deck.modification;
-  text += fmt::format("case      {}\n", deck.info.title);
+  text += CaseLines(deck);
   if (!deck.info.source.empty()) text += fmt::format("source    {}\n", deck.info.source);
   text += fmt::format("pair      z_p = {}, z_c = {}, d = {}, r_rp = {} mm, R_p = {} mm, e = {} mm, B_c = {} mm\n",
                   p.pin_count, p.tooth_count, p.ToothDifference(), p.pin_radius, p.pin_circle_radius,
@@ -510,7 +510,7 @@ plots::Figure Figure(const Deck& deck, const geometry::RealPair& real, const con
   panel.x_min = -limit, panel.x_max = limit, panel.y_min = -limit, panel.y_max = limit;
 
   plots::Figure figure;
-  figure.title = fmt::format("{}: cycloid and pins at crank {:.4g} deg (unloaded)", deck.info.title, RadToDeg(crank));
+  figure.title = fmt::format("{}: cycloid and pins at crank {:.4g} deg (unloaded)", CaseTitle(deck), RadToDeg(crank));
   figure.caption = FigureCaption(
       deck, fmt::format("z_p = {}, z_c = {}, R_p = {:g} mm, r_rp = {:g} mm, e = {:g} mm; least clearance {:.3f} um (pin {}); "
                         "pins numbered from +x_f counter-clockwise\n"

@@ -58,7 +58,7 @@ Table Columns(const analysis::MeshResult& mesh) {
 }
 
 std::string Text(const Deck& deck, const analysis::MeshResult& mesh) {
-  std::string text = fmt::format("case      {}\n", deck.info.title);
+  std::string text = CaseLines(deck);
   text += fmt::format("mesh state at crank {:g} deg (unloaded pose)\n", mesh.crank_deg);
   if (deck.disc_count() == 2) text += "note      [second_disc]: the first disc's mesh only\n";
   // The slice model has a row per pin and slice: the slice and its z are named.
@@ -101,7 +101,7 @@ plots::Figure Figure(const Deck& deck, const analysis::MeshResult& mesh) {
     for (double& c : clearance) c = std::max(c, floor_um);
   }
   plots::Figure figure;
-  figure.title = fmt::format("{}: mesh state at crank {:g} deg (unloaded)", deck.info.title, crank_deg);
+  figure.title = fmt::format("{}: mesh state at crank {:g} deg (unloaded)", CaseTitle(deck), crank_deg);
   figure.caption = FigureCaption(deck, fmt::format("model {}; pins numbered from +x_f counter-clockwise{}{}",
                                                    deck.Model().name,
                                                    log ? fmt::format("; clearance on a log scale, below {:g} um (contact) drawn at {:g} um",

@@ -115,6 +115,7 @@ nlohmann::json OptimiseJsonHead(const Deck& deck, const SolverOptions& solver, c
   const analysis::DesignEvaluation* best = run.best();
   nlohmann::json j;
   j["case"] = {{"title", deck.info.title}, {"deck", deck.name}};
+  if (!deck.source.overrides.empty()) j["case"]["overrides"] = OverrideArguments(deck);
   j["model"] = ModelJson(deck.Model());  // every output names the model that ran
   j["solver"] = SolverJson(deck, solver);
   nlohmann::json vars = nlohmann::json::array();
@@ -193,7 +194,7 @@ nlohmann::json Json(const Deck& deck, const SolverOptions& solver, const analysi
 }
 
 std::string OptimiseTextHead(const Deck& deck, const SolverOptions& solver, const analysis::OptimiseSettings& s, int threads, int ranks) {
-  std::string text = fmt::format("case        {}\n", deck.info.title);
+  std::string text = CaseLines(deck, 12);
   text += ModelLine(deck);
   text += SolverLine(deck, solver);
   text += fmt::format("objective   {} {}{}\n", s.maximise ? "maximise" : "minimise", s.objective,
@@ -264,7 +265,7 @@ plots::Figure Figure(const Deck& deck, const analysis::OptimiseSettings& s, cons
   const analysis::DesignEvaluation* best = run.best();
   const std::vector<analysis::DesignEvaluation>& grid = run.grid;
   plots::Figure figure;
-  figure.title = fmt::format("{}: {} {} over {} evaluations ({} then {})", deck.info.title, s.maximise ? "maximise" : "minimise",
+  figure.title = fmt::format("{}: {} {} over {} evaluations ({} then {})", CaseTitle(deck), s.maximise ? "maximise" : "minimise",
                              s.objective, r.evaluations, analysis::ToString(s.global), analysis::ToString(s.local));
   const std::int64_t stride = series.feasible_.stride();
   figure.caption = FigureCaption(deck, fmt::format("{}; infeasible: a constraint not met; failed evaluations are not drawn{}{}",

@@ -706,7 +706,7 @@ std::string ContactFatigueText(const Deck& deck, const analysis::ContactFatigue&
 }  // namespace
 
 std::string Text(const Deck& deck, const SolverOptions& solver, const analysis::SweepSummary& s) {
-  std::string text = fmt::format("case      {}\n", deck.info.title);
+  std::string text = CaseLines(deck);
   text += ModelLine(deck);
   text += SolverLine(deck, solver);
   text += fmt::format("status                 {}\n", solvers::ToString(s.status));
@@ -839,7 +839,7 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, SolveSeries&
   plots::Figure figure;
   const double c_lo = std::isfinite(data.first_crank_) ? data.first_crank_ : 0.0;
   const double c_hi = std::isfinite(data.last_crank_) ? data.last_crank_ : 0.0;
-  figure.title = fmt::format("{}: loaded TE over crank {:.4g} to {:.4g} deg, {} solver", deck.info.title, c_lo, c_hi, solver.name);
+  figure.title = fmt::format("{}: loaded TE over crank {:.4g} to {:.4g} deg, {} solver", CaseTitle(deck), c_lo, c_hi, solver.name);
   figure.caption = FigureCaption(deck, fmt::format("model {}, solver {} ({} kinematics), T = {:g} N*m, {} positions",
                                                    deck.Model().name, solver.name, contact::ToString(deck.kinematics),
                                                    units::NmmToNm(deck.RequireLoad().torque), data.positions_) +

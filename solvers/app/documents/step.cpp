@@ -43,7 +43,7 @@ StepDisc MakeStepDisc(const Deck& deck, const geometry::RealPair& real) {
     }
   }
   disc.description = fmt::format("ltca {} geometry: the cycloid disc as made of deck '{}' ({}), extruded over {} mm",
-                                 LTCA_VERSION, deck.name, deck.info.title, disc.width_mm);
+                                 LTCA_VERSION, deck.name, CaseTitle(deck, 200), disc.width_mm);
   return disc;
 }
 

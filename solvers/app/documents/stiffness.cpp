@@ -274,7 +274,7 @@ void StiffnessJsonWriter::Finish(const analysis::StiffnessResult& result) {
 
 std::string StiffnessTextHead(const Deck& deck, const SolverOptions& solver, const analysis::StiffnessSettings& settings,
                               double rated, std::size_t positions) {
-  std::string text = fmt::format("case      {}\n", deck.info.title) + ModelLine(deck) + SolverLine(deck, solver);
+  std::string text = CaseLines(deck) + ModelLine(deck) + SolverLine(deck, solver);
   text += fmt::format("loop      -T -> +T -> -T, T = {:g} N*m (rated, |[load] torque_nm|), {} torque levels per branch, {}\n",
                       NmmToNm(rated), settings.steps,
                       !settings.crank ? fmt::format("{} positions from {:g} to {:g} deg crank", positions,
@@ -431,7 +431,7 @@ plots::Figure Figure(const Deck& deck, const SolverOptions& solver, const analys
                             ? fmt::format(", bearings {:g}", result.bearing_friction_coefficient)
                             : std::string())
           : std::string();
-  figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}{}", deck.info.title, t,
+  figure.title = fmt::format("{}: torque-twist loop -T..+T..-T, T = {:g} N*m, {}{}{}", CaseTitle(deck), t,
                              When(deck, result.settings), hysteresis, any ? "" : ": no solve succeeded");
   // The caption names the definition and fraction the loop was read with (the deck's, or the
   // command line's --rigidity, --tangent-torque-nm and --lost-motion-fraction where given).

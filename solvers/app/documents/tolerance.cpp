@@ -100,7 +100,7 @@ analysis::ToleranceSettings ToleranceSettingsFor(const Deck& deck, std::optional
 std::string ToleranceTextHead(const Deck& deck, const SolverOptions& solver, const analysis::ToleranceStudy& study,
                               std::int64_t first, int threads, int ranks) {
   const analysis::ToleranceSettings& settings = study.settings();
-  std::string text = fmt::format("case      {}\n", deck.info.title);
+  std::string text = CaseLines(deck);
   text += ModelLine(deck);
   text += SolverLine(deck, solver);
   text += fmt::format("samples   {} from index {}, seed {} (counter-based Philox4x32-10: sample i depends on (seed, i) only), "
@@ -385,7 +385,7 @@ plots::Figure Figure(const Deck& deck, const analysis::ToleranceStudy& study, co
   const analysis::WorstCaseResult* worst = result.worst_case ? &*result.worst_case : nullptr;
   const auto& names = analysis::ToleranceSettings::FigureNames();
   plots::Figure figure;
-  figure.title = fmt::format("{}: {} samples (seed {}, {} succeeded), loaded TCA over crank {:g} to {:g} deg", deck.info.title,
+  figure.title = fmt::format("{}: {} samples (seed {}, {} succeeded), loaded TCA over crank {:g} to {:g} deg", CaseTitle(deck),
                              summary.samples, summary.seed, summary.succeeded, RadToDeg(deck.sweep.crank_start),
                              RadToDeg(deck.sweep.crank_end));
   figure.caption = FigureCaption(deck, "bars: samples per bin; dashed: p5, p50, p95; dotted: the extreme-value corners (worst case); "
