@@ -404,4 +404,67 @@ TEST_CASE("contact: the relieved elastic body's cap grid is K at its grid points
   CHECK(change < 0.01);
 }
 
+TEST_CASE("contact: a segment-only cap (its junctions corners) has grid points of its own at the corners, so no interpolation straddles one") {
+  // The d = 2 pair's tips truncated 0.3 mm without a rounding: the segment meets each flank in a
+  // corner (TipCap: an edge). The body's space then holds the flank's m_f + 1 points, both corners
+  // included with the flank's normal, and the cap's m_c + 1 with the segment's (space_points() =
+  // m_f + m_c + 2): at a corner the two grid points sit at one place with normals the corner's angle
+  // apart; a segment contact at its end (w = 1) takes the cap's own point's K, a flank contact at
+  // the junction the flank's; every pose's coupling over a mesh period is positive semidefinite and
+  // couples its segment contacts. (30 mm bore, 6 mm elements, 16 points a space: a short set-up.)
+  const ltca::geometry::PairParameters pair = D2Pair();
+  ltca::geometry::Modification relief;
+  relief.tip_relief.truncation = 0.3;
+  const ltca::contact::MeshModel model{ltca::geometry::RealPair(pair, relief)};
+  const ltca::geometry::CycloidProfile& profile = model.real_pair().profile();
+  const ltca::geometry::TipCap& cap = profile.tip_cap();
+  REQUIRE(cap.active());
+  DiscBodyDesign body;
+  body.bore_radius_mm = 30.0;
+  body.thickness_mm = pair.face_width;
+  body.element_size_mm = 6.0;
+  body.refine_radius_mm = 8.0;
+  ltca::contact::DiscFlankGrid grid;
+  grid.points_per_space = 16;
+  const ltca::contact::DiscFlankCompliance flank(profile, body, grid);
+  REQUIRE(flank.caps());
+  const int mf = flank.flank_intervals(), mc = flank.cap_intervals();
+  CHECK(flank.space_points() == mf + mc + 2);
+  const int k = 3;
+  const int flank_end = k * flank.space_points() + mf, cap_start = flank.cap_grid_point(k, 0);
+  const int cap_end = flank.cap_grid_point(k, mc), next_flank = ((k + 1) % pair.tooth_count) * flank.space_points();
+  CHECK(cap_start == flank_end + 1);
+  CHECK(cap_end != next_flank);
+  CHECK((flank.grid_point(flank_end) - flank.grid_point(cap_start)).norm() < 1e-9);
+  CHECK((flank.grid_point(cap_end) - flank.grid_point(next_flank)).norm() < 1e-9);
+  CHECK(flank.grid_normal(flank_end).dot(flank.grid_normal(cap_start)) < 0.99);  // a corner between them
+  CHECK(flank.grid_normal(cap_end).dot(flank.grid_normal(next_flank)) < 0.99);
+  ltca::contact::PinContact on_segment, on_flank;
+  on_segment.part = SurfacePart::kTipTruncation;
+  on_segment.tooth_space = k;
+  on_segment.u = cap.junction();
+  on_segment.cap_w = 1.0;
+  on_segment.length = on_flank.length = pair.face_width;
+  on_flank.tooth_space = k;
+  on_flank.u = cap.junction();
+  const Eigen::MatrixXd c = flank.Coupling({on_segment, on_flank});
+  CHECK(c(0, 0) == doctest::Approx(flank.grid_compliance(cap_start, cap_start)).epsilon(1e-12));
+  CHECK(c(1, 1) == doctest::Approx(flank.grid_compliance(flank_end, flank_end)).epsilon(1e-12));
+  CHECK(c(0, 1) == doctest::Approx(flank.grid_compliance(cap_start, flank_end)).epsilon(1e-12));
+  int segment_contacts = 0;
+  for (int step = 0; step < 24; ++step) {
+    const std::vector<ltca::contact::PinContact> pins = model.Evaluate(step * model.kinematics().MeshPeriod() / 24.0).pins;
+    const Eigen::MatrixXd cp = flank.Coupling(pins);
+    for (std::size_t i = 0; i < pins.size(); ++i) {
+      const auto d = static_cast<Eigen::Index>(i);
+      if (pins[i].part == SurfacePart::kTipTruncation && cp(d, d) > 0.0) ++segment_contacts;
+      if (pins[i].edge) CHECK(cp(d, d) == 0.0);
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cp);
+    CHECK(eig.eigenvalues().minCoeff() >= -1e-12 * eig.eigenvalues().maxCoeff());
+  }
+  MESSAGE("segment-only cap: " << mf << " flank and " << mc << " cap intervals, " << flank.space_points()
+                               << " points a space; segment contacts coupled over a mesh period: " << segment_contacts);
+}
+
 }  // namespace disc_caps_test
