@@ -129,6 +129,7 @@ struct RelievedFoot {
   double gap = 0.0;        // signed distance of p, mm
   double curvature = 0.0;
   geometry::SurfacePart part = geometry::SurfacePart::kFlank;
+  double w = 0.0;          // on the cap: CapFoot::w
 };
 
 RelievedFoot NearestOnRelievedProfile(const CycloidProfile& profile, const Eigen::Vector2d& p, int seed_space,
@@ -151,7 +152,7 @@ RelievedFoot NearestOnRelievedProfile(const CycloidProfile& profile, const Eigen
       best.k = f.tooth_space;
       best.u = f.u;
       best.point = f.point, best.normal = f.normal, best.gap = f.distance;
-      best.curvature = f.curvature, best.part = f.part;
+      best.curvature = f.curvature, best.part = f.part, best.w = f.w;
     }
   }
   const bool corners = cap.relief().rounding_radius == 0.0;
@@ -168,12 +169,13 @@ RelievedFoot NearestOnRelievedProfile(const CycloidProfile& profile, const Eigen
       const double distance = (x.position - p).norm();
       if (!(distance < best_distance)) continue;
       best_distance = distance;
-      best.k = kk, best.u = uu, best.point = x.position;
+      best.k = kk, best.u = uu, best.point = x.position, best.w = 0.0;
       if (corners && std::abs(uu) == u_j) {  // clamped at the junction: the corner with the line
         best.normal = (p - x.position) / distance;
         best.gap = distance;
         best.curvature = std::numeric_limits<double>::infinity();
         best.part = geometry::SurfacePart::kTipCorner;
+        best.w = uu > 0.0 ? 1.0 : -1.0;  // the cap's end at this junction
       } else {
         best.normal = x.normal;
         best.gap = x.normal.dot(p - x.position);
@@ -624,6 +626,7 @@ PinContact MeshModel::EvaluatePointAt(int pin, int slice, double z, double angle
     PinContact c = FootContact(pin, angle, f.k, f.u, r_pin,
                                f.curvature, f.gap);
     c.part = f.part;
+    c.cap_w = f.w;
     c.edge = f.part == geometry::SurfacePart::kTipCorner;
     PlaceContact(frame, centre_fixed, load_direction_, f.point, f.normal, &c);
     FinishPoint(slice, z, &c);

@@ -207,6 +207,17 @@ CapFoot TipCap::Nearest(const Eigen::Vector2d& p, int tip) const {
                   : part == SurfacePart::kTipCorner ? std::numeric_limits<double>::infinity()
                                                      : 0.0;
   out.part = part;
+  // w: the foot's arc length from the apex (the segment's s, then the arc's angle from pi/2) over
+  // the half cap's.
+  const double half = 0.5 * length();
+  double from_apex = land_;
+  if (part == SurfacePart::kTipTruncation) {
+    from_apex = std::min(foot.x(), land_);
+  } else if (part == SurfacePart::kTipRounding) {
+    const Eigen::Vector2d arm = foot - centre_;
+    from_apex = land_ + rho_ * (0.5 * kPi - std::atan2(arm.y(), arm.x()));
+  }
+  out.w = half > 0.0 ? side * std::clamp(from_apex / half, 0.0, 1.0) : side;
   foot.x() *= side;
   normal.x() *= side;
   out.point = ToBody(foot, tip);
@@ -238,6 +249,7 @@ CapFoot TipCap::Point(double w, int tip) const {
     out.curvature = 1.0 / rho_;
   }
   if (w < 0.0) local.x() = -local.x(), normal.x() = -normal.x();
+  out.w = std::clamp(w, -1.0, 1.0);
   out.point = ToBody(local, tip);
   out.normal = DirToBody(normal, tip);
   out.tooth_space = SpaceOf(tip, w >= 0.0 ? 1.0 : -1.0);

@@ -937,6 +937,13 @@ TEST_CASE("app: [disc] reads the elastic body and refuses what it cannot model, 
   refused({elastic, "disc.bore_radius_mm=22", "disc.patch_half_width_mm=5"}, "[disc] patch_half_width_mm = 5");
   refused({elastic, "disc.bore_radius_mm=22", "contact.law=\"sagitta\""}, "law = \"sagitta\"");
   refused({elastic, "disc.bore_radius_mm=22", "disc.body=\"soft\""}, "[disc] body");
+  // Issue 48: a tip relief is modelled (its caps in the body's outline, docs/fe_disc.md) and the
+  // model says so; d < 0 (the cycloid outside the pins) stays refused by name.
+  const auto relieved = ltca::app::LoadDeck(deck, {elastic, "disc.bore_radius_mm=22", "modification.tip_truncation_mm=0.05"});
+  CHECK(relieved.Model().disc_body.find("tip relief's caps") != std::string::npos);
+  CHECK_THROWS_WITH_AS(ltca::app::LoadDeck(std::string(LTCA_CASES_DIR) + "/hard/dm1_loaded.toml",
+                                           {elastic, "disc.bore_radius_mm=10"}),
+                       doctest::Contains("d < 0"), std::invalid_argument);
   // With output pins the bore (the eccentric bearing's) must lie inside the holes: 40 - 6.32 - 3 mm.
   const std::vector<std::string> pins{"output.kind=\"pins\"", "output.count=8", "output.circle_radius_mm=40",
                                       "output.pin_radius_mm=5", "output.hole_radius_mm=6.32"};

@@ -57,6 +57,50 @@ int OutlineStep(const geometry::CycloidProfile& profile) {
   return (end - profile.Position(-phi, 1)).norm() <= (end - profile.Position(-phi, spaces - 1)).norm() ? 1 : spaces - 1;
 }
 
+/// A tip relief's cap (geometry::TipCap) sampled from its apex (w = 0) to its junction with the flank
+/// (w = 1), in TipCap::Point's w (uniform in arc length): the truncation segment's half (if any) in
+/// intervals at most `spacing` long (at least one), then the rounding arc's (if any) at most `spacing`
+/// long and at most 0.1 rad (at least two). `transition` receives the index of the segment's end,
+/// where the arc starts (its curvature jumps there), or -1 without both pieces.
+std::vector<double> HalfCapW(const geometry::TipCap& cap, double spacing, int* transition) {
+  const double half = 0.5 * cap.length();
+  const double land = cap.land_half_width();
+  const double rho = cap.relief().rounding_radius;
+  const double arc = half - land;
+  const int line_steps = land > 0.0 ? std::max(1, static_cast<int>(std::ceil(land / spacing))) : 0;
+  const int arc_steps = rho > 0.0 && arc > 0.0
+                            ? std::max({2, static_cast<int>(std::ceil(arc / spacing)), static_cast<int>(std::ceil(arc / rho / 0.1))})
+                            : 0;
+  std::vector<double> w{0.0};
+  for (int i = 1; i <= line_steps; ++i) w.push_back(land * i / line_steps / half);
+  for (int i = 1; i <= arc_steps; ++i) w.push_back((land + arc * i / arc_steps) / half);
+  w.back() = 1.0;
+  *transition = line_steps > 0 && arc_steps > 0 ? line_steps : -1;
+  return w;
+}
+
+/// The flank's length from u = -u_end to u_end of a tooth space, mm (the chords of `intervals` even steps in u).
+double FlankChordLength(const geometry::CycloidProfile& profile, double u_end, int intervals) {
+  double length = 0.0;
+  Eigen::Vector2d previous = profile.Position(-u_end, 0);
+  for (int j = 1; j <= intervals; ++j) {
+    const Eigen::Vector2d next = profile.Position(-u_end + 2.0 * u_end * j / intervals, 0);
+    length += (next - previous).norm();
+    previous = next;
+  }
+  return length;
+}
+
+/// Appends cap `tip`'s points at the given w's (TipCap::Point), marking as corners of the curve the
+/// junctions (|w| = 1) and the segment's ends (|w| = the half list's `transition` entry).
+void AppendCap(const geometry::TipCap& cap, int tip, const std::vector<double>& ws, double transition_w,
+               std::vector<Eigen::Vector2d>* points, std::vector<int>* corners) {
+  for (const double w : ws) {
+    if (std::abs(w) == 1.0 || std::abs(w) == transition_w) corners->push_back(static_cast<int>(points->size()));
+    points->push_back(cap.Point(w, tip).point);
+  }
+}
+
 }  // namespace
 
 void DiscBodyDesign::Validate() const {
@@ -92,18 +136,37 @@ void DiscBodyDesign::Validate() const {
   }
 }
 
-std::vector<Eigen::Vector2d> DiscOutline(const geometry::CycloidProfile& profile, int points_per_space) {
-  if (profile.tip_cap().active()) throw std::invalid_argument("disc outline: a tip relief's caps are not sampled");
+std::vector<Eigen::Vector2d> DiscOutline(const geometry::CycloidProfile& profile, int points_per_space,
+                                         std::vector<int>* corners) {
   if (profile.tooth_difference() < 0) throw std::invalid_argument("disc outline: the cycloid is the outer member (d < 0)");
   if (points_per_space < 8) throw std::invalid_argument("disc outline: at least 8 points per tooth space");
   const int spaces = profile.pair().tooth_count;
   const double phi = profile.phi_max();
   const int step = OutlineStep(profile);
+  const geometry::TipCap& cap = profile.tip_cap();
   std::vector<Eigen::Vector2d> outline;
-  outline.reserve(static_cast<std::size_t>(spaces) * points_per_space);
-  for (int i = 0, k = 0; i < spaces; ++i, k = (k + step) % spaces) {
-    for (int j = 0; j < points_per_space; ++j) {
-      outline.push_back(profile.Position(-phi + 2.0 * phi * j / points_per_space, k));
+  std::vector<int> breaks;
+  if (!cap.active()) {
+    outline.reserve(static_cast<std::size_t>(spaces) * points_per_space);
+    for (int i = 0, k = 0; i < spaces; ++i, k = (k + step) % spaces) {
+      for (int j = 0; j < points_per_space; ++j) {
+        outline.push_back(profile.Position(-phi + 2.0 * phi * j / points_per_space, k));
+      }
+    }
+  } else {
+    // d > 0: tooth space k's flank over [-u_j, u_j], then tip k's cap from its junction with space
+    // k (w = 1) over the tip to its junction with space k + 1 (w = -1, space k + 1's first point).
+    if (step != 1) throw std::invalid_argument("disc outline: a tip relief's caps on a profile whose spaces do not follow in order");
+    const double uj = cap.junction();
+    int transition = -1;
+    const std::vector<double> half = HalfCapW(cap, FlankChordLength(profile, uj, points_per_space) / points_per_space, &transition);
+    std::vector<double> ws(half.rbegin(), half.rend());                        // 1 ... 0
+    for (std::size_t i = 1; i + 1 < half.size(); ++i) ws.push_back(-half[i]);  // ... down to, not at, -1
+    const double transition_w = transition >= 0 ? half[static_cast<std::size_t>(transition)] : -1.0;
+    for (int k = 0; k < spaces; ++k) {
+      breaks.push_back(static_cast<int>(outline.size()));  // the junction with tip k - 1's cap
+      for (int j = 0; j < points_per_space; ++j) outline.push_back(profile.Position(-uj + 2.0 * uj * j / points_per_space, k));
+      AppendCap(cap, k, ws, transition_w, &outline, &breaks);
     }
   }
   double twice_area = 0.0;  // shoelace
@@ -112,7 +175,12 @@ std::vector<Eigen::Vector2d> DiscOutline(const geometry::CycloidProfile& profile
     const Eigen::Vector2d& b = outline[(i + 1) % outline.size()];
     twice_area += a.x() * b.y() - a.y() * b.x();
   }
-  if (twice_area < 0.0) std::reverse(outline.begin(), outline.end());
+  if (twice_area < 0.0) {
+    std::reverse(outline.begin(), outline.end());
+    for (int& c : breaks) c = static_cast<int>(outline.size()) - 1 - c;
+    std::sort(breaks.begin(), breaks.end());
+  }
+  if (corners != nullptr) *corners = std::move(breaks);
   return outline;
 }
 
@@ -211,41 +279,90 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   if (grid.points_per_hole < 8) throw std::invalid_argument("disc flank: at least 8 grid points per hole");
   const int m = grid.points_per_space;
   const int hp = grid.points_per_hole;
-  flank_points_ = spaces_ * m;
   hole_count_ = static_cast<int>(body.holes.size());
-  const int n = flank_points_ + hole_count_ * hp;
+  // A tip relief (d > 0): each space's flank ends at +-u_j, and tip k's cap joins space k's u_j (w =
+  // 1) to space k + 1's -u_j (w = -1).
+  const geometry::TipCap& cap = profile.tip_cap();
+  caps_ = cap.active();
+  if (caps_ && (profile.tooth_difference() < 0 || step_ != 1)) {
+    throw std::invalid_argument("disc flank: a tip relief's caps are built for d > 0 only");
+  }
+  const double u_end = caps_ ? cap.junction() : phi_max_;
   // The grid evenly in arc length over a tooth space (the same u in every space): uniform in u it
   // is coarsest near the root, where the flank turns fastest (the trapezoidal arc length of 64
-  // sub-intervals per grid interval).
+  // sub-intervals per grid interval). With caps the space's m points are shared between the flank
+  // and its cap by their lengths (at least 2 intervals each).
+  int flank_intervals = m;
   {
     constexpr int kFine = 64;
     const int steps = kFine * m;
     std::vector<double> arc(static_cast<std::size_t>(steps) + 1, 0.0);
-    const auto speed = [&](int i) { return profile.Evaluate(-phi_max_ + 2.0 * phi_max_ * i / steps, 0).d1.norm(); };
+    const auto speed = [&](int i) { return profile.Evaluate(-u_end + 2.0 * u_end * i / steps, 0).d1.norm(); };
     double previous = speed(0);
     for (int i = 1; i <= steps; ++i) {
       const double next = speed(i);
-      arc[static_cast<std::size_t>(i)] = arc[static_cast<std::size_t>(i) - 1] + 0.5 * (previous + next) * (2.0 * phi_max_ / steps);
+      arc[static_cast<std::size_t>(i)] = arc[static_cast<std::size_t>(i) - 1] + 0.5 * (previous + next) * (2.0 * u_end / steps);
       previous = next;
     }
-    grid_u_.assign(static_cast<std::size_t>(m) + 1, 0.0);
-    for (int j = 0; j <= m; ++j) {
-      const double target = arc.back() * j / m;
+    if (caps_) {
+      // The flank keeps its share of m by length; the cap has at least its share, at most w0 and
+      // pi / 16 of its turn between points: a tip is a thin wedge whose coefficients change over
+      // the rounding's length (on the d = 2 pair's 0.5 mm rounding: 2 intervals by length gave
+      // 4.6 % between grid points against a direct condensation, docs/fe_disc.md).
+      const double flank = arc.back();
+      flank_intervals = std::clamp(static_cast<int>(std::lround(m * flank / (flank + cap.length()))), 2, m - 2);
+      const double turn = std::acos(std::clamp(cap.Point(1.0, 0).normal.dot(cap.Point(-1.0, 0).normal), -1.0, 1.0));
+      cap_intervals_ = std::max({m - flank_intervals, static_cast<int>(std::ceil(cap.length() / grid.patch_half_width_mm)),
+                                 static_cast<int>(std::ceil(turn / (std::numbers::pi / 16.0)))});
+    }
+    grid_u_.assign(static_cast<std::size_t>(flank_intervals) + 1, 0.0);
+    for (int j = 0; j <= flank_intervals; ++j) {
+      const double target = arc.back() * j / flank_intervals;
       const auto it = std::lower_bound(arc.begin(), arc.end(), target);
       const std::size_t i = std::clamp<std::size_t>(static_cast<std::size_t>(it - arc.begin()), 1, arc.size() - 1);
       const double f = (target - arc[i - 1]) / (arc[i] - arc[i - 1]);
-      grid_u_[static_cast<std::size_t>(j)] = -phi_max_ + 2.0 * phi_max_ * (static_cast<double>(i - 1) + f) / steps;
+      grid_u_[static_cast<std::size_t>(j)] = -u_end + 2.0 * u_end * (static_cast<double>(i - 1) + f) / steps;
     }
-    grid_u_.front() = -phi_max_;
-    grid_u_.back() = phi_max_;
+    grid_u_.front() = -u_end;
+    grid_u_.back() = u_end;
   }
+  // A space's grid points: without caps its m flank points over [-phi_max, phi_max) (the next
+  // space's first closes it); with caps the flank's over [-u_j, u_j], both ends included, then tip
+  // k's cap at w = 1 - 2 i / m_c. With a rounding the junction is smooth (the normal continuous): the
+  // cap's ends are the flanks' end points (the cap's interior points i = 1 ... m_c - 1 follow). With
+  // the segment alone (rho = 0) the junction is a corner: the cap has its own end points (i = 0 ...
+  // m_c, the segment's normal), so that no interpolation straddles the corner.
+  const bool cap_ends = caps_ && !(cap.relief().rounding_radius > 0.0);
+  per_space_ = !caps_ ? m : cap_ends ? flank_intervals + cap_intervals_ + 2 : flank_intervals + cap_intervals_;
+  std::vector<double> station_w;  // the cap's w of each of a space's cap points, from local index flank_intervals + 1
+  if (caps_) {
+    cap_slots_.assign(static_cast<std::size_t>(cap_intervals_) + 1, 0);
+    for (int i = 0; i <= cap_intervals_; ++i) {
+      int slot = 0;
+      if (cap_ends) {
+        slot = flank_intervals + 1 + i;
+      } else {
+        slot = i == 0 ? flank_intervals : i == cap_intervals_ ? per_space_ : flank_intervals + i;
+      }
+      cap_slots_[static_cast<std::size_t>(i)] = slot;
+      if (slot > flank_intervals && slot < per_space_) station_w.push_back(1.0 - 2.0 * i / cap_intervals_);
+    }
+  }
+  flank_points_ = spaces_ * per_space_;
+  const int n = flank_points_ + hole_count_ * hp;
   points_.resize(2, n);
   normals_.resize(2, n);
   for (int k = 0; k < spaces_; ++k) {
-    for (int j = 0; j < m; ++j) {
-      const geometry::ProfilePoint p = profile.Evaluate(grid_u_[static_cast<std::size_t>(j)], k);
-      points_.col(k * m + j) = p.position;
-      normals_.col(k * m + j) = -p.normal;  // into the material: the direction a pin pushes
+    for (int j = 0; j < per_space_; ++j) {
+      if (j <= flank_intervals) {
+        const geometry::ProfilePoint p = profile.Evaluate(grid_u_[static_cast<std::size_t>(j)], k);
+        points_.col(k * per_space_ + j) = p.position;
+        normals_.col(k * per_space_ + j) = -p.normal;  // into the material: the direction a pin pushes
+      } else {
+        const geometry::CapFoot c = cap.Point(station_w[static_cast<std::size_t>(j - flank_intervals - 1)], k);
+        points_.col(k * per_space_ + j) = c.point;
+        normals_.col(k * per_space_ + j) = -c.normal;
+      }
     }
   }
   // Each hole's ring: evenly in angle from the hole's +x, along the outward normal (into the
@@ -263,7 +380,7 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   // is cyclically symmetric: one tooth space's sector is meshed and turned z_c times (a mesh that
   // a turn through 2 pi / z_c leaves the same), and only that space's grid points are solved for:
   // K between spaces a and b is K between spaces a - b and 0.
-  body.outline_mm = DiscOutline(profile, 2 * m);
+  body.outline_mm = DiscOutline(profile, 2 * m, &body.outline_corners);
   body.refine_near_mm = body.outline_mm;
   for (const DiscHole& hole : body.holes) {  // the holes' walls meshed at w0 too
     for (int j = 0; j < 2 * hp; ++j) {
@@ -277,7 +394,27 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   fe::T6Mesh mesh;
   if (cyclic_) {
     fe::DiscSector sector;
-    for (int j = 0; j <= 2 * m; ++j) sector.outline_mm.push_back(profile.Position(-phi_max_ + phi_max_ * j / m, 0));
+    if (!caps_) {
+      for (int j = 0; j <= 2 * m; ++j) sector.outline_mm.push_back(profile.Position(-phi_max_ + phi_max_ * j / m, 0));
+    } else {
+      // From tip z_c - 1's apex (on its axis, w = 0) over its cap's half to space 0's flank, the
+      // flank, then tip 0's cap to its apex: the cuts run along the tooth axes through the apexes,
+      // sampled as DiscOutline samples them (2 m points over the flank).
+      int transition = -1;
+      const std::vector<double> half = HalfCapW(cap, FlankChordLength(profile, u_end, 2 * m) / (2 * m), &transition);
+      const double transition_w = transition >= 0 ? half[static_cast<std::size_t>(transition)] : -1.0;
+      std::vector<double> before;  // 0 ... down to, not at, -1 (space 0's flank starts there)
+      for (std::size_t i = 0; i + 1 < half.size(); ++i) before.push_back(-half[i]);
+      before.front() = 0.0;
+      AppendCap(cap, spaces_ - 1, before, transition_w, &sector.outline_mm, &sector.corners);
+      sector.corners.push_back(static_cast<int>(sector.outline_mm.size()));  // the junction
+      for (int j = 0; j < 2 * m; ++j) sector.outline_mm.push_back(profile.Position(-u_end + u_end * j / m, 0));
+      const std::vector<double> after(half.rbegin(), half.rend());  // 1 ... 0
+      AppendCap(cap, 0, after, transition_w, &sector.outline_mm, &sector.corners);
+      sector.corners.erase(std::remove_if(sector.corners.begin(), sector.corners.end(),
+                                          [&](int c) { return c <= 0 || c + 1 >= static_cast<int>(sector.outline_mm.size()); }),
+                           sector.corners.end());
+    }
     sector.copies = spaces_;
     const Eigen::Vector2d& a = sector.outline_mm.front();
     const Eigen::Vector2d& b = sector.outline_mm.back();
@@ -305,7 +442,7 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   }
   Eigen::SparseMatrix<double> loads(model->dofs(), n);
   loads.setFromTriplets(entries.begin(), entries.end());
-  const int solved = cyclic_ ? m : n;  // (cyclic: no holes, n = spaces x m)
+  const int solved = cyclic_ ? per_space_ : n;  // (cyclic: no holes, n = spaces x per_space_)
   // Blocks of 16 columns: a block's dense arrays (dofs x 16, about 10 MB on a disc with holes) are
   // reused by the allocator, where 64 columns' (above glibc's 32 MB mmap threshold) were mapped
   // and faulted in anew for every block (1.3 million page faults, 17 % of the stage body's set-up
@@ -323,11 +460,12 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   // block-circulant and so is (K + K^T) / 2: its generator (space 0's columns) holds, entry by
   // entry, the same sum of the same two numbers as the whole symmetrised K did.
   if (cyclic_) {
-    k_.resize(n, m);
-    for (int j = 0; j < m; ++j) {
+    const int ps = per_space_;
+    k_.resize(n, ps);
+    for (int j = 0; j < ps; ++j) {
       for (int a = 0; a < spaces_; ++a) {
         const int mirror = (spaces_ - a) % spaces_;  // K(j, a m + i) = columns(((0 - a) mod z_c) m + j, i)
-        for (int i = 0; i < m; ++i) k_(a * m + i, j) = 0.5 * (columns(a * m + i, j) + columns(mirror * m + j, i));
+        for (int i = 0; i < ps; ++i) k_(a * ps + i, j) = 0.5 * (columns(a * ps + i, j) + columns(mirror * ps + j, i));
       }
     }
   } else {
@@ -351,14 +489,41 @@ double DiscFlankCompliance::cycloid_log_radius_mm() const {
 }
 
 void DiscFlankCompliance::Neighbours(int tooth_space, double u, int* first, int* second, double* t) const {
-  const int m = grid_.points_per_space;
+  const int m = per_space_;
+  const int intervals = static_cast<int>(grid_u_.size()) - 1;  // m without caps; the flank's m_f with them
   const int k = ((tooth_space % spaces_) + spaces_) % spaces_;
   const auto it = std::upper_bound(grid_u_.begin(), grid_u_.end(), u);
-  const int j = std::clamp(static_cast<int>(it - grid_u_.begin()) - 1, 0, m - 1);
+  const int j = std::clamp(static_cast<int>(it - grid_u_.begin()) - 1, 0, intervals - 1);
   const double lo = grid_u_[static_cast<std::size_t>(j)], hi = grid_u_[static_cast<std::size_t>(j) + 1];
   *t = std::clamp((u - lo) / (hi - lo), 0.0, 1.0);
   *first = k * m + j;
   *second = j + 1 < m ? k * m + j + 1 : ((k + step_) % spaces_) * m;
+}
+
+void DiscFlankCompliance::CapNeighbours(int tooth_space, double u, double w, int* first, int* second, double* t) const {
+  // The cap of tip k joins space k's u_j (w = 1) to space k + 1's -u_j (w = -1): a point on its half
+  // next to space k' is on tip k' (u > 0) or k' - 1 (u < 0). Its grid points are evenly in w from 1.
+  const int m = per_space_;
+  const int k = (((u > 0.0 ? tooth_space : tooth_space - 1) % spaces_) + spaces_) % spaces_;
+  const double s = 0.5 * (1.0 - std::clamp(w, -1.0, 1.0)) * cap_intervals_;
+  const int i = std::clamp(static_cast<int>(std::floor(s)), 0, cap_intervals_ - 1);
+  *t = std::clamp(s - i, 0.0, 1.0);
+  const auto global = [&](int slot) { return slot < m ? k * m + slot : ((k + 1) % spaces_) * m + (slot - m); };
+  *first = global(cap_slots_[static_cast<std::size_t>(i)]);
+  *second = global(cap_slots_[static_cast<std::size_t>(i) + 1]);
+}
+
+bool DiscFlankCompliance::OnGrid(const PinContact& p, int* first, int* second, double* t) const {
+  if (p.edge || !(p.length > 0.0)) return false;
+  if (p.part == geometry::SurfacePart::kFlank) {
+    Neighbours(p.tooth_space, p.u, first, second, t);
+    return true;
+  }
+  if (caps_ && (p.part == geometry::SurfacePart::kTipRounding || p.part == geometry::SurfacePart::kTipTruncation)) {
+    CapNeighbours(p.tooth_space, p.u, p.cap_w, first, second, t);
+    return true;
+  }
+  return false;
 }
 
 void DiscFlankCompliance::HoleNeighbours(int h, const Eigen::Vector2d& direction, int* first, int* second,
@@ -388,11 +553,7 @@ Eigen::MatrixXd DiscFlankCompliance::Coupling(const std::vector<PinContact>& poi
   for (Eigen::Index i = 0; i < n; ++i) {
     const PinContact& p = points[static_cast<std::size_t>(i)];
     const auto k = static_cast<std::size_t>(i);
-    if (p.edge || p.part != geometry::SurfacePart::kFlank || !(p.length > 0.0) || p.disc != 0) {
-      on[k] = 0;
-      continue;
-    }
-    Neighbours(p.tooth_space, p.u, &a[k], &b[k], &t[k]);
+    if (p.disc != 0 || !OnGrid(p, &a[k], &b[k], &t[k])) on[k] = 0;
   }
   for (Eigen::Index i = 0; i < h; ++i) {
     const auto k = static_cast<std::size_t>(n + i);
@@ -427,14 +588,12 @@ Eigen::MatrixXd DiscFlankCompliance::Coupling(const std::vector<PinContact>& poi
   std::vector<Slot> a(points.size()), b(points.size());
   std::vector<double> t(points.size());
   std::vector<char> on(points.size(), 0);
-  const int m = grid_.points_per_space;
+  const int m = per_space_;
   const auto slot = [m](int g) { return Slot{g, g / m, g % m}; };
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const PinContact& p = points[i];
-    if (p.edge || p.part != geometry::SurfacePart::kFlank || !(p.length > 0.0)) continue;
-    on[i] = 1;
     int first = 0, second = 0;
-    Neighbours(p.tooth_space, p.u, &first, &second, &t[i]);
+    if (!OnGrid(points[i], &first, &second, &t[i])) continue;
+    on[i] = 1;
     a[i] = slot(first), b[i] = slot(second);
   }
   const double* g = k_.data();

@@ -48,9 +48,20 @@ std::vector<int> AddCircle(GmshLibrary& gmsh, const Eigen::Vector2d& centre, dou
   return curves;
 }
 
+// Splits `intervals` intervals from point `from` into `runs` runs (at least one, at most one per
+// interval): their first points, and `from + intervals` last.
+std::vector<int> RunEnds(int from, int intervals, int runs) {
+  runs = std::clamp(runs, 1, std::max(1, intervals));
+  std::vector<int> ends;
+  for (int r = 0; r <= runs; ++r) ends.push_back(from + static_cast<int>(static_cast<long long>(r) * intervals / runs));
+  return ends;
+}
+
 // The outline polygon: straight lines for a short polygon, else splines through runs of its
-// points (a profile sampled every few micrometres would otherwise force an element per sample).
-std::vector<int> AddOutline(GmshLibrary& gmsh, const std::vector<Eigen::Vector2d>& outline, double size) {
+// points (a profile sampled every few micrometres would otherwise force an element per sample);
+// no run crosses a corner (its splines end there).
+std::vector<int> AddOutline(GmshLibrary& gmsh, const std::vector<Eigen::Vector2d>& outline, double size,
+                            std::vector<int> corners) {
   int ierr = 0;
   const int n = static_cast<int>(outline.size());
   std::vector<int> points(n);
@@ -69,6 +80,25 @@ std::vector<int> AddOutline(GmshLibrary& gmsh, const std::vector<Eigen::Vector2d
   }
   // Runs of about n/64 points (at least 8), each a spline through its points, sharing ends.
   const int runs = std::max(4, std::min(64, n / 8));
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  if (!corners.empty()) {
+    // Each piece between two corners its own runs, about as many as its share of the points.
+    for (std::size_t c = 0; c < corners.size(); ++c) {
+      const int from = corners[c];
+      const int to = c + 1 < corners.size() ? corners[c + 1] : corners.front() + n;
+      if (from < 0 || from >= n) throw std::invalid_argument("disc outline: a corner index outside the outline");
+      const std::vector<int> ends =
+          RunEnds(from, to - from, static_cast<int>(std::lround(static_cast<double>(to - from) * runs / n)));
+      for (std::size_t r = 0; r + 1 < ends.size(); ++r) {
+        std::vector<int> run;
+        for (int i = ends[r]; i <= ends[r + 1]; ++i) run.push_back(points[i % n]);
+        curves.push_back(gmsh.geo_add_spline(run.data(), run.size(), -1, &ierr));
+        gmsh.Check(ierr, "addSpline");
+      }
+    }
+    return curves;
+  }
   for (int r = 0; r < runs; ++r) {
     const int first = static_cast<int>(static_cast<long long>(r) * n / runs);
     const int last = static_cast<int>(static_cast<long long>(r + 1) * n / runs);  // n: back to 0
@@ -212,7 +242,7 @@ T6Mesh MeshDisc(const DiscBodyDesign& design) {
   const double size = design.element_size_mm;
   std::vector<int> outer = design.outline_mm.empty()
                                ? AddCircle(gmsh, Eigen::Vector2d::Zero(), design.outer_radius_mm, size)
-                               : AddOutline(gmsh, design.outline_mm, size);
+                               : AddOutline(gmsh, design.outline_mm, size, design.outline_corners);
   std::vector<int> loops{AddLoop(gmsh, outer)};
   std::vector<int> bore;
   if (design.bore_radius_mm > 0.0) {
@@ -276,11 +306,34 @@ T6Mesh MeshDiscSector(const DiscSector& sector) {
   }
   std::vector<int> outer;
   const int runs = std::max(1, std::min(16, (n - 1) / 8));
-  for (int r = 0; r < runs; ++r) {
-    const int first = r * (n - 1) / runs, last = (r + 1) * (n - 1) / runs;
-    std::vector<int> run(points.begin() + first, points.begin() + last + 1);
-    outer.push_back(gmsh.geo_add_spline(run.data(), run.size(), -1, &ierr));
-    gmsh.Check(ierr, "addSpline");
+  if (sector.corners.empty()) {
+    for (int r = 0; r < runs; ++r) {
+      const int first = r * (n - 1) / runs, last = (r + 1) * (n - 1) / runs;
+      std::vector<int> run(points.begin() + first, points.begin() + last + 1);
+      outer.push_back(gmsh.geo_add_spline(run.data(), run.size(), -1, &ierr));
+      gmsh.Check(ierr, "addSpline");
+    }
+  } else {
+    // The pieces between corners, each its own runs (about its share of the points): no spline
+    // runs across a corner.
+    std::vector<int> stops{0};
+    for (const int c : sector.corners) {
+      if (c <= 0 || c >= n - 1) throw std::invalid_argument("disc sector: a corner index not inside the outline");
+      stops.push_back(c);
+    }
+    stops.push_back(n - 1);
+    std::sort(stops.begin(), stops.end());
+    stops.erase(std::unique(stops.begin(), stops.end()), stops.end());
+    for (std::size_t c = 0; c + 1 < stops.size(); ++c) {
+      const int span = stops[c + 1] - stops[c];
+      const std::vector<int> ends =
+          RunEnds(stops[c], span, static_cast<int>(std::lround(static_cast<double>(span) * runs / (n - 1))));
+      for (std::size_t r = 0; r + 1 < ends.size(); ++r) {
+        std::vector<int> run(points.begin() + ends[r], points.begin() + ends[r + 1] + 1);
+        outer.push_back(gmsh.geo_add_spline(run.data(), run.size(), -1, &ierr));
+        gmsh.Check(ierr, "addSpline");
+      }
+    }
   }
   const auto point = [&](const Eigen::Vector2d& p) {
     const int tag = gmsh.geo_add_point(p.x(), p.y(), 0.0, size, -1, &ierr);

@@ -43,6 +43,9 @@ T6Mesh MeshDisc(const DiscBodyDesign& design);
 /// inconsistent sector, std::runtime_error when gmsh fails or the cuts' nodes do not pair.
 struct DiscSector {
   std::vector<Eigen::Vector2d> outline_mm;
+  /// Interior indices of `outline_mm` where a spline must end (a tip relief's junctions and its
+  /// segment's ends: corners or jumps of curvature). Empty: none.
+  std::vector<int> corners;
   int copies = 0;
   double angle_rad = 0.0;
   double bore_radius_mm = 0.0;

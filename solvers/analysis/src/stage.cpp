@@ -160,10 +160,6 @@ void StageDesign::Validate() const {
                        "\"hertz-line\"",
                        contact::ToString(contact.law)));
   }
-  if (!modification.tip_relief.IsZero()) {
-    refuse("with a tip relief ([modification] tip_truncation_mm, tip_rounding_radius_mm): its caps are not in the "
-           "body's outline yet; expected no tip relief");
-  }
   if (pair.ToothDifference() < 0) refuse("with d < 0 (the cycloid outside the pins): expected pin_count > tooth_count");
   disc.Validate(RootRadius(geometry::CycloidProfile(pair, modification)));
 }
@@ -220,11 +216,17 @@ std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageD
   // Every number that shapes the body, exactly (hexadecimal floating point). The body is the
   // unmodified profile's: modifications and errors (micrometres to tens of micrometres) change its
   // coefficients by less than its mesh does (docs/fe_disc.md), and an optimiser over modifications
-  // or a tolerance study then pays the set-up once.
+  // or a tolerance study then pays the set-up once. A tip relief is the exception: its caps (tenths
+  // of a millimetre) change the outline where contacts can be, so the body is the unmodified
+  // profile with the disc's tip relief, and the relief is in the key.
+  const geometry::TipRelief& relief =
+      disc == 1 && design.second_disc ? design.second_disc->modification.tip_relief : design.modification.tip_relief;
   const std::string key = fmt::format("{} {} {:a} {:a} {:a} {:a} | {:a} {} {:a} {} {:a} | {:a} {:a}", p.pin_count,
                                       p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width,
                                       b.bore_radius, contact::ToString(b.plane), b.element_size, b.grid.points_per_space,
                                       b.grid.patch_half_width_mm, material.young_modulus, material.poisson_ratio) +
+                          (relief.IsZero() ? std::string()
+                                           : fmt::format(" | relief {:a} {:a}", relief.truncation, relief.rounding_radius)) +
                           HolesKey(design, disc);
   static std::mutex mutex;
   static std::vector<std::pair<std::string, std::shared_ptr<const contact::DiscFlankCompliance>>> kept;  // newest last
@@ -245,7 +247,9 @@ std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageD
   body.element_size_mm = b.element_size;
   body.refine_radius_mm = 2.0 * b.element_size;
   body.holes = BodyHoles(design, disc);
-  auto flank = std::make_shared<const contact::DiscFlankCompliance>(geometry::CycloidProfile(p), body, b.grid);
+  geometry::Modification caps;  // the disc's tip relief alone
+  caps.tip_relief = relief;
+  auto flank = std::make_shared<const contact::DiscFlankCompliance>(geometry::CycloidProfile(p, caps), body, b.grid);
   if (kept.size() == kKept) kept.erase(kept.begin());
   kept.emplace_back(key, flank);
   return flank;
@@ -327,9 +331,10 @@ ModelInfo StageDesign::Model() const {
   }
   if (disc.elastic()) {  // [disc] body
     m.disc_body = fmt::format(
-        "elastic (plane {}, bore {:g} mm clamped; FE T6 {:g} mm, the flank condensed at {} points a tooth space{}, {:g} "
+        "elastic (plane {}, bore {:g} mm clamped; FE T6 {:g} mm, the flank condensed at {} points a tooth space{}{}, {:g} "
         "mm patches)",
         contact::ToString(disc.plane), disc.bore_radius, disc.element_size, disc.grid.points_per_space,
+        modification.tip_relief.IsZero() ? "" : " shared with the tip relief's caps (at least every patch half-width)",
         reducer ? fmt::format(" and {} around each of the {} {} holes", disc.grid.points_per_hole,
                               reducer->kind == solvers::OutputKind::kPins ? reducer->pins.count : reducer->cranks.count,
                               reducer->kind == solvers::OutputKind::kPins ? "output-pin" : "crank")

@@ -30,6 +30,10 @@ struct DiscBodyDesign {
   /// The outline: a closed polygon (first point not repeated), counterclockwise, mm: the modified
   /// profile's points. Empty: a circle of `outer_radius_mm` (an annulus, for the closed forms).
   std::vector<Eigen::Vector2d> outline_mm;
+  /// Indices into `outline_mm` where the outline's curve has a corner or a jump of curvature (a tip
+  /// relief's junctions with the flank and its segment's ends, DiscOutline): the mesher's splines
+  /// end there instead of running across. Empty: none.
+  std::vector<int> outline_corners;
   double outer_radius_mm = 0.0;  ///< Used when `outline_mm` is empty, mm.
   /// The central bore, mm (> 0): its nodes are the support, clamped (u = 0).
   double bore_radius_mm = 0.0;
@@ -76,10 +80,14 @@ struct DiscCompliance {
 
 /// The cycloid's real profile (modifications and profile layer applied: geometry::RealPair's
 /// profile()) as the disc's outline: a closed counterclockwise polygon in the body frame, mm, every
-/// tooth space sampled at `points_per_space` points evenly in u over [-phi_max, phi_max). Throws
-/// std::invalid_argument for a tip relief (its caps are not sampled yet), a cycloid that is the
-/// outer member (d < 0) or fewer than 8 points per space.
-std::vector<Eigen::Vector2d> DiscOutline(const geometry::CycloidProfile& profile, int points_per_space);
+/// tooth space sampled at `points_per_space` points evenly in u over [-phi_max, phi_max). With a
+/// tip relief (geometry::TipCap) each space's flank is sampled so over [-u_j, u_j) and each tip's cap
+/// follows at TipCap::Point's points (w from 1 to -1, evenly in arc length, at most the flank's mean
+/// spacing apart and 0.1 rad on the arc; the apex w = 0 among them); `corners`, when given, receives
+/// the indices of the junctions and the segment's ends (sorted; empty without a relief). Throws
+/// std::invalid_argument for a cycloid that is the outer member (d < 0) or fewer than 8 points per space.
+std::vector<Eigen::Vector2d> DiscOutline(const geometry::CycloidProfile& profile, int points_per_space,
+                                         std::vector<int>* corners = nullptr);
 
 /// The disc meshed, assembled and factorised once: condense it at any points, as often as needed
 /// (the condensation points along the flanks, a design's cache). Copies share the factorisation;
@@ -112,7 +120,9 @@ DiscCompliance CondenseDiscCompliance(const DiscBodyDesign& design,
 /// How the flank's compliance is condensed (DiscFlankCompliance).
 struct DiscFlankGrid {
   /// Condensation points per tooth space, evenly in arc length from u = -phi_max (the same u in
-  /// every space): the grid the contacts' coefficients are interpolated on (>= 8).
+  /// every space): the grid the contacts' coefficients are interpolated on (>= 8). With a tip
+  /// relief's caps the flank keeps its share by length and the cap has at least its share, at most
+  /// the patch half-width and pi / 16 of its turn apart (DiscFlankCompliance::space_points()).
   int points_per_space = 32;
   /// w0: the half-width of each grid point's uniform load patch, mm (> 0). The boundary is meshed
   /// at w0 along the whole outline.
@@ -157,7 +167,10 @@ const char* ToString(PlaneModel plane);
 /// meshed and factorised once and condensed at a grid of points over every tooth space, each
 /// loaded along the inward normal by a uniform patch of half-width w0: K (mm/N) between all grid
 /// points, symmetric positive definite. Without holes the body is meshed cyclically symmetric (one
-/// tooth space's sector turned z_c times) and only one space's grid points are solved for. A contact at (tooth space, u) is interpolated linearly in u
+/// tooth space's sector turned z_c times) and only one space's grid points are solved for. With a
+/// tip relief (d > 0) the outline has the caps and each space's grid its flank's points then its
+/// tip's cap's (space_points()); a contact on a cap (rounding or segment) is interpolated in the
+/// cap's w (PinContact::cap_w) as a flank contact is in u. A contact at (tooth space, u) is interpolated linearly in u
 /// between its two neighbouring grid points with weights (1 - t, t):
 ///   C_ab = w_a^T K w_b  (a != b),   C_aa = (1 - t) K_00 + t K_11
 /// (the diagonal is interpolated on its own: the product form would dip between grid points by
@@ -186,7 +199,8 @@ class DiscFlankCompliance {
   double cycloid_log_radius_mm() const;
   /// The coupling of a pose's contact points (pin-major, any slices and one disc): C_ab between
   /// points of the same slice, each slice a plane section of thickness `length`, so K scaled by
-  /// thickness / length; 0 between slices and for an edge contact or a cap point. mm/N.
+  /// thickness / length; 0 between slices and for an edge contact (a cap point too when the body
+  /// has no caps). mm/N.
   Eigen::MatrixXd Coupling(const std::vector<PinContact>& points) const;
   /// The coupling of a pose's flank points and hole contacts, in that order (points.size() +
   /// holes.size() square), mm/N. A hole contact carries the whole face width (a pin across the
@@ -216,7 +230,7 @@ class DiscFlankCompliance {
   /// generator's row of space (a - b) mod z_c, column j's index in its space), the same number.
   double grid_compliance(int i, int j) const {
     if (!cyclic_) return k_(i, j);
-    const int m = grid_.points_per_space;
+    const int m = per_space_;
     const int a = i / m, b = j / m;
     const int shift = a >= b ? a - b : a - b + spaces_;
     return k_(shift * m + (i - a * m), j - b * m);
@@ -224,12 +238,36 @@ class DiscFlankCompliance {
   /// Grid point g's position and inward unit normal in the body frame, mm.
   Eigen::Vector2d grid_point(int g) const { return points_.col(g); }
   Eigen::Vector2d grid_normal(int g) const { return normals_.col(g); }
-  /// The grid's profile parameter j of a tooth space (0 <= j <= points_per_space; the last is phi_max).
+  /// The grid's profile parameter j of a tooth space's flank (0 <= j <= flank_intervals(); the last
+  /// is phi_max, or with caps the junction u_j). Grid point k space_points() + j is there.
   double grid_u(int j) const { return grid_u_.at(static_cast<std::size_t>(j)); }
+  /// The flank's grid intervals in a tooth space: points_per_space, or with caps m_f (their share).
+  int flank_intervals() const { return static_cast<int>(grid_u_.size()) - 1; }
+  /// Grid points per tooth space: points_per_space; with a tip relief's caps the flank's m_f + 1
+  /// points (both junctions), then the cap's (m_c - 1 interior points with a rounding, whose ends
+  /// are the flanks' junction points; m_c + 1 of its own with the segment alone, whose junctions
+  /// are corners), m_f + m_c = points_per_space.
+  int space_points() const { return per_space_; }
+  /// Whether the body has a tip relief's caps (their grid points after each space's flank's).
+  bool caps() const { return caps_; }
+  /// The cap's grid intervals m_c (0 without caps): its points at w = 1 - 2 i / m_c, i = 0 ... m_c
+  /// (TipCap::Point's w), the ends shared with the flanks' junction points when the cap is rounded.
+  int cap_intervals() const { return cap_intervals_; }
+  /// The grid point of tip k's cap point i (0 <= i <= cap_intervals()).
+  int cap_grid_point(int tip, int i) const {
+    const int slot = cap_slots_.at(static_cast<std::size_t>(i));
+    const int k = ((tip % spaces_) + spaces_) % spaces_;
+    return slot < per_space_ ? k * per_space_ + slot : ((k + 1) % spaces_) * per_space_ + (slot - per_space_);
+  }
 
  private:
-  /// The two grid points around (tooth space, u) and the second's weight t.
+  /// The two grid points around (tooth space, u) of the flank and the second's weight t.
   void Neighbours(int tooth_space, double u, int* first, int* second, double* t) const;
+  /// The same on a cap: the contact's tooth space and u (the junction: its sign gives the tip) and w.
+  void CapNeighbours(int tooth_space, double u, double w, int* first, int* second, double* t) const;
+  /// A contact's two grid neighbours and weight: a flank contact's, or with caps a cap contact's
+  /// (rounding or segment); false for an edge, a point of no length, a cap without caps in the body.
+  bool OnGrid(const PinContact& p, int* first, int* second, double* t) const;
   /// The same around hole h at the angle of `direction`.
   void HoleNeighbours(int h, const Eigen::Vector2d& direction, int* first, int* second, double* t) const;
 
@@ -237,7 +275,13 @@ class DiscFlankCompliance {
   int spaces_ = 0;
   int step_ = 1;        // space k's u = +phi_max meets space (k + step) mod z_c's u = -phi_max
   double phi_max_ = 0.0;
-  std::vector<double> grid_u_;  // the grid's u in a tooth space, points_per_space + 1 (both ends)
+  std::vector<double> grid_u_;  // the grid's u on a tooth space's flank, flank_intervals() + 1 (both ends)
+  int per_space_ = 0;           // grid points per tooth space (space_points())
+  bool caps_ = false;           // a tip relief's caps (d > 0): each space's grid is its flank's then tip k's cap's
+  int cap_intervals_ = 0;       // m_c
+  /// Cap point i's slot in tip k's space (k per_space_ + slot); a slot of per_space_ or more is space
+  /// k + 1's point slot - per_space_ (the rounded cap's end w = -1: space k + 1's first flank point).
+  std::vector<int> cap_slots_;
   double thickness_ = 0.0;
   /// K between the grid points, mm/N. The cyclic body: only its generator, K's first tooth
   /// space's columns (grid points x points_per_space: 1,248 x 32 on Liu's pair, 320 kB, where the
@@ -248,7 +292,7 @@ class DiscFlankCompliance {
   int nodes_ = 0, elements_ = 0;
   double setup_seconds_ = 0.0;
   bool cyclic_ = false;  // the body without holes: one space's sector meshed and turned
-  int flank_points_ = 0;  // the flank's grid points (spaces x points_per_space); the holes' follow
+  int flank_points_ = 0;  // the flank's grid points (spaces x space_points()); the holes' follow
   int hole_count_ = 0;
 };
 

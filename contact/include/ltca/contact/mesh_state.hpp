@@ -55,6 +55,10 @@ struct PinContact {
   /// 12) its rounding arc or truncation line; kTipCorner exactly when `edge`. On the cap, u is the
   /// junction +-TipCap::junction() of `tooth_space` (the nearest flank point, a search seed).
   geometry::SurfacePart part = geometry::SurfacePart::kFlank;
+  /// On the cap (part kTipRounding, kTipTruncation or kTipCorner): where, as geometry::CapFoot's w
+  /// (TipCap::Point's parameter, -1 at the junction with tooth_space + 1 ... +1 at tooth_space's for
+  /// d > 0; its sign is that of u). 0 on the flank.
+  double cap_w = 0.0;
 };
 
 /// All pins at one pose.

@@ -47,6 +47,9 @@ struct CapFoot {
   SurfacePart part = SurfacePart::kFlank;
   int tooth_space = 0;          ///< the tooth space whose flank this half of the cap continues
   double u = 0.0;               ///< that flank's junction parameter (the nearest flank point)
+  /// Where on the cap, as TipCap::Point's w: in [-1, 1], uniformly in arc length from the junction
+  /// on space k + 1's side (-1) over the tip to the junction on space k's side (+1).
+  double w = 0.0;
 };
 
 /// The relieved tip of a profile, built once by CycloidProfile from its Modification::tip_relief.
