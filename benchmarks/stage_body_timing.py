@@ -101,7 +101,7 @@ def main():
     print("|---|---|---|")
 
     def cell(values):
-        return f"{statistics.median(values):.2f} s ({min(values):.2f}-{max(values):.2f})"
+        return f"{statistics.median(values):.3f} s ({min(values):.3f}-{max(values):.3f})"
 
     for d in DECKS:
         for e in (False, True):
