@@ -442,12 +442,23 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
   }
   Eigen::SparseMatrix<double> loads(model->dofs(), n);
   loads.setFromTriplets(entries.begin(), entries.end());
-  const int solved = cyclic_ ? per_space_ : n;  // (cyclic: no holes, n = spaces x per_space_)
-  // Blocks of 16 columns: a block's dense arrays (dofs x 16, about 10 MB on a disc with holes) are
-  // reused by the allocator, where 64 columns' (above glibc's 32 MB mmap threshold) were mapped
-  // and faulted in anew for every block (1.3 million page faults, 17 % of the stage body's set-up
-  // in the kernel). Each column's solve is the same arithmetic whatever the block (the reference
-  // BLAS's dgemm and dtrsm treat the right-hand sides column by column): the same numbers.
+  if (!cyclic_) {
+    // A body with holes: K = F^T K_fe^-1 F of every grid point, by forward solves over the
+    // elimination tree's paths from each patch only (ElasticModel::Condense: Y = L^-1 P F, K =
+    // Y^T Y, exactly symmetric; Maxwell-Betti by construction). The full solves of the 1,632
+    // columns (a forward and a backward solve over the whole factor each, then F^T U) took 61 % of
+    // the cycloidal drive body's 15.8 s set-up in the reference BLAS.
+    k_ = model->Condense(loads);
+    setup_seconds_ = Seconds(start);
+    return;
+  }
+  // Cyclic: only space 0's per_space_ columns are solved for (K between spaces a and b is K between
+  // a - b and 0; n = spaces x per_space_), in full: F^T K_fe^-1 F_0.
+  const int solved = per_space_;
+  // Blocks of 16 columns: a block's dense arrays (dofs x 16) are reused by the allocator, where 64
+  // columns' (above glibc's 32 MB mmap threshold) were mapped and faulted in anew for every block.
+  // Each column's solve is the same arithmetic whatever the block (the reference BLAS's dgemm and
+  // dtrsm treat the right-hand sides column by column): the same numbers.
   constexpr int kBlock = 16;
   Eigen::MatrixXd columns(n, solved);
   for (int first = 0; first < solved; first += kBlock) {
@@ -455,21 +466,17 @@ DiscFlankCompliance::DiscFlankCompliance(const geometry::CycloidProfile& profile
     const Eigen::MatrixXd u = model->Solve(Eigen::MatrixXd(loads.middleCols(first, cols)));
     columns.middleCols(first, cols) = loads.transpose() * u;
   }
-  // Maxwell-Betti holds to rounding; make it exact: K = (K + K^T) / 2. Cyclic, the solved columns
-  // (space 0's) give K(a m + i, b m + j) = columns(((a - b) mod z_c) m + i, j), so K is
+  // Maxwell-Betti holds to rounding; make it exact: the solved columns (space 0's) give
+  // K(a m + i, b m + j) = columns(((a - b) mod z_c) m + i, j), m = per_space_, so K is
   // block-circulant and so is (K + K^T) / 2: its generator (space 0's columns) holds, entry by
   // entry, the same sum of the same two numbers as the whole symmetrised K did.
-  if (cyclic_) {
-    const int ps = per_space_;
-    k_.resize(n, ps);
-    for (int j = 0; j < ps; ++j) {
-      for (int a = 0; a < spaces_; ++a) {
-        const int mirror = (spaces_ - a) % spaces_;  // K(j, a m + i) = columns(((0 - a) mod z_c) m + j, i)
-        for (int i = 0; i < ps; ++i) k_(a * ps + i, j) = 0.5 * (columns(a * ps + i, j) + columns(mirror * ps + j, i));
-      }
+  const int ps = per_space_;
+  k_.resize(n, ps);
+  for (int j = 0; j < ps; ++j) {
+    for (int a = 0; a < spaces_; ++a) {
+      const int mirror = (spaces_ - a) % spaces_;  // K(j, a m + i) = columns(((0 - a) mod z_c) m + j, i)
+      for (int i = 0; i < ps; ++i) k_(a * ps + i, j) = 0.5 * (columns(a * ps + i, j) + columns(mirror * ps + j, i));
     }
-  } else {
-    k_ = 0.5 * (columns + columns.transpose()).eval();
   }
   setup_seconds_ = Seconds(start);
 }

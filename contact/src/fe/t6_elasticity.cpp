@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -225,12 +226,24 @@ Eigen::VectorXd PatchLoad(const T6Mesh& mesh, const std::function<bool(const Bou
   return f;
 }
 
+namespace {
+
+/// Eigen's supernodal LL^T with CHOLMOD's factor readable (the supernodes' blocks, for
+/// ElasticModel::Condense's forward solves). Eigen keeps the factor supernodal and LL^T
+/// (final_asis, CHOLMOD_SUPERNODAL).
+class SupernodalLLT : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> {
+ public:
+  const cholmod_factor* factor() const { return m_cholmodFactor; }
+};
+
+}  // namespace
+
 struct ElasticModel::Impl {
   int dofs = 0;
   std::vector<int> free_index;  // dof -> free row, -1 when prescribed
   std::vector<int> free_dofs, prescribed_dofs;
   Eigen::SparseMatrix<double> k_fp;  // free x prescribed
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky;
+  SupernodalLLT cholesky;
 };
 
 ElasticModel::ElasticModel(const T6Mesh& mesh, const Elasticity& elasticity,
@@ -310,6 +323,142 @@ Eigen::MatrixXd ElasticModel::Solve(const Eigen::MatrixXd& loads, const Eigen::M
   for (Eigen::Index i = 0; i < nf; ++i) u.row(m.free_dofs[i]) = uf.row(i);
   for (Eigen::Index i = 0; i < np; ++i) u.row(m.prescribed_dofs[i]) = up.row(i);
   return u;
+}
+
+Eigen::MatrixXd ElasticModel::Condense(const Eigen::SparseMatrix<double>& loads) const {
+  const Impl& m = *impl_;
+  if (loads.rows() != m.dofs) throw std::invalid_argument("loads: one row per dof");
+  const cholmod_factor* factor = m.cholesky.factor();
+  if (factor == nullptr || !factor->is_super || !factor->is_ll || factor->itype != CHOLMOD_INT ||
+      factor->xtype != CHOLMOD_REAL || factor->dtype != CHOLMOD_DOUBLE) {
+    throw std::logic_error("ElasticModel::Condense: the factor is not CHOLMOD's supernodal LL' of doubles");
+  }
+  const auto n = static_cast<int>(factor->n);
+  const auto nsuper = static_cast<int>(factor->nsuper);
+  const int* super = static_cast<const int*>(factor->super);  // first column of each supernode
+  const int* pi = static_cast<const int*>(factor->pi);        // its row indices' start in s
+  const int* px = static_cast<const int*>(factor->px);        // its values' start in x
+  const int* rows = static_cast<const int*>(factor->s);
+  const int* perm = static_cast<const int*>(factor->Perm);    // row k of P K P^T is free row perm[k]
+  const double* values = static_cast<const double*>(factor->x);
+  const auto cols = static_cast<int>(loads.cols());
+  // Supernode of each column and the supernodal elimination tree: the parent of supernode s is the
+  // supernode of its first row below the diagonal block (every row below it is an ancestor's).
+  std::vector<int> column_super(static_cast<std::size_t>(n));
+  std::vector<int> parent(static_cast<std::size_t>(nsuper), -1);
+  for (int s = 0; s < nsuper; ++s) {
+    for (int k = super[s]; k < super[s + 1]; ++k) column_super[static_cast<std::size_t>(k)] = s;
+  }
+  for (int s = 0; s < nsuper; ++s) {
+    const int width = super[s + 1] - super[s];
+    if (pi[s + 1] - pi[s] > width) parent[static_cast<std::size_t>(s)] = column_super[static_cast<std::size_t>(rows[pi[s] + width])];
+  }
+  std::vector<int> permuted(static_cast<std::size_t>(n));  // free row -> row of P K P^T
+  for (int k = 0; k < n; ++k) permuted[static_cast<std::size_t>(perm != nullptr ? perm[k] : k)] = k;
+  // The load columns over the factor's rows (prescribed dofs dropped, as Solve ignores them).
+  Eigen::SparseMatrix<double> f = loads;  // compressed, column-major
+  f.makeCompressed();
+  // members[s]: the load columns whose forward solve reaches supernode s (ascending): the union of
+  // the paths from their nonzeros' supernodes to the root.
+  std::vector<std::vector<int>> members(static_cast<std::size_t>(nsuper));
+  std::vector<int> mark(static_cast<std::size_t>(nsuper), -1);
+  for (int g = 0; g < cols; ++g) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(f, g); it; ++it) {
+      const int free = m.free_index[static_cast<std::size_t>(it.row())];
+      if (free < 0 || it.value() == 0.0) continue;
+      for (int s = column_super[static_cast<std::size_t>(permuted[static_cast<std::size_t>(free)])];
+           s >= 0 && mark[static_cast<std::size_t>(s)] != g; s = parent[static_cast<std::size_t>(s)]) {
+        mark[static_cast<std::size_t>(s)] = g;
+        members[static_cast<std::size_t>(s)].push_back(g);
+      }
+    }
+  }
+  // Y's rows of each supernode over its members, P F scattered in.
+  std::vector<Eigen::MatrixXd> y(static_cast<std::size_t>(nsuper));
+  for (int s = 0; s < nsuper; ++s) {
+    const auto& j = members[static_cast<std::size_t>(s)];
+    if (!j.empty()) y[static_cast<std::size_t>(s)].setZero(super[s + 1] - super[s], static_cast<Eigen::Index>(j.size()));
+  }
+  for (int g = 0; g < cols; ++g) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(f, g); it; ++it) {
+      const int free = m.free_index[static_cast<std::size_t>(it.row())];
+      if (free < 0 || it.value() == 0.0) continue;
+      const int k = permuted[static_cast<std::size_t>(free)];
+      const int s = column_super[static_cast<std::size_t>(k)];
+      const auto& j = members[static_cast<std::size_t>(s)];
+      const auto at = std::lower_bound(j.begin(), j.end(), g) - j.begin();
+      y[static_cast<std::size_t>(s)](k - super[s], at) += it.value();
+    }
+  }
+  // The forward solve, supernode by supernode in the factor's order (a descendant before its
+  // ancestors): Y_s = L_ss^-1 Y_s, then the rows below take -L_bs Y_s (CHOLMOD's supernodal
+  // forward solve, cholmod_super_lsolve, over the reached supernodes and their members only).
+  std::vector<Eigen::Index> position;
+  for (int s = 0; s < nsuper; ++s) {
+    const auto& j = members[static_cast<std::size_t>(s)];
+    if (j.empty()) continue;
+    Eigen::MatrixXd& ys = y[static_cast<std::size_t>(s)];
+    const int width = super[s + 1] - super[s];
+    const int height = pi[s + 1] - pi[s];
+    const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> block(values + px[s], height, width,
+                                                                          Eigen::OuterStride<>(height));
+    block.topRows(width).triangularView<Eigen::Lower>().solveInPlace(ys);
+    if (height == width) continue;
+    const Eigen::MatrixXd below = block.bottomRows(height - width) * ys;
+    const int* below_rows = rows + pi[s] + width;
+    for (int r = 0; r < height - width;) {
+      const int t = column_super[static_cast<std::size_t>(below_rows[r])];
+      int end = r + 1;
+      while (end < height - width && column_super[static_cast<std::size_t>(below_rows[end])] == t) ++end;
+      // s's members among t's (a subset: t is an ancestor of s).
+      const auto& jt = members[static_cast<std::size_t>(t)];
+      position.resize(j.size());
+      std::size_t q = 0;
+      for (std::size_t c = 0; c < j.size(); ++c) {
+        while (q < jt.size() && jt[q] < j[c]) ++q;
+        if (q == jt.size() || jt[q] != j[c]) throw std::logic_error("ElasticModel::Condense: a row below a supernode is not an ancestor's");
+        position[c] = static_cast<Eigen::Index>(q);
+      }
+      Eigen::MatrixXd& yt = y[static_cast<std::size_t>(t)];
+      for (std::size_t c = 0; c < j.size(); ++c) {
+        for (int i = r; i < end; ++i) yt(below_rows[i] - super[t], position[c]) -= below(i, static_cast<Eigen::Index>(c));
+      }
+      r = end;
+    }
+  }
+  // C = Y^T Y: the supernodes of one member set stacked, one symmetric rank update each (lower
+  // triangle), scattered into C's rows and columns of those members; then C's upper triangle is
+  // its lower's (exactly symmetric).
+  std::map<std::vector<int>, std::vector<int>> groups;
+  for (int s = 0; s < nsuper; ++s) {
+    if (!members[static_cast<std::size_t>(s)].empty()) groups[members[static_cast<std::size_t>(s)]].push_back(s);
+  }
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(cols, cols);
+  for (const auto& [j, supernodes] : groups) {
+    Eigen::Index height = 0;
+    for (const int s : supernodes) height += y[static_cast<std::size_t>(s)].rows();
+    Eigen::MatrixXd stacked(height, static_cast<Eigen::Index>(j.size()));
+    height = 0;
+    for (const int s : supernodes) {
+      Eigen::MatrixXd& ys = y[static_cast<std::size_t>(s)];
+      stacked.middleRows(height, ys.rows()) = ys;
+      height += ys.rows();
+      ys.resize(0, 0);
+    }
+    if (static_cast<int>(j.size()) == cols) {
+      c.selfadjointView<Eigen::Lower>().rankUpdate(stacked.transpose());
+      continue;
+    }
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(j.size()), static_cast<Eigen::Index>(j.size()));
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(stacked.transpose());
+    for (std::size_t b = 0; b < j.size(); ++b) {
+      for (std::size_t a = b; a < j.size(); ++a) c(j[a], j[b]) += gram(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
+    }
+  }
+  for (Eigen::Index b = 1; b < cols; ++b) {
+    for (Eigen::Index a = 0; a < b; ++a) c(a, b) = c(b, a);
+  }
+  return c;
 }
 
 }  // namespace ltca::contact::fe

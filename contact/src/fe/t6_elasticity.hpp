@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "fe/disc_mesh.hpp"
 #include "ltca/contact/disc_body.hpp"
@@ -69,6 +70,20 @@ class ElasticModel {
   /// the prescribed dofs at `prescribed` (dofs x m; only their rows are read; empty: zero). The
   /// forces at prescribed dofs are ignored (they are reactions).
   Eigen::MatrixXd Solve(const Eigen::MatrixXd& loads, const Eigen::MatrixXd& prescribed = {}) const;
+
+  /// The condensed compliance F^T K_ff^-1 F of sparse load columns (dofs x n, the prescribed dofs
+  /// held at zero and their rows ignored, as Solve does), symmetric positive semidefinite and
+  /// exactly symmetric. With the factorisation P K_ff P^T = L L^T it is Y^T Y, Y = L^-1 P F: only
+  /// forward solves, each over the supernodes its column reaches (the path from its nonzeros to the
+  /// root of the supernodal elimination tree; Y is zero elsewhere), and the Gram products of those
+  /// sparse columns (T. A. Davis, Direct Methods for Sparse Linear Systems, SIAM, 2006, sec. 3.2:
+  /// the nonzeros of L^-1 b are the reach of b's in L's graph; sec. 4.1: for a Cholesky factor,
+  /// the paths from them up the elimination tree). Where
+  /// F^T Solve(F) costs a forward and a backward solve over the whole factor for every column and
+  /// a dofs x n product, this costs the reached supernodes' dense blocks (Eigen's products). The
+  /// same numbers as F^T Solve(F) to round-off (test "contact: the T6 model's sparse
+  /// condensation ...").
+  Eigen::MatrixXd Condense(const Eigen::SparseMatrix<double>& loads) const;
 
  private:
   struct Impl;
