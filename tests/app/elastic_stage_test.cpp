@@ -427,6 +427,7 @@ TEST_CASE("app: on the two-disc cycloidal drive an elastic body that is a half-p
                    rigid_deck.material->young_modulus;
   const int holes = 2 * rigid_deck.reducer->pins.count;
   int compared = 0;
+  double largest_linear = 0.0;  // the largest linearised departure, of the rotation or a force
   for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     rigid_deck.kinematics = kinematics;
     ltca::app::Deck elastic_deck = rigid_deck;
@@ -484,14 +485,19 @@ TEST_CASE("app: on the two-disc cycloidal drive an elastic body that is a half-p
         double w = 0.0;
         for (const auto& d : x.reducer->discs) w = std::max(w, MaxAbs(d.output_force));
         REQUIRE(w > 0.0);
+        if (linear) {
+          largest_linear = std::max({largest_linear, std::abs(y.rotation - x.rotation) / std::abs(x.rotation),
+                                     MaxDifference(x.force, y.force) / MaxAbs(x.force)});
+        }
         for (std::size_t d = 0; d < 2; ++d) {
           const auto& dx = x.reducer->discs.at(d);
           const auto& dy = y.reducer->discs.at(d);
           CHECK(MaxDifference(dx.output_force, dy.output_force) <= tol * w);
           CHECK((dx.bearing_force.at(0) - dy.bearing_force.at(0)).norm() <= tol * dx.bearing_force.at(0).norm());
           if (linear) {
-            MESSAGE("half-plane, crank ", crank, ", ", name, ", disc ", d + 1, ": output-pin forces within ",
-                    MaxDifference(dx.output_force, dy.output_force) / w, " of the largest");
+            largest_linear = std::max({largest_linear, MaxDifference(dx.output_force, dy.output_force) / w,
+                                       (dx.bearing_force.at(0) - dy.bearing_force.at(0)).norm() /
+                                           dx.bearing_force.at(0).norm()});
           }
         }
         double ex = 0.0, ey = 0.0;
@@ -504,6 +510,8 @@ TEST_CASE("app: on the two-disc cycloidal drive an elastic body that is a half-p
     }
   }
   CHECK(compared == 2 * 4 * static_cast<int>(ReducerSolverNames().size()));
+  MESSAGE("two discs, half-plane body, linearised: the largest departure from the rigid stage ", largest_linear,
+          " (rotation, pin, output-pin and bearing forces, each relative)");
 }
 
 namespace {
