@@ -207,6 +207,48 @@ std::string HolesKey(const StageDesign& design, int disc) {
   return key;
 }
 
+/// Whether the second disc's body is the first's turned: a turn by a whole number of tooth pitches
+/// (the profile onto itself) that carries the first body's holes onto the second's (docs/fe_disc.md
+/// "Two discs": on the two-disc drive, z_p and the output pins' count even, the turn pi z_p / z_c).
+/// Found by trying every tooth pitch and checked on the bodies' own geometry: every hole centre
+/// and radius, and the flank grid's first point, to 1e-9 of the pin-circle radius. nullopt: none
+/// (an RV stage's three crank holes; the mesh alone, whose discs share one body as they are).
+std::optional<Stage::BodyTurn> SecondBodyTurn(const StageDesign& design, const contact::DiscFlankCompliance& first) {
+  if (!design.second_disc || !design.reducer) return std::nullopt;
+  const std::vector<contact::DiscHole> a = BodyHoles(design, 0), b = BodyHoles(design, 1);
+  const auto n = static_cast<int>(a.size());
+  if (n == 0 || b.size() != a.size()) return std::nullopt;
+  const int zc = design.pair.tooth_count;
+  const double tol = 1e-9 * design.pair.pin_circle_radius;
+  const int m = first.grid().points_per_space;
+  for (int k = 0; k < zc; ++k) {
+    const double angle = 2.0 * units::kPi * k / zc;
+    const Eigen::Rotation2Dd turn(angle);
+    // The first body's hole 0 lands on the second's hole `shift`; every other hole as far on.
+    int shift = -1;
+    for (int j = 0; j < n; ++j) {
+      if ((turn * a[0].centre_mm - b[static_cast<std::size_t>(j)].centre_mm).norm() <= tol) shift = j;
+    }
+    if (shift < 0) continue;
+    bool all = true;
+    for (int j = 0; j < n && all; ++j) {
+      const contact::DiscHole& from = a[static_cast<std::size_t>(j)];
+      const contact::DiscHole& to = b[static_cast<std::size_t>((j + shift) % n)];
+      all = (turn * from.centre_mm - to.centre_mm).norm() <= tol && from.radius_mm == to.radius_mm;
+    }
+    if (!all) continue;
+    // The flank: the first body's space 0 lands on its space `spaces` (the profile repeats every pitch).
+    const Eigen::Vector2d p = turn * first.grid_point(0);
+    int spaces = -1;
+    for (int s = 0; s < zc; ++s) {
+      if ((first.grid_point(s * m) - p).norm() <= tol) spaces = s;
+    }
+    if (spaces < 0) continue;
+    return Stage::BodyTurn{angle, spaces, shift};
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageDesign& design, int disc) {
@@ -343,7 +385,12 @@ Stage::Stage(StageDesign design, std::vector<double> cranks) {
     design.Validate();
     if (!design.material) throw std::invalid_argument("missing required section [material] for an elastic disc body");
     disc_body_ = ElasticDiscBody(design, 0);
-    if (design.second_disc) second_body_ = ElasticDiscBody(design, 1);  // its holes half a pitch on
+    if (design.second_disc) {
+      // Its holes half a tooth pitch on in its frame: the first body turned when a turn carries
+      // one onto the other (one set-up), else a body of its own.
+      second_turn_ = SecondBodyTurn(design, *disc_body_);
+      second_body_ = second_turn_ ? disc_body_ : ElasticDiscBody(design, 1);
+    }
     design.contact.cycloid_log_radius = disc_body_->cycloid_log_radius_mm();
   }
   design_ = std::make_shared<const StageDesign>(std::move(design));
@@ -486,8 +533,9 @@ namespace {
 /// followed by each disc's hole contacts, disc by disc (`holes[d]`, in the order given); each disc's
 /// points and holes couple through its own body (`bodies[d]`) only, the two discs not at all.
 Eigen::MatrixXd DiscBodiesCoupling(const solvers::LoadProblem& problem,
-                                   const std::vector<std::vector<contact::DiscHoleContact>>& holes,
-                                   const std::vector<const contact::DiscFlankCompliance*>& bodies) {
+                                   std::vector<std::vector<contact::DiscHoleContact>> holes,
+                                   const std::vector<const contact::DiscFlankCompliance*>& bodies,
+                                   const std::optional<Stage::BodyTurn>& second_turn) {
   const std::vector<contact::PinContact>& all = problem.base_state().pins;
   const auto n = static_cast<Eigen::Index>(problem.point_count());
   Eigen::Index m = 0;
@@ -502,13 +550,25 @@ Eigen::MatrixXd DiscBodiesCoupling(const solvers::LoadProblem& problem,
   for (int d = 0; d < problem.disc_count(); ++d) {
     std::vector<Eigen::Index> at;  // the set's row of each of this disc's entries
     std::vector<contact::PinContact> points;
+    // The second disc on the first body turned: each of its points and hole contacts is the first
+    // body's at the point and direction turned back (tooth space and hole index shifted).
+    const Stage::BodyTurn* turn = d == 1 && second_turn ? &*second_turn : nullptr;
     for (std::size_t i = 0; i < all.size(); ++i) {
       if (all[i].disc != d) continue;
       at.push_back(static_cast<Eigen::Index>(i));
       points.push_back(all[i]);
       points.back().disc = 0;  // its own body's
+      if (turn != nullptr) points.back().tooth_space -= turn->spaces;
     }
-    const std::vector<contact::DiscHoleContact>& own = holes.at(static_cast<std::size_t>(d));
+    std::vector<contact::DiscHoleContact>& own = holes.at(static_cast<std::size_t>(d));
+    if (turn != nullptr) {
+      const int n = bodies.at(0)->hole_count();
+      const Eigen::Rotation2Dd back(-turn->angle);
+      for (contact::DiscHoleContact& h : own) {
+        h.hole = ((h.hole - turn->holes) % n + n) % n;
+        h.direction = back * h.direction;
+      }
+    }
     const Eigen::MatrixXd c = own.empty() ? bodies.at(static_cast<std::size_t>(d))->Coupling(points)
                                           : bodies.at(static_cast<std::size_t>(d))->Coupling(points, own);
     for (std::size_t r = 0; r < own.size(); ++r) at.push_back(next++);
@@ -533,7 +593,7 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
     if (!reducer_ && disc_body_) {
       // The mesh alone with two discs: each disc its own cyclic body clamped at its bore (no holes:
       // both discs' bodies are one design, one set-up), its points coupled through it alone.
-      const Eigen::MatrixXd c = DiscBodiesCoupling(both, {{}, {}}, Bodies());
+      const Eigen::MatrixXd c = DiscBodiesCoupling(both, {{}, {}}, Bodies(), std::nullopt);
       const int points = both.point_count();
       return both.WithCoupling(
           solvers::LoadProblem::CheckCoupling(c, points, solvers::LoadProblem::PositiveSemidefiniteByConstruction{}));
@@ -612,7 +672,7 @@ solvers::LoadProblem Stage::WithStageBody(solvers::LoadProblem problem) const {
     for (const contact::OutputPinContact& c : pins) holes[static_cast<std::size_t>(d)].push_back({c.pin, back * c.normal});
     count += static_cast<int>(pins.size());
   }
-  const Eigen::MatrixXd body = DiscBodiesCoupling(problem, holes, Bodies());
+  const Eigen::MatrixXd body = DiscBodiesCoupling(problem, std::move(holes), Bodies(), second_turn_);
   return WithBodyCoupling(std::move(problem), body, count, coupling_->matrix.get());
 }
 
@@ -642,7 +702,7 @@ solvers::LoadProblem Stage::WithCrankBody(solvers::LoadProblem problem) const {
       }
     }
   }
-  const Eigen::MatrixXd body = DiscBodiesCoupling(problem, holes, Bodies());
+  const Eigen::MatrixXd body = DiscBodiesCoupling(problem, std::move(holes), Bodies(), second_turn_);
   return WithBodyCoupling(std::move(problem), body, rollers, coupling_->matrix.get());
 }
 
