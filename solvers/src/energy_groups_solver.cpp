@@ -176,6 +176,18 @@ void EnergyGroupsSolver::DoSolve(const LoadProblem& problem, const SolverOptions
   int groups_evaluated = 0;
   BackendDetails details;
   const int outer_limit = problem.kinematics() == contact::ContactKinematics::kExact ? 50 : 1;
+  if (problem.has_coupling() && problem.disc_count() > 1) {
+    // Two discs' groups are the candidate teeth in closing order (below), the loaded set only
+    // without a coupling: each disc's elastic body (the mesh alone with two discs) moves the
+    // closing of one tooth by its neighbours' loads, and the loaded set need not be a prefix of
+    // that order (docs/fe_disc.md "Two discs"). Refused by name rather than answered from a wrong
+    // set or a failure.
+    result->status = SolverStatus::kCouplingUnsupported;
+    result->message = "solver \"energy-groups\" with two discs takes the tooth groups in closing order, which a "
+                      "coupling (each disc's elastic body) does not keep: expected bisection, compatibility or energy-qp "
+                      "(docs/fe_disc.md, \"Two discs\")";
+    return;
+  }
   CoupledContact* coupled = problem.has_coupling() ? &CoupledContactFor(problem, workspace) : nullptr;
   const auto solve_group = [&](const Linearised& lin, const std::vector<std::size_t>& group) {
     return coupled != nullptr ? SolveGroupCoupled(lin, group, teeth, problem.torque(), *problem.coupling(), *coupled)

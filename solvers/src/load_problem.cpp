@@ -345,14 +345,27 @@ LoadProblem::CheckedCoupling LoadProblem::CheckCoupling(Eigen::SparseMatrix<doub
 }
 
 LoadProblem LoadProblem::WithCoupling(const CheckedCoupling& coupling) const {
-  // Two discs take a coupling only in a stage (the reducer system's coupled set: an RV stage's
-  // elastic bodies, each disc's points on its own); pin bending couples one disc's points only.
-  if (second_ != nullptr && coupling.matrix != nullptr && reducer_ == nullptr) {
-    throw std::invalid_argument("LoadProblem coupling: not supported for two discs: pin bending couples one disc's points only");
-  }
   if (coupling.points != point_count()) {
     throw std::invalid_argument(fmt::format("LoadProblem coupling: checked for {} points, the problem has {}",
                                             coupling.points, point_count()));
+  }
+  // Two discs in the mesh alone take a coupling within each disc only (each disc's elastic body:
+  // its points on its own); pin bending, whose beams would couple both discs' contacts on one pin,
+  // is not supported with two discs. In a stage the reducer system's coupled set takes any.
+  if (second_ != nullptr && coupling.matrix != nullptr && reducer_ == nullptr) {
+    const Eigen::SparseMatrix<double>& c = *coupling.matrix;
+    for (int k = 0; k < c.outerSize(); ++k) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(c, k); it; ++it) {
+        const contact::PinContact& a = base_.pins[static_cast<std::size_t>(it.row())];
+        const contact::PinContact& b = base_.pins[static_cast<std::size_t>(it.col())];
+        if (a.disc == b.disc || it.value() == 0.0) continue;
+        throw std::invalid_argument(fmt::format(
+            "LoadProblem coupling: point {} (pin {} of disc {}) couples with point {} (pin {} of disc {}): two discs take "
+            "a coupling within each disc only (pin bending, which couples both discs' contacts on a pin, is not "
+            "supported with two discs)",
+            it.row(), a.pin + 1, a.disc + 1, it.col(), b.pin + 1, b.disc + 1));
+      }
+    }
   }
   LoadProblem out(*this);
   out.coupling_ = coupling.matrix;
@@ -408,21 +421,21 @@ LoadProblem LoadProblem::WithStageLoads(StageLoads loads) const {
 }
 
 LoadProblem LoadProblem::WithStageBodyCoupling(StageBodyCoupling coupling) const {
-  // A one-disc stage of output pins (one contact per pin), or a stage of crankshafts on needle
-  // rollers (one contact per roller of every crank bearing of every disc).
-  const bool pins = reducer_ != nullptr && reducer_->kind == OutputKind::kPins && second_ == nullptr;
+  // A stage of output pins (one contact per pin of every disc), or a stage of crankshafts on
+  // needle rollers (one contact per roller of every crank bearing of every disc).
+  const bool pins = reducer_ != nullptr && reducer_->kind == OutputKind::kPins;
   const bool rollers = reducer_ != nullptr && reducer_->kind == OutputKind::kCranks &&
                        reducer_->bearing.kind == contact::BearingKind::kRollers;
   if (!pins && !rollers) {
     throw std::invalid_argument(
-        "LoadProblem::WithStageBodyCoupling: expected a one-disc stage of output pins or a stage of crankshafts on "
-        "roller bearings");
+        "LoadProblem::WithStageBodyCoupling: expected a stage of output pins or a stage of crankshafts on roller "
+        "bearings");
   }
   if (coupling_ == nullptr || !coupling.total || !coupling.body) {
     throw std::invalid_argument("LoadProblem::WithStageBodyCoupling: expected the problem's coupling and both matrices");
   }
   const int elements =
-      pins ? reducer_->pins.count : disc_count() * reducer_->cranks.count * reducer_->bearing.roller_count;
+      disc_count() * (pins ? reducer_->pins.count : reducer_->cranks.count * reducer_->bearing.roller_count);
   const Eigen::Index n = point_count() + coupling.output_points;
   if (coupling.output_points != elements || coupling.total->rows() != n || coupling.total->cols() != n ||
       coupling.body->rows() != n || coupling.body->cols() != n) {

@@ -212,8 +212,8 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
     coupling_ = problem.coupling();
     force_scale_ = CoupledForceScale(problem);
     if (const LoadProblem::StageBodyCoupling* body = problem.stage_body_coupling()) {
-      // The elastic disc body: its holes' contacts (disc 0's output pins in pin order, or every
-      // disc's needle rollers, added below) join the coupled set after the problem's points.
+      // The elastic disc body: its holes' contacts (every disc's output pins in pin order, or
+      // every disc's needle rollers, added below) join the coupled set after the problem's points.
       coupling_ = body->total.get();
       body_coupling_ = body->body.get();
       coupled_points_ += body->output_points;
@@ -374,17 +374,17 @@ void ReducerSystem::Build(const LoadProblem& problem, const Eigen::VectorXd* ori
     }
   }
   if (coupled_points_ > mesh_points_) {
-    // The body's hole rows are disc 0's output pins in pin order, or every disc's needle rollers
-    // (disc, crank, roller), right after the pin ring.
+    // The body's hole rows are every disc's output pins (disc, pin) or needle rollers (disc,
+    // crank, roller), right after the pin ring.
     if (static_cast<int>(scalars_.size()) < coupled_points_) {
       throw std::logic_error("ReducerSystem: the disc body's coupled set is larger than the stage's elements");
     }
     int expected = 0, disc = 0;
     for (int i = mesh_points_; i < coupled_points_; ++i) {
       const Scalar& e = scalars_.at(static_cast<std::size_t>(i));
-      if (rollers_coupled && e.disc != disc) disc = e.disc, expected = 0;
+      if (e.disc == disc + 1) disc = e.disc, expected = 0;
       const StageGroup group = rollers_coupled ? StageGroup::kBearings : StageGroup::kOutput;
-      if (e.group != group || e.index != expected++ || (!rollers_coupled && e.disc != 0)) {
+      if (e.group != group || e.index != expected++ || e.disc != disc) {
         throw std::logic_error("ReducerSystem: the disc body's coupled hole contacts are not in order");
       }
     }

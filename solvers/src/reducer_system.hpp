@@ -226,8 +226,8 @@ class ReducerSystem {
   std::vector<Block> blocks_;
   int mesh_points_ = 0;
   // The coupled set: scalars_[0..coupled_points_), the problem's points and, with an elastic disc
-  // body (LoadProblem::stage_body_coupling), disc 0's output pins after them, or every disc's
-  // needle rollers (disc, crank, roller) in place of the crank bearings' planar elements.
+  // body (LoadProblem::stage_body_coupling), every disc's output pins after them (disc, pin), or
+  // every disc's needle rollers (disc, crank, roller) in place of the crank bearings' planar elements.
   int coupled_points_ = 0;
   const Eigen::SparseMatrix<double>* body_coupling_ = nullptr;  // the body's part of coupling_ (the budget)
   double force_scale_ = 1.0;  // N, CoupledForceScale

@@ -103,10 +103,6 @@ void StageDesign::Validate() const {
     throw std::invalid_argument("[disc] body = \"elastic\" " + what);
   };
   const bool cranks = reducer && reducer->kind == solvers::OutputKind::kCranks;
-  if (second_disc && !cranks) {
-    refuse("with [second_disc] without crankshafts: the elastic bodies of two discs are built for an RV stage only "
-           "([output] kind = \"cranks\"); expected body = \"rigid\"");
-  }
   if (cranks) {
     // Each needle roller a contact on its crank hole's wall (docs/fe_disc.md "The RV disc"): the
     // hole is the rollers' outer raceway, of radius (d_m + D_w) / 2.
@@ -172,18 +168,20 @@ namespace {
 std::vector<contact::DiscHole> BodyHoles(const StageDesign& design, int disc) {
   std::vector<contact::DiscHole> holes;
   if (!design.reducer) return holes;
+  // The holes (output-pin or crank) sit where the output member's pins or cranks are at the
+  // nominal poses, in the disc's body frame: element j at alpha_j turned by the output member's
+  // rotation less the disc's. The second disc turns pi / I behind the first (it is the first's
+  // model half a crank turn on) while the output member turns with the first: its holes sit
+  // -pi / I further on in its own frame (half a tooth pitch for d = 1), as ReducerSystem places
+  // them (each disc's holes on the output member's rotation, its flank on its own model's).
+  const geometry::Kinematics kinematics(design.pair);
+  const double turn = disc == 0 ? 0.0
+                                : kinematics.CycloidPose(0.0).rotation -
+                                      kinematics.CycloidPose(contact::kSecondDiscCrankOffset).rotation;
   if (design.reducer->kind == solvers::OutputKind::kCranks) {
-    // The crank holes (the rollers' outer raceways) where the carrier's cranks sit at the nominal
-    // poses, in the disc's body frame: crank j at alpha_j on R_c turned by the output member's
-    // rotation less the disc's. The second disc turns pi / I behind the first (it is the first's
-    // model half a crank turn on) while the carrier turns with the first: its holes sit -pi / I
-    // further on in its own frame (half a tooth pitch for d = 1).
+    // The crank holes (the rollers' outer raceways) on the crank circle R_c.
     const contact::Cranks& c = design.reducer->cranks;
     const contact::BearingSettings& b = design.reducer->bearing;
-    const geometry::Kinematics kinematics(design.pair);
-    const double turn = disc == 0 ? 0.0
-                                  : kinematics.CycloidPose(0.0).rotation -
-                                        kinematics.CycloidPose(contact::kSecondDiscCrankOffset).rotation;
     for (int j = 0; j < c.count; ++j) {
       const double alpha = 2.0 * units::kPi * j / c.count + c.phase + turn;
       holes.push_back({c.circle_radius * Eigen::Vector2d(std::cos(alpha), std::sin(alpha)),
@@ -193,7 +191,7 @@ std::vector<contact::DiscHole> BodyHoles(const StageDesign& design, int disc) {
   }
   const contact::OutputPins& w = design.reducer->pins;
   for (int j = 0; j < w.count; ++j) {
-    const double alpha = 2.0 * units::kPi * j / w.count + w.phase;
+    const double alpha = 2.0 * units::kPi * j / w.count + w.phase + turn;
     holes.push_back({contact::HoleInDisc(w.circle_radius, alpha, {}, j), w.hole_radius});
   }
   return holes;
@@ -205,6 +203,48 @@ std::string HolesKey(const StageDesign& design, int disc) {
     key += fmt::format(" | {:a} {:a} {:a}", h.centre_mm.x(), h.centre_mm.y(), h.radius_mm);
   }
   return key;
+}
+
+/// Whether the second disc's body is the first's turned: a turn by a whole number of tooth pitches
+/// (the profile onto itself) that carries the first body's holes onto the second's (docs/fe_disc.md
+/// "Two discs": on the two-disc drive, z_p and the output pins' count even, the turn pi z_p / z_c).
+/// Found by trying every tooth pitch and checked on the bodies' own geometry: every hole centre
+/// and radius, and the flank grid's first point, to 1e-9 of the pin-circle radius. nullopt: none
+/// (an RV stage's three crank holes; the mesh alone, whose discs share one body as they are).
+std::optional<Stage::BodyTurn> SecondBodyTurn(const StageDesign& design, const contact::DiscFlankCompliance& first) {
+  if (!design.second_disc || !design.reducer) return std::nullopt;
+  const std::vector<contact::DiscHole> a = BodyHoles(design, 0), b = BodyHoles(design, 1);
+  const auto n = static_cast<int>(a.size());
+  if (n == 0 || b.size() != a.size()) return std::nullopt;
+  const int zc = design.pair.tooth_count;
+  const double tol = 1e-9 * design.pair.pin_circle_radius;
+  const int m = first.grid().points_per_space;
+  for (int k = 0; k < zc; ++k) {
+    const double angle = 2.0 * units::kPi * k / zc;
+    const Eigen::Rotation2Dd turn(angle);
+    // The first body's hole 0 lands on the second's hole `shift`; every other hole as far on.
+    int shift = -1;
+    for (int j = 0; j < n; ++j) {
+      if ((turn * a[0].centre_mm - b[static_cast<std::size_t>(j)].centre_mm).norm() <= tol) shift = j;
+    }
+    if (shift < 0) continue;
+    bool all = true;
+    for (int j = 0; j < n && all; ++j) {
+      const contact::DiscHole& from = a[static_cast<std::size_t>(j)];
+      const contact::DiscHole& to = b[static_cast<std::size_t>((j + shift) % n)];
+      all = (turn * from.centre_mm - to.centre_mm).norm() <= tol && from.radius_mm == to.radius_mm;
+    }
+    if (!all) continue;
+    // The flank: the first body's space 0 lands on its space `spaces` (the profile repeats every pitch).
+    const Eigen::Vector2d p = turn * first.grid_point(0);
+    int spaces = -1;
+    for (int s = 0; s < zc; ++s) {
+      if ((first.grid_point(s * m) - p).norm() <= tol) spaces = s;
+    }
+    if (spaces < 0) continue;
+    return Stage::BodyTurn{angle, spaces, shift};
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -352,7 +392,12 @@ Stage::Stage(StageDesign design, std::vector<double> cranks) {
     design.Validate();
     if (!design.material) throw std::invalid_argument("missing required section [material] for an elastic disc body");
     disc_body_ = ElasticDiscBody(design, 0);
-    if (design.second_disc) second_body_ = ElasticDiscBody(design, 1);  // its holes half a pitch on
+    if (design.second_disc) {
+      // Its holes half a tooth pitch on in its frame: the first body turned when a turn carries
+      // one onto the other (one set-up), else a body of its own.
+      second_turn_ = SecondBodyTurn(design, *disc_body_);
+      second_body_ = second_turn_ ? disc_body_ : ElasticDiscBody(design, 1);
+    }
     design.contact.cycloid_log_radius = disc_body_->cycloid_log_radius_mm();
   }
   design_ = std::make_shared<const StageDesign>(std::move(design));
@@ -489,6 +534,61 @@ const contact::Material& Stage::RequireMaterial() const {
   return *design_->material;
 }
 
+namespace {
+
+/// The body's part of the coupled set: the problem's pin-ring points (in the problem's order)
+/// followed by each disc's hole contacts, disc by disc (`holes[d]`, in the order given); each disc's
+/// points and holes couple through its own body (`bodies[d]`) only, the two discs not at all.
+Eigen::MatrixXd DiscBodiesCoupling(const solvers::LoadProblem& problem,
+                                   std::vector<std::vector<contact::DiscHoleContact>> holes,
+                                   const std::vector<const contact::DiscFlankCompliance*>& bodies,
+                                   const std::optional<Stage::BodyTurn>& second_turn) {
+  const std::vector<contact::PinContact>& all = problem.base_state().pins;
+  const auto n = static_cast<Eigen::Index>(problem.point_count());
+  Eigen::Index m = 0;
+  for (const auto& h : holes) m += static_cast<Eigen::Index>(h.size());
+  if (problem.disc_count() == 1) {
+    // One disc: its body's coupling as it comes (every point is the disc's, in the problem's order).
+    if (m == 0) return bodies.at(0)->Coupling(all);
+    return bodies.at(0)->Coupling(all, holes.at(0));
+  }
+  Eigen::MatrixXd body = Eigen::MatrixXd::Zero(n + m, n + m);
+  Eigen::Index next = n;  // the set's row of this disc's first hole contact
+  for (int d = 0; d < problem.disc_count(); ++d) {
+    std::vector<Eigen::Index> at;  // the set's row of each of this disc's entries
+    std::vector<contact::PinContact> points;
+    // The second disc on the first body turned: each of its points and hole contacts is the first
+    // body's at the point and direction turned back (tooth space and hole index shifted).
+    const Stage::BodyTurn* turn = d == 1 && second_turn ? &*second_turn : nullptr;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      if (all[i].disc != d) continue;
+      at.push_back(static_cast<Eigen::Index>(i));
+      points.push_back(all[i]);
+      points.back().disc = 0;  // its own body's
+      if (turn != nullptr) points.back().tooth_space -= turn->spaces;
+    }
+    std::vector<contact::DiscHoleContact>& own = holes.at(static_cast<std::size_t>(d));
+    if (turn != nullptr) {
+      const int n = bodies.at(0)->hole_count();
+      const Eigen::Rotation2Dd back(-turn->angle);
+      for (contact::DiscHoleContact& h : own) {
+        h.hole = ((h.hole - turn->holes) % n + n) % n;
+        h.direction = back * h.direction;
+      }
+    }
+    const Eigen::MatrixXd c = own.empty() ? bodies.at(static_cast<std::size_t>(d))->Coupling(points)
+                                          : bodies.at(static_cast<std::size_t>(d))->Coupling(points, own);
+    for (std::size_t r = 0; r < own.size(); ++r) at.push_back(next++);
+    const auto size = static_cast<Eigen::Index>(at.size());
+    for (Eigen::Index x = 0; x < size; ++x) {
+      for (Eigen::Index y = 0; y < size; ++y) body(at[static_cast<std::size_t>(x)], at[static_cast<std::size_t>(y)]) = c(x, y);
+    }
+  }
+  return body;
+}
+
+}  // namespace
+
 solvers::LoadProblem Stage::Problem(double crank, double torque) const {
   return Problem(State(crank), torque);
 }
@@ -497,6 +597,14 @@ solvers::LoadProblem Stage::Problem(contact::MeshState state, double torque) con
   const StageDesign& d = *design_;
   if (second_) {
     const solvers::LoadProblem both(first_, second_, std::move(state), d.contact, RequireMaterial(), torque, d.kinematics);
+    if (!reducer_ && disc_body_) {
+      // The mesh alone with two discs: each disc its own cyclic body clamped at its bore (no holes:
+      // both discs' bodies are one design, one set-up), its points coupled through it alone.
+      const Eigen::MatrixXd c = DiscBodiesCoupling(both, {{}, {}}, Bodies(), std::nullopt);
+      const int points = both.point_count();
+      return both.WithCoupling(
+          solvers::LoadProblem::CheckCoupling(c, points, solvers::LoadProblem::PositiveSemidefiniteByConstruction{}));
+    }
     if (!reducer_) return both;
     if (disc_body_) return WithStageBody(both.WithReducer(reducer_));
     return both.WithReducer(reducer_);
@@ -544,22 +652,35 @@ solvers::LoadProblem WithBodyCoupling(solvers::LoadProblem problem, const Eigen:
 
 }  // namespace
 
+std::vector<const contact::DiscFlankCompliance*> Stage::Bodies() const {
+  std::vector<const contact::DiscFlankCompliance*> bodies{disc_body_.get()};
+  if (second_) bodies.push_back(second_body_.get());
+  return bodies;
+}
+
 solvers::LoadProblem Stage::WithStageBody(solvers::LoadProblem problem) const {
   if (reducer_->kind == solvers::OutputKind::kCranks) return WithCrankBody(std::move(problem));
-  // The elastic body in a stage of output pins: one coupled set of the pin ring's points and the
-  // output pins' contacts on their holes' walls (ReducerSystem), each contact at the nominal pose
-  // of this crank (the pin touches its hole where the line of the two centres meets the wall; its
-  // direction in the body frame is the fixed frame's turned back by the disc's rotation).
-  const contact::MeshModel& model = problem.DiscModel(0);
-  const geometry::Pose real = model.real_pair().CycloidPose(problem.DiscCrank(0));
+  // The elastic body in a stage of output pins: one coupled set of the pin ring's points and every
+  // disc's output pins' contacts on its holes' walls (ReducerSystem: disc by disc, pin by pin),
+  // each contact at the nominal pose of this crank (the pin touches its hole where the line of the
+  // two centres meets the wall; its direction in the body frame is the fixed frame's turned back by
+  // the disc's nominal rotation: the output member's for disc 0, its own model's for disc 1, whose
+  // holes BodyHoles places half a tooth pitch on). Each disc's points couple through its own body.
   const double output_rotation = problem.model().kinematics().CycloidPose(problem.crank()).rotation;
-  const std::vector<contact::OutputPinContact> pins =
-      contact::EvaluateOutputPins(reducer_->PinsOf(0), geometry::Pose{real.centre, output_rotation}, output_rotation);
-  std::vector<contact::DiscHoleContact> holes;
-  const Eigen::Rotation2Dd back(-output_rotation);
-  for (const contact::OutputPinContact& c : pins) holes.push_back({c.pin, back * c.normal});
-  const Eigen::MatrixXd body = disc_body_->Coupling(problem.base_state().pins, holes);
-  return WithBodyCoupling(std::move(problem), body, static_cast<int>(holes.size()), coupling_->matrix.get());
+  std::vector<std::vector<contact::DiscHoleContact>> holes(static_cast<std::size_t>(problem.disc_count()));
+  int count = 0;
+  for (int d = 0; d < problem.disc_count(); ++d) {
+    const contact::MeshModel& model = problem.DiscModel(d);
+    const double crank = problem.DiscCrank(d);
+    const geometry::Pose real = model.real_pair().CycloidPose(crank);
+    const std::vector<contact::OutputPinContact> pins = contact::EvaluateOutputPins(
+        reducer_->PinsOf(d), geometry::Pose{real.centre, output_rotation}, output_rotation);
+    const Eigen::Rotation2Dd back(-model.kinematics().CycloidPose(crank).rotation);
+    for (const contact::OutputPinContact& c : pins) holes[static_cast<std::size_t>(d)].push_back({c.pin, back * c.normal});
+    count += static_cast<int>(pins.size());
+  }
+  const Eigen::MatrixXd body = DiscBodiesCoupling(problem, std::move(holes), Bodies(), second_turn_);
+  return WithBodyCoupling(std::move(problem), body, count, coupling_->matrix.get());
 }
 
 solvers::LoadProblem Stage::WithCrankBody(solvers::LoadProblem problem) const {
@@ -572,43 +693,24 @@ solvers::LoadProblem Stage::WithCrankBody(solvers::LoadProblem problem) const {
   const contact::BearingSettings& bearing = reducer_->bearing;
   const int z = bearing.roller_count;
   const int count = reducer_->cranks.count;
-  const std::vector<contact::PinContact>& all = problem.base_state().pins;
-  const auto n = static_cast<Eigen::Index>(problem.point_count());
-  const int discs = problem.disc_count();
-  const auto m = static_cast<Eigen::Index>(discs * count * z);
-  Eigen::MatrixXd body = Eigen::MatrixXd::Zero(n + m, n + m);
-  for (int d = 0; d < discs; ++d) {
+  std::vector<std::vector<contact::DiscHoleContact>> holes(static_cast<std::size_t>(problem.disc_count()));
+  int rollers = 0;
+  for (int d = 0; d < problem.disc_count(); ++d) {
     const contact::MeshModel& model = problem.DiscModel(d);
     const double crank = problem.DiscCrank(d);
     const geometry::Pose real = model.real_pair().CycloidPose(crank);
     const double phase = std::atan2(real.centre.y(), real.centre.x());  // ReducerSystem's roller phase
     const Eigen::Rotation2Dd back(-model.kinematics().CycloidPose(crank).rotation);
-    std::vector<contact::DiscHoleContact> holes;
     for (int j = 0; j < count; ++j) {
       for (int k = 0; k < z; ++k) {
         const double angle = phase + 2.0 * units::kPi * k / z;
-        holes.push_back({j, back * Eigen::Vector2d(std::cos(angle), std::sin(angle))});
+        holes[static_cast<std::size_t>(d)].push_back({j, back * Eigen::Vector2d(std::cos(angle), std::sin(angle))});
+        ++rollers;
       }
     }
-    std::vector<Eigen::Index> index;  // this disc's points in the problem
-    std::vector<contact::PinContact> points;
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      if (all[i].disc != d) continue;
-      index.push_back(static_cast<Eigen::Index>(i));
-      points.push_back(all[i]);
-      points.back().disc = 0;  // its own body's
-    }
-    const contact::DiscFlankCompliance& flank = d == 0 ? *disc_body_ : *second_body_;
-    const Eigen::MatrixXd c = flank.Coupling(points, holes);
-    const auto p = static_cast<Eigen::Index>(points.size());
-    const Eigen::Index h = static_cast<Eigen::Index>(holes.size());
-    std::vector<Eigen::Index> at(index);  // the set's row of each of this disc's entries
-    for (Eigen::Index r = 0; r < h; ++r) at.push_back(n + d * count * z + r);
-    for (Eigen::Index x = 0; x < p + h; ++x) {
-      for (Eigen::Index y = 0; y < p + h; ++y) body(at[static_cast<std::size_t>(x)], at[static_cast<std::size_t>(y)]) = c(x, y);
-    }
   }
-  return WithBodyCoupling(std::move(problem), body, static_cast<int>(m), coupling_->matrix.get());
+  const Eigen::MatrixXd body = DiscBodiesCoupling(problem, std::move(holes), Bodies(), second_turn_);
+  return WithBodyCoupling(std::move(problem), body, rollers, coupling_->matrix.get());
 }
 
 }  // namespace ltca::analysis

@@ -216,7 +216,7 @@ class LoadProblem {
   const StageLoads* stage_loads() const { return stage_loads_.get(); }
   /// The elastic disc body of a stage whose output elements sit on the body (docs/fe_disc.md "The
   /// stage", "The RV disc"): the coupled set is the problem's points followed by one contact per
-  /// output pin (disc 0's, in pin order), or for a stage of crankshafts on needle rollers one per
+  /// output pin (disc by disc, pin by pin), or for a stage of crankshafts on needle rollers one per
   /// roller (disc by disc, crank by crank, roller by roller). `total` is the coupling over that set (the problem's own coupling,
   /// pin bending and the body's flank part, in its top-left block; the body's rows and columns of
   /// the holes beside it); `body` the body's part alone (the compliance budget's disc_body group).
@@ -226,7 +226,7 @@ class LoadProblem {
     int output_points = 0;  ///< the coupled output-pin (or roller) contacts after the problem's points
   };
   /// A copy of this stage problem with the body's coupling over its points and output pins (or
-  /// rollers). Throws std::invalid_argument without a one-disc stage of output pins or a stage of
+  /// rollers). Throws std::invalid_argument without a stage of output pins or a stage of
   /// crankshafts on roller bearings, without the problem's own
   /// coupling (the top-left block, which must equal it), or for matrices of other sizes.
   LoadProblem WithStageBodyCoupling(StageBodyCoupling coupling) const;

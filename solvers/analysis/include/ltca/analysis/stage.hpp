@@ -180,9 +180,23 @@ class Stage {
   const contact::Material& material() const { return RequireMaterial(); }
   /// Pin bending's coupling, checked once (matrix nullptr without [pins]).
   const solvers::LoadProblem::CheckedCoupling& coupling() const { return *coupling_; }
-  /// The elastic disc body's flank compliance (shared by every stage of the same body design in
-  /// the process), or nullptr for a rigid disc.
-  const std::shared_ptr<const contact::DiscFlankCompliance>& disc_body() const { return disc_body_; }
+  /// The elastic disc body's flank compliance of disc 0 (the first) or 1 (shared by every stage of
+  /// the same body design in the process), or nullptr for a rigid disc (or no second disc). The
+  /// second disc's may be the first's, turned (second_body_turn()).
+  const std::shared_ptr<const contact::DiscFlankCompliance>& disc_body(int disc = 0) const {
+    return disc == 0 ? disc_body_ : second_body_;
+  }
+  /// The second disc's body as the first's turned: its frame is the first body's turned by `angle`
+  /// (rad, counterclockwise), which carries the first body's tooth space k onto the second's k +
+  /// `spaces` and its hole j onto the second's (j + `holes`) mod n; a point of the second body is
+  /// the first's at the point and direction turned back. (DiscBodyTurn, docs/fe_disc.md "Two discs".)
+  struct BodyTurn {
+    double angle = 0.0;
+    int spaces = 0;
+    int holes = 0;
+  };
+  /// The turn when the second disc's body is the first's turned (one set-up for both), else nullopt.
+  const std::optional<BodyTurn>& second_body_turn() const { return second_turn_; }
 
  private:
   struct Checked {
@@ -195,11 +209,14 @@ class Stage {
   std::ptrdiff_t CheckedIndex(double crank) const;
   const contact::Material& RequireMaterial() const;
   /// A stage problem of output pins with the elastic body: its coupling over the pin ring's points
-  /// and the output pins' hole contacts (LoadProblem::WithStageBodyCoupling).
+  /// and every disc's output pins' hole contacts, each disc on its own body
+  /// (LoadProblem::WithStageBodyCoupling).
   solvers::LoadProblem WithStageBody(solvers::LoadProblem problem) const;
   /// The same for a stage of crankshafts: the pin ring's points and every needle roller on its
   /// crank hole's wall, each disc on its own body.
   solvers::LoadProblem WithCrankBody(solvers::LoadProblem problem) const;
+  /// Each disc's elastic body, disc 0 first (one per disc of the stage).
+  std::vector<const contact::DiscFlankCompliance*> Bodies() const;
 
   std::shared_ptr<const StageDesign> design_;
   ModelPtr first_, second_;
@@ -207,7 +224,8 @@ class Stage {
   std::shared_ptr<const Checked> checked_;
   std::shared_ptr<const solvers::ReducerSettings> reducer_;  // nullptr: the mesh alone
   std::shared_ptr<const contact::DiscFlankCompliance> disc_body_;  // nullptr: a rigid disc
-  std::shared_ptr<const contact::DiscFlankCompliance> second_body_;  // the second disc's (its crank holes half a pitch on)
+  std::shared_ptr<const contact::DiscFlankCompliance> second_body_;  // the second disc's (its holes half a tooth pitch on in its frame)
+  std::optional<BodyTurn> second_turn_;  // set: second_body_ is disc_body_, turned
 };
 
 /// The elastic disc body of a design: the unmodified profile's body (the pair, [disc] and the
