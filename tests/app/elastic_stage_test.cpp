@@ -147,7 +147,7 @@ TEST_CASE("app: every stage solver agrees on the cycloidal drive with the elasti
   int compared = 0;
   for (const auto kinematics : {ContactKinematics::kLinearised, ContactKinematics::kExact}) {
     deck.kinematics = rigid_deck.kinematics = kinematics;
-    const std::vector<double> cranks{0.0, 4.5};
+    const std::vector<double> cranks{0.0, 4.5 * std::numbers::pi / 180.0};  // rad
     const ltca::analysis::Stage elastic = deck.MakeStage(cranks);
     const ltca::analysis::Stage rigid = rigid_deck.MakeStage(cranks);
     for (const double crank : cranks) {
