@@ -755,6 +755,35 @@ TEST_CASE("app: every stage solver agrees on the two-disc cycloidal drive with t
   CHECK(compared == 2 * 2 * (static_cast<int>(ReducerSolverNames().size()) - 1));
 }
 
+TEST_CASE("app: on the two-disc drive with a tip relief the second body is the first turned by half the pins' pitches, and a second disc with a relief of its own gets a body of its own") {
+  // The turn is found on the flank grid's first point of each tooth space: with a tip relief's caps
+  // a space holds more grid points than grid_points_per_space (the caps'), so the space's first
+  // point is found by space_points(). Independent reference: the geometry, as in the test above
+  // (the turn pi z_p / z_c carries the first body's space 0 to its space z_p / 2 and hole j to the
+  // second's hole j + n / 2). A second disc whose relief differs has another outline: no turn
+  // makes one body the other's (review of the two-disc change).
+  const std::vector<std::string> relieved{"modification.tip_truncation_mm=0.05", "modification.tip_rounding_radius_mm=0.3",
+                                          "disc.body=elastic", "disc.bore_radius_mm=28"};
+  const ltca::app::Deck deck = ltca::app::LoadDeck(ltca::test::Case(kTwoDiscs), relieved);
+  const int z = deck.pair.pin_count, holes = deck.reducer->pins.count;
+  const ltca::analysis::Stage stage = deck.MakeStage({0.0});
+  REQUIRE(stage.disc_body(0) != nullptr);
+  REQUIRE(stage.disc_body(0)->space_points() != stage.disc_body(0)->grid().points_per_space);  // the caps' points
+  REQUIRE(stage.second_body_turn().has_value());
+  CHECK(stage.second_body_turn()->spaces == z / 2);
+  CHECK(stage.second_body_turn()->holes == holes / 2);
+  CHECK(stage.disc_body(1) == stage.disc_body(0));
+
+  std::vector<std::string> own_relief = relieved;
+  own_relief.emplace_back("second_disc.tip_rounding_radius_mm=0.5");
+  const ltca::app::Deck other = ltca::app::LoadDeck(ltca::test::Case(kTwoDiscs), own_relief);
+  const ltca::analysis::Stage apart = other.MakeStage({0.0});
+  CHECK_FALSE(apart.second_body_turn().has_value());
+  REQUIRE(apart.disc_body(1) != nullptr);
+  CHECK(apart.disc_body(1) != apart.disc_body(0));
+  CHECK(apart.disc_body(0) == stage.disc_body(0));  // the first disc's body as before (the cache)
+}
+
 TEST_CASE("app: the cycloidal drive with --set disc.body=rigid gives the deck's own output, every number bit for bit") {
   const auto a = ltca::test::RunCli({"solve", ltca::test::Case("stage/cycloidal_drive.toml"), "--set", "sweep.positions=4",
                                      "--set", "sweep.crank_end_deg=9", "--json", "-"});

@@ -303,6 +303,7 @@ TEST_CASE("contact: the relieved elastic body's cap grid is K at its grid points
     c.u = w >= 0.0 ? cap.junction() : -cap.junction();
     c.cap_w = w;
     c.length = pair.face_width;
+    c.cycloid_point = c.pin_point = c.normal = Eigen::Vector2d::Zero();  // not read here; set, so a copy reads no indeterminate value
     return c;
   };
   const int mc = flank.cap_intervals();
@@ -389,6 +390,7 @@ TEST_CASE("contact: the relieved elastic body's cap grid is K at its grid points
   for (const int k : {4, 5}) {
     for (int i = -3; i <= 3; ++i) {
       ltca::contact::PinContact p;
+      p.cycloid_point = p.pin_point = p.normal = Eigen::Vector2d::Zero();  // not read here (see on_cap)
       p.tooth_space = k;
       p.u = 0.5 * cap.junction() * i / 3.0;
       p.length = pair.face_width;
@@ -440,6 +442,8 @@ TEST_CASE("contact: a segment-only cap (its junctions corners) has grid points o
   CHECK(flank.grid_normal(flank_end).dot(flank.grid_normal(cap_start)) < 0.99);  // a corner between them
   CHECK(flank.grid_normal(cap_end).dot(flank.grid_normal(next_flank)) < 0.99);
   ltca::contact::PinContact on_segment, on_flank;
+  on_segment.cycloid_point = on_segment.pin_point = on_segment.normal = Eigen::Vector2d::Zero();  // not read here (see on_cap)
+  on_flank.cycloid_point = on_flank.pin_point = on_flank.normal = Eigen::Vector2d::Zero();
   on_segment.part = SurfacePart::kTipTruncation;
   on_segment.tooth_space = k;
   on_segment.u = cap.junction();

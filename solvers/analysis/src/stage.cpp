@@ -210,15 +210,19 @@ std::string HolesKey(const StageDesign& design, int disc) {
 /// "Two discs": on the two-disc drive, z_p and the output pins' count even, the turn pi z_p / z_c).
 /// Found by trying every tooth pitch and checked on the bodies' own geometry: every hole centre
 /// and radius, and the flank grid's first point, to 1e-9 of the pin-circle radius. nullopt: none
-/// (an RV stage's three crank holes; the mesh alone, whose discs share one body as they are).
+/// (an RV stage's three crank holes; the mesh alone, whose discs share one body as they are; two
+/// discs whose tip reliefs differ, whose outlines then differ).
 std::optional<Stage::BodyTurn> SecondBodyTurn(const StageDesign& design, const contact::DiscFlankCompliance& first) {
   if (!design.second_disc || !design.reducer) return std::nullopt;
+  const geometry::TipRelief& own = design.modification.tip_relief;
+  const geometry::TipRelief& second = design.second_disc->modification.tip_relief;
+  if (own.truncation != second.truncation || own.rounding_radius != second.rounding_radius) return std::nullopt;
   const std::vector<contact::DiscHole> a = BodyHoles(design, 0), b = BodyHoles(design, 1);
   const auto n = static_cast<int>(a.size());
   if (n == 0 || b.size() != a.size()) return std::nullopt;
   const int zc = design.pair.tooth_count;
   const double tol = 1e-9 * design.pair.pin_circle_radius;
-  const int m = first.grid().points_per_space;
+  const int m = first.space_points();  // with a tip relief's caps more than grid().points_per_space
   for (int k = 0; k < zc; ++k) {
     const double angle = 2.0 * units::kPi * k / zc;
     const Eigen::Rotation2Dd turn(angle);

@@ -214,7 +214,11 @@ std::string FigureCaption(const Deck& deck, const std::string& ran) {
   if (const std::vector<std::string> given = OverrideArguments(deck); !given.empty()) {
     std::string all = fmt::format("{}", fmt::join(given, " "));
     constexpr std::size_t kRoom = 160;  // one caption line
-    if (all.size() > kRoom) all = all.substr(0, kRoom - 3) + "...";
+    if (all.size() > kRoom) {
+      std::size_t cut = kRoom - 3;
+      while (cut > 0 && (static_cast<unsigned char>(all[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
+      all = all.substr(0, cut) + "...";
+    }
     caption += "\nwith " + all;
   }
   if (!ran.empty()) caption += "\n" + ran;
