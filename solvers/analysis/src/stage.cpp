@@ -205,6 +205,15 @@ std::string HolesKey(const StageDesign& design, int disc) {
   return key;
 }
 
+/// Disc `disc`'s tip relief: the second disc's own ([second_disc] may give one), else the deck's.
+const geometry::TipRelief& DiscTipRelief(const StageDesign& design, int disc) {
+  return disc == 1 && design.second_disc ? design.second_disc->modification.tip_relief : design.modification.tip_relief;
+}
+
+bool SameTipRelief(const geometry::TipRelief& a, const geometry::TipRelief& b) {
+  return a.truncation == b.truncation && a.rounding_radius == b.rounding_radius;
+}
+
 /// Whether the second disc's body is the first's turned: a turn by a whole number of tooth pitches
 /// (the profile onto itself) that carries the first body's holes onto the second's (docs/fe_disc.md
 /// "Two discs": on the two-disc drive, z_p and the output pins' count even, the turn pi z_p / z_c).
@@ -214,9 +223,7 @@ std::string HolesKey(const StageDesign& design, int disc) {
 /// discs whose tip reliefs differ, whose outlines then differ).
 std::optional<Stage::BodyTurn> SecondBodyTurn(const StageDesign& design, const contact::DiscFlankCompliance& first) {
   if (!design.second_disc || !design.reducer) return std::nullopt;
-  const geometry::TipRelief& own = design.modification.tip_relief;
-  const geometry::TipRelief& second = design.second_disc->modification.tip_relief;
-  if (own.truncation != second.truncation || own.rounding_radius != second.rounding_radius) return std::nullopt;
+  if (!SameTipRelief(DiscTipRelief(design, 0), DiscTipRelief(design, 1))) return std::nullopt;
   const std::vector<contact::DiscHole> a = BodyHoles(design, 0), b = BodyHoles(design, 1);
   const auto n = static_cast<int>(a.size());
   if (n == 0 || b.size() != a.size()) return std::nullopt;
@@ -263,8 +270,7 @@ std::shared_ptr<const contact::DiscFlankCompliance> ElasticDiscBody(const StageD
   // or a tolerance study then pays the set-up once. A tip relief is the exception: its caps (tenths
   // of a millimetre) change the outline where contacts can be, so the body is the unmodified
   // profile with the disc's tip relief, and the relief is in the key.
-  const geometry::TipRelief& relief =
-      disc == 1 && design.second_disc ? design.second_disc->modification.tip_relief : design.modification.tip_relief;
+  const geometry::TipRelief& relief = DiscTipRelief(design, disc);
   const std::string key = fmt::format("{} {} {:a} {:a} {:a} {:a} | {:a} {} {:a} {} {:a} | {:a} {:a}", p.pin_count,
                                       p.tooth_count, p.pin_radius, p.pin_circle_radius, p.eccentricity, p.face_width,
                                       b.bore_radius, contact::ToString(b.plane), b.element_size, b.grid.points_per_space,
@@ -311,8 +317,7 @@ bool StageDesign::SecondDiscIsFirst() const {
   const SecondDisc& s = *second_disc;
   const geometry::Modification &a = modification, &b = s.modification;
   const bool same_modification = a.pin_radius == b.pin_radius && a.pin_circle_radius == b.pin_circle_radius &&
-                                 a.rotation == b.rotation && a.tip_relief.truncation == b.tip_relief.truncation &&
-                                 a.tip_relief.rounding_radius == b.tip_relief.rounding_radius;
+                                 a.rotation == b.rotation && SameTipRelief(a.tip_relief, b.tip_relief);
   const geometry::ManufacturingErrors &e = errors, &f = s.errors;
   const bool same_errors = !e.HasProfileDeviation() && !f.HasProfileDeviation() &&
                            e.pin_circle_deviation == f.pin_circle_deviation && e.pin_circle_reading == f.pin_circle_reading &&
